@@ -1,0 +1,80 @@
+#include "diagnostics.h"
+
+#include <cmath>
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/utils.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+double sum_over_ranks(double local, MPI_Comm comm)
+{
+  double global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return global;
+}
+} // namespace
+
+ContractionNorm::ContractionNorm(const CompiledForms& forms, std::shared_ptr<const fem::FunctionSpace> V,
+                                 std::shared_ptr<const fem::FunctionSpace> Q)
+    : _du(std::make_shared<fem::Function<double>>(V)), _dp(std::make_shared<fem::Function<double>>(Q)),
+      _c_u(std::make_shared<fem::Constant<double>>(0.0)), _c_p(std::make_shared<fem::Constant<double>>(0.0))
+{
+  _M = std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      *forms.M_contraction, {}, {{"du", _du}, {"dp", _dp}}, {{"c_u", _c_u}, {"c_p", _c_p}}, {},
+      V->mesh()));
+}
+
+double ContractionNorm::operator()(double c_u, std::span<const double> du, double c_p,
+                                   std::span<const double> dp)
+{
+  std::copy(du.begin(), du.end(), _du->x()->mutable_array().begin());
+  std::copy(dp.begin(), dp.end(), _dp->x()->mutable_array().begin());
+  _c_u->value = {c_u};
+  _c_p->value = {c_p};
+  const double local = fem::assemble_scalar(*_M);
+  return std::sqrt(std::max(0.0, sum_over_ranks(local, _M->mesh()->comm())));
+}
+
+void volumetric_stress(const CompiledForms& forms, const Constants& constants,
+                       std::shared_ptr<const fem::Function<double>> u,
+                       std::shared_ptr<const fem::Function<double>> p, fem::Function<double>& sigma_v)
+{
+  auto Q = sigma_v.function_space();
+  const fem::Form<double> L = fem::create_form<double>(*forms.L_sigma_v, {Q}, {{"u_out", u}, {"p_out", p}},
+                                                       constants, {});
+  la::Vector<double>& x = *sigma_v.x();
+  x.set(0.0);
+  fem::assemble_vector(x.mutable_array(), L);
+  x.scatter_rev(std::plus<double>());
+  x.scatter_fwd();
+}
+
+double relative_error(const ufcx_form& error, const ufcx_form& norm,
+                      std::shared_ptr<const fem::Function<double>> f, const std::string& f_name,
+                      std::shared_ptr<const fem::Function<double>> reference,
+                      const std::string& reference_name)
+{
+  auto mesh = f->function_space()->mesh();
+  const fem::Form<double> E = fem::create_form<double>(
+      error, {}, {{f_name, f}, {reference_name, reference}}, Constants{}, {}, mesh);
+  const fem::Form<double> N
+      = fem::create_form<double>(norm, {}, {{reference_name, reference}}, Constants{}, {}, mesh);
+  const double e = sum_over_ranks(fem::assemble_scalar(E), mesh->comm());
+  const double n = sum_over_ranks(fem::assemble_scalar(N), mesh->comm());
+  return std::sqrt(e / n);
+}
+
+double owned_norm(std::span<const double> x, const fem::FunctionSpace& V)
+{
+  const std::size_t owned = V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+  double local = 0;
+  for (std::size_t i = 0; i < owned; ++i)
+    local += x[i] * x[i];
+  return std::sqrt(sum_over_ranks(local, V.mesh()->comm()));
+}
+
+} // namespace biotcontact

@@ -1,0 +1,48 @@
+// Quantities measured on a run: the contraction quantities of Theorems 1
+// and 2, the volumetric stress for output, and errors against closed forms.
+// All are collective (every rank calls them).
+#pragma once
+
+#include "forms.h"
+#include "parameters.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <span>
+
+namespace biotcontact
+{
+
+/// ||c_u div(du) - c_p dp||_L2 with the compiled form M_contraction.
+class ContractionNorm
+{
+public:
+  ContractionNorm(const CompiledForms& forms, std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
+                  std::shared_ptr<const dolfinx::fem::FunctionSpace> Q);
+  /// du and dp are DOF arrays (with ghosts) of the displacement and pressure spaces.
+  double operator()(double c_u, std::span<const double> du, double c_p, std::span<const double> dp);
+
+private:
+  std::shared_ptr<dolfinx::fem::Function<double>> _du, _dp;
+  std::shared_ptr<dolfinx::fem::Constant<double>> _c_u, _c_p;
+  std::shared_ptr<dolfinx::fem::Form<double>> _M;
+};
+
+/// sigma_v = lambda div u - alpha p in each cell (L_sigma_v).
+void volumetric_stress(const CompiledForms& forms, const Constants& constants,
+                       std::shared_ptr<const dolfinx::fem::Function<double>> u,
+                       std::shared_ptr<const dolfinx::fem::Function<double>> p,
+                       dolfinx::fem::Function<double>& sigma_v);
+
+/// Relative L2 error ||f - reference|| / ||reference|| with the compiled
+/// forms; `reference` lives in P2.
+double relative_error(const ufcx_form& error, const ufcx_form& norm,
+                      std::shared_ptr<const dolfinx::fem::Function<double>> f, const std::string& f_name,
+                      std::shared_ptr<const dolfinx::fem::Function<double>> reference,
+                      const std::string& reference_name);
+
+/// Euclidean norm of the owned part of a DOF array (collective).
+double owned_norm(std::span<const double> x, const dolfinx::fem::FunctionSpace& V);
+
+} // namespace biotcontact

@@ -1,0 +1,38 @@
+// A scalar value given in a scene: a number, or an expression of the
+// coordinates and time (x, y, z, t) in muparser syntax. The Python prototype
+// evaluates the same subset (see README, "Expressions").
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace biotcontact
+{
+
+class Expression
+{
+public:
+  /// A constant.
+  explicit Expression(double value = 0.0);
+  /// Parses `text`; throws std::invalid_argument with muparser's message.
+  explicit Expression(const std::string& text);
+
+  double operator()(double x, double y, double z, double t) const;
+  double operator()(const double* x, double t) const { return (*this)(x[0], x[1], x[2], t); }
+
+  bool is_constant() const { return !_parser; }
+  bool depends_on_time() const { return _depends_on_time; }
+  bool depends_on_space() const { return _depends_on_space; }
+  /// The scene text, or the number printed.
+  const std::string& text() const { return _text; }
+
+private:
+  struct Parser;
+  std::shared_ptr<Parser> _parser;
+  double _value = 0.0;
+  bool _depends_on_time = false;
+  bool _depends_on_space = false;
+  std::string _text;
+};
+
+} // namespace biotcontact

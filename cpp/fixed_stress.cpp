@@ -1,0 +1,182 @@
+#include "fixed_stress.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+using Array = std::vector<double>;
+
+Array copy(const fem::Function<double>& f)
+{
+  std::span<const double> x = f.x()->array();
+  return Array(x.begin(), x.end());
+}
+
+void assign(fem::Function<double>& f, const Array& values)
+{
+  std::copy(values.begin(), values.end(), f.x()->mutable_array().begin());
+}
+
+Array difference(const Array& a, const Array& b)
+{
+  Array d(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    d[i] = a[i] - b[i];
+  return d;
+}
+
+/// |x - y| / |x|, or |x - y| when x = 0 (then the increment is absolute).
+double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
+} // namespace
+
+void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
+                      MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
+                      const WindowObserver& observer, CouplingReport& report)
+{
+  const CouplingSpec& coupling = *scene.coupling;
+  const int q = P.q;
+  const double dt = P.dt;
+  const bool multirate = coupling.scheme == "multirate";
+  const fem::FunctionSpace& V = *mechanics.space();
+  const fem::FunctionSpace& Q = *flow.pressure_space();
+
+  double ratio_sum = 0;
+
+  // Converged state at t_K: (u_K, p_K).
+  Array p_K = copy(*flow.pressure);
+  Array u_K = copy(*mechanics.u);
+
+  const int windows = scene.num_steps() / q;
+  for (int K = 0; K < windows; ++K)
+  {
+    const double t_K = K * q * dt;
+    // Start: p^{0,m} = p_K for all m, u^0 = u_K.
+    std::vector<Array> p_old(q + 1, p_K), p_new(q + 1, p_K);
+    std::vector<Array> w_new(q + 1);
+    Array u_old = u_K, u_new;
+    assign(*flow.u_window, u_K);
+    double dsigma_previous = std::numeric_limits<double>::quiet_NaN();
+    bool converged = false;
+    int n = 0;
+    std::ostringstream log;
+
+    for (n = 0; n < coupling.max_iterations; ++n)
+    {
+      // (a) q flow steps with u^n lagged:
+      //   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
+      //     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+      //       - ((alpha/q) div(u^n - u_K)/dt, th)
+      assign(*flow.u_iterate, u_old);
+      for (int m = 1; m <= q; ++m)
+      {
+        assign(*flow.p_previous, p_new[m - 1]);
+        assign(*flow.p_iterate, p_old[m]);
+        assign(*flow.p_iterate_previous, p_old[m - 1]);
+        flow.solve(t_K + m * dt);
+        p_new[m] = copy(*flow.pressure);
+        std::span<const double> w = flow.state();
+        w_new[m].assign(w.begin(), w.end());
+      }
+      // (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
+      // holds it and is the pressure coefficient of the mechanics load.
+      mechanics.solve(t_K + q * dt);
+      u_new = copy(*mechanics.u);
+
+      // Contraction quantities, measured on the increments of this iteration.
+      const Array du = difference(u_new, u_old);
+      double dsigma = 0, theorem2 = 0, dp2 = 0, p2 = 0;
+      Array dp_previous(p_K.size(), 0.0);
+      for (int m = 1; m <= q; ++m)
+      {
+        const Array dp = difference(p_new[m], p_old[m]);
+        // Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
+        if (P.L > 0)
+        {
+          const double t2 = contraction(P.alpha / (q * P.L), du, 1.0, difference(dp, dp_previous));
+          theorem2 += t2 * t2;
+        }
+        dp_previous = dp;
+        const double dpn = owned_norm(dp, Q), pn = owned_norm(p_new[m], Q);
+        dp2 += dpn * dpn;
+        p2 += pn * pn;
+      }
+      theorem2 = P.L > 0 ? std::sqrt(theorem2) : std::numeric_limits<double>::quiet_NaN();
+      if (multirate)
+        dsigma = theorem2;
+      else
+        // Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
+        dsigma = contraction(P.lambda, du, P.alpha, difference(p_new[1], p_old[1]));
+
+      const double ratio = n > 0 ? dsigma / dsigma_previous : std::numeric_limits<double>::quiet_NaN();
+      if (n > 0 and std::isfinite(ratio))
+      {
+        report.max_contraction_ratio = std::max(report.max_contraction_ratio, ratio);
+        ratio_sum += ratio;
+        ++report.ratios;
+        if (ratio > P.gamma)
+          ++report.bound_violations;
+      }
+      dsigma_previous = dsigma;
+
+      // Stopping test on the increments of this iteration (never on a stale
+      // state): relative l2 norms of p and u increments.
+      const double dp_norm = relative(std::sqrt(dp2), std::sqrt(p2));
+      const double du_norm = relative(owned_norm(du, V), owned_norm(u_new, V));
+      const ContactState contact = mechanics.contact_state();
+      output.iteration({K + 1, t_K + q * dt, n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
+                        contact.active_nodes});
+      log << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
+
+      p_old = p_new;
+      u_old = u_new;
+      if (dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance)
+      {
+        converged = true;
+        // Coupled residual of the accepted state: the flow equations with
+        // u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
+        // = L delta sigma^{n+1,m}; relative to the fluid content change.
+        if (P.L > 0)
+        {
+          const double change = contraction(P.alpha, difference(u_new, u_K), -P.storage,
+                                            difference(p_new[q], p_K));
+          report.max_coupled_residual = std::max(
+              report.max_coupled_residual, change > 0 ? P.L * theorem2 / change : 0.0);
+        }
+        break;
+      }
+    }
+    report.coupling_iterations += std::min(n + 1, coupling.max_iterations);
+    report.max_iterations_per_step = std::max(report.max_iterations_per_step, std::min(n + 1, coupling.max_iterations));
+    report.windows = K + 1;
+    if (!converged)
+    {
+      report.converged = false;
+      report.mean_contraction_ratio = report.ratios ? ratio_sum / report.ratios : 0.0;
+      std::ostringstream message;
+      message << "the fixed-stress split did not converge in " << coupling.max_iterations
+              << " iterations at t = " << t_K + q * dt << " (step " << K + 1
+              << "); increments:" << log.str();
+      throw CouplingError(message.str());
+    }
+
+    // Accept the window: write every fine flow step, then the mechanics step.
+    for (int m = 1; m <= q; ++m)
+    {
+      flow.set_state(w_new[m]);
+      observer.flow_state(t_K + m * dt);
+    }
+    observer.mechanics_state(t_K + q * dt, K + 1, n + 1);
+    p_K = p_new[q];
+    u_K = u_new;
+  }
+  report.mean_contraction_ratio = report.ratios ? ratio_sum / report.ratios : 0.0;
+}
+
+} // namespace biotcontact

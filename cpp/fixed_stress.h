@@ -1,0 +1,51 @@
+// The fixed-stress split, single-rate (q = 1) and multirate (q flow steps per
+// mechanics step): alg. "Single-rate fixed-stress split" and "Multirate
+// fixed-stress split" (paper section 4, eqs. 4.17-4.22).
+#pragma once
+
+#include "diagnostics.h"
+#include "flow_step.h"
+#include "mechanics_step.h"
+#include "output.h"
+#include "parameters.h"
+
+#include <functional>
+#include <stdexcept>
+
+namespace biotcontact
+{
+
+/// The split did not converge within coupling.max_iterations.
+struct CouplingError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+struct CouplingReport
+{
+  int windows = 0;             // mechanics (coarse) steps
+  long coupling_iterations = 0;
+  int max_iterations_per_step = 0;
+  double max_contraction_ratio = 0, mean_contraction_ratio = 0;
+  long ratios = 0;             // number of ratios measured
+  long bound_violations = 0;   // ratios above gamma
+  double max_coupled_residual = 0; // relative, of each converged state
+  bool converged = true;
+};
+
+/// Called after each converged window: once per fine flow step (with that
+/// step's solution loaded in the FlowStep), then once for the mechanics step.
+struct WindowObserver
+{
+  std::function<void(double t)> flow_state;
+  std::function<void(double t, int window, int iterations)> mechanics_state;
+};
+
+/// Runs the coupled scene from t = 0 to its end time, filling `report` as it
+/// goes. Throws CouplingError (after logging every iteration) when a window
+/// does not converge; `report` then describes the run up to that window.
+void run_fixed_stress(const Scene& scene, const Parameters& parameters, FlowStep& flow,
+                      MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
+                      const WindowObserver& observer, CouplingReport& report);
+
+} // namespace biotcontact

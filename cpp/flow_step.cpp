@@ -1,0 +1,238 @@
+#include "flow_step.h"
+
+#include <dolfinx/common/Timer.h>
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/utils.h>
+#include <dolfinx/mesh/utils.h>
+#include <algorithm>
+#include <xtensor/xarray.hpp>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+
+/// mu_f K^-1 as a cell-wise d x d tensor (K from a scalar expression
+/// evaluated at cell midpoints, or a constant tensor).
+void interpolate_resistivity(fem::Function<double>& R, const FlowSpec& flow, int d)
+{
+  std::vector<double> Kinv(d * d, 0.0);
+  if (flow.permeability_tensor)
+  {
+    const std::vector<double>& K = *flow.permeability_tensor;
+    if (d == 2)
+    {
+      const double det = K[0] * K[3] - K[1] * K[2];
+      Kinv = {K[3] / det, -K[1] / det, -K[2] / det, K[0] / det};
+    }
+    else
+    {
+      const double det = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
+                         + K[2] * (K[3] * K[7] - K[4] * K[6]);
+      Kinv = {(K[4] * K[8] - K[5] * K[7]) / det, (K[2] * K[7] - K[1] * K[8]) / det,
+              (K[1] * K[5] - K[2] * K[4]) / det, (K[5] * K[6] - K[3] * K[8]) / det,
+              (K[0] * K[8] - K[2] * K[6]) / det, (K[2] * K[3] - K[0] * K[5]) / det,
+              (K[3] * K[7] - K[4] * K[6]) / det, (K[1] * K[6] - K[0] * K[7]) / det,
+              (K[0] * K[4] - K[1] * K[3]) / det};
+    }
+  }
+  const Expression* k = flow.permeability ? &*flow.permeability : nullptr;
+  const double mu_f = flow.mu_f;
+  R.interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        const std::size_t n = x.shape(1);
+        xt::xarray<double> v = xt::zeros<double>({static_cast<std::size_t>(d * d), n});
+        for (std::size_t j = 0; j < n; ++j)
+        {
+          if (k)
+          {
+            const double kj = (*k)(x(0, j), x(1, j), x(2, j), 0.0);
+            if (!(kj > 0) or !std::isfinite(kj))
+              throw SceneError("flow.permeability: must be positive, got " + std::to_string(kj)
+                               + " at (" + std::to_string(x(0, j)) + ", "
+                               + std::to_string(x(1, j)) + ")");
+            for (int i = 0; i < d; ++i)
+              v(i * d + i, j) = mu_f / kj;
+          }
+          else
+            for (int i = 0; i < d * d; ++i)
+              v(i, j) = mu_f * Kinv[i];
+        }
+        return v;
+      });
+}
+
+} // namespace
+
+FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                   const Constants& constants, std::shared_ptr<const fem::FunctionSpace> V)
+    : _scene(scene)
+{
+  const FlowSpec& flow = *scene.flow;
+  const auto& mesh = domain.mesh;
+  const int d = domain.dim();
+
+  _W = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.flow_space, "v_0", mesh));
+  {
+    auto [Q, map] = _W->sub({1})->collapse();
+    _Q = std::make_shared<fem::FunctionSpace>(std::move(Q));
+    _Q_to_W = std::move(map);
+    auto [Z, zmap] = _W->sub({0})->collapse();
+    _Z = std::make_shared<fem::FunctionSpace>(std::move(Z));
+    _Z_to_W = std::move(zmap);
+  }
+  auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.flow_space, "resistivity", mesh)));
+  interpolate_resistivity(*R, flow, d);
+
+  _w = std::make_shared<fem::Function<double>>(_W);
+  pressure = std::make_shared<fem::Function<double>>(_Q);
+  p_previous = std::make_shared<fem::Function<double>>(_Q);
+  p_iterate = std::make_shared<fem::Function<double>>(_Q);
+  p_iterate_previous = std::make_shared<fem::Function<double>>(_Q);
+  interpolate(*pressure, {flow.initial_pressure}, 0.0);
+
+  Coefficients coefficients = {{"resistivity", R},
+                               {"p_previous", p_previous},
+                               {"p_iterate", p_iterate},
+                               {"p_iterate_previous", p_iterate_previous}};
+  if (V)
+  {
+    u_iterate = std::make_shared<fem::Function<double>>(V);
+    u_window = std::make_shared<fem::Function<double>>(V);
+    coefficients["u_iterate"] = u_iterate;
+    coefficients["u_window"] = u_window;
+  }
+  auto D = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.data_space, "source", mesh));
+  _source = std::make_shared<fem::Function<double>>(D);
+  _p_boundary = std::make_shared<fem::Function<double>>(D);
+  coefficients["source"] = _source;
+  coefficients["p_boundary"] = _p_boundary;
+
+  auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
+                  const mesh::MeshTags<std::int32_t>* marker = nullptr)
+  {
+    std::map<fem::IntegralType, const mesh::MeshTags<std::int32_t>*> subdomains;
+    if (marker)
+      subdomains[fem::IntegralType::exterior_facet] = marker;
+    return std::make_shared<fem::Form<double>>(
+        fem::create_form<double>(*f, spaces, coefficients, constants, subdomains));
+  };
+
+  // No-flow (w.n = 0, essential for RT) on every boundary facet that is not
+  // a pressure boundary: alg. "Flow", flux values are essential.
+  std::vector<std::int32_t> no_flow = mesh::exterior_facet_indices(mesh->topology());
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (b.flow != BoundarySpec::Flow::pressure)
+      continue;
+    const std::vector<std::int32_t>& facets = domain.boundaries.at(name);
+    std::vector<std::int32_t> rest;
+    std::set_difference(no_flow.begin(), no_flow.end(), facets.begin(), facets.end(),
+                        std::back_inserter(rest));
+    no_flow = std::move(rest);
+    _markers.push_back(domain.marker(name));
+    _L_pressure.emplace_back(&b.pressure, make(forms.L_flow_pressure, {_W}, _markers.back().get()));
+    _loads_depend_on_time = _loads_depend_on_time or b.pressure.depends_on_time();
+  }
+  auto zero_flux = std::make_shared<fem::Function<double>>(_Z);
+  auto dofs = fem::locate_dofs_topological({*_W->sub({0}), *_Z}, d - 1, no_flow);
+  _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(zero_flux, std::move(dofs), _W->sub({0})));
+
+  _a = make(forms.a_flow, {_W, _W});
+  _L_storage = make(forms.L_flow_storage, {_W});
+  if (V)
+    _L_coupling = make(forms.L_flow_coupling, {_W});
+  if (flow.source)
+  {
+    _L_source = make(forms.L_flow_source, {_W});
+    _loads_depend_on_time = _loads_depend_on_time or flow.source->depends_on_time();
+  }
+  if (flow.gravity)
+    _L_gravity = make(forms.L_flow_gravity, {_W});
+
+  // The flow matrix depends on dt and L only: assembled and factorised once.
+  common::Timer timer("assembly");
+  _A.emplace(assemble_matrix(*_a, _bcs));
+  assembly_time += timer.stop();
+  _solver = std::make_unique<LinearSolver>(mesh->comm(), "flow_", _A->mat());
+
+  const auto& map = _W->dofmap()->index_map;
+  const int bs = _W->dofmap()->index_map_bs();
+  _b = std::make_unique<la::Vector<double>>(map, bs);
+  _b_loads = std::make_unique<la::Vector<double>>(map, bs);
+}
+
+void FlowStep::assemble_loads(double t)
+{
+  // Source, boundary pressure and gravity do not change within a time step:
+  // assembled once per step (once per run when they do not depend on t).
+  if (_loads_assembled and (!_loads_depend_on_time or t == _loads_time))
+    return;
+  _b_loads->set(0.0);
+  if (_L_source)
+  {
+    interpolate(*_source, {*_scene.flow->source}, t);
+    add_vector(*_b_loads, *_L_source);
+  }
+  if (_L_gravity)
+    add_vector(*_b_loads, *_L_gravity);
+  for (const auto& [expression, form] : _L_pressure)
+  {
+    interpolate(*_p_boundary, {*expression}, t);
+    add_vector(*_b_loads, *form);
+  }
+  _loads_time = t;
+  _loads_assembled = true;
+}
+
+void FlowStep::solve(double t)
+{
+  common::Timer assembly("assembly");
+  assemble_loads(t);
+  std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
+  add_vector(*_b, *_L_storage);
+  if (_L_coupling)
+    add_vector(*_b, *_L_coupling);
+  // The essential flux values are zero: no lifting needed.
+  _b->scatter_rev(std::plus<double>());
+  fem::set_bc(_b->mutable_array(), _bcs);
+  assembly_time += assembly.stop();
+
+  common::Timer timer("flow solve");
+  la::petsc::Vector x = wrap(*_w->x()), b = wrap(*_b);
+  linear_iterations += _solver->solve(x.vec(), b.vec());
+  _w->x()->scatter_fwd();
+  solve_time += timer.stop();
+  ++solves;
+
+  set_state(_w->x()->array());
+}
+
+void FlowStep::set_state(std::span<const double> w)
+{
+  if (w.data() != _w->x()->array().data())
+    std::copy(w.begin(), w.end(), _w->x()->mutable_array().begin());
+  std::span<double> p = pressure->x()->mutable_array();
+  for (std::size_t i = 0; i < _Q_to_W.size(); ++i)
+    p[i] = w[_Q_to_W[i]];
+}
+
+void FlowStep::flux(fem::Function<double>& out) const
+{
+  fem::Function<double> z(_Z);
+  std::span<const double> w = _w->x()->array();
+  std::span<double> zx = z.x()->mutable_array();
+  for (std::size_t i = 0; i < _Z_to_W.size(); ++i)
+    zx[i] = w[_Z_to_W[i]];
+  // The RT0 field is linear on a cell: its value at the midpoint (the DG0
+  // interpolation point) is its cell average.
+  out.interpolate(z);
+}
+
+} // namespace biotcontact

@@ -1,0 +1,72 @@
+// One backward-Euler flow step in mixed form, RT0 flux x P0 pressure
+// (alg. "Flow"), with the fixed-stress terms of alg. "Single-rate ... (a)" and
+// "Multirate ... (a)" when the scene is coupled.
+#pragma once
+
+#include "domain.h"
+#include "forms.h"
+#include "linear_algebra.h"
+#include "parameters.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <optional>
+
+namespace biotcontact
+{
+
+class FlowStep
+{
+public:
+  /// `V` is the displacement space of a coupled scene, null otherwise.
+  FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+           const Constants& constants,
+           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
+
+  /// Solves for (z, p) at time t from the current coupling data below;
+  /// leaves p in `pressure`.
+  void solve(double t);
+
+  /// The mixed solution (z, p) of the last solve, and its restoration (the
+  /// multirate scheme keeps one per fine step for output).
+  std::span<const double> state() const { return _w->x()->array(); }
+  void set_state(std::span<const double> w);
+
+  /// Writes the cell averages of the flux z into a DG0 vector field.
+  void flux(dolfinx::fem::Function<double>& out) const;
+
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> pressure_space() const { return _Q; }
+
+  // The unknown of the last solve.
+  std::shared_ptr<dolfinx::fem::Function<double>> pressure;
+  // Coupling data of the right-hand side (alg. multirate (a); q = 1 is the
+  // single-rate step): p^{n+1,m-1}, p^{n,m}, p^{n,m-1}, u^n, u_K.
+  std::shared_ptr<dolfinx::fem::Function<double>> p_previous, p_iterate, p_iterate_previous;
+  std::shared_ptr<dolfinx::fem::Function<double>> u_iterate, u_window;
+
+  int solves = 0;
+  long linear_iterations = 0;
+  double assembly_time = 0, solve_time = 0;
+
+private:
+  void assemble_loads(double t);
+
+  const Scene& _scene;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _W, _Q, _Z;
+  std::vector<std::int32_t> _Q_to_W, _Z_to_W;
+  std::shared_ptr<dolfinx::fem::Function<double>> _w, _source, _p_boundary;
+  BCs _bcs;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_storage, _L_coupling, _L_source,
+      _L_gravity;
+  std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
+  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
+  std::optional<dolfinx::la::petsc::Matrix> _A;
+  std::unique_ptr<LinearSolver> _solver;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
+  bool _loads_depend_on_time = false;
+  double _loads_time = -1;
+  bool _loads_assembled = false;
+};
+
+} // namespace biotcontact

@@ -1,0 +1,48 @@
+#include "forms.h"
+
+#include "biot_tetrahedron.h"
+#include "biot_triangle.h"
+#include <stdexcept>
+
+namespace biotcontact
+{
+
+// FFCx names every form form_<file>_<name>; the table is spelled out once
+// here for both compilations of forms/biot.py.
+#define BIOTCONTACT_FORMS(cell)                                                \
+  CompiledForms                                                                \
+  {                                                                            \
+    form_biot_##cell##_a_elastic, form_biot_##cell##_L_pressure_load,          \
+        form_biot_##cell##_L_body_force, form_biot_##cell##_L_traction,        \
+        form_biot_##cell##_L_lumped_boundary, form_biot_##cell##_a_flow,       \
+        form_biot_##cell##_L_flow_storage, form_biot_##cell##_L_flow_coupling, \
+        form_biot_##cell##_L_flow_source, form_biot_##cell##_L_flow_pressure,  \
+        form_biot_##cell##_L_flow_gravity, form_biot_##cell##_M_contraction,   \
+        form_biot_##cell##_L_sigma_v, form_biot_##cell##_M_pressure_error,     \
+        form_biot_##cell##_M_pressure_reference,                               \
+        form_biot_##cell##_M_displacement_error,                               \
+        form_biot_##cell##_M_displacement_reference,                           \
+        functionspace_form_biot_##cell##_a_elastic,                            \
+        functionspace_form_biot_##cell##_L_pressure_load,                      \
+        functionspace_form_biot_##cell##_a_flow,                               \
+        functionspace_form_biot_##cell##_L_flow_source,                        \
+        functionspace_form_biot_##cell##_M_pressure_error,                     \
+        functionspace_form_biot_##cell##_M_displacement_error                  \
+  }
+
+const CompiledForms& compiled_forms(dolfinx::mesh::CellType cell)
+{
+  static const CompiledForms triangle = BIOTCONTACT_FORMS(triangle);
+  static const CompiledForms tetrahedron = BIOTCONTACT_FORMS(tetrahedron);
+  switch (cell)
+  {
+  case dolfinx::mesh::CellType::triangle:
+    return triangle;
+  case dolfinx::mesh::CellType::tetrahedron:
+    return tetrahedron;
+  default:
+    throw std::runtime_error("biotcontact supports triangle and tetrahedron meshes only");
+  }
+}
+
+} // namespace biotcontact

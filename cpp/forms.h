@@ -1,0 +1,46 @@
+// The FFCx-compiled forms of forms/biot.py, for the cell type of a mesh.
+#pragma once
+
+#include <dolfinx/fem/FunctionSpace.h>
+#include <dolfinx/mesh/cell_types.h>
+#include <memory>
+#include <ufcx.h>
+
+namespace biotcontact
+{
+
+/// One compiled form per entry of forms/biot.py:FORM_NAMES.
+struct CompiledForms
+{
+  ufcx_form* a_elastic;
+  ufcx_form* L_pressure_load;
+  ufcx_form* L_body_force;
+  ufcx_form* L_traction;
+  ufcx_form* L_lumped_boundary;
+  ufcx_form* a_flow;
+  ufcx_form* L_flow_storage;
+  ufcx_form* L_flow_coupling;
+  ufcx_form* L_flow_source;
+  ufcx_form* L_flow_pressure;
+  ufcx_form* L_flow_gravity;
+  ufcx_form* M_contraction;
+  ufcx_form* L_sigma_v;
+  ufcx_form* M_pressure_error;
+  ufcx_form* M_pressure_reference;
+  ufcx_form* M_displacement_error;
+  ufcx_form* M_displacement_reference;
+
+  // Function-space factories of the forms in which each space appears.
+  using SpaceFactory = ufcx_function_space* (*)(const char*);
+  SpaceFactory displacement_space;           // "u" of a_elastic (P1 vector)
+  SpaceFactory pressure_space;               // "p" of L_pressure_load (P0)
+  SpaceFactory flow_space;                   // "v_0" (RT x P0), "resistivity" of a_flow
+  SpaceFactory data_space;                   // "source" of L_flow_source (P1)
+  SpaceFactory pressure_reference_space;     // "p_reference" (P2)
+  SpaceFactory displacement_reference_space; // "u_reference" (P2 vector)
+};
+
+/// The forms for triangles or tetrahedra; throws for other cells.
+const CompiledForms& compiled_forms(dolfinx::mesh::CellType cell);
+
+} // namespace biotcontact

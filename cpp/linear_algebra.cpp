@@ -1,0 +1,77 @@
+#include "linear_algebra.h"
+
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/petsc.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+la::petsc::Matrix assemble_matrix(const fem::Form<double>& a, const BCs& bcs)
+{
+  la::petsc::Matrix A(fem::petsc::create_matrix(a), false);
+  MatZeroEntries(A.mat());
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A.mat(), ADD_VALUES), a, bcs);
+  MatAssemblyBegin(A.mat(), MAT_FLUSH_ASSEMBLY);
+  MatAssemblyEnd(A.mat(), MAT_FLUSH_ASSEMBLY);
+  fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A.mat(), INSERT_VALUES),
+                            *a.function_spaces()[0], bcs);
+  MatAssemblyBegin(A.mat(), MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A.mat(), MAT_FINAL_ASSEMBLY);
+  return A;
+}
+
+void add_vector(la::Vector<double>& b, const fem::Form<double>& L)
+{
+  fem::assemble_vector(b.mutable_array(), L);
+}
+
+void finish_rhs(la::Vector<double>& b, std::shared_ptr<const fem::Form<double>> a, const BCs& bcs)
+{
+  if (!bcs.empty())
+    fem::apply_lifting<double>(b.mutable_array(), {a}, {bcs}, {}, 1.0);
+  b.scatter_rev(std::plus<double>());
+  if (!bcs.empty())
+    fem::set_bc(b.mutable_array(), bcs);
+}
+
+void set_default_option(const std::string& name, const std::string& value)
+{
+  PetscBool given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given);
+  if (!given)
+    PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
+}
+
+LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A) : _prefix(prefix)
+{
+  set_default_option(prefix + "ksp_type", "preonly");
+  set_default_option(prefix + "pc_type", "lu");
+  set_default_option(prefix + "pc_factor_mat_solver_type", "mumps");
+  KSPCreate(comm, &_ksp);
+  KSPSetOptionsPrefix(_ksp, prefix.c_str());
+  KSPSetOperators(_ksp, A, A);
+  KSPSetFromOptions(_ksp);
+}
+
+LinearSolver::~LinearSolver() { KSPDestroy(&_ksp); }
+
+int LinearSolver::solve(Vec x, Vec b)
+{
+  KSPSolve(_ksp, b, x);
+  KSPConvergedReason reason;
+  KSPGetConvergedReason(_ksp, &reason);
+  if (reason < 0)
+    throw SolverError("the " + _prefix.substr(0, _prefix.size() - 1)
+                      + " linear solver failed: " + KSPConvergedReasons[reason]);
+  PetscInt its = 0;
+  KSPGetIterationNumber(_ksp, &its);
+  return static_cast<int>(its);
+}
+
+la::petsc::Vector wrap(la::Vector<double>& x)
+{
+  return la::petsc::Vector(la::petsc::create_vector_wrap(x), false);
+}
+
+} // namespace biotcontact

@@ -1,0 +1,152 @@
+// biotcontact: coupled flow and geomechanics with frictionless contact.
+//
+//   biotcontact run SCENE.toml [--out DIR] [--set key.path=value ...] [PETSc options]
+//   biotcontact check SCENE.toml [--set ...]
+//
+// Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
+// coupling did not converge (what was finished is written), 1 anything else.
+#include "scene.h"
+#include "simulation.h"
+#include "linear_algebra.h"
+
+#include <cstdio>
+#include <cstring>
+#include <dolfinx/common/log.h>
+#include <filesystem>
+#include <petscsys.h>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+const char* usage = R"(usage:
+  biotcontact run SCENE.toml [--out DIR] [--set key.path=value ...] [PETSc options]
+  biotcontact check SCENE.toml [--set key.path=value ...]
+  biotcontact --help | --version
+
+run     simulate the scene; writes DIR/solution.xdmf (+ .h5), DIR/iterations.csv
+        and DIR/summary.json (DIR defaults to results/<scene name>)
+check   validate the scene and exit
+--set   override a scene value, e.g. --set coupling.L=kdr --set time.dt=0.5
+
+PETSc options select the solvers: the flow system has the prefix flow_, the
+mechanics (and contact) solve the prefix mechanics_, e.g.
+  -flow_ksp_type gmres -flow_pc_type hypre -mechanics_snes_monitor
+The defaults are direct solves (MUMPS LU); the contact solver is SNES
+vinewtonrsls with bounds on the contact DOFs.
+)";
+
+struct Arguments
+{
+  std::string command, scene, out;
+  std::vector<std::string> overrides;
+};
+
+int fail(const std::string& message, int rank)
+{
+  if (rank == 0)
+    std::fprintf(stderr, "biotcontact: error: %s\n", message.c_str());
+  return 2;
+}
+
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  // Our own arguments are read first; the rest go to PETSc.
+  Arguments args;
+  std::vector<char*> petsc_argv = {argv[0]};
+  std::string bad;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--help" or a == "-h")
+      args.command = "help";
+    else if (a == "--version")
+      args.command = "version";
+    else if (a == "--out" or a == "--set")
+    {
+      if (i + 1 >= argc)
+        bad = a + " needs a value";
+      else if (a == "--out")
+        args.out = argv[++i];
+      else
+        args.overrides.push_back(argv[++i]);
+    }
+    else if (args.command.empty() and (a == "run" or a == "check"))
+      args.command = a;
+    else if (args.scene.empty() and !args.command.empty() and a[0] != '-')
+      args.scene = a;
+    else if (a[0] == '-')
+    {
+      petsc_argv.push_back(argv[i]);
+      // a PETSc option's value, if it has one
+      if (i + 1 < argc and argv[i + 1][0] != '-')
+        petsc_argv.push_back(argv[++i]);
+    }
+    else
+      bad = "unexpected argument '" + a + "'";
+  }
+
+  if (args.command == "help")
+  {
+    std::printf("%s", usage);
+    return 0;
+  }
+  if (args.command == "version")
+  {
+    std::printf("biotcontact %s (dolfinx 0.5, PETSc %d.%d.%d)\n", BIOTCONTACT_VERSION,
+                PETSC_VERSION_MAJOR, PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR);
+    return 0;
+  }
+
+  int petsc_argc = static_cast<int>(petsc_argv.size());
+  char** petsc_args = petsc_argv.data();
+  PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
+  // Errors are reported by our messages, never by PETSc stack traces.
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  dolfinx::init_logging(1, argv);
+  loguru::g_stderr_verbosity = loguru::Verbosity_WARNING;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+
+  int status = 0;
+  if (!bad.empty())
+    status = fail(bad + " (see --help)", rank);
+  else if (args.command.empty() or args.scene.empty())
+    status = fail("expected 'run SCENE.toml' or 'check SCENE.toml' (see --help)", rank);
+  else
+  {
+    try
+    {
+      const biotcontact::Scene scene = biotcontact::read_scene(args.scene, args.overrides);
+      if (args.command == "check")
+      {
+        if (rank == 0)
+          std::printf("%s: ok (%s, %d steps)\n", args.scene.c_str(), scene.name.c_str(), scene.num_steps());
+      }
+      else
+      {
+        const std::string out = args.out.empty() ? "results/" + scene.name : args.out;
+        status = biotcontact::run(scene, out, MPI_COMM_WORLD);
+      }
+    }
+    catch (const biotcontact::SceneError& e)
+    {
+      status = fail(e.what(), rank);
+    }
+    catch (const biotcontact::SolverError& e)
+    {
+      status = fail(e.what(), rank) + 1;
+    }
+    catch (const std::exception& e)
+    {
+      if (rank == 0)
+        std::fprintf(stderr, "biotcontact: error: %s\n", e.what());
+      status = 1;
+    }
+  }
+  PetscFinalize();
+  return status;
+}

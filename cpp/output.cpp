@@ -1,0 +1,140 @@
+#include "output.h"
+
+#include <cmath>
+#include <dolfinx/common/Timer.h>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace biotcontact
+{
+
+namespace
+{
+std::string number(double v)
+{
+  if (!std::isfinite(v))
+    return "null"; // JSON has no NaN or infinity
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+std::string quoted(const std::string& v)
+{
+  std::string q = "\"";
+  for (char c : v)
+  {
+    if (c == '"' or c == '\\')
+      q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+bool is_rank0(MPI_Comm comm)
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank == 0;
+}
+} // namespace
+
+Json& Json::set(const std::string& key, double value)
+{
+  _items.emplace_back(key, number(value));
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, int value) { return set(key, static_cast<long>(value)); }
+Json& Json::set(const std::string& key, long value)
+{
+  _items.emplace_back(key, std::to_string(value));
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, bool value)
+{
+  _items.emplace_back(key, value ? "true" : "false");
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, const std::string& value)
+{
+  _items.emplace_back(key, quoted(value));
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, const Json& value)
+{
+  _items.emplace_back(key, std::to_string(_children.size()));
+  _nested.push_back(true);
+  _children.push_back(value);
+  return *this;
+}
+
+std::string Json::str(int indent) const
+{
+  const std::string pad(indent + 2, ' ');
+  std::string s = "{\n";
+  for (std::size_t i = 0; i < _items.size(); ++i)
+  {
+    s += pad + quoted(_items[i].first) + ": ";
+    s += _nested[i] ? _children[std::stoul(_items[i].second)].str(indent + 2) : _items[i].second;
+    s += i + 1 < _items.size() ? ",\n" : "\n";
+  }
+  return s + std::string(indent, ' ') + "}";
+}
+
+Output::Output(MPI_Comm comm, const std::string& directory,
+               std::shared_ptr<const dolfinx::mesh::Mesh> mesh, bool xdmf)
+    : _comm(comm), _directory(directory)
+{
+  if (is_rank0(comm))
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(directory, ec);
+    if (ec)
+      throw std::runtime_error("cannot create output directory " + directory + ": " + ec.message());
+    _csv.open(directory + "/iterations.csv");
+    if (!_csv)
+      throw std::runtime_error("cannot write " + directory + "/iterations.csv");
+    _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes\n" << std::flush;
+  }
+  MPI_Barrier(comm);
+  if (xdmf)
+  {
+    _xdmf = std::make_unique<dolfinx::io::XDMFFile>(comm, xdmf_path(), "w");
+    _xdmf->write_mesh(*mesh);
+  }
+}
+
+void Output::write(const dolfinx::fem::Function<double>& f, double t)
+{
+  if (!_xdmf)
+    return;
+  dolfinx::common::Timer timer("output");
+  _xdmf->write_function(f, t);
+  time += timer.stop();
+}
+
+void Output::iteration(const IterationRecord& r)
+{
+  if (!_csv.is_open())
+    return;
+  auto v = [](double x) { return std::isfinite(x) ? number(x) : std::string(""); };
+  _csv << r.step << ',' << number(r.time) << ',' << r.iteration << ',' << v(r.dsigma_norm) << ','
+       << v(r.ratio) << ',' << v(r.gamma) << ',' << v(r.dp_norm) << ',' << v(r.du_norm) << ','
+       << r.active_nodes << '\n'
+       << std::flush;
+}
+
+void Output::summary(const Json& json) const
+{
+  if (!is_rank0(_comm))
+    return;
+  std::ofstream f(_directory + "/summary.json");
+  f << json.str() << "\n";
+}
+
+} // namespace biotcontact

@@ -1,0 +1,129 @@
+// A scene: one TOML file that says what to simulate (see README, "Scenes").
+// Reading it validates every key; a bad scene raises SceneError whose message
+// is one line naming the file and the key.
+#pragma once
+
+#include "expression.h"
+
+#include <array>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+struct SceneError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+struct MeshSpec
+{
+  std::string type;                 // "rectangle", "box" or "gmsh"
+  std::vector<double> lower, upper; // corners (built-in meshes)
+  std::vector<std::size_t> cells;   // cells per direction (built-in meshes)
+  std::string file;                 // .msh or .geo (gmsh), resolved path
+  int dimension = 2;
+};
+
+/// Frictionless Signorini contact against a rigid foundation with normal
+/// nu_F = sign * e_axis: u.nu_F <= gap at the nodes of the boundary.
+struct ContactSpec
+{
+  Expression gap;
+  int axis = 0;
+  int sign = 1;
+};
+
+struct BoundarySpec
+{
+  enum class Mechanics
+  {
+    traction_free,
+    displacement, // some components prescribed ("clamp" prescribes all to 0)
+    traction,
+    contact
+  };
+  enum class Flow
+  {
+    no_flow,
+    pressure,
+    flux
+  };
+  Mechanics mechanics = Mechanics::traction_free;
+  std::array<std::optional<Expression>, 3> displacement;
+  std::vector<Expression> traction;
+  std::optional<ContactSpec> contact;
+  Flow flow = Flow::no_flow;
+  Expression pressure, flux;
+};
+
+struct MechanicsSpec
+{
+  double G = 0, lambda = 0;
+  std::optional<std::vector<Expression>> body_force;
+};
+
+/// Permeability: a scalar (number or expression evaluated at cell midpoints)
+/// or a constant tensor.
+struct FlowSpec
+{
+  double M = std::numeric_limits<double>::infinity();
+  double c_f = 0, phi0 = 0, mu_f = 1;
+  std::optional<Expression> permeability;
+  std::optional<std::vector<double>> permeability_tensor; // row-major d x d
+  std::optional<double> rho_f;
+  std::optional<std::vector<double>> gravity;
+  std::optional<Expression> source;
+  Expression initial_pressure;
+  /// S = 1/M + c_f phi0 (alg. "Parameters")
+  double storage() const { return 1.0 / M + c_f * phi0; }
+};
+
+struct CouplingSpec
+{
+  double alpha = 1;
+  std::string scheme = "fixed-stress"; // "fixed-stress" or "multirate"
+  int q = 1;
+  std::string L_choice = "paper";      // "paper", "kdr", "half-kdr" or a number
+  double L_number = 0;
+  double tolerance = 1e-8;
+  int max_iterations = 100;
+};
+
+/// Closed-form solution to compare with at the final time.
+struct ReferenceSpec
+{
+  std::string solution; // "terzaghi"
+  double load = 0;      // q_load (compressive traction on the top)
+  double height = 0;
+};
+
+struct Scene
+{
+  std::string file, name, description;
+  MeshSpec mesh;
+  std::map<std::string, BoundarySpec> boundaries;
+  std::optional<MechanicsSpec> mechanics;
+  std::optional<FlowSpec> flow;
+  std::optional<CouplingSpec> coupling; // present iff mechanics and flow
+  double end_time = 0, dt = 0;
+  bool write_xdmf = true;
+  std::optional<ReferenceSpec> reference;
+
+  bool has_contact() const;
+  int num_steps() const;
+};
+
+/// Reads and validates a scene; `overrides` are "key.path=value" strings
+/// applied to the TOML document before validation.
+Scene read_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/// The names of the boundaries a built-in mesh provides.
+std::vector<std::string> builtin_boundary_names(int dimension);
+
+} // namespace biotcontact

@@ -1,0 +1,332 @@
+#include "simulation.h"
+
+#include "closed_form.h"
+#include "diagnostics.h"
+#include "domain.h"
+#include "fixed_stress.h"
+#include "flow_step.h"
+#include "forms.h"
+#include "mechanics_step.h"
+#include "output.h"
+#include "parameters.h"
+
+#include <basix/finite-element.h>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <dolfinx/fem/utils.h>
+#include <xtensor/xarray.hpp>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+
+bool rank0(MPI_Comm comm)
+{
+  int r = 0;
+  MPI_Comm_rank(comm, &r);
+  return r == 0;
+}
+
+std::int64_t global_size(const fem::FunctionSpace& V)
+{
+  return V.dofmap()->index_map->size_global() * V.dofmap()->index_map_bs();
+}
+
+/// Mean vertical displacement of the nodes of one boundary (collective).
+double boundary_mean(const fem::Function<double>& u, const std::vector<std::int32_t>& facets, int component)
+{
+  const auto& V = *u.function_space();
+  const auto dofs = fem::locate_dofs_topological(*V.sub({component}), V.mesh()->topology().dim() - 1, facets);
+  const std::int32_t owned = V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+  double local[2] = {0, 0};
+  for (std::int32_t dof : dofs)
+    if (dof < owned)
+    {
+      local[0] += u.x()->array()[dof];
+      local[1] += 1;
+    }
+  double global[2];
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, V.mesh()->comm());
+  return global[0] / global[1];
+}
+
+Json contact_json(const ContactState& c)
+{
+  Json j;
+  j.set("contact_nodes", c.contact_nodes)
+      .set("active_nodes", c.active_nodes)
+      .set("max_penetration", c.max_penetration)
+      .set("max_complementarity", c.max_complementarity)
+      .set("max_contact_pressure", c.max_pressure)
+      .set("min_contact_pressure", c.min_pressure)
+      .set("gap_scale", c.gap_scale);
+  return j;
+}
+
+} // namespace
+
+int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
+{
+  const auto start = std::chrono::steady_clock::now();
+  const bool root = rank0(comm);
+  auto say = [&](const std::string& s)
+  {
+    if (root)
+      std::printf("%s\n", s.c_str()), std::fflush(stdout);
+  };
+
+  // ---- scene -> mesh and tags -> forms ------------------------------------
+  const Domain domain = create_domain(scene, comm);
+  const CompiledForms& forms = compiled_forms(domain.mesh->topology().cell_type());
+  const Parameters P = derive_parameters(scene);
+  const Constants constants = make_constants(scene, P);
+  const int d = domain.dim();
+
+  // Each scene allocates only the physics it has.
+  std::string left_out;
+  auto leave_out = [&](const std::string& what) { left_out += (left_out.empty() ? "" : "; ") + what; };
+  if (!scene.flow)
+    leave_out("flow (no [flow] table): no flux or pressure unknowns");
+  if (!scene.mechanics)
+    leave_out("mechanics (no [mechanics] table): no displacement unknowns");
+  if (scene.mechanics and !scene.has_contact())
+    leave_out("contact solver (no contact boundary): linear mechanics solve");
+  if (scene.flow and !scene.flow->gravity)
+    leave_out("gravity");
+  if (scene.mechanics and !scene.mechanics->body_force)
+    leave_out("body force");
+  say("biotcontact: scene " + scene.name + " (" + scene.file + "), " + std::to_string(d) + "D, "
+      + std::to_string(domain.mesh->topology().index_map(d)->size_global()) + " cells");
+  say("left out: " + (left_out.empty() ? std::string("nothing") : left_out));
+
+  std::shared_ptr<const fem::FunctionSpace> V;
+  if (scene.mechanics)
+    V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "u", domain.mesh));
+  std::unique_ptr<FlowStep> flow;
+  if (scene.flow)
+    flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? V : nullptr);
+  std::unique_ptr<MechanicsStep> mechanics;
+  if (scene.mechanics)
+    mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, V,
+                                                flow ? flow->pressure : nullptr);
+
+  // ---- output fields ---------------------------------------------------------
+  Output output(comm, directory, domain.mesh, scene.write_xdmf);
+  const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
+  const basix::FiniteElement dg0 = basix::create_element(
+      basix::element::family::P, cell, 0, basix::element::lagrange_variant::unset, true);
+  std::shared_ptr<fem::Function<double>> flux, sigma_v, zero_pressure;
+  if (flow)
+  {
+    flow->pressure->name = "pressure";
+    flux = std::make_shared<fem::Function<double>>(
+        std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, d)));
+    flux->name = "flux";
+  }
+  if (mechanics)
+  {
+    mechanics->u->name = "displacement";
+    auto Q0 = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, 1));
+    sigma_v = std::make_shared<fem::Function<double>>(Q0);
+    sigma_v->name = "sigma_v";
+    if (!flow)
+      zero_pressure = std::make_shared<fem::Function<double>>(Q0);
+    if (mechanics->has_contact())
+    {
+      mechanics->contact_pressure->name = "contact_pressure";
+      mechanics->contact_active->name = "contact_active";
+    }
+  }
+  auto write_flow = [&](double t)
+  {
+    output.write(*flow->pressure, t);
+    flow->flux(*flux);
+    output.write(*flux, t);
+  };
+  ContactState contact;
+  auto write_mechanics = [&](double t)
+  {
+    volumetric_stress(forms, constants, mechanics->u, flow ? flow->pressure : zero_pressure, *sigma_v);
+    output.write(*mechanics->u, t);
+    output.write(*sigma_v, t);
+    if (mechanics->has_contact())
+    {
+      output.write(*mechanics->contact_pressure, t);
+      output.write(*mechanics->contact_active, t);
+    }
+  };
+  char line[256];
+  auto progress = [&](int step, double t, int iterations)
+  {
+    if (mechanics)
+      contact = mechanics->contact_state();
+    std::snprintf(line, sizeof line, "step %4d/%d  t = %-11.5g  coupling iterations %3d  active contact nodes %d",
+                  step, scene.num_steps() / P.q, t, iterations, contact.active_nodes);
+    say(line);
+  };
+
+  // ---- initial state ---------------------------------------------------------
+  if (flow)
+    write_flow(0.0);
+  if (mechanics)
+    write_mechanics(0.0);
+
+  // ---- time stepping -----------------------------------------------------------
+  CouplingReport report;
+  std::string failure;
+  if (scene.coupling)
+  {
+    ContractionNorm contraction(forms, V, flow->pressure_space());
+    WindowObserver observer{write_flow, [&](double t, int window, int iterations)
+                            {
+                              progress(window, t, iterations);
+                              write_mechanics(t);
+                            }};
+    try
+    {
+      run_fixed_stress(scene, P, *flow, *mechanics, contraction, output, observer, report);
+    }
+    catch (const CouplingError& e)
+    {
+      failure = e.what();
+    }
+  }
+  else
+  {
+    for (int k = 1; k <= scene.num_steps(); ++k)
+    {
+      const double t = k * scene.dt;
+      if (flow)
+      {
+        std::copy(flow->pressure->x()->array().begin(), flow->pressure->x()->array().end(),
+                  flow->p_previous->x()->mutable_array().begin());
+        flow->solve(t);
+        write_flow(t);
+      }
+      if (mechanics)
+      {
+        mechanics->solve(t);
+        write_mechanics(t);
+      }
+      progress(k, t, 1);
+      report.windows = k;
+    }
+  }
+  if (mechanics)
+    contact = mechanics->contact_state();
+
+  // ---- errors against a closed form at the final time --------------------------
+  Json errors;
+  bool has_errors = false;
+  if (scene.reference and failure.empty())
+  {
+    const ReferenceSpec& ref = *scene.reference;
+    const FlowSpec& fs = *scene.flow;
+    if (!fs.permeability or !fs.permeability->is_constant())
+      throw SceneError(scene.file + ": reference.solution: terzaghi needs a constant scalar permeability");
+    const Terzaghi terzaghi{ref.height, P.G, P.lambda, P.alpha, P.storage,
+                            (*fs.permeability)(0, 0, 0, 0) / fs.mu_f, ref.load};
+    const double t = scene.end_time, y0 = scene.mesh.lower[1];
+    auto p_ref = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+        fem::create_functionspace(forms.pressure_reference_space, "p_reference", domain.mesh)));
+    auto u_ref = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+        fem::create_functionspace(forms.displacement_reference_space, "u_reference", domain.mesh)));
+    p_ref->interpolate(
+        [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+        {
+          xt::xarray<double> v = xt::zeros<double>({x.shape(1)});
+          for (std::size_t j = 0; j < x.shape(1); ++j)
+            v(j) = terzaghi.pressure(x(1, j) - y0, t);
+          return v;
+        });
+    u_ref->interpolate(
+        [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+        {
+          xt::xarray<double> v = xt::zeros<double>({std::size_t(d), x.shape(1)});
+          for (std::size_t j = 0; j < x.shape(1); ++j)
+            v(1, j) = terzaghi.displacement(x(1, j) - y0, t);
+          return v;
+        });
+    const double settlement = -boundary_mean(*mechanics->u, domain.boundaries.at("top"), 1);
+    const double exact_settlement = terzaghi.settlement(t);
+    errors.set("time", t)
+        .set("pressure_rel_l2", relative_error(*forms.M_pressure_error, *forms.M_pressure_reference,
+                                               flow->pressure, "p_out", p_ref, "p_reference"))
+        .set("displacement_rel_l2",
+             relative_error(*forms.M_displacement_error, *forms.M_displacement_reference,
+                            mechanics->u, "u_out", u_ref, "u_reference"))
+        .set("settlement", settlement)
+        .set("settlement_exact", exact_settlement)
+        .set("settlement_rel", std::abs(settlement - exact_settlement) / std::abs(exact_settlement));
+    has_errors = true;
+  }
+
+  // ---- summary ------------------------------------------------------------------
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Json dofs, solves, timings;
+  if (mechanics)
+    dofs.set("displacement", static_cast<long>(global_size(*V)));
+  if (flow)
+  {
+    dofs.set("pressure", static_cast<long>(global_size(*flow->pressure_space())));
+    // RT0: one DOF per facet.
+    dofs.set("flux", static_cast<long>(domain.mesh->topology().index_map(d - 1)->size_global()));
+  }
+  Json linear;
+  linear.set("flow", flow ? flow->linear_iterations : 0L)
+      .set("mechanics", mechanics ? mechanics->linear_iterations : 0L);
+  timings.set("flow", flow ? flow->solve_time : 0.0)
+      .set("mechanics", mechanics ? mechanics->solve_time : 0.0)
+      .set("assembly", (flow ? flow->assembly_time : 0.0) + (mechanics ? mechanics->assembly_time : 0.0))
+      .set("output", output.time);
+
+  Json summary;
+  summary.set("scene", scene.name)
+      .set("scheme", scene.coupling ? scene.coupling->scheme : (flow ? "flow-only" : "mechanics-only"))
+      .set("q", P.q)
+      .set("L_choice", scene.coupling ? scene.coupling->L_choice : "none")
+      .set("L", P.L)
+      .set("gamma", P.gamma)
+      .set("dofs", dofs)
+      .set("dt", scene.dt)
+      .set("steps", report.windows)
+      .set("fine_steps", report.windows * P.q)
+      .set("coupling_iterations", report.coupling_iterations)
+      .set("max_iterations_per_step", report.max_iterations_per_step)
+      .set("max_contraction_ratio", report.max_contraction_ratio)
+      .set("mean_contraction_ratio", report.mean_contraction_ratio)
+      .set("bound_violations", report.bound_violations)
+      .set("max_coupled_residual", report.max_coupled_residual)
+      .set("converged", failure.empty())
+      .set("flow_solves", flow ? flow->solves : 0)
+      .set("mechanics_solves", mechanics ? mechanics->solves : 0)
+      .set("newton_iterations", mechanics ? mechanics->newton_iterations : 0L)
+      .set("linear_iterations", linear)
+      .set("timings", timings)
+      .set("wall_time_s", wall)
+      .set("left_out", left_out)
+      .set("mpi_ranks", [&] { int n; MPI_Comm_size(comm, &n); return n; }());
+  if (mechanics and mechanics->has_contact())
+    summary.set("contact", contact_json(contact));
+  if (has_errors)
+    summary.set("errors", errors);
+  if (!failure.empty())
+    summary.set("failure", failure);
+  output.summary(summary);
+
+  if (!failure.empty())
+  {
+    if (root)
+      std::fprintf(stderr, "biotcontact: error: %s (log: %s/iterations.csv)\n", failure.c_str(),
+                   directory.c_str());
+    return run_not_converged;
+  }
+  say("wrote " + output.xdmf_path() + " and " + directory + "/summary.json (" + std::to_string(wall) + " s)");
+  return run_ok;
+}
+
+} // namespace biotcontact

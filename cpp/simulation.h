@@ -1,0 +1,24 @@
+// A run of one scene: scene -> mesh and tags -> forms -> flow step /
+// mechanics step -> coupling scheme -> output and diagnostics.
+#pragma once
+
+#include "scene.h"
+
+#include <mpi.h>
+#include <string>
+
+namespace biotcontact
+{
+
+/// Exit status of a run.
+enum RunStatus
+{
+  run_ok = 0,
+  run_not_converged = 3,
+};
+
+/// Runs `scene`, writing into `directory`; returns run_ok, or
+/// run_not_converged after writing what was finished and the iteration log.
+int run(const Scene& scene, const std::string& directory, MPI_Comm comm);
+
+} // namespace biotcontact

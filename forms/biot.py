@@ -1,0 +1,159 @@
+"""The UFL forms of biotcontact, written once for both implementations.
+
+The C++ solver compiles them with FFCx through `biot_triangle.py` and
+`biot_tetrahedron.py` (one compilation per cell type); the Python prototype
+calls `build` with dolfinx spaces, functions and constants. Equation numbers
+refer to ../shared/docs/algorithm.md ("alg.") and to the paper ("eq.").
+
+Every load term is a form of its own so that a scene assembles only what it
+has: no gravity form without gravity, no coupling form without mechanics.
+Boundary integrals use the facet marker 1; the solver marks one boundary at a
+time with it (a boundary may carry its own traction or pressure).
+"""
+
+import ufl
+from ufl import (div, dot, dx, grad, inner, sym, CellVolume, FacetNormal)
+
+BOUNDARY = 1
+
+
+def _ufl_space(domain, element):
+    return ufl.FunctionSpace(domain, element)
+
+
+def _ufl_constant(domain, shape=()):
+    return ufl.Constant(domain, shape=shape)
+
+
+def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
+          constant=_ufl_constant):
+    """Return a dict name -> UFL object (forms, coefficients, constants).
+
+    `space(domain, element)`, `coefficient(space)` and
+    `constant(domain, shape)` default to abstract UFL objects (for FFCx);
+    the prototype passes dolfinx factories instead.
+    """
+    cell = domain.ufl_cell()
+    d = cell.geometric_dimension()
+
+    # Spaces (alg. "Unknowns and spaces").
+    P1v = ufl.VectorElement("Lagrange", cell, 1)        # u in V_h
+    RT = ufl.FiniteElement("RT", cell, 1)               # z in Z_h
+    DG0 = ufl.FiniteElement("DG", cell, 0)              # p in Q_h
+    DG0v = ufl.VectorElement("DG", cell, 0)             # cell-averaged flux
+    DG0t = ufl.TensorElement("DG", cell, 0)             # resistivity mu_f K^-1
+    P1 = ufl.FiniteElement("Lagrange", cell, 1)         # data: Q, p_D
+    P2 = ufl.FiniteElement("Lagrange", cell, 2)         # closed-form references
+    P2v = ufl.VectorElement("Lagrange", cell, 2)
+
+    V = space(domain, P1v)
+    Q = space(domain, DG0)
+    W = space(domain, ufl.MixedElement([RT, DG0]))      # flow: (z, p)
+    Qv = space(domain, DG0v)
+    R = space(domain, DG0t)
+    D = space(domain, P1)
+    D2 = space(domain, P2)
+    D2v = space(domain, P2v)
+
+    # Material constants (alg. "Parameters").
+    G = constant(domain)             # shear modulus
+    lmbda = constant(domain)         # Lame lambda
+    alpha = constant(domain)         # Biot coefficient
+    storage = constant(domain)       # S = 1/M + c_f phi0
+    L = constant(domain)             # fixed-stress stabilisation
+    dt = constant(domain)            # (fine) time step
+    q = constant(domain)             # flow steps per mechanics step
+    rho_f = constant(domain)
+    gravity = constant(domain, (d,))
+
+    resistivity = coefficient(R)     # mu_f K^-1, cell-wise tensor
+
+    def eps(w):
+        return sym(grad(w))
+
+    # ---- Mechanics (alg. "Mechanics with frictionless Signorini contact") --
+    u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    p = coefficient(Q)                     # pressure acting on the skeleton
+    body_force = coefficient(V)            # f0
+    traction = coefficient(V)              # f2 on the marked boundary
+    ones = constant(domain, (d,))
+
+    # a(u, v) = 2G (eps u, eps v) + lambda (div u, div v)
+    a_elastic = 2 * G * inner(eps(u), eps(v)) * dx + lmbda * div(u) * div(v) * dx
+    # (alpha p, div v): the pore pressure load on the skeleton
+    L_pressure_load = alpha * p * div(v) * dx
+    L_body_force = inner(body_force, v) * dx
+    L_traction = inner(traction, v) * ufl.ds(BOUNDARY)
+    # lumped boundary measure of each node on Gamma_3, to turn the nodal
+    # contact force into a contact pressure
+    L_lumped_boundary = inner(ones, v) * ufl.ds(BOUNDARY)
+
+    # ---- Flow, mixed RT0 x P0 (alg. "Flow" and "Single-rate ... (a)") ------
+    # The mass balance is multiplied by -1 so that the matrix is symmetric:
+    #   (mu_f K^-1 z, w) - (p, div w) - (div z, th) - ((S+L)/dt) (p, th)
+    (z, pf) = ufl.TrialFunctions(W)
+    (w, th) = ufl.TestFunctions(W)
+    a_flow = (inner(dot(resistivity, z), w) * dx - pf * div(w) * dx
+              - div(z) * th * dx - (storage + L) / dt * pf * th * dx)
+
+    # Right-hand side, alg. multirate (a) (q = 1 is the single-rate step):
+    #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z, th)
+    #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+    #       - ((alpha/q) div(u^n - u_K)/dt, th)
+    p_previous = coefficient(Q)            # p^{n+1,m-1}
+    p_iterate = coefficient(Q)             # p^{n,m}
+    p_iterate_previous = coefficient(Q)    # p^{n,m-1}
+    u_iterate = coefficient(V)             # u^n
+    u_window = coefficient(V)              # u_K
+    source = coefficient(D)                # Q
+    p_boundary = coefficient(D)            # p_D on the marked boundary
+    n = FacetNormal(domain)
+
+    L_flow_storage = -(storage + L) / dt * p_previous * th * dx
+    L_flow_coupling = (-L / dt * (p_iterate - p_iterate_previous) * th * dx
+                       + alpha / (q * dt) * div(u_iterate - u_window) * th * dx)
+    L_flow_source = -source * th * dx
+    L_flow_pressure = -p_boundary * dot(w, n) * ufl.ds(BOUNDARY)
+    L_flow_gravity = rho_f * inner(gravity, w) * dx
+
+    # ---- Diagnostics -------------------------------------------------------
+    # The contraction quantities of Theorems 1 and 2 are both
+    #   || c_u div(du) - c_p dp ||^2
+    # (Theorem 1: c_u = lambda, c_p = alpha; Theorem 2: c_u = alpha/(q L),
+    #  c_p = 1, dp replaced by dp^{m} - dp^{m-1}).
+    du = coefficient(V)
+    dp = coefficient(Q)
+    c_u = constant(domain)
+    c_p = constant(domain)
+    M_contraction = (c_u * div(du) - c_p * dp) ** 2 * dx
+
+    # Cell values of P0 output fields (the integrands are constant on a cell
+    # for P1 u and P0 p, so this is exact): sigma_v = lambda div u - alpha p.
+    u_out = coefficient(V)
+    p_out = coefficient(Q)
+    th0 = ufl.TestFunction(Q)
+    L_sigma_v = (lmbda * div(u_out) - alpha * p_out) / CellVolume(domain) * th0 * dx
+
+    # Errors against a closed form interpolated into P2.
+    p_reference = coefficient(D2)
+    u_reference = coefficient(D2v)
+    M_pressure_error = (p_out - p_reference) ** 2 * dx
+    M_pressure_reference = p_reference ** 2 * dx
+    M_displacement_error = inner(u_out - u_reference, u_out - u_reference) * dx
+    M_displacement_reference = inner(u_reference, u_reference) * dx
+
+    names = dict(locals())
+    return {k: obj for k, obj in names.items()
+            if not k.startswith("_") and k not in ("space", "coefficient", "constant",
+                                                   "domain", "cell", "d", "names")}
+
+
+# Forms compiled for C++, in this order (see cpp/forms.h).
+FORM_NAMES = [
+    "a_elastic", "L_pressure_load", "L_body_force", "L_traction", "L_lumped_boundary",
+    "a_flow", "L_flow_storage", "L_flow_coupling", "L_flow_source",
+    "L_flow_pressure", "L_flow_gravity",
+    "M_contraction", "L_sigma_v",
+    "M_pressure_error", "M_pressure_reference",
+    "M_displacement_error", "M_displacement_reference",
+]

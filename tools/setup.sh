@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages biotcontact needs (as root, idempotent) and
+# builds the solver into build/. Usage: tools/setup.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  g++ cmake make pkg-config openmpi-bin
+  libdolfinx-dev python3-dolfinx python3-ffcx python3-basix python3-ufl
+  libtomlplusplus-dev libmuparser-dev
+  gmsh python3-gmsh
+  python3-numpy python3-h5py python3-matplotlib
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
+if ! cmake --build build -j2 > build/build.log 2>&1; then
+  tail -40 build/build.log >&2
+  echo "setup: build failed, full log in build/build.log" >&2
+  exit 1
+fi
+echo "setup: built build/biotcontact"
