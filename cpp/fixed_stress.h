@@ -27,8 +27,9 @@ struct CouplingReport
   long coupling_iterations = 0;
   int max_iterations_per_step = 0;
   double max_contraction_ratio = 0, mean_contraction_ratio = 0;
-  long ratios = 0;             // number of ratios measured
-  long bound_violations = 0;   // ratios above gamma
+  long ratios = 0;             // ratios held against gamma (resolved)
+  long bound_violations = 0;   // resolved ratios above gamma
+  long unresolved_ratios = 0;  // ratios at round-off level, logged only
   double max_coupled_residual = 0; // relative, of each converged state
   bool converged = true;
 };

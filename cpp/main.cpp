@@ -102,6 +102,7 @@ int main(int argc, char* argv[])
   }
 
   int petsc_argc = static_cast<int>(petsc_argv.size());
+  petsc_argv.push_back(nullptr); // MPI_Init reads argv up to its terminator
   char** petsc_args = petsc_argv.data();
   PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
   // Errors are reported by our messages, never by PETSc stack traces.

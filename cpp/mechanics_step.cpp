@@ -172,14 +172,22 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
   set_default_option("mechanics_pc_type", "lu");
   set_default_option("mechanics_pc_factor_mat_solver_type", "mumps");
   set_default_option("mechanics_snes_rtol", "1e-10");
-  set_default_option("mechanics_snes_stol", "1e-14");
+  set_default_option("mechanics_snes_stol", "1e-12");
   set_default_option("mechanics_snes_max_it", "100");
+  // F is linear and A is its exact Jacobian: the full semismooth Newton step
+  // is exact on the current active set, and a backtracking search only
+  // fails once the residual is at round-off.
+  set_default_option("mechanics_snes_linesearch_type", "basic");
   SNESCreate(mesh->comm(), &c.snes);
   SNESSetOptionsPrefix(c.snes, "mechanics_");
   SNESSetType(c.snes, SNESVINEWTONRSLS);
   SNESSetFunction(c.snes, c.residual, &MechanicsStep::residual, this);
   SNESSetJacobian(c.snes, _A->mat(), _A->mat(), &MechanicsStep::jacobian, this);
   SNESVISetVariableBounds(c.snes, c.lower, c.upper);
+  // At least one Newton step per solve: a step is an exact solve on the
+  // active set, so the result never lags behind the load (a residual
+  // already below the tolerance would otherwise leave u as it was).
+  SNESSetForceIteration(c.snes, PETSC_TRUE);
   SNESSetFromOptions(c.snes);
   _contact = std::move(c);
 }
@@ -260,7 +268,7 @@ void MechanicsStep::solve(double t)
       // Absolute tolerance relative to the load: scale-free.
       PetscReal bnorm = 0;
       VecNorm(wrap(*_b).vec(), NORM_2, &bnorm);
-      SNESSetTolerances(c.snes, std::max(1e-13 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT,
+      SNESSetTolerances(c.snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT,
                         PETSC_DEFAULT, PETSC_DEFAULT);
     }
     SNESSolve(c.snes, nullptr, c.x);
