@@ -152,21 +152,7 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
   VecDuplicate(b.vec(), &c.upper);
   VecSet(c.lower, PETSC_NINFINITY);
   VecSet(c.upper, PETSC_INFINITY);
-  {
-    // u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
-    PetscScalar *lo, *up;
-    VecGetArray(c.lower, &lo);
-    VecGetArray(c.upper, &up);
-    for (std::size_t k = 0; k < c.dofs.size(); ++k)
-    {
-      if (c.sign > 0)
-        up[c.dofs[k]] = c.gap[k];
-      else
-        lo[c.dofs[k]] = -c.gap[k];
-    }
-    VecRestoreArray(c.lower, &lo);
-    VecRestoreArray(c.upper, &up);
-  }
+  VecDuplicate(b.vec(), &c.b_scaled);
 
   set_default_option("mechanics_ksp_type", "preonly");
   set_default_option("mechanics_pc_type", "lu");
@@ -201,16 +187,16 @@ MechanicsStep::~MechanicsStep()
     VecDestroy(&_contact->residual);
     VecDestroy(&_contact->lower);
     VecDestroy(&_contact->upper);
+    VecDestroy(&_contact->b_scaled);
   }
 }
 
-// F(x) = A x - b: the gradient of the (quadratic) energy.
+// F(x) = A x - b/s: the gradient of the (quadratic) energy in units of s.
 PetscErrorCode MechanicsStep::residual(SNES, Vec x, Vec F, void* context)
 {
   auto* self = static_cast<MechanicsStep*>(context);
-  la::petsc::Vector b = wrap(*self->_b);
   MatMult(self->_A->mat(), x, F);
-  VecAXPY(F, -1.0, b.vec());
+  VecAXPY(F, -1.0, self->_contact->b_scaled);
   return 0;
 }
 
@@ -260,14 +246,43 @@ void MechanicsStep::solve(double t)
     // SNES works on its own vector (the callbacks evaluate trial points);
     // the previous u is the initial guess.
     Contact& c = *_contact;
+    // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
+    // works on u / s with s the displacement scale (largest gap or |u|):
+    // the residual A (u/s) - b/s has the same Jacobian A.
+    double local = 0;
+    for (double g : c.gap)
+      local = std::max(local, g);
+    for (double v : u->x()->array())
+      local = std::max(local, std::abs(v));
+    MPI_Allreduce(&local, &c.scale, 1, MPI_DOUBLE, MPI_MAX, _V->mesh()->comm());
+    if (!(c.scale > 0))
+      c.scale = 1.0;
+    {
+      PetscScalar *lo, *up;
+      VecGetArray(c.lower, &lo);
+      VecGetArray(c.upper, &up);
+      // u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
+      for (std::size_t k = 0; k < c.dofs.size(); ++k)
+      {
+        if (c.sign > 0)
+          up[c.dofs[k]] = c.gap[k] / c.scale;
+        else
+          lo[c.dofs[k]] = -c.gap[k] / c.scale;
+      }
+      VecRestoreArray(c.lower, &lo);
+      VecRestoreArray(c.upper, &up);
+    }
+    VecCopy(wrap(*_b).vec(), c.b_scaled);
+    VecScale(c.b_scaled, 1.0 / c.scale);
     VecCopy(x.vec(), c.x);
+    VecScale(c.x, 1.0 / c.scale);
     PetscBool atol_given = PETSC_FALSE;
     PetscOptionsHasName(nullptr, nullptr, "-mechanics_snes_atol", &atol_given);
     if (!atol_given)
     {
       // Absolute tolerance relative to the load: scale-free.
       PetscReal bnorm = 0;
-      VecNorm(wrap(*_b).vec(), NORM_2, &bnorm);
+      VecNorm(c.b_scaled, NORM_2, &bnorm);
       SNESSetTolerances(c.snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT,
                         PETSC_DEFAULT, PETSC_DEFAULT);
     }
@@ -282,6 +297,7 @@ void MechanicsStep::solve(double t)
     SNESGetLinearSolveIterations(c.snes, &lits);
     newton_iterations += its;
     linear_iterations += lits;
+    VecScale(c.x, c.scale);
     VecCopy(c.x, x.vec());
   }
   u->x()->scatter_fwd();
@@ -298,7 +314,8 @@ ContactState MechanicsStep::contact_state()
   // Nodal contact force R = A u - b (the residual of the unconstrained
   // equations); the contact pressure is -R.nu_F / lumped measure.
   la::petsc::Vector x = wrap(*u->x());
-  residual(c.snes, x.vec(), c.residual, this);
+  MatMult(_A->mat(), x.vec(), c.residual);
+  VecAXPY(c.residual, -1.0, wrap(*_b).vec());
   const PetscScalar* R;
   VecGetArrayRead(c.residual, &R);
   std::span<const double> ux = u->x()->array();

@@ -79,7 +79,8 @@ private:
     std::vector<double> gap;        // g_a at those DOFs
     std::vector<double> lumped;     // lumped boundary measure there
     std::vector<std::int32_t> collapsed; // matching DOFs of the output space
-    Vec lower, upper, x, residual;
+    Vec lower, upper, x, residual, b_scaled; // SNES works in units of `scale`
+    double scale = 1;
     SNES snes;
   };
 

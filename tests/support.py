@@ -1,0 +1,83 @@
+"""Helpers shared by the ctest scripts: run the solver, read its output."""
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
+MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+
+
+def scene(name):
+    return os.path.join(ROOT, "scenes", name + ".toml")
+
+
+def run(scene_file, *extra, ranks=1, expect=0, out=None):
+    """Runs the solver; returns (output directory, completed process)."""
+    out = out or tempfile.mkdtemp(prefix="biotcontact-test-")
+    cmd = [BINARY, "run", scene_file, "--out", out, *extra]
+    if ranks > 1:
+        cmd = ["mpirun", "-n", str(ranks)] + cmd
+    p = subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV, timeout=900)
+    if expect is not None and p.returncode != expect:
+        sys.exit(f"FAIL: {' '.join(cmd)} exited {p.returncode}, expected {expect}\n"
+                 f"{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
+    return out, p
+
+
+def summary(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def iterations(out):
+    with open(os.path.join(out, "iterations.csv")) as f:
+        return list(csv.DictReader(f))
+
+
+class Fields:
+    """The XDMF time series of a run: fields[name][time] -> array, with node
+    and cell coordinates to compare runs partitioned differently."""
+
+    def __init__(self, out):
+        tree = ET.parse(os.path.join(out, "solution.xdmf"))
+        h5 = h5py.File(os.path.join(out, "solution.h5"), "r")
+        self.nodes = h5["Mesh/mesh/geometry"][:]
+        cells = h5["Mesh/mesh/topology"][:]
+        self.cells = self.nodes[cells].mean(axis=1)
+        self.series = {}
+        for grid in tree.iter("Grid"):
+            attribute = grid.find("Attribute")
+            time = grid.find("Time")
+            if attribute is None or time is None:
+                continue
+            path = attribute.find("DataItem").text.split(":")[1]
+            self.series.setdefault(attribute.get("Name"), {})[float(time.get("Value"))] = \
+                (attribute.get("Center"), h5[path][:])
+
+    def times(self, name):
+        return sorted(self.series[name])
+
+    def at(self, name, t):
+        return self.series[name][t][1]
+
+    def sorted_values(self, name, t):
+        """Values ordered by their coordinates (partition independent)."""
+        center, values = self.series[name][t]
+        x = self.nodes if center == "Node" else self.cells
+        order = np.lexsort(np.round(x, 10).T[::-1])
+        return values[order]
+
+
+def check(condition, message):
+    if not condition:
+        sys.exit("FAIL: " + message)
+    print("ok: " + message)
