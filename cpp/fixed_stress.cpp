@@ -167,7 +167,6 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
     }
     report.coupling_iterations += std::min(n + 1, coupling.max_iterations);
     report.max_iterations_per_step = std::max(report.max_iterations_per_step, std::min(n + 1, coupling.max_iterations));
-    report.windows = K + 1;
     if (!converged)
     {
       report.converged = false;
@@ -186,6 +185,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       observer.flow_state(t_K + m * dt);
     }
     observer.mechanics_state(t_K + q * dt, K + 1, n + 1);
+    report.windows = K + 1;
     p_K = p_new[q];
     u_K = u_new;
   }

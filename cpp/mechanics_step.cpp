@@ -324,7 +324,10 @@ ContactState MechanicsStep::contact_state()
   std::fill(pc.begin(), pc.end(), 0.0);
   std::fill(active.begin(), active.end(), 0.0);
 
-  double local = 0; // gap scale
+  // Displacement scale: the largest gap or displacement anywhere.
+  double local = 0;
+  for (double v : u->x()->array())
+    local = std::max(local, std::abs(v));
   std::vector<double> pressure(c.dofs.size()), normal(c.dofs.size());
   for (std::size_t k = 0; k < c.dofs.size(); ++k)
   {
