@@ -1,7 +1,12 @@
 #include "domain.h"
 
+#include <algorithm>
+#include <dolfinx/fem/CoordinateElement.h>
+#include <dolfinx/io/xdmf_utils.h>
 #include <dolfinx/mesh/generation.h>
 #include <dolfinx/mesh/utils.h>
+#include <filesystem>
+#include <gmsh.h>
 #include <xtensor/xtensor.hpp>
 #include <xtensor/xview.hpp>
 
@@ -29,14 +34,154 @@ std::map<std::string, std::pair<int, bool>> box_faces(int d)
           {"back", {1, false}},  {"bottom", {2, true}}, {"top", {2, false}}};
 }
 
+/// What rank 0 reads from a gmsh file: nodes, simplices, and the facets of
+/// each named physical group of dimension d-1.
+struct GmshData
+{
+  std::vector<double> x;                 // num_nodes x d
+  std::vector<std::int64_t> cells;       // d+1 node indices per cell
+  std::vector<std::int64_t> facets;      // d node indices per boundary facet
+  std::vector<std::int32_t> facet_group; // index into names
+  std::vector<std::string> names;
+};
+
+GmshData read_gmsh_file(const std::string& file, int d)
+{
+  GmshData data;
+  gmsh::initialize();
+  gmsh::option::setNumber("General.Terminal", 0);
+  try
+  {
+    gmsh::open(file);
+    if (std::filesystem::path(file).extension() == ".geo")
+      gmsh::model::mesh::generate(d);
+    std::vector<std::size_t> tags;
+    std::vector<double> coords, parametric;
+    gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, false, false);
+    std::map<std::size_t, std::int64_t> index;
+    for (std::size_t i = 0; i < tags.size(); ++i)
+    {
+      index[tags[i]] = static_cast<std::int64_t>(i);
+      for (int j = 0; j < d; ++j)
+        data.x.push_back(coords[3 * i + j]);
+    }
+    // Cells: triangles (gmsh type 2) or tetrahedra (type 4).
+    std::vector<std::size_t> element_tags, node_tags;
+    gmsh::model::mesh::getElementsByType(d == 2 ? 2 : 4, element_tags, node_tags);
+    for (std::size_t t : node_tags)
+      data.cells.push_back(index.at(t));
+    // Boundaries: the named physical groups of dimension d-1.
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups, d - 1);
+    for (const auto& [dim, tag] : groups)
+    {
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      if (name.empty())
+        name = "group" + std::to_string(tag);
+      const auto group = static_cast<std::int32_t>(data.names.size());
+      data.names.push_back(name);
+      std::vector<int> entities;
+      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+      for (int entity : entities)
+      {
+        std::vector<std::size_t> etags, ntags;
+        gmsh::model::mesh::getElementsByType(d == 2 ? 1 : 2, etags, ntags, entity);
+        for (std::size_t t : ntags)
+          data.facets.push_back(index.at(t));
+        data.facet_group.insert(data.facet_group.end(), etags.size(), group);
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    gmsh::finalize();
+    throw SceneError(file + ": cannot read the gmsh file: " + e.what());
+  }
+  gmsh::finalize();
+  if (data.cells.empty())
+    throw SceneError(file + ": no " + (d == 2 ? std::string("triangles") : "tetrahedra")
+                     + " in the mesh (mesh.dimension = " + std::to_string(d) + ")");
+  return data;
+}
+
+/// A gmsh mesh read on rank 0 and distributed by dolfinx; boundaries are its
+/// named physical groups of dimension d-1.
+Domain read_gmsh(const Scene& scene, MPI_Comm comm)
+{
+  const int d = scene.mesh.dimension;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  GmshData data;
+  std::string error;
+  if (rank == 0)
+  {
+    try
+    {
+      data = read_gmsh_file(scene.mesh.file, d);
+    }
+    catch (const SceneError& e)
+    {
+      error = e.what();
+    }
+  }
+  // Every rank learns the outcome and the boundary names.
+  std::string names = error.empty() ? "" : "!" + error;
+  for (const std::string& n : data.names)
+    names += n + "\n";
+  int size = static_cast<int>(names.size());
+  MPI_Bcast(&size, 1, MPI_INT, 0, comm);
+  names.resize(size);
+  MPI_Bcast(names.data(), size, MPI_CHAR, 0, comm);
+  if (!names.empty() and names[0] == '!')
+    throw SceneError(names.substr(1));
+
+  const mesh::CellType cell = d == 2 ? mesh::CellType::triangle : mesh::CellType::tetrahedron;
+  Domain domain;
+  domain.mesh = std::make_shared<mesh::Mesh>(mesh::create_mesh(
+      comm, graph::regular_adjacency_list(std::move(data.cells), d + 1),
+      fem::CoordinateElement(cell, 1), data.x, {data.x.size() / d, std::size_t(d)},
+      mesh::GhostMode::shared_facet));
+  domain.mesh->topology_mutable().create_connectivity(d - 1, d);
+  domain.mesh->topology_mutable().create_entities(d - 1);
+  auto [entities, values] = io::xdmf_utils::distribute_entity_data(*domain.mesh, d - 1, data.facets,
+                                                                    data.facet_group);
+  const mesh::MeshTags<std::int32_t> tags = mesh::create_meshtags<std::int32_t>(
+      domain.mesh, d - 1, graph::regular_adjacency_list(std::move(entities), d), values);
+
+  std::vector<std::string> group_names;
+  for (std::size_t start = 0, end; (end = names.find('\n', start)) != std::string::npos; start = end + 1)
+    group_names.push_back(names.substr(start, end - start));
+  for (std::size_t g = 0; g < group_names.size(); ++g)
+  {
+    std::vector<std::int32_t> facets;
+    for (std::size_t i = 0; i < tags.indices().size(); ++i)
+      if (tags.values()[i] == static_cast<std::int32_t>(g))
+        facets.push_back(tags.indices()[i]);
+    std::sort(facets.begin(), facets.end());
+    domain.boundaries[group_names[g]] = facets;
+  }
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (domain.boundaries.count(name) == 0)
+    {
+      std::string known;
+      for (const auto& n : group_names)
+        known += (known.empty() ? "" : ", ") + n;
+      throw SceneError(scene.file + ": boundary." + name + ": unknown boundary name (" + scene.mesh.file
+                       + " has physical groups " + (known.empty() ? "none" : known) + ")");
+    }
+  }
+  return domain;
+}
+
 } // namespace
 
 Domain create_domain(const Scene& scene, MPI_Comm comm)
 {
   const MeshSpec& m = scene.mesh;
   if (m.type == "gmsh")
-    throw SceneError(scene.file + ": mesh.type: gmsh meshes are not supported by this build yet ("
-                     + m.file + ")");
+    return read_gmsh(scene, comm);
 
   Domain domain;
   if (m.type == "rectangle")

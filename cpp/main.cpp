@@ -5,6 +5,7 @@
 //
 // Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
 // coupling did not converge (what was finished is written), 1 anything else.
+#include "domain.h"
 #include "scene.h"
 #include "simulation.h"
 #include "linear_algebra.h"
@@ -124,6 +125,9 @@ int main(int argc, char* argv[])
       const biotcontact::Scene scene = biotcontact::read_scene(args.scene, args.overrides);
       if (args.command == "check")
       {
+        // The mesh is built too: a gmsh file's boundary names are only
+        // known once it is read.
+        biotcontact::create_domain(scene, MPI_COMM_WORLD);
         if (rank == 0)
           std::printf("%s: ok (%s, %d steps)\n", args.scene.c_str(), scene.name.c_str(), scene.num_steps());
       }

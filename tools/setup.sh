@@ -8,7 +8,7 @@ packages=(
   g++ cmake make pkg-config openmpi-bin
   libdolfinx-dev python3-dolfinx python3-ffcx python3-basix python3-ufl
   libtomlplusplus-dev libmuparser-dev
-  gmsh python3-gmsh
+  gmsh python3-gmsh libgmsh-dev
   python3-numpy python3-h5py python3-matplotlib
 )
 missing=()

@@ -1,0 +1,34 @@
+"""A gmsh geometry with named physical groups: the default scene on
+meshes/cantilever.geo runs on one and two ranks alike, and a boundary name
+the file does not have is refused naming the groups it has."""
+import os
+import re
+import subprocess
+import tempfile
+
+import numpy as np
+from support import BINARY, ROOT, Fields, check, iterations, run, scene, summary
+
+with open(scene("default")) as f:
+    text = f.read()
+mesh = f'[mesh]\ntype = "gmsh"\nfile = "{os.path.join(ROOT, "meshes", "cantilever.geo")}"\n'
+text = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)", mesh, text)
+path = os.path.join(tempfile.mkdtemp(), "gmsh.toml")
+with open(path, "w") as f:
+    f.write(text)
+
+one, _ = run(path)
+two, _ = run(path, ranks=2)
+s = summary(one)
+check(s["contact"]["active_nodes"] > 0, f"contact closes on the gmsh mesh ({s['contact']['active_nodes']} nodes)")
+check([r["iteration"] for r in iterations(one)] == [r["iteration"] for r in iterations(two)],
+      "one and two ranks: identical coupling iterations")
+a, b = Fields(one), Fields(two)
+t = a.times("displacement")[-1]
+x, y = a.sorted_values("displacement", t), b.sorted_values("displacement", t)
+check(np.abs(x - y).max() <= 1e-8 * np.abs(x).max(), "one and two ranks: same final displacement")
+
+for command in (["check", path], ["run", path, "--out", tempfile.mkdtemp()]):
+    p = subprocess.run([BINARY, *command, "--set", "boundary.middle.pressure=0.0"], capture_output=True, text=True)
+    check(p.returncode == 2 and "boundary.middle" in p.stderr and "bottom" in p.stderr and p.stderr.count("\n") == 1,
+          f"{command[0]}: unknown physical group refused: {p.stderr.strip()!r}")
