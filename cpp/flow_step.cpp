@@ -116,13 +116,7 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
 
   auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
                   const mesh::MeshTags<std::int32_t>* marker = nullptr)
-  {
-    std::map<fem::IntegralType, const mesh::MeshTags<std::int32_t>*> subdomains;
-    if (marker)
-      subdomains[fem::IntegralType::exterior_facet] = marker;
-    return std::make_shared<fem::Form<double>>(
-        fem::create_form<double>(*f, spaces, coefficients, constants, subdomains));
-  };
+  { return make_form(f, spaces, coefficients, constants, marker); };
 
   // No-flow (w.n = 0, essential for RT) on every boundary facet that is not
   // a pressure boundary: alg. "Flow", flux values are essential.

@@ -2,6 +2,7 @@
 
 #include "biot_tetrahedron.h"
 #include "biot_triangle.h"
+#include <dolfinx/fem/utils.h>
 #include <stdexcept>
 
 namespace biotcontact
@@ -43,6 +44,18 @@ const CompiledForms& compiled_forms(dolfinx::mesh::CellType cell)
   default:
     throw std::runtime_error("biotcontact supports triangle and tetrahedron meshes only");
   }
+}
+
+std::shared_ptr<dolfinx::fem::Form<double>>
+make_form(const ufcx_form* form, const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>>& spaces,
+          const Coefficients& coefficients, const Constants& constants,
+          const dolfinx::mesh::MeshTags<std::int32_t>* marker)
+{
+  std::map<dolfinx::fem::IntegralType, const dolfinx::mesh::MeshTags<std::int32_t>*> subdomains;
+  if (marker)
+    subdomains[dolfinx::fem::IntegralType::exterior_facet] = marker;
+  return std::make_shared<dolfinx::fem::Form<double>>(
+      dolfinx::fem::create_form<double>(*form, spaces, coefficients, constants, subdomains));
 }
 
 } // namespace biotcontact

@@ -1,7 +1,11 @@
 // The FFCx-compiled forms of forms/biot.py, for the cell type of a mesh.
 #pragma once
 
+#include "parameters.h"
+
+#include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/FunctionSpace.h>
+#include <dolfinx/mesh/MeshTags.h>
 #include <dolfinx/mesh/cell_types.h>
 #include <memory>
 #include <ufcx.h>
@@ -42,5 +46,13 @@ struct CompiledForms
 
 /// The forms for triangles or tetrahedra; throws for other cells.
 const CompiledForms& compiled_forms(dolfinx::mesh::CellType cell);
+
+/// Binds a compiled form to its spaces, coefficients and constants (by UFL
+/// name; extra entries are ignored). With a marker, the ds(1) integrals of
+/// forms/biot.py run over the facets it tags.
+std::shared_ptr<dolfinx::fem::Form<double>>
+make_form(const ufcx_form* form, const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>>& spaces,
+          const Coefficients& coefficients, const Constants& constants,
+          const dolfinx::mesh::MeshTags<std::int32_t>* marker = nullptr);
 
 } // namespace biotcontact

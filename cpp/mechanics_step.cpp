@@ -29,13 +29,7 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
 
   auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
                   const mesh::MeshTags<std::int32_t>* marker = nullptr)
-  {
-    std::map<fem::IntegralType, const mesh::MeshTags<std::int32_t>*> subdomains;
-    if (marker)
-      subdomains[fem::IntegralType::exterior_facet] = marker;
-    return std::make_shared<fem::Form<double>>(
-        fem::create_form<double>(*f, spaces, coefficients, constants, subdomains));
-  };
+  { return make_form(f, spaces, coefficients, constants, marker); };
 
   // Dirichlet conditions, one per prescribed component of each boundary.
   std::vector<std::int32_t> contact_facets;
