@@ -69,7 +69,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
     double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
     bool converged = false;
     int n = 0;
-    std::ostringstream log;
+    std::vector<std::string> log; // the last iterations, for the error message
 
     for (n = 0; n < coupling.max_iterations; ++n)
     {
@@ -145,7 +145,9 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       const ContactState contact = mechanics.contact_state();
       output.iteration({K + 1, t_K + q * dt, n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
                         contact.active_nodes});
-      log << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
+      std::ostringstream entry;
+      entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
+      log.push_back(entry.str());
 
       p_old = p_new;
       u_old = u_new;
@@ -174,7 +176,9 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       std::ostringstream message;
       message << "the fixed-stress split did not converge in " << coupling.max_iterations
               << " iterations at t = " << t_K + q * dt << " (step " << K + 1
-              << "); increments:" << log.str();
+              << "); last increments:";
+      for (std::size_t i = log.size() > 3 ? log.size() - 3 : 0; i < log.size(); ++i)
+        message << log[i];
       throw CouplingError(message.str());
     }
 

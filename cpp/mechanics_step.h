@@ -1,18 +1,9 @@
 // One quasi-static mechanics solve: linear elasticity loaded by the pore
-// pressure, with frictionless Signorini contact against a rigid foundation
-// when the scene has a contact boundary (alg. "Mechanics with frictionless
-// Signorini contact", paper eq. 3.16).
-//
-// The energy 1/2 a(u,u) - (alpha p, div u) - (f0, u) - <f2, u> is quadratic,
-// so with A the matrix of a(.,.) and b the load vector the variational
-// inequality is the bound-constrained problem
-//     find u with  l <= u <= g_u  and  F(u) = A u - b  complementary,
-// where the bounds sit only on the DOF of each contact node along the
-// foundation normal: u.nu_F <= g_a (nu_F = +-e_i). PETSc's reduced-space
-// active-set Newton (SNESVINEWTONRSLS) solves it; F is linear, so A is the
-// exact Jacobian and is assembled once. Without contact it is a linear solve.
+// pressure (paper eq. 3.16), with frictionless Signorini contact (contact.h)
+// when the scene has a contact boundary, a plain linear solve otherwise.
 #pragma once
 
+#include "contact.h"
 #include "domain.h"
 #include "forms.h"
 #include "linear_algebra.h"
@@ -22,24 +13,9 @@
 #include <dolfinx/fem/Function.h>
 #include <memory>
 #include <optional>
-#include <petscsnes.h>
 
 namespace biotcontact
 {
-
-/// The contact state after a solve (alg.: the contact force at an active node
-/// is the residual there; divided by the lumped boundary measure it is the
-/// contact pressure -sigma_nu >= 0).
-struct ContactState
-{
-  int active_nodes = 0;
-  int contact_nodes = 0;
-  double max_penetration = 0;     // max(u.nu_F - g_a), <= 0 when admissible
-  double max_pressure = 0;        // max contact pressure
-  double min_pressure = 0;        // min contact pressure (>= 0 up to tolerance)
-  double max_complementarity = 0; // max |p_c (u.nu_F - g_a)|
-  double gap_scale = 0;           // max(|g_a|, |u.nu_F|) over contact nodes
-};
 
 class MechanicsStep
 {
@@ -61,7 +37,7 @@ public:
   ContactState contact_state();
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
-  bool has_contact() const { return _contact.has_value(); }
+  bool has_contact() const { return _contact != nullptr; }
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.
@@ -72,21 +48,7 @@ public:
   double assembly_time = 0, solve_time = 0;
 
 private:
-  struct Contact
-  {
-    int axis, sign;
-    std::vector<std::int32_t> dofs; // owned DOFs of the contact component
-    std::vector<double> gap;        // g_a at those DOFs
-    std::vector<double> lumped;     // lumped boundary measure there
-    std::vector<std::int32_t> collapsed; // matching DOFs of the output space
-    Vec lower, upper, x, residual, b_scaled; // SNES works in units of `scale`
-    double scale = 1;
-    SNES snes;
-  };
-
   void assemble_rhs(double t);
-  static PetscErrorCode residual(SNES, Vec x, Vec F, void* context);
-  static PetscErrorCode jacobian(SNES, Vec, Mat, Mat, void*);
 
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _V;
@@ -107,7 +69,7 @@ private:
   bool _loads_depend_on_time = false;
   bool _loads_assembled = false;
   double _loads_time = -1;
-  std::optional<Contact> _contact;
+  std::unique_ptr<ContactSolver> _contact;
 };
 
 } // namespace biotcontact

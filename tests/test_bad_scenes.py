@@ -39,7 +39,7 @@ CASES = [
     ("alpha > 1", DEFAULT, ["coupling.alpha=1.5"], "coupling.alpha"),
     ("dt = 0", DEFAULT, ["time.dt=0.0"], "time.dt"),
     ("dt < 0", DEFAULT, ["time.dt=-0.1"], "time.dt"),
-    ("end not a multiple of dt", DEFAULT, ["time.dt=0.3"], "time.dt"),
+    ("end not a multiple of dt", DEFAULT, ["time.dt=0.7"], "time.dt"),
     ("unknown boundary name", DEFAULT, ["boundary.middle.pressure=0.0"], "boundary.middle"),
     ("missing mesh file", DEFAULT, ["mesh.type=gmsh", "mesh.file=nope.msh"], "nope.msh"),
     ("non-axis foundation normal", DEFAULT, ["boundary.bottom.contact.normal=[0.6, -0.8]"],

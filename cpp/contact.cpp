@@ -1,0 +1,264 @@
+#include "contact.h"
+
+#include "linear_algebra.h"
+
+#include <algorithm>
+#include <cmath>
+#include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/FunctionSpace.h>
+#include <limits>
+#include <set>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                          std::shared_ptr<const fem::FunctionSpace> V)
+{
+  const int fdim = domain.dim() - 1;
+  ContactSet c;
+  std::vector<std::int32_t> facets;
+  bool first = true;
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (!b.contact)
+      continue;
+    if (first)
+    {
+      c.axis = b.contact->axis;
+      c.sign = b.contact->sign;
+      first = false;
+    }
+    else if (b.contact->axis != c.axis or b.contact->sign != c.sign)
+      throw SceneError(scene.file + ": boundary." + name
+                       + ".contact.normal: all contact boundaries must share one foundation normal");
+    const auto& f = domain.boundaries.at(name);
+    facets.insert(facets.end(), f.begin(), f.end());
+  }
+  std::sort(facets.begin(), facets.end());
+  facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+
+  // Lumped boundary measure of each node: the integral of its hat function.
+  auto marker = std::make_shared<mesh::MeshTags<std::int32_t>>(
+      domain.mesh, fdim, std::vector<std::int32_t>(facets), std::vector<std::int32_t>(facets.size(), 1));
+  const auto& map = V->dofmap()->index_map;
+  const int bs = V->dofmap()->index_map_bs();
+  la::Vector<double> lumped(map, bs);
+  const Constants ones = {
+      {"ones", std::make_shared<const fem::Constant<double>>(std::vector<double>(domain.dim(), 1.0))}};
+  add_vector(lumped, *make_form(forms.L_lumped_boundary, {V}, {}, ones, marker.get()));
+  lumped.scatter_rev(std::plus<double>());
+
+  auto Vi = V->sub({c.axis});
+  c.output_space = std::make_shared<fem::FunctionSpace>(Vi->collapse().first);
+  const std::vector<double> coords = V->tabulate_dof_coordinates(false);
+  const std::int32_t owned = bs * map->size_local();
+  std::set<std::int32_t> seen;
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (!b.contact)
+      continue;
+    auto [dofs, collapsed]
+        = fem::locate_dofs_topological({*Vi, *c.output_space}, fdim, domain.boundaries.at(name));
+    for (std::size_t k = 0; k < dofs.size(); ++k)
+    {
+      if (dofs[k] >= owned or !seen.insert(dofs[k]).second)
+        continue;
+      const double* x = &coords[3 * (dofs[k] / bs)];
+      const double g = b.contact->gap(x, 0.0);
+      if (!(g >= 0) or !std::isfinite(g))
+        throw SceneError(scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got "
+                         + std::to_string(g) + " at (" + std::to_string(x[0]) + ", "
+                         + std::to_string(x[1]) + ")");
+      c.dofs.push_back(dofs[k]);
+      c.gap.push_back(g);
+      c.lumped.push_back(lumped.array()[dofs[k]]);
+      c.output_dofs.push_back(collapsed[k]);
+    }
+  }
+  return c;
+}
+
+ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Vec layout, ContactSet set,
+                             std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs)
+    : _comm(comm), _A(A), _set(std::move(set)), _dofs(std::move(dofs)),
+      _displacement_dofs(std::move(displacement_dofs))
+{
+  VecDuplicate(layout, &_x);
+  VecDuplicate(layout, &_residual);
+  VecDuplicate(layout, &_lower);
+  VecDuplicate(layout, &_upper);
+  VecDuplicate(layout, &_b_scaled);
+  VecSet(_lower, PETSC_NINFINITY);
+  VecSet(_upper, PETSC_INFINITY);
+
+  set_default_option(prefix + "ksp_type", "preonly");
+  set_default_option(prefix + "pc_type", "lu");
+  set_default_option(prefix + "pc_factor_mat_solver_type", "mumps");
+  set_default_option(prefix + "snes_rtol", "1e-10");
+  set_default_option(prefix + "snes_stol", "1e-12");
+  set_default_option(prefix + "snes_max_it", "100");
+  // F is linear and A its exact Jacobian: the full semismooth Newton step is
+  // exact on the current active set, and a backtracking search only fails
+  // once the residual is at round-off.
+  set_default_option(prefix + "snes_linesearch_type", "basic");
+  SNESCreate(comm, &_snes);
+  SNESSetOptionsPrefix(_snes, prefix.c_str());
+  SNESSetType(_snes, SNESVINEWTONRSLS);
+  SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
+  SNESSetJacobian(_snes, A, A, &ContactSolver::jacobian, this);
+  SNESVISetVariableBounds(_snes, _lower, _upper);
+  // At least one Newton step per solve: a step is an exact solve on the
+  // active set, so the result never lags behind the load (a residual
+  // already below the tolerance would otherwise leave x as it was).
+  SNESSetForceIteration(_snes, PETSC_TRUE);
+  SNESSetFromOptions(_snes);
+}
+
+ContactSolver::~ContactSolver()
+{
+  SNESDestroy(&_snes);
+  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled})
+    VecDestroy(v);
+}
+
+// F(x) = A x - b/s: the gradient of the quadratic energy, in units of s.
+PetscErrorCode ContactSolver::residual(SNES, Vec x, Vec F, void* context)
+{
+  auto* self = static_cast<ContactSolver*>(context);
+  MatMult(self->_A, x, F);
+  VecAXPY(F, -1.0, self->_b_scaled);
+  return 0;
+}
+
+// The Jacobian is the constant matrix A, assembled once.
+PetscErrorCode ContactSolver::jacobian(SNES, Vec, Mat, Mat, void*) { return 0; }
+
+double ContactSolver::displacement_scale(Vec x) const
+{
+  double local = 0;
+  for (double g : _set.gap)
+    local = std::max(local, g);
+  const PetscScalar* X;
+  VecGetArrayRead(x, &X);
+  for (std::int32_t dof : _displacement_dofs)
+    local = std::max(local, std::abs(X[dof]));
+  VecRestoreArrayRead(x, &X);
+  double global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, _comm);
+  return global > 0 ? global : 1.0;
+}
+
+void ContactSolver::solve(Vec b, Vec x)
+{
+  // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
+  // works on x / s with s the displacement scale (largest gap or |x|); the
+  // residual A (x/s) - b/s has the same Jacobian A.
+  _scale = displacement_scale(x);
+  {
+    // u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
+    PetscScalar *lo, *up;
+    VecGetArray(_lower, &lo);
+    VecGetArray(_upper, &up);
+    for (std::size_t k = 0; k < _dofs.size(); ++k)
+    {
+      if (_set.sign > 0)
+        up[_dofs[k]] = _set.gap[k] / _scale;
+      else
+        lo[_dofs[k]] = -_set.gap[k] / _scale;
+    }
+    VecRestoreArray(_lower, &lo);
+    VecRestoreArray(_upper, &up);
+  }
+  VecCopy(b, _b_scaled);
+  VecScale(_b_scaled, 1.0 / _scale);
+  VecCopy(x, _x);
+  VecScale(_x, 1.0 / _scale);
+
+  const char* prefix = nullptr;
+  SNESGetOptionsPrefix(_snes, &prefix);
+  PetscBool atol_given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, prefix, "-snes_atol", &atol_given);
+  if (!atol_given)
+  {
+    // Absolute tolerance relative to the load: scale-free.
+    PetscReal bnorm = 0;
+    VecNorm(_b_scaled, NORM_2, &bnorm);
+    SNESSetTolerances(_snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
+                      PETSC_DEFAULT);
+  }
+  SNESSolve(_snes, nullptr, _x);
+  SNESConvergedReason reason;
+  SNESGetConvergedReason(_snes, &reason);
+  if (reason < 0)
+    throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
+                      + SNESConvergedReasons[reason]);
+  PetscInt its = 0, lits = 0;
+  SNESGetIterationNumber(_snes, &its);
+  SNESGetLinearSolveIterations(_snes, &lits);
+  newton_iterations += its;
+  linear_iterations += lits;
+  VecScale(_x, _scale);
+  VecCopy(_x, x);
+}
+
+ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,
+                                  fem::Function<double>& active_out)
+{
+  ContactState s;
+  // Nodal contact force R = A x - b (the residual of the unconstrained
+  // equations); the contact pressure is -R.nu_F / lumped measure.
+  MatMult(_A, x, _residual);
+  VecAXPY(_residual, -1.0, b);
+  const PetscScalar *R, *X;
+  VecGetArrayRead(_residual, &R);
+  VecGetArrayRead(x, &X);
+  std::span<double> pc = pressure_out.x()->mutable_array();
+  std::span<double> active = active_out.x()->mutable_array();
+  std::fill(pc.begin(), pc.end(), 0.0);
+  std::fill(active.begin(), active.end(), 0.0);
+
+  std::vector<double> pressure(_dofs.size()), normal(_dofs.size());
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+  {
+    normal[k] = _set.sign * X[_dofs[k]];
+    pressure[k] = -_set.sign * R[_dofs[k]] / _set.lumped[k];
+  }
+  VecRestoreArrayRead(_residual, &R);
+  VecRestoreArrayRead(x, &X);
+  s.gap_scale = displacement_scale(x);
+
+  // A node is active when it lies on the foundation to round-off.
+  double pen = -std::numeric_limits<double>::infinity(), comp = 0;
+  double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
+  int n_active = 0;
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+  {
+    const double distance = _set.gap[k] - normal[k];
+    const bool is_active = distance <= 1e-9 * s.gap_scale;
+    n_active += is_active;
+    pen = std::max(pen, -distance);
+    comp = std::max(comp, std::abs(pressure[k] * distance));
+    pmax = std::max(pmax, pressure[k]);
+    pmin = std::min(pmin, pressure[k]);
+    pc[_set.output_dofs[k]] = pressure[k];
+    active[_set.output_dofs[k]] = is_active ? 1.0 : 0.0;
+  }
+  pressure_out.x()->scatter_fwd();
+  active_out.x()->scatter_fwd();
+  const int n_local[2] = {n_active, static_cast<int>(_dofs.size())};
+  int n_global[2];
+  MPI_Allreduce(n_local, n_global, 2, MPI_INT, MPI_SUM, _comm);
+  s.active_nodes = n_global[0];
+  s.contact_nodes = n_global[1];
+  double maxes[4] = {pen, comp, pmax, -pmin}, gmax[4];
+  MPI_Allreduce(maxes, gmax, 4, MPI_DOUBLE, MPI_MAX, _comm);
+  s.max_penetration = gmax[0];
+  s.max_complementarity = gmax[1];
+  s.max_pressure = gmax[2];
+  s.min_pressure = -gmax[3];
+  return s;
+}
+
+} // namespace biotcontact
