@@ -1,5 +1,7 @@
 #include "flow_step.h"
 
+#include "boundary_conditions.h"
+
 #include <dolfinx/common/Timer.h>
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/utils.h>
@@ -10,62 +12,6 @@
 namespace biotcontact
 {
 using namespace dolfinx;
-
-namespace
-{
-
-/// mu_f K^-1 as a cell-wise d x d tensor (K from a scalar expression
-/// evaluated at cell midpoints, or a constant tensor).
-void interpolate_resistivity(fem::Function<double>& R, const FlowSpec& flow, int d)
-{
-  std::vector<double> Kinv(d * d, 0.0);
-  if (flow.permeability_tensor)
-  {
-    const std::vector<double>& K = *flow.permeability_tensor;
-    if (d == 2)
-    {
-      const double det = K[0] * K[3] - K[1] * K[2];
-      Kinv = {K[3] / det, -K[1] / det, -K[2] / det, K[0] / det};
-    }
-    else
-    {
-      const double det = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
-                         + K[2] * (K[3] * K[7] - K[4] * K[6]);
-      Kinv = {(K[4] * K[8] - K[5] * K[7]) / det, (K[2] * K[7] - K[1] * K[8]) / det,
-              (K[1] * K[5] - K[2] * K[4]) / det, (K[5] * K[6] - K[3] * K[8]) / det,
-              (K[0] * K[8] - K[2] * K[6]) / det, (K[2] * K[3] - K[0] * K[5]) / det,
-              (K[3] * K[7] - K[4] * K[6]) / det, (K[1] * K[6] - K[0] * K[7]) / det,
-              (K[0] * K[4] - K[1] * K[3]) / det};
-    }
-  }
-  const Expression* k = flow.permeability ? &*flow.permeability : nullptr;
-  const double mu_f = flow.mu_f;
-  R.interpolate(
-      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
-      {
-        const std::size_t n = x.shape(1);
-        xt::xarray<double> v = xt::zeros<double>({static_cast<std::size_t>(d * d), n});
-        for (std::size_t j = 0; j < n; ++j)
-        {
-          if (k)
-          {
-            const double kj = (*k)(x(0, j), x(1, j), x(2, j), 0.0);
-            if (!(kj > 0) or !std::isfinite(kj))
-              throw SceneError("flow.permeability: must be positive, got " + std::to_string(kj)
-                               + " at (" + std::to_string(x(0, j)) + ", "
-                               + std::to_string(x(1, j)) + ")");
-            for (int i = 0; i < d; ++i)
-              v(i * d + i, j) = mu_f / kj;
-          }
-          else
-            for (int i = 0; i < d * d; ++i)
-              v(i, j) = mu_f * Kinv[i];
-        }
-        return v;
-      });
-}
-
-} // namespace
 
 FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                    const Constants& constants, std::shared_ptr<const fem::FunctionSpace> V)
@@ -118,25 +64,16 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
                   const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, spaces, coefficients, constants, marker); };
 
-  // No-flow (w.n = 0, essential for RT) on every boundary facet that is not
-  // a pressure boundary: alg. "Flow", flux values are essential.
-  std::vector<std::int32_t> no_flow = mesh::exterior_facet_indices(mesh->topology());
   for (const auto& [name, b] : scene.boundaries)
   {
     if (b.flow != BoundarySpec::Flow::pressure)
       continue;
-    const std::vector<std::int32_t>& facets = domain.boundaries.at(name);
-    std::vector<std::int32_t> rest;
-    std::set_difference(no_flow.begin(), no_flow.end(), facets.begin(), facets.end(),
-                        std::back_inserter(rest));
-    no_flow = std::move(rest);
     _markers.push_back(domain.marker(name));
     _L_pressure.emplace_back(&b.pressure, make(forms.L_flow_pressure, {_W}, _markers.back().get()));
     _loads_depend_on_time = _loads_depend_on_time or b.pressure.depends_on_time();
   }
-  auto zero_flux = std::make_shared<fem::Function<double>>(_Z);
-  auto dofs = fem::locate_dofs_topological({*_W->sub({0}), *_Z}, d - 1, no_flow);
-  _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(zero_flux, std::move(dofs), _W->sub({0})));
+  // No flow (w.n = 0, essential for RT) wherever no pressure is given.
+  _bcs.push_back(no_flow_bc(scene, domain, _W->sub({0})));
 
   _a = make(forms.a_flow, {_W, _W});
   _L_storage = make(forms.L_flow_storage, {_W});

@@ -23,12 +23,20 @@ namespace biotcontact
         form_biot_##cell##_M_pressure_reference,                               \
         form_biot_##cell##_M_displacement_error,                               \
         form_biot_##cell##_M_displacement_reference,                           \
+        form_biot_##cell##_a_monolithic,                                       \
+        form_biot_##cell##_L_monolithic_history,                               \
+        form_biot_##cell##_L_monolithic_body_force,                            \
+        form_biot_##cell##_L_monolithic_traction,                              \
+        form_biot_##cell##_L_monolithic_source,                                \
+        form_biot_##cell##_L_monolithic_pressure,                              \
+        form_biot_##cell##_L_monolithic_gravity,                               \
         functionspace_form_biot_##cell##_a_elastic,                            \
         functionspace_form_biot_##cell##_L_pressure_load,                      \
         functionspace_form_biot_##cell##_a_flow,                               \
         functionspace_form_biot_##cell##_L_flow_source,                        \
         functionspace_form_biot_##cell##_M_pressure_error,                     \
-        functionspace_form_biot_##cell##_M_displacement_error                  \
+        functionspace_form_biot_##cell##_M_displacement_error,                 \
+        functionspace_form_biot_##cell##_a_monolithic                          \
   }
 
 const CompiledForms& compiled_forms(dolfinx::mesh::CellType cell)

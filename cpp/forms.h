@@ -33,6 +33,13 @@ struct CompiledForms
   ufcx_form* M_pressure_reference;
   ufcx_form* M_displacement_error;
   ufcx_form* M_displacement_reference;
+  ufcx_form* a_monolithic;
+  ufcx_form* L_monolithic_history;
+  ufcx_form* L_monolithic_body_force;
+  ufcx_form* L_monolithic_traction;
+  ufcx_form* L_monolithic_source;
+  ufcx_form* L_monolithic_pressure;
+  ufcx_form* L_monolithic_gravity;
 
   // Function-space factories of the forms in which each space appears.
   using SpaceFactory = ufcx_function_space* (*)(const char*);
@@ -42,6 +49,7 @@ struct CompiledForms
   SpaceFactory data_space;                   // "source" of L_flow_source (P1)
   SpaceFactory pressure_reference_space;     // "p_reference" (P2)
   SpaceFactory displacement_reference_space; // "u_reference" (P2 vector)
+  SpaceFactory monolithic_space;             // "v_0" (P1^d x RT x P0) of a_monolithic
 };
 
 /// The forms for triangles or tetrahedra; throws for other cells.

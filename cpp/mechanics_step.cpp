@@ -1,5 +1,7 @@
 #include "mechanics_step.h"
 
+#include "boundary_conditions.h"
+
 #include <dolfinx/common/Timer.h>
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/utils.h>
@@ -33,20 +35,9 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
   { return make_form(f, spaces, coefficients, constants, marker); };
 
   // Dirichlet conditions, one per prescribed component of each boundary.
+  _bcs = displacement_bcs(scene, domain, _V, _bc_values);
   for (const auto& [name, b] : scene.boundaries)
   {
-    const std::vector<std::int32_t>& facets = domain.boundaries.at(name);
-    for (int i = 0; i < d; ++i)
-    {
-      if (!b.displacement[i])
-        continue;
-      auto Vi = _V->sub({i});
-      auto collapsed = std::make_shared<fem::FunctionSpace>(Vi->collapse().first);
-      auto g = std::make_shared<fem::Function<double>>(collapsed);
-      auto dofs = fem::locate_dofs_topological({*Vi, *collapsed}, fdim, facets);
-      _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(g, std::move(dofs), Vi));
-      _bc_values.push_back({&*b.displacement[i], g});
-    }
     if (b.mechanics == BoundarySpec::Mechanics::traction)
     {
       _markers.push_back(domain.marker(name));
@@ -114,8 +105,7 @@ void MechanicsStep::assemble_rhs(double t)
       interpolate(*_traction, *traction, t);
       add_vector(*_b_loads, *form);
     }
-    for (auto& bc : _bc_values)
-      interpolate(*bc.g, {*bc.value}, t);
+    update(_bc_values, t);
     _loads_time = t;
     _loads_assembled = true;
   }

@@ -3,6 +3,7 @@
 // when the scene has a contact boundary, a plain linear solve otherwise.
 #pragma once
 
+#include "boundary_conditions.h"
 #include "contact.h"
 #include "domain.h"
 #include "forms.h"
@@ -53,12 +54,7 @@ private:
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _V;
   BCs _bcs;
-  struct DisplacementBC
-  {
-    const Expression* value;
-    std::shared_ptr<dolfinx::fem::Function<double>> g;
-  };
-  std::vector<DisplacementBC> _bc_values;
+  std::vector<DisplacementValue> _bc_values;
   std::shared_ptr<dolfinx::fem::Function<double>> _body_force, _traction;
   std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_pressure, _L_body;
   std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;

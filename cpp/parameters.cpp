@@ -1,6 +1,8 @@
 #include "parameters.h"
 
+#include <cmath>
 #include <xtensor/xarray.hpp>
+#include <xtensor/xbuilder.hpp>
 #include <xtensor/xtensor.hpp>
 
 namespace biotcontact
@@ -78,5 +80,57 @@ void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression
         return values;
       });
 }
+
+/// mu_f K^-1 as a cell-wise d x d tensor (K from a scalar expression
+/// evaluated at cell midpoints, or a constant tensor).
+void interpolate_resistivity(dolfinx::fem::Function<double>& R, const FlowSpec& flow, int d)
+{
+  std::vector<double> Kinv(d * d, 0.0);
+  if (flow.permeability_tensor)
+  {
+    const std::vector<double>& K = *flow.permeability_tensor;
+    if (d == 2)
+    {
+      const double det = K[0] * K[3] - K[1] * K[2];
+      Kinv = {K[3] / det, -K[1] / det, -K[2] / det, K[0] / det};
+    }
+    else
+    {
+      const double det = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
+                         + K[2] * (K[3] * K[7] - K[4] * K[6]);
+      Kinv = {(K[4] * K[8] - K[5] * K[7]) / det, (K[2] * K[7] - K[1] * K[8]) / det,
+              (K[1] * K[5] - K[2] * K[4]) / det, (K[5] * K[6] - K[3] * K[8]) / det,
+              (K[0] * K[8] - K[2] * K[6]) / det, (K[2] * K[3] - K[0] * K[5]) / det,
+              (K[3] * K[7] - K[4] * K[6]) / det, (K[1] * K[6] - K[0] * K[7]) / det,
+              (K[0] * K[4] - K[1] * K[3]) / det};
+    }
+  }
+  const Expression* k = flow.permeability ? &*flow.permeability : nullptr;
+  const double mu_f = flow.mu_f;
+  R.interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        const std::size_t n = x.shape(1);
+        xt::xarray<double> v = xt::zeros<double>({static_cast<std::size_t>(d * d), n});
+        for (std::size_t j = 0; j < n; ++j)
+        {
+          if (k)
+          {
+            const double kj = (*k)(x(0, j), x(1, j), x(2, j), 0.0);
+            if (!(kj > 0) or !std::isfinite(kj))
+              throw SceneError("flow.permeability: must be positive, got " + std::to_string(kj)
+                               + " at (" + std::to_string(x(0, j)) + ", "
+                               + std::to_string(x(1, j)) + ")");
+            for (int i = 0; i < d; ++i)
+              v(i * d + i, j) = mu_f / kj;
+          }
+          else
+            for (int i = 0; i < d * d; ++i)
+              v(i, j) = mu_f * Kinv[i];
+        }
+        return v;
+      });
+}
+
 
 } // namespace biotcontact

@@ -35,6 +35,10 @@ Parameters derive_parameters(const Scene& scene);
 /// Unused ones stay at zero; create_form picks those a form names.
 Constants make_constants(const Scene& scene, const Parameters& parameters);
 
+/// mu_f K^-1 as a cell-wise d x d tensor: K from a scalar expression at
+/// cell midpoints, or a constant tensor. Throws SceneError where K <= 0.
+void interpolate_resistivity(dolfinx::fem::Function<double>& R, const FlowSpec& flow, int d);
+
 /// Interpolates one expression per component (at time t) into f.
 void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t);
 

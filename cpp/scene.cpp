@@ -468,14 +468,12 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, int d)
   if (!(c.alpha >= 0 and c.alpha <= 1))
     s.fail("alpha", "the Biot coefficient must lie in [0, 1]");
   c.scheme = s.string("scheme", "fixed-stress");
-  if (c.scheme == "monolithic")
-    s.fail("scheme", "\"monolithic\" is not implemented yet (use \"fixed-stress\" or \"multirate\")");
-  if (c.scheme != "fixed-stress" and c.scheme != "multirate")
-    s.fail("scheme", "must be \"fixed-stress\" or \"multirate\", got \"" + c.scheme + "\"");
+  if (c.scheme != "fixed-stress" and c.scheme != "multirate" and c.scheme != "monolithic")
+    s.fail("scheme", "must be \"fixed-stress\", \"multirate\" or \"monolithic\", got \"" + c.scheme + "\"");
   c.q = s.integer("q", 1);
   if (c.q < 1)
     s.fail("q", "must be a positive integer");
-  if (c.scheme == "fixed-stress" and c.q != 1)
+  if (c.scheme != "multirate" and c.q != 1)
     s.fail("q", "q > 1 needs scheme = \"multirate\"");
 
   const toml::node* L = s.node("L");

@@ -7,6 +7,7 @@
 #include "flow_step.h"
 #include "forms.h"
 #include "mechanics_step.h"
+#include "monolithic.h"
 #include "output.h"
 #include "parameters.h"
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <dolfinx/fem/utils.h>
+#include <functional>
 #include <xtensor/xarray.hpp>
 
 namespace biotcontact
@@ -103,16 +105,52 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       + std::to_string(domain.mesh->topology().index_map(d)->size_global()) + " cells");
   say("left out: " + (left_out.empty() ? std::string("nothing") : left_out));
 
-  std::shared_ptr<const fem::FunctionSpace> V;
-  if (scene.mechanics)
-    V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "u", domain.mesh));
+  // ---- flow step / mechanics step, or the monolithic system ----------------
+  const bool monolithic = scene.coupling and scene.coupling->scheme == "monolithic";
   std::unique_ptr<FlowStep> flow;
-  if (scene.flow)
-    flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? V : nullptr);
   std::unique_ptr<MechanicsStep> mechanics;
-  if (scene.mechanics)
-    mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, V,
-                                                flow ? flow->pressure : nullptr);
+  std::unique_ptr<MonolithicStep> coupled;
+  // What output and diagnostics read, whichever solver produced it.
+  std::shared_ptr<const fem::FunctionSpace> V;
+  std::shared_ptr<fem::Function<double>> u, p, contact_pressure, contact_active;
+  std::function<void(fem::Function<double>&)> compute_flux;
+  std::function<ContactState()> compute_contact = [] { return ContactState{}; };
+  if (monolithic)
+  {
+    coupled = std::make_unique<MonolithicStep>(scene, domain, forms, constants);
+    V = coupled->V;
+    u = coupled->u;
+    p = coupled->pressure;
+    compute_flux = [&](fem::Function<double>& out) { coupled->flux(out); };
+    if (coupled->has_contact())
+    {
+      contact_pressure = coupled->contact_pressure;
+      contact_active = coupled->contact_active;
+      compute_contact = [&] { return coupled->contact_state(); };
+    }
+  }
+  else
+  {
+    if (scene.mechanics)
+      V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "u", domain.mesh));
+    if (scene.flow)
+    {
+      flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? V : nullptr);
+      p = flow->pressure;
+      compute_flux = [&](fem::Function<double>& out) { flow->flux(out); };
+    }
+    if (scene.mechanics)
+    {
+      mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, V, p);
+      u = mechanics->u;
+      if (mechanics->has_contact())
+      {
+        contact_pressure = mechanics->contact_pressure;
+        contact_active = mechanics->contact_active;
+        compute_contact = [&] { return mechanics->contact_state(); };
+      }
+    }
+  }
 
   // ---- output fields ---------------------------------------------------------
   Output output(comm, directory, domain.mesh, scene.write_xdmf);
@@ -120,65 +158,64 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   const basix::FiniteElement dg0 = basix::create_element(
       basix::element::family::P, cell, 0, basix::element::lagrange_variant::unset, true);
   std::shared_ptr<fem::Function<double>> flux, sigma_v, zero_pressure;
-  if (flow)
+  if (p)
   {
-    flow->pressure->name = "pressure";
+    p->name = "pressure";
     flux = std::make_shared<fem::Function<double>>(
         std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, d)));
     flux->name = "flux";
   }
-  if (mechanics)
+  if (u)
   {
-    mechanics->u->name = "displacement";
+    u->name = "displacement";
     auto Q0 = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, 1));
     sigma_v = std::make_shared<fem::Function<double>>(Q0);
     sigma_v->name = "sigma_v";
-    if (!flow)
+    if (!p)
       zero_pressure = std::make_shared<fem::Function<double>>(Q0);
-    if (mechanics->has_contact())
+    if (contact_pressure)
     {
-      mechanics->contact_pressure->name = "contact_pressure";
-      mechanics->contact_active->name = "contact_active";
+      contact_pressure->name = "contact_pressure";
+      contact_active->name = "contact_active";
     }
   }
   auto write_flow = [&](double t)
   {
-    output.write(*flow->pressure, t);
-    flow->flux(*flux);
+    output.write(*p, t);
+    compute_flux(*flux);
     output.write(*flux, t);
   };
   ContactState contact;
   auto write_mechanics = [&](double t)
   {
-    volumetric_stress(forms, constants, mechanics->u, flow ? flow->pressure : zero_pressure, *sigma_v);
-    output.write(*mechanics->u, t);
+    volumetric_stress(forms, constants, u, p ? p : zero_pressure, *sigma_v);
+    output.write(*u, t);
     output.write(*sigma_v, t);
-    if (mechanics->has_contact())
+    if (contact_pressure)
     {
-      output.write(*mechanics->contact_pressure, t);
-      output.write(*mechanics->contact_active, t);
+      output.write(*contact_pressure, t);
+      output.write(*contact_active, t);
     }
   };
   char line[256];
   auto progress = [&](int step, double t, int iterations)
   {
-    if (mechanics)
-      contact = mechanics->contact_state();
+    contact = compute_contact();
     std::snprintf(line, sizeof line, "step %4d/%d  t = %-11.5g  coupling iterations %3d  active contact nodes %d",
                   step, scene.num_steps() / P.q, t, iterations, contact.active_nodes);
     say(line);
   };
 
   // ---- initial state ---------------------------------------------------------
-  if (flow)
+  if (p)
     write_flow(0.0);
-  if (mechanics)
+  if (u)
     write_mechanics(0.0);
 
   // ---- time stepping -----------------------------------------------------------
   CouplingReport report;
   std::string failure;
-  if (scene.coupling)
+  if (scene.coupling and !monolithic)
   {
     ContractionNorm contraction(forms, V, flow->pressure_space());
     WindowObserver observer{write_flow, [&](double t, int window, int iterations)
@@ -197,27 +234,28 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   }
   else
   {
+    // One solve per step: the monolithic system, or the single physics.
     for (int k = 1; k <= scene.num_steps(); ++k)
     {
       const double t = k * scene.dt;
+      if (coupled)
+        coupled->solve(t);
       if (flow)
       {
-        std::copy(flow->pressure->x()->array().begin(), flow->pressure->x()->array().end(),
-                  flow->p_previous->x()->mutable_array().begin());
+        std::copy(p->x()->array().begin(), p->x()->array().end(), flow->p_previous->x()->mutable_array().begin());
         flow->solve(t);
-        write_flow(t);
       }
       if (mechanics)
-      {
         mechanics->solve(t);
+      if (p)
+        write_flow(t);
+      if (u)
         write_mechanics(t);
-      }
       progress(k, t, 1);
       report.windows = k;
     }
   }
-  if (mechanics)
-    contact = mechanics->contact_state();
+  contact = compute_contact();
 
   // ---- errors against a closed form at the final time --------------------------
   Json errors;
@@ -251,14 +289,14 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
             v(1, j) = terzaghi.displacement(x(1, j) - y0, t);
           return v;
         });
-    const double settlement = -boundary_mean(*mechanics->u, domain.boundaries.at("top"), 1);
+    const double settlement = -boundary_mean(*u, domain.boundaries.at("top"), 1);
     const double exact_settlement = terzaghi.settlement(t);
     errors.set("time", t)
         .set("pressure_rel_l2", relative_error(*forms.M_pressure_error, *forms.M_pressure_reference,
-                                               flow->pressure, "p_out", p_ref, "p_reference"))
+                                               p, "p_out", p_ref, "p_reference"))
         .set("displacement_rel_l2",
              relative_error(*forms.M_displacement_error, *forms.M_displacement_reference,
-                            mechanics->u, "u_out", u_ref, "u_reference"))
+                            u, "u_out", u_ref, "u_reference"))
         .set("settlement", settlement)
         .set("settlement_exact", exact_settlement)
         .set("settlement_rel", std::abs(settlement - exact_settlement) / std::abs(exact_settlement));
@@ -267,21 +305,23 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
 
   // ---- summary ------------------------------------------------------------------
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  Json dofs, solves, timings;
-  if (mechanics)
+  Json dofs, timings, linear;
+  if (u)
     dofs.set("displacement", static_cast<long>(global_size(*V)));
-  if (flow)
+  if (p)
   {
-    dofs.set("pressure", static_cast<long>(global_size(*flow->pressure_space())));
+    dofs.set("pressure", static_cast<long>(global_size(*p->function_space())));
     // RT0: one DOF per facet.
     dofs.set("flux", static_cast<long>(domain.mesh->topology().index_map(d - 1)->size_global()));
   }
-  Json linear;
   linear.set("flow", flow ? flow->linear_iterations : 0L)
-      .set("mechanics", mechanics ? mechanics->linear_iterations : 0L);
+      .set("mechanics", mechanics ? mechanics->linear_iterations : 0L)
+      .set("monolithic", coupled ? coupled->linear_iterations : 0L);
   timings.set("flow", flow ? flow->solve_time : 0.0)
       .set("mechanics", mechanics ? mechanics->solve_time : 0.0)
-      .set("assembly", (flow ? flow->assembly_time : 0.0) + (mechanics ? mechanics->assembly_time : 0.0))
+      .set("monolithic", coupled ? coupled->solve_time : 0.0)
+      .set("assembly", (flow ? flow->assembly_time : 0.0) + (mechanics ? mechanics->assembly_time : 0.0)
+                           + (coupled ? coupled->assembly_time : 0.0))
       .set("output", output.time);
 
   Json summary;
@@ -306,13 +346,14 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       .set("converged", failure.empty())
       .set("flow_solves", flow ? flow->solves : 0)
       .set("mechanics_solves", mechanics ? mechanics->solves : 0)
-      .set("newton_iterations", mechanics ? mechanics->newton_iterations : 0L)
+      .set("monolithic_solves", coupled ? coupled->solves : 0)
+      .set("newton_iterations", mechanics ? mechanics->newton_iterations : coupled ? coupled->newton_iterations : 0L)
       .set("linear_iterations", linear)
       .set("timings", timings)
       .set("wall_time_s", wall)
       .set("left_out", left_out)
       .set("mpi_ranks", [&] { int n; MPI_Comm_size(comm, &n); return n; }());
-  if (mechanics and mechanics->has_contact())
+  if (contact_pressure)
     summary.set("contact", contact_json(contact));
   if (has_errors)
     summary.set("errors", errors);

@@ -11,6 +11,8 @@ Boundary integrals use the facet marker 1; the solver marks one boundary at a
 time with it (a boundary may carry its own traction or pressure).
 """
 
+import types
+
 import ufl
 from ufl import (div, dot, dx, grad, inner, sym, CellVolume, FacetNormal)
 
@@ -49,6 +51,7 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     V = space(domain, P1v)
     Q = space(domain, DG0)
     W = space(domain, ufl.MixedElement([RT, DG0]))      # flow: (z, p)
+    X = space(domain, ufl.MixedElement([P1v, RT, DG0])) # monolithic: (u, z, p)
     Qv = space(domain, DG0v)
     R = space(domain, DG0t)
     D = space(domain, P1)
@@ -71,6 +74,36 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     def eps(w):
         return sym(grad(w))
 
+    # Each term of the equations is written once, as a function of its trial
+    # (or coefficient) and test functions; the split and monolithic forms
+    # below are sums of these terms.
+    def elastic(u, v):        # a(u, v) = 2G (eps u, eps v) + lambda (div u, div v)
+        return 2 * G * inner(eps(u), eps(v)) * dx + lmbda * div(u) * div(v) * dx
+
+    def pressure_load(p, v):  # (alpha p, div v): the pore pressure on the skeleton
+        return alpha * p * div(v) * dx
+
+    def darcy(z, p, w):       # (mu_f K^-1 z, w) - (p, div w)
+        return inner(dot(resistivity, z), w) * dx - p * div(w) * dx
+
+    def mass(z, p, th, s):    # -(div z, th) - (s/dt)(p, th): mass balance times -1
+        return -div(z) * th * dx - s / dt * p * th * dx
+
+    def body(v):
+        return inner(body_force, v) * dx
+
+    def surface_traction(v):
+        return inner(traction, v) * ufl.ds(BOUNDARY)
+
+    def boundary_pressure(w):  # -<p_D, w.n> on the marked boundary
+        return -p_boundary * dot(w, n) * ufl.ds(BOUNDARY)
+
+    def gravity_term(w):      # (rho_f g, w)
+        return rho_f * inner(gravity, w) * dx
+
+    def source_term(th):
+        return -source * th * dx
+
     # ---- Mechanics (alg. "Mechanics with frictionless Signorini contact") --
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     p = coefficient(Q)                     # pressure acting on the skeleton
@@ -78,12 +111,10 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     traction = coefficient(V)              # f2 on the marked boundary
     ones = constant(domain, (d,))
 
-    # a(u, v) = 2G (eps u, eps v) + lambda (div u, div v)
-    a_elastic = 2 * G * inner(eps(u), eps(v)) * dx + lmbda * div(u) * div(v) * dx
-    # (alpha p, div v): the pore pressure load on the skeleton
-    L_pressure_load = alpha * p * div(v) * dx
-    L_body_force = inner(body_force, v) * dx
-    L_traction = inner(traction, v) * ufl.ds(BOUNDARY)
+    a_elastic = elastic(u, v)
+    L_pressure_load = pressure_load(p, v)
+    L_body_force = body(v)
+    L_traction = surface_traction(v)
     # lumped boundary measure of each node on Gamma_3, to turn the nodal
     # contact force into a contact pressure
     L_lumped_boundary = inner(ones, v) * ufl.ds(BOUNDARY)
@@ -93,8 +124,7 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     #   (mu_f K^-1 z, w) - (p, div w) - (div z, th) - ((S+L)/dt) (p, th)
     (z, pf) = ufl.TrialFunctions(W)
     (w, th) = ufl.TestFunctions(W)
-    a_flow = (inner(dot(resistivity, z), w) * dx - pf * div(w) * dx
-              - div(z) * th * dx - (storage + L) / dt * pf * th * dx)
+    a_flow = darcy(z, pf, w) + mass(z, pf, th, storage + L)
 
     # Right-hand side, alg. multirate (a) (q = 1 is the single-rate step):
     #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z, th)
@@ -112,9 +142,25 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     L_flow_storage = -(storage + L) / dt * p_previous * th * dx
     L_flow_coupling = (-L / dt * (p_iterate - p_iterate_previous) * th * dx
                        + alpha / (q * dt) * div(u_iterate - u_window) * th * dx)
-    L_flow_source = -source * th * dx
-    L_flow_pressure = -p_boundary * dot(w, n) * ufl.ds(BOUNDARY)
-    L_flow_gravity = rho_f * inner(gravity, w) * dx
+    L_flow_source = source_term(th)
+    L_flow_pressure = boundary_pressure(w)
+    L_flow_gravity = gravity_term(w)
+
+    # ---- Monolithic (alg. "Monolithic reference"): (u, z, p) together ------
+    #   a(u, v) - (alpha p, div v) + (mu_f K^-1 z, w) - (p, div w)
+    #     - (div z, th) - (S/dt)(p, th) - (alpha/dt)(div u, th)
+    #   = loads - (S/dt)(p_old, th) - (alpha/dt)(div u_old, th)
+    (um, zm, pm) = ufl.TrialFunctions(X)
+    (vm, wm, thm) = ufl.TestFunctions(X)
+    a_monolithic = (elastic(um, vm) - pressure_load(pm, vm) + darcy(zm, pm, wm)
+                    + mass(zm, pm, thm, storage) - alpha / dt * div(um) * thm * dx)
+    L_monolithic_history = (-storage / dt * p_previous * thm * dx
+                            - alpha / dt * div(u_window) * thm * dx)
+    L_monolithic_body_force = body(vm)
+    L_monolithic_traction = surface_traction(vm)
+    L_monolithic_source = source_term(thm)
+    L_monolithic_pressure = boundary_pressure(wm)
+    L_monolithic_gravity = gravity_term(wm)
 
     # ---- Diagnostics -------------------------------------------------------
     # The contraction quantities of Theorems 1 and 2 are both
@@ -144,8 +190,8 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
 
     names = dict(locals())
     return {k: obj for k, obj in names.items()
-            if not k.startswith("_") and k not in ("space", "coefficient", "constant",
-                                                   "domain", "cell", "d", "names")}
+            if not k.startswith("_") and not isinstance(obj, types.FunctionType)
+            and k not in ("space", "coefficient", "constant", "domain", "cell", "d", "names")}
 
 
 # Forms compiled for C++, in this order (see cpp/forms.h).
@@ -156,4 +202,6 @@ FORM_NAMES = [
     "M_contraction", "L_sigma_v",
     "M_pressure_error", "M_pressure_reference",
     "M_displacement_error", "M_displacement_reference",
+    "a_monolithic", "L_monolithic_history", "L_monolithic_body_force", "L_monolithic_traction",
+    "L_monolithic_source", "L_monolithic_pressure", "L_monolithic_gravity",
 ]

@@ -1,0 +1,222 @@
+#include "monolithic.h"
+
+#include "boundary_conditions.h"
+
+#include <dolfinx/common/Timer.h>
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/utils.h>
+#include <stdexcept>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+/// The collapsed subspace i of X and the map from its DOFs to X's.
+std::shared_ptr<const fem::FunctionSpace> collapse(const fem::FunctionSpace& X, int i,
+                                                   std::vector<std::int32_t>& map)
+{
+  auto [space, m] = X.sub({i})->collapse();
+  map = std::move(m);
+  return std::make_shared<fem::FunctionSpace>(std::move(space));
+}
+
+void extract(const fem::Function<double>& x, const std::vector<std::int32_t>& map, fem::Function<double>& part)
+{
+  std::span<const double> from = x.x()->array();
+  std::span<double> to = part.x()->mutable_array();
+  for (std::size_t i = 0; i < map.size(); ++i)
+    to[i] = from[map[i]];
+}
+} // namespace
+
+MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                               const Constants& constants)
+    : _scene(scene)
+{
+  const auto& mesh = domain.mesh;
+  const int d = domain.dim();
+  _X = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.monolithic_space, "v_0", mesh));
+  V = collapse(*_X, 0, _V_to_X);
+  _Z = collapse(*_X, 1, _Z_to_X);
+  Q = collapse(*_X, 2, _Q_to_X);
+
+  _x = std::make_shared<fem::Function<double>>(_X);
+  u = std::make_shared<fem::Function<double>>(V);
+  pressure = std::make_shared<fem::Function<double>>(Q);
+  _u_old = std::make_shared<fem::Function<double>>(V);
+  _p_old = std::make_shared<fem::Function<double>>(Q);
+  interpolate(*pressure, {scene.flow->initial_pressure}, 0.0);
+  {
+    // The unknown starts from the initial state (the guess of a contact solve).
+    std::span<double> x = _x->x()->mutable_array();
+    for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
+      x[_Q_to_X[i]] = pressure->x()->array()[i];
+  }
+
+  auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.flow_space, "resistivity", mesh)));
+  interpolate_resistivity(*R, *scene.flow, d);
+  auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", mesh));
+  _body_force = std::make_shared<fem::Function<double>>(V);
+  _traction = std::make_shared<fem::Function<double>>(V);
+  _source = std::make_shared<fem::Function<double>>(D);
+  _p_boundary = std::make_shared<fem::Function<double>>(D);
+  const Coefficients coefficients = {{"resistivity", R},       {"p_previous", _p_old},
+                                     {"u_window", _u_old},     {"body_force", _body_force},
+                                     {"traction", _traction},  {"source", _source},
+                                     {"p_boundary", _p_boundary}};
+  auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
+                  const mesh::MeshTags<std::int32_t>* marker = nullptr)
+  { return make_form(f, spaces, coefficients, constants, marker); };
+
+  // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
+  _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
+  _bcs.push_back(no_flow_bc(scene, domain, _X->sub({1})));
+  _loads_depend_on_time = std::any_of(_bc_values.begin(), _bc_values.end(),
+                                      [](const auto& v) { return v.value->depends_on_time(); });
+
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (b.mechanics == BoundarySpec::Mechanics::traction)
+    {
+      _markers.push_back(domain.marker(name));
+      _L_traction.emplace_back(&b.traction, make(forms.L_monolithic_traction, {_X}, _markers.back().get()));
+      for (const Expression& e : b.traction)
+        _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
+    }
+    if (b.flow == BoundarySpec::Flow::pressure)
+    {
+      _markers.push_back(domain.marker(name));
+      _L_pressure.emplace_back(&b.pressure, make(forms.L_monolithic_pressure, {_X}, _markers.back().get()));
+      _loads_depend_on_time = _loads_depend_on_time or b.pressure.depends_on_time();
+    }
+  }
+  _a = make(forms.a_monolithic, {_X, _X});
+  _L_history = make(forms.L_monolithic_history, {_X});
+  if (scene.mechanics->body_force)
+  {
+    _L_body = make(forms.L_monolithic_body_force, {_X});
+    for (const Expression& e : *scene.mechanics->body_force)
+      _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
+  }
+  if (scene.flow->source)
+  {
+    _L_source = make(forms.L_monolithic_source, {_X});
+    _loads_depend_on_time = _loads_depend_on_time or scene.flow->source->depends_on_time();
+  }
+  if (scene.flow->gravity)
+    _L_gravity = make(forms.L_monolithic_gravity, {_X});
+
+  // The coupled matrix depends on dt only: assembled and factorised once.
+  common::Timer timer("assembly");
+  _A.emplace(assemble_matrix(*_a, _bcs));
+  assembly_time += timer.stop();
+  const auto& map = _X->dofmap()->index_map;
+  const int bs = _X->dofmap()->index_map_bs();
+  _b = std::make_unique<la::Vector<double>>(map, bs);
+  _b_loads = std::make_unique<la::Vector<double>>(map, bs);
+
+  if (!scene.has_contact())
+  {
+    _solver = std::make_unique<LinearSolver>(mesh->comm(), "monolithic_", _A->mat());
+    return;
+  }
+  // Contact: the bounds sit on the contact DOFs of the displacement block.
+  ContactSet set = locate_contact(scene, domain, forms, V);
+  const std::int32_t owned_X = bs * map->size_local();
+  const std::int32_t owned_V = V->dofmap()->index_map_bs() * V->dofmap()->index_map->size_local();
+  std::vector<std::int32_t> dofs, displacement;
+  for (std::int32_t dof : set.dofs)
+    dofs.push_back(_V_to_X.at(dof));
+  for (std::int32_t i = 0; i < owned_V; ++i)
+    displacement.push_back(_V_to_X[i]);
+  for (std::int32_t dof : dofs)
+    if (dof >= owned_X)
+      throw std::runtime_error("monolithic contact: a contact DOF owned in V is not owned in the mixed space");
+  contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
+  contact_active = std::make_shared<fem::Function<double>>(set.output_space);
+  _contact = std::make_unique<ContactSolver>(mesh->comm(), "monolithic_", _A->mat(), wrap(*_b).vec(),
+                                             std::move(set), std::move(dofs), std::move(displacement));
+}
+
+MonolithicStep::~MonolithicStep() = default;
+
+void MonolithicStep::assemble_loads(double t)
+{
+  if (_loads_assembled and (!_loads_depend_on_time or t == _loads_time))
+    return;
+  _b_loads->set(0.0);
+  if (_L_body)
+  {
+    interpolate(*_body_force, *_scene.mechanics->body_force, t);
+    add_vector(*_b_loads, *_L_body);
+  }
+  for (const auto& [traction, form] : _L_traction)
+  {
+    interpolate(*_traction, *traction, t);
+    add_vector(*_b_loads, *form);
+  }
+  if (_L_source)
+  {
+    interpolate(*_source, {*_scene.flow->source}, t);
+    add_vector(*_b_loads, *_L_source);
+  }
+  for (const auto& [value, form] : _L_pressure)
+  {
+    interpolate(*_p_boundary, {*value}, t);
+    add_vector(*_b_loads, *form);
+  }
+  if (_L_gravity)
+    add_vector(*_b_loads, *_L_gravity);
+  update(_bc_values, t);
+  _loads_time = t;
+  _loads_assembled = true;
+}
+
+void MonolithicStep::solve(double t)
+{
+  common::Timer assembly("assembly");
+  // Backward Euler from the state at the previous time.
+  std::copy(u->x()->array().begin(), u->x()->array().end(), _u_old->x()->mutable_array().begin());
+  std::copy(pressure->x()->array().begin(), pressure->x()->array().end(),
+            _p_old->x()->mutable_array().begin());
+  assemble_loads(t);
+  std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
+  add_vector(*_b, *_L_history);
+  finish_rhs(*_b, _a, _bcs);
+  assembly_time += assembly.stop();
+
+  common::Timer timer("monolithic solve");
+  la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
+  if (_contact)
+  {
+    _contact->solve(b.vec(), x.vec());
+    newton_iterations = _contact->newton_iterations;
+    linear_iterations = _contact->linear_iterations;
+  }
+  else
+    linear_iterations += _solver->solve(x.vec(), b.vec());
+  _x->x()->scatter_fwd();
+  solve_time += timer.stop();
+  ++solves;
+  extract(*_x, _V_to_X, *u);
+  extract(*_x, _Q_to_X, *pressure);
+}
+
+void MonolithicStep::flux(fem::Function<double>& out) const
+{
+  fem::Function<double> z(_Z);
+  extract(*_x, _Z_to_X, z);
+  out.interpolate(z);
+}
+
+ContactState MonolithicStep::contact_state()
+{
+  if (!_contact)
+    return {};
+  return _contact->state(wrap(*_x->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
+}
+
+} // namespace biotcontact

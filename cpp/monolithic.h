@@ -1,0 +1,68 @@
+// The monolithic reference (alg. "Monolithic reference"): each backward-Euler
+// step solves mechanics and flow together, one variational inequality in
+// (u, z, p) on the mixed space P1^d x RT0 x P0, with bounds only on the
+// contact DOFs. It is what the fixed-stress split converges to.
+#pragma once
+
+#include "boundary_conditions.h"
+#include "contact.h"
+#include "domain.h"
+#include "forms.h"
+#include "linear_algebra.h"
+#include "parameters.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <optional>
+
+namespace biotcontact
+{
+
+class MonolithicStep
+{
+public:
+  MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                 const Constants& constants);
+  ~MonolithicStep();
+  MonolithicStep(const MonolithicStep&) = delete;
+  MonolithicStep& operator=(const MonolithicStep&) = delete;
+
+  /// One step to time t from the state now in u and pressure.
+  void solve(double t);
+
+  void flux(dolfinx::fem::Function<double>& out) const;
+  ContactState contact_state();
+  bool has_contact() const { return _contact != nullptr; }
+
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
+  std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
+  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active;
+
+  int solves = 0;
+  long linear_iterations = 0, newton_iterations = 0;
+  double assembly_time = 0, solve_time = 0;
+
+private:
+  void assemble_loads(double t);
+
+  const Scene& _scene;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _X, _Z;
+  std::vector<std::int32_t> _V_to_X, _Z_to_X, _Q_to_X;
+  std::shared_ptr<dolfinx::fem::Function<double>> _x, _u_old, _p_old, _body_force, _traction, _source,
+      _p_boundary;
+  BCs _bcs;
+  std::vector<DisplacementValue> _bc_values;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_history, _L_body, _L_source, _L_gravity;
+  std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
+  std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
+  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
+  std::optional<dolfinx::la::petsc::Matrix> _A;
+  std::unique_ptr<LinearSolver> _solver;
+  std::unique_ptr<ContactSolver> _contact;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
+  double _loads_time = -1;
+  bool _loads_assembled = false, _loads_depend_on_time = false;
+};
+
+} // namespace biotcontact
