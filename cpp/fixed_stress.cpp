@@ -60,7 +60,9 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
   const int windows = scene.num_steps() / q;
   for (int K = 0; K < windows; ++K)
   {
-    const double t_K = K * q * dt;
+    // Fine time m of the window: t_K + m dt, computed as a whole multiple of
+    // dt so that every scheme writes the same output times.
+    auto t = [&](int m) { return (K * q + m) * dt; };
     // Start: p^{0,m} = p_K for all m, u^0 = u_K.
     std::vector<Array> p_old(q + 1, p_K), p_new(q + 1, p_K);
     std::vector<Array> w_new(q + 1);
@@ -83,14 +85,14 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
         assign(*flow.p_previous, p_new[m - 1]);
         assign(*flow.p_iterate, p_old[m]);
         assign(*flow.p_iterate_previous, p_old[m - 1]);
-        flow.solve(t_K + m * dt);
+        flow.solve(t(m));
         p_new[m] = copy(*flow.pressure);
         std::span<const double> w = flow.state();
         w_new[m].assign(w.begin(), w.end());
       }
       // (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
       // holds it and is the pressure coefficient of the mechanics load.
-      mechanics.solve(t_K + q * dt);
+      mechanics.solve(t(q));
       u_new = copy(*mechanics.u);
 
       // Contraction quantities, measured on the increments of this iteration.
@@ -143,7 +145,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       const double dp_norm = relative(std::sqrt(dp2), std::sqrt(p2));
       const double du_norm = relative(owned_norm(du, V), owned_norm(u_new, V));
       const ContactState contact = mechanics.contact_state();
-      output.iteration({K + 1, t_K + q * dt, n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
+      output.iteration({K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
                         contact.active_nodes});
       std::ostringstream entry;
       entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
@@ -175,7 +177,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       report.mean_contraction_ratio = report.ratios ? ratio_sum / report.ratios : 0.0;
       std::ostringstream message;
       message << "the fixed-stress split did not converge in " << coupling.max_iterations
-              << " iterations at t = " << t_K + q * dt << " (step " << K + 1
+              << " iterations at t = " << t(q) << " (step " << K + 1
               << "); last increments:";
       for (std::size_t i = log.size() > 3 ? log.size() - 3 : 0; i < log.size(); ++i)
         message << log[i];
@@ -186,9 +188,9 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
     for (int m = 1; m <= q; ++m)
     {
       flow.set_state(w_new[m]);
-      observer.flow_state(t_K + m * dt);
+      observer.flow_state(t(m));
     }
-    observer.mechanics_state(t_K + q * dt, K + 1, n + 1);
+    observer.mechanics_state(t(q), K + 1, n + 1);
     report.windows = K + 1;
     p_K = p_new[q];
     u_K = u_new;

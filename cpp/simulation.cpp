@@ -188,6 +188,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   ContactState contact;
   auto write_mechanics = [&](double t)
   {
+    contact = compute_contact(); // also fills the contact fields
     volumetric_stress(forms, constants, u, p ? p : zero_pressure, *sigma_v);
     output.write(*u, t);
     output.write(*sigma_v, t);
@@ -200,7 +201,6 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   char line[256];
   auto progress = [&](int step, double t, int iterations)
   {
-    contact = compute_contact();
     std::snprintf(line, sizeof line, "step %4d/%d  t = %-11.5g  coupling iterations %3d  active contact nodes %d",
                   step, scene.num_steps() / P.q, t, iterations, contact.active_nodes);
     say(line);
@@ -220,8 +220,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     ContractionNorm contraction(forms, V, flow->pressure_space());
     WindowObserver observer{write_flow, [&](double t, int window, int iterations)
                             {
-                              progress(window, t, iterations);
                               write_mechanics(t);
+                              progress(window, t, iterations);
                             }};
     try
     {

@@ -81,3 +81,41 @@ def check(condition, message):
     if not condition:
         sys.exit("FAIL: " + message)
     print("ok: " + message)
+
+
+def check_signorini(out, gap, axis=1, sign=-1, label=""):
+    """u.nu_F <= g_a, contact pressure >= 0 and complementarity at every
+    contact node (the nodes on the foundation side, coordinate 0 along the
+    axis) and every output time; returns the active counts per time."""
+    fields = Fields(out)
+    side = np.isclose(fields.nodes[:, axis], 0.0)
+    counts = []
+    for t in fields.times("displacement"):
+        u_nu = sign * fields.at("displacement", t)[side, axis]
+        p_c = fields.at("contact_pressure", t)[side, 0]
+        active = fields.at("contact_active", t)[side, 0]
+        scale = max(gap, np.abs(fields.at("displacement", t)).max())
+        p_scale = max(p_c.max(), 1e-300)
+        check((u_nu - gap).max() <= 1e-10 * scale,
+              f"{label}t={t:g}: no penetration (max u.nu - g = {(u_nu - gap).max():.2e})")
+        if active.sum() > 0:
+            check(p_c.min() >= -1e-8 * p_scale, f"{label}t={t:g}: contact pressure >= 0 (min {p_c.min():.2e}, max {p_scale:.2e})")
+            comp = np.abs(p_c * (u_nu - gap)).max()
+            check(comp <= 1e-8 * p_scale * scale, f"{label}t={t:g}: complementarity {comp:.2e}")
+        counts.append(int(active.sum()))
+    return counts
+
+
+def max_difference(a, b, names, sort=False):
+    """Largest difference over all output times of each field, relative to
+    the field's largest value over the run."""
+    fa, fb = Fields(a), Fields(b)
+    result = {}
+    for name in names:
+        get_a = fa.sorted_values if sort else fa.at
+        get_b = fb.sorted_values if sort else fb.at
+        times = fa.times(name)
+        check(times == fb.times(name), f"{name}: same output times")
+        scale = max(max(np.abs(get_a(name, t)).max() for t in times), 1e-300)
+        result[name] = max(np.abs(get_a(name, t) - get_b(name, t)).max() for t in times) / scale
+    return result
