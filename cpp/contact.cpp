@@ -192,6 +192,17 @@ void ContactSolver::solve(Vec b, Vec x)
   SNESConvergedReason reason;
   SNESGetConvergedReason(_snes, &reason);
   if (reason < 0)
+  {
+    // A body held in the normal direction by the foundation alone is
+    // semi-coercive: from a start where no contact DOF pushes on its bound
+    // the reduced system is singular. Start again from the state with every
+    // contact node on the foundation; there the contact forces say which
+    // nodes to release.
+    clamped_start(b);
+    SNESSolve(_snes, nullptr, _x);
+    SNESGetConvergedReason(_snes, &reason);
+  }
+  if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
                       + SNESConvergedReasons[reason]);
   PetscInt its = 0, lits = 0;
@@ -201,6 +212,43 @@ void ContactSolver::solve(Vec b, Vec x)
   linear_iterations += lits;
   VecScale(_x, _scale);
   VecCopy(_x, x);
+}
+
+void ContactSolver::clamped_start(Vec b)
+{
+  // Solve A x = b with x = g_a/s on the contact DOFs (rows and columns
+  // eliminated, the known values moved to the right-hand side).
+  PetscInt start = 0;
+  VecGetOwnershipRange(_x, &start, nullptr);
+  std::vector<PetscInt> rows;
+  const PetscScalar *lo, *up;
+  VecGetArrayRead(_lower, &lo);
+  VecGetArrayRead(_upper, &up);
+  PetscScalar* x;
+  VecGetArray(_x, &x);
+  for (std::int32_t dof : _dofs)
+  {
+    rows.push_back(start + dof);
+    x[dof] = _set.sign > 0 ? up[dof] : lo[dof];
+  }
+  VecRestoreArray(_x, &x);
+  VecRestoreArrayRead(_lower, &lo);
+  VecRestoreArrayRead(_upper, &up);
+  Mat A;
+  MatDuplicate(_A, MAT_COPY_VALUES, &A);
+  Vec rhs;
+  VecDuplicate(_b_scaled, &rhs);
+  VecCopy(_b_scaled, rhs);
+  MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, _x, rhs);
+  const char* prefix = nullptr;
+  SNESGetOptionsPrefix(_snes, &prefix);
+  {
+    LinearSolver clamped(_comm, std::string(prefix ? prefix : ""), A);
+    clamped.solve(_x, rhs);
+  }
+  MatDestroy(&A);
+  VecDestroy(&rhs);
+  (void)b;
 }
 
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,

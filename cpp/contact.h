@@ -80,6 +80,8 @@ public:
   long newton_iterations = 0, linear_iterations = 0;
 
 private:
+  /// Sets x to the solution with every contact DOF on its bound.
+  void clamped_start(Vec b);
   /// The largest gap or displacement (collective): SNES works in its units.
   double displacement_scale(Vec x) const;
   static PetscErrorCode residual(SNES, Vec x, Vec F, void* context);

@@ -25,6 +25,9 @@ s = summary(out)
 fields = Fields(out)
 check(set(s["dofs"]) == {"displacement"} and s["flow_solves"] == 0, "elastic contact: no flow unknowns")
 check("pressure" not in fields.series and "flux" not in fields.series, "elastic contact: no flow fields written")
-check(s["contact"]["active_nodes"] >= 8 and s["contact"]["min_contact_pressure"] >= -1e-8 * s["contact"]["max_contact_pressure"],
+check(s["contact"]["active_nodes"] == s["contact"]["contact_nodes"] == 9 and s["contact"]["min_contact_pressure"] >= -1e-8 * s["contact"]["max_contact_pressure"],
       f"elastic contact: {s['contact']['active_nodes']} active nodes, contact pressure >= 0")
 check("flow" in s["left_out"], "elastic contact: the log says flow was left out")
+c = s["contact"]
+check(abs(c["max_contact_pressure"] - 1e6) <= 1e-8 * 1e6 and abs(c["min_contact_pressure"] - 1e6) <= 1e-8 * 1e6,
+      f"elastic contact: contact pressure = traction 1e6 at every node ({c['min_contact_pressure']:.9e} .. {c['max_contact_pressure']:.9e})")
