@@ -49,4 +49,65 @@ double Terzaghi::displacement(double z, double t) const
   return m_v() * (alpha * integral - load * z);
 }
 
+Mandel::Mandel(double a, double b, double G, double lambda, double alpha, double storage,
+               double mobility, double F)
+    : _a(a), _b(b), _G(G), _F(F)
+{
+  const double K = lambda + 2 * G / 3; // drained bulk modulus (3D)
+  nu = (3 * K - 2 * G) / (2 * (3 * K + G));
+  const double K_u = K + alpha * alpha / storage;
+  B = alpha / (storage * K_u);
+  nu_u = (3 * nu + B * (1 - 2 * nu)) / (3 - B * (1 - 2 * nu));
+  consolidation_coefficient = 2 * mobility * B * B * G * (1 - nu) * (1 + nu_u) * (1 + nu_u)
+                              / (9 * (1 - nu_u) * (nu_u - nu));
+  // Roots of f(x) = tan x - c x, one in each ((n-1) pi, (n-1) pi + pi/2)
+  // (c > 1), by bisection.
+  const double c = (1 - nu) / (nu_u - nu);
+  for (int n = 1; n <= 400; ++n)
+  {
+    double lo = (n - 1) * M_PI + 1e-12, hi = (n - 1) * M_PI + M_PI / 2 - 1e-12;
+    for (int k = 0; k < 200; ++k)
+    {
+      const double mid = 0.5 * (lo + hi);
+      (std::tan(mid) - c * mid < 0 ? lo : hi) = mid;
+    }
+    _roots.push_back(0.5 * (lo + hi));
+  }
+}
+
+double Mandel::pressure(double x, double t) const
+{
+  double sum = 0;
+  for (double an : _roots)
+  {
+    const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
+    sum += std::sin(an) / (an - std::sin(an) * std::cos(an)) * (std::cos(an * x / _a) - std::cos(an)) * E;
+  }
+  return 2 * _F * B * (1 + nu_u) / (3 * _a) * sum;
+}
+
+double Mandel::displacement_x(double x, double t) const
+{
+  double s1 = 0, s2 = 0;
+  for (double an : _roots)
+  {
+    const double D = an - std::sin(an) * std::cos(an);
+    const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
+    s1 += std::sin(an) * std::cos(an) / D * E;
+    s2 += std::cos(an) / D * std::sin(an * x / _a) * E;
+  }
+  return (_F * nu / (2 * _G * _a) - _F * nu_u / (_G * _a) * s1) * x + _F / _G * s2;
+}
+
+double Mandel::displacement_y(double y, double t) const
+{
+  double s1 = 0;
+  for (double an : _roots)
+  {
+    const double D = an - std::sin(an) * std::cos(an);
+    s1 += std::sin(an) * std::cos(an) / D * std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
+  }
+  return (-_F * (1 - nu) / (2 * _G * _a) + _F * (1 - nu_u) / (_G * _a) * s1) * y;
+}
+
 } // namespace biotcontact

@@ -1,6 +1,8 @@
 // Closed-form solutions (../shared/docs/benchmarks.md) for verification.
 #pragma once
 
+#include <vector>
+
 namespace biotcontact
 {
 
@@ -19,6 +21,25 @@ struct Terzaghi
   double displacement(double z, double t) const;
   /// Settlement of the top, downward positive.
   double settlement(double t) const { return -displacement(h, t); }
+};
+
+/// Mandel's problem in plane strain on the quarter 0 <= x <= a, 0 <= y <= b
+/// (symmetry on x = 0 and y = 0), drained at x = a, a compressive force 2F
+/// per unit thickness through a rigid frictionless plate at y = b, applied
+/// at t = 0+ (benchmarks.md, "Mandel's problem").
+class Mandel
+{
+public:
+  Mandel(double a, double b, double G, double lambda, double alpha, double storage, double mobility,
+         double F);
+  double pressure(double x, double t) const;
+  double displacement_x(double x, double t) const;
+  double displacement_y(double y, double t) const;
+  double nu, nu_u, B, consolidation_coefficient;
+
+private:
+  double _a, _b, _G, _F;
+  std::vector<double> _roots; // alpha_n: tan(a_n) = (1 - nu)/(nu_u - nu) a_n
 };
 
 } // namespace biotcontact

@@ -55,8 +55,15 @@ Expression::Expression(const std::string& text) : _text(text)
     _parser = p;
 }
 
+Expression::Expression(std::function<double(double, double, double, double)> f, const std::string& text)
+    : _function(std::move(f)), _depends_on_time(true), _depends_on_space(true), _text(text)
+{
+}
+
 double Expression::operator()(double x, double y, double z, double t) const
 {
+  if (_function)
+    return _function(x, y, z, t);
   if (!_parser)
     return _value;
   _parser->x = x;

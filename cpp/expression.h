@@ -3,6 +3,7 @@
 // evaluates the same subset (see README, "Expressions").
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -16,11 +17,14 @@ public:
   explicit Expression(double value = 0.0);
   /// Parses `text`; throws std::invalid_argument with muparser's message.
   explicit Expression(const std::string& text);
+  /// A value computed by the program itself (e.g. a closed form imposed on
+  /// a boundary); `text` describes it.
+  Expression(std::function<double(double, double, double, double)> f, const std::string& text);
 
   double operator()(double x, double y, double z, double t) const;
   double operator()(const double* x, double t) const { return (*this)(x[0], x[1], x[2], t); }
 
-  bool is_constant() const { return !_parser; }
+  bool is_constant() const { return !_parser and !_function; }
   bool depends_on_time() const { return _depends_on_time; }
   bool depends_on_space() const { return _depends_on_space; }
   /// The scene text, or the number printed.
@@ -29,6 +33,7 @@ public:
 private:
   struct Parser;
   std::shared_ptr<Parser> _parser;
+  std::function<double(double, double, double, double)> _function;
   double _value = 0.0;
   bool _depends_on_time = false;
   bool _depends_on_space = false;

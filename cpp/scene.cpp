@@ -1,8 +1,11 @@
 #include "scene.h"
 
+#include "closed_form.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
@@ -608,12 +611,37 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
     Section r = top.table("reference", true);
     ReferenceSpec ref;
     ref.solution = r.string("solution");
-    if (ref.solution != "terzaghi")
-      r.fail("solution", "must be \"terzaghi\"");
-    ref.load = r.number("load");
+    if (ref.solution != "terzaghi" and ref.solution != "mandel")
+      r.fail("solution", "must be \"terzaghi\" or \"mandel\"");
     if (!scene.coupling or scene.mesh.type != "rectangle")
-      r.fail("solution", "terzaghi needs a coupled scene on a rectangle");
-    ref.height = scene.mesh.upper[1] - scene.mesh.lower[1];
+      r.fail("solution", ref.solution + " needs a coupled scene on a rectangle");
+    if (!scene.flow->permeability or !scene.flow->permeability->is_constant())
+      r.fail("solution", ref.solution + " needs a constant scalar flow.permeability");
+    if (ref.solution == "terzaghi")
+    {
+      ref.load = r.number("load");
+      ref.height = scene.mesh.upper[1] - scene.mesh.lower[1];
+    }
+    else
+    {
+      // The rigid frictionless plate is imposed as the exact u_y on the top
+      // (the usual Mandel set-up; benchmarks.md).
+      ref.force = r.number("force");
+      ref.plate = r.string("plate", "top");
+      if (scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0)
+        r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)");
+      auto it = scene.boundaries.find(ref.plate);
+      if (it == scene.boundaries.end() or it->second.mechanics != BoundarySpec::Mechanics::traction_free)
+        r.fail("plate", "must name a boundary with no mechanics condition of its own");
+      const FlowSpec& f = *scene.flow;
+      auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics->G,
+                                             scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
+                                             (*f.permeability)(0, 0, 0, 0) / f.mu_f, ref.force);
+      it->second.mechanics = BoundarySpec::Mechanics::displacement;
+      it->second.displacement[1] = Expression([mandel](double, double y, double, double t)
+                                              { return mandel->displacement_y(y, t); },
+                                              "Mandel's exact plate displacement");
+    }
     r.finish();
     scene.reference = ref;
   }

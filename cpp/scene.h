@@ -98,9 +98,11 @@ struct CouplingSpec
 /// Closed-form solution to compare with at the final time.
 struct ReferenceSpec
 {
-  std::string solution; // "terzaghi"
-  double load = 0;      // q_load (compressive traction on the top)
-  double height = 0;
+  std::string solution; // "terzaghi" or "mandel"
+  double load = 0;      // terzaghi: q_load, the compressive traction on the top
+  double height = 0;    // terzaghi: h
+  double force = 0;     // mandel: F (2F on the full specimen, per unit thickness)
+  std::string plate;    // mandel: the boundary (y = b) carrying the rigid plate
 };
 
 struct Scene
