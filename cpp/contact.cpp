@@ -278,7 +278,7 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   s.gap_scale = displacement_scale(x);
 
   // A node is active when it lies on the foundation to round-off.
-  double pen = -std::numeric_limits<double>::infinity(), comp = 0;
+  double pen = -std::numeric_limits<double>::infinity(), comp = 0, force = 0;
   double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
   int n_active = 0;
   for (std::size_t k = 0; k < _dofs.size(); ++k)
@@ -290,6 +290,7 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
     comp = std::max(comp, std::abs(pressure[k] * distance));
     pmax = std::max(pmax, pressure[k]);
     pmin = std::min(pmin, pressure[k]);
+    force += pressure[k] * _set.lumped[k];
     pc[_set.output_dofs[k]] = pressure[k];
     active[_set.output_dofs[k]] = is_active ? 1.0 : 0.0;
   }
@@ -306,6 +307,7 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   s.max_complementarity = gmax[1];
   s.max_pressure = gmax[2];
   s.min_pressure = -gmax[3];
+  MPI_Allreduce(&force, &s.total_force, 1, MPI_DOUBLE, MPI_SUM, _comm);
   return s;
 }
 

@@ -53,6 +53,7 @@ struct ContactState
   double min_pressure = 0;        // min contact pressure (>= 0 up to tolerance)
   double max_complementarity = 0; // max |p_c (u.nu_F - g_a)|
   double gap_scale = 0;           // max(|g_a|, |u|)
+  double total_force = 0;         // sum of the nodal contact forces along -nu_F
 };
 
 class ContactSolver

@@ -66,7 +66,8 @@ Json contact_json(const ContactState& c)
       .set("max_complementarity", c.max_complementarity)
       .set("max_contact_pressure", c.max_pressure)
       .set("min_contact_pressure", c.min_pressure)
-      .set("gap_scale", c.gap_scale);
+      .set("gap_scale", c.gap_scale)
+      .set("total_force", c.total_force);
   return j;
 }
 

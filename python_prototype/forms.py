@@ -1,0 +1,118 @@
+"""The UFL forms of forms/biot.py bound to dolfinx objects, and the derived
+parameters that set their constants (cpp/forms.cpp, cpp/parameters.cpp).
+
+The forms are never written here: `biot.build` receives dolfinx factories
+and returns dolfinx spaces, Functions and Constants inside its UFL forms.
+The C++ solver binds coefficients by name; here the Functions build()
+created *are* the coefficients, so a step writes its data into them.
+"""
+import math
+import os
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from .scene import SceneError
+
+FORMS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "forms")
+if FORMS_DIR not in sys.path:
+    sys.path.insert(0, FORMS_DIR)
+import biot  # noqa: E402  (forms/biot.py, shared with the C++ build)
+
+
+class Forms:
+    """build()'s objects by UFL name, and their compilation by dolfinx."""
+
+    def __init__(self, mesh):
+        self.mesh = mesh
+        self.objects = biot.build(
+            mesh, space=lambda domain, element: fem.FunctionSpace(mesh, element),
+            coefficient=fem.Function,
+            constant=lambda domain, shape=(): fem.Constant(mesh, np.zeros(shape)))
+
+    def __getitem__(self, name):
+        return self.objects[name]
+
+    def compile(self, name, marker=None):
+        """The dolfinx form of build()[name]; with a marker (facet tags with
+        value 1) its ds(1) integrals run over the facets it tags."""
+        form = self.objects[name]
+        if marker is not None:
+            form = ufl.Form([itg.reconstruct(subdomain_data=marker)
+                             if itg.integral_type() == "exterior_facet" else itg
+                             for itg in form.integrals()])
+        return fem.form(form)
+
+
+@dataclass
+class Parameters:
+    """Derived parameters of a scene (alg. "Parameters")."""
+    d: int = 2
+    G: float = 0.0
+    lmbda: float = 0.0
+    alpha: float = 0.0
+    storage: float = 0.0  # S = 1/M + c_f phi0
+    K_dr: float = 0.0     # lambda + 2G/d
+    L: float = 0.0        # fixed-stress stabilisation used
+    gamma: float = 0.0    # Theorems 1 and 2: alpha^2/(alpha^2 + lambda S)
+    q: int = 1
+    dt: float = 0.0       # fine (flow) step
+
+
+def derive_parameters(scene):
+    P = Parameters(d=scene.mesh.dimension, dt=scene.dt)
+    if scene.mechanics:
+        P.G, P.lmbda = scene.mechanics.G, scene.mechanics.lmbda
+        P.K_dr = P.lmbda + 2 * P.G / P.d
+    if scene.flow:
+        P.storage = scene.flow.storage()
+    if scene.coupling:
+        c = scene.coupling
+        P.alpha, P.q = c.alpha, c.q
+        a2 = P.alpha * P.alpha
+        P.L = {"paper": lambda: a2 / P.lmbda, "kdr": lambda: a2 / P.K_dr,
+               "half-kdr": lambda: a2 / (2 * P.K_dr)}.get(c.L_choice, lambda: c.L_number)()
+        P.gamma = a2 / (a2 + P.lmbda * P.storage) if a2 > 0 else 0.0
+    return P
+
+
+def set_constants(F, scene, P):
+    """The constants of forms/biot.py from the parameters (unused ones stay 0)."""
+    for name, value in (("G", P.G), ("lmbda", P.lmbda), ("alpha", P.alpha), ("storage", P.storage),
+                        ("L", P.L), ("dt", P.dt), ("q", P.q)):
+        F[name].value = value
+    F["ones"].value = np.ones(P.d)
+    if scene.flow and scene.flow.gravity:
+        F["rho_f"].value = scene.flow.rho_f
+        F["gravity"].value = np.array(scene.flow.gravity)
+
+
+def interpolate(f, components, t):
+    """Interpolates one expression per component (at time t) into f."""
+    if len(components) == 1:
+        f.interpolate(lambda x: components[0].at(x, t))
+    else:
+        f.interpolate(lambda x: np.vstack([c.at(x, t) for c in components]))
+
+
+def interpolate_resistivity(R, flow, d):
+    """mu_f K^-1 as a cell-wise d x d tensor: K from a scalar expression at
+    cell midpoints, or a constant tensor."""
+    def values(x):
+        v = np.zeros((d * d, x.shape[1]))
+        if flow.permeability is not None:
+            k = flow.permeability.at(x, 0.0)
+            for j in range(x.shape[1]):
+                if not (k[j] > 0) or not math.isfinite(k[j]):
+                    raise SceneError(f"flow.permeability: must be positive, got {k[j]:f} "
+                                     f"at ({x[0, j]:f}, {x[1, j]:f})")
+            for i in range(d):
+                v[i * d + i] = flow.mu_f / k
+        else:
+            K = np.array(flow.permeability_tensor).reshape(d, d)
+            v[:] = (flow.mu_f * np.linalg.inv(K)).reshape(-1, 1)
+        return v
+    R.interpolate(values)
