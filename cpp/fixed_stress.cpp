@@ -36,7 +36,7 @@ Array difference(const Array& a, const Array& b)
 /// are at round-off level (see the loop).
 constexpr double resolved_fraction = 1e-6;
 
-/// |x - y| / |x|, or |x - y| when x = 0 (then the increment is absolute).
+/// increment / size, or the increment itself while size = 0.
 double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
 } // namespace
 
@@ -56,6 +56,10 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
   // Converged state at t_K: (u_K, p_K).
   Array p_K = copy(*flow.pressure);
   Array u_K = copy(*mechanics.u);
+  // The largest p (summed over the q fine steps) and u of the run so far:
+  // the scales of the stopping test.
+  double p_size = std::sqrt(static_cast<double>(q)) * owned_norm(p_K, Q);
+  double u_size = owned_norm(u_K, V);
 
   const int windows = scene.num_steps() / q;
   for (int K = 0; K < windows; ++K)
@@ -123,11 +127,16 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       const double ratio = n > 0 ? dsigma / dsigma_previous : std::numeric_limits<double>::quiet_NaN();
       if (n == 0)
         dsigma_first = dsigma;
-      // A ratio is held against gamma while the increments are resolved: once
-      // ||delta sigma|| has fallen six orders below the window's first one it
-      // is made of the round-off of the solves (the displacement carries
-      // ~1e-11 relative round-off, amplified by div) and is only logged.
-      const bool resolved = n > 0 and dsigma_previous >= resolved_fraction * dsigma_first;
+      // A ratio is held against gamma from the second one on, while the
+      // increments are resolved:
+      // - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
+      //   and u^0 = u_K is no mechanics solution at this step's loads, which
+      //   the proof of Theorem 1 needs for both iterates it subtracts;
+      // - once ||delta sigma|| has fallen six orders below the window's
+      //   first one it is made of the round-off of the solves (the
+      //   displacement carries ~1e-11 relative round-off, amplified by div).
+      // The other ratios are logged and counted as unresolved.
+      const bool resolved = n > 1 and dsigma >= resolved_fraction * dsigma_first;
       if (n > 0 and !resolved)
         ++report.unresolved_ratios;
       if (resolved and std::isfinite(ratio))
@@ -141,9 +150,14 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       dsigma_previous = dsigma;
 
       // Stopping test on the increments of this iteration (never on a stale
-      // state): relative l2 norms of p and u increments.
-      const double dp_norm = relative(std::sqrt(dp2), std::sqrt(p2));
-      const double du_norm = relative(owned_norm(du, V), owned_norm(u_new, V));
+      // state): l2 norms of the p and u increments relative to the largest p
+      // and u of the run so far (relative to the current iterate alone, a
+      // field decaying to zero, e.g. p at steady state, would be judged by
+      // its round-off).
+      p_size = std::max(p_size, std::sqrt(p2));
+      u_size = std::max(u_size, owned_norm(u_new, V));
+      const double dp_norm = relative(std::sqrt(dp2), p_size);
+      const double du_norm = relative(owned_norm(du, V), u_size);
       const ContactState contact = mechanics.contact_state();
       output.iteration({K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
                         contact.active_nodes});

@@ -107,6 +107,25 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       + std::to_string(domain.mesh->topology().index_map(d)->size_global()) + " cells");
   say("left out: " + (left_out.empty() ? std::string("nothing") : left_out));
 
+  // Where the method is known to degrade, the run says so instead of
+  // returning poor numbers silently (docs/stability.md has the data).
+  std::string warnings;
+  auto warn = [&](const std::string& what)
+  {
+    warnings += (warnings.empty() ? "" : "; ") + what;
+    say("warning: " + what);
+  };
+  if (scene.mechanics)
+  {
+    const double nu = P.lambda / (2 * (P.lambda + P.G));
+    if (nu > 0.49)
+      warn("nu = " + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
+           "(too stiff a response, worse on coarse meshes)");
+  }
+  if (scene.coupling and scene.coupling->scheme != "monolithic" and P.gamma > 0.99)
+    warn("gamma = " + std::to_string(P.gamma) + " > 0.99: the contraction theorems guarantee almost "
+         "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)");
+
   // ---- flow step / mechanics step, or the monolithic system ----------------
   const bool monolithic = scene.coupling and scene.coupling->scheme == "monolithic";
   std::unique_ptr<FlowStep> flow;
@@ -377,6 +396,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       .set("timings", timings)
       .set("wall_time_s", wall)
       .set("left_out", left_out)
+      .set("warnings", warnings)
       .set("mpi_ranks", [&] { int n; MPI_Comm_size(comm, &n); return n; }());
   if (contact_pressure)
     summary.set("contact", contact_json(contact));

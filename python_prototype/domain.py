@@ -91,7 +91,7 @@ def _read_gmsh(scene, comm):
     mesh = dmesh.create_mesh(comm, cells, x, ufl.Mesh(ufl.VectorElement("Lagrange", cell, 1)))
     mesh.topology.create_connectivity(d - 1, d)
     mesh.topology.create_entities(d - 1)
-    entities, values = io.distribute_entity_data(mesh, d - 1, facets, groups)
+    entities, values = io.distribute_entity_data(mesh._mesh, d - 1, facets, groups)
     tags = dmesh.meshtags_from_entities(mesh, d - 1, AdjacencyList_int32(entities), values.astype(np.int32))
     boundaries = {name: np.sort(tags.indices[tags.values == g]).astype(np.int32) for g, name in enumerate(names)}
     for name in scene.boundaries:

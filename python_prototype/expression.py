@@ -205,6 +205,7 @@ class Expression:
     """A number, or a parsed expression; `text` is what the scene said."""
 
     def __init__(self, value):
+        self._function = None
         if isinstance(value, str):
             self.text = value
             try:
@@ -221,12 +222,22 @@ class Expression:
             self.text = f"{self._value:.17g}"
             self.depends_on_time = self.depends_on_space = False
 
+    @classmethod
+    def function(cls, f, text):
+        """A value computed by the program itself, f(x, y, z, t) on arrays
+        (e.g. a closed form imposed on a boundary); `text` describes it."""
+        e = cls(0.0)
+        e.text, e._function, e.depends_on_time, e.depends_on_space = text, f, True, True
+        return e
+
     @property
     def is_constant(self):
-        return self._tree is None
+        return self._tree is None and self._function is None
 
     def __call__(self, x, y, z, t):
         """Value at points (numbers or arrays of one shape) and time t."""
+        if self._function is not None:
+            return self._function(x, y, z, t)
         if self._tree is None:
             return np.full(np.shape(x), self._value) if np.ndim(x) else self._value
         env = {"x": np.asarray(x, dtype=float), "y": np.asarray(y, dtype=float),

@@ -12,6 +12,7 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Optional
 
+from .closed_form import Mandel
 from .expression import Expression, ExpressionError
 
 
@@ -197,9 +198,11 @@ class CouplingSpec:
 
 @dataclass
 class ReferenceSpec:
-    solution: str = ""
-    load: float = 0.0
-    height: float = 0.0
+    solution: str = ""  # "terzaghi" or "mandel"
+    load: float = 0.0   # terzaghi: the compressive traction on the top
+    height: float = 0.0  # terzaghi: h
+    force: float = 0.0  # mandel: F (2F on the full specimen, per unit thickness)
+    plate: str = ""     # mandel: the boundary (y = b) carrying the rigid plate
 
 
 @dataclass
@@ -481,8 +484,8 @@ def read_scene(file, overrides=()):
             root = tomllib.load(f)
     except tomllib.TOMLDecodeError as e:
         m = re.search(r"\(at line (\d+), column \d+\)", str(e))
-        line = m.group(1) if m else "1"
-        raise SceneError(f"{file}:{line}: invalid TOML: {re.sub(r' \(at .*\)$', '', str(e))}") from None
+        line, description = m.group(1) if m else "1", re.sub(r" \(at .*\)$", "", str(e))
+        raise SceneError(f"{file}:{line}: invalid TOML: {description}") from None
     for o in overrides:
         apply_override(root, o, file)
 
@@ -540,12 +543,36 @@ def read_scene(file, overrides=()):
     if top.has("reference"):
         r = top.section("reference", True)
         ref = ReferenceSpec(solution=r.string("solution"))
-        if ref.solution != "terzaghi":
-            r.fail("solution", 'must be "terzaghi"')
-        ref.load = r.number("load")
+        if ref.solution not in ("terzaghi", "mandel", "none"):
+            r.fail("solution", 'must be "terzaghi", "mandel" or "none"')
+        if ref.solution == "none":  # switches the comparison off (e.g. from --set)
+            r.used.update(r.keys())
+            r.finish()
+            top.finish()
+            return scene
         if not scene.coupling or scene.mesh.type != "rectangle":
-            r.fail("solution", "terzaghi needs a coupled scene on a rectangle")
-        ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]
+            r.fail("solution", ref.solution + " needs a coupled scene on a rectangle")
+        if scene.flow.permeability is None or not scene.flow.permeability.is_constant:
+            r.fail("solution", ref.solution + " needs a constant scalar flow.permeability")
+        if ref.solution == "terzaghi":
+            ref.load = r.number("load")
+            ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]
+        else:
+            # The rigid frictionless plate is imposed as the exact u_y on the
+            # top (the usual Mandel set-up; benchmarks.md).
+            ref.force = r.number("force")
+            ref.plate = r.string("plate", "top")
+            if scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0:
+                r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)")
+            plate = scene.boundaries.get(ref.plate)
+            if plate is None or plate.mechanics != "traction_free":
+                r.fail("plate", "must name a boundary with no mechanics condition of its own")
+            f = scene.flow
+            mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
+                            scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, ref.force)
+            plate.mechanics = "displacement"
+            plate.displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),
+                                                        "Mandel's exact plate displacement")
         r.finish()
         scene.reference = ref
     top.finish()

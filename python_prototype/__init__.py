@@ -1,0 +1,12 @@
+"""biotcontact, Python prototype: the C++ solver (../cpp) restated with
+dolfinx's Python interface, module for module, as an executable
+specification. Same scenes, forms (../forms/biot.py), schemes and outputs.
+
+    /usr/bin/python3 -m python_prototype run SCENE.toml --out DIR [--set key=value ...] [PETSc options]
+    /usr/bin/python3 -m python_prototype check SCENE.toml [--set ...]
+    /usr/bin/python3 -m python_prototype compare DIR_A DIR_B [--tolerance 1e-8]
+
+Reading order: scene.py (+ expression.py) -> domain.py -> forms.py ->
+steps.py (flow, mechanics, contact, monolithic) -> fixed_stress.py ->
+simulation.py -> output.py; compare.py checks two runs against each other.
+"""

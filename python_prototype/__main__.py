@@ -1,0 +1,131 @@
+"""Command line, as cpp/main.cpp (plus `compare`).
+
+Exit status: 0 success, 2 bad input (one line naming the key or file),
+3 a solver or the coupling did not converge (what was finished is
+written), 1 anything else; `compare` exits 1 when the runs differ.
+"""
+import os
+import sys
+
+USAGE = """usage:
+  python3 -m python_prototype run SCENE.toml [--out DIR] [--set key.path=value ...] [PETSc options]
+  python3 -m python_prototype check SCENE.toml [--set key.path=value ...]
+  python3 -m python_prototype compare DIR_A DIR_B [--tolerance 1e-8]
+  python3 -m python_prototype --help | --version
+
+run      simulate the scene; writes DIR/solution.xdmf (+ .h5), DIR/iterations.csv
+         and DIR/summary.json (DIR defaults to results/<scene name>)
+check    validate the scene and exit
+compare  compare the outputs of two runs (fields, coupling iterations, contact sets)
+--set    override a scene value, e.g. --set coupling.L=kdr --set time.dt=0.5
+
+PETSc options select the solvers (prefixes flow_, mechanics_, monolithic_),
+e.g. -flow_ksp_type gmres -flow_pc_type hypre -mechanics_snes_monitor.
+The defaults are direct solves (MUMPS LU); the contact solver is SNES
+vinewtonrsls with bounds on the contact DOFs.
+"""
+
+
+def parse(argv):
+    """Our own arguments first; the rest go to PETSc (an option and its value)."""
+    command, scene, out, overrides, petsc, bad = "", "", "", [], [], ""
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("--help", "-h"):
+            command = "help"
+        elif a == "--version":
+            command = "version"
+        elif a in ("--out", "--set"):
+            if i + 1 >= len(argv):
+                bad = a + " needs a value"
+            elif a == "--out":
+                i += 1
+                out = argv[i]
+            else:
+                i += 1
+                overrides.append(argv[i])
+        elif not command and a in ("run", "check"):
+            command = a
+        elif not scene and command and not a.startswith("-"):
+            scene = a
+        elif a.startswith("-"):
+            petsc.append(a)
+            if i + 1 < len(argv) and not argv[i + 1].startswith("-"):
+                i += 1
+                petsc.append(argv[i])
+        else:
+            bad = f"unexpected argument '{a}'"
+        i += 1
+    return command, scene, out, overrides, petsc, bad
+
+
+def compare_main(argv):
+    tolerance = 1e-8
+    if "--tolerance" in argv:
+        k = argv.index("--tolerance")
+        tolerance = float(argv[k + 1])
+        argv = argv[:k] + argv[k + 2:]
+    if len(argv) != 2:
+        print("biotcontact: error: expected 'compare DIR_A DIR_B [--tolerance T]' (see --help)", file=sys.stderr)
+        return 2
+    from .compare import compare
+    return compare(argv[0], argv[1], tolerance)
+
+
+def main(argv):
+    if argv[:1] == ["compare"]:
+        return compare_main(argv[1:])
+    command, scene_file, out, overrides, petsc, bad = parse(argv)
+    if command == "help":
+        print(USAGE, end="")
+        return 0
+
+    # PETSc reads its options once, at initialisation: before dolfinx is imported.
+    import petsc4py
+    petsc4py.init([sys.argv[0]] + petsc)
+    import logging
+    from mpi4py import MPI
+    import dolfinx
+    from petsc4py import PETSc
+    # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
+    logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
+    dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
+    from .domain import create_domain
+    from .scene import SceneError, read_scene
+    from .simulation import run
+    from .steps import SolverError
+
+    comm = MPI.COMM_WORLD
+    if command == "version":
+        print(f"biotcontact python prototype (dolfinx {dolfinx.__version__}, PETSc "
+              f"{'.'.join(map(str, PETSc.Sys.getVersion()))})")
+        return 0
+
+    def fail(message, status=2):
+        if comm.rank == 0:
+            print(f"biotcontact: error: {message}", file=sys.stderr, flush=True)
+        return status
+
+    if bad:
+        return fail(bad + " (see --help)")
+    if not command or not scene_file:
+        return fail("expected 'run SCENE.toml' or 'check SCENE.toml' (see --help)")
+    try:
+        scene = read_scene(scene_file, overrides)
+        if command == "check":
+            create_domain(scene, comm)  # a gmsh file's boundary names are known once read
+            if comm.rank == 0:
+                print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
+            return 0
+        return run(scene, out or os.path.join("results", scene.name), comm)
+    except SceneError as e:
+        return fail(str(e))
+    except SolverError as e:
+        return fail(str(e), 3)
+    except Exception as e:  # noqa: BLE001  (anything else: one line, status 1)
+        return fail(f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}", 1)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

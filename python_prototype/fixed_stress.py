@@ -1,0 +1,166 @@
+"""The fixed-stress split, single-rate (q = 1) and multirate (q flow steps
+per mechanics step): algorithm.md "Single-rate fixed-stress split" and
+"Multirate fixed-stress split" (paper eqs. 4.17-4.22); cpp/fixed_stress.cpp.
+"""
+import math
+
+import numpy as np
+
+from .steps import owned_norm
+
+# Ratios measured below this fraction of a window's first ||delta sigma||
+# are at round-off level (see the loop).
+RESOLVED_FRACTION = 1e-6
+
+
+class CouplingError(Exception):
+    """The split did not converge within coupling.max_iterations."""
+
+
+class CouplingReport:
+    def __init__(self):
+        self.windows = 0                   # mechanics (coarse) steps
+        self.coupling_iterations = 0
+        self.max_iterations_per_step = 0
+        self.max_contraction_ratio = self.mean_contraction_ratio = 0.0
+        self.ratios = 0                    # ratios held against gamma (resolved)
+        self.bound_violations = 0          # resolved ratios above gamma
+        self.unresolved_ratios = 0         # ratios at round-off level, logged only
+        self.max_coupled_residual = 0.0    # relative, of each converged state
+
+
+def relative(increment, size):
+    """increment / size, or the increment itself while size = 0."""
+    return increment / size if size > 0 else increment
+
+
+def run_fixed_stress(scene, P, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
+                     report, comm):
+    """Runs the coupled scene to its end time, filling `report`. After each
+    converged window calls on_flow_state(t) once per fine step (with that
+    step's solution loaded in `flow`), then on_mechanics_state(t, window,
+    iterations). Raises CouplingError when a window does not converge."""
+    coupling, q, dt = scene.coupling, P.q, P.dt
+    multirate = coupling.scheme == "multirate"
+    V, Q = mechanics.V, flow.Q
+    nan = math.nan
+    ratio_sum = 0.0
+
+    # Converged state at t_K: (u_K, p_K).
+    p_K = flow.pressure.x.array.copy()
+    u_K = mechanics.u.x.array.copy()
+    # The largest p (summed over the q fine steps) and u of the run so far:
+    # the scales of the stopping test.
+    p_size = math.sqrt(q) * owned_norm(p_K, Q, comm)
+    u_size = owned_norm(u_K, V, comm)
+
+    for K in range(scene.num_steps() // q):
+        def t(m):  # fine time t_K + m dt, as a whole multiple of dt (same output times in every scheme)
+            return (K * q + m) * dt
+        # Start: p^{0,m} = p_K for all m, u^0 = u_K.
+        p_old = [p_K] * (q + 1)
+        p_new = [p_K] * (q + 1)
+        w_new = [None] * (q + 1)
+        u_old = u_K
+        flow.u_window.x.array[:] = u_K
+        dsigma_previous, dsigma_first = nan, 0.0
+        converged, log = False, []
+
+        for n in range(coupling.max_iterations):
+            # (a) q flow steps with u^n lagged:
+            #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
+            #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+            #       - ((alpha/q) div(u^n - u_K)/dt, th)
+            flow.u_iterate.x.array[:] = u_old
+            for m in range(1, q + 1):
+                flow.p_previous.x.array[:] = p_new[m - 1]
+                flow.p_iterate.x.array[:] = p_old[m]
+                flow.p_iterate_previous.x.array[:] = p_old[m - 1]
+                flow.solve(t(m))
+                p_new[m] = flow.pressure.x.array.copy()
+                w_new[m] = flow.state().copy()
+            # (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
+            # holds it and is the pressure coefficient of the mechanics load.
+            mechanics.solve(t(q))
+            u_new = mechanics.u.x.array.copy()
+
+            # Contraction quantities, measured on the increments of this iteration.
+            du = u_new - u_old
+            theorem2, dp2, p2 = 0.0, 0.0, 0.0
+            dp_previous = np.zeros_like(p_K)
+            for m in range(1, q + 1):
+                dp = p_new[m] - p_old[m]
+                # Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
+                if P.L > 0:
+                    theorem2 += contraction(P.alpha / (q * P.L), du, 1.0, dp - dp_previous) ** 2
+                dp_previous = dp
+                dp2 += owned_norm(dp, Q, comm) ** 2
+                p2 += owned_norm(p_new[m], Q, comm) ** 2
+            theorem2 = math.sqrt(theorem2) if P.L > 0 else nan
+            if multirate:
+                dsigma = theorem2
+            else:  # Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
+                dsigma = contraction(P.lmbda, du, P.alpha, p_new[1] - p_old[1])
+
+            ratio = dsigma / dsigma_previous if n > 0 else nan
+            if n == 0:
+                dsigma_first = dsigma
+            # A ratio is held against gamma from the second one on, while the
+            # increments are resolved:
+            # - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
+            #   and u^0 = u_K is no mechanics solution at this step's loads, which
+            #   the proof of Theorem 1 needs for both iterates it subtracts;
+            # - once ||delta sigma|| has fallen six orders below the window's
+            #   first one it is made of the round-off of the solves.
+            # The other ratios are logged and counted as unresolved.
+            resolved = n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
+            if n > 0 and not resolved:
+                report.unresolved_ratios += 1
+            if resolved and math.isfinite(ratio):
+                report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
+                ratio_sum += ratio
+                report.ratios += 1
+                report.bound_violations += ratio > P.gamma
+            dsigma_previous = dsigma
+
+            # Stopping test on the increments of this iteration (never on a
+            # stale state): l2 norms of the p and u increments relative to the
+            # largest p and u of the run so far (relative to the current iterate
+            # alone, a field decaying to zero would be judged by its round-off).
+            p_size = max(p_size, math.sqrt(p2))
+            u_size = max(u_size, owned_norm(u_new, V, comm))
+            dp_norm = relative(math.sqrt(dp2), p_size)
+            du_norm = relative(owned_norm(du, V, comm), u_size)
+            contact = mechanics.contact_state()
+            output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm, contact.active_nodes)
+            log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
+
+            p_old = list(p_new)
+            u_old = u_new
+            if dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance:
+                converged = True
+                # Coupled residual of the accepted state: the flow equations with
+                # u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q)
+                # div du = L delta sigma^{n+1,m}; relative to the fluid content change.
+                if P.L > 0:
+                    change = contraction(P.alpha, u_new - u_K, -P.storage, p_new[q] - p_K)
+                    report.max_coupled_residual = max(report.max_coupled_residual,
+                                                      P.L * theorem2 / change if change > 0 else 0.0)
+                break
+        iterations = min(n + 1, coupling.max_iterations)
+        report.coupling_iterations += iterations
+        report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
+        if not converged:
+            report.mean_contraction_ratio = ratio_sum / report.ratios if report.ratios else 0.0
+            raise CouplingError(f"the fixed-stress split did not converge in {coupling.max_iterations} "
+                                f"iterations at t = {t(q):g} (step {K + 1}); last increments:"
+                                + "".join(log[-3:]))
+
+        # Accept the window: write every fine flow step, then the mechanics step.
+        for m in range(1, q + 1):
+            flow.set_state(w_new[m])
+            on_flow_state(t(m))
+        on_mechanics_state(t(q), K + 1, n + 1)
+        report.windows = K + 1
+        p_K, u_K = p_new[q], u_new
+    report.mean_contraction_ratio = ratio_sum / report.ratios if report.ratios else 0.0

@@ -1,0 +1,74 @@
+"""Output of a run (cpp/output.cpp): the XDMF time series, iterations.csv and
+summary.json. Rows and times are flushed as they are written, so a run that
+stops later loses nothing it finished."""
+import math
+import os
+import time
+
+from dolfinx import io
+
+COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
+
+
+def number(v):
+    """As the C++ writes doubles: 17 significant digits."""
+    return f"{v:.17g}"
+
+
+def to_json(value, indent=0):
+    """JSON in the C++ layout (insertion order, 2-space indent, null for NaN/inf)."""
+    if isinstance(value, dict):
+        pad = " " * (indent + 2)
+        items = [f'{pad}"{k}": {to_json(v, indent + 2)}' for k, v in value.items()]
+        return "{\n" + ",\n".join(items) + "\n" + " " * indent + "}"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return number(value) if math.isfinite(value) else "null"
+    return '"' + str(value).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+class Output:
+    def __init__(self, comm, directory, mesh, xdmf):
+        self.comm, self.directory, self.time = comm, directory, 0.0
+        self.csv = None
+        if comm.rank == 0:
+            os.makedirs(directory, exist_ok=True)
+            self.csv = open(os.path.join(directory, "iterations.csv"), "w")
+            self.csv.write(COLUMNS + "\n")
+            self.csv.flush()
+        comm.Barrier()
+        self.xdmf = None
+        if xdmf:
+            self.xdmf = io.XDMFFile(comm, self.xdmf_path(), "w")
+            self.xdmf.write_mesh(mesh)
+
+    def xdmf_path(self):
+        return os.path.join(self.directory, "solution.xdmf")
+
+    def write(self, f, t):
+        if self.xdmf is None:
+            return
+        start = time.perf_counter()
+        self.xdmf.write_function(f, t)
+        self.time += time.perf_counter() - start
+
+    def iteration(self, step, t, iteration, dsigma, ratio, gamma, dp_norm, du_norm, active_nodes):
+        if self.csv is None:
+            return
+        v = [number(x) if math.isfinite(x) else "" for x in (dsigma, ratio, gamma, dp_norm, du_norm)]
+        self.csv.write(f"{step},{number(t)},{iteration},{','.join(v)},{active_nodes}\n")
+        self.csv.flush()
+
+    def summary(self, summary):
+        if self.comm.rank == 0:
+            with open(os.path.join(self.directory, "summary.json"), "w") as f:
+                f.write(to_json(summary) + "\n")
+
+    def close(self):
+        if self.xdmf is not None:
+            self.xdmf.close()
+        if self.csv is not None:
+            self.csv.close()

@@ -1,0 +1,278 @@
+"""A run of one scene (cpp/simulation.cpp): scene -> mesh and tags -> forms ->
+flow step / mechanics step (or the monolithic step) -> coupling scheme ->
+output and diagnostics."""
+import sys
+import time
+
+import numpy as np
+from dolfinx import fem
+
+from .closed_form import Mandel, Terzaghi
+from .domain import create_domain
+from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
+from .forms import Forms, derive_parameters, set_constants
+from .output import Output
+from .steps import (ContactState, ContractionNorm, FlowStep, MechanicsStep, MonolithicStep,
+                    relative_error, volumetric_stress)
+
+RUN_OK, RUN_NOT_CONVERGED = 0, 3
+
+
+def _global_size(V):
+    return V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+
+
+def _boundary_mean(u, facets, component, comm):
+    """Mean of one displacement component over the nodes of a boundary."""
+    V = u.function_space
+    dofs = fem.locate_dofs_topological(V.sub(component), V.mesh.topology.dim - 1, facets)
+    dofs = dofs[dofs < V.dofmap.index_map.size_local * V.dofmap.index_map_bs]
+    total, count = comm.allreduce(np.array([u.x.array[dofs].sum(), len(dofs)]))
+    return total / count
+
+
+def _contact_json(c):
+    return {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
+            "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
+            "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
+            "gap_scale": c.gap_scale, "total_force": c.total_force}
+
+
+def run(scene, directory, comm):
+    """Runs `scene` into `directory`; returns RUN_OK, or RUN_NOT_CONVERGED
+    after writing what was finished and the iteration log."""
+    start = time.perf_counter()
+
+    def say(s):
+        if comm.rank == 0:
+            print(s, flush=True)
+
+    # ---- scene -> mesh and tags -> forms ----------------------------------------
+    domain = create_domain(scene, comm)
+    F = Forms(domain.mesh)
+    P = derive_parameters(scene)
+    set_constants(F, scene, P)
+    d = domain.dim
+
+    # Each scene allocates only the physics it has.
+    left_out = []
+    if not scene.flow:
+        left_out.append("flow (no [flow] table): no flux or pressure unknowns")
+    if not scene.mechanics:
+        left_out.append("mechanics (no [mechanics] table): no displacement unknowns")
+    if scene.mechanics and not scene.has_contact():
+        left_out.append("contact solver (no contact boundary): linear mechanics solve")
+    if scene.flow and not scene.flow.gravity:
+        left_out.append("gravity")
+    if scene.mechanics and not scene.mechanics.body_force:
+        left_out.append("body force")
+    left_out = "; ".join(left_out)
+    say(f"biotcontact (python prototype): scene {scene.name} ({scene.file}), {d}D, "
+        f"{domain.mesh.topology.index_map(d).size_global} cells")
+    say("left out: " + (left_out or "nothing"))
+
+    # Where the method is known to degrade, the run says so instead of
+    # returning poor numbers silently (docs/stability.md has the data).
+    warnings = []
+
+    def warn(what):
+        warnings.append(what)
+        say("warning: " + what)
+    if scene.mechanics:
+        nu = P.lmbda / (2 * (P.lmbda + P.G))
+        if nu > 0.49:
+            warn(f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
+                 "(too stiff a response, worse on coarse meshes)")
+    if scene.coupling and scene.coupling.scheme != "monolithic" and P.gamma > 0.99:
+        warn(f"gamma = {P.gamma:f} > 0.99: the contraction theorems guarantee almost nothing, expect many "
+             "coupling iterations or none converging (monolithic is the robust choice)")
+
+    # ---- flow step / mechanics step, or the monolithic system ------------------
+    monolithic = scene.coupling is not None and scene.coupling.scheme == "monolithic"
+    flow = mechanics = coupled = None
+    u = p = contact_pressure = contact_active = None
+    compute_contact = ContactState
+    if monolithic:
+        coupled = MonolithicStep(scene, domain, F)
+        u, p, compute_flux = coupled.u, coupled.pressure, coupled.flux
+        if coupled.contact:
+            contact_pressure, contact_active = coupled.contact_pressure, coupled.contact_active
+            compute_contact = coupled.contact_state
+    else:
+        if scene.flow:
+            flow = FlowStep(scene, domain, F, coupled=scene.coupling is not None)
+            p, compute_flux = flow.pressure, flow.flux
+        if scene.mechanics:
+            mechanics = MechanicsStep(scene, domain, F, coupled=scene.coupling is not None)
+            u = mechanics.u
+            if mechanics.contact:
+                contact_pressure, contact_active = mechanics.contact_pressure, mechanics.contact_active
+                compute_contact = mechanics.contact_state
+
+    # ---- output fields ---------------------------------------------------------------
+    output = Output(comm, directory, domain.mesh, scene.write_xdmf)
+    try:
+        flux = sigma_v = L_sigma_v = None
+        if p is not None:
+            p.name = "pressure"
+            flux = fem.Function(F["Qv"], name="flux")
+        if u is not None:
+            u.name = "displacement"
+            sigma_v = fem.Function(F["Q"], name="sigma_v")
+            L_sigma_v = F.compile("L_sigma_v")
+            if contact_pressure is not None:
+                contact_pressure.name, contact_active.name = "contact_pressure", "contact_active"
+
+        def write_flow(t):
+            output.write(p, t)
+            compute_flux(flux)
+            output.write(flux, t)
+
+        contact = ContactState()
+
+        def write_mechanics(t):
+            nonlocal contact
+            contact = compute_contact()  # also fills the contact fields
+            volumetric_stress(F, L_sigma_v, u, p, sigma_v)
+            output.write(u, t)
+            output.write(sigma_v, t)
+            if contact_pressure is not None:
+                output.write(contact_pressure, t)
+                output.write(contact_active, t)
+
+        def progress(step, t, iterations):
+            say(f"step {step:4d}/{scene.num_steps() // P.q}  t = {t:<11.5g}  coupling iterations "
+                f"{iterations:3d}  active contact nodes {contact.active_nodes}")
+
+        # ---- initial state -----------------------------------------------------------
+        if p is not None:
+            write_flow(0.0)
+        if u is not None:
+            write_mechanics(0.0)
+
+        # ---- time stepping -----------------------------------------------------------
+        report, failure = CouplingReport(), ""
+        if scene.coupling and not monolithic:
+            contraction = ContractionNorm(F, comm)
+
+            def on_mechanics_state(t, window, iterations):
+                write_mechanics(t)
+                progress(window, t, iterations)
+            try:
+                run_fixed_stress(scene, P, flow, mechanics, contraction, output, write_flow,
+                                 on_mechanics_state, report, comm)
+            except CouplingError as e:
+                failure = str(e)
+        else:
+            # One solve per step: the monolithic system, or the single physics.
+            for k in range(1, scene.num_steps() + 1):
+                t = k * scene.dt
+                if coupled:
+                    coupled.solve(t)
+                if flow:
+                    flow.p_previous.x.array[:] = p.x.array
+                    flow.solve(t)
+                if mechanics:
+                    mechanics.solve(t)
+                if p is not None:
+                    write_flow(t)
+                if u is not None:
+                    write_mechanics(t)
+                progress(k, t, 1)
+                report.windows = k
+        contact = compute_contact()
+
+        # ---- errors against a closed form at the final time --------------------------
+        errors = None
+        if scene.reference and not failure:
+            ref, fs = scene.reference, scene.flow
+            mobility = fs.permeability(0, 0, 0, 0) / fs.mu_f
+            t, y0 = scene.end_time, scene.mesh.lower[1]
+            terzaghi = None
+            if ref.solution == "terzaghi":
+                terzaghi = Terzaghi(ref.height, P.G, P.lmbda, P.alpha, P.storage, mobility, ref.load)
+                p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731
+                u_exact = lambda x: [0.0 * x[0], terzaghi.displacement(x[1] - y0, t)]  # noqa: E731
+            else:
+                mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lmbda, P.alpha, P.storage,
+                                mobility, ref.force)
+                p_exact = lambda x: mandel.pressure(x[0], t)  # noqa: E731
+                u_exact = lambda x: [mandel.displacement_x(x[0], t), mandel.displacement_y(x[1], t)]  # noqa: E731
+            F["p_reference"].interpolate(p_exact)
+            F["u_reference"].interpolate(lambda x: np.vstack(u_exact(x)))
+            F["p_out"].x.array[:] = p.x.array
+            F["u_out"].x.array[:] = u.x.array
+            errors = {
+                "time": t,
+                "pressure_rel_l2": relative_error(F, F.compile("M_pressure_error"),
+                                                  F.compile("M_pressure_reference"), comm),
+                "displacement_rel_l2": relative_error(F, F.compile("M_displacement_error"),
+                                                      F.compile("M_displacement_reference"), comm)}
+            if terzaghi:
+                settlement = -_boundary_mean(u, domain.boundaries["top"], 1, comm)
+                exact = terzaghi.settlement(t)
+                errors.update({"settlement": settlement, "settlement_exact": exact,
+                               "settlement_rel": abs(settlement - exact) / abs(exact)})
+
+        # ---- summary ---------------------------------------------------------------
+        wall = time.perf_counter() - start
+        dofs = {}
+        if u is not None:
+            dofs["displacement"] = _global_size(u.function_space)
+        if p is not None:
+            dofs["pressure"] = _global_size(p.function_space)
+            dofs["flux"] = domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
+        solvers = [s for s in (flow, mechanics, coupled) if s]
+        summary = {
+            "scene": scene.name,
+            "scheme": scene.coupling.scheme if scene.coupling else ("flow-only" if flow else "mechanics-only"),
+            "q": P.q,
+            "L_choice": scene.coupling.L_choice if scene.coupling else "none",
+            "L": P.L,
+            "gamma": P.gamma,
+            "dofs": dofs,
+            "dt": scene.dt,
+            "steps": report.windows,
+            "fine_steps": report.windows * P.q,
+            "coupling_iterations": report.coupling_iterations,
+            "max_iterations_per_step": report.max_iterations_per_step,
+            "max_contraction_ratio": report.max_contraction_ratio,
+            "mean_contraction_ratio": report.mean_contraction_ratio,
+            "bound_violations": report.bound_violations,
+            "resolved_ratios": report.ratios,
+            "unresolved_ratios": report.unresolved_ratios,
+            "max_coupled_residual": report.max_coupled_residual,
+            "converged": not failure,
+            "flow_solves": flow.solves if flow else 0,
+            "mechanics_solves": mechanics.solves if mechanics else 0,
+            "monolithic_solves": coupled.solves if coupled else 0,
+            "newton_iterations": (mechanics or coupled).newton_iterations if (mechanics or coupled) else 0,
+            "linear_iterations": {"flow": flow.linear_iterations if flow else 0,
+                                  "mechanics": mechanics.linear_iterations if mechanics else 0,
+                                  "monolithic": coupled.linear_iterations if coupled else 0},
+            "timings": {"flow": flow.solve_time if flow else 0.0,
+                        "mechanics": mechanics.solve_time if mechanics else 0.0,
+                        "monolithic": coupled.solve_time if coupled else 0.0,
+                        "assembly": sum(s.assembly_time for s in solvers),
+                        "output": output.time},
+            "wall_time_s": wall,
+            "left_out": left_out,
+            "warnings": "; ".join(warnings),
+            "mpi_ranks": comm.size,
+        }
+        if contact_pressure is not None:
+            summary["contact"] = _contact_json(contact)
+        if errors:
+            summary["errors"] = errors
+        if failure:
+            summary["failure"] = failure
+        output.summary(summary)
+    finally:
+        output.close()
+
+    if failure:
+        if comm.rank == 0:
+            print(f"biotcontact: error: {failure} (log: {directory}/iterations.csv)", file=sys.stderr, flush=True)
+        return RUN_NOT_CONVERGED
+    say(f"wrote {output.xdmf_path()} and {directory}/summary.json ({wall:f} s)")
+    return RUN_OK
