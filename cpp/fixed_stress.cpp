@@ -35,6 +35,7 @@ Array difference(const Array& a, const Array& b)
 /// Ratios measured below this fraction of a window's first ||delta sigma||
 /// are at round-off level (see the loop).
 constexpr double resolved_fraction = 1e-6;
+constexpr double round_off_fraction = 1e-9;
 
 /// increment / size, or the increment itself while size = 0.
 double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
@@ -133,10 +134,14 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
       //   and u^0 = u_K is no mechanics solution at this step's loads, which
       //   the proof of Theorem 1 needs for both iterates it subtracts;
       // - once ||delta sigma|| has fallen six orders below the window's
-      //   first one it is made of the round-off of the solves (the
-      //   displacement carries ~1e-11 relative round-off, amplified by div).
+      //   first one, or below 1e-9 of the norm of the quantity itself, it is
+      //   made of the round-off of the solves (the displacement carries
+      //   ~1e-11 relative round-off, amplified by div).
       // The other ratios are logged and counted as unresolved.
-      const bool resolved = n > 1 and dsigma >= resolved_fraction * dsigma_first;
+      const double size = multirate ? contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q])
+                                    : contraction(P.lambda, u_new, P.alpha, p_new[1]);
+      const bool resolved = n > 1 and dsigma >= resolved_fraction * dsigma_first
+                            and dsigma >= round_off_fraction * size;
       if (n > 0 and !resolved)
         ++report.unresolved_ratios;
       if (resolved and std::isfinite(ratio))

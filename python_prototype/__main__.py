@@ -7,6 +7,12 @@ written), 1 anything else; `compare` exits 1 when the runs differ.
 import os
 import sys
 
+if not __package__:  # run as a path, `python3 /path/to/python_prototype run ...`, from any directory
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.path[:] = [os.path.dirname(here)] + [p for p in sys.path if os.path.abspath(p or ".") != here]
+    import python_prototype  # noqa: F401  (the parent of the relative imports below)
+    __package__ = "python_prototype"
+
 USAGE = """usage:
   python3 -m python_prototype run SCENE.toml [--out DIR] [--set key.path=value ...] [PETSc options]
   python3 -m python_prototype check SCENE.toml [--set key.path=value ...]
@@ -94,7 +100,7 @@ def main(argv):
     from .domain import create_domain
     from .scene import SceneError, read_scene
     from .simulation import run
-    from .steps import SolverError
+    from .linear_algebra import OptionsError, SolverError
 
     comm = MPI.COMM_WORLD
     if command == "version":
@@ -119,7 +125,7 @@ def main(argv):
                 print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
             return 0
         return run(scene, out or os.path.join("results", scene.name), comm)
-    except SceneError as e:
+    except (SceneError, OptionsError) as e:
         return fail(str(e))
     except SolverError as e:
         return fail(str(e), 3)

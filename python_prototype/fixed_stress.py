@@ -6,11 +6,12 @@ import math
 
 import numpy as np
 
-from .steps import owned_norm
+from .linear_algebra import owned_norm
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see the loop).
 RESOLVED_FRACTION = 1e-6
+ROUND_OFF_FRACTION = 1e-9
 
 
 class CouplingError(Exception):
@@ -111,16 +112,22 @@ def run_fixed_stress(scene, P, flow, mechanics, contraction, output, on_flow_sta
             #   and u^0 = u_K is no mechanics solution at this step's loads, which
             #   the proof of Theorem 1 needs for both iterates it subtracts;
             # - once ||delta sigma|| has fallen six orders below the window's
-            #   first one it is made of the round-off of the solves.
+            #   first one, or below 1e-9 of the norm of the quantity itself, it
+            #   is made of the round-off of the solves.
             # The other ratios are logged and counted as unresolved.
-            resolved = n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
+            if multirate:
+                size = contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q]) if P.L > 0 else nan
+            else:
+                size = contraction(P.lmbda, u_new, P.alpha, p_new[1])
+            resolved = (n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
+                        and dsigma >= ROUND_OFF_FRACTION * size)
             if n > 0 and not resolved:
                 report.unresolved_ratios += 1
             if resolved and math.isfinite(ratio):
                 report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
                 ratio_sum += ratio
                 report.ratios += 1
-                report.bound_violations += ratio > P.gamma
+                report.bound_violations += int(ratio > P.gamma)
             dsigma_previous = dsigma
 
             # Stopping test on the increments of this iteration (never on a

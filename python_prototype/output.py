@@ -5,6 +5,7 @@ import math
 import os
 import time
 
+import numpy as np
 from dolfinx import io
 
 COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
@@ -21,11 +22,11 @@ def to_json(value, indent=0):
         pad = " " * (indent + 2)
         items = [f'{pad}"{k}": {to_json(v, indent + 2)}' for k, v in value.items()]
         return "{\n" + ",\n".join(items) + "\n" + " " * indent + "}"
-    if isinstance(value, bool):
+    if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
-    if isinstance(value, int):
+    if isinstance(value, (int, np.integer)):
         return str(value)
-    if isinstance(value, float):
+    if isinstance(value, (float, np.floating)):
         return number(value) if math.isfinite(value) else "null"
     return '"' + str(value).replace("\\", "\\\\").replace('"', '\\"') + '"'
 

@@ -12,8 +12,9 @@ from .domain import create_domain
 from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
 from .forms import Forms, derive_parameters, set_constants
 from .output import Output
-from .steps import (ContactState, ContractionNorm, FlowStep, MechanicsStep, MonolithicStep,
-                    relative_error, volumetric_stress)
+from .contact import ContactState
+from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
+                    volumetric_stress)
 
 RUN_OK, RUN_NOT_CONVERGED = 0, 3
 

@@ -1,0 +1,206 @@
+"""Frictionless Signorini contact against a rigid foundation with normal
+nu_F = +-e_i (alg. "Mechanics with frictionless Signorini contact";
+cpp/contact.cpp), for the mechanics and the monolithic systems alike.
+
+The energy is quadratic, so with A the system matrix and b its load vector
+the variational inequality is the bound-constrained problem: find x with
+l <= x <= g and F(x) = A x - b complementary to the bounds, bounds only on
+the DOF of each contact node along nu_F (u.nu_F <= g_a). PETSc's
+reduced-space active-set Newton (SNES vinewtonrsls) solves it.
+"""
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from .linear_algebra import (LinearSolver, OptionsError, SolverError, reason_name, accumulate_ghosts,
+                             add_vector, owned, set_default_option)
+from .scene import SceneError
+
+
+class ContactSet:
+    """For each node of Gamma_3 owned here: its DOF along nu_F = sign e_axis,
+    its gap g_a and its lumped boundary measure; `output_space` is the P1
+    scalar space of that component, `output_dofs` the node's DOF there."""
+
+    def __init__(self, scene, domain, F, V):
+        fdim = domain.dim - 1
+        contacts = [(name, b) for name, b in scene.boundaries.items() if b.contact]
+        self.axis, self.sign = contacts[0][1].contact.axis, contacts[0][1].contact.sign
+        for name, b in contacts[1:]:
+            if (b.contact.axis, b.contact.sign) != (self.axis, self.sign):
+                raise SceneError(f"{scene.file}: boundary.{name}.contact.normal: all contact boundaries "
+                                 "must share one foundation normal")
+        facets = np.unique(np.concatenate([domain.boundaries[name] for name, _ in contacts]))
+
+        # Lumped boundary measure of each node: the integral of its hat function.
+        lumped = fem.Function(V)
+        add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=facets)))
+        accumulate_ghosts(lumped)
+
+        Vi = V.sub(self.axis)
+        self.output_space, _ = Vi.collapse()
+        coords = V.tabulate_dof_coordinates()
+        bs, n_owned = V.dofmap.index_map_bs, owned(V)
+        self.dofs, self.gap, self.lumped, self.output_dofs, seen = [], [], [], [], set()
+        for name, b in contacts:
+            dofs, collapsed = fem.locate_dofs_topological((Vi, self.output_space), fdim,
+                                                          domain.boundaries[name])
+            for dof, out in zip(dofs, collapsed):
+                if dof >= n_owned or dof in seen:
+                    continue
+                seen.add(dof)
+                x = coords[dof // bs]
+                g = float(b.contact.gap(x[0], x[1], x[2], 0.0))
+                if not (g >= 0) or not np.isfinite(g):
+                    raise SceneError(f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} "
+                                     f"at ({x[0]:f}, {x[1]:f})")
+                self.dofs.append(dof)
+                self.gap.append(g)
+                self.lumped.append(lumped.x.array[dof])
+                self.output_dofs.append(out)
+        self.dofs = np.array(self.dofs, dtype=np.int32)
+        self.gap, self.lumped = np.array(self.gap), np.array(self.lumped)
+        self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
+
+
+class ContactState:
+    """Contact diagnostics after a solve (cpp/contact.h)."""
+
+    def __init__(self):
+        self.active_nodes = self.contact_nodes = 0
+        self.max_penetration = self.max_pressure = self.min_pressure = 0.0
+        self.max_complementarity = self.gap_scale = self.total_force = 0.0
+
+
+class ContactSolver:
+    """The VI as a bound-constrained problem: l <= x <= g with F(x) = A x - b
+    complementary to the bounds, bounds only on the contact DOFs. The energy
+    is quadratic: A is the exact (constant) Jacobian. SNESVI decides "on the
+    bound" with an absolute tolerance (1e-8), so it solves for x/s with s the
+    displacement scale (largest gap or |x|): F = A (x/s) - b/s."""
+
+    def __init__(self, comm, prefix, A, contact_set, dofs, displacement_dofs):
+        self.comm, self.A, self.set, self.prefix = comm, A, contact_set, prefix
+        self.dofs, self.displacement_dofs = np.asarray(dofs, dtype=np.int32), np.asarray(displacement_dofs)
+        self.x, self.residual, self.lower, self.upper, self.b_scaled = (A.createVecRight() for _ in range(5))
+        self.lower.set(PETSc.NINFINITY)
+        self.upper.set(PETSc.INFINITY)
+        for option, value in (("ksp_type", "preonly"), ("pc_type", "lu"),
+                              ("pc_factor_mat_solver_type", "mumps"), ("snes_rtol", "1e-10"),
+                              ("snes_stol", "1e-12"), ("snes_max_it", "100"),
+                              # F is linear, A exact: the full step is exact on the active set
+                              ("snes_linesearch_type", "basic")):
+            set_default_option(prefix + option, value)
+        self.snes = PETSc.SNES().create(comm)
+        self.snes.setOptionsPrefix(prefix)
+        self.snes.setType("vinewtonrsls")
+        self.snes.setFunction(self._residual, self.residual)
+        self.snes.setJacobian(lambda snes, x, J, P: None, A, A)
+        self.snes.setVariableBounds(self.lower, self.upper)
+        # At least one Newton step per solve, so the result never lags the load.
+        if hasattr(self.snes, "setForceIteration"):
+            self.snes.setForceIteration(True)
+        else:
+            set_default_option(prefix + "snes_force_iteration", "true")
+        try:
+            self.snes.setFromOptions()
+        except PETSc.Error as e:
+            raise OptionsError(f"the PETSc options of the {prefix[:-1]} contact solver do not make a solver "
+                               f"(PETSc error {e.ierr})") from None
+        self.newton_iterations = self.linear_iterations = 0
+
+    def _residual(self, snes, x, F):
+        self.A.mult(x, F)
+        F.axpy(-1.0, self.b_scaled)
+
+    def displacement_scale(self, x):
+        """The largest gap or |displacement| (collective)."""
+        local = max(self.set.gap.max(initial=0.0),
+                    np.abs(x.getArray(readonly=True)[self.displacement_dofs]).max(initial=0.0))
+        s = self.comm.allreduce(local, op=MPI.MAX)
+        return s if s > 0 else 1.0
+
+    def solve(self, b, x):
+        """Solves the VI; x holds the initial guess on entry."""
+        scale = self.displacement_scale(x)
+        # u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
+        if self.set.sign > 0:
+            with self.upper as up:
+                up[self.dofs] = self.set.gap / scale
+        else:
+            with self.lower as lo:
+                lo[self.dofs] = -self.set.gap / scale
+        b.copy(self.b_scaled)
+        self.b_scaled.scale(1.0 / scale)
+        x.copy(self.x)
+        self.x.scale(1.0 / scale)
+        if not PETSc.Options().hasName(self.prefix + "snes_atol"):
+            # absolute tolerance relative to the load: scale-free
+            self.snes.setTolerances(atol=max(1e-10 * self.b_scaled.norm(), 1e-300))
+        self._snes_solve()
+        reason = self.snes.getConvergedReason()
+        if reason < 0:
+            # A body held in the normal direction by the foundation alone is
+            # semi-coercive: from a start where no contact DOF pushes on its
+            # bound the reduced system is singular. Start again with every
+            # contact node on the foundation; the contact forces there say
+            # which nodes to release.
+            self.clamped_start()
+            self._snes_solve()
+            reason = self.snes.getConvergedReason()
+        if reason < 0:
+            raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
+                              + reason_name(PETSc.SNES.ConvergedReason, reason))
+        self.newton_iterations += self.snes.getIterationNumber()
+        self.linear_iterations += self.snes.getLinearSolveIterations()
+        self.x.scale(scale)
+        self.x.copy(x)
+
+    def _snes_solve(self):
+        try:
+            self.snes.solve(None, self.x)
+        except PETSc.Error as e:
+            raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: PETSc error {e.ierr}") from None
+
+    def clamped_start(self):
+        """Sets x to the solution of A x = b/s with x = g_a/s on the contact
+        DOFs (rows and columns eliminated, known values moved to the right)."""
+        bound = (self.upper if self.set.sign > 0 else self.lower).getArray(readonly=True)
+        with self.x as x:
+            x[self.dofs] = bound[self.dofs]
+        rows = (self.x.getOwnershipRange()[0] + self.dofs).astype(PETSc.IntType)
+        A, rhs = self.A.duplicate(copy=True), self.b_scaled.copy()
+        A.zeroRowsColumns(rows, 1.0, self.x, rhs)
+        LinearSolver(self.comm, self.prefix, A).solve(self.x, rhs)
+
+    def state(self, x, b, pressure_out, active_out):
+        """Contact force R = A x - b at the contact DOFs; contact pressure
+        -R.nu_F / lumped measure; a node is active on the foundation to round-off."""
+        s = ContactState()
+        self.A.mult(x, self.residual)
+        self.residual.axpy(-1.0, b)
+        R, X = self.residual.getArray(readonly=True), x.getArray(readonly=True)
+        sign, gap = self.set.sign, self.set.gap
+        normal = sign * X[self.dofs]
+        pressure = -sign * R[self.dofs] / self.set.lumped
+        s.gap_scale = self.displacement_scale(x)
+        distance = gap - normal
+        active = distance <= 1e-9 * s.gap_scale
+        pressure_out.x.array[:] = 0.0
+        active_out.x.array[:] = 0.0
+        pressure_out.x.array[self.set.output_dofs] = pressure
+        active_out.x.array[self.set.output_dofs] = active * 1.0
+        pressure_out.x.scatter_forward()
+        active_out.x.scatter_forward()
+        s.active_nodes = self.comm.allreduce(int(active.sum()), op=MPI.SUM)
+        s.contact_nodes = self.comm.allreduce(len(self.dofs), op=MPI.SUM)
+        s.max_penetration = self.comm.allreduce((-distance).max(initial=-np.inf), op=MPI.MAX)
+        s.max_complementarity = self.comm.allreduce(np.abs(pressure * distance).max(initial=0.0), op=MPI.MAX)
+        s.max_pressure = self.comm.allreduce(pressure.max(initial=-np.inf), op=MPI.MAX)
+        s.min_pressure = self.comm.allreduce(pressure.min(initial=np.inf), op=MPI.MIN)
+        force = 0.0  # sum of the nodal contact forces along -nu_F, summed in order as the C++
+        for p_k, lumped in zip(pressure, self.set.lumped):
+            force += p_k * lumped
+        s.total_force = self.comm.allreduce(force, op=MPI.SUM)
+        return s

@@ -1,0 +1,51 @@
+"""Bad input to the Python prototype gets the C++ solver's one-line error
+(same key named, same text) and exit status 2; a split that does not
+converge gets the same error and exit status 3 in both."""
+import os
+import subprocess
+import tempfile
+
+from support import BINARY, MPI_ENV, ROOT, check, scene
+
+PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
+ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
+DEFAULT = scene("default")
+
+
+def both(command, path, overrides, extra=()):
+    """(exit status, stderr) of the C++ solver and of the prototype."""
+    results = []
+    for exe in ([BINARY], PROTOTYPE):
+        args = exe + [command, path] + [a for o in overrides for a in ("--set", o)] + list(extra)
+        if command == "run":
+            args += ["--out", tempfile.mkdtemp()]
+        p = subprocess.run(args, capture_output=True, text=True, env=ENV, timeout=300)
+        results.append((p.returncode, p.stderr.strip()))
+    return results
+
+
+CASES = [
+    ("unknown key", ["mechanics.Ee=1.0"], "mechanics.Ee"),
+    ("nu = 0.5", ["mechanics.nu=0.5"], "mechanics.nu"),
+    ("end not a multiple of dt", ["time.dt=0.7"], "time.dt"),
+    ("q without multirate", ["coupling.q=2"], "coupling.q"),
+    ("unknown boundary name", ["boundary.middle.pressure=0.0"], "boundary.middle"),
+    ("bad expression", ["boundary.top.pressure='x +* 2'"], "boundary.top.pressure"),
+    ("unknown L", ["coupling.L=optimal"], "coupling.L"),
+    ("negative gap where evaluated", ["boundary.bottom.contact.gap='x-5'"], "boundary.bottom.contact.gap"),
+]
+for label, overrides, key in CASES:
+    command = "run" if label.endswith("evaluated") else "check"  # the gap is evaluated at the nodes in a run
+    (cs, ce), (ps, pe) = both(command, DEFAULT, overrides)
+    check(ps == 2 and cs == 2, f"{label}: exit status 2 (C++ {cs}, prototype {ps})")
+    check(len(pe.splitlines()) == 1 and key in pe and pe == ce,
+          f"{label}: the prototype's one line equals the C++ one: {pe!r}")
+
+(cs, ce), (ps, pe) = both("check", os.path.join(ROOT, "no", "such.toml"), [])
+check(ps == cs == 2 and pe == ce, f"missing scene file: same line and status 2: {pe!r}")
+
+(cs, ce), (ps, pe) = both("run", DEFAULT, ["coupling.max_iterations=3"])
+check(ps == cs == 3, f"non-convergence: exit status 3 (C++ {cs}, prototype {ps})")
+strip = [e.rsplit(" (log:", 1)[0] for e in (ce, pe)]
+check(strip[0] == strip[1] and "did not converge in 3 iterations" in pe,
+      f"non-convergence: the same message: {pe[:120]!r}")
