@@ -27,10 +27,10 @@ class Terzaghi:
     def initial_pressure(self):
         return self.alpha * self.m_v() * self.load / (self.storage + self.alpha ** 2 * self.m_v())
 
-    def _series(self, t, term):
-        """Fourier series, summed until the exponential factor drops below
-        round-off (at t = 0 cut at 20000 terms)."""
-        c, h, total = self.consolidation_coefficient(), self.h, 0.0
+    def _series(self, z, t, term):
+        """Fourier series at heights z, summed until the exponential factor
+        drops below round-off (at t = 0 cut at 20000 terms)."""
+        c, h, total = self.consolidation_coefficient(), self.h, np.zeros(np.shape(z))
         for j in range(1, 20001):
             k = 2 * j - 1
             decay = math.exp(-k * k * math.pi * math.pi * c * t / (4 * h * h))
@@ -42,7 +42,7 @@ class Terzaghi:
     def pressure(self, z, t):
         sign = lambda j: 1.0 if j % 2 == 1 else -1.0  # noqa: E731
         return 4 * self.initial_pressure() / math.pi * self._series(
-            t, lambda j, k: sign(j) / k * np.cos(k * math.pi * z / (2 * self.h)))
+            z, t, lambda j, k: sign(j) / k * np.cos(k * math.pi * z / (2 * self.h)))
 
     def displacement(self, z, t):
         """Vertical displacement (upward positive): uniaxial strain,
@@ -50,7 +50,7 @@ class Terzaghi:
         h = self.h
         sign = lambda j: 1.0 if j % 2 == 1 else -1.0  # noqa: E731
         integral = 4 * self.initial_pressure() / math.pi * self._series(
-            t, lambda j, k: sign(j) / k * (2 * h / (k * math.pi)) * np.sin(k * math.pi * z / (2 * h)))
+            z, t, lambda j, k: sign(j) / k * (2 * h / (k * math.pi)) * np.sin(k * math.pi * z / (2 * h)))
         return self.m_v() * (self.alpha * integral - self.load * z)
 
     def settlement(self, t):

@@ -376,7 +376,9 @@ def volumetric_stress(F, L_sigma_v, u, p, sigma_v):
 
 
 def relative_error(F, error, norm, comm):
-    """||f - reference|| / ||reference|| with compiled forms (P2 reference)."""
+    """||f - reference|| / ||reference|| with compiled forms (P2 reference);
+    NaN or inf, as in C++, when the reference is zero."""
     e = comm.allreduce(fem.assemble_scalar(error), op=MPI.SUM)
     n = comm.allreduce(fem.assemble_scalar(norm), op=MPI.SUM)
-    return np.sqrt(e / n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(np.sqrt(np.float64(e) / n))
