@@ -41,13 +41,13 @@ constexpr double round_off_fraction = 1e-9;
 double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
 } // namespace
 
-void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
+void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report)
 {
   const CouplingSpec& coupling = *scene.coupling;
   const int q = P.q;
-  const double dt = P.dt;
+  const std::vector<double> times = scene.times();
   const bool multirate = coupling.scheme == "multirate";
   const fem::FunctionSpace& V = *mechanics.space();
   const fem::FunctionSpace& Q = *flow.pressure_space();
@@ -65,9 +65,10 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, FlowStep& flow,
   const int windows = scene.num_steps() / q;
   for (int K = 0; K < windows; ++K)
   {
-    // Fine time m of the window: t_K + m dt, computed as a whole multiple of
-    // dt so that every scheme writes the same output times.
-    auto t = [&](int m) { return (K * q + m) * dt; };
+    // Fine time m of the window (t_K + m dt for a constant step).
+    auto t = [&](int m) { return times[K * q + m]; };
+    if (scene.growth != 1.0 and set_time_step(constants, t(1) - t(0)))
+      flow.time_step_changed();
     // Start: p^{0,m} = p_K for all m, u^0 = u_K.
     std::vector<Array> p_old(q + 1, p_K), p_new(q + 1, p_K);
     std::vector<Array> w_new(q + 1);

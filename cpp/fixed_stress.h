@@ -45,7 +45,8 @@ struct WindowObserver
 /// Runs the coupled scene from t = 0 to its end time, filling `report` as it
 /// goes. Throws CouplingError (after logging every iteration) when a window
 /// does not converge; `report` then describes the run up to that window.
-void run_fixed_stress(const Scene& scene, const Parameters& parameters, FlowStep& flow,
+void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
+                      FlowStep& flow,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report);
 

@@ -154,6 +154,13 @@ void FlowStep::set_state(std::span<const double> w)
     p[i] = w[_Q_to_W[i]];
 }
 
+void FlowStep::time_step_changed()
+{
+  common::Timer timer("assembly");
+  reassemble_matrix(_A->mat(), *_a, _bcs);
+  assembly_time += timer.stop();
+}
+
 void FlowStep::flux(fem::Function<double>& out) const
 {
   fem::Function<double> z(_Z);

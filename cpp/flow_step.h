@@ -36,6 +36,10 @@ public:
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;
 
+  /// The matrix depends on dt: reassembled (and refactorised at the next
+  /// solve) after set_time_step changed the "dt" constant.
+  void time_step_changed();
+
   std::shared_ptr<const dolfinx::fem::FunctionSpace> pressure_space() const { return _Q; }
 
   // The unknown of the last solve.

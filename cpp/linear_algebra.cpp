@@ -10,15 +10,19 @@ using namespace dolfinx;
 la::petsc::Matrix assemble_matrix(const fem::Form<double>& a, const BCs& bcs)
 {
   la::petsc::Matrix A(fem::petsc::create_matrix(a), false);
-  MatZeroEntries(A.mat());
-  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A.mat(), ADD_VALUES), a, bcs);
-  MatAssemblyBegin(A.mat(), MAT_FLUSH_ASSEMBLY);
-  MatAssemblyEnd(A.mat(), MAT_FLUSH_ASSEMBLY);
-  fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A.mat(), INSERT_VALUES),
-                            *a.function_spaces()[0], bcs);
-  MatAssemblyBegin(A.mat(), MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(A.mat(), MAT_FINAL_ASSEMBLY);
+  reassemble_matrix(A.mat(), a, bcs);
   return A;
+}
+
+void reassemble_matrix(Mat A, const fem::Form<double>& a, const BCs& bcs)
+{
+  MatZeroEntries(A);
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), a, bcs);
+  MatAssemblyBegin(A, MAT_FLUSH_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FLUSH_ASSEMBLY);
+  fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES), *a.function_spaces()[0], bcs);
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
 }
 
 void add_vector(la::Vector<double>& b, const fem::Form<double>& L)

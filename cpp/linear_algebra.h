@@ -26,6 +26,10 @@ struct SolverError : std::runtime_error
 /// identity rows (the right-hand side gets the lifting, see assemble_rhs).
 dolfinx::la::petsc::Matrix assemble_matrix(const dolfinx::fem::Form<double>& a, const BCs& bcs);
 
+/// Assembles a into the existing matrix A (same sparsity), as above; the
+/// solvers that use A refactorise it at their next solve.
+void reassemble_matrix(Mat A, const dolfinx::fem::Form<double>& a, const BCs& bcs);
+
 /// Adds the local contributions of L to b (no ghost accumulation).
 void add_vector(dolfinx::la::Vector<double>& b, const dolfinx::fem::Form<double>& L);
 

@@ -205,6 +205,13 @@ void MonolithicStep::solve(double t)
   extract(*_x, _Q_to_X, *pressure);
 }
 
+void MonolithicStep::time_step_changed()
+{
+  common::Timer timer("assembly");
+  reassemble_matrix(_A->mat(), *_a, _bcs);
+  assembly_time += timer.stop();
+}
+
 void MonolithicStep::flux(fem::Function<double>& out) const
 {
   fem::Function<double> z(_Z);

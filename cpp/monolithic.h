@@ -32,6 +32,10 @@ public:
   void solve(double t);
 
   void flux(dolfinx::fem::Function<double>& out) const;
+
+  /// The matrix depends on dt: reassembled (and refactorised at the next
+  /// solve) after set_time_step changed the "dt" constant.
+  void time_step_changed();
   ContactState contact_state();
   bool has_contact() const { return _contact != nullptr; }
 

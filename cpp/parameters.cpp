@@ -65,6 +65,17 @@ Constants make_constants(const Scene& scene, const Parameters& P)
   return c;
 }
 
+bool set_time_step(const Constants& constants, double dt)
+{
+  // The forms see the constants as const; the run owns them and may change
+  // this one between steps.
+  auto c = std::const_pointer_cast<Constant<double>>(constants.at("dt"));
+  if (c->value[0] == dt)
+    return false;
+  c->value[0] = dt;
+  return true;
+}
+
 void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t)
 {
   const std::size_t n = components.size();

@@ -39,6 +39,10 @@ Constants make_constants(const Scene& scene, const Parameters& parameters);
 /// cell midpoints, or a constant tensor. Throws SceneError where K <= 0.
 void interpolate_resistivity(dolfinx::fem::Function<double>& R, const FlowSpec& flow, int d);
 
+/// Sets the time step constant "dt" of `constants` (the one constant that
+/// changes during a run, with time.growth); returns whether it changed.
+bool set_time_step(const Constants& constants, double dt);
+
 /// Interpolates one expression per component (at time t) into f.
 void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t);
 

@@ -528,7 +528,33 @@ bool Scene::has_contact() const
   return false;
 }
 
-int Scene::num_steps() const { return static_cast<int>(std::llround(end_time / dt)); }
+std::vector<double> Scene::times() const
+{
+  std::vector<double> t = {0.0};
+  if (growth == 1.0)
+  {
+    // Whole multiples of dt, so that every scheme writes the same times.
+    const long n = std::llround(end_time / dt);
+    for (long k = 1; k <= n; ++k)
+      t.push_back(k * dt);
+    return t;
+  }
+  // dt_k = dt growth^(k-1); the last step ends at time.end.
+  double step = dt;
+  while (t.back() < end_time * (1 - 1e-12))
+  {
+    t.push_back(std::min(t.back() + step, end_time));
+    step *= growth;
+  }
+  return t;
+}
+
+int Scene::num_steps() const
+{
+  if (growth == 1.0)
+    return static_cast<int>(std::llround(end_time / dt));
+  return static_cast<int>(times().size()) - 1;
+}
 
 Scene read_scene(const std::string& file, const std::vector<std::string>& overrides)
 {
@@ -575,9 +601,17 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   scene.dt = time.number("dt");
   positive(time, "dt", scene.dt);
   positive(time, "end", scene.end_time);
+  scene.growth = time.number("growth", 1.0);
+  if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
+    time.fail("growth", "must lie in [1, 10]");
   const double steps = scene.end_time / scene.dt;
-  if (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1)
+  if (scene.growth == 1.0
+      and (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1))
     time.fail("dt", "time.end must be a whole number of steps dt");
+  if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
+    time.fail("growth", "growing time steps need q = 1");
+  if (scene.num_steps() > 1000000)
+    time.fail("dt", "more than a million time steps");
   time.finish();
   if (scene.coupling and scene.num_steps() % scene.coupling->q != 0)
     top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");

@@ -114,11 +114,14 @@ struct Scene
   std::optional<FlowSpec> flow;
   std::optional<CouplingSpec> coupling; // present iff mechanics and flow
   double end_time = 0, dt = 0;
+  double growth = 1; // time.growth: dt_k = dt growth^(k-1)
   bool write_xdmf = true;
   std::optional<ReferenceSpec> reference;
 
   bool has_contact() const;
   int num_steps() const;
+  /// t_0 = 0, t_1, ..., t_N = end_time (fine steps).
+  std::vector<double> times() const;
 };
 
 /// Reads and validates a scene; `overrides` are "key.path=value" strings

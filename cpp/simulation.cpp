@@ -246,7 +246,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
                             }};
     try
     {
-      run_fixed_stress(scene, P, *flow, *mechanics, contraction, output, observer, report);
+      run_fixed_stress(scene, P, constants, *flow, *mechanics, contraction, output, observer, report);
     }
     catch (const CouplingError& e)
     {
@@ -256,9 +256,17 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   else
   {
     // One solve per step: the monolithic system, or the single physics.
+    const std::vector<double> times = scene.times();
     for (int k = 1; k <= scene.num_steps(); ++k)
     {
-      const double t = k * scene.dt;
+      const double t = times[k];
+      if (scene.growth != 1.0 and set_time_step(constants, t - times[k - 1]))
+      {
+        if (coupled)
+          coupled->time_step_changed();
+        if (flow)
+          flow->time_step_changed();
+      }
       if (coupled)
         coupled->solve(t);
       if (flow)
@@ -377,6 +385,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       .set("gamma", P.gamma)
       .set("dofs", dofs)
       .set("dt", scene.dt)
+      .set("dt_growth", scene.growth)
       .set("steps", report.windows)
       .set("fine_steps", report.windows * P.q)
       .set("coupling_iterations", report.coupling_iterations)
