@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from .forms import set_time_step
 from .linear_algebra import owned_norm
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
@@ -35,13 +36,13 @@ def relative(increment, size):
     return increment / size if size > 0 else increment
 
 
-def run_fixed_stress(scene, P, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
+def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
                      report, comm):
     """Runs the coupled scene to its end time, filling `report`. After each
     converged window calls on_flow_state(t) once per fine step (with that
     step's solution loaded in `flow`), then on_mechanics_state(t, window,
     iterations). Raises CouplingError when a window does not converge."""
-    coupling, q, dt = scene.coupling, P.q, P.dt
+    coupling, q, times = scene.coupling, P.q, scene.times()
     multirate = coupling.scheme == "multirate"
     V, Q = mechanics.V, flow.Q
     nan = math.nan
@@ -56,8 +57,10 @@ def run_fixed_stress(scene, P, flow, mechanics, contraction, output, on_flow_sta
     u_size = owned_norm(u_K, V, comm)
 
     for K in range(scene.num_steps() // q):
-        def t(m):  # fine time t_K + m dt, as a whole multiple of dt (same output times in every scheme)
-            return (K * q + m) * dt
+        def t(m):  # fine time m of the window (t_K + m dt for a constant step)
+            return times[K * q + m]
+        if scene.growth != 1.0 and set_time_step(F, t(1) - t(0)):
+            flow.time_step_changed()
         # Start: p^{0,m} = p_K for all m, u^0 = u_K.
         p_old = [p_K] * (q + 1)
         p_new = [p_K] * (q + 1)

@@ -90,6 +90,15 @@ def set_constants(F, scene, P):
         F["gravity"].value = np.array(scene.flow.gravity)
 
 
+def set_time_step(F, dt):
+    """Sets the constant "dt" (the one that changes during a run, with
+    time.growth); returns whether it changed."""
+    if F["dt"].value == dt:
+        return False
+    F["dt"].value = dt
+    return True
+
+
 def interpolate(f, components, t):
     """Interpolates one expression per component (at time t) into f."""
     if len(components) == 1:

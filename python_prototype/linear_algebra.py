@@ -36,6 +36,13 @@ def assemble_matrix(a, bcs):
     return A
 
 
+def reassemble_matrix(A, a, bcs):
+    """Assembles a into A (same sparsity); its solvers refactorise it at their next solve."""
+    A.zeroEntries()
+    fem.petsc.assemble_matrix(A, a, bcs)
+    A.assemble()
+
+
 def add_vector(b, L):
     """Adds the local contributions of L to the Function-vector b (ghosts too)."""
     fem.assemble_vector(b.x.array, L)

@@ -217,14 +217,27 @@ class Scene:
     coupling: Optional[CouplingSpec] = None
     end_time: float = 0.0
     dt: float = 0.0
+    growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
     write_xdmf: bool = True
     reference: Optional[ReferenceSpec] = None
 
     def has_contact(self):
         return any(b.contact for b in self.boundaries.values())
 
+    def times(self):
+        """t_0 = 0, t_1, ..., t_N = end_time (fine steps)."""
+        if self.growth == 1.0:  # whole multiples of dt, so every scheme writes the same times
+            return [0.0] + [k * self.dt for k in range(1, int(round(self.end_time / self.dt)) + 1)]
+        t, step = [0.0], self.dt  # dt_k = dt growth^(k-1); the last step ends at time.end
+        while t[-1] < self.end_time * (1 - 1e-12):
+            t.append(min(t[-1] + step, self.end_time))
+            step *= self.growth
+        return t
+
     def num_steps(self):
-        return int(round(self.end_time / self.dt))
+        if self.growth == 1.0:
+            return int(round(self.end_time / self.dt))
+        return len(self.times()) - 1
 
 
 def builtin_boundary_names(d):
@@ -516,9 +529,16 @@ def read_scene(file, overrides=()):
     scene.dt = time.number("dt")
     _positive(time, "dt", scene.dt)
     _positive(time, "end", scene.end_time)
+    scene.growth = time.number("growth", 1.0)
+    if not (1.0 <= scene.growth <= 10.0):
+        time.fail("growth", "must lie in [1, 10]")
     steps = scene.end_time / scene.dt
-    if abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1:
+    if scene.growth == 1.0 and (abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1):
         time.fail("dt", "time.end must be a whole number of steps dt")
+    if scene.growth > 1.0 and scene.coupling and scene.coupling.q != 1:
+        time.fail("growth", "growing time steps need q = 1")
+    if scene.num_steps() > 1000000:
+        time.fail("dt", "more than a million time steps")
     time.finish()
     if scene.coupling and scene.num_steps() % scene.coupling.q != 0:
         top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q")

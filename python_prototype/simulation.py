@@ -10,7 +10,7 @@ from dolfinx import fem
 from .closed_form import Mandel, Terzaghi
 from .domain import create_domain
 from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
-from .forms import Forms, derive_parameters, set_constants
+from .forms import Forms, derive_parameters, set_constants, set_time_step
 from .output import Output
 from .contact import ContactState
 from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
@@ -160,14 +160,19 @@ def run(scene, directory, comm):
                 write_mechanics(t)
                 progress(window, t, iterations)
             try:
-                run_fixed_stress(scene, P, flow, mechanics, contraction, output, write_flow,
+                run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
                                  on_mechanics_state, report, comm)
             except CouplingError as e:
                 failure = str(e)
         else:
             # One solve per step: the monolithic system, or the single physics.
+            times = scene.times()
             for k in range(1, scene.num_steps() + 1):
-                t = k * scene.dt
+                t = times[k]
+                if scene.growth != 1.0 and set_time_step(F, t - times[k - 1]):
+                    for solver in (coupled, flow):
+                        if solver:
+                            solver.time_step_changed()
                 if coupled:
                     coupled.solve(t)
                 if flow:
@@ -233,6 +238,7 @@ def run(scene, directory, comm):
             "gamma": P.gamma,
             "dofs": dofs,
             "dt": scene.dt,
+            "dt_growth": scene.growth,
             "steps": report.windows,
             "fine_steps": report.windows * P.q,
             "coupling_iterations": report.coupling_iterations,

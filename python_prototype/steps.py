@@ -13,7 +13,7 @@ from mpi4py import MPI
 from .contact import ContactSet, ContactSolver, ContactState
 from .forms import interpolate, interpolate_resistivity
 from .linear_algebra import (LinearSolver, accumulate_ghosts, add_vector, assemble_matrix, dof_map,
-                             finish_rhs, owned)
+                             finish_rhs, owned, reassemble_matrix)
 
 
 # ---- essential boundary conditions -------------------------------------------
@@ -139,6 +139,12 @@ class FlowStep:
 
     def state(self):
         return self.w.x.array
+
+    def time_step_changed(self):
+        """The matrix depends on dt: reassembled after set_time_step changed it."""
+        start = time.perf_counter()
+        reassemble_matrix(self.A, self.a, self.bcs)
+        self.assembly_time += time.perf_counter() - start
 
     def set_state(self, w):
         """Restores a mixed solution (the multirate scheme keeps one per fine step)."""
@@ -337,6 +343,12 @@ class MonolithicStep:
         self.solves += 1
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
+
+    def time_step_changed(self):
+        """The matrix depends on dt: reassembled after set_time_step changed it."""
+        start = time.perf_counter()
+        reassemble_matrix(self.A, self.a, self.bcs)
+        self.assembly_time += time.perf_counter() - start
 
     def flux(self, out):
         self.z.x.array[:] = self.x.x.array[self.Z_to_X]
