@@ -93,9 +93,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ve
   VecSet(_lower, PETSC_NINFINITY);
   VecSet(_upper, PETSC_INFINITY);
 
-  set_default_option(prefix + "ksp_type", "preonly");
-  set_default_option(prefix + "pc_type", "lu");
-  set_default_option(prefix + "pc_factor_mat_solver_type", "mumps");
+  set_solver_defaults(prefix);
   set_default_option(prefix + "snes_rtol", "1e-10");
   set_default_option(prefix + "snes_stol", "1e-12");
   set_default_option(prefix + "snes_max_it", "100");
@@ -113,7 +111,9 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ve
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
   SNESSetForceIteration(_snes, PETSC_TRUE);
-  SNESSetFromOptions(_snes);
+  if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
+    throw OptionsError("the PETSc options of the " + prefix.substr(0, prefix.size() - 1)
+                       + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
 }
 
 ContactSolver::~ContactSolver()
@@ -188,9 +188,11 @@ void ContactSolver::solve(Vec b, Vec x)
     SNESSetTolerances(_snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
   }
-  SNESSolve(_snes, nullptr, _x);
+  PetscErrorCode ierr = SNESSolve(_snes, nullptr, _x);
   SNESConvergedReason reason;
   SNESGetConvergedReason(_snes, &reason);
+  if (ierr != 0)
+    throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
   if (reason < 0)
   {
     // A body held in the normal direction by the foundation alone is
@@ -199,7 +201,8 @@ void ContactSolver::solve(Vec b, Vec x)
     // contact node on the foundation; there the contact forces say which
     // nodes to release.
     clamped_start(b);
-    SNESSolve(_snes, nullptr, _x);
+    if (PetscErrorCode e = SNESSolve(_snes, nullptr, _x); e != 0)
+      throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(e));
     SNESGetConvergedReason(_snes, &reason);
   }
   if (reason < 0)

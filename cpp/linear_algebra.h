@@ -22,6 +22,18 @@ struct SolverError : std::runtime_error
   using std::runtime_error::runtime_error;
 };
 
+/// PETSc options that do not make a solver: bad input (exit 2).
+struct OptionsError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// The direct-solver defaults of a solver with this options prefix: LU
+/// (preonly) unless the command line says otherwise, MUMPS (with more
+/// workspace than its default, for refactorisations) when the
+/// factorisation is LU or Cholesky.
+void set_solver_defaults(const std::string& prefix);
+
 /// Assembles a bilinear form; rows and columns of Dirichlet DOFs become
 /// identity rows (the right-hand side gets the lifting, see assemble_rhs).
 dolfinx::la::petsc::Matrix assemble_matrix(const dolfinx::fem::Form<double>& a, const BCs& bcs);

@@ -141,6 +141,10 @@ int main(int argc, char* argv[])
     {
       status = fail(e.what(), rank);
     }
+    catch (const biotcontact::OptionsError& e)
+    {
+      status = fail(e.what(), rank);
+    }
     catch (const biotcontact::SolverError& e)
     {
       status = fail(e.what(), rank) + 1;

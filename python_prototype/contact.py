@@ -13,7 +13,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .linear_algebra import (LinearSolver, OptionsError, SolverError, reason_name, accumulate_ghosts,
+from .linear_algebra import (LinearSolver, OptionsError, set_solver_defaults, SolverError, reason_name, accumulate_ghosts,
                              add_vector, owned, set_default_option)
 from .scene import SceneError
 
@@ -86,8 +86,8 @@ class ContactSolver:
         self.x, self.residual, self.lower, self.upper, self.b_scaled = (A.createVecRight() for _ in range(5))
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
-        for option, value in (("ksp_type", "preonly"), ("pc_type", "lu"),
-                              ("pc_factor_mat_solver_type", "mumps"), ("snes_rtol", "1e-10"),
+        set_solver_defaults(prefix)
+        for option, value in (("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, A exact: the full step is exact on the active set
                               ("snes_linesearch_type", "basic")):

@@ -19,7 +19,10 @@ class OptionsError(Exception):
 
 
 def reason_name(enum, reason):
-    return next((k for k in dir(enum) if not k.startswith("_") and getattr(enum, k) == reason), str(reason))
+    """PETSc's name of a converged reason, as the C++ prints it (petsc4py
+    3.18 knows -11 only by its deprecated name)."""
+    name = next((k for k in dir(enum) if not k.startswith("_") and getattr(enum, k) == reason), str(reason))
+    return name.replace("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED")
 
 
 def set_default_option(name, value):
@@ -84,15 +87,28 @@ def dof_map(space, sub):
     return np.asarray(to_parent)[unrolled]
 
 
+def set_solver_defaults(prefix):
+    """Direct-solver defaults of a solver with this options prefix: LU
+    (preonly) unless the command line says otherwise, MUMPS (with more
+    workspace than its default, for refactorisations) when the factorisation
+    is LU or Cholesky (as cpp/linear_algebra.cpp)."""
+    # A preconditioner other than a factorisation is no solver by itself:
+    # then the default Krylov method is GMRES instead of a single application.
+    direct = PETSc.Options().getString(prefix + "pc_type", "lu") in ("lu", "cholesky")
+    set_default_option(prefix + "ksp_type", "preonly" if direct else "gmres")
+    set_default_option(prefix + "pc_type", "lu")
+    if direct:
+        set_default_option(prefix + "pc_factor_mat_solver_type", "mumps")
+        set_default_option(prefix + "mat_mumps_icntl_14", "400")
+
+
 class LinearSolver:
     """KSP with an options prefix; MUMPS LU unless -<prefix>ksp_type/pc_type
     say otherwise. The operator is factorised once and reused."""
 
     def __init__(self, comm, prefix, A):
         self.prefix = prefix
-        set_default_option(prefix + "ksp_type", "preonly")
-        set_default_option(prefix + "pc_type", "lu")
-        set_default_option(prefix + "pc_factor_mat_solver_type", "mumps")
+        set_solver_defaults(prefix)
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOptionsPrefix(prefix)
         self.ksp.setOperators(A, A)
