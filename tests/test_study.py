@@ -1,0 +1,54 @@
+"""The error-against-run-time study end to end on a tiny study: the CSV has
+its columns, every plot is a PNG, errors fall under refinement, and a study
+started again reuses its finished runs."""
+import csv
+import os
+import subprocess
+import tempfile
+
+from support import BINARY, ROOT, check
+
+study = os.path.join(tempfile.mkdtemp(), "tiny.toml")
+with open(study, "w") as f:
+    f.write('''name = "tiny"
+scene = "scenes/terzaghi.toml"
+reference = "closed-form"
+[[levels]]
+overrides = ["mesh.cells=[1,5]", "time.dt=0.08", "time.end=0.32"]
+[[levels]]
+overrides = ["mesh.cells=[1,10]", "time.dt=0.04", "time.end=0.32"]
+[[levels]]
+overrides = ["mesh.cells=[1,20]", "time.dt=0.02", "time.end=0.32"]
+[[variants]]
+label = "monolithic"
+overrides = ["coupling.scheme=monolithic"]
+[[variants]]
+label = "fixed stress"
+overrides = ["coupling.scheme=fixed-stress"]
+''')
+out = tempfile.mkdtemp()
+command = ["/usr/bin/python3", os.path.join(ROOT, "tools", "study.py"), study, "--out", out, "--binary", BINARY]
+p = subprocess.run(command, capture_output=True, text=True)
+check(p.returncode == 0, f"the study ran: {p.stderr[-500:]}")
+check("[6/6]" in p.stdout and "left" in p.stdout, "progress shows the run count and the time left")
+with open(os.path.join(out, "results.csv")) as f:
+    rows = list(csv.DictReader(f))
+needed = {"variant", "scheme", "q", "L", "h", "dt", "dofs", "steps", "coupling_iterations", "flow_solves",
+          "mechanics_solves", "wall_time_s", "pressure_error_final", "pressure_error_max",
+          "displacement_error_final", "flux_error_final", "reference"}
+check(len(rows) == 6 and needed <= set(rows[0]), f"results.csv has 6 rows and the columns {sorted(needed)}")
+for name in ("error_vs_time.png", "work_vs_error.png", "iterations_vs_gamma.png", "contraction.png"):
+    with open(os.path.join(out, name), "rb") as f:
+        check(f.read(8) == b"\x89PNG\r\n\x1a\n", f"{name} is a PNG")
+for variant in ("monolithic", "fixed stress"):
+    errs = [float(r["pressure_error_final"]) for r in rows if r["variant"] == variant]
+    check(errs[0] > errs[1] > errs[2] > 0, f"{variant}: pressure error falls under refinement {errs}")
+    errs = [float(r["displacement_error_final"]) for r in rows if r["variant"] == variant]
+    check(errs[0] > errs[1] > errs[2] > 0, f"{variant}: displacement error falls under refinement {errs}")
+with open(os.path.join(out, "report.md")) as f:
+    report = f.read()
+check("machine:" in report and "Fastest run" in report and "error_vs_time.png" in report, "report.md is complete")
+p = subprocess.run(command, capture_output=True, text=True)
+with open(os.path.join(out, "results.csv")) as f:
+    again = list(csv.DictReader(f))
+check(p.returncode == 0 and all(r["cached"] == "True" for r in again), "a second start reuses every finished run")
