@@ -80,11 +80,15 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   return c;
 }
 
-ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Vec layout, ContactSet set,
-                             std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs)
-    : _comm(comm), _A(A), _set(std::move(set)), _dofs(std::move(dofs)),
+ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Vec layout,
+                             ContactSet set, std::vector<std::int32_t> dofs,
+                             std::vector<std::int32_t> displacement_dofs)
+    : _comm(comm), _A(A), _structure(structure), _prefix(prefix), _set(std::move(set)), _dofs(std::move(dofs)),
       _displacement_dofs(std::move(displacement_dofs))
 {
+  // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
+  if (structure == Structure::spd)
+    MatSetOption(A, MAT_SPD, PETSC_TRUE);
   VecDuplicate(layout, &_x);
   VecDuplicate(layout, &_residual);
   VecDuplicate(layout, &_lower);
@@ -93,7 +97,15 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ve
   VecSet(_lower, PETSC_NINFINITY);
   VecSet(_upper, PETSC_INFINITY);
 
-  set_solver_defaults(prefix);
+  set_solver_defaults(prefix, structure, comm);
+  // Jacobian evaluations cost nothing (A is constant); the factorisation is
+  // built at the first Newton step and then reused ("-2": rebuild once,
+  // then lag forever) until the inactive set changes, when SNES VI resets
+  // the preconditioner itself (PETSc 3.18 virs.c, SNESVIResetPCandKSP).
+  PetscBool lag_given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
+  _lag_by_default = !lag_given;
+  set_default_option(prefix + "snes_lag_preconditioner", "-2");
   set_default_option(prefix + "snes_rtol", "1e-10");
   set_default_option(prefix + "snes_stol", "1e-12");
   set_default_option(prefix + "snes_max_it", "100");
@@ -111,9 +123,59 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ve
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
   SNESSetForceIteration(_snes, PETSC_TRUE);
+  SNESMonitorSet(_snes, &ContactSolver::monitor, this, nullptr);
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
-    throw OptionsError("the PETSc options of the " + prefix.substr(0, prefix.size() - 1)
+    throw OptionsError("the PETSc options of " + system_name(prefix)
                        + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
+}
+
+void ContactSolver::operator_changed()
+{
+  // Re-arm "rebuild once, then reuse" (the lag is -1 after the first build).
+  if (_lag_by_default)
+    SNESSetLagPreconditioner(_snes, -2);
+}
+
+std::vector<char> ContactSolver::active_contact_dofs(Vec x) const
+{
+  // PETSc's rule (SNESVIGetActiveSetIS): a DOF is active when it lies on a
+  // bound to 1e-8 and F pushes it against that bound.
+  Vec F = nullptr;
+  SNESGetFunction(_snes, &F, nullptr, nullptr);
+  const PetscScalar *X, *R, *lo, *up;
+  VecGetArrayRead(x, &X);
+  VecGetArrayRead(F, &R);
+  VecGetArrayRead(_lower, &lo);
+  VecGetArrayRead(_upper, &up);
+  std::vector<char> active(_dofs.size());
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+  {
+    const std::int32_t i = _dofs[k];
+    active[k] = (X[i] <= lo[i] + 1e-8 and R[i] > 0) or (X[i] >= up[i] - 1e-8 and R[i] < 0);
+  }
+  VecRestoreArrayRead(x, &X);
+  VecRestoreArrayRead(F, &R);
+  VecRestoreArrayRead(_lower, &lo);
+  VecRestoreArrayRead(_upper, &up);
+  return active;
+}
+
+PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, void* context)
+{
+  auto* self = static_cast<ContactSolver*>(context);
+  if (iteration > 0)
+  {
+    // The set recorded before this step was the one the step used.
+    int changed = self->_any_used and self->_pending != self->_used, any = 0;
+    MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, self->_comm);
+    self->active_set_changes += any;
+    self->_used = self->_pending;
+    self->_any_used = true;
+  }
+  Vec x = nullptr;
+  SNESGetSolution(snes, &x);
+  self->_pending = self->active_contact_dofs(x);
+  return 0;
 }
 
 ContactSolver::~ContactSolver()
@@ -246,7 +308,7 @@ void ContactSolver::clamped_start(Vec b)
   const char* prefix = nullptr;
   SNESGetOptionsPrefix(_snes, &prefix);
   {
-    LinearSolver clamped(_comm, std::string(prefix ? prefix : ""), A);
+    LinearSolver clamped(_comm, std::string(prefix ? prefix : ""), A, _structure);
     clamped.solve(_x, rhs);
   }
   MatDestroy(&A);

@@ -12,6 +12,7 @@
 
 #include "domain.h"
 #include "forms.h"
+#include "solver.h"
 
 #include <dolfinx/fem/Function.h>
 #include <memory>
@@ -56,6 +57,13 @@ struct ContactState
   double total_force = 0;         // sum of the nodal contact forces along -nu_F
 };
 
+/// The reduced-space Newton method solves, at each step, the system on the
+/// inactive set (the DOFs not held on a bound). A is constant, so the
+/// factorisation of that submatrix is valid for as long as the inactive set
+/// is: it is redone only when the set changes (PETSc resets the
+/// preconditioner then) or when A is reassembled (operator_changed), and
+/// each solve starts from the previous solution, whose inactive set is
+/// usually the one of the new solution.
 class ContactSolver
 {
 public:
@@ -64,8 +72,8 @@ public:
   /// mixed space for the monolithic one); `displacement_dofs` the owned
   /// displacement DOFs there (they set the length scale). `layout` is a
   /// vector like x.
-  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Vec layout, ContactSet set,
-                std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs);
+  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Vec layout,
+                ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs);
   ~ContactSolver();
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;
@@ -73,12 +81,18 @@ public:
   /// Solves the VI; x holds the initial guess on entry. Throws SolverError.
   void solve(Vec b, Vec x);
 
+  /// A was reassembled: the next Newton step factorises anew.
+  void operator_changed();
+
   /// Contact diagnostics of x (collective); fills the output fields.
   ContactState state(Vec x, Vec b, dolfinx::fem::Function<double>& pressure,
                      dolfinx::fem::Function<double>& active);
 
   const ContactSet& set() const { return _set; }
   long newton_iterations = 0, linear_iterations = 0;
+  /// Newton steps whose inactive set differed from the previous step's
+  /// (across solves): each may cost one factorisation.
+  long active_set_changes = 0;
 
 private:
   /// Sets x to the solution with every contact DOF on its bound.
@@ -87,9 +101,19 @@ private:
   double displacement_scale(Vec x) const;
   static PetscErrorCode residual(SNES, Vec x, Vec F, void* context);
   static PetscErrorCode jacobian(SNES, Vec, Mat, Mat, void*);
+  /// Called before each Newton step (and after the last): records the
+  /// active set the next step will use, by PETSc's own rule
+  /// (SNESVIGetActiveSetIS), and counts changes.
+  static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
+  std::vector<char> active_contact_dofs(Vec x) const;
 
   MPI_Comm _comm;
   Mat _A;
+  Structure _structure;
+  std::string _prefix;
+  bool _lag_by_default = false;
+  std::vector<char> _pending, _used; // active flags of the contact DOFs
+  bool _any_used = false;
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
   Vec _lower, _upper, _x, _residual, _b_scaled;

@@ -87,11 +87,12 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   if (flow.gravity)
     _L_gravity = make(forms.L_flow_gravity, {_W});
 
-  // The flow matrix depends on dt and L only: assembled and factorised once.
-  common::Timer timer("assembly");
-  _A.emplace(assemble_matrix(*_a, _bcs));
-  assembly_time += timer.stop();
-  _solver = std::make_unique<LinearSolver>(mesh->comm(), "flow_", _A->mat());
+  // The flow matrix depends on dt and L only: assembled and factorised once
+  // per dt. Its diagonal blocks, the flux mass and -(S+L)/dt times the cell
+  // mass, make it quasi-definite when S + L > 0.
+  const double storage = constants.at("storage")->value[0] + constants.at("L")->value[0];
+  _system = std::make_unique<System>(mesh->comm(), "flow_", _a, _bcs,
+                                     storage > 0 ? Structure::quasi_definite : Structure::general);
 
   const auto& map = _W->dofmap()->index_map;
   const int bs = _W->dofmap()->index_map_bs();
@@ -135,12 +136,9 @@ void FlowStep::solve(double t)
   fem::set_bc(_b->mutable_array(), _bcs);
   assembly_time += assembly.stop();
 
-  common::Timer timer("flow solve");
   la::petsc::Vector x = wrap(*_w->x()), b = wrap(*_b);
-  linear_iterations += _solver->solve(x.vec(), b.vec());
+  _system->solve(b.vec(), x.vec());
   _w->x()->scatter_fwd();
-  solve_time += timer.stop();
-  ++solves;
 
   set_state(_w->x()->array());
 }
@@ -154,12 +152,7 @@ void FlowStep::set_state(std::span<const double> w)
     p[i] = w[_Q_to_W[i]];
 }
 
-void FlowStep::time_step_changed()
-{
-  common::Timer timer("assembly");
-  reassemble_matrix(_A->mat(), *_a, _bcs);
-  assembly_time += timer.stop();
-}
+void FlowStep::time_step_changed() { _system->reassemble(); }
 
 void FlowStep::flux(fem::Function<double>& out) const
 {

@@ -7,6 +7,7 @@
 #include "forms.h"
 #include "linear_algebra.h"
 #include "parameters.h"
+#include "system.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
@@ -49,9 +50,8 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> p_previous, p_iterate, p_iterate_previous;
   std::shared_ptr<dolfinx::fem::Function<double>> u_iterate, u_window;
 
-  int solves = 0;
-  long linear_iterations = 0;
-  double assembly_time = 0, solve_time = 0;
+  const System& system() const { return *_system; }
+  double assembly_time = 0; // right-hand sides
 
 private:
   void assemble_loads(double t);
@@ -65,8 +65,7 @@ private:
       _L_gravity;
   std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
   std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
-  std::optional<dolfinx::la::petsc::Matrix> _A;
-  std::unique_ptr<LinearSolver> _solver;
+  std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
   bool _loads_depend_on_time = false;
   double _loads_time = -1;

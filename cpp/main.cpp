@@ -8,7 +8,7 @@
 #include "domain.h"
 #include "scene.h"
 #include "simulation.h"
-#include "linear_algebra.h"
+#include "solver.h"
 
 #include <cstdio>
 #include <cstring>
@@ -108,6 +108,9 @@ int main(int argc, char* argv[])
   PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
   // Errors are reported by our messages, never by PETSc stack traces.
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  // The solver statistics of summary.json are read from PETSc's event log
+  // (solver.h); -log_view prints the same log by system.
+  PetscLogDefaultBegin();
   dolfinx::init_logging(1, argv);
   loguru::g_stderr_verbosity = loguru::Verbosity_WARNING;
   int rank = 0;

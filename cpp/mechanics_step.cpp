@@ -20,8 +20,6 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
     : _scene(scene), _V(V)
 {
   const auto& mesh = domain.mesh;
-  const int d = domain.dim();
-  const int fdim = d - 1;
   u = std::make_shared<fem::Function<double>>(_V);
 
   _body_force = std::make_shared<fem::Function<double>>(_V);
@@ -59,21 +57,16 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
       _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
   }
 
-  // a(u, v) does not change during a run: assembled once.
-  common::Timer timer("assembly");
-  _A.emplace(assemble_matrix(*_a, _bcs));
-  assembly_time += timer.stop();
+  // a(u, v) does not change during a run: assembled once; with Dirichlet
+  // rows made identity rows it is SPD.
+  _system = std::make_unique<System>(mesh->comm(), "mechanics_", _a, _bcs, Structure::spd);
 
   const auto& map = _V->dofmap()->index_map;
   const int bs = _V->dofmap()->index_map_bs();
   _b = std::make_unique<la::Vector<double>>(map, bs);
   _b_loads = std::make_unique<la::Vector<double>>(map, bs);
-
   if (!scene.has_contact())
-  {
-    _solver = std::make_unique<LinearSolver>(mesh->comm(), "mechanics_", _A->mat());
     return;
-  }
 
   // ---- Contact: bounds on the normal DOF of every node of Gamma_3 --------
   ContactSet set = locate_contact(scene, domain, forms, _V);
@@ -82,8 +75,7 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
   std::iota(owned.begin(), owned.end(), 0);
   contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
   contact_active = std::make_shared<fem::Function<double>>(set.output_space);
-  _contact = std::make_unique<ContactSolver>(mesh->comm(), "mechanics_", _A->mat(), wrap(*_b).vec(),
-                                             std::move(set), std::move(dofs), std::move(owned));
+  _system->use_contact(std::move(set), std::move(dofs), std::move(owned), wrap(*_b).vec());
 }
 
 MechanicsStep::~MechanicsStep() = default;
@@ -121,26 +113,16 @@ void MechanicsStep::solve(double t)
   assemble_rhs(t);
   assembly_time += assembly.stop();
 
-  common::Timer timer("mechanics solve");
   la::petsc::Vector x = wrap(*u->x());
-  if (!_contact)
-    linear_iterations += _solver->solve(x.vec(), wrap(*_b).vec());
-  else
-  {
-    _contact->solve(wrap(*_b).vec(), x.vec());
-    newton_iterations = _contact->newton_iterations;
-    linear_iterations = _contact->linear_iterations;
-  }
+  _system->solve(wrap(*_b).vec(), x.vec());
   u->x()->scatter_fwd();
-  solve_time += timer.stop();
-  ++solves;
 }
 
 ContactState MechanicsStep::contact_state()
 {
-  if (!_contact)
+  if (!_system->has_contact())
     return {};
-  return _contact->state(wrap(*u->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
+  return _system->contact().state(wrap(*u->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
 }
 
 } // namespace biotcontact

@@ -9,6 +9,7 @@
 #include "forms.h"
 #include "linear_algebra.h"
 #include "parameters.h"
+#include "system.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
@@ -38,15 +39,14 @@ public:
   ContactState contact_state();
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
-  bool has_contact() const { return _contact != nullptr; }
+  bool has_contact() const { return _system->has_contact(); }
+  const System& system() const { return *_system; }
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active;
 
-  int solves = 0;
-  long linear_iterations = 0, newton_iterations = 0;
-  double assembly_time = 0, solve_time = 0;
+  double assembly_time = 0; // right-hand sides
 
 private:
   void assemble_rhs(double t);
@@ -59,13 +59,11 @@ private:
   std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_pressure, _L_body;
   std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
   std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
-  std::optional<dolfinx::la::petsc::Matrix> _A;
-  std::unique_ptr<LinearSolver> _solver;
+  std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
   bool _loads_depend_on_time = false;
   bool _loads_assembled = false;
   double _loads_time = -1;
-  std::unique_ptr<ContactSolver> _contact;
 };
 
 } // namespace biotcontact

@@ -109,20 +109,18 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   if (scene.flow->gravity)
     _L_gravity = make(forms.L_monolithic_gravity, {_X});
 
-  // The coupled matrix depends on dt only: assembled and factorised once.
-  common::Timer timer("assembly");
-  _A.emplace(assemble_matrix(*_a, _bcs));
-  assembly_time += timer.stop();
+  // The coupled matrix depends on dt only: assembled and factorised once per
+  // dt (and per inactive set with contact). Its pressure block -(S/dt) times
+  // the cell mass is often negligible against the coupling (S = 1e-12 in the
+  // poroelastic Hertz scene): LU with pivoting.
+  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general);
   const auto& map = _X->dofmap()->index_map;
   const int bs = _X->dofmap()->index_map_bs();
   _b = std::make_unique<la::Vector<double>>(map, bs);
   _b_loads = std::make_unique<la::Vector<double>>(map, bs);
 
   if (!scene.has_contact())
-  {
-    _solver = std::make_unique<LinearSolver>(mesh->comm(), "monolithic_", _A->mat());
     return;
-  }
   // Contact: the bounds sit on the contact DOFs of the displacement block.
   ContactSet set = locate_contact(scene, domain, forms, V);
   const std::int32_t owned_X = bs * map->size_local();
@@ -137,8 +135,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
       throw std::runtime_error("monolithic contact: a contact DOF owned in V is not owned in the mixed space");
   contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
   contact_active = std::make_shared<fem::Function<double>>(set.output_space);
-  _contact = std::make_unique<ContactSolver>(mesh->comm(), "monolithic_", _A->mat(), wrap(*_b).vec(),
-                                             std::move(set), std::move(dofs), std::move(displacement));
+  _system->use_contact(std::move(set), std::move(dofs), std::move(displacement), wrap(*_b).vec());
 }
 
 MonolithicStep::~MonolithicStep() = default;
@@ -188,29 +185,14 @@ void MonolithicStep::solve(double t)
   finish_rhs(*_b, _a, _bcs);
   assembly_time += assembly.stop();
 
-  common::Timer timer("monolithic solve");
   la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
-  if (_contact)
-  {
-    _contact->solve(b.vec(), x.vec());
-    newton_iterations = _contact->newton_iterations;
-    linear_iterations = _contact->linear_iterations;
-  }
-  else
-    linear_iterations += _solver->solve(x.vec(), b.vec());
+  _system->solve(b.vec(), x.vec());
   _x->x()->scatter_fwd();
-  solve_time += timer.stop();
-  ++solves;
   extract(*_x, _V_to_X, *u);
   extract(*_x, _Q_to_X, *pressure);
 }
 
-void MonolithicStep::time_step_changed()
-{
-  common::Timer timer("assembly");
-  reassemble_matrix(_A->mat(), *_a, _bcs);
-  assembly_time += timer.stop();
-}
+void MonolithicStep::time_step_changed() { _system->reassemble(); }
 
 void MonolithicStep::flux(fem::Function<double>& out) const
 {
@@ -221,9 +203,9 @@ void MonolithicStep::flux(fem::Function<double>& out) const
 
 ContactState MonolithicStep::contact_state()
 {
-  if (!_contact)
+  if (!_system->has_contact())
     return {};
-  return _contact->state(wrap(*_x->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
+  return _system->contact().state(wrap(*_x->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
 }
 
 } // namespace biotcontact

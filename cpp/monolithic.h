@@ -10,6 +10,7 @@
 #include "forms.h"
 #include "linear_algebra.h"
 #include "parameters.h"
+#include "system.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
@@ -37,15 +38,14 @@ public:
   /// solve) after set_time_step changed the "dt" constant.
   void time_step_changed();
   ContactState contact_state();
-  bool has_contact() const { return _contact != nullptr; }
+  bool has_contact() const { return _system->has_contact(); }
+  const System& system() const { return *_system; }
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
   std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active;
 
-  int solves = 0;
-  long linear_iterations = 0, newton_iterations = 0;
-  double assembly_time = 0, solve_time = 0;
+  double assembly_time = 0; // right-hand sides
 
 private:
   void assemble_loads(double t);
@@ -61,9 +61,7 @@ private:
   std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
   std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
   std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
-  std::optional<dolfinx::la::petsc::Matrix> _A;
-  std::unique_ptr<LinearSolver> _solver;
-  std::unique_ptr<ContactSolver> _contact;
+  std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
   double _loads_time = -1;
   bool _loads_assembled = false, _loads_depend_on_time = false;

@@ -18,6 +18,7 @@
 #include <dolfinx/fem/utils.h>
 #include <functional>
 #include <optional>
+#include <tuple>
 #include <xtensor/xarray.hpp>
 
 namespace biotcontact
@@ -366,14 +367,46 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     // RT0: one DOF per facet.
     dofs.set("flux", static_cast<long>(domain.mesh->topology().index_map(d - 1)->size_global()));
   }
-  linear.set("flow", flow ? flow->linear_iterations : 0L)
-      .set("mechanics", mechanics ? mechanics->linear_iterations : 0L)
-      .set("monolithic", coupled ? coupled->linear_iterations : 0L);
-  timings.set("flow", flow ? flow->solve_time : 0.0)
-      .set("mechanics", mechanics ? mechanics->solve_time : 0.0)
-      .set("monolithic", coupled ? coupled->solve_time : 0.0)
+  // Per system: what solved it, how often it was set up (factorised) and
+  // solved, and where its time went.
+  const System* flow_system = flow ? &flow->system() : nullptr;
+  const System* mechanics_system = mechanics ? &mechanics->system() : nullptr;
+  const System* coupled_system = coupled ? &coupled->system() : nullptr;
+  SolverStatistics none;
+  auto statistics = [&](const System* s) { return s ? s->statistics() : none; };
+  const SolverStatistics flow_stats = statistics(flow_system), mechanics_stats = statistics(mechanics_system),
+                         coupled_stats = statistics(coupled_system);
+  Json solvers;
+  for (const auto& [name, system, st] : {std::tuple{"flow", flow_system, flow_stats},
+                                         std::tuple{"mechanics", mechanics_system, mechanics_stats},
+                                         std::tuple{"monolithic", coupled_system, coupled_stats}})
+  {
+    if (!system)
+      continue;
+    Json j;
+    j.set("method", system->description())
+        .set("solves", st.solves)
+        .set("factorizations", st.setups)
+        .set("back_solves", st.back_solves)
+        .set("linear_iterations", st.linear_iterations);
+    if (system->has_contact())
+      j.set("newton_iterations", st.newton_iterations).set("active_set_changes", st.active_set_changes);
+    solvers.set(name, j);
+    Json t;
+    t.set("total", st.total_time)
+        .set("setup", st.setup_time)
+        .set("solve", st.solve_time)
+        .set("other", st.total_time - st.setup_time - st.solve_time)
+        .set("matrix_assembly", st.assembly_time);
+    timings.set(name, t);
+  }
+  linear.set("flow", flow_stats.linear_iterations)
+      .set("mechanics", mechanics_stats.linear_iterations)
+      .set("monolithic", coupled_stats.linear_iterations);
+  timings
       .set("assembly", (flow ? flow->assembly_time : 0.0) + (mechanics ? mechanics->assembly_time : 0.0)
-                           + (coupled ? coupled->assembly_time : 0.0))
+                           + (coupled ? coupled->assembly_time : 0.0) + flow_stats.assembly_time
+                           + mechanics_stats.assembly_time + coupled_stats.assembly_time)
       .set("output", output.time);
 
   Json summary;
@@ -397,11 +430,12 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       .set("unresolved_ratios", report.unresolved_ratios)
       .set("max_coupled_residual", report.max_coupled_residual)
       .set("converged", failure.empty())
-      .set("flow_solves", flow ? flow->solves : 0)
-      .set("mechanics_solves", mechanics ? mechanics->solves : 0)
-      .set("monolithic_solves", coupled ? coupled->solves : 0)
-      .set("newton_iterations", mechanics ? mechanics->newton_iterations : coupled ? coupled->newton_iterations : 0L)
+      .set("flow_solves", flow_stats.solves)
+      .set("mechanics_solves", mechanics_stats.solves)
+      .set("monolithic_solves", coupled_stats.solves)
+      .set("newton_iterations", mechanics_stats.newton_iterations + coupled_stats.newton_iterations)
       .set("linear_iterations", linear)
+      .set("solvers", solvers)
       .set("timings", timings)
       .set("wall_time_s", wall)
       .set("left_out", left_out)

@@ -1,0 +1,90 @@
+#include "system.h"
+
+#include <dolfinx/common/Timer.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, double& time)
+{
+  common::Timer timer("assembly");
+  la::petsc::Matrix A = assemble_matrix(a, bcs);
+  time += timer.stop();
+  return A;
+}
+} // namespace
+
+System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const fem::Form<double>> a, BCs bcs,
+               Structure structure)
+    : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure),
+      _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
+{
+  // Made now so that options that make no solver are refused before the run.
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), _structure);
+}
+
+System::~System() = default;
+
+void System::use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs,
+                         Vec layout)
+{
+  _linear.reset();
+  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), _structure, layout, std::move(set),
+                                             std::move(dofs), std::move(displacement_dofs));
+}
+
+void System::solve(Vec b, Vec x)
+{
+  SolverStage::Guard stage(_stage);
+  common::Timer timer("solve " + _prefix);
+  if (_contact)
+    _contact->solve(b, x);
+  else
+    _statistics.linear_iterations += _linear->solve(x, b);
+  _statistics.total_time += timer.stop();
+  ++_statistics.solves;
+}
+
+void System::reassemble()
+{
+  common::Timer timer("assembly");
+  reassemble_matrix(_A.mat(), *_a, _bcs);
+  _statistics.assembly_time += timer.stop();
+  // A linear KSP sees the new matrix state and refactorises by itself; the
+  // contact solver lags its preconditioner and must be told.
+  if (_contact)
+    _contact->operator_changed();
+}
+
+SolverStatistics System::statistics() const
+{
+  SolverStatistics s = _statistics;
+  _stage.read(s);
+  if (_contact)
+  {
+    s.newton_iterations = _contact->newton_iterations;
+    s.linear_iterations = _contact->linear_iterations;
+    s.active_set_changes = _contact->active_set_changes;
+  }
+  return s;
+}
+
+std::string System::description() const
+{
+  auto option = [&](const char* name)
+  {
+    char value[64] = "";
+    PetscOptionsGetString(nullptr, _prefix.c_str(), name, value, sizeof value, nullptr);
+    return std::string(value);
+  };
+  std::string d = (_contact ? "SNES vinewtonrsls, " : "") + option("-ksp_type") + " + " + option("-pc_type");
+  if (const std::string package = option("-pc_factor_mat_solver_type");
+      !package.empty() and (option("-pc_type") == "lu" or option("-pc_type") == "cholesky"))
+    d += " (" + package + ")";
+  return d;
+}
+
+} // namespace biotcontact

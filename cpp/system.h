@@ -1,0 +1,66 @@
+// One system of a step: the matrix of a bilinear form (Dirichlet rows made
+// identity rows) and what answers it, a linear solve A x = b or, with
+// contact, the bound-constrained problem on A (contact.h). The flow, the
+// mechanics and the monolithic steps each own one; how it is solved, when a
+// factorisation is reused and what is counted is decided here and in
+// solver.h, never in the steps.
+#pragma once
+
+#include "contact.h"
+#include "linear_algebra.h"
+#include "solver.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace biotcontact
+{
+
+class System
+{
+public:
+  /// Assembles `a` with `bcs`; `prefix` names the system's PETSc options
+  /// and its log stage ("flow_" -> stage "flow").
+  System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const dolfinx::fem::Form<double>> a,
+         BCs bcs, Structure structure);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  /// Makes every solve the contact problem on the DOFs `dofs` of x (see
+  /// ContactSolver); `layout` is a vector like x.
+  void use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs,
+                   Vec layout);
+
+  /// Solves with x as the initial guess (a contact solve starts from it).
+  void solve(Vec b, Vec x);
+
+  /// The form's coefficients changed (dt with time.growth): reassembles A;
+  /// the next solve factorises anew.
+  void reassemble();
+
+  bool has_contact() const { return _contact != nullptr; }
+  ContactSolver& contact() { return *_contact; }
+
+  /// What was done so far (collective only in that every rank reads its log).
+  SolverStatistics statistics() const;
+  /// The solver actually used, e.g. "preonly + cholesky (cholmod)".
+  std::string description() const;
+
+private:
+  MPI_Comm _comm;
+  std::string _prefix;
+  std::shared_ptr<const dolfinx::fem::Form<double>> _a;
+  BCs _bcs;
+  Structure _structure;
+  SolverStatistics _statistics; // before _A: its assembly time is counted
+  dolfinx::la::petsc::Matrix _A;
+  std::unique_ptr<LinearSolver> _linear;
+  std::unique_ptr<ContactSolver> _contact;
+  SolverStage _stage;
+};
+
+} // namespace biotcontact
