@@ -94,13 +94,15 @@ def main(argv):
     from mpi4py import MPI
     import dolfinx
     from petsc4py import PETSc
+    # The solver statistics are read from PETSc's event log (solver.py).
+    PETSc.Log.begin()
     # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
     from .domain import create_domain
     from .scene import SceneError, read_scene
     from .simulation import run
-    from .linear_algebra import OptionsError, SolverError
+    from .solver import OptionsError, SolverError
 
     comm = MPI.COMM_WORLD
     if command == "version":

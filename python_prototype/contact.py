@@ -13,8 +13,9 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .linear_algebra import (LinearSolver, OptionsError, set_solver_defaults, SolverError, reason_name, accumulate_ghosts,
-                             add_vector, owned, set_default_option)
+from .linear_algebra import accumulate_ghosts, add_vector, owned
+from .solver import (LinearSolver, OptionsError, SolverError, Structure, reason_name, set_default_option,
+                     set_solver_defaults, system_name)
 from .scene import SceneError
 
 
@@ -78,16 +79,25 @@ class ContactSolver:
     complementary to the bounds, bounds only on the contact DOFs. The energy
     is quadratic: A is the exact (constant) Jacobian. SNESVI decides "on the
     bound" with an absolute tolerance (1e-8), so it solves for x/s with s the
-    displacement scale (largest gap or |x|): F = A (x/s) - b/s."""
+    displacement scale (largest gap or |x|): F = A (x/s) - b/s.
 
-    def __init__(self, comm, prefix, A, contact_set, dofs, displacement_dofs):
+    The factorisation of the inactive-set submatrix is reused while the
+    inactive set stays the same (cpp/contact.h): built once, then the
+    preconditioner is lagged; SNES VI resets it when the set changes, and
+    operator_changed re-arms it after a reassembly."""
+
+    def __init__(self, comm, prefix, A, structure, contact_set, dofs, displacement_dofs):
         self.comm, self.A, self.set, self.prefix = comm, A, contact_set, prefix
+        self.structure = structure
+        if structure == Structure.spd:  # carries over to the inactive-set submatrices
+            A.setOption(PETSc.Mat.Option.SPD, True)
         self.dofs, self.displacement_dofs = np.asarray(dofs, dtype=np.int32), np.asarray(displacement_dofs)
         self.x, self.residual, self.lower, self.upper, self.b_scaled = (A.createVecRight() for _ in range(5))
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
-        set_solver_defaults(prefix)
-        for option, value in (("snes_rtol", "1e-10"),
+        set_solver_defaults(prefix, structure, comm)
+        self.lag_by_default = not PETSc.Options().hasName(prefix + "snes_lag_preconditioner")
+        for option, value in (("snes_lag_preconditioner", "-2"), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, A exact: the full step is exact on the active set
                               ("snes_linesearch_type", "basic")):
@@ -103,12 +113,34 @@ class ContactSolver:
             self.snes.setForceIteration(True)
         else:
             set_default_option(prefix + "snes_force_iteration", "true")
+        self.snes.setMonitor(self._monitor)
         try:
             self.snes.setFromOptions()
         except PETSc.Error as e:
-            raise OptionsError(f"the PETSc options of the {prefix[:-1]} contact solver do not make a solver "
+            raise OptionsError(f"the PETSc options of {system_name(prefix)} contact solver do not make a solver "
                                f"(PETSc error {e.ierr})") from None
-        self.newton_iterations = self.linear_iterations = 0
+        self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
+        self.pending = self.used = None  # active flags of the contact DOFs
+
+    def operator_changed(self):
+        """A was reassembled: re-arm "rebuild once, then reuse"."""
+        if self.lag_by_default:
+            self.snes.setLagPreconditioner(-2)
+
+    def _active_contact_dofs(self, x):
+        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed against it."""
+        X, F = x.getArray(readonly=True), self.snes.getFunction()[0].getArray(readonly=True)
+        lo, up = self.lower.getArray(readonly=True), self.upper.getArray(readonly=True)
+        i = self.dofs
+        return ((X[i] <= lo[i] + 1e-8) & (F[i] > 0)) | ((X[i] >= up[i] - 1e-8) & (F[i] < 0))
+
+    def _monitor(self, snes, iteration, norm):
+        """Before each Newton step (and after the last): the set the next step uses."""
+        if iteration > 0:
+            changed = self.used is not None and not np.array_equal(self.pending, self.used)
+            self.active_set_changes += int(self.comm.allreduce(int(changed), op=MPI.MAX))
+            self.used = self.pending
+        self.pending = self._active_contact_dofs(snes.getSolution())
 
     def _residual(self, snes, x, F):
         self.A.mult(x, F)
@@ -172,7 +204,7 @@ class ContactSolver:
         rows = (self.x.getOwnershipRange()[0] + self.dofs).astype(PETSc.IntType)
         A, rhs = self.A.duplicate(copy=True), self.b_scaled.copy()
         A.zeroRowsColumns(rows, 1.0, self.x, rhs)
-        LinearSolver(self.comm, self.prefix, A).solve(self.x, rhs)
+        LinearSolver(self.comm, self.prefix, A, self.structure).solve(self.x, rhs)
 
     def state(self, x, b, pressure_out, active_out):
         """Contact force R = A x - b at the contact DOFs; contact pressure

@@ -13,6 +13,7 @@ from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
 from .forms import Forms, derive_parameters, set_constants, set_time_step
 from .output import Output
 from .contact import ContactState
+from .solver import SolverStatistics
 from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
                     volumetric_stress)
 
@@ -30,6 +31,28 @@ def _boundary_mean(u, facets, component, comm):
     dofs = dofs[dofs < V.dofmap.index_map.size_local * V.dofmap.index_map_bs]
     total, count = comm.allreduce(np.array([u.x.array[dofs].sum(), len(dofs)]))
     return total / count
+
+
+def _solvers_json(systems, stats):
+    result = {}
+    for name, system in systems.items():
+        if system is None:
+            continue
+        st = stats[name]
+        j = {"method": system.description(), "solves": st.solves, "factorizations": st.setups,
+             "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
+        if system.has_contact():
+            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes)
+        result[name] = j
+    return result
+
+
+def _timings_json(systems, stats):
+    return {name: {"total": stats[name].total_time, "setup": stats[name].setup_time,
+                   "solve": stats[name].solve_time,
+                   "other": stats[name].total_time - stats[name].setup_time - stats[name].solve_time,
+                   "matrix_assembly": stats[name].assembly_time}
+            for name, system in systems.items() if system is not None}
 
 
 def _contact_json(c):
@@ -96,7 +119,7 @@ def run(scene, directory, comm):
     if monolithic:
         coupled = MonolithicStep(scene, domain, F)
         u, p, compute_flux = coupled.u, coupled.pressure, coupled.flux
-        if coupled.contact:
+        if coupled.system.has_contact():
             contact_pressure, contact_active = coupled.contact_pressure, coupled.contact_active
             compute_contact = coupled.contact_state
     else:
@@ -106,7 +129,7 @@ def run(scene, directory, comm):
         if scene.mechanics:
             mechanics = MechanicsStep(scene, domain, F, coupled=scene.coupling is not None)
             u = mechanics.u
-            if mechanics.contact:
+            if mechanics.system.has_contact():
                 contact_pressure, contact_active = mechanics.contact_pressure, mechanics.contact_active
                 compute_contact = mechanics.contact_state
 
@@ -228,7 +251,12 @@ def run(scene, directory, comm):
         if p is not None:
             dofs["pressure"] = _global_size(p.function_space)
             dofs["flux"] = domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
-        solvers = [s for s in (flow, mechanics, coupled) if s]
+        # Per system: what solved it, how often it was set up and solved, where its time went.
+        steps = [s for s in (flow, mechanics, coupled) if s]
+        systems = {"flow": flow.system if flow else None,
+                   "mechanics": mechanics.system if mechanics else None,
+                   "monolithic": coupled.system if coupled else None}
+        stats = {name: system.statistics() if system else SolverStatistics() for name, system in systems.items()}
         summary = {
             "scene": scene.name,
             "scheme": scene.coupling.scheme if scene.coupling else ("flow-only" if flow else "mechanics-only"),
@@ -250,18 +278,16 @@ def run(scene, directory, comm):
             "unresolved_ratios": report.unresolved_ratios,
             "max_coupled_residual": report.max_coupled_residual,
             "converged": not failure,
-            "flow_solves": flow.solves if flow else 0,
-            "mechanics_solves": mechanics.solves if mechanics else 0,
-            "monolithic_solves": coupled.solves if coupled else 0,
-            "newton_iterations": (mechanics or coupled).newton_iterations if (mechanics or coupled) else 0,
-            "linear_iterations": {"flow": flow.linear_iterations if flow else 0,
-                                  "mechanics": mechanics.linear_iterations if mechanics else 0,
-                                  "monolithic": coupled.linear_iterations if coupled else 0},
-            "timings": {"flow": flow.solve_time if flow else 0.0,
-                        "mechanics": mechanics.solve_time if mechanics else 0.0,
-                        "monolithic": coupled.solve_time if coupled else 0.0,
-                        "assembly": sum(s.assembly_time for s in solvers),
-                        "output": output.time},
+            "flow_solves": stats["flow"].solves,
+            "mechanics_solves": stats["mechanics"].solves,
+            "monolithic_solves": stats["monolithic"].solves,
+            "newton_iterations": stats["mechanics"].newton_iterations + stats["monolithic"].newton_iterations,
+            "linear_iterations": {name: stats[name].linear_iterations for name in systems},
+            "solvers": _solvers_json(systems, stats),
+            "timings": dict(_timings_json(systems, stats),
+                            assembly=sum(s.assembly_time for s in steps)
+                            + sum(stats[name].assembly_time for name in systems),
+                            output=output.time),
             "wall_time_s": wall,
             "left_out": left_out,
             "warnings": "; ".join(warnings),

@@ -1,8 +1,9 @@
 """The solves of one time step (cpp/boundary_conditions.cpp, flow_step.cpp,
 mechanics_step.cpp, monolithic.cpp, diagnostics.cpp).
 
-Every matrix is assembled and factorised once per run (it depends on dt and
-L only), the loads once per time, the coupling terms once per iteration.
+Every matrix is assembled once per run (it depends on dt and L only) and
+solved by its System (system.py), the loads once per time, the coupling
+terms once per iteration.
 """
 import time
 
@@ -10,10 +11,11 @@ import numpy as np
 from dolfinx import fem, mesh as dmesh
 from mpi4py import MPI
 
-from .contact import ContactSet, ContactSolver, ContactState
+from .contact import ContactSet, ContactState
 from .forms import interpolate, interpolate_resistivity
-from .linear_algebra import (LinearSolver, accumulate_ghosts, add_vector, assemble_matrix, dof_map,
-                             finish_rhs, owned, reassemble_matrix)
+from .linear_algebra import accumulate_ghosts, add_vector, dof_map, finish_rhs, owned
+from .solver import Structure
+from .system import System
 
 
 # ---- essential boundary conditions -------------------------------------------
@@ -93,12 +95,11 @@ class FlowStep:
             self.loads_depend_on_time |= flow.source.depends_on_time
         self.L_gravity = F.compile("L_flow_gravity") if flow.gravity else None
 
-        self.solves, self.linear_iterations = 0, 0
-        self.assembly_time = self.solve_time = 0.0
-        start = time.perf_counter()
-        self.A = assemble_matrix(self.a, self.bcs)
-        self.assembly_time += time.perf_counter() - start
-        self.solver = LinearSolver(comm, "flow_", self.A)
+        self.assembly_time = 0.0  # right-hand sides
+        # Quasi-definite when S + L > 0 (cpp/flow_step.cpp): factorised once per dt.
+        storage = float(F["storage"].value) + float(F["L"].value)
+        self.system = System(comm, "flow_", self.a, self.bcs,
+                             Structure.quasi_definite if storage > 0 else Structure.general)
         self.b, self.b_loads = fem.Function(W), fem.Function(W)
         self.loads_time = None
 
@@ -130,11 +131,8 @@ class FlowStep:
         fem.set_bc(self.b.x.array, self.bcs)
         self.assembly_time += time.perf_counter() - start
 
-        start = time.perf_counter()
-        self.linear_iterations += self.solver.solve(self.w.vector, self.b.vector)
+        self.system.solve(self.b.vector, self.w.vector)
         self.w.x.scatter_forward()
-        self.solve_time += time.perf_counter() - start
-        self.solves += 1
         self.set_state(self.w.x.array)
 
     def state(self):
@@ -142,9 +140,7 @@ class FlowStep:
 
     def time_step_changed(self):
         """The matrix depends on dt: reassembled after set_time_step changed it."""
-        start = time.perf_counter()
-        reassemble_matrix(self.A, self.a, self.bcs)
-        self.assembly_time += time.perf_counter() - start
+        self.system.reassemble()
 
     def set_state(self, w):
         """Restores a mixed solution (the multirate scheme keeps one per fine step)."""
@@ -182,23 +178,19 @@ class MechanicsStep:
         if self.L_body:
             self.loads_depend_on_time |= any(e.depends_on_time for e in scene.mechanics.body_force)
 
-        self.solves = self.linear_iterations = self.newton_iterations = 0
-        self.assembly_time = self.solve_time = 0.0
-        start = time.perf_counter()
-        self.A = assemble_matrix(self.a, self.bcs)  # a(u, v) never changes: once
-        self.assembly_time += time.perf_counter() - start
+        self.assembly_time = 0.0  # right-hand sides
+        # a(u, v) never changes: assembled once; SPD with identity Dirichlet rows.
+        self.system = System(comm, "mechanics_", self.a, self.bcs, Structure.spd)
         self.b, self.b_loads = fem.Function(V), fem.Function(V)
         self.loads_time = None
-        self.contact = self.contact_pressure = self.contact_active = None
+        self.contact_pressure = self.contact_active = None
         if not scene.has_contact():
-            self.solver = LinearSolver(comm, "mechanics_", self.A)
             return
         # Contact: bounds on the normal DOF of every node of Gamma_3.
         contact_set = ContactSet(scene, domain, F, V)
         self.contact_pressure = fem.Function(contact_set.output_space)
         self.contact_active = fem.Function(contact_set.output_space)
-        self.contact = ContactSolver(comm, "mechanics_", self.A, contact_set, contact_set.dofs,
-                                     np.arange(owned(V)))
+        self.system.use_contact(contact_set, contact_set.dofs, np.arange(owned(V)))
 
     def assemble_rhs(self, t):
         if self.loads_time is None or (self.loads_depend_on_time and t != self.loads_time):
@@ -220,22 +212,15 @@ class MechanicsStep:
         start = time.perf_counter()
         self.assemble_rhs(t)
         self.assembly_time += time.perf_counter() - start
-        start = time.perf_counter()
-        if self.contact is None:
-            self.linear_iterations += self.solver.solve(self.u.vector, self.b.vector)
-        else:
-            self.contact.solve(self.b.vector, self.u.vector)
-            self.newton_iterations = self.contact.newton_iterations
-            self.linear_iterations = self.contact.linear_iterations
+        self.system.solve(self.b.vector, self.u.vector)
         self.u.x.scatter_forward()
-        self.solve_time += time.perf_counter() - start
-        self.solves += 1
 
     def contact_state(self):
         """Also fills the contact pressure and active-flag fields."""
-        if self.contact is None:
+        if not self.system.has_contact():
             return ContactState()
-        return self.contact.state(self.u.vector, self.b.vector, self.contact_pressure, self.contact_active)
+        return self.system.contact.state(self.u.vector, self.b.vector, self.contact_pressure,
+                                         self.contact_active)
 
 
 # ---- monolithic (alg. "Monolithic reference") ------------------------------------
@@ -279,16 +264,14 @@ class MonolithicStep:
             self.loads_depend_on_time |= scene.flow.source.depends_on_time
         self.L_gravity = F.compile("L_monolithic_gravity") if scene.flow.gravity else None
 
-        self.solves = self.linear_iterations = self.newton_iterations = 0
-        self.assembly_time = self.solve_time = 0.0
-        start = time.perf_counter()
-        self.A = assemble_matrix(self.a, self.bcs)  # depends on dt only: once
-        self.assembly_time += time.perf_counter() - start
+        self.assembly_time = 0.0  # right-hand sides
+        # Depends on dt only; its pressure block -(S/dt) is often negligible
+        # against the coupling: LU with pivoting (cpp/monolithic.cpp).
+        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general)
         self.b, self.b_loads = fem.Function(X), fem.Function(X)
         self.loads_time = None
-        self.contact = self.contact_pressure = self.contact_active = None
+        self.contact_pressure = self.contact_active = None
         if not scene.has_contact():
-            self.solver = LinearSolver(comm, "monolithic_", self.A)
             return
         # Contact: the bounds sit on the contact DOFs of the displacement block.
         contact_set = ContactSet(scene, domain, F, self.V)
@@ -297,8 +280,7 @@ class MonolithicStep:
             raise RuntimeError("monolithic contact: a contact DOF owned in V is not owned in the mixed space")
         self.contact_pressure = fem.Function(contact_set.output_space)
         self.contact_active = fem.Function(contact_set.output_space)
-        self.contact = ContactSolver(comm, "monolithic_", self.A, contact_set, dofs,
-                                     self.V_to_X[:owned(self.V)])
+        self.system.use_contact(contact_set, dofs, self.V_to_X[:owned(self.V)])
 
     def assemble_loads(self, t):
         if self.loads_time is not None and (not self.loads_depend_on_time or t == self.loads_time):
@@ -331,33 +313,24 @@ class MonolithicStep:
         add_vector(self.b, self.L_history)
         finish_rhs(self.b, self.a, self.bcs)
         self.assembly_time += time.perf_counter() - start
-        start = time.perf_counter()
-        if self.contact is not None:
-            self.contact.solve(self.b.vector, self.x.vector)
-            self.newton_iterations = self.contact.newton_iterations
-            self.linear_iterations = self.contact.linear_iterations
-        else:
-            self.linear_iterations += self.solver.solve(self.x.vector, self.b.vector)
+        self.system.solve(self.b.vector, self.x.vector)
         self.x.x.scatter_forward()
-        self.solve_time += time.perf_counter() - start
-        self.solves += 1
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
 
     def time_step_changed(self):
         """The matrix depends on dt: reassembled after set_time_step changed it."""
-        start = time.perf_counter()
-        reassemble_matrix(self.A, self.a, self.bcs)
-        self.assembly_time += time.perf_counter() - start
+        self.system.reassemble()
 
     def flux(self, out):
         self.z.x.array[:] = self.x.x.array[self.Z_to_X]
         out.interpolate(self.z)
 
     def contact_state(self):
-        if self.contact is None:
+        if not self.system.has_contact():
             return ContactState()
-        return self.contact.state(self.x.vector, self.b.vector, self.contact_pressure, self.contact_active)
+        return self.system.contact.state(self.x.vector, self.b.vector, self.contact_pressure,
+                                         self.contact_active)
 
 
 # ---- diagnostics (cpp/diagnostics.cpp) -------------------------------------------

@@ -1,0 +1,150 @@
+"""How a system is solved (cpp/solver.h): the one place that chooses the
+factorisation, says when it may be reused and counts set-ups and solves per
+system, from PETSc's event log of the system's own log stage."""
+import enum
+
+from petsc4py import PETSc
+
+
+class SolverError(Exception):
+    """A solver did not converge: the run stops with this message (exit 3)."""
+
+
+class OptionsError(Exception):
+    """PETSc options that do not make a solver (exit 2, bad input)."""
+
+
+class Structure(enum.Enum):
+    """What the factorisation may assume of a matrix (cpp/solver.h)."""
+    spd = 1             # elasticity with Dirichlet rows: Cholesky
+    quasi_definite = 2  # RT0 x P0 with S + L > 0: LU without pivoting is stable
+    general = 3         # LU with pivoting
+
+
+def reason_name(enum_, reason):
+    """PETSc's name of a converged reason, as the C++ prints it (petsc4py
+    3.18 knows -11 only by its deprecated name)."""
+    name = next((k for k in dir(enum_) if not k.startswith("_") and getattr(enum_, k) == reason), str(reason))
+    return name.replace("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED")
+
+
+def set_default_option(name, value):
+    """Sets a PETSc option unless the command line gave it."""
+    options = PETSc.Options()
+    if not options.hasName(name):
+        options.setValue(name, value)
+
+
+def set_solver_defaults(prefix, structure, comm):
+    """A direct solve unless the command line says otherwise, with the
+    factorisation measured fastest for the structure (cpp/solver.cpp): on one
+    rank CHOLMOD Cholesky for SPD and PETSc's nested-dissection LU for
+    quasi-definite matrices, MUMPS otherwise and on several ranks."""
+    pc, package = "lu", "mumps"
+    if comm.size == 1 and structure == Structure.spd:
+        pc, package = "cholesky", "cholmod"
+    elif comm.size == 1 and structure == Structure.quasi_definite:
+        package = "petsc"
+    elif structure == Structure.spd:
+        pc = "cholesky"
+    options = PETSc.Options()
+    given_pc = options.getString(prefix + "pc_type", "")
+    # A preconditioner other than a factorisation is no solver by itself.
+    direct = given_pc in ("", "lu", "cholesky")
+    set_default_option(prefix + "ksp_type", "preonly" if direct else "gmres")
+    set_default_option(prefix + "pc_type", pc)
+    if not direct:
+        return
+    if given_pc and given_pc != pc:
+        package = "mumps"  # the user chose the other factorisation
+    set_default_option(prefix + "pc_factor_mat_solver_type", package)
+    used = options.getString(prefix + "pc_factor_mat_solver_type")
+    if used == "petsc":  # an ordering given to MUMPS would replace its own analysis
+        set_default_option(prefix + "pc_factor_mat_ordering_type", "nd")
+    if used == "mumps":  # room for refactorisations of changed inactive sets
+        set_default_option(prefix + "mat_mumps_icntl_14", "400")
+
+
+class SolverStatistics:
+    """What one system's solver did (cpp/solver.h)."""
+
+    def __init__(self):
+        self.solves = self.setups = self.back_solves = self.linear_iterations = 0
+        self.newton_iterations = self.active_set_changes = 0
+        self.setup_time = self.solve_time = self.total_time = self.assembly_time = 0.0
+
+
+class SolverStage:
+    """A PETSc log stage named after a system, pushed while it solves."""
+
+    def __init__(self, name):
+        self.stage = PETSc.Log.Stage(name)
+
+    def read(self, statistics):
+        setup = PETSc.Log.Event("PCSetUp").getPerfInfo(self.stage.id)
+        solve = PETSc.Log.Event("KSPSolve").getPerfInfo(self.stage.id)
+        statistics.setups, statistics.setup_time = setup["count"], setup["time"]
+        statistics.back_solves, statistics.solve_time = solve["count"], solve["time"]
+
+    def __enter__(self):
+        self.stage.push()
+
+    def __exit__(self, *_):
+        self.stage.pop()
+
+
+def system_name(prefix):
+    return "the " + prefix[:-1]
+
+
+class LinearSolver:
+    """KSP with an options prefix, a direct solve by default; refactorised
+    only when the operator's values change."""
+
+    def __init__(self, comm, prefix, A, structure):
+        self.prefix = prefix
+        if structure == Structure.spd:
+            A.setOption(PETSc.Mat.Option.SPD, True)
+        set_solver_defaults(prefix, structure, comm)
+        self.ksp = PETSc.KSP().create(comm)
+        self.ksp.setOptionsPrefix(prefix)
+        self.ksp.setOperators(A, A)
+        try:
+            self.ksp.setFromOptions()
+        except PETSc.Error as e:  # e.g. -flow_pc_type ilu with a factorisation package
+            raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver "
+                               f"(PETSc error {e.ierr}; see -{prefix}pc_factor_mat_solver_type)") from None
+
+    def _solve(self, x, b):
+        """Set-up first, so the log keeps factorisation and back-solve apart."""
+        try:
+            self.ksp.setUp()
+            self.ksp.solve(b, x)
+            return None
+        except PETSc.Error as e:
+            return e.ierr
+
+    def solve(self, x, b):
+        ierr = self._solve(x, b)
+        reason = self.ksp.getConvergedReason()
+        pc = self.ksp.getPC()
+        if (ierr or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
+                and pc.getFactorSolverType() == "petsc":
+            # A quasi-definite matrix with a negative block at round-off can
+            # still meet a tiny pivot: factorise once more with MUMPS.
+            options = PETSc.Options()
+            options.setValue(self.prefix + "pc_factor_mat_solver_type", "mumps")
+            options.delValue(self.prefix + "pc_factor_mat_ordering_type")
+            set_default_option(self.prefix + "mat_mumps_icntl_14", "400")
+            A, _ = self.ksp.getOperators()
+            self.ksp.reset()
+            self.ksp.setOperators(A, A)
+            self.ksp.setFromOptions()
+            ierr = self._solve(x, b)
+            reason = self.ksp.getConvergedReason()
+        if ierr:
+            raise SolverError(f"{system_name(self.prefix)} linear solver failed: PETSc error {ierr}")
+        if reason < 0:
+            raise SolverError(f"{system_name(self.prefix)} linear solver failed: "
+                              f"{reason_name(PETSc.KSP.ConvergedReason, reason)}")
+        return self.ksp.getIterationNumber()

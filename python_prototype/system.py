@@ -1,0 +1,70 @@
+"""One system of a step (cpp/system.h): the matrix of a bilinear form and
+what answers it, a linear solve or, with contact, the bound-constrained
+problem on it. How it is solved is decided here and in solver.py."""
+import time
+
+from .contact import ContactSolver
+from .linear_algebra import assemble_matrix, reassemble_matrix
+from .solver import LinearSolver, SolverStage, SolverStatistics
+
+
+class System:
+    def __init__(self, comm, prefix, a, bcs, structure):
+        self.comm, self.prefix, self.a, self.bcs, self.structure = comm, prefix, a, bcs, structure
+        self._statistics = SolverStatistics()
+        start = time.perf_counter()
+        self.A = assemble_matrix(a, bcs)
+        self._statistics.assembly_time += time.perf_counter() - start
+        self.stage = SolverStage(prefix[:-1])
+        # made now, so that options that make no solver are refused before the run
+        self.linear = LinearSolver(comm, prefix, self.A, structure)
+        self.contact = None
+
+    def use_contact(self, contact_set, dofs, displacement_dofs):
+        """Every solve becomes the contact problem on the DOFs `dofs`."""
+        self.linear = None
+        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.structure, contact_set, dofs,
+                                     displacement_dofs)
+
+    def has_contact(self):
+        return self.contact is not None
+
+    def solve(self, b, x):
+        """Solves with x as the initial guess."""
+        start = time.perf_counter()
+        with self.stage:
+            if self.contact:
+                self.contact.solve(b, x)
+            else:
+                self._statistics.linear_iterations += self.linear.solve(x, b)
+        self._statistics.total_time += time.perf_counter() - start
+        self._statistics.solves += 1
+
+    def reassemble(self):
+        """dt changed: the next solve factorises anew."""
+        start = time.perf_counter()
+        reassemble_matrix(self.A, self.a, self.bcs)
+        self._statistics.assembly_time += time.perf_counter() - start
+        if self.contact:
+            self.contact.operator_changed()
+
+    def statistics(self):
+        s = SolverStatistics()
+        s.__dict__.update(self._statistics.__dict__)
+        self.stage.read(s)
+        if self.contact:
+            s.newton_iterations = self.contact.newton_iterations
+            s.linear_iterations = self.contact.linear_iterations
+            s.active_set_changes = self.contact.active_set_changes
+        return s
+
+    def description(self):
+        from petsc4py import PETSc
+        options = PETSc.Options()
+        pc = options.getString(self.prefix + "pc_type", "")
+        d = ("SNES vinewtonrsls, " if self.contact else "") + options.getString(self.prefix + "ksp_type", "") \
+            + " + " + pc
+        package = options.getString(self.prefix + "pc_factor_mat_solver_type", "")
+        if package and pc in ("lu", "cholesky"):
+            d += f" ({package})"
+        return d
