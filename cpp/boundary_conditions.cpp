@@ -25,8 +25,12 @@ BCs displacement_bcs(const Scene& scene, const Domain& domain, std::shared_ptr<c
       auto collapsed = std::make_shared<fem::FunctionSpace>(Ui->collapse().first);
       auto g = std::make_shared<fem::Function<double>>(collapsed);
       auto dofs = fem::locate_dofs_topological({*Ui, *collapsed}, d - 1, domain.boundaries.at(name));
+      const std::vector<double> x = collapsed->tabulate_dof_coordinates(false);
+      DisplacementValue value{&*b.displacement[i], g, dofs[1], {}};
+      for (std::int32_t dof : value.dofs)
+        value.points.insert(value.points.end(), x.begin() + 3 * dof, x.begin() + 3 * dof + 3);
       bcs.push_back(std::make_shared<fem::DirichletBC<double>>(g, std::move(dofs), Ui));
-      values.push_back({&*b.displacement[i], g});
+      values.push_back(std::move(value));
     }
   }
   return bcs;
@@ -35,7 +39,11 @@ BCs displacement_bcs(const Scene& scene, const Domain& domain, std::shared_ptr<c
 void update(std::vector<DisplacementValue>& values, double t)
 {
   for (auto& v : values)
-    interpolate(*v.g, {*v.value}, t);
+  {
+    std::span<double> g = v.g->x()->mutable_array();
+    for (std::size_t k = 0; k < v.dofs.size(); ++k)
+      g[v.dofs[k]] = (*v.value)(&v.points[3 * k], t);
+  }
 }
 
 std::shared_ptr<const fem::DirichletBC<double>>

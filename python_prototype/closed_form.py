@@ -89,16 +89,21 @@ class Mandel:
     def _decay(self, an, t):
         return math.exp(-an * an * self.consolidation_coefficient * t / (self.a * self.a))
 
+    def _terms(self, t):
+        """The roots whose decay factor is >= 1e-18: the rest of each series
+        is below round-off (cpp/closed_form.cpp, series_cut)."""
+        return [an for an in self.roots if self._decay(an, t) >= 1e-18]
+
     def pressure(self, x, t):
         total = 0.0
-        for an in self.roots:
+        for an in self._terms(t):
             total = total + (math.sin(an) / (an - math.sin(an) * math.cos(an))
                              * (np.cos(an * x / self.a) - math.cos(an)) * self._decay(an, t))
         return 2 * self.F * self.B * (1 + self.nu_u) / (3 * self.a) * total
 
     def displacement_x(self, x, t):
         s1, s2 = 0.0, 0.0
-        for an in self.roots:
+        for an in self._terms(t):
             D, E = an - math.sin(an) * math.cos(an), self._decay(an, t)
             s1 += math.sin(an) * math.cos(an) / D * E
             s2 = s2 + math.cos(an) / D * np.sin(an * x / self.a) * E
@@ -107,7 +112,7 @@ class Mandel:
 
     def displacement_y(self, y, t):
         s1 = 0.0
-        for an in self.roots:
+        for an in self._terms(t):
             D = an - math.sin(an) * math.cos(an)
             s1 += math.sin(an) * math.cos(an) / D * self._decay(an, t)
         F, G, a = self.F, self.G, self.a
