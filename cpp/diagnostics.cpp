@@ -1,5 +1,7 @@
 #include "diagnostics.h"
 
+#include "linear_algebra.h"
+
 #include <cmath>
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/utils.h>
@@ -20,23 +22,31 @@ double sum_over_ranks(double local, MPI_Comm comm)
 
 ContractionNorm::ContractionNorm(const CompiledForms& forms, std::shared_ptr<const fem::FunctionSpace> V,
                                  std::shared_ptr<const fem::FunctionSpace> Q)
-    : _du(std::make_shared<fem::Function<double>>(V)), _dp(std::make_shared<fem::Function<double>>(Q)),
-      _c_u(std::make_shared<fem::Constant<double>>(0.0)), _c_p(std::make_shared<fem::Constant<double>>(0.0))
+    : _comm(V->mesh()->comm())
 {
-  _M = std::make_shared<fem::Form<double>>(fem::create_form<double>(
-      *forms.M_contraction, {}, {{"du", _du}, {"dp", _dp}}, {{"c_u", _c_u}, {"c_p", _c_p}}, {},
-      V->mesh()));
+  _divergence.emplace(assemble_operator(*make_form(forms.a_divergence, {Q, V}, {}, {}), {}));
+  _volume = std::make_unique<la::Vector<double>>(Q->dofmap()->index_map, 1);
+  add_vector(*_volume, *make_form(forms.L_cell_volume, {Q}, {}, {}));
+  _volume->scatter_rev(std::plus<double>());
+  _div_du = std::make_unique<la::Vector<double>>(Q->dofmap()->index_map, 1);
+  _du = std::make_unique<la::Vector<double>>(V->dofmap()->index_map, V->dofmap()->index_map_bs());
 }
 
 double ContractionNorm::operator()(double c_u, std::span<const double> du, double c_p,
                                    std::span<const double> dp)
 {
-  std::copy(du.begin(), du.end(), _du->x()->mutable_array().begin());
-  std::copy(dp.begin(), dp.end(), _dp->x()->mutable_array().begin());
-  _c_u->value = {c_u};
-  _c_p->value = {c_p};
-  const double local = fem::assemble_scalar(*_M);
-  return std::sqrt(std::max(0.0, sum_over_ranks(local, _M->mesh()->comm())));
+  std::copy(du.begin(), du.end(), _du->mutable_array().begin());
+  _div_du->set(0.0);
+  multiply_add(_divergence->mat(), *_du, *_div_du); // (D du)_T = |T| div du on T
+  const std::span<const double> D = _div_du->array(), volume = _volume->array();
+  const std::size_t cells = _volume->map()->size_local();
+  double local = 0;
+  for (std::size_t T = 0; T < cells; ++T)
+  {
+    const double w = c_u * D[T] - c_p * volume[T] * dp[T];
+    local += w * w / volume[T];
+  }
+  return std::sqrt(sum_over_ranks(local, _comm));
 }
 
 void volumetric_stress(const CompiledForms& forms, const Constants& constants,

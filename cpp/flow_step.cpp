@@ -76,9 +76,19 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   _bcs.push_back(no_flow_bc(scene, domain, _W->sub({0})));
 
   _a = make(forms.a_flow, {_W, _W});
-  _L_storage = make(forms.L_flow_storage, {_W});
+  // The terms of the right-hand side that change every coupling iteration,
+  // as operators on the iterates (forms/biot.py), assembled once per dt.
+  _a_storage = make(forms.a_flow_storage, {_W, _Q});
+  _storage.emplace(assemble_operator(*_a_storage, _bcs));
+  _dp = std::make_unique<la::Vector<double>>(_Q->dofmap()->index_map, 1);
   if (V)
-    _L_coupling = make(forms.L_flow_coupling, {_W});
+  {
+    _a_stabilisation = make(forms.a_flow_stabilisation, {_W, _Q});
+    _a_displacement = make(forms.a_flow_displacement, {_W, V});
+    _stabilisation.emplace(assemble_operator(*_a_stabilisation, _bcs));
+    _displacement.emplace(assemble_operator(*_a_displacement, _bcs));
+    _du = std::make_unique<la::Vector<double>>(V->dofmap()->index_map, V->dofmap()->index_map_bs());
+  }
   if (flow.source)
   {
     _L_source = make(forms.L_flow_source, {_W});
@@ -103,7 +113,8 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
 void FlowStep::assemble_loads(double t)
 {
   // Source, boundary pressure and gravity do not change within a time step:
-  // assembled once per step (once per run when they do not depend on t).
+  // assembled once per step (once per run when they do not depend on t),
+  // with the zero no-flow values set (no lifting: they are zero).
   if (_loads_assembled and (!_loads_depend_on_time or t == _loads_time))
     return;
   _b_loads->set(0.0);
@@ -119,6 +130,8 @@ void FlowStep::assemble_loads(double t)
     interpolate(*_p_boundary, {*expression}, t);
     add_vector(*_b_loads, *form);
   }
+  _b_loads->scatter_rev(std::plus<double>());
+  fem::set_bc(_b_loads->mutable_array(), _bcs);
   _loads_time = t;
   _loads_assembled = true;
 }
@@ -127,13 +140,17 @@ void FlowStep::solve(double t)
 {
   common::Timer assembly("assembly");
   assemble_loads(t);
+  // b = loads - ((S+L)/dt) p^{n+1,m-1} - (L/dt)(p^{n,m} - p^{n,m-1})
+  //       + (alpha/(q dt)) div(u^n - u_K), tested with th (forms/biot.py)
   std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
-  add_vector(*_b, *_L_storage);
-  if (_L_coupling)
-    add_vector(*_b, *_L_coupling);
-  // The essential flux values are zero: no lifting needed.
-  _b->scatter_rev(std::plus<double>());
-  fem::set_bc(_b->mutable_array(), _bcs);
+  multiply_add(_storage->mat(), *p_previous->x(), *_b);
+  if (_displacement)
+  {
+    difference(*p_iterate->x(), *p_iterate_previous->x(), *_dp);
+    multiply_add(_stabilisation->mat(), *_dp, *_b);
+    difference(*u_iterate->x(), *u_window->x(), *_du);
+    multiply_add(_displacement->mat(), *_du, *_b);
+  }
   assembly_time += assembly.stop();
 
   la::petsc::Vector x = wrap(*_w->x()), b = wrap(*_b);
@@ -152,7 +169,18 @@ void FlowStep::set_state(std::span<const double> w)
     p[i] = w[_Q_to_W[i]];
 }
 
-void FlowStep::time_step_changed() { _system->reassemble(); }
+void FlowStep::time_step_changed()
+{
+  _system->reassemble();
+  common::Timer timer("assembly");
+  reassemble_operator(_storage->mat(), *_a_storage, _bcs);
+  if (_displacement)
+  {
+    reassemble_operator(_stabilisation->mat(), *_a_stabilisation, _bcs);
+    reassemble_operator(_displacement->mat(), *_a_displacement, _bcs);
+  }
+  assembly_time += timer.stop();
+}
 
 void FlowStep::flux(fem::Function<double>& out) const
 {

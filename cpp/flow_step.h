@@ -61,8 +61,11 @@ private:
   std::vector<std::int32_t> _Q_to_W, _Z_to_W;
   std::shared_ptr<dolfinx::fem::Function<double>> _w, _source, _p_boundary;
   BCs _bcs;
-  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_storage, _L_coupling, _L_source,
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _a_storage, _a_stabilisation, _a_displacement, _L_source,
       _L_gravity;
+  // Operators of the coupling terms (W x Q, W x Q, W x V) and work vectors.
+  std::optional<dolfinx::la::petsc::Matrix> _storage, _stabilisation, _displacement;
+  std::unique_ptr<dolfinx::la::Vector<double>> _dp, _du;
   std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
   std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
   std::unique_ptr<System> _system;

@@ -17,17 +17,19 @@ namespace biotcontact
 struct CompiledForms
 {
   ufcx_form* a_elastic;
-  ufcx_form* L_pressure_load;
+  ufcx_form* a_pressure_load;
   ufcx_form* L_body_force;
   ufcx_form* L_traction;
   ufcx_form* L_lumped_boundary;
   ufcx_form* a_flow;
-  ufcx_form* L_flow_storage;
-  ufcx_form* L_flow_coupling;
+  ufcx_form* a_flow_storage;
+  ufcx_form* a_flow_stabilisation;
+  ufcx_form* a_flow_displacement;
   ufcx_form* L_flow_source;
   ufcx_form* L_flow_pressure;
   ufcx_form* L_flow_gravity;
-  ufcx_form* M_contraction;
+  ufcx_form* a_divergence;
+  ufcx_form* L_cell_volume;
   ufcx_form* L_sigma_v;
   ufcx_form* M_pressure_error;
   ufcx_form* M_pressure_reference;
@@ -44,7 +46,6 @@ struct CompiledForms
   // Function-space factories of the forms in which each space appears.
   using SpaceFactory = ufcx_function_space* (*)(const char*);
   SpaceFactory displacement_space;           // "u" of a_elastic (P1 vector)
-  SpaceFactory pressure_space;               // "p" of L_pressure_load (P0)
   SpaceFactory flow_space;                   // "v_0" (RT x P0), "resistivity" of a_flow
   SpaceFactory data_space;                   // "source" of L_flow_source (P1)
   SpaceFactory pressure_reference_space;     // "p_reference" (P2)

@@ -1,5 +1,7 @@
 #include "linear_algebra.h"
 
+#include <algorithm>
+
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/petsc.h>
 
@@ -23,6 +25,34 @@ void reassemble_matrix(Mat A, const fem::Form<double>& a, const BCs& bcs)
   fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES), *a.function_spaces()[0], bcs);
   MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+la::petsc::Matrix assemble_operator(const fem::Form<double>& a, const BCs& bcs)
+{
+  la::petsc::Matrix A(fem::petsc::create_matrix(a), false);
+  reassemble_operator(A.mat(), a, bcs);
+  return A;
+}
+
+void reassemble_operator(Mat A, const fem::Form<double>& a, const BCs& bcs)
+{
+  MatZeroEntries(A);
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), a, bcs);
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+void difference(const la::Vector<double>& a, const la::Vector<double>& b, la::Vector<double>& d)
+{
+  std::transform(a.array().begin(), a.array().end(), b.array().begin(), d.mutable_array().begin(),
+                 std::minus<double>());
+}
+
+void multiply_add(Mat A, const la::Vector<double>& x, la::Vector<double>& y)
+{
+  // MatMult only reads x: the wrap of a const vector is safe.
+  la::petsc::Vector xv = wrap(const_cast<la::Vector<double>&>(x)), yv = wrap(y);
+  MatMultAdd(A, xv.vec(), yv.vec(), yv.vec());
 }
 
 void add_vector(la::Vector<double>& b, const fem::Form<double>& L)

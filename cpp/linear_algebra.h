@@ -22,6 +22,22 @@ dolfinx::la::petsc::Matrix assemble_matrix(const dolfinx::fem::Form<double>& a, 
 /// solvers that use A refactorise it at their next solve.
 void reassemble_matrix(Mat A, const dolfinx::fem::Form<double>& a, const BCs& bcs);
 
+/// Assembles a bilinear form that acts on an iterate (a rectangular
+/// operator, applied with MatMult every coupling iteration instead of
+/// assembling its action): rows of the Dirichlet DOFs of its test space are
+/// zero, so the product leaves the Dirichlet values of a right-hand side alone.
+dolfinx::la::petsc::Matrix assemble_operator(const dolfinx::fem::Form<double>& a, const BCs& bcs);
+
+/// Assembles a into the existing operator A (same sparsity), as above.
+void reassemble_operator(Mat A, const dolfinx::fem::Form<double>& a, const BCs& bcs);
+
+/// d = a - b, entry by entry (owned and ghost entries).
+void difference(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<double>& b,
+                dolfinx::la::Vector<double>& d);
+
+/// y += A x on the owned parts of dolfinx vectors (collective).
+void multiply_add(Mat A, const dolfinx::la::Vector<double>& x, dolfinx::la::Vector<double>& y);
+
 /// Adds the local contributions of L to b (no ghost accumulation).
 void add_vector(dolfinx::la::Vector<double>& b, const dolfinx::fem::Form<double>& L);
 

@@ -24,9 +24,7 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
 
   _body_force = std::make_shared<fem::Function<double>>(_V);
   _traction = std::make_shared<fem::Function<double>>(_V);
-  Coefficients coefficients = {{"body_force", _body_force}, {"traction", _traction}};
-  if (pressure)
-    coefficients["p"] = pressure;
+  const Coefficients coefficients = {{"body_force", _body_force}, {"traction", _traction}};
 
   auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
                   const mesh::MeshTags<std::int32_t>* marker = nullptr)
@@ -49,7 +47,12 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
 
   _a = make(forms.a_elastic, {_V, _V});
   if (pressure)
-    _L_pressure = make(forms.L_pressure_load, {_V});
+  {
+    // The pressure load (alpha p, div v) is applied as an operator on p.
+    _pressure = pressure;
+    _pressure_load.emplace(
+        assemble_operator(*make(forms.a_pressure_load, {_V, pressure->function_space()}), _bcs));
+  }
   if (scene.mechanics->body_force)
   {
     _L_body = make(forms.L_body_force, {_V});
@@ -82,8 +85,10 @@ MechanicsStep::~MechanicsStep() = default;
 
 void MechanicsStep::assemble_rhs(double t)
 {
-  // Loads that only change with t are assembled once per time (once per run
-  // when they are constant); the pressure load changes every iteration.
+  // Loads that only change with t are assembled, lifted and given their
+  // Dirichlet values once per time (once per run when they are constant);
+  // the pressure load changes every iteration: one product with its
+  // operator, whose Dirichlet rows are zero.
   if (!_loads_assembled or (_loads_depend_on_time and t != _loads_time))
   {
     _b_loads->set(0.0);
@@ -98,13 +103,13 @@ void MechanicsStep::assemble_rhs(double t)
       add_vector(*_b_loads, *form);
     }
     update(_bc_values, t);
+    finish_rhs(*_b_loads, _a, _bcs);
     _loads_time = t;
     _loads_assembled = true;
   }
   std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
-  if (_L_pressure)
-    add_vector(*_b, *_L_pressure);
-  finish_rhs(*_b, _a, _bcs);
+  if (_pressure_load)
+    multiply_add(_pressure_load->mat(), *_pressure->x(), *_b);
 }
 
 void MechanicsStep::solve(double t)

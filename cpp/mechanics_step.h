@@ -56,7 +56,9 @@ private:
   BCs _bcs;
   std::vector<DisplacementValue> _bc_values;
   std::shared_ptr<dolfinx::fem::Function<double>> _body_force, _traction;
-  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_pressure, _L_body;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_body;
+  std::shared_ptr<const dolfinx::fem::Function<double>> _pressure;
+  std::optional<dolfinx::la::petsc::Matrix> _pressure_load; // V x Q
   std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
   std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
   std::unique_ptr<System> _system;

@@ -106,13 +106,16 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
 
     # ---- Mechanics (alg. "Mechanics with frictionless Signorini contact") --
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
-    p = coefficient(Q)                     # pressure acting on the skeleton
     body_force = coefficient(V)            # f0
     traction = coefficient(V)              # f2 on the marked boundary
     ones = constant(domain, (d,))
 
     a_elastic = elastic(u, v)
-    L_pressure_load = pressure_load(p, v)
+    # The pressure load (alpha p, div v) changes every coupling iteration and
+    # is linear in p: its operator (V x Q, Dirichlet rows zero) is assembled
+    # once and applied to p.
+    p_trial = ufl.TrialFunction(Q)
+    a_pressure_load = pressure_load(p_trial, v)
     L_body_force = body(v)
     L_traction = surface_traction(v)
     # lumped boundary measure of each node on Gamma_3, to turn the nodal
@@ -130,18 +133,23 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z, th)
     #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
     #       - ((alpha/q) div(u^n - u_K)/dt, th)
-    p_previous = coefficient(Q)            # p^{n+1,m-1}
-    p_iterate = coefficient(Q)             # p^{n,m}
-    p_iterate_previous = coefficient(Q)    # p^{n,m-1}
-    u_iterate = coefficient(V)             # u^n
-    u_window = coefficient(V)              # u_K
+    p_previous = coefficient(Q)            # the pressure of the previous time (monolithic)
+    u_window = coefficient(V)              # the displacement of the previous time (monolithic)
     source = coefficient(D)                # Q
     p_boundary = coefficient(D)            # p_D on the marked boundary
     n = FacetNormal(domain)
 
-    L_flow_storage = -(storage + L) / dt * p_previous * th * dx
-    L_flow_coupling = (-L / dt * (p_iterate - p_iterate_previous) * th * dx
-                       + alpha / (q * dt) * div(u_iterate - u_window) * th * dx)
+    # Times -1 like the matrix, the right-hand side is
+    #   -((S+L)/dt)(p^{n+1,m-1}, th) - (L/dt)(p^{n,m} - p^{n,m-1}, th)
+    #     + (alpha/(q dt))(div(u^n - u_K), th) + loads.
+    # The three coupling terms change every iteration and are linear in the
+    # iterates: their operators (W x Q and W x V, no-flow rows zero) are
+    # assembled once per dt and applied to p^{n+1,m-1}, p^{n,m} - p^{n,m-1}
+    # and u^n - u_K.
+    u_trial = ufl.TrialFunction(V)
+    a_flow_storage = -(storage + L) / dt * p_trial * th * dx
+    a_flow_stabilisation = -L / dt * p_trial * th * dx
+    a_flow_displacement = alpha / (q * dt) * div(u_trial) * th * dx
     L_flow_source = source_term(th)
     L_flow_pressure = boundary_pressure(w)
     L_flow_gravity = gravity_term(w)
@@ -167,17 +175,19 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     #   || c_u div(du) - c_p dp ||^2
     # (Theorem 1: c_u = lambda, c_p = alpha; Theorem 2: c_u = alpha/(q L),
     #  c_p = 1, dp replaced by dp^{m} - dp^{m-1}).
-    du = coefficient(V)
-    dp = coefficient(Q)
-    c_u = constant(domain)
-    c_p = constant(domain)
-    M_contraction = (c_u * div(du) - c_p * dp) ** 2 * dx
+    # They are measured every iteration from two operators assembled once:
+    # the cell integrals of div u (Q x V) and the cell volumes. For P1 u and
+    # P0 p the integrand is constant on a cell, so with D du = |T| div du,
+    #   ||c_u div du - c_p dp||^2 = sum_T (c_u (D du)_T - c_p |T| dp_T)^2 / |T|
+    # exactly (diagnostics.h).
+    th0 = ufl.TestFunction(Q)
+    a_divergence = div(u_trial) * th0 * dx
+    L_cell_volume = th0 * dx
 
     # Cell values of P0 output fields (the integrands are constant on a cell
     # for P1 u and P0 p, so this is exact): sigma_v = lambda div u - alpha p.
     u_out = coefficient(V)
     p_out = coefficient(Q)
-    th0 = ufl.TestFunction(Q)
     L_sigma_v = (lmbda * div(u_out) - alpha * p_out) / CellVolume(domain) * th0 * dx
 
     # Errors against a closed form interpolated into P2.
@@ -196,10 +206,10 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
 
 # Forms compiled for C++, in this order (see cpp/forms.h).
 FORM_NAMES = [
-    "a_elastic", "L_pressure_load", "L_body_force", "L_traction", "L_lumped_boundary",
-    "a_flow", "L_flow_storage", "L_flow_coupling", "L_flow_source",
+    "a_elastic", "a_pressure_load", "L_body_force", "L_traction", "L_lumped_boundary",
+    "a_flow", "a_flow_storage", "a_flow_stabilisation", "a_flow_displacement", "L_flow_source",
     "L_flow_pressure", "L_flow_gravity",
-    "M_contraction", "L_sigma_v",
+    "a_divergence", "L_cell_volume", "L_sigma_v",
     "M_pressure_error", "M_pressure_reference",
     "M_displacement_error", "M_displacement_reference",
     "a_monolithic", "L_monolithic_history", "L_monolithic_body_force", "L_monolithic_traction",

@@ -24,6 +24,26 @@ def reassemble_matrix(A, a, bcs):
     A.assemble()
 
 
+def assemble_operator(a, bcs):
+    """A bilinear form acting on an iterate, applied with a product every
+    coupling iteration (cpp/linear_algebra.cpp): rows of Dirichlet DOFs of its
+    test space are zero (no diagonal: the spaces differ)."""
+    A = fem.petsc.create_matrix(a)
+    reassemble_operator(A, a, bcs)
+    return A
+
+
+def reassemble_operator(A, a, bcs):
+    A.zeroEntries()
+    fem.petsc.assemble_matrix(A, a, bcs)
+    A.assemble()
+
+
+def multiply_add(A, x, y):
+    """y += A x on the owned parts of the Functions x and y (collective)."""
+    A.multAdd(x.vector, y.vector, y.vector)
+
+
 def add_vector(b, L):
     """Adds the local contributions of L to the Function-vector b (ghosts too)."""
     fem.assemble_vector(b.x.array, L)

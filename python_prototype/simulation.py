@@ -127,7 +127,7 @@ def run(scene, directory, comm):
             flow = FlowStep(scene, domain, F, coupled=scene.coupling is not None)
             p, compute_flux = flow.pressure, flow.flux
         if scene.mechanics:
-            mechanics = MechanicsStep(scene, domain, F, coupled=scene.coupling is not None)
+            mechanics = MechanicsStep(scene, domain, F, p if scene.coupling is not None else None)
             u = mechanics.u
             if mechanics.system.has_contact():
                 contact_pressure, contact_active = mechanics.contact_pressure, mechanics.contact_active

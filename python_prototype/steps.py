@@ -13,7 +13,8 @@ from mpi4py import MPI
 
 from .contact import ContactSet, ContactState
 from .forms import interpolate, interpolate_resistivity
-from .linear_algebra import accumulate_ghosts, add_vector, dof_map, finish_rhs, owned
+from .linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, finish_rhs,
+                             multiply_add, owned, reassemble_operator)
 from .solver import Structure
 from .system import System
 
@@ -61,9 +62,10 @@ def no_flow_bc(scene, domain, Z):
 
 class FlowStep:
     """Mixed RT0 x P0, backward Euler, with the coupling right-hand side
-    (alg. "Multirate ... (a)"; q = 1 is the single-rate step). Its data are
-    build()'s coefficients: p_previous (p^{n+1,m-1}), p_iterate (p^{n,m}),
-    p_iterate_previous (p^{n,m-1}), u_iterate (u^n), u_window (u_K)."""
+    (alg. "Multirate ... (a)"; q = 1 is the single-rate step) from the
+    coupling data p_previous (p^{n+1,m-1}), p_iterate (p^{n,m}),
+    p_iterate_previous (p^{n,m-1}), u_iterate (u^n), u_window (u_K), applied
+    as operators (forms/biot.py) assembled once per dt."""
 
     def __init__(self, scene, domain, F, coupled):
         self.scene = scene
@@ -76,10 +78,11 @@ class FlowStep:
 
         self.w = fem.Function(W)
         self.z = fem.Function(self.Z)
-        self.pressure = F["p"]  # also the pressure load of the mechanics
-        self.p_previous, self.p_iterate, self.p_iterate_previous = \
-            F["p_previous"], F["p_iterate"], F["p_iterate_previous"]
-        self.u_iterate, self.u_window = (F["u_iterate"], F["u_window"]) if coupled else (None, None)
+        self.pressure = fem.Function(self.Q)  # also the pressure load of the mechanics
+        self.p_previous, self.p_iterate, self.p_iterate_previous, self.dp = \
+            (fem.Function(self.Q) for _ in range(4))
+        self.u_iterate, self.u_window, self.du = (fem.Function(F["V"]) for _ in range(3)) if coupled \
+            else (None, None, None)
         interpolate(self.pressure, [flow.initial_pressure], 0.0)
         self.source, self.p_boundary = F["source"], F["p_boundary"]
 
@@ -91,8 +94,13 @@ class FlowStep:
         self.bcs = [no_flow_bc(scene, domain, W.sub(0))]
 
         self.a = F.compile("a_flow")
-        self.L_storage = F.compile("L_flow_storage")
-        self.L_coupling = F.compile("L_flow_coupling") if coupled else None
+        # The terms that change every coupling iteration, as operators on the
+        # iterates (W x Q, W x Q, W x V), assembled once per dt.
+        self.operators = [("a_flow_storage", self.p_previous)]
+        if coupled:
+            self.operators += [("a_flow_stabilisation", self.dp), ("a_flow_displacement", self.du)]
+        self.operators = [(F.compile(name), x) for name, x in self.operators]
+        self.operator_matrices = [assemble_operator(a, self.bcs) for a, _ in self.operators]
         self.L_source = F.compile("L_flow_source") if flow.source else None
         if flow.source:
             self.loads_depend_on_time |= flow.source.depends_on_time
@@ -120,18 +128,22 @@ class FlowStep:
         for expression, form in self.L_pressure:
             interpolate(self.p_boundary, [expression], t)
             add_vector(self.b_loads, form)
+        accumulate_ghosts(self.b_loads)  # the essential flux values are zero: no lifting
+        fem.set_bc(self.b_loads.x.array, self.bcs)
         self.loads_time = t
 
     def solve(self, t):
-        """(z, p) at time t from the coupling data; leaves p in `pressure`."""
+        """(z, p) at time t from the coupling data; leaves p in `pressure`:
+        b = loads - ((S+L)/dt) p^{n+1,m-1} - (L/dt)(p^{n,m} - p^{n,m-1})
+              + (alpha/(q dt)) div(u^n - u_K), tested with th."""
         start = time.perf_counter()
         self.assemble_loads(t)
         self.b.x.array[:] = self.b_loads.x.array
-        add_vector(self.b, self.L_storage)
-        if self.L_coupling:
-            add_vector(self.b, self.L_coupling)
-        accumulate_ghosts(self.b)  # the essential flux values are zero: no lifting
-        fem.set_bc(self.b.x.array, self.bcs)
+        if self.u_iterate is not None:
+            self.dp.x.array[:] = self.p_iterate.x.array - self.p_iterate_previous.x.array
+            self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
+        for A, (_, x) in zip(self.operator_matrices, self.operators):
+            multiply_add(A, x, self.b)
         self.assembly_time += time.perf_counter() - start
 
         self.system.solve(self.b.vector, self.w.vector)
@@ -142,8 +154,13 @@ class FlowStep:
         return self.w.x.array
 
     def time_step_changed(self):
-        """The matrix depends on dt: reassembled after set_time_step changed it."""
+        """The matrix and the operators depend on dt: reassembled after
+        set_time_step changed it."""
         self.system.reassemble()
+        start = time.perf_counter()
+        for A, (a, _) in zip(self.operator_matrices, self.operators):
+            reassemble_operator(A, a, self.bcs)
+        self.assembly_time += time.perf_counter() - start
 
     def set_state(self, w):
         """Restores a mixed solution (the multirate scheme keeps one per fine step)."""
@@ -160,10 +177,10 @@ class FlowStep:
 # ---- mechanics (paper eq. 3.16, with contact when the scene has it) ------------
 
 class MechanicsStep:
-    """a(u, v) - (alpha p, div v) = loads, with p = build()'s "p" (the flow
-    pressure); a linear solve, or the contact VI."""
+    """a(u, v) - (alpha p, div v) = loads, with p the flow pressure (None
+    without flow); a linear solve, or the contact VI."""
 
-    def __init__(self, scene, domain, F, coupled):
+    def __init__(self, scene, domain, F, pressure):
         self.scene, comm = scene, domain.mesh.comm
         self.V = V = F["V"]
         self.u = fem.Function(V)
@@ -176,7 +193,10 @@ class MechanicsStep:
                 self.loads_depend_on_time |= any(e.depends_on_time for e in b.traction)
         self.loads_depend_on_time |= any(e.depends_on_time for e, *_ in self.bc_values)
         self.a = F.compile("a_elastic")
-        self.L_pressure = F.compile("L_pressure_load") if coupled else None
+        # The pressure load (alpha p, div v), applied as an operator on p.
+        self.pressure = pressure
+        self.pressure_load = assemble_operator(F.compile("a_pressure_load"), self.bcs) \
+            if pressure is not None else None
         self.L_body = F.compile("L_body_force") if scene.mechanics.body_force else None
         if self.L_body:
             self.loads_depend_on_time |= any(e.depends_on_time for e in scene.mechanics.body_force)
@@ -205,11 +225,11 @@ class MechanicsStep:
                 interpolate(self.traction, traction, t)
                 add_vector(self.b_loads, form)
             update(self.bc_values, t)
+            finish_rhs(self.b_loads, self.a, self.bcs)  # lifted, Dirichlet values set: once per time
             self.loads_time = t
         self.b.x.array[:] = self.b_loads.x.array
-        if self.L_pressure:  # the pressure load changes every iteration
-            add_vector(self.b, self.L_pressure)
-        finish_rhs(self.b, self.a, self.bcs)
+        if self.pressure_load:  # changes every iteration; its Dirichlet rows are zero
+            multiply_add(self.pressure_load, self.pressure, self.b)
 
     def solve(self, t):
         start = time.perf_counter()
@@ -339,18 +359,26 @@ class MonolithicStep:
 # ---- diagnostics (cpp/diagnostics.cpp) -------------------------------------------
 
 class ContractionNorm:
-    """||c_u div(du) - c_p dp||_L2 with the form M_contraction."""
+    """||c_u div(du) - c_p dp||_L2 (cpp/diagnostics.h): with D the operator of
+    the cell integrals of div and |T| the cell volumes, for P1 du and P0 dp
+    exactly sum_T (c_u (D du)_T - c_p |T| dp_T)^2 / |T|."""
 
     def __init__(self, F, comm):
-        self.F, self.comm = F, comm
-        self.M = F.compile("M_contraction")
+        self.comm = comm
+        self.D = assemble_operator(F.compile("a_divergence"), [])
+        self.volume = fem.Function(F["Q"])
+        add_vector(self.volume, F.compile("L_cell_volume"))
+        accumulate_ghosts(self.volume)
+        self.du, self.div_du = fem.Function(F["V"]), fem.Function(F["Q"])
+        self.cells = F["Q"].dofmap.index_map.size_local
 
     def __call__(self, c_u, du, c_p, dp):
-        F = self.F
-        F["du"].x.array[:] = du
-        F["dp"].x.array[:] = dp
-        F["c_u"].value, F["c_p"].value = c_u, c_p
-        return np.sqrt(max(0.0, self.comm.allreduce(fem.assemble_scalar(self.M), op=MPI.SUM)))
+        self.du.x.array[:] = du
+        self.D.mult(self.du.vector, self.div_du.vector)
+        n = self.cells
+        volume = self.volume.x.array[:n]
+        w = c_u * self.div_du.x.array[:n] - c_p * volume * dp[:n]
+        return np.sqrt(self.comm.allreduce(float(np.sum(w * w / volume)), op=MPI.SUM))
 
 
 def volumetric_stress(F, L_sigma_v, u, p, sigma_v):
