@@ -1,0 +1,462 @@
+#!/usr/bin/python3
+"""Performance report: reads the benchmark CSVs and writes
+docs/performance.md (machine, commands, tables of medians, the targets
+table) and its plots in docs/performance/.
+
+    /usr/bin/python3 bench/report.py [--results bench/results] [--output docs/performance.md] [--readme [README.md]]
+
+The block between `<!-- analysis begin -->` and `<!-- analysis end -->` of an
+existing output file is hand-written and kept. With --readme the block
+between `<!-- measured begin -->` and `<!-- measured end -->` of README.md is
+replaced by the targets table (only if both markers are there).
+"""
+import argparse
+import math
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+from common import number  # noqa: E402
+
+BENCHMARKS = ("size_sweep", "mandel", "prototype")
+ANALYSIS = ("<!-- analysis begin -->", "<!-- analysis end -->")
+MEASURED = ("<!-- measured begin -->", "<!-- measured end -->")
+SWEEP_FIELDS = ["unknowns", "wall_s", "process_wall_s", "steps", "coupling_iterations", "time_per_iteration_ms",
+                "solve_phase_ms_per_iteration", "iteration_to_solve_ratio", "assembly_s", "output_s", "peak_rss_mb",
+                "active_set_changes"] + [f"{s}_{p}" for s in ("flow", "mechanics", "monolithic")
+                                         for p in ("setup_s", "solve_s", "other_s", "total_s", "matrix_assembly_s",
+                                                   "factorizations", "back_solves")]
+MANDEL_FIELDS = ["dt", "unknowns", "wall_s", "process_wall_s", "pressure_error", "summary_pressure_error",
+                 "coupling_iterations", "peak_rss_mb"]
+PROTOTYPE_FIELDS = ["unknowns", "cpp_wall_s", "cpp_process_wall_s", "py_wall_s", "py_process_wall_s", "wall_ratio",
+                    "process_wall_ratio", "coupling_iterations", "cpp_peak_rss_mb", "py_peak_rss_mb"]
+SYSTEMS = ("flow", "mechanics", "monolithic")
+
+
+# --- data -----------------------------------------------------------------
+
+def load(results):
+    """{benchmark: (header, rows)} for each CSV present in `results`."""
+    data = {}
+    for name in BENCHMARKS:
+        path = os.path.join(results, name + ".csv")
+        if os.path.exists(path):
+            data[name] = common.read_csv(path)
+    if not data:
+        raise common.BenchError(f"{results}: no {', '.join(b + '.csv' for b in BENCHMARKS)} found")
+    return data
+
+
+def nx(cells):
+    """"[160,16]" -> 160 (the sort key of meshes)."""
+    m = re.match(r"\[(\d+),", cells)
+    return int(m.group(1)) if m else 0
+
+
+def find(entries, **match):
+    """The first median entry whose columns equal `match`, or None."""
+    for e in entries:
+        if all(e.get(k) == v for k, v in match.items()):
+            return e
+    return None
+
+
+def fmt(value):
+    """A number for a table: integers as such, else 3 significant digits;
+    '-' for nan."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "-"
+    if float(value).is_integer() and abs(value) < 1e6:
+        return str(int(value))
+    if abs(value) >= 1000:
+        return f"{value:.0f}"
+    return f"{value:#.3g}".rstrip(".")
+
+
+def sci(value):
+    """An error for a table: 3 digits in e-format, '-' for nan."""
+    return "-" if value is None or math.isnan(value) else f"{value:.3e}"
+
+
+def table(columns, rows):
+    """A markdown table."""
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return lines
+
+
+# --- targets ---------------------------------------------------------------
+
+def status(measured, limit):
+    """"met" or "missed by X%" for a measured value against an upper limit."""
+    if measured is None or math.isnan(measured):
+        return "not measured"
+    return "met" if measured <= limit else f"missed by {100 * (measured / limit - 1):.0f}%"
+
+
+def wall_target(sweep, variant, cells, limit, baseline, label):
+    """Median wall time of one sweep case against `limit` seconds."""
+    e = find(sweep, variant=variant, cells=cells)
+    wall = e["wall_s"] if e else float("nan")
+    measured = f"{wall:.3g} s ({baseline / wall:.1f}x faster than baseline)" if e else "not measured"
+    return [label, f"wall <= {limit:g} s", f"{baseline:g} s", measured, status(wall, limit)]
+
+
+def factorization_target(rows):
+    """Every sweep run: mechanics and monolithic factorisations <= active-set
+    changes + 2 (dt changes are 0 on the default scene), flow <= 2."""
+    label = "factorisations per run per system"
+    goal = "<= active-set changes + dt changes + 2 (flow <= 2)"
+    if not rows:
+        return [label, goal, "-", "not measured", "not measured"]
+    worst, failing = None, 0
+    for r in rows:
+        bound = number(r["active_set_changes"]) + 2
+        checks = [("flow", number(r["flow_factorizations"]), 2.0),
+                  ("mechanics", number(r["mechanics_factorizations"]), bound),
+                  ("monolithic", number(r["monolithic_factorizations"]), bound)]
+        bad = [(count / limit, system, count, limit) for system, count, limit in checks if count > limit]
+        if bad:
+            failing += 1
+            candidate = max(bad) + (r["variant"], r["cells"])
+            worst = max(worst, candidate) if worst else candidate
+    if not worst:
+        return [label, goal, "-", f"held in all {len(rows)} runs", "met"]
+    ratio, system, count, limit, variant, cells = worst
+    return [label, goal, "-", f"exceeded in {failing} of {len(rows)} runs; worst {system} {count:g} > {limit:g} "
+            f"({variant} {cells})", f"missed by {100 * (ratio - 1):.0f}%"]
+
+
+def iteration_target(sweep):
+    """Worst median ratio time per coupling iteration / solve phases, single
+    rate L = paper, meshes from [80,8] up."""
+    label = "time per coupling iteration (single rate, L = paper, [80,8] and up)"
+    entries = [e for e in sweep if e["variant"] == "paper" and nx(e["cells"]) >= 80]
+    if not entries:
+        return [label, "<= 1.5 x solve phases", "-", "not measured", "not measured"]
+    worst = max(entries, key=lambda e: e["iteration_to_solve_ratio"])
+    ratio = worst["iteration_to_solve_ratio"]
+    return [label, "<= 1.5 x solve phases", "-", f"worst {ratio:.2f} x ({worst['cells']})", status(ratio, 1.5)]
+
+
+def mandel_target(mandel, level, limit, baseline):
+    """The Mandel resolution whose median error is closest (in log) to
+    `level`, fastest over the variants, against `limit` seconds."""
+    label = f"Mandel: pressure error {level:.1e}"
+    goal = f"in <= {limit:g} s"
+    candidates = []
+    for variant in dict.fromkeys(e["variant"] for e in mandel):
+        entries = [e for e in mandel if e["variant"] == variant and e["pressure_error"] > 0]
+        if entries:
+            candidates.append(min(entries, key=lambda e: abs(math.log(e["pressure_error"] / level))))
+    if not candidates:
+        return [label, goal, f"{baseline:g} s", "not measured", "not measured"]
+    best = min(candidates, key=lambda e: e["wall_s"])
+    measured = (f"{best['pressure_error']:.2e} in {best['wall_s']:.3g} s ({best['variant']} {best['cells']}, "
+                f"dt {fmt(best['dt'])})")
+    off = best["pressure_error"] / level
+    if not 1 / 1.5 <= off <= 1.5:  # the closest run is not at this accuracy: its time says nothing
+        return [label, goal, f"{baseline:g} s", measured + f"; error {off:.2g}x the level",
+                "no run within 1.5x of the error level"]
+    return [label, goal, f"{baseline:g} s", measured, status(best["wall_s"], limit)]
+
+
+def targets(data):
+    """The rows of the targets table (target, goal, baseline, measured, status)."""
+    sweep_rows = data.get("size_sweep", ({}, []))[1]
+    sweep = common.medians(sweep_rows, ["variant", "cells"], SWEEP_FIELDS)
+    mandel = common.medians(data.get("mandel", ({}, []))[1], ["variant", "cells"], MANDEL_FIELDS)
+    return [wall_target(sweep, "paper", "[160,16]", 10, 118, "default [160,16], single rate L = paper"),
+            wall_target(sweep, "paper", "[320,32]", 40, 516, "default [320,32], single rate L = paper"),
+            wall_target(sweep, "monolithic", "[320,32]", 15, 138, "default [320,32], monolithic"),
+            factorization_target(sweep_rows),
+            iteration_target(sweep),
+            mandel_target(mandel, 4.2e-3, 3, 5.7),
+            mandel_target(mandel, 2.1e-3, 12, 35)]
+
+
+def targets_table(data):
+    return table(["target", "goal", "baseline", "measured (median)", "status"], targets(data))
+
+
+# --- plots -----------------------------------------------------------------
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, directory, name):
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, name), dpi=110)
+    _pyplot().close(fig)
+    return name
+
+
+def plot_wall(sweep, directory):
+    """Median wall time against unknowns, one line per variant (log-log)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for variant in dict.fromkeys(e["variant"] for e in sweep):
+        pts = sorted((e["unknowns"], e["wall_s"]) for e in sweep if e["variant"] == variant and e["wall_s"] > 0)
+        ax.loglog(*zip(*pts), "o-", label=variant)
+    ax.set_xlabel("unknowns (displacement + pressure + flux)")
+    ax.set_ylabel("wall time [s] (median)")
+    ax.set_title("default scene: wall time against problem size")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return _save(fig, directory, "wall_vs_unknowns.png")
+
+
+def phases(e):
+    """Time per iteration (ms) of each phase of a median sweep entry; `rest`
+    is the wall time no phase accounts for."""
+    total = lambda p: sum(e[f"{s}_{p}"] for s in SYSTEMS)  # noqa: E731
+    parts = {"solve": total("solve_s"), "setup": total("setup_s"), "matrix assembly": total("matrix_assembly_s"),
+             "system other": total("other_s") - total("matrix_assembly_s"), "assembly": e["assembly_s"],
+             "output": e["output_s"]}
+    parts["rest"] = e["wall_s"] - sum(parts.values())
+    iterations = e["steps"] if e["variant"] == "monolithic" else e["coupling_iterations"]
+    return {k: 1e3 * v / iterations for k, v in parts.items()} if iterations else {}
+
+
+def plot_phases(sweep, directory):
+    """Time per coupling iteration (time step for monolithic) split into
+    phases against unknowns, one panel per variant (log-log)."""
+    plt = _pyplot()
+    variants = list(dict.fromkeys(e["variant"] for e in sweep))
+    columns = min(2, len(variants))
+    rows = math.ceil(len(variants) / columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(6 * columns, 4.2 * rows), squeeze=False)
+    for ax, variant in zip(axes.flat, variants):
+        entries = sorted((e for e in sweep if e["variant"] == variant), key=lambda e: e["unknowns"])
+        split = [(e["unknowns"], phases(e)) for e in entries]
+        for name in ("solve", "setup", "matrix assembly", "system other", "assembly", "output", "rest"):
+            pts = [(n, p[name]) for n, p in split if p and p[name] > 0]
+            if pts:
+                ax.loglog(*zip(*pts), "o-", label=name)
+        pts = [(e["unknowns"], e["time_per_iteration_ms"]) for e in entries]
+        ax.loglog(*zip(*pts), "k--", label="total")
+        ax.set_title(variant + (" (per time step)" if variant == "monolithic" else " (per coupling iteration)"))
+        ax.set_xlabel("unknowns")
+        ax.set_ylabel("ms")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[len(variants):]:
+        ax.axis("off")
+    return _save(fig, directory, "time_per_iteration.png")
+
+
+def plot_memory(sweep, directory):
+    """Median peak RSS against unknowns per variant (log-log)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for variant in dict.fromkeys(e["variant"] for e in sweep):
+        pts = sorted((e["unknowns"], e["peak_rss_mb"]) for e in sweep if e["variant"] == variant)
+        ax.loglog(*zip(*pts), "o-", label=variant)
+    ax.set_xlabel("unknowns")
+    ax.set_ylabel("peak RSS [MB] (median)")
+    ax.set_title("default scene: peak memory against problem size")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return _save(fig, directory, "memory_vs_unknowns.png")
+
+
+def plot_mandel(mandel, directory):
+    """Median Mandel pressure error against median wall time per variant,
+    with the two targets marked (log-log)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for variant in dict.fromkeys(e["variant"] for e in mandel):
+        pts = sorted((e["wall_s"], e["pressure_error"]) for e in mandel if e["variant"] == variant)
+        ax.loglog(*zip(*pts), "o-", label=variant)
+    ax.loglog([3, 12], [4.2e-3, 2.1e-3], "r*", ms=12, label="targets")
+    ax.loglog([5.7, 35], [4.2e-3, 2.1e-3], "kx", ms=9, label="baseline")
+    ax.set_xlabel("wall time [s] (median)")
+    ax.set_ylabel("relative pressure error at t = 50 s")
+    ax.set_title("Mandel: pressure error against wall time")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return _save(fig, directory, "mandel_error_vs_wall.png")
+
+
+# --- sections -------------------------------------------------------------
+
+def provenance(header):
+    """One line: date, commit, machine of a CSV header, and whether it is partial."""
+    line = (f"Measured {header.get('date', '?')} on {header.get('host', '?')} ({header.get('cores', '?')} cores), "
+            f"commit {header.get('commit', '?')} (dirty: {header.get('dirty', '?')}), "
+            f"{header.get('elapsed_s', '?')} s in all.")
+    if header.get("status") != "complete":
+        line += " **Incomplete: the benchmark was interrupted; the table shows what finished.**"
+    return line
+
+
+def commands(header, rows, columns=("command",)):
+    """The bench command line and one solver command of each kind."""
+    lines = ["Command:", "", f"    {header.get('command', '?')}", ""]
+    if rows:
+        lines += ["Example of the runs it makes (every run is in the CSV's command column):", ""]
+        lines += [f"    {rows[0][c]}" for c in columns if rows[0].get(c)]
+        lines.append("")
+    return lines
+
+
+def sweep_section(header, rows, plot_dir, relative):
+    entries = sorted(common.medians(rows, ["variant", "cells"], SWEEP_FIELDS), key=lambda e: nx(e["cells"]))
+    order = list(dict.fromkeys(r["variant"] for r in rows))
+    entries.sort(key=lambda e: order.index(e["variant"]))
+    lines = ["## Size sweep (default scene)", "", provenance(header), ""] + commands(header, rows)
+    lines += ["Variants: `paper` single rate L = alpha^2/lambda (scene default), `kdr` single rate "
+              "L = alpha^2/K_dr, `multirate4` multirate q = 4, `monolithic`. Every run has "
+              "`output.xdmf=false` (the XDMF output is not timed). Wall time is the solver's `wall_time_s`; "
+              "process wall adds start-up and exit. An iteration is a coupling iteration, or a time step "
+              "for the monolithic solve; the solve phase is the time in the factorised solves "
+              f"(flow + mechanics, or monolithic). Medians over {max(e['repetitions'] for e in entries)} "
+              "repetitions.", ""]
+    lines += table(["variant", "cells", "unknowns", "wall s", "process wall s", "iterations", "ms / iteration",
+                    "solve ms / iteration", "iteration / solve", "setup s", "assembly s",
+                    "factorisations (flow / mech / mono)", "active-set changes", "peak RSS MB"],
+                   [[e["variant"], e["cells"], fmt(e["unknowns"]), fmt(e["wall_s"]), fmt(e["process_wall_s"]),
+                     fmt(e["steps"] if e["variant"] == "monolithic" else e["coupling_iterations"]),
+                     fmt(e["time_per_iteration_ms"]), fmt(e["solve_phase_ms_per_iteration"]),
+                     fmt(e["iteration_to_solve_ratio"]),
+                     fmt(sum(e[f"{s}_setup_s"] for s in SYSTEMS)), fmt(e["assembly_s"]),
+                     " / ".join(fmt(e[f"{s}_factorizations"]) for s in SYSTEMS), fmt(e["active_set_changes"]),
+                     fmt(e["peak_rss_mb"])] for e in entries])
+    lines.append("")
+    for name, title in ((plot_wall(entries, plot_dir), "wall time against unknowns"),
+                        (plot_phases(entries, plot_dir), "time per iteration by phase"),
+                        (plot_memory(entries, plot_dir), "peak memory against unknowns")):
+        lines += [f"![{title}]({relative}/{name})", ""]
+    return lines
+
+
+def mandel_section(header, rows, plot_dir, relative):
+    entries = common.medians(rows, ["variant", "cells"], MANDEL_FIELDS)
+    lines = ["## Mandel: pressure error against wall time", "", provenance(header), ""] + commands(header, rows)
+    lines += ["`scenes/mandel.toml`, `time.end=50`, h and dt halved together (dt = 1000/nx). The error is the "
+              "cell-area weighted relative l2 error of the P0 pressure at the cell centres at t = 50 s against "
+              "the closed form (`python_prototype/closed_form.py`); the solver's own `errors.pressure_rel_l2` "
+              "(L2 over the domain against the interpolated closed form, so it includes the P0 projection "
+              "error) is listed for comparison. These runs write XDMF (the error is read from it), so the "
+              "wall time includes the output.", ""]
+    lines += table(["variant", "cells", "dt s", "unknowns", "wall s", "process wall s", "pressure error",
+                    "solver's L2 error", "coupling iterations", "peak RSS MB"],
+                   [[e["variant"], e["cells"], fmt(e["dt"]), fmt(e["unknowns"]), fmt(e["wall_s"]),
+                     fmt(e["process_wall_s"]), sci(e["pressure_error"]), sci(e["summary_pressure_error"]),
+                     fmt(e["coupling_iterations"]), fmt(e["peak_rss_mb"])] for e in entries])
+    lines += ["", f"![Mandel error against wall time]({relative}/{plot_mandel(entries, plot_dir)})", ""]
+    return lines
+
+
+def prototype_section(header, rows):
+    entries = common.medians(rows, ["cells"], PROTOTYPE_FIELDS)
+    lines = ["## C++ against the Python prototype (default scene)", "", provenance(header), ""]
+    lines += commands(header, rows, ("cpp_command", "py_command", "compare_command"))
+    lines += ["Wall time is each summary's `wall_time_s`; process wall includes start-up (Python, dolfinx and "
+              "MPI initialisation). `compare` matches fields by coordinates; agreement means every field within "
+              "1e-8 of its largest value and identical coupling iterations and contact sets.", ""]
+    body = []
+    for e in entries:
+        reps = [r for r in rows if r["cells"] == e["cells"]]
+        agreed = sum(r["agree"] == "yes" for r in reps)
+        difference = max(number(r["max_relative_difference"]) for r in reps)
+        body.append([e["cells"], fmt(e["unknowns"]), fmt(e["cpp_wall_s"]), fmt(e["py_wall_s"]),
+                     f"{e['wall_ratio']:.2f}", fmt(e["cpp_process_wall_s"]), fmt(e["py_process_wall_s"]),
+                     f"{e['process_wall_ratio']:.2f}", f"{agreed} of {len(reps)}", f"{difference:.1e}",
+                     fmt(e["cpp_peak_rss_mb"]), fmt(e["py_peak_rss_mb"])])
+    lines += table(["cells", "unknowns", "C++ wall s", "prototype wall s", "ratio", "C++ process s",
+                    "prototype process s", "ratio", "agree", "max rel. difference", "C++ RSS MB",
+                    "prototype RSS MB"], body)
+    return lines + [""]
+
+
+def machine_lines(data):
+    """The machine block, from the first CSV's header."""
+    header = next(iter(data.values()))[0]
+    keys = ("host", "cores", "cpu", "memory", "solver", "build", "python", "environment")
+    lines = [f"- {k}: {header[k]}" for k in keys if k in header]
+    dates = sorted({h.get("date", "?")[:10] for h, _ in data.values()})
+    commits = sorted({f"{h.get('commit', '?')} (dirty: {h.get('dirty', '?')})" for h, _ in data.values()})
+    return lines + [f"- date: {', '.join(dates)}", f"- commit: {', '.join(commits)}"]
+
+
+def analysis_block(path):
+    """The hand-written analysis block of an existing report (markers
+    included), or an empty one."""
+    if os.path.exists(path):
+        with open(path) as f:
+            text = f.read()
+        m = re.search(re.escape(ANALYSIS[0]) + r".*?" + re.escape(ANALYSIS[1]), text, re.S)
+        if m:
+            return m.group(0)
+    return f"{ANALYSIS[0]}\n_No analysis written yet (this block is kept by bench/report.py)._\n{ANALYSIS[1]}"
+
+
+def report(data, output, results):
+    """The text of docs/performance.md; writes the plots next to it."""
+    stem = os.path.splitext(os.path.basename(output))[0]
+    plot_dir = os.path.join(os.path.dirname(os.path.abspath(output)), stem)
+    os.makedirs(plot_dir, exist_ok=True)
+    lines = ["# Performance", "",
+             f"Generated by `/usr/bin/python3 bench/report.py` from `{common.short_path(results)}/*.csv` (do not "
+             "edit outside the analysis block; regenerate with `bash bench/run_all.sh`). Every number is the "
+             "median over the repetitions of a case; the CSVs keep every repetition.", "", "## Machine", ""]
+    lines += machine_lines(data) + ["", "## Targets", ""] + targets_table(data)
+    lines += ["", "Baselines are the times before the optimisation work. The factorisation bound is checked on "
+              "every run of the size sweep (the default scene has no dt changes).", "", "## Analysis", "",
+              analysis_block(output), ""]
+    if "size_sweep" in data:
+        lines += sweep_section(*data["size_sweep"], plot_dir, stem)
+    if "mandel" in data:
+        lines += mandel_section(*data["mandel"], plot_dir, stem)
+    if "prototype" in data:
+        lines += prototype_section(*data["prototype"])
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def update_readme(path, data):
+    """Replaces the measured block of README.md with the targets table;
+    returns False (and changes nothing) if the markers are missing."""
+    with open(path) as f:
+        text = f.read()
+    pattern = re.escape(MEASURED[0]) + r".*?" + re.escape(MEASURED[1])
+    if not re.search(pattern, text, re.S):
+        return False
+    dates = sorted({h.get("date", "?")[:10] for h, _ in data.values()})
+    block = "\n".join([MEASURED[0], f"Performance targets, measured {', '.join(dates)} "
+                       "(`bash bench/run_all.sh`; details in [docs/performance.md](docs/performance.md)):", ""]
+                      + targets_table(data) + [MEASURED[1]])
+    with open(path, "w") as f:
+        f.write(re.sub(pattern, lambda _: block, text, count=1, flags=re.S))
+    return True
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--results", default=common.RESULTS, help="directory of the CSVs (default bench/results)")
+    p.add_argument("--output", default=os.path.join(common.ROOT, "docs", "performance.md"),
+                   help="the report (default docs/performance.md; plots go to docs/performance/)")
+    p.add_argument("--readme", nargs="?", const=os.path.join(common.ROOT, "README.md"),
+                   help="also replace the measured block of README.md (or the given file)")
+    args = p.parse_args()
+    data = load(args.results)
+    text = report(data, args.output, os.path.abspath(args.results))
+    with open(args.output, "w") as f:
+        f.write(text)
+    print(f"wrote {args.output} and its plots")
+    if args.readme:
+        if update_readme(args.readme, data):
+            print(f"updated the measured block of {args.readme}")
+        else:
+            print(f"{args.readme}: no {MEASURED[0]} ... {MEASURED[1]} block; left unchanged")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(common.main_wrapper(main))

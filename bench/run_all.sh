@@ -1,0 +1,31 @@
+#!/bin/bash
+# All benchmarks, then the report: bench/results/*.csv, docs/performance.md
+# and docs/performance/*.png. Run from anywhere:
+#
+#     bash bench/run_all.sh
+#
+# Environment: REPEAT (default 3) runs per case; LARGEST=1 adds [640,64] to
+# the size sweep; BIOTCONTACT chooses the solver binary (default
+# build/biotcontact); README=1 also refreshes the measured block of README.md
+# (if it has the markers). Each step prints the commands it runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY=/usr/bin/python3
+REPEAT=${REPEAT:-3}
+sweep_extra=()
+[ "${LARGEST:-0}" = 1 ] && sweep_extra+=(--largest)
+readme=()
+[ "${README:-0}" = 1 ] && readme+=(--readme)
+
+start=$SECONDS
+step() {
+  local t0=$SECONDS
+  echo "== $*"
+  "$@"
+  echo "== done in $((SECONDS - t0)) s"
+}
+step $PY bench/size_sweep.py --repeat "$REPEAT" "${sweep_extra[@]}"
+step $PY bench/mandel.py --repeat "$REPEAT"
+step $PY bench/prototype.py --repeat "$REPEAT"
+step $PY bench/report.py "${readme[@]}"
+echo "all benchmarks in $((SECONDS - start)) s"
