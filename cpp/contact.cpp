@@ -316,6 +316,20 @@ void ContactSolver::clamped_start(Vec b)
   (void)b;
 }
 
+int ContactSolver::active_nodes(Vec x) const
+{
+  const double scale = displacement_scale(x);
+  const PetscScalar* X;
+  VecGetArrayRead(x, &X);
+  int local = 0;
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    local += _set.gap[k] - _set.sign * X[_dofs[k]] <= 1e-9 * scale;
+  VecRestoreArrayRead(x, &X);
+  int global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_SUM, _comm);
+  return global;
+}
+
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,
                                   fem::Function<double>& active_out)
 {

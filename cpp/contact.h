@@ -84,6 +84,10 @@ public:
   /// A was reassembled: the next Newton step factorises anew.
   void operator_changed();
 
+  /// The number of contact nodes on the foundation to round-off (the
+  /// active flag of state(), without the contact forces; collective).
+  int active_nodes(Vec x) const;
+
   /// Contact diagnostics of x (collective); fills the output fields.
   ContactState state(Vec x, Vec b, dolfinx::fem::Function<double>& pressure,
                      dolfinx::fem::Function<double>& active);

@@ -164,9 +164,8 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
       u_size = std::max(u_size, owned_norm(u_new, V));
       const double dp_norm = relative(std::sqrt(dp2), p_size);
       const double du_norm = relative(owned_norm(du, V), u_size);
-      const ContactState contact = mechanics.contact_state();
       output.iteration({K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
-                        contact.active_nodes});
+                        mechanics.active_contact_nodes()});
       std::ostringstream entry;
       entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
       log.push_back(entry.str());

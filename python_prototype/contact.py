@@ -206,6 +206,13 @@ class ContactSolver:
         A.zeroRowsColumns(rows, 1.0, self.x, rhs)
         LinearSolver(self.comm, self.prefix, A, self.structure).solve(self.x, rhs)
 
+    def active_nodes(self, x):
+        """Contact nodes on the foundation to round-off: the active flag of
+        state(), without the contact forces (collective)."""
+        scale = self.displacement_scale(x)
+        distance = self.set.gap - self.set.sign * x.getArray(readonly=True)[self.dofs]
+        return self.comm.allreduce(int(np.sum(distance <= 1e-9 * scale)), op=MPI.SUM)
+
     def state(self, x, b, pressure_out, active_out):
         """Contact force R = A x - b at the contact DOFs; contact pressure
         -R.nu_F / lumped measure; a node is active on the foundation to round-off."""

@@ -141,8 +141,8 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
             u_size = max(u_size, owned_norm(u_new, V, comm))
             dp_norm = relative(math.sqrt(dp2), p_size)
             du_norm = relative(owned_norm(du, V, comm), u_size)
-            contact = mechanics.contact_state()
-            output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm, contact.active_nodes)
+            output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
+                             mechanics.active_contact_nodes())
             log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
 
             p_old = list(p_new)

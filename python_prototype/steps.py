@@ -238,6 +238,10 @@ class MechanicsStep:
         self.system.solve(self.b.vector, self.u.vector)
         self.u.x.scatter_forward()
 
+    def active_contact_nodes(self):
+        """Only the number of active contact nodes of u, for the log of every iteration."""
+        return self.system.contact.active_nodes(self.u.vector) if self.system.has_contact() else 0
+
     def contact_state(self):
         """Also fills the contact pressure and active-flag fields."""
         if not self.system.has_contact():
