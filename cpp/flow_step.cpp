@@ -42,16 +42,12 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   p_iterate_previous = std::make_shared<fem::Function<double>>(_Q);
   interpolate(*pressure, {flow.initial_pressure}, 0.0);
 
-  Coefficients coefficients = {{"resistivity", R},
-                               {"p_previous", p_previous},
-                               {"p_iterate", p_iterate},
-                               {"p_iterate_previous", p_iterate_previous}};
+  // The coupling data are operands of the operators below, not coefficients.
+  Coefficients coefficients = {{"resistivity", R}};
   if (V)
   {
     u_iterate = std::make_shared<fem::Function<double>>(V);
     u_window = std::make_shared<fem::Function<double>>(V);
-    coefficients["u_iterate"] = u_iterate;
-    coefficients["u_window"] = u_window;
   }
   auto D = std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(forms.data_space, "source", mesh));

@@ -96,11 +96,13 @@ class FlowStep:
         self.a = F.compile("a_flow")
         # The terms that change every coupling iteration, as operators on the
         # iterates (W x Q, W x Q, W x V), assembled once per dt.
-        self.operators = [("a_flow_storage", self.p_previous)]
+        operands = [("a_flow_storage", self.p_previous)]
         if coupled:
-            self.operators += [("a_flow_stabilisation", self.dp), ("a_flow_displacement", self.du)]
-        self.operators = [(F.compile(name), x) for name, x in self.operators]
-        self.operator_matrices = [assemble_operator(a, self.bcs) for a, _ in self.operators]
+            operands += [("a_flow_stabilisation", self.dp), ("a_flow_displacement", self.du)]
+        self.operators = []  # (form, matrix, operand)
+        for name, x in operands:
+            a = F.compile(name)
+            self.operators.append((a, assemble_operator(a, self.bcs), x))
         self.L_source = F.compile("L_flow_source") if flow.source else None
         if flow.source:
             self.loads_depend_on_time |= flow.source.depends_on_time
@@ -142,7 +144,7 @@ class FlowStep:
         if self.u_iterate is not None:
             self.dp.x.array[:] = self.p_iterate.x.array - self.p_iterate_previous.x.array
             self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
-        for A, (_, x) in zip(self.operator_matrices, self.operators):
+        for _, A, x in self.operators:
             multiply_add(A, x, self.b)
         self.assembly_time += time.perf_counter() - start
 
@@ -158,7 +160,7 @@ class FlowStep:
         set_time_step changed it."""
         self.system.reassemble()
         start = time.perf_counter()
-        for A, (a, _) in zip(self.operator_matrices, self.operators):
+        for a, A, _ in self.operators:
             reassemble_operator(A, a, self.bcs)
         self.assembly_time += time.perf_counter() - start
 
