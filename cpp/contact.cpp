@@ -7,6 +7,7 @@
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <limits>
+#include <optional>
 #include <set>
 
 namespace biotcontact
@@ -80,6 +81,23 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   return c;
 }
 
+namespace
+{
+/// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
+/// by default when the system is solved directly and C is small enough.
+bool use_condensation(const std::string& prefix, PetscInt contact_dofs)
+{
+  PetscBool condensed = PETSC_FALSE, given = PETSC_FALSE;
+  PetscOptionsGetBool(nullptr, prefix.c_str(), "-contact_condensed", &condensed, &given);
+  if (given)
+    return condensed;
+  char pc[64] = "";
+  PetscOptionsGetString(nullptr, prefix.c_str(), "-pc_type", pc, sizeof pc, nullptr);
+  const bool direct = std::string(pc) == "lu" or std::string(pc) == "cholesky";
+  return direct and contact_dofs <= ContactSolver::max_condensed_dofs;
+}
+} // namespace
+
 ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Vec layout,
                              ContactSet set, std::vector<std::int32_t> dofs,
                              std::vector<std::int32_t> displacement_dofs)
@@ -89,35 +107,67 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
   if (structure == Structure::spd)
     MatSetOption(A, MAT_SPD, PETSC_TRUE);
-  VecDuplicate(layout, &_x);
-  VecDuplicate(layout, &_residual);
-  VecDuplicate(layout, &_lower);
-  VecDuplicate(layout, &_upper);
-  VecDuplicate(layout, &_b_scaled);
+  VecDuplicate(layout, &_force);
+  set_solver_defaults(prefix, structure, comm);
+
+  long local_dofs = static_cast<long>(_dofs.size()), contact_dofs = 0;
+  MPI_Allreduce(&local_dofs, &contact_dofs, 1, MPI_LONG, MPI_SUM, comm);
+  std::string vi_prefix = prefix;
+  if (use_condensation(prefix, contact_dofs))
+  {
+    _schur = std::make_unique<SchurComplement>(comm, prefix, A, structure, _dofs);
+    _vi_stage = std::make_unique<SolverStage>(prefix + "contact");
+    _vi_comm = PETSC_COMM_SELF;
+    _K = _schur->matrix();
+    const PetscInt m = _schur->size();
+    _bounded.resize(m);
+    for (PetscInt k = 0; k < m; ++k)
+      _bounded[k] = static_cast<std::int32_t>(k);
+    _bounded_gap.resize(m);
+    _schur->gather(_set.gap.data(), _bounded_gap.data());
+    VecCreateSeq(PETSC_COMM_SELF, m, &_x);
+    // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
+    vi_prefix = prefix + "contact_";
+    set_default_option(vi_prefix + "ksp_type", "preonly");
+    set_default_option(vi_prefix + "pc_type", structure == Structure::spd ? "cholesky" : "lu");
+    set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc");
+  }
+  else
+  {
+    _vi_comm = comm;
+    _K = A;
+    _bounded = _dofs;
+    _bounded_gap = _set.gap;
+    VecDuplicate(layout, &_x);
+  }
+  VecDuplicate(_x, &_residual);
+  VecDuplicate(_x, &_lower);
+  VecDuplicate(_x, &_upper);
+  VecDuplicate(_x, &_b_scaled);
   VecSet(_lower, PETSC_NINFINITY);
   VecSet(_upper, PETSC_INFINITY);
 
-  set_solver_defaults(prefix, structure, comm);
-  // Jacobian evaluations cost nothing (A is constant); the factorisation is
-  // built at the first Newton step and then reused ("-2": rebuild once,
-  // then lag forever) until the inactive set changes, when SNES VI resets
-  // the preconditioner itself (PETSc 3.18 virs.c, SNESVIResetPCandKSP).
+  // Jacobian evaluations cost nothing (the matrix is constant); the
+  // factorisation is built at the first Newton step and then reused ("-2":
+  // rebuild once, then lag forever) until the inactive set changes, when
+  // SNES VI resets the preconditioner itself (PETSc 3.18 virs.c,
+  // SNESVIResetPCandKSP).
   PetscBool lag_given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
+  PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
   _lag_by_default = !lag_given;
-  set_default_option(prefix + "snes_lag_preconditioner", "-2");
-  set_default_option(prefix + "snes_rtol", "1e-10");
-  set_default_option(prefix + "snes_stol", "1e-12");
-  set_default_option(prefix + "snes_max_it", "100");
-  // F is linear and A its exact Jacobian: the full semismooth Newton step is
-  // exact on the current active set, and a backtracking search only fails
-  // once the residual is at round-off.
-  set_default_option(prefix + "snes_linesearch_type", "basic");
-  SNESCreate(comm, &_snes);
-  SNESSetOptionsPrefix(_snes, prefix.c_str());
+  set_default_option(vi_prefix + "snes_lag_preconditioner", "-2");
+  set_default_option(vi_prefix + "snes_rtol", "1e-10");
+  set_default_option(vi_prefix + "snes_stol", "1e-12");
+  set_default_option(vi_prefix + "snes_max_it", "100");
+  // F is linear and its matrix the exact Jacobian: the full semismooth
+  // Newton step is exact on the current active set, and a backtracking
+  // search only fails once the residual is at round-off.
+  set_default_option(vi_prefix + "snes_linesearch_type", "basic");
+  SNESCreate(_vi_comm, &_snes);
+  SNESSetOptionsPrefix(_snes, vi_prefix.c_str());
   SNESSetType(_snes, SNESVINEWTONRSLS);
   SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
-  SNESSetJacobian(_snes, A, A, &ContactSolver::jacobian, this);
+  SNESSetJacobian(_snes, _K, _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
@@ -129,9 +179,16 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
                        + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
 }
 
+std::string ContactSolver::method() const
+{
+  return _schur ? "condensed on " + std::to_string(_schur->size()) + " contact DOFs" : "full";
+}
+
 void ContactSolver::operator_changed()
 {
-  // Re-arm "rebuild once, then reuse" (the lag is -1 after the first build).
+  // H is formed again at the next solve; re-arm "rebuild once, then reuse"
+  // (the lag is -1 after the first build).
+  _schur_current = false;
   if (_lag_by_default)
     SNESSetLagPreconditioner(_snes, -2);
 }
@@ -147,10 +204,10 @@ std::vector<char> ContactSolver::active_contact_dofs(Vec x) const
   VecGetArrayRead(F, &R);
   VecGetArrayRead(_lower, &lo);
   VecGetArrayRead(_upper, &up);
-  std::vector<char> active(_dofs.size());
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
+  std::vector<char> active(_bounded.size());
+  for (std::size_t k = 0; k < _bounded.size(); ++k)
   {
-    const std::int32_t i = _dofs[k];
+    const std::int32_t i = _bounded[k];
     active[k] = (X[i] <= lo[i] + 1e-8 and R[i] > 0) or (X[i] >= up[i] - 1e-8 and R[i] < 0);
   }
   VecRestoreArrayRead(x, &X);
@@ -167,7 +224,7 @@ PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, 
   {
     // The set recorded before this step was the one the step used.
     int changed = self->_any_used and self->_pending != self->_used, any = 0;
-    MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, self->_comm);
+    MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
     self->active_set_changes += any;
     self->_used = self->_pending;
     self->_any_used = true;
@@ -181,20 +238,20 @@ PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, 
 ContactSolver::~ContactSolver()
 {
   SNESDestroy(&_snes);
-  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled})
+  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force})
     VecDestroy(v);
 }
 
-// F(x) = A x - b/s: the gradient of the quadratic energy, in units of s.
+// F(x) = K x - b/s: the gradient of the quadratic energy, in units of s.
 PetscErrorCode ContactSolver::residual(SNES, Vec x, Vec F, void* context)
 {
   auto* self = static_cast<ContactSolver*>(context);
-  MatMult(self->_A, x, F);
+  MatMult(self->_K, x, F);
   VecAXPY(F, -1.0, self->_b_scaled);
   return 0;
 }
 
-// The Jacobian is the constant matrix A, assembled once.
+// The Jacobian is the constant matrix K (A, or H formed once per A).
 PetscErrorCode ContactSolver::jacobian(SNES, Vec, Mat, Mat, void*) { return 0; }
 
 double ContactSolver::displacement_scale(Vec x) const
@@ -214,28 +271,42 @@ double ContactSolver::displacement_scale(Vec x) const
 
 void ContactSolver::solve(Vec b, Vec x)
 {
+  if (_schur and !_schur_current)
+  {
+    _schur->assemble();
+    _schur_current = true;
+  }
   // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
   // works on x / s with s the displacement scale (largest gap or |x|); the
-  // residual A (x/s) - b/s has the same Jacobian A.
+  // residual K (x/s) - b/s has the same Jacobian K.
   _scale = displacement_scale(x);
   {
     // u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
     PetscScalar *lo, *up;
     VecGetArray(_lower, &lo);
     VecGetArray(_upper, &up);
-    for (std::size_t k = 0; k < _dofs.size(); ++k)
+    for (std::size_t k = 0; k < _bounded.size(); ++k)
     {
       if (_set.sign > 0)
-        up[_dofs[k]] = _set.gap[k] / _scale;
+        up[_bounded[k]] = _bounded_gap[k] / _scale;
       else
-        lo[_dofs[k]] = -_set.gap[k] / _scale;
+        lo[_bounded[k]] = -_bounded_gap[k] / _scale;
     }
     VecRestoreArray(_lower, &lo);
     VecRestoreArray(_upper, &up);
   }
-  VecCopy(b, _b_scaled);
+  if (_schur)
+  {
+    // The VI on C alone: (H, g) with y = x_C (schur_complement.h).
+    _schur->condensed_load(b, _b_scaled);
+    _schur->restrict_to_contact(x, _x);
+  }
+  else
+  {
+    VecCopy(b, _b_scaled);
+    VecCopy(x, _x);
+  }
   VecScale(_b_scaled, 1.0 / _scale);
-  VecCopy(x, _x);
   VecScale(_x, 1.0 / _scale);
 
   const char* prefix = nullptr;
@@ -250,11 +321,7 @@ void ContactSolver::solve(Vec b, Vec x)
     SNESSetTolerances(_snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
   }
-  PetscErrorCode ierr = SNESSolve(_snes, nullptr, _x);
-  SNESConvergedReason reason;
-  SNESGetConvergedReason(_snes, &reason);
-  if (ierr != 0)
-    throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
+  SNESConvergedReason reason = run_snes();
   if (reason < 0)
   {
     // A body held in the normal direction by the foundation alone is
@@ -262,10 +329,8 @@ void ContactSolver::solve(Vec b, Vec x)
     // the reduced system is singular. Start again from the state with every
     // contact node on the foundation; there the contact forces say which
     // nodes to release.
-    clamped_start(b);
-    if (PetscErrorCode e = SNESSolve(_snes, nullptr, _x); e != 0)
-      throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(e));
-    SNESGetConvergedReason(_snes, &reason);
+    clamped_start();
+    reason = run_snes();
   }
   if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
@@ -276,13 +341,29 @@ void ContactSolver::solve(Vec b, Vec x)
   newton_iterations += its;
   linear_iterations += lits;
   VecScale(_x, _scale);
-  VecCopy(_x, x);
+  if (_schur)
+    _schur->extend(b, _x, x);
+  else
+    VecCopy(_x, x);
 }
 
-void ContactSolver::clamped_start(Vec b)
+SNESConvergedReason ContactSolver::run_snes()
 {
-  // Solve A x = b with x = g_a/s on the contact DOFs (rows and columns
-  // eliminated, the known values moved to the right-hand side).
+  std::optional<SolverStage::Guard> stage;
+  if (_vi_stage)
+    stage.emplace(*_vi_stage);
+  if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _x); ierr != 0)
+    throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
+  SNESConvergedReason reason;
+  SNESGetConvergedReason(_snes, &reason);
+  return reason;
+}
+
+void ContactSolver::clamped_start()
+{
+  // Every contact DOF on its bound; the other DOFs (none when condensed)
+  // solve their equations: A x = b/s with the contact rows and columns
+  // eliminated and the known values moved to the right-hand side.
   PetscInt start = 0;
   VecGetOwnershipRange(_x, &start, nullptr);
   std::vector<PetscInt> rows;
@@ -291,7 +372,7 @@ void ContactSolver::clamped_start(Vec b)
   VecGetArrayRead(_upper, &up);
   PetscScalar* x;
   VecGetArray(_x, &x);
-  for (std::int32_t dof : _dofs)
+  for (std::int32_t dof : _bounded)
   {
     rows.push_back(start + dof);
     x[dof] = _set.sign > 0 ? up[dof] : lo[dof];
@@ -299,21 +380,20 @@ void ContactSolver::clamped_start(Vec b)
   VecRestoreArray(_x, &x);
   VecRestoreArrayRead(_lower, &lo);
   VecRestoreArrayRead(_upper, &up);
+  if (_schur)
+    return;
   Mat A;
   MatDuplicate(_A, MAT_COPY_VALUES, &A);
   Vec rhs;
   VecDuplicate(_b_scaled, &rhs);
   VecCopy(_b_scaled, rhs);
   MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, _x, rhs);
-  const char* prefix = nullptr;
-  SNESGetOptionsPrefix(_snes, &prefix);
   {
-    LinearSolver clamped(_comm, std::string(prefix ? prefix : ""), A, _structure);
+    LinearSolver clamped(_comm, _prefix, A, _structure);
     clamped.solve(_x, rhs);
   }
   MatDestroy(&A);
   VecDestroy(&rhs);
-  (void)b;
 }
 
 int ContactSolver::active_nodes(Vec x) const
@@ -336,10 +416,10 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   ContactState s;
   // Nodal contact force R = A x - b (the residual of the unconstrained
   // equations); the contact pressure is -R.nu_F / lumped measure.
-  MatMult(_A, x, _residual);
-  VecAXPY(_residual, -1.0, b);
+  MatMult(_A, x, _force);
+  VecAXPY(_force, -1.0, b);
   const PetscScalar *R, *X;
-  VecGetArrayRead(_residual, &R);
+  VecGetArrayRead(_force, &R);
   VecGetArrayRead(x, &X);
   std::span<double> pc = pressure_out.x()->mutable_array();
   std::span<double> active = active_out.x()->mutable_array();
@@ -352,7 +432,7 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
     normal[k] = _set.sign * X[_dofs[k]];
     pressure[k] = -_set.sign * R[_dofs[k]] / _set.lumped[k];
   }
-  VecRestoreArrayRead(_residual, &R);
+  VecRestoreArrayRead(_force, &R);
   VecRestoreArrayRead(x, &X);
   s.gap_scale = displacement_scale(x);
 

@@ -12,6 +12,7 @@
 
 #include "domain.h"
 #include "forms.h"
+#include "schur_complement.h"
 #include "solver.h"
 
 #include <dolfinx/fem/Function.h>
@@ -58,15 +59,31 @@ struct ContactState
 };
 
 /// The reduced-space Newton method solves, at each step, the system on the
-/// inactive set (the DOFs not held on a bound). A is constant, so the
-/// factorisation of that submatrix is valid for as long as the inactive set
-/// is: it is redone only when the set changes (PETSc resets the
-/// preconditioner then) or when A is reassembled (operator_changed), and
-/// each solve starts from the previous solution, whose inactive set is
-/// usually the one of the new solution.
+/// inactive set (the DOFs not held on a bound). It runs in one of two ways:
+///
+/// - condensed (the default with a direct solver and at most
+///   `max_condensed_dofs` contact DOFs): on the Schur complement H of A on
+///   the contact DOFs (schur_complement.h). The large matrix is factorised
+///   once per operator, with the contact DOFs clamped, whatever the active
+///   set; the Newton steps work on the small dense H (options prefix
+///   `<prefix>contact_`, log stage `<system>_contact`); a solve costs two
+///   back-solves of the large system.
+/// - full (`-<prefix>contact_condensed false`, or an iterative solver): on
+///   A itself (options prefix `<prefix>`). The factorisation of the
+///   inactive-set submatrix is valid for as long as the inactive set is: it
+///   is redone only when the set changes (PETSc resets the preconditioner
+///   then) or when A is reassembled (operator_changed).
+///
+/// Either way each solve starts from the previous solution, whose inactive
+/// set is usually the one of the new solution.
 class ContactSolver
 {
 public:
+  /// Above this many contact DOFs the dense H (m^2 doubles, m back-solves
+  /// to form, m^3/3 flops per active-set change) costs more than
+  /// refactorising the sparse inactive-set matrix.
+  static constexpr PetscInt max_condensed_dofs = 2000;
+
   /// `dofs` are the contact DOFs of `set` in the numbering of the solved
   /// vector (the same as set.dofs for the mechanics system, mapped into the
   /// mixed space for the monolithic one); `displacement_dofs` the owned
@@ -81,7 +98,7 @@ public:
   /// Solves the VI; x holds the initial guess on entry. Throws SolverError.
   void solve(Vec b, Vec x);
 
-  /// A was reassembled: the next Newton step factorises anew.
+  /// A was reassembled: the next solve factorises anew.
   void operator_changed();
 
   /// The number of contact nodes on the foundation to round-off (the
@@ -93,16 +110,25 @@ public:
                      dolfinx::fem::Function<double>& active);
 
   const ContactSet& set() const { return _set; }
+  /// "condensed on m contact DOFs" or "full".
+  std::string method() const;
+  /// Right-hand sides solved and seconds spent forming H (0 when full).
+  long schur_columns() const { return _schur ? _schur->columns : 0; }
+  double schur_time() const { return _schur ? _schur->time : 0; }
+
   long newton_iterations = 0, linear_iterations = 0;
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
   long active_set_changes = 0;
 
 private:
-  /// Sets x to the solution with every contact DOF on its bound.
-  void clamped_start(Vec b);
+  /// Sets the unknown of the VI to the solution with every contact DOF on
+  /// its bound.
+  void clamped_start();
   /// The largest gap or displacement (collective): SNES works in its units.
   double displacement_scale(Vec x) const;
+  /// Runs SNESSolve on the unknown of the VI; throws on a PETSc error.
+  SNESConvergedReason run_snes();
   static PetscErrorCode residual(SNES, Vec x, Vec F, void* context);
   static PetscErrorCode jacobian(SNES, Vec, Mat, Mat, void*);
   /// Called before each Newton step (and after the last): records the
@@ -120,6 +146,19 @@ private:
   bool _any_used = false;
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
+  Vec _force; // like x: A x - b
+
+  // The VI that SNES solves: on (A, b) or on (H, g). Its unknown carries
+  // bounds at `_bounded` (the contact DOFs in its numbering) with gaps
+  // `_bounded_gap`; it lives on `_vi_comm` (PETSC_COMM_SELF when condensed:
+  // every rank solves the same small problem).
+  std::unique_ptr<SchurComplement> _schur;
+  bool _schur_current = false;
+  std::unique_ptr<SolverStage> _vi_stage;
+  MPI_Comm _vi_comm;
+  Mat _K;
+  std::vector<std::int32_t> _bounded;
+  std::vector<double> _bounded_gap;
   Vec _lower, _upper, _x, _residual, _b_scaled;
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;

@@ -390,13 +390,16 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
         .set("back_solves", st.back_solves)
         .set("linear_iterations", st.linear_iterations);
     if (system->has_contact())
-      j.set("newton_iterations", st.newton_iterations).set("active_set_changes", st.active_set_changes);
+      j.set("newton_iterations", st.newton_iterations)
+          .set("active_set_changes", st.active_set_changes)
+          .set("schur_columns", st.schur_columns);
     solvers.set(name, j);
     Json t;
     t.set("total", st.total_time)
         .set("setup", st.setup_time)
         .set("solve", st.solve_time)
-        .set("other", st.total_time - st.setup_time - st.solve_time)
+        .set("schur_complement", st.schur_time)
+        .set("other", st.total_time - st.setup_time - st.solve_time - st.schur_time)
         .set("matrix_assembly", st.assembly_time);
     timings.set(name, t);
   }

@@ -1,5 +1,6 @@
 #include "solver.h"
 
+#include <functional>
 #include <map>
 
 namespace biotcontact
@@ -108,11 +109,26 @@ LinearSolver::~LinearSolver() { KSPDestroy(&_ksp); }
 
 int LinearSolver::solve(Vec x, Vec b)
 {
+  return run([&] { return KSPSolve(_ksp, b, x); });
+}
+
+void LinearSolver::set_up()
+{
+  run([] { return PetscErrorCode(0); });
+}
+
+void LinearSolver::solve(Mat X, Mat B)
+{
+  run([&] { return KSPMatSolve(_ksp, B, X); });
+}
+
+int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
+{
   // Set-up first, so that the log keeps factorisation (PCSetUp) and
   // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
   PetscErrorCode ierr = KSPSetUp(_ksp);
   if (ierr == 0)
-    ierr = KSPSolve(_ksp, b, x);
+    ierr = solve();
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   KSPGetConvergedReason(_ksp, &reason);
   PC pc;
@@ -134,7 +150,7 @@ int LinearSolver::solve(Vec x, Vec b)
     KSPSetFromOptions(_ksp);
     ierr = KSPSetUp(_ksp);
     if (ierr == 0)
-      ierr = KSPSolve(_ksp, b, x);
+      ierr = solve();
     KSPGetConvergedReason(_ksp, &reason);
   }
   if (ierr != 0)

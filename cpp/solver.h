@@ -9,6 +9,7 @@
 // numbers stage by stage.
 #pragma once
 
+#include <functional>
 #include <mpi.h>
 #include <petscksp.h>
 #include <petsclog.h>
@@ -65,10 +66,12 @@ struct SolverStatistics
   long linear_iterations = 0; // Krylov iterations (1 per back-solve when direct)
   long newton_iterations = 0; // contact (SNES VI) Newton steps
   long active_set_changes = 0;
+  long schur_columns = 0;     // right-hand sides solved to form a contact Schur complement
   double setup_time = 0;      // s in PCSetUp
   double solve_time = 0;      // s in KSPSolve: the back-solves
   double total_time = 0;      // s in the system's solve, all included
   double assembly_time = 0;   // s assembling its matrix
+  double schur_time = 0;      // s forming a contact Schur complement from its factorisation
 };
 
 /// A PETSc log stage named after a system; pushed while the system solves.
@@ -103,8 +106,15 @@ public:
 
   /// Solves A x = b; returns the Krylov iterations. Throws SolverError.
   int solve(Vec x, Vec b);
+  /// Factorises (sets up) now, if the operator changed. Throws SolverError.
+  void set_up();
+  /// Solves A X = B for the columns of the dense B (one call into the
+  /// factorisation for all of them when it supports it). Throws SolverError.
+  void solve(Mat X, Mat B);
 
 private:
+  /// Sets up (factorises if needed) and runs `solve`; checks the result.
+  int run(const std::function<PetscErrorCode()>& solve);
   KSP _ksp;
   std::string _prefix;
 };

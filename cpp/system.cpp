@@ -68,6 +68,8 @@ SolverStatistics System::statistics() const
     s.newton_iterations = _contact->newton_iterations;
     s.linear_iterations = _contact->linear_iterations;
     s.active_set_changes = _contact->active_set_changes;
+    s.schur_columns = _contact->schur_columns();
+    s.schur_time = _contact->schur_time();
   }
   return s;
 }
@@ -80,7 +82,8 @@ std::string System::description() const
     PetscOptionsGetString(nullptr, _prefix.c_str(), name, value, sizeof value, nullptr);
     return std::string(value);
   };
-  std::string d = (_contact ? "SNES vinewtonrsls, " : "") + option("-ksp_type") + " + " + option("-pc_type");
+  std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + option("-ksp_type") + " + "
+                  + option("-pc_type");
   if (const std::string package = option("-pc_factor_mat_solver_type");
       !package.empty() and (option("-pc_type") == "lu" or option("-pc_type") == "cholesky"))
     d += " (" + package + ")";

@@ -14,8 +14,9 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .linear_algebra import accumulate_ghosts, add_vector, owned
-from .solver import (LinearSolver, OptionsError, SolverError, Structure, reason_name, set_default_option,
-                     set_solver_defaults, system_name)
+from .schur_complement import SchurComplement
+from .solver import (LinearSolver, OptionsError, SolverError, SolverStage, Structure, reason_name,
+                     set_default_option, set_solver_defaults, system_name)
 from .scene import SceneError
 
 
@@ -74,6 +75,16 @@ class ContactState:
         self.max_complementarity = self.gap_scale = self.total_force = 0.0
 
 
+def use_condensation(prefix, contact_dofs):
+    """-<prefix>contact_condensed, by default when the system is solved
+    directly and C is small enough (cpp/contact.cpp)."""
+    options = PETSc.Options()
+    if options.hasName(prefix + "contact_condensed"):
+        return options.getBool(prefix + "contact_condensed")
+    direct = options.getString(prefix + "pc_type", "") in ("lu", "cholesky")
+    return direct and contact_dofs <= ContactSolver.max_condensed_dofs
+
+
 class ContactSolver:
     """The VI as a bound-constrained problem: l <= x <= g with F(x) = A x - b
     complementary to the bounds, bounds only on the contact DOFs. The energy
@@ -81,10 +92,14 @@ class ContactSolver:
     bound" with an absolute tolerance (1e-8), so it solves for x/s with s the
     displacement scale (largest gap or |x|): F = A (x/s) - b/s.
 
-    The factorisation of the inactive-set submatrix is reused while the
-    inactive set stays the same (cpp/contact.h): built once, then the
-    preconditioner is lagged; SNES VI resets it when the set changes, and
-    operator_changed re-arms it after a reassembly."""
+    As in cpp/contact.h it runs condensed (by default with a direct solver
+    and at most max_condensed_dofs contact DOFs: SNES on the dense Schur
+    complement H of A on the contact DOFs, options prefix <prefix>contact_,
+    the large matrix factorised once with the contact DOFs clamped) or full
+    (SNES on A, the inactive-set factorisation reused while the set stays
+    the same; operator_changed re-arms it after a reassembly)."""
+
+    max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
 
     def __init__(self, comm, prefix, A, structure, contact_set, dofs, displacement_dofs):
         self.comm, self.A, self.set, self.prefix = comm, A, contact_set, prefix
@@ -92,27 +107,46 @@ class ContactSolver:
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.dofs, self.displacement_dofs = np.asarray(dofs, dtype=np.int32), np.asarray(displacement_dofs)
-        self.x, self.residual, self.lower, self.upper, self.b_scaled = (A.createVecRight() for _ in range(5))
+        self.force = A.createVecRight()
+        set_solver_defaults(prefix, structure, comm)
+        self.schur, self.schur_current, self.vi_stage = None, False, None
+        vi_prefix = prefix
+        if use_condensation(prefix, comm.allreduce(len(self.dofs), op=MPI.SUM)):
+            self.schur = SchurComplement(comm, prefix, A, structure, self.dofs)
+            self.vi_stage = SolverStage(prefix + "contact")
+            self.vi_comm, self.K = PETSc.COMM_SELF, self.schur.H
+            self.bounded = np.arange(self.schur.size(), dtype=np.int32)
+            self.bounded_gap = self.schur.gather(self.set.gap)
+            self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
+            # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
+            vi_prefix = prefix + "contact_"
+            set_default_option(vi_prefix + "ksp_type", "preonly")
+            set_default_option(vi_prefix + "pc_type", "cholesky" if structure == Structure.spd else "lu")
+            set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
+        else:
+            self.vi_comm, self.K = comm, A
+            self.bounded, self.bounded_gap = self.dofs, self.set.gap
+            self.x = A.createVecRight()
+        self.residual, self.lower, self.upper, self.b_scaled = (self.x.duplicate() for _ in range(4))
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
-        set_solver_defaults(prefix, structure, comm)
-        self.lag_by_default = not PETSc.Options().hasName(prefix + "snes_lag_preconditioner")
+        self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
         for option, value in (("snes_lag_preconditioner", "-2"), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
-                              # F is linear, A exact: the full step is exact on the active set
+                              # F is linear, K exact: the full step is exact on the active set
                               ("snes_linesearch_type", "basic")):
-            set_default_option(prefix + option, value)
-        self.snes = PETSc.SNES().create(comm)
-        self.snes.setOptionsPrefix(prefix)
+            set_default_option(vi_prefix + option, value)
+        self.snes = PETSc.SNES().create(self.vi_comm)
+        self.snes.setOptionsPrefix(vi_prefix)
         self.snes.setType("vinewtonrsls")
         self.snes.setFunction(self._residual, self.residual)
-        self.snes.setJacobian(lambda snes, x, J, P: None, A, A)
+        self.snes.setJacobian(lambda snes, x, J, P: None, self.K, self.K)
         self.snes.setVariableBounds(self.lower, self.upper)
         # At least one Newton step per solve, so the result never lags the load.
         if hasattr(self.snes, "setForceIteration"):
             self.snes.setForceIteration(True)
         else:
-            set_default_option(prefix + "snes_force_iteration", "true")
+            set_default_option(vi_prefix + "snes_force_iteration", "true")
         self.snes.setMonitor(self._monitor)
         try:
             self.snes.setFromOptions()
@@ -122,8 +156,18 @@ class ContactSolver:
         self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
         self.pending = self.used = None  # active flags of the contact DOFs
 
+    def method(self):
+        return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
+
+    def schur_columns(self):
+        return self.schur.columns if self.schur else 0
+
+    def schur_time(self):
+        return self.schur.time if self.schur else 0.0
+
     def operator_changed(self):
-        """A was reassembled: re-arm "rebuild once, then reuse"."""
+        """A was reassembled: H is formed again, "rebuild once, then reuse" re-armed."""
+        self.schur_current = False
         if self.lag_by_default:
             self.snes.setLagPreconditioner(-2)
 
@@ -131,19 +175,19 @@ class ContactSolver:
         """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed against it."""
         X, F = x.getArray(readonly=True), self.snes.getFunction()[0].getArray(readonly=True)
         lo, up = self.lower.getArray(readonly=True), self.upper.getArray(readonly=True)
-        i = self.dofs
+        i = self.bounded
         return ((X[i] <= lo[i] + 1e-8) & (F[i] > 0)) | ((X[i] >= up[i] - 1e-8) & (F[i] < 0))
 
     def _monitor(self, snes, iteration, norm):
         """Before each Newton step (and after the last): the set the next step uses."""
         if iteration > 0:
             changed = self.used is not None and not np.array_equal(self.pending, self.used)
-            self.active_set_changes += int(self.comm.allreduce(int(changed), op=MPI.MAX))
+            self.active_set_changes += int(self.vi_comm.tompi4py().allreduce(int(changed), op=MPI.MAX))
             self.used = self.pending
         self.pending = self._active_contact_dofs(snes.getSolution())
 
     def _residual(self, snes, x, F):
-        self.A.mult(x, F)
+        self.K.mult(x, F)
         F.axpy(-1.0, self.b_scaled)
 
     def displacement_scale(self, x):
@@ -155,23 +199,31 @@ class ContactSolver:
 
     def solve(self, b, x):
         """Solves the VI; x holds the initial guess on entry."""
+        if self.schur and not self.schur_current:
+            self.schur.assemble()
+            self.schur_current = True
         scale = self.displacement_scale(x)
         # u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
         if self.set.sign > 0:
             with self.upper as up:
-                up[self.dofs] = self.set.gap / scale
+                up[self.bounded] = self.bounded_gap / scale
         else:
             with self.lower as lo:
-                lo[self.dofs] = -self.set.gap / scale
-        b.copy(self.b_scaled)
+                lo[self.bounded] = -self.bounded_gap / scale
+        if self.schur:  # the VI on C alone: (H, g) with y = x_C
+            with self.b_scaled as g:
+                g[:] = self.schur.condensed_load(b)
+            with self.x as y:
+                y[:] = self.schur.restrict_to_contact(x)
+        else:
+            b.copy(self.b_scaled)
+            x.copy(self.x)
         self.b_scaled.scale(1.0 / scale)
-        x.copy(self.x)
         self.x.scale(1.0 / scale)
-        if not PETSc.Options().hasName(self.prefix + "snes_atol"):
+        if not PETSc.Options().hasName(self.snes.getOptionsPrefix() + "snes_atol"):
             # absolute tolerance relative to the load: scale-free
             self.snes.setTolerances(atol=max(1e-10 * self.b_scaled.norm(), 1e-300))
-        self._snes_solve()
-        reason = self.snes.getConvergedReason()
+        reason = self._snes_solve()
         if reason < 0:
             # A body held in the normal direction by the foundation alone is
             # semi-coercive: from a start where no contact DOF pushes on its
@@ -179,29 +231,39 @@ class ContactSolver:
             # contact node on the foundation; the contact forces there say
             # which nodes to release.
             self.clamped_start()
-            self._snes_solve()
-            reason = self.snes.getConvergedReason()
+            reason = self._snes_solve()
         if reason < 0:
             raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
                               + reason_name(PETSc.SNES.ConvergedReason, reason))
         self.newton_iterations += self.snes.getIterationNumber()
         self.linear_iterations += self.snes.getLinearSolveIterations()
         self.x.scale(scale)
-        self.x.copy(x)
+        if self.schur:
+            self.schur.extend(b, self.x.getArray(readonly=True), x)
+        else:
+            self.x.copy(x)
 
     def _snes_solve(self):
         try:
-            self.snes.solve(None, self.x)
+            if self.vi_stage:
+                with self.vi_stage:
+                    self.snes.solve(None, self.x)
+            else:
+                self.snes.solve(None, self.x)
         except PETSc.Error as e:
             raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: PETSc error {e.ierr}") from None
+        return self.snes.getConvergedReason()
 
     def clamped_start(self):
-        """Sets x to the solution of A x = b/s with x = g_a/s on the contact
-        DOFs (rows and columns eliminated, known values moved to the right)."""
+        """Every contact DOF on its bound; the other DOFs (none when
+        condensed) solve A x = b/s with the contact rows and columns
+        eliminated and the known values moved to the right-hand side."""
         bound = (self.upper if self.set.sign > 0 else self.lower).getArray(readonly=True)
         with self.x as x:
-            x[self.dofs] = bound[self.dofs]
-        rows = (self.x.getOwnershipRange()[0] + self.dofs).astype(PETSc.IntType)
+            x[self.bounded] = bound[self.bounded]
+        if self.schur:
+            return
+        rows = (self.x.getOwnershipRange()[0] + self.bounded).astype(PETSc.IntType)
         A, rhs = self.A.duplicate(copy=True), self.b_scaled.copy()
         A.zeroRowsColumns(rows, 1.0, self.x, rhs)
         LinearSolver(self.comm, self.prefix, A, self.structure).solve(self.x, rhs)
@@ -217,9 +279,9 @@ class ContactSolver:
         """Contact force R = A x - b at the contact DOFs; contact pressure
         -R.nu_F / lumped measure; a node is active on the foundation to round-off."""
         s = ContactState()
-        self.A.mult(x, self.residual)
-        self.residual.axpy(-1.0, b)
-        R, X = self.residual.getArray(readonly=True), x.getArray(readonly=True)
+        self.A.mult(x, self.force)
+        self.force.axpy(-1.0, b)
+        R, X = self.force.getArray(readonly=True), x.getArray(readonly=True)
         sign, gap = self.set.sign, self.set.gap
         normal = sign * X[self.dofs]
         pressure = -sign * R[self.dofs] / self.set.lumped

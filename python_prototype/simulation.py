@@ -42,15 +42,17 @@ def _solvers_json(systems, stats):
         j = {"method": system.description(), "solves": st.solves, "factorizations": st.setups,
              "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
         if system.has_contact():
-            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes)
+            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
+                     schur_columns=st.schur_columns)
         result[name] = j
     return result
 
 
 def _timings_json(systems, stats):
     return {name: {"total": stats[name].total_time, "setup": stats[name].setup_time,
-                   "solve": stats[name].solve_time,
-                   "other": stats[name].total_time - stats[name].setup_time - stats[name].solve_time,
+                   "solve": stats[name].solve_time, "schur_complement": stats[name].schur_time,
+                   "other": stats[name].total_time - stats[name].setup_time - stats[name].solve_time
+                   - stats[name].schur_time,
                    "matrix_assembly": stats[name].assembly_time}
             for name, system in systems.items() if system is not None}
 

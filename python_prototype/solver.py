@@ -70,8 +70,8 @@ class SolverStatistics:
 
     def __init__(self):
         self.solves = self.setups = self.back_solves = self.linear_iterations = 0
-        self.newton_iterations = self.active_set_changes = 0
-        self.setup_time = self.solve_time = self.total_time = self.assembly_time = 0.0
+        self.newton_iterations = self.active_set_changes = self.schur_columns = 0
+        self.setup_time = self.solve_time = self.total_time = self.assembly_time = self.schur_time = 0.0
 
 
 class SolverStage:
@@ -115,17 +115,38 @@ class LinearSolver:
             raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver "
                                f"(PETSc error {e.ierr}; see -{prefix}pc_factor_mat_solver_type)") from None
 
-    def _solve(self, x, b):
+    def _run(self, solve):
         """Set-up first, so the log keeps factorisation and back-solve apart."""
         try:
             self.ksp.setUp()
-            self.ksp.solve(b, x)
+            solve()
             return None
         except PETSc.Error as e:
             return e.ierr
 
     def solve(self, x, b):
-        ierr = self._solve(x, b)
+        return self.run(lambda: self.ksp.solve(b, x))
+
+    def set_up(self):
+        """Factorises now, if the operator changed."""
+        self.run(lambda: None)
+
+    def solve_block(self, X, B):
+        """A X = B for the columns of the dense B, one call into the
+        factorisation (KSPMatSolve, which petsc4py 3.18 lacks: for preonly
+        it is the preconditioner's PCMatApply, else a solve per column)."""
+        def solve():
+            if self.ksp.getType() == PETSc.KSP.Type.PREONLY:
+                self.ksp.getPC().matApply(B, X)
+                return
+            for j in range(B.getSize()[1]):
+                b, x = B.getColumnVector(j), X.getColumnVector(j)
+                self.ksp.solve(b, x)
+                X.getDenseArray()[:, j] = x.getArray(readonly=True)
+        self.run(solve)
+
+    def run(self, solve):
+        ierr = self._run(solve)
         reason = self.ksp.getConvergedReason()
         pc = self.ksp.getPC()
         if (ierr or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
@@ -140,7 +161,7 @@ class LinearSolver:
             self.ksp.reset()
             self.ksp.setOperators(A, A)
             self.ksp.setFromOptions()
-            ierr = self._solve(x, b)
+            ierr = self._run(solve)
             reason = self.ksp.getConvergedReason()
         if ierr:
             raise SolverError(f"{system_name(self.prefix)} linear solver failed: PETSc error {ierr}")

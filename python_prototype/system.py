@@ -56,13 +56,14 @@ class System:
             s.newton_iterations = self.contact.newton_iterations
             s.linear_iterations = self.contact.linear_iterations
             s.active_set_changes = self.contact.active_set_changes
+            s.schur_columns, s.schur_time = self.contact.schur_columns(), self.contact.schur_time()
         return s
 
     def description(self):
         from petsc4py import PETSc
         options = PETSc.Options()
         pc = options.getString(self.prefix + "pc_type", "")
-        d = ("SNES vinewtonrsls, " if self.contact else "") + options.getString(self.prefix + "ksp_type", "") \
+        d = (f"SNES vinewtonrsls ({self.contact.method()}), " if self.contact else "") + options.getString(self.prefix + "ksp_type", "") \
             + " + " + pc
         package = options.getString(self.prefix + "pc_factor_mat_solver_type", "")
         if package and pc in ("lu", "cholesky"):

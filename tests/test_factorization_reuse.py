@@ -1,33 +1,49 @@
 """Factorisations are reused (issue 9): on the default scene the contact
 solvers factorise at most once per inactive-set change (+2), the flow once,
 and the fields equal those of the old path (MUMPS LU refactorised at every
-Newton step) to 1e-10 relative, for the split and the monolithic solve."""
+Newton step) to 1e-10 relative, for the split and the monolithic solve, with
+the contact VI condensed on the Schur complement (the default: one
+factorisation per operator) and on the full system."""
 from support import check, max_difference, run, scene, summary
 
 FIELDS = ["displacement", "pressure", "flux", "sigma_v", "contact_pressure"]
-# The behaviour before issue 9: rebuild the preconditioner at every Newton
-# step, MUMPS LU for every system.
-OLD = {"fixed-stress": ["-mechanics_snes_lag_preconditioner", "1", "-mechanics_pc_type", "lu",
-                        "-mechanics_pc_factor_mat_solver_type", "mumps",
-                        "-flow_pc_factor_mat_solver_type", "mumps"],
-       "monolithic": ["-monolithic_snes_lag_preconditioner", "1",
+# The behaviour before issue 9: the VI on the full system, the preconditioner
+# rebuilt at every Newton step, MUMPS LU for every system.
+OLD = {"mechanics": ["-mechanics_contact_condensed", "false", "-mechanics_snes_lag_preconditioner", "1",
+                     "-mechanics_pc_type", "lu", "-mechanics_pc_factor_mat_solver_type", "mumps",
+                     "-flow_pc_factor_mat_solver_type", "mumps"],
+       "monolithic": ["-monolithic_contact_condensed", "false", "-monolithic_snes_lag_preconditioner", "1",
                       "-monolithic_pc_factor_mat_solver_type", "mumps"]}
 
 for scheme, system in (("fixed-stress", "mechanics"), ("monolithic", "monolithic")):
-    new, _ = run(scene("default"), "--set", f"coupling.scheme={scheme}")
-    old, _ = run(scene("default"), "--set", f"coupling.scheme={scheme}", *OLD[scheme])
-    s, s_old = summary(new), summary(old)
-    solver, solver_old = s["solvers"][system], s_old["solvers"][system]
-    check(solver["factorizations"] <= solver["active_set_changes"] + 2,
-          f"{scheme}: {solver['factorizations']} factorisations for {solver['active_set_changes']} "
-          f"active-set changes ({solver['back_solves']} Newton steps)")
-    check(solver_old["factorizations"] == solver_old["back_solves"] > solver["factorizations"],
+    old, _ = run(scene("default"), "--set", f"coupling.scheme={scheme}", *OLD[system])
+    s_old = summary(old)
+    solver_old = s_old["solvers"][system]
+    check(solver_old["factorizations"] == solver_old["back_solves"],
           f"{scheme}: the old path factorised at every Newton step ({solver_old['factorizations']})")
-    if system == "mechanics":
-        check(s["solvers"]["flow"]["factorizations"] == 1,
-              f"the flow matrix is factorised once for {s['flow_solves']} solves")
-    check(s["coupling_iterations"] == s_old["coupling_iterations"],
-          f"{scheme}: same coupling iterations ({s['coupling_iterations']})")
-    differences = max_difference(new, old, FIELDS)
-    for name, d in differences.items():
-        check(d <= 1e-10, f"{scheme}: {name} equal to the old path to {d:.1e} relative")
+    for method, options in (("condensed", []), ("full", [f"-{system}_contact_condensed", "false"])):
+        new, _ = run(scene("default"), "--set", f"coupling.scheme={scheme}", *options)
+        s = summary(new)
+        solver = s["solvers"][system]
+        check(method in solver["method"], f"{scheme}, {method}: the method says so ({solver['method']})")
+        check(solver["factorizations"] <= solver["active_set_changes"] + 2,
+              f"{scheme}, {method}: {solver['factorizations']} factorisations for "
+              f"{solver['active_set_changes']} active-set changes ({solver['newton_iterations']} Newton steps)")
+        check(solver["factorizations"] < solver_old["factorizations"],
+              f"{scheme}, {method}: fewer factorisations than the old path")
+        if method == "condensed":
+            # The large matrix once (contact DOFs clamped); H from one
+            # right-hand side per contact DOF; two back-solves per solve.
+            contact_dofs = s["contact"]["contact_nodes"]
+            check(solver["factorizations"] == 1 and solver["schur_columns"] == contact_dofs
+                  and solver["back_solves"] == 2 * solver["solves"],
+                  f"{scheme}, condensed: 1 factorisation, {solver['schur_columns']} Schur columns for "
+                  f"{contact_dofs} contact DOFs, {solver['back_solves']} back-solves for {solver['solves']} solves")
+        if system == "mechanics":
+            check(s["solvers"]["flow"]["factorizations"] == 1,
+                  f"the flow matrix is factorised once for {s['flow_solves']} solves")
+        check(s["coupling_iterations"] == s_old["coupling_iterations"],
+              f"{scheme}, {method}: same coupling iterations ({s['coupling_iterations']})")
+        differences = max_difference(new, old, FIELDS)
+        for name, d in differences.items():
+            check(d <= 1e-10, f"{scheme}, {method}: {name} equal to the old path to {d:.1e} relative")
