@@ -24,9 +24,9 @@ BENCHMARKS = ("size_sweep", "mandel", "prototype")
 ANALYSIS = ("<!-- analysis begin -->", "<!-- analysis end -->")
 MEASURED = ("<!-- measured begin -->", "<!-- measured end -->")
 SWEEP_FIELDS = ["unknowns", "wall_s", "process_wall_s", "steps", "coupling_iterations", "time_per_iteration_ms",
-                "solve_phase_ms_per_iteration", "iteration_to_solve_ratio", "assembly_s", "output_s", "peak_rss_mb",
+                "solve_phase_ms_per_iteration", "iteration_to_solve_ratio", "iteration_to_back_solve_ratio", "assembly_s", "output_s", "peak_rss_mb",
                 "active_set_changes"] + [f"{s}_{p}" for s in ("flow", "mechanics", "monolithic")
-                                         for p in ("setup_s", "solve_s", "other_s", "total_s", "matrix_assembly_s",
+                                         for p in ("setup_s", "solve_s", "schur_complement_s", "other_s", "total_s", "matrix_assembly_s",
                                                    "factorizations", "back_solves")]
 MANDEL_FIELDS = ["dt", "unknowns", "wall_s", "process_wall_s", "pressure_error", "summary_pressure_error",
                  "coupling_iterations", "peak_rss_mb"]
@@ -130,15 +130,20 @@ def factorization_target(rows):
 
 
 def iteration_target(sweep):
-    """Worst median ratio time per coupling iteration / solve phases, single
-    rate L = paper, meshes from [80,8] up."""
+    """Worst median ratio time per coupling iteration / its solve phases
+    (one flow back-solve + one mechanics back-solve, as the issue defines
+    them), single rate L = paper, meshes from [80,8] up; with the ratio to
+    the back-solves the iteration really makes next to it."""
     label = "time per coupling iteration (single rate, L = paper, [80,8] and up)"
+    goal = "<= 1.5 x solve phases (one flow + one mechanics back-solve)"
     entries = [e for e in sweep if e["variant"] == "paper" and nx(e["cells"]) >= 80]
     if not entries:
-        return [label, "<= 1.5 x solve phases", "-", "not measured", "not measured"]
-    worst = max(entries, key=lambda e: e["iteration_to_solve_ratio"])
-    ratio = worst["iteration_to_solve_ratio"]
-    return [label, "<= 1.5 x solve phases", "-", f"worst {ratio:.2f} x ({worst['cells']})", status(ratio, 1.5)]
+        return [label, goal, "-", "not measured", "not measured"]
+    worst = max(entries, key=lambda e: e["iteration_to_back_solve_ratio"])
+    ratio = worst["iteration_to_back_solve_ratio"]
+    made = max(entries, key=lambda e: e["iteration_to_solve_ratio"])
+    return [label, goal, "-", f"worst {ratio:.2f} x ({worst['cells']}); {made['iteration_to_solve_ratio']:.2f} x "
+            f"the back-solves it makes ({made['cells']})", status(ratio, 1.5)]
 
 
 def mandel_target(mandel, level, limit, baseline):
@@ -217,6 +222,7 @@ def phases(e):
     is the wall time no phase accounts for."""
     total = lambda p: sum(e[f"{s}_{p}"] for s in SYSTEMS)  # noqa: E731
     parts = {"solve": total("solve_s"), "setup": total("setup_s"), "matrix assembly": total("matrix_assembly_s"),
+             "Schur complement": total("schur_complement_s"),
              "system other": total("other_s") - total("matrix_assembly_s"), "assembly": e["assembly_s"],
              "output": e["output_s"]}
     parts["rest"] = e["wall_s"] - sum(parts.values())
@@ -235,7 +241,8 @@ def plot_phases(sweep, directory):
     for ax, variant in zip(axes.flat, variants):
         entries = sorted((e for e in sweep if e["variant"] == variant), key=lambda e: e["unknowns"])
         split = [(e["unknowns"], phases(e)) for e in entries]
-        for name in ("solve", "setup", "matrix assembly", "system other", "assembly", "output", "rest"):
+        for name in ("solve", "setup", "Schur complement", "matrix assembly", "system other", "assembly", "output",
+                     "rest"):
             pts = [(n, p[name]) for n, p in split if p and p[name] > 0]
             if pts:
                 ax.loglog(*zip(*pts), "o-", label=name)
@@ -319,12 +326,13 @@ def sweep_section(header, rows, plot_dir, relative):
               f"(flow + mechanics, or monolithic). Medians over {max(e['repetitions'] for e in entries)} "
               "repetitions.", ""]
     lines += table(["variant", "cells", "unknowns", "wall s", "process wall s", "iterations", "ms / iteration",
-                    "solve ms / iteration", "iteration / solve", "setup s", "assembly s",
+                    "solve ms / iteration", "iteration / solve", "iteration / one back-solve each", "setup s",
+                    "assembly s",
                     "factorisations (flow / mech / mono)", "active-set changes", "peak RSS MB"],
                    [[e["variant"], e["cells"], fmt(e["unknowns"]), fmt(e["wall_s"]), fmt(e["process_wall_s"]),
                      fmt(e["steps"] if e["variant"] == "monolithic" else e["coupling_iterations"]),
                      fmt(e["time_per_iteration_ms"]), fmt(e["solve_phase_ms_per_iteration"]),
-                     fmt(e["iteration_to_solve_ratio"]),
+                     fmt(e["iteration_to_solve_ratio"]), fmt(e["iteration_to_back_solve_ratio"]),
                      fmt(sum(e[f"{s}_setup_s"] for s in SYSTEMS)), fmt(e["assembly_s"]),
                      " / ".join(fmt(e[f"{s}_factorizations"]) for s in SYSTEMS), fmt(e["active_set_changes"]),
                      fmt(e["peak_rss_mb"])] for e in entries])
