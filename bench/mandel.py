@@ -19,13 +19,14 @@ import math
 import os
 import sys
 import tomllib
-import xml.etree.ElementTree as ET
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
+
+sys.path.insert(0, common.ROOT)
+from python_prototype.time_series import read_time_series  # noqa: E402
 
 sys.path.insert(0, common.ROOT)
 from python_prototype.closed_form import Mandel  # noqa: E402
@@ -57,21 +58,12 @@ def closed_form(scene_path):
 
 def final_pressure(directory):
     """(time, P0 pressure values, cell centres, cell areas) at the last
-    output time of a run, from solution.xdmf and solution.h5 (each field has
-    its own Grid with one Attribute; triangles)."""
-    tree = ET.parse(os.path.join(directory, "solution.xdmf"))
-    series = {}
-    for grid in tree.iter("Grid"):
-        attribute, t = grid.find("Attribute"), grid.find("Time")
-        if attribute is not None and t is not None and attribute.get("Name") == "pressure":
-            series[float(t.get("Value"))] = attribute.find("DataItem").text.split(":")[1]
-    if not series:
+    output time of a run (triangles)."""
+    nodes, triangles, series = read_time_series(directory)
+    if "pressure" not in series:
         raise common.BenchError(f"{directory}/solution.xdmf: no pressure output")
-    t = max(series)
-    with h5py.File(os.path.join(directory, "solution.h5"), "r") as h5:
-        nodes = h5["Mesh/mesh/geometry"][:]
-        triangles = h5["Mesh/mesh/topology"][:]
-        pressure = h5[series[t]][:].reshape(-1)
+    t = max(series["pressure"])
+    pressure = series["pressure"][t][1].reshape(-1)
     v = nodes[triangles][:, :, :2]
     areas = 0.5 * np.abs(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]))
     return t, pressure, v.mean(axis=1), areas

@@ -14,6 +14,17 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
+std::shared_ptr<fem::Function<double>> contact_boundary_flag(const ContactSet& set)
+{
+  auto flag = std::make_shared<fem::Function<double>>(set.output_space);
+  std::span<double> values = flag->x()->mutable_array();
+  for (std::int32_t dof : set.output_dofs)
+    values[dof] = 1.0;
+  flag->x()->scatter_fwd();
+  flag->name = "contact_boundary";
+  return flag;
+}
+
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const fem::FunctionSpace> V)
 {

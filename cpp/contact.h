@@ -38,6 +38,10 @@ struct ContactSet
   std::vector<std::int32_t> output_dofs;
 };
 
+/// The contact boundary as a P1 field for output: exactly 1 at the contact
+/// nodes, 0 elsewhere.
+std::shared_ptr<dolfinx::fem::Function<double>> contact_boundary_flag(const ContactSet& set);
+
 /// Finds the contact nodes of the scene's contact boundaries (all must share
 /// one foundation normal; throws SceneError otherwise).
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,

@@ -78,6 +78,7 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
   std::iota(owned.begin(), owned.end(), 0);
   contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
   contact_active = std::make_shared<fem::Function<double>>(set.output_space);
+  contact_boundary = contact_boundary_flag(set);
   _system->use_contact(std::move(set), std::move(dofs), std::move(owned), wrap(*_b).vec());
 }
 

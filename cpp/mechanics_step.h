@@ -47,7 +47,7 @@ public:
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.
-  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active;
+  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
   double assembly_time = 0; // right-hand sides
 

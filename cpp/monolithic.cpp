@@ -135,6 +135,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
       throw std::runtime_error("monolithic contact: a contact DOF owned in V is not owned in the mixed space");
   contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
   contact_active = std::make_shared<fem::Function<double>>(set.output_space);
+  contact_boundary = contact_boundary_flag(set);
   _system->use_contact(std::move(set), std::move(dofs), std::move(displacement), wrap(*_b).vec());
 }
 

@@ -43,7 +43,7 @@ public:
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
   std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
-  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active;
+  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
   double assembly_time = 0; // right-hand sides
 

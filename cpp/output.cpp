@@ -103,18 +103,15 @@ Output::Output(MPI_Comm comm, const std::string& directory,
   }
   MPI_Barrier(comm);
   if (xdmf)
-  {
-    _xdmf = std::make_unique<dolfinx::io::XDMFFile>(comm, xdmf_path(), "w");
-    _xdmf->write_mesh(*mesh);
-  }
+    _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh);
 }
 
 void Output::write(const dolfinx::fem::Function<double>& f, double t)
 {
-  if (!_xdmf)
+  if (!_series)
     return;
   dolfinx::common::Timer timer("output");
-  _xdmf->write_function(f, t);
+  _series->write(f, t);
   time += timer.stop();
 }
 

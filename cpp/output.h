@@ -1,10 +1,11 @@
-// Output of a run: the XDMF time series for ParaView, the per-iteration log
-// iterations.csv and summary.json. Every row and every time written is
+// Output of a run: the XDMF time series for ParaView and meshio
+// (time_series.h), the per-iteration log iterations.csv and summary.json. Every row and every time written is
 // flushed at once, so a run that stops later loses nothing it finished.
 #pragma once
 
+#include "time_series.h"
+
 #include <dolfinx/fem/Function.h>
-#include <dolfinx/io/XDMFFile.h>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -61,7 +62,7 @@ public:
 private:
   MPI_Comm _comm;
   std::string _directory;
-  std::unique_ptr<dolfinx::io::XDMFFile> _xdmf;
+  std::unique_ptr<TimeSeries> _series;
   std::ofstream _csv;
 };
 

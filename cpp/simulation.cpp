@@ -134,7 +134,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   std::unique_ptr<MonolithicStep> coupled;
   // What output and diagnostics read, whichever solver produced it.
   std::shared_ptr<const fem::FunctionSpace> V;
-  std::shared_ptr<fem::Function<double>> u, p, contact_pressure, contact_active;
+  std::shared_ptr<fem::Function<double>> u, p, contact_pressure, contact_active, contact_boundary;
   std::function<void(fem::Function<double>&)> compute_flux;
   std::function<ContactState()> compute_contact = [] { return ContactState{}; };
   if (monolithic)
@@ -148,6 +148,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     {
       contact_pressure = coupled->contact_pressure;
       contact_active = coupled->contact_active;
+      contact_boundary = coupled->contact_boundary;
       compute_contact = [&] { return coupled->contact_state(); };
     }
   }
@@ -169,6 +170,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       {
         contact_pressure = mechanics->contact_pressure;
         contact_active = mechanics->contact_active;
+        contact_boundary = mechanics->contact_boundary;
         compute_contact = [&] { return mechanics->contact_state(); };
       }
     }
@@ -233,6 +235,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     write_flow(0.0);
   if (u)
     write_mechanics(0.0);
+  if (contact_boundary)
+    output.write(*contact_boundary, 0.0); // once: every later time repeats it
 
   // ---- time stepping -----------------------------------------------------------
   CouplingReport report;

@@ -9,41 +9,10 @@
 Returns 1 if a difference exceeds the tolerance or counts/sets differ."""
 import csv
 import os
-import xml.etree.ElementTree as ET
 
-import h5py
 import numpy as np
 
-
-class Fields:
-    """The XDMF time series of a run (as tests/support.py reads it)."""
-
-    def __init__(self, directory):
-        tree = ET.parse(os.path.join(directory, "solution.xdmf"))
-        self.h5 = h5py.File(os.path.join(directory, "solution.h5"), "r")
-        self.nodes = self.h5["Mesh/mesh/geometry"][:]
-        self.cells = self.nodes[self.h5["Mesh/mesh/topology"][:]].mean(axis=1)
-        self.series = {}
-        for grid in tree.iter("Grid"):
-            attribute, t = grid.find("Attribute"), grid.find("Time")
-            if attribute is None or t is None:
-                continue
-            path = attribute.find("DataItem").text.split(":")[1]
-            self.series.setdefault(attribute.get("Name"), {})[float(t.get("Value"))] = (attribute.get("Center"), path)
-
-    def times(self, name):
-        return sorted(self.series[name])
-
-    def coordinates(self, name):
-        center = self.series[name][self.times(name)[0]][0]
-        return self.nodes if center == "Node" else self.cells
-
-    def sorted_values(self, name, t):
-        """Values and coordinates ordered by the coordinates (partition independent)."""
-        center, path = self.series[name][t]
-        x = self.nodes if center == "Node" else self.cells
-        order = np.lexsort(np.round(x, 10).T[::-1])
-        return self.h5[path][:][order], x[order]
+from .time_series import Fields
 
 
 def steps(directory):
@@ -68,7 +37,7 @@ def compare(dir_a, dir_b, tolerance=1e-8, out=print):
         if times != b.times(name):
             failures.append(f"{name}: output times differ ({len(times)} against {len(b.times(name))})")
             continue
-        values = {t: (a.sorted_values(name, t), b.sorted_values(name, t)) for t in times}
+        values = {t: (a.sorted(name, t), b.sorted(name, t)) for t in times}
         if any(va[1].shape != vb[1].shape or not np.allclose(va[1], vb[1], rtol=0, atol=1e-10)
                for va, vb in values.values()):
             failures.append(f"{name}: the meshes differ")

@@ -66,6 +66,15 @@ class ContactSet:
         self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
 
 
+def contact_boundary_flag(contact_set):
+    """The contact boundary as a P1 field for output: exactly 1 at the
+    contact nodes, 0 elsewhere (cpp/contact.h)."""
+    flag = fem.Function(contact_set.output_space, name="contact_boundary")
+    flag.x.array[contact_set.output_dofs] = 1.0
+    flag.x.scatter_forward()
+    return flag
+
+
 class ContactState:
     """Contact diagnostics after a solve (cpp/contact.h)."""
 

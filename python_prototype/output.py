@@ -1,12 +1,13 @@
-"""Output of a run (cpp/output.cpp): the XDMF time series, iterations.csv and
-summary.json. Rows and times are flushed as they are written, so a run that
+"""Output of a run (cpp/output.cpp): the XDMF time series (time_series.py),
+iterations.csv and summary.json. Rows and times are flushed as they are written, so a run that
 stops later loses nothing it finished."""
 import math
 import os
 import time
 
 import numpy as np
-from dolfinx import io
+
+from .time_series import TimeSeries
 
 COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
 
@@ -41,10 +42,7 @@ class Output:
             self.csv.write(COLUMNS + "\n")
             self.csv.flush()
         comm.Barrier()
-        self.xdmf = None
-        if xdmf:
-            self.xdmf = io.XDMFFile(comm, self.xdmf_path(), "w")
-            self.xdmf.write_mesh(mesh)
+        self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh) if xdmf else None
 
     def xdmf_path(self):
         return os.path.join(self.directory, "solution.xdmf")
@@ -53,7 +51,7 @@ class Output:
         if self.xdmf is None:
             return
         start = time.perf_counter()
-        self.xdmf.write_function(f, t)
+        self.xdmf.write(f, t)
         self.time += time.perf_counter() - start
 
     def iteration(self, step, t, iteration, dsigma, ratio, gamma, dp_norm, du_norm, active_nodes):

@@ -116,13 +116,14 @@ def run(scene, directory, comm):
     # ---- flow step / mechanics step, or the monolithic system ------------------
     monolithic = scene.coupling is not None and scene.coupling.scheme == "monolithic"
     flow = mechanics = coupled = None
-    u = p = contact_pressure = contact_active = None
+    u = p = contact_pressure = contact_active = contact_boundary = None
     compute_contact = ContactState
     if monolithic:
         coupled = MonolithicStep(scene, domain, F)
         u, p, compute_flux = coupled.u, coupled.pressure, coupled.flux
         if coupled.system.has_contact():
             contact_pressure, contact_active = coupled.contact_pressure, coupled.contact_active
+            contact_boundary = coupled.contact_boundary
             compute_contact = coupled.contact_state
     else:
         if scene.flow:
@@ -133,6 +134,7 @@ def run(scene, directory, comm):
             u = mechanics.u
             if mechanics.system.has_contact():
                 contact_pressure, contact_active = mechanics.contact_pressure, mechanics.contact_active
+                contact_boundary = mechanics.contact_boundary
                 compute_contact = mechanics.contact_state
 
     # ---- output fields ---------------------------------------------------------------
@@ -175,6 +177,8 @@ def run(scene, directory, comm):
             write_flow(0.0)
         if u is not None:
             write_mechanics(0.0)
+        if contact_boundary is not None:
+            output.write(contact_boundary, 0.0)  # once: every later time repeats it
 
         # ---- time stepping -----------------------------------------------------------
         report, failure = CouplingReport(), ""

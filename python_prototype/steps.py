@@ -11,7 +11,7 @@ import numpy as np
 from dolfinx import fem, mesh as dmesh
 from mpi4py import MPI
 
-from .contact import ContactSet, ContactState
+from .contact import ContactSet, ContactState, contact_boundary_flag
 from .forms import interpolate, interpolate_resistivity
 from .linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, finish_rhs,
                              multiply_add, owned, reassemble_operator)
@@ -208,13 +208,14 @@ class MechanicsStep:
         self.system = System(comm, "mechanics_", self.a, self.bcs, Structure.spd)
         self.b, self.b_loads = fem.Function(V), fem.Function(V)
         self.loads_time = None
-        self.contact_pressure = self.contact_active = None
+        self.contact_pressure = self.contact_active = self.contact_boundary = None
         if not scene.has_contact():
             return
         # Contact: bounds on the normal DOF of every node of Gamma_3.
         contact_set = ContactSet(scene, domain, F, V)
         self.contact_pressure = fem.Function(contact_set.output_space)
         self.contact_active = fem.Function(contact_set.output_space)
+        self.contact_boundary = contact_boundary_flag(contact_set)
         self.system.use_contact(contact_set, contact_set.dofs, np.arange(owned(V)))
 
     def assemble_rhs(self, t):
@@ -299,7 +300,7 @@ class MonolithicStep:
         self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general)
         self.b, self.b_loads = fem.Function(X), fem.Function(X)
         self.loads_time = None
-        self.contact_pressure = self.contact_active = None
+        self.contact_pressure = self.contact_active = self.contact_boundary = None
         if not scene.has_contact():
             return
         # Contact: the bounds sit on the contact DOFs of the displacement block.
@@ -309,6 +310,7 @@ class MonolithicStep:
             raise RuntimeError("monolithic contact: a contact DOF owned in V is not owned in the mixed space")
         self.contact_pressure = fem.Function(contact_set.output_space)
         self.contact_active = fem.Function(contact_set.output_space)
+        self.contact_boundary = contact_boundary_flag(contact_set)
         self.system.use_contact(contact_set, dofs, self.V_to_X[:owned(self.V)])
 
     def assemble_loads(self, t):

@@ -5,12 +5,12 @@ import os
 import subprocess
 import sys
 import tempfile
-import xml.etree.ElementTree as ET
 
-import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+from python_prototype.time_series import Fields, read_time_series  # noqa: E402,F401
 BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
 MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
@@ -41,40 +41,6 @@ def summary(out):
 def iterations(out):
     with open(os.path.join(out, "iterations.csv")) as f:
         return list(csv.DictReader(f))
-
-
-class Fields:
-    """The XDMF time series of a run: fields[name][time] -> array, with node
-    and cell coordinates to compare runs partitioned differently."""
-
-    def __init__(self, out):
-        tree = ET.parse(os.path.join(out, "solution.xdmf"))
-        h5 = h5py.File(os.path.join(out, "solution.h5"), "r")
-        self.nodes = h5["Mesh/mesh/geometry"][:]
-        cells = h5["Mesh/mesh/topology"][:]
-        self.cells = self.nodes[cells].mean(axis=1)
-        self.series = {}
-        for grid in tree.iter("Grid"):
-            attribute = grid.find("Attribute")
-            time = grid.find("Time")
-            if attribute is None or time is None:
-                continue
-            path = attribute.find("DataItem").text.split(":")[1]
-            self.series.setdefault(attribute.get("Name"), {})[float(time.get("Value"))] = \
-                (attribute.get("Center"), h5[path][:])
-
-    def times(self, name):
-        return sorted(self.series[name])
-
-    def at(self, name, t):
-        return self.series[name][t][1]
-
-    def sorted_values(self, name, t):
-        """Values ordered by their coordinates (partition independent)."""
-        center, values = self.series[name][t]
-        x = self.nodes if center == "Node" else self.cells
-        order = np.lexsort(np.round(x, 10).T[::-1])
-        return values[order]
 
 
 def check(condition, message):

@@ -32,7 +32,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 from python_prototype.closed_form import Terzaghi  # noqa: E402
-from python_prototype.compare import Fields  # noqa: E402
+from python_prototype.time_series import Fields  # noqa: E402
 
 COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "coupling_iterations",
            "flow_solves", "mechanics_solves", "monolithic_solves", "wall_time_s", "time_flow_s",
@@ -90,8 +90,7 @@ def run_directory(out, scene, overrides):
 
 def cell_areas(fields):
     """Areas (volumes) of the cells, from the mesh in the output file."""
-    x = fields.h5["Mesh/mesh/geometry"][:]
-    cells = fields.h5["Mesh/mesh/topology"][:]
+    x, cells = fields.nodes, fields.topology
     v = x[cells]
     if cells.shape[1] == 3 and x.shape[1] == 2:
         return 0.5 * np.abs(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]))
@@ -100,7 +99,7 @@ def cell_areas(fields):
 
 
 def values(fields, name, t):
-    return fields.h5[fields.series[name][t][1]][:]
+    return fields.at(name, t)
 
 
 def relative(error, reference, weights=None):

@@ -1,0 +1,70 @@
+// The XDMF time series of a run, laid out for ParaView and meshio: one
+// temporal collection whose every output time is one grid on the one mesh
+// (geometry and topology written once to the HDF5 file), carrying every
+// field as an attribute in 64-bit precision:
+// - P1 fields (displacement, contact pressure, contact flag) as node data,
+//   the values at the mesh vertices exactly as in the solution vector;
+// - cell-wise constant fields (pressure, flux, sigma_v) as cell data;
+// - vectors padded to three components (what ParaView's warp filter takes).
+// A field not written at a time (the mechanics at a fine multirate time)
+// repeats its last written state: the attribute points at the same HDF5
+// dataset, so every grid has every array.
+//
+// Each write is complete on disk when it returns: the dataset is written
+// and the HDF5 file flushed, then the XML is rewritten from the start of
+// the current time's grid on, so that at any moment solution.xdmf lists
+// exactly the data that solution.h5 holds.
+#pragma once
+
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/mesh/Mesh.h>
+#include <hdf5.h>
+#include <mpi.h>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+class TimeSeries
+{
+public:
+  /// Creates `xdmf_path` and the .h5 next to it; writes the mesh (collective).
+  TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const dolfinx::mesh::Mesh& mesh);
+  ~TimeSeries();
+  TimeSeries(const TimeSeries&) = delete;
+  TimeSeries& operator=(const TimeSeries&) = delete;
+
+  /// Adds the values of f (P1 or cell-wise constant) at time t (collective).
+  void write(const dolfinx::fem::Function<double>& f, double t);
+
+private:
+  /// A field of the series and the dataset of its last written state.
+  struct Field
+  {
+    std::string name, center; // center "Node" or "Cell"
+    int components = 1;       // 1 or 3
+    int writes = 0;
+    std::string dataset;
+  };
+  void write_mesh(const dolfinx::mesh::Mesh& mesh);
+  /// The XML of the grid at time t with the last state of every field.
+  std::string grid(double t) const;
+  /// Rewrites the XML from the current grid on (rank 0).
+  void write_xml(double t, bool new_time);
+
+  MPI_Comm _comm;
+  bool _parallel = false, _rank0 = false;
+  std::string _xdmf_path, _h5_name;
+  hid_t _h5 = -1;
+  std::FILE* _xml = nullptr;
+  std::vector<Field> _fields;
+  std::string _mesh_xml; // topology and geometry of every grid
+  long _grid_start = -1, _grids_end = -1; // positions in the XML file
+  double _time = 0;
+  bool _any_time = false;
+  std::int64_t _num_nodes = 0, _num_cells = 0;
+  std::array<std::int64_t, 2> _node_range{}, _cell_range{};
+};
+
+} // namespace biotcontact
