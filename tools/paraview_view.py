@@ -9,13 +9,14 @@ PNG: warped by the displacement, coloured by a field, at the last time).
 (pvpython comes with Debian's `paraview` package, which the set-up does not
 install; `--force-offscreen-rendering` segfaults there, xvfb-run works.)"""
 import argparse
+import json
 import os
 import sys
 import xml.etree.ElementTree as ET
 
 from paraview import servermanager
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, OpenDataFile, ResetCamera,
-                             SaveScreenshot, Show, WarpByVector)
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, GetColorTransferFunction,
+                             GetScalarBar, OpenDataFile, ResetCamera, SaveScreenshot, Show, Text, WarpByVector)
 
 
 def expected(xdmf):
@@ -65,14 +66,40 @@ def screenshot(reader, xdmf, path, color):
     if "displacement" in point:
         source = WarpByVector(Input=reader)
         source.Vectors = ["POINTS", "displacement"]
-        source.ScaleFactor = 20.0  # millimetres on a metre-sized block: magnified to be seen
+        # Magnified so that the largest displacement shows as a tenth of the
+        # domain (millimetres on a metre-sized block are invisible otherwise).
+        reader.UpdatePipeline(times[-1])
+        largest = reader.PointData["displacement"].GetRange(-1)[1]
+        bounds = reader.GetDataInformation().GetBounds()
+        size = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
+        source.ScaleFactor = 0.1 * size / largest if largest > 0 else 1.0
+        print(f"displacement magnified {source.ScaleFactor:.3g} times")
+    view.ViewTime = times[-1]
+    source.UpdatePipeline(times[-1])
     display = Show(source, view)
     ColorBy(display, ("POINTS" if color in point else "CELLS", color))
+    display.RescaleTransferFunctionToDataRange(False, True)
+    bar = GetScalarBar(GetColorTransferFunction(color), view)
+    bar.Orientation = "Horizontal"
+    bar.WindowLocation = "Lower Right Corner"
+    bar.ScalarBarLength = 0.3
+    bar.TitleFontSize = 12
+    bar.LabelFontSize = 12
+    bar.Title = color
+    bar.ComponentTitle = ""
     display.SetScalarBarVisibility(view, True)
-    display.RescaleTransferFunctionToDataRange(True, False)
+    summary = os.path.join(os.path.dirname(xdmf), "summary.json")
+    name = json.load(open(summary)).get("scene", "") if os.path.exists(summary) else ""
+    label = Text(Text=f"scene {name}: {color} at t = {times[-1]:g}"
+                 + (f", displacement x {source.ScaleFactor:.3g}" if source is not reader else ""))
+    label_display = Show(label, view)
+    label_display.WindowLocation = "Upper Center"
+    label_display.FontSize = 14
+    view.OrientationAxesVisibility = 0
     view.InteractionMode = "2D"
     ResetCamera(view)
-    SaveScreenshot(path, view, ImageResolution=[1400, 600])
+    view.CameraParallelScale *= 0.75
+    SaveScreenshot(path, view, ImageResolution=[1400, 700])
     print("wrote " + path)
     return 0
 
