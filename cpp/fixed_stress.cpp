@@ -166,6 +166,12 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
       const double du_norm = relative(owned_norm(du, V), u_size);
       output.iteration({K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
                         mechanics.active_contact_nodes()});
+      if (!std::isfinite(p2) or !std::isfinite(u_size))
+        // The iterates hold NaN or inf (a load or coefficient that is not
+        // finite): no further iteration can recover.
+        throw SolverError("non-finite values (NaN or inf) in the "
+                          + std::string(std::isfinite(p2) ? "displacement" : "pressure")
+                          + " at coupling iteration " + std::to_string(n + 1));
       std::ostringstream entry;
       entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
       log.push_back(entry.str());
@@ -213,6 +219,8 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     report.windows = K + 1;
     p_K = p_new[q];
     u_K = u_new;
+    if (observer.stop and observer.stop())
+      break;
   }
   report.mean_contraction_ratio = report.ratios ? ratio_sum / report.ratios : 0.0;
 }

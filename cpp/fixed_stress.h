@@ -40,6 +40,9 @@ struct WindowObserver
 {
   std::function<void(double t)> flow_state;
   std::function<void(double t, int window, int iterations)> mechanics_state;
+  /// Asked after each accepted (and written) window: true ends the run
+  /// there (an interruption).
+  std::function<bool()> stop;
 };
 
 /// Runs the coupled scene from t = 0 to its end time, filling `report` as it

@@ -6,6 +6,7 @@
 // Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
 // coupling did not converge (what was finished is written), 1 anything else.
 #include "domain.h"
+#include "interruption.h"
 #include "scene.h"
 #include "simulation.h"
 #include "solver.h"
@@ -108,6 +109,7 @@ int main(int argc, char* argv[])
   PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
   // Errors are reported by our messages, never by PETSc stack traces.
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  biotcontact::install_interruption_handlers();
   // The solver statistics of summary.json are read from PETSc's event log
   // (solver.h); -log_view prints the same log by system.
   PetscLogDefaultBegin();

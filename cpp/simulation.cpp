@@ -8,12 +8,14 @@
 #include "forms.h"
 #include "mechanics_step.h"
 #include "monolithic.h"
+#include "interruption.h"
 #include "output.h"
 #include "parameters.h"
 
 #include <basix/finite-element.h>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <cstdio>
 #include <dolfinx/fem/utils.h>
 #include <functional>
@@ -223,8 +225,12 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     }
   };
   char line[256];
+  int completed_steps = 0; // mechanics steps (windows) written
+  double completed_time = 0;
   auto progress = [&](int step, double t, int iterations)
   {
+    completed_steps = step;
+    completed_time = t;
     std::snprintf(line, sizeof line, "step %4d/%d  t = %-11.5g  coupling iterations %3d  active contact nodes %d",
                   step, scene.num_steps() / P.q, t, iterations, contact.active_nodes);
     say(line);
@@ -241,14 +247,30 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   // ---- time stepping -----------------------------------------------------------
   CouplingReport report;
   std::string failure;
+  int signal = 0;
+  auto stop = [&] { return (signal = interruption_signal(comm)) != 0; };
+  // A solve that fails names the step it was computing.
+  const std::vector<double> times = scene.times();
+  auto at_failing_step = [&](const std::string& cause)
+  {
+    const int step = completed_steps + 1;
+    std::ostringstream s;
+    s << "step " << step << " (t = " << times[std::min<std::size_t>(step * P.q, times.size() - 1)]
+      << "): " << cause;
+    return s.str();
+  };
+  try
+  {
   if (scene.coupling and !monolithic)
   {
     ContractionNorm contraction(forms, V, flow->pressure_space());
-    WindowObserver observer{write_flow, [&](double t, int window, int iterations)
+    WindowObserver observer{write_flow,
+                            [&](double t, int window, int iterations)
                             {
                               write_mechanics(t);
                               progress(window, t, iterations);
-                            }};
+                            },
+                            stop};
     try
     {
       run_fixed_stress(scene, P, constants, *flow, *mechanics, contraction, output, observer, report);
@@ -261,7 +283,6 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   else
   {
     // One solve per step: the monolithic system, or the single physics.
-    const std::vector<double> times = scene.times();
     for (int k = 1; k <= scene.num_steps(); ++k)
     {
       const double t = times[k];
@@ -287,14 +308,22 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
         write_mechanics(t);
       progress(k, t, 1);
       report.windows = k;
+      if (stop())
+        break;
     }
+  }
+  }
+  catch (const SolverError& e)
+  {
+    failure = at_failing_step(e.what());
+    report.windows = completed_steps;
   }
   contact = compute_contact();
 
   // ---- errors against a closed form at the final time --------------------------
   Json errors;
   bool has_errors = false;
-  if (scene.reference and failure.empty())
+  if (scene.reference and failure.empty() and signal == 0)
   {
     const ReferenceSpec& ref = *scene.reference;
     const FlowSpec& fs = *scene.flow;
@@ -437,6 +466,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
       .set("unresolved_ratios", report.unresolved_ratios)
       .set("max_coupled_residual", report.max_coupled_residual)
       .set("converged", failure.empty())
+      .set("status", !failure.empty() ? "failed" : signal ? "interrupted" : "completed")
+      .set("last_completed_time", completed_time)
       .set("flow_solves", flow_stats.solves)
       .set("mechanics_solves", mechanics_stats.solves)
       .set("monolithic_solves", coupled_stats.solves)
@@ -456,6 +487,13 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     summary.set("failure", failure);
   output.summary(summary);
 
+  if (signal)
+  {
+    if (root)
+      std::fprintf(stderr, "biotcontact: interrupted (signal %d) after step %d, t = %g: everything up to there is in %s\n",
+                   signal, completed_steps, completed_time, directory.c_str());
+    return 128 + signal;
+  }
   if (!failure.empty())
   {
     if (root)

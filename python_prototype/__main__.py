@@ -100,11 +100,13 @@ def main(argv):
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
     from .domain import create_domain
+    from .interruption import install_interruption_handlers
     from .scene import SceneError, read_scene
     from .simulation import run
     from .solver import OptionsError, SolverError
 
     comm = MPI.COMM_WORLD
+    install_interruption_handlers()
     if command == "version":
         print(f"biotcontact python prototype (dolfinx {dolfinx.__version__}, PETSc "
               f"{'.'.join(map(str, PETSc.Sys.getVersion()))})")

@@ -8,6 +8,7 @@ import numpy as np
 
 from .forms import set_time_step
 from .linear_algebra import owned_norm
+from .solver import SolverError
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see the loop).
@@ -37,11 +38,12 @@ def relative(increment, size):
 
 
 def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
-                     report, comm):
+                     report, comm, stop=None):
     """Runs the coupled scene to its end time, filling `report`. After each
     converged window calls on_flow_state(t) once per fine step (with that
     step's solution loaded in `flow`), then on_mechanics_state(t, window,
-    iterations). Raises CouplingError when a window does not converge."""
+    iterations), then stop(): true ends the run there (an interruption).
+    Raises CouplingError when a window does not converge."""
     coupling, q, times = scene.coupling, P.q, scene.times()
     multirate = coupling.scheme == "multirate"
     V, Q = mechanics.V, flow.Q
@@ -141,6 +143,11 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
             u_size = max(u_size, owned_norm(u_new, V, comm))
             dp_norm = relative(math.sqrt(dp2), p_size)
             du_norm = relative(owned_norm(du, V, comm), u_size)
+            if not math.isfinite(p2) or not math.isfinite(u_size):
+                # The iterates hold NaN or inf (a load or coefficient that is
+                # not finite): no further iteration can recover.
+                raise SolverError("non-finite values (NaN or inf) in the "
+                                  f"{'displacement' if math.isfinite(p2) else 'pressure'} at coupling iteration {n + 1}")
             output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
                              mechanics.active_contact_nodes())
             log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
@@ -173,4 +180,6 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         on_mechanics_state(t(q), K + 1, n + 1)
         report.windows = K + 1
         p_K, u_K = p_new[q], u_new
+        if stop is not None and stop():
+            break
     report.mean_contraction_ratio = ratio_sum / report.ratios if report.ratios else 0.0

@@ -13,7 +13,8 @@ from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
 from .forms import Forms, derive_parameters, set_constants, set_time_step
 from .output import Output
 from .contact import ContactState
-from .solver import SolverStatistics
+from .interruption import interruption_signal
+from .solver import SolverError, SolverStatistics
 from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
                     volumetric_stress)
 
@@ -168,7 +169,10 @@ def run(scene, directory, comm):
                 output.write(contact_pressure, t)
                 output.write(contact_active, t)
 
+        completed = [0, 0.0]  # mechanics steps (windows) written, and their last time
+
         def progress(step, t, iterations):
+            completed[:] = [step, t]
             say(f"step {step:4d}/{scene.num_steps() // P.q}  t = {t:<11.5g}  coupling iterations "
                 f"{iterations:3d}  active contact nodes {contact.active_nodes}")
 
@@ -181,45 +185,59 @@ def run(scene, directory, comm):
             output.write(contact_boundary, 0.0)  # once: every later time repeats it
 
         # ---- time stepping -----------------------------------------------------------
-        report, failure = CouplingReport(), ""
-        if scene.coupling and not monolithic:
-            contraction = ContractionNorm(F, comm)
+        report, failure, interrupted = CouplingReport(), "", 0
+        times = scene.times()
 
-            def on_mechanics_state(t, window, iterations):
-                write_mechanics(t)
-                progress(window, t, iterations)
-            try:
-                run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
-                                 on_mechanics_state, report, comm)
-            except CouplingError as e:
-                failure = str(e)
-        else:
-            # One solve per step: the monolithic system, or the single physics.
-            times = scene.times()
-            for k in range(1, scene.num_steps() + 1):
-                t = times[k]
-                if scene.growth != 1.0 and set_time_step(F, t - times[k - 1]):
-                    for solver in (coupled, flow):
-                        if solver:
-                            solver.time_step_changed()
-                if coupled:
-                    coupled.solve(t)
-                if flow:
-                    flow.p_previous.x.array[:] = p.x.array
-                    flow.solve(t)
-                if mechanics:
-                    mechanics.solve(t)
-                if p is not None:
-                    write_flow(t)
-                if u is not None:
+        def stop():
+            nonlocal interrupted
+            interrupted = interruption_signal(comm)
+            return interrupted != 0
+
+        try:
+            if scene.coupling and not monolithic:
+                contraction = ContractionNorm(F, comm)
+
+                def on_mechanics_state(t, window, iterations):
                     write_mechanics(t)
-                progress(k, t, 1)
-                report.windows = k
+                    progress(window, t, iterations)
+                try:
+                    run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
+                                     on_mechanics_state, report, comm, stop)
+                except CouplingError as e:
+                    failure = str(e)
+            else:
+                # One solve per step: the monolithic system, or the single physics.
+                for k in range(1, scene.num_steps() + 1):
+                    t = times[k]
+                    if scene.growth != 1.0 and set_time_step(F, t - times[k - 1]):
+                        for solver in (coupled, flow):
+                            if solver:
+                                solver.time_step_changed()
+                    if coupled:
+                        coupled.solve(t)
+                    if flow:
+                        flow.p_previous.x.array[:] = p.x.array
+                        flow.solve(t)
+                    if mechanics:
+                        mechanics.solve(t)
+                    if p is not None:
+                        write_flow(t)
+                    if u is not None:
+                        write_mechanics(t)
+                    progress(k, t, 1)
+                    report.windows = k
+                    if stop():
+                        break
+        except SolverError as e:
+            # A solve that fails names the step it was computing.
+            step = completed[0] + 1
+            failure = f"step {step} (t = {times[min(step * P.q, len(times) - 1)]:g}): {e}"
+            report.windows = completed[0]
         contact = compute_contact()
 
         # ---- errors against a closed form at the final time --------------------------
         errors = None
-        if scene.reference and not failure:
+        if scene.reference and not failure and not interrupted:
             ref, fs = scene.reference, scene.flow
             mobility = fs.permeability(0, 0, 0, 0) / fs.mu_f
             t, y0 = scene.end_time, scene.mesh.lower[1]
@@ -284,6 +302,8 @@ def run(scene, directory, comm):
             "unresolved_ratios": report.unresolved_ratios,
             "max_coupled_residual": report.max_coupled_residual,
             "converged": not failure,
+            "status": "failed" if failure else "interrupted" if interrupted else "completed",
+            "last_completed_time": completed[1],
             "flow_solves": stats["flow"].solves,
             "mechanics_solves": stats["mechanics"].solves,
             "monolithic_solves": stats["monolithic"].solves,
@@ -309,6 +329,11 @@ def run(scene, directory, comm):
     finally:
         output.close()
 
+    if interrupted:
+        if comm.rank == 0:
+            print(f"biotcontact: interrupted (signal {interrupted}) after step {completed[0]}, t = {completed[1]:g}: "
+                  f"everything up to there is in {directory}", file=sys.stderr, flush=True)
+        return 128 + interrupted
     if failure:
         if comm.rank == 0:
             print(f"biotcontact: error: {failure} (log: {directory}/iterations.csv)", file=sys.stderr, flush=True)
