@@ -1,6 +1,9 @@
 #include "domain.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
 #include <dolfinx/fem/CoordinateElement.h>
 #include <dolfinx/io/xdmf_utils.h>
 #include <dolfinx/mesh/generation.h>
@@ -97,6 +100,12 @@ GmshData read_gmsh_file(const std::string& file, int d)
   {
     gmsh::finalize();
     throw SceneError(file + ": cannot read the gmsh file: " + e.what());
+  }
+  catch (const std::string& e)
+  {
+    // The gmsh API reports its own errors by throwing their text.
+    gmsh::finalize();
+    throw SceneError(file + ": cannot read the gmsh file: " + (e.empty() ? "gmsh failed" : e));
   }
   gmsh::finalize();
   if (data.cells.empty())
@@ -212,6 +221,120 @@ Domain create_domain(const Scene& scene, MPI_Comm comm)
         { return xt::abs(xt::row(x, axis) - value) < tol; });
   }
   return domain;
+}
+
+namespace
+{
+/// The first expression of a list that is not finite somewhere: its key
+/// and a description of where.
+struct NonFinite
+{
+  int index = -1;
+  std::string message;
+};
+
+/// Coordinates (3 per point) of the vertices of some facets.
+std::vector<double> facet_vertices(const mesh::Mesh& mesh, const std::vector<std::int32_t>& facets)
+{
+  const int fdim = mesh.topology().dim() - 1;
+  const auto nodes = mesh::entities_to_geometry(mesh, fdim, facets, false);
+  std::span<const double> x = mesh.geometry().x();
+  std::vector<double> points;
+  for (std::int32_t node : nodes)
+    points.insert(points.end(), x.begin() + 3 * node, x.begin() + 3 * node + 3);
+  return points;
+}
+
+std::vector<double> cell_midpoints(const mesh::Mesh& mesh)
+{
+  const int tdim = mesh.topology().dim();
+  const std::int32_t n = mesh.topology().index_map(tdim)->size_local();
+  std::vector<std::int32_t> cells(n);
+  std::iota(cells.begin(), cells.end(), 0);
+  return mesh::compute_midpoints(mesh, tdim, cells);
+}
+} // namespace
+
+void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
+{
+  // (key, expression, points) of every expression the run will evaluate.
+  struct Use
+  {
+    std::string key;
+    const Expression* expression;
+    const std::vector<double>* points;
+    bool time_dependent_use;
+  };
+  std::vector<Use> uses;
+  std::map<std::string, std::vector<double>> boundary_points;
+  for (const auto& [name, b] : scene.boundaries)
+    if (domain.boundaries.count(name))
+      boundary_points[name] = facet_vertices(*domain.mesh, domain.boundaries.at(name));
+  const std::vector<double> midpoints = cell_midpoints(*domain.mesh);
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    const std::vector<double>* at = &boundary_points[name];
+    const std::string key = "boundary." + name;
+    for (std::size_t i = 0; i < b.displacement.size(); ++i)
+      if (b.displacement[i])
+        uses.push_back({key + ".displacement." + "xyz"[i], &*b.displacement[i], at, true});
+    for (const Expression& e : b.traction)
+      uses.push_back({key + ".traction", &e, at, true});
+    if (b.flow == BoundarySpec::Flow::pressure)
+      uses.push_back({key + ".pressure", &b.pressure, at, true});
+  }
+  if (scene.mechanics and scene.mechanics->body_force)
+    for (const Expression& e : *scene.mechanics->body_force)
+      uses.push_back({"mechanics.body_force", &e, &midpoints, true});
+  if (scene.flow)
+  {
+    if (scene.flow->source)
+      uses.push_back({"flow.source", &*scene.flow->source, &midpoints, true});
+    if (scene.flow->permeability)
+      uses.push_back({"flow.permeability", &*scene.flow->permeability, &midpoints, false});
+    uses.push_back({"flow.initial_pressure", &scene.flow->initial_pressure, &midpoints, false});
+  }
+
+  NonFinite found;
+  for (std::size_t k = 0; k < uses.size() and found.index < 0; ++k)
+  {
+    const Use& use = uses[k];
+    const std::vector<double>& p = *use.points;
+    for (double t : use.time_dependent_use ? std::vector<double>{0.0, scene.end_time} : std::vector<double>{0.0})
+    {
+      for (std::size_t i = 0; i + 2 < p.size() and found.index < 0; i += 3)
+      {
+        const double v = (*use.expression)(&p[i], t);
+        if (!std::isfinite(v))
+        {
+          std::ostringstream s;
+          s << scene.file << ": " << use.key << ": \"" << use.expression->text() << "\" is "
+            << (std::isnan(v) ? "NaN" : v > 0 ? "inf" : "-inf") << " at (" << p[i] << ", " << p[i + 1];
+          if (domain.dim() == 3)
+            s << ", " << p[i + 2];
+          s << "), t = " << t;
+          found = {static_cast<int>(k), s.str()};
+        }
+      }
+    }
+  }
+  // Every rank reports the first key that fails on any rank, with the
+  // place found by the lowest such rank.
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  int first = found.index < 0 ? static_cast<int>(uses.size()) : found.index, global = 0;
+  MPI_Allreduce(&first, &global, 1, MPI_INT, MPI_MIN, comm);
+  if (global == static_cast<int>(uses.size()))
+    return;
+  int mine = found.index == global ? rank : size, owner = 0;
+  MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MIN, comm);
+  int length = static_cast<int>(found.message.size());
+  MPI_Bcast(&length, 1, MPI_INT, owner, comm);
+  std::string message = found.message;
+  message.resize(length);
+  MPI_Bcast(message.data(), length, MPI_CHAR, owner, comm);
+  throw SceneError(message);
 }
 
 } // namespace biotcontact

@@ -30,4 +30,11 @@ struct Domain
 /// and locates its named boundaries; throws SceneError for unknown names.
 Domain create_domain(const Scene& scene, MPI_Comm comm);
 
+/// Evaluates every expression of the scene where it is used (boundary
+/// values at the nodes of their boundary, volume terms at the cell
+/// midpoints) at the first and the last time, before any solve: a value
+/// that is NaN or inf is refused with SceneError naming its key, the same
+/// on every rank (collective).
+void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm);
+
 } // namespace biotcontact

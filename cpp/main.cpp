@@ -80,6 +80,8 @@ int main(int argc, char* argv[])
       args.command = a;
     else if (args.scene.empty() and !args.command.empty() and a[0] != '-')
       args.scene = a;
+    else if (a.rfind("--", 0) == 0)
+      bad = "unknown option '" + a + "' (PETSc options take one dash)";
     else if (a[0] == '-')
     {
       petsc_argv.push_back(argv[i]);
@@ -132,7 +134,8 @@ int main(int argc, char* argv[])
       {
         // The mesh is built too: a gmsh file's boundary names are only
         // known once it is read.
-        biotcontact::create_domain(scene, MPI_COMM_WORLD);
+        const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
+        biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
         if (rank == 0)
           std::printf("%s: ok (%s, %d steps)\n", args.scene.c_str(), scene.name.c_str(), scene.num_steps());
       }

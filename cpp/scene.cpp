@@ -3,6 +3,10 @@
 #include "closed_form.h"
 
 #include <algorithm>
+#include <functional>
+#include <iomanip>
+#include <numeric>
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -250,6 +254,19 @@ MeshSpec read_mesh(Section s, const std::string& scene_file)
       if (n[i] < 1 or n[i] != std::floor(n[i]))
         s.fail("cells", "must be positive integers");
       m.cells.push_back(static_cast<std::size_t>(n[i]));
+    }
+    // Refused before any allocation: the peak memory per simplex measured
+    // on the default scene and the 3D block (docs/performance.md, about
+    // 4 kB per triangle and 25 kB per tetrahedron with direct solvers).
+    const double simplices = (d == 2 ? 4.0 : 6.0) * std::accumulate(n.begin(), n.end(), 1.0, std::multiplies<>());
+    const double need = simplices * (d == 2 ? 4e3 : 25e3);
+    const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (have > 0 and need > have)
+    {
+      std::ostringstream message;
+      message << std::setprecision(2) << simplices << " cells need about " << need / 1e9
+              << " GB of memory; this machine has " << have / 1e9 << " GB";
+      s.fail("cells", message.str());
     }
   }
   else if (m.type == "gmsh")
@@ -541,7 +558,8 @@ std::vector<double> Scene::times() const
   }
   // dt_k = dt growth^(k-1); the last step ends at time.end.
   double step = dt;
-  while (t.back() < end_time * (1 - 1e-12))
+  // Stops one past the limit, which read_scene then refuses.
+  while (t.back() < end_time * (1 - 1e-12) and t.size() <= static_cast<std::size_t>(max_steps) + 1)
   {
     t.push_back(std::min(t.back() + step, end_time));
     step *= growth;
@@ -605,13 +623,21 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
     time.fail("growth", "must lie in [1, 10]");
   const double steps = scene.end_time / scene.dt;
+  // Counted in double precision: an int would overflow silently.
+  if (scene.growth == 1.0 and steps > Scene::max_steps)
+  {
+    std::ostringstream message;
+    message << "time.end / time.dt = " << std::setprecision(3) << steps << " steps, more than the limit of "
+            << Scene::max_steps;
+    time.fail("dt", message.str());
+  }
   if (scene.growth == 1.0
       and (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1))
     time.fail("dt", "time.end must be a whole number of steps dt");
   if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
     time.fail("growth", "growing time steps need q = 1");
-  if (scene.num_steps() > 1000000)
-    time.fail("dt", "more than a million time steps");
+  if (scene.num_steps() > Scene::max_steps)
+    time.fail("growth", "more than " + std::to_string(Scene::max_steps) + " time steps");
   time.finish();
   if (scene.coupling and scene.num_steps() % scene.coupling->q != 0)
     top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");

@@ -118,6 +118,9 @@ struct Scene
   bool write_xdmf = true;
   std::optional<ReferenceSpec> reference;
 
+  /// At most this many (fine) time steps: a larger count is refused.
+  static constexpr int max_steps = 1000000;
+
   bool has_contact() const;
   int num_steps() const;
   /// t_0 = 0, t_1, ..., t_N = end_time (fine steps).

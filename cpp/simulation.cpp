@@ -88,6 +88,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
 
   // ---- scene -> mesh and tags -> forms ------------------------------------
   const Domain domain = create_domain(scene, comm);
+  check_expressions(scene, domain, comm);
   const CompiledForms& forms = compiled_forms(domain.mesh->topology().cell_type());
   const Parameters P = derive_parameters(scene);
   const Constants constants = make_constants(scene, P);

@@ -55,6 +55,8 @@ def parse(argv):
             command = a
         elif not scene and command and not a.startswith("-"):
             scene = a
+        elif a.startswith("--"):
+            bad = f"unknown option '{a}' (PETSc options take one dash)"
         elif a.startswith("-"):
             petsc.append(a)
             if i + 1 < len(argv) and not argv[i + 1].startswith("-"):
@@ -99,7 +101,7 @@ def main(argv):
     # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
-    from .domain import create_domain
+    from .domain import check_expressions, create_domain
     from .interruption import install_interruption_handlers
     from .scene import SceneError, read_scene
     from .simulation import run
@@ -124,7 +126,8 @@ def main(argv):
     try:
         scene = read_scene(scene_file, overrides)
         if command == "check":
-            create_domain(scene, comm)  # a gmsh file's boundary names are known once read
+            domain = create_domain(scene, comm)  # a gmsh file's boundary names are known once read
+            check_expressions(scene, domain, comm)
             if comm.rank == 0:
                 print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
             return 0

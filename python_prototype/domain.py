@@ -12,6 +12,8 @@ import numpy as np
 import ufl
 from dolfinx import io, mesh as dmesh
 from dolfinx.cpp.graph import AdjacencyList_int32
+from dolfinx.cpp.mesh import entities_to_geometry
+from mpi4py import MPI
 
 from .scene import SceneError
 
@@ -121,3 +123,56 @@ def create_domain(scene, comm):
         boundaries[name] = np.sort(dmesh.locate_entities_boundary(
             mesh, d - 1, lambda x, a=axis, v=value, tol=tol: np.abs(x[a] - v) < tol)).astype(np.int32)
     return Domain(mesh, boundaries)
+
+
+def check_expressions(scene, domain, comm):
+    """Every expression of the scene evaluated where it is used (boundary
+    values at the nodes of their boundary, volume terms at the cell
+    midpoints) at the first and the last time: NaN or inf is refused with
+    SceneError naming its key, the same on every rank (cpp/domain.h)."""
+    mesh, d = domain.mesh, domain.mesh.topology.dim
+    x = mesh.geometry.x
+    midpoints = dmesh.compute_midpoints(mesh, d, np.arange(mesh.topology.index_map(d).size_local, dtype=np.int32))
+    uses = []  # (key, expression, points, evaluated at the end time too)
+    for name, b in sorted(scene.boundaries.items()):  # the order of the C++ std::map
+        if name not in domain.boundaries:
+            continue
+        nodes = entities_to_geometry(mesh._mesh, d - 1, domain.boundaries[name], False).reshape(-1)
+        at = x[nodes]
+        for i, e in enumerate(b.displacement):
+            if e is not None:
+                uses.append((f"boundary.{name}.displacement.{'xyz'[i]}", e, at, True))
+        for e in b.traction:
+            uses.append((f"boundary.{name}.traction", e, at, True))
+        if b.flow == "pressure":
+            uses.append((f"boundary.{name}.pressure", b.pressure, at, True))
+    if scene.mechanics and scene.mechanics.body_force:
+        uses += [("mechanics.body_force", e, midpoints, True) for e in scene.mechanics.body_force]
+    if scene.flow:
+        if scene.flow.source is not None:
+            uses.append(("flow.source", scene.flow.source, midpoints, True))
+        if scene.flow.permeability is not None:
+            uses.append(("flow.permeability", scene.flow.permeability, midpoints, False))
+        uses.append(("flow.initial_pressure", scene.flow.initial_pressure, midpoints, False))
+
+    index, message = len(uses), ""
+    for k, (key, e, p, at_end) in enumerate(uses):
+        for t in ((0.0, scene.end_time) if at_end else (0.0,)):
+            with np.errstate(all="ignore"):
+                v = np.broadcast_to(np.asarray(e(p[:, 0], p[:, 1], p[:, 2], t), dtype=float), (len(p),))
+            bad = np.flatnonzero(~np.isfinite(v))
+            if len(bad):
+                i = bad[0]
+                value = "NaN" if np.isnan(v[i]) else "inf" if v[i] > 0 else "-inf"
+                where = ", ".join(f"{c:g}" for c in p[i, :d])
+                index, message = k, f"{scene.file}: {key}: \"{e.text}\" is {value} at ({where}), t = {t:g}"
+                break
+        if index < len(uses):
+            break
+    # Every rank reports the first key that fails on any rank, with the
+    # place found by the lowest such rank.
+    first = comm.allreduce(index, op=MPI.MIN)
+    if first == len(uses):
+        return
+    owner = comm.allreduce(comm.rank if index == first else comm.size, op=MPI.MIN)
+    raise SceneError(comm.bcast(message, root=owner))

@@ -15,6 +15,8 @@ from typing import Optional
 from .closed_form import Mandel
 from .expression import Expression, ExpressionError
 
+MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
+
 
 class SceneError(Exception):
     """Bad input: the message is one line naming the file and the key."""
@@ -229,7 +231,8 @@ class Scene:
         if self.growth == 1.0:  # whole multiples of dt, so every scheme writes the same times
             return [0.0] + [k * self.dt for k in range(1, int(round(self.end_time / self.dt)) + 1)]
         t, step = [0.0], self.dt  # dt_k = dt growth^(k-1); the last step ends at time.end
-        while t[-1] < self.end_time * (1 - 1e-12):
+        # Stops one past the limit, which read_scene then refuses.
+        while t[-1] < self.end_time * (1 - 1e-12) and len(t) <= MAX_STEPS + 1:
             t.append(min(t[-1] + step, self.end_time))
             step *= self.growth
         return t
@@ -285,6 +288,14 @@ def _read_mesh(s, scene_file):
             if n[i] < 1 or n[i] != math.floor(n[i]):
                 s.fail("cells", "must be positive integers")
             m.cells.append(int(n[i]))
+        # Refused before any allocation (cpp/scene.cpp): about 4 kB per
+        # triangle and 25 kB per tetrahedron measured with direct solvers.
+        simplices = (4.0 if d == 2 else 6.0) * math.prod(n)
+        need = simplices * (4e3 if d == 2 else 25e3)
+        have = os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        if have > 0 and need > have:
+            s.fail("cells", f"{simplices:.2g} cells need about {need / 1e9:.2g} GB of memory; "
+                   f"this machine has {have / 1e9:.2g} GB")
     elif m.type == "gmsh":
         name = s.string("file")
         # Mesh files are looked up next to the scene, then in meshes/.
@@ -533,12 +544,14 @@ def read_scene(file, overrides=()):
     if not (1.0 <= scene.growth <= 10.0):
         time.fail("growth", "must lie in [1, 10]")
     steps = scene.end_time / scene.dt
+    if scene.growth == 1.0 and steps > MAX_STEPS:
+        time.fail("dt", f"time.end / time.dt = {steps:.3g} steps, more than the limit of {MAX_STEPS}")
     if scene.growth == 1.0 and (abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1):
         time.fail("dt", "time.end must be a whole number of steps dt")
     if scene.growth > 1.0 and scene.coupling and scene.coupling.q != 1:
         time.fail("growth", "growing time steps need q = 1")
-    if scene.num_steps() > 1000000:
-        time.fail("dt", "more than a million time steps")
+    if scene.num_steps() > MAX_STEPS:
+        time.fail("growth", f"more than {MAX_STEPS} time steps")
     time.finish()
     if scene.coupling and scene.num_steps() % scene.coupling.q != 0:
         top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q")

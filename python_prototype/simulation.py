@@ -8,7 +8,7 @@ import numpy as np
 from dolfinx import fem
 
 from .closed_form import Mandel, Terzaghi
-from .domain import create_domain
+from .domain import check_expressions, create_domain
 from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
 from .forms import Forms, derive_parameters, set_constants, set_time_step
 from .output import Output
@@ -76,6 +76,7 @@ def run(scene, directory, comm):
 
     # ---- scene -> mesh and tags -> forms ----------------------------------------
     domain = create_domain(scene, comm)
+    check_expressions(scene, domain, comm)
     F = Forms(domain.mesh)
     P = derive_parameters(scene)
     set_constants(F, scene, P)
