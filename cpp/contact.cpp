@@ -67,6 +67,7 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   const std::vector<double> coords = V->tabulate_dof_coordinates(false);
   const std::int32_t owned = bs * map->size_local();
   std::set<std::int32_t> seen;
+  std::string error; // the first bad gap on this rank
   for (const auto& [name, b] : scene.boundaries)
   {
     if (!b.contact)
@@ -79,16 +80,16 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
         continue;
       const double* x = &coords[3 * (dofs[k] / bs)];
       const double g = b.contact->gap(x, 0.0);
-      if (!(g >= 0) or !std::isfinite(g))
-        throw SceneError(scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got "
-                         + std::to_string(g) + " at (" + std::to_string(x[0]) + ", "
-                         + std::to_string(x[1]) + ")");
+      if ((!(g >= 0) or !std::isfinite(g)) and error.empty())
+        error = scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got " + std::to_string(g)
+                + " at (" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ")";
       c.dofs.push_back(dofs[k]);
       c.gap.push_back(g);
       c.lumped.push_back(lumped.array()[dofs[k]]);
       c.output_dofs.push_back(collapsed[k]);
     }
   }
+  agree_on_error(error, domain.mesh->comm());
   return c;
 }
 
@@ -188,6 +189,18 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(prefix)
                        + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
+  // Only the VI methods take bounds; any other would ignore the contact.
+  // Asked of both prefixes, so that a type given for the path not taken
+  // is not ignored silently either.
+  for (const std::string& p : {prefix, prefix + "contact_"})
+  {
+    char type[64] = "";
+    PetscBool given = PETSC_FALSE;
+    PetscOptionsGetString(nullptr, p.c_str(), "-snes_type", type, sizeof type, &given);
+    if (given and std::string(type) != SNESVINEWTONRSLS and std::string(type) != SNESVINEWTONSSLS)
+      throw OptionsError("-" + p + "snes_type " + type
+                         + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
+  }
 }
 
 std::string ContactSolver::method() const

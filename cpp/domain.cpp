@@ -318,23 +318,7 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
       }
     }
   }
-  // Every rank reports the first key that fails on any rank, with the
-  // place found by the lowest such rank.
-  int size = 1, rank = 0;
-  MPI_Comm_size(comm, &size);
-  MPI_Comm_rank(comm, &rank);
-  int first = found.index < 0 ? static_cast<int>(uses.size()) : found.index, global = 0;
-  MPI_Allreduce(&first, &global, 1, MPI_INT, MPI_MIN, comm);
-  if (global == static_cast<int>(uses.size()))
-    return;
-  int mine = found.index == global ? rank : size, owner = 0;
-  MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MIN, comm);
-  int length = static_cast<int>(found.message.size());
-  MPI_Bcast(&length, 1, MPI_INT, owner, comm);
-  std::string message = found.message;
-  message.resize(length);
-  MPI_Bcast(message.data(), length, MPI_CHAR, owner, comm);
-  throw SceneError(message);
+  agree_on_error(found.message, comm);
 }
 
 } // namespace biotcontact

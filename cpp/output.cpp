@@ -1,5 +1,7 @@
 #include "output.h"
 
+#include "scene.h"
+
 #include <cmath>
 #include <dolfinx/common/Timer.h>
 #include <filesystem>
@@ -90,18 +92,25 @@ Output::Output(MPI_Comm comm, const std::string& directory,
                std::shared_ptr<const dolfinx::mesh::Mesh> mesh, bool xdmf)
     : _comm(comm), _directory(directory)
 {
+  // Rank 0 makes the directory; every rank learns whether it could (a
+  // failure on rank 0 alone would leave the others waiting).
+  std::string error;
   if (is_rank0(comm))
   {
     std::error_code ec;
     std::filesystem::create_directories(directory, ec);
     if (ec)
-      throw std::runtime_error("cannot create output directory " + directory + ": " + ec.message());
-    _csv.open(directory + "/iterations.csv");
-    if (!_csv)
-      throw std::runtime_error("cannot write " + directory + "/iterations.csv");
-    _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes\n" << std::flush;
+      error = "--out " + directory + ": cannot create the output directory: " + ec.message();
+    else
+    {
+      _csv.open(directory + "/iterations.csv");
+      if (!_csv)
+        error = "--out " + directory + ": cannot write iterations.csv there";
+      else
+        _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes\n" << std::flush;
+    }
   }
-  MPI_Barrier(comm);
+  agree_on_error(error, comm);
   if (xdmf)
     _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh);
 }

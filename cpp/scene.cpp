@@ -718,4 +718,22 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   return scene;
 }
 
+void agree_on_error(const std::string& message, MPI_Comm comm)
+{
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  const int mine = message.empty() ? size : rank;
+  int owner = size;
+  MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MIN, comm);
+  if (owner == size)
+    return;
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, owner, comm);
+  std::string text = message;
+  text.resize(length);
+  MPI_Bcast(text.data(), length, MPI_CHAR, owner, comm);
+  throw SceneError(text);
+}
+
 } // namespace biotcontact

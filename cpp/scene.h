@@ -5,6 +5,8 @@
 
 #include "expression.h"
 
+#include <mpi.h>
+
 #include <array>
 #include <limits>
 #include <map>
@@ -20,6 +22,12 @@ struct SceneError : std::runtime_error
 {
   using std::runtime_error::runtime_error;
 };
+
+/// Bad input found on some ranks only (a value at their own nodes): every
+/// rank throws SceneError with the message of the lowest rank that found
+/// one, so that no rank is left waiting in a collective call. Does nothing
+/// when `message` is empty on every rank (collective).
+void agree_on_error(const std::string& message, MPI_Comm comm);
 
 struct MeshSpec
 {

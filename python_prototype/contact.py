@@ -17,7 +17,7 @@ from .linear_algebra import accumulate_ghosts, add_vector, owned
 from .schur_complement import SchurComplement
 from .solver import (LinearSolver, OptionsError, SolverError, SolverStage, Structure, reason_name,
                      set_default_option, set_solver_defaults, system_name)
-from .scene import SceneError
+from .scene import SceneError, agree_on_error
 
 
 class ContactSet:
@@ -45,6 +45,7 @@ class ContactSet:
         coords = V.tabulate_dof_coordinates()
         bs, n_owned = V.dofmap.index_map_bs, owned(V)
         self.dofs, self.gap, self.lumped, self.output_dofs, seen = [], [], [], [], set()
+        error = ""  # the first bad gap on this rank
         for name, b in contacts:
             dofs, collapsed = fem.locate_dofs_topological((Vi, self.output_space), fdim,
                                                           domain.boundaries[name])
@@ -54,13 +55,14 @@ class ContactSet:
                 seen.add(dof)
                 x = coords[dof // bs]
                 g = float(b.contact.gap(x[0], x[1], x[2], 0.0))
-                if not (g >= 0) or not np.isfinite(g):
-                    raise SceneError(f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} "
-                                     f"at ({x[0]:f}, {x[1]:f})")
+                if (not (g >= 0) or not np.isfinite(g)) and not error:
+                    error = (f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} "
+                             f"at ({x[0]:f}, {x[1]:f})")
                 self.dofs.append(dof)
                 self.gap.append(g)
                 self.lumped.append(lumped.x.array[dof])
                 self.output_dofs.append(out)
+        agree_on_error(error, domain.mesh.comm)
         self.dofs = np.array(self.dofs, dtype=np.int32)
         self.gap, self.lumped = np.array(self.gap), np.array(self.lumped)
         self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
@@ -162,6 +164,13 @@ class ContactSolver:
         except PETSc.Error as e:
             raise OptionsError(f"the PETSc options of {system_name(prefix)} contact solver do not make a solver "
                                f"(PETSc error {e.ierr})") from None
+        # Only the VI methods take bounds; asked of both prefixes, so that a
+        # type given for the path not taken is not ignored silently either.
+        for p in (prefix, prefix + "contact_"):
+            given = PETSc.Options().getString(p + "snes_type", "")
+            if given and given not in ("vinewtonrsls", "vinewtonssls"):
+                raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
+                                   "(vinewtonrsls or vinewtonssls)")
         self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
         self.pending = self.used = None  # active flags of the contact DOFs
 

@@ -13,9 +13,8 @@ import ufl
 from dolfinx import io, mesh as dmesh
 from dolfinx.cpp.graph import AdjacencyList_int32
 from dolfinx.cpp.mesh import entities_to_geometry
-from mpi4py import MPI
 
-from .scene import SceneError
+from .scene import SceneError, agree_on_error
 
 BOUNDARY_MARKER = 1  # forms/biot.py integrates ds(1)
 
@@ -169,10 +168,4 @@ def check_expressions(scene, domain, comm):
                 break
         if index < len(uses):
             break
-    # Every rank reports the first key that fails on any rank, with the
-    # place found by the lowest such rank.
-    first = comm.allreduce(index, op=MPI.MIN)
-    if first == len(uses):
-        return
-    owner = comm.allreduce(comm.rank if index == first else comm.size, op=MPI.MIN)
-    raise SceneError(comm.bcast(message, root=owner))
+    agree_on_error(message, comm)

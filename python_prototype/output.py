@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 
+from .scene import agree_on_error
 from .time_series import TimeSeries
 
 COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
@@ -36,12 +37,22 @@ class Output:
     def __init__(self, comm, directory, mesh, xdmf):
         self.comm, self.directory, self.time = comm, directory, 0.0
         self.csv = None
+        # Rank 0 makes the directory; every rank learns whether it could.
+        error = ""
         if comm.rank == 0:
-            os.makedirs(directory, exist_ok=True)
-            self.csv = open(os.path.join(directory, "iterations.csv"), "w")
-            self.csv.write(COLUMNS + "\n")
-            self.csv.flush()
-        comm.Barrier()
+            try:
+                os.makedirs(directory, exist_ok=True)
+            except OSError as e:
+                error = f"--out {directory}: cannot create the output directory: {e.strerror}"
+            else:
+                try:
+                    self.csv = open(os.path.join(directory, "iterations.csv"), "w")
+                except OSError:
+                    error = f"--out {directory}: cannot write iterations.csv there"
+                else:
+                    self.csv.write(COLUMNS + "\n")
+                    self.csv.flush()
+        agree_on_error(error, comm)
         self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh) if xdmf else None
 
     def xdmf_path(self):

@@ -12,6 +12,8 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Optional
 
+from mpi4py import MPI
+
 from .closed_form import Mandel
 from .expression import Expression, ExpressionError
 
@@ -20,6 +22,15 @@ MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is re
 
 class SceneError(Exception):
     """Bad input: the message is one line naming the file and the key."""
+
+
+def agree_on_error(message, comm):
+    """Bad input found on some ranks only: every rank raises SceneError with
+    the message of the lowest rank that found one, so that no rank is left
+    waiting in a collective call (cpp/scene.h). Collective."""
+    owner = comm.allreduce(comm.rank if message else comm.size, op=MPI.MIN)
+    if owner < comm.size:
+        raise SceneError(comm.bcast(message, root=owner))
 
 
 def _is_number(v):
