@@ -1,10 +1,14 @@
-"""Bad input gets one line naming the key or file and exit status 2: never
-an abort, a PETSc trace or a silent NaN."""
+"""A catalogue of bad inputs (issue 12): each gets one line naming the key,
+option or file and exit status 2, never an abort, a PETSc trace or a silent
+NaN, and leaves no output directory behind; three of them also under
+mpirun -n 2 (one rank's error ends both). A failure found while solving
+gets exit 3, one line naming the step, and a summary that says failed."""
+import json
 import os
 import subprocess
 import tempfile
 
-from support import BINARY, check, scene
+from support import BINARY, MPI_ENV, check, scene
 
 DEFAULT = scene("default")
 with open(DEFAULT) as f:
@@ -26,46 +30,156 @@ def written(text):
     return path
 
 
-CASES = [
-    ("missing key", without("mu_f"), [], "flow.mu_f"),
-    ("missing table", written(TEXT.replace("[time]", "[tiem]")), [], "time"),
-    ("unknown key", DEFAULT, ["mechanics.Ee=1.0"], "mechanics.Ee"),
-    ("unknown key in a boundary", DEFAULT, ["boundary.top.tracton=[0.0, 1.0]"], "boundary.top.tracton"),
-    ("negative E", DEFAULT, ["mechanics.E=-1.0"], "mechanics.E"),
-    ("nu = 0.5", DEFAULT, ["mechanics.nu=0.5"], "mechanics.nu"),
-    ("nu > 0.5", DEFAULT, ["mechanics.nu=0.7"], "mechanics.nu"),
-    ("negative permeability", DEFAULT, ["flow.permeability=-1e-13"], "flow.permeability"),
-    ("zero Biot modulus", DEFAULT, ["flow.M=0.0"], "flow.M"),
-    ("alpha > 1", DEFAULT, ["coupling.alpha=1.5"], "coupling.alpha"),
-    ("dt = 0", DEFAULT, ["time.dt=0.0"], "time.dt"),
-    ("dt < 0", DEFAULT, ["time.dt=-0.1"], "time.dt"),
-    ("end not a multiple of dt", DEFAULT, ["time.dt=0.7"], "time.dt"),
-    ("unknown boundary name", DEFAULT, ["boundary.middle.pressure=0.0"], "boundary.middle"),
-    ("missing mesh file", DEFAULT, ["mesh.type=gmsh", "mesh.file=nope.msh"], "nope.msh"),
-    ("non-axis foundation normal", DEFAULT, ["boundary.bottom.contact.normal=[0.6, -0.8]"],
-     "boundary.bottom.contact.normal"),
-    ("negative gap", DEFAULT, ["boundary.bottom.contact.gap=-0.1"], "boundary.bottom.contact.gap"),
-    ("bad expression", DEFAULT, ["boundary.top.pressure='x +* 2'"], "boundary.top.pressure"),
-    ("unknown scheme", DEFAULT, ["coupling.scheme=undrained"], "coupling.scheme"),
-    ("unknown L", DEFAULT, ["coupling.L=optimal"], "coupling.L"),
-    ("missing scene file", "no/such/scene.toml", [], "no/such/scene.toml"),
-    ("invalid TOML", written("[mesh\ntype = 1\n"), [], "invalid TOML"),
-]
+BLOCK = scene("block3d")
+CORRUPT_MSH = written("$MeshFormat\n4.1 0 8\nnot a mesh\n")
+CORRUPT_MSH = CORRUPT_MSH.replace(".toml", ".msh")
+with open(CORRUPT_MSH, "w") as f:
+    f.write("$MeshFormat\n4.1 0 8\nnot a mesh\n")
+CORRUPT_GEO = CORRUPT_MSH.replace(".msh", ".geo")
+with open(CORRUPT_GEO, "w") as f:
+    f.write("Point(1) = {0, 0, 0\n")
+EMPTY = written("")
+BOTH = ("check", "run")
+RUN = ("run",)
 
-for label, path, overrides, key in CASES:
-    for command in ("check", "run"):
-        args = [BINARY, command, path]
-        for o in overrides:
-            args += ["--set", o]
-        out = tempfile.mkdtemp()
-        p = subprocess.run(args + (["--out", out] if command == "run" else []),
-                           capture_output=True, text=True, timeout=120)
-        lines = p.stderr.strip().splitlines()
-        check(p.returncode == 2, f"{label} ({command}): exit status {p.returncode} == 2")
-        check(len(lines) == 1 and lines[0].startswith("biotcontact: error:") and key in lines[0],
-              f"{label} ({command}): one line naming {key!r}: {p.stderr.strip()!r}")
-        check("PETSC ERROR" not in p.stdout + p.stderr and "terminate" not in p.stderr,
-              f"{label} ({command}): no PETSc trace or abort")
+
+def s(*overrides):
+    """--set arguments."""
+    return [a for o in overrides for a in ("--set", o)]
+
+
+# (label, scene file, arguments, what the message must name, commands). A
+# PETSc option or --out only matters to `run`.
+CASES = [
+    # missing, unknown and malformed input
+    ("missing key", without("mu_f"), [], "flow.mu_f", BOTH),
+    ("missing table", written(TEXT.replace("[time]", "[tiem]")), [], "time", BOTH),
+    ("unknown key", DEFAULT, s("mechanics.Ee=1.0"), "mechanics.Ee", BOTH),
+    ("unknown key in a boundary", DEFAULT, s("boundary.top.tracton=[0.0, 1.0]"), "boundary.top.tracton", BOTH),
+    ("unknown table", DEFAULT, s("nosuch.key=1"), "nosuch", BOTH),
+    ("--set without =", DEFAULT, s("mechanics"), "--set mechanics", BOTH),
+    ("missing scene file", "no/such/scene.toml", [], "no/such/scene.toml", BOTH),
+    ("scene file is a directory", os.path.dirname(DEFAULT), [], os.path.dirname(DEFAULT), BOTH),
+    ("empty scene file", EMPTY, [], "mesh", BOTH),
+    ("invalid TOML", written("[mesh\ntype = 1\n"), [], "invalid TOML", BOTH),
+    ("unknown --option", DEFAULT, ["--foo"], "--foo", BOTH),
+    ("unexpected argument", DEFAULT, ["extra_argument"], "extra_argument", BOTH),
+    ("mistyped number", DEFAULT, s("mechanics.E='abc'"), "mechanics.E", BOTH),
+    ("mistyped boolean", DEFAULT, s("output.xdmf=3"), "output.xdmf", BOTH),
+    ("mistyped string", DEFAULT, s("scene.name=[1, 2]"), "scene.name", BOTH),
+    ("unknown scheme", DEFAULT, s("coupling.scheme=undrained"), "coupling.scheme", BOTH),
+    ("unknown L", DEFAULT, s("coupling.L=optimal"), "coupling.L", BOTH),
+    ("unknown mesh type", DEFAULT, s("mesh.type=sphere"), "mesh.type", BOTH),
+    ("unknown boundary name", DEFAULT, s("boundary.middle.pressure=0.0"), "boundary.middle", BOTH),
+    # out of range
+    ("negative E", DEFAULT, s("mechanics.E=-1.0"), "mechanics.E", BOTH),
+    ("zero E", DEFAULT, s("mechanics.E=0"), "mechanics.E", BOTH),
+    ("nu = 0.5", DEFAULT, s("mechanics.nu=0.5"), "mechanics.nu", BOTH),
+    ("nu > 0.5", DEFAULT, s("mechanics.nu=0.7"), "mechanics.nu", BOTH),
+    ("nu < -1", DEFAULT, s("mechanics.nu=-1.5"), "mechanics.nu", BOTH),
+    ("negative permeability", DEFAULT, s("flow.permeability=-1e-13"), "flow.permeability", BOTH),
+    ("zero viscosity", DEFAULT, s("flow.mu_f=0"), "flow.mu_f", BOTH),
+    ("porosity above 1", DEFAULT, s("flow.phi0=1.5"), "flow.phi0", BOTH),
+    ("negative compressibility", DEFAULT, s("flow.c_f=-1"), "flow.c_f", BOTH),
+    ("zero Biot modulus", DEFAULT, s("flow.M=0.0"), "flow.M", BOTH),
+    ("alpha > 1", DEFAULT, s("coupling.alpha=1.5"), "coupling.alpha", BOTH),
+    ("alpha < 0", DEFAULT, s("coupling.alpha=-0.5"), "coupling.alpha", BOTH),
+    ("q = 0", DEFAULT, s("coupling.q=0"), "coupling.q", BOTH),
+    ("negative tolerance", DEFAULT, s("coupling.tolerance=-1"), "coupling.tolerance", BOTH),
+    ("zero iterations", DEFAULT, s("coupling.max_iterations=0"), "coupling.max_iterations", BOTH),
+    ("negative L", DEFAULT, s("coupling.L=-1"), "coupling.L", BOTH),
+    ("dt = 0", DEFAULT, s("time.dt=0.0"), "time.dt", BOTH),
+    ("dt < 0", DEFAULT, s("time.dt=-0.1"), "time.dt", BOTH),
+    ("negative end", DEFAULT, s("time.end=-1"), "time.end", BOTH),
+    ("growth < 1", DEFAULT, s("time.growth=0.5"), "time.growth", BOTH),
+    ("zero cells", DEFAULT, s("mesh.cells=[0, 4]"), "mesh.cells", BOTH),
+    ("fractional cells", DEFAULT, s("mesh.cells=[10.5, 4]"), "mesh.cells", BOTH),
+    ("cells of the wrong length", DEFAULT, s("mesh.cells=[10]"), "mesh.cells", BOTH),
+    ("upper below lower", DEFAULT, s("mesh.upper=[-1, 1]"), "mesh.upper", BOTH),
+    ("non-axis foundation normal", DEFAULT, s("boundary.bottom.contact.normal=[0.6, -0.8]"),
+     "boundary.bottom.contact.normal", BOTH),
+    ("normal of length 2", DEFAULT, s("boundary.bottom.contact.normal=[0, -2]"), "boundary.bottom.contact.normal",
+     BOTH),
+    ("negative gap", DEFAULT, s("boundary.bottom.contact.gap=-0.1"), "boundary.bottom.contact.gap", BOTH),
+    ("negative gap where evaluated", DEFAULT, s("boundary.bottom.contact.gap='x-5'"), "boundary.bottom.contact.gap",
+     RUN),
+    ("gravity of the wrong length", DEFAULT, s("flow.gravity=[0, 0, -9.8]", "flow.rho_f=1000"), "flow.gravity",
+     BOTH),
+    ("permeability tensor of the wrong shape", DEFAULT, s("flow.permeability=[[1e-13, 0], [0, 1e-13], [0, 0]]"),
+     "flow.permeability", BOTH),
+    # inconsistent
+    ("end not a multiple of dt", DEFAULT, s("time.dt=0.7"), "time.dt", BOTH),
+    ("q does not divide the steps", DEFAULT, s("coupling.scheme=multirate", "coupling.q=7"), "coupling.q", BOTH),
+    ("growth with multirate", DEFAULT, s("time.growth=1.1", "coupling.scheme=multirate", "coupling.q=2"),
+     "time.growth", BOTH),
+    ("rho_f without gravity", DEFAULT, s("flow.rho_f=1000"), "flow.gravity", BOTH),
+    ("E with G", DEFAULT, s("mechanics.G=1e9"), "mechanics.E", BOTH),
+    ("two mechanics conditions", DEFAULT, s("boundary.left.traction=[0, 1]"), "boundary.left", BOTH),
+    ("pressure and flux", DEFAULT, s("boundary.top.flux=1.0"), "boundary.top.flux", BOTH),
+    # too large
+    ("1e20 steps", DEFAULT, s("time.end=1e20", "time.dt=1"), "time.dt", BOTH),
+    ("3e9 steps", DEFAULT, s("time.end=3e9", "time.dt=1"), "time.dt", BOTH),
+    ("steps that barely grow", DEFAULT, s("time.growth=1.0000001", "time.dt=1e-9", "time.end=1e9"), "time.growth",
+     BOTH),
+    ("a mesh larger than the machine", DEFAULT, s("mesh.cells=[4000000, 4000000]"), "mesh.cells", BOTH),
+    # expressions
+    ("bad expression", DEFAULT, s("boundary.top.pressure='x +* 2'"), "boundary.top.pressure", BOTH),
+    ("NaN traction", DEFAULT, s("boundary.top.traction=['0', 'sqrt(-1)']"), "boundary.top.traction", BOTH),
+    ("infinite traction", DEFAULT, s("boundary.top.traction=['0', '-1e3/(t-t)']"), "boundary.top.traction", BOTH),
+    ("NaN initial pressure", DEFAULT, s("flow.initial_pressure='log(x-100)'"), "flow.initial_pressure", BOTH),
+    ("infinite source", DEFAULT, s("flow.source='1/(x-x)'"), "flow.source", BOTH),
+    ("NaN boundary pressure", DEFAULT, s("boundary.top.pressure='0/0'"), "boundary.top.pressure", BOTH),
+    ("NaN body force", DEFAULT, s("mechanics.body_force=['0', 'sqrt(-1)']"), "mechanics.body_force", BOTH),
+    ("NaN gap", DEFAULT, s("boundary.bottom.contact.gap='sqrt(-1)'"), "boundary.bottom.contact.gap", RUN),
+    # mesh files
+    ("missing mesh file", DEFAULT, s("mesh.type=gmsh", "mesh.file=nope.msh"), "nope.msh", BOTH),
+    ("corrupt .msh", BLOCK, s(f"mesh.file={CORRUPT_MSH}"), CORRUPT_MSH, BOTH),
+    ("corrupt .geo", BLOCK, s(f"mesh.file={CORRUPT_GEO}"), CORRUPT_GEO, BOTH),
+    # solver options and the output directory
+    ("PETSc options that make no solver", DEFAULT, ["-flow_pc_type", "nonexistent"], "flow", RUN),
+    ("no bounds in the contact solver", DEFAULT, ["-mechanics_snes_type", "newtonls"], "-mechanics_snes_type", RUN),
+    ("no bounds in the condensed contact solver", DEFAULT, ["-mechanics_contact_snes_type", "newtonls"],
+     "-mechanics_contact_snes_type", RUN),
+    ("an output directory that cannot be made", DEFAULT, ["--out", "/proc/x"], "/proc/x", RUN),
+]
+# Under mpirun -n 2 (an error found by one rank must end both).
+MPI_CASES = ["negative gap where evaluated", "an output directory that cannot be made", "corrupt .msh"]
+
+runs = 0
+for label, path, arguments, key, commands in CASES:
+    for command in commands:
+        for ranks in ((1, 2) if label in MPI_CASES and command == "run" else (1,)):
+            out = os.path.join(tempfile.mkdtemp(), "out")
+            args = [BINARY, command, path] + arguments
+            if command == "run" and "--out" not in arguments:
+                args += ["--out", out]
+            if ranks > 1:
+                args = ["mpirun", "-n", str(ranks)] + args
+            p = subprocess.run(args, capture_output=True, text=True, timeout=120, env=MPI_ENV)
+            ours = [line for line in p.stderr.strip().splitlines() if line.startswith("biotcontact")]
+            where = f"{label} ({command}{', 2 ranks' if ranks > 1 else ''})"
+            check(p.returncode == 2, f"{where}: exit status {p.returncode} == 2")
+            check(len(ours) == 1 and ours[0].startswith("biotcontact: error:") and key in ours[0]
+                  and (ranks > 1 or len(p.stderr.strip().splitlines()) == 1),
+                  f"{where}: one line naming {key!r}: {p.stderr.strip()!r}")
+            check("PETSC ERROR" not in p.stdout + p.stderr and "terminate called" not in p.stderr
+                  and "Signal:" not in p.stderr, f"{where}: no PETSc trace or abort")
+            check(not os.path.exists(out), f"{where}: no output directory left behind")
+            runs += 1
+check(len(CASES) >= 60, f"{len(CASES)} bad inputs in the catalogue ({runs} runs, {len(MPI_CASES)} also on 2 ranks)")
+
+# A failure found while solving: exit 3, one line naming the step, time and
+# system, and everything before it written with status "failed".
+out = tempfile.mkdtemp()
+p = subprocess.run([BINARY, "run", DEFAULT, "--out", out, "-flow_ksp_type", "gmres", "-flow_pc_type", "none",
+                    "-flow_ksp_max_it", "1"], capture_output=True, text=True, timeout=120)
+lines = p.stderr.strip().splitlines()
+check(p.returncode == 3 and len(lines) == 1 and "step 1 (t = 0.2)" in lines[0] and "flow" in lines[0]
+      and "DIVERGED_ITS" in lines[0], f"a diverged linear solve: exit 3, one line: {p.stderr.strip()!r}")
+with open(os.path.join(out, "summary.json")) as f:
+    summary = json.load(f)
+check(summary["status"] == "failed" and summary["steps"] == 0 and "DIVERGED_ITS" in summary["failure"],
+      "a diverged linear solve: summary.json says failed, with the cause")
 
 p = subprocess.run([BINARY, "check", DEFAULT], capture_output=True, text=True)
 check(p.returncode == 0 and "ok" in p.stdout, "the shipped default scene passes check")
