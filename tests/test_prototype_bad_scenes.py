@@ -17,7 +17,7 @@ def both(command, path, overrides, extra=()):
     results = []
     for exe in ([BINARY], PROTOTYPE):
         args = exe + [command, path] + [a for o in overrides for a in ("--set", o)] + list(extra)
-        if command == "run":
+        if command == "run" and "--out" not in extra:
             args += ["--out", tempfile.mkdtemp()]
         p = subprocess.run(args, capture_output=True, text=True, env=ENV, timeout=300)
         results.append((p.returncode, p.stderr.strip()))
@@ -33,6 +33,11 @@ CASES = [
     ("bad expression", ["boundary.top.pressure='x +* 2'"], "boundary.top.pressure"),
     ("unknown L", ["coupling.L=optimal"], "coupling.L"),
     ("negative gap where evaluated", ["boundary.bottom.contact.gap='x-5'"], "boundary.bottom.contact.gap"),
+    ("NaN traction", ["boundary.top.traction=['0', 'sqrt(-1)']"], "boundary.top.traction"),
+    ("infinite source", ["flow.source='1/(x-x)'"], "flow.source"),
+    ("NaN initial pressure", ["flow.initial_pressure='log(x-100)'"], "flow.initial_pressure"),
+    ("3e9 steps", ["time.end=3e9", "time.dt=1"], "time.dt"),
+    ("a mesh larger than the machine", ["mesh.cells=[4000000, 4000000]"], "mesh.cells"),
 ]
 for label, overrides, key in CASES:
     command = "run" if label.endswith("evaluated") else "check"  # the gap is evaluated at the nodes in a run
@@ -40,6 +45,14 @@ for label, overrides, key in CASES:
     check(ps == 2 and cs == 2, f"{label}: exit status 2 (C++ {cs}, prototype {ps})")
     check(len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the prototype's one line equals the C++ one: {pe!r}")
+
+for label, extra, key in (("unknown --option", ["--foo"], "--foo"),
+                          ("no bounds in the contact solver", ["-mechanics_snes_type", "newtonls"],
+                           "-mechanics_snes_type"),
+                          ("an output directory that cannot be made", ["--out", "/proc/x"], "/proc/x")):
+    (cs, ce), (ps, pe) = both("run", DEFAULT, [], extra)
+    check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
+          f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")
 
 (cs, ce), (ps, pe) = both("check", os.path.join(ROOT, "no", "such.toml"), [])
 check(ps == cs == 2 and pe == ce, f"missing scene file: same line and status 2: {pe!r}")
