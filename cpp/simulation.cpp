@@ -262,57 +262,54 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   };
   try
   {
-  if (scene.coupling and !monolithic)
-  {
-    ContractionNorm contraction(forms, V, flow->pressure_space());
-    WindowObserver observer{write_flow,
-                            [&](double t, int window, int iterations)
-                            {
-                              write_mechanics(t);
-                              progress(window, t, iterations);
-                            },
-                            stop};
-    try
+    if (scene.coupling and !monolithic)
     {
+      ContractionNorm contraction(forms, V, flow->pressure_space());
+      WindowObserver observer{write_flow,
+                              [&](double t, int window, int iterations)
+                              {
+                                write_mechanics(t);
+                                progress(window, t, iterations);
+                              },
+                              stop};
       run_fixed_stress(scene, P, constants, *flow, *mechanics, contraction, output, observer, report);
     }
-    catch (const CouplingError& e)
+    else
     {
-      failure = e.what();
-    }
-  }
-  else
-  {
-    // One solve per step: the monolithic system, or the single physics.
-    for (int k = 1; k <= scene.num_steps(); ++k)
-    {
-      const double t = times[k];
-      if (scene.growth != 1.0 and set_time_step(constants, t - times[k - 1]))
+      // One solve per step: the monolithic system, or the single physics.
+      for (int k = 1; k <= scene.num_steps(); ++k)
       {
+        const double t = times[k];
+        if (scene.growth != 1.0 and set_time_step(constants, t - times[k - 1]))
+        {
+          if (coupled)
+            coupled->time_step_changed();
+          if (flow)
+            flow->time_step_changed();
+        }
         if (coupled)
-          coupled->time_step_changed();
+          coupled->solve(t);
         if (flow)
-          flow->time_step_changed();
+        {
+          std::copy(p->x()->array().begin(), p->x()->array().end(), flow->p_previous->x()->mutable_array().begin());
+          flow->solve(t);
+        }
+        if (mechanics)
+          mechanics->solve(t);
+        if (p)
+          write_flow(t);
+        if (u)
+          write_mechanics(t);
+        progress(k, t, 1);
+        report.windows = k;
+        if (stop())
+          break;
       }
-      if (coupled)
-        coupled->solve(t);
-      if (flow)
-      {
-        std::copy(p->x()->array().begin(), p->x()->array().end(), flow->p_previous->x()->mutable_array().begin());
-        flow->solve(t);
-      }
-      if (mechanics)
-        mechanics->solve(t);
-      if (p)
-        write_flow(t);
-      if (u)
-        write_mechanics(t);
-      progress(k, t, 1);
-      report.windows = k;
-      if (stop())
-        break;
     }
   }
+  catch (const CouplingError& e)
+  {
+    failure = e.what(); // names its step and the last increments
   }
   catch (const SolverError& e)
   {

@@ -201,11 +201,8 @@ def run(scene, directory, comm):
                 def on_mechanics_state(t, window, iterations):
                     write_mechanics(t)
                     progress(window, t, iterations)
-                try:
-                    run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
-                                     on_mechanics_state, report, comm, stop)
-                except CouplingError as e:
-                    failure = str(e)
+                run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
+                                 on_mechanics_state, report, comm, stop)
             else:
                 # One solve per step: the monolithic system, or the single physics.
                 for k in range(1, scene.num_steps() + 1):
@@ -229,6 +226,8 @@ def run(scene, directory, comm):
                     report.windows = k
                     if stop():
                         break
+        except CouplingError as e:
+            failure = str(e)  # names its step and the last increments
         except SolverError as e:
             # A solve that fails names the step it was computing.
             step = completed[0] + 1
