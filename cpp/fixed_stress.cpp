@@ -52,18 +52,23 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
   const fem::FunctionSpace& V = *mechanics.space();
   const fem::FunctionSpace& Q = *flow.pressure_space();
 
-  double ratio_sum = 0;
+  double& ratio_sum = report.ratio_sum;
 
   // Converged state at t_K: (u_K, p_K).
   Array p_K = copy(*flow.pressure);
   Array u_K = copy(*mechanics.u);
   // The largest p (summed over the q fine steps) and u of the run so far:
   // the scales of the stopping test.
-  double p_size = std::sqrt(static_cast<double>(q)) * owned_norm(p_K, Q);
-  double u_size = owned_norm(u_K, V);
+  double& p_size = report.p_size;
+  double& u_size = report.u_size;
+  if (report.windows == 0)
+  {
+    p_size = std::sqrt(static_cast<double>(q)) * owned_norm(p_K, Q);
+    u_size = owned_norm(u_K, V);
+  }
 
   const int windows = scene.num_steps() / q;
-  for (int K = 0; K < windows; ++K)
+  for (int K = report.windows; K < windows; ++K)
   {
     // Fine time m of the window (t_K + m dt for a constant step).
     auto t = [&](int m) { return times[K * q + m]; };

@@ -32,6 +32,9 @@ struct CouplingReport
   long unresolved_ratios = 0;  // ratios at round-off level, logged only
   double max_coupled_residual = 0; // relative, of each converged state
   bool converged = true;
+  // Carried from window to window (and through a checkpoint): the sum of
+  // the resolved ratios and the scales of the stopping test.
+  double ratio_sum = 0, p_size = 0, u_size = 0;
 };
 
 /// Called after each converged window: once per fine flow step (with that
@@ -45,8 +48,9 @@ struct WindowObserver
   std::function<bool()> stop;
 };
 
-/// Runs the coupled scene from t = 0 to its end time, filling `report` as it
-/// goes. Throws CouplingError (after logging every iteration) when a window
+/// Runs the coupled scene from t = 0 (or, when report.windows > 0, from the
+/// end of that window: a restart with the state loaded) to its end time,
+/// filling `report` as it goes. Throws CouplingError (after logging every iteration) when a window
 /// does not converge; `report` then describes the run up to that window.
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
                       FlowStep& flow,

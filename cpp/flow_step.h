@@ -51,6 +51,7 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> u_iterate, u_window;
 
   const System& system() const { return *_system; }
+  System& system() { return *_system; }
   double assembly_time = 0; // right-hand sides
 
 private:

@@ -13,6 +13,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <dolfinx/common/log.h>
 #include <filesystem>
 #include <petscsys.h>
@@ -23,7 +24,7 @@ namespace
 {
 
 const char* usage = R"(usage:
-  biotcontact run SCENE.toml [--out DIR] [--set key.path=value ...] [PETSc options]
+  biotcontact run SCENE.toml [--out DIR | --restart DIR] [--set key.path=value ...] [PETSc options]
   biotcontact check SCENE.toml [--set key.path=value ...]
   biotcontact --help | --version
 
@@ -31,6 +32,9 @@ run     simulate the scene; writes DIR/solution.xdmf (+ .h5), DIR/iterations.csv
         and DIR/summary.json (DIR defaults to results/<scene name>)
 check   validate the scene and exit
 --set   override a scene value, e.g. --set coupling.L=kdr --set time.dt=0.5
+--restart DIR  continue the run in DIR from its checkpoint (same scene and
+        --set values; output.checkpoint_every = N writes one every N steps
+        and when the run is interrupted)
 
 PETSc options select the solvers: the flow system has the prefix flow_, the
 mechanics (and contact) solve the prefix mechanics_, e.g.
@@ -41,7 +45,7 @@ vinewtonrsls with bounds on the contact DOFs.
 
 struct Arguments
 {
-  std::string command, scene, out;
+  std::string command, scene, out, restart;
   std::vector<std::string> overrides;
 };
 
@@ -67,12 +71,14 @@ int main(int argc, char* argv[])
       args.command = "help";
     else if (a == "--version")
       args.command = "version";
-    else if (a == "--out" or a == "--set")
+    else if (a == "--out" or a == "--set" or a == "--restart")
     {
       if (i + 1 >= argc)
         bad = a + " needs a value";
       else if (a == "--out")
         args.out = argv[++i];
+      else if (a == "--restart")
+        args.restart = argv[++i];
       else
         args.overrides.push_back(argv[++i]);
     }
@@ -141,8 +147,16 @@ int main(int argc, char* argv[])
       }
       else
       {
-        const std::string out = args.out.empty() ? "results/" + scene.name : args.out;
-        status = biotcontact::run(scene, out, MPI_COMM_WORLD);
+        // A restart goes on in the directory of the run it continues.
+        const std::string out
+            = !args.restart.empty() ? args.restart : args.out.empty() ? "results/" + scene.name : args.out;
+        biotcontact::RunControl control;
+        control.restart = !args.restart.empty();
+        std::ifstream text(args.scene);
+        control.fingerprint.assign(std::istreambuf_iterator<char>(text), {});
+        for (const std::string& o : args.overrides)
+          control.fingerprint += "\n--set " + o;
+        status = biotcontact::run(scene, out, MPI_COMM_WORLD, control);
       }
     }
     catch (const biotcontact::SceneError& e)

@@ -44,6 +44,7 @@ public:
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
   bool has_contact() const { return _system->has_contact(); }
   const System& system() const { return *_system; }
+  System& system() { return *_system; }
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.

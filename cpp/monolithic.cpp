@@ -195,6 +195,15 @@ void MonolithicStep::solve(double t)
 
 void MonolithicStep::time_step_changed() { _system->reassemble(); }
 
+std::span<const double> MonolithicStep::state() const { return _x->x()->array(); }
+
+void MonolithicStep::set_state(std::span<const double> x)
+{
+  std::copy(x.begin(), x.end(), _x->x()->mutable_array().begin());
+  extract(*_x, _V_to_X, *u);
+  extract(*_x, _Q_to_X, *pressure);
+}
+
 void MonolithicStep::flux(fem::Function<double>& out) const
 {
   fem::Function<double> z(_Z);

@@ -40,10 +40,16 @@ public:
   ContactState contact_state();
   bool has_contact() const { return _system->has_contact(); }
   const System& system() const { return *_system; }
+  System& system() { return *_system; }
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
   std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
+
+  /// The coupled unknown (u, z, p), ghosts included, for a checkpoint.
+  std::span<const double> state() const;
+  /// Loads a state() back (and u, pressure from it).
+  void set_state(std::span<const double> x);
 
   double assembly_time = 0; // right-hand sides
 

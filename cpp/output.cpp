@@ -89,9 +89,18 @@ std::string Json::str(int indent) const
 }
 
 Output::Output(MPI_Comm comm, const std::string& directory,
-               std::shared_ptr<const dolfinx::mesh::Mesh> mesh, bool xdmf)
+               std::shared_ptr<const dolfinx::mesh::Mesh> mesh, bool xdmf, const std::string* resume)
     : _comm(comm), _directory(directory)
 {
+  // A resumed run's state starts with the length of iterations.csv.
+  std::istringstream state(resume ? *resume : "");
+  std::uintmax_t csv_size = 0;
+  std::string series;
+  if (resume)
+  {
+    state >> csv_size;
+    series.assign(std::istreambuf_iterator<char>(state >> std::ws), {});
+  }
   // Rank 0 makes the directory; every rank learns whether it could (a
   // failure on rank 0 alone would leave the others waiting).
   std::string error;
@@ -103,16 +112,29 @@ Output::Output(MPI_Comm comm, const std::string& directory,
       error = "--out " + directory + ": cannot create the output directory: " + ec.message();
     else
     {
-      _csv.open(directory + "/iterations.csv");
-      if (!_csv)
-        error = "--out " + directory + ": cannot write iterations.csv there";
+      const std::string csv = directory + "/iterations.csv";
+      if (resume)
+      {
+        std::filesystem::resize_file(csv, csv_size, ec);
+        _csv.open(csv, std::ios::app);
+      }
       else
+        _csv.open(csv);
+      if (!_csv or ec)
+        error = "--out " + directory + ": cannot write iterations.csv there";
+      else if (!resume)
         _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes\n" << std::flush;
     }
   }
   agree_on_error(error, comm);
   if (xdmf)
-    _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh);
+    _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh, resume ? &series : nullptr);
+}
+
+std::string Output::state()
+{
+  const std::streamoff csv = _csv.is_open() ? static_cast<std::streamoff>(_csv.tellp()) : 0;
+  return std::to_string(csv) + "\n" + (_series ? _series->state() : std::string());
 }
 
 void Output::write(const dolfinx::fem::Function<double>& f, double t)

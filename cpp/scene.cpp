@@ -644,6 +644,9 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
 
   Section output = top.table("output", false);
   scene.write_xdmf = output.boolean("xdmf", true);
+  scene.checkpoint_every = output.integer("checkpoint_every", 0);
+  if (scene.checkpoint_every < 0)
+    output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
   output.finish();
 
   Section boundaries = top.table("boundary", false);

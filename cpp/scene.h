@@ -124,6 +124,7 @@ struct Scene
   double end_time = 0, dt = 0;
   double growth = 1; // time.growth: dt_k = dt growth^(k-1)
   bool write_xdmf = true;
+  int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
   std::optional<ReferenceSpec> reference;
 
   /// At most this many (fine) time steps: a larger count is refused.

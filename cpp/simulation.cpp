@@ -8,6 +8,7 @@
 #include "forms.h"
 #include "mechanics_step.h"
 #include "monolithic.h"
+#include "checkpoint.h"
 #include "interruption.h"
 #include "output.h"
 #include "parameters.h"
@@ -74,9 +75,95 @@ Json contact_json(const ContactState& c)
   return j;
 }
 
+/// The state a restart needs after `steps` completed steps (checkpoint.h).
+Checkpoint capture_state(int steps, double time, const FlowStep* flow, const MechanicsStep* mechanics,
+                         const MonolithicStep* coupled, const CouplingReport& report,
+                         const std::array<System*, 3>& systems, const std::string& output)
+{
+  Checkpoint c;
+  c.steps = steps;
+  c.time = time;
+  auto keep = [&](const std::string& name, std::span<const double> x) { c.arrays[name].assign(x.begin(), x.end()); };
+  if (flow)
+    keep("flow", flow->state());
+  if (mechanics)
+    keep("displacement", mechanics->u->x()->array());
+  if (coupled)
+    keep("monolithic", coupled->state());
+  c.numbers = {{"windows", report.windows},
+               {"coupling_iterations", report.coupling_iterations},
+               {"max_iterations_per_step", report.max_iterations_per_step},
+               {"max_contraction_ratio", report.max_contraction_ratio},
+               {"ratios", report.ratios},
+               {"bound_violations", report.bound_violations},
+               {"unresolved_ratios", report.unresolved_ratios},
+               {"max_coupled_residual", report.max_coupled_residual},
+               {"ratio_sum", report.ratio_sum},
+               {"p_size", report.p_size},
+               {"u_size", report.u_size}};
+  for (std::size_t i = 0; i < systems.size(); ++i)
+  {
+    if (!systems[i])
+      continue;
+    const SolverStatistics s = systems[i]->statistics();
+    const std::string k = std::to_string(i) + ".";
+    c.numbers[k + "solves"] = s.solves;
+    c.numbers[k + "setups"] = s.setups;
+    c.numbers[k + "back_solves"] = s.back_solves;
+    c.numbers[k + "linear_iterations"] = s.linear_iterations;
+    c.numbers[k + "newton_iterations"] = s.newton_iterations;
+    c.numbers[k + "active_set_changes"] = s.active_set_changes;
+    c.numbers[k + "schur_columns"] = s.schur_columns;
+  }
+  c.output = output;
+  return c;
+}
+
+/// Loads a checkpoint into the steps, the report and the solver counts.
+void restore_state(const Checkpoint& c, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* coupled,
+                   CouplingReport& report, const std::array<System*, 3>& systems)
+{
+  if (flow)
+    flow->set_state(c.arrays.at("flow"));
+  if (mechanics)
+  {
+    const std::vector<double>& u = c.arrays.at("displacement");
+    std::copy(u.begin(), u.end(), mechanics->u->x()->mutable_array().begin());
+  }
+  if (coupled)
+    coupled->set_state(c.arrays.at("monolithic"));
+  auto n = [&](const std::string& k) { return c.numbers.at(k); };
+  report.windows = static_cast<int>(n("windows"));
+  report.coupling_iterations = static_cast<long>(n("coupling_iterations"));
+  report.max_iterations_per_step = static_cast<int>(n("max_iterations_per_step"));
+  report.max_contraction_ratio = n("max_contraction_ratio");
+  report.ratios = static_cast<long>(n("ratios"));
+  report.bound_violations = static_cast<long>(n("bound_violations"));
+  report.unresolved_ratios = static_cast<long>(n("unresolved_ratios"));
+  report.max_coupled_residual = n("max_coupled_residual");
+  report.ratio_sum = n("ratio_sum");
+  report.p_size = n("p_size");
+  report.u_size = n("u_size");
+  for (std::size_t i = 0; i < systems.size(); ++i)
+  {
+    if (!systems[i])
+      continue;
+    const std::string k = std::to_string(i) + ".";
+    SolverStatistics s;
+    s.solves = static_cast<long>(n(k + "solves"));
+    s.setups = static_cast<long>(n(k + "setups"));
+    s.back_solves = static_cast<long>(n(k + "back_solves"));
+    s.linear_iterations = static_cast<long>(n(k + "linear_iterations"));
+    s.newton_iterations = static_cast<long>(n(k + "newton_iterations"));
+    s.active_set_changes = static_cast<long>(n(k + "active_set_changes"));
+    s.schur_columns = static_cast<long>(n(k + "schur_columns"));
+    systems[i]->add_earlier(s);
+  }
+}
+
 } // namespace
 
-int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
+int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
 {
   const auto start = std::chrono::steady_clock::now();
   const bool root = rank0(comm);
@@ -180,7 +267,10 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
   }
 
   // ---- output fields ---------------------------------------------------------
-  Output output(comm, directory, domain.mesh, scene.write_xdmf);
+  std::optional<Checkpoint> resumed;
+  if (control.restart)
+    resumed = read_checkpoint(comm, directory, control.fingerprint);
+  Output output(comm, directory, domain.mesh, scene.write_xdmf, resumed ? &resumed->output : nullptr);
   const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
   const basix::FiniteElement dg0 = basix::create_element(
       basix::element::family::P, cell, 0, basix::element::lagrange_variant::unset, true);
@@ -237,19 +327,52 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     say(line);
   };
 
-  // ---- initial state ---------------------------------------------------------
-  if (p)
-    write_flow(0.0);
-  if (u)
-    write_mechanics(0.0);
-  if (contact_boundary)
-    output.write(*contact_boundary, 0.0); // once: every later time repeats it
+  // ---- initial state, or the state of the checkpoint ----------------------------
+  CouplingReport report;
+  std::array<System*, 3> systems = {flow ? &flow->system() : nullptr, mechanics ? &mechanics->system() : nullptr,
+                                     coupled ? &coupled->system() : nullptr};
+  if (resumed)
+  {
+    restore_state(*resumed, flow.get(), mechanics.get(), coupled.get(), report, systems);
+    completed_steps = resumed->steps;
+    completed_time = resumed->time;
+    if (u)
+      contact = compute_contact();
+    say("restarted from the checkpoint at step " + std::to_string(completed_steps) + ", t = "
+        + std::to_string(completed_time));
+  }
+  else
+  {
+    if (p)
+      write_flow(0.0);
+    if (u)
+      write_mechanics(0.0);
+    if (contact_boundary)
+      output.write(*contact_boundary, 0.0); // once: every later time repeats it
+  }
 
   // ---- time stepping -----------------------------------------------------------
-  CouplingReport report;
   std::string failure;
   int signal = 0;
-  auto stop = [&] { return (signal = interruption_signal(comm)) != 0; };
+  // After each completed (and written) step: a checkpoint every
+  // checkpoint_every steps and at an interruption; then whether to stop.
+  int saved = resumed ? completed_steps : 0;
+  auto save = [&]
+  {
+    write_checkpoint(comm, directory, control.fingerprint,
+                     capture_state(completed_steps, completed_time, flow.get(), mechanics.get(), coupled.get(),
+                                   report, systems, output.state()));
+    saved = completed_steps;
+  };
+  auto stop = [&]
+  {
+    if (scene.checkpoint_every > 0 and completed_steps % scene.checkpoint_every == 0)
+      save();
+    signal = interruption_signal(comm);
+    if (signal and scene.checkpoint_every > 0 and saved != completed_steps)
+      save();
+    return signal != 0;
+  };
   // A solve that fails names the step it was computing.
   const std::vector<double> times = scene.times();
   auto at_failing_step = [&](const std::string& cause)
@@ -277,7 +400,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm)
     else
     {
       // One solve per step: the monolithic system, or the single physics.
-      for (int k = 1; k <= scene.num_steps(); ++k)
+      for (int k = report.windows + 1; k <= scene.num_steps(); ++k)
       {
         const double t = times[k];
         if (scene.growth != 1.0 and set_time_step(constants, t - times[k - 1]))

@@ -45,8 +45,11 @@ public:
   bool has_contact() const { return _contact != nullptr; }
   ContactSolver& contact() { return *_contact; }
 
-  /// What was done so far (collective only in that every rank reads its log).
+  /// What was done so far (collective only in that every rank reads its log),
+  /// counts of an earlier run included (restart).
   SolverStatistics statistics() const;
+  /// The counts of the run a restart continues.
+  void add_earlier(const SolverStatistics& earlier) { _earlier = earlier; }
   /// The solver actually used, e.g. "preonly + cholesky (cholmod)".
   std::string description() const;
 
@@ -61,6 +64,7 @@ private:
   std::unique_ptr<LinearSolver> _linear;
   std::unique_ptr<ContactSolver> _contact;
   SolverStage _stage;
+  SolverStatistics _earlier;
 };
 
 } // namespace biotcontact

@@ -52,7 +52,8 @@ std::string data_item(const std::string& dimensions, const std::string& type, co
 const std::string tail = "    </Grid>\n  </Domain>\n</Xdmf>\n";
 } // namespace
 
-TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::Mesh& mesh)
+TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::Mesh& mesh,
+                       const std::string* resume)
     : _comm(comm), _xdmf_path(xdmf_path)
 {
   int size = 1, rank = 0;
@@ -62,21 +63,45 @@ TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::
   _rank0 = rank == 0;
   std::filesystem::path h5 = std::filesystem::path(xdmf_path).replace_extension(".h5");
   _h5_name = h5.filename().string();
-  _h5 = io::HDF5Interface::open_file(comm, h5, "w", _parallel);
-  write_mesh(mesh);
+  _h5 = io::HDF5Interface::open_file(comm, h5, resume ? "a" : "w", _parallel);
+  describe_mesh(mesh, !resume);
+  const std::string head = "<?xml version=\"1.0\"?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+                           "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
+                           "  <Domain>\n"
+                           "    <Grid Name=\"solution\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  _grids_end = static_cast<long>(head.size());
+  if (resume)
+  {
+    std::istringstream in(*resume);
+    int any = 0;
+    in >> _grid_start >> _grids_end >> _time >> any;
+    _any_time = any;
+    for (Field f; in >> f.name >> f.center >> f.components >> f.writes >> f.dataset;)
+      _fields.push_back(f);
+  }
   if (_rank0)
   {
-    _xml = std::fopen(xdmf_path.c_str(), "w");
+    _xml = std::fopen(xdmf_path.c_str(), resume ? "r+" : "w");
     if (!_xml)
       throw std::runtime_error("cannot write " + xdmf_path);
-    const std::string head = "<?xml version=\"1.0\"?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-                             "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
-                             "  <Domain>\n"
-                             "    <Grid Name=\"solution\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    std::fputs((head + tail).c_str(), _xml);
+    // Fresh: the empty collection; resumed: the grids up to the state,
+    // closed again (what came after it is dropped).
+    const std::string text = resume ? tail : head + tail;
+    std::fseek(_xml, resume ? _grids_end : 0, SEEK_SET);
+    std::fputs(text.c_str(), _xml);
     std::fflush(_xml);
-    _grids_end = static_cast<long>(head.size());
+    if (ftruncate(fileno(_xml), _grids_end + static_cast<long>(tail.size())) != 0)
+      throw std::runtime_error("cannot write " + xdmf_path);
   }
+}
+
+std::string TimeSeries::state() const
+{
+  std::ostringstream s;
+  s << std::setprecision(17) << _grid_start << ' ' << _grids_end << ' ' << _time << ' ' << _any_time << '\n';
+  for (const Field& f : _fields)
+    s << f.name << ' ' << f.center << ' ' << f.components << ' ' << f.writes << ' ' << f.dataset << '\n';
+  return s.str();
 }
 
 TimeSeries::~TimeSeries()
@@ -87,7 +112,7 @@ TimeSeries::~TimeSeries()
     io::HDF5Interface::close_file(_h5);
 }
 
-void TimeSeries::write_mesh(const mesh::Mesh& mesh)
+void TimeSeries::describe_mesh(const mesh::Mesh& mesh, bool write)
 {
   // Geometry: the owned nodes, gdim coordinates each.
   const int gdim = mesh.geometry().dim();
@@ -100,8 +125,9 @@ void TimeSeries::write_mesh(const mesh::Mesh& mesh)
   for (std::int32_t i = 0; i < owned_nodes; ++i)
     for (int j = 0; j < gdim; ++j)
       x[i * gdim + j] = coordinates[3 * i + j];
-  io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", x.data(), _node_range, {_num_nodes, gdim}, _parallel,
-                                   false);
+  if (write)
+    io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", x.data(), _node_range, {_num_nodes, gdim}, _parallel,
+                                     false);
 
   // Topology: the owned cells, their nodes by global index in the order
   // of VTK (which XDMF readers follow).
@@ -123,9 +149,12 @@ void TimeSeries::write_mesh(const mesh::Mesh& mesh)
   }
   std::vector<std::int64_t> topology(local.size());
   node_map->local_to_global(local, topology);
-  io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", topology.data(), _cell_range,
-                                   {_num_cells, nodes_per_cell}, _parallel, false);
-  io::HDF5Interface::flush_file(_h5);
+  if (write)
+  {
+    io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", topology.data(), _cell_range,
+                                     {_num_cells, nodes_per_cell}, _parallel, false);
+    io::HDF5Interface::flush_file(_h5);
+  }
 
   const std::string n = std::to_string(_num_nodes), e = std::to_string(_num_cells);
   _mesh_xml = "        <Topology TopologyType=\"" + topology_type(mesh.topology().cell_type())
@@ -190,6 +219,12 @@ void TimeSeries::write(const fem::Function<double>& f, double t)
   if (field == _fields.end())
     field = _fields.insert(_fields.end(), Field{f.name, center, components});
   field->dataset = "/Function/" + f.name + "/" + std::to_string(field->writes++);
+  // A resumed run writes again what its first run wrote after the
+  // checkpoint: that dataset goes first.
+  if (H5Lexists(_h5, "/Function", H5P_DEFAULT) > 0
+      and H5Lexists(_h5, ("/Function/" + f.name).c_str(), H5P_DEFAULT) > 0
+      and H5Lexists(_h5, field->dataset.c_str(), H5P_DEFAULT) > 0)
+    H5Ldelete(_h5, field->dataset.c_str(), H5P_DEFAULT);
   io::HDF5Interface::write_dataset(_h5, field->dataset, data.data(), range, {rows, components}, _parallel, false);
   io::HDF5Interface::flush_file(_h5);
 

@@ -29,14 +29,20 @@ namespace biotcontact
 class TimeSeries
 {
 public:
-  /// Creates `xdmf_path` and the .h5 next to it; writes the mesh (collective).
-  TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const dolfinx::mesh::Mesh& mesh);
+  /// Creates `xdmf_path` and the .h5 next to it and writes the mesh; or,
+  /// given the state() of an earlier run, goes on in its files from there,
+  /// dropping what was written after that state (collective).
+  TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const dolfinx::mesh::Mesh& mesh,
+             const std::string* resume = nullptr);
   ~TimeSeries();
   TimeSeries(const TimeSeries&) = delete;
   TimeSeries& operator=(const TimeSeries&) = delete;
 
   /// Adds the values of f (P1 or cell-wise constant) at time t (collective).
   void write(const dolfinx::fem::Function<double>& f, double t);
+
+  /// Where the series stands, for a checkpoint (this rank's view).
+  std::string state() const;
 
 private:
   /// A field of the series and the dataset of its last written state.
@@ -47,7 +53,8 @@ private:
     int writes = 0;
     std::string dataset;
   };
-  void write_mesh(const dolfinx::mesh::Mesh& mesh);
+  /// Ranges, sizes and the XML of the mesh; writes its datasets if `write`.
+  void describe_mesh(const dolfinx::mesh::Mesh& mesh, bool write);
   /// The XML of the grid at time t with the last state of every field.
   std::string grid(double t) const;
   /// Rewrites the XML from the current grid on (rank 0).
