@@ -14,7 +14,7 @@ if not __package__:  # run as a path, `python3 /path/to/python_prototype run ...
     __package__ = "python_prototype"
 
 USAGE = """usage:
-  python3 -m python_prototype run SCENE.toml [--out DIR] [--set key.path=value ...] [PETSc options]
+  python3 -m python_prototype run SCENE.toml [--out DIR | --restart DIR] [--set key.path=value ...] [PETSc options]
   python3 -m python_prototype check SCENE.toml [--set key.path=value ...]
   python3 -m python_prototype compare DIR_A DIR_B [--tolerance 1e-8]
   python3 -m python_prototype --help | --version
@@ -24,6 +24,7 @@ run      simulate the scene; writes DIR/solution.xdmf (+ .h5), DIR/iterations.cs
 check    validate the scene and exit
 compare  compare the outputs of two runs (fields, coupling iterations, contact sets)
 --set    override a scene value, e.g. --set coupling.L=kdr --set time.dt=0.5
+--restart DIR  continue the run in DIR from its checkpoint (output.checkpoint_every)
 
 PETSc options select the solvers (prefixes flow_, mechanics_, monolithic_),
 e.g. -flow_ksp_type gmres -flow_pc_type hypre -mechanics_snes_monitor.
@@ -34,7 +35,7 @@ vinewtonrsls with bounds on the contact DOFs.
 
 def parse(argv):
     """Our own arguments first; the rest go to PETSc (an option and its value)."""
-    command, scene, out, overrides, petsc, bad = "", "", "", [], [], ""
+    command, scene, out, overrides, petsc, bad, restart = "", "", "", [], [], "", ""
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -42,12 +43,15 @@ def parse(argv):
             command = "help"
         elif a == "--version":
             command = "version"
-        elif a in ("--out", "--set"):
+        elif a in ("--out", "--set", "--restart"):
             if i + 1 >= len(argv):
                 bad = a + " needs a value"
             elif a == "--out":
                 i += 1
                 out = argv[i]
+            elif a == "--restart":
+                i += 1
+                restart = argv[i]
             else:
                 i += 1
                 overrides.append(argv[i])
@@ -65,7 +69,7 @@ def parse(argv):
         else:
             bad = f"unexpected argument '{a}'"
         i += 1
-    return command, scene, out, overrides, petsc, bad
+    return command, scene, out, overrides, petsc, bad, restart
 
 
 def compare_main(argv):
@@ -84,7 +88,7 @@ def compare_main(argv):
 def main(argv):
     if argv[:1] == ["compare"]:
         return compare_main(argv[1:])
-    command, scene_file, out, overrides, petsc, bad = parse(argv)
+    command, scene_file, out, overrides, petsc, bad, restart = parse(argv)
     if command == "help":
         print(USAGE, end="")
         return 0
@@ -131,7 +135,10 @@ def main(argv):
             if comm.rank == 0:
                 print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
             return 0
-        return run(scene, out or os.path.join("results", scene.name), comm)
+        # A restart goes on in the directory of the run it continues.
+        with open(scene_file) as f:
+            fingerprint = f.read() + "".join(f"\n--set {o}" for o in overrides)
+        return run(scene, restart or out or os.path.join("results", scene.name), comm, fingerprint, bool(restart))
     except (SceneError, OptionsError) as e:
         return fail(str(e))
     except SolverError as e:

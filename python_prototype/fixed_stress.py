@@ -30,6 +30,9 @@ class CouplingReport:
         self.bound_violations = 0          # resolved ratios above gamma
         self.unresolved_ratios = 0         # ratios at round-off level, logged only
         self.max_coupled_residual = 0.0    # relative, of each converged state
+        # Carried from window to window (and through a checkpoint): the sum
+        # of the resolved ratios and the scales of the stopping test.
+        self.ratio_sum = self.p_size = self.u_size = 0.0
 
 
 def relative(increment, size):
@@ -39,7 +42,8 @@ def relative(increment, size):
 
 def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
                      report, comm, stop=None):
-    """Runs the coupled scene to its end time, filling `report`. After each
+    """Runs the coupled scene to its end time (from the end of window
+    report.windows when a restart loaded its state), filling `report`. After each
     converged window calls on_flow_state(t) once per fine step (with that
     step's solution loaded in `flow`), then on_mechanics_state(t, window,
     iterations), then stop(): true ends the run there (an interruption).
@@ -48,17 +52,17 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
     multirate = coupling.scheme == "multirate"
     V, Q = mechanics.V, flow.Q
     nan = math.nan
-    ratio_sum = 0.0
 
     # Converged state at t_K: (u_K, p_K).
     p_K = flow.pressure.x.array.copy()
     u_K = mechanics.u.x.array.copy()
     # The largest p (summed over the q fine steps) and u of the run so far:
-    # the scales of the stopping test.
-    p_size = math.sqrt(q) * owned_norm(p_K, Q, comm)
-    u_size = owned_norm(u_K, V, comm)
+    # the scales of the stopping test (a restart brings its own).
+    if report.windows == 0:
+        report.p_size = math.sqrt(q) * owned_norm(p_K, Q, comm)
+        report.u_size = owned_norm(u_K, V, comm)
 
-    for K in range(scene.num_steps() // q):
+    for K in range(report.windows, scene.num_steps() // q):
         def t(m):  # fine time m of the window (t_K + m dt for a constant step)
             return times[K * q + m]
         if scene.growth != 1.0 and set_time_step(F, t(1) - t(0)):
@@ -130,7 +134,7 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
                 report.unresolved_ratios += 1
             if resolved and math.isfinite(ratio):
                 report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
-                ratio_sum += ratio
+                report.ratio_sum += ratio
                 report.ratios += 1
                 report.bound_violations += int(ratio > P.gamma)
             dsigma_previous = dsigma
@@ -139,11 +143,11 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
             # stale state): l2 norms of the p and u increments relative to the
             # largest p and u of the run so far (relative to the current iterate
             # alone, a field decaying to zero would be judged by its round-off).
-            p_size = max(p_size, math.sqrt(p2))
-            u_size = max(u_size, owned_norm(u_new, V, comm))
-            dp_norm = relative(math.sqrt(dp2), p_size)
-            du_norm = relative(owned_norm(du, V, comm), u_size)
-            if not math.isfinite(p2) or not math.isfinite(u_size):
+            report.p_size = max(report.p_size, math.sqrt(p2))
+            report.u_size = max(report.u_size, owned_norm(u_new, V, comm))
+            dp_norm = relative(math.sqrt(dp2), report.p_size)
+            du_norm = relative(owned_norm(du, V, comm), report.u_size)
+            if not math.isfinite(p2) or not math.isfinite(report.u_size):
                 # The iterates hold NaN or inf (a load or coefficient that is
                 # not finite): no further iteration can recover.
                 raise SolverError("non-finite values (NaN or inf) in the "
@@ -168,7 +172,7 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         report.coupling_iterations += iterations
         report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
         if not converged:
-            report.mean_contraction_ratio = ratio_sum / report.ratios if report.ratios else 0.0
+            report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
             raise CouplingError(f"the fixed-stress split did not converge in {coupling.max_iterations} "
                                 f"iterations at t = {t(q):g} (step {K + 1}); last increments:"
                                 + "".join(log[-3:]))
@@ -182,4 +186,4 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         p_K, u_K = p_new[q], u_new
         if stop is not None and stop():
             break
-    report.mean_contraction_ratio = ratio_sum / report.ratios if report.ratios else 0.0
+    report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0

@@ -34,7 +34,9 @@ def to_json(value, indent=0):
 
 
 class Output:
-    def __init__(self, comm, directory, mesh, xdmf):
+    def __init__(self, comm, directory, mesh, xdmf, resume=None):
+        """Creates the files; or, given the state() of an earlier run of the
+        same scene, goes on in its files, dropping what came after it."""
         self.comm, self.directory, self.time = comm, directory, 0.0
         self.csv = None
         # Rank 0 makes the directory; every rank learns whether it could.
@@ -45,15 +47,24 @@ class Output:
             except OSError as e:
                 error = f"--out {directory}: cannot create the output directory: {e.strerror}"
             else:
+                path = os.path.join(directory, "iterations.csv")
                 try:
-                    self.csv = open(os.path.join(directory, "iterations.csv"), "w")
+                    if resume is not None:  # the state starts with the length of iterations.csv
+                        os.truncate(path, int(resume.split("\n", 1)[0]))
+                    self.csv = open(path, "a" if resume is not None else "w")
                 except OSError:
                     error = f"--out {directory}: cannot write iterations.csv there"
                 else:
-                    self.csv.write(COLUMNS + "\n")
-                    self.csv.flush()
+                    if resume is None:
+                        self.csv.write(COLUMNS + "\n")
+                        self.csv.flush()
         agree_on_error(error, comm)
-        self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh) if xdmf else None
+        series = resume.split("\n", 1)[1] if resume is not None else None
+        self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh, series) if xdmf else None
+
+    def state(self):
+        """Where the files stand, for a checkpoint."""
+        return f"{self.csv.tell() if self.csv else 0}\n" + (self.xdmf.state() if self.xdmf else "")
 
     def xdmf_path(self):
         return os.path.join(self.directory, "solution.xdmf")

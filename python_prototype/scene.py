@@ -232,6 +232,7 @@ class Scene:
     dt: float = 0.0
     growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
     write_xdmf: bool = True
+    checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
     reference: Optional[ReferenceSpec] = None
 
     def has_contact(self):
@@ -569,6 +570,9 @@ def read_scene(file, overrides=()):
 
     output = top.section("output", False)
     scene.write_xdmf = output.boolean("xdmf", True)
+    scene.checkpoint_every = output.integer("checkpoint_every", 0)
+    if scene.checkpoint_every < 0:
+        output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)")
     output.finish()
 
     boundaries = top.section("boundary", False)

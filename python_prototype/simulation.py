@@ -7,6 +7,7 @@ import time
 import numpy as np
 from dolfinx import fem
 
+from .checkpoint import Checkpoint, read_checkpoint, write_checkpoint
 from .closed_form import Mandel, Terzaghi
 from .domain import check_expressions, create_domain
 from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
@@ -65,7 +66,47 @@ def _contact_json(c):
             "gap_scale": c.gap_scale, "total_force": c.total_force}
 
 
-def run(scene, directory, comm):
+REPORT_NUMBERS = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
+                  "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size")
+COUNTS = ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations", "active_set_changes",
+          "schur_columns")
+
+
+def capture_state(steps, t, flow, mechanics, coupled, report, systems, output_state):
+    """The state a restart needs after `steps` completed steps (checkpoint.py)."""
+    c = Checkpoint(steps, t, output=output_state)
+    if flow:
+        c.arrays["flow"] = flow.state().copy()
+    if mechanics:
+        c.arrays["displacement"] = mechanics.u.x.array.copy()
+    if coupled:
+        c.arrays["monolithic"] = coupled.state().copy()
+    c.numbers = {name: float(getattr(report, name)) for name in REPORT_NUMBERS}
+    for i, system in enumerate(systems):
+        if system is not None:
+            s = system.statistics()
+            c.numbers.update({f"{i}.{name}": float(getattr(s, name)) for name in COUNTS})
+    return c
+
+
+def restore_state(c, flow, mechanics, coupled, report, systems):
+    """Loads a checkpoint into the steps, the report and the solver counts."""
+    if flow:
+        flow.set_state(c.arrays["flow"])
+    if mechanics:
+        mechanics.u.x.array[:] = c.arrays["displacement"]
+    if coupled:
+        coupled.set_state(c.arrays["monolithic"])
+    for name in REPORT_NUMBERS:
+        value = c.numbers[name]
+        setattr(report, name, int(value) if isinstance(getattr(report, name), int) else value)
+    for i, system in enumerate(systems):
+        if system is not None:
+            for name in COUNTS:
+                setattr(system.earlier, name, int(c.numbers[f"{i}.{name}"]))
+
+
+def run(scene, directory, comm, fingerprint="", restart=False):
     """Runs `scene` into `directory`; returns RUN_OK, or RUN_NOT_CONVERGED
     after writing what was finished and the iteration log."""
     start = time.perf_counter()
@@ -140,7 +181,8 @@ def run(scene, directory, comm):
                 compute_contact = mechanics.contact_state
 
     # ---- output fields ---------------------------------------------------------------
-    output = Output(comm, directory, domain.mesh, scene.write_xdmf)
+    resumed = read_checkpoint(comm, directory, fingerprint) if restart else None
+    output = Output(comm, directory, domain.mesh, scene.write_xdmf, resumed.output if resumed else None)
     try:
         flux = sigma_v = L_sigma_v = None
         if p is not None:
@@ -177,21 +219,44 @@ def run(scene, directory, comm):
             say(f"step {step:4d}/{scene.num_steps() // P.q}  t = {t:<11.5g}  coupling iterations "
                 f"{iterations:3d}  active contact nodes {contact.active_nodes}")
 
-        # ---- initial state -----------------------------------------------------------
-        if p is not None:
-            write_flow(0.0)
-        if u is not None:
-            write_mechanics(0.0)
-        if contact_boundary is not None:
-            output.write(contact_boundary, 0.0)  # once: every later time repeats it
+        # ---- initial state, or the state of the checkpoint ----------------------------
+        report = CouplingReport()
+        systems = [flow.system if flow else None, mechanics.system if mechanics else None,
+                   coupled.system if coupled else None]
+        if resumed:
+            restore_state(resumed, flow, mechanics, coupled, report, systems)
+            completed[:] = [resumed.steps, resumed.time]
+            if u is not None:
+                contact = compute_contact()
+            say(f"restarted from the checkpoint at step {completed[0]}, t = {completed[1]:f}")
+        else:
+            if p is not None:
+                write_flow(0.0)
+            if u is not None:
+                write_mechanics(0.0)
+            if contact_boundary is not None:
+                output.write(contact_boundary, 0.0)  # once: every later time repeats it
 
         # ---- time stepping -----------------------------------------------------------
-        report, failure, interrupted = CouplingReport(), "", 0
+        failure, interrupted = "", 0
         times = scene.times()
+        saved = [completed[0] if resumed else 0]
+
+        def save():
+            write_checkpoint(comm, directory, fingerprint,
+                             capture_state(completed[0], completed[1], flow, mechanics, coupled, report, systems,
+                                           output.state()))
+            saved[0] = completed[0]
 
         def stop():
+            """After each completed (and written) step: a checkpoint every
+            checkpoint_every steps and at an interruption; then whether to stop."""
             nonlocal interrupted
+            if scene.checkpoint_every > 0 and completed[0] % scene.checkpoint_every == 0:
+                save()
             interrupted = interruption_signal(comm)
+            if interrupted and scene.checkpoint_every > 0 and saved[0] != completed[0]:
+                save()
             return interrupted != 0
 
         try:
@@ -205,7 +270,7 @@ def run(scene, directory, comm):
                                  on_mechanics_state, report, comm, stop)
             else:
                 # One solve per step: the monolithic system, or the single physics.
-                for k in range(1, scene.num_steps() + 1):
+                for k in range(report.windows + 1, scene.num_steps() + 1):
                     t = times[k]
                     if scene.growth != 1.0 and set_time_step(F, t - times[k - 1]):
                         for solver in (coupled, flow):

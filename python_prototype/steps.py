@@ -357,6 +357,16 @@ class MonolithicStep:
         self.z.x.array[:] = self.x.x.array[self.Z_to_X]
         out.interpolate(self.z)
 
+    def state(self):
+        """The coupled unknown (u, z, p), ghosts included, for a checkpoint."""
+        return self.x.x.array
+
+    def set_state(self, x):
+        """Loads a state() back (and u, pressure from it)."""
+        self.x.x.array[:] = x
+        self.u.x.array[:] = self.x.x.array[self.V_to_X]
+        self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
+
     def contact_state(self):
         if not self.system.has_contact():
             return ContactState()

@@ -19,6 +19,7 @@ class System:
         # made now, so that options that make no solver are refused before the run
         self.linear = LinearSolver(comm, prefix, self.A, structure)
         self.contact = None
+        self.earlier = SolverStatistics()  # the counts of the run a restart continues
 
     def use_contact(self, contact_set, dofs, displacement_dofs):
         """Every solve becomes the contact problem on the DOFs `dofs`."""
@@ -57,6 +58,9 @@ class System:
             s.linear_iterations = self.contact.linear_iterations
             s.active_set_changes = self.contact.active_set_changes
             s.schur_columns, s.schur_time = self.contact.schur_columns(), self.contact.schur_time()
+        for name in ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations",
+                     "active_set_changes", "schur_columns"):
+            setattr(s, name, getattr(s, name) + getattr(self.earlier, name))
         return s
 
     def description(self):

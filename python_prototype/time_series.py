@@ -30,18 +30,37 @@ def _data_item(dimensions, number_type, h5, dataset):
 
 
 class TimeSeries:
-    def __init__(self, comm, xdmf_path, mesh):
+    def __init__(self, comm, xdmf_path, mesh, resume=None):
+        """Creates the files and writes the mesh; or, given the state() of
+        an earlier run, goes on in its files, dropping what came after it."""
         self.comm, self.xdmf_path = comm, xdmf_path
         self.h5_name = os.path.splitext(os.path.basename(xdmf_path))[0] + ".h5"
-        self.h5 = h5py.File(os.path.splitext(xdmf_path)[0] + ".h5", "w") if comm.rank == 0 else None
+        mode = "a" if resume is not None else "w"
+        self.h5 = h5py.File(os.path.splitext(xdmf_path)[0] + ".h5", mode) if comm.rank == 0 else None
         self.fields = {}  # name -> [center, components, writes, dataset]
-        self.time, self.grid_start = None, None
-        self._write_mesh(mesh)
+        self.time, self.grid_start, self.grids_end = None, None, len(HEAD)
+        self._write_mesh(mesh, write=resume is None)
+        if resume is not None:
+            lines = resume.splitlines()
+            start, end, t, any_time = lines[0].split()
+            self.grid_start, self.grids_end = int(start), int(end)
+            self.time = float(t) if int(any_time) else None
+            for line in lines[1:]:
+                name, center, components, writes, dataset = line.split()
+                self.fields[name] = [center, int(components), int(writes), dataset]
         if comm.rank == 0:
-            self.xml = open(xdmf_path, "w")
-            self.xml.write(HEAD + TAIL)
+            self.xml = open(xdmf_path, "r+" if resume is not None else "w")
+            self.xml.seek(self.grids_end if resume is not None else 0)
+            self.xml.write(TAIL if resume is not None else HEAD + TAIL)
+            self.xml.truncate()
             self.xml.flush()
-            self.grids_end = len(HEAD)
+
+    def state(self):
+        """Where the series stands, for a checkpoint."""
+        lines = [f"{self.grid_start if self.grid_start is not None else -1} {self.grids_end} "
+                 f"{self.time if self.time is not None else 0.0!r} {int(self.time is not None)}"]
+        lines += [f"{n} {c} {k} {w} {d}" for n, (c, k, w, d) in self.fields.items()]
+        return "\n".join(lines) + "\n"
 
     def _gather(self, local):
         """The owned rows of every rank, in rank order (= global order), on rank 0."""
@@ -50,15 +69,18 @@ class TimeSeries:
 
     def _dataset(self, path, data):
         if self.comm.rank == 0:
+            if path in self.h5:  # a resumed run writes again what its first run wrote after the checkpoint
+                del self.h5[path]
             self.h5.create_dataset(path, data=data)
             self.h5.flush()
 
-    def _write_mesh(self, mesh):
+    def _write_mesh(self, mesh, write=True):
         gdim, tdim = mesh.geometry.dim, mesh.topology.dim
         node_map = mesh.geometry.index_map()
         owned_nodes = node_map.size_local
         self.num_nodes = node_map.size_global
-        self._dataset("/Mesh/geometry", self._gather(mesh.geometry.x[:owned_nodes, :gdim]))
+        if write:
+            self._dataset("/Mesh/geometry", self._gather(mesh.geometry.x[:owned_nodes, :gdim]))
         owned_cells = mesh.topology.index_map(tdim).size_local
         self.num_cells = mesh.topology.index_map(tdim).size_global
         nodes = mesh.geometry.dofmap.array.reshape(-1, mesh.geometry.dofmap.links(0).size)
@@ -67,7 +89,8 @@ class TimeSeries:
         vtk = np.argsort(perm_vtk(mesh.topology.cell_type, per_cell))  # the transpose of the permutation
         local = nodes[:owned_cells][:, vtk]
         topology = node_map.local_to_global(local.ravel()).reshape(local.shape).astype(np.int64)
-        self._dataset("/Mesh/topology", self._gather(topology))
+        if write:
+            self._dataset("/Mesh/topology", self._gather(topology))
         self.mesh_xml = (
             f'        <Topology TopologyType="{TOPOLOGY[mesh.topology.cell_type.name]}" '
             f'NumberOfElements="{self.num_cells}" NodesPerElement="{per_cell}">\n'
