@@ -84,120 +84,127 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     int n = 0;
     std::vector<std::string> log; // the last iterations, for the error message
 
-    for (n = 0; n < coupling.max_iterations; ++n)
+    try
     {
-      // (a) q flow steps with u^n lagged:
-      //   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
-      //     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
-      //       - ((alpha/q) div(u^n - u_K)/dt, th)
-      assign(*flow.u_iterate, u_old);
-      for (int m = 1; m <= q; ++m)
+      for (n = 0; n < coupling.max_iterations; ++n)
       {
-        assign(*flow.p_previous, p_new[m - 1]);
-        assign(*flow.p_iterate, p_old[m]);
-        assign(*flow.p_iterate_previous, p_old[m - 1]);
-        flow.solve(t(m));
-        p_new[m] = copy(*flow.pressure);
-        std::span<const double> w = flow.state();
-        w_new[m].assign(w.begin(), w.end());
-      }
-      // (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
-      // holds it and is the pressure coefficient of the mechanics load.
-      mechanics.solve(t(q));
-      u_new = copy(*mechanics.u);
-
-      // Contraction quantities, measured on the increments of this iteration.
-      const Array du = difference(u_new, u_old);
-      double dsigma = 0, theorem2 = 0, dp2 = 0, p2 = 0;
-      Array dp_previous(p_K.size(), 0.0);
-      for (int m = 1; m <= q; ++m)
-      {
-        const Array dp = difference(p_new[m], p_old[m]);
-        // Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
-        if (P.L > 0)
+        // (a) q flow steps with u^n lagged:
+        //   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
+        //     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+        //       - ((alpha/q) div(u^n - u_K)/dt, th)
+        assign(*flow.u_iterate, u_old);
+        for (int m = 1; m <= q; ++m)
         {
-          const double t2 = contraction(P.alpha / (q * P.L), du, 1.0, difference(dp, dp_previous));
-          theorem2 += t2 * t2;
+          assign(*flow.p_previous, p_new[m - 1]);
+          assign(*flow.p_iterate, p_old[m]);
+          assign(*flow.p_iterate_previous, p_old[m - 1]);
+          flow.solve(t(m));
+          p_new[m] = copy(*flow.pressure);
+          std::span<const double> w = flow.state();
+          w_new[m].assign(w.begin(), w.end());
         }
-        dp_previous = dp;
-        const double dpn = owned_norm(dp, Q), pn = owned_norm(p_new[m], Q);
-        dp2 += dpn * dpn;
-        p2 += pn * pn;
-      }
-      theorem2 = P.L > 0 ? std::sqrt(theorem2) : std::numeric_limits<double>::quiet_NaN();
-      if (multirate)
-        dsigma = theorem2;
-      else
-        // Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
-        dsigma = contraction(P.lambda, du, P.alpha, difference(p_new[1], p_old[1]));
+        // (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
+        // holds it and is the pressure coefficient of the mechanics load.
+        mechanics.solve(t(q));
+        u_new = copy(*mechanics.u);
 
-      const double ratio = n > 0 ? dsigma / dsigma_previous : std::numeric_limits<double>::quiet_NaN();
-      if (n == 0)
-        dsigma_first = dsigma;
-      // A ratio is held against gamma from the second one on, while the
-      // increments are resolved:
-      // - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
-      //   and u^0 = u_K is no mechanics solution at this step's loads, which
-      //   the proof of Theorem 1 needs for both iterates it subtracts;
-      // - once ||delta sigma|| has fallen six orders below the window's
-      //   first one, or below 1e-9 of the norm of the quantity itself, it is
-      //   made of the round-off of the solves (the displacement carries
-      //   ~1e-11 relative round-off, amplified by div).
-      // The other ratios are logged and counted as unresolved.
-      const double size = multirate ? contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q])
-                                    : contraction(P.lambda, u_new, P.alpha, p_new[1]);
-      const bool resolved = n > 1 and dsigma >= resolved_fraction * dsigma_first
-                            and dsigma >= round_off_fraction * size;
-      if (n > 0 and !resolved)
-        ++report.unresolved_ratios;
-      if (resolved and std::isfinite(ratio))
-      {
-        report.max_contraction_ratio = std::max(report.max_contraction_ratio, ratio);
-        ratio_sum += ratio;
-        ++report.ratios;
-        if (ratio > P.gamma)
-          ++report.bound_violations;
-      }
-      dsigma_previous = dsigma;
-
-      // Stopping test on the increments of this iteration (never on a stale
-      // state): l2 norms of the p and u increments relative to the largest p
-      // and u of the run so far (relative to the current iterate alone, a
-      // field decaying to zero, e.g. p at steady state, would be judged by
-      // its round-off).
-      p_size = std::max(p_size, std::sqrt(p2));
-      u_size = std::max(u_size, owned_norm(u_new, V));
-      const double dp_norm = relative(std::sqrt(dp2), p_size);
-      const double du_norm = relative(owned_norm(du, V), u_size);
-      output.iteration({K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
-                        mechanics.active_contact_nodes()});
-      if (!std::isfinite(p2) or !std::isfinite(u_size))
-        // The iterates hold NaN or inf (a load or coefficient that is not
-        // finite): no further iteration can recover.
-        throw SolverError("non-finite values (NaN or inf) in the "
-                          + std::string(std::isfinite(p2) ? "displacement" : "pressure")
-                          + " at coupling iteration " + std::to_string(n + 1));
-      std::ostringstream entry;
-      entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
-      log.push_back(entry.str());
-
-      p_old = p_new;
-      u_old = u_new;
-      if (dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance)
-      {
-        converged = true;
-        // Coupled residual of the accepted state: the flow equations with
-        // u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
-        // = L delta sigma^{n+1,m}; relative to the fluid content change.
-        if (P.L > 0)
+        // Contraction quantities, measured on the increments of this iteration.
+        const Array du = difference(u_new, u_old);
+        double dsigma = 0, theorem2 = 0, dp2 = 0, p2 = 0;
+        Array dp_previous(p_K.size(), 0.0);
+        for (int m = 1; m <= q; ++m)
         {
-          const double change = contraction(P.alpha, difference(u_new, u_K), -P.storage,
-                                            difference(p_new[q], p_K));
-          report.max_coupled_residual = std::max(
-              report.max_coupled_residual, change > 0 ? P.L * theorem2 / change : 0.0);
+          const Array dp = difference(p_new[m], p_old[m]);
+          // Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
+          if (P.L > 0)
+          {
+            const double t2 = contraction(P.alpha / (q * P.L), du, 1.0, difference(dp, dp_previous));
+            theorem2 += t2 * t2;
+          }
+          dp_previous = dp;
+          const double dpn = owned_norm(dp, Q), pn = owned_norm(p_new[m], Q);
+          dp2 += dpn * dpn;
+          p2 += pn * pn;
         }
-        break;
+        theorem2 = P.L > 0 ? std::sqrt(theorem2) : std::numeric_limits<double>::quiet_NaN();
+        if (multirate)
+          dsigma = theorem2;
+        else
+          // Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
+          dsigma = contraction(P.lambda, du, P.alpha, difference(p_new[1], p_old[1]));
+
+        const double ratio = n > 0 ? dsigma / dsigma_previous : std::numeric_limits<double>::quiet_NaN();
+        if (n == 0)
+          dsigma_first = dsigma;
+        // A ratio is held against gamma from the second one on, while the
+        // increments are resolved:
+        // - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
+        //   and u^0 = u_K is no mechanics solution at this step's loads, which
+        //   the proof of Theorem 1 needs for both iterates it subtracts;
+        // - once ||delta sigma|| has fallen six orders below the window's
+        //   first one, or below 1e-9 of the norm of the quantity itself, it is
+        //   made of the round-off of the solves (the displacement carries
+        //   ~1e-11 relative round-off, amplified by div).
+        // The other ratios are logged and counted as unresolved.
+        const double size = multirate ? contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q])
+                                      : contraction(P.lambda, u_new, P.alpha, p_new[1]);
+        const bool resolved = n > 1 and dsigma >= resolved_fraction * dsigma_first
+                              and dsigma >= round_off_fraction * size;
+        if (n > 0 and !resolved)
+          ++report.unresolved_ratios;
+        if (resolved and std::isfinite(ratio))
+        {
+          report.max_contraction_ratio = std::max(report.max_contraction_ratio, ratio);
+          ratio_sum += ratio;
+          ++report.ratios;
+          if (ratio > P.gamma)
+            ++report.bound_violations;
+        }
+        dsigma_previous = dsigma;
+
+        // Stopping test on the increments of this iteration (never on a stale
+        // state): l2 norms of the p and u increments relative to the largest p
+        // and u of the run so far (relative to the current iterate alone, a
+        // field decaying to zero, e.g. p at steady state, would be judged by
+        // its round-off).
+        p_size = std::max(p_size, std::sqrt(p2));
+        u_size = std::max(u_size, owned_norm(u_new, V));
+        const double dp_norm = relative(std::sqrt(dp2), p_size);
+        const double du_norm = relative(owned_norm(du, V), u_size);
+        output.iteration({K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
+                          mechanics.active_contact_nodes()});
+        if (!std::isfinite(p2) or !std::isfinite(u_size))
+          // The iterates hold NaN or inf (a load or coefficient that is not
+          // finite): no further iteration can recover.
+          throw SolverError("non-finite values (NaN or inf) in the "
+                            + std::string(std::isfinite(p2) ? "displacement" : "pressure"));
+        std::ostringstream entry;
+        entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
+        log.push_back(entry.str());
+
+        p_old = p_new;
+        u_old = u_new;
+        if (dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance)
+        {
+          converged = true;
+          // Coupled residual of the accepted state: the flow equations with
+          // u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
+          // = L delta sigma^{n+1,m}; relative to the fluid content change.
+          if (P.L > 0)
+          {
+            const double change = contraction(P.alpha, difference(u_new, u_K), -P.storage,
+                                              difference(p_new[q], p_K));
+            report.max_coupled_residual = std::max(
+                report.max_coupled_residual, change > 0 ? P.L * theorem2 / change : 0.0);
+          }
+          break;
+        }
       }
+    }
+    catch (const SolverError& e)
+    {
+      // The failing solve named its system; the iteration is known here.
+      throw SolverError("coupling iteration " + std::to_string(n + 1) + ": " + e.what());
     }
     report.coupling_iterations += std::min(n + 1, coupling.max_iterations);
     report.max_iterations_per_step = std::max(report.max_iterations_per_step, std::min(n + 1, coupling.max_iterations));

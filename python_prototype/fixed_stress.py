@@ -76,98 +76,103 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         dsigma_previous, dsigma_first = nan, 0.0
         converged, log = False, []
 
-        for n in range(coupling.max_iterations):
-            # (a) q flow steps with u^n lagged:
-            #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
-            #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
-            #       - ((alpha/q) div(u^n - u_K)/dt, th)
-            flow.u_iterate.x.array[:] = u_old
-            for m in range(1, q + 1):
-                flow.p_previous.x.array[:] = p_new[m - 1]
-                flow.p_iterate.x.array[:] = p_old[m]
-                flow.p_iterate_previous.x.array[:] = p_old[m - 1]
-                flow.solve(t(m))
-                p_new[m] = flow.pressure.x.array.copy()
-                w_new[m] = flow.state().copy()
-            # (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
-            # holds it and is the pressure coefficient of the mechanics load.
-            mechanics.solve(t(q))
-            u_new = mechanics.u.x.array.copy()
+        n = 0
+        try:
+            for n in range(coupling.max_iterations):
+                # (a) q flow steps with u^n lagged:
+                #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
+                #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+                #       - ((alpha/q) div(u^n - u_K)/dt, th)
+                flow.u_iterate.x.array[:] = u_old
+                for m in range(1, q + 1):
+                    flow.p_previous.x.array[:] = p_new[m - 1]
+                    flow.p_iterate.x.array[:] = p_old[m]
+                    flow.p_iterate_previous.x.array[:] = p_old[m - 1]
+                    flow.solve(t(m))
+                    p_new[m] = flow.pressure.x.array.copy()
+                    w_new[m] = flow.state().copy()
+                # (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
+                # holds it and is the pressure coefficient of the mechanics load.
+                mechanics.solve(t(q))
+                u_new = mechanics.u.x.array.copy()
 
-            # Contraction quantities, measured on the increments of this iteration.
-            du = u_new - u_old
-            theorem2, dp2, p2 = 0.0, 0.0, 0.0
-            dp_previous = np.zeros_like(p_K)
-            for m in range(1, q + 1):
-                dp = p_new[m] - p_old[m]
-                # Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
-                if P.L > 0:
-                    theorem2 += contraction(P.alpha / (q * P.L), du, 1.0, dp - dp_previous) ** 2
-                dp_previous = dp
-                dp2 += owned_norm(dp, Q, comm) ** 2
-                p2 += owned_norm(p_new[m], Q, comm) ** 2
-            theorem2 = math.sqrt(theorem2) if P.L > 0 else nan
-            if multirate:
-                dsigma = theorem2
-            else:  # Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
-                dsigma = contraction(P.lmbda, du, P.alpha, p_new[1] - p_old[1])
+                # Contraction quantities, measured on the increments of this iteration.
+                du = u_new - u_old
+                theorem2, dp2, p2 = 0.0, 0.0, 0.0
+                dp_previous = np.zeros_like(p_K)
+                for m in range(1, q + 1):
+                    dp = p_new[m] - p_old[m]
+                    # Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
+                    if P.L > 0:
+                        theorem2 += contraction(P.alpha / (q * P.L), du, 1.0, dp - dp_previous) ** 2
+                    dp_previous = dp
+                    dp2 += owned_norm(dp, Q, comm) ** 2
+                    p2 += owned_norm(p_new[m], Q, comm) ** 2
+                theorem2 = math.sqrt(theorem2) if P.L > 0 else nan
+                if multirate:
+                    dsigma = theorem2
+                else:  # Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
+                    dsigma = contraction(P.lmbda, du, P.alpha, p_new[1] - p_old[1])
 
-            ratio = dsigma / dsigma_previous if n > 0 else nan
-            if n == 0:
-                dsigma_first = dsigma
-            # A ratio is held against gamma from the second one on, while the
-            # increments are resolved:
-            # - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
-            #   and u^0 = u_K is no mechanics solution at this step's loads, which
-            #   the proof of Theorem 1 needs for both iterates it subtracts;
-            # - once ||delta sigma|| has fallen six orders below the window's
-            #   first one, or below 1e-9 of the norm of the quantity itself, it
-            #   is made of the round-off of the solves.
-            # The other ratios are logged and counted as unresolved.
-            if multirate:
-                size = contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q]) if P.L > 0 else nan
-            else:
-                size = contraction(P.lmbda, u_new, P.alpha, p_new[1])
-            resolved = (n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
-                        and dsigma >= ROUND_OFF_FRACTION * size)
-            if n > 0 and not resolved:
-                report.unresolved_ratios += 1
-            if resolved and math.isfinite(ratio):
-                report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
-                report.ratio_sum += ratio
-                report.ratios += 1
-                report.bound_violations += int(ratio > P.gamma)
-            dsigma_previous = dsigma
+                ratio = dsigma / dsigma_previous if n > 0 else nan
+                if n == 0:
+                    dsigma_first = dsigma
+                # A ratio is held against gamma from the second one on, while the
+                # increments are resolved:
+                # - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
+                #   and u^0 = u_K is no mechanics solution at this step's loads, which
+                #   the proof of Theorem 1 needs for both iterates it subtracts;
+                # - once ||delta sigma|| has fallen six orders below the window's
+                #   first one, or below 1e-9 of the norm of the quantity itself, it
+                #   is made of the round-off of the solves.
+                # The other ratios are logged and counted as unresolved.
+                if multirate:
+                    size = contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q]) if P.L > 0 else nan
+                else:
+                    size = contraction(P.lmbda, u_new, P.alpha, p_new[1])
+                resolved = (n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
+                            and dsigma >= ROUND_OFF_FRACTION * size)
+                if n > 0 and not resolved:
+                    report.unresolved_ratios += 1
+                if resolved and math.isfinite(ratio):
+                    report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
+                    report.ratio_sum += ratio
+                    report.ratios += 1
+                    report.bound_violations += int(ratio > P.gamma)
+                dsigma_previous = dsigma
 
-            # Stopping test on the increments of this iteration (never on a
-            # stale state): l2 norms of the p and u increments relative to the
-            # largest p and u of the run so far (relative to the current iterate
-            # alone, a field decaying to zero would be judged by its round-off).
-            report.p_size = max(report.p_size, math.sqrt(p2))
-            report.u_size = max(report.u_size, owned_norm(u_new, V, comm))
-            dp_norm = relative(math.sqrt(dp2), report.p_size)
-            du_norm = relative(owned_norm(du, V, comm), report.u_size)
-            if not math.isfinite(p2) or not math.isfinite(report.u_size):
-                # The iterates hold NaN or inf (a load or coefficient that is
-                # not finite): no further iteration can recover.
-                raise SolverError("non-finite values (NaN or inf) in the "
-                                  f"{'displacement' if math.isfinite(p2) else 'pressure'} at coupling iteration {n + 1}")
-            output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
-                             mechanics.active_contact_nodes())
-            log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
+                # Stopping test on the increments of this iteration (never on a
+                # stale state): l2 norms of the p and u increments relative to the
+                # largest p and u of the run so far (relative to the current iterate
+                # alone, a field decaying to zero would be judged by its round-off).
+                report.p_size = max(report.p_size, math.sqrt(p2))
+                report.u_size = max(report.u_size, owned_norm(u_new, V, comm))
+                dp_norm = relative(math.sqrt(dp2), report.p_size)
+                du_norm = relative(owned_norm(du, V, comm), report.u_size)
+                if not math.isfinite(p2) or not math.isfinite(report.u_size):
+                    # The iterates hold NaN or inf (a load or coefficient that is
+                    # not finite): no further iteration can recover.
+                    raise SolverError("non-finite values (NaN or inf) in the "
+                                      f"{'displacement' if math.isfinite(p2) else 'pressure'}")
+                output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
+                                 mechanics.active_contact_nodes())
+                log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
 
-            p_old = list(p_new)
-            u_old = u_new
-            if dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance:
-                converged = True
-                # Coupled residual of the accepted state: the flow equations with
-                # u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q)
-                # div du = L delta sigma^{n+1,m}; relative to the fluid content change.
-                if P.L > 0:
-                    change = contraction(P.alpha, u_new - u_K, -P.storage, p_new[q] - p_K)
-                    report.max_coupled_residual = max(report.max_coupled_residual,
-                                                      P.L * theorem2 / change if change > 0 else 0.0)
-                break
+                p_old = list(p_new)
+                u_old = u_new
+                if dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance:
+                    converged = True
+                    # Coupled residual of the accepted state: the flow equations with
+                    # u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q)
+                    # div du = L delta sigma^{n+1,m}; relative to the fluid content change.
+                    if P.L > 0:
+                        change = contraction(P.alpha, u_new - u_K, -P.storage, p_new[q] - p_K)
+                        report.max_coupled_residual = max(report.max_coupled_residual,
+                                                          P.L * theorem2 / change if change > 0 else 0.0)
+                    break
+        except SolverError as e:
+            # The failing solve named its system; the iteration is known here.
+            raise SolverError(f"coupling iteration {n + 1}: {e}") from None
         iterations = min(n + 1, coupling.max_iterations)
         report.coupling_iterations += iterations
         report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)

@@ -23,8 +23,10 @@ class Structure(enum.Enum):
 
 def reason_name(enum_, reason):
     """PETSc's name of a converged reason, as the C++ prints it (petsc4py
-    3.18 knows -11 only by its deprecated name)."""
+    3.18 knows -11 only by its deprecated name, and KSP's -3 by another)."""
     name = next((k for k in dir(enum_) if not k.startswith("_") and getattr(enum_, k) == reason), str(reason))
+    if enum_ is PETSc.KSP.ConvergedReason and name == "DIVERGED_MAX_IT":
+        name = "DIVERGED_ITS"  # KSPConvergedReasons[-3] in C
     return name.replace("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED")
 
 

@@ -174,7 +174,8 @@ out = tempfile.mkdtemp()
 p = subprocess.run([BINARY, "run", DEFAULT, "--out", out, "-flow_ksp_type", "gmres", "-flow_pc_type", "none",
                     "-flow_ksp_max_it", "1"], capture_output=True, text=True, timeout=120)
 lines = p.stderr.strip().splitlines()
-check(p.returncode == 3 and len(lines) == 1 and "step 1 (t = 0.2)" in lines[0] and "flow" in lines[0]
+check(p.returncode == 3 and len(lines) == 1 and "step 1 (t = 0.2): coupling iteration" in lines[0]
+      and "flow" in lines[0]
       and "DIVERGED_ITS" in lines[0], f"a diverged linear solve: exit 3, one line: {p.stderr.strip()!r}")
 with open(os.path.join(out, "summary.json")) as f:
     summary = json.load(f)

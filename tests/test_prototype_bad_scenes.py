@@ -62,3 +62,9 @@ check(ps == cs == 3, f"non-convergence: exit status 3 (C++ {cs}, prototype {ps})
 strip = [e.rsplit(" (log:", 1)[0] for e in (ce, pe)]
 check(strip[0] == strip[1] and "did not converge in 3 iterations" in pe,
       f"non-convergence: the same message: {pe[:120]!r}")
+
+(cs, ce), (ps, pe) = both("run", DEFAULT, [], ["-flow_ksp_type", "gmres", "-flow_pc_type", "none",
+                                               "-flow_ksp_max_it", "1"])
+strip = [e.rsplit(" (log:", 1)[0] for e in (ce, pe)]
+check(ps == cs == 3 and strip[0] == strip[1] and "coupling iteration" in pe,
+      f"a diverged linear solve: exit 3 and the same line naming step, iteration and system: {pe!r}")
