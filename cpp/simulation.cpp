@@ -75,6 +75,77 @@ Json contact_json(const ContactState& c)
   return j;
 }
 
+/// The relative L2 errors (and Terzaghi's settlement) at the final time
+/// against the scene's closed form, Terzaghi or Mandel.
+Json closed_form_errors(const Scene& scene, const Parameters& P, const Domain& domain, const CompiledForms& forms,
+                        std::shared_ptr<fem::Function<double>> u, std::shared_ptr<fem::Function<double>> p)
+{
+  const int d = domain.dim();
+  Json errors;
+  const ReferenceSpec& ref = *scene.reference;
+  const FlowSpec& fs = *scene.flow;
+  const double mobility = (*fs.permeability)(0, 0, 0, 0) / fs.mu_f;
+  const double t = scene.end_time, y0 = scene.mesh.lower[1];
+  // The closed form: pressure and displacement at a point (x, y).
+  std::function<double(double, double)> p_exact;
+  std::function<std::array<double, 2>(double, double)> u_exact;
+  std::optional<Terzaghi> terzaghi;
+  std::optional<Mandel> mandel;
+  if (ref.solution == "terzaghi")
+  {
+    terzaghi.emplace(Terzaghi{ref.height, P.G, P.lambda, P.alpha, P.storage, mobility, ref.load});
+    p_exact = [&](double, double y) { return terzaghi->pressure(y - y0, t); };
+    u_exact = [&](double, double y) { return std::array<double, 2>{0.0, terzaghi->displacement(y - y0, t)}; };
+  }
+  else
+  {
+    mandel.emplace(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lambda, P.alpha, P.storage, mobility,
+                   ref.force);
+    p_exact = [&](double x, double) { return mandel->pressure(x, t); };
+    u_exact = [&](double x, double y)
+    { return std::array<double, 2>{mandel->displacement_x(x, t), mandel->displacement_y(y, t)}; };
+  }
+  auto p_ref = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.pressure_reference_space, "p_reference", domain.mesh)));
+  auto u_ref = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.displacement_reference_space, "u_reference", domain.mesh)));
+  p_ref->interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        xt::xarray<double> v = xt::zeros<double>({x.shape(1)});
+        for (std::size_t j = 0; j < x.shape(1); ++j)
+          v(j) = p_exact(x(0, j), x(1, j));
+        return v;
+      });
+  u_ref->interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        xt::xarray<double> v = xt::zeros<double>({std::size_t(d), x.shape(1)});
+        for (std::size_t j = 0; j < x.shape(1); ++j)
+        {
+          const auto uj = u_exact(x(0, j), x(1, j));
+          v(0, j) = uj[0];
+          v(1, j) = uj[1];
+        }
+        return v;
+      });
+  errors.set("time", t)
+      .set("pressure_rel_l2", relative_error(*forms.M_pressure_error, *forms.M_pressure_reference,
+                                             p, "p_out", p_ref, "p_reference"))
+      .set("displacement_rel_l2",
+           relative_error(*forms.M_displacement_error, *forms.M_displacement_reference,
+                          u, "u_out", u_ref, "u_reference"));
+  if (terzaghi)
+  {
+    const double settlement = -boundary_mean(*u, domain.boundaries.at("top"), 1);
+    const double exact_settlement = terzaghi->settlement(t);
+    errors.set("settlement", settlement)
+        .set("settlement_exact", exact_settlement)
+        .set("settlement_rel", std::abs(settlement - exact_settlement) / std::abs(exact_settlement));
+  }
+  return errors;
+}
+
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
 Checkpoint capture_state(int steps, double time, const FlowStep* flow, const MechanicsStep* mechanics,
                          const MonolithicStep* coupled, const CouplingReport& report,
@@ -442,73 +513,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
   contact = compute_contact();
 
   // ---- errors against a closed form at the final time --------------------------
-  Json errors;
-  bool has_errors = false;
-  if (scene.reference and failure.empty() and signal == 0)
-  {
-    const ReferenceSpec& ref = *scene.reference;
-    const FlowSpec& fs = *scene.flow;
-    const double mobility = (*fs.permeability)(0, 0, 0, 0) / fs.mu_f;
-    const double t = scene.end_time, y0 = scene.mesh.lower[1];
-    // The closed form: pressure and displacement at a point (x, y).
-    std::function<double(double, double)> p_exact;
-    std::function<std::array<double, 2>(double, double)> u_exact;
-    std::optional<Terzaghi> terzaghi;
-    std::optional<Mandel> mandel;
-    if (ref.solution == "terzaghi")
-    {
-      terzaghi.emplace(Terzaghi{ref.height, P.G, P.lambda, P.alpha, P.storage, mobility, ref.load});
-      p_exact = [&](double, double y) { return terzaghi->pressure(y - y0, t); };
-      u_exact = [&](double, double y) { return std::array<double, 2>{0.0, terzaghi->displacement(y - y0, t)}; };
-    }
-    else
-    {
-      mandel.emplace(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lambda, P.alpha, P.storage, mobility,
-                     ref.force);
-      p_exact = [&](double x, double) { return mandel->pressure(x, t); };
-      u_exact = [&](double x, double y)
-      { return std::array<double, 2>{mandel->displacement_x(x, t), mandel->displacement_y(y, t)}; };
-    }
-    auto p_ref = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
-        fem::create_functionspace(forms.pressure_reference_space, "p_reference", domain.mesh)));
-    auto u_ref = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
-        fem::create_functionspace(forms.displacement_reference_space, "u_reference", domain.mesh)));
-    p_ref->interpolate(
-        [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
-        {
-          xt::xarray<double> v = xt::zeros<double>({x.shape(1)});
-          for (std::size_t j = 0; j < x.shape(1); ++j)
-            v(j) = p_exact(x(0, j), x(1, j));
-          return v;
-        });
-    u_ref->interpolate(
-        [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
-        {
-          xt::xarray<double> v = xt::zeros<double>({std::size_t(d), x.shape(1)});
-          for (std::size_t j = 0; j < x.shape(1); ++j)
-          {
-            const auto uj = u_exact(x(0, j), x(1, j));
-            v(0, j) = uj[0];
-            v(1, j) = uj[1];
-          }
-          return v;
-        });
-    errors.set("time", t)
-        .set("pressure_rel_l2", relative_error(*forms.M_pressure_error, *forms.M_pressure_reference,
-                                               p, "p_out", p_ref, "p_reference"))
-        .set("displacement_rel_l2",
-             relative_error(*forms.M_displacement_error, *forms.M_displacement_reference,
-                            u, "u_out", u_ref, "u_reference"));
-    if (terzaghi)
-    {
-      const double settlement = -boundary_mean(*u, domain.boundaries.at("top"), 1);
-      const double exact_settlement = terzaghi->settlement(t);
-      errors.set("settlement", settlement)
-          .set("settlement_exact", exact_settlement)
-          .set("settlement_rel", std::abs(settlement - exact_settlement) / std::abs(exact_settlement));
-    }
-    has_errors = true;
-  }
+  const bool has_errors = scene.reference and failure.empty() and signal == 0;
+  const Json errors = has_errors ? closed_form_errors(scene, P, domain, forms, u, p) : Json();
 
   // ---- summary ------------------------------------------------------------------
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

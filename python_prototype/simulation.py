@@ -66,6 +66,40 @@ def _contact_json(c):
             "gap_scale": c.gap_scale, "total_force": c.total_force}
 
 
+def closed_form_errors(scene, P, F, domain, u, p, comm):
+    """The relative L2 errors (and Terzaghi's settlement) at the final time
+    against the scene's closed form, Terzaghi or Mandel (cpp/simulation.cpp)."""
+    ref, fs = scene.reference, scene.flow
+    mobility = fs.permeability(0, 0, 0, 0) / fs.mu_f
+    t, y0 = scene.end_time, scene.mesh.lower[1]
+    terzaghi = None
+    if ref.solution == "terzaghi":
+        terzaghi = Terzaghi(ref.height, P.G, P.lmbda, P.alpha, P.storage, mobility, ref.load)
+        p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731
+        u_exact = lambda x: [0.0 * x[0], terzaghi.displacement(x[1] - y0, t)]  # noqa: E731
+    else:
+        mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lmbda, P.alpha, P.storage,
+                        mobility, ref.force)
+        p_exact = lambda x: mandel.pressure(x[0], t)  # noqa: E731
+        u_exact = lambda x: [mandel.displacement_x(x[0], t), mandel.displacement_y(x[1], t)]  # noqa: E731
+    F["p_reference"].interpolate(p_exact)
+    F["u_reference"].interpolate(lambda x: np.vstack(u_exact(x)))
+    F["p_out"].x.array[:] = p.x.array
+    F["u_out"].x.array[:] = u.x.array
+    errors = {
+        "time": t,
+        "pressure_rel_l2": relative_error(F, F.compile("M_pressure_error"),
+                                          F.compile("M_pressure_reference"), comm),
+        "displacement_rel_l2": relative_error(F, F.compile("M_displacement_error"),
+                                              F.compile("M_displacement_reference"), comm)}
+    if terzaghi:
+        settlement = -_boundary_mean(u, domain.boundaries["top"], 1, comm)
+        exact = terzaghi.settlement(t)
+        errors.update({"settlement": settlement, "settlement_exact": exact,
+                       "settlement_rel": abs(settlement - exact) / abs(exact)})
+    return errors
+
+
 REPORT_NUMBERS = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
                   "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size")
 COUNTS = ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations", "active_set_changes",
@@ -303,34 +337,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
         # ---- errors against a closed form at the final time --------------------------
         errors = None
         if scene.reference and not failure and not interrupted:
-            ref, fs = scene.reference, scene.flow
-            mobility = fs.permeability(0, 0, 0, 0) / fs.mu_f
-            t, y0 = scene.end_time, scene.mesh.lower[1]
-            terzaghi = None
-            if ref.solution == "terzaghi":
-                terzaghi = Terzaghi(ref.height, P.G, P.lmbda, P.alpha, P.storage, mobility, ref.load)
-                p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731
-                u_exact = lambda x: [0.0 * x[0], terzaghi.displacement(x[1] - y0, t)]  # noqa: E731
-            else:
-                mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lmbda, P.alpha, P.storage,
-                                mobility, ref.force)
-                p_exact = lambda x: mandel.pressure(x[0], t)  # noqa: E731
-                u_exact = lambda x: [mandel.displacement_x(x[0], t), mandel.displacement_y(x[1], t)]  # noqa: E731
-            F["p_reference"].interpolate(p_exact)
-            F["u_reference"].interpolate(lambda x: np.vstack(u_exact(x)))
-            F["p_out"].x.array[:] = p.x.array
-            F["u_out"].x.array[:] = u.x.array
-            errors = {
-                "time": t,
-                "pressure_rel_l2": relative_error(F, F.compile("M_pressure_error"),
-                                                  F.compile("M_pressure_reference"), comm),
-                "displacement_rel_l2": relative_error(F, F.compile("M_displacement_error"),
-                                                      F.compile("M_displacement_reference"), comm)}
-            if terzaghi:
-                settlement = -_boundary_mean(u, domain.boundaries["top"], 1, comm)
-                exact = terzaghi.settlement(t)
-                errors.update({"settlement": settlement, "settlement_exact": exact,
-                               "settlement_rel": abs(settlement - exact) / abs(exact)})
+            errors = closed_form_errors(scene, P, F, domain, u, p, comm)
 
         # ---- summary ---------------------------------------------------------------
         wall = time.perf_counter() - start
