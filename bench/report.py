@@ -195,6 +195,15 @@ def _pyplot():
     return plt
 
 
+def _label(ax, xlabel, ylabel, title, fontsize=None):
+    """Axis labels, title, a log grid and the legend of one plot."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=fontsize)
+
+
 def _save(fig, directory, name):
     fig.tight_layout()
     fig.savefig(os.path.join(directory, name), dpi=110)
@@ -209,11 +218,8 @@ def plot_wall(sweep, directory):
     for variant in dict.fromkeys(e["variant"] for e in sweep):
         pts = sorted((e["unknowns"], e["wall_s"]) for e in sweep if e["variant"] == variant and e["wall_s"] > 0)
         ax.loglog(*zip(*pts), "o-", label=variant)
-    ax.set_xlabel("unknowns (displacement + pressure + flux)")
-    ax.set_ylabel("wall time [s] (median)")
-    ax.set_title("default scene: wall time against problem size")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    _label(ax, "unknowns (displacement + pressure + flux)", "wall time [s] (median)",
+           "default scene: wall time against problem size")
     return _save(fig, directory, "wall_vs_unknowns.png")
 
 
@@ -248,11 +254,8 @@ def plot_phases(sweep, directory):
                 ax.loglog(*zip(*pts), "o-", label=name)
         pts = [(e["unknowns"], e["time_per_iteration_ms"]) for e in entries]
         ax.loglog(*zip(*pts), "k--", label="total")
-        ax.set_title(variant + (" (per time step)" if variant == "monolithic" else " (per coupling iteration)"))
-        ax.set_xlabel("unknowns")
-        ax.set_ylabel("ms")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        _label(ax, "unknowns", "ms",
+               variant + (" (per time step)" if variant == "monolithic" else " (per coupling iteration)"), 7)
     for ax in list(axes.flat)[len(variants):]:
         ax.axis("off")
     return _save(fig, directory, "time_per_iteration.png")
@@ -265,11 +268,7 @@ def plot_memory(sweep, directory):
     for variant in dict.fromkeys(e["variant"] for e in sweep):
         pts = sorted((e["unknowns"], e["peak_rss_mb"]) for e in sweep if e["variant"] == variant)
         ax.loglog(*zip(*pts), "o-", label=variant)
-    ax.set_xlabel("unknowns")
-    ax.set_ylabel("peak RSS [MB] (median)")
-    ax.set_title("default scene: peak memory against problem size")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    _label(ax, "unknowns", "peak RSS [MB] (median)", "default scene: peak memory against problem size")
     return _save(fig, directory, "memory_vs_unknowns.png")
 
 
@@ -283,11 +282,8 @@ def plot_mandel(mandel, directory):
         ax.loglog(*zip(*pts), "o-", label=variant)
     ax.loglog([3, 12], [4.2e-3, 2.1e-3], "r*", ms=12, label="targets")
     ax.loglog([5.7, 35], [4.2e-3, 2.1e-3], "kx", ms=9, label="baseline")
-    ax.set_xlabel("wall time [s] (median)")
-    ax.set_ylabel("relative pressure error at t = 50 s")
-    ax.set_title("Mandel: pressure error against wall time")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    _label(ax, "wall time [s] (median)", "relative pressure error at t = 50 s",
+           "Mandel: pressure error against wall time")
     return _save(fig, directory, "mandel_error_vs_wall.png")
 
 

@@ -18,10 +18,8 @@ la::petsc::Matrix assemble_matrix(const fem::Form<double>& a, const BCs& bcs)
 
 void reassemble_matrix(Mat A, const fem::Form<double>& a, const BCs& bcs)
 {
-  MatZeroEntries(A);
-  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), a, bcs);
-  MatAssemblyBegin(A, MAT_FLUSH_ASSEMBLY);
-  MatAssemblyEnd(A, MAT_FLUSH_ASSEMBLY);
+  // The operator, then 1 on the diagonal of the Dirichlet rows.
+  reassemble_operator(A, a, bcs);
   fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES), *a.function_spaces()[0], bcs);
   MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);

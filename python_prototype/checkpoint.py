@@ -9,6 +9,7 @@ of ranks. A checkpoint replaces the previous one only once it is complete."""
 import os
 
 import numpy as np
+from mpi4py import MPI
 
 from .scene import SceneError, agree_on_error
 
@@ -64,6 +65,6 @@ def read_checkpoint(comm, directory, fingerprint):
     except (OSError, KeyError, ValueError):
         error = f"--restart {directory}: the checkpoint {path} is damaged"
     agree_on_error(error, comm)
-    if comm.allreduce(c.steps, op=max) != comm.allreduce(c.steps, op=min):
+    if comm.allreduce(c.steps, op=MPI.MAX) != comm.allreduce(c.steps, op=MPI.MIN):
         raise SceneError(f"--restart {directory}: the ranks' checkpoint files are of different steps")
     return c

@@ -38,6 +38,15 @@ def pyplot():
     return plt
 
 
+def save(fig, directory, name):
+    """Writes the figure into the run directory; returns its path."""
+    fig.tight_layout()
+    path = os.path.join(directory, name)
+    fig.savefig(path, dpi=100)
+    pyplot().close(fig)
+    return path
+
+
 def chosen_times(times, count):
     """`count` output times spread over the run, first and last included."""
     index = np.unique(np.linspace(0, len(times) - 1, min(count, len(times))).round().astype(int))
@@ -68,11 +77,7 @@ def plot_contact(directory, nodes, series, count):
     right.set_xlabel("xyz"[axis] + " along the contact boundary")
     right.set_ylabel("time")
     right.set_title(f"active set over time (black: on the foundation; {len(ids)} contact nodes)")
-    fig.tight_layout()
-    path = os.path.join(directory, "contact.png")
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save(fig, directory, "contact.png")
 
 
 def default_points(nodes):
@@ -113,11 +118,7 @@ def plot_history(directory, nodes, cells, series, points):
         ax.set_title(f"{name} at {'the nearest cell centre' if center == 'Cell' else 'the nearest node'}")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = os.path.join(directory, "history.png")
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save(fig, directory, "history.png")
 
 
 def plot_coupling(directory, summary):
@@ -146,11 +147,7 @@ def plot_coupling(directory, summary):
     right.set_title("contraction of the split (Theorem 1 / 2)")
     right.grid(True, which="both", alpha=0.3)
     right.legend(fontsize=8)
-    fig.tight_layout()
-    path = os.path.join(directory, "coupling.png")
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save(fig, directory, "coupling.png")
 
 
 def point(text):
