@@ -97,20 +97,20 @@ namespace
 {
 /// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
 /// by default when the system is solved directly and C is small enough.
-bool use_condensation(const std::string& prefix, PetscInt contact_dofs)
+bool use_condensation(const std::string& prefix, Method method, PetscInt contact_dofs)
 {
   PetscBool condensed = PETSC_FALSE, given = PETSC_FALSE;
   PetscOptionsGetBool(nullptr, prefix.c_str(), "-contact_condensed", &condensed, &given);
   if (given)
     return condensed;
-  char pc[64] = "";
-  PetscOptionsGetString(nullptr, prefix.c_str(), "-pc_type", pc, sizeof pc, nullptr);
-  const bool direct = std::string(pc) == "lu" or std::string(pc) == "cholesky";
-  return direct and contact_dofs <= ContactSolver::max_condensed_dofs;
+  // Forming H takes m solves: cheap back-solves of a factorisation, but m
+  // full Krylov solves with an iterative method.
+  return method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs;
 }
 } // namespace
 
-ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Vec layout,
+ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Method method,
+                             Vec layout,
                              ContactSet set, std::vector<std::int32_t> dofs,
                              std::vector<std::int32_t> displacement_dofs)
     : _comm(comm), _A(A), _structure(structure), _prefix(prefix), _set(std::move(set)), _dofs(std::move(dofs)),
@@ -120,12 +120,12 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   if (structure == Structure::spd)
     MatSetOption(A, MAT_SPD, PETSC_TRUE);
   VecDuplicate(layout, &_force);
-  set_solver_defaults(prefix, structure, comm);
 
   long local_dofs = static_cast<long>(_dofs.size()), contact_dofs = 0;
   MPI_Allreduce(&local_dofs, &contact_dofs, 1, MPI_LONG, MPI_SUM, comm);
   std::string vi_prefix = prefix;
-  if (use_condensation(prefix, contact_dofs))
+  const bool condensed = use_condensation(prefix, method, contact_dofs);
+  if (condensed)
   {
     _schur = std::make_unique<SchurComplement>(comm, prefix, A, structure, _dofs);
     _vi_stage = std::make_unique<SolverStage>(prefix + "contact");
@@ -181,6 +181,8 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
   SNESSetJacobian(_snes, _K, _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
+  if (!condensed and method == Method::iterative)
+    _amg = std::make_unique<InactiveSetPreconditioner>(_snes, A, prefix);
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
@@ -408,6 +410,10 @@ void ContactSolver::clamped_start()
     return;
   Mat A;
   MatDuplicate(_A, MAT_COPY_VALUES, &A);
+  MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
+  MatGetNearNullSpace(_A, &modes);
+  if (modes)
+    MatSetNearNullSpace(A, modes);
   Vec rhs;
   VecDuplicate(_b_scaled, &rhs);
   VecCopy(_b_scaled, rhs);

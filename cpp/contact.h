@@ -12,6 +12,7 @@
 
 #include "domain.h"
 #include "forms.h"
+#include "inactive_set_preconditioner.h"
 #include "schur_complement.h"
 #include "solver.h"
 
@@ -74,9 +75,10 @@ struct ContactState
 ///   back-solves of the large system.
 /// - full (`-<prefix>contact_condensed false`, or an iterative solver): on
 ///   A itself (options prefix `<prefix>`). The factorisation of the
-///   inactive-set submatrix is valid for as long as the inactive set is: it
-///   is redone only when the set changes (PETSc resets the preconditioner
-///   then) or when A is reassembled (operator_changed).
+///   inactive-set submatrix (or, iterative, the AMG of
+///   inactive_set_preconditioner.h) is valid for as long as the inactive
+///   set is: it is redone only when the set changes (PETSc resets the
+///   preconditioner then) or when A is reassembled (operator_changed).
 ///
 /// Either way each solve starts from the previous solution, whose inactive
 /// set is usually the one of the new solution.
@@ -93,7 +95,7 @@ public:
   /// mixed space for the monolithic one); `displacement_dofs` the owned
   /// displacement DOFs there (they set the length scale). `layout` is a
   /// vector like x.
-  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Vec layout,
+  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Method method, Vec layout,
                 ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs);
   ~ContactSolver();
   ContactSolver(const ContactSolver&) = delete;
@@ -116,6 +118,9 @@ public:
   const ContactSet& set() const { return _set; }
   /// "condensed on m contact DOFs" or "full".
   std::string method() const;
+  /// Preconditioner set-ups of the iterative full path (-1 otherwise: then
+  /// PETSc's PCSetUp events count them).
+  long amg_setups() const { return _amg ? _amg->setups : -1; }
   /// Right-hand sides solved and seconds spent forming H (0 when full).
   long schur_columns() const { return _schur ? _schur->columns : 0; }
   double schur_time() const { return _schur ? _schur->time : 0; }
@@ -166,6 +171,7 @@ private:
   Vec _lower, _upper, _x, _residual, _b_scaled;
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;
+  std::unique_ptr<InactiveSetPreconditioner> _amg;
 };
 
 } // namespace biotcontact

@@ -98,12 +98,31 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   // mass, make it quasi-definite when S + L > 0.
   const double storage = constants.at("storage")->value[0] + constants.at("L")->value[0];
   _system = std::make_unique<System>(mesh->comm(), "flow_", _a, _bcs,
-                                     storage > 0 ? Structure::quasi_definite : Structure::general);
+                                     storage > 0 ? Structure::quasi_definite : Structure::general,
+                                     scene.solver.flow, fields());
 
   const auto& map = _W->dofmap()->index_map;
   const int bs = _W->dofmap()->index_map_bs();
   _b = std::make_unique<la::Vector<double>>(map, bs);
   _b_loads = std::make_unique<la::Vector<double>>(map, bs);
+}
+
+std::vector<Field> FlowStep::fields() const
+{
+  // Owned DOFs of W (block size 1) in PETSc's global numbering.
+  const auto& map = _W->dofmap()->index_map;
+  const std::int32_t owned = map->size_local();
+  const std::int64_t first = map->local_range()[0];
+  auto global = [&](const std::vector<std::int32_t>& local)
+  {
+    std::vector<PetscInt> dofs;
+    for (std::int32_t i : local)
+      if (i < owned)
+        dofs.push_back(static_cast<PetscInt>(first + i));
+    std::sort(dofs.begin(), dofs.end());
+    return dofs;
+  };
+  return {Field{"flux", global(_Z_to_W)}, Field{"pressure", global(_Q_to_W)}};
 }
 
 void FlowStep::assemble_loads(double t)

@@ -56,6 +56,8 @@ public:
 
 private:
   void assemble_loads(double t);
+  /// The flux and pressure DOFs of W: the splits of an iterative solve.
+  std::vector<Field> fields() const;
 
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _W, _Q, _Z;

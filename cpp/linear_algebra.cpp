@@ -72,4 +72,26 @@ la::petsc::Vector wrap(la::Vector<double>& x)
   return la::petsc::Vector(la::petsc::create_vector_wrap(x), false);
 }
 
+MatNullSpace rigid_body_modes(const fem::FunctionSpace& V)
+{
+  // PETSc builds the modes from the coordinates of the owned nodes, given
+  // as a vector with the block size d laid out like the displacement.
+  const int d = V.dofmap()->index_map_bs();
+  const std::int32_t nodes = V.dofmap()->index_map->size_local();
+  const std::vector<double> x = V.tabulate_dof_coordinates(false); // 3 per node
+  Vec coordinates;
+  VecCreateMPI(V.mesh()->comm(), d * nodes, PETSC_DETERMINE, &coordinates);
+  VecSetBlockSize(coordinates, d);
+  PetscScalar* c;
+  VecGetArray(coordinates, &c);
+  for (std::int32_t i = 0; i < nodes; ++i)
+    for (int k = 0; k < d; ++k)
+      c[d * i + k] = x[3 * i + k];
+  VecRestoreArray(coordinates, &c);
+  MatNullSpace modes;
+  MatNullSpaceCreateRigidBody(coordinates, &modes);
+  VecDestroy(&coordinates);
+  return modes;
+}
+
 } // namespace biotcontact

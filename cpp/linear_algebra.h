@@ -3,9 +3,11 @@
 
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/FunctionSpace.h>
 #include <dolfinx/la/Vector.h>
 #include <dolfinx/la/petsc.h>
 #include <memory>
+#include <petscmat.h>
 #include <petscvec.h>
 #include <vector>
 
@@ -45,6 +47,11 @@ void add_vector(dolfinx::la::Vector<double>& b, const dolfinx::fem::Form<double>
 /// of `a` and sets them in the Dirichlet rows.
 void finish_rhs(dolfinx::la::Vector<double>& b, std::shared_ptr<const dolfinx::fem::Form<double>> a,
                 const BCs& bcs);
+
+/// The rigid-body modes of a P1 vector space V (d translations and
+/// d(d-1)/2 rotations about the origin, orthonormalised): the near-nullspace
+/// of elasticity, from which smoothed aggregation builds its coarse spaces.
+MatNullSpace rigid_body_modes(const dolfinx::fem::FunctionSpace& V);
 
 /// Wraps a dolfinx vector (owned part) as a PETSc Vec sharing its memory.
 dolfinx::la::petsc::Vector wrap(dolfinx::la::Vector<double>& x);

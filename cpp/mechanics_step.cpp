@@ -62,7 +62,13 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
 
   // a(u, v) does not change during a run: assembled once; with Dirichlet
   // rows made identity rows it is SPD.
-  _system = std::make_unique<System>(mesh->comm(), "mechanics_", _a, _bcs, Structure::spd);
+  _system = std::make_unique<System>(mesh->comm(), "mechanics_", _a, _bcs, Structure::spd, scene.solver.mechanics);
+  if (_system->method() == Method::iterative)
+  {
+    MatNullSpace modes = rigid_body_modes(*_V);
+    _system->set_near_nullspace(modes);
+    MatNullSpaceDestroy(&modes);
+  }
 
   const auto& map = _V->dofmap()->index_map;
   const int bs = _V->dofmap()->index_map_bs();

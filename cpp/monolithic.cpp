@@ -113,7 +113,9 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   // dt (and per inactive set with contact). Its pressure block -(S/dt) times
   // the cell mass is often negligible against the coupling (S = 1e-12 in the
   // poroelastic Hertz scene): LU with pivoting.
-  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general);
+  // No block preconditioner for (u, z, p) yet (scene.cpp refuses
+  // "iterative"): "auto" is the factorisation at every size.
+  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general, "direct");
   const auto& map = _X->dofmap()->index_map;
   const int bs = _X->dofmap()->index_map_bs();
   _b = std::make_unique<la::Vector<double>>(map, bs);

@@ -649,6 +649,19 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
     output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
   output.finish();
 
+  Section solver = top.table("solver", false);
+  for (auto [key, choice] : {std::pair{"flow", &scene.solver.flow}, std::pair{"mechanics", &scene.solver.mechanics},
+                             std::pair{"monolithic", &scene.solver.monolithic}})
+  {
+    *choice = solver.string(key, "auto");
+    if (*choice != "direct" and *choice != "iterative" and *choice != "auto")
+      solver.fail(key, "must be \"direct\", \"iterative\" or \"auto\"");
+  }
+  if (scene.solver.monolithic == "iterative")
+    solver.fail("monolithic", "\"iterative\" is not available: the coupled system has no block preconditioner yet "
+                              "(the split solves flow and mechanics iteratively with solver.flow and solver.mechanics)");
+  solver.finish();
+
   Section boundaries = top.table("boundary", false);
   const std::vector<std::string> names = builtin_boundary_names(d);
   for (const std::string& name : boundaries.keys())

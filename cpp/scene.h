@@ -113,6 +113,13 @@ struct ReferenceSpec
   std::string plate;    // mandel: the boundary (y = b) carrying the rigid plate
 };
 
+/// How each system is solved: "direct", "iterative" or "auto" (by size,
+/// solver.h choose_method). PETSc options of a system's prefix override.
+struct SolverSpec
+{
+  std::string flow = "auto", mechanics = "auto", monolithic = "auto";
+};
+
 struct Scene
 {
   std::string file, name, description;
@@ -126,6 +133,7 @@ struct Scene
   bool write_xdmf = true;
   int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
   std::optional<ReferenceSpec> reference;
+  SolverSpec solver;
 
   /// At most this many (fine) time steps: a larger count is refused.
   static constexpr int max_steps = 1000000;

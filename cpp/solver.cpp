@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <map>
+#include <petscpc.h>
 
 namespace biotcontact
 {
@@ -14,10 +15,37 @@ void set_default_option(const std::string& name, const std::string& value)
     PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
 }
 
-void set_solver_defaults(const std::string& prefix, Structure structure, MPI_Comm comm)
+std::string method_name(Method method) { return method == Method::direct ? "direct" : "iterative"; }
+
+Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension)
 {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
+  if (choice == "direct")
+    return Method::direct;
+  if (choice == "iterative")
+    return Method::iterative;
+  // "auto": the crossover in unknowns measured by bench/scaling.py on the
+  // default scene (2D) and the contact block (3D), docs/performance.md. A
+  // 3D factorisation fills in far more (separators of n^(2/3) against
+  // n^(1/2)), so its crossover is lower.
+  const bool elasticity = structure == Structure::spd;
+  const std::int64_t crossover = dimension == 3 ? (elasticity ? crossover_3d_mechanics : crossover_3d_flow)
+                                                : (elasticity ? crossover_2d_mechanics : crossover_2d_flow);
+  return unknowns < crossover ? Method::direct : Method::iterative;
+}
+
+namespace
+{
+std::string option(const std::string& prefix, const char* name)
+{
+  char value[64] = "";
+  PetscOptionsGetString(nullptr, prefix.c_str(), name, value, sizeof value, nullptr);
+  return value;
+}
+
+bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky"; }
+
+void set_direct_defaults(const std::string& prefix, Structure structure, int ranks)
+{
   // The factorisation of each structure on one rank, as measured on the
   // default scene (docs/performance.md): MUMPS's solve phase costs 5-9
   // times a CHOLMOD or PETSc back-solve of the same matrix at 1e4-1e5
@@ -31,31 +59,68 @@ void set_solver_defaults(const std::string& prefix, Structure structure, MPI_Com
     package = "petsc";
   else if (structure == Structure::spd)
     pc = "cholesky";
-
-  // A preconditioner other than a factorisation is no solver by itself:
-  // then the default Krylov method is GMRES instead of a single application.
-  char given_pc[64] = "";
-  PetscBool set = PETSC_FALSE;
-  PetscOptionsGetString(nullptr, prefix.c_str(), "-pc_type", given_pc, sizeof given_pc, &set);
-  const bool direct = !set or std::string(given_pc) == "lu" or std::string(given_pc) == "cholesky";
-  set_default_option(prefix + "ksp_type", direct ? "preonly" : "gmres");
+  const std::string given = option(prefix, "-pc_type");
+  set_default_option(prefix + "ksp_type", "preonly");
   set_default_option(prefix + "pc_type", pc);
-  if (!direct)
-    return;
-  if (set and std::string(given_pc) != pc)
+  if (!given.empty() and given != pc)
     // The user chose the other factorisation: the package must take it.
     package = "mumps";
   set_default_option(prefix + "pc_factor_mat_solver_type", package);
-  char used[64] = "";
-  PetscOptionsGetString(nullptr, prefix.c_str(), "-pc_factor_mat_solver_type", used, sizeof used, nullptr);
+  const std::string used = option(prefix, "-pc_factor_mat_solver_type");
   // An ordering given to MUMPS replaces its own analysis (far more fill):
   // only PETSc's factorisation gets nested dissection here.
-  if (std::string(used) == "petsc")
+  if (used == "petsc")
     set_default_option(prefix + "pc_factor_mat_ordering_type", "nd");
-  if (std::string(used) == "mumps")
+  if (used == "mumps")
     // More workspace than MUMPS's default: refactorisations of a changed
     // inactive set may need more pivoting room than the analysis planned.
     set_default_option(prefix + "mat_mumps_icntl_14", "400");
+}
+
+void set_iterative_defaults(const std::string& prefix, Structure structure)
+{
+  set_default_option(prefix + "ksp_rtol", "1e-10");
+  if (structure == Structure::spd)
+  {
+    // Elasticity: CG with smoothed aggregation; the matrix carries block
+    // size d and the rigid-body modes (mechanics_step.cpp), so aggregates
+    // are nodes and the coarse spaces hold the rigid motions.
+    set_default_option(prefix + "ksp_type", "cg");
+    set_default_option(prefix + "pc_type", "gamg");
+    return;
+  }
+  // Mixed RT0 x P0: [M B^T; B -C] with M the flux mass, C = (S+L)/dt times
+  // the cell mass. Block factorisation with the Schur complement
+  // approximated by C + B diag(M)^-1 B^T ("selfp"): for RT0 on simplices a
+  // two-point-flux-like cell Laplacian plus a mass term, which suits AMG;
+  // M itself is spectrally equivalent to its diagonal (mesh independent).
+  // selfp is built from the matrix as stored (the mass balance times -1,
+  // forms/biot.py), so it is negative definite; BoomerAMG and the
+  // Chebyshev-Jacobi smoothers only see D^-1 S, the same for -S.
+  set_default_option(prefix + "ksp_type", "gmres");
+  set_default_option(prefix + "pc_type", "fieldsplit");
+  set_default_option(prefix + "pc_fieldsplit_type", "schur");
+  set_default_option(prefix + "pc_fieldsplit_schur_fact_type", "full");
+  set_default_option(prefix + "pc_fieldsplit_schur_precondition", "selfp");
+  set_default_option(prefix + "fieldsplit_flux_ksp_type", "preonly");
+  set_default_option(prefix + "fieldsplit_flux_pc_type", "jacobi");
+  set_default_option(prefix + "fieldsplit_pressure_ksp_type", "preonly");
+  set_default_option(prefix + "fieldsplit_pressure_pc_type", "hypre");
+}
+} // namespace
+
+Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm)
+{
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  // A -<prefix>pc_type on the command line decides the method.
+  if (const std::string given = option(prefix, "-pc_type"); !given.empty())
+    method = is_factorisation(given) ? Method::direct : Method::iterative;
+  if (method == Method::direct)
+    set_direct_defaults(prefix, structure, ranks);
+  else
+    set_iterative_defaults(prefix, structure);
+  return method;
 }
 
 SolverStage::SolverStage(const std::string& name)
@@ -91,16 +156,39 @@ void SolverStage::read(SolverStatistics& s) const
 
 std::string system_name(const std::string& prefix) { return "the " + prefix.substr(0, prefix.size() - 1); }
 
-LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure)
+LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,
+                           const std::vector<Field>& fields)
     : _prefix(prefix)
 {
   if (structure == Structure::spd)
     MatSetOption(A, MAT_SPD, PETSC_TRUE);
-  set_solver_defaults(prefix, structure, comm);
   KSPCreate(comm, &_ksp);
   KSPSetOptionsPrefix(_ksp, prefix.c_str());
   KSPSetOperators(_ksp, A, A);
-  if (PetscErrorCode ierr = KSPSetFromOptions(_ksp); ierr != 0)
+  PetscErrorCode ierr = KSPSetFromOptions(_ksp);
+  PC pc;
+  KSPGetPC(_ksp, &pc);
+  PetscBool split = PETSC_FALSE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &split);
+  if (ierr == 0 and split)
+  {
+    if (fields.empty())
+      throw OptionsError("-" + prefix + "pc_type fieldsplit: " + system_name(prefix) + " system has no fields to split");
+    for (const Field& f : fields)
+    {
+      IS is;
+      ISCreateGeneral(comm, static_cast<PetscInt>(f.dofs.size()), f.dofs.data(), PETSC_COPY_VALUES, &is);
+      PCFieldSplitSetIS(pc, f.name.c_str(), is);
+      ISDestroy(&is);
+    }
+  }
+  // A Krylov method starts from x, the previous iterate (preonly refuses a
+  // nonzero guess).
+  PetscBool preonly = PETSC_TRUE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly);
+  if (ierr == 0 and !preonly)
+    ierr = KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE);
+  if (ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver (PETSc error "
                        + std::to_string(ierr) + ")");
 }
@@ -126,6 +214,8 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
 {
   // Set-up first, so that the log keeps factorisation (PCSetUp) and
   // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
+  setups += _operator_changed;
+  _operator_changed = false;
   PetscErrorCode ierr = KSPSetUp(_ksp);
   if (ierr == 0)
     ierr = solve();

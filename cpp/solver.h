@@ -9,12 +9,14 @@
 // numbers stage by stage.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <mpi.h>
 #include <petscksp.h>
 #include <petsclog.h>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace biotcontact
 {
@@ -45,14 +47,52 @@ enum class Structure
   general
 };
 
+/// How a system is solved.
+enum class Method
+{
+  /// A sparse factorisation, reused while the matrix is unchanged.
+  direct,
+  /// A Krylov method with a multilevel preconditioner: CG with smoothed
+  /// aggregation AMG (rigid-body near-nullspace) for SPD elasticity,
+  /// GMRES with a Schur-complement field split and AMG on the Schur
+  /// approximation for the mixed flow system.
+  iterative
+};
+
+/// "direct" or "iterative", as written in the summary.
+std::string method_name(Method method);
+
+/// The crossovers of "auto": systems with at least this many unknowns are
+/// solved iteratively (bench/scaling.py, docs/performance.md).
+constexpr std::int64_t crossover_2d_mechanics = 200000, crossover_2d_flow = 400000;
+constexpr std::int64_t crossover_3d_mechanics = 50000, crossover_3d_flow = 100000;
+
+/// The method for a [solver] choice ("direct", "iterative" or "auto") of a
+/// system with `unknowns` global unknowns and `dimension`: "auto" takes the
+/// factorisation below the crossover measured in bench/scaling.py
+/// (docs/performance.md) and the Krylov method above it.
+Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension);
+
 /// Sets the defaults of the solver with this options prefix unless the
-/// command line gave them: a direct solve (preonly), with the factorisation
-/// measured fastest for the structure on this communicator
-/// (docs/performance.md): on one rank CHOLMOD Cholesky for SPD matrices and
-/// PETSc's own nested-dissection LU for quasi-definite ones, MUMPS
-/// otherwise and on several ranks. A -<prefix>pc_type that is no
-/// factorisation makes GMRES the default Krylov method.
-void set_solver_defaults(const std::string& prefix, Structure structure, MPI_Comm comm);
+/// command line gave them, and returns the method they make (a
+/// -<prefix>pc_type given on the command line decides: a factorisation is
+/// direct, anything else iterative).
+///
+/// Direct: preonly with the factorisation measured fastest for the
+/// structure on this communicator (docs/performance.md): on one rank
+/// CHOLMOD Cholesky for SPD matrices and PETSc's own nested-dissection LU
+/// for quasi-definite ones, MUMPS otherwise and on several ranks.
+/// Iterative: see Method; relative tolerance 1e-10, so that the coupling
+/// tolerance (1e-8 on the relative increments) sees converged solves.
+Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm);
+
+/// The DOFs of one field of a mixed system (global indices of the owned
+/// DOFs): a field split preconditioner splits along them.
+struct Field
+{
+  std::string name;
+  std::vector<PetscInt> dofs;
+};
 
 /// Sets a PETSc option unless the user already gave it (command line wins).
 void set_default_option(const std::string& name, const std::string& value);
@@ -61,7 +101,7 @@ void set_default_option(const std::string& name, const std::string& value);
 struct SolverStatistics
 {
   long solves = 0;            // calls of the system's solve
-  long setups = 0;            // preconditioner set-ups = factorisations when direct
+  long setups = 0;            // factorisations (direct) or AMG hierarchies (iterative)
   long back_solves = 0;       // KSP solves (Newton steps of a contact solve)
   long linear_iterations = 0; // Krylov iterations (1 per back-solve when direct)
   long newton_iterations = 0; // contact (SNES VI) Newton steps
@@ -93,13 +133,17 @@ private:
   PetscLogStage _stage = 0;
 };
 
-/// A KSP with an options prefix ("flow_", "mechanics_"); a direct solve by
-/// default (set_solver_defaults). The factorisation is redone only when the
-/// operator's values change (PETSc compares the matrix state).
+/// A KSP with an options prefix ("flow_", "mechanics_") whose defaults
+/// were set by set_solver_defaults. A factorisation (or AMG set-up) is
+/// redone only when the operator's values change (PETSc compares the matrix
+/// state). An iterative solve starts from the x it is given (the previous
+/// iterate or time step).
 class LinearSolver
 {
 public:
-  LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure);
+  /// `fields` (optional) are the splits of a field split preconditioner.
+  LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,
+               const std::vector<Field>& fields = {});
   ~LinearSolver();
   LinearSolver(const LinearSolver&) = delete;
   LinearSolver& operator=(const LinearSolver&) = delete;
@@ -112,11 +156,19 @@ public:
   /// factorisation for all of them when it supports it). Throws SolverError.
   void solve(Mat X, Mat B);
 
+  /// The operator's values changed: the next solve sets up anew (PETSc
+  /// sees the new matrix state by itself; this only counts).
+  void operator_changed() { _operator_changed = true; }
+  /// Preconditioner set-ups (factorisations or AMG hierarchies) so far:
+  /// one per operator.
+  long setups = 0;
+
 private:
   /// Sets up (factorises if needed) and runs `solve`; checks the result.
   int run(const std::function<PetscErrorCode()>& solve);
   KSP _ksp;
   std::string _prefix;
+  bool _operator_changed = true; // the next solve sets up
 };
 
 /// "the mechanics" from "mechanics_".

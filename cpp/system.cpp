@@ -18,13 +18,19 @@ la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, dou
 } // namespace
 
 System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const fem::Form<double>> a, BCs bcs,
-               Structure structure)
-    : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure),
+               Structure structure, const std::string& choice, std::vector<Field> fields)
+    : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure), _fields(std::move(fields)),
       _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
 {
+  PetscInt unknowns = 0;
+  MatGetSize(_A.mat(), &unknowns, nullptr);
+  _method = set_solver_defaults(_prefix, _structure,
+                                choose_method(choice, _structure, unknowns, a->mesh()->topology().dim()), _comm);
   // Made now so that options that make no solver are refused before the run.
-  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), _structure);
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), _structure, _fields);
 }
+
+void System::set_near_nullspace(MatNullSpace modes) { MatSetNearNullSpace(_A.mat(), modes); }
 
 System::~System() = default;
 
@@ -32,7 +38,7 @@ void System::use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::ve
                          Vec layout)
 {
   _linear.reset();
-  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), _structure, layout, std::move(set),
+  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), _structure, _method, layout, std::move(set),
                                              std::move(dofs), std::move(displacement_dofs));
 }
 
@@ -57,12 +63,20 @@ void System::reassemble()
   // contact solver lags its preconditioner and must be told.
   if (_contact)
     _contact->operator_changed();
+  else
+    _linear->operator_changed();
 }
 
 SolverStatistics System::statistics() const
 {
   SolverStatistics s = _statistics;
   _stage.read(s);
+  // PCSetUp events count factorisations; an AMG hierarchy logs one per
+  // level and smoother as well, so the solvers count their own set-ups.
+  if (_method == Method::iterative and !_contact)
+    s.setups = _linear->setups;
+  else if (_method == Method::iterative and _contact->amg_setups() >= 0)
+    s.setups = _contact->amg_setups();
   if (_contact)
   {
     s.newton_iterations = _contact->newton_iterations;

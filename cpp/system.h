@@ -23,12 +23,18 @@ class System
 {
 public:
   /// Assembles `a` with `bcs`; `prefix` names the system's PETSc options
-  /// and its log stage ("flow_" -> stage "flow").
+  /// and its log stage ("flow_" -> stage "flow"); `choice` is the scene's
+  /// [solver] entry ("direct", "iterative" or "auto", see choose_method);
+  /// `fields` the splits of a mixed system.
   System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const dolfinx::fem::Form<double>> a,
-         BCs bcs, Structure structure);
+         BCs bcs, Structure structure, const std::string& choice, std::vector<Field> fields = {});
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
+
+  /// Gives the matrix its near-nullspace (the rigid-body modes of
+  /// elasticity), which algebraic multigrid builds its coarse spaces from.
+  void set_near_nullspace(MatNullSpace modes);
 
   /// Makes every solve the contact problem on the DOFs `dofs` of x (see
   /// ContactSolver); `layout` is a vector like x.
@@ -52,6 +58,8 @@ public:
   void add_earlier(const SolverStatistics& earlier) { _earlier = earlier; }
   /// The solver actually used, e.g. "preonly + cholesky (cholmod)".
   std::string description() const;
+  /// Direct or iterative, as decided from the scene and the options.
+  Method method() const { return _method; }
 
 private:
   MPI_Comm _comm;
@@ -59,6 +67,8 @@ private:
   std::shared_ptr<const dolfinx::fem::Form<double>> _a;
   BCs _bcs;
   Structure _structure;
+  Method _method;
+  std::vector<Field> _fields;
   SolverStatistics _statistics; // before _A: its assembly time is counted
   dolfinx::la::petsc::Matrix _A;
   std::unique_ptr<LinearSolver> _linear;
