@@ -121,6 +121,7 @@ public:
   /// Preconditioner set-ups of the iterative full path (-1 otherwise: then
   /// PETSc's PCSetUp events count them).
   long amg_setups() const { return _amg ? _amg->setups : -1; }
+  double amg_setup_time() const { return _amg ? _amg->setup_time : 0; }
   /// Right-hand sides solved and seconds spent forming H (0 when full).
   long schur_columns() const { return _schur ? _schur->columns : 0; }
   double schur_time() const { return _schur ? _schur->time : 0; }

@@ -50,6 +50,7 @@ PetscErrorCode InactiveSetPreconditioner::set_up(PC pc)
 {
   InactiveSetPreconditioner* self = nullptr;
   PetscCall(PCShellGetContext(pc, &self));
+  const double started = MPI_Wtime();
   // The inactive set of this Newton step (valid while SNES VI sets up and
   // solves the reduced system); kept, since SNES destroys its own copy
   // after the step while the set-up is reused for as long as the set is
@@ -71,6 +72,7 @@ PetscErrorCode InactiveSetPreconditioner::set_up(PC pc)
   PetscCall(PCSetOperators(self->_amg, self->_A_D, self->_A_D));
   PetscCall(PCSetUp(self->_amg));
   ++self->setups;
+  self->setup_time += MPI_Wtime() - started;
   return 0;
 }
 

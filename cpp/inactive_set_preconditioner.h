@@ -40,8 +40,9 @@ public:
   InactiveSetPreconditioner(const InactiveSetPreconditioner&) = delete;
   InactiveSetPreconditioner& operator=(const InactiveSetPreconditioner&) = delete;
 
-  /// Set-ups of the inner AMG so far.
+  /// Set-ups of the inner AMG so far, and the seconds they took.
   long setups = 0;
+  double setup_time = 0;
 
 private:
   static PetscErrorCode set_up(PC pc);

@@ -544,9 +544,13 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
     if (!system)
       continue;
     Json j;
-    j.set("method", system->description())
+    const bool direct = system->method() == Method::direct;
+    j.set("solver", method_name(system->method()))
+        .set("method", system->description())
+        .set("unknowns", system->unknowns())
         .set("solves", st.solves)
-        .set("factorizations", st.setups)
+        .set("factorizations", direct ? st.setups : 0)
+        .set("preconditioner_setups", st.setups)
         .set("back_solves", st.back_solves)
         .set("linear_iterations", st.linear_iterations);
     if (system->has_contact())

@@ -214,9 +214,15 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
 {
   // Set-up first, so that the log keeps factorisation (PCSetUp) and
   // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
-  setups += _operator_changed;
+  const bool set_up = _operator_changed;
   _operator_changed = false;
+  const double start = MPI_Wtime();
   PetscErrorCode ierr = KSPSetUp(_ksp);
+  if (set_up)
+  {
+    ++setups;
+    setup_time += MPI_Wtime() - start;
+  }
   if (ierr == 0)
     ierr = solve();
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;

@@ -160,8 +160,9 @@ public:
   /// sees the new matrix state by itself; this only counts).
   void operator_changed() { _operator_changed = true; }
   /// Preconditioner set-ups (factorisations or AMG hierarchies) so far:
-  /// one per operator.
+  /// one per operator, and the seconds they took.
   long setups = 0;
+  double setup_time = 0;
 
 private:
   /// Sets up (factorises if needed) and runs `solve`; checks the result.

@@ -22,12 +22,17 @@ System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const f
     : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure), _fields(std::move(fields)),
       _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
 {
-  PetscInt unknowns = 0;
-  MatGetSize(_A.mat(), &unknowns, nullptr);
   _method = set_solver_defaults(_prefix, _structure,
-                                choose_method(choice, _structure, unknowns, a->mesh()->topology().dim()), _comm);
+                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim()), _comm);
   // Made now so that options that make no solver are refused before the run.
   _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), _structure, _fields);
+}
+
+std::int64_t System::unknowns() const
+{
+  PetscInt n = 0;
+  MatGetSize(_A.mat(), &n, nullptr);
+  return n;
 }
 
 void System::set_near_nullspace(MatNullSpace modes) { MatSetNearNullSpace(_A.mat(), modes); }
@@ -72,11 +77,12 @@ SolverStatistics System::statistics() const
   SolverStatistics s = _statistics;
   _stage.read(s);
   // PCSetUp events count factorisations; an AMG hierarchy logs one per
-  // level and smoother as well, so the solvers count their own set-ups.
+  // level and smoother as well, so the solvers count their own set-ups
+  // (their times too: PETSc's event times include the nested set-ups).
   if (_method == Method::iterative and !_contact)
-    s.setups = _linear->setups;
+    s.setups = _linear->setups, s.setup_time = _linear->setup_time;
   else if (_method == Method::iterative and _contact->amg_setups() >= 0)
-    s.setups = _contact->amg_setups();
+    s.setups = _contact->amg_setups(), s.setup_time = _contact->amg_setup_time();
   if (_contact)
   {
     s.newton_iterations = _contact->newton_iterations;

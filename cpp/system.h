@@ -60,6 +60,8 @@ public:
   std::string description() const;
   /// Direct or iterative, as decided from the scene and the options.
   Method method() const { return _method; }
+  /// Global number of unknowns.
+  std::int64_t unknowns() const;
 
 private:
   MPI_Comm _comm;
