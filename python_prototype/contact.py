@@ -15,8 +15,9 @@ from petsc4py import PETSc
 
 from .linear_algebra import accumulate_ghosts, add_vector, owned
 from .schur_complement import SchurComplement
-from .solver import (LinearSolver, OptionsError, SolverError, SolverStage, Structure, reason_name,
-                     set_default_option, set_solver_defaults, system_name)
+from .inactive_set_preconditioner import InactiveSetPreconditioner
+from .solver import (LinearSolver, Method, OptionsError, SolverError, SolverStage, Structure, reason_name,
+                     set_default_option, system_name)
 from .scene import SceneError, agree_on_error
 
 
@@ -86,14 +87,14 @@ class ContactState:
         self.max_complementarity = self.gap_scale = self.total_force = 0.0
 
 
-def use_condensation(prefix, contact_dofs):
+def use_condensation(prefix, method, contact_dofs):
     """-<prefix>contact_condensed, by default when the system is solved
-    directly and C is small enough (cpp/contact.cpp)."""
+    directly and C is small enough (cpp/contact.cpp): forming H takes m
+    solves, cheap back-solves of a factorisation but full Krylov solves."""
     options = PETSc.Options()
     if options.hasName(prefix + "contact_condensed"):
         return options.getBool(prefix + "contact_condensed")
-    direct = options.getString(prefix + "pc_type", "") in ("lu", "cholesky")
-    return direct and contact_dofs <= ContactSolver.max_condensed_dofs
+    return method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs
 
 
 class ContactSolver:
@@ -112,20 +113,20 @@ class ContactSolver:
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
 
-    def __init__(self, comm, prefix, A, structure, contact_set, dofs, displacement_dofs):
+    def __init__(self, comm, prefix, A, structure, method, contact_set, dofs, displacement_dofs):
         self.comm, self.A, self.set, self.prefix = comm, A, contact_set, prefix
         self.structure = structure
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.dofs, self.displacement_dofs = np.asarray(dofs, dtype=np.int32), np.asarray(displacement_dofs)
         self.force = A.createVecRight()
-        set_solver_defaults(prefix, structure, comm)
-        self.schur, self.schur_current, self.vi_stage = None, False, None
+        self.schur, self.schur_current, self.vi_stage, self.amg = None, False, None, None
         vi_prefix = prefix
-        if use_condensation(prefix, comm.allreduce(len(self.dofs), op=MPI.SUM)):
+        condensed = use_condensation(prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
+        if condensed:
             self.schur = SchurComplement(comm, prefix, A, structure, self.dofs)
             self.vi_stage = SolverStage(prefix + "contact")
-            self.vi_comm, self.K = PETSc.COMM_SELF, self.schur.H
+            self.vi_comm, self.vi_mpi_comm, self.K = PETSc.COMM_SELF, MPI.COMM_SELF, self.schur.H
             self.bounded = np.arange(self.schur.size(), dtype=np.int32)
             self.bounded_gap = self.schur.gather(self.set.gap)
             self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
@@ -135,7 +136,7 @@ class ContactSolver:
             set_default_option(vi_prefix + "pc_type", "cholesky" if structure == Structure.spd else "lu")
             set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
         else:
-            self.vi_comm, self.K = comm, A
+            self.vi_comm, self.vi_mpi_comm, self.K = comm, comm, A
             self.bounded, self.bounded_gap = self.dofs, self.set.gap
             self.x = A.createVecRight()
         self.residual, self.lower, self.upper, self.b_scaled = (self.x.duplicate() for _ in range(4))
@@ -153,6 +154,8 @@ class ContactSolver:
         self.snes.setFunction(self._residual, self.residual)
         self.snes.setJacobian(lambda snes, x, J, P: None, self.K, self.K)
         self.snes.setVariableBounds(self.lower, self.upper)
+        if not condensed and method == Method.iterative:
+            self.amg = InactiveSetPreconditioner(self.snes, A, prefix)
         # At least one Newton step per solve, so the result never lags the load.
         if hasattr(self.snes, "setForceIteration"):
             self.snes.setForceIteration(True)
@@ -177,6 +180,10 @@ class ContactSolver:
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
 
+    def amg_setups(self):
+        """Set-ups of the iterative full path's AMG (None otherwise)."""
+        return (self.amg.setups, self.amg.setup_time) if self.amg else None
+
     def schur_columns(self):
         return self.schur.columns if self.schur else 0
 
@@ -200,7 +207,7 @@ class ContactSolver:
         """Before each Newton step (and after the last): the set the next step uses."""
         if iteration > 0:
             changed = self.used is not None and not np.array_equal(self.pending, self.used)
-            self.active_set_changes += int(self.vi_comm.tompi4py().allreduce(int(changed), op=MPI.MAX))
+            self.active_set_changes += int(self.vi_mpi_comm.allreduce(int(changed), op=MPI.MAX))
             self.used = self.pending
         self.pending = self._active_contact_dofs(snes.getSolution())
 
@@ -283,6 +290,9 @@ class ContactSolver:
             return
         rows = (self.x.getOwnershipRange()[0] + self.bounded).astype(PETSc.IntType)
         A, rhs = self.A.duplicate(copy=True), self.b_scaled.copy()
+        modes = self.A.getNearNullSpace()  # for AMG: the duplicate does not keep it
+        if modes is not None and modes.handle:
+            A.setNearNullSpace(modes)
         A.zeroRowsColumns(rows, 1.0, self.x, rhs)
         LinearSolver(self.comm, self.prefix, A, self.structure).solve(self.x, rhs)
 

@@ -8,6 +8,7 @@ import numpy as np
 from dolfinx import fem
 from dolfinx.cpp.la import ScatterMode
 from mpi4py import MPI
+from petsc4py import PETSc
 
 
 def assemble_matrix(a, bcs):
@@ -83,3 +84,13 @@ def dof_map(space, sub):
     node[space.dofmap.list.array] = collapsed.dofmap.list.array
     unrolled = (bs * node[:, None] + np.arange(bs)).ravel()
     return np.asarray(to_parent)[unrolled]
+
+
+def rigid_body_modes(V):
+    """The rigid-body modes of the P1 vector space V, orthonormalised
+    (cpp/linear_algebra.h): the near-nullspace AMG builds coarse spaces from."""
+    d = V.dofmap.index_map_bs
+    nodes = V.dofmap.index_map.size_local
+    coordinates = PETSc.Vec().createMPI((d * nodes, PETSc.DECIDE), bsize=d, comm=V.mesh.comm)
+    coordinates.getArray()[:] = V.tabulate_dof_coordinates()[:nodes, :d].reshape(-1)
+    return PETSc.NullSpace().createRigidBody(coordinates)

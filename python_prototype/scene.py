@@ -219,6 +219,15 @@ class ReferenceSpec:
 
 
 @dataclass
+class SolverSpec:
+    """How each system is solved: "direct", "iterative" or "auto" (by size,
+    solver.choose_method); PETSc options of a system's prefix override."""
+    flow: str = "auto"
+    mechanics: str = "auto"
+    monolithic: str = "auto"
+
+
+@dataclass
 class Scene:
     file: str = ""
     name: str = ""
@@ -234,6 +243,7 @@ class Scene:
     write_xdmf: bool = True
     checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
     reference: Optional[ReferenceSpec] = None
+    solver: SolverSpec = field(default_factory=SolverSpec)
 
     def has_contact(self):
         return any(b.contact for b in self.boundaries.values())
@@ -574,6 +584,18 @@ def read_scene(file, overrides=()):
     if scene.checkpoint_every < 0:
         output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)")
     output.finish()
+
+    solver = top.section("solver", False)
+    for key in ("flow", "mechanics", "monolithic"):
+        choice = solver.string(key, "auto")
+        if choice not in ("direct", "iterative", "auto"):
+            solver.fail(key, 'must be "direct", "iterative" or "auto"')
+        setattr(scene.solver, key, choice)
+    if scene.solver.monolithic == "iterative":
+        solver.fail("monolithic", '"iterative" is not available: the coupled system has no block preconditioner yet '
+                                  "(the split solves flow and mechanics iteratively with solver.flow and "
+                                  "solver.mechanics)")
+    solver.finish()
 
     boundaries = top.section("boundary", False)
     names = builtin_boundary_names(d)

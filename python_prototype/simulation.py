@@ -15,7 +15,7 @@ from .forms import Forms, derive_parameters, set_constants, set_time_step
 from .output import Output
 from .contact import ContactState
 from .interruption import interruption_signal
-from .solver import SolverError, SolverStatistics
+from .solver import Method, SolverError, SolverStatistics
 from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
                     volumetric_stress)
 
@@ -41,7 +41,10 @@ def _solvers_json(systems, stats):
         if system is None:
             continue
         st = stats[name]
-        j = {"method": system.description(), "solves": st.solves, "factorizations": st.setups,
+        direct = system.method == Method.direct
+        j = {"solver": system.method.name, "method": system.description(), "unknowns": system.unknowns(),
+             "solves": st.solves, "factorizations": st.setups if direct else 0,
+             "preconditioner_setups": st.setups,
              "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
         if system.has_contact():
             j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,

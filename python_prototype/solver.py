@@ -1,7 +1,10 @@
-"""How a system is solved (cpp/solver.h): the one place that chooses the
-factorisation, says when it may be reused and counts set-ups and solves per
-system, from PETSc's event log of the system's own log stage."""
+"""How a system is solved (cpp/solver.h): the one place that chooses between
+a factorisation and a preconditioned Krylov method ([solver], "auto" by
+size), sets the defaults of each, says when a factorisation may be reused
+and counts set-ups and solves per system, from PETSc's event log of the
+system's own log stage."""
 import enum
+import time
 
 from petsc4py import PETSc
 
@@ -37,26 +40,40 @@ def set_default_option(name, value):
         options.setValue(name, value)
 
 
-def set_solver_defaults(prefix, structure, comm):
-    """A direct solve unless the command line says otherwise, with the
-    factorisation measured fastest for the structure (cpp/solver.cpp): on one
-    rank CHOLMOD Cholesky for SPD and PETSc's nested-dissection LU for
+class Method(enum.Enum):
+    """How a system is solved (cpp/solver.h)."""
+    direct = 1     # a sparse factorisation, reused while the matrix is unchanged
+    iterative = 2  # CG + GAMG (elasticity), GMRES + Schur field split (flow)
+
+
+# The crossovers of "auto" in unknowns (cpp/solver.h, docs/performance.md).
+CROSSOVER = {(2, True): 200000, (2, False): 400000, (3, True): 50000, (3, False): 100000}
+
+
+def choose_method(choice, structure, unknowns, dimension):
+    """The method for a [solver] choice: "auto" is direct below the measured
+    crossover (cpp/solver.cpp)."""
+    if choice in ("direct", "iterative"):
+        return Method[choice]
+    crossover = CROSSOVER[(3 if dimension == 3 else 2, structure == Structure.spd)]
+    return Method.direct if unknowns < crossover else Method.iterative
+
+
+def _set_direct_defaults(prefix, structure, ranks):
+    """The factorisation measured fastest for the structure: on one rank
+    CHOLMOD Cholesky for SPD and PETSc's nested-dissection LU for
     quasi-definite matrices, MUMPS otherwise and on several ranks."""
     pc, package = "lu", "mumps"
-    if comm.size == 1 and structure == Structure.spd:
+    if ranks == 1 and structure == Structure.spd:
         pc, package = "cholesky", "cholmod"
-    elif comm.size == 1 and structure == Structure.quasi_definite:
+    elif ranks == 1 and structure == Structure.quasi_definite:
         package = "petsc"
     elif structure == Structure.spd:
         pc = "cholesky"
     options = PETSc.Options()
     given_pc = options.getString(prefix + "pc_type", "")
-    # A preconditioner other than a factorisation is no solver by itself.
-    direct = given_pc in ("", "lu", "cholesky")
-    set_default_option(prefix + "ksp_type", "preonly" if direct else "gmres")
+    set_default_option(prefix + "ksp_type", "preonly")
     set_default_option(prefix + "pc_type", pc)
-    if not direct:
-        return
     if given_pc and given_pc != pc:
         package = "mumps"  # the user chose the other factorisation
     set_default_option(prefix + "pc_factor_mat_solver_type", package)
@@ -65,6 +82,38 @@ def set_solver_defaults(prefix, structure, comm):
         set_default_option(prefix + "pc_factor_mat_ordering_type", "nd")
     if used == "mumps":  # room for refactorisations of changed inactive sets
         set_default_option(prefix + "mat_mumps_icntl_14", "400")
+
+
+def _set_iterative_defaults(prefix, structure):
+    """CG + smoothed aggregation for SPD elasticity (block size d and the
+    rigid-body modes on the matrix); for the mixed flow system GMRES with a
+    Schur field split, selfp (C + B diag(M)^-1 B^T) and BoomerAMG on it
+    (cpp/solver.cpp says why)."""
+    set_default_option(prefix + "ksp_rtol", "1e-10")
+    if structure == Structure.spd:
+        set_default_option(prefix + "ksp_type", "cg")
+        set_default_option(prefix + "pc_type", "gamg")
+        return
+    for name, value in (("ksp_type", "gmres"), ("pc_type", "fieldsplit"), ("pc_fieldsplit_type", "schur"),
+                        ("pc_fieldsplit_schur_fact_type", "full"), ("pc_fieldsplit_schur_precondition", "selfp"),
+                        ("fieldsplit_flux_ksp_type", "preonly"), ("fieldsplit_flux_pc_type", "jacobi"),
+                        ("fieldsplit_pressure_ksp_type", "preonly"), ("fieldsplit_pressure_pc_type", "hypre")):
+        set_default_option(prefix + name, value)
+
+
+def set_solver_defaults(prefix, structure, method, comm):
+    """Sets the defaults of the solver with this prefix unless the command
+    line gave them; returns the method they make (a -<prefix>pc_type on the
+    command line decides: a factorisation is direct, anything else
+    iterative)."""
+    given_pc = PETSc.Options().getString(prefix + "pc_type", "")
+    if given_pc:
+        method = Method.direct if given_pc in ("lu", "cholesky") else Method.iterative
+    if method == Method.direct:
+        _set_direct_defaults(prefix, structure, comm.size)
+    else:
+        _set_iterative_defaults(prefix, structure)
+    return method
 
 
 class SolverStatistics:
@@ -100,27 +149,47 @@ def system_name(prefix):
 
 
 class LinearSolver:
-    """KSP with an options prefix, a direct solve by default; refactorised
-    only when the operator's values change."""
+    """KSP with an options prefix whose defaults set_solver_defaults set; set
+    up anew only when the operator's values change; an iterative solve
+    starts from the x it is given."""
 
-    def __init__(self, comm, prefix, A, structure):
+    def __init__(self, comm, prefix, A, structure, fields=()):
         self.prefix = prefix
+        self.setups, self.setup_time, self._operator_changed = 0, 0.0, True
         if structure == Structure.spd:
             A.setOption(PETSc.Mat.Option.SPD, True)
-        set_solver_defaults(prefix, structure, comm)
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOptionsPrefix(prefix)
         self.ksp.setOperators(A, A)
         try:
             self.ksp.setFromOptions()
+            pc = self.ksp.getPC()
+            if pc.getType() == PETSc.PC.Type.FIELDSPLIT:
+                if not fields:
+                    raise OptionsError(f"-{prefix}pc_type fieldsplit: {system_name(prefix)} system has no fields "
+                                       "to split")
+                pc.setFieldSplitIS(*[(name, PETSc.IS().createGeneral(dofs, comm=comm)) for name, dofs in fields])
+            # A Krylov method starts from x, the previous iterate (preonly
+            # refuses a nonzero guess).
+            if self.ksp.getType() != PETSc.KSP.Type.PREONLY:
+                self.ksp.setInitialGuessNonzero(True)
         except PETSc.Error as e:  # e.g. -flow_pc_type ilu with a factorisation package
             raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver "
                                f"(PETSc error {e.ierr}; see -{prefix}pc_factor_mat_solver_type)") from None
 
+    def operator_changed(self):
+        """The operator's values changed: the next solve sets up (counted)."""
+        self._operator_changed = True
+
     def _run(self, solve):
         """Set-up first, so the log keeps factorisation and back-solve apart."""
         try:
+            start = time.perf_counter()
             self.ksp.setUp()
+            if self._operator_changed:
+                self.setups += 1
+                self.setup_time += time.perf_counter() - start
+                self._operator_changed = False
             solve()
             return None
         except PETSc.Error as e:

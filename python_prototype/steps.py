@@ -10,12 +10,13 @@ import time
 import numpy as np
 from dolfinx import fem, mesh as dmesh
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from .contact import ContactSet, ContactState, contact_boundary_flag
 from .forms import interpolate, interpolate_resistivity
-from .linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, finish_rhs,
+from .linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, finish_rhs, rigid_body_modes,
                              multiply_add, owned, reassemble_operator)
-from .solver import Structure
+from .solver import Method, Structure
 from .system import System
 
 
@@ -112,9 +113,20 @@ class FlowStep:
         # Quasi-definite when S + L > 0 (cpp/flow_step.cpp): factorised once per dt.
         storage = float(F["storage"].value) + float(F["L"].value)
         self.system = System(comm, "flow_", self.a, self.bcs,
-                             Structure.quasi_definite if storage > 0 else Structure.general)
+                             Structure.quasi_definite if storage > 0 else Structure.general,
+                             scene.solver.flow, self.fields(W))
         self.b, self.b_loads = fem.Function(W), fem.Function(W)
         self.loads_time = None
+
+    def fields(self, W):
+        """The flux and pressure DOFs of W (owned, global numbering): the
+        splits of an iterative solve."""
+        owned, first = W.dofmap.index_map.size_local, W.dofmap.index_map.local_range[0]
+
+        def global_dofs(local):
+            local = np.asarray(local)
+            return np.sort(local[local < owned] + first).astype(PETSc.IntType)
+        return [("flux", global_dofs(self.Z_to_W)), ("pressure", global_dofs(self.Q_to_W))]
 
     def assemble_loads(self, t):
         """Source, boundary pressure, gravity: once per time (once per run if
@@ -205,7 +217,9 @@ class MechanicsStep:
 
         self.assembly_time = 0.0  # right-hand sides
         # a(u, v) never changes: assembled once; SPD with identity Dirichlet rows.
-        self.system = System(comm, "mechanics_", self.a, self.bcs, Structure.spd)
+        self.system = System(comm, "mechanics_", self.a, self.bcs, Structure.spd, scene.solver.mechanics)
+        if self.system.method == Method.iterative:
+            self.system.set_near_nullspace(rigid_body_modes(V))
         self.b, self.b_loads = fem.Function(V), fem.Function(V)
         self.loads_time = None
         self.contact_pressure = self.contact_active = self.contact_boundary = None
@@ -297,7 +311,9 @@ class MonolithicStep:
         self.assembly_time = 0.0  # right-hand sides
         # Depends on dt only; its pressure block -(S/dt) is often negligible
         # against the coupling: LU with pivoting (cpp/monolithic.cpp).
-        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general)
+        # No block preconditioner for (u, z, p) yet (scene.py refuses
+        # "iterative"): "auto" is the factorisation at every size.
+        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, "direct")
         self.b, self.b_loads = fem.Function(X), fem.Function(X)
         self.loads_time = None
         self.contact_pressure = self.contact_active = self.contact_boundary = None

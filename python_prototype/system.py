@@ -5,26 +5,39 @@ import time
 
 from .contact import ContactSolver
 from .linear_algebra import assemble_matrix, reassemble_matrix
-from .solver import LinearSolver, SolverStage, SolverStatistics
+from .solver import LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults
 
 
 class System:
-    def __init__(self, comm, prefix, a, bcs, structure):
+    """`choice` is the scene's [solver] entry ("direct", "iterative" or
+    "auto"); `fields` the (name, global DOFs) splits of a mixed system."""
+
+    def __init__(self, comm, prefix, a, bcs, structure, choice, fields=()):
         self.comm, self.prefix, self.a, self.bcs, self.structure = comm, prefix, a, bcs, structure
         self._statistics = SolverStatistics()
         start = time.perf_counter()
         self.A = assemble_matrix(a, bcs)
         self._statistics.assembly_time += time.perf_counter() - start
         self.stage = SolverStage(prefix[:-1])
-        # made now, so that options that make no solver are refused before the run
-        self.linear = LinearSolver(comm, prefix, self.A, structure)
+        dimension = a.mesh.topology.dim
+        self.method = set_solver_defaults(prefix, structure,
+                                          choose_method(choice, structure, self.unknowns(), dimension), comm)
         self.contact = None
         self.earlier = SolverStatistics()  # the counts of the run a restart continues
+        # made now, so that options that make no solver are refused before the run
+        self.linear = LinearSolver(comm, prefix, self.A, structure, fields)
+
+    def unknowns(self):
+        return self.A.getSize()[0]
+
+    def set_near_nullspace(self, modes):
+        """The rigid-body modes, from which AMG builds its coarse spaces."""
+        self.A.setNearNullSpace(modes)
 
     def use_contact(self, contact_set, dofs, displacement_dofs):
         """Every solve becomes the contact problem on the DOFs `dofs`."""
         self.linear = None
-        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.structure, contact_set, dofs,
+        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.structure, self.method, contact_set, dofs,
                                      displacement_dofs)
 
     def has_contact(self):
@@ -48,11 +61,20 @@ class System:
         self._statistics.assembly_time += time.perf_counter() - start
         if self.contact:
             self.contact.operator_changed()
+        else:
+            self.linear.operator_changed()
 
     def statistics(self):
         s = SolverStatistics()
         s.__dict__.update(self._statistics.__dict__)
         self.stage.read(s)
+        # PCSetUp events count factorisations; an AMG hierarchy logs one per
+        # level and smoother as well, so the solvers count their own set-ups
+        # (and their times: PETSc's event times nest).
+        if self.method == Method.iterative and not self.contact:
+            s.setups, s.setup_time = self.linear.setups, self.linear.setup_time
+        elif self.method == Method.iterative and self.contact.amg_setups():
+            s.setups, s.setup_time = self.contact.amg_setups()
         if self.contact:
             s.newton_iterations = self.contact.newton_iterations
             s.linear_iterations = self.contact.linear_iterations

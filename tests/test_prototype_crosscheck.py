@@ -1,5 +1,5 @@
-"""The Python prototype (python_prototype/) mirrors the C++ solver: on four
-cases, run side by side, every field agrees to 1e-8 relative at every output
+"""The Python prototype (python_prototype/) mirrors the C++ solver: on five
+cases (direct and iterative solvers), run side by side, every field agrees to 1e-8 relative at every output
 time, and the coupling iterations of every step and the active contact sets
 are identical (the `compare` command of the prototype)."""
 import subprocess
@@ -22,6 +22,8 @@ CASES = [
     ("default", scene("default"), []),
     ("default, multirate q = 4", scene("default"), ["--set", "coupling.scheme=multirate", "--set", "coupling.q=4"]),
     ("default, monolithic", scene("default"), ["--set", "coupling.scheme=monolithic"]),
+    ("default, iterative solvers", scene("default"), ["--set", "solver.flow=iterative",
+                                                      "--set", "solver.mechanics=iterative"]),
 ]
 
 for label, path, extra in CASES:
