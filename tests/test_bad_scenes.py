@@ -141,6 +141,12 @@ CASES = [
     ("no bounds in the condensed contact solver", DEFAULT, ["-mechanics_contact_snes_type", "newtonls"],
      "-mechanics_contact_snes_type", RUN),
     ("an output directory that cannot be made", DEFAULT, ["--out", "/proc/x"], "/proc/x", RUN),
+    # [solver]
+    ("unknown solver choice", DEFAULT, s("solver.flow=gpu"), "solver.flow", BOTH),
+    ("solver choice not a string", DEFAULT, s("solver.mechanics=1"), "solver.mechanics", BOTH),
+    ("unknown key in [solver]", DEFAULT, s("solver.mechanic=direct"), "solver.mechanic", BOTH),
+    ("iterative monolithic (not available)", DEFAULT, s("solver.monolithic=iterative"), "solver.monolithic", BOTH),
+    ("a field split without fields", DEFAULT, ["-mechanics_pc_type", "fieldsplit"], "-mechanics_pc_type", RUN),
 ]
 # Under mpirun -n 2 (an error found by one rank must end both).
 MPI_CASES = ["negative gap where evaluated", "an output directory that cannot be made", "corrupt .msh"]
