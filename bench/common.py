@@ -260,9 +260,9 @@ def parse_variants(text, known):
 
 
 def parse_cells(text):
-    """Cell counts from "[40,4]", "[40,4],[80,8]" or "40x4 80x8"."""
-    found = re.findall(r"\[\s*(\d+)\s*,\s*(\d+)\s*\]|(\d+)x(\d+)", text)
-    cells = [(int(a or c), int(b or d)) for a, b, c, d in found]
+    """Cell counts from "[40,4]", "[40,4],[80,8]", "[16,8,4]" or "40x4 80x8"."""
+    found = re.findall(r"\[\s*(\d+(?:\s*,\s*\d+)+)\s*\]|(\d+(?:x\d+)+)", text)
+    cells = [tuple(int(n) for n in re.split(r"[\s,x]+", bracket or crossed) if n) for bracket, crossed in found]
     if not cells:
         raise BenchError(f"--cells {text!r}: expected e.g. \"[40,4]\" or \"[40,4],[80,8]\"")
     return cells
@@ -270,7 +270,7 @@ def parse_cells(text):
 
 def cells_text(cells):
     """(40, 4) -> "[40,4]", as the scene's mesh.cells value."""
-    return f"[{cells[0]},{cells[1]}]"
+    return "[" + ",".join(str(n) for n in cells) + "]"
 
 
 def add_arguments(parser, name):
