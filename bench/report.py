@@ -18,9 +18,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
+import scaling_report  # noqa: E402
 from common import number  # noqa: E402
 
-BENCHMARKS = ("size_sweep", "mandel", "prototype")
+BENCHMARKS = ("size_sweep", "mandel", "prototype", "scaling")
 ANALYSIS = ("<!-- analysis begin -->", "<!-- analysis end -->")
 MEASURED = ("<!-- measured begin -->", "<!-- measured end -->")
 SWEEP_FIELDS = ["unknowns", "wall_s", "process_wall_s", "steps", "coupling_iterations", "time_per_iteration_ms",
@@ -421,6 +422,8 @@ def report(data, output, results):
         lines += mandel_section(*data["mandel"], plot_dir, stem)
     if "prototype" in data:
         lines += prototype_section(*data["prototype"])
+    if "scaling" in data:
+        lines += scaling_report.section(*data["scaling"], plot_dir, stem, provenance, commands, table)
     return "\n".join(lines).rstrip() + "\n"
 
 

@@ -167,6 +167,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   PetscBool lag_given = PETSC_FALSE;
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
   _lag_by_default = !lag_given;
+  PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
   set_default_option(vi_prefix + "snes_lag_preconditioner", "-2");
   set_default_option(vi_prefix + "snes_rtol", "1e-10");
   set_default_option(vi_prefix + "snes_stol", "1e-12");
@@ -182,7 +183,10 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   SNESSetJacobian(_snes, _K, _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
   if (!condensed and method == Method::iterative)
+  {
     _amg = std::make_unique<InactiveSetPreconditioner>(_snes, A, prefix);
+    set_tolerance(iterative_tolerance);
+  }
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
@@ -217,6 +221,17 @@ void ContactSolver::operator_changed()
   _schur_current = false;
   if (_lag_by_default)
     SNESSetLagPreconditioner(_snes, -2);
+}
+
+void ContactSolver::set_tolerance(double relative)
+{
+  if (!_amg)
+    return;
+  KSP ksp;
+  SNESGetKSP(_snes, &ksp);
+  set_relative_tolerance(ksp, _prefix, relative);
+  if (!_snes_rtol_given)
+    SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
 }
 
 std::vector<char> ContactSolver::active_contact_dofs(Vec x) const

@@ -107,6 +107,12 @@ public:
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
 
+  /// Solves to `relative` (iterative full path): the Krylov tolerance of
+  /// each Newton step and the Newton tolerance both. F is linear, so on an
+  /// unchanged active set one step with a linear solve to `relative` meets
+  /// it; a tighter Newton tolerance would only add steps.
+  void set_tolerance(double relative);
+
   /// The number of contact nodes on the foundation to round-off (the
   /// active flag of state(), without the contact forces; collective).
   int active_nodes(Vec x) const;
@@ -152,6 +158,7 @@ private:
   Structure _structure;
   std::string _prefix;
   bool _lag_by_default = false;
+  PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
   std::vector<char> _pending, _used; // active flags of the contact DOFs
   bool _any_used = false;
   ContactSet _set;

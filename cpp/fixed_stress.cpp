@@ -41,6 +41,11 @@ constexpr double round_off_fraction = 1e-9;
 double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
 } // namespace
 
+double inexact_tolerance(double previous_increment)
+{
+  return std::clamp(1e-2 * previous_increment, iterative_tolerance, 1e-4);
+}
+
 void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report)
@@ -82,6 +87,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
     bool converged = false;
     int n = 0;
+    double increment = 1; // max(dp, du) of the last iteration
     std::vector<std::string> log; // the last iterations, for the error message
 
     try
@@ -92,6 +98,11 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
         //   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
         //     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
         //       - ((alpha/q) div(u^n - u_K)/dt, th)
+        if (scene.solver.inexact_coupling)
+        {
+          flow.system().set_tolerance(inexact_tolerance(increment));
+          mechanics.system().set_tolerance(inexact_tolerance(increment));
+        }
         assign(*flow.u_iterate, u_old);
         for (int m = 1; m <= q; ++m)
         {
@@ -184,6 +195,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
 
         p_old = p_new;
         u_old = u_new;
+        increment = std::max(dp_norm, du_norm);
         if (dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance)
         {
           converged = true;

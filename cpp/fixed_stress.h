@@ -48,6 +48,16 @@ struct WindowObserver
   std::function<bool()> stop;
 };
 
+/// Inexact coupling: the relative tolerance of the (iterative) linear solves
+/// of a coupling iteration, one hundredth of the previous iteration's
+/// relative increment max(dp, du), between iterative_tolerance (1e-10) and
+/// 1e-4. Early iterations, whose increments are large, solve to a few
+/// digits; the error each leaves is 1% of its increment, which the
+/// contraction removes with the increment. The last iterations, with
+/// increments near coupling.tolerance, solve to 1e-10 as without the rule,
+/// so the converged state is the same to the tolerance.
+double inexact_tolerance(double previous_increment);
+
 /// Runs the coupled scene from t = 0 (or, when report.windows > 0, from the
 /// end of that window: a restart with the state loaded) to its end time,
 /// filling `report` as it goes. Throws CouplingError (after logging every iteration) when a window

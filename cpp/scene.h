@@ -118,6 +118,9 @@ struct ReferenceSpec
 struct SolverSpec
 {
   std::string flow = "auto", mechanics = "auto", monolithic = "auto";
+  /// Inexact coupling (fixed_stress.h): the iterative solves of a coupling
+  /// iteration are only as accurate as its increment needs.
+  bool inexact_coupling = true;
 };
 
 struct Scene

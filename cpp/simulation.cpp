@@ -551,6 +551,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
         .set("solves", st.solves)
         .set("factorizations", direct ? st.setups : 0)
         .set("preconditioner_setups", st.setups)
+        .set("inexact_coupling", !direct and system != coupled_system and scene.solver.inexact_coupling)
         .set("back_solves", st.back_solves)
         .set("linear_iterations", st.linear_iterations);
     if (system->has_contact())

@@ -79,7 +79,6 @@ void set_direct_defaults(const std::string& prefix, Structure structure, int ran
 
 void set_iterative_defaults(const std::string& prefix, Structure structure)
 {
-  set_default_option(prefix + "ksp_rtol", "1e-10");
   if (structure == Structure::spd)
   {
     // Elasticity: CG with smoothed aggregation; the matrix carries block
@@ -121,6 +120,14 @@ Method set_solver_defaults(const std::string& prefix, Structure structure, Metho
   else
     set_iterative_defaults(prefix, structure);
   return method;
+}
+
+void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance)
+{
+  PetscBool given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, prefix.c_str(), "-ksp_rtol", &given);
+  if (!given)
+    KSPSetTolerances(ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
 }
 
 SolverStage::SolverStage(const std::string& name)
@@ -187,7 +194,10 @@ LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Stru
   PetscBool preonly = PETSC_TRUE;
   PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly);
   if (ierr == 0 and !preonly)
+  {
     ierr = KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE);
+    set_relative_tolerance(_ksp, prefix, iterative_tolerance);
+  }
   if (ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver (PETSc error "
                        + std::to_string(ierr) + ")");

@@ -63,9 +63,16 @@ enum class Method
 std::string method_name(Method method);
 
 /// The crossovers of "auto": systems with at least this many unknowns are
-/// solved iteratively (bench/scaling.py, docs/performance.md).
-constexpr std::int64_t crossover_2d_mechanics = 200000, crossover_2d_flow = 400000;
-constexpr std::int64_t crossover_3d_mechanics = 50000, crossover_3d_flow = 100000;
+/// solved iteratively. Measured by bench/scaling.py on the 2-core machine
+/// (docs/performance.md, "Scaling"), per system, one rank:
+/// - 3D: the flow is faster iterative from 7.6e4 unknowns (direct still at
+///   3.2e4), the mechanics from 1.5e4 (a tie at 6.8e3);
+/// - 2D: the factorisations stay faster at every size measured, up to
+///   1.6e6 flow and 6.6e5 mechanics unknowns (2.3e6 in all): a 2D nested-
+///   dissection factor has O(n log n) fill, and a run makes thousands of
+///   cheap back-solves from it. The 2D crossovers lie beyond that.
+constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 8000000;
+constexpr std::int64_t crossover_3d_mechanics = 10000, crossover_3d_flow = 50000;
 
 /// The method for a [solver] choice ("direct", "iterative" or "auto") of a
 /// system with `unknowns` global unknowns and `dimension`: "auto" takes the
@@ -82,9 +89,20 @@ Method choose_method(const std::string& choice, Structure structure, std::int64_
 /// structure on this communicator (docs/performance.md): on one rank
 /// CHOLMOD Cholesky for SPD matrices and PETSc's own nested-dissection LU
 /// for quasi-definite ones, MUMPS otherwise and on several ranks.
-/// Iterative: see Method; relative tolerance 1e-10, so that the coupling
-/// tolerance (1e-8 on the relative increments) sees converged solves.
+/// Iterative: see Method; the relative tolerance is set on the KSP
+/// (set_relative_tolerance), not here.
 Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm);
+
+/// The relative residual tolerance of an iterative solve: tight enough that
+/// the coupling tolerance (1e-8 on the relative increments) sees converged
+/// solves. Inexact coupling loosens it in early iterations (fixed_stress.h).
+constexpr double iterative_tolerance = 1e-10;
+
+/// Sets the relative tolerance of a Krylov method, unless the command line
+/// gave -<prefix>ksp_rtol (which wins). On the KSP itself, not in the
+/// options database: SNES VI re-reads the options at every change of the
+/// inactive set, which would undo a tolerance set by the coupling.
+void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance);
 
 /// The DOFs of one field of a mixed system (global indices of the owned
 /// DOFs): a field split preconditioner splits along them.
@@ -156,6 +174,8 @@ public:
   /// factorisation for all of them when it supports it). Throws SolverError.
   void solve(Mat X, Mat B);
 
+  /// The relative tolerance of the next solves (a Krylov method only).
+  void set_tolerance(double relative) { set_relative_tolerance(_ksp, _prefix, relative); }
   /// The operator's values changed: the next solve sets up anew (PETSc
   /// sees the new matrix state by itself; this only counts).
   void operator_changed() { _operator_changed = true; }

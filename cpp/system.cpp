@@ -59,6 +59,16 @@ void System::solve(Vec b, Vec x)
   ++_statistics.solves;
 }
 
+void System::set_tolerance(double relative)
+{
+  if (_method != Method::iterative)
+    return;
+  if (_contact)
+    _contact->set_tolerance(relative);
+  else
+    _linear->set_tolerance(relative);
+}
+
 void System::reassemble()
 {
   common::Timer timer("assembly");

@@ -44,6 +44,12 @@ public:
   /// Solves with x as the initial guess (a contact solve starts from it).
   void solve(Vec b, Vec x);
 
+  /// The accuracy the coupling asks of the next solves (inexact coupling,
+  /// fixed_stress.h): the relative residual tolerance of an iterative
+  /// method (and of the contact solver's Newton steps); a factorisation is
+  /// exact and ignores it.
+  void set_tolerance(double relative);
+
   /// The form's coefficients changed (dt with time.growth): reassembles A;
   /// the next solve factorises anew.
   void reassemble();

@@ -16,8 +16,8 @@ from petsc4py import PETSc
 from .linear_algebra import accumulate_ghosts, add_vector, owned
 from .schur_complement import SchurComplement
 from .inactive_set_preconditioner import InactiveSetPreconditioner
-from .solver import (LinearSolver, Method, OptionsError, SolverError, SolverStage, Structure, reason_name,
-                     set_default_option, system_name)
+from .solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, OptionsError, SolverError, SolverStage, Structure,
+                     reason_name, set_default_option, set_relative_tolerance, system_name)
 from .scene import SceneError, agree_on_error
 
 
@@ -143,6 +143,7 @@ class ContactSolver:
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
         self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
+        self.snes_rtol_given = PETSc.Options().hasName(vi_prefix + "snes_rtol")
         for option, value in (("snes_lag_preconditioner", "-2"), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active set
@@ -156,6 +157,7 @@ class ContactSolver:
         self.snes.setVariableBounds(self.lower, self.upper)
         if not condensed and method == Method.iterative:
             self.amg = InactiveSetPreconditioner(self.snes, A, prefix)
+            self.set_tolerance(ITERATIVE_TOLERANCE)
         # At least one Newton step per solve, so the result never lags the load.
         if hasattr(self.snes, "setForceIteration"):
             self.snes.setForceIteration(True)
@@ -179,6 +181,15 @@ class ContactSolver:
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
+
+    def set_tolerance(self, relative):
+        """Solves to `relative` (iterative full path): the Krylov tolerance of
+        each Newton step and the Newton tolerance (cpp/contact.h says why)."""
+        if not self.amg:
+            return
+        set_relative_tolerance(self.snes.getKSP(), self.prefix, relative)
+        if not self.snes_rtol_given:
+            self.snes.setTolerances(rtol=relative)
 
     def amg_setups(self):
         """Set-ups of the iterative full path's AMG (None otherwise)."""

@@ -8,7 +8,7 @@ import numpy as np
 
 from .forms import set_time_step
 from .linear_algebra import owned_norm
-from .solver import SolverError
+from .solver import ITERATIVE_TOLERANCE, SolverError
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see the loop).
@@ -33,6 +33,13 @@ class CouplingReport:
         # Carried from window to window (and through a checkpoint): the sum
         # of the resolved ratios and the scales of the stopping test.
         self.ratio_sum = self.p_size = self.u_size = 0.0
+
+
+def inexact_tolerance(previous_increment):
+    """Inexact coupling (cpp/fixed_stress.h): the relative tolerance of the
+    iterative solves of an iteration, 1e-2 times the previous iteration's
+    relative increment max(dp, du), between 1e-10 and 1e-4."""
+    return min(max(1e-2 * previous_increment, ITERATIVE_TOLERANCE), 1e-4)
 
 
 def relative(increment, size):
@@ -75,6 +82,7 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         flow.u_window.x.array[:] = u_K
         dsigma_previous, dsigma_first = nan, 0.0
         converged, log = False, []
+        increment = 1.0  # max(dp, du) of the last iteration
 
         n = 0
         try:
@@ -83,6 +91,9 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
                 #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
                 #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
                 #       - ((alpha/q) div(u^n - u_K)/dt, th)
+                if scene.solver.inexact_coupling:
+                    flow.system.set_tolerance(inexact_tolerance(increment))
+                    mechanics.system.set_tolerance(inexact_tolerance(increment))
                 flow.u_iterate.x.array[:] = u_old
                 for m in range(1, q + 1):
                     flow.p_previous.x.array[:] = p_new[m - 1]
@@ -160,6 +171,7 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
 
                 p_old = list(p_new)
                 u_old = u_new
+                increment = max(dp_norm, du_norm)
                 if dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance:
                     converged = True
                     # Coupled residual of the accepted state: the flow equations with

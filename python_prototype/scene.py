@@ -225,6 +225,7 @@ class SolverSpec:
     flow: str = "auto"
     mechanics: str = "auto"
     monolithic: str = "auto"
+    inexact_coupling: bool = True  # iterative solves only as accurate as the coupling increment needs
 
 
 @dataclass
@@ -591,6 +592,7 @@ def read_scene(file, overrides=()):
         if choice not in ("direct", "iterative", "auto"):
             solver.fail(key, 'must be "direct", "iterative" or "auto"')
         setattr(scene.solver, key, choice)
+    scene.solver.inexact_coupling = solver.boolean("inexact_coupling", True)
     if scene.solver.monolithic == "iterative":
         solver.fail("monolithic", '"iterative" is not available: the coupled system has no block preconditioner yet '
                                   "(the split solves flow and mechanics iteratively with solver.flow and "

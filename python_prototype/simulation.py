@@ -35,7 +35,7 @@ def _boundary_mean(u, facets, component, comm):
     return total / count
 
 
-def _solvers_json(systems, stats):
+def _solvers_json(systems, stats, inexact_coupling):
     result = {}
     for name, system in systems.items():
         if system is None:
@@ -45,6 +45,7 @@ def _solvers_json(systems, stats):
         j = {"solver": system.method.name, "method": system.description(), "unknowns": system.unknowns(),
              "solves": st.solves, "factorizations": st.setups if direct else 0,
              "preconditioner_setups": st.setups,
+             "inexact_coupling": not direct and name != "monolithic" and inexact_coupling,
              "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
         if system.has_contact():
             j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
@@ -384,7 +385,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
             "monolithic_solves": stats["monolithic"].solves,
             "newton_iterations": stats["mechanics"].newton_iterations + stats["monolithic"].newton_iterations,
             "linear_iterations": {name: stats[name].linear_iterations for name in systems},
-            "solvers": _solvers_json(systems, stats),
+            "solvers": _solvers_json(systems, stats, scene.solver.inexact_coupling),
             "timings": dict(_timings_json(systems, stats),
                             assembly=sum(s.assembly_time for s in steps)
                             + sum(stats[name].assembly_time for name in systems),

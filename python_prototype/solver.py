@@ -47,7 +47,7 @@ class Method(enum.Enum):
 
 
 # The crossovers of "auto" in unknowns (cpp/solver.h, docs/performance.md).
-CROSSOVER = {(2, True): 200000, (2, False): 400000, (3, True): 50000, (3, False): 100000}
+CROSSOVER = {(2, True): 4000000, (2, False): 8000000, (3, True): 10000, (3, False): 50000}
 
 
 def choose_method(choice, structure, unknowns, dimension):
@@ -89,7 +89,6 @@ def _set_iterative_defaults(prefix, structure):
     rigid-body modes on the matrix); for the mixed flow system GMRES with a
     Schur field split, selfp (C + B diag(M)^-1 B^T) and BoomerAMG on it
     (cpp/solver.cpp says why)."""
-    set_default_option(prefix + "ksp_rtol", "1e-10")
     if structure == Structure.spd:
         set_default_option(prefix + "ksp_type", "cg")
         set_default_option(prefix + "pc_type", "gamg")
@@ -99,6 +98,19 @@ def _set_iterative_defaults(prefix, structure):
                         ("fieldsplit_flux_ksp_type", "preonly"), ("fieldsplit_flux_pc_type", "jacobi"),
                         ("fieldsplit_pressure_ksp_type", "preonly"), ("fieldsplit_pressure_pc_type", "hypre")):
         set_default_option(prefix + name, value)
+
+
+# The relative residual tolerance of an iterative solve (cpp/solver.h);
+# inexact coupling loosens it in early iterations (fixed_stress.py).
+ITERATIVE_TOLERANCE = 1e-10
+
+
+def set_relative_tolerance(ksp, prefix, tolerance):
+    """The relative tolerance of a Krylov method, unless -<prefix>ksp_rtol was
+    given; on the KSP, not in the options database, which SNES VI re-reads at
+    every change of the inactive set."""
+    if not PETSc.Options().hasName(prefix + "ksp_rtol"):
+        ksp.setTolerances(rtol=tolerance)
 
 
 def set_solver_defaults(prefix, structure, method, comm):
@@ -173,9 +185,14 @@ class LinearSolver:
             # refuses a nonzero guess).
             if self.ksp.getType() != PETSc.KSP.Type.PREONLY:
                 self.ksp.setInitialGuessNonzero(True)
+                set_relative_tolerance(self.ksp, prefix, ITERATIVE_TOLERANCE)
         except PETSc.Error as e:  # e.g. -flow_pc_type ilu with a factorisation package
             raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver "
                                f"(PETSc error {e.ierr}; see -{prefix}pc_factor_mat_solver_type)") from None
+
+    def set_tolerance(self, relative):
+        """The relative tolerance of the next solves (a Krylov method only)."""
+        set_relative_tolerance(self.ksp, self.prefix, relative)
 
     def operator_changed(self):
         """The operator's values changed: the next solve sets up (counted)."""

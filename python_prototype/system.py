@@ -54,6 +54,16 @@ class System:
         self._statistics.total_time += time.perf_counter() - start
         self._statistics.solves += 1
 
+    def set_tolerance(self, relative):
+        """The accuracy the coupling asks of the next solves (inexact
+        coupling): iterative methods only; a factorisation is exact."""
+        if self.method != Method.iterative:
+            return
+        if self.contact:
+            self.contact.set_tolerance(relative)
+        else:
+            self.linear.set_tolerance(relative)
+
     def reassemble(self):
         """dt changed: the next solve factorises anew."""
         start = time.perf_counter()
