@@ -94,8 +94,9 @@ void set_iterative_defaults(const std::string& prefix, Structure structure)
   // two-point-flux-like cell Laplacian plus a mass term, which suits AMG;
   // M itself is spectrally equivalent to its diagonal (mesh independent).
   // selfp is built from the matrix as stored (the mass balance times -1,
-  // forms/biot.py), so it is negative definite; BoomerAMG and the
-  // Chebyshev-Jacobi smoothers only see D^-1 S, the same for -S.
+  // forms/biot.py), so it is negative definite; BoomerAMG takes it as it
+  // is (measured: 3.7-4.1 GMRES iterations per solve in 2D, 8.2-8.6 in 3D,
+  // flat under refinement, bench/scaling.py).
   set_default_option(prefix + "ksp_type", "gmres");
   set_default_option(prefix + "pc_type", "fieldsplit");
   set_default_option(prefix + "pc_fieldsplit_type", "schur");
