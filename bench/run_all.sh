@@ -7,7 +7,10 @@
 # Environment: REPEAT (default 3) runs per case; LARGEST=1 adds [640,64] to
 # the size sweep; BIOTCONTACT chooses the solver binary (default
 # build/biotcontact); README=1 also refreshes the measured block of README.md
-# (if it has the markers). Each step prints the commands it runs.
+# (if it has the markers); SCALING=1 also runs bench/scaling.py (direct
+# against iterative, 2D and 3D, 1 and 2 ranks, with the largest meshes:
+# about 45 minutes at one repetition, so it runs with REPEAT_SCALING,
+# default 1). Each step prints the commands it runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
@@ -27,5 +30,8 @@ step() {
 step $PY bench/size_sweep.py --repeat "$REPEAT" "${sweep_extra[@]}"
 step $PY bench/mandel.py --repeat "$REPEAT"
 step $PY bench/prototype.py --repeat "$REPEAT"
+if [ "${SCALING:-0}" = 1 ]; then
+  step $PY bench/scaling.py --largest --repeat "${REPEAT_SCALING:-1}"
+fi
 step $PY bench/report.py "${readme[@]}"
 echo "all benchmarks in $((SECONDS - start)) s"

@@ -36,6 +36,9 @@ check("commit:" in out and "$ " in out and "--set output.xdmf=false" in out,
 out = bench("mandel.py", "--cells", "[20,2]", *common_options)
 out = bench("prototype.py", "--cells", "[20,2]", "--set", "time.end=0.8", *common_options)
 check("python_prototype compare" in out, "prototype.py prints the compare command")
+out = bench("scaling.py", "--cells2", "[20,2]", "--cells3", "[4,2,2]", *common_options)
+check("mpirun -n 2" in out and "solver.mechanics=iterative" in out,
+      "scaling.py runs both solvers on 1 and 2 ranks and prints the commands")
 
 expected = {
     "size_sweep": ({"variant", "cells", "unknowns", "repetition", "wall_s", "coupling_iterations",
@@ -47,6 +50,9 @@ expected = {
     "mandel": ({"variant", "cells", "dt", "repetition", "wall_s", "pressure_error", "unknowns"}, 2),
     "prototype": ({"cells", "repetition", "cpp_wall_s", "py_wall_s", "cpp_process_wall_s", "py_process_wall_s",
                    "wall_ratio", "agree", "max_relative_difference"}, 1),
+    "scaling": ({"dimension", "cells", "solver", "ranks", "unknowns", "wall_s", "us_per_unknown_per_iteration",
+                 "flow_iterations_per_solve", "mechanics_iterations_per_newton_step", "mechanics_setups",
+                 "peak_rss_mb"}, 8),
 }
 for name, (columns, count) in expected.items():
     header, rows = common.read_csv(os.path.join(results, name + ".csv"))
@@ -78,9 +84,11 @@ check("## Targets" in report and "| target | goal | baseline | measured (median)
       and "default [160,16], single rate L = paper" in report and "Mandel: pressure error" in report,
       "the report has the targets table")
 check("Hand-written: keep me." in report and "old" not in report, "the analysis block is kept, the rest replaced")
-check(all(s in report for s in ("## Size sweep", "## Mandel", "## C++ against the Python prototype")),
+check(all(s in report for s in ("## Size sweep", "## Mandel", "## C++ against the Python prototype",
+                                 "## Scaling", "`auto` picks the faster method")),
       "the report has a section per benchmark")
-for name in ("wall_vs_unknowns.png", "time_per_iteration.png", "memory_vs_unknowns.png", "mandel_error_vs_wall.png"):
+for name in ("wall_vs_unknowns.png", "time_per_iteration.png", "memory_vs_unknowns.png", "mandel_error_vs_wall.png",
+             "scaling.png"):
     with open(os.path.join(docs, "performance", name), "rb") as f:
         check(f.read(8) == b"\x89PNG\r\n\x1a\n", f"{name} is a PNG")
 with open(readme) as f:
