@@ -48,11 +48,10 @@ double inexact_tolerance(double previous_increment)
 
 void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
-                      const WindowObserver& observer, CouplingReport& report)
+                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
 {
   const CouplingSpec& coupling = *scene.coupling;
   const int q = P.q;
-  const std::vector<double> times = scene.times();
   const bool multirate = coupling.scheme == "multirate";
   const fem::FunctionSpace& V = *mechanics.space();
   const fem::FunctionSpace& Q = *flow.pressure_space();
@@ -72,13 +71,14 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     u_size = owned_norm(u_K, V);
   }
 
-  const int windows = scene.num_steps() / q;
-  for (int K = report.windows; K < windows; ++K)
+  int attempts = 0; // retries of the current window (time.retry)
+  for (int K = report.windows; K < grid.steps() / q; ++K)
   {
     // Fine time m of the window (t_K + m dt for a constant step).
-    auto t = [&](int m) { return times[K * q + m]; };
-    if (scene.growth != 1.0 and set_time_step(constants, t(1) - t(0)))
+    auto t = [&](int m) { return grid.t[K * q + m]; };
+    if (set_time_step(constants, grid.dt[K * q]))
       flow.time_step_changed();
+    const std::vector<double> w_K(flow.state().begin(), flow.state().end());
     // Start: p^{0,m} = p_K for all m, u^0 = u_K.
     std::vector<Array> p_old(q + 1, p_K), p_new(q + 1, p_K);
     std::vector<Array> w_new(q + 1);
@@ -89,6 +89,20 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     int n = 0;
     double increment = 1; // max(dp, du) of the last iteration
     std::vector<std::string> log; // the last iterations, for the error message
+    // time.retry: back to the start of the window, whose fine steps are
+    // halved (two windows of q steps); false when no retry is left.
+    auto retry = [&](const std::string& cause)
+    {
+      const auto message = retry_step(scene, cause, K + 1, attempts, grid, K * q, q, report.retries);
+      if (!message)
+        return false;
+      flow.set_state(w_K);
+      assign(*mechanics.u, u_K);
+      if (observer.retry)
+        observer.retry(*message);
+      --K;
+      return true;
+    };
 
     try
     {
@@ -216,22 +230,28 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     catch (const SolverError& e)
     {
       // The failing solve named its system; the iteration is known here.
-      throw SolverError("coupling iteration " + std::to_string(n + 1) + ": " + e.what());
+      const std::string cause = "coupling iteration " + std::to_string(n + 1) + ": " + e.what();
+      if (!retry(cause))
+        throw SolverError(cause);
+      continue;
     }
     report.coupling_iterations += std::min(n + 1, coupling.max_iterations);
     report.max_iterations_per_step = std::max(report.max_iterations_per_step, std::min(n + 1, coupling.max_iterations));
     if (!converged)
     {
-      report.converged = false;
-      report.mean_contraction_ratio = report.ratios ? ratio_sum / report.ratios : 0.0;
       std::ostringstream message;
       message << "the fixed-stress split did not converge in " << coupling.max_iterations
               << " iterations at t = " << t(q) << " (step " << K + 1
               << "); last increments:";
       for (std::size_t i = log.size() > 3 ? log.size() - 3 : 0; i < log.size(); ++i)
         message << log[i];
+      if (retry("the fixed-stress split did not converge"))
+        continue;
+      report.converged = false;
+      report.mean_contraction_ratio = report.ratios ? ratio_sum / report.ratios : 0.0;
       throw CouplingError(message.str());
     }
+    attempts = 0;
 
     // Accept the window: write every fine flow step, then the mechanics step.
     for (int m = 1; m <= q; ++m)

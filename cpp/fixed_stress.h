@@ -8,9 +8,11 @@
 #include "mechanics_step.h"
 #include "output.h"
 #include "parameters.h"
+#include "time_grid.h"
 
 #include <functional>
 #include <stdexcept>
+#include <string>
 
 namespace biotcontact
 {
@@ -32,6 +34,7 @@ struct CouplingReport
   long unresolved_ratios = 0;  // ratios at round-off level, logged only
   double max_coupled_residual = 0; // relative, of each converged state
   bool converged = true;
+  long retries = 0;            // failed steps retried with halved steps (time.retry)
   // Carried from window to window (and through a checkpoint): the sum of
   // the resolved ratios and the scales of the stopping test.
   double ratio_sum = 0, p_size = 0, u_size = 0;
@@ -46,7 +49,10 @@ struct WindowObserver
   /// Asked after each accepted (and written) window: true ends the run
   /// there (an interruption).
   std::function<bool()> stop;
+  /// Told that a failed window is tried again with halved steps.
+  std::function<void(const std::string& message)> retry;
 };
+
 
 /// Inexact coupling: the relative tolerance of the (iterative) linear solves
 /// of a coupling iteration, one hundredth of the previous iteration's
@@ -59,12 +65,13 @@ struct WindowObserver
 double inexact_tolerance(double previous_increment);
 
 /// Runs the coupled scene from t = 0 (or, when report.windows > 0, from the
-/// end of that window: a restart with the state loaded) to its end time,
+/// end of that window: a restart with the state loaded) to its end time on
+/// the steps of `grid` (which a retry refines),
 /// filling `report` as it goes. Throws CouplingError (after logging every iteration) when a window
 /// does not converge; `report` then describes the run up to that window.
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
                       FlowStep& flow,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
-                      const WindowObserver& observer, CouplingReport& report);
+                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid);
 
 } // namespace biotcontact

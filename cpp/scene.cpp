@@ -620,6 +620,9 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   positive(time, "dt", scene.dt);
   positive(time, "end", scene.end_time);
   scene.growth = time.number("growth", 1.0);
+  scene.retry = time.integer("retry", 0);
+  if (scene.retry < 0 or scene.retry > 20)
+    time.fail("retry", "must lie in [0, 20] (each retry halves the step)");
   if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
     time.fail("growth", "must lie in [1, 10]");
   const double steps = scene.end_time / scene.dt;

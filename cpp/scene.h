@@ -133,6 +133,7 @@ struct Scene
   std::optional<CouplingSpec> coupling; // present iff mechanics and flow
   double end_time = 0, dt = 0;
   double growth = 1; // time.growth: dt_k = dt growth^(k-1)
+  int retry = 0;      // time.retry: a failed step is retried with halved steps up to this many times
   bool write_xdmf = true;
   int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
   std::optional<ReferenceSpec> reference;

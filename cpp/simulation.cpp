@@ -146,15 +146,42 @@ Json closed_form_errors(const Scene& scene, const Parameters& P, const Domain& d
   return errors;
 }
 
+/// The unknowns at the start of a step, to go back to when it is retried.
+struct StepState
+{
+  std::vector<double> flow, displacement, monolithic;
+};
+
+StepState step_state(const FlowStep* flow, const MechanicsStep* mechanics, const MonolithicStep* coupled)
+{
+  auto copy = [](std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); };
+  return {flow ? copy(flow->state()) : std::vector<double>{},
+          mechanics ? copy(mechanics->u->x()->array()) : std::vector<double>{},
+          coupled ? copy(coupled->state()) : std::vector<double>{}};
+}
+
+void set_step_state(const StepState& s, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* coupled)
+{
+  if (flow)
+    flow->set_state(s.flow);
+  if (mechanics)
+    std::copy(s.displacement.begin(), s.displacement.end(), mechanics->u->x()->mutable_array().begin());
+  if (coupled)
+    coupled->set_state(s.monolithic);
+}
+
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
 Checkpoint capture_state(int steps, double time, const FlowStep* flow, const MechanicsStep* mechanics,
                          const MonolithicStep* coupled, const CouplingReport& report,
-                         const std::array<System*, 3>& systems, const std::string& output)
+                         const std::array<System*, 3>& systems, const std::string& output, const TimeGrid& grid)
 {
   Checkpoint c;
   c.steps = steps;
   c.time = time;
   auto keep = [&](const std::string& name, std::span<const double> x) { c.arrays[name].assign(x.begin(), x.end()); };
+  // The grid as retries left it (the same on every rank).
+  keep("times", grid.t);
+  keep("time_steps", grid.dt);
   if (flow)
     keep("flow", flow->state());
   if (mechanics)
@@ -171,7 +198,8 @@ Checkpoint capture_state(int steps, double time, const FlowStep* flow, const Mec
                {"max_coupled_residual", report.max_coupled_residual},
                {"ratio_sum", report.ratio_sum},
                {"p_size", report.p_size},
-               {"u_size", report.u_size}};
+               {"u_size", report.u_size},
+               {"retries", report.retries}};
   for (std::size_t i = 0; i < systems.size(); ++i)
   {
     if (!systems[i])
@@ -192,8 +220,10 @@ Checkpoint capture_state(int steps, double time, const FlowStep* flow, const Mec
 
 /// Loads a checkpoint into the steps, the report and the solver counts.
 void restore_state(const Checkpoint& c, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* coupled,
-                   CouplingReport& report, const std::array<System*, 3>& systems)
+                   CouplingReport& report, const std::array<System*, 3>& systems, TimeGrid& grid)
 {
+  grid.t = c.arrays.at("times");
+  grid.dt = c.arrays.at("time_steps");
   if (flow)
     flow->set_state(c.arrays.at("flow"));
   if (mechanics)
@@ -213,6 +243,7 @@ void restore_state(const Checkpoint& c, FlowStep* flow, MechanicsStep* mechanics
   report.unresolved_ratios = static_cast<long>(n("unresolved_ratios"));
   report.max_coupled_residual = n("max_coupled_residual");
   report.ratio_sum = n("ratio_sum");
+  report.retries = static_cast<long>(n("retries"));
   report.p_size = n("p_size");
   report.u_size = n("u_size");
   for (std::size_t i = 0; i < systems.size(); ++i)
@@ -386,6 +417,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
       output.write(*contact_active, t);
     }
   };
+  // The time steps; a retry (time.retry) halves some of them.
+  TimeGrid grid = time_grid(scene);
   char line[256];
   int completed_steps = 0; // mechanics steps (windows) written
   double completed_time = 0;
@@ -394,7 +427,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
     completed_steps = step;
     completed_time = t;
     std::snprintf(line, sizeof line, "step %4d/%d  t = %-11.5g  coupling iterations %3d  active contact nodes %d",
-                  step, scene.num_steps() / P.q, t, iterations, contact.active_nodes);
+                  step, grid.steps() / P.q, t, iterations, contact.active_nodes);
     say(line);
   };
 
@@ -404,7 +437,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
                                      coupled ? &coupled->system() : nullptr};
   if (resumed)
   {
-    restore_state(*resumed, flow.get(), mechanics.get(), coupled.get(), report, systems);
+    restore_state(*resumed, flow.get(), mechanics.get(), coupled.get(), report, systems, grid);
     completed_steps = resumed->steps;
     completed_time = resumed->time;
     if (u)
@@ -432,7 +465,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
   {
     write_checkpoint(comm, directory, control.fingerprint,
                      capture_state(completed_steps, completed_time, flow.get(), mechanics.get(), coupled.get(),
-                                   report, systems, output.state()));
+                                   report, systems, output.state(), grid));
     saved = completed_steps;
   };
   auto stop = [&]
@@ -445,12 +478,11 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
     return signal != 0;
   };
   // A solve that fails names the step it was computing.
-  const std::vector<double> times = scene.times();
   auto at_failing_step = [&](const std::string& cause)
   {
     const int step = completed_steps + 1;
     std::ostringstream s;
-    s << "step " << step << " (t = " << times[std::min<std::size_t>(step * P.q, times.size() - 1)]
+    s << "step " << step << " (t = " << grid.t[std::min<std::size_t>(step * P.q, grid.t.size() - 1)]
       << "): " << cause;
     return s.str();
   };
@@ -465,31 +497,49 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
                                 write_mechanics(t);
                                 progress(window, t, iterations);
                               },
-                              stop};
-      run_fixed_stress(scene, P, constants, *flow, *mechanics, contraction, output, observer, report);
+                              stop, say};
+      run_fixed_stress(scene, P, constants, *flow, *mechanics, contraction, output, observer, report, grid);
     }
     else
     {
       // One solve per step: the monolithic system, or the single physics.
-      for (int k = report.windows + 1; k <= scene.num_steps(); ++k)
+      int attempts = 0; // retries of the current step (time.retry)
+      for (int k = report.windows + 1; k <= grid.steps(); ++k)
       {
-        const double t = times[k];
-        if (scene.growth != 1.0 and set_time_step(constants, t - times[k - 1]))
+        const double t = grid.t[k];
+        if (set_time_step(constants, grid.dt[k - 1]))
         {
           if (coupled)
             coupled->time_step_changed();
           if (flow)
             flow->time_step_changed();
         }
-        if (coupled)
-          coupled->solve(t);
-        if (flow)
+        const StepState at_step_start = step_state(flow.get(), mechanics.get(), coupled.get());
+        try
         {
-          std::copy(p->x()->array().begin(), p->x()->array().end(), flow->p_previous->x()->mutable_array().begin());
-          flow->solve(t);
+          if (coupled)
+            coupled->solve(t);
+          if (flow)
+          {
+            std::copy(p->x()->array().begin(), p->x()->array().end(),
+                      flow->p_previous->x()->mutable_array().begin());
+            flow->solve(t);
+          }
+          if (mechanics)
+            mechanics->solve(t);
         }
-        if (mechanics)
-          mechanics->solve(t);
+        catch (const SolverError& e)
+        {
+          // time.retry: back to the start of the step, halved.
+          const auto message = retry_step(scene, e.what(), k, attempts, grid, k - 1, 1, report.retries);
+          if (!message)
+            throw;
+          say(*message);
+          set_step_state(at_step_start, flow.get(), mechanics.get(), coupled.get());
+          --k;
+          continue;
+        }
+        attempts = 0;
         if (p)
           write_flow(t);
         if (u)
@@ -588,6 +638,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
       .set("dt", scene.dt)
       .set("dt_growth", scene.growth)
       .set("steps", report.windows)
+      .set("retries", report.retries)
       .set("fine_steps", report.windows * P.q)
       .set("coupling_iterations", report.coupling_iterations)
       .set("max_iterations_per_step", report.max_iterations_per_step)

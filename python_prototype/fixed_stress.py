@@ -9,6 +9,7 @@ import numpy as np
 from .forms import set_time_step
 from .linear_algebra import owned_norm
 from .solver import ITERATIVE_TOLERANCE, SolverError
+from .time_grid import retry_step
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see the loop).
@@ -30,6 +31,7 @@ class CouplingReport:
         self.bound_violations = 0          # resolved ratios above gamma
         self.unresolved_ratios = 0         # ratios at round-off level, logged only
         self.max_coupled_residual = 0.0    # relative, of each converged state
+        self.retries = 0                   # failed steps retried with halved steps (time.retry)
         # Carried from window to window (and through a checkpoint): the sum
         # of the resolved ratios and the scales of the stopping test.
         self.ratio_sum = self.p_size = self.u_size = 0.0
@@ -48,14 +50,16 @@ def relative(increment, size):
 
 
 def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
-                     report, comm, stop=None):
+                     report, comm, grid, stop=None, on_retry=None):
     """Runs the coupled scene to its end time (from the end of window
-    report.windows when a restart loaded its state), filling `report`. After each
-    converged window calls on_flow_state(t) once per fine step (with that
-    step's solution loaded in `flow`), then on_mechanics_state(t, window,
-    iterations), then stop(): true ends the run there (an interruption).
-    Raises CouplingError when a window does not converge."""
-    coupling, q, times = scene.coupling, P.q, scene.times()
+    report.windows when a restart loaded its state) on the steps of `grid`
+    (which a retry refines), filling `report`. After each converged window
+    calls on_flow_state(t) once per fine step (with that step's solution
+    loaded in `flow`), then on_mechanics_state(t, window, iterations), then
+    stop(): true ends the run there (an interruption); on_retry(message)
+    when a failed window is tried again with halved steps. Raises
+    CouplingError when a window does not converge."""
+    coupling, q = scene.coupling, P.q
     multirate = coupling.scheme == "multirate"
     V, Q = mechanics.V, flow.Q
     nan = math.nan
@@ -69,11 +73,26 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         report.p_size = math.sqrt(q) * owned_norm(p_K, Q, comm)
         report.u_size = owned_norm(u_K, V, comm)
 
-    for K in range(report.windows, scene.num_steps() // q):
+    attempts = [0]  # retries of the current window (time.retry)
+    K = report.windows
+    while K < grid.steps() // q:
         def t(m):  # fine time m of the window (t_K + m dt for a constant step)
-            return times[K * q + m]
-        if scene.growth != 1.0 and set_time_step(F, t(1) - t(0)):
+            return grid.t[K * q + m]
+        if set_time_step(F, grid.dt[K * q]):
             flow.time_step_changed()
+        w_K = flow.state().copy()
+
+        def retry(cause):
+            """time.retry: back to the start of the window, whose fine steps
+            are halved (two windows of q steps); False when no retry is left."""
+            message = retry_step(scene, cause, K + 1, attempts, grid, K * q, q, report)
+            if message is None:
+                return False
+            flow.set_state(w_K)
+            mechanics.u.x.array[:] = u_K
+            if on_retry:
+                on_retry(message)
+            return True
         # Start: p^{0,m} = p_K for all m, u^0 = u_K.
         p_old = [p_K] * (q + 1)
         p_new = [p_K] * (q + 1)
@@ -184,15 +203,21 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
                     break
         except SolverError as e:
             # The failing solve named its system; the iteration is known here.
-            raise SolverError(f"coupling iteration {n + 1}: {e}") from None
+            cause = f"coupling iteration {n + 1}: {e}"
+            if retry(cause):
+                continue
+            raise SolverError(cause) from None
         iterations = min(n + 1, coupling.max_iterations)
         report.coupling_iterations += iterations
         report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
         if not converged:
+            if retry("the fixed-stress split did not converge"):
+                continue
             report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
             raise CouplingError(f"the fixed-stress split did not converge in {coupling.max_iterations} "
                                 f"iterations at t = {t(q):g} (step {K + 1}); last increments:"
                                 + "".join(log[-3:]))
+        attempts[0] = 0
 
         # Accept the window: write every fine flow step, then the mechanics step.
         for m in range(1, q + 1):
@@ -201,6 +226,7 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         on_mechanics_state(t(q), K + 1, n + 1)
         report.windows = K + 1
         p_K, u_K = p_new[q], u_new
+        K += 1
         if stop is not None and stop():
             break
     report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0

@@ -241,6 +241,7 @@ class Scene:
     end_time: float = 0.0
     dt: float = 0.0
     growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
+    retry: int = 0       # time.retry: a failed step is retried with halved steps up to this many times
     write_xdmf: bool = True
     checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
     reference: Optional[ReferenceSpec] = None
@@ -564,6 +565,9 @@ def read_scene(file, overrides=()):
     _positive(time, "dt", scene.dt)
     _positive(time, "end", scene.end_time)
     scene.growth = time.number("growth", 1.0)
+    scene.retry = time.integer("retry", 0)
+    if not 0 <= scene.retry <= 20:
+        time.fail("retry", "must lie in [0, 20] (each retry halves the step)")
     if not (1.0 <= scene.growth <= 10.0):
         time.fail("growth", "must lie in [1, 10]")
     steps = scene.end_time / scene.dt

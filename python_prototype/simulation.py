@@ -15,6 +15,7 @@ from .forms import Forms, derive_parameters, set_constants, set_time_step
 from .output import Output
 from .contact import ContactState
 from .interruption import interruption_signal
+from .time_grid import retry_step, time_grid
 from .solver import Method, SolverError, SolverStatistics
 from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
                     volumetric_stress)
@@ -105,14 +106,33 @@ def closed_form_errors(scene, P, F, domain, u, p, comm):
 
 
 REPORT_NUMBERS = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
-                  "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size")
+                  "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
+                  "retries")
 COUNTS = ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations", "active_set_changes",
           "schur_columns")
 
 
-def capture_state(steps, t, flow, mechanics, coupled, report, systems, output_state):
+def step_state(flow, mechanics, coupled):
+    """The unknowns at the start of a step, to go back to when it is retried."""
+    return (flow.state().copy() if flow else None, mechanics.u.x.array.copy() if mechanics else None,
+            coupled.state().copy() if coupled else None)
+
+
+def set_step_state(state, flow, mechanics, coupled):
+    flow_state, displacement, monolithic = state
+    if flow:
+        flow.set_state(flow_state)
+    if mechanics:
+        mechanics.u.x.array[:] = displacement
+    if coupled:
+        coupled.set_state(monolithic)
+
+
+def capture_state(steps, t, flow, mechanics, coupled, report, systems, output_state, grid):
     """The state a restart needs after `steps` completed steps (checkpoint.py)."""
     c = Checkpoint(steps, t, output=output_state)
+    # The grid as retries left it (the same on every rank).
+    c.arrays["times"], c.arrays["time_steps"] = np.array(grid.t), np.array(grid.dt)
     if flow:
         c.arrays["flow"] = flow.state().copy()
     if mechanics:
@@ -127,8 +147,10 @@ def capture_state(steps, t, flow, mechanics, coupled, report, systems, output_st
     return c
 
 
-def restore_state(c, flow, mechanics, coupled, report, systems):
-    """Loads a checkpoint into the steps, the report and the solver counts."""
+def restore_state(c, flow, mechanics, coupled, report, systems, grid):
+    """Loads a checkpoint into the steps, the report, the time grid and the
+    solver counts."""
+    grid.t, grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
     if flow:
         flow.set_state(c.arrays["flow"])
     if mechanics:
@@ -252,9 +274,11 @@ def run(scene, directory, comm, fingerprint="", restart=False):
 
         completed = [0, 0.0]  # mechanics steps (windows) written, and their last time
 
+        grid = time_grid(scene)  # the time steps; a retry (time.retry) halves some of them
+
         def progress(step, t, iterations):
             completed[:] = [step, t]
-            say(f"step {step:4d}/{scene.num_steps() // P.q}  t = {t:<11.5g}  coupling iterations "
+            say(f"step {step:4d}/{grid.steps() // P.q}  t = {t:<11.5g}  coupling iterations "
                 f"{iterations:3d}  active contact nodes {contact.active_nodes}")
 
         # ---- initial state, or the state of the checkpoint ----------------------------
@@ -262,7 +286,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
         systems = [flow.system if flow else None, mechanics.system if mechanics else None,
                    coupled.system if coupled else None]
         if resumed:
-            restore_state(resumed, flow, mechanics, coupled, report, systems)
+            restore_state(resumed, flow, mechanics, coupled, report, systems, grid)
             completed[:] = [resumed.steps, resumed.time]
             if u is not None:
                 contact = compute_contact()
@@ -277,13 +301,12 @@ def run(scene, directory, comm, fingerprint="", restart=False):
 
         # ---- time stepping -----------------------------------------------------------
         failure, interrupted = "", 0
-        times = scene.times()
         saved = [completed[0] if resumed else 0]
 
         def save():
             write_checkpoint(comm, directory, fingerprint,
                              capture_state(completed[0], completed[1], flow, mechanics, coupled, report, systems,
-                                           output.state()))
+                                           output.state(), grid))
             saved[0] = completed[0]
 
         def stop():
@@ -305,28 +328,42 @@ def run(scene, directory, comm, fingerprint="", restart=False):
                     write_mechanics(t)
                     progress(window, t, iterations)
                 run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
-                                 on_mechanics_state, report, comm, stop)
+                                 on_mechanics_state, report, comm, grid, stop, say)
             else:
                 # One solve per step: the monolithic system, or the single physics.
-                for k in range(report.windows + 1, scene.num_steps() + 1):
-                    t = times[k]
-                    if scene.growth != 1.0 and set_time_step(F, t - times[k - 1]):
+                attempts = [0]  # retries of the current step (time.retry)
+                k = report.windows + 1
+                while k <= grid.steps():
+                    t = grid.t[k]
+                    if set_time_step(F, grid.dt[k - 1]):
                         for solver in (coupled, flow):
                             if solver:
                                 solver.time_step_changed()
-                    if coupled:
-                        coupled.solve(t)
-                    if flow:
-                        flow.p_previous.x.array[:] = p.x.array
-                        flow.solve(t)
-                    if mechanics:
-                        mechanics.solve(t)
+                    at_step_start = step_state(flow, mechanics, coupled)
+                    try:
+                        if coupled:
+                            coupled.solve(t)
+                        if flow:
+                            flow.p_previous.x.array[:] = p.x.array
+                            flow.solve(t)
+                        if mechanics:
+                            mechanics.solve(t)
+                    except SolverError as e:
+                        # time.retry: back to the start of the step, halved.
+                        message = retry_step(scene, str(e), k, attempts, grid, k - 1, 1, report)
+                        if message is None:
+                            raise
+                        say(message)
+                        set_step_state(at_step_start, flow, mechanics, coupled)
+                        continue
+                    attempts[0] = 0
                     if p is not None:
                         write_flow(t)
                     if u is not None:
                         write_mechanics(t)
                     progress(k, t, 1)
                     report.windows = k
+                    k += 1
                     if stop():
                         break
         except CouplingError as e:
@@ -334,7 +371,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
         except SolverError as e:
             # A solve that fails names the step it was computing.
             step = completed[0] + 1
-            failure = f"step {step} (t = {times[min(step * P.q, len(times) - 1)]:g}): {e}"
+            failure = f"step {step} (t = {grid.t[min(step * P.q, len(grid.t) - 1)]:g}): {e}"
             report.windows = completed[0]
         contact = compute_contact()
 
@@ -368,6 +405,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
             "dt": scene.dt,
             "dt_growth": scene.growth,
             "steps": report.windows,
+            "retries": report.retries,
             "fine_steps": report.windows * P.q,
             "coupling_iterations": report.coupling_iterations,
             "max_iterations_per_step": report.max_iterations_per_step,

@@ -141,6 +141,9 @@ CASES = [
     ("no bounds in the condensed contact solver", DEFAULT, ["-mechanics_contact_snes_type", "newtonls"],
      "-mechanics_contact_snes_type", RUN),
     ("an output directory that cannot be made", DEFAULT, ["--out", "/proc/x"], "/proc/x", RUN),
+    ("negative time.retry", DEFAULT, s("time.retry=-1"), "time.retry", BOTH),
+    ("time.retry too large", DEFAULT, s("time.retry=40"), "time.retry", BOTH),
+    ("time.retry not an integer", DEFAULT, s("time.retry=1.5"), "time.retry", BOTH),
     # [solver]
     ("unknown solver choice", DEFAULT, s("solver.flow=gpu"), "solver.flow", BOTH),
     ("solver choice not a string", DEFAULT, s("solver.mechanics=1"), "solver.mechanics", BOTH),
