@@ -1,12 +1,11 @@
 """The scaling section of docs/performance.md (bench/scaling.py's CSV):
 tables of medians, the plot of time per unknown per coupling iteration, the
 issue-10 targets and the crossover that `auto` uses (cpp/solver.h)."""
-import math
 import os
 import re
 
 import common
-from common import number
+from markdown import commands, fmt, provenance, status, table
 
 FIELDS = ["unknowns", "flow_unknowns", "mechanics_unknowns", "wall_s", "coupling_iterations", "time_per_iteration_ms",
           "us_per_unknown_per_iteration", "flow_iterations_per_solve", "mechanics_iterations_per_newton_step",
@@ -30,20 +29,6 @@ def crossovers():
     return {(d, system): int(value) for d, system, value in re.findall(r"crossover_(\d)d_(mechanics|flow) = (\d+)", text)}
 
 
-def _fmt(value, digits=3):
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "-"
-    if float(value).is_integer() and abs(value) < 1e7:
-        return str(int(value))
-    return f"{value:#.{digits}g}".rstrip(".")
-
-
-def _status(measured, limit):
-    if measured is None or math.isnan(measured):
-        return "not measured"
-    return "met" if measured <= limit else f"missed by {100 * (measured / limit - 1):.0f}%"
-
-
 def _select(es, **match):
     return [e for e in es if all(str(e[k]) == str(v) for k, v in match.items())]
 
@@ -61,7 +46,7 @@ def iterations_target(es, dimension):
         worst = max(worst, ratio)
         parts.append(f"{system} {min(values):.1f}-{max(values):.1f} ({ratio:.2f}x)")
     return [label, "<= 1.5x", "-", f"{'; '.join(parts)}; {runs[0]['cells']} to {runs[-1]['cells']}",
-            _status(worst, 1.5)]
+            status(worst, 1.5)]
 
 
 def time_per_unknown_target(es):
@@ -74,9 +59,9 @@ def time_per_unknown_target(es):
     first, last = runs[0], runs[-1]
     ratio = last["us_per_unknown_per_iteration"] / first["us_per_unknown_per_iteration"]
     return [label, "grows <= 1.3x", "-",
-            f"{first['us_per_unknown_per_iteration']:.3g} us at {_fmt(first['unknowns'])} -> "
-            f"{last['us_per_unknown_per_iteration']:.3g} us at {_fmt(last['unknowns'])} ({ratio:.2f}x)",
-            _status(ratio, 1.3)]
+            f"{first['us_per_unknown_per_iteration']:.3g} us at {fmt(first['unknowns'])} -> "
+            f"{last['us_per_unknown_per_iteration']:.3g} us at {fmt(last['unknowns'])} ({ratio:.2f}x)",
+            status(ratio, 1.3)]
 
 
 def block_target(es):
@@ -89,8 +74,8 @@ def block_target(es):
     e = runs[-1]
     ratio = max(e["wall_s"] / 240, e["peak_rss_mb"] / (6 * 1024))
     return [label, goal, "direct: ~600 s, 4.9 GB at 7.1e5",
-            f"{e['wall_s']:.0f} s, {e['peak_rss_mb'] / 1024:.1f} GiB at {_fmt(e['unknowns'])} ({e['cells']})",
-            _status(ratio, 1.0)]
+            f"{e['wall_s']:.0f} s, {e['peak_rss_mb'] / 1024:.1f} GiB at {fmt(e['unknowns'])} ({e['cells']})",
+            status(ratio, 1.0)]
 
 
 def ranks_target(es):
@@ -170,7 +155,7 @@ def plot(es, directory):
     return name
 
 
-def section(header, rows, plot_dir, relative, provenance, commands, table):
+def section(header, rows, plot_dir, relative):
     es = entries(rows)
     lines = ["## Scaling: direct against iterative solvers", "", provenance(header), ""] + commands(header, rows)
     lines += ["2D: the default scene; 3D: `scenes/block3d_box.toml`; two time steps each (`time.end=0.4`), no "
@@ -181,12 +166,12 @@ def section(header, rows, plot_dir, relative, provenance, commands, table):
     lines += table(["dim", "cells", "solver", "ranks", "unknowns", "wall s", "coupling its", "ms / it",
                     "us / unknown / it", "its / solve (flow, mech)", "set-ups (flow, mech)", "flow s", "mech s",
                     "peak MB", "kB / unknown"],
-                   [[e["dimension"], e["cells"], e["solver"], e["ranks"], _fmt(e["unknowns"]), _fmt(e["wall_s"]),
-                     _fmt(e["coupling_iterations"]), _fmt(e["time_per_iteration_ms"]),
-                     _fmt(e["us_per_unknown_per_iteration"]),
+                   [[e["dimension"], e["cells"], e["solver"], e["ranks"], fmt(e["unknowns"]), fmt(e["wall_s"]),
+                     fmt(e["coupling_iterations"]), fmt(e["time_per_iteration_ms"]),
+                     fmt(e["us_per_unknown_per_iteration"]),
                      f"{e['flow_iterations_per_solve']:.1f}, {e['mechanics_iterations_per_newton_step']:.1f}",
-                     f"{_fmt(e['flow_setups'])}, {_fmt(e['mechanics_setups'])}", _fmt(e["flow_total_s"]),
-                     _fmt(e["mechanics_total_s"]), _fmt(e["peak_rss_mb"]), _fmt(e["kb_per_unknown"])] for e in es])
+                     f"{fmt(e['flow_setups'])}, {fmt(e['mechanics_setups'])}", fmt(e["flow_total_s"]),
+                     fmt(e["mechanics_total_s"]), fmt(e["peak_rss_mb"]), fmt(e["kb_per_unknown"])] for e in es])
     lines += ["", f"![time per unknown per iteration]({relative}/{plot(es, plot_dir)})", "",
               "Targets of issue 10 (bench, not ctest):", ""]
     lines += table(["target", "goal", "baseline", "measured (median)", "status"], targets(rows))

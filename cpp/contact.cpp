@@ -200,10 +200,8 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   // is not ignored silently either.
   for (const std::string& p : {prefix, prefix + "contact_"})
   {
-    char type[64] = "";
-    PetscBool given = PETSC_FALSE;
-    PetscOptionsGetString(nullptr, p.c_str(), "-snes_type", type, sizeof type, &given);
-    if (given and std::string(type) != SNESVINEWTONRSLS and std::string(type) != SNESVINEWTONSSLS)
+    const std::string type = option(p, "-snes_type");
+    if (!type.empty() and type != SNESVINEWTONRSLS and type != SNESVINEWTONSSLS)
       throw OptionsError("-" + p + "snes_type " + type
                          + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
   }

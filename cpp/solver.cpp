@@ -33,8 +33,6 @@ Method choose_method(const std::string& choice, Structure structure, std::int64_
   return unknowns < crossover ? Method::direct : Method::iterative;
 }
 
-namespace
-{
 std::string option(const std::string& prefix, const char* name)
 {
   char value[64] = "";
@@ -42,6 +40,8 @@ std::string option(const std::string& prefix, const char* name)
   return value;
 }
 
+namespace
+{
 bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky"; }
 
 void set_direct_defaults(const std::string& prefix, Structure structure, int ranks)

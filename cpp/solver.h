@@ -112,6 +112,10 @@ struct Field
   std::vector<PetscInt> dofs;
 };
 
+/// The value of the PETSc option -<prefix><name without dash> ("" if unset);
+/// `name` starts with its dash, e.g. option("flow_", "-pc_type").
+std::string option(const std::string& prefix, const char* name);
+
 /// Sets a PETSc option unless the user already gave it (command line wins).
 void set_default_option(const std::string& name, const std::string& value);
 

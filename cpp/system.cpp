@@ -113,16 +113,11 @@ SolverStatistics System::statistics() const
 
 std::string System::description() const
 {
-  auto option = [&](const char* name)
-  {
-    char value[64] = "";
-    PetscOptionsGetString(nullptr, _prefix.c_str(), name, value, sizeof value, nullptr);
-    return std::string(value);
-  };
-  std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + option("-ksp_type") + " + "
-                  + option("-pc_type");
-  if (const std::string package = option("-pc_factor_mat_solver_type");
-      !package.empty() and (option("-pc_type") == "lu" or option("-pc_type") == "cholesky"))
+  const std::string pc = option(_prefix, "-pc_type");
+  std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + option(_prefix, "-ksp_type")
+                  + " + " + pc;
+  if (const std::string package = option(_prefix, "-pc_factor_mat_solver_type");
+      !package.empty() and (pc == "lu" or pc == "cholesky"))
     d += " (" + package + ")";
   return d;
 }
