@@ -109,11 +109,11 @@ bool use_condensation(const std::string& prefix, Method method, PetscInt contact
 }
 } // namespace
 
-ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Method method,
-                             Vec layout,
-                             ContactSet set, std::vector<std::int32_t> dofs,
-                             std::vector<std::int32_t> displacement_dofs)
-    : _comm(comm), _A(A), _structure(structure), _prefix(prefix), _set(std::move(set)), _dofs(std::move(dofs)),
+ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, const std::vector<Field>& fields,
+                             Structure structure, Method method, Vec layout, ContactSet set,
+                             std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs)
+    : _comm(comm), _A(A), _P(P), _fields(fields), _structure(structure), _prefix(prefix), _set(std::move(set)),
+      _dofs(std::move(dofs)),
       _displacement_dofs(std::move(displacement_dofs))
 {
   // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
@@ -182,9 +182,17 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, St
   SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
   SNESSetJacobian(_snes, _K, _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
+  SNESSetConvergenceTest(_snes, &ContactSolver::converged, this, nullptr);
   if (!condensed and method == Method::iterative)
   {
-    _amg = std::make_unique<InactiveSetPreconditioner>(_snes, A, prefix);
+    // A Newton step whose reduced system is singular (a body held in the
+    // normal direction by one or two active nodes, see solve), or whose
+    // right-hand side is round-off (the forced first step of a solve that
+    // starts converged), makes the Krylov method stagnate: it is cut off
+    // well above the iterations of a converging step (tens,
+    // docs/performance.md), and the solve restarts from the clamped state.
+    set_default_option(prefix + "ksp_max_it", std::to_string(max_newton_step_iterations));
+    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, P, fields, prefix);
     set_tolerance(iterative_tolerance);
   }
   // At least one Newton step per solve: a step is an exact solve on the
@@ -223,7 +231,7 @@ void ContactSolver::operator_changed()
 
 void ContactSolver::set_tolerance(double relative)
 {
-  if (!_amg)
+  if (!_preconditioner)
     return;
   KSP ksp;
   SNESGetKSP(_snes, &ksp);
@@ -271,6 +279,44 @@ PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, 
   Vec x = nullptr;
   SNESGetSolution(snes, &x);
   self->_pending = self->active_contact_dofs(x);
+  if (iteration > 0)
+  {
+    int differs = self->_pending != self->_used, any = 0;
+    MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
+    self->_set_repeated = !any;
+  }
+  return 0;
+}
+
+PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
+                                        SNESConvergedReason* reason, void* context)
+{
+  auto* self = static_cast<ContactSolver*>(context);
+  PetscReal atol = 0, rtol = 0, stol = 0;
+  PetscInt max_it = 0, max_f = 0;
+  PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &max_it, &max_f));
+  // PETSc's test for the VI methods (vi.c, SNESConvergedDefault_VI), with
+  // at least one step taken (SNESSetForceIteration) ...
+  *reason = SNES_CONVERGED_ITERATING;
+  if (iteration == 0)
+    self->_relative_target = rtol * fnorm;
+  if (PetscIsInfOrNanReal(fnorm))
+    *reason = SNES_DIVERGED_FNORM_NAN;
+  else if (iteration > 0 and fnorm < atol)
+    *reason = SNES_CONVERGED_FNORM_ABS;
+  else if (iteration > 0 and fnorm < self->_relative_target)
+    *reason = SNES_CONVERGED_FNORM_RELATIVE;
+  // ... and the stopping rule of the primal-dual active set method: the
+  // step solved F = 0 on the inactive set, and the active set at its result
+  // is the one it used, so no DOF crosses its bound and every contact force
+  // pushes the right way: x solves the VI (to the linear solver's
+  // tolerance). F is linear, so this is the solution on that set even where
+  // the residual's round-off (A x and b of very different sizes, pressures
+  // in units of the displacement scale on the coupled system) lies above
+  // atol, which the test above would never see met. SNES has no reason for
+  // it; CONVERGED_ITS stands for "stopped by the method's own rule".
+  else if (iteration > 0 and self->_set_repeated)
+    *reason = SNES_CONVERGED_ITS;
   return 0;
 }
 
@@ -421,20 +467,30 @@ void ContactSolver::clamped_start()
   VecRestoreArrayRead(_upper, &up);
   if (_schur)
     return;
-  Mat A;
-  MatDuplicate(_A, MAT_COPY_VALUES, &A);
-  MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
-  MatGetNearNullSpace(_A, &modes);
-  if (modes)
-    MatSetNearNullSpace(A, modes);
+  // A (and the preconditioning matrix P, when it is another) with the
+  // contact rows and columns made identity rows.
+  auto clamped_copy = [&](Mat M, Vec rhs)
+  {
+    Mat C;
+    MatDuplicate(M, MAT_COPY_VALUES, &C);
+    MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
+    MatGetNearNullSpace(M, &modes);
+    if (modes)
+      MatSetNearNullSpace(C, modes);
+    MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, rhs ? _x : nullptr, rhs);
+    return C;
+  };
   Vec rhs;
   VecDuplicate(_b_scaled, &rhs);
   VecCopy(_b_scaled, rhs);
-  MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, _x, rhs);
+  Mat A = clamped_copy(_A, rhs);
+  Mat P = _P == _A ? A : clamped_copy(_P, nullptr);
   {
-    LinearSolver clamped(_comm, _prefix, A, _structure);
+    LinearSolver clamped(_comm, _prefix, A, P, _structure, _fields);
     clamped.solve(_x, rhs);
   }
+  if (P != A)
+    MatDestroy(&P);
   MatDestroy(&A);
   VecDestroy(&rhs);
 }

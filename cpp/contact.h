@@ -89,14 +89,20 @@ public:
   /// to form, m^3/3 flops per active-set change) costs more than
   /// refactorising the sparse inactive-set matrix.
   static constexpr PetscInt max_condensed_dofs = 2000;
+  /// Krylov iterations of one Newton step on the iterative full path before
+  /// it counts as stagnated (-<prefix>ksp_max_it overrides).
+  static constexpr PetscInt max_newton_step_iterations = 500;
 
   /// `dofs` are the contact DOFs of `set` in the numbering of the solved
   /// vector (the same as set.dofs for the mechanics system, mapped into the
   /// mixed space for the monolithic one); `displacement_dofs` the owned
   /// displacement DOFs there (they set the length scale). `layout` is a
-  /// vector like x.
-  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure, Method method, Vec layout,
-                ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs);
+  /// vector like x. On the iterative full path the Newton steps are
+  /// preconditioned from P (A, or the fixed-stress matrix of the coupled
+  /// system) split along `fields` (inactive_set_preconditioner.h).
+  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, const std::vector<Field>& fields,
+                Structure structure, Method method, Vec layout, ContactSet set, std::vector<std::int32_t> dofs,
+                std::vector<std::int32_t> displacement_dofs);
   ~ContactSolver();
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;
@@ -126,8 +132,8 @@ public:
   std::string method() const;
   /// Preconditioner set-ups of the iterative full path (-1 otherwise: then
   /// PETSc's PCSetUp events count them).
-  long amg_setups() const { return _amg ? _amg->setups : -1; }
-  double amg_setup_time() const { return _amg ? _amg->setup_time : 0; }
+  long preconditioner_setups() const { return _preconditioner ? _preconditioner->setups : -1; }
+  double preconditioner_setup_time() const { return _preconditioner ? _preconditioner->setup_time : 0; }
   /// Right-hand sides solved and seconds spent forming H (0 when full).
   long schur_columns() const { return _schur ? _schur->columns : 0; }
   double schur_time() const { return _schur ? _schur->time : 0; }
@@ -151,16 +157,23 @@ private:
   /// active set the next step will use, by PETSc's own rule
   /// (SNESVIGetActiveSetIS), and counts changes.
   static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
+  /// PETSc's convergence test of the VI methods, and stop when a step kept
+  /// its active set (the solution on that set: see contact.cpp).
+  static PetscErrorCode converged(SNES, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
+                                  SNESConvergedReason* reason, void* context);
   std::vector<char> active_contact_dofs(Vec x) const;
 
   MPI_Comm _comm;
-  Mat _A;
+  Mat _A, _P;
+  std::vector<Field> _fields;
   Structure _structure;
   std::string _prefix;
   bool _lag_by_default = false;
   PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
   std::vector<char> _pending, _used; // active flags of the contact DOFs
   bool _any_used = false;
+  bool _set_repeated = false;    // the last step's result keeps the set it used
+  PetscReal _relative_target = 0; // rtol times the first residual of a solve
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
   Vec _force; // like x: A x - b
@@ -179,7 +192,7 @@ private:
   Vec _lower, _upper, _x, _residual, _b_scaled;
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;
-  std::unique_ptr<InactiveSetPreconditioner> _amg;
+  std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
 };
 
 } // namespace biotcontact

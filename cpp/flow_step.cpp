@@ -109,20 +109,8 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
 
 std::vector<Field> FlowStep::fields() const
 {
-  // Owned DOFs of W (block size 1) in PETSc's global numbering.
-  const auto& map = _W->dofmap()->index_map;
-  const std::int32_t owned = map->size_local();
-  const std::int64_t first = map->local_range()[0];
-  auto global = [&](const std::vector<std::int32_t>& local)
-  {
-    std::vector<PetscInt> dofs;
-    for (std::int32_t i : local)
-      if (i < owned)
-        dofs.push_back(static_cast<PetscInt>(first + i));
-    std::sort(dofs.begin(), dofs.end());
-    return dofs;
-  };
-  return {Field{"flux", global(_Z_to_W)}, Field{"pressure", global(_Q_to_W)}};
+  const auto& map = *_W->dofmap()->index_map; // block size 1
+  return {Field{"flux", owned_global_dofs(map, _Z_to_W)}, Field{"pressure", owned_global_dofs(map, _Q_to_W)}};
 }
 
 void FlowStep::assemble_loads(double t)

@@ -33,6 +33,7 @@ namespace biotcontact
     form_biot_##cell##_M_displacement_error,                \
     form_biot_##cell##_M_displacement_reference,            \
     form_biot_##cell##_a_monolithic,                        \
+    form_biot_##cell##_a_monolithic_preconditioner,         \
     form_biot_##cell##_L_monolithic_history,                \
     form_biot_##cell##_L_monolithic_body_force,             \
     form_biot_##cell##_L_monolithic_traction,               \

@@ -36,6 +36,7 @@ struct CompiledForms
   ufcx_form* M_displacement_error;
   ufcx_form* M_displacement_reference;
   ufcx_form* a_monolithic;
+  ufcx_form* a_monolithic_preconditioner;
   ufcx_form* L_monolithic_history;
   ufcx_form* L_monolithic_body_force;
   ufcx_form* L_monolithic_traction;

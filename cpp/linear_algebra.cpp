@@ -1,6 +1,7 @@
 #include "linear_algebra.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/petsc.h>
@@ -72,7 +73,7 @@ la::petsc::Vector wrap(la::Vector<double>& x)
   return la::petsc::Vector(la::petsc::create_vector_wrap(x), false);
 }
 
-MatNullSpace rigid_body_modes(const fem::FunctionSpace& V)
+MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std::int32_t>& position)
 {
   // PETSc builds the modes from the coordinates of the owned nodes, given
   // as a vector with the block size d laid out like the displacement.
@@ -86,12 +87,29 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V)
   VecGetArray(coordinates, &c);
   for (std::int32_t i = 0; i < nodes; ++i)
     for (int k = 0; k < d; ++k)
-      c[d * i + k] = x[3 * i + k];
+    {
+      const std::int32_t at = position.empty() ? d * i + k : position[d * i + k];
+      if (at % d != k)
+        throw std::logic_error("rigid_body_modes: the numbering splits the components of a node");
+      c[at] = x[3 * i + k];
+    }
   VecRestoreArray(coordinates, &c);
   MatNullSpace modes;
   MatNullSpaceCreateRigidBody(coordinates, &modes);
   VecDestroy(&coordinates);
   return modes;
+}
+
+std::vector<PetscInt> owned_global_dofs(const common::IndexMap& map, const std::vector<std::int32_t>& local)
+{
+  const std::int32_t owned = map.size_local();
+  const std::int64_t first = map.local_range()[0];
+  std::vector<PetscInt> dofs;
+  for (std::int32_t i : local)
+    if (i < owned)
+      dofs.push_back(static_cast<PetscInt>(first + i));
+  std::sort(dofs.begin(), dofs.end());
+  return dofs;
 }
 
 } // namespace biotcontact

@@ -51,7 +51,15 @@ void finish_rhs(dolfinx::la::Vector<double>& b, std::shared_ptr<const dolfinx::f
 /// The rigid-body modes of a P1 vector space V (d translations and
 /// d(d-1)/2 rotations about the origin, orthonormalised): the near-nullspace
 /// of elasticity, from which smoothed aggregation builds its coarse spaces.
-MatNullSpace rigid_body_modes(const dolfinx::fem::FunctionSpace& V);
+/// With `position`, laid out for another numbering of V's owned DOFs:
+/// owned DOF i of V is entry position[i] there (the displacement block of
+/// the coupled system); a node's components must stay together, in order.
+MatNullSpace rigid_body_modes(const dolfinx::fem::FunctionSpace& V, const std::vector<std::int32_t>& position = {});
+
+/// PETSc's global indices of the local DOFs `local` of a space with block
+/// size 1 and index map `map` that this rank owns, ascending.
+std::vector<PetscInt> owned_global_dofs(const dolfinx::common::IndexMap& map,
+                                        const std::vector<std::int32_t>& local);
 
 /// Wraps a dolfinx vector (owned part) as a PETSc Vec sharing its memory.
 dolfinx::la::petsc::Vector wrap(dolfinx::la::Vector<double>& x);

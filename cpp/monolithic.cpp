@@ -4,7 +4,9 @@
 
 #include <dolfinx/common/Timer.h>
 #include <dolfinx/fem/assembler.h>
+#include <algorithm>
 #include <dolfinx/fem/utils.h>
+#include <iterator>
 #include <stdexcept>
 
 namespace biotcontact
@@ -112,10 +114,12 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   // The coupled matrix depends on dt only: assembled and factorised once per
   // dt (and per inactive set with contact). Its pressure block -(S/dt) times
   // the cell mass is often negligible against the coupling (S = 1e-12 in the
-  // poroelastic Hertz scene): LU with pivoting.
-  // No block preconditioner for (u, z, p) yet (scene.cpp refuses
-  // "iterative"): "auto" is the factorisation at every size.
-  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general, "direct");
+  // poroelastic Hertz scene): LU with pivoting. The iterative path is a
+  // Krylov method preconditioned by the fixed-stress split (solver.h),
+  // built from a_monolithic_preconditioner and split along fields().
+  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general,
+                                     scene.solver.monolithic, fields(),
+                                     make(forms.a_monolithic_preconditioner, {_X, _X}));
   const auto& map = _X->dofmap()->index_map;
   const int bs = _X->dofmap()->index_map_bs();
   _b = std::make_unique<la::Vector<double>>(map, bs);
@@ -142,6 +146,32 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
 }
 
 MonolithicStep::~MonolithicStep() = default;
+
+std::vector<Field> MonolithicStep::fields() const
+{
+  const auto& map = *_X->dofmap()->index_map; // block size 1
+  const MPI_Comm comm = map.comm();
+  const std::vector<PetscInt> z = owned_global_dofs(map, _Z_to_X), p = owned_global_dofs(map, _Q_to_X),
+                              u = owned_global_dofs(map, _V_to_X);
+  Field flow{"flow", {}};
+  std::merge(z.begin(), z.end(), p.begin(), p.end(), std::back_inserter(flow.dofs));
+  flow.fields = {part_of(flow, "flux", z, comm), part_of(flow, "pressure", p, comm)};
+
+  // The displacement block, node by node (dolfinx numbers the components of
+  // a node of the mixed space together), with the rigid-body modes laid out
+  // in its numbering: the position of each owned DOF of V among u.
+  const int d = V->dofmap()->index_map_bs();
+  const std::int32_t owned_V = d * V->dofmap()->index_map->size_local();
+  const std::int64_t first = map.local_range()[0];
+  std::vector<std::int32_t> position(owned_V);
+  for (std::int32_t i = 0; i < owned_V; ++i)
+    position[i] = static_cast<std::int32_t>(std::lower_bound(u.begin(), u.end(), first + _V_to_X[i]) - u.begin());
+  Field mechanics{"mechanics", u, d};
+  mechanics.near_nullspace = own(rigid_body_modes(*V, position));
+  // Flow first: the fixed-stress sweep solves the flow, then the mechanics
+  // with the new pressure.
+  return {std::move(flow), std::move(mechanics)};
+}
 
 void MonolithicStep::assemble_loads(double t)
 {

@@ -55,6 +55,9 @@ public:
 
 private:
   void assemble_loads(double t);
+  /// The splits of (u, z, p) for the fixed-stress preconditioner: the flow
+  /// (flux and pressure), then the mechanics with its rigid-body modes.
+  std::vector<Field> fields() const;
 
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _X, _Z;

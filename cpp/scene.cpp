@@ -661,9 +661,6 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
       solver.fail(key, "must be \"direct\", \"iterative\" or \"auto\"");
   }
   scene.solver.inexact_coupling = solver.boolean("inexact_coupling", true);
-  if (scene.solver.monolithic == "iterative")
-    solver.fail("monolithic", "\"iterative\" is not available: the coupled system has no block preconditioner yet "
-                              "(the split solves flow and mechanics iteratively with solver.flow and solver.mechanics)");
   solver.finish();
 
   Section boundaries = top.table("boundary", false);

@@ -52,7 +52,7 @@ void SchurComplement::assemble()
   std::vector<PetscInt> rows(_dofs.size());
   std::transform(_dofs.begin(), _dofs.end(), rows.begin(), [&](std::int32_t d) { return _first_row + d; });
   MatZeroRowsColumns(_clamped, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, nullptr, nullptr);
-  _solver = std::make_unique<LinearSolver>(_comm, _prefix, _clamped, _structure);
+  _solver = std::make_unique<LinearSolver>(_comm, _prefix, _clamped, _clamped, _structure);
   _solver->set_up();
 
   dolfinx::common::Timer timer("Schur complement");

@@ -1,5 +1,6 @@
 #include "solver.h"
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <petscpc.h>
@@ -77,17 +78,20 @@ void set_direct_defaults(const std::string& prefix, Structure structure, int ran
     set_default_option(prefix + "mat_mumps_icntl_14", "400");
 }
 
-void set_iterative_defaults(const std::string& prefix, Structure structure)
+// Elasticity: smoothed aggregation; the matrix carries block size d and
+// the rigid-body modes (mechanics_step.cpp, or the displacement field of
+// the coupled system), so aggregates are nodes and the coarse spaces hold
+// the rigid motions. A new operator of the same pattern (another contact
+// active set, inactive_set_preconditioner.h) keeps the prolongators and
+// redoes only the Galerkin products.
+void set_elasticity_preconditioner(const std::string& prefix)
 {
-  if (structure == Structure::spd)
-  {
-    // Elasticity: CG with smoothed aggregation; the matrix carries block
-    // size d and the rigid-body modes (mechanics_step.cpp), so aggregates
-    // are nodes and the coarse spaces hold the rigid motions.
-    set_default_option(prefix + "ksp_type", "cg");
-    set_default_option(prefix + "pc_type", "gamg");
-    return;
-  }
+  set_default_option(prefix + "pc_type", "gamg");
+  set_default_option(prefix + "pc_gamg_reuse_interpolation", "true");
+}
+
+void set_darcy_preconditioner(const std::string& prefix)
+{
   // Mixed RT0 x P0: [M B^T; B -C] with M the flux mass, C = (S+L)/dt times
   // the cell mass. Block factorisation with the Schur complement
   // approximated by C + B diag(M)^-1 B^T ("selfp"): for RT0 on simplices a
@@ -97,7 +101,6 @@ void set_iterative_defaults(const std::string& prefix, Structure structure)
   // forms/biot.py), so it is negative definite; BoomerAMG takes it as it
   // is (measured: 3.7-4.1 GMRES iterations per solve in 2D, 8.2-8.6 in 3D,
   // flat under refinement, bench/scaling.py).
-  set_default_option(prefix + "ksp_type", "gmres");
   set_default_option(prefix + "pc_type", "fieldsplit");
   set_default_option(prefix + "pc_fieldsplit_type", "schur");
   set_default_option(prefix + "pc_fieldsplit_schur_fact_type", "full");
@@ -107,9 +110,56 @@ void set_iterative_defaults(const std::string& prefix, Structure structure)
   set_default_option(prefix + "fieldsplit_pressure_ksp_type", "preonly");
   set_default_option(prefix + "fieldsplit_pressure_pc_type", "hypre");
 }
+
+// The coupled (u, z, p) system preconditioned by the fixed-stress split
+// (White, Castelletto and Tchelepi, 2016): a multiplicative field split,
+// flow first and then mechanics, on the preconditioning matrix
+// a_monolithic_preconditioner (forms/biot.py), whose pressure block carries
+// the stabilisation -(L/dt)(p, th) of the split's flow step. From a zero
+// guess one sweep is one fixed-stress iteration: the flow with the
+// stabilised storage, then the mechanics loaded by the new pressure
+// (PCFIELDSPLIT takes the off-diagonal block from the same matrix, which
+// L leaves unchanged). Each block gets one application of the split's own
+// preconditioner (AMG on elasticity, the Schur split on the flow), so the
+// sweep is cheap and inexact; FGMRES, since a user may make the block
+// solves Krylov methods themselves. GMRES on the monolithic system then
+// accelerates the fixed-stress iteration: where the split contracts at
+// rate gamma per iteration, the Krylov method is not bound to that rate.
+void set_fixed_stress_preconditioner(const std::string& prefix, const std::vector<Field>& fields)
+{
+  set_default_option(prefix + "ksp_type", "fgmres");
+  set_default_option(prefix + "pc_type", "fieldsplit");
+  set_default_option(prefix + "pc_fieldsplit_type", "multiplicative");
+  for (const Field& f : fields)
+  {
+    const std::string block = prefix + "fieldsplit_" + f.name + "_";
+    set_default_option(block + "ksp_type", "preonly");
+    if (f.fields.empty())
+      set_elasticity_preconditioner(block);
+    else
+      set_darcy_preconditioner(block);
+  }
+}
+
+void set_iterative_defaults(const std::string& prefix, Structure structure, const std::vector<Field>& fields)
+{
+  if (structure == Structure::spd)
+  {
+    set_default_option(prefix + "ksp_type", "cg");
+    set_elasticity_preconditioner(prefix);
+  }
+  else if (std::any_of(fields.begin(), fields.end(), [](const Field& f) { return !f.fields.empty(); }))
+    set_fixed_stress_preconditioner(prefix, fields);
+  else
+  {
+    set_default_option(prefix + "ksp_type", "gmres");
+    set_darcy_preconditioner(prefix);
+  }
+}
 } // namespace
 
-Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm)
+Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm,
+                           const std::vector<Field>& fields)
 {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
@@ -119,7 +169,7 @@ Method set_solver_defaults(const std::string& prefix, Structure structure, Metho
   if (method == Method::direct)
     set_direct_defaults(prefix, structure, ranks);
   else
-    set_iterative_defaults(prefix, structure);
+    set_iterative_defaults(prefix, structure, fields);
   return method;
 }
 
@@ -164,7 +214,7 @@ void SolverStage::read(SolverStatistics& s) const
 
 std::string system_name(const std::string& prefix) { return "the " + prefix.substr(0, prefix.size() - 1); }
 
-LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,
+LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, Structure structure,
                            const std::vector<Field>& fields)
     : _prefix(prefix)
 {
@@ -172,24 +222,12 @@ LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Stru
     MatSetOption(A, MAT_SPD, PETSC_TRUE);
   KSPCreate(comm, &_ksp);
   KSPSetOptionsPrefix(_ksp, prefix.c_str());
-  KSPSetOperators(_ksp, A, A);
+  KSPSetOperators(_ksp, A, P);
   PetscErrorCode ierr = KSPSetFromOptions(_ksp);
   PC pc;
   KSPGetPC(_ksp, &pc);
-  PetscBool split = PETSC_FALSE;
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &split);
-  if (ierr == 0 and split)
-  {
-    if (fields.empty())
-      throw OptionsError("-" + prefix + "pc_type fieldsplit: " + system_name(prefix) + " system has no fields to split");
-    for (const Field& f : fields)
-    {
-      IS is;
-      ISCreateGeneral(comm, static_cast<PetscInt>(f.dofs.size()), f.dofs.data(), PETSC_COPY_VALUES, &is);
-      PCFieldSplitSetIS(pc, f.name.c_str(), is);
-      ISDestroy(&is);
-    }
-  }
+  if (ierr == 0)
+    set_fields(pc, fields, prefix);
   // A Krylov method starts from x, the previous iterate (preonly refuses a
   // nonzero guess).
   PetscBool preonly = PETSC_TRUE;
@@ -250,10 +288,10 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
     PetscOptionsSetValue(nullptr, ("-" + _prefix + "pc_factor_mat_solver_type").c_str(), MATSOLVERMUMPS);
     PetscOptionsClearValue(nullptr, ("-" + _prefix + "pc_factor_mat_ordering_type").c_str());
     set_default_option(_prefix + "mat_mumps_icntl_14", "400");
-    Mat A; // owned by the system: it outlives the reset
-    KSPGetOperators(_ksp, &A, nullptr);
+    Mat A, P; // owned by the system: they outlive the reset
+    KSPGetOperators(_ksp, &A, &P);
     KSPReset(_ksp);
-    KSPSetOperators(_ksp, A, A);
+    KSPSetOperators(_ksp, A, P);
     KSPSetFromOptions(_ksp);
     ierr = KSPSetUp(_ksp);
     if (ierr == 0)

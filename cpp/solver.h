@@ -9,6 +9,8 @@
 // numbers stage by stage.
 #pragma once
 
+#include "field_split.h"
+
 #include <cstdint>
 #include <functional>
 #include <mpi.h>
@@ -55,7 +57,9 @@ enum class Method
   /// A Krylov method with a multilevel preconditioner: CG with smoothed
   /// aggregation AMG (rigid-body near-nullspace) for SPD elasticity,
   /// GMRES with a Schur-complement field split and AMG on the Schur
-  /// approximation for the mixed flow system.
+  /// approximation for the mixed flow system, and for the coupled system
+  /// FGMRES preconditioned by one fixed-stress sweep (flow, then mechanics)
+  /// built from those two.
   iterative
 };
 
@@ -91,7 +95,10 @@ Method choose_method(const std::string& choice, Structure structure, std::int64_
 /// for quasi-definite ones, MUMPS otherwise and on several ranks.
 /// Iterative: see Method; the relative tolerance is set on the KSP
 /// (set_relative_tolerance), not here.
-Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm);
+/// `fields` are the system's splits: the coupled system is the one whose
+/// fields (flow, mechanics) are split further.
+Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm,
+                           const std::vector<Field>& fields = {});
 
 /// The relative residual tolerance of an iterative solve: tight enough that
 /// the coupling tolerance (1e-8 on the relative increments) sees converged
@@ -103,14 +110,6 @@ constexpr double iterative_tolerance = 1e-10;
 /// options database: SNES VI re-reads the options at every change of the
 /// inactive set, which would undo a tolerance set by the coupling.
 void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance);
-
-/// The DOFs of one field of a mixed system (global indices of the owned
-/// DOFs): a field split preconditioner splits along them.
-struct Field
-{
-  std::string name;
-  std::vector<PetscInt> dofs;
-};
 
 /// The value of the PETSc option -<prefix><name without dash> ("" if unset);
 /// `name` starts with its dash, e.g. option("flow_", "-pc_type").
@@ -163,8 +162,10 @@ private:
 class LinearSolver
 {
 public:
-  /// `fields` (optional) are the splits of a field split preconditioner.
-  LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,
+  /// Solves with A, preconditioned from P (A itself, or the fixed-stress
+  /// matrix of the coupled system); `fields` (optional) are the splits of
+  /// a field split preconditioner.
+  LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, Structure structure,
                const std::vector<Field>& fields = {});
   ~LinearSolver();
   LinearSolver(const LinearSolver&) = delete;

@@ -18,14 +18,22 @@ la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, dou
 } // namespace
 
 System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const fem::Form<double>> a, BCs bcs,
-               Structure structure, const std::string& choice, std::vector<Field> fields)
+               Structure structure, const std::string& choice, std::vector<Field> fields,
+               std::shared_ptr<const fem::Form<double>> a_preconditioner)
     : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure), _fields(std::move(fields)),
       _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
 {
   _method = set_solver_defaults(_prefix, _structure,
-                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim()), _comm);
+                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim()), _comm,
+                                _fields);
+  // A factorisation is of A itself; only a preconditioner takes another matrix.
+  if (a_preconditioner and _method == Method::iterative)
+  {
+    _a_preconditioner = a_preconditioner;
+    _P.emplace(timed_assembly(*a_preconditioner, _bcs, _statistics.assembly_time));
+  }
   // Made now so that options that make no solver are refused before the run.
-  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), _structure, _fields);
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), preconditioner_matrix(), _structure, _fields);
 }
 
 std::int64_t System::unknowns() const
@@ -43,7 +51,8 @@ void System::use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::ve
                          Vec layout)
 {
   _linear.reset();
-  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), _structure, _method, layout, std::move(set),
+  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), preconditioner_matrix(), _fields, _structure,
+                                             _method, layout, std::move(set),
                                              std::move(dofs), std::move(displacement_dofs));
 }
 
@@ -73,6 +82,8 @@ void System::reassemble()
 {
   common::Timer timer("assembly");
   reassemble_matrix(_A.mat(), *_a, _bcs);
+  if (_P)
+    reassemble_matrix(_P->mat(), *_a_preconditioner, _bcs);
   _statistics.assembly_time += timer.stop();
   // A linear KSP sees the new matrix state and refactorises by itself; the
   // contact solver lags its preconditioner and must be told.
@@ -91,8 +102,8 @@ SolverStatistics System::statistics() const
   // (their times too: PETSc's event times include the nested set-ups).
   if (_method == Method::iterative and !_contact)
     s.setups = _linear->setups, s.setup_time = _linear->setup_time;
-  else if (_method == Method::iterative and _contact->amg_setups() >= 0)
-    s.setups = _contact->amg_setups(), s.setup_time = _contact->amg_setup_time();
+  else if (_method == Method::iterative and _contact->preconditioner_setups() >= 0)
+    s.setups = _contact->preconditioner_setups(), s.setup_time = _contact->preconditioner_setup_time();
   if (_contact)
   {
     s.newton_iterations = _contact->newton_iterations;

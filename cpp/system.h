@@ -25,9 +25,12 @@ public:
   /// Assembles `a` with `bcs`; `prefix` names the system's PETSc options
   /// and its log stage ("flow_" -> stage "flow"); `choice` is the scene's
   /// [solver] entry ("direct", "iterative" or "auto", see choose_method);
-  /// `fields` the splits of a mixed system.
+  /// `fields` the splits of a mixed system; `a_preconditioner` (optional)
+  /// the form an iterative method builds its preconditioner from instead
+  /// of `a` (the fixed-stress matrix of the coupled system).
   System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const dolfinx::fem::Form<double>> a,
-         BCs bcs, Structure structure, const std::string& choice, std::vector<Field> fields = {});
+         BCs bcs, Structure structure, const std::string& choice, std::vector<Field> fields = {},
+         std::shared_ptr<const dolfinx::fem::Form<double>> a_preconditioner = nullptr);
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
@@ -35,6 +38,10 @@ public:
   /// Gives the matrix its near-nullspace (the rigid-body modes of
   /// elasticity), which algebraic multigrid builds its coarse spaces from.
   void set_near_nullspace(MatNullSpace modes);
+
+  /// The matrix the preconditioner is built from: A, or the matrix of
+  /// `a_preconditioner` on the iterative path.
+  Mat preconditioner_matrix() const { return _P ? _P->mat() : _A.mat(); }
 
   /// Makes every solve the contact problem on the DOFs `dofs` of x (see
   /// ContactSolver); `layout` is a vector like x.
@@ -72,13 +79,14 @@ public:
 private:
   MPI_Comm _comm;
   std::string _prefix;
-  std::shared_ptr<const dolfinx::fem::Form<double>> _a;
+  std::shared_ptr<const dolfinx::fem::Form<double>> _a, _a_preconditioner;
   BCs _bcs;
   Structure _structure;
   Method _method;
   std::vector<Field> _fields;
   SolverStatistics _statistics; // before _A: its assembly time is counted
   dolfinx::la::petsc::Matrix _A;
+  std::optional<dolfinx::la::petsc::Matrix> _P;
   std::unique_ptr<LinearSolver> _linear;
   std::unique_ptr<ContactSolver> _contact;
   SolverStage _stage;

@@ -112,15 +112,18 @@ class ContactSolver:
     the same; operator_changed re-arms it after a reassembly)."""
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
+    max_newton_step_iterations = 500  # Krylov iterations of a Newton step before it counts as stagnated
 
-    def __init__(self, comm, prefix, A, structure, method, contact_set, dofs, displacement_dofs):
-        self.comm, self.A, self.set, self.prefix = comm, A, contact_set, prefix
+    def __init__(self, comm, prefix, A, P, fields, structure, method, contact_set, dofs, displacement_dofs):
+        """On the iterative full path the Newton steps are preconditioned from
+        P (A, or the fixed-stress matrix) split along `fields`."""
+        self.comm, self.A, self.P, self.fields, self.set, self.prefix = comm, A, P, fields, contact_set, prefix
         self.structure = structure
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.dofs, self.displacement_dofs = np.asarray(dofs, dtype=np.int32), np.asarray(displacement_dofs)
         self.force = A.createVecRight()
-        self.schur, self.schur_current, self.vi_stage, self.amg = None, False, None, None
+        self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
         vi_prefix = prefix
         condensed = use_condensation(prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
         if condensed:
@@ -155,8 +158,13 @@ class ContactSolver:
         self.snes.setFunction(self._residual, self.residual)
         self.snes.setJacobian(lambda snes, x, J, P: None, self.K, self.K)
         self.snes.setVariableBounds(self.lower, self.upper)
+        self.snes.setConvergenceTest(self._converged)
         if not condensed and method == Method.iterative:
-            self.amg = InactiveSetPreconditioner(self.snes, A, prefix)
+            # a Newton step on a singular reduced system, or on a round-off
+            # right-hand side, stagnates: cut off well above a converging
+            # step's iterations (cpp/contact.cpp)
+            set_default_option(prefix + "ksp_max_it", str(self.max_newton_step_iterations))
+            self.preconditioner = InactiveSetPreconditioner(self.snes, P, fields, prefix)
             self.set_tolerance(ITERATIVE_TOLERANCE)
         # At least one Newton step per solve, so the result never lags the load.
         if hasattr(self.snes, "setForceIteration"):
@@ -178,6 +186,7 @@ class ContactSolver:
                                    "(vinewtonrsls or vinewtonssls)")
         self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
         self.pending = self.used = None  # active flags of the contact DOFs
+        self.set_repeated, self.relative_target = False, 0.0
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
@@ -185,15 +194,15 @@ class ContactSolver:
     def set_tolerance(self, relative):
         """Solves to `relative` (iterative full path): the Krylov tolerance of
         each Newton step and the Newton tolerance (cpp/contact.h says why)."""
-        if not self.amg:
+        if not self.preconditioner:
             return
         set_relative_tolerance(self.snes.getKSP(), self.prefix, relative)
         if not self.snes_rtol_given:
             self.snes.setTolerances(rtol=relative)
 
-    def amg_setups(self):
-        """Set-ups of the iterative full path's AMG (None otherwise)."""
-        return (self.amg.setups, self.amg.setup_time) if self.amg else None
+    def preconditioner_setups(self):
+        """Set-ups of the iterative full path's preconditioner (None otherwise)."""
+        return (self.preconditioner.setups, self.preconditioner.setup_time) if self.preconditioner else None
 
     def schur_columns(self):
         return self.schur.columns if self.schur else 0
@@ -221,6 +230,29 @@ class ContactSolver:
             self.active_set_changes += int(self.vi_mpi_comm.allreduce(int(changed), op=MPI.MAX))
             self.used = self.pending
         self.pending = self._active_contact_dofs(snes.getSolution())
+        if iteration > 0:
+            differs = not np.array_equal(self.pending, self.used)
+            self.set_repeated = not self.vi_mpi_comm.allreduce(int(differs), op=MPI.MAX)
+
+    def _converged(self, snes, iteration, norms):
+        """PETSc's test of the VI methods after at least one step, and the
+        stopping rule of the primal-dual active set method: the step kept its
+        active set, so x solves the VI even where the residual's round-off
+        lies above atol (cpp/contact.cpp)."""
+        _, _, fnorm = norms
+        rtol, atol, _, _ = snes.getTolerances()
+        if iteration == 0:
+            self.relative_target = rtol * fnorm
+        reasons = PETSc.SNES.ConvergedReason
+        if not np.isfinite(fnorm):
+            return reasons.DIVERGED_FNORM_NAN
+        if iteration > 0 and fnorm < atol:
+            return reasons.CONVERGED_FNORM_ABS
+        if iteration > 0 and fnorm < self.relative_target:
+            return reasons.CONVERGED_FNORM_RELATIVE
+        if iteration > 0 and self.set_repeated:
+            return reasons.CONVERGED_ITS
+        return reasons.CONVERGED_ITERATING
 
     def _residual(self, snes, x, F):
         self.K.mult(x, F)
@@ -300,12 +332,17 @@ class ContactSolver:
         if self.schur:
             return
         rows = (self.x.getOwnershipRange()[0] + self.bounded).astype(PETSc.IntType)
-        A, rhs = self.A.duplicate(copy=True), self.b_scaled.copy()
-        modes = self.A.getNearNullSpace()  # for AMG: the duplicate does not keep it
-        if modes is not None and modes.handle:
-            A.setNearNullSpace(modes)
-        A.zeroRowsColumns(rows, 1.0, self.x, rhs)
-        LinearSolver(self.comm, self.prefix, A, self.structure).solve(self.x, rhs)
+        def clamped_copy(M, rhs=None):
+            C = M.duplicate(copy=True)
+            modes = M.getNearNullSpace()  # for AMG: the duplicate does not keep it
+            if modes is not None and modes.handle:
+                C.setNearNullSpace(modes)
+            C.zeroRowsColumns(rows, 1.0, self.x if rhs is not None else None, rhs)
+            return C
+        rhs = self.b_scaled.copy()
+        A = clamped_copy(self.A, rhs)
+        P = A if self.P is self.A else clamped_copy(self.P)
+        LinearSolver(self.comm, self.prefix, A, P, self.structure, self.fields).solve(self.x, rhs)
 
     def active_nodes(self, x):
         """Contact nodes on the foundation to round-off: the active flag of

@@ -86,11 +86,27 @@ def dof_map(space, sub):
     return np.asarray(to_parent)[unrolled]
 
 
-def rigid_body_modes(V):
+def rigid_body_modes(V, position=None):
     """The rigid-body modes of the P1 vector space V, orthonormalised
-    (cpp/linear_algebra.h): the near-nullspace AMG builds coarse spaces from."""
+    (cpp/linear_algebra.h): the near-nullspace AMG builds coarse spaces from.
+    With `position`, laid out for another numbering of V's owned DOFs (owned
+    DOF i is entry position[i]); a node's components must stay together."""
     d = V.dofmap.index_map_bs
     nodes = V.dofmap.index_map.size_local
     coordinates = PETSc.Vec().createMPI((d * nodes, PETSc.DECIDE), bsize=d, comm=V.mesh.comm)
-    coordinates.getArray()[:] = V.tabulate_dof_coordinates()[:nodes, :d].reshape(-1)
+    values = V.tabulate_dof_coordinates()[:nodes, :d].reshape(-1)
+    if position is None:
+        coordinates.getArray()[:] = values
+    else:
+        if np.any(position % d != np.arange(d * nodes) % d):
+            raise RuntimeError("rigid_body_modes: the numbering splits the components of a node")
+        coordinates.getArray()[position] = values
     return PETSc.NullSpace().createRigidBody(coordinates)
+
+
+def owned_global_dofs(index_map, local):
+    """PETSc's global indices of the local DOFs `local` (block size 1) that
+    this rank owns, ascending."""
+    local = np.asarray(local)
+    owned_local = local[local < index_map.size_local]
+    return np.sort(index_map.local_range[0] + owned_local).astype(PETSc.IntType)

@@ -597,10 +597,6 @@ def read_scene(file, overrides=()):
             solver.fail(key, 'must be "direct", "iterative" or "auto"')
         setattr(scene.solver, key, choice)
     scene.solver.inexact_coupling = solver.boolean("inexact_coupling", True)
-    if scene.solver.monolithic == "iterative":
-        solver.fail("monolithic", '"iterative" is not available: the coupled system has no block preconditioner yet '
-                                  "(the split solves flow and mechanics iteratively with solver.flow and "
-                                  "solver.mechanics)")
     solver.finish()
 
     boundaries = top.section("boundary", False)

@@ -47,7 +47,7 @@ class SchurComplement:
         clamped = self.A.duplicate(copy=True)
         clamped.zeroRowsColumns((self.first_row + self.dofs).astype(PETSc.IntType), 1.0)
         self.clamped = clamped
-        self.solver = LinearSolver(self.comm, self.prefix, clamped, self.structure)
+        self.solver = LinearSolver(self.comm, self.prefix, clamped, clamped, self.structure)
         self.solver.set_up()
         start = time.perf_counter()
         n = self.A.getSize()[0]

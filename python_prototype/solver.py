@@ -8,6 +8,8 @@ import time
 
 from petsc4py import PETSc
 
+from .field_split import set_fields
+
 
 class SolverError(Exception):
     """A solver did not converge: the run stops with this message (exit 3)."""
@@ -84,20 +86,51 @@ def _set_direct_defaults(prefix, structure, ranks):
         set_default_option(prefix + "mat_mumps_icntl_14", "400")
 
 
-def _set_iterative_defaults(prefix, structure):
-    """CG + smoothed aggregation for SPD elasticity (block size d and the
-    rigid-body modes on the matrix); for the mixed flow system GMRES with a
-    Schur field split, selfp (C + B diag(M)^-1 B^T) and BoomerAMG on it
-    (cpp/solver.cpp says why)."""
-    if structure == Structure.spd:
-        set_default_option(prefix + "ksp_type", "cg")
-        set_default_option(prefix + "pc_type", "gamg")
-        return
-    for name, value in (("ksp_type", "gmres"), ("pc_type", "fieldsplit"), ("pc_fieldsplit_type", "schur"),
+def _set_elasticity_preconditioner(prefix):
+    """Smoothed aggregation on nodes with the rigid-body modes; a new operator
+    of the same pattern keeps the prolongators (cpp/solver.cpp)."""
+    set_default_option(prefix + "pc_type", "gamg")
+    set_default_option(prefix + "pc_gamg_reuse_interpolation", "true")
+
+
+def _set_darcy_preconditioner(prefix):
+    """Schur field split, selfp (C + B diag(M)^-1 B^T) with BoomerAMG on it."""
+    for name, value in (("pc_type", "fieldsplit"), ("pc_fieldsplit_type", "schur"),
                         ("pc_fieldsplit_schur_fact_type", "full"), ("pc_fieldsplit_schur_precondition", "selfp"),
                         ("fieldsplit_flux_ksp_type", "preonly"), ("fieldsplit_flux_pc_type", "jacobi"),
                         ("fieldsplit_pressure_ksp_type", "preonly"), ("fieldsplit_pressure_pc_type", "hypre")):
         set_default_option(prefix + name, value)
+
+
+def _set_fixed_stress_preconditioner(prefix, fields):
+    """FGMRES on the coupled system with one fixed-stress sweep as the
+    preconditioner: a multiplicative split, flow then mechanics, on the
+    stabilised matrix, each block one application of its own preconditioner
+    (cpp/solver.cpp)."""
+    set_default_option(prefix + "ksp_type", "fgmres")
+    set_default_option(prefix + "pc_type", "fieldsplit")
+    set_default_option(prefix + "pc_fieldsplit_type", "multiplicative")
+    for f in fields:
+        block = prefix + "fieldsplit_" + f.name + "_"
+        set_default_option(block + "ksp_type", "preonly")
+        if f.fields:
+            _set_darcy_preconditioner(block)
+        else:
+            _set_elasticity_preconditioner(block)
+
+
+def _set_iterative_defaults(prefix, structure, fields):
+    """CG + smoothed aggregation for SPD elasticity; GMRES + Schur split for
+    the mixed flow system; the fixed-stress preconditioner for the coupled
+    system, the one whose fields are split further."""
+    if structure == Structure.spd:
+        set_default_option(prefix + "ksp_type", "cg")
+        _set_elasticity_preconditioner(prefix)
+    elif any(f.fields for f in fields):
+        _set_fixed_stress_preconditioner(prefix, fields)
+    else:
+        set_default_option(prefix + "ksp_type", "gmres")
+        _set_darcy_preconditioner(prefix)
 
 
 # The relative residual tolerance of an iterative solve (cpp/solver.h);
@@ -113,7 +146,7 @@ def set_relative_tolerance(ksp, prefix, tolerance):
         ksp.setTolerances(rtol=tolerance)
 
 
-def set_solver_defaults(prefix, structure, method, comm):
+def set_solver_defaults(prefix, structure, method, comm, fields=()):
     """Sets the defaults of the solver with this prefix unless the command
     line gave them; returns the method they make (a -<prefix>pc_type on the
     command line decides: a factorisation is direct, anything else
@@ -124,7 +157,7 @@ def set_solver_defaults(prefix, structure, method, comm):
     if method == Method.direct:
         _set_direct_defaults(prefix, structure, comm.size)
     else:
-        _set_iterative_defaults(prefix, structure)
+        _set_iterative_defaults(prefix, structure, fields)
     return method
 
 
@@ -165,22 +198,19 @@ class LinearSolver:
     up anew only when the operator's values change; an iterative solve
     starts from the x it is given."""
 
-    def __init__(self, comm, prefix, A, structure, fields=()):
+    def __init__(self, comm, prefix, A, P, structure, fields=()):
+        """Solves with A, preconditioned from P (A, or the fixed-stress
+        matrix of the coupled system); `fields` are P's splits."""
         self.prefix = prefix
         self.setups, self.setup_time, self._operator_changed = 0, 0.0, True
         if structure == Structure.spd:
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOptionsPrefix(prefix)
-        self.ksp.setOperators(A, A)
+        self.ksp.setOperators(A, P)
         try:
             self.ksp.setFromOptions()
-            pc = self.ksp.getPC()
-            if pc.getType() == PETSc.PC.Type.FIELDSPLIT:
-                if not fields:
-                    raise OptionsError(f"-{prefix}pc_type fieldsplit: {system_name(prefix)} system has no fields "
-                                       "to split")
-                pc.setFieldSplitIS(*[(name, PETSc.IS().createGeneral(dofs, comm=comm)) for name, dofs in fields])
+            set_fields(self.ksp.getPC(), fields, prefix)
             # A Krylov method starts from x, the previous iterate (preonly
             # refuses a nonzero guess).
             if self.ksp.getType() != PETSc.KSP.Type.PREONLY:
@@ -245,9 +275,9 @@ class LinearSolver:
             options.setValue(self.prefix + "pc_factor_mat_solver_type", "mumps")
             options.delValue(self.prefix + "pc_factor_mat_ordering_type")
             set_default_option(self.prefix + "mat_mumps_icntl_14", "400")
-            A, _ = self.ksp.getOperators()
+            A, P = self.ksp.getOperators()
             self.ksp.reset()
-            self.ksp.setOperators(A, A)
+            self.ksp.setOperators(A, P)
             self.ksp.setFromOptions()
             ierr = self._run(solve)
             reason = self.ksp.getConvergedReason()

@@ -13,9 +13,10 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .contact import ContactSet, ContactState, contact_boundary_flag
+from .field_split import Field, part_of
 from .forms import interpolate, interpolate_resistivity
-from .linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, finish_rhs, rigid_body_modes,
-                             multiply_add, owned, reassemble_operator)
+from .linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, finish_rhs, multiply_add,
+                             owned, owned_global_dofs, reassemble_operator, rigid_body_modes)
 from .solver import Method, Structure
 from .system import System
 
@@ -121,12 +122,9 @@ class FlowStep:
     def fields(self, W):
         """The flux and pressure DOFs of W (owned, global numbering): the
         splits of an iterative solve."""
-        owned, first = W.dofmap.index_map.size_local, W.dofmap.index_map.local_range[0]
-
-        def global_dofs(local):
-            local = np.asarray(local)
-            return np.sort(local[local < owned] + first).astype(PETSc.IntType)
-        return [("flux", global_dofs(self.Z_to_W)), ("pressure", global_dofs(self.Q_to_W))]
+        index_map = W.dofmap.index_map  # block size 1
+        return [Field("flux", owned_global_dofs(index_map, self.Z_to_W)),
+                Field("pressure", owned_global_dofs(index_map, self.Q_to_W))]
 
     def assemble_loads(self, t):
         """Source, boundary pressure, gravity: once per time (once per run if
@@ -310,10 +308,10 @@ class MonolithicStep:
 
         self.assembly_time = 0.0  # right-hand sides
         # Depends on dt only; its pressure block -(S/dt) is often negligible
-        # against the coupling: LU with pivoting (cpp/monolithic.cpp).
-        # No block preconditioner for (u, z, p) yet (scene.py refuses
-        # "iterative"): "auto" is the factorisation at every size.
-        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, "direct")
+        # against the coupling: LU with pivoting (cpp/monolithic.cpp). The
+        # iterative path is preconditioned by the fixed-stress split.
+        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, scene.solver.monolithic,
+                             self.fields(X), F.compile("a_monolithic_preconditioner"))
         self.b, self.b_loads = fem.Function(X), fem.Function(X)
         self.loads_time = None
         self.contact_pressure = self.contact_active = self.contact_boundary = None
@@ -328,6 +326,19 @@ class MonolithicStep:
         self.contact_active = fem.Function(contact_set.output_space)
         self.contact_boundary = contact_boundary_flag(contact_set)
         self.system.use_contact(contact_set, dofs, self.V_to_X[:owned(self.V)])
+
+    def fields(self, X):
+        """The splits of (u, z, p) for the fixed-stress preconditioner: the
+        flow (flux, pressure), then the mechanics node by node with the
+        rigid-body modes in its numbering (cpp/monolithic.cpp)."""
+        comm, index_map = X.mesh.comm, X.dofmap.index_map  # block size 1
+        z, p = owned_global_dofs(index_map, self.Z_to_X), owned_global_dofs(index_map, self.Q_to_X)
+        u = owned_global_dofs(index_map, self.V_to_X)
+        flow = Field("flow", np.sort(np.concatenate([z, p])))
+        flow.fields = [part_of(flow, "flux", z, comm), part_of(flow, "pressure", p, comm)]
+        position = np.searchsorted(u, index_map.local_range[0] + self.V_to_X[:owned(self.V)])
+        mechanics = Field("mechanics", u, self.V.dofmap.index_map_bs, rigid_body_modes(self.V, position))
+        return [flow, mechanics]
 
     def assemble_loads(self, t):
         if self.loads_time is not None and (not self.loads_depend_on_time or t == self.loads_time):

@@ -12,8 +12,12 @@ class System:
     """`choice` is the scene's [solver] entry ("direct", "iterative" or
     "auto"); `fields` the (name, global DOFs) splits of a mixed system."""
 
-    def __init__(self, comm, prefix, a, bcs, structure, choice, fields=()):
+    def __init__(self, comm, prefix, a, bcs, structure, choice, fields=(), a_preconditioner=None):
+        """`a_preconditioner` (optional): the form an iterative method builds
+        its preconditioner from instead of `a` (the fixed-stress matrix of
+        the coupled system)."""
         self.comm, self.prefix, self.a, self.bcs, self.structure = comm, prefix, a, bcs, structure
+        self.fields = list(fields)
         self._statistics = SolverStatistics()
         start = time.perf_counter()
         self.A = assemble_matrix(a, bcs)
@@ -21,11 +25,22 @@ class System:
         self.stage = SolverStage(prefix[:-1])
         dimension = a.mesh.topology.dim
         self.method = set_solver_defaults(prefix, structure,
-                                          choose_method(choice, structure, self.unknowns(), dimension), comm)
+                                          choose_method(choice, structure, self.unknowns(), dimension), comm,
+                                          self.fields)
+        # a factorisation is of A itself; only a preconditioner takes another matrix
+        self.a_preconditioner, self.P = None, None
+        if a_preconditioner is not None and self.method == Method.iterative:
+            start = time.perf_counter()
+            self.a_preconditioner, self.P = a_preconditioner, assemble_matrix(a_preconditioner, bcs)
+            self._statistics.assembly_time += time.perf_counter() - start
         self.contact = None
         self.earlier = SolverStatistics()  # the counts of the run a restart continues
         # made now, so that options that make no solver are refused before the run
-        self.linear = LinearSolver(comm, prefix, self.A, structure, fields)
+        self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
+
+    def preconditioner_matrix(self):
+        """A, or the matrix of a_preconditioner on the iterative path."""
+        return self.P if self.P is not None else self.A
 
     def unknowns(self):
         return self.A.getSize()[0]
@@ -37,8 +52,8 @@ class System:
     def use_contact(self, contact_set, dofs, displacement_dofs):
         """Every solve becomes the contact problem on the DOFs `dofs`."""
         self.linear = None
-        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.structure, self.method, contact_set, dofs,
-                                     displacement_dofs)
+        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.preconditioner_matrix(), self.fields,
+                                     self.structure, self.method, contact_set, dofs, displacement_dofs)
 
     def has_contact(self):
         return self.contact is not None
@@ -68,6 +83,8 @@ class System:
         """dt changed: the next solve factorises anew."""
         start = time.perf_counter()
         reassemble_matrix(self.A, self.a, self.bcs)
+        if self.P is not None:
+            reassemble_matrix(self.P, self.a_preconditioner, self.bcs)
         self._statistics.assembly_time += time.perf_counter() - start
         if self.contact:
             self.contact.operator_changed()
@@ -83,8 +100,8 @@ class System:
         # (and their times: PETSc's event times nest).
         if self.method == Method.iterative and not self.contact:
             s.setups, s.setup_time = self.linear.setups, self.linear.setup_time
-        elif self.method == Method.iterative and self.contact.amg_setups():
-            s.setups, s.setup_time = self.contact.amg_setups()
+        elif self.method == Method.iterative and self.contact.preconditioner_setups():
+            s.setups, s.setup_time = self.contact.preconditioner_setups()
         if self.contact:
             s.newton_iterations = self.contact.newton_iterations
             s.linear_iterations = self.contact.linear_iterations

@@ -148,7 +148,6 @@ CASES = [
     ("unknown solver choice", DEFAULT, s("solver.flow=gpu"), "solver.flow", BOTH),
     ("solver choice not a string", DEFAULT, s("solver.mechanics=1"), "solver.mechanics", BOTH),
     ("unknown key in [solver]", DEFAULT, s("solver.mechanic=direct"), "solver.mechanic", BOTH),
-    ("iterative monolithic (not available)", DEFAULT, s("solver.monolithic=iterative"), "solver.monolithic", BOTH),
     ("a field split without fields", DEFAULT, ["-mechanics_pc_type", "fieldsplit"], "-mechanics_pc_type", RUN),
 ]
 # Under mpirun -n 2 (an error found by one rank must end both).
