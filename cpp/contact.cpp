@@ -185,14 +185,10 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ma
   SNESSetConvergenceTest(_snes, &ContactSolver::converged, this, nullptr);
   if (!condensed and method == Method::iterative)
   {
-    // A Newton step whose reduced system is singular (a body held in the
-    // normal direction by one or two active nodes, see solve), or whose
-    // right-hand side is round-off (the forced first step of a solve that
-    // starts converged), makes the Krylov method stagnate: it is cut off
-    // well above the iterations of a converging step (tens,
-    // docs/performance.md), and the solve restarts from the clamped state.
-    set_default_option(prefix + "ksp_max_it", std::to_string(max_newton_step_iterations));
     _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, P, fields, prefix);
+    KSP ksp;
+    SNESGetKSP(_snes, &ksp);
+    KSPMonitorSet(ksp, &ContactSolver::stagnation, this, nullptr);
     set_tolerance(iterative_tolerance);
   }
   // At least one Newton step per solve: a step is an exact solve on the
@@ -284,6 +280,35 @@ PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, 
     int differs = self->_pending != self->_used, any = 0;
     MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
     self->_set_repeated = !any;
+  }
+  return 0;
+}
+
+PetscErrorCode ContactSolver::stagnation(KSP ksp, PetscInt iteration, PetscReal rnorm, void* context)
+{
+  // A Newton step whose reduced system is singular (a body held in the
+  // normal direction by one or two active nodes, see solve), or whose
+  // right-hand side is round-off (the forced first step of a solve that
+  // starts converged), makes the Krylov method stagnate. A converging step
+  // takes tens of iterations (docs/performance.md); one that has not
+  // reduced its residual by 1% over the last `stagnation_window` is stopped
+  // (its iteration limit lowered to now: DIVERGED_ITS), and the solve
+  // restarts from the clamped state. The limit is restored at the next
+  // solve.
+  auto* self = static_cast<ContactSolver*>(context);
+  if (iteration == 0)
+  {
+    self->_residuals.clear();
+    if (self->_lowered_from > 0)
+      PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, self->_lowered_from));
+    self->_lowered_from = 0;
+  }
+  self->_residuals.push_back(rnorm);
+  if (iteration >= stagnation_window and rnorm > 0.99 * self->_residuals[iteration - stagnation_window])
+  {
+    PetscReal rtol, atol, dtol;
+    PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &self->_lowered_from));
+    PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, iteration));
   }
   return 0;
 }
@@ -406,7 +431,24 @@ void ContactSolver::solve(Vec b, Vec x)
     SNESSetTolerances(_snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
   }
+  // Every attempt's steps count, a failed Krylov solve's iterations too
+  // (SNES leaves them out of its own count): they cost their time.
+  auto count = [&](SNESConvergedReason reason)
+  {
+    PetscInt its = 0, lits = 0, failed = 0;
+    SNESGetIterationNumber(_snes, &its);
+    SNESGetLinearSolveIterations(_snes, &lits);
+    if (reason == SNES_DIVERGED_LINEAR_SOLVE)
+    {
+      KSP ksp;
+      SNESGetKSP(_snes, &ksp);
+      KSPGetIterationNumber(ksp, &failed);
+    }
+    newton_iterations += its;
+    linear_iterations += lits + failed;
+  };
   SNESConvergedReason reason = run_snes();
+  count(reason);
   if (reason < 0)
   {
     // A body held in the normal direction by the foundation alone is
@@ -416,15 +458,11 @@ void ContactSolver::solve(Vec b, Vec x)
     // nodes to release.
     clamped_start();
     reason = run_snes();
+    count(reason);
   }
   if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
                       + SNESConvergedReasons[reason]);
-  PetscInt its = 0, lits = 0;
-  SNESGetIterationNumber(_snes, &its);
-  SNESGetLinearSolveIterations(_snes, &lits);
-  newton_iterations += its;
-  linear_iterations += lits;
   VecScale(_x, _scale);
   if (_schur)
     _schur->extend(b, _x, x);

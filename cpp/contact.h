@@ -89,9 +89,10 @@ public:
   /// to form, m^3/3 flops per active-set change) costs more than
   /// refactorising the sparse inactive-set matrix.
   static constexpr PetscInt max_condensed_dofs = 2000;
-  /// Krylov iterations of one Newton step on the iterative full path before
-  /// it counts as stagnated (-<prefix>ksp_max_it overrides).
-  static constexpr PetscInt max_newton_step_iterations = 500;
+  /// A Krylov solve of a Newton step on the iterative full path that
+  /// reduces its residual by less than 1% over this many iterations has
+  /// stagnated (contact.cpp, stagnation).
+  static constexpr PetscInt stagnation_window = 50;
 
   /// `dofs` are the contact DOFs of `set` in the numbering of the solved
   /// vector (the same as set.dofs for the mechanics system, mapped into the
@@ -161,6 +162,9 @@ private:
   /// its active set (the solution on that set: see contact.cpp).
   static PetscErrorCode converged(SNES, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* context);
+  /// KSP monitor of the Newton steps (iterative full path): stops a Krylov
+  /// solve that stagnates.
+  static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
   std::vector<char> active_contact_dofs(Vec x) const;
 
   MPI_Comm _comm;
@@ -174,6 +178,8 @@ private:
   bool _any_used = false;
   bool _set_repeated = false;    // the last step's result keeps the set it used
   PetscReal _relative_target = 0; // rtol times the first residual of a solve
+  std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
+  PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
   Vec _force; // like x: A x - b

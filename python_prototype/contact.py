@@ -112,7 +112,7 @@ class ContactSolver:
     the same; operator_changed re-arms it after a reassembly)."""
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
-    max_newton_step_iterations = 500  # Krylov iterations of a Newton step before it counts as stagnated
+    stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
 
     def __init__(self, comm, prefix, A, P, fields, structure, method, contact_set, dofs, displacement_dofs):
         """On the iterative full path the Newton steps are preconditioned from
@@ -160,10 +160,7 @@ class ContactSolver:
         self.snes.setVariableBounds(self.lower, self.upper)
         self.snes.setConvergenceTest(self._converged)
         if not condensed and method == Method.iterative:
-            # a Newton step on a singular reduced system, or on a round-off
-            # right-hand side, stagnates: cut off well above a converging
-            # step's iterations (cpp/contact.cpp)
-            set_default_option(prefix + "ksp_max_it", str(self.max_newton_step_iterations))
+            self.snes.getKSP().setMonitor(self._stagnation)
             self.preconditioner = InactiveSetPreconditioner(self.snes, P, fields, prefix)
             self.set_tolerance(ITERATIVE_TOLERANCE)
         # At least one Newton step per solve, so the result never lags the load.
@@ -187,6 +184,7 @@ class ContactSolver:
         self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
         self.pending = self.used = None  # active flags of the contact DOFs
         self.set_repeated, self.relative_target = False, 0.0
+        self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
@@ -233,6 +231,23 @@ class ContactSolver:
         if iteration > 0:
             differs = not np.array_equal(self.pending, self.used)
             self.set_repeated = not self.vi_mpi_comm.allreduce(int(differs), op=MPI.MAX)
+
+    def _stagnation(self, ksp, iteration, rnorm):
+        """A Newton step's Krylov solve that reduces its residual by less than
+        1% over the last stagnation_window iterations (a singular reduced
+        system, a round-off right-hand side) is stopped: its iteration limit
+        is lowered to now (DIVERGED_ITS) and restored at the next solve;
+        the contact solve restarts from the clamped state (cpp/contact.cpp)."""
+        if iteration == 0:
+            self.residuals = []
+            if self.lowered_from:
+                ksp.setTolerances(max_it=self.lowered_from)
+            self.lowered_from = 0
+        self.residuals.append(rnorm)
+        w = self.stagnation_window
+        if iteration >= w and rnorm > 0.99 * self.residuals[iteration - w]:
+            self.lowered_from = ksp.getTolerances()[3]
+            ksp.setTolerances(max_it=iteration)
 
     def _converged(self, snes, iteration, norms):
         """PETSc's test of the VI methods after at least one step, and the
@@ -292,6 +307,7 @@ class ContactSolver:
             # absolute tolerance relative to the load: scale-free
             self.snes.setTolerances(atol=max(1e-10 * self.b_scaled.norm(), 1e-300))
         reason = self._snes_solve()
+        self._count(reason)
         if reason < 0:
             # A body held in the normal direction by the foundation alone is
             # semi-coercive: from a start where no contact DOF pushes on its
@@ -300,16 +316,23 @@ class ContactSolver:
             # which nodes to release.
             self.clamped_start()
             reason = self._snes_solve()
+            self._count(reason)
         if reason < 0:
             raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
                               + reason_name(PETSc.SNES.ConvergedReason, reason))
-        self.newton_iterations += self.snes.getIterationNumber()
-        self.linear_iterations += self.snes.getLinearSolveIterations()
         self.x.scale(scale)
         if self.schur:
             self.schur.extend(b, self.x.getArray(readonly=True), x)
         else:
             self.x.copy(x)
+
+    def _count(self, reason):
+        """Every attempt's steps count, a failed Krylov solve's iterations
+        too (SNES leaves them out of its own count)."""
+        failed = self.snes.getKSP().getIterationNumber() \
+            if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else 0
+        self.newton_iterations += self.snes.getIterationNumber()
+        self.linear_iterations += self.snes.getLinearSolveIterations() + failed
 
     def _snes_solve(self):
         try:

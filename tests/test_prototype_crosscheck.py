@@ -1,4 +1,4 @@
-"""The Python prototype (python_prototype/) mirrors the C++ solver: on five
+"""The Python prototype (python_prototype/) mirrors the C++ solver: on six
 cases (direct and iterative solvers), run side by side, every field agrees to 1e-8 relative at every output
 time, and the coupling iterations of every step and the active contact sets
 are identical (the `compare` command of the prototype)."""
@@ -24,6 +24,9 @@ CASES = [
     ("default, monolithic", scene("default"), ["--set", "coupling.scheme=monolithic"]),
     ("default, iterative solvers", scene("default"), ["--set", "solver.flow=iterative",
                                                       "--set", "solver.mechanics=iterative"]),
+    ("default, monolithic iterative", scene("default"), ["--set", "coupling.scheme=monolithic",
+                                                         "--set", "solver.monolithic=iterative",
+                                                         "--set", "time.end=2"]),
 ]
 
 for label, path, extra in CASES:
