@@ -7,6 +7,11 @@
 namespace biotcontact
 {
 
+bool is_coupled(const std::vector<Field>& fields)
+{
+  return std::any_of(fields.begin(), fields.end(), [](const Field& f) { return !f.fields.empty(); });
+}
+
 std::shared_ptr<std::remove_pointer_t<MatNullSpace>> own(MatNullSpace space)
 {
   return {space, [](MatNullSpace s) { MatNullSpaceDestroy(&s); }};
@@ -68,7 +73,7 @@ void set_fields(PC pc, const std::vector<Field>& fields, const std::string& pref
     PCFieldSplitSetIS(pc, f.name.c_str(), is);
     ISDestroy(&is);
   }
-  if (std::none_of(fields.begin(), fields.end(), [](const Field& f) { return !f.fields.empty(); }))
+  if (!is_coupled(fields))
     return;
   KSP* sub = nullptr;
   PetscInt n = 0;

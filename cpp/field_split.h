@@ -39,6 +39,10 @@ struct Field
   std::vector<Field> fields;
 };
 
+/// Whether these are the fields of the coupled system: fields (flow,
+/// mechanics) of which some are split further.
+bool is_coupled(const std::vector<Field>& fields);
+
 /// Takes ownership of a near-nullspace for Field::near_nullspace.
 std::shared_ptr<std::remove_pointer_t<MatNullSpace>> own(MatNullSpace space);
 

@@ -1,8 +1,11 @@
 #include "fixed_stress.h"
 
+#include "anderson.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace biotcontact
@@ -39,6 +42,18 @@ constexpr double round_off_fraction = 1e-9;
 
 /// increment / size, or the increment itself while size = 0.
 double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
+
+/// Changes of the contact active set so far (0 without contact).
+long contact_changes(MechanicsStep& mechanics)
+{
+  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
+}
+
+/// Owned entries of a DOF array of V (block size included).
+std::int32_t owned_size(const fem::FunctionSpace& V)
+{
+  return V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+}
 } // namespace
 
 double inexact_tolerance(double previous_increment)
@@ -53,6 +68,7 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
   const CouplingSpec& coupling = *scene.coupling;
   const int q = P.q;
   const bool multirate = coupling.scheme == "multirate";
+  const bool accelerated = coupling.acceleration == "anderson";
   const fem::FunctionSpace& V = *mechanics.space();
   const fem::FunctionSpace& Q = *flow.pressure_space();
 
@@ -84,6 +100,19 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     std::vector<Array> w_new(q + 1);
     Array u_old = u_K, u_new;
     assign(*flow.u_window, u_K);
+    // coupling.acceleration = "anderson": the iterate fed to the next pass
+    // is a combination of the last map values (anderson.h); its state is
+    // (p^1, ..., p^q, u), weighted by the scales of the stopping test.
+    std::optional<AndersonAcceleration> anderson;
+    long active_set_changes = contact_changes(mechanics);
+    if (accelerated)
+    {
+      std::vector<std::int32_t> owned(q, owned_size(Q));
+      owned.push_back(owned_size(V));
+      std::vector<double> weights(q, p_size > 0 ? 1 / p_size : 1.0);
+      weights.push_back(u_size > 0 ? 1 / u_size : 1.0);
+      anderson.emplace(V.mesh()->comm(), coupling.depth, owned, weights);
+    }
     double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
     bool converged = false;
     int n = 0;
@@ -173,7 +202,9 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
         // The other ratios are logged and counted as unresolved.
         const double size = multirate ? contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q])
                                       : contraction(P.lambda, u_new, P.alpha, p_new[1]);
-        const bool resolved = n > 1 and dsigma >= resolved_fraction * dsigma_first
+        // With acceleration the iterates are no longer x^{n+1} = G(x^n), so
+        // the ratios are logged but not held against gamma.
+        const bool resolved = !accelerated and n > 1 and dsigma >= resolved_fraction * dsigma_first
                               and dsigma >= round_off_fraction * size;
         if (n > 0 and !resolved)
           ++report.unresolved_ratios;
@@ -207,8 +238,27 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
         entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << dsigma << ";";
         log.push_back(entry.str());
 
-        p_old = p_new;
-        u_old = u_new;
+        if (anderson)
+        {
+          // The differences of earlier iterations describe the map of their
+          // contact active set only: a new set restarts the history.
+          if (const long changes = contact_changes(mechanics); changes != active_set_changes)
+          {
+            anderson->restart();
+            active_set_changes = changes;
+          }
+          State x(p_old.begin() + 1, p_old.end()), g(p_new.begin() + 1, p_new.end());
+          x.push_back(u_old);
+          g.push_back(u_new);
+          anderson->next(x, g);
+          std::copy(x.begin(), x.begin() + q, p_old.begin() + 1);
+          u_old = x.back();
+        }
+        else
+        {
+          p_old = p_new;
+          u_old = u_new;
+        }
         increment = std::max(dp_norm, du_norm);
         if (dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance)
         {

@@ -36,11 +36,11 @@ check   validate the scene and exit
         --set values; output.checkpoint_every = N writes one every N steps
         and when the run is interrupted)
 
-PETSc options select the solvers: the flow system has the prefix flow_, the
-mechanics (and contact) solve the prefix mechanics_, e.g.
+The scene's [solver] table picks "direct", "iterative" or "auto" (by size)
+per system; PETSc options with the system's prefix override it: flow_,
+mechanics_ (and its contact solve), monolithic_, e.g.
   -flow_ksp_type gmres -flow_pc_type hypre -mechanics_snes_monitor
-The defaults are direct solves (MUMPS LU); the contact solver is SNES
-vinewtonrsls with bounds on the contact DOFs.
+The contact solver is SNES vinewtonrsls with bounds on the contact DOFs.
 )";
 
 struct Arguments

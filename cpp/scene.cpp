@@ -524,6 +524,14 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, int d)
   c.max_iterations = s.integer("max_iterations", 100);
   if (c.max_iterations < 1)
     s.fail("max_iterations", "must be a positive integer");
+  c.acceleration = s.string("acceleration", "none");
+  if (c.acceleration != "none" and c.acceleration != "anderson")
+    s.fail("acceleration", "must be \"none\" or \"anderson\", got \"" + c.acceleration + "\"");
+  if (c.acceleration != "none" and c.scheme == "monolithic")
+    s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration");
+  c.depth = s.integer("depth", 8);
+  if (c.depth < 1 or c.depth > 50)
+    s.fail("depth", "must be an integer from 1 to 50");
   s.finish();
   return c;
 }

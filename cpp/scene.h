@@ -101,6 +101,10 @@ struct CouplingSpec
   double L_number = 0;
   double tolerance = 1e-8;
   int max_iterations = 100;
+  /// "none" (the paper's iteration) or "anderson" (anderson.h) with
+  /// `depth` differences kept.
+  std::string acceleration = "none";
+  int depth = 8;
 };
 
 /// Closed-form solution to compare with at the final time.

@@ -632,6 +632,9 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
       .set("scheme", scene.coupling ? scene.coupling->scheme : (flow ? "flow-only" : "mechanics-only"))
       .set("q", P.q)
       .set("L_choice", scene.coupling ? scene.coupling->L_choice : "none")
+      .set("acceleration", scene.coupling and scene.coupling->acceleration == "anderson"
+                               ? "anderson, depth " + std::to_string(scene.coupling->depth)
+                               : std::string("none"))
       .set("L", P.L)
       .set("gamma", P.gamma)
       .set("dofs", dofs)

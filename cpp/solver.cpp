@@ -18,7 +18,8 @@ void set_default_option(const std::string& name, const std::string& value)
 
 std::string method_name(Method method) { return method == Method::direct ? "direct" : "iterative"; }
 
-Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension)
+Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+                     bool coupled)
 {
   if (choice == "direct")
     return Method::direct;
@@ -29,8 +30,10 @@ Method choose_method(const std::string& choice, Structure structure, std::int64_
   // 3D factorisation fills in far more (separators of n^(2/3) against
   // n^(1/2)), so its crossover is lower.
   const bool elasticity = structure == Structure::spd;
-  const std::int64_t crossover = dimension == 3 ? (elasticity ? crossover_3d_mechanics : crossover_3d_flow)
-                                                : (elasticity ? crossover_2d_mechanics : crossover_2d_flow);
+  const std::int64_t crossover
+      = coupled ? (dimension == 3 ? crossover_3d_monolithic : crossover_2d_monolithic)
+                : (dimension == 3 ? (elasticity ? crossover_3d_mechanics : crossover_3d_flow)
+                                  : (elasticity ? crossover_2d_mechanics : crossover_2d_flow));
   return unknowns < crossover ? Method::direct : Method::iterative;
 }
 
@@ -148,7 +151,7 @@ void set_iterative_defaults(const std::string& prefix, Structure structure, cons
     set_default_option(prefix + "ksp_type", "cg");
     set_elasticity_preconditioner(prefix);
   }
-  else if (std::any_of(fields.begin(), fields.end(), [](const Field& f) { return !f.fields.empty(); }))
+  else if (is_coupled(fields))
     set_fixed_stress_preconditioner(prefix, fields);
   else
   {

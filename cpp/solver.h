@@ -75,14 +75,23 @@ std::string method_name(Method method);
 ///   1.6e6 flow and 6.6e5 mechanics unknowns (2.3e6 in all): a 2D nested-
 ///   dissection factor has O(n log n) fill, and a run makes thousands of
 ///   cheap back-solves from it. The 2D crossovers lie beyond that.
+/// The coupled system, by bench/monolithic.py (docs/performance.md, "The
+/// monolithic system"): in 3D its factorisation and the fixed-stress
+/// preconditioned FGMRES tie at 1.2e4 unknowns (0.83 s against 0.74 s, and
+/// 0.81 s against 1.08 s in another run), FGMRES wins from 3.9e4 (3.1 s
+/// against 5.3 s) and by 6x at 3.0e5; in 2D the factorisation wins at
+/// every size measured (4.4x at 1.4e5), so it keeps the flow's crossover.
 constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 8000000;
 constexpr std::int64_t crossover_3d_mechanics = 10000, crossover_3d_flow = 50000;
+constexpr std::int64_t crossover_2d_monolithic = 8000000, crossover_3d_monolithic = 10000;
 
 /// The method for a [solver] choice ("direct", "iterative" or "auto") of a
-/// system with `unknowns` global unknowns and `dimension`: "auto" takes the
-/// factorisation below the crossover measured in bench/scaling.py
+/// system with `unknowns` global unknowns and `dimension` (`coupled`: the
+/// monolithic system): "auto" takes the factorisation below the crossover
+/// measured in bench/scaling.py and bench/monolithic.py
 /// (docs/performance.md) and the Krylov method above it.
-Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension);
+Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+                     bool coupled = false);
 
 /// Sets the defaults of the solver with this options prefix unless the
 /// command line gave them, and returns the method they make (a

@@ -24,8 +24,9 @@ System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const f
       _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
 {
   _method = set_solver_defaults(_prefix, _structure,
-                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim()), _comm,
-                                _fields);
+                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim(),
+                                              is_coupled(_fields)),
+                                _comm, _fields);
   // A factorisation is of A itself; only a preconditioner takes another matrix.
   if (a_preconditioner and _method == Method::iterative)
   {

@@ -26,10 +26,11 @@ compare  compare the outputs of two runs (fields, coupling iterations, contact s
 --set    override a scene value, e.g. --set coupling.L=kdr --set time.dt=0.5
 --restart DIR  continue the run in DIR from its checkpoint (output.checkpoint_every)
 
-PETSc options select the solvers (prefixes flow_, mechanics_, monolithic_),
-e.g. -flow_ksp_type gmres -flow_pc_type hypre -mechanics_snes_monitor.
-The defaults are direct solves (MUMPS LU); the contact solver is SNES
-vinewtonrsls with bounds on the contact DOFs.
+The scene's [solver] table picks "direct", "iterative" or "auto" (by size)
+per system; PETSc options with the system's prefix override it (flow_,
+mechanics_, monolithic_), e.g.
+-flow_ksp_type gmres -flow_pc_type hypre -mechanics_snes_monitor.
+The contact solver is SNES vinewtonrsls with bounds on the contact DOFs.
 """
 
 

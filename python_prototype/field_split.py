@@ -17,6 +17,11 @@ class Field:
     fields: list = dataclass_field(default_factory=list)  # splits, numbered within the block
 
 
+def is_coupled(fields):
+    """The fields of the coupled system: some are split further."""
+    return any(f.fields for f in fields)
+
+
 def part_of(whole, name, dofs, comm):
     """The field `name` made of `dofs` (a subset of whole's), numbered
     within the block of `whole`: its rows are whole's DOFs in order, rank by
@@ -46,7 +51,7 @@ def set_fields(pc, fields, prefix):
             index_set.compose("nearnullspace", f.near_nullspace)
         splits.append((f.name, index_set))
     pc.setFieldSplitIS(*splits)
-    if not any(f.fields for f in fields):
+    if not is_coupled(fields):
         return
     for f, sub in zip(fields, pc.getFieldSplitSubKSP()):
         if f.fields:

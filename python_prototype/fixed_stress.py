@@ -7,7 +7,8 @@ import math
 import numpy as np
 
 from .forms import set_time_step
-from .linear_algebra import owned_norm
+from .anderson import AndersonAcceleration
+from .linear_algebra import owned, owned_norm
 from .solver import ITERATIVE_TOLERANCE, SolverError
 from .time_grid import retry_step
 
@@ -49,6 +50,11 @@ def relative(increment, size):
     return increment / size if size > 0 else increment
 
 
+def contact_changes(mechanics):
+    """Changes of the contact active set so far (0 without contact)."""
+    return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
+
+
 def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
                      report, comm, grid, stop=None, on_retry=None):
     """Runs the coupled scene to its end time (from the end of window
@@ -61,6 +67,7 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
     CouplingError when a window does not converge."""
     coupling, q = scene.coupling, P.q
     multirate = coupling.scheme == "multirate"
+    accelerated = coupling.acceleration == "anderson"
     V, Q = mechanics.V, flow.Q
     nan = math.nan
 
@@ -99,6 +106,15 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         w_new = [None] * (q + 1)
         u_old = u_K
         flow.u_window.x.array[:] = u_K
+        # coupling.acceleration = "anderson": the iterate fed to the next pass
+        # combines the last map values (anderson.py); state (p^1..p^q, u),
+        # weighted by the scales of the stopping test.
+        anderson, active_set_changes = None, contact_changes(mechanics)
+        if accelerated:
+            owned_p, owned_u = owned(Q), owned(V)
+            anderson = AndersonAcceleration(comm, coupling.depth, [owned_p] * q + [owned_u],
+                                            [1 / report.p_size if report.p_size > 0 else 1.0] * q
+                                            + [1 / report.u_size if report.u_size > 0 else 1.0])
         dsigma_previous, dsigma_first = nan, 0.0
         converged, log = False, []
         increment = 1.0  # max(dp, du) of the last iteration
@@ -160,7 +176,9 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
                     size = contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q]) if P.L > 0 else nan
                 else:
                     size = contraction(P.lmbda, u_new, P.alpha, p_new[1])
-                resolved = (n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
+                # with acceleration the iterates are no longer x^{n+1} = G(x^n):
+                # the ratios are logged, not held against gamma
+                resolved = (not accelerated and n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
                             and dsigma >= ROUND_OFF_FRACTION * size)
                 if n > 0 and not resolved:
                     report.unresolved_ratios += 1
@@ -188,8 +206,18 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
                                  mechanics.active_contact_nodes())
                 log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
 
-                p_old = list(p_new)
-                u_old = u_new
+                if anderson:
+                    # earlier differences describe the map of their active set only
+                    changes = contact_changes(mechanics)
+                    if changes != active_set_changes:
+                        anderson.restart()
+                        active_set_changes = changes
+                    x = anderson.next(p_old[1:] + [u_old], p_new[1:] + [u_new])
+                    p_old = [p_old[0]] + x[:q]
+                    u_old = x[q]
+                else:
+                    p_old = list(p_new)
+                    u_old = u_new
                 increment = max(dp_norm, du_norm)
                 if dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance:
                     converged = True

@@ -207,6 +207,8 @@ class CouplingSpec:
     L_number: float = 0.0
     tolerance: float = 1e-8
     max_iterations: int = 100
+    acceleration: str = "none"  # or "anderson" (anderson.py) with `depth` differences
+    depth: int = 8
 
 
 @dataclass
@@ -519,6 +521,14 @@ def _read_coupling(s, mech):
     c.max_iterations = s.integer("max_iterations", 100)
     if c.max_iterations < 1:
         s.fail("max_iterations", "must be a positive integer")
+    c.acceleration = s.string("acceleration", "none")
+    if c.acceleration not in ("none", "anderson"):
+        s.fail("acceleration", f'must be "none" or "anderson", got "{c.acceleration}"')
+    if c.acceleration != "none" and c.scheme == "monolithic":
+        s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration")
+    c.depth = s.integer("depth", 8)
+    if not 1 <= c.depth <= 50:
+        s.fail("depth", "must be an integer from 1 to 50")
     s.finish()
     return c
 

@@ -399,6 +399,8 @@ def run(scene, directory, comm, fingerprint="", restart=False):
             "scheme": scene.coupling.scheme if scene.coupling else ("flow-only" if flow else "mechanics-only"),
             "q": P.q,
             "L_choice": scene.coupling.L_choice if scene.coupling else "none",
+            "acceleration": (f"anderson, depth {scene.coupling.depth}"
+                             if scene.coupling and scene.coupling.acceleration == "anderson" else "none"),
             "L": P.L,
             "gamma": P.gamma,
             "dofs": dofs,

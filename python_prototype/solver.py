@@ -8,7 +8,7 @@ import time
 
 from petsc4py import PETSc
 
-from .field_split import set_fields
+from .field_split import is_coupled, set_fields
 
 
 class SolverError(Exception):
@@ -48,17 +48,19 @@ class Method(enum.Enum):
     iterative = 2  # CG + GAMG (elasticity), GMRES + Schur field split (flow)
 
 
-# The crossovers of "auto" in unknowns (cpp/solver.h, docs/performance.md).
-CROSSOVER = {(2, True): 4000000, (2, False): 8000000, (3, True): 10000, (3, False): 50000}
+# The crossovers of "auto" in unknowns (cpp/solver.h, docs/performance.md),
+# by dimension and system.
+CROSSOVER = {(2, "mechanics"): 4000000, (2, "flow"): 8000000, (2, "monolithic"): 8000000,
+             (3, "mechanics"): 10000, (3, "flow"): 50000, (3, "monolithic"): 10000}
 
 
-def choose_method(choice, structure, unknowns, dimension):
+def choose_method(choice, structure, unknowns, dimension, coupled=False):
     """The method for a [solver] choice: "auto" is direct below the measured
-    crossover (cpp/solver.cpp)."""
+    crossover (cpp/solver.cpp); `coupled`: the monolithic system."""
     if choice in ("direct", "iterative"):
         return Method[choice]
-    crossover = CROSSOVER[(3 if dimension == 3 else 2, structure == Structure.spd)]
-    return Method.direct if unknowns < crossover else Method.iterative
+    system = "monolithic" if coupled else ("mechanics" if structure == Structure.spd else "flow")
+    return Method.direct if unknowns < CROSSOVER[(3 if dimension == 3 else 2, system)] else Method.iterative
 
 
 def _set_direct_defaults(prefix, structure, ranks):
@@ -126,7 +128,7 @@ def _set_iterative_defaults(prefix, structure, fields):
     if structure == Structure.spd:
         set_default_option(prefix + "ksp_type", "cg")
         _set_elasticity_preconditioner(prefix)
-    elif any(f.fields for f in fields):
+    elif is_coupled(fields):
         _set_fixed_stress_preconditioner(prefix, fields)
     else:
         set_default_option(prefix + "ksp_type", "gmres")

@@ -4,6 +4,7 @@ problem on it. How it is solved is decided here and in solver.py."""
 import time
 
 from .contact import ContactSolver
+from .field_split import is_coupled
 from .linear_algebra import assemble_matrix, reassemble_matrix
 from .solver import LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults
 
@@ -25,8 +26,9 @@ class System:
         self.stage = SolverStage(prefix[:-1])
         dimension = a.mesh.topology.dim
         self.method = set_solver_defaults(prefix, structure,
-                                          choose_method(choice, structure, self.unknowns(), dimension), comm,
-                                          self.fields)
+                                          choose_method(choice, structure, self.unknowns(), dimension,
+                                                        is_coupled(self.fields)),
+                                          comm, self.fields)
         # a factorisation is of A itself; only a preconditioner takes another matrix
         self.a_preconditioner, self.P = None, None
         if a_preconditioner is not None and self.method == Method.iterative:

@@ -39,6 +39,8 @@ CASES = [
     ("3e9 steps", ["time.end=3e9", "time.dt=1"], "time.dt"),
     ("a mesh larger than the machine", ["mesh.cells=[4000000, 4000000]"], "mesh.cells"),
     ("unknown solver choice", ["solver.flow=gpu"], "solver.flow"),
+    ("unknown acceleration", ["coupling.acceleration=aitken"], "coupling.acceleration"),
+    ("Anderson depth 0", ["coupling.acceleration=anderson", "coupling.depth=0"], "coupling.depth"),
 ]
 for label, overrides, key in CASES:
     command = "run" if label.endswith("evaluated") else "check"  # the gap is evaluated at the nodes in a run

@@ -1,0 +1,57 @@
+// Anderson acceleration of the fixed-stress iteration (coupling.acceleration
+// = "anderson"; beyond the paper, ../shared/docs/coupling-notes.md).
+//
+// The split is a fixed-point iteration x^{n+1} = G(x^n) on the state of a
+// window, x = (p^1, ..., p^q, u): the flow pass reads the pressures of the
+// previous iterate and u, the mechanics returns the new u. G contracts at
+// rate gamma in the norm of Theorems 1 and 2. Anderson's method (type II,
+// Walker and Ni 2011) keeps the last m residuals f_j = G(x_j) - x_j and
+// takes
+//     x^{n+1} = G(x_n) - sum_j c_j (G(x_j) - G(x_{j-1})),
+//     c = argmin || f_n - sum_j c_j (f_j - f_{j-1}) ||,
+// the combination of the last m map values whose linearised residual is
+// smallest. Its fixed points are G's: at convergence f = 0 and x = G(x), so
+// the converged state is the split's. The norm weights each block by the
+// inverse of its size (the scales of the stopping test), so pressures in Pa
+// and displacements in m count alike.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <mpi.h>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// A state: one array per block (ghost entries included; only the first
+/// owned[b] entries of block b enter the inner products).
+using State = std::vector<std::vector<double>>;
+
+class AndersonAcceleration
+{
+public:
+  /// `depth` m >= 1 differences; per block its owned entries and weight.
+  AndersonAcceleration(MPI_Comm comm, int depth, std::vector<std::int32_t> owned, std::vector<double> weights);
+
+  /// Forgets the history: the map changed (a new contact active set makes
+  /// G another affine map, whose differences the old ones do not describe).
+  void restart();
+
+  /// The next iterate from x and g = G(x); x is overwritten with it.
+  void next(State& x, const State& g);
+
+  /// History columns used by the last next() (0: a plain iteration).
+  int columns_used() const { return _used; }
+
+private:
+  double dot(const State& a, const State& b) const;
+  MPI_Comm _comm;
+  int _depth;
+  std::vector<std::int32_t> _owned;
+  std::vector<double> _weights;
+  std::deque<State> _f, _g; // the last depth + 1 residuals and map values
+  int _used = 0;
+};
+
+} // namespace biotcontact
