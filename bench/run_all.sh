@@ -10,7 +10,10 @@
 # (if it has the markers); SCALING=1 also runs bench/scaling.py (direct
 # against iterative, 2D and 3D, 1 and 2 ranks, with the largest meshes:
 # about 45 minutes at one repetition, so it runs with REPEAT_SCALING,
-# default 1). Each step prints the commands it runs.
+# default 1); MONOLITHIC=1 also runs bench/monolithic.py (the monolithic
+# system's factorisation against its Krylov method and the iterative
+# split, about 8 minutes at REPEAT_MONOLITHIC, default 1). Each step prints
+# the commands it runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
@@ -32,6 +35,9 @@ step $PY bench/mandel.py --repeat "$REPEAT"
 step $PY bench/prototype.py --repeat "$REPEAT"
 if [ "${SCALING:-0}" = 1 ]; then
   step $PY bench/scaling.py --largest --repeat "${REPEAT_SCALING:-1}"
+fi
+if [ "${MONOLITHIC:-0}" = 1 ]; then
+  step $PY bench/monolithic.py --repeat "${REPEAT_MONOLITHIC:-1}"
 fi
 step $PY bench/report.py "${readme[@]}"
 echo "all benchmarks in $((SECONDS - start)) s"
