@@ -217,7 +217,7 @@ void TimeSeries::write(const fem::Function<double>& f, double t)
 
   auto field = std::find_if(_fields.begin(), _fields.end(), [&](const Field& x) { return x.name == f.name; });
   if (field == _fields.end())
-    field = _fields.insert(_fields.end(), Field{f.name, center, components});
+    field = _fields.insert(_fields.end(), Field{f.name, center, components, 0, ""});
   field->dataset = "/Function/" + f.name + "/" + std::to_string(field->writes++);
   // A resumed run writes again what its first run wrote after the
   // checkpoint: that dataset goes first.
