@@ -23,11 +23,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
+from scaling import SCENES, SETS  # noqa: E402  (the same scenes and two steps)
 
 NAME = "monolithic"
-SCENES = {2: "scenes/default.toml", 3: "scenes/block3d_box.toml"}
 CELLS = {2: [(80, 8), (160, 16), (320, 32)], 3: [(16, 8, 4), (24, 12, 6), (32, 16, 8), (48, 24, 12)]}
-SETS = ["time.end=0.4", "output.xdmf=false"]
 VARIANT_SETS = {"split": ["solver.flow=iterative", "solver.mechanics=iterative"],
                 "direct": ["coupling.scheme=monolithic", "solver.monolithic=direct"],
                 "iterative": ["coupling.scheme=monolithic", "solver.monolithic=iterative"]}

@@ -16,6 +16,9 @@ void AndersonAcceleration::restart()
 {
   _f.clear();
   _g.clear();
+  _dF.clear();
+  _dG.clear();
+  _gram.clear();
 }
 
 double AndersonAcceleration::dot(const State& a, const State& b) const
@@ -78,42 +81,53 @@ void AndersonAcceleration::next(State& x, const State& g)
   for (std::size_t k = 0; k < f.size(); ++k)
     for (std::size_t i = 0; i < f[k].size(); ++i)
       f[k][i] -= x[k][i];
-  _f.push_back(f);
-  _g.push_back(g);
-  if (static_cast<int>(_f.size()) > _depth + 1)
+  if (!_f.empty())
   {
-    _f.pop_front();
-    _g.pop_front();
-  }
-  // Differences of consecutive residuals and map values, newest last.
-  const int available = static_cast<int>(_f.size()) - 1;
-  std::vector<State> dF(available), dG(available);
-  for (int j = 0; j < available; ++j)
-  {
-    dF[j] = _f[j + 1];
-    dG[j] = _g[j + 1];
+    // The newest differences f - f_prev, g - g_prev, and their row of the
+    // Gram matrix; the oldest beyond `depth` are dropped.
+    State df = f, dg = g;
     for (std::size_t k = 0; k < f.size(); ++k)
       for (std::size_t i = 0; i < f[k].size(); ++i)
       {
-        dF[j][k][i] -= _f[j][k][i];
-        dG[j][k][i] -= _g[j][k][i];
+        df[k][i] -= _f[k][i];
+        dg[k][i] -= _g[k][i];
       }
+    if (static_cast<int>(_dF.size()) == _depth)
+    {
+      _dF.pop_front();
+      _dG.pop_front();
+      _gram.pop_front();
+      for (auto& row : _gram)
+        row.pop_front();
+    }
+    _dF.push_back(std::move(df));
+    _dG.push_back(std::move(dg));
+    std::deque<double> row;
+    for (const State& d : _dF)
+      row.push_back(dot(d, _dF.back()));
+    for (std::size_t i = 0; i + 1 < _dF.size(); ++i)
+      _gram[i].push_back(row[i]);
+    _gram.push_back(std::move(row));
   }
+  _f = f;
+  _g = g;
+
   // Least squares by the normal equations dF^T dF c = dF^T f (m is small);
   // when the differences are nearly dependent the oldest are dropped.
+  const int available = static_cast<int>(_dF.size());
+  std::vector<double> projections(available);
+  for (int i = 0; i < available; ++i)
+    projections[i] = dot(_dF[i], f);
   std::vector<double> c;
   int m = available;
   for (; m > 0; --m)
   {
     const int first = available - m;
     std::vector<double> H(m * m);
-    c.assign(m, 0.0);
+    c.assign(projections.begin() + first, projections.end());
     for (int i = 0; i < m; ++i)
-    {
-      c[i] = dot(dF[first + i], f);
-      for (int j = 0; j <= i; ++j)
-        H[i * m + j] = H[j * m + i] = dot(dF[first + i], dF[first + j]);
-    }
+      for (int j = 0; j < m; ++j)
+        H[i * m + j] = _gram[first + i][first + j];
     if (cholesky_solve(H, c, m))
       break;
   }
@@ -121,7 +135,7 @@ void AndersonAcceleration::next(State& x, const State& g)
   x = g;
   for (int i = 0; i < m; ++i)
   {
-    const State& d = dG[available - m + i];
+    const State& d = _dG[available - m + i];
     for (std::size_t k = 0; k < x.size(); ++k)
       for (std::size_t e = 0; e < x[k].size(); ++e)
         x[k][e] -= c[i] * d[k][e];

@@ -50,7 +50,12 @@ private:
   int _depth;
   std::vector<std::int32_t> _owned;
   std::vector<double> _weights;
-  std::deque<State> _f, _g; // the last depth + 1 residuals and map values
+  // The last residual and map value, the last `depth` differences of
+  // consecutive ones (oldest first) and the Gram matrix of the residual
+  // differences, updated by one row per iteration.
+  State _f, _g;
+  std::deque<State> _dF, _dG;
+  std::deque<std::deque<double>> _gram;
   int _used = 0;
 };
 

@@ -80,7 +80,7 @@ double relative_error(const ufcx_form& error, const ufcx_form& norm,
 
 double owned_norm(std::span<const double> x, const fem::FunctionSpace& V)
 {
-  const std::size_t owned = V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+  const std::size_t owned = owned_size(V);
   double local = 0;
   for (std::size_t i = 0; i < owned; ++i)
     local += x[i] * x[i];

@@ -49,11 +49,6 @@ long contact_changes(MechanicsStep& mechanics)
   return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
 }
 
-/// Owned entries of a DOF array of V (block size included).
-std::int32_t owned_size(const fem::FunctionSpace& V)
-{
-  return V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
-}
 } // namespace
 
 double inexact_tolerance(double previous_increment)

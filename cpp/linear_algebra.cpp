@@ -100,6 +100,11 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std
   return modes;
 }
 
+std::int32_t owned_size(const fem::FunctionSpace& V)
+{
+  return V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+}
+
 std::vector<PetscInt> owned_global_dofs(const common::IndexMap& map, const std::vector<std::int32_t>& local)
 {
   const std::int32_t owned = map.size_local();

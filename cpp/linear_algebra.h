@@ -56,6 +56,9 @@ void finish_rhs(dolfinx::la::Vector<double>& b, std::shared_ptr<const dolfinx::f
 /// the coupled system); a node's components must stay together, in order.
 MatNullSpace rigid_body_modes(const dolfinx::fem::FunctionSpace& V, const std::vector<std::int32_t>& position = {});
 
+/// Number of owned (unrolled) DOFs of V on this rank.
+std::int32_t owned_size(const dolfinx::fem::FunctionSpace& V);
+
 /// PETSc's global indices of the local DOFs `local` of a space with block
 /// size 1 and index map `map` that this rank owns, ascending.
 std::vector<PetscInt> owned_global_dofs(const dolfinx::common::IndexMap& map,

@@ -130,7 +130,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   // Contact: the bounds sit on the contact DOFs of the displacement block.
   ContactSet set = locate_contact(scene, domain, forms, V);
   const std::int32_t owned_X = bs * map->size_local();
-  const std::int32_t owned_V = V->dofmap()->index_map_bs() * V->dofmap()->index_map->size_local();
+  const std::int32_t owned_V = owned_size(*V);
   std::vector<std::int32_t> dofs, displacement;
   for (std::int32_t dof : set.dofs)
     dofs.push_back(_V_to_X.at(dof));
@@ -161,7 +161,7 @@ std::vector<Field> MonolithicStep::fields() const
   // a node of the mixed space together), with the rigid-body modes laid out
   // in its numbering: the position of each owned DOF of V among u.
   const int d = V->dofmap()->index_map_bs();
-  const std::int32_t owned_V = d * V->dofmap()->index_map->size_local();
+  const std::int32_t owned_V = owned_size(*V);
   const std::int64_t first = map.local_range()[0];
   std::vector<std::int32_t> position(owned_V);
   for (std::int32_t i = 0; i < owned_V; ++i)

@@ -48,7 +48,7 @@ double boundary_mean(const fem::Function<double>& u, const std::vector<std::int3
 {
   const auto& V = *u.function_space();
   const auto dofs = fem::locate_dofs_topological(*V.sub({component}), V.mesh()->topology().dim() - 1, facets);
-  const std::int32_t owned = V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+  const std::int32_t owned = owned_size(V);
   double local[2] = {0, 0};
   for (std::int32_t dof : dofs)
     if (dof < owned)

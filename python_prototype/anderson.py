@@ -36,12 +36,15 @@ def _cholesky_solve(H, r):
 class AndersonAcceleration:
     def __init__(self, comm, depth, owned, weights):
         self.comm, self.depth, self.owned, self.weights = comm, depth, owned, weights
-        self.f, self.g = [], []  # the last depth + 1 residuals and map values
+        self.restart()
         self.used = 0
 
     def restart(self):
         """Forgets the history (a new contact active set: another map)."""
-        self.f, self.g = [], []
+        # the last residual and map value, the last `depth` differences of
+        # consecutive ones (oldest first) and the Gram matrix of the residual
+        # differences, updated by one row per iteration
+        self.f, self.g, self.dF, self.dG, self.gram = None, None, [], [], []
 
     def _dot(self, a, b):
         local = sum(w * w * float(np.dot(x[:n], y[:n])) for x, y, n, w in zip(a, b, self.owned, self.weights))
@@ -50,30 +53,31 @@ class AndersonAcceleration:
     def next(self, x, g):
         """The next iterate from x and g = G(x) (a new list of arrays)."""
         f = [gk - xk for gk, xk in zip(g, x)]
-        self.f.append(f)
-        self.g.append([gk.copy() for gk in g])
-        if len(self.f) > self.depth + 1:
-            self.f.pop(0)
-            self.g.pop(0)
-        available = len(self.f) - 1
-        dF = [[b - a for a, b in zip(self.f[j], self.f[j + 1])] for j in range(available)]
-        dG = [[b - a for a, b in zip(self.g[j], self.g[j + 1])] for j in range(available)]
+        if self.f is not None:
+            if len(self.dF) == self.depth:
+                self.dF.pop(0)
+                self.dG.pop(0)
+                self.gram = [row[1:] for row in self.gram[1:]]
+            self.dF.append([a - b for a, b in zip(f, self.f)])
+            self.dG.append([a - b for a, b in zip(g, self.g)])
+            row = [self._dot(d, self.dF[-1]) for d in self.dF]
+            for i in range(len(self.dF) - 1):
+                self.gram[i].append(row[i])
+            self.gram.append(row)
+        self.f, self.g = f, [gk.copy() for gk in g]
+        available = len(self.dF)
+        projections = np.array([self._dot(d, f) for d in self.dF])
         c, m = None, available
         while m > 0:  # the oldest differences are dropped while nearly dependent
             first = available - m
-            H = np.empty((m, m))
-            r = np.empty(m)
-            for i in range(m):
-                r[i] = self._dot(dF[first + i], f)
-                for j in range(i + 1):
-                    H[i, j] = H[j, i] = self._dot(dF[first + i], dF[first + j])
-            c = _cholesky_solve(H, r)
+            H = np.array([row[first:] for row in self.gram[first:]])
+            c = _cholesky_solve(H, projections[first:])
             if c is not None:
                 break
             m -= 1
         self.used = m
         result = [gk.copy() for gk in g]
         for i in range(m):
-            for k, d in enumerate(dG[available - m + i]):
+            for k, d in enumerate(self.dG[available - m + i]):
                 result[k] -= c[i] * d
         return result
