@@ -49,6 +49,44 @@ long contact_changes(MechanicsStep& mechanics)
   return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
 }
 
+/// The second pass of "multirate-two-pass" (docs/schemes.md). The printed
+/// multirate scheme damps the fine-step pressure modes that sum to zero
+/// over the window only by L/(S+L) ~ gamma per iteration: the mechanics
+/// sees p^q alone. Here the fine steps are recomputed without L, from p_K
+/// and with the new displacement u^{n+1}:
+///   (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
+///     = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
+/// so they hold no error of their own, only that of u^{n+1}; the window end
+/// keeps the first pass's value p^A_q (the one the mechanics used) through
+///   p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q),   m = 1..q,
+/// the same linear correction applied to the mixed states (z, p). At the
+/// fixed point p^B = p^A: the fixed point is that of the printed scheme.
+void second_pass_correction(FlowStep& second, const Array& p_K, const Array& u_new,
+                            const std::function<double(int)>& t, std::vector<Array>& p_new,
+                            std::vector<Array>& w_new)
+{
+  const int q = static_cast<int>(p_new.size()) - 1;
+  std::vector<Array> p_B(q + 1, p_K), w_B(q + 1);
+  assign(*second.u_iterate, u_new);
+  for (int m = 1; m <= q; ++m)
+  {
+    assign(*second.p_previous, p_B[m - 1]);
+    second.solve(t(m));
+    p_B[m] = copy(*second.pressure);
+    std::span<const double> w = second.state();
+    w_B[m].assign(w.begin(), w.end());
+  }
+  const Array p_end = difference(p_new[q], p_B[q]), w_end = difference(w_new[q], w_B[q]);
+  for (int m = 1; m < q; ++m)
+  {
+    const double s = static_cast<double>(m) / q;
+    for (std::size_t i = 0; i < p_end.size(); ++i)
+      p_new[m][i] = p_B[m][i] + s * p_end[i];
+    for (std::size_t i = 0; i < w_end.size(); ++i)
+      w_new[m][i] = w_B[m][i] + s * w_end[i];
+  }
+}
+
 } // namespace
 
 double inexact_tolerance(double previous_increment)
@@ -57,12 +95,12 @@ double inexact_tolerance(double previous_increment)
 }
 
 void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
-                      MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
+                      FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
 {
   const CouplingSpec& coupling = *scene.coupling;
   const int q = P.q;
-  const bool multirate = coupling.scheme == "multirate";
+  const bool multirate = coupling.multirate();
   const bool accelerated = coupling.acceleration == "anderson";
   const fem::FunctionSpace& V = *mechanics.space();
   const fem::FunctionSpace& Q = *flow.pressure_space();
@@ -88,13 +126,19 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
     // Fine time m of the window (t_K + m dt for a constant step).
     auto t = [&](int m) { return grid.t[K * q + m]; };
     if (set_time_step(constants, grid.dt[K * q]))
+    {
       flow.time_step_changed();
+      if (second_pass)
+        second_pass->time_step_changed();
+    }
     const std::vector<double> w_K(flow.state().begin(), flow.state().end());
     // Start: p^{0,m} = p_K for all m, u^0 = u_K.
     std::vector<Array> p_old(q + 1, p_K), p_new(q + 1, p_K);
     std::vector<Array> w_new(q + 1);
     Array u_old = u_K, u_new;
     assign(*flow.u_window, u_K);
+    if (second_pass)
+      assign(*second_pass->u_window, u_K);
     // coupling.acceleration = "anderson": the iterate fed to the next pass
     // is a combination of the last map values (anderson.h); its state is
     // (p^1, ..., p^q, u), weighted by the scales of the stopping test.
@@ -156,6 +200,10 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
         // holds it and is the pressure coefficient of the mechanics load.
         mechanics.solve(t(q));
         u_new = copy(*mechanics.u);
+        // (c) "multirate-two-pass": the fine steps again, without L, with
+        // u^{n+1}; for q = 1 the correction returns p^A_1 itself.
+        if (second_pass and q > 1)
+          second_pass_correction(*second_pass, p_K, u_new, t, p_new, w_new);
 
         // Contraction quantities, measured on the increments of this iteration.
         const Array du = difference(u_new, u_old);

@@ -1,6 +1,9 @@
 // The fixed-stress split, single-rate (q = 1) and multirate (q flow steps per
 // mechanics step): alg. "Single-rate fixed-stress split" and "Multirate
-// fixed-stress split" (paper section 4, eqs. 4.17-4.22).
+// fixed-stress split" (paper section 4, eqs. 4.17-4.22), and the two-pass
+// multirate variant ("multirate-two-pass", docs/schemes.md): after the
+// mechanics, a second flow pass without L, with the new displacement,
+// replaces the fine pressures the mechanics cannot see.
 #pragma once
 
 #include "diagnostics.h"
@@ -69,8 +72,10 @@ double inexact_tolerance(double previous_increment);
 /// the steps of `grid` (which a retry refines),
 /// filling `report` as it goes. Throws CouplingError (after logging every iteration) when a window
 /// does not converge; `report` then describes the run up to that window.
+/// `second_pass` is the flow step without L of "multirate-two-pass" (null
+/// for the other schemes).
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
-                      FlowStep& flow,
+                      FlowStep& flow, FlowStep* second_pass,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report, TimeGrid& grid);
 

@@ -77,11 +77,15 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   _a_storage = make(forms.a_flow_storage, {_W, _Q});
   _storage.emplace(assemble_operator(*_a_storage, _bcs));
   _dp = std::make_unique<la::Vector<double>>(_Q->dofmap()->index_map, 1);
-  if (V)
+  const double L = constants.at("L")->value[0];
+  if (V and L > 0)
   {
     _a_stabilisation = make(forms.a_flow_stabilisation, {_W, _Q});
-    _a_displacement = make(forms.a_flow_displacement, {_W, V});
     _stabilisation.emplace(assemble_operator(*_a_stabilisation, _bcs));
+  }
+  if (V)
+  {
+    _a_displacement = make(forms.a_flow_displacement, {_W, V});
     _displacement.emplace(assemble_operator(*_a_displacement, _bcs));
     _du = std::make_unique<la::Vector<double>>(V->dofmap()->index_map, V->dofmap()->index_map_bs());
   }
@@ -96,7 +100,7 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   // The flow matrix depends on dt and L only: assembled and factorised once
   // per dt. Its diagonal blocks, the flux mass and -(S+L)/dt times the cell
   // mass, make it quasi-definite when S + L > 0.
-  const double storage = constants.at("storage")->value[0] + constants.at("L")->value[0];
+  const double storage = constants.at("storage")->value[0] + L;
   _system = std::make_unique<System>(mesh->comm(), "flow_", _a, _bcs,
                                      storage > 0 ? Structure::quasi_definite : Structure::general,
                                      scene.solver.flow, fields());
@@ -147,10 +151,13 @@ void FlowStep::solve(double t)
   //       + (alpha/(q dt)) div(u^n - u_K), tested with th (forms/biot.py)
   std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
   multiply_add(_storage->mat(), *p_previous->x(), *_b);
-  if (_displacement)
+  if (_stabilisation)
   {
     difference(*p_iterate->x(), *p_iterate_previous->x(), *_dp);
     multiply_add(_stabilisation->mat(), *_dp, *_b);
+  }
+  if (_displacement)
+  {
     difference(*u_iterate->x(), *u_window->x(), *_du);
     multiply_add(_displacement->mat(), *_du, *_b);
   }
@@ -177,11 +184,10 @@ void FlowStep::time_step_changed()
   _system->reassemble();
   common::Timer timer("assembly");
   reassemble_operator(_storage->mat(), *_a_storage, _bcs);
-  if (_displacement)
-  {
+  if (_stabilisation)
     reassemble_operator(_stabilisation->mat(), *_a_stabilisation, _bcs);
+  if (_displacement)
     reassemble_operator(_displacement->mat(), *_a_displacement, _bcs);
-  }
   assembly_time += timer.stop();
 }
 

@@ -20,7 +20,9 @@ namespace biotcontact
 class FlowStep
 {
 public:
-  /// `V` is the displacement space of a coupled scene, null otherwise.
+  /// `V` is the displacement space of a coupled scene, null otherwise. With
+  /// L = 0 in `constants` (the second pass of "multirate-two-pass") the step
+  /// has no stabilisation term.
   FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
            const Constants& constants,
            std::shared_ptr<const dolfinx::fem::FunctionSpace> V);

@@ -481,20 +481,25 @@ FlowSpec read_flow(Section s, int d)
   return f;
 }
 
-CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, int d)
+CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec& flow, int d)
 {
   CouplingSpec c;
   c.alpha = s.number("alpha");
   if (!(c.alpha >= 0 and c.alpha <= 1))
     s.fail("alpha", "the Biot coefficient must lie in [0, 1]");
   c.scheme = s.string("scheme", "fixed-stress");
-  if (c.scheme != "fixed-stress" and c.scheme != "multirate" and c.scheme != "monolithic")
-    s.fail("scheme", "must be \"fixed-stress\", \"multirate\" or \"monolithic\", got \"" + c.scheme + "\"");
+  if (c.scheme != "fixed-stress" and !c.multirate() and c.scheme != "monolithic")
+    s.fail("scheme", "must be \"fixed-stress\", \"multirate\", \"multirate-two-pass\" or \"monolithic\", got \""
+                         + c.scheme + "\"");
+  // The second pass is a flow step without L: with S = 0 its matrix has a
+  // zero pressure block, singular wherever no pressure is prescribed.
+  if (c.scheme == "multirate-two-pass" and !(flow.storage() > 0))
+    s.fail("scheme", "\"multirate-two-pass\" needs a storage coefficient S = 1/M + c_f phi0 > 0");
   c.q = s.integer("q", 1);
   if (c.q < 1)
     s.fail("q", "must be a positive integer");
-  if (c.scheme != "multirate" and c.q != 1)
-    s.fail("q", "q > 1 needs scheme = \"multirate\"");
+  if (!c.multirate() and c.q != 1)
+    s.fail("q", "q > 1 needs scheme = \"multirate\" or \"multirate-two-pass\"");
 
   const toml::node* L = s.node("L");
   if (!L)
@@ -618,7 +623,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   if (!scene.mechanics and !scene.flow)
     top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)");
   if (scene.mechanics and scene.flow)
-    scene.coupling = read_coupling(top.table("coupling", true), *scene.mechanics, d);
+    scene.coupling = read_coupling(top.table("coupling", true), *scene.mechanics, *scene.flow, d);
   else if (top.has("coupling"))
     top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled");
 

@@ -95,7 +95,10 @@ struct FlowSpec
 struct CouplingSpec
 {
   double alpha = 1;
-  std::string scheme = "fixed-stress"; // "fixed-stress" or "multirate"
+  /// "fixed-stress" (single rate), "multirate" (the paper's, as printed),
+  /// "multirate-two-pass" (fixed_stress.cpp: a second flow pass without L
+  /// corrects the fine steps) or "monolithic".
+  std::string scheme = "fixed-stress";
   int q = 1;
   std::string L_choice = "paper";      // "paper", "kdr", "half-kdr" or a number
   double L_number = 0;
@@ -105,6 +108,8 @@ struct CouplingSpec
   /// `depth` differences kept.
   std::string acceleration = "none";
   int depth = 8;
+  /// q flow steps per mechanics step (either multirate scheme).
+  bool multirate() const { return scheme == "multirate" or scheme == "multirate-two-pass"; }
 };
 
 /// Closed-form solution to compare with at the final time.

@@ -173,7 +173,7 @@ void set_step_state(const StepState& s, FlowStep* flow, MechanicsStep* mechanics
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
 Checkpoint capture_state(int steps, double time, const FlowStep* flow, const MechanicsStep* mechanics,
                          const MonolithicStep* coupled, const CouplingReport& report,
-                         const std::array<System*, 3>& systems, const std::string& output, const TimeGrid& grid)
+                         const std::array<System*, 4>& systems, const std::string& output, const TimeGrid& grid)
 {
   Checkpoint c;
   c.steps = steps;
@@ -220,7 +220,7 @@ Checkpoint capture_state(int steps, double time, const FlowStep* flow, const Mec
 
 /// Loads a checkpoint into the steps, the report and the solver counts.
 void restore_state(const Checkpoint& c, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* coupled,
-                   CouplingReport& report, const std::array<System*, 3>& systems, TimeGrid& grid)
+                   CouplingReport& report, const std::array<System*, 4>& systems, TimeGrid& grid)
 {
   grid.t = c.arrays.at("times");
   grid.dt = c.arrays.at("time_steps");
@@ -321,7 +321,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
 
   // ---- flow step / mechanics step, or the monolithic system ----------------
   const bool monolithic = scene.coupling and scene.coupling->scheme == "monolithic";
-  std::unique_ptr<FlowStep> flow;
+  std::unique_ptr<FlowStep> flow, second_pass;
   std::unique_ptr<MechanicsStep> mechanics;
   std::unique_ptr<MonolithicStep> coupled;
   // What output and diagnostics read, whichever solver produced it.
@@ -352,6 +352,13 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
     {
       flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? V : nullptr);
       p = flow->pressure;
+      if (scene.coupling and scene.coupling->scheme == "multirate-two-pass")
+      {
+        // The second pass is the flow step without the stabilisation L.
+        Constants unstabilised = constants;
+        unstabilised["L"] = std::make_shared<const fem::Constant<double>>(0.0);
+        second_pass = std::make_unique<FlowStep>(scene, domain, forms, unstabilised, V);
+      }
       compute_flux = [&](fem::Function<double>& out) { flow->flux(out); };
     }
     if (scene.mechanics)
@@ -433,8 +440,9 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
 
   // ---- initial state, or the state of the checkpoint ----------------------------
   CouplingReport report;
-  std::array<System*, 3> systems = {flow ? &flow->system() : nullptr, mechanics ? &mechanics->system() : nullptr,
-                                     coupled ? &coupled->system() : nullptr};
+  std::array<System*, 4> systems = {flow ? &flow->system() : nullptr, mechanics ? &mechanics->system() : nullptr,
+                                     coupled ? &coupled->system() : nullptr,
+                                     second_pass ? &second_pass->system() : nullptr};
   if (resumed)
   {
     restore_state(*resumed, flow.get(), mechanics.get(), coupled.get(), report, systems, grid);
@@ -498,7 +506,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
                                 progress(window, t, iterations);
                               },
                               stop, say};
-      run_fixed_stress(scene, P, constants, *flow, *mechanics, contraction, output, observer, report, grid);
+      run_fixed_stress(scene, P, constants, *flow, second_pass.get(), *mechanics, contraction, output, observer, report, grid);
     }
     else
     {
@@ -582,14 +590,17 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
   const System* flow_system = flow ? &flow->system() : nullptr;
   const System* mechanics_system = mechanics ? &mechanics->system() : nullptr;
   const System* coupled_system = coupled ? &coupled->system() : nullptr;
+  const System* second_pass_system = second_pass ? &second_pass->system() : nullptr;
   SolverStatistics none;
   auto statistics = [&](const System* s) { return s ? s->statistics() : none; };
   const SolverStatistics flow_stats = statistics(flow_system), mechanics_stats = statistics(mechanics_system),
-                         coupled_stats = statistics(coupled_system);
+                         coupled_stats = statistics(coupled_system),
+                         second_pass_stats = statistics(second_pass_system);
   Json solvers;
   for (const auto& [name, system, st] : {std::tuple{"flow", flow_system, flow_stats},
                                          std::tuple{"mechanics", mechanics_system, mechanics_stats},
-                                         std::tuple{"monolithic", coupled_system, coupled_stats}})
+                                         std::tuple{"monolithic", coupled_system, coupled_stats},
+                                         std::tuple{"flow_second_pass", second_pass_system, second_pass_stats}})
   {
     if (!system)
       continue;
@@ -618,13 +629,15 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
         .set("matrix_assembly", st.assembly_time);
     timings.set(name, t);
   }
-  linear.set("flow", flow_stats.linear_iterations)
+  linear.set("flow", flow_stats.linear_iterations + second_pass_stats.linear_iterations)
       .set("mechanics", mechanics_stats.linear_iterations)
       .set("monolithic", coupled_stats.linear_iterations);
   timings
       .set("assembly", (flow ? flow->assembly_time : 0.0) + (mechanics ? mechanics->assembly_time : 0.0)
-                           + (coupled ? coupled->assembly_time : 0.0) + flow_stats.assembly_time
-                           + mechanics_stats.assembly_time + coupled_stats.assembly_time)
+                           + (coupled ? coupled->assembly_time : 0.0)
+                           + (second_pass ? second_pass->assembly_time : 0.0) + flow_stats.assembly_time
+                           + mechanics_stats.assembly_time + coupled_stats.assembly_time
+                           + second_pass_stats.assembly_time)
       .set("output", output.time);
 
   Json summary;
@@ -654,7 +667,7 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
       .set("converged", failure.empty())
       .set("status", !failure.empty() ? "failed" : signal ? "interrupted" : "completed")
       .set("last_completed_time", completed_time)
-      .set("flow_solves", flow_stats.solves)
+      .set("flow_solves", flow_stats.solves + second_pass_stats.solves) // both passes
       .set("mechanics_solves", mechanics_stats.solves)
       .set("monolithic_solves", coupled_stats.solves)
       .set("newton_iterations", mechanics_stats.newton_iterations + coupled_stats.newton_iterations)

@@ -1,6 +1,7 @@
 """The fixed-stress split, single-rate (q = 1) and multirate (q flow steps
 per mechanics step): algorithm.md "Single-rate fixed-stress split" and
-"Multirate fixed-stress split" (paper eqs. 4.17-4.22); cpp/fixed_stress.cpp.
+"Multirate fixed-stress split" (paper eqs. 4.17-4.22), and the two-pass
+multirate variant ("multirate-two-pass", docs/schemes.md); cpp/fixed_stress.cpp.
 """
 import math
 
@@ -55,8 +56,29 @@ def contact_changes(mechanics):
     return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
 
 
-def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_state, on_mechanics_state,
-                     report, comm, grid, stop=None, on_retry=None):
+def second_pass_correction(second, p_K, u_new, t, p_new, w_new):
+    """The second pass of "multirate-two-pass" (cpp/fixed_stress.cpp): the
+    fine steps again without L, from p_K and with u^{n+1},
+      (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
+        = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
+    then p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q) (and the same for the mixed
+    states): the window end keeps p^A_q, the pressure the mechanics used."""
+    q = len(p_new) - 1
+    p_B, w_B = [p_K] * (q + 1), [None] * (q + 1)
+    second.u_iterate.x.array[:] = u_new
+    for m in range(1, q + 1):
+        second.p_previous.x.array[:] = p_B[m - 1]
+        second.solve(t(m))
+        p_B[m] = second.pressure.x.array.copy()
+        w_B[m] = second.state().copy()
+    p_end, w_end = p_new[q] - p_B[q], w_new[q] - w_B[q]
+    for m in range(1, q):
+        p_new[m] = p_B[m] + (m / q) * p_end
+        w_new[m] = w_B[m] + (m / q) * w_end
+
+
+def run_fixed_stress(scene, P, F, flow, second_pass, mechanics, contraction, output, on_flow_state,
+                     on_mechanics_state, report, comm, grid, stop=None, on_retry=None):
     """Runs the coupled scene to its end time (from the end of window
     report.windows when a restart loaded its state) on the steps of `grid`
     (which a retry refines), filling `report`. After each converged window
@@ -64,9 +86,10 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
     loaded in `flow`), then on_mechanics_state(t, window, iterations), then
     stop(): true ends the run there (an interruption); on_retry(message)
     when a failed window is tried again with halved steps. Raises
-    CouplingError when a window does not converge."""
+    CouplingError when a window does not converge. `second_pass` is the flow
+    step without L of "multirate-two-pass" (None for the other schemes)."""
     coupling, q = scene.coupling, P.q
-    multirate = coupling.scheme == "multirate"
+    multirate = coupling.multirate()
     accelerated = coupling.acceleration == "anderson"
     V, Q = mechanics.V, flow.Q
     nan = math.nan
@@ -87,6 +110,8 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
             return grid.t[K * q + m]
         if set_time_step(F, grid.dt[K * q]):
             flow.time_step_changed()
+        if second_pass and set_time_step(second_pass.F, grid.dt[K * q]):
+            second_pass.time_step_changed()
         w_K = flow.state().copy()
 
         def retry(cause):
@@ -106,6 +131,8 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
         w_new = [None] * (q + 1)
         u_old = u_K
         flow.u_window.x.array[:] = u_K
+        if second_pass:
+            second_pass.u_window.x.array[:] = u_K
         # coupling.acceleration = "anderson": the iterate fed to the next pass
         # combines the last map values (anderson.py); state (p^1..p^q, u),
         # weighted by the scales of the stopping test.
@@ -141,6 +168,10 @@ def run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, on_flow_
                 # holds it and is the pressure coefficient of the mechanics load.
                 mechanics.solve(t(q))
                 u_new = mechanics.u.x.array.copy()
+                # (c) "multirate-two-pass": the fine steps again, without L, with
+                # u^{n+1}; for q = 1 the correction returns p^A_1 itself.
+                if second_pass and q > 1:
+                    second_pass_correction(second_pass, p_K, u_new, t, p_new, w_new)
 
                 # Contraction quantities, measured on the increments of this iteration.
                 du = u_new - u_old

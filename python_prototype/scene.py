@@ -210,6 +210,10 @@ class CouplingSpec:
     acceleration: str = "none"  # or "anderson" (anderson.py) with `depth` differences
     depth: int = 8
 
+    def multirate(self):
+        """q flow steps per mechanics step (either multirate scheme)."""
+        return self.scheme in ("multirate", "multirate-two-pass")
+
 
 @dataclass
 class ReferenceSpec:
@@ -484,19 +488,24 @@ def _read_flow(s, d):
     return f
 
 
-def _read_coupling(s, mech):
+def _read_coupling(s, mech, flow):
     c = CouplingSpec()
     c.alpha = s.number("alpha")
     if not (0 <= c.alpha <= 1):
         s.fail("alpha", "the Biot coefficient must lie in [0, 1]")
     c.scheme = s.string("scheme", "fixed-stress")
-    if c.scheme not in ("fixed-stress", "multirate", "monolithic"):
-        s.fail("scheme", f'must be "fixed-stress", "multirate" or "monolithic", got "{c.scheme}"')
+    if c.scheme not in ("fixed-stress", "monolithic") and not c.multirate():
+        s.fail("scheme", 'must be "fixed-stress", "multirate", "multirate-two-pass" or "monolithic", '
+                         f'got "{c.scheme}"')
+    # The second pass is a flow step without L: with S = 0 its matrix has a
+    # zero pressure block, singular wherever no pressure is prescribed.
+    if c.scheme == "multirate-two-pass" and not flow.storage() > 0:
+        s.fail("scheme", '"multirate-two-pass" needs a storage coefficient S = 1/M + c_f phi0 > 0')
     c.q = s.integer("q", 1)
     if c.q < 1:
         s.fail("q", "must be a positive integer")
-    if c.scheme != "multirate" and c.q != 1:
-        s.fail("q", 'q > 1 needs scheme = "multirate"')
+    if not c.multirate() and c.q != 1:
+        s.fail("q", 'q > 1 needs scheme = "multirate" or "multirate-two-pass"')
 
     L = s.node("L")
     bad_L = 'must be "paper", "kdr", "half-kdr" or a number'
@@ -565,7 +574,7 @@ def read_scene(file, overrides=()):
     if not scene.mechanics and not scene.flow:
         top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)")
     if scene.mechanics and scene.flow:
-        scene.coupling = _read_coupling(top.section("coupling", True), scene.mechanics)
+        scene.coupling = _read_coupling(top.section("coupling", True), scene.mechanics, scene.flow)
     elif top.has("coupling"):
         top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled")
 

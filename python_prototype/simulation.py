@@ -1,6 +1,7 @@
 """A run of one scene (cpp/simulation.cpp): scene -> mesh and tags -> forms ->
 flow step / mechanics step (or the monolithic step) -> coupling scheme ->
 output and diagnostics."""
+from dataclasses import replace
 import sys
 import time
 
@@ -218,7 +219,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
 
     # ---- flow step / mechanics step, or the monolithic system ------------------
     monolithic = scene.coupling is not None and scene.coupling.scheme == "monolithic"
-    flow = mechanics = coupled = None
+    flow = mechanics = coupled = second_pass = None
     u = p = contact_pressure = contact_active = contact_boundary = None
     compute_contact = ContactState
     if monolithic:
@@ -232,6 +233,12 @@ def run(scene, directory, comm, fingerprint="", restart=False):
         if scene.flow:
             flow = FlowStep(scene, domain, F, coupled=scene.coupling is not None)
             p, compute_flux = flow.pressure, flow.flux
+            if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
+                # The second pass is the flow step without the stabilisation L:
+                # forms of its own, whose constant L is 0.
+                F_second = Forms(domain.mesh)
+                set_constants(F_second, scene, replace(P, L=0.0))
+                second_pass = FlowStep(scene, domain, F_second, coupled=True)
         if scene.mechanics:
             mechanics = MechanicsStep(scene, domain, F, p if scene.coupling is not None else None)
             u = mechanics.u
@@ -284,7 +291,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
         # ---- initial state, or the state of the checkpoint ----------------------------
         report = CouplingReport()
         systems = [flow.system if flow else None, mechanics.system if mechanics else None,
-                   coupled.system if coupled else None]
+                   coupled.system if coupled else None, second_pass.system if second_pass else None]
         if resumed:
             restore_state(resumed, flow, mechanics, coupled, report, systems, grid)
             completed[:] = [resumed.steps, resumed.time]
@@ -327,7 +334,7 @@ def run(scene, directory, comm, fingerprint="", restart=False):
                 def on_mechanics_state(t, window, iterations):
                     write_mechanics(t)
                     progress(window, t, iterations)
-                run_fixed_stress(scene, P, F, flow, mechanics, contraction, output, write_flow,
+                run_fixed_stress(scene, P, F, flow, second_pass, mechanics, contraction, output, write_flow,
                                  on_mechanics_state, report, comm, grid, stop, say)
             else:
                 # One solve per step: the monolithic system, or the single physics.
@@ -389,11 +396,13 @@ def run(scene, directory, comm, fingerprint="", restart=False):
             dofs["pressure"] = _global_size(p.function_space)
             dofs["flux"] = domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
         # Per system: what solved it, how often it was set up and solved, where its time went.
-        steps = [s for s in (flow, mechanics, coupled) if s]
+        steps = [s for s in (flow, mechanics, coupled, second_pass) if s]
         systems = {"flow": flow.system if flow else None,
                    "mechanics": mechanics.system if mechanics else None,
-                   "monolithic": coupled.system if coupled else None}
+                   "monolithic": coupled.system if coupled else None,
+                   "flow_second_pass": second_pass.system if second_pass else None}
         stats = {name: system.statistics() if system else SolverStatistics() for name, system in systems.items()}
+        flow_solves = stats["flow"].solves + stats["flow_second_pass"].solves  # both passes
         summary = {
             "scene": scene.name,
             "scheme": scene.coupling.scheme if scene.coupling else ("flow-only" if flow else "mechanics-only"),
@@ -420,11 +429,14 @@ def run(scene, directory, comm, fingerprint="", restart=False):
             "converged": not failure,
             "status": "failed" if failure else "interrupted" if interrupted else "completed",
             "last_completed_time": completed[1],
-            "flow_solves": stats["flow"].solves,
+            "flow_solves": flow_solves,
             "mechanics_solves": stats["mechanics"].solves,
             "monolithic_solves": stats["monolithic"].solves,
             "newton_iterations": stats["mechanics"].newton_iterations + stats["monolithic"].newton_iterations,
-            "linear_iterations": {name: stats[name].linear_iterations for name in systems},
+            "linear_iterations": {"flow": stats["flow"].linear_iterations
+                                  + stats["flow_second_pass"].linear_iterations,
+                                  "mechanics": stats["mechanics"].linear_iterations,
+                                  "monolithic": stats["monolithic"].linear_iterations},
             "solvers": _solvers_json(systems, stats, scene.solver.inexact_coupling),
             "timings": dict(_timings_json(systems, stats),
                             assembly=sum(s.assembly_time for s in steps)

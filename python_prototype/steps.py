@@ -70,7 +70,9 @@ class FlowStep:
     as operators (forms/biot.py) assembled once per dt."""
 
     def __init__(self, scene, domain, F, coupled):
-        self.scene = scene
+        """With L = 0 in F (the second pass of "multirate-two-pass") the step
+        has no stabilisation term."""
+        self.scene, self.F = scene, F
         flow, comm = scene.flow, domain.mesh.comm
         W = F["W"]
         self.Z, self.Z_to_W = W.sub(0).collapse()
@@ -99,8 +101,10 @@ class FlowStep:
         # The terms that change every coupling iteration, as operators on the
         # iterates (W x Q, W x Q, W x V), assembled once per dt.
         operands = [("a_flow_storage", self.p_previous)]
+        if coupled and float(F["L"].value) > 0:
+            operands.append(("a_flow_stabilisation", self.dp))
         if coupled:
-            operands += [("a_flow_stabilisation", self.dp), ("a_flow_displacement", self.du)]
+            operands.append(("a_flow_displacement", self.du))
         self.operators = []  # (form, matrix, operand)
         for name, x in operands:
             a = F.compile(name)

@@ -91,6 +91,8 @@ CASES = [
     ("Anderson depth 0", DEFAULT, s("coupling.acceleration=anderson", "coupling.depth=0"), "coupling.depth", BOTH),
     ("accelerated monolithic", DEFAULT, s("coupling.scheme=monolithic", "coupling.acceleration=anderson"),
      "coupling.acceleration", BOTH),
+    ("two-pass multirate without storage", DEFAULT,
+     s("coupling.scheme=multirate-two-pass", "coupling.q=4", "flow.M=inf", "flow.c_f=0.0"), "coupling.scheme", BOTH),
     ("negative L", DEFAULT, s("coupling.L=-1"), "coupling.L", BOTH),
     ("dt = 0", DEFAULT, s("time.dt=0.0"), "time.dt", BOTH),
     ("dt < 0", DEFAULT, s("time.dt=-0.1"), "time.dt", BOTH),

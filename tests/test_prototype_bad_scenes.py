@@ -29,6 +29,8 @@ CASES = [
     ("nu = 0.5", ["mechanics.nu=0.5"], "mechanics.nu"),
     ("end not a multiple of dt", ["time.dt=0.7"], "time.dt"),
     ("q without multirate", ["coupling.q=2"], "coupling.q"),
+    ("two-pass multirate without storage", ["coupling.scheme=multirate-two-pass", "flow.M=inf", "flow.c_f=0.0"],
+     "coupling.scheme"),
     ("unknown boundary name", ["boundary.middle.pressure=0.0"], "boundary.middle"),
     ("bad expression", ["boundary.top.pressure='x +* 2'"], "boundary.top.pressure"),
     ("unknown L", ["coupling.L=optimal"], "coupling.L"),

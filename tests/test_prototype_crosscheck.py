@@ -1,4 +1,4 @@
-"""The Python prototype (python_prototype/) mirrors the C++ solver: on six
+"""The Python prototype (python_prototype/) mirrors the C++ solver: on seven
 cases (direct and iterative solvers), run side by side, every field agrees to 1e-8 relative at every output
 time, and the coupling iterations of every step and the active contact sets
 are identical (the `compare` command of the prototype)."""
@@ -21,6 +21,8 @@ CASES = [
     ("terzaghi", scene("terzaghi"), []),
     ("default", scene("default"), []),
     ("default, multirate q = 4", scene("default"), ["--set", "coupling.scheme=multirate", "--set", "coupling.q=4"]),
+    ("default, multirate-two-pass q = 4", scene("default"), ["--set", "coupling.scheme=multirate-two-pass",
+                                                             "--set", "coupling.q=4"]),
     ("default, monolithic", scene("default"), ["--set", "coupling.scheme=monolithic"]),
     ("default, iterative solvers", scene("default"), ["--set", "solver.flow=iterative",
                                                       "--set", "solver.mechanics=iterative"]),

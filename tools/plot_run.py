@@ -135,7 +135,7 @@ def plot_coupling(directory, summary):
     gamma = float(rows[0]["gamma"]) if rows[0]["gamma"] else None
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5))
     left.bar(list(steps), list(steps.values()), color="tab:blue")
-    left.set_xlabel("step" if summary.get("scheme") != "multirate" else "mechanics step (window)")
+    left.set_xlabel("step" if not summary.get("scheme", "").startswith("multirate") else "mechanics step (window)")
     left.set_ylabel("coupling iterations")
     left.set_title(f"{summary.get('scheme', '')}: {len(rows)} coupling iterations")
     if ratios:
