@@ -48,7 +48,7 @@ struct GmshData
   std::vector<std::string> names;
 };
 
-GmshData read_gmsh_file(const std::string& file, int d)
+GmshData read_gmsh_file(const std::string& file, int d, int refine)
 {
   GmshData data;
   gmsh::initialize();
@@ -58,6 +58,8 @@ GmshData read_gmsh_file(const std::string& file, int d)
     gmsh::open(file);
     if (std::filesystem::path(file).extension() == ".geo")
       gmsh::model::mesh::generate(d);
+    for (int i = 0; i < refine; ++i)
+      gmsh::model::mesh::refine();
     std::vector<std::size_t> tags;
     std::vector<double> coords, parametric;
     gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, false, false);
@@ -127,7 +129,7 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
   {
     try
     {
-      data = read_gmsh_file(scene.mesh.file, d);
+      data = read_gmsh_file(scene.mesh.file, d, scene.mesh.refine);
     }
     catch (const SceneError& e)
     {

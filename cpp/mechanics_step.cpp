@@ -34,7 +34,7 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
   _bcs = displacement_bcs(scene, domain, _V, _bc_values);
   for (const auto& [name, b] : scene.boundaries)
   {
-    if (b.mechanics == BoundarySpec::Mechanics::traction)
+    if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
     {
       _markers.push_back(domain.marker(name));
       _L_traction.emplace_back(&b.traction, make(forms.L_traction, {_V}, _markers.back().get()));

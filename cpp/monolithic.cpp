@@ -81,7 +81,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
 
   for (const auto& [name, b] : scene.boundaries)
   {
-    if (b.mechanics == BoundarySpec::Mechanics::traction)
+    if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
     {
       _markers.push_back(domain.marker(name));
       _L_traction.emplace_back(&b.traction, make(forms.L_monolithic_traction, {_X}, _markers.back().get()));

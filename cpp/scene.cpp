@@ -289,6 +289,11 @@ MeshSpec read_mesh(Section s, const std::string& scene_file)
     m.dimension = s.integer("dimension", 2);
     if (m.dimension != 2 and m.dimension != 3)
       s.fail("dimension", "must be 2 or 3");
+    // Each refinement splits every simplex into 2^d: nested meshes, as
+    // the studies' references need (tools/study.py maps nodes by position).
+    m.refine = s.integer("refine", 0);
+    if (m.refine < 0 or m.refine > 6)
+      s.fail("refine", "must be an integer in [0, 6]");
   }
   else
     s.fail("type", "must be \"rectangle\", \"box\" or \"gmsh\", got \"" + m.type + "\"");
@@ -303,8 +308,10 @@ BoundarySpec read_boundary(Section s, int d)
   int count = 0;
   for (const auto& k : mechanics_keys)
     count += s.has(k);
-  if (count > 1)
-    s.fail("clamp", "give at most one of clamp, displacement, traction, contact");
+  // A traction may load a contact boundary (the fluid pressure on an open
+  // fracture face); otherwise the mechanics conditions exclude each other.
+  if (count > 1 and !(count == 2 and s.has("traction") and s.has("contact")))
+    s.fail("clamp", "give at most one of clamp, displacement, traction, contact (or traction with contact)");
 
   if (s.has("clamp"))
   {

@@ -36,6 +36,7 @@ struct MeshSpec
   std::vector<std::size_t> cells;   // cells per direction (built-in meshes)
   std::string file;                 // .msh or .geo (gmsh), resolved path
   int dimension = 2;
+  int refine = 0;                   // uniform refinements of a gmsh mesh (nested: each halves h)
 };
 
 /// Frictionless Signorini contact against a rigid foundation with normal
@@ -64,7 +65,7 @@ struct BoundarySpec
   };
   Mechanics mechanics = Mechanics::traction_free;
   std::array<std::optional<Expression>, 3> displacement;
-  std::vector<Expression> traction;
+  std::vector<Expression> traction; // also on a contact boundary (a fluid-loaded fracture face)
   std::optional<ContactSpec> contact;
   Flow flow = Flow::no_flow;
   Expression pressure, flux;

@@ -41,7 +41,7 @@ def _box_faces(d):
             "bottom": (2, True), "top": (2, False)}
 
 
-def _read_gmsh_file(file, d):
+def _read_gmsh_file(file, d, refine):
     """Rank 0: nodes, simplices, and the facets of each physical group of dimension d-1."""
     import gmsh
     gmsh.initialize()
@@ -50,6 +50,8 @@ def _read_gmsh_file(file, d):
         gmsh.open(file)
         if os.path.splitext(file)[1] == ".geo":
             gmsh.model.mesh.generate(d)
+        for _ in range(refine):
+            gmsh.model.mesh.refine()
         tags, coords, _ = gmsh.model.mesh.getNodes(-1, -1, False, False)
         index = {int(t): i for i, t in enumerate(tags)}
         x = np.asarray(coords).reshape(-1, 3)[:, :d].copy()
@@ -77,7 +79,7 @@ def _read_gmsh(scene, comm):
     data, error = None, None
     if comm.rank == 0:
         try:
-            data = _read_gmsh_file(scene.mesh.file, d)
+            data = _read_gmsh_file(scene.mesh.file, d, scene.mesh.refine)
         except SceneError as e:
             error = str(e)
     # Every rank learns the outcome and the boundary names.

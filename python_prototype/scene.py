@@ -153,6 +153,7 @@ class MeshSpec:
     cells: list = field(default_factory=list)
     file: str = ""
     dimension: int = 2
+    refine: int = 0  # uniform refinements of a gmsh mesh (nested: each halves h)
 
 
 @dataclass
@@ -164,7 +165,7 @@ class ContactSpec:
 
 @dataclass
 class BoundarySpec:
-    mechanics: str = "traction_free"  # or "displacement", "traction", "contact"
+    mechanics: str = "traction_free"  # or "displacement", "traction", "contact" (which may carry a traction)
     displacement: list = field(default_factory=lambda: [None, None, None])
     traction: list = field(default_factory=list)
     contact: Optional[ContactSpec] = None
@@ -339,6 +340,11 @@ def _read_mesh(s, scene_file):
         m.dimension = s.integer("dimension", 2)
         if m.dimension not in (2, 3):
             s.fail("dimension", "must be 2 or 3")
+        # Each refinement splits every simplex into 2^d: nested meshes, as
+        # the studies' references need (tools/study.py maps nodes by position).
+        m.refine = s.integer("refine", 0)
+        if not 0 <= m.refine <= 6:
+            s.fail("refine", "must be an integer in [0, 6]")
     else:
         s.fail("type", f'must be "rectangle", "box" or "gmsh", got "{m.type}"')
     s.finish()
@@ -347,8 +353,11 @@ def _read_mesh(s, scene_file):
 
 def _read_boundary(s, d):
     b = BoundarySpec()
-    if sum(s.has(k) for k in ("clamp", "displacement", "traction", "contact")) > 1:
-        s.fail("clamp", "give at most one of clamp, displacement, traction, contact")
+    # A traction may load a contact boundary (the fluid pressure on an open
+    # fracture face); otherwise the mechanics conditions exclude each other.
+    count = sum(s.has(k) for k in ("clamp", "displacement", "traction", "contact"))
+    if count > 1 and not (count == 2 and s.has("traction") and s.has("contact")):
+        s.fail("clamp", "give at most one of clamp, displacement, traction, contact (or traction with contact)")
     if s.has("clamp"):
         if not s.boolean("clamp", False):
             s.fail("clamp", "must be true when given")

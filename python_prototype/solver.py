@@ -272,11 +272,12 @@ class LinearSolver:
         if (ierr or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
                 and pc.getFactorSolverType() == "petsc":
             # A quasi-definite matrix with a negative block at round-off can
-            # still meet a tiny pivot: factorise once more with MUMPS.
+            # still meet a tiny pivot: factorise once more with UMFPACK, which
+            # pivots (one rank, as PETSc's LU; cpp/solver.cpp).
             options = PETSc.Options()
-            options.setValue(self.prefix + "pc_factor_mat_solver_type", "mumps")
-            options.delValue(self.prefix + "pc_factor_mat_ordering_type")
-            set_default_option(self.prefix + "mat_mumps_icntl_14", "400")
+            options.setValue(self.prefix + "pc_factor_mat_solver_type", "umfpack")
+            # its own ordering, not the nested dissection the PC kept
+            options.setValue(self.prefix + "pc_factor_mat_ordering_type", "external")
             A, P = self.ksp.getOperators()
             self.ksp.reset()
             self.ksp.setOperators(A, P)

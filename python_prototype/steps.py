@@ -204,7 +204,7 @@ class MechanicsStep:
         self.bcs, self.bc_values = displacement_bcs(scene, domain, V)
         self.L_traction, self.loads_depend_on_time = [], False
         for name, b in scene.boundaries.items():
-            if b.mechanics == "traction":
+            if b.traction:  # a traction boundary, or a loaded contact boundary
                 self.L_traction.append((b.traction, F.compile("L_traction", domain.marker(name))))
                 self.loads_depend_on_time |= any(e.depends_on_time for e in b.traction)
         self.loads_depend_on_time |= any(e.depends_on_time for e, *_ in self.bc_values)
@@ -294,7 +294,7 @@ class MonolithicStep:
         self.loads_depend_on_time = any(e.depends_on_time for e, *_ in self.bc_values)
         self.L_traction, self.L_pressure = [], []
         for name, b in scene.boundaries.items():
-            if b.mechanics == "traction":
+            if b.traction:  # a traction boundary, or a loaded contact boundary
                 self.L_traction.append((b.traction, F.compile("L_monolithic_traction", domain.marker(name))))
                 self.loads_depend_on_time |= any(e.depends_on_time for e in b.traction)
             if b.flow == "pressure":
