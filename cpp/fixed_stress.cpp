@@ -106,6 +106,9 @@ void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& 
   const fem::FunctionSpace& Q = *flow.pressure_space();
 
   double& ratio_sum = report.ratio_sum;
+  flow.keep_loads(q);
+  if (second_pass)
+    second_pass->keep_loads(q);
 
   // Converged state at t_K: (u_K, p_K).
   Array p_K = copy(*flow.pressure);

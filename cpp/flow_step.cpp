@@ -108,7 +108,6 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   const auto& map = _W->dofmap()->index_map;
   const int bs = _W->dofmap()->index_map_bs();
   _b = std::make_unique<la::Vector<double>>(map, bs);
-  _b_loads = std::make_unique<la::Vector<double>>(map, bs);
 }
 
 std::vector<Field> FlowStep::fields() const
@@ -117,39 +116,44 @@ std::vector<Field> FlowStep::fields() const
   return {Field{"flux", owned_global_dofs(map, _Z_to_W)}, Field{"pressure", owned_global_dofs(map, _Q_to_W)}};
 }
 
-void FlowStep::assemble_loads(double t)
+std::span<const double> FlowStep::loads(double t)
 {
   // Source, boundary pressure and gravity do not change within a time step:
-  // assembled once per step (once per run when they do not depend on t),
-  // with the zero no-flow values set (no lifting: they are zero).
-  if (_loads_assembled and (!_loads_depend_on_time or t == _loads_time))
-    return;
-  _b_loads->set(0.0);
+  // assembled once per time (once per run when they do not depend on t),
+  // with the zero no-flow values set (no lifting: they are zero). The
+  // loads of the last keep_loads() times are kept: a multirate iteration
+  // visits the q fine times of its window again.
+  for (const auto& [time, b] : _loads)
+    if (time == t or !_loads_depend_on_time)
+      return b->array();
+  if (_loads.size() >= _load_times)
+    _loads.pop_front();
+  _loads.emplace_back(t, std::make_unique<la::Vector<double>>(_b->map(), _b->bs()));
+  la::Vector<double>& b = *_loads.back().second;
   if (_L_source)
   {
     interpolate(*_source, {*_scene.flow->source}, t);
-    add_vector(*_b_loads, *_L_source);
+    add_vector(b, *_L_source);
   }
   if (_L_gravity)
-    add_vector(*_b_loads, *_L_gravity);
+    add_vector(b, *_L_gravity);
   for (const auto& [expression, form] : _L_pressure)
   {
     interpolate(*_p_boundary, {*expression}, t);
-    add_vector(*_b_loads, *form);
+    add_vector(b, *form);
   }
-  _b_loads->scatter_rev(std::plus<double>());
-  fem::set_bc(_b_loads->mutable_array(), _bcs);
-  _loads_time = t;
-  _loads_assembled = true;
+  b.scatter_rev(std::plus<double>());
+  fem::set_bc(b.mutable_array(), _bcs);
+  return b.array();
 }
 
 void FlowStep::solve(double t)
 {
   common::Timer assembly("assembly");
-  assemble_loads(t);
+  const std::span<const double> b_loads = loads(t);
   // b = loads - ((S+L)/dt) p^{n+1,m-1} - (L/dt)(p^{n,m} - p^{n,m-1})
   //       + (alpha/(q dt)) div(u^n - u_K), tested with th (forms/biot.py)
-  std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
+  std::copy(b_loads.begin(), b_loads.end(), _b->mutable_array().begin());
   multiply_add(_storage->mat(), *p_previous->x(), *_b);
   if (_stabilisation)
   {

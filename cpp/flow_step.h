@@ -11,6 +11,8 @@
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
+#include <algorithm>
+#include <deque>
 #include <memory>
 #include <optional>
 
@@ -39,6 +41,10 @@ public:
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;
 
+  /// Keeps the loads of the last `times` solve times (q for a multirate
+  /// window, whose iterations revisit its fine times; 1 by default).
+  void keep_loads(int times) { _load_times = static_cast<std::size_t>(std::max(times, 1)); }
+
   /// The matrix depends on dt: reassembled (and refactorised at the next
   /// solve) after set_time_step changed the "dt" constant.
   void time_step_changed();
@@ -57,7 +63,8 @@ public:
   double assembly_time = 0; // right-hand sides
 
 private:
-  void assemble_loads(double t);
+  /// The assembled loads at time t (source, boundary pressure, gravity).
+  std::span<const double> loads(double t);
   /// The flux and pressure DOFs of W: the splits of an iterative solve.
   std::vector<Field> fields() const;
 
@@ -74,10 +81,11 @@ private:
   std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
   std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
   std::unique_ptr<System> _system;
-  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b;
   bool _loads_depend_on_time = false;
-  double _loads_time = -1;
-  bool _loads_assembled = false;
+  // The loads of the last _load_times times, oldest first.
+  std::deque<std::pair<double, std::unique_ptr<dolfinx::la::Vector<double>>>> _loads;
+  std::size_t _load_times = 1;
 };
 
 } // namespace biotcontact

@@ -93,6 +93,9 @@ def run_fixed_stress(scene, P, F, flow, second_pass, mechanics, contraction, out
     accelerated = coupling.acceleration == "anderson"
     V, Q = mechanics.V, flow.Q
     nan = math.nan
+    for step in (flow, second_pass):
+        if step:
+            step.keep_loads(q)
 
     # Converged state at t_K: (u_K, p_K).
     p_K = flow.pressure.x.array.copy()

@@ -121,7 +121,13 @@ class FlowStep:
                              Structure.quasi_definite if storage > 0 else Structure.general,
                              scene.solver.flow, self.fields(W))
         self.b, self.b_loads = fem.Function(W), fem.Function(W)
-        self.loads_time = None
+        # The loads of the last `load_times` times, oldest first (cpp/flow_step.h).
+        self.loads_by_time, self.load_times = [], 1
+
+    def keep_loads(self, times):
+        """Keeps the loads of the last `times` solve times (q for a multirate
+        window, whose iterations revisit its fine times)."""
+        self.load_times = max(times, 1)
 
     def fields(self, W):
         """The flux and pressure DOFs of W (owned, global numbering): the
@@ -130,11 +136,15 @@ class FlowStep:
         return [Field("flux", owned_global_dofs(index_map, self.Z_to_W)),
                 Field("pressure", owned_global_dofs(index_map, self.Q_to_W))]
 
-    def assemble_loads(self, t):
-        """Source, boundary pressure, gravity: once per time (once per run if
-        they do not depend on t)."""
-        if self.loads_time is not None and (not self.loads_depend_on_time or t == self.loads_time):
-            return
+    def loads(self, t):
+        """Source, boundary pressure, gravity at time t: assembled once per
+        time (once per run if they do not depend on t), kept for the last
+        keep_loads() times."""
+        for time_, b in self.loads_by_time:
+            if time_ == t or not self.loads_depend_on_time:
+                return b
+        if len(self.loads_by_time) >= self.load_times:
+            self.loads_by_time.pop(0)
         self.b_loads.x.array[:] = 0.0
         if self.L_source:
             interpolate(self.source, [self.scene.flow.source], t)
@@ -146,15 +156,15 @@ class FlowStep:
             add_vector(self.b_loads, form)
         accumulate_ghosts(self.b_loads)  # the essential flux values are zero: no lifting
         fem.set_bc(self.b_loads.x.array, self.bcs)
-        self.loads_time = t
+        self.loads_by_time.append((t, self.b_loads.x.array.copy()))
+        return self.loads_by_time[-1][1]
 
     def solve(self, t):
         """(z, p) at time t from the coupling data; leaves p in `pressure`:
         b = loads - ((S+L)/dt) p^{n+1,m-1} - (L/dt)(p^{n,m} - p^{n,m-1})
               + (alpha/(q dt)) div(u^n - u_K), tested with th."""
         start = time.perf_counter()
-        self.assemble_loads(t)
-        self.b.x.array[:] = self.b_loads.x.array
+        self.b.x.array[:] = self.loads(t)
         if self.u_iterate is not None:
             self.dp.x.array[:] = self.p_iterate.x.array - self.p_iterate_previous.x.array
             self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
