@@ -49,7 +49,7 @@ long contact_changes(MechanicsStep& mechanics)
   return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
 }
 
-/// The second pass of "multirate-two-pass" (docs/schemes.md). The printed
+/// The second pass of "multirate-two-pass" (docs/multirate-two-pass.md). The printed
 /// multirate scheme damps the fine-step pressure modes that sum to zero
 /// over the window only by L/(S+L) ~ gamma per iteration: the mechanics
 /// sees p^q alone. Here the fine steps are recomputed without L, from p_K

@@ -1,9 +1,9 @@
 // The fixed-stress split, single-rate (q = 1) and multirate (q flow steps per
 // mechanics step): alg. "Single-rate fixed-stress split" and "Multirate
 // fixed-stress split" (paper section 4, eqs. 4.17-4.22), and the two-pass
-// multirate variant ("multirate-two-pass", docs/schemes.md): after the
+// multirate variant ("multirate-two-pass"): after the
 // mechanics, a second flow pass without L, with the new displacement,
-// replaces the fine pressures the mechanics cannot see.
+// replaces the fine pressures the mechanics cannot see (docs/multirate-two-pass.md).
 #pragma once
 
 #include "diagnostics.h"

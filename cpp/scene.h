@@ -97,7 +97,7 @@ struct CouplingSpec
 {
   double alpha = 1;
   /// "fixed-stress" (single rate), "multirate" (the paper's, as printed),
-  /// "multirate-two-pass" (fixed_stress.cpp: a second flow pass without L
+  /// "multirate-two-pass" (docs/multirate-two-pass.md: a second flow pass without L
   /// corrects the fine steps) or "monolithic".
   std::string scheme = "fixed-stress";
   int q = 1;

@@ -1,7 +1,7 @@
 """The fixed-stress split, single-rate (q = 1) and multirate (q flow steps
 per mechanics step): algorithm.md "Single-rate fixed-stress split" and
 "Multirate fixed-stress split" (paper eqs. 4.17-4.22), and the two-pass
-multirate variant ("multirate-two-pass", docs/schemes.md); cpp/fixed_stress.cpp.
+multirate variant ("multirate-two-pass", docs/multirate-two-pass.md); cpp/fixed_stress.cpp.
 """
 import math
 

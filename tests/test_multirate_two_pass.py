@@ -1,5 +1,5 @@
 """The two-pass multirate variant (coupling.scheme = "multirate-two-pass",
-issue 13; docs/schemes.md) on the default scene, whose contact set changes
+issue 13; docs/multirate-two-pass.md) on the default scene, whose contact set changes
 during the run:
 - q = 1 is the single-rate scheme: identical iterations, the same fields to
   1e-12 (the second pass is skipped: its correction would return p^A_1);
