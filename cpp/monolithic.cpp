@@ -205,7 +205,7 @@ void MonolithicStep::assemble_loads(double t)
   _loads_assembled = true;
 }
 
-void MonolithicStep::solve(double t)
+void MonolithicStep::assemble_rhs(double t)
 {
   common::Timer assembly("assembly");
   // Backward Euler from the state at the previous time.
@@ -217,7 +217,24 @@ void MonolithicStep::solve(double t)
   add_vector(*_b, *_L_history);
   finish_rhs(*_b, _a, _bcs);
   assembly_time += assembly.stop();
+}
 
+void MonolithicStep::set_displacement(std::span<const double> values, double t)
+{
+  std::copy(values.begin(), values.end(), u->x()->mutable_array().begin());
+  std::span<double> x = _x->x()->mutable_array();
+  std::span<const double> p = pressure->x()->array();
+  for (std::size_t i = 0; i < _V_to_X.size(); ++i)
+    x[_V_to_X[i]] = values[i];
+  for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
+    x[_Q_to_X[i]] = p[i];
+  // The residual of this state at t is what contact_state() reads.
+  assemble_rhs(t);
+}
+
+void MonolithicStep::solve(double t)
+{
+  assemble_rhs(t);
   la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
   _system->solve(b.vec(), x.vec());
   _x->x()->scatter_fwd();

@@ -50,10 +50,15 @@ public:
   std::span<const double> state() const;
   /// Loads a state() back (and u, pressure from it).
   void set_state(std::span<const double> x);
+  /// Sets the displacement of the state at time t (with the pressure now in
+  /// `pressure`): the initial equilibrium (mechanics.initial_equilibrium).
+  void set_displacement(std::span<const double> u, double t);
 
   double assembly_time = 0; // right-hand sides
 
 private:
+  /// The right-hand side of a step to t from the state in u and pressure.
+  void assemble_rhs(double t);
   void assemble_loads(double t);
   /// The splits of (u, z, p) for the fixed-stress preconditioner: the flow
   /// (flux and pressure), then the mechanics with its rigid-body modes.

@@ -411,6 +411,7 @@ MechanicsSpec read_mechanics(Section s, int d)
   }
   if (s.has("body_force"))
     m.body_force = s.expression_vector("body_force", d);
+  m.initial_equilibrium = s.boolean("initial_equilibrium", false);
   s.finish();
   return m;
 }

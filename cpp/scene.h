@@ -75,6 +75,9 @@ struct MechanicsSpec
 {
   double G = 0, lambda = 0;
   std::optional<std::vector<Expression>> body_force;
+  /// Start from the displacement in equilibrium with the loads at t = 0 and
+  /// the initial pressure (a geostatic initialisation), instead of u = 0.
+  bool initial_equilibrium = false;
 };
 
 /// Permeability: a scalar (number or expression evaluated at cell midpoints)

@@ -170,6 +170,26 @@ void set_step_state(const StepState& s, FlowStep* flow, MechanicsStep* mechanics
     coupled->set_state(s.monolithic);
 }
 
+/// mechanics.initial_equilibrium: replaces u = 0 by the displacement in
+/// equilibrium with the loads at t = 0 and the initial pressure (a geostatic
+/// initialisation). Otherwise loads present from the start, such as the
+/// in-situ stresses, are applied in the first step as a sudden load, whose
+/// undrained pressure response the first flow steps then carry.
+void equilibrate(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                 const Constants& constants, MechanicsStep* mechanics, MonolithicStep* coupled)
+{
+  if (mechanics)
+  {
+    mechanics->solve(0.0);
+    return;
+  }
+  // The coupled system has no mechanics system of its own: one mechanics
+  // step on its displacement space, loaded by its pressure, solved once.
+  MechanicsStep step(scene, domain, forms, constants, coupled->V, coupled->pressure);
+  step.solve(0.0);
+  coupled->set_displacement(step.u->x()->array(), 0.0);
+}
+
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
 Checkpoint capture_state(int steps, double time, const FlowStep* flow, const MechanicsStep* mechanics,
                          const MonolithicStep* coupled, const CouplingReport& report,
@@ -455,6 +475,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
   }
   else
   {
+    if (scene.mechanics and scene.mechanics->initial_equilibrium)
+      equilibrate(scene, domain, forms, constants, mechanics.get(), coupled.get());
     if (p)
       write_flow(0.0);
     if (u)

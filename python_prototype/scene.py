@@ -179,6 +179,9 @@ class MechanicsSpec:
     G: float = 0.0
     lmbda: float = 0.0
     body_force: Optional[list] = None
+    # start from the displacement in equilibrium with the loads at t = 0
+    # and the initial pressure (a geostatic initialisation), not u = 0
+    initial_equilibrium: bool = False
 
 
 @dataclass
@@ -430,6 +433,7 @@ def _read_mechanics(s, d):
             s.fail("lambda", "must be finite with K_dr = lambda + 2G/d > 0")
     if s.has("body_force"):
         m.body_force = s.expression_vector("body_force", d)
+    m.initial_equilibrium = s.boolean("initial_equilibrium", False)
     s.finish()
     return m
 

@@ -129,6 +129,21 @@ def set_step_state(state, flow, mechanics, coupled):
         coupled.set_state(monolithic)
 
 
+def equilibrate(scene, domain, F, mechanics, coupled):
+    """mechanics.initial_equilibrium (cpp/simulation.cpp): replaces u = 0 by
+    the displacement in equilibrium with the loads at t = 0 and the initial
+    pressure (a geostatic initialisation), so that loads present from the
+    start are not applied in the first step as a sudden, undrained load."""
+    if mechanics:
+        mechanics.solve(0.0)
+        return
+    # the coupled system has no mechanics system of its own: one mechanics
+    # step on its displacement space, loaded by its pressure, solved once
+    step = MechanicsStep(scene, domain, F, coupled.pressure)
+    step.solve(0.0)
+    coupled.set_displacement(step.u.x.array, 0.0)
+
+
 def capture_state(steps, t, flow, mechanics, coupled, report, systems, output_state, grid):
     """The state a restart needs after `steps` completed steps (checkpoint.py)."""
     c = Checkpoint(steps, t, output=output_state)
@@ -299,6 +314,8 @@ def run(scene, directory, comm, fingerprint="", restart=False):
                 contact = compute_contact()
             say(f"restarted from the checkpoint at step {completed[0]}, t = {completed[1]:f}")
         else:
+            if scene.mechanics and scene.mechanics.initial_equilibrium:
+                equilibrate(scene, domain, F, mechanics, coupled)
             if p is not None:
                 write_flow(0.0)
             if u is not None:

@@ -375,8 +375,8 @@ class MonolithicStep:
         update(self.bc_values, t)
         self.loads_time = t
 
-    def solve(self, t):
-        """One backward-Euler step to time t from the state in u and pressure."""
+    def assemble_rhs(self, t):
+        """The right-hand side of a step to t from the state in u and pressure."""
         start = time.perf_counter()
         self.u_old.x.array[:] = self.u.x.array
         self.p_old.x.array[:] = self.pressure.x.array
@@ -385,6 +385,19 @@ class MonolithicStep:
         add_vector(self.b, self.L_history)
         finish_rhs(self.b, self.a, self.bcs)
         self.assembly_time += time.perf_counter() - start
+
+    def set_displacement(self, u, t):
+        """Sets the displacement of the state at time t (with the pressure now
+        in `pressure`): the initial equilibrium (mechanics.initial_equilibrium);
+        contact_state() then reads this state's residual."""
+        self.u.x.array[:] = u
+        self.x.x.array[self.V_to_X] = u
+        self.x.x.array[self.Q_to_X] = self.pressure.x.array
+        self.assemble_rhs(t)
+
+    def solve(self, t):
+        """One backward-Euler step to time t from the state in u and pressure."""
+        self.assemble_rhs(t)
         self.system.solve(self.b.vector, self.x.vector)
         self.x.x.scatter_forward()
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
