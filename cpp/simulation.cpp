@@ -528,7 +528,8 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
                                 progress(window, t, iterations);
                               },
                               stop, say};
-      run_fixed_stress(scene, P, constants, *flow, second_pass.get(), *mechanics, contraction, output, observer, report, grid);
+      run_fixed_stress(scene, P, constants, *flow, second_pass.get(), *mechanics, contraction, output, observer,
+                       report, grid);
     }
     else
     {
