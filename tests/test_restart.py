@@ -3,7 +3,8 @@ stopped mid-run (SIGTERM, which also writes a checkpoint, or SIGKILL, which
 leaves the last periodic one) and continued with --restart DIR ends with the
 uninterrupted run's fields (to 1e-12), output times, iterations.csv and
 summary counts (a restart factorises again and forms the Schur complement
-again: those two counts differ), for the single-rate, multirate and
+again: those two counts differ), for the single-rate, multirate, two-pass
+multirate and
 monolithic schemes with contact; the prototype does the same. A restart of
 another scene, or of a directory without a checkpoint, is refused."""
 import json
@@ -58,6 +59,8 @@ def run(exe, *arguments):
 CASES = [("single rate", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGTERM),
          ("single rate after SIGKILL", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGKILL),
          ("multirate", BINARY, ["--set", "coupling.scheme=multirate", "--set", "coupling.q=4"], signal.SIGTERM),
+         ("two-pass multirate", BINARY, ["--set", "coupling.scheme=multirate-two-pass", "--set", "coupling.q=4"],
+          signal.SIGTERM),
          ("monolithic", BINARY, ["--set", "coupling.scheme=monolithic", "--set", "mesh.cells=[160,16]"],
           signal.SIGTERM),
          ("prototype, single rate", "prototype", [], signal.SIGTERM)]
