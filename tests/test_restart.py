@@ -4,9 +4,9 @@ leaves the last periodic one) and continued with --restart DIR ends with the
 uninterrupted run's fields (to 1e-12), output times, iterations.csv and
 summary counts (a restart factorises again and forms the Schur complement
 again: those two counts differ), for the single-rate, multirate, two-pass
-multirate and
-monolithic schemes with contact; the prototype does the same. A restart of
-another scene, or of a directory without a checkpoint, is refused."""
+multirate and monolithic schemes with contact; the prototype does the same.
+A restart of another scene, or of a directory without a checkpoint, is
+refused."""
 import json
 import os
 import signal
