@@ -126,9 +126,17 @@ std::span<const double> FlowStep::loads(double t)
   for (const auto& [time, b] : _loads)
     if (time == t or !_loads_depend_on_time)
       return b->array();
+  // The oldest entry's vector is reused once the window is full.
+  std::unique_ptr<la::Vector<double>> vector;
   if (_loads.size() >= _load_times)
+  {
+    vector = std::move(_loads.front().second);
     _loads.pop_front();
-  _loads.emplace_back(t, std::make_unique<la::Vector<double>>(_b->map(), _b->bs()));
+    vector->set(0.0);
+  }
+  else
+    vector = std::make_unique<la::Vector<double>>(_b->map(), _b->bs());
+  _loads.emplace_back(t, std::move(vector));
   la::Vector<double>& b = *_loads.back().second;
   if (_L_source)
   {
