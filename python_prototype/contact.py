@@ -13,7 +13,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .linear_algebra import accumulate_ghosts, add_vector, owned
+from .linear_algebra import accumulate_ghosts, add_vector, owned, set_lag_preconditioner
 from .schur_complement import SchurComplement
 from .inactive_set_preconditioner import InactiveSetPreconditioner
 from .solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, OptionsError, SolverError, SolverStage, Structure,
@@ -212,7 +212,7 @@ class ContactSolver:
         """A was reassembled: H is formed again, "rebuild once, then reuse" re-armed."""
         self.schur_current = False
         if self.lag_by_default:
-            self.snes.setLagPreconditioner(-2)
+            set_lag_preconditioner(self.snes, -2)
 
     def _active_contact_dofs(self, x):
         """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed against it."""

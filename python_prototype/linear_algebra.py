@@ -4,6 +4,8 @@ are solved: solver.py.
 Right-hand sides are Functions used as vectors: `.x.array` holds owned and
 ghost entries (assembly adds into both), `.vector` is the PETSc view.
 """
+import ctypes
+
 import numpy as np
 from dolfinx import fem
 from dolfinx.cpp.la import ScatterMode
@@ -110,3 +112,14 @@ def owned_global_dofs(index_map, local):
     local = np.asarray(local)
     owned_local = local[local < index_map.size_local]
     return np.sort(index_map.local_range[0] + owned_local).astype(PETSc.IntType)
+
+
+def set_lag_preconditioner(snes, lag):
+    """SNESSetLagPreconditioner, which petsc4py 3.18 does not wrap: called in
+    the PETSc library petsc4py itself loaded, on the object's handle."""
+    petsc = ctypes.CDLL(PETSc.__file__, mode=ctypes.RTLD_GLOBAL)
+    set_lag = petsc.SNESSetLagPreconditioner
+    set_lag.argtypes = (ctypes.c_void_p, ctypes.c_int32 if PETSc.IntType == np.int32 else ctypes.c_int64)
+    set_lag.restype = ctypes.c_int
+    if set_lag(snes.handle, lag) != 0:
+        raise RuntimeError("SNESSetLagPreconditioner failed")
