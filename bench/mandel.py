@@ -9,7 +9,7 @@ scenes/mandel.toml with time.end=50 at cells [40,4] dt 25, [80,8] dt 12.5,
 [160,16] dt 6.25 and [320,32] dt 3.125 (dt = 1000/nx for any --cells).
 The error is the cell-area weighted relative l2 error of the P0 pressure at
 the cell centres at the final time, against the closed form of
-python_prototype/closed_form.py (Mandel), read from solution.h5; the runs
+python_prototype/diagnostics/closed_form.py (Mandel), read from solution.h5; the runs
 therefore write XDMF and their wall time includes the output. The closed
 form takes its parameters from the scene file: --set must not change them.
 Writes bench/results/mandel.csv, one row per run and repetition.
@@ -26,10 +26,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
 
 sys.path.insert(0, common.ROOT)
-from python_prototype.time_series import read_time_series  # noqa: E402
+from python_prototype.output.time_series import read_time_series  # noqa: E402
 
 sys.path.insert(0, common.ROOT)
-from python_prototype.closed_form import Mandel  # noqa: E402
+from python_prototype.diagnostics.closed_form import Mandel  # noqa: E402
 
 NAME = "mandel"
 SCENE = "scenes/mandel.toml"

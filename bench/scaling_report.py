@@ -1,6 +1,6 @@
 """The scaling section of docs/performance.md (bench/scaling.py's CSV):
 tables of medians, the plot of time per unknown per coupling iteration, the
-issue-10 targets and the crossover that `auto` uses (cpp/solver.h)."""
+issue-10 targets and the crossover that `auto` uses (cpp/solvers/solver.h)."""
 import os
 import re
 
@@ -12,8 +12,8 @@ FIELDS = ["unknowns", "flow_unknowns", "mechanics_unknowns", "wall_s", "coupling
           "flow_setups", "mechanics_setups", "active_set_changes", "flow_total_s", "mechanics_total_s",
           "flow_setup_s", "mechanics_setup_s", "peak_rss_mb", "kb_per_unknown"]
 KEYS = ["dimension", "cells", "solver", "ranks"]
-# cpp/solver.h: systems with at least this many unknowns are solved iteratively by "auto".
-CROSSOVER_FILE = os.path.join(common.ROOT, "cpp", "solver.h")
+# cpp/solvers/solver.h: systems with at least this many unknowns are solved iteratively by "auto".
+CROSSOVER_FILE = os.path.join(common.ROOT, "cpp", "solvers", "solver.h")
 
 
 def entries(rows):
@@ -23,7 +23,7 @@ def entries(rows):
 
 
 def crossovers():
-    """{(dimension, system): unknowns} from cpp/solver.h."""
+    """{(dimension, system): unknowns} from cpp/solvers/solver.h."""
     with open(CROSSOVER_FILE) as f:
         text = f.read()
     return {(d, system): int(value) for d, system, value in re.findall(r"crossover_(\d)d_(mechanics|flow) = (\d+)", text)}
@@ -102,7 +102,7 @@ def ranks_target(es):
 
 def auto_target(es):
     """Per system and size (1 rank): the faster method by the system's total
-    time against the one `auto` picks from the crossovers in cpp/solver.h."""
+    time against the one `auto` picks from the crossovers in cpp/solvers/solver.h."""
     label = "`auto` picks the faster method per system (1 rank)"
     limits = crossovers()
     checked, wrong = 0, []

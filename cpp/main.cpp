@@ -5,11 +5,11 @@
 //
 // Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
 // coupling did not converge (what was finished is written), 1 anything else.
-#include "domain.h"
-#include "interruption.h"
-#include "scene.h"
+#include "domain/domain.h"
+#include "output/interruption.h"
+#include "scene/scene.h"
 #include "simulation.h"
-#include "solver.h"
+#include "solvers/solver.h"
 
 #include <cstdio>
 #include <cstring>

@@ -2,7 +2,7 @@
 // mechanics step -> coupling scheme -> output and diagnostics.
 #pragma once
 
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <mpi.h>
 #include <string>

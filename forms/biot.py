@@ -167,7 +167,7 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     # block stabilised by L as in the split's flow step, -((S+L)/dt)(p, th).
     # One block Gauss-Seidel sweep on it, flow first and then mechanics with
     # the new pressure, is one fixed-stress iteration from a zero guess
-    # (cpp/solver.h, the monolithic Krylov method).
+    # (cpp/solvers/solver.h, the monolithic Krylov method).
     a_monolithic_preconditioner = (elastic(um, vm) - pressure_load(pm, vm) + darcy(zm, pm, wm)
                                    + mass(zm, pm, thm, storage + L) - alpha / dt * div(um) * thm * dx)
     L_monolithic_history = (-storage / dt * p_previous * thm * dx
@@ -212,7 +212,7 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
             and k not in ("space", "coefficient", "constant", "domain", "cell", "d", "names")}
 
 
-# Forms compiled for C++, in this order (see cpp/forms.h).
+# Forms compiled for C++, in this order (see cpp/assembly/forms.h).
 FORM_NAMES = [
     "a_elastic", "a_pressure_load", "L_body_force", "L_traction", "L_lumped_boundary",
     "a_flow", "a_flow_storage", "a_flow_stabilisation", "a_flow_displacement", "L_flow_source",

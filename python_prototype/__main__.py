@@ -82,7 +82,7 @@ def compare_main(argv):
     if len(argv) != 2:
         print("biotcontact: error: expected 'compare DIR_A DIR_B [--tolerance T]' (see --help)", file=sys.stderr)
         return 2
-    from .compare import compare
+    from .diagnostics.compare import compare
     return compare(argv[0], argv[1], tolerance)
 
 
@@ -106,11 +106,11 @@ def main(argv):
     # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
-    from .domain import check_expressions, create_domain
-    from .interruption import install_interruption_handlers
-    from .scene import SceneError, read_scene
+    from .domain.domain import check_expressions, create_domain
+    from .output.interruption import install_interruption_handlers
+    from .scene.scene import SceneError, read_scene
     from .simulation import run
-    from .solver import OptionsError, SolverError
+    from .solvers.solver import OptionsError, SolverError
 
     comm = MPI.COMM_WORLD
     install_interruption_handlers()

@@ -8,18 +8,21 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from .checkpoint import Checkpoint, read_checkpoint, write_checkpoint
-from .closed_form import Mandel, Terzaghi
-from .domain import check_expressions, create_domain
-from .fixed_stress import CouplingError, CouplingReport, run_fixed_stress
-from .forms import Forms, derive_parameters, set_constants, set_time_step
-from .output import Output
-from .contact import ContactState
-from .interruption import interruption_signal
-from .time_grid import retry_step, time_grid
-from .solver import Method, SolverError, SolverStatistics
-from .steps import (ContractionNorm, FlowStep, MechanicsStep, MonolithicStep, relative_error,
-                    volumetric_stress)
+from .output.checkpoint import Checkpoint, read_checkpoint, write_checkpoint
+from .diagnostics.closed_form import Mandel, Terzaghi
+from .domain.domain import check_expressions, create_domain
+from .coupling.fixed_stress import CouplingError, CouplingReport, run_fixed_stress
+from .assembly.forms import Forms
+from .assembly.parameters import derive_parameters, set_constants, set_time_step
+from .output.output import Output
+from .contact.contact import ContactState
+from .output.interruption import interruption_signal
+from .steps.time_grid import retry_step, time_grid
+from .solvers.solver import Method, SolverError, SolverStatistics
+from .diagnostics.diagnostics import ContractionNorm, relative_error, volumetric_stress
+from .steps.flow_step import FlowStep
+from .steps.mechanics_step import MechanicsStep
+from .steps.monolithic_step import MonolithicStep
 
 RUN_OK, RUN_NOT_CONVERGED = 0, 3
 

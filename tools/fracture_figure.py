@@ -17,7 +17,7 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
-from python_prototype.time_series import Fields  # noqa: E402
+from python_prototype.output.time_series import Fields  # noqa: E402
 
 A, G0 = 15.0, 0.005  # the scene's fracture half-height and largest half-aperture (m)
 DAY = 86400.0

@@ -24,7 +24,7 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
-from python_prototype.time_series import read_time_series  # noqa: E402
+from python_prototype.output.time_series import read_time_series  # noqa: E402
 
 
 class PlotError(Exception):

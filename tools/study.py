@@ -31,8 +31,8 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
-from python_prototype.closed_form import Terzaghi  # noqa: E402
-from python_prototype.time_series import Fields  # noqa: E402
+from python_prototype.diagnostics.closed_form import Terzaghi  # noqa: E402
+from python_prototype.output.time_series import Fields  # noqa: E402
 
 COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "coupling_iterations",
            "flow_solves", "mechanics_solves", "monolithic_solves", "wall_time_s", "time_flow_s",

@@ -13,7 +13,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, ROOT)
-from python_prototype.time_series import Fields  # noqa: E402
+from python_prototype.output.time_series import Fields  # noqa: E402
 
 DEFAULT = "default"
 CASES = {

@@ -1,0 +1,120 @@
+#include "assembly/linear_algebra.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/petsc.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+la::petsc::Matrix assemble_matrix(const fem::Form<double>& a, const BCs& bcs)
+{
+  la::petsc::Matrix A(fem::petsc::create_matrix(a), false);
+  reassemble_matrix(A.mat(), a, bcs);
+  return A;
+}
+
+void reassemble_matrix(Mat A, const fem::Form<double>& a, const BCs& bcs)
+{
+  // The operator, then 1 on the diagonal of the Dirichlet rows.
+  reassemble_operator(A, a, bcs);
+  fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES), *a.function_spaces()[0], bcs);
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+la::petsc::Matrix assemble_operator(const fem::Form<double>& a, const BCs& bcs)
+{
+  la::petsc::Matrix A(fem::petsc::create_matrix(a), false);
+  reassemble_operator(A.mat(), a, bcs);
+  return A;
+}
+
+void reassemble_operator(Mat A, const fem::Form<double>& a, const BCs& bcs)
+{
+  MatZeroEntries(A);
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), a, bcs);
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+void difference(const la::Vector<double>& a, const la::Vector<double>& b, la::Vector<double>& d)
+{
+  std::transform(a.array().begin(), a.array().end(), b.array().begin(), d.mutable_array().begin(),
+                 std::minus<double>());
+}
+
+void multiply_add(Mat A, const la::Vector<double>& x, la::Vector<double>& y)
+{
+  // MatMult only reads x: the wrap of a const vector is safe.
+  la::petsc::Vector xv = wrap(const_cast<la::Vector<double>&>(x)), yv = wrap(y);
+  MatMultAdd(A, xv.vec(), yv.vec(), yv.vec());
+}
+
+void add_vector(la::Vector<double>& b, const fem::Form<double>& L)
+{
+  fem::assemble_vector(b.mutable_array(), L);
+}
+
+void finish_rhs(la::Vector<double>& b, std::shared_ptr<const fem::Form<double>> a, const BCs& bcs)
+{
+  if (!bcs.empty())
+    fem::apply_lifting<double>(b.mutable_array(), {a}, {bcs}, {}, 1.0);
+  b.scatter_rev(std::plus<double>());
+  if (!bcs.empty())
+    fem::set_bc(b.mutable_array(), bcs);
+}
+
+la::petsc::Vector wrap(la::Vector<double>& x)
+{
+  return la::petsc::Vector(la::petsc::create_vector_wrap(x), false);
+}
+
+MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std::int32_t>& position)
+{
+  // PETSc builds the modes from the coordinates of the owned nodes, given
+  // as a vector with the block size d laid out like the displacement.
+  const int d = V.dofmap()->index_map_bs();
+  const std::int32_t nodes = V.dofmap()->index_map->size_local();
+  const std::vector<double> x = V.tabulate_dof_coordinates(false); // 3 per node
+  Vec coordinates;
+  VecCreateMPI(V.mesh()->comm(), d * nodes, PETSC_DETERMINE, &coordinates);
+  VecSetBlockSize(coordinates, d);
+  PetscScalar* c;
+  VecGetArray(coordinates, &c);
+  for (std::int32_t i = 0; i < nodes; ++i)
+    for (int k = 0; k < d; ++k)
+    {
+      const std::int32_t at = position.empty() ? d * i + k : position[d * i + k];
+      if (at % d != k)
+        throw std::logic_error("rigid_body_modes: the numbering splits the components of a node");
+      c[at] = x[3 * i + k];
+    }
+  VecRestoreArray(coordinates, &c);
+  MatNullSpace modes;
+  MatNullSpaceCreateRigidBody(coordinates, &modes);
+  VecDestroy(&coordinates);
+  return modes;
+}
+
+std::int32_t owned_size(const fem::FunctionSpace& V)
+{
+  return V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
+}
+
+std::vector<PetscInt> owned_global_dofs(const common::IndexMap& map, const std::vector<std::int32_t>& local)
+{
+  const std::int32_t owned = map.size_local();
+  const std::int64_t first = map.local_range()[0];
+  std::vector<PetscInt> dofs;
+  for (std::int32_t i : local)
+    if (i < owned)
+      dofs.push_back(static_cast<PetscInt>(first + i));
+  std::sort(dofs.begin(), dofs.end());
+  return dofs;
+}
+
+} // namespace biotcontact

@@ -1,0 +1,147 @@
+#include "assembly/parameters.h"
+
+#include <cmath>
+#include <xtensor/xarray.hpp>
+#include <xtensor/xbuilder.hpp>
+#include <xtensor/xtensor.hpp>
+
+namespace biotcontact
+{
+using dolfinx::fem::Constant;
+
+Parameters derive_parameters(const Scene& scene)
+{
+  Parameters P;
+  P.d = scene.mesh.dimension;
+  P.dt = scene.dt;
+  if (scene.mechanics)
+  {
+    P.G = scene.mechanics->G;
+    P.lambda = scene.mechanics->lambda;
+    P.K_dr = P.lambda + 2 * P.G / P.d;
+  }
+  if (scene.flow)
+    P.storage = scene.flow->storage();
+  if (scene.coupling)
+  {
+    const CouplingSpec& c = *scene.coupling;
+    P.alpha = c.alpha;
+    P.q = c.q;
+    const double a2 = P.alpha * P.alpha;
+    if (c.L_choice == "paper")
+      P.L = a2 / P.lambda;
+    else if (c.L_choice == "kdr")
+      P.L = a2 / P.K_dr;
+    else if (c.L_choice == "half-kdr")
+      P.L = a2 / (2 * P.K_dr);
+    else
+      P.L = c.L_number;
+    P.gamma = a2 > 0 ? a2 / (a2 + P.lambda * P.storage) : 0.0;
+  }
+  return P;
+}
+
+Constants make_constants(const Scene& scene, const Parameters& P)
+{
+  auto scalar = [](double v) { return std::make_shared<const Constant<double>>(v); };
+  Constants c;
+  c["G"] = scalar(P.G);
+  c["lmbda"] = scalar(P.lambda);
+  c["alpha"] = scalar(P.alpha);
+  c["storage"] = scalar(P.storage);
+  c["L"] = scalar(P.L);
+  c["dt"] = scalar(P.dt);
+  c["q"] = scalar(P.q);
+  c["ones"] = std::make_shared<const Constant<double>>(std::vector<double>(P.d, 1.0));
+  std::vector<double> g(P.d, 0.0);
+  double rho_f = 0;
+  if (scene.flow and scene.flow->gravity)
+  {
+    g = *scene.flow->gravity;
+    rho_f = *scene.flow->rho_f;
+  }
+  c["rho_f"] = scalar(rho_f);
+  c["gravity"] = std::make_shared<const Constant<double>>(g);
+  return c;
+}
+
+bool set_time_step(const Constants& constants, double dt)
+{
+  // The forms see the constants as const; the run owns them and may change
+  // this one between steps.
+  auto c = std::const_pointer_cast<Constant<double>>(constants.at("dt"));
+  if (c->value[0] == dt)
+    return false;
+  c->value[0] = dt;
+  return true;
+}
+
+void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t)
+{
+  const std::size_t n = components.size();
+  f.interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        const std::size_t npts = x.shape(1);
+        xt::xarray<double> values = n == 1 ? xt::xarray<double>::from_shape({npts})
+                                           : xt::xarray<double>::from_shape({n, npts});
+        for (std::size_t j = 0; j < npts; ++j)
+          for (std::size_t i = 0; i < n; ++i)
+            values.data()[i * npts + j] = components[i](x(0, j), x(1, j), x(2, j), t);
+        return values;
+      });
+}
+
+/// mu_f K^-1 as a cell-wise d x d tensor (K from a scalar expression
+/// evaluated at cell midpoints, or a constant tensor).
+void interpolate_resistivity(dolfinx::fem::Function<double>& R, const FlowSpec& flow, int d)
+{
+  std::vector<double> Kinv(d * d, 0.0);
+  if (flow.permeability_tensor)
+  {
+    const std::vector<double>& K = *flow.permeability_tensor;
+    if (d == 2)
+    {
+      const double det = K[0] * K[3] - K[1] * K[2];
+      Kinv = {K[3] / det, -K[1] / det, -K[2] / det, K[0] / det};
+    }
+    else
+    {
+      const double det = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
+                         + K[2] * (K[3] * K[7] - K[4] * K[6]);
+      Kinv = {(K[4] * K[8] - K[5] * K[7]) / det, (K[2] * K[7] - K[1] * K[8]) / det,
+              (K[1] * K[5] - K[2] * K[4]) / det, (K[5] * K[6] - K[3] * K[8]) / det,
+              (K[0] * K[8] - K[2] * K[6]) / det, (K[2] * K[3] - K[0] * K[5]) / det,
+              (K[3] * K[7] - K[4] * K[6]) / det, (K[1] * K[6] - K[0] * K[7]) / det,
+              (K[0] * K[4] - K[1] * K[3]) / det};
+    }
+  }
+  const Expression* k = flow.permeability ? &*flow.permeability : nullptr;
+  const double mu_f = flow.mu_f;
+  R.interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        const std::size_t n = x.shape(1);
+        xt::xarray<double> v = xt::zeros<double>({static_cast<std::size_t>(d * d), n});
+        for (std::size_t j = 0; j < n; ++j)
+        {
+          if (k)
+          {
+            const double kj = (*k)(x(0, j), x(1, j), x(2, j), 0.0);
+            if (!(kj > 0) or !std::isfinite(kj))
+              throw SceneError("flow.permeability: must be positive, got " + std::to_string(kj)
+                               + " at (" + std::to_string(x(0, j)) + ", "
+                               + std::to_string(x(1, j)) + ")");
+            for (int i = 0; i < d; ++i)
+              v(i * d + i, j) = mu_f / kj;
+          }
+          else
+            for (int i = 0; i < d * d; ++i)
+              v(i, j) = mu_f * Kinv[i];
+        }
+        return v;
+      });
+}
+
+
+} // namespace biotcontact

@@ -1,0 +1,83 @@
+// Static condensation of A x = b onto the contact DOFs C.
+//
+// Only the contact DOFs carry bounds, so the variational inequality of
+// contact.h can be posed on C alone. With I the other DOFs,
+//     x_I = A_II^{-1} (b_I - A_IC y)                 for x_C = y,
+// and the residual on C of that x is
+//     (A x - b)_C = H y - g,   H = A_CC - A_CI A_II^{-1} A_IC,
+//                              g = b_C - A_CI A_II^{-1} b_I,
+// the Schur complement H (m x m, m = number of contact DOFs) and the
+// condensed load g. The bound-constrained problem on (H, g) has the same
+// solution y = x_C as the one on (A, b), and the same active sets.
+//
+// A_II^{-1} is applied through one factorisation of A_C, the matrix A with
+// the rows and columns of C replaced by identity rows (C clamped): it is
+// valid for every inactive set, so the large matrix is factorised once per
+// operator, never per active-set change. H is formed once per operator from
+// m back-solves (in blocks of right-hand sides) and kept dense and
+// replicated on every rank; each solve then costs two back-solves of A_C
+// (one for g, one to extend y to x) and a VI on the small dense H.
+#pragma once
+
+#include "solvers/solver.h"
+
+#include <memory>
+#include <petscmat.h>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+class SchurComplement
+{
+public:
+  /// `dofs` are the owned contact DOFs of this rank (local indices of a
+  /// vector like A's columns); the factorisation of A_C uses the options
+  /// with `prefix`, as A's own solver would.
+  SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,
+                  std::vector<std::int32_t> dofs);
+  ~SchurComplement();
+  SchurComplement(const SchurComplement&) = delete;
+  SchurComplement& operator=(const SchurComplement&) = delete;
+
+  /// Factorises A_C and forms H from the current values of A (collective).
+  void assemble();
+
+  /// H: dense m x m on PETSC_COMM_SELF, the same on every rank.
+  Mat matrix() const { return _H; }
+  /// m, the number of contact DOFs over all ranks.
+  PetscInt size() const { return _m; }
+  /// The position in H of this rank's first contact DOF.
+  PetscInt offset() const { return _offset; }
+
+  /// g = b_C - A_CI A_II^{-1} b_I on every rank (one back-solve; collective).
+  void condensed_load(Vec b, Vec g);
+  /// y = x_C on every rank (collective).
+  void restrict_to_contact(Vec x, Vec y);
+  /// x with x_C = y and x_I = A_II^{-1} (b_I - A_IC y) (one back-solve).
+  void extend(Vec b, Vec y, Vec x);
+
+  /// all[offset() + k] = local[k] from every rank, all of size m (collective).
+  void gather(const PetscScalar* local, PetscScalar* all) const;
+
+  /// Right-hand sides solved to form H, and the time it took after the
+  /// factorisation (s).
+  long columns = 0;
+  double time = 0;
+
+private:
+  void form_columns(PetscInt first, PetscInt count);
+
+  MPI_Comm _comm;
+  std::string _prefix;
+  Mat _A, _clamped = nullptr, _H = nullptr;
+  Structure _structure;
+  std::unique_ptr<LinearSolver> _solver;
+  std::vector<std::int32_t> _dofs;
+  std::vector<int> _counts, _displacements; // of each rank's contact DOFs in H
+  PetscInt _m = 0, _offset = 0, _first_row = 0;
+  Vec _v, _w;
+};
+
+} // namespace biotcontact

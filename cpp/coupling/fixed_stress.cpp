@@ -1,0 +1,523 @@
+#include "coupling/fixed_stress.h"
+
+#include "coupling/anderson.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+using Array = std::vector<double>;
+
+Array copy(const fem::Function<double>& f)
+{
+  std::span<const double> x = f.x()->array();
+  return Array(x.begin(), x.end());
+}
+
+void assign(fem::Function<double>& f, const Array& values)
+{
+  std::copy(values.begin(), values.end(), f.x()->mutable_array().begin());
+}
+
+Array difference(const Array& a, const Array& b)
+{
+  Array d(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    d[i] = a[i] - b[i];
+  return d;
+}
+
+/// Ratios measured below this fraction of a window's first ||delta sigma||
+/// are at round-off level (see the loop).
+constexpr double resolved_fraction = 1e-6;
+constexpr double round_off_fraction = 1e-9;
+
+/// increment / size, or the increment itself while size = 0.
+double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
+
+/// Changes of the contact active set so far (0 without contact).
+long contact_changes(MechanicsStep& mechanics)
+{
+  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
+}
+
+/// The second pass of "multirate-two-pass" (docs/multirate-two-pass.md). The printed
+/// multirate scheme damps the fine-step pressure modes that sum to zero
+/// over the window only by L/(S+L) ~ gamma per iteration: the mechanics
+/// sees p^q alone. Here the fine steps are recomputed without L, from p_K
+/// and with the new displacement u^{n+1}:
+///   (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
+///     = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
+/// so they hold no error of their own, only that of u^{n+1}; the window end
+/// keeps the first pass's value p^A_q (the one the mechanics used) through
+///   p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q),   m = 1..q,
+/// the same linear correction applied to the mixed states (z, p). At the
+/// fixed point p^B = p^A: the fixed point is that of the printed scheme.
+void second_pass_correction(FlowStep& second, const Array& p_K, const Array& u_new,
+                            const std::function<double(int)>& t, std::vector<Array>& p_new,
+                            std::vector<Array>& w_new)
+{
+  const int q = static_cast<int>(p_new.size()) - 1;
+  std::vector<Array> p_B(q + 1, p_K), w_B(q + 1);
+  assign(*second.u_iterate, u_new);
+  for (int m = 1; m <= q; ++m)
+  {
+    assign(*second.p_previous, p_B[m - 1]);
+    second.solve(t(m));
+    p_B[m] = copy(*second.pressure);
+    std::span<const double> w = second.state();
+    w_B[m].assign(w.begin(), w.end());
+  }
+  const Array p_end = difference(p_new[q], p_B[q]), w_end = difference(w_new[q], w_B[q]);
+  for (int m = 1; m < q; ++m)
+  {
+    const double s = static_cast<double>(m) / q;
+    for (std::size_t i = 0; i < p_end.size(); ++i)
+      p_new[m][i] = p_B[m][i] + s * p_end[i];
+    for (std::size_t i = 0; i < w_end.size(); ++i)
+      w_new[m][i] = w_B[m][i] + s * w_end[i];
+  }
+}
+
+} // namespace
+
+double inexact_tolerance(double previous_increment)
+{
+  return std::clamp(1e-2 * previous_increment, iterative_tolerance, 1e-4);
+}
+
+namespace
+{
+
+/// One window's iterates: p^{n,m} and p^{n+1,m} (m = 0..q; m = 0 is p_K),
+/// u^n and u^{n+1}, the mixed states (z, p)^{n+1,m}, and what the
+/// contraction measure and the error message carry from one iteration to
+/// the next.
+struct Window
+{
+  int K = 0;                           // the window [t_K, t_{K+1}]
+  std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
+  std::vector<Array> p_old, p_new, w_new;
+  Array u_old, u_new;
+  std::optional<AndersonAcceleration> anderson;
+  long active_set_changes = 0;         // at the last Anderson restart
+  double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
+  double increment = 1;                // max(dp, du) of the last iteration
+  std::vector<std::string> log;        // the last iterations, for the error message
+};
+
+/// What one coupling iteration measured on its increments.
+struct Increments
+{
+  Array du;
+  double dsigma = 0;   // ||delta sigma|| of Theorem 1 (q = 1) or 2 (multirate)
+  double theorem2 = 0; // Theorem 2's quantity (NaN without L)
+  double ratio = 0;    // dsigma / the previous iteration's (NaN at n = 0)
+  double dp2 = 0, p2 = 0;
+};
+
+/// The fixed-stress split as a sequence of windows, each iterated to
+/// convergence in the stages of paper section 4: flow pass (eq. 4.17-4.19),
+/// mechanics pass (eq. 4.20-4.22), contraction measure (Theorems 1 and 2),
+/// stopping test, next iterate, and accept or retry.
+class FixedStressSplit
+{
+public:
+  FixedStressSplit(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
+                   FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
+                   const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
+      : _scene(scene), _coupling(*scene.coupling), _P(P), _constants(constants), _flow(flow),
+        _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
+        _observer(observer), _report(report), _grid(grid), _q(P.q), _V(*mechanics.space()),
+        _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
+  {
+  }
+
+  void run();
+
+private:
+  enum class Outcome
+  {
+    converged,
+    not_converged,
+    retried
+  };
+
+  /// Fine time m of window K (t_K + m dt for a constant step).
+  double t(int K, int m) const { return _grid.t[K * _q + m]; }
+  void start();
+  Window begin_window(int K);
+  Outcome iterate_window(Window& w, int& n);
+  bool iteration(Window& w, int n);
+  void flow_pass(Window& w);
+  void mechanics_pass(Window& w);
+  Increments measure_contraction(const Window& w, int n) const;
+  void hold_against_gamma(Window& w, const Increments& inc, int n);
+  std::pair<double, double> stopping_test(Window& w, const Increments& inc, int n);
+  void next_iterate(Window& w);
+  void record_coupled_residual(const Window& w, const Increments& inc);
+  bool retry(const Window& w, const std::string& cause);
+  CouplingError not_converged(const Window& w);
+  void accept_window(const Window& w, int n);
+
+  const Scene& _scene;
+  const CouplingSpec& _coupling;
+  const Parameters& _P;
+  const Constants& _constants;
+  FlowStep& _flow;
+  FlowStep* _second_pass;
+  MechanicsStep& _mechanics;
+  ContractionNorm& _contraction;
+  Output& _output;
+  const WindowObserver& _observer;
+  CouplingReport& _report;
+  TimeGrid& _grid;
+  const int _q;
+  const fem::FunctionSpace& _V;
+  const fem::FunctionSpace& _Q;
+  const bool _accelerated;
+  Array _p_K, _u_K; // the converged state at t_K
+  int _attempts = 0; // retries of the current window (time.retry)
+};
+
+/// The converged state at the start (t = 0 or the restart's window) and the
+/// scales of the stopping test: the largest p (summed over the q fine
+/// steps) and u of the run so far.
+void FixedStressSplit::start()
+{
+  _flow.keep_loads(_q);
+  if (_second_pass)
+    _second_pass->keep_loads(_q);
+  _p_K = copy(*_flow.pressure);
+  _u_K = copy(*_mechanics.u);
+  if (_report.windows == 0)
+  {
+    _report.p_size = std::sqrt(static_cast<double>(_q)) * owned_norm(_p_K, _Q);
+    _report.u_size = owned_norm(_u_K, _V);
+  }
+}
+
+/// The first iterate of window K: p^{0,m} = p_K for all m, u^0 = u_K; with
+/// coupling.acceleration = "anderson" the Anderson state (p^1, ..., p^q, u),
+/// weighted by the scales of the stopping test (coupling/anderson.h).
+Window FixedStressSplit::begin_window(int K)
+{
+  if (set_time_step(_constants, _grid.dt[K * _q]))
+  {
+    _flow.time_step_changed();
+    if (_second_pass)
+      _second_pass->time_step_changed();
+  }
+  Window w;
+  w.K = K;
+  w.w_K.assign(_flow.state().begin(), _flow.state().end());
+  w.p_old.assign(_q + 1, _p_K);
+  w.p_new.assign(_q + 1, _p_K);
+  w.w_new.resize(_q + 1);
+  w.u_old = _u_K;
+  assign(*_flow.u_window, _u_K);
+  if (_second_pass)
+    assign(*_second_pass->u_window, _u_K);
+  w.active_set_changes = contact_changes(_mechanics);
+  if (_accelerated)
+  {
+    std::vector<std::int32_t> owned(_q, owned_size(_Q));
+    owned.push_back(owned_size(_V));
+    std::vector<double> weights(_q, _report.p_size > 0 ? 1 / _report.p_size : 1.0);
+    weights.push_back(_report.u_size > 0 ? 1 / _report.u_size : 1.0);
+    w.anderson.emplace(_V.mesh()->comm(), _coupling.depth, owned, weights);
+  }
+  return w;
+}
+
+/// (a) q flow steps with u^n lagged (eq. 4.17-4.19):
+///   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
+///     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+///       - ((alpha/q) div(u^n - u_K)/dt, th)
+void FixedStressSplit::flow_pass(Window& w)
+{
+  if (_scene.solver.inexact_coupling)
+  {
+    _flow.system().set_tolerance(inexact_tolerance(w.increment));
+    _mechanics.system().set_tolerance(inexact_tolerance(w.increment));
+  }
+  assign(*_flow.u_iterate, w.u_old);
+  for (int m = 1; m <= _q; ++m)
+  {
+    assign(*_flow.p_previous, w.p_new[m - 1]);
+    assign(*_flow.p_iterate, w.p_old[m]);
+    assign(*_flow.p_iterate_previous, w.p_old[m - 1]);
+    _flow.solve(t(w.K, m));
+    w.p_new[m] = copy(*_flow.pressure);
+    std::span<const double> z_p = _flow.state();
+    w.w_new[m].assign(z_p.begin(), z_p.end());
+  }
+}
+
+/// (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq. 4.20-4.22):
+/// flow.pressure holds it and is the pressure coefficient of the mechanics
+/// load. (c) "multirate-two-pass": the fine steps again, without L, with
+/// u^{n+1}; for q = 1 the correction would return p^A_1 itself.
+void FixedStressSplit::mechanics_pass(Window& w)
+{
+  _mechanics.solve(t(w.K, _q));
+  w.u_new = copy(*_mechanics.u);
+  if (_second_pass and _q > 1)
+    second_pass_correction(*_second_pass, _p_K, w.u_new, [&](int m) { return t(w.K, m); }, w.p_new, w.w_new);
+}
+
+/// The contraction quantities of this iteration's increments: Theorem 1,
+///   delta sigma_v^{n+1} = lambda div(du) - alpha dp,
+/// for the single-rate split, Theorem 2,
+///   delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
+/// (summed over m in l2) for the multirate ones.
+Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
+{
+  Increments inc;
+  inc.du = difference(w.u_new, w.u_old);
+  Array dp_previous(_p_K.size(), 0.0);
+  for (int m = 1; m <= _q; ++m)
+  {
+    const Array dp = difference(w.p_new[m], w.p_old[m]);
+    if (_P.L > 0)
+    {
+      const double t2 = _contraction(_P.alpha / (_q * _P.L), inc.du, 1.0, difference(dp, dp_previous));
+      inc.theorem2 += t2 * t2;
+    }
+    dp_previous = dp;
+    const double dpn = owned_norm(dp, _Q), pn = owned_norm(w.p_new[m], _Q);
+    inc.dp2 += dpn * dpn;
+    inc.p2 += pn * pn;
+  }
+  inc.theorem2 = _P.L > 0 ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
+  if (_coupling.multirate())
+    inc.dsigma = inc.theorem2;
+  else
+    inc.dsigma = _contraction(_P.lambda, inc.du, _P.alpha, difference(w.p_new[1], w.p_old[1]));
+  inc.ratio = n > 0 ? inc.dsigma / w.dsigma_previous : std::numeric_limits<double>::quiet_NaN();
+  return inc;
+}
+
+/// A ratio is held against gamma from the second one on, while the
+/// increments are resolved:
+/// - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0, and
+///   u^0 = u_K is no mechanics solution at this step's loads, which the
+///   proof of Theorem 1 needs for both iterates it subtracts;
+/// - once ||delta sigma|| has fallen six orders below the window's first
+///   one, or below 1e-9 of the norm of the quantity itself, it is made of the
+///   round-off of the solves (the displacement carries ~1e-11 relative
+///   round-off, amplified by div).
+/// The other ratios are logged and counted as unresolved. With acceleration
+/// the iterates are no longer x^{n+1} = G(x^n): ratios are logged only.
+void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int n)
+{
+  const double ratio = inc.ratio;
+  if (n == 0)
+    w.dsigma_first = inc.dsigma;
+  const double size = _coupling.multirate() ? _contraction(_P.alpha / (_q * _P.L), w.u_new, 1.0, w.p_new[_q])
+                                            : _contraction(_P.lambda, w.u_new, _P.alpha, w.p_new[1]);
+  const bool resolved = !_accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
+                        and inc.dsigma >= round_off_fraction * size;
+  if (n > 0 and !resolved)
+    ++_report.unresolved_ratios;
+  if (resolved and std::isfinite(ratio))
+  {
+    _report.max_contraction_ratio = std::max(_report.max_contraction_ratio, ratio);
+    _report.ratio_sum += ratio;
+    ++_report.ratios;
+    if (ratio > _P.gamma)
+      ++_report.bound_violations;
+  }
+  w.dsigma_previous = inc.dsigma;
+}
+
+/// The stopping test's increments (dp, du), logged: l2 norms of the p and u
+/// increments relative to the largest p and u of the run so far (relative
+/// to the current iterate alone, a field decaying to zero, e.g. p at steady
+/// state, would be judged by its round-off). Never on a stale state.
+std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Increments& inc, int n)
+{
+  _report.p_size = std::max(_report.p_size, std::sqrt(inc.p2));
+  _report.u_size = std::max(_report.u_size, owned_norm(w.u_new, _V));
+  const double dp_norm = relative(std::sqrt(inc.dp2), _report.p_size);
+  const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
+  _output.iteration({w.K + 1, t(w.K, _q), n + 1, inc.dsigma, inc.ratio, _P.gamma, dp_norm, du_norm,
+                     _mechanics.active_contact_nodes()});
+  if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
+    // The iterates hold NaN or inf (a load or coefficient that is not
+    // finite): no further iteration can recover.
+    throw SolverError("non-finite values (NaN or inf) in the "
+                      + std::string(std::isfinite(inc.p2) ? "displacement" : "pressure"));
+  std::ostringstream entry;
+  entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << inc.dsigma << ";";
+  w.log.push_back(entry.str());
+  return {dp_norm, du_norm};
+}
+
+/// The iterate the next flow pass reads: the map value (p^{n+1}, u^{n+1}),
+/// or with Anderson a combination of the last map values. The differences
+/// of earlier iterations describe the map of their contact active set
+/// only: a new set restarts the history.
+void FixedStressSplit::next_iterate(Window& w)
+{
+  if (!w.anderson)
+  {
+    w.p_old = w.p_new;
+    w.u_old = w.u_new;
+    return;
+  }
+  if (const long changes = contact_changes(_mechanics); changes != w.active_set_changes)
+  {
+    w.anderson->restart();
+    w.active_set_changes = changes;
+  }
+  State x(w.p_old.begin() + 1, w.p_old.end()), g(w.p_new.begin() + 1, w.p_new.end());
+  x.push_back(w.u_old);
+  g.push_back(w.u_new);
+  w.anderson->next(x, g);
+  std::copy(x.begin(), x.begin() + _q, w.p_old.begin() + 1);
+  w.u_old = x.back();
+}
+
+/// Coupled residual of an accepted state: the flow equations with u^{n+1}
+/// in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
+/// = L delta sigma^{n+1,m}; relative to the fluid content change.
+void FixedStressSplit::record_coupled_residual(const Window& w, const Increments& inc)
+{
+  if (_P.L <= 0)
+    return;
+  const double change
+      = _contraction(_P.alpha, difference(w.u_new, _u_K), -_P.storage, difference(w.p_new[_q], _p_K));
+  _report.max_coupled_residual
+      = std::max(_report.max_coupled_residual, change > 0 ? _P.L * inc.theorem2 / change : 0.0);
+}
+
+/// One coupling iteration n of window w; true when it converged.
+bool FixedStressSplit::iteration(Window& w, int n)
+{
+  flow_pass(w);
+  mechanics_pass(w);
+  const Increments inc = measure_contraction(w, n);
+  hold_against_gamma(w, inc, n);
+  const auto [dp_norm, du_norm] = stopping_test(w, inc, n);
+  next_iterate(w);
+  w.increment = std::max(dp_norm, du_norm);
+  const bool converged = dp_norm <= _coupling.tolerance and du_norm <= _coupling.tolerance;
+  if (converged)
+    record_coupled_residual(w, inc);
+  return converged;
+}
+
+/// Iterates window w to convergence (n ends as the last iteration's index).
+FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
+{
+  try
+  {
+    for (n = 0; n < _coupling.max_iterations; ++n)
+      if (iteration(w, n))
+        return Outcome::converged;
+  }
+  catch (const SolverError& e)
+  {
+    // The failing solve named its system; the iteration is known here.
+    const std::string cause = "coupling iteration " + std::to_string(n + 1) + ": " + e.what();
+    if (!retry(w, cause))
+      throw SolverError(cause);
+    return Outcome::retried;
+  }
+  return Outcome::not_converged;
+}
+
+/// time.retry: back to the start of the window, whose fine steps are
+/// halved (two windows of q steps); false when no retry is left.
+bool FixedStressSplit::retry(const Window& w, const std::string& cause)
+{
+  const auto message
+      = retry_step(_scene, cause, w.K + 1, _attempts, _grid, w.K * _q, _q, _report.retries);
+  if (!message)
+    return false;
+  _flow.set_state(w.w_K);
+  assign(*_mechanics.u, _u_K);
+  if (_observer.retry)
+    _observer.retry(*message);
+  return true;
+}
+
+/// The error of a window that did not converge in coupling.max_iterations,
+/// with the last increments.
+CouplingError FixedStressSplit::not_converged(const Window& w)
+{
+  std::ostringstream message;
+  message << "the fixed-stress split did not converge in " << _coupling.max_iterations
+          << " iterations at t = " << t(w.K, _q) << " (step " << w.K + 1 << "); last increments:";
+  for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
+    message << w.log[i];
+  return CouplingError(message.str());
+}
+
+/// Accept the window: write every fine flow step, then the mechanics step;
+/// its end state is the next window's start.
+void FixedStressSplit::accept_window(const Window& w, int n)
+{
+  _attempts = 0;
+  for (int m = 1; m <= _q; ++m)
+  {
+    _flow.set_state(w.w_new[m]);
+    _observer.flow_state(t(w.K, m));
+  }
+  _observer.mechanics_state(t(w.K, _q), w.K + 1, n + 1);
+  _report.windows = w.K + 1;
+  _p_K = w.p_new[_q];
+  _u_K = w.u_new;
+}
+
+void FixedStressSplit::run()
+{
+  start();
+  for (int K = _report.windows; K < _grid.steps() / _q; ++K)
+  {
+    Window w = begin_window(K);
+    int n = 0;
+    const Outcome outcome = iterate_window(w, n);
+    if (outcome != Outcome::retried)
+    {
+      const int iterations = std::min(n + 1, _coupling.max_iterations);
+      _report.coupling_iterations += iterations;
+      _report.max_iterations_per_step = std::max(_report.max_iterations_per_step, iterations);
+    }
+    if (outcome == Outcome::not_converged and !retry(w, "the fixed-stress split did not converge"))
+    {
+      _report.mean_contraction_ratio = _report.ratios ? _report.ratio_sum / _report.ratios : 0.0;
+      throw not_converged(w);
+    }
+    if (outcome != Outcome::converged)
+    {
+      K = w.K - 1; // the same window again, on the halved steps
+      continue;
+    }
+    accept_window(w, n);
+    if (_observer.stop and _observer.stop())
+      break;
+  }
+  _report.mean_contraction_ratio = _report.ratios ? _report.ratio_sum / _report.ratios : 0.0;
+}
+
+} // namespace
+
+void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
+                      FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
+                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
+{
+  FixedStressSplit(scene, P, constants, flow, second_pass, mechanics, contraction, output, observer, report, grid)
+      .run();
+}
+
+} // namespace biotcontact

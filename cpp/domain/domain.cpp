@@ -1,0 +1,326 @@
+#include "domain/domain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <dolfinx/fem/CoordinateElement.h>
+#include <dolfinx/io/xdmf_utils.h>
+#include <dolfinx/mesh/generation.h>
+#include <dolfinx/mesh/utils.h>
+#include <filesystem>
+#include <gmsh.h>
+#include <xtensor/xtensor.hpp>
+#include <xtensor/xview.hpp>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::marker(const std::string& name) const
+{
+  const std::vector<std::int32_t>& facets = boundaries.at(name);
+  return std::make_shared<mesh::MeshTags<std::int32_t>>(
+      mesh, dim() - 1, std::vector<std::int32_t>(facets),
+      std::vector<std::int32_t>(facets.size(), 1));
+}
+
+namespace
+{
+
+/// The faces of an axis-aligned box: (axis, lower side?) per boundary name.
+std::map<std::string, std::pair<int, bool>> box_faces(int d)
+{
+  if (d == 2)
+    return {{"left", {0, true}}, {"right", {0, false}}, {"bottom", {1, true}}, {"top", {1, false}}};
+  return {{"left", {0, true}},   {"right", {0, false}}, {"front", {1, true}},
+          {"back", {1, false}},  {"bottom", {2, true}}, {"top", {2, false}}};
+}
+
+/// What rank 0 reads from a gmsh file: nodes, simplices, and the facets of
+/// each named physical group of dimension d-1.
+struct GmshData
+{
+  std::vector<double> x;                 // num_nodes x d
+  std::vector<std::int64_t> cells;       // d+1 node indices per cell
+  std::vector<std::int64_t> facets;      // d node indices per boundary facet
+  std::vector<std::int32_t> facet_group; // index into names
+  std::vector<std::string> names;
+};
+
+GmshData read_gmsh_file(const std::string& file, int d, int refine)
+{
+  GmshData data;
+  gmsh::initialize();
+  gmsh::option::setNumber("General.Terminal", 0);
+  try
+  {
+    gmsh::open(file);
+    if (std::filesystem::path(file).extension() == ".geo")
+      gmsh::model::mesh::generate(d);
+    for (int i = 0; i < refine; ++i)
+      gmsh::model::mesh::refine();
+    std::vector<std::size_t> tags;
+    std::vector<double> coords, parametric;
+    gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, false, false);
+    std::map<std::size_t, std::int64_t> index;
+    for (std::size_t i = 0; i < tags.size(); ++i)
+    {
+      index[tags[i]] = static_cast<std::int64_t>(i);
+      for (int j = 0; j < d; ++j)
+        data.x.push_back(coords[3 * i + j]);
+    }
+    // Cells: triangles (gmsh type 2) or tetrahedra (type 4).
+    std::vector<std::size_t> element_tags, node_tags;
+    gmsh::model::mesh::getElementsByType(d == 2 ? 2 : 4, element_tags, node_tags);
+    for (std::size_t t : node_tags)
+      data.cells.push_back(index.at(t));
+    // Boundaries: the named physical groups of dimension d-1.
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups, d - 1);
+    for (const auto& [dim, tag] : groups)
+    {
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      if (name.empty())
+        name = "group" + std::to_string(tag);
+      const auto group = static_cast<std::int32_t>(data.names.size());
+      data.names.push_back(name);
+      std::vector<int> entities;
+      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+      for (int entity : entities)
+      {
+        std::vector<std::size_t> etags, ntags;
+        gmsh::model::mesh::getElementsByType(d == 2 ? 1 : 2, etags, ntags, entity);
+        for (std::size_t t : ntags)
+          data.facets.push_back(index.at(t));
+        data.facet_group.insert(data.facet_group.end(), etags.size(), group);
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    gmsh::finalize();
+    throw SceneError(file + ": cannot read the gmsh file: " + e.what());
+  }
+  catch (const std::string& e)
+  {
+    // The gmsh API reports its own errors by throwing their text.
+    gmsh::finalize();
+    throw SceneError(file + ": cannot read the gmsh file: " + (e.empty() ? "gmsh failed" : e));
+  }
+  gmsh::finalize();
+  if (data.cells.empty())
+    throw SceneError(file + ": no " + (d == 2 ? std::string("triangles") : "tetrahedra")
+                     + " in the mesh (mesh.dimension = " + std::to_string(d) + ")");
+  return data;
+}
+
+/// A gmsh mesh read on rank 0 and distributed by dolfinx; boundaries are its
+/// named physical groups of dimension d-1.
+Domain read_gmsh(const Scene& scene, MPI_Comm comm)
+{
+  const int d = scene.mesh.dimension;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  GmshData data;
+  std::string error;
+  if (rank == 0)
+  {
+    try
+    {
+      data = read_gmsh_file(scene.mesh.file, d, scene.mesh.refine);
+    }
+    catch (const SceneError& e)
+    {
+      error = e.what();
+    }
+  }
+  // Every rank learns the outcome and the boundary names.
+  std::string names = error.empty() ? "" : "!" + error;
+  for (const std::string& n : data.names)
+    names += n + "\n";
+  int size = static_cast<int>(names.size());
+  MPI_Bcast(&size, 1, MPI_INT, 0, comm);
+  names.resize(size);
+  MPI_Bcast(names.data(), size, MPI_CHAR, 0, comm);
+  if (!names.empty() and names[0] == '!')
+    throw SceneError(names.substr(1));
+
+  const mesh::CellType cell = d == 2 ? mesh::CellType::triangle : mesh::CellType::tetrahedron;
+  Domain domain;
+  domain.mesh = std::make_shared<mesh::Mesh>(mesh::create_mesh(
+      comm, graph::regular_adjacency_list(std::move(data.cells), d + 1),
+      fem::CoordinateElement(cell, 1), data.x, {data.x.size() / d, std::size_t(d)},
+      mesh::GhostMode::shared_facet));
+  domain.mesh->topology_mutable().create_connectivity(d - 1, d);
+  domain.mesh->topology_mutable().create_entities(d - 1);
+  auto [entities, values] = io::xdmf_utils::distribute_entity_data(*domain.mesh, d - 1, data.facets,
+                                                                    data.facet_group);
+  const mesh::MeshTags<std::int32_t> tags = mesh::create_meshtags<std::int32_t>(
+      domain.mesh, d - 1, graph::regular_adjacency_list(std::move(entities), d), values);
+
+  std::vector<std::string> group_names;
+  for (std::size_t start = 0, end; (end = names.find('\n', start)) != std::string::npos; start = end + 1)
+    group_names.push_back(names.substr(start, end - start));
+  for (std::size_t g = 0; g < group_names.size(); ++g)
+  {
+    std::vector<std::int32_t> facets;
+    for (std::size_t i = 0; i < tags.indices().size(); ++i)
+      if (tags.values()[i] == static_cast<std::int32_t>(g))
+        facets.push_back(tags.indices()[i]);
+    std::sort(facets.begin(), facets.end());
+    domain.boundaries[group_names[g]] = facets;
+  }
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (domain.boundaries.count(name) == 0)
+    {
+      std::string known;
+      for (const auto& n : group_names)
+        known += (known.empty() ? "" : ", ") + n;
+      throw SceneError(scene.file + ": boundary." + name + ": unknown boundary name (" + scene.mesh.file
+                       + " has physical groups " + (known.empty() ? "none" : known) + ")");
+    }
+  }
+  return domain;
+}
+
+} // namespace
+
+Domain create_domain(const Scene& scene, MPI_Comm comm)
+{
+  const MeshSpec& m = scene.mesh;
+  if (m.type == "gmsh")
+    return read_gmsh(scene, comm);
+
+  Domain domain;
+  if (m.type == "rectangle")
+  {
+    domain.mesh = std::make_shared<mesh::Mesh>(mesh::create_rectangle(
+        comm, {{{m.lower[0], m.lower[1]}, {m.upper[0], m.upper[1]}}}, {m.cells[0], m.cells[1]},
+        mesh::CellType::triangle, mesh::GhostMode::shared_facet, mesh::DiagonalType::crossed));
+  }
+  else
+  {
+    domain.mesh = std::make_shared<mesh::Mesh>(mesh::create_box(
+        comm, {{{m.lower[0], m.lower[1], m.lower[2]}, {m.upper[0], m.upper[1], m.upper[2]}}},
+        {m.cells[0], m.cells[1], m.cells[2]}, mesh::CellType::tetrahedron,
+        mesh::GhostMode::shared_facet));
+  }
+
+  const int d = m.dimension;
+  const int fdim = d - 1;
+  domain.mesh->topology_mutable().create_connectivity(fdim, d);
+  for (const auto& [name, face] : box_faces(d))
+  {
+    const auto [axis, lower] = face;
+    const double value = lower ? m.lower[axis] : m.upper[axis];
+    const double tol = 1e-10 * (m.upper[axis] - m.lower[axis]);
+    domain.boundaries[name] = mesh::locate_entities_boundary(
+        *domain.mesh, fdim,
+        [axis = axis, value, tol](const xt::xtensor<double, 2>& x) -> xt::xtensor<bool, 1>
+        { return xt::abs(xt::row(x, axis) - value) < tol; });
+  }
+  return domain;
+}
+
+namespace
+{
+/// The first expression of a list that is not finite somewhere: its key
+/// and a description of where.
+struct NonFinite
+{
+  int index = -1;
+  std::string message;
+};
+
+/// Coordinates (3 per point) of the vertices of some facets.
+std::vector<double> facet_vertices(const mesh::Mesh& mesh, const std::vector<std::int32_t>& facets)
+{
+  const int fdim = mesh.topology().dim() - 1;
+  const auto nodes = mesh::entities_to_geometry(mesh, fdim, facets, false);
+  std::span<const double> x = mesh.geometry().x();
+  std::vector<double> points;
+  for (std::int32_t node : nodes)
+    points.insert(points.end(), x.begin() + 3 * node, x.begin() + 3 * node + 3);
+  return points;
+}
+
+std::vector<double> cell_midpoints(const mesh::Mesh& mesh)
+{
+  const int tdim = mesh.topology().dim();
+  const std::int32_t n = mesh.topology().index_map(tdim)->size_local();
+  std::vector<std::int32_t> cells(n);
+  std::iota(cells.begin(), cells.end(), 0);
+  return mesh::compute_midpoints(mesh, tdim, cells);
+}
+} // namespace
+
+void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
+{
+  // (key, expression, points) of every expression the run will evaluate.
+  struct Use
+  {
+    std::string key;
+    const Expression* expression;
+    const std::vector<double>* points;
+    bool time_dependent_use;
+  };
+  std::vector<Use> uses;
+  std::map<std::string, std::vector<double>> boundary_points;
+  for (const auto& [name, b] : scene.boundaries)
+    if (domain.boundaries.count(name))
+      boundary_points[name] = facet_vertices(*domain.mesh, domain.boundaries.at(name));
+  const std::vector<double> midpoints = cell_midpoints(*domain.mesh);
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    const std::vector<double>* at = &boundary_points[name];
+    const std::string key = "boundary." + name;
+    for (std::size_t i = 0; i < b.displacement.size(); ++i)
+      if (b.displacement[i])
+        uses.push_back({key + ".displacement." + "xyz"[i], &*b.displacement[i], at, true});
+    for (const Expression& e : b.traction)
+      uses.push_back({key + ".traction", &e, at, true});
+    if (b.flow == BoundarySpec::Flow::pressure)
+      uses.push_back({key + ".pressure", &b.pressure, at, true});
+  }
+  if (scene.mechanics and scene.mechanics->body_force)
+    for (const Expression& e : *scene.mechanics->body_force)
+      uses.push_back({"mechanics.body_force", &e, &midpoints, true});
+  if (scene.flow)
+  {
+    if (scene.flow->source)
+      uses.push_back({"flow.source", &*scene.flow->source, &midpoints, true});
+    if (scene.flow->permeability)
+      uses.push_back({"flow.permeability", &*scene.flow->permeability, &midpoints, false});
+    uses.push_back({"flow.initial_pressure", &scene.flow->initial_pressure, &midpoints, false});
+  }
+
+  NonFinite found;
+  for (std::size_t k = 0; k < uses.size() and found.index < 0; ++k)
+  {
+    const Use& use = uses[k];
+    const std::vector<double>& p = *use.points;
+    for (double t : use.time_dependent_use ? std::vector<double>{0.0, scene.end_time} : std::vector<double>{0.0})
+    {
+      for (std::size_t i = 0; i + 2 < p.size() and found.index < 0; i += 3)
+      {
+        const double v = (*use.expression)(&p[i], t);
+        if (!std::isfinite(v))
+        {
+          std::ostringstream s;
+          s << scene.file << ": " << use.key << ": \"" << use.expression->text() << "\" is "
+            << (std::isnan(v) ? "NaN" : v > 0 ? "inf" : "-inf") << " at (" << p[i] << ", " << p[i + 1];
+          if (domain.dim() == 3)
+            s << ", " << p[i + 2];
+          s << "), t = " << t;
+          found = {static_cast<int>(k), s.str()};
+        }
+      }
+    }
+  }
+  agree_on_error(found.message, comm);
+}
+
+} // namespace biotcontact

@@ -1,0 +1,40 @@
+// Scene -> mesh and named boundaries.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <dolfinx/mesh/Mesh.h>
+#include <dolfinx/mesh/MeshTags.h>
+#include <map>
+#include <memory>
+#include <mpi.h>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+struct Domain
+{
+  std::shared_ptr<dolfinx::mesh::Mesh> mesh;
+  /// Sorted local indices of the exterior facets of each named boundary.
+  std::map<std::string, std::vector<std::int32_t>> boundaries;
+
+  int dim() const { return mesh->topology().dim(); }
+  /// Facet tags with the marker of forms/biot.py (1) on one boundary, for
+  /// the ds(1) integrals of that boundary.
+  std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> marker(const std::string& name) const;
+};
+
+/// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
+/// and locates its named boundaries; throws SceneError for unknown names.
+Domain create_domain(const Scene& scene, MPI_Comm comm);
+
+/// Evaluates every expression of the scene where it is used (boundary
+/// values at the nodes of their boundary, volume terms at the cell
+/// midpoints) at the first and the last time, before any solve: a value
+/// that is NaN or inf is refused with SceneError naming its key, the same
+/// on every rank (collective).
+void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm);
+
+} // namespace biotcontact

@@ -1,0 +1,168 @@
+#include "output/output.h"
+
+#include "scene/scene.h"
+
+#include <cmath>
+#include <dolfinx/common/Timer.h>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace biotcontact
+{
+
+namespace
+{
+std::string number(double v)
+{
+  if (!std::isfinite(v))
+    return "null"; // JSON has no NaN or infinity
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+std::string quoted(const std::string& v)
+{
+  std::string q = "\"";
+  for (char c : v)
+  {
+    if (c == '"' or c == '\\')
+      q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+bool is_rank0(MPI_Comm comm)
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank == 0;
+}
+} // namespace
+
+Json& Json::set(const std::string& key, double value)
+{
+  _items.emplace_back(key, number(value));
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, int value) { return set(key, static_cast<long>(value)); }
+Json& Json::set(const std::string& key, long value)
+{
+  _items.emplace_back(key, std::to_string(value));
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, bool value)
+{
+  _items.emplace_back(key, value ? "true" : "false");
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, const std::string& value)
+{
+  _items.emplace_back(key, quoted(value));
+  _nested.push_back(false);
+  return *this;
+}
+Json& Json::set(const std::string& key, const Json& value)
+{
+  _items.emplace_back(key, std::to_string(_children.size()));
+  _nested.push_back(true);
+  _children.push_back(value);
+  return *this;
+}
+
+std::string Json::str(int indent) const
+{
+  const std::string pad(indent + 2, ' ');
+  std::string s = "{\n";
+  for (std::size_t i = 0; i < _items.size(); ++i)
+  {
+    s += pad + quoted(_items[i].first) + ": ";
+    s += _nested[i] ? _children[std::stoul(_items[i].second)].str(indent + 2) : _items[i].second;
+    s += i + 1 < _items.size() ? ",\n" : "\n";
+  }
+  return s + std::string(indent, ' ') + "}";
+}
+
+Output::Output(MPI_Comm comm, const std::string& directory,
+               std::shared_ptr<const dolfinx::mesh::Mesh> mesh, bool xdmf, const std::string* resume)
+    : _comm(comm), _directory(directory)
+{
+  // A resumed run's state starts with the length of iterations.csv.
+  std::istringstream state(resume ? *resume : "");
+  std::uintmax_t csv_size = 0;
+  std::string series;
+  if (resume)
+  {
+    state >> csv_size;
+    series.assign(std::istreambuf_iterator<char>(state >> std::ws), {});
+  }
+  // Rank 0 makes the directory; every rank learns whether it could (a
+  // failure on rank 0 alone would leave the others waiting).
+  std::string error;
+  if (is_rank0(comm))
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(directory, ec);
+    if (ec)
+      error = "--out " + directory + ": cannot create the output directory: " + ec.message();
+    else
+    {
+      const std::string csv = directory + "/iterations.csv";
+      if (resume)
+      {
+        std::filesystem::resize_file(csv, csv_size, ec);
+        _csv.open(csv, std::ios::app);
+      }
+      else
+        _csv.open(csv);
+      if (!_csv or ec)
+        error = "--out " + directory + ": cannot write iterations.csv there";
+      else if (!resume)
+        _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes\n" << std::flush;
+    }
+  }
+  agree_on_error(error, comm);
+  if (xdmf)
+    _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh, resume ? &series : nullptr);
+}
+
+std::string Output::state()
+{
+  const std::streamoff csv = _csv.is_open() ? static_cast<std::streamoff>(_csv.tellp()) : 0;
+  return std::to_string(csv) + "\n" + (_series ? _series->state() : std::string());
+}
+
+void Output::write(const dolfinx::fem::Function<double>& f, double t)
+{
+  if (!_series)
+    return;
+  dolfinx::common::Timer timer("output");
+  _series->write(f, t);
+  time += timer.stop();
+}
+
+void Output::iteration(const IterationRecord& r)
+{
+  if (!_csv.is_open())
+    return;
+  auto v = [](double x) { return std::isfinite(x) ? number(x) : std::string(""); };
+  _csv << r.step << ',' << number(r.time) << ',' << r.iteration << ',' << v(r.dsigma_norm) << ','
+       << v(r.ratio) << ',' << v(r.gamma) << ',' << v(r.dp_norm) << ',' << v(r.du_norm) << ','
+       << r.active_nodes << '\n'
+       << std::flush;
+}
+
+void Output::summary(const Json& json) const
+{
+  if (!is_rank0(_comm))
+    return;
+  std::ofstream f(_directory + "/summary.json");
+  f << json.str() << "\n";
+}
+
+} // namespace biotcontact

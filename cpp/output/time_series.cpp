@@ -1,0 +1,268 @@
+#include "output/time_series.h"
+
+#include <dolfinx/common/IndexMap.h>
+#include <dolfinx/fem/DofMap.h>
+#include <dolfinx/fem/FiniteElement.h>
+#include <dolfinx/fem/FunctionSpace.h>
+#include <dolfinx/io/HDF5Interface.h>
+#include <dolfinx/io/cells.h>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+std::string full_precision(double v)
+{
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+std::string topology_type(mesh::CellType type)
+{
+  switch (type)
+  {
+  case mesh::CellType::triangle:
+    return "Triangle";
+  case mesh::CellType::quadrilateral:
+    return "Quadrilateral";
+  case mesh::CellType::tetrahedron:
+    return "Tetrahedron";
+  case mesh::CellType::hexahedron:
+    return "Hexahedron";
+  default:
+    throw std::runtime_error("XDMF output: unsupported cell type");
+  }
+}
+
+std::string data_item(const std::string& dimensions, const std::string& type, const std::string& h5,
+                      const std::string& dataset)
+{
+  return "<DataItem Dimensions=\"" + dimensions + "\" NumberType=\"" + type + "\" Precision=\"8\" Format=\"HDF\">"
+         + h5 + ":" + dataset + "</DataItem>";
+}
+
+const std::string tail = "    </Grid>\n  </Domain>\n</Xdmf>\n";
+} // namespace
+
+TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::Mesh& mesh,
+                       const std::string* resume)
+    : _comm(comm), _xdmf_path(xdmf_path)
+{
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  _parallel = size > 1;
+  _rank0 = rank == 0;
+  std::filesystem::path h5 = std::filesystem::path(xdmf_path).replace_extension(".h5");
+  _h5_name = h5.filename().string();
+  _h5 = io::HDF5Interface::open_file(comm, h5, resume ? "a" : "w", _parallel);
+  describe_mesh(mesh, !resume);
+  const std::string head = "<?xml version=\"1.0\"?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+                           "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
+                           "  <Domain>\n"
+                           "    <Grid Name=\"solution\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  _grids_end = static_cast<long>(head.size());
+  if (resume)
+  {
+    std::istringstream in(*resume);
+    int any = 0;
+    in >> _grid_start >> _grids_end >> _time >> any;
+    _any_time = any;
+    for (Field f; in >> f.name >> f.center >> f.components >> f.writes >> f.dataset;)
+      _fields.push_back(f);
+  }
+  if (_rank0)
+  {
+    _xml = std::fopen(xdmf_path.c_str(), resume ? "r+" : "w");
+    if (!_xml)
+      throw std::runtime_error("cannot write " + xdmf_path);
+    // Fresh: the empty collection; resumed: the grids up to the state,
+    // closed again (what came after it is dropped).
+    const std::string text = resume ? tail : head + tail;
+    std::fseek(_xml, resume ? _grids_end : 0, SEEK_SET);
+    std::fputs(text.c_str(), _xml);
+    std::fflush(_xml);
+    if (ftruncate(fileno(_xml), _grids_end + static_cast<long>(tail.size())) != 0)
+      throw std::runtime_error("cannot write " + xdmf_path);
+  }
+}
+
+std::string TimeSeries::state() const
+{
+  std::ostringstream s;
+  s << std::setprecision(17) << _grid_start << ' ' << _grids_end << ' ' << _time << ' ' << _any_time << '\n';
+  for (const Field& f : _fields)
+    s << f.name << ' ' << f.center << ' ' << f.components << ' ' << f.writes << ' ' << f.dataset << '\n';
+  return s.str();
+}
+
+TimeSeries::~TimeSeries()
+{
+  if (_xml)
+    std::fclose(_xml);
+  if (_h5 >= 0)
+    io::HDF5Interface::close_file(_h5);
+}
+
+void TimeSeries::describe_mesh(const mesh::Mesh& mesh, bool write)
+{
+  // Geometry: the owned nodes, gdim coordinates each.
+  const int gdim = mesh.geometry().dim();
+  const auto& node_map = mesh.geometry().index_map();
+  const std::int32_t owned_nodes = node_map->size_local();
+  _node_range = node_map->local_range();
+  _num_nodes = node_map->size_global();
+  std::vector<double> x(owned_nodes * gdim);
+  std::span<const double> coordinates = mesh.geometry().x();
+  for (std::int32_t i = 0; i < owned_nodes; ++i)
+    for (int j = 0; j < gdim; ++j)
+      x[i * gdim + j] = coordinates[3 * i + j];
+  if (write)
+    io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", x.data(), _node_range, {_num_nodes, gdim}, _parallel,
+                                     false);
+
+  // Topology: the owned cells, their nodes by global index in the order
+  // of VTK (which XDMF readers follow).
+  const int tdim = mesh.topology().dim();
+  const auto& cell_map = mesh.topology().index_map(tdim);
+  const std::int32_t owned_cells = cell_map->size_local();
+  _cell_range = cell_map->local_range();
+  _num_cells = cell_map->size_global();
+  const auto& dofmap = mesh.geometry().dofmap();
+  const int nodes_per_cell = dofmap.num_links(0);
+  const std::vector<std::uint8_t> vtk
+      = io::cells::transpose(io::cells::perm_vtk(mesh.topology().cell_type(), nodes_per_cell));
+  std::vector<std::int32_t> local(owned_cells * nodes_per_cell);
+  for (std::int32_t c = 0; c < owned_cells; ++c)
+  {
+    auto nodes = dofmap.links(c);
+    for (int k = 0; k < nodes_per_cell; ++k)
+      local[c * nodes_per_cell + k] = nodes[vtk[k]];
+  }
+  std::vector<std::int64_t> topology(local.size());
+  node_map->local_to_global(local, topology);
+  if (write)
+  {
+    io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", topology.data(), _cell_range,
+                                     {_num_cells, nodes_per_cell}, _parallel, false);
+    io::HDF5Interface::flush_file(_h5);
+  }
+
+  const std::string n = std::to_string(_num_nodes), e = std::to_string(_num_cells);
+  _mesh_xml = "        <Topology TopologyType=\"" + topology_type(mesh.topology().cell_type())
+              + "\" NumberOfElements=\"" + e + "\" NodesPerElement=\"" + std::to_string(nodes_per_cell) + "\">\n"
+              + "          " + data_item(e + " " + std::to_string(nodes_per_cell), "Int", _h5_name, "/Mesh/topology")
+              + "\n        </Topology>\n"
+              + "        <Geometry GeometryType=\"" + (gdim == 3 ? "XYZ" : "XY") + "\">\n"
+              + "          " + data_item(n + " " + std::to_string(gdim), "Float", _h5_name, "/Mesh/geometry")
+              + "\n        </Geometry>\n";
+}
+
+void TimeSeries::write(const fem::Function<double>& f, double t)
+{
+  const auto& V = *f.function_space();
+  const auto& mesh = *V.mesh();
+  const auto& dofmap = *V.dofmap();
+  const int bs = dofmap.bs();
+  const int tdim = mesh.topology().dim();
+  const int per_cell = V.element()->space_dimension() / bs;
+  const int components = bs == 1 ? 1 : 3;
+  std::span<const double> values = f.x()->array();
+
+  // Values at the owned nodes (P1) or owned cells (constant per cell).
+  std::string center;
+  std::vector<double> data;
+  std::array<std::int64_t, 2> range;
+  std::int64_t rows = 0;
+  if (per_cell == 1)
+  {
+    center = "Cell";
+    range = _cell_range;
+    rows = _num_cells;
+    const std::int32_t owned = mesh.topology().index_map(tdim)->size_local();
+    data.assign(owned * components, 0.0);
+    for (std::int32_t c = 0; c < owned; ++c)
+      for (int j = 0; j < bs; ++j)
+        data[c * components + j] = values[dofmap.cell_dofs(c)[0] * bs + j];
+  }
+  else if (per_cell == mesh.geometry().dofmap().num_links(0))
+  {
+    // P1 on a P1 mesh: local DOF k of a cell sits at the cell's node k.
+    center = "Node";
+    range = _node_range;
+    rows = _num_nodes;
+    const std::int32_t owned = mesh.geometry().index_map()->size_local();
+    data.assign(owned * components, 0.0);
+    const auto& nodes = mesh.geometry().dofmap();
+    for (std::int32_t c = 0; c < nodes.num_nodes(); ++c)
+    {
+      auto cell_nodes = nodes.links(c);
+      auto dofs = dofmap.cell_dofs(c);
+      for (std::size_t k = 0; k < cell_nodes.size(); ++k)
+        if (cell_nodes[k] < owned)
+          for (int j = 0; j < bs; ++j)
+            data[cell_nodes[k] * components + j] = values[dofs[k] * bs + j];
+    }
+  }
+  else
+    throw std::runtime_error("XDMF output: " + f.name + " is neither P1 nor constant per cell");
+
+  auto field = std::find_if(_fields.begin(), _fields.end(), [&](const Field& x) { return x.name == f.name; });
+  if (field == _fields.end())
+    field = _fields.insert(_fields.end(), Field{f.name, center, components, 0, ""});
+  field->dataset = "/Function/" + f.name + "/" + std::to_string(field->writes++);
+  // A resumed run writes again what its first run wrote after the
+  // checkpoint: that dataset goes first.
+  if (H5Lexists(_h5, "/Function", H5P_DEFAULT) > 0
+      and H5Lexists(_h5, ("/Function/" + f.name).c_str(), H5P_DEFAULT) > 0
+      and H5Lexists(_h5, field->dataset.c_str(), H5P_DEFAULT) > 0)
+    H5Ldelete(_h5, field->dataset.c_str(), H5P_DEFAULT);
+  io::HDF5Interface::write_dataset(_h5, field->dataset, data.data(), range, {rows, components}, _parallel, false);
+  io::HDF5Interface::flush_file(_h5);
+
+  const bool new_time = !_any_time or t != _time;
+  _time = t;
+  _any_time = true;
+  if (_rank0)
+    write_xml(t, new_time);
+}
+
+std::string TimeSeries::grid(double t) const
+{
+  std::string g = "      <Grid Name=\"mesh\" GridType=\"Uniform\">\n" + _mesh_xml + "        <Time Value=\""
+                  + full_precision(t) + "\"/>\n";
+  for (const Field& f : _fields)
+  {
+    const std::string rows = std::to_string(f.center == "Node" ? _num_nodes : _num_cells);
+    g += "        <Attribute Name=\"" + f.name + "\" AttributeType=\"" + (f.components == 1 ? "Scalar" : "Vector")
+         + "\" Center=\"" + f.center + "\">\n          "
+         + data_item(rows + " " + std::to_string(f.components), "Float", _h5_name, f.dataset)
+         + "\n        </Attribute>\n";
+  }
+  return g + "      </Grid>\n";
+}
+
+void TimeSeries::write_xml(double t, bool new_time)
+{
+  // A new time appends its grid; another field of the same time rewrites
+  // that grid. The closing tags follow at once, so the file stays whole.
+  if (new_time)
+    _grid_start = _grids_end;
+  const std::string g = grid(t);
+  std::fseek(_xml, _grid_start, SEEK_SET);
+  std::fputs((g + tail).c_str(), _xml);
+  std::fflush(_xml);
+  _grids_end = _grid_start + static_cast<long>(g.size());
+  if (ftruncate(fileno(_xml), _grids_end + static_cast<long>(tail.size())) != 0)
+    throw std::runtime_error("cannot write " + _xdmf_path);
+}
+
+} // namespace biotcontact

@@ -1,0 +1,777 @@
+#include "scene/scene.h"
+
+#include "diagnostics/closed_form.h"
+
+#include <algorithm>
+#include <functional>
+#include <iomanip>
+#include <numeric>
+#include <unistd.h>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+namespace biotcontact
+{
+namespace
+{
+
+/// One TOML table of the scene, read key by key. Every key read is marked,
+/// so that `finish` can refuse the keys nobody asked for (typos).
+class Section
+{
+public:
+  Section(const toml::table* table, std::string path, const std::string& file)
+      : _table(table), _path(std::move(path)), _file(file)
+  {
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const
+  {
+    throw SceneError(_file + ": " + name(key) + ": " + message);
+  }
+
+  std::string name(const std::string& key) const { return _path.empty() ? key : _path + "." + key; }
+
+  bool has(const std::string& key) const { return _table and _table->contains(key); }
+
+  const toml::node* node(const std::string& key)
+  {
+    _used.insert(key);
+    return _table ? _table->get(key) : nullptr;
+  }
+
+  Section table(const std::string& key, bool required)
+  {
+    const toml::node* n = node(key);
+    if (!n)
+    {
+      if (required)
+        fail(key, "missing (a table is required)");
+      return Section(nullptr, name(key), _file);
+    }
+    if (!n->is_table())
+      fail(key, "must be a table");
+    return Section(n->as_table(), name(key), _file);
+  }
+
+  double number(const std::string& key, std::optional<double> fallback = std::nullopt)
+  {
+    const toml::node* n = node(key);
+    if (!n)
+    {
+      if (!fallback)
+        fail(key, "missing (a number is required)");
+      return *fallback;
+    }
+    if (!n->is_number())
+      fail(key, "must be a number");
+    return n->value<double>().value();
+  }
+
+  int integer(const std::string& key, int fallback)
+  {
+    const toml::node* n = node(key);
+    if (!n)
+      return fallback;
+    if (!n->is_integer())
+      fail(key, "must be an integer");
+    return static_cast<int>(n->value<std::int64_t>().value());
+  }
+
+  bool boolean(const std::string& key, bool fallback)
+  {
+    const toml::node* n = node(key);
+    if (!n)
+      return fallback;
+    if (!n->is_boolean())
+      fail(key, "must be true or false");
+    return n->value<bool>().value();
+  }
+
+  std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt)
+  {
+    const toml::node* n = node(key);
+    if (!n)
+    {
+      if (!fallback)
+        fail(key, "missing (a string is required)");
+      return *fallback;
+    }
+    if (!n->is_string())
+      fail(key, "must be a string");
+    return n->value<std::string>().value();
+  }
+
+  /// A number or an expression string.
+  Expression expression(const toml::node* n, const std::string& key) const
+  {
+    if (n->is_number())
+      return Expression(n->value<double>().value());
+    if (n->is_string())
+    {
+      try
+      {
+        return Expression(n->value<std::string>().value());
+      }
+      catch (const std::invalid_argument& e)
+      {
+        fail(key, e.what());
+      }
+    }
+    fail(key, "must be a number or an expression string");
+  }
+
+  std::optional<Expression> expression(const std::string& key)
+  {
+    const toml::node* n = node(key);
+    if (!n)
+      return std::nullopt;
+    return expression(n, key);
+  }
+
+  std::vector<Expression> expression_vector(const std::string& key, std::size_t size)
+  {
+    const toml::node* n = node(key);
+    if (!n or !n->is_array() or n->as_array()->size() != size)
+      fail(key, "must be an array of " + std::to_string(size) + " numbers or expressions");
+    std::vector<Expression> v;
+    for (std::size_t i = 0; i < size; ++i)
+      v.push_back(expression(n->as_array()->get(i), key));
+    return v;
+  }
+
+  std::vector<double> number_vector(const std::string& key, std::size_t size)
+  {
+    const toml::node* n = node(key);
+    if (!n or !n->is_array() or (size > 0 and n->as_array()->size() != size))
+      fail(key, "must be an array of " + std::to_string(size) + " numbers");
+    std::vector<double> v;
+    for (const toml::node& e : *n->as_array())
+    {
+      if (!e.is_number())
+        fail(key, "must be an array of numbers");
+      v.push_back(e.value<double>().value());
+    }
+    return v;
+  }
+
+  std::vector<std::string> keys() const
+  {
+    std::vector<std::string> k;
+    if (_table)
+      for (const auto& [key, value] : *_table)
+        k.emplace_back(key.str());
+    return k;
+  }
+
+  /// Refuses keys that were never read.
+  void finish() const
+  {
+    for (const std::string& key : keys())
+      if (_used.count(key) == 0)
+        fail(key, "unknown key");
+  }
+
+private:
+  const toml::table* _table;
+  std::string _path;
+  const std::string& _file;
+  std::set<std::string> _used;
+};
+
+/// Applies one "a.b.c=value" override; the value is read as TOML, and taken
+/// as a string when it is not valid TOML (so `--set coupling.L=kdr` works).
+void apply_override(toml::table& root, const std::string& assignment, const std::string& file)
+{
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos or eq == 0)
+    throw SceneError(file + ": --set " + assignment + ": expected key.path=value");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+
+  toml::table* table = &root;
+  std::string::size_type start = 0, dot;
+  while ((dot = path.find('.', start)) != std::string::npos)
+  {
+    const std::string key = path.substr(start, dot - start);
+    if (!table->contains(key))
+      table->insert(key, toml::table{});
+    toml::node* next = table->get(key);
+    if (!next->is_table())
+      throw SceneError(file + ": --set " + path + ": " + key + " is not a table");
+    table = next->as_table();
+    start = dot + 1;
+  }
+  const std::string key = path.substr(start);
+  toml::table parsed;
+  try
+  {
+    parsed = toml::parse("value = " + text);
+  }
+  catch (const toml::parse_error&)
+  {
+    parsed.insert("value", text);
+  }
+  table->insert_or_assign(key, std::move(*parsed.get("value")));
+}
+
+int axis_of(const std::vector<double>& normal, int& sign)
+{
+  int axis = -1, nonzero = 0;
+  for (std::size_t i = 0; i < normal.size(); ++i)
+  {
+    if (normal[i] != 0.0)
+    {
+      ++nonzero;
+      axis = static_cast<int>(i);
+    }
+  }
+  if (nonzero != 1 or std::abs(normal[axis]) != 1.0)
+    return -1;
+  sign = normal[axis] > 0 ? 1 : -1;
+  return axis;
+}
+
+MeshSpec read_mesh(Section s, const std::string& scene_file)
+{
+  MeshSpec m;
+  m.type = s.string("type");
+  if (m.type == "rectangle" or m.type == "box")
+  {
+    const std::size_t d = m.type == "rectangle" ? 2 : 3;
+    m.dimension = static_cast<int>(d);
+    m.lower = s.has("lower") ? s.number_vector("lower", d) : std::vector<double>(d, 0.0);
+    m.upper = s.number_vector("upper", d);
+    const std::vector<double> n = s.number_vector("cells", d);
+    for (std::size_t i = 0; i < d; ++i)
+    {
+      if (m.upper[i] <= m.lower[i])
+        s.fail("upper", "must be above mesh.lower in every direction");
+      if (n[i] < 1 or n[i] != std::floor(n[i]))
+        s.fail("cells", "must be positive integers");
+      m.cells.push_back(static_cast<std::size_t>(n[i]));
+    }
+    // Refused before any allocation: the peak memory per simplex measured
+    // on the default scene and the 3D block (docs/performance.md, about
+    // 4 kB per triangle and 25 kB per tetrahedron with direct solvers).
+    const double simplices = (d == 2 ? 4.0 : 6.0) * std::accumulate(n.begin(), n.end(), 1.0, std::multiplies<>());
+    const double need = simplices * (d == 2 ? 4e3 : 25e3);
+    const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (have > 0 and need > have)
+    {
+      std::ostringstream message;
+      message << std::setprecision(2) << simplices << " cells need about " << need / 1e9
+              << " GB of memory; this machine has " << have / 1e9 << " GB";
+      s.fail("cells", message.str());
+    }
+  }
+  else if (m.type == "gmsh")
+  {
+    const std::string name = s.string("file");
+    namespace fs = std::filesystem;
+    // Mesh files are looked up next to the scene, then in meshes/.
+    const fs::path here = fs::path(scene_file).parent_path();
+    for (const fs::path& candidate :
+         {here / name, here / ".." / "meshes" / name, fs::path(name)})
+    {
+      if (fs::exists(candidate))
+      {
+        m.file = candidate.lexically_normal().string();
+        break;
+      }
+    }
+    if (m.file.empty())
+      s.fail("file", "mesh file not found: " + name);
+    m.dimension = s.integer("dimension", 2);
+    if (m.dimension != 2 and m.dimension != 3)
+      s.fail("dimension", "must be 2 or 3");
+    // Each refinement splits every simplex into 2^d: nested meshes, as
+    // the studies' references need (tools/study.py maps nodes by position).
+    m.refine = s.integer("refine", 0);
+    if (m.refine < 0 or m.refine > 6)
+      s.fail("refine", "must be an integer in [0, 6]");
+  }
+  else
+    s.fail("type", "must be \"rectangle\", \"box\" or \"gmsh\", got \"" + m.type + "\"");
+  s.finish();
+  return m;
+}
+
+BoundarySpec read_boundary(Section s, int d)
+{
+  BoundarySpec b;
+  const std::vector<std::string> mechanics_keys = {"clamp", "displacement", "traction", "contact"};
+  int count = 0;
+  for (const auto& k : mechanics_keys)
+    count += s.has(k);
+  // A traction may load a contact boundary (the fluid pressure on an open
+  // fracture face); otherwise the mechanics conditions exclude each other.
+  if (count > 1 and !(count == 2 and s.has("traction") and s.has("contact")))
+    s.fail("clamp", "give at most one of clamp, displacement, traction, contact (or traction with contact)");
+
+  if (s.has("clamp"))
+  {
+    if (!s.boolean("clamp", false))
+      s.fail("clamp", "must be true when given");
+    b.mechanics = BoundarySpec::Mechanics::displacement;
+    for (int i = 0; i < d; ++i)
+      b.displacement[i] = Expression(0.0);
+  }
+  if (s.has("displacement"))
+  {
+    b.mechanics = BoundarySpec::Mechanics::displacement;
+    Section c = s.table("displacement", true);
+    const char* names[3] = {"x", "y", "z"};
+    for (int i = 0; i < d; ++i)
+      b.displacement[i] = c.expression(names[i]);
+    c.finish();
+    if (!b.displacement[0] and !b.displacement[1] and !b.displacement[2])
+      s.fail("displacement", "give at least one component (x, y or z)");
+  }
+  if (s.has("traction"))
+  {
+    b.mechanics = BoundarySpec::Mechanics::traction;
+    b.traction = s.expression_vector("traction", d);
+  }
+  if (s.has("contact"))
+  {
+    b.mechanics = BoundarySpec::Mechanics::contact;
+    Section c = s.table("contact", true);
+    ContactSpec contact;
+    const std::optional<Expression> gap = c.expression("gap");
+    if (!gap)
+      c.fail("gap", "missing (the gap g_a to the foundation)");
+    contact.gap = *gap;
+    if (contact.gap.depends_on_time())
+      c.fail("gap", "must not depend on t");
+    const std::vector<double> normal = c.number_vector("normal", d);
+    contact.axis = axis_of(normal, contact.sign);
+    if (contact.axis < 0)
+      c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)");
+    if (contact.gap.is_constant() and contact.gap(0, 0, 0, 0) < 0)
+      c.fail("gap", "must be >= 0");
+    c.finish();
+    b.contact = contact;
+  }
+
+  if (s.has("pressure") and s.has("flux"))
+    s.fail("flux", "give at most one of pressure, flux");
+  if (auto p = s.expression("pressure"))
+  {
+    b.flow = BoundarySpec::Flow::pressure;
+    b.pressure = *p;
+  }
+  if (auto f = s.expression("flux"))
+  {
+    b.flow = BoundarySpec::Flow::flux;
+    b.flux = *f;
+    if (!b.flux.is_constant() or b.flux(0, 0, 0, 0) != 0.0)
+      s.fail("flux", "only flux = 0 (no flow) is supported; use flow.source for injection");
+  }
+  s.finish();
+  return b;
+}
+
+void positive(Section& s, const std::string& key, double value)
+{
+  if (!(value > 0) or !std::isfinite(value))
+    s.fail(key, "must be a positive finite number");
+}
+
+MechanicsSpec read_mechanics(Section s, int d)
+{
+  MechanicsSpec m;
+  const bool e_nu = s.has("E") or s.has("nu");
+  const bool lame = s.has("G") or s.has("lambda");
+  if (e_nu and lame)
+    s.fail("E", "give either E and nu, or G and lambda, not both");
+  if (!e_nu and !lame)
+    s.fail("E", "missing (give E and nu, or G and lambda)");
+  if (e_nu)
+  {
+    const double E = s.number("E");
+    const double nu = s.number("nu");
+    positive(s, "E", E);
+    if (!(nu > -1.0 and nu < 0.5))
+      s.fail("nu", "must lie in (-1, 0.5); nu >= 0.5 is an incompressible skeleton");
+    m.G = E / (2 * (1 + nu));
+    m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  }
+  else
+  {
+    m.G = s.number("G");
+    m.lambda = s.number("lambda");
+    positive(s, "G", m.G);
+    if (!std::isfinite(m.lambda) or m.lambda + 2 * m.G / d <= 0)
+      s.fail("lambda", "must be finite with K_dr = lambda + 2G/d > 0");
+  }
+  if (s.has("body_force"))
+    m.body_force = s.expression_vector("body_force", d);
+  m.initial_equilibrium = s.boolean("initial_equilibrium", false);
+  s.finish();
+  return m;
+}
+
+FlowSpec read_flow(Section s, int d)
+{
+  FlowSpec f;
+  f.M = s.number("M", std::numeric_limits<double>::infinity());
+  if (!(f.M > 0))
+    s.fail("M", "must be positive (inf for incompressible grains)");
+  f.c_f = s.number("c_f", 0.0);
+  if (!(f.c_f >= 0) or !std::isfinite(f.c_f))
+    s.fail("c_f", "must be >= 0");
+  f.phi0 = s.number("phi0", 0.0);
+  if (!(f.phi0 >= 0 and f.phi0 <= 1))
+    s.fail("phi0", "must lie in [0, 1]");
+  f.mu_f = s.number("mu_f");
+  positive(s, "mu_f", f.mu_f);
+
+  const toml::node* k = s.node("permeability");
+  if (!k)
+    s.fail("permeability", "missing");
+  if (k->is_array())
+  {
+    std::vector<double> K;
+    for (const toml::node& row : *k->as_array())
+    {
+      if (!row.is_array() or row.as_array()->size() != static_cast<std::size_t>(d))
+        s.fail("permeability", "a tensor must be " + std::to_string(d) + " rows of " + std::to_string(d) + " numbers");
+      for (const toml::node& e : *row.as_array())
+      {
+        if (!e.is_number())
+          s.fail("permeability", "tensor entries must be numbers");
+        K.push_back(e.value<double>().value());
+      }
+    }
+    if (K.size() != static_cast<std::size_t>(d * d))
+      s.fail("permeability", "a tensor must have " + std::to_string(d) + " rows");
+    // Symmetric positive definite: symmetric with positive leading minors.
+    bool spd = true;
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j)
+        spd = spd and std::abs(K[i * d + j] - K[j * d + i]) <= 1e-12 * std::abs(K[i * d + i]);
+    const double m1 = K[0], m2 = K[0] * K[d + 1] - K[1] * K[d];
+    double m3 = 1;
+    if (d == 3)
+      m3 = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
+           + K[2] * (K[3] * K[7] - K[4] * K[6]);
+    if (!spd or m1 <= 0 or m2 <= 0 or m3 <= 0)
+      s.fail("permeability", "the tensor must be symmetric positive definite");
+    f.permeability_tensor = K;
+  }
+  else
+  {
+    f.permeability = s.expression(k, "permeability");
+    if (f.permeability->is_constant())
+      positive(s, "permeability", (*f.permeability)(0, 0, 0, 0));
+    if (f.permeability->depends_on_time())
+      s.fail("permeability", "must not depend on t");
+  }
+
+  if (s.has("gravity") != s.has("rho_f"))
+    s.fail(s.has("gravity") ? "rho_f" : "gravity", "gravity needs both rho_f and gravity");
+  if (s.has("gravity"))
+  {
+    f.rho_f = s.number("rho_f");
+    positive(s, "rho_f", *f.rho_f);
+    f.gravity = s.number_vector("gravity", d);
+  }
+  f.source = s.expression("source");
+  f.initial_pressure = s.expression("initial_pressure").value_or(Expression(0.0));
+  if (f.initial_pressure.depends_on_time())
+    s.fail("initial_pressure", "must not depend on t");
+  s.finish();
+  return f;
+}
+
+CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec& flow, int d)
+{
+  CouplingSpec c;
+  c.alpha = s.number("alpha");
+  if (!(c.alpha >= 0 and c.alpha <= 1))
+    s.fail("alpha", "the Biot coefficient must lie in [0, 1]");
+  c.scheme = s.string("scheme", "fixed-stress");
+  if (c.scheme != "fixed-stress" and !c.multirate() and c.scheme != "monolithic")
+    s.fail("scheme", "must be \"fixed-stress\", \"multirate\", \"multirate-two-pass\" or \"monolithic\", got \""
+                         + c.scheme + "\"");
+  // The second pass is a flow step without L: with S = 0 its matrix has a
+  // zero pressure block, singular wherever no pressure is prescribed.
+  if (c.scheme == "multirate-two-pass" and !(flow.storage() > 0))
+    s.fail("scheme", "\"multirate-two-pass\" needs a storage coefficient S = 1/M + c_f phi0 > 0");
+  c.q = s.integer("q", 1);
+  if (c.q < 1)
+    s.fail("q", "must be a positive integer");
+  if (!c.multirate() and c.q != 1)
+    s.fail("q", "q > 1 needs scheme = \"multirate\" or \"multirate-two-pass\"");
+
+  const toml::node* L = s.node("L");
+  if (!L)
+    c.L_choice = "paper";
+  else if (L->is_number())
+  {
+    c.L_choice = "number";
+    c.L_number = L->value<double>().value();
+    if (!(c.L_number >= 0) or !std::isfinite(c.L_number))
+      s.fail("L", "must be >= 0");
+  }
+  else if (L->is_string())
+  {
+    c.L_choice = L->value<std::string>().value();
+    if (c.L_choice != "paper" and c.L_choice != "kdr" and c.L_choice != "half-kdr")
+      s.fail("L", "must be \"paper\", \"kdr\", \"half-kdr\" or a number");
+  }
+  else
+    s.fail("L", "must be \"paper\", \"kdr\", \"half-kdr\" or a number");
+  if (c.L_choice == "paper" and !(mech.lambda > 0))
+    s.fail("L", "\"paper\" (alpha^2/lambda) needs lambda > 0; use \"kdr\"");
+  (void)d;
+
+  c.tolerance = s.number("tolerance", 1e-8);
+  if (!(c.tolerance > 0 and c.tolerance < 1))
+    s.fail("tolerance", "must lie in (0, 1)");
+  c.max_iterations = s.integer("max_iterations", 100);
+  if (c.max_iterations < 1)
+    s.fail("max_iterations", "must be a positive integer");
+  c.acceleration = s.string("acceleration", "none");
+  if (c.acceleration != "none" and c.acceleration != "anderson")
+    s.fail("acceleration", "must be \"none\" or \"anderson\", got \"" + c.acceleration + "\"");
+  if (c.acceleration != "none" and c.scheme == "monolithic")
+    s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration");
+  c.depth = s.integer("depth", 8);
+  if (c.depth < 1 or c.depth > 50)
+    s.fail("depth", "must be an integer from 1 to 50");
+  s.finish();
+  return c;
+}
+
+} // namespace
+
+std::vector<std::string> builtin_boundary_names(int dimension)
+{
+  if (dimension == 2)
+    return {"left", "right", "bottom", "top"};
+  return {"left", "right", "front", "back", "bottom", "top"};
+}
+
+bool Scene::has_contact() const
+{
+  for (const auto& [name, b] : boundaries)
+    if (b.contact)
+      return true;
+  return false;
+}
+
+std::vector<double> Scene::times() const
+{
+  std::vector<double> t = {0.0};
+  if (growth == 1.0)
+  {
+    // Whole multiples of dt, so that every scheme writes the same times.
+    const long n = std::llround(end_time / dt);
+    for (long k = 1; k <= n; ++k)
+      t.push_back(k * dt);
+    return t;
+  }
+  // dt_k = dt growth^(k-1); the last step ends at time.end.
+  double step = dt;
+  // Stops one past the limit, which read_scene then refuses.
+  while (t.back() < end_time * (1 - 1e-12) and t.size() <= static_cast<std::size_t>(max_steps) + 1)
+  {
+    t.push_back(std::min(t.back() + step, end_time));
+    step *= growth;
+  }
+  return t;
+}
+
+int Scene::num_steps() const
+{
+  if (growth == 1.0)
+    return static_cast<int>(std::llround(end_time / dt));
+  return static_cast<int>(times().size()) - 1;
+}
+
+Scene read_scene(const std::string& file, const std::vector<std::string>& overrides)
+{
+  if (!std::filesystem::is_regular_file(file))
+    throw SceneError(file + ": scene file not found");
+  toml::table root;
+  try
+  {
+    root = toml::parse_file(file);
+  }
+  catch (const toml::parse_error& e)
+  {
+    throw SceneError(file + ":" + std::to_string(e.source().begin.line)
+                     + ": invalid TOML: " + std::string(e.description()));
+  }
+  for (const std::string& o : overrides)
+    apply_override(root, o, file);
+
+  Scene scene;
+  scene.file = file;
+  Section top(&root, "", file);
+
+  Section meta = top.table("scene", false);
+  scene.name = meta.string("name", std::filesystem::path(file).stem().string());
+  scene.description = meta.string("description", "");
+  meta.finish();
+
+  scene.mesh = read_mesh(top.table("mesh", true), file);
+  const int d = scene.mesh.dimension;
+
+  if (top.has("mechanics"))
+    scene.mechanics = read_mechanics(top.table("mechanics", true), d);
+  if (top.has("flow"))
+    scene.flow = read_flow(top.table("flow", true), d);
+  if (!scene.mechanics and !scene.flow)
+    top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)");
+  if (scene.mechanics and scene.flow)
+    scene.coupling = read_coupling(top.table("coupling", true), *scene.mechanics, *scene.flow, d);
+  else if (top.has("coupling"))
+    top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled");
+
+  Section time = top.table("time", true);
+  scene.end_time = time.number("end");
+  scene.dt = time.number("dt");
+  positive(time, "dt", scene.dt);
+  positive(time, "end", scene.end_time);
+  scene.growth = time.number("growth", 1.0);
+  scene.retry = time.integer("retry", 0);
+  if (scene.retry < 0 or scene.retry > 20)
+    time.fail("retry", "must lie in [0, 20] (each retry halves the step)");
+  if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
+    time.fail("growth", "must lie in [1, 10]");
+  const double steps = scene.end_time / scene.dt;
+  // Counted in double precision: an int would overflow silently.
+  if (scene.growth == 1.0 and steps > Scene::max_steps)
+  {
+    std::ostringstream message;
+    message << "time.end / time.dt = " << std::setprecision(3) << steps << " steps, more than the limit of "
+            << Scene::max_steps;
+    time.fail("dt", message.str());
+  }
+  if (scene.growth == 1.0
+      and (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1))
+    time.fail("dt", "time.end must be a whole number of steps dt");
+  if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
+    time.fail("growth", "growing time steps need q = 1");
+  if (scene.num_steps() > Scene::max_steps)
+    time.fail("growth", "more than " + std::to_string(Scene::max_steps) + " time steps");
+  time.finish();
+  if (scene.coupling and scene.num_steps() % scene.coupling->q != 0)
+    top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");
+
+  Section output = top.table("output", false);
+  scene.write_xdmf = output.boolean("xdmf", true);
+  scene.checkpoint_every = output.integer("checkpoint_every", 0);
+  if (scene.checkpoint_every < 0)
+    output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
+  output.finish();
+
+  Section solver = top.table("solver", false);
+  for (auto [key, choice] : {std::pair{"flow", &scene.solver.flow}, std::pair{"mechanics", &scene.solver.mechanics},
+                             std::pair{"monolithic", &scene.solver.monolithic}})
+  {
+    *choice = solver.string(key, "auto");
+    if (*choice != "direct" and *choice != "iterative" and *choice != "auto")
+      solver.fail(key, "must be \"direct\", \"iterative\" or \"auto\"");
+  }
+  scene.solver.inexact_coupling = solver.boolean("inexact_coupling", true);
+  solver.finish();
+
+  Section boundaries = top.table("boundary", false);
+  const std::vector<std::string> names = builtin_boundary_names(d);
+  for (const std::string& name : boundaries.keys())
+  {
+    if (scene.mesh.type != "gmsh" and std::find(names.begin(), names.end(), name) == names.end())
+    {
+      std::string known;
+      for (const auto& n : names)
+        known += (known.empty() ? "" : ", ") + n;
+      boundaries.fail(name, "unknown boundary name (a " + scene.mesh.type + " has " + known + ")");
+    }
+    BoundarySpec b = read_boundary(boundaries.table(name, true), d);
+    if (!scene.mechanics and b.mechanics != BoundarySpec::Mechanics::traction_free)
+      boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]");
+    if (!scene.flow and b.flow != BoundarySpec::Flow::no_flow)
+      boundaries.fail(name, "flow boundary condition in a scene without [flow]");
+    scene.boundaries[name] = b;
+  }
+  boundaries.finish();
+
+  if (top.has("reference"))
+  {
+    Section r = top.table("reference", true);
+    ReferenceSpec ref;
+    ref.solution = r.string("solution");
+    if (ref.solution != "terzaghi" and ref.solution != "mandel" and ref.solution != "none")
+      r.fail("solution", "must be \"terzaghi\", \"mandel\" or \"none\"");
+    if (ref.solution == "none")
+    {
+      // Switches the comparison off (e.g. from --set on a reference scene).
+      for (const std::string& key : r.keys())
+        r.node(key);
+      r.finish();
+      top.finish();
+      return scene;
+    }
+    if (!scene.coupling or scene.mesh.type != "rectangle")
+      r.fail("solution", ref.solution + " needs a coupled scene on a rectangle");
+    if (!scene.flow->permeability or !scene.flow->permeability->is_constant())
+      r.fail("solution", ref.solution + " needs a constant scalar flow.permeability");
+    if (ref.solution == "terzaghi")
+    {
+      ref.load = r.number("load");
+      ref.height = scene.mesh.upper[1] - scene.mesh.lower[1];
+    }
+    else
+    {
+      // The rigid frictionless plate is imposed as the exact u_y on the top
+      // (the usual Mandel set-up; benchmarks.md).
+      ref.force = r.number("force");
+      ref.plate = r.string("plate", "top");
+      if (scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0)
+        r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)");
+      auto it = scene.boundaries.find(ref.plate);
+      if (it == scene.boundaries.end() or it->second.mechanics != BoundarySpec::Mechanics::traction_free)
+        r.fail("plate", "must name a boundary with no mechanics condition of its own");
+      const FlowSpec& f = *scene.flow;
+      auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics->G,
+                                             scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
+                                             (*f.permeability)(0, 0, 0, 0) / f.mu_f, ref.force);
+      it->second.mechanics = BoundarySpec::Mechanics::displacement;
+      it->second.displacement[1] = Expression([mandel](double, double y, double, double t)
+                                              { return mandel->displacement_y(y, t); },
+                                              "Mandel's exact plate displacement");
+    }
+    r.finish();
+    scene.reference = ref;
+  }
+  top.finish();
+  return scene;
+}
+
+void agree_on_error(const std::string& message, MPI_Comm comm)
+{
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  const int mine = message.empty() ? size : rank;
+  int owner = size;
+  MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MIN, comm);
+  if (owner == size)
+    return;
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, owner, comm);
+  std::string text = message;
+  text.resize(length);
+  MPI_Bcast(text.data(), length, MPI_CHAR, owner, comm);
+  throw SceneError(text);
+}
+
+} // namespace biotcontact

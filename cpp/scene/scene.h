@@ -1,0 +1,171 @@
+// A scene: one TOML file that says what to simulate (see README, "Scenes").
+// Reading it validates every key; a bad scene raises SceneError whose message
+// is one line naming the file and the key.
+#pragma once
+
+#include "scene/expression.h"
+
+#include <mpi.h>
+
+#include <array>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+struct SceneError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// Bad input found on some ranks only (a value at their own nodes): every
+/// rank throws SceneError with the message of the lowest rank that found
+/// one, so that no rank is left waiting in a collective call. Does nothing
+/// when `message` is empty on every rank (collective).
+void agree_on_error(const std::string& message, MPI_Comm comm);
+
+struct MeshSpec
+{
+  std::string type;                 // "rectangle", "box" or "gmsh"
+  std::vector<double> lower, upper; // corners (built-in meshes)
+  std::vector<std::size_t> cells;   // cells per direction (built-in meshes)
+  std::string file;                 // .msh or .geo (gmsh), resolved path
+  int dimension = 2;
+  int refine = 0;                   // uniform refinements of a gmsh mesh (nested: each halves h)
+};
+
+/// Frictionless Signorini contact against a rigid foundation with normal
+/// nu_F = sign * e_axis: u.nu_F <= gap at the nodes of the boundary.
+struct ContactSpec
+{
+  Expression gap;
+  int axis = 0;
+  int sign = 1;
+};
+
+struct BoundarySpec
+{
+  enum class Mechanics
+  {
+    traction_free,
+    displacement, // some components prescribed ("clamp" prescribes all to 0)
+    traction,
+    contact
+  };
+  enum class Flow
+  {
+    no_flow,
+    pressure,
+    flux
+  };
+  Mechanics mechanics = Mechanics::traction_free;
+  std::array<std::optional<Expression>, 3> displacement;
+  std::vector<Expression> traction; // also on a contact boundary (a fluid-loaded fracture face)
+  std::optional<ContactSpec> contact;
+  Flow flow = Flow::no_flow;
+  Expression pressure, flux;
+};
+
+struct MechanicsSpec
+{
+  double G = 0, lambda = 0;
+  std::optional<std::vector<Expression>> body_force;
+  /// Start from the displacement in equilibrium with the loads at t = 0 and
+  /// the initial pressure (a geostatic initialisation), instead of u = 0.
+  bool initial_equilibrium = false;
+};
+
+/// Permeability: a scalar (number or expression evaluated at cell midpoints)
+/// or a constant tensor.
+struct FlowSpec
+{
+  double M = std::numeric_limits<double>::infinity();
+  double c_f = 0, phi0 = 0, mu_f = 1;
+  std::optional<Expression> permeability;
+  std::optional<std::vector<double>> permeability_tensor; // row-major d x d
+  std::optional<double> rho_f;
+  std::optional<std::vector<double>> gravity;
+  std::optional<Expression> source;
+  Expression initial_pressure;
+  /// S = 1/M + c_f phi0 (alg. "Parameters")
+  double storage() const { return 1.0 / M + c_f * phi0; }
+};
+
+struct CouplingSpec
+{
+  double alpha = 1;
+  /// "fixed-stress" (single rate), "multirate" (the paper's, as printed),
+  /// "multirate-two-pass" (docs/multirate-two-pass.md: a second flow pass without L
+  /// corrects the fine steps) or "monolithic".
+  std::string scheme = "fixed-stress";
+  int q = 1;
+  std::string L_choice = "paper";      // "paper", "kdr", "half-kdr" or a number
+  double L_number = 0;
+  double tolerance = 1e-8;
+  int max_iterations = 100;
+  /// "none" (the paper's iteration) or "anderson" (anderson.h) with
+  /// `depth` differences kept.
+  std::string acceleration = "none";
+  int depth = 8;
+  /// q flow steps per mechanics step (either multirate scheme).
+  bool multirate() const { return scheme == "multirate" or scheme == "multirate-two-pass"; }
+};
+
+/// Closed-form solution to compare with at the final time.
+struct ReferenceSpec
+{
+  std::string solution; // "terzaghi" or "mandel"
+  double load = 0;      // terzaghi: q_load, the compressive traction on the top
+  double height = 0;    // terzaghi: h
+  double force = 0;     // mandel: F (2F on the full specimen, per unit thickness)
+  std::string plate;    // mandel: the boundary (y = b) carrying the rigid plate
+};
+
+/// How each system is solved: "direct", "iterative" or "auto" (by size,
+/// solver.h choose_method). PETSc options of a system's prefix override.
+struct SolverSpec
+{
+  std::string flow = "auto", mechanics = "auto", monolithic = "auto";
+  /// Inexact coupling (fixed_stress.h): the iterative solves of a coupling
+  /// iteration are only as accurate as its increment needs.
+  bool inexact_coupling = true;
+};
+
+struct Scene
+{
+  std::string file, name, description;
+  MeshSpec mesh;
+  std::map<std::string, BoundarySpec> boundaries;
+  std::optional<MechanicsSpec> mechanics;
+  std::optional<FlowSpec> flow;
+  std::optional<CouplingSpec> coupling; // present iff mechanics and flow
+  double end_time = 0, dt = 0;
+  double growth = 1; // time.growth: dt_k = dt growth^(k-1)
+  int retry = 0;      // time.retry: a failed step is retried with halved steps up to this many times
+  bool write_xdmf = true;
+  int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
+  std::optional<ReferenceSpec> reference;
+  SolverSpec solver;
+
+  /// At most this many (fine) time steps: a larger count is refused.
+  static constexpr int max_steps = 1000000;
+
+  bool has_contact() const;
+  int num_steps() const;
+  /// t_0 = 0, t_1, ..., t_N = end_time (fine steps).
+  std::vector<double> times() const;
+};
+
+/// Reads and validates a scene; `overrides` are "key.path=value" strings
+/// applied to the TOML document before validation.
+Scene read_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/// The names of the boundaries a built-in mesh provides.
+std::vector<std::string> builtin_boundary_names(int dimension);
+
+} // namespace biotcontact

@@ -1,0 +1,98 @@
+#include "solvers/field_split.h"
+
+#include "solvers/solver.h"
+
+#include <algorithm>
+
+namespace biotcontact
+{
+
+bool is_coupled(const std::vector<Field>& fields)
+{
+  return std::any_of(fields.begin(), fields.end(), [](const Field& f) { return !f.fields.empty(); });
+}
+
+std::shared_ptr<std::remove_pointer_t<MatNullSpace>> own(MatNullSpace space)
+{
+  return {space, [](MatNullSpace s) { MatNullSpaceDestroy(&s); }};
+}
+
+Field part_of(const Field& whole, const std::string& name, const std::vector<PetscInt>& dofs, MPI_Comm comm)
+{
+  // The block of `whole` numbers its rows rank by rank: this rank's first
+  // row is the number of DOFs of `whole` on the ranks before it.
+  PetscInt local = static_cast<PetscInt>(whole.dofs.size()), offset = 0;
+  MPI_Exscan(&local, &offset, 1, MPIU_INT, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0)
+    offset = 0; // MPI_Exscan leaves rank 0's result undefined
+  Field part{name, {}};
+  part.dofs.reserve(dofs.size());
+  for (PetscInt dof : dofs)
+  {
+    auto it = std::lower_bound(whole.dofs.begin(), whole.dofs.end(), dof);
+    if (it == whole.dofs.end() or *it != dof)
+      throw std::logic_error("field " + name + " is not a part of field " + whole.name);
+    part.dofs.push_back(offset + static_cast<PetscInt>(it - whole.dofs.begin()));
+  }
+  return part;
+}
+
+namespace
+{
+bool is_field_split(PC pc)
+{
+  PetscBool split = PETSC_FALSE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &split);
+  return split;
+}
+} // namespace
+
+void set_fields(PC pc, const std::vector<Field>& fields, const std::string& prefix)
+{
+  if (!is_field_split(pc))
+    return;
+  if (fields.empty())
+    throw OptionsError("-" + prefix + "pc_type fieldsplit: " + system_name(prefix) + " system has no fields to split");
+  IS given = nullptr;
+  PCFieldSplitGetIS(pc, fields.front().name.c_str(), &given);
+  if (given)
+    return; // already split (a preconditioner set up again)
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(pc));
+  for (const Field& f : fields)
+  {
+    IS is;
+    ISCreateGeneral(comm, static_cast<PetscInt>(f.dofs.size()), f.dofs.data(), PETSC_COPY_VALUES, &is);
+    // The block of the field inherits the index set's block size (MatCreateSubMatrix),
+    // and PCFieldSplit gives it the near-nullspace composed here.
+    ISSetBlockSize(is, f.block_size);
+    if (f.near_nullspace)
+      PetscObjectCompose(reinterpret_cast<PetscObject>(is), "nearnullspace",
+                         reinterpret_cast<PetscObject>(f.near_nullspace.get()));
+    PCFieldSplitSetIS(pc, f.name.c_str(), is);
+    ISDestroy(&is);
+  }
+  if (!is_coupled(fields))
+    return;
+  KSP* sub = nullptr;
+  PetscInt n = 0;
+  PCFieldSplitGetSubKSP(pc, &n, &sub);
+  for (PetscInt i = 0; i < n; ++i)
+  {
+    if (fields[i].fields.empty())
+      continue;
+    // The sub-solver exists from PCFieldSplitSetIS on, with the prefix
+    // <prefix>fieldsplit_<name>_: its type is read now, so that its own
+    // splits are in place before the outer set-up.
+    const char* sub_prefix = nullptr;
+    KSPGetOptionsPrefix(sub[i], &sub_prefix);
+    KSPSetFromOptions(sub[i]);
+    PC sub_pc;
+    KSPGetPC(sub[i], &sub_pc);
+    set_fields(sub_pc, fields[i].fields, sub_prefix ? sub_prefix : prefix);
+  }
+  PetscFree(sub);
+}
+
+} // namespace biotcontact

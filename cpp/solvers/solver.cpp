@@ -1,0 +1,317 @@
+#include "solvers/solver.h"
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <petscpc.h>
+
+namespace biotcontact
+{
+
+void set_default_option(const std::string& name, const std::string& value)
+{
+  PetscBool given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given);
+  if (!given)
+    PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
+}
+
+std::string method_name(Method method) { return method == Method::direct ? "direct" : "iterative"; }
+
+Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+                     bool coupled)
+{
+  if (choice == "direct")
+    return Method::direct;
+  if (choice == "iterative")
+    return Method::iterative;
+  // "auto": the crossover in unknowns measured by bench/scaling.py on the
+  // default scene (2D) and the contact block (3D), docs/performance.md. A
+  // 3D factorisation fills in far more (separators of n^(2/3) against
+  // n^(1/2)), so its crossover is lower.
+  const bool elasticity = structure == Structure::spd;
+  const std::int64_t crossover
+      = coupled ? (dimension == 3 ? crossover_3d_monolithic : crossover_2d_monolithic)
+                : (dimension == 3 ? (elasticity ? crossover_3d_mechanics : crossover_3d_flow)
+                                  : (elasticity ? crossover_2d_mechanics : crossover_2d_flow));
+  return unknowns < crossover ? Method::direct : Method::iterative;
+}
+
+std::string option(const std::string& prefix, const char* name)
+{
+  char value[64] = "";
+  PetscOptionsGetString(nullptr, prefix.c_str(), name, value, sizeof value, nullptr);
+  return value;
+}
+
+namespace
+{
+bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky"; }
+
+void set_direct_defaults(const std::string& prefix, Structure structure, int ranks)
+{
+  // The factorisation of each structure on one rank, as measured on the
+  // default scene (docs/performance.md): MUMPS's solve phase costs 5-9
+  // times a CHOLMOD or PETSc back-solve of the same matrix at 1e4-1e5
+  // unknowns, and a run is thousands of back-solves. PETSc's LU does not
+  // pivot, so it only takes quasi-definite matrices; neither runs on
+  // several ranks.
+  std::string pc = "lu", package = "mumps";
+  if (ranks == 1 and structure == Structure::spd)
+    pc = "cholesky", package = "cholmod";
+  else if (ranks == 1 and structure == Structure::quasi_definite)
+    package = "petsc";
+  else if (structure == Structure::spd)
+    pc = "cholesky";
+  const std::string given = option(prefix, "-pc_type");
+  set_default_option(prefix + "ksp_type", "preonly");
+  set_default_option(prefix + "pc_type", pc);
+  if (!given.empty() and given != pc)
+    // The user chose the other factorisation: the package must take it.
+    package = "mumps";
+  set_default_option(prefix + "pc_factor_mat_solver_type", package);
+  const std::string used = option(prefix, "-pc_factor_mat_solver_type");
+  // An ordering given to MUMPS replaces its own analysis (far more fill):
+  // only PETSc's factorisation gets nested dissection here.
+  if (used == "petsc")
+    set_default_option(prefix + "pc_factor_mat_ordering_type", "nd");
+  if (used == "mumps")
+    // More workspace than MUMPS's default: refactorisations of a changed
+    // inactive set may need more pivoting room than the analysis planned.
+    set_default_option(prefix + "mat_mumps_icntl_14", "400");
+}
+
+// Elasticity: smoothed aggregation; the matrix carries block size d and
+// the rigid-body modes (mechanics_step.cpp, or the displacement field of
+// the coupled system), so aggregates are nodes and the coarse spaces hold
+// the rigid motions. A new operator of the same pattern (another contact
+// active set, inactive_set_preconditioner.h) keeps the prolongators and
+// redoes only the Galerkin products.
+void set_elasticity_preconditioner(const std::string& prefix)
+{
+  set_default_option(prefix + "pc_type", "gamg");
+  set_default_option(prefix + "pc_gamg_reuse_interpolation", "true");
+}
+
+void set_darcy_preconditioner(const std::string& prefix)
+{
+  // Mixed RT0 x P0: [M B^T; B -C] with M the flux mass, C = (S+L)/dt times
+  // the cell mass. Block factorisation with the Schur complement
+  // approximated by C + B diag(M)^-1 B^T ("selfp"): for RT0 on simplices a
+  // two-point-flux-like cell Laplacian plus a mass term, which suits AMG;
+  // M itself is spectrally equivalent to its diagonal (mesh independent).
+  // selfp is built from the matrix as stored (the mass balance times -1,
+  // forms/biot.py), so it is negative definite; BoomerAMG takes it as it
+  // is (measured: 3.7-4.1 GMRES iterations per solve in 2D, 8.2-8.6 in 3D,
+  // flat under refinement, bench/scaling.py).
+  set_default_option(prefix + "pc_type", "fieldsplit");
+  set_default_option(prefix + "pc_fieldsplit_type", "schur");
+  set_default_option(prefix + "pc_fieldsplit_schur_fact_type", "full");
+  set_default_option(prefix + "pc_fieldsplit_schur_precondition", "selfp");
+  set_default_option(prefix + "fieldsplit_flux_ksp_type", "preonly");
+  set_default_option(prefix + "fieldsplit_flux_pc_type", "jacobi");
+  set_default_option(prefix + "fieldsplit_pressure_ksp_type", "preonly");
+  set_default_option(prefix + "fieldsplit_pressure_pc_type", "hypre");
+}
+
+// The coupled (u, z, p) system preconditioned by the fixed-stress split
+// (White, Castelletto and Tchelepi, 2016): a multiplicative field split,
+// flow first and then mechanics, on the preconditioning matrix
+// a_monolithic_preconditioner (forms/biot.py), whose pressure block carries
+// the stabilisation -(L/dt)(p, th) of the split's flow step. From a zero
+// guess one sweep is one fixed-stress iteration: the flow with the
+// stabilised storage, then the mechanics loaded by the new pressure
+// (PCFIELDSPLIT takes the off-diagonal block from the same matrix, which
+// L leaves unchanged). Each block gets one application of the split's own
+// preconditioner (AMG on elasticity, the Schur split on the flow), so the
+// sweep is cheap and inexact; FGMRES, since a user may make the block
+// solves Krylov methods themselves. GMRES on the monolithic system then
+// accelerates the fixed-stress iteration: where the split contracts at
+// rate gamma per iteration, the Krylov method is not bound to that rate.
+void set_fixed_stress_preconditioner(const std::string& prefix, const std::vector<Field>& fields)
+{
+  set_default_option(prefix + "ksp_type", "fgmres");
+  set_default_option(prefix + "pc_type", "fieldsplit");
+  set_default_option(prefix + "pc_fieldsplit_type", "multiplicative");
+  for (const Field& f : fields)
+  {
+    const std::string block = prefix + "fieldsplit_" + f.name + "_";
+    set_default_option(block + "ksp_type", "preonly");
+    if (f.fields.empty())
+      set_elasticity_preconditioner(block);
+    else
+      set_darcy_preconditioner(block);
+  }
+}
+
+void set_iterative_defaults(const std::string& prefix, Structure structure, const std::vector<Field>& fields)
+{
+  if (structure == Structure::spd)
+  {
+    set_default_option(prefix + "ksp_type", "cg");
+    set_elasticity_preconditioner(prefix);
+  }
+  else if (is_coupled(fields))
+    set_fixed_stress_preconditioner(prefix, fields);
+  else
+  {
+    set_default_option(prefix + "ksp_type", "gmres");
+    set_darcy_preconditioner(prefix);
+  }
+}
+} // namespace
+
+Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm,
+                           const std::vector<Field>& fields)
+{
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  // A -<prefix>pc_type on the command line decides the method.
+  if (const std::string given = option(prefix, "-pc_type"); !given.empty())
+    method = is_factorisation(given) ? Method::direct : Method::iterative;
+  if (method == Method::direct)
+    set_direct_defaults(prefix, structure, ranks);
+  else
+    set_iterative_defaults(prefix, structure, fields);
+  return method;
+}
+
+void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance)
+{
+  PetscBool given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, prefix.c_str(), "-ksp_rtol", &given);
+  if (!given)
+    KSPSetTolerances(ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
+}
+
+SolverStage::SolverStage(const std::string& name)
+{
+  // One stage per name for the whole process (a stage cannot be removed).
+  static std::map<std::string, PetscLogStage> stages;
+  auto it = stages.find(name);
+  if (it == stages.end())
+  {
+    PetscLogStageRegister(name.c_str(), &_stage);
+    stages[name] = _stage;
+  }
+  else
+    _stage = it->second;
+}
+
+void SolverStage::read(SolverStatistics& s) const
+{
+  auto info = [&](const char* event)
+  {
+    PetscLogEvent id = 0;
+    PetscEventPerfInfo perf{};
+    if (PetscLogEventGetId(event, &id) == 0)
+      PetscLogEventGetPerfInfo(_stage, id, &perf);
+    return perf;
+  };
+  const PetscEventPerfInfo setup = info("PCSetUp"), solve = info("KSPSolve");
+  s.setups = setup.count;
+  s.setup_time = setup.time;
+  s.back_solves = solve.count;
+  s.solve_time = solve.time;
+}
+
+std::string system_name(const std::string& prefix) { return "the " + prefix.substr(0, prefix.size() - 1); }
+
+LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, Structure structure,
+                           const std::vector<Field>& fields)
+    : _prefix(prefix)
+{
+  if (structure == Structure::spd)
+    MatSetOption(A, MAT_SPD, PETSC_TRUE);
+  KSPCreate(comm, &_ksp);
+  KSPSetOptionsPrefix(_ksp, prefix.c_str());
+  KSPSetOperators(_ksp, A, P);
+  PetscErrorCode ierr = KSPSetFromOptions(_ksp);
+  PC pc;
+  KSPGetPC(_ksp, &pc);
+  if (ierr == 0)
+    set_fields(pc, fields, prefix);
+  // A Krylov method starts from x, the previous iterate (preonly refuses a
+  // nonzero guess).
+  PetscBool preonly = PETSC_TRUE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly);
+  if (ierr == 0 and !preonly)
+  {
+    ierr = KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE);
+    set_relative_tolerance(_ksp, prefix, iterative_tolerance);
+  }
+  if (ierr != 0)
+    throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver (PETSc error "
+                       + std::to_string(ierr) + ")");
+}
+
+LinearSolver::~LinearSolver() { KSPDestroy(&_ksp); }
+
+int LinearSolver::solve(Vec x, Vec b)
+{
+  return run([&] { return KSPSolve(_ksp, b, x); });
+}
+
+void LinearSolver::set_up()
+{
+  run([] { return PetscErrorCode(0); });
+}
+
+void LinearSolver::solve(Mat X, Mat B)
+{
+  run([&] { return KSPMatSolve(_ksp, B, X); });
+}
+
+int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
+{
+  // Set-up first, so that the log keeps factorisation (PCSetUp) and
+  // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
+  const bool set_up = _operator_changed;
+  _operator_changed = false;
+  const double start = MPI_Wtime();
+  PetscErrorCode ierr = KSPSetUp(_ksp);
+  if (set_up)
+  {
+    ++setups;
+    setup_time += MPI_Wtime() - start;
+  }
+  if (ierr == 0)
+    ierr = solve();
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  KSPGetConvergedReason(_ksp, &reason);
+  PC pc;
+  KSPGetPC(_ksp, &pc);
+  MatSolverType package = nullptr;
+  PCFactorGetMatSolverType(pc, &package);
+  if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and package and std::string(package) == MATSOLVERPETSC)
+  {
+    // A quasi-definite matrix whose negative block is at round-off against
+    // the rest (tiny S + L) can still meet a tiny pivot without pivoting:
+    // factorise it once more with UMFPACK, which pivots. (PETSc's LU runs on
+    // one rank only, and so does UMFPACK; its solve phase costs a tenth of
+    // MUMPS's on the fracture scene's flow system, 1.4e4 unknowns.)
+    PetscOptionsSetValue(nullptr, ("-" + _prefix + "pc_factor_mat_solver_type").c_str(), MATSOLVERUMFPACK);
+    // The PC keeps the nested-dissection ordering of the first attempt
+    // unless told otherwise; given one, UMFPACK uses it instead of its own
+    // (6x slower solves here).
+    PetscOptionsSetValue(nullptr, ("-" + _prefix + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL);
+    Mat A, P; // owned by the system: they outlive the reset
+    KSPGetOperators(_ksp, &A, &P);
+    KSPReset(_ksp);
+    KSPSetOperators(_ksp, A, P);
+    KSPSetFromOptions(_ksp);
+    ierr = KSPSetUp(_ksp);
+    if (ierr == 0)
+      ierr = solve();
+    KSPGetConvergedReason(_ksp, &reason);
+  }
+  if (ierr != 0)
+    throw SolverError(system_name(_prefix) + " linear solver failed: PETSc error " + std::to_string(ierr));
+  if (reason < 0)
+    throw SolverError(system_name(_prefix) + " linear solver failed: " + KSPConvergedReasons[reason]);
+  PetscInt its = 0;
+  KSPGetIterationNumber(_ksp, &its);
+  return static_cast<int>(its);
+}
+
+} // namespace biotcontact

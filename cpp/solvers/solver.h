@@ -1,0 +1,212 @@
+// How a system is solved: the one place that chooses the factorisation (or,
+// when the command line asks for one, the Krylov method), says when a
+// factorisation may be reused, and counts set-ups and solves per system.
+//
+// Every system (flow, mechanics, monolithic) has its own options prefix and
+// its own PETSc log stage; set-ups (PCSetUp: one factorisation for a direct
+// solver) and back-solves (KSPSolve) are read from PETSc's event log of that
+// stage, so they count what PETSc really did, and `-log_view` shows the same
+// numbers stage by stage.
+#pragma once
+
+#include "solvers/field_split.h"
+
+#include <cstdint>
+#include <functional>
+#include <mpi.h>
+#include <petscksp.h>
+#include <petsclog.h>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// A solver that did not converge: the run stops with this message.
+struct SolverError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// PETSc options that do not make a solver: bad input (exit 2).
+struct OptionsError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// What the factorisation may assume of a matrix.
+enum class Structure
+{
+  /// Symmetric positive definite (elasticity with Dirichlet rows): Cholesky.
+  spd,
+  /// Nonsingular with nonzero diagonal blocks of opposite signs after a
+  /// symmetric row scaling (RT0 x P0 with S + L > 0, the coupled system with
+  /// S > 0): LU without pivoting is stable in any symmetric ordering
+  /// (Vanderbei's quasi-definite matrices).
+  quasi_definite,
+  /// Anything else (a zero diagonal block, S = 0): LU with pivoting.
+  general
+};
+
+/// How a system is solved.
+enum class Method
+{
+  /// A sparse factorisation, reused while the matrix is unchanged.
+  direct,
+  /// A Krylov method with a multilevel preconditioner: CG with smoothed
+  /// aggregation AMG (rigid-body near-nullspace) for SPD elasticity,
+  /// GMRES with a Schur-complement field split and AMG on the Schur
+  /// approximation for the mixed flow system, and for the coupled system
+  /// FGMRES preconditioned by one fixed-stress sweep (flow, then mechanics)
+  /// built from those two.
+  iterative
+};
+
+/// "direct" or "iterative", as written in the summary.
+std::string method_name(Method method);
+
+/// The crossovers of "auto": systems with at least this many unknowns are
+/// solved iteratively. Measured by bench/scaling.py on the 2-core machine
+/// (docs/performance.md, "Scaling"), per system, one rank:
+/// - 3D: the flow is faster iterative from 7.6e4 unknowns (direct still at
+///   3.2e4), the mechanics from 1.5e4 (a tie at 6.8e3);
+/// - 2D: the factorisations stay faster at every size measured, up to
+///   1.6e6 flow and 6.6e5 mechanics unknowns (2.3e6 in all): a 2D nested-
+///   dissection factor has O(n log n) fill, and a run makes thousands of
+///   cheap back-solves from it. The 2D crossovers lie beyond that.
+/// The coupled system, by bench/monolithic.py (docs/performance.md, "The
+/// monolithic system"): in 3D its factorisation and the fixed-stress
+/// preconditioned FGMRES tie at 1.2e4 unknowns (0.83 s against 0.74 s, and
+/// 0.81 s against 1.08 s in another run), FGMRES wins from 3.9e4 (3.1 s
+/// against 5.3 s) and by 6x at 3.0e5; in 2D the factorisation wins at
+/// every size measured (4.4x at 1.4e5), so it keeps the flow's crossover.
+constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 8000000;
+constexpr std::int64_t crossover_3d_mechanics = 10000, crossover_3d_flow = 50000;
+constexpr std::int64_t crossover_2d_monolithic = 8000000, crossover_3d_monolithic = 10000;
+
+/// The method for a [solver] choice ("direct", "iterative" or "auto") of a
+/// system with `unknowns` global unknowns and `dimension` (`coupled`: the
+/// monolithic system): "auto" takes the factorisation below the crossover
+/// measured in bench/scaling.py and bench/monolithic.py
+/// (docs/performance.md) and the Krylov method above it.
+Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+                     bool coupled = false);
+
+/// Sets the defaults of the solver with this options prefix unless the
+/// command line gave them, and returns the method they make (a
+/// -<prefix>pc_type given on the command line decides: a factorisation is
+/// direct, anything else iterative).
+///
+/// Direct: preonly with the factorisation measured fastest for the
+/// structure on this communicator (docs/performance.md): on one rank
+/// CHOLMOD Cholesky for SPD matrices and PETSc's own nested-dissection LU
+/// for quasi-definite ones, MUMPS otherwise and on several ranks.
+/// Iterative: see Method; the relative tolerance is set on the KSP
+/// (set_relative_tolerance), not here.
+/// `fields` are the system's splits: the coupled system is the one whose
+/// fields (flow, mechanics) are split further.
+Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm,
+                           const std::vector<Field>& fields = {});
+
+/// The relative residual tolerance of an iterative solve: tight enough that
+/// the coupling tolerance (1e-8 on the relative increments) sees converged
+/// solves. Inexact coupling loosens it in early iterations (fixed_stress.h).
+constexpr double iterative_tolerance = 1e-10;
+
+/// Sets the relative tolerance of a Krylov method, unless the command line
+/// gave -<prefix>ksp_rtol (which wins). On the KSP itself, not in the
+/// options database: SNES VI re-reads the options at every change of the
+/// inactive set, which would undo a tolerance set by the coupling.
+void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance);
+
+/// The value of the PETSc option -<prefix><name without dash> ("" if unset);
+/// `name` starts with its dash, e.g. option("flow_", "-pc_type").
+std::string option(const std::string& prefix, const char* name);
+
+/// Sets a PETSc option unless the user already gave it (command line wins).
+void set_default_option(const std::string& name, const std::string& value);
+
+/// What one system's solver did, read from its PETSc log stage.
+struct SolverStatistics
+{
+  long solves = 0;            // calls of the system's solve
+  long setups = 0;            // factorisations (direct) or AMG hierarchies (iterative)
+  long back_solves = 0;       // KSP solves (Newton steps of a contact solve)
+  long linear_iterations = 0; // Krylov iterations (1 per back-solve when direct)
+  long newton_iterations = 0; // contact (SNES VI) Newton steps
+  long active_set_changes = 0;
+  long schur_columns = 0;     // right-hand sides solved to form a contact Schur complement
+  double setup_time = 0;      // s in PCSetUp
+  double solve_time = 0;      // s in KSPSolve: the back-solves
+  double total_time = 0;      // s in the system's solve, all included
+  double assembly_time = 0;   // s assembling its matrix
+  double schur_time = 0;      // s forming a contact Schur complement from its factorisation
+};
+
+/// A PETSc log stage named after a system; pushed while the system solves.
+class SolverStage
+{
+public:
+  explicit SolverStage(const std::string& name);
+  /// Reads set-ups, back-solves and their times from the event log.
+  void read(SolverStatistics& statistics) const;
+
+  /// Pushes the stage for the lifetime of the guard.
+  struct Guard
+  {
+    explicit Guard(const SolverStage& s) { PetscLogStagePush(s._stage); }
+    ~Guard() { PetscLogStagePop(); }
+  };
+
+private:
+  PetscLogStage _stage = 0;
+};
+
+/// A KSP with an options prefix ("flow_", "mechanics_") whose defaults
+/// were set by set_solver_defaults. A factorisation (or AMG set-up) is
+/// redone only when the operator's values change (PETSc compares the matrix
+/// state). An iterative solve starts from the x it is given (the previous
+/// iterate or time step).
+class LinearSolver
+{
+public:
+  /// Solves with A, preconditioned from P (A itself, or the fixed-stress
+  /// matrix of the coupled system); `fields` (optional) are the splits of
+  /// a field split preconditioner.
+  LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, Structure structure,
+               const std::vector<Field>& fields = {});
+  ~LinearSolver();
+  LinearSolver(const LinearSolver&) = delete;
+  LinearSolver& operator=(const LinearSolver&) = delete;
+
+  /// Solves A x = b; returns the Krylov iterations. Throws SolverError.
+  int solve(Vec x, Vec b);
+  /// Factorises (sets up) now, if the operator changed. Throws SolverError.
+  void set_up();
+  /// Solves A X = B for the columns of the dense B (one call into the
+  /// factorisation for all of them when it supports it). Throws SolverError.
+  void solve(Mat X, Mat B);
+
+  /// The relative tolerance of the next solves (a Krylov method only).
+  void set_tolerance(double relative) { set_relative_tolerance(_ksp, _prefix, relative); }
+  /// The operator's values changed: the next solve sets up anew (PETSc
+  /// sees the new matrix state by itself; this only counts).
+  void operator_changed() { _operator_changed = true; }
+  /// Preconditioner set-ups (factorisations or AMG hierarchies) so far:
+  /// one per operator, and the seconds they took.
+  long setups = 0;
+  double setup_time = 0;
+
+private:
+  /// Sets up (factorises if needed) and runs `solve`; checks the result.
+  int run(const std::function<PetscErrorCode()>& solve);
+  KSP _ksp;
+  std::string _prefix;
+  bool _operator_changed = true; // the next solve sets up
+};
+
+/// "the mechanics" from "mechanics_".
+std::string system_name(const std::string& prefix);
+
+} // namespace biotcontact

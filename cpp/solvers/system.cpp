@@ -1,0 +1,137 @@
+#include "solvers/system.h"
+
+#include <dolfinx/common/Timer.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, double& time)
+{
+  common::Timer timer("assembly");
+  la::petsc::Matrix A = assemble_matrix(a, bcs);
+  time += timer.stop();
+  return A;
+}
+} // namespace
+
+System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const fem::Form<double>> a, BCs bcs,
+               Structure structure, const std::string& choice, std::vector<Field> fields,
+               std::shared_ptr<const fem::Form<double>> a_preconditioner)
+    : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure), _fields(std::move(fields)),
+      _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
+{
+  _method = set_solver_defaults(_prefix, _structure,
+                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim(),
+                                              is_coupled(_fields)),
+                                _comm, _fields);
+  // A factorisation is of A itself; only a preconditioner takes another matrix.
+  if (a_preconditioner and _method == Method::iterative)
+  {
+    _a_preconditioner = a_preconditioner;
+    _P.emplace(timed_assembly(*a_preconditioner, _bcs, _statistics.assembly_time));
+  }
+  // Made now so that options that make no solver are refused before the run.
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A.mat(), preconditioner_matrix(), _structure, _fields);
+}
+
+std::int64_t System::unknowns() const
+{
+  PetscInt n = 0;
+  MatGetSize(_A.mat(), &n, nullptr);
+  return n;
+}
+
+void System::set_near_nullspace(MatNullSpace modes) { MatSetNearNullSpace(_A.mat(), modes); }
+
+System::~System() = default;
+
+void System::use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs,
+                         Vec layout)
+{
+  _linear.reset();
+  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), preconditioner_matrix(), _fields, _structure,
+                                             _method, layout, std::move(set),
+                                             std::move(dofs), std::move(displacement_dofs));
+}
+
+void System::solve(Vec b, Vec x)
+{
+  SolverStage::Guard stage(_stage);
+  common::Timer timer("solve " + _prefix);
+  if (_contact)
+    _contact->solve(b, x);
+  else
+    _statistics.linear_iterations += _linear->solve(x, b);
+  _statistics.total_time += timer.stop();
+  ++_statistics.solves;
+}
+
+void System::set_tolerance(double relative)
+{
+  if (_method != Method::iterative)
+    return;
+  if (_contact)
+    _contact->set_tolerance(relative);
+  else
+    _linear->set_tolerance(relative);
+}
+
+void System::reassemble()
+{
+  common::Timer timer("assembly");
+  reassemble_matrix(_A.mat(), *_a, _bcs);
+  if (_P)
+    reassemble_matrix(_P->mat(), *_a_preconditioner, _bcs);
+  _statistics.assembly_time += timer.stop();
+  // A linear KSP sees the new matrix state and refactorises by itself; the
+  // contact solver lags its preconditioner and must be told.
+  if (_contact)
+    _contact->operator_changed();
+  else
+    _linear->operator_changed();
+}
+
+SolverStatistics System::statistics() const
+{
+  SolverStatistics s = _statistics;
+  _stage.read(s);
+  // PCSetUp events count factorisations; an AMG hierarchy logs one per
+  // level and smoother as well, so the solvers count their own set-ups
+  // (their times too: PETSc's event times include the nested set-ups).
+  if (_method == Method::iterative and !_contact)
+    s.setups = _linear->setups, s.setup_time = _linear->setup_time;
+  else if (_method == Method::iterative and _contact->preconditioner_setups() >= 0)
+    s.setups = _contact->preconditioner_setups(), s.setup_time = _contact->preconditioner_setup_time();
+  if (_contact)
+  {
+    s.newton_iterations = _contact->newton_iterations;
+    s.linear_iterations = _contact->linear_iterations;
+    s.active_set_changes = _contact->active_set_changes;
+    s.schur_columns = _contact->schur_columns();
+    s.schur_time = _contact->schur_time();
+  }
+  s.solves += _earlier.solves;
+  s.setups += _earlier.setups;
+  s.back_solves += _earlier.back_solves;
+  s.linear_iterations += _earlier.linear_iterations;
+  s.newton_iterations += _earlier.newton_iterations;
+  s.active_set_changes += _earlier.active_set_changes;
+  s.schur_columns += _earlier.schur_columns;
+  return s;
+}
+
+std::string System::description() const
+{
+  const std::string pc = option(_prefix, "-pc_type");
+  std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + option(_prefix, "-ksp_type")
+                  + " + " + pc;
+  if (const std::string package = option(_prefix, "-pc_factor_mat_solver_type");
+      !package.empty() and (pc == "lu" or pc == "cholesky"))
+    d += " (" + package + ")";
+  return d;
+}
+
+} // namespace biotcontact

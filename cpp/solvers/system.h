@@ -1,0 +1,96 @@
+// One system of a step: the matrix of a bilinear form (Dirichlet rows made
+// identity rows) and what answers it, a linear solve A x = b or, with
+// contact, the bound-constrained problem on A (contact.h). The flow, the
+// mechanics and the monolithic steps each own one; how it is solved, when a
+// factorisation is reused and what is counted is decided here and in
+// solver.h, never in the steps.
+#pragma once
+
+#include "contact/contact.h"
+#include "assembly/linear_algebra.h"
+#include "solvers/solver.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace biotcontact
+{
+
+class System
+{
+public:
+  /// Assembles `a` with `bcs`; `prefix` names the system's PETSc options
+  /// and its log stage ("flow_" -> stage "flow"); `choice` is the scene's
+  /// [solver] entry ("direct", "iterative" or "auto", see choose_method);
+  /// `fields` the splits of a mixed system; `a_preconditioner` (optional)
+  /// the form an iterative method builds its preconditioner from instead
+  /// of `a` (the fixed-stress matrix of the coupled system).
+  System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const dolfinx::fem::Form<double>> a,
+         BCs bcs, Structure structure, const std::string& choice, std::vector<Field> fields = {},
+         std::shared_ptr<const dolfinx::fem::Form<double>> a_preconditioner = nullptr);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  /// Gives the matrix its near-nullspace (the rigid-body modes of
+  /// elasticity), which algebraic multigrid builds its coarse spaces from.
+  void set_near_nullspace(MatNullSpace modes);
+
+  /// The matrix the preconditioner is built from: A, or the matrix of
+  /// `a_preconditioner` on the iterative path.
+  Mat preconditioner_matrix() const { return _P ? _P->mat() : _A.mat(); }
+
+  /// Makes every solve the contact problem on the DOFs `dofs` of x (see
+  /// ContactSolver); `layout` is a vector like x.
+  void use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs,
+                   Vec layout);
+
+  /// Solves with x as the initial guess (a contact solve starts from it).
+  void solve(Vec b, Vec x);
+
+  /// The accuracy the coupling asks of the next solves (inexact coupling,
+  /// fixed_stress.h): the relative residual tolerance of an iterative
+  /// method (and of the contact solver's Newton steps); a factorisation is
+  /// exact and ignores it.
+  void set_tolerance(double relative);
+
+  /// The form's coefficients changed (dt with time.growth): reassembles A;
+  /// the next solve factorises anew.
+  void reassemble();
+
+  bool has_contact() const { return _contact != nullptr; }
+  ContactSolver& contact() { return *_contact; }
+
+  /// What was done so far (collective only in that every rank reads its log),
+  /// counts of an earlier run included (restart).
+  SolverStatistics statistics() const;
+  /// The counts of the run a restart continues.
+  void add_earlier(const SolverStatistics& earlier) { _earlier = earlier; }
+  /// The solver actually used, e.g. "preonly + cholesky (cholmod)".
+  std::string description() const;
+  /// Direct or iterative, as decided from the scene and the options.
+  Method method() const { return _method; }
+  /// Global number of unknowns.
+  std::int64_t unknowns() const;
+
+private:
+  MPI_Comm _comm;
+  std::string _prefix;
+  std::shared_ptr<const dolfinx::fem::Form<double>> _a, _a_preconditioner;
+  BCs _bcs;
+  Structure _structure;
+  Method _method;
+  std::vector<Field> _fields;
+  SolverStatistics _statistics; // before _A: its assembly time is counted
+  dolfinx::la::petsc::Matrix _A;
+  std::optional<dolfinx::la::petsc::Matrix> _P;
+  std::unique_ptr<LinearSolver> _linear;
+  std::unique_ptr<ContactSolver> _contact;
+  SolverStage _stage;
+  SolverStatistics _earlier;
+};
+
+} // namespace biotcontact

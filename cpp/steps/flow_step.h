@@ -1,0 +1,91 @@
+// One backward-Euler flow step in mixed form, RT0 flux x P0 pressure
+// (alg. "Flow"), with the fixed-stress terms of alg. "Single-rate ... (a)" and
+// "Multirate ... (a)" when the scene is coupled.
+#pragma once
+
+#include "domain/domain.h"
+#include "assembly/forms.h"
+#include "assembly/linear_algebra.h"
+#include "assembly/parameters.h"
+#include "solvers/system.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <algorithm>
+#include <deque>
+#include <memory>
+#include <optional>
+
+namespace biotcontact
+{
+
+class FlowStep
+{
+public:
+  /// `V` is the displacement space of a coupled scene, null otherwise. With
+  /// L = 0 in `constants` (the second pass of "multirate-two-pass") the step
+  /// has no stabilisation term.
+  FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+           const Constants& constants,
+           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
+
+  /// Solves for (z, p) at time t from the current coupling data below;
+  /// leaves p in `pressure`.
+  void solve(double t);
+
+  /// The mixed solution (z, p) of the last solve, and its restoration (the
+  /// multirate scheme keeps one per fine step for output).
+  std::span<const double> state() const { return _w->x()->array(); }
+  void set_state(std::span<const double> w);
+
+  /// Writes the cell averages of the flux z into a DG0 vector field.
+  void flux(dolfinx::fem::Function<double>& out) const;
+
+  /// Keeps the loads of the last `times` solve times (q for a multirate
+  /// window, whose iterations revisit its fine times; 1 by default).
+  void keep_loads(int times) { _load_times = static_cast<std::size_t>(std::max(times, 1)); }
+
+  /// The matrix depends on dt: reassembled (and refactorised at the next
+  /// solve) after set_time_step changed the "dt" constant.
+  void time_step_changed();
+
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> pressure_space() const { return _Q; }
+
+  // The unknown of the last solve.
+  std::shared_ptr<dolfinx::fem::Function<double>> pressure;
+  // Coupling data of the right-hand side (alg. multirate (a); q = 1 is the
+  // single-rate step): p^{n+1,m-1}, p^{n,m}, p^{n,m-1}, u^n, u_K.
+  std::shared_ptr<dolfinx::fem::Function<double>> p_previous, p_iterate, p_iterate_previous;
+  std::shared_ptr<dolfinx::fem::Function<double>> u_iterate, u_window;
+
+  const System& system() const { return *_system; }
+  System& system() { return *_system; }
+  double assembly_time = 0; // right-hand sides
+
+private:
+  /// The assembled loads at time t (source, boundary pressure, gravity).
+  std::span<const double> loads(double t);
+  /// The flux and pressure DOFs of W: the splits of an iterative solve.
+  std::vector<Field> fields() const;
+
+  const Scene& _scene;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _W, _Q, _Z;
+  std::vector<std::int32_t> _Q_to_W, _Z_to_W;
+  std::shared_ptr<dolfinx::fem::Function<double>> _w, _source, _p_boundary;
+  BCs _bcs;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _a_storage, _a_stabilisation, _a_displacement, _L_source,
+      _L_gravity;
+  // Operators of the coupling terms (W x Q, W x Q, W x V) and work vectors.
+  std::optional<dolfinx::la::petsc::Matrix> _storage, _stabilisation, _displacement;
+  std::unique_ptr<dolfinx::la::Vector<double>> _dp, _du;
+  std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
+  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
+  std::unique_ptr<System> _system;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b;
+  bool _loads_depend_on_time = false;
+  // The loads of the last _load_times times, oldest first.
+  std::deque<std::pair<double, std::unique_ptr<dolfinx::la::Vector<double>>>> _loads;
+  std::size_t _load_times = 1;
+};
+
+} // namespace biotcontact

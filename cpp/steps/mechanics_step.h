@@ -1,0 +1,75 @@
+// One quasi-static mechanics solve: linear elasticity loaded by the pore
+// pressure (paper eq. 3.16), with frictionless Signorini contact (contact.h)
+// when the scene has a contact boundary, a plain linear solve otherwise.
+#pragma once
+
+#include "assembly/boundary_conditions.h"
+#include "contact/contact.h"
+#include "domain/domain.h"
+#include "assembly/forms.h"
+#include "assembly/linear_algebra.h"
+#include "assembly/parameters.h"
+#include "solvers/system.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <optional>
+
+namespace biotcontact
+{
+
+class MechanicsStep
+{
+public:
+  /// `V` is the P1 displacement space; `pressure` the pore pressure of a
+  /// coupled scene, null otherwise.
+  MechanicsStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                const Constants& constants, std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
+                std::shared_ptr<const dolfinx::fem::Function<double>> pressure);
+  ~MechanicsStep();
+  MechanicsStep(const MechanicsStep&) = delete;
+  MechanicsStep& operator=(const MechanicsStep&) = delete;
+
+  /// Solves at time t with the current pressure; leaves the result in u.
+  void solve(double t);
+
+  /// Contact diagnostics of the current u (collective); also fills the
+  /// contact pressure and active-flag fields.
+  ContactState contact_state();
+  /// Only the number of active contact nodes of u (collective, cheap: no
+  /// contact forces), for the log of every coupling iteration.
+  int active_contact_nodes();
+
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
+  bool has_contact() const { return _system->has_contact(); }
+  const System& system() const { return *_system; }
+  System& system() { return *_system; }
+
+  std::shared_ptr<dolfinx::fem::Function<double>> u;
+  /// On the P1 scalar space of the contact component; zero off Gamma_3.
+  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
+
+  double assembly_time = 0; // right-hand sides
+
+private:
+  void assemble_rhs(double t);
+
+  const Scene& _scene;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _V;
+  BCs _bcs;
+  std::vector<DisplacementValue> _bc_values;
+  std::shared_ptr<dolfinx::fem::Function<double>> _body_force, _traction;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_body;
+  std::shared_ptr<const dolfinx::fem::Function<double>> _pressure;
+  std::optional<dolfinx::la::petsc::Matrix> _pressure_load; // V x Q
+  std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
+  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
+  std::unique_ptr<System> _system;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
+  bool _loads_depend_on_time = false;
+  bool _loads_assembled = false;
+  double _loads_time = -1;
+};
+
+} // namespace biotcontact

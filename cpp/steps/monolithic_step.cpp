@@ -1,0 +1,270 @@
+#include "steps/monolithic_step.h"
+
+#include "assembly/boundary_conditions.h"
+
+#include <dolfinx/common/Timer.h>
+#include <dolfinx/fem/assembler.h>
+#include <algorithm>
+#include <dolfinx/fem/utils.h>
+#include <iterator>
+#include <stdexcept>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+/// The collapsed subspace i of X and the map from its DOFs to X's.
+std::shared_ptr<const fem::FunctionSpace> collapse(const fem::FunctionSpace& X, int i,
+                                                   std::vector<std::int32_t>& map)
+{
+  auto [space, m] = X.sub({i})->collapse();
+  map = std::move(m);
+  return std::make_shared<fem::FunctionSpace>(std::move(space));
+}
+
+void extract(const fem::Function<double>& x, const std::vector<std::int32_t>& map, fem::Function<double>& part)
+{
+  std::span<const double> from = x.x()->array();
+  std::span<double> to = part.x()->mutable_array();
+  for (std::size_t i = 0; i < map.size(); ++i)
+    to[i] = from[map[i]];
+}
+} // namespace
+
+MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                               const Constants& constants)
+    : _scene(scene)
+{
+  const auto& mesh = domain.mesh;
+  const int d = domain.dim();
+  _X = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.monolithic_space, "v_0", mesh));
+  V = collapse(*_X, 0, _V_to_X);
+  _Z = collapse(*_X, 1, _Z_to_X);
+  Q = collapse(*_X, 2, _Q_to_X);
+
+  _x = std::make_shared<fem::Function<double>>(_X);
+  u = std::make_shared<fem::Function<double>>(V);
+  pressure = std::make_shared<fem::Function<double>>(Q);
+  _u_old = std::make_shared<fem::Function<double>>(V);
+  _p_old = std::make_shared<fem::Function<double>>(Q);
+  interpolate(*pressure, {scene.flow->initial_pressure}, 0.0);
+  {
+    // The unknown starts from the initial state (the guess of a contact solve).
+    std::span<double> x = _x->x()->mutable_array();
+    for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
+      x[_Q_to_X[i]] = pressure->x()->array()[i];
+  }
+
+  auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.flow_space, "resistivity", mesh)));
+  interpolate_resistivity(*R, *scene.flow, d);
+  auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", mesh));
+  _body_force = std::make_shared<fem::Function<double>>(V);
+  _traction = std::make_shared<fem::Function<double>>(V);
+  _source = std::make_shared<fem::Function<double>>(D);
+  _p_boundary = std::make_shared<fem::Function<double>>(D);
+  const Coefficients coefficients = {{"resistivity", R},       {"p_previous", _p_old},
+                                     {"u_window", _u_old},     {"body_force", _body_force},
+                                     {"traction", _traction},  {"source", _source},
+                                     {"p_boundary", _p_boundary}};
+  auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
+                  const mesh::MeshTags<std::int32_t>* marker = nullptr)
+  { return make_form(f, spaces, coefficients, constants, marker); };
+
+  // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
+  _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
+  _bcs.push_back(no_flow_bc(scene, domain, _X->sub({1})));
+  _loads_depend_on_time = std::any_of(_bc_values.begin(), _bc_values.end(),
+                                      [](const auto& v) { return v.value->depends_on_time(); });
+
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
+    {
+      _markers.push_back(domain.marker(name));
+      _L_traction.emplace_back(&b.traction, make(forms.L_monolithic_traction, {_X}, _markers.back().get()));
+      for (const Expression& e : b.traction)
+        _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
+    }
+    if (b.flow == BoundarySpec::Flow::pressure)
+    {
+      _markers.push_back(domain.marker(name));
+      _L_pressure.emplace_back(&b.pressure, make(forms.L_monolithic_pressure, {_X}, _markers.back().get()));
+      _loads_depend_on_time = _loads_depend_on_time or b.pressure.depends_on_time();
+    }
+  }
+  _a = make(forms.a_monolithic, {_X, _X});
+  _L_history = make(forms.L_monolithic_history, {_X});
+  if (scene.mechanics->body_force)
+  {
+    _L_body = make(forms.L_monolithic_body_force, {_X});
+    for (const Expression& e : *scene.mechanics->body_force)
+      _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
+  }
+  if (scene.flow->source)
+  {
+    _L_source = make(forms.L_monolithic_source, {_X});
+    _loads_depend_on_time = _loads_depend_on_time or scene.flow->source->depends_on_time();
+  }
+  if (scene.flow->gravity)
+    _L_gravity = make(forms.L_monolithic_gravity, {_X});
+
+  // The coupled matrix depends on dt only: assembled and factorised once per
+  // dt (and per inactive set with contact). Its pressure block -(S/dt) times
+  // the cell mass is often negligible against the coupling (S = 1e-12 in the
+  // poroelastic Hertz scene): LU with pivoting. The iterative path is a
+  // Krylov method preconditioned by the fixed-stress split (solver.h),
+  // built from a_monolithic_preconditioner and split along fields().
+  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general,
+                                     scene.solver.monolithic, fields(),
+                                     make(forms.a_monolithic_preconditioner, {_X, _X}));
+  const auto& map = _X->dofmap()->index_map;
+  const int bs = _X->dofmap()->index_map_bs();
+  _b = std::make_unique<la::Vector<double>>(map, bs);
+  _b_loads = std::make_unique<la::Vector<double>>(map, bs);
+
+  if (!scene.has_contact())
+    return;
+  // Contact: the bounds sit on the contact DOFs of the displacement block.
+  ContactSet set = locate_contact(scene, domain, forms, V);
+  const std::int32_t owned_X = bs * map->size_local();
+  const std::int32_t owned_V = owned_size(*V);
+  std::vector<std::int32_t> dofs, displacement;
+  for (std::int32_t dof : set.dofs)
+    dofs.push_back(_V_to_X.at(dof));
+  for (std::int32_t i = 0; i < owned_V; ++i)
+    displacement.push_back(_V_to_X[i]);
+  for (std::int32_t dof : dofs)
+    if (dof >= owned_X)
+      throw std::runtime_error("monolithic contact: a contact DOF owned in V is not owned in the mixed space");
+  contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
+  contact_active = std::make_shared<fem::Function<double>>(set.output_space);
+  contact_boundary = contact_boundary_flag(set);
+  _system->use_contact(std::move(set), std::move(dofs), std::move(displacement), wrap(*_b).vec());
+}
+
+MonolithicStep::~MonolithicStep() = default;
+
+std::vector<Field> MonolithicStep::fields() const
+{
+  const auto& map = *_X->dofmap()->index_map; // block size 1
+  const MPI_Comm comm = map.comm();
+  const std::vector<PetscInt> z = owned_global_dofs(map, _Z_to_X), p = owned_global_dofs(map, _Q_to_X),
+                              u = owned_global_dofs(map, _V_to_X);
+  Field flow{"flow", {}};
+  std::merge(z.begin(), z.end(), p.begin(), p.end(), std::back_inserter(flow.dofs));
+  flow.fields = {part_of(flow, "flux", z, comm), part_of(flow, "pressure", p, comm)};
+
+  // The displacement block, node by node (dolfinx numbers the components of
+  // a node of the mixed space together), with the rigid-body modes laid out
+  // in its numbering: the position of each owned DOF of V among u.
+  const int d = V->dofmap()->index_map_bs();
+  const std::int32_t owned_V = owned_size(*V);
+  const std::int64_t first = map.local_range()[0];
+  std::vector<std::int32_t> position(owned_V);
+  for (std::int32_t i = 0; i < owned_V; ++i)
+    position[i] = static_cast<std::int32_t>(std::lower_bound(u.begin(), u.end(), first + _V_to_X[i]) - u.begin());
+  Field mechanics{"mechanics", u, d};
+  mechanics.near_nullspace = own(rigid_body_modes(*V, position));
+  // Flow first: the fixed-stress sweep solves the flow, then the mechanics
+  // with the new pressure.
+  return {std::move(flow), std::move(mechanics)};
+}
+
+void MonolithicStep::assemble_loads(double t)
+{
+  if (_loads_assembled and (!_loads_depend_on_time or t == _loads_time))
+    return;
+  _b_loads->set(0.0);
+  if (_L_body)
+  {
+    interpolate(*_body_force, *_scene.mechanics->body_force, t);
+    add_vector(*_b_loads, *_L_body);
+  }
+  for (const auto& [traction, form] : _L_traction)
+  {
+    interpolate(*_traction, *traction, t);
+    add_vector(*_b_loads, *form);
+  }
+  if (_L_source)
+  {
+    interpolate(*_source, {*_scene.flow->source}, t);
+    add_vector(*_b_loads, *_L_source);
+  }
+  for (const auto& [value, form] : _L_pressure)
+  {
+    interpolate(*_p_boundary, {*value}, t);
+    add_vector(*_b_loads, *form);
+  }
+  if (_L_gravity)
+    add_vector(*_b_loads, *_L_gravity);
+  update(_bc_values, t);
+  _loads_time = t;
+  _loads_assembled = true;
+}
+
+void MonolithicStep::assemble_rhs(double t)
+{
+  common::Timer assembly("assembly");
+  // Backward Euler from the state at the previous time.
+  std::copy(u->x()->array().begin(), u->x()->array().end(), _u_old->x()->mutable_array().begin());
+  std::copy(pressure->x()->array().begin(), pressure->x()->array().end(),
+            _p_old->x()->mutable_array().begin());
+  assemble_loads(t);
+  std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
+  add_vector(*_b, *_L_history);
+  finish_rhs(*_b, _a, _bcs);
+  assembly_time += assembly.stop();
+}
+
+void MonolithicStep::set_displacement(std::span<const double> values, double t)
+{
+  std::copy(values.begin(), values.end(), u->x()->mutable_array().begin());
+  std::span<double> x = _x->x()->mutable_array();
+  std::span<const double> p = pressure->x()->array();
+  for (std::size_t i = 0; i < _V_to_X.size(); ++i)
+    x[_V_to_X[i]] = values[i];
+  for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
+    x[_Q_to_X[i]] = p[i];
+  // The residual of this state at t is what contact_state() reads.
+  assemble_rhs(t);
+}
+
+void MonolithicStep::solve(double t)
+{
+  assemble_rhs(t);
+  la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
+  _system->solve(b.vec(), x.vec());
+  _x->x()->scatter_fwd();
+  extract(*_x, _V_to_X, *u);
+  extract(*_x, _Q_to_X, *pressure);
+}
+
+void MonolithicStep::time_step_changed() { _system->reassemble(); }
+
+std::span<const double> MonolithicStep::state() const { return _x->x()->array(); }
+
+void MonolithicStep::set_state(std::span<const double> x)
+{
+  std::copy(x.begin(), x.end(), _x->x()->mutable_array().begin());
+  extract(*_x, _V_to_X, *u);
+  extract(*_x, _Q_to_X, *pressure);
+}
+
+void MonolithicStep::flux(fem::Function<double>& out) const
+{
+  fem::Function<double> z(_Z);
+  extract(*_x, _Z_to_X, z);
+  out.interpolate(z);
+}
+
+ContactState MonolithicStep::contact_state()
+{
+  if (!_system->has_contact())
+    return {};
+  return _system->contact().state(wrap(*_x->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
+}
+
+} // namespace biotcontact

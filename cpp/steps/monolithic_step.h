@@ -1,0 +1,84 @@
+// The monolithic reference (alg. "Monolithic reference"): each backward-Euler
+// step solves mechanics and flow together, one variational inequality in
+// (u, z, p) on the mixed space P1^d x RT0 x P0, with bounds only on the
+// contact DOFs. It is what the fixed-stress split converges to.
+#pragma once
+
+#include "assembly/boundary_conditions.h"
+#include "contact/contact.h"
+#include "domain/domain.h"
+#include "assembly/forms.h"
+#include "assembly/linear_algebra.h"
+#include "assembly/parameters.h"
+#include "solvers/system.h"
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <optional>
+
+namespace biotcontact
+{
+
+class MonolithicStep
+{
+public:
+  MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                 const Constants& constants);
+  ~MonolithicStep();
+  MonolithicStep(const MonolithicStep&) = delete;
+  MonolithicStep& operator=(const MonolithicStep&) = delete;
+
+  /// One step to time t from the state now in u and pressure.
+  void solve(double t);
+
+  void flux(dolfinx::fem::Function<double>& out) const;
+
+  /// The matrix depends on dt: reassembled (and refactorised at the next
+  /// solve) after set_time_step changed the "dt" constant.
+  void time_step_changed();
+  ContactState contact_state();
+  bool has_contact() const { return _system->has_contact(); }
+  const System& system() const { return *_system; }
+  System& system() { return *_system; }
+
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
+  std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
+  std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
+
+  /// The coupled unknown (u, z, p), ghosts included, for a checkpoint.
+  std::span<const double> state() const;
+  /// Loads a state() back (and u, pressure from it).
+  void set_state(std::span<const double> x);
+  /// Sets the displacement of the state at time t (with the pressure now in
+  /// `pressure`): the initial equilibrium (mechanics.initial_equilibrium).
+  void set_displacement(std::span<const double> u, double t);
+
+  double assembly_time = 0; // right-hand sides
+
+private:
+  /// The right-hand side of a step to t from the state in u and pressure.
+  void assemble_rhs(double t);
+  void assemble_loads(double t);
+  /// The splits of (u, z, p) for the fixed-stress preconditioner: the flow
+  /// (flux and pressure), then the mechanics with its rigid-body modes.
+  std::vector<Field> fields() const;
+
+  const Scene& _scene;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _X, _Z;
+  std::vector<std::int32_t> _V_to_X, _Z_to_X, _Q_to_X;
+  std::shared_ptr<dolfinx::fem::Function<double>> _x, _u_old, _p_old, _body_force, _traction, _source,
+      _p_boundary;
+  BCs _bcs;
+  std::vector<DisplacementValue> _bc_values;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_history, _L_body, _L_source, _L_gravity;
+  std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
+  std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
+  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
+  std::unique_ptr<System> _system;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
+  double _loads_time = -1;
+  bool _loads_assembled = false, _loads_depend_on_time = false;
+};
+
+} // namespace biotcontact

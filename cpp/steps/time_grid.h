@@ -1,0 +1,38 @@
+// The times of a run, t_0 = 0 < t_1 < ... < t_N = time.end, and the step
+// dt_k = t_{k+1} - t_k of each, kept exactly (dt from the scene, or grown by
+// time.growth) so that a constant step is recognised as unchanged and its
+// matrices are not rebuilt. A failed step retried with time.retry has its
+// fine steps halved (dt/2 is exact in binary floating point); a checkpoint
+// keeps the grid, so that a restart continues on it.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+struct TimeGrid
+{
+  std::vector<double> t;  // N + 1 times
+  std::vector<double> dt; // N steps
+  int steps() const { return static_cast<int>(dt.size()); }
+};
+
+/// The scene's times (Scene::times) with their steps.
+TimeGrid time_grid(const Scene& scene);
+
+/// Halves the steps first, ..., first + count - 1 (count more steps).
+void halve_steps(TimeGrid& grid, int first, int count);
+
+/// time.retry: whether a step that failed may be tried again with halved
+/// steps (`attempts` retries of it so far); if so, counts the retry, halves
+/// the fine steps first, ..., first + count - 1 of `grid` and returns the
+/// message that says so.
+std::optional<std::string> retry_step(const Scene& scene, const std::string& cause, int step, int& attempts,
+                                      TimeGrid& grid, int first, int count, long& retries);
+
+} // namespace biotcontact

@@ -1,0 +1,88 @@
+"""Derived parameters of a scene and the constants and coefficients they set
+in the forms (cpp/assembly/parameters.cpp)."""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..scene.scene import SceneError
+
+
+@dataclass
+class Parameters:
+    """Derived parameters of a scene (alg. "Parameters")."""
+    d: int = 2
+    G: float = 0.0
+    lmbda: float = 0.0
+    alpha: float = 0.0
+    storage: float = 0.0  # S = 1/M + c_f phi0
+    K_dr: float = 0.0     # lambda + 2G/d
+    L: float = 0.0        # fixed-stress stabilisation used
+    gamma: float = 0.0    # Theorems 1 and 2: alpha^2/(alpha^2 + lambda S)
+    q: int = 1
+    dt: float = 0.0       # fine (flow) step
+
+
+def derive_parameters(scene):
+    P = Parameters(d=scene.mesh.dimension, dt=scene.dt)
+    if scene.mechanics:
+        P.G, P.lmbda = scene.mechanics.G, scene.mechanics.lmbda
+        P.K_dr = P.lmbda + 2 * P.G / P.d
+    if scene.flow:
+        P.storage = scene.flow.storage()
+    if scene.coupling:
+        c = scene.coupling
+        P.alpha, P.q = c.alpha, c.q
+        a2 = P.alpha * P.alpha
+        P.L = {"paper": lambda: a2 / P.lmbda, "kdr": lambda: a2 / P.K_dr,
+               "half-kdr": lambda: a2 / (2 * P.K_dr)}.get(c.L_choice, lambda: c.L_number)()
+        P.gamma = a2 / (a2 + P.lmbda * P.storage) if a2 > 0 else 0.0
+    return P
+
+
+def set_constants(F, scene, P):
+    """The constants of forms/biot.py from the parameters (unused ones stay 0)."""
+    for name, value in (("G", P.G), ("lmbda", P.lmbda), ("alpha", P.alpha), ("storage", P.storage),
+                        ("L", P.L), ("dt", P.dt), ("q", P.q)):
+        F[name].value = value
+    F["ones"].value = np.ones(P.d)
+    if scene.flow and scene.flow.gravity:
+        F["rho_f"].value = scene.flow.rho_f
+        F["gravity"].value = np.array(scene.flow.gravity)
+
+
+def set_time_step(F, dt):
+    """Sets the constant "dt" (the one that changes during a run, with
+    time.growth); returns whether it changed."""
+    if F["dt"].value == dt:
+        return False
+    F["dt"].value = dt
+    return True
+
+
+def interpolate(f, components, t):
+    """Interpolates one expression per component (at time t) into f."""
+    if len(components) == 1:
+        f.interpolate(lambda x: components[0].at(x, t))
+    else:
+        f.interpolate(lambda x: np.vstack([c.at(x, t) for c in components]))
+
+
+def interpolate_resistivity(R, flow, d):
+    """mu_f K^-1 as a cell-wise d x d tensor: K from a scalar expression at
+    cell midpoints, or a constant tensor."""
+    def values(x):
+        v = np.zeros((d * d, x.shape[1]))
+        if flow.permeability is not None:
+            k = flow.permeability.at(x, 0.0)
+            for j in range(x.shape[1]):
+                if not (k[j] > 0) or not math.isfinite(k[j]):
+                    raise SceneError(f"flow.permeability: must be positive, got {k[j]:f} "
+                                     f"at ({x[0, j]:f}, {x[1, j]:f})")
+            for i in range(d):
+                v[i * d + i] = flow.mu_f / k
+        else:
+            K = np.array(flow.permeability_tensor).reshape(d, d)
+            v[:] = (flow.mu_f * np.linalg.inv(K)).reshape(-1, 1)
+        return v
+    R.interpolate(values)

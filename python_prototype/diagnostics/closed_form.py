@@ -1,0 +1,119 @@
+"""Closed-form solutions for verification (cpp/diagnostics/closed_form.cpp), vectorised
+over the coordinate: Terzaghi consolidation and Mandel's problem."""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class Terzaghi:
+    """A column of height h, base fixed and impermeable, top drained and
+    loaded by the compressive traction `load` from t = 0+."""
+    h: float
+    G: float
+    lmbda: float
+    alpha: float
+    storage: float
+    mobility: float  # k / mu_f
+    load: float
+
+    def m_v(self):
+        return 1.0 / (self.lmbda + 2 * self.G)
+
+    def consolidation_coefficient(self):
+        return self.mobility / (self.storage + self.alpha ** 2 * self.m_v())
+
+    def initial_pressure(self):
+        return self.alpha * self.m_v() * self.load / (self.storage + self.alpha ** 2 * self.m_v())
+
+    def _series(self, z, t, term):
+        """Fourier series at heights z, summed until the exponential factor
+        drops below round-off (at t = 0 cut at 20000 terms)."""
+        c, h, total = self.consolidation_coefficient(), self.h, np.zeros(np.shape(z))
+        for j in range(1, 20001):
+            k = 2 * j - 1
+            decay = math.exp(-k * k * math.pi * math.pi * c * t / (4 * h * h))
+            if decay < 1e-18:
+                break
+            total = total + term(j, k) * decay
+        return total
+
+    def pressure(self, z, t):
+        sign = lambda j: 1.0 if j % 2 == 1 else -1.0  # noqa: E731
+        return 4 * self.initial_pressure() / math.pi * self._series(
+            z, t, lambda j, k: sign(j) / k * np.cos(k * math.pi * z / (2 * self.h)))
+
+    def displacement(self, z, t):
+        """Vertical displacement (upward positive): uniaxial strain,
+        u(z) = m_v (alpha int_0^z p ds - load z)."""
+        h = self.h
+        sign = lambda j: 1.0 if j % 2 == 1 else -1.0  # noqa: E731
+        integral = 4 * self.initial_pressure() / math.pi * self._series(
+            z, t, lambda j, k: sign(j) / k * (2 * h / (k * math.pi)) * np.sin(k * math.pi * z / (2 * h)))
+        return self.m_v() * (self.alpha * integral - self.load * z)
+
+    def settlement(self, t):
+        """Settlement of the top, downward positive."""
+        return -self.displacement(self.h, t)
+
+
+class Mandel:
+    """Mandel's problem in plane strain on the quarter 0 <= x <= a, 0 <= y <= b
+    (symmetry on x = 0 and y = 0), drained at x = a, a compressive force 2F
+    per unit thickness through a rigid frictionless plate at y = b, applied
+    at t = 0+ (benchmarks.md, "Mandel's problem")."""
+
+    def __init__(self, a, b, G, lmbda, alpha, storage, mobility, F):
+        self.a, self.b, self.G, self.F = a, b, G, F
+        K = lmbda + 2 * G / 3  # drained bulk modulus (3D)
+        nu = self.nu = (3 * K - 2 * G) / (2 * (3 * K + G))
+        K_u = K + alpha * alpha / storage
+        B = self.B = alpha / (storage * K_u)
+        nu_u = self.nu_u = (3 * nu + B * (1 - 2 * nu)) / (3 - B * (1 - 2 * nu))
+        self.consolidation_coefficient = (2 * mobility * B * B * G * (1 - nu) * (1 + nu_u) * (1 + nu_u)
+                                          / (9 * (1 - nu_u) * (nu_u - nu)))
+        # Roots of tan x = c x, one in each ((n-1) pi, (n-1) pi + pi/2) (c > 1), by bisection.
+        c = (1 - nu) / (nu_u - nu)
+        self.roots = []
+        for n in range(1, 401):
+            lo, hi = (n - 1) * math.pi + 1e-12, (n - 1) * math.pi + math.pi / 2 - 1e-12
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if math.tan(mid) - c * mid < 0:
+                    lo = mid
+                else:
+                    hi = mid
+            self.roots.append(0.5 * (lo + hi))
+
+    def _decay(self, an, t):
+        return math.exp(-an * an * self.consolidation_coefficient * t / (self.a * self.a))
+
+    def _terms(self, t):
+        """The roots whose decay factor is >= 1e-18: the rest of each series
+        is below round-off (cpp/diagnostics/closed_form.cpp, series_cut)."""
+        return [an for an in self.roots if self._decay(an, t) >= 1e-18]
+
+    def pressure(self, x, t):
+        total = 0.0
+        for an in self._terms(t):
+            total = total + (math.sin(an) / (an - math.sin(an) * math.cos(an))
+                             * (np.cos(an * x / self.a) - math.cos(an)) * self._decay(an, t))
+        return 2 * self.F * self.B * (1 + self.nu_u) / (3 * self.a) * total
+
+    def displacement_x(self, x, t):
+        s1, s2 = 0.0, 0.0
+        for an in self._terms(t):
+            D, E = an - math.sin(an) * math.cos(an), self._decay(an, t)
+            s1 += math.sin(an) * math.cos(an) / D * E
+            s2 = s2 + math.cos(an) / D * np.sin(an * x / self.a) * E
+        F, G, a = self.F, self.G, self.a
+        return (F * self.nu / (2 * G * a) - F * self.nu_u / (G * a) * s1) * x + F / G * s2
+
+    def displacement_y(self, y, t):
+        s1 = 0.0
+        for an in self._terms(t):
+            D = an - math.sin(an) * math.cos(an)
+            s1 += math.sin(an) * math.cos(an) / D * self._decay(an, t)
+        F, G, a = self.F, self.G, self.a
+        return (-F * (1 - self.nu) / (2 * G * a) + F * (1 - self.nu_u) / (G * a) * s1) * y

@@ -1,0 +1,173 @@
+"""Scene -> mesh and named boundaries (cpp/domain/domain.cpp).
+
+Built-in meshes: a rectangle of crossed triangles or a box of tetrahedra,
+with boundaries left/right (x), bottom/top (y) in 2D and left/right (x),
+front/back (y), bottom/top (z) in 3D. gmsh meshes (.geo or .msh) are read on
+rank 0 like the C++ reader; their boundaries are the named physical groups
+of dimension d-1.
+"""
+import os
+
+import numpy as np
+import ufl
+from dolfinx import io, mesh as dmesh
+from dolfinx.cpp.graph import AdjacencyList_int32
+from dolfinx.cpp.mesh import entities_to_geometry
+
+from ..scene.scene import SceneError, agree_on_error
+
+BOUNDARY_MARKER = 1  # forms/biot.py integrates ds(1)
+
+
+class Domain:
+    def __init__(self, mesh, boundaries):
+        self.mesh = mesh
+        self.boundaries = boundaries  # name -> sorted local exterior facet indices
+        self.dim = mesh.topology.dim
+
+    def marker(self, name=None, facets=None):
+        """Facet tags with the marker of forms/biot.py on one boundary (or on
+        the given facets), for the ds(1) integrals of that boundary."""
+        facets = np.asarray(self.boundaries[name] if facets is None else facets, dtype=np.int32)
+        return dmesh.meshtags(self.mesh, self.dim - 1, facets,
+                              np.full(len(facets), BOUNDARY_MARKER, dtype=np.int32))
+
+
+def _box_faces(d):
+    """(axis, lower side?) of each named face of an axis-aligned box."""
+    if d == 2:
+        return {"left": (0, True), "right": (0, False), "bottom": (1, True), "top": (1, False)}
+    return {"left": (0, True), "right": (0, False), "front": (1, True), "back": (1, False),
+            "bottom": (2, True), "top": (2, False)}
+
+
+def _read_gmsh_file(file, d, refine):
+    """Rank 0: nodes, simplices, and the facets of each physical group of dimension d-1."""
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        gmsh.open(file)
+        if os.path.splitext(file)[1] == ".geo":
+            gmsh.model.mesh.generate(d)
+        for _ in range(refine):
+            gmsh.model.mesh.refine()
+        tags, coords, _ = gmsh.model.mesh.getNodes(-1, -1, False, False)
+        index = {int(t): i for i, t in enumerate(tags)}
+        x = np.asarray(coords).reshape(-1, 3)[:, :d].copy()
+        _, node_tags = gmsh.model.mesh.getElementsByType(2 if d == 2 else 4)
+        cells = np.array([index[int(t)] for t in node_tags], dtype=np.int64).reshape(-1, d + 1)
+        facets, groups, names = [], [], []
+        for dim, tag in gmsh.model.getPhysicalGroups(d - 1):
+            names.append(gmsh.model.getPhysicalName(dim, tag) or f"group{tag}")
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                etags, ntags = gmsh.model.mesh.getElementsByType(1 if d == 2 else 2, entity)
+                facets += [index[int(t)] for t in ntags]
+                groups += [len(names) - 1] * len(etags)
+    except Exception as e:
+        gmsh.finalize()
+        raise SceneError(f"{file}: cannot read the gmsh file: {e}") from None
+    gmsh.finalize()
+    if len(cells) == 0:
+        kind = "triangles" if d == 2 else "tetrahedra"
+        raise SceneError(f"{file}: no {kind} in the mesh (mesh.dimension = {d})")
+    return x, cells, np.array(facets, dtype=np.int64).reshape(-1, d), np.array(groups, dtype=np.int32), names
+
+
+def _read_gmsh(scene, comm):
+    d = scene.mesh.dimension
+    data, error = None, None
+    if comm.rank == 0:
+        try:
+            data = _read_gmsh_file(scene.mesh.file, d, scene.mesh.refine)
+        except SceneError as e:
+            error = str(e)
+    # Every rank learns the outcome and the boundary names.
+    error, names = comm.bcast((error, data[4] if data else None), root=0)
+    if error:
+        raise SceneError(error)
+    if comm.rank != 0:
+        data = (np.zeros((0, d)), np.zeros((0, d + 1), dtype=np.int64), np.zeros((0, d), dtype=np.int64),
+                np.zeros(0, dtype=np.int32), names)
+    x, cells, facets, groups, _ = data
+    cell = ufl.triangle if d == 2 else ufl.tetrahedron
+    mesh = dmesh.create_mesh(comm, cells, x, ufl.Mesh(ufl.VectorElement("Lagrange", cell, 1)))
+    mesh.topology.create_connectivity(d - 1, d)
+    mesh.topology.create_entities(d - 1)
+    entities, values = io.distribute_entity_data(mesh._mesh, d - 1, facets, groups)
+    tags = dmesh.meshtags_from_entities(mesh, d - 1, AdjacencyList_int32(entities), values.astype(np.int32))
+    boundaries = {name: np.sort(tags.indices[tags.values == g]).astype(np.int32) for g, name in enumerate(names)}
+    for name in scene.boundaries:
+        if name not in boundaries:
+            known = ", ".join(names) or "none"
+            raise SceneError(f"{scene.file}: boundary.{name}: unknown boundary name ({scene.mesh.file} has "
+                             f"physical groups {known})")
+    return Domain(mesh, boundaries)
+
+
+def create_domain(scene, comm):
+    m = scene.mesh
+    if m.type == "gmsh":
+        return _read_gmsh(scene, comm)
+    if m.type == "rectangle":
+        mesh = dmesh.create_rectangle(comm, [m.lower, m.upper], m.cells, dmesh.CellType.triangle,
+                                      dmesh.GhostMode.shared_facet, diagonal=dmesh.DiagonalType.crossed)
+    else:
+        mesh = dmesh.create_box(comm, [m.lower, m.upper], m.cells, dmesh.CellType.tetrahedron,
+                                dmesh.GhostMode.shared_facet)
+    d = m.dimension
+    mesh.topology.create_connectivity(d - 1, d)
+    boundaries = {}
+    for name, (axis, lower) in _box_faces(d).items():
+        value = m.lower[axis] if lower else m.upper[axis]
+        tol = 1e-10 * (m.upper[axis] - m.lower[axis])
+        boundaries[name] = np.sort(dmesh.locate_entities_boundary(
+            mesh, d - 1, lambda x, a=axis, v=value, tol=tol: np.abs(x[a] - v) < tol)).astype(np.int32)
+    return Domain(mesh, boundaries)
+
+
+def check_expressions(scene, domain, comm):
+    """Every expression of the scene evaluated where it is used (boundary
+    values at the nodes of their boundary, volume terms at the cell
+    midpoints) at the first and the last time: NaN or inf is refused with
+    SceneError naming its key, the same on every rank (cpp/domain/domain.h)."""
+    mesh, d = domain.mesh, domain.mesh.topology.dim
+    x = mesh.geometry.x
+    midpoints = dmesh.compute_midpoints(mesh, d, np.arange(mesh.topology.index_map(d).size_local, dtype=np.int32))
+    uses = []  # (key, expression, points, evaluated at the end time too)
+    for name, b in sorted(scene.boundaries.items()):  # the order of the C++ std::map
+        if name not in domain.boundaries:
+            continue
+        nodes = entities_to_geometry(mesh._mesh, d - 1, domain.boundaries[name], False).reshape(-1)
+        at = x[nodes]
+        for i, e in enumerate(b.displacement):
+            if e is not None:
+                uses.append((f"boundary.{name}.displacement.{'xyz'[i]}", e, at, True))
+        for e in b.traction:
+            uses.append((f"boundary.{name}.traction", e, at, True))
+        if b.flow == "pressure":
+            uses.append((f"boundary.{name}.pressure", b.pressure, at, True))
+    if scene.mechanics and scene.mechanics.body_force:
+        uses += [("mechanics.body_force", e, midpoints, True) for e in scene.mechanics.body_force]
+    if scene.flow:
+        if scene.flow.source is not None:
+            uses.append(("flow.source", scene.flow.source, midpoints, True))
+        if scene.flow.permeability is not None:
+            uses.append(("flow.permeability", scene.flow.permeability, midpoints, False))
+        uses.append(("flow.initial_pressure", scene.flow.initial_pressure, midpoints, False))
+
+    index, message = len(uses), ""
+    for k, (key, e, p, at_end) in enumerate(uses):
+        for t in ((0.0, scene.end_time) if at_end else (0.0,)):
+            with np.errstate(all="ignore"):
+                v = np.broadcast_to(np.asarray(e(p[:, 0], p[:, 1], p[:, 2], t), dtype=float), (len(p),))
+            bad = np.flatnonzero(~np.isfinite(v))
+            if len(bad):
+                i = bad[0]
+                value = "NaN" if np.isnan(v[i]) else "inf" if v[i] > 0 else "-inf"
+                where = ", ".join(f"{c:g}" for c in p[i, :d])
+                index, message = k, f"{scene.file}: {key}: \"{e.text}\" is {value} at ({where}), t = {t:g}"
+                break
+        if index < len(uses):
+            break
+    agree_on_error(message, comm)

@@ -1,0 +1,683 @@
+"""A scene: one TOML file that says what to simulate (README, "Scenes").
+
+Mirrors cpp/scene/scene.cpp key by key: the same defaults, the same checks in the
+same order, and the same one-line messages `<file>: <key>: <message>`.
+Tables are read in sorted key order, as toml++ (a sorted map) does, so the
+first unknown key named and the order of the boundaries are the same.
+"""
+import math
+import os
+import re
+import tomllib
+from dataclasses import dataclass, field
+from typing import Optional
+
+from mpi4py import MPI
+
+from ..diagnostics.closed_form import Mandel
+from .expression import Expression, ExpressionError
+
+MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
+
+
+class SceneError(Exception):
+    """Bad input: the message is one line naming the file and the key."""
+
+
+def agree_on_error(message, comm):
+    """Bad input found on some ranks only: every rank raises SceneError with
+    the message of the lowest rank that found one, so that no rank is left
+    waiting in a collective call (cpp/scene/scene.h). Collective."""
+    owner = comm.allreduce(comm.rank if message else comm.size, op=MPI.MIN)
+    if owner < comm.size:
+        raise SceneError(comm.bcast(message, root=owner))
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _is_integer(v):
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
+class Section:
+    """One TOML table, read key by key; `finish` refuses keys never read."""
+
+    def __init__(self, table, path, file):
+        self.table, self.path, self.file, self.used = table, path, file, set()
+
+    def fail(self, key, message):
+        raise SceneError(f"{self.file}: {self.name(key)}: {message}")
+
+    def name(self, key):
+        return f"{self.path}.{key}" if self.path else key
+
+    def has(self, key):
+        return self.table is not None and key in self.table
+
+    def node(self, key):
+        self.used.add(key)
+        return None if self.table is None else self.table.get(key)
+
+    def section(self, key, required):
+        n = self.node(key)
+        if n is None:
+            if required:
+                self.fail(key, "missing (a table is required)")
+            return Section(None, self.name(key), self.file)
+        if not isinstance(n, dict):
+            self.fail(key, "must be a table")
+        return Section(n, self.name(key), self.file)
+
+    def number(self, key, fallback=None):
+        n = self.node(key)
+        if n is None:
+            if fallback is None:
+                self.fail(key, "missing (a number is required)")
+            return fallback
+        if not _is_number(n):
+            self.fail(key, "must be a number")
+        return float(n)
+
+    def integer(self, key, fallback):
+        n = self.node(key)
+        if n is None:
+            return fallback
+        if not _is_integer(n):
+            self.fail(key, "must be an integer")
+        return int(n)
+
+    def boolean(self, key, fallback):
+        n = self.node(key)
+        if n is None:
+            return fallback
+        if not isinstance(n, bool):
+            self.fail(key, "must be true or false")
+        return n
+
+    def string(self, key, fallback=None):
+        n = self.node(key)
+        if n is None:
+            if fallback is None:
+                self.fail(key, "missing (a string is required)")
+            return fallback
+        if not isinstance(n, str):
+            self.fail(key, "must be a string")
+        return n
+
+    def to_expression(self, n, key):
+        if _is_number(n):
+            return Expression(float(n))
+        if isinstance(n, str):
+            try:
+                return Expression(n)
+            except ExpressionError as e:
+                self.fail(key, str(e))
+        self.fail(key, "must be a number or an expression string")
+
+    def expression(self, key):
+        n = self.node(key)
+        return None if n is None else self.to_expression(n, key)
+
+    def expression_vector(self, key, size):
+        n = self.node(key)
+        if not isinstance(n, list) or len(n) != size:
+            self.fail(key, f"must be an array of {size} numbers or expressions")
+        return [self.to_expression(e, key) for e in n]
+
+    def number_vector(self, key, size):
+        n = self.node(key)
+        if not isinstance(n, list) or (size > 0 and len(n) != size):
+            self.fail(key, f"must be an array of {size} numbers")
+        if not all(_is_number(e) for e in n):
+            self.fail(key, "must be an array of numbers")
+        return [float(e) for e in n]
+
+    def keys(self):
+        return sorted(self.table) if self.table is not None else []
+
+    def finish(self):
+        for key in self.keys():
+            if key not in self.used:
+                self.fail(key, "unknown key")
+
+
+# ---- the scene, as cpp/scene/scene.h ------------------------------------------------
+
+@dataclass
+class MeshSpec:
+    type: str = ""
+    lower: list = field(default_factory=list)
+    upper: list = field(default_factory=list)
+    cells: list = field(default_factory=list)
+    file: str = ""
+    dimension: int = 2
+    refine: int = 0  # uniform refinements of a gmsh mesh (nested: each halves h)
+
+
+@dataclass
+class ContactSpec:
+    gap: Expression
+    axis: int = 0
+    sign: int = 1
+
+
+@dataclass
+class BoundarySpec:
+    mechanics: str = "traction_free"  # or "displacement", "traction", "contact" (which may carry a traction)
+    displacement: list = field(default_factory=lambda: [None, None, None])
+    traction: list = field(default_factory=list)
+    contact: Optional[ContactSpec] = None
+    flow: str = "no_flow"             # or "pressure", "flux"
+    pressure: Expression = field(default_factory=lambda: Expression(0.0))
+    flux: Expression = field(default_factory=lambda: Expression(0.0))
+
+
+@dataclass
+class MechanicsSpec:
+    G: float = 0.0
+    lmbda: float = 0.0
+    body_force: Optional[list] = None
+    # start from the displacement in equilibrium with the loads at t = 0
+    # and the initial pressure (a geostatic initialisation), not u = 0
+    initial_equilibrium: bool = False
+
+
+@dataclass
+class FlowSpec:
+    M: float = math.inf
+    c_f: float = 0.0
+    phi0: float = 0.0
+    mu_f: float = 1.0
+    permeability: Optional[Expression] = None
+    permeability_tensor: Optional[list] = None  # row-major d x d
+    rho_f: Optional[float] = None
+    gravity: Optional[list] = None
+    source: Optional[Expression] = None
+    initial_pressure: Expression = field(default_factory=lambda: Expression(0.0))
+
+    def storage(self):
+        """S = 1/M + c_f phi0 (alg. "Parameters")."""
+        return 1.0 / self.M + self.c_f * self.phi0
+
+
+@dataclass
+class CouplingSpec:
+    alpha: float = 1.0
+    scheme: str = "fixed-stress"
+    q: int = 1
+    L_choice: str = "paper"
+    L_number: float = 0.0
+    tolerance: float = 1e-8
+    max_iterations: int = 100
+    acceleration: str = "none"  # or "anderson" (anderson.py) with `depth` differences
+    depth: int = 8
+
+    def multirate(self):
+        """q flow steps per mechanics step (either multirate scheme)."""
+        return self.scheme in ("multirate", "multirate-two-pass")
+
+
+@dataclass
+class ReferenceSpec:
+    solution: str = ""  # "terzaghi" or "mandel"
+    load: float = 0.0   # terzaghi: the compressive traction on the top
+    height: float = 0.0  # terzaghi: h
+    force: float = 0.0  # mandel: F (2F on the full specimen, per unit thickness)
+    plate: str = ""     # mandel: the boundary (y = b) carrying the rigid plate
+
+
+@dataclass
+class SolverSpec:
+    """How each system is solved: "direct", "iterative" or "auto" (by size,
+    solver.choose_method); PETSc options of a system's prefix override."""
+    flow: str = "auto"
+    mechanics: str = "auto"
+    monolithic: str = "auto"
+    inexact_coupling: bool = True  # iterative solves only as accurate as the coupling increment needs
+
+
+@dataclass
+class Scene:
+    file: str = ""
+    name: str = ""
+    description: str = ""
+    mesh: MeshSpec = field(default_factory=MeshSpec)
+    boundaries: dict = field(default_factory=dict)  # sorted by name
+    mechanics: Optional[MechanicsSpec] = None
+    flow: Optional[FlowSpec] = None
+    coupling: Optional[CouplingSpec] = None
+    end_time: float = 0.0
+    dt: float = 0.0
+    growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
+    retry: int = 0       # time.retry: a failed step is retried with halved steps up to this many times
+    write_xdmf: bool = True
+    checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
+    reference: Optional[ReferenceSpec] = None
+    solver: SolverSpec = field(default_factory=SolverSpec)
+
+    def has_contact(self):
+        return any(b.contact for b in self.boundaries.values())
+
+    def times(self):
+        """t_0 = 0, t_1, ..., t_N = end_time (fine steps)."""
+        if self.growth == 1.0:  # whole multiples of dt, so every scheme writes the same times
+            return [0.0] + [k * self.dt for k in range(1, int(round(self.end_time / self.dt)) + 1)]
+        t, step = [0.0], self.dt  # dt_k = dt growth^(k-1); the last step ends at time.end
+        # Stops one past the limit, which read_scene then refuses.
+        while t[-1] < self.end_time * (1 - 1e-12) and len(t) <= MAX_STEPS + 1:
+            t.append(min(t[-1] + step, self.end_time))
+            step *= self.growth
+        return t
+
+    def num_steps(self):
+        if self.growth == 1.0:
+            return int(round(self.end_time / self.dt))
+        return len(self.times()) - 1
+
+
+def builtin_boundary_names(d):
+    return ["left", "right", "bottom", "top"] if d == 2 else \
+        ["left", "right", "front", "back", "bottom", "top"]
+
+
+# ---- reading -------------------------------------------------------------------
+
+def apply_override(root, assignment, file):
+    """`a.b.c=value`; the value is read as TOML, else taken as a string."""
+    path, eq, text = assignment.partition("=")
+    if not eq or not path:
+        raise SceneError(f"{file}: --set {assignment}: expected key.path=value")
+    *tables, key = path.split(".")
+    table = root
+    for t in tables:
+        table = table.setdefault(t, {})
+        if not isinstance(table, dict):
+            raise SceneError(f"{file}: --set {path}: {t} is not a table")
+    try:
+        table[key] = tomllib.loads("value = " + text)["value"]
+    except tomllib.TOMLDecodeError:
+        table[key] = text
+
+
+def _axis_of(normal):
+    nonzero = [i for i, v in enumerate(normal) if v != 0.0]
+    if len(nonzero) != 1 or abs(normal[nonzero[0]]) != 1.0:
+        return -1, 1
+    return nonzero[0], 1 if normal[nonzero[0]] > 0 else -1
+
+
+def _read_mesh(s, scene_file):
+    m = MeshSpec(type=s.string("type"))
+    if m.type in ("rectangle", "box"):
+        d = 2 if m.type == "rectangle" else 3
+        m.dimension = d
+        m.lower = s.number_vector("lower", d) if s.has("lower") else [0.0] * d
+        m.upper = s.number_vector("upper", d)
+        n = s.number_vector("cells", d)
+        for i in range(d):
+            if m.upper[i] <= m.lower[i]:
+                s.fail("upper", "must be above mesh.lower in every direction")
+            if n[i] < 1 or n[i] != math.floor(n[i]):
+                s.fail("cells", "must be positive integers")
+            m.cells.append(int(n[i]))
+        # Refused before any allocation (cpp/scene/scene.cpp): about 4 kB per
+        # triangle and 25 kB per tetrahedron measured with direct solvers.
+        simplices = (4.0 if d == 2 else 6.0) * math.prod(n)
+        need = simplices * (4e3 if d == 2 else 25e3)
+        have = os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        if have > 0 and need > have:
+            s.fail("cells", f"{simplices:.2g} cells need about {need / 1e9:.2g} GB of memory; "
+                   f"this machine has {have / 1e9:.2g} GB")
+    elif m.type == "gmsh":
+        name = s.string("file")
+        # Mesh files are looked up next to the scene, then in meshes/.
+        here = os.path.dirname(scene_file)
+        for candidate in (os.path.join(here, name), os.path.join(here, "..", "meshes", name), name):
+            if os.path.exists(candidate):
+                m.file = os.path.normpath(candidate)
+                break
+        if not m.file:
+            s.fail("file", "mesh file not found: " + name)
+        m.dimension = s.integer("dimension", 2)
+        if m.dimension not in (2, 3):
+            s.fail("dimension", "must be 2 or 3")
+        # Each refinement splits every simplex into 2^d: nested meshes, as
+        # the studies' references need (tools/study.py maps nodes by position).
+        m.refine = s.integer("refine", 0)
+        if not 0 <= m.refine <= 6:
+            s.fail("refine", "must be an integer in [0, 6]")
+    else:
+        s.fail("type", f'must be "rectangle", "box" or "gmsh", got "{m.type}"')
+    s.finish()
+    return m
+
+
+def _read_boundary(s, d):
+    b = BoundarySpec()
+    # A traction may load a contact boundary (the fluid pressure on an open
+    # fracture face); otherwise the mechanics conditions exclude each other.
+    count = sum(s.has(k) for k in ("clamp", "displacement", "traction", "contact"))
+    if count > 1 and not (count == 2 and s.has("traction") and s.has("contact")):
+        s.fail("clamp", "give at most one of clamp, displacement, traction, contact (or traction with contact)")
+    if s.has("clamp"):
+        if not s.boolean("clamp", False):
+            s.fail("clamp", "must be true when given")
+        b.mechanics = "displacement"
+        b.displacement = [Expression(0.0) if i < d else None for i in range(3)]
+    if s.has("displacement"):
+        b.mechanics = "displacement"
+        c = s.section("displacement", True)
+        b.displacement = [c.expression(n) if i < d else None for i, n in enumerate("xyz")]
+        c.finish()
+        if not any(b.displacement):
+            s.fail("displacement", "give at least one component (x, y or z)")
+    if s.has("traction"):
+        b.mechanics = "traction"
+        b.traction = s.expression_vector("traction", d)
+    if s.has("contact"):
+        b.mechanics = "contact"
+        c = s.section("contact", True)
+        gap = c.expression("gap")
+        if gap is None:
+            c.fail("gap", "missing (the gap g_a to the foundation)")
+        if gap.depends_on_time:
+            c.fail("gap", "must not depend on t")
+        axis, sign = _axis_of(c.number_vector("normal", d))
+        if axis < 0:
+            c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)")
+        if gap.is_constant and gap(0, 0, 0, 0) < 0:
+            c.fail("gap", "must be >= 0")
+        c.finish()
+        b.contact = ContactSpec(gap, axis, sign)
+
+    if s.has("pressure") and s.has("flux"):
+        s.fail("flux", "give at most one of pressure, flux")
+    p = s.expression("pressure")
+    if p is not None:
+        b.flow, b.pressure = "pressure", p
+    f = s.expression("flux")
+    if f is not None:
+        b.flow, b.flux = "flux", f
+        if not f.is_constant or f(0, 0, 0, 0) != 0.0:
+            s.fail("flux", "only flux = 0 (no flow) is supported; use flow.source for injection")
+    s.finish()
+    return b
+
+
+def _positive(s, key, value):
+    if not (value > 0) or not math.isfinite(value):
+        s.fail(key, "must be a positive finite number")
+
+
+def _read_mechanics(s, d):
+    m = MechanicsSpec()
+    e_nu = s.has("E") or s.has("nu")
+    lame = s.has("G") or s.has("lambda")
+    if e_nu and lame:
+        s.fail("E", "give either E and nu, or G and lambda, not both")
+    if not e_nu and not lame:
+        s.fail("E", "missing (give E and nu, or G and lambda)")
+    if e_nu:
+        E, nu = s.number("E"), s.number("nu")
+        _positive(s, "E", E)
+        if not (-1.0 < nu < 0.5):
+            s.fail("nu", "must lie in (-1, 0.5); nu >= 0.5 is an incompressible skeleton")
+        m.G = E / (2 * (1 + nu))
+        m.lmbda = E * nu / ((1 + nu) * (1 - 2 * nu))
+    else:
+        m.G, m.lmbda = s.number("G"), s.number("lambda")
+        _positive(s, "G", m.G)
+        if not math.isfinite(m.lmbda) or m.lmbda + 2 * m.G / d <= 0:
+            s.fail("lambda", "must be finite with K_dr = lambda + 2G/d > 0")
+    if s.has("body_force"):
+        m.body_force = s.expression_vector("body_force", d)
+    m.initial_equilibrium = s.boolean("initial_equilibrium", False)
+    s.finish()
+    return m
+
+
+def _spd(K, d):
+    """Symmetric with positive leading minors."""
+    sym = all(abs(K[i * d + j] - K[j * d + i]) <= 1e-12 * abs(K[i * d + i]) for i in range(d) for j in range(d))
+    m1, m2 = K[0], K[0] * K[d + 1] - K[1] * K[d]
+    m3 = 1.0
+    if d == 3:
+        m3 = (K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
+              + K[2] * (K[3] * K[7] - K[4] * K[6]))
+    return sym and m1 > 0 and m2 > 0 and m3 > 0
+
+
+def _read_flow(s, d):
+    f = FlowSpec()
+    f.M = s.number("M", math.inf)
+    if not (f.M > 0):
+        s.fail("M", "must be positive (inf for incompressible grains)")
+    f.c_f = s.number("c_f", 0.0)
+    if not (f.c_f >= 0) or not math.isfinite(f.c_f):
+        s.fail("c_f", "must be >= 0")
+    f.phi0 = s.number("phi0", 0.0)
+    if not (0 <= f.phi0 <= 1):
+        s.fail("phi0", "must lie in [0, 1]")
+    f.mu_f = s.number("mu_f")
+    _positive(s, "mu_f", f.mu_f)
+
+    k = s.node("permeability")
+    if k is None:
+        s.fail("permeability", "missing")
+    if isinstance(k, list):
+        K = []
+        for row in k:
+            if not isinstance(row, list) or len(row) != d:
+                s.fail("permeability", f"a tensor must be {d} rows of {d} numbers")
+            for e in row:
+                if not _is_number(e):
+                    s.fail("permeability", "tensor entries must be numbers")
+                K.append(float(e))
+        if len(K) != d * d:
+            s.fail("permeability", f"a tensor must have {d} rows")
+        if not _spd(K, d):
+            s.fail("permeability", "the tensor must be symmetric positive definite")
+        f.permeability_tensor = K
+    else:
+        f.permeability = s.to_expression(k, "permeability")
+        if f.permeability.is_constant:
+            _positive(s, "permeability", f.permeability(0, 0, 0, 0))
+        if f.permeability.depends_on_time:
+            s.fail("permeability", "must not depend on t")
+
+    if s.has("gravity") != s.has("rho_f"):
+        s.fail("rho_f" if s.has("gravity") else "gravity", "gravity needs both rho_f and gravity")
+    if s.has("gravity"):
+        f.rho_f = s.number("rho_f")
+        _positive(s, "rho_f", f.rho_f)
+        f.gravity = s.number_vector("gravity", d)
+    f.source = s.expression("source")
+    f.initial_pressure = s.expression("initial_pressure") or Expression(0.0)
+    if f.initial_pressure.depends_on_time:
+        s.fail("initial_pressure", "must not depend on t")
+    s.finish()
+    return f
+
+
+def _read_coupling(s, mech, flow):
+    c = CouplingSpec()
+    c.alpha = s.number("alpha")
+    if not (0 <= c.alpha <= 1):
+        s.fail("alpha", "the Biot coefficient must lie in [0, 1]")
+    c.scheme = s.string("scheme", "fixed-stress")
+    if c.scheme not in ("fixed-stress", "monolithic") and not c.multirate():
+        s.fail("scheme", 'must be "fixed-stress", "multirate", "multirate-two-pass" or "monolithic", '
+                         f'got "{c.scheme}"')
+    # The second pass is a flow step without L: with S = 0 its matrix has a
+    # zero pressure block, singular wherever no pressure is prescribed.
+    if c.scheme == "multirate-two-pass" and not flow.storage() > 0:
+        s.fail("scheme", '"multirate-two-pass" needs a storage coefficient S = 1/M + c_f phi0 > 0')
+    c.q = s.integer("q", 1)
+    if c.q < 1:
+        s.fail("q", "must be a positive integer")
+    if not c.multirate() and c.q != 1:
+        s.fail("q", 'q > 1 needs scheme = "multirate" or "multirate-two-pass"')
+
+    L = s.node("L")
+    bad_L = 'must be "paper", "kdr", "half-kdr" or a number'
+    if L is None:
+        c.L_choice = "paper"
+    elif _is_number(L):
+        c.L_choice, c.L_number = "number", float(L)
+        if not (c.L_number >= 0) or not math.isfinite(c.L_number):
+            s.fail("L", "must be >= 0")
+    elif isinstance(L, str):
+        c.L_choice = L
+        if L not in ("paper", "kdr", "half-kdr"):
+            s.fail("L", bad_L)
+    else:
+        s.fail("L", bad_L)
+    if c.L_choice == "paper" and not (mech.lmbda > 0):
+        s.fail("L", '"paper" (alpha^2/lambda) needs lambda > 0; use "kdr"')
+
+    c.tolerance = s.number("tolerance", 1e-8)
+    if not (0 < c.tolerance < 1):
+        s.fail("tolerance", "must lie in (0, 1)")
+    c.max_iterations = s.integer("max_iterations", 100)
+    if c.max_iterations < 1:
+        s.fail("max_iterations", "must be a positive integer")
+    c.acceleration = s.string("acceleration", "none")
+    if c.acceleration not in ("none", "anderson"):
+        s.fail("acceleration", f'must be "none" or "anderson", got "{c.acceleration}"')
+    if c.acceleration != "none" and c.scheme == "monolithic":
+        s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration")
+    c.depth = s.integer("depth", 8)
+    if not 1 <= c.depth <= 50:
+        s.fail("depth", "must be an integer from 1 to 50")
+    s.finish()
+    return c
+
+
+def read_scene(file, overrides=()):
+    """Reads and validates a scene; `overrides` are "key.path=value" strings."""
+    if not os.path.isfile(file):
+        raise SceneError(f"{file}: scene file not found")
+    try:
+        with open(file, "rb") as f:
+            root = tomllib.load(f)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"\(at line (\d+), column \d+\)", str(e))
+        line, description = m.group(1) if m else "1", re.sub(r" \(at .*\)$", "", str(e))
+        raise SceneError(f"{file}:{line}: invalid TOML: {description}") from None
+    for o in overrides:
+        apply_override(root, o, file)
+
+    scene = Scene(file=file)
+    top = Section(root, "", file)
+
+    meta = top.section("scene", False)
+    scene.name = meta.string("name", os.path.splitext(os.path.basename(file))[0])
+    scene.description = meta.string("description", "")
+    meta.finish()
+
+    scene.mesh = _read_mesh(top.section("mesh", True), file)
+    d = scene.mesh.dimension
+
+    if top.has("mechanics"):
+        scene.mechanics = _read_mechanics(top.section("mechanics", True), d)
+    if top.has("flow"):
+        scene.flow = _read_flow(top.section("flow", True), d)
+    if not scene.mechanics and not scene.flow:
+        top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)")
+    if scene.mechanics and scene.flow:
+        scene.coupling = _read_coupling(top.section("coupling", True), scene.mechanics, scene.flow)
+    elif top.has("coupling"):
+        top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled")
+
+    time = top.section("time", True)
+    scene.end_time = time.number("end")
+    scene.dt = time.number("dt")
+    _positive(time, "dt", scene.dt)
+    _positive(time, "end", scene.end_time)
+    scene.growth = time.number("growth", 1.0)
+    scene.retry = time.integer("retry", 0)
+    if not 0 <= scene.retry <= 20:
+        time.fail("retry", "must lie in [0, 20] (each retry halves the step)")
+    if not (1.0 <= scene.growth <= 10.0):
+        time.fail("growth", "must lie in [1, 10]")
+    steps = scene.end_time / scene.dt
+    if scene.growth == 1.0 and steps > MAX_STEPS:
+        time.fail("dt", f"time.end / time.dt = {steps:.3g} steps, more than the limit of {MAX_STEPS}")
+    if scene.growth == 1.0 and (abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1):
+        time.fail("dt", "time.end must be a whole number of steps dt")
+    if scene.growth > 1.0 and scene.coupling and scene.coupling.q != 1:
+        time.fail("growth", "growing time steps need q = 1")
+    if scene.num_steps() > MAX_STEPS:
+        time.fail("growth", f"more than {MAX_STEPS} time steps")
+    time.finish()
+    if scene.coupling and scene.num_steps() % scene.coupling.q != 0:
+        top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q")
+
+    output = top.section("output", False)
+    scene.write_xdmf = output.boolean("xdmf", True)
+    scene.checkpoint_every = output.integer("checkpoint_every", 0)
+    if scene.checkpoint_every < 0:
+        output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)")
+    output.finish()
+
+    solver = top.section("solver", False)
+    for key in ("flow", "mechanics", "monolithic"):
+        choice = solver.string(key, "auto")
+        if choice not in ("direct", "iterative", "auto"):
+            solver.fail(key, 'must be "direct", "iterative" or "auto"')
+        setattr(scene.solver, key, choice)
+    scene.solver.inexact_coupling = solver.boolean("inexact_coupling", True)
+    solver.finish()
+
+    boundaries = top.section("boundary", False)
+    names = builtin_boundary_names(d)
+    for name in boundaries.keys():
+        if scene.mesh.type != "gmsh" and name not in names:
+            boundaries.fail(name, f"unknown boundary name (a {scene.mesh.type} has {', '.join(names)})")
+        b = _read_boundary(boundaries.section(name, True), d)
+        if not scene.mechanics and b.mechanics != "traction_free":
+            boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]")
+        if not scene.flow and b.flow != "no_flow":
+            boundaries.fail(name, "flow boundary condition in a scene without [flow]")
+        scene.boundaries[name] = b
+    boundaries.finish()
+
+    if top.has("reference"):
+        r = top.section("reference", True)
+        ref = ReferenceSpec(solution=r.string("solution"))
+        if ref.solution not in ("terzaghi", "mandel", "none"):
+            r.fail("solution", 'must be "terzaghi", "mandel" or "none"')
+        if ref.solution == "none":  # switches the comparison off (e.g. from --set)
+            r.used.update(r.keys())
+            r.finish()
+            top.finish()
+            return scene
+        if not scene.coupling or scene.mesh.type != "rectangle":
+            r.fail("solution", ref.solution + " needs a coupled scene on a rectangle")
+        if scene.flow.permeability is None or not scene.flow.permeability.is_constant:
+            r.fail("solution", ref.solution + " needs a constant scalar flow.permeability")
+        if ref.solution == "terzaghi":
+            ref.load = r.number("load")
+            ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]
+        else:
+            # The rigid frictionless plate is imposed as the exact u_y on the
+            # top (the usual Mandel set-up; benchmarks.md).
+            ref.force = r.number("force")
+            ref.plate = r.string("plate", "top")
+            if scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0:
+                r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)")
+            plate = scene.boundaries.get(ref.plate)
+            if plate is None or plate.mechanics != "traction_free":
+                r.fail("plate", "must name a boundary with no mechanics condition of its own")
+            f = scene.flow
+            mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
+                            scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, ref.force)
+            plate.mechanics = "displacement"
+            plate.displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),
+                                                        "Mandel's exact plate displacement")
+        r.finish()
+        scene.reference = ref
+    top.finish()
+    return scene

@@ -1,0 +1,292 @@
+"""How a system is solved (cpp/solvers/solver.h): the one place that chooses between
+a factorisation and a preconditioned Krylov method ([solver], "auto" by
+size), sets the defaults of each, says when a factorisation may be reused
+and counts set-ups and solves per system, from PETSc's event log of the
+system's own log stage."""
+import enum
+import time
+
+from petsc4py import PETSc
+
+from .field_split import is_coupled, set_fields
+
+
+class SolverError(Exception):
+    """A solver did not converge: the run stops with this message (exit 3)."""
+
+
+class OptionsError(Exception):
+    """PETSc options that do not make a solver (exit 2, bad input)."""
+
+
+class Structure(enum.Enum):
+    """What the factorisation may assume of a matrix (cpp/solvers/solver.h)."""
+    spd = 1             # elasticity with Dirichlet rows: Cholesky
+    quasi_definite = 2  # RT0 x P0 with S + L > 0: LU without pivoting is stable
+    general = 3         # LU with pivoting
+
+
+def reason_name(enum_, reason):
+    """PETSc's name of a converged reason, as the C++ prints it (petsc4py
+    3.18 knows -11 only by its deprecated name, and KSP's -3 by another)."""
+    name = next((k for k in dir(enum_) if not k.startswith("_") and getattr(enum_, k) == reason), str(reason))
+    if enum_ is PETSc.KSP.ConvergedReason and name == "DIVERGED_MAX_IT":
+        name = "DIVERGED_ITS"  # KSPConvergedReasons[-3] in C
+    return name.replace("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED")
+
+
+def set_default_option(name, value):
+    """Sets a PETSc option unless the command line gave it."""
+    options = PETSc.Options()
+    if not options.hasName(name):
+        options.setValue(name, value)
+
+
+class Method(enum.Enum):
+    """How a system is solved (cpp/solvers/solver.h)."""
+    direct = 1     # a sparse factorisation, reused while the matrix is unchanged
+    iterative = 2  # CG + GAMG (elasticity), GMRES + Schur field split (flow)
+
+
+# The crossovers of "auto" in unknowns (cpp/solvers/solver.h, docs/performance.md),
+# by dimension and system.
+CROSSOVER = {(2, "mechanics"): 4000000, (2, "flow"): 8000000, (2, "monolithic"): 8000000,
+             (3, "mechanics"): 10000, (3, "flow"): 50000, (3, "monolithic"): 10000}
+
+
+def choose_method(choice, structure, unknowns, dimension, coupled=False):
+    """The method for a [solver] choice: "auto" is direct below the measured
+    crossover (cpp/solvers/solver.cpp); `coupled`: the monolithic system."""
+    if choice in ("direct", "iterative"):
+        return Method[choice]
+    system = "monolithic" if coupled else ("mechanics" if structure == Structure.spd else "flow")
+    return Method.direct if unknowns < CROSSOVER[(3 if dimension == 3 else 2, system)] else Method.iterative
+
+
+def _set_direct_defaults(prefix, structure, ranks):
+    """The factorisation measured fastest for the structure: on one rank
+    CHOLMOD Cholesky for SPD and PETSc's nested-dissection LU for
+    quasi-definite matrices, MUMPS otherwise and on several ranks."""
+    pc, package = "lu", "mumps"
+    if ranks == 1 and structure == Structure.spd:
+        pc, package = "cholesky", "cholmod"
+    elif ranks == 1 and structure == Structure.quasi_definite:
+        package = "petsc"
+    elif structure == Structure.spd:
+        pc = "cholesky"
+    options = PETSc.Options()
+    given_pc = options.getString(prefix + "pc_type", "")
+    set_default_option(prefix + "ksp_type", "preonly")
+    set_default_option(prefix + "pc_type", pc)
+    if given_pc and given_pc != pc:
+        package = "mumps"  # the user chose the other factorisation
+    set_default_option(prefix + "pc_factor_mat_solver_type", package)
+    used = options.getString(prefix + "pc_factor_mat_solver_type")
+    if used == "petsc":  # an ordering given to MUMPS would replace its own analysis
+        set_default_option(prefix + "pc_factor_mat_ordering_type", "nd")
+    if used == "mumps":  # room for refactorisations of changed inactive sets
+        set_default_option(prefix + "mat_mumps_icntl_14", "400")
+
+
+def _set_elasticity_preconditioner(prefix):
+    """Smoothed aggregation on nodes with the rigid-body modes; a new operator
+    of the same pattern keeps the prolongators (cpp/solvers/solver.cpp)."""
+    set_default_option(prefix + "pc_type", "gamg")
+    set_default_option(prefix + "pc_gamg_reuse_interpolation", "true")
+
+
+def _set_darcy_preconditioner(prefix):
+    """Schur field split, selfp (C + B diag(M)^-1 B^T) with BoomerAMG on it."""
+    for name, value in (("pc_type", "fieldsplit"), ("pc_fieldsplit_type", "schur"),
+                        ("pc_fieldsplit_schur_fact_type", "full"), ("pc_fieldsplit_schur_precondition", "selfp"),
+                        ("fieldsplit_flux_ksp_type", "preonly"), ("fieldsplit_flux_pc_type", "jacobi"),
+                        ("fieldsplit_pressure_ksp_type", "preonly"), ("fieldsplit_pressure_pc_type", "hypre")):
+        set_default_option(prefix + name, value)
+
+
+def _set_fixed_stress_preconditioner(prefix, fields):
+    """FGMRES on the coupled system with one fixed-stress sweep as the
+    preconditioner: a multiplicative split, flow then mechanics, on the
+    stabilised matrix, each block one application of its own preconditioner
+    (cpp/solvers/solver.cpp)."""
+    set_default_option(prefix + "ksp_type", "fgmres")
+    set_default_option(prefix + "pc_type", "fieldsplit")
+    set_default_option(prefix + "pc_fieldsplit_type", "multiplicative")
+    for f in fields:
+        block = prefix + "fieldsplit_" + f.name + "_"
+        set_default_option(block + "ksp_type", "preonly")
+        if f.fields:
+            _set_darcy_preconditioner(block)
+        else:
+            _set_elasticity_preconditioner(block)
+
+
+def _set_iterative_defaults(prefix, structure, fields):
+    """CG + smoothed aggregation for SPD elasticity; GMRES + Schur split for
+    the mixed flow system; the fixed-stress preconditioner for the coupled
+    system, the one whose fields are split further."""
+    if structure == Structure.spd:
+        set_default_option(prefix + "ksp_type", "cg")
+        _set_elasticity_preconditioner(prefix)
+    elif is_coupled(fields):
+        _set_fixed_stress_preconditioner(prefix, fields)
+    else:
+        set_default_option(prefix + "ksp_type", "gmres")
+        _set_darcy_preconditioner(prefix)
+
+
+# The relative residual tolerance of an iterative solve (cpp/solvers/solver.h);
+# inexact coupling loosens it in early iterations (fixed_stress.py).
+ITERATIVE_TOLERANCE = 1e-10
+
+
+def set_relative_tolerance(ksp, prefix, tolerance):
+    """The relative tolerance of a Krylov method, unless -<prefix>ksp_rtol was
+    given; on the KSP, not in the options database, which SNES VI re-reads at
+    every change of the inactive set."""
+    if not PETSc.Options().hasName(prefix + "ksp_rtol"):
+        ksp.setTolerances(rtol=tolerance)
+
+
+def set_solver_defaults(prefix, structure, method, comm, fields=()):
+    """Sets the defaults of the solver with this prefix unless the command
+    line gave them; returns the method they make (a -<prefix>pc_type on the
+    command line decides: a factorisation is direct, anything else
+    iterative)."""
+    given_pc = PETSc.Options().getString(prefix + "pc_type", "")
+    if given_pc:
+        method = Method.direct if given_pc in ("lu", "cholesky") else Method.iterative
+    if method == Method.direct:
+        _set_direct_defaults(prefix, structure, comm.size)
+    else:
+        _set_iterative_defaults(prefix, structure, fields)
+    return method
+
+
+class SolverStatistics:
+    """What one system's solver did (cpp/solvers/solver.h)."""
+
+    def __init__(self):
+        self.solves = self.setups = self.back_solves = self.linear_iterations = 0
+        self.newton_iterations = self.active_set_changes = self.schur_columns = 0
+        self.setup_time = self.solve_time = self.total_time = self.assembly_time = self.schur_time = 0.0
+
+
+class SolverStage:
+    """A PETSc log stage named after a system, pushed while it solves."""
+
+    def __init__(self, name):
+        self.stage = PETSc.Log.Stage(name)
+
+    def read(self, statistics):
+        setup = PETSc.Log.Event("PCSetUp").getPerfInfo(self.stage.id)
+        solve = PETSc.Log.Event("KSPSolve").getPerfInfo(self.stage.id)
+        statistics.setups, statistics.setup_time = setup["count"], setup["time"]
+        statistics.back_solves, statistics.solve_time = solve["count"], solve["time"]
+
+    def __enter__(self):
+        self.stage.push()
+
+    def __exit__(self, *_):
+        self.stage.pop()
+
+
+def system_name(prefix):
+    return "the " + prefix[:-1]
+
+
+class LinearSolver:
+    """KSP with an options prefix whose defaults set_solver_defaults set; set
+    up anew only when the operator's values change; an iterative solve
+    starts from the x it is given."""
+
+    def __init__(self, comm, prefix, A, P, structure, fields=()):
+        """Solves with A, preconditioned from P (A, or the fixed-stress
+        matrix of the coupled system); `fields` are P's splits."""
+        self.prefix = prefix
+        self.setups, self.setup_time, self._operator_changed = 0, 0.0, True
+        if structure == Structure.spd:
+            A.setOption(PETSc.Mat.Option.SPD, True)
+        self.ksp = PETSc.KSP().create(comm)
+        self.ksp.setOptionsPrefix(prefix)
+        self.ksp.setOperators(A, P)
+        try:
+            self.ksp.setFromOptions()
+            set_fields(self.ksp.getPC(), fields, prefix)
+            # A Krylov method starts from x, the previous iterate (preonly
+            # refuses a nonzero guess).
+            if self.ksp.getType() != PETSc.KSP.Type.PREONLY:
+                self.ksp.setInitialGuessNonzero(True)
+                set_relative_tolerance(self.ksp, prefix, ITERATIVE_TOLERANCE)
+        except PETSc.Error as e:  # e.g. -flow_pc_type ilu with a factorisation package
+            raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver "
+                               f"(PETSc error {e.ierr}; see -{prefix}pc_factor_mat_solver_type)") from None
+
+    def set_tolerance(self, relative):
+        """The relative tolerance of the next solves (a Krylov method only)."""
+        set_relative_tolerance(self.ksp, self.prefix, relative)
+
+    def operator_changed(self):
+        """The operator's values changed: the next solve sets up (counted)."""
+        self._operator_changed = True
+
+    def _run(self, solve):
+        """Set-up first, so the log keeps factorisation and back-solve apart."""
+        try:
+            start = time.perf_counter()
+            self.ksp.setUp()
+            if self._operator_changed:
+                self.setups += 1
+                self.setup_time += time.perf_counter() - start
+                self._operator_changed = False
+            solve()
+            return None
+        except PETSc.Error as e:
+            return e.ierr
+
+    def solve(self, x, b):
+        return self.run(lambda: self.ksp.solve(b, x))
+
+    def set_up(self):
+        """Factorises now, if the operator changed."""
+        self.run(lambda: None)
+
+    def solve_block(self, X, B):
+        """A X = B for the columns of the dense B, one call into the
+        factorisation (KSPMatSolve, which petsc4py 3.18 lacks: for preonly
+        it is the preconditioner's PCMatApply, else a solve per column)."""
+        def solve():
+            if self.ksp.getType() == PETSc.KSP.Type.PREONLY:
+                self.ksp.getPC().matApply(B, X)
+                return
+            for j in range(B.getSize()[1]):
+                b, x = B.getColumnVector(j), X.getColumnVector(j)
+                self.ksp.solve(b, x)
+                X.getDenseArray()[:, j] = x.getArray(readonly=True)
+        self.run(solve)
+
+    def run(self, solve):
+        ierr = self._run(solve)
+        reason = self.ksp.getConvergedReason()
+        pc = self.ksp.getPC()
+        if (ierr or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
+                and pc.getFactorSolverType() == "petsc":
+            # A quasi-definite matrix with a negative block at round-off can
+            # still meet a tiny pivot: factorise once more with UMFPACK, which
+            # pivots (one rank, as PETSc's LU; cpp/solvers/solver.cpp).
+            options = PETSc.Options()
+            options.setValue(self.prefix + "pc_factor_mat_solver_type", "umfpack")
+            # its own ordering, not the nested dissection the PC kept
+            options.setValue(self.prefix + "pc_factor_mat_ordering_type", "external")
+            A, P = self.ksp.getOperators()
+            self.ksp.reset()
+            self.ksp.setOperators(A, P)
+            self.ksp.setFromOptions()
+            ierr = self._run(solve)
+            reason = self.ksp.getConvergedReason()
+        if ierr:
+            raise SolverError(f"{system_name(self.prefix)} linear solver failed: PETSc error {ierr}")
+        if reason < 0:
+            raise SolverError(f"{system_name(self.prefix)} linear solver failed: "
+                              f"{reason_name(PETSc.KSP.ConvergedReason, reason)}")
+        return self.ksp.getIterationNumber()

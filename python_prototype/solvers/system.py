@@ -1,0 +1,126 @@
+"""One system of a step (cpp/solvers/system.h): the matrix of a bilinear form and
+what answers it, a linear solve or, with contact, the bound-constrained
+problem on it. How it is solved is decided here and in solver.py."""
+import time
+
+from ..contact.contact import ContactSolver
+from .field_split import is_coupled
+from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
+from .solver import LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults
+
+
+class System:
+    """`choice` is the scene's [solver] entry ("direct", "iterative" or
+    "auto"); `fields` the (name, global DOFs) splits of a mixed system."""
+
+    def __init__(self, comm, prefix, a, bcs, structure, choice, fields=(), a_preconditioner=None):
+        """`a_preconditioner` (optional): the form an iterative method builds
+        its preconditioner from instead of `a` (the fixed-stress matrix of
+        the coupled system)."""
+        self.comm, self.prefix, self.a, self.bcs, self.structure = comm, prefix, a, bcs, structure
+        self.fields = list(fields)
+        self._statistics = SolverStatistics()
+        start = time.perf_counter()
+        self.A = assemble_matrix(a, bcs)
+        self._statistics.assembly_time += time.perf_counter() - start
+        self.stage = SolverStage(prefix[:-1])
+        dimension = a.mesh.topology.dim
+        self.method = set_solver_defaults(prefix, structure,
+                                          choose_method(choice, structure, self.unknowns(), dimension,
+                                                        is_coupled(self.fields)),
+                                          comm, self.fields)
+        # a factorisation is of A itself; only a preconditioner takes another matrix
+        self.a_preconditioner, self.P = None, None
+        if a_preconditioner is not None and self.method == Method.iterative:
+            start = time.perf_counter()
+            self.a_preconditioner, self.P = a_preconditioner, assemble_matrix(a_preconditioner, bcs)
+            self._statistics.assembly_time += time.perf_counter() - start
+        self.contact = None
+        self.earlier = SolverStatistics()  # the counts of the run a restart continues
+        # made now, so that options that make no solver are refused before the run
+        self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
+
+    def preconditioner_matrix(self):
+        """A, or the matrix of a_preconditioner on the iterative path."""
+        return self.P if self.P is not None else self.A
+
+    def unknowns(self):
+        return self.A.getSize()[0]
+
+    def set_near_nullspace(self, modes):
+        """The rigid-body modes, from which AMG builds its coarse spaces."""
+        self.A.setNearNullSpace(modes)
+
+    def use_contact(self, contact_set, dofs, displacement_dofs):
+        """Every solve becomes the contact problem on the DOFs `dofs`."""
+        self.linear = None
+        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.preconditioner_matrix(), self.fields,
+                                     self.structure, self.method, contact_set, dofs, displacement_dofs)
+
+    def has_contact(self):
+        return self.contact is not None
+
+    def solve(self, b, x):
+        """Solves with x as the initial guess."""
+        start = time.perf_counter()
+        with self.stage:
+            if self.contact:
+                self.contact.solve(b, x)
+            else:
+                self._statistics.linear_iterations += self.linear.solve(x, b)
+        self._statistics.total_time += time.perf_counter() - start
+        self._statistics.solves += 1
+
+    def set_tolerance(self, relative):
+        """The accuracy the coupling asks of the next solves (inexact
+        coupling): iterative methods only; a factorisation is exact."""
+        if self.method != Method.iterative:
+            return
+        if self.contact:
+            self.contact.set_tolerance(relative)
+        else:
+            self.linear.set_tolerance(relative)
+
+    def reassemble(self):
+        """dt changed: the next solve factorises anew."""
+        start = time.perf_counter()
+        reassemble_matrix(self.A, self.a, self.bcs)
+        if self.P is not None:
+            reassemble_matrix(self.P, self.a_preconditioner, self.bcs)
+        self._statistics.assembly_time += time.perf_counter() - start
+        if self.contact:
+            self.contact.operator_changed()
+        else:
+            self.linear.operator_changed()
+
+    def statistics(self):
+        s = SolverStatistics()
+        s.__dict__.update(self._statistics.__dict__)
+        self.stage.read(s)
+        # PCSetUp events count factorisations; an AMG hierarchy logs one per
+        # level and smoother as well, so the solvers count their own set-ups
+        # (and their times: PETSc's event times nest).
+        if self.method == Method.iterative and not self.contact:
+            s.setups, s.setup_time = self.linear.setups, self.linear.setup_time
+        elif self.method == Method.iterative and self.contact.preconditioner_setups():
+            s.setups, s.setup_time = self.contact.preconditioner_setups()
+        if self.contact:
+            s.newton_iterations = self.contact.newton_iterations
+            s.linear_iterations = self.contact.linear_iterations
+            s.active_set_changes = self.contact.active_set_changes
+            s.schur_columns, s.schur_time = self.contact.schur_columns(), self.contact.schur_time()
+        for name in ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations",
+                     "active_set_changes", "schur_columns"):
+            setattr(s, name, getattr(s, name) + getattr(self.earlier, name))
+        return s
+
+    def description(self):
+        from petsc4py import PETSc
+        options = PETSc.Options()
+        pc = options.getString(self.prefix + "pc_type", "")
+        d = (f"SNES vinewtonrsls ({self.contact.method()}), " if self.contact else "") + options.getString(self.prefix + "ksp_type", "") \
+            + " + " + pc
+        package = options.getString(self.prefix + "pc_factor_mat_solver_type", "")
+        if package and pc in ("lu", "cholesky"):
+            d += f" ({package})"
+        return d

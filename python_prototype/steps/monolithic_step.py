@@ -1,0 +1,163 @@
+"""The monolithic step: flux, pressure and displacement solved together
+(cpp/steps/monolithic_step.cpp)."""
+import time
+
+import numpy as np
+from dolfinx import fem
+
+from ..contact.contact import ContactSet, ContactState, contact_boundary_flag
+from ..solvers.field_split import Field, part_of
+from ..assembly.parameters import interpolate, interpolate_resistivity
+from ..assembly.linear_algebra import add_vector, dof_map, finish_rhs, owned, owned_global_dofs, rigid_body_modes
+from ..solvers.solver import Structure
+from ..solvers.system import System
+from ..assembly.boundary_conditions import displacement_bcs, no_flow_bc, update
+
+
+class MonolithicStep:
+    """(u, z, p) together on P1^d x RT0 x P0, one VI per step."""
+
+    def __init__(self, scene, domain, F):
+        self.scene, comm = scene, domain.mesh.comm
+        X = F["X"]
+        self.V, self.Q = F["V"], F["Q"]
+        self.V_to_X, self.Q_to_X = dof_map(self.V, X.sub(0)), dof_map(self.Q, X.sub(2))
+        self.Z, self.Z_to_X = X.sub(1).collapse()
+        self.x, self.z = fem.Function(X), fem.Function(self.Z)
+        self.u, self.pressure = fem.Function(self.V), fem.Function(self.Q)
+        self.u_old, self.p_old = F["u_window"], F["p_previous"]
+        interpolate(self.pressure, [scene.flow.initial_pressure], 0.0)
+        self.x.x.array[self.Q_to_X] = self.pressure.x.array  # the first guess of a contact solve
+        interpolate_resistivity(F["resistivity"], scene.flow, domain.dim)
+        self.body_force, self.traction = F["body_force"], F["traction"]
+        self.source, self.p_boundary = F["source"], F["p_boundary"]
+
+        self.bcs, self.bc_values = displacement_bcs(scene, domain, X.sub(0))
+        self.bcs.append(no_flow_bc(scene, domain, X.sub(1)))
+        self.loads_depend_on_time = any(e.depends_on_time for e, *_ in self.bc_values)
+        self.L_traction, self.L_pressure = [], []
+        for name, b in scene.boundaries.items():
+            if b.traction:  # a traction boundary, or a loaded contact boundary
+                self.L_traction.append((b.traction, F.compile("L_monolithic_traction", domain.marker(name))))
+                self.loads_depend_on_time |= any(e.depends_on_time for e in b.traction)
+            if b.flow == "pressure":
+                self.L_pressure.append((b.pressure, F.compile("L_monolithic_pressure", domain.marker(name))))
+                self.loads_depend_on_time |= b.pressure.depends_on_time
+        self.a = F.compile("a_monolithic")
+        self.L_history = F.compile("L_monolithic_history")
+        self.L_body = F.compile("L_monolithic_body_force") if scene.mechanics.body_force else None
+        if self.L_body:
+            self.loads_depend_on_time |= any(e.depends_on_time for e in scene.mechanics.body_force)
+        self.L_source = F.compile("L_monolithic_source") if scene.flow.source else None
+        if self.L_source:
+            self.loads_depend_on_time |= scene.flow.source.depends_on_time
+        self.L_gravity = F.compile("L_monolithic_gravity") if scene.flow.gravity else None
+
+        self.assembly_time = 0.0  # right-hand sides
+        # Depends on dt only; its pressure block -(S/dt) is often negligible
+        # against the coupling: LU with pivoting (cpp/steps/monolithic_step.cpp). The
+        # iterative path is preconditioned by the fixed-stress split.
+        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, scene.solver.monolithic,
+                             self.fields(X), F.compile("a_monolithic_preconditioner"))
+        self.b, self.b_loads = fem.Function(X), fem.Function(X)
+        self.loads_time = None
+        self.contact_pressure = self.contact_active = self.contact_boundary = None
+        if not scene.has_contact():
+            return
+        # Contact: the bounds sit on the contact DOFs of the displacement block.
+        contact_set = ContactSet(scene, domain, F, self.V)
+        dofs = self.V_to_X[contact_set.dofs]
+        if np.any(dofs >= owned(X)):
+            raise RuntimeError("monolithic contact: a contact DOF owned in V is not owned in the mixed space")
+        self.contact_pressure = fem.Function(contact_set.output_space)
+        self.contact_active = fem.Function(contact_set.output_space)
+        self.contact_boundary = contact_boundary_flag(contact_set)
+        self.system.use_contact(contact_set, dofs, self.V_to_X[:owned(self.V)])
+
+    def fields(self, X):
+        """The splits of (u, z, p) for the fixed-stress preconditioner: the
+        flow (flux, pressure), then the mechanics node by node with the
+        rigid-body modes in its numbering (cpp/steps/monolithic_step.cpp)."""
+        comm, index_map = X.mesh.comm, X.dofmap.index_map  # block size 1
+        z, p = owned_global_dofs(index_map, self.Z_to_X), owned_global_dofs(index_map, self.Q_to_X)
+        u = owned_global_dofs(index_map, self.V_to_X)
+        flow = Field("flow", np.sort(np.concatenate([z, p])))
+        flow.fields = [part_of(flow, "flux", z, comm), part_of(flow, "pressure", p, comm)]
+        position = np.searchsorted(u, index_map.local_range[0] + self.V_to_X[:owned(self.V)])
+        mechanics = Field("mechanics", u, self.V.dofmap.index_map_bs, rigid_body_modes(self.V, position))
+        return [flow, mechanics]
+
+    def assemble_loads(self, t):
+        if self.loads_time is not None and (not self.loads_depend_on_time or t == self.loads_time):
+            return
+        self.b_loads.x.array[:] = 0.0
+        if self.L_body:
+            interpolate(self.body_force, self.scene.mechanics.body_force, t)
+            add_vector(self.b_loads, self.L_body)
+        for traction, form in self.L_traction:
+            interpolate(self.traction, traction, t)
+            add_vector(self.b_loads, form)
+        if self.L_source:
+            interpolate(self.source, [self.scene.flow.source], t)
+            add_vector(self.b_loads, self.L_source)
+        for value, form in self.L_pressure:
+            interpolate(self.p_boundary, [value], t)
+            add_vector(self.b_loads, form)
+        if self.L_gravity:
+            add_vector(self.b_loads, self.L_gravity)
+        update(self.bc_values, t)
+        self.loads_time = t
+
+    def assemble_rhs(self, t):
+        """The right-hand side of a step to t from the state in u and pressure."""
+        start = time.perf_counter()
+        self.u_old.x.array[:] = self.u.x.array
+        self.p_old.x.array[:] = self.pressure.x.array
+        self.assemble_loads(t)
+        self.b.x.array[:] = self.b_loads.x.array
+        add_vector(self.b, self.L_history)
+        finish_rhs(self.b, self.a, self.bcs)
+        self.assembly_time += time.perf_counter() - start
+
+    def set_displacement(self, u, t):
+        """Sets the displacement of the state at time t (with the pressure now
+        in `pressure`): the initial equilibrium (mechanics.initial_equilibrium);
+        contact_state() then reads this state's residual."""
+        self.u.x.array[:] = u
+        self.x.x.array[self.V_to_X] = u
+        self.x.x.array[self.Q_to_X] = self.pressure.x.array
+        self.assemble_rhs(t)
+
+    def solve(self, t):
+        """One backward-Euler step to time t from the state in u and pressure."""
+        self.assemble_rhs(t)
+        self.system.solve(self.b.vector, self.x.vector)
+        self.x.x.scatter_forward()
+        self.u.x.array[:] = self.x.x.array[self.V_to_X]
+        self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
+
+    def time_step_changed(self):
+        """The matrix depends on dt: reassembled after set_time_step changed it."""
+        self.system.reassemble()
+
+    def flux(self, out):
+        self.z.x.array[:] = self.x.x.array[self.Z_to_X]
+        out.interpolate(self.z)
+
+    def state(self):
+        """The coupled unknown (u, z, p), ghosts included, for a checkpoint."""
+        return self.x.x.array
+
+    def set_state(self, x):
+        """Loads a state() back (and u, pressure from it)."""
+        self.x.x.array[:] = x
+        self.u.x.array[:] = self.x.x.array[self.V_to_X]
+        self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
+
+    def contact_state(self):
+        if not self.system.has_contact():
+            return ContactState()
+        return self.system.contact.state(self.x.vector, self.b.vector, self.contact_pressure,
+                                         self.contact_active)
+
+

@@ -1,0 +1,45 @@
+"""The times of a run and the step of each (cpp/steps/time_grid.h): kept exactly
+(dt from the scene, or grown by time.growth) so that a constant step is
+recognised as unchanged; a failed step retried with time.retry has its fine
+steps halved (dt/2 is exact in binary floating point); a checkpoint keeps
+the grid."""
+
+
+class TimeGrid:
+    def __init__(self, t, dt):
+        self.t = list(t)    # N + 1 times
+        self.dt = list(dt)  # N steps
+
+    def steps(self):
+        return len(self.dt)
+
+
+def time_grid(scene):
+    """The scene's times with their steps."""
+    t = scene.times()
+    return TimeGrid(t, [scene.dt if scene.growth == 1.0 else t[k + 1] - t[k] for k in range(len(t) - 1)])
+
+
+def halve_steps(grid, first, count):
+    """Halves the steps first, ..., first + count - 1 (count more steps)."""
+    t, dt = grid.t[:first + 1], grid.dt[:first]
+    for k in range(first, first + count):
+        half = grid.dt[k] / 2
+        t += [grid.t[k] + half, grid.t[k + 1]]
+        dt += [half, half]
+    grid.t = t + grid.t[first + count + 1:]
+    grid.dt = dt + grid.dt[first + count:]
+
+
+def retry_step(scene, cause, step, attempts, grid, first, count, report):
+    """time.retry: whether a failed step may be tried again with halved steps
+    (`attempts[0]` retries of it so far); if so, counts the retry in
+    report.retries, halves the fine steps first, ..., first + count - 1 and
+    returns the message that says so (else None)."""
+    if attempts[0] >= scene.retry:
+        return None
+    attempts[0] += 1
+    report.retries += 1
+    halve_steps(grid, first, count)
+    return (f"step {step} failed ({cause}); retry {attempts[0]} of {scene.retry} "
+            f"with dt = {grid.dt[first]:g}")
