@@ -3,7 +3,10 @@ each shipped scene, every coupling scheme and solver path) computes, on both
 tracks, what tests/regression/record.py recorded before the code was
 reshaped: the same coupling iterations at every step, the same summary
 counts, the same active contact set at every output time and every final
-field equal to 1e-12 relative to its largest value."""
+field equal to 1e-12 relative to its largest value.
+
+REGRESSION_TRACKS=prototype (or cpp) checks one track only, and
+REGRESSION_CASES=a,b some cases only, while working on one of them."""
 import os
 import sys
 import tempfile
@@ -17,8 +20,11 @@ from cases import CASES, COUNTS, HERE, outcome, run  # noqa: E402
 
 TOLERANCE = 1e-12
 
-for case in CASES:
-    outs = {track: tempfile.mkdtemp(prefix=f"regression-{track}-") for track in ("cpp", "prototype")}
+TRACKS = os.environ.get("REGRESSION_TRACKS", "cpp,prototype").split(",")
+SELECTED = os.environ.get("REGRESSION_CASES", ",".join(CASES)).split(",")
+
+for case in SELECTED:
+    outs = {track: tempfile.mkdtemp(prefix=f"regression-{track}-") for track in TRACKS}
     runs = {track: run(case, track, BINARY, out) for track, out in outs.items()}
     for track, p in runs.items():
         _, stderr = p.communicate(timeout=900)
