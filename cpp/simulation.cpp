@@ -4,6 +4,7 @@
 #include "diagnostics/diagnostics.h"
 #include "domain/domain.h"
 #include "coupling/fixed_stress.h"
+#include "coupling/single_solve.h"
 #include "steps/flow_step.h"
 #include "assembly/forms.h"
 #include "steps/mechanics_step.h"
@@ -11,6 +12,7 @@
 #include "output/checkpoint.h"
 #include "output/interruption.h"
 #include "output/output.h"
+#include "output/progress.h"
 #include "assembly/parameters.h"
 
 #include <basix/finite-element.h>
@@ -21,7 +23,8 @@
 #include <dolfinx/fem/utils.h>
 #include <functional>
 #include <optional>
-#include <tuple>
+#include <map>
+#include <type_traits>
 #include <xtensor/xarray.hpp>
 
 namespace biotcontact
@@ -30,13 +33,6 @@ using namespace dolfinx;
 
 namespace
 {
-
-bool rank0(MPI_Comm comm)
-{
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r == 0;
-}
 
 std::int64_t global_size(const fem::FunctionSpace& V)
 {
@@ -146,37 +142,13 @@ Json closed_form_errors(const Scene& scene, const Parameters& P, const Domain& d
   return errors;
 }
 
-/// The unknowns at the start of a step, to go back to when it is retried.
-struct StepState
-{
-  std::vector<double> flow, displacement, monolithic;
-};
-
-StepState step_state(const FlowStep* flow, const MechanicsStep* mechanics, const MonolithicStep* coupled)
-{
-  auto copy = [](std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); };
-  return {flow ? copy(flow->state()) : std::vector<double>{},
-          mechanics ? copy(mechanics->u->x()->array()) : std::vector<double>{},
-          coupled ? copy(coupled->state()) : std::vector<double>{}};
-}
-
-void set_step_state(const StepState& s, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* coupled)
-{
-  if (flow)
-    flow->set_state(s.flow);
-  if (mechanics)
-    std::copy(s.displacement.begin(), s.displacement.end(), mechanics->u->x()->mutable_array().begin());
-  if (coupled)
-    coupled->set_state(s.monolithic);
-}
-
 /// mechanics.initial_equilibrium: replaces u = 0 by the displacement in
 /// equilibrium with the loads at t = 0 and the initial pressure (a geostatic
 /// initialisation). Otherwise loads present from the start, such as the
 /// in-situ stresses, are applied in the first step as a sudden load, whose
 /// undrained pressure response the first flow steps then carry.
 void equilibrate(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                 const Constants& constants, MechanicsStep* mechanics, MonolithicStep* coupled)
+                 const Constants& constants, MechanicsStep* mechanics, MonolithicStep* monolithic)
 {
   if (mechanics)
   {
@@ -185,457 +157,240 @@ void equilibrate(const Scene& scene, const Domain& domain, const CompiledForms& 
   }
   // The coupled system has no mechanics system of its own: one mechanics
   // step on its displacement space, loaded by its pressure, solved once.
-  MechanicsStep step(scene, domain, forms, constants, coupled->V, coupled->pressure);
+  MechanicsStep step(scene, domain, forms, constants, monolithic->V, monolithic->pressure);
   step.solve(0.0);
-  coupled->set_displacement(step.u->x()->array(), 0.0);
+  monolithic->set_displacement(step.u->x()->array(), 0.0);
 }
 
+/// The steps a scene has (each scene allocates only the physics it has), and
+/// the fields output and diagnostics read, whichever step produced them.
+struct Steps
+{
+  std::unique_ptr<FlowStep> flow, second_pass; // second_pass: "multirate-two-pass"
+  std::unique_ptr<MechanicsStep> mechanics;
+  std::unique_ptr<MonolithicStep> monolithic;
+  std::shared_ptr<const fem::FunctionSpace> V;
+  std::shared_ptr<fem::Function<double>> u, p, contact_pressure, contact_active, contact_boundary;
+  std::function<void(fem::Function<double>&)> compute_flux;
+  std::function<ContactState()> compute_contact = [] { return ContactState{}; };
+
+  /// The systems by their summary name, in the order of checkpoints.
+  std::array<std::pair<const char*, System*>, 4> systems() const
+  {
+    return {{{"flow", flow ? &flow->system() : nullptr},
+             {"mechanics", mechanics ? &mechanics->system() : nullptr},
+             {"monolithic", monolithic ? &monolithic->system() : nullptr},
+             {"flow_second_pass", second_pass ? &second_pass->system() : nullptr}}};
+  }
+
+  /// Assembly time of the steps' loads and matrices.
+  double assembly_time() const
+  {
+    double t = 0;
+    for (const FlowStep* f : {flow.get(), second_pass.get()})
+      t += f ? f->assembly_time : 0.0;
+    t += mechanics ? mechanics->assembly_time : 0.0;
+    return t + (monolithic ? monolithic->assembly_time : 0.0);
+  }
+};
+
+/// The contact fields of a step that has them.
+template <class Step>
+void take_contact_fields(Steps& s, Step* step)
+{
+  if (!step->has_contact())
+    return;
+  s.contact_pressure = step->contact_pressure;
+  s.contact_active = step->contact_active;
+  s.contact_boundary = step->contact_boundary;
+  s.compute_contact = [step] { return step->contact_state(); };
+}
+
+/// The monolithic step: u, z and p in one system.
+Steps monolithic_steps(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                       const Constants& constants)
+{
+  Steps s;
+  s.monolithic = std::make_unique<MonolithicStep>(scene, domain, forms, constants);
+  MonolithicStep* m = s.monolithic.get();
+  s.V = m->V;
+  s.u = m->u;
+  s.p = m->pressure;
+  s.compute_flux = [m](fem::Function<double>& out) { m->flux(out); };
+  take_contact_fields(s, m);
+  return s;
+}
+
+/// The flow step and the mechanics step of the split, or the one a single
+/// physics has; "multirate-two-pass" adds the flow step without L.
+Steps split_steps(const Scene& scene, const Domain& domain, const CompiledForms& forms, const Constants& constants)
+{
+  Steps s;
+  if (scene.mechanics)
+    s.V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "u", domain.mesh));
+  if (scene.flow)
+  {
+    s.flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? s.V : nullptr);
+    s.p = s.flow->pressure;
+    if (scene.coupling and scene.coupling->scheme == "multirate-two-pass")
+    {
+      Constants unstabilised = constants;
+      unstabilised["L"] = std::make_shared<const fem::Constant<double>>(0.0);
+      s.second_pass = std::make_unique<FlowStep>(scene, domain, forms, unstabilised, s.V);
+    }
+    FlowStep* f = s.flow.get();
+    s.compute_flux = [f](fem::Function<double>& out) { f->flux(out); };
+  }
+  if (scene.mechanics)
+  {
+    s.mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, s.V, s.p);
+    s.u = s.mechanics->u;
+    take_contact_fields(s, s.mechanics.get());
+  }
+  return s;
+}
+
+/// The fields written at each output time: the unknowns and what is derived
+/// from them (cell-averaged flux, volumetric stress sigma_v, contact).
+class OutputFields
+{
+public:
+  OutputFields(const Domain& domain, const CompiledForms& forms, const Constants& constants, Steps& steps,
+               Output& output)
+      : _forms(forms), _constants(constants), _steps(steps), _output(output)
+  {
+    const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
+    const basix::FiniteElement dg0 = basix::create_element(
+        basix::element::family::P, cell, 0, basix::element::lagrange_variant::unset, true);
+    if (steps.p)
+    {
+      steps.p->name = "pressure";
+      _flux = std::make_shared<fem::Function<double>>(
+          std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, domain.dim())));
+      _flux->name = "flux";
+    }
+    if (steps.u)
+    {
+      steps.u->name = "displacement";
+      auto Q0 = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, 1));
+      _sigma_v = std::make_shared<fem::Function<double>>(Q0);
+      _sigma_v->name = "sigma_v";
+      if (!steps.p)
+        _zero_pressure = std::make_shared<fem::Function<double>>(Q0);
+      if (steps.contact_pressure)
+      {
+        steps.contact_pressure->name = "contact_pressure";
+        steps.contact_active->name = "contact_active";
+      }
+    }
+  }
+
+  void write_flow(double t)
+  {
+    _output.write(*_steps.p, t);
+    _steps.compute_flux(*_flux);
+    _output.write(*_flux, t);
+  }
+
+  /// Also updates `contact` (and the contact fields).
+  void write_mechanics(double t)
+  {
+    contact = _steps.compute_contact();
+    volumetric_stress(_forms, _constants, _steps.u, _steps.p ? _steps.p : _zero_pressure, *_sigma_v);
+    _output.write(*_steps.u, t);
+    _output.write(*_sigma_v, t);
+    if (_steps.contact_pressure)
+    {
+      _output.write(*_steps.contact_pressure, t);
+      _output.write(*_steps.contact_active, t);
+    }
+  }
+
+  ContactState contact; // at the last mechanics output
+
+private:
+  const CompiledForms& _forms;
+  const Constants& _constants;
+  Steps& _steps;
+  Output& _output;
+  std::shared_ptr<fem::Function<double>> _flux, _sigma_v, _zero_pressure;
+};
+
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
-Checkpoint capture_state(int steps, double time, const FlowStep* flow, const MechanicsStep* mechanics,
-                         const MonolithicStep* coupled, const CouplingReport& report,
-                         const std::array<System*, 4>& systems, const std::string& output, const TimeGrid& grid)
+Checkpoint capture_checkpoint(int steps, double time, const Steps& s, CouplingReport report,
+                              const std::string& output, const TimeGrid& grid)
 {
   Checkpoint c;
   c.steps = steps;
   c.time = time;
   auto keep = [&](const std::string& name, std::span<const double> x) { c.arrays[name].assign(x.begin(), x.end()); };
-  // The grid as retries left it (the same on every rank).
-  keep("times", grid.t);
+  keep("times", grid.t); // the grid as retries left it (the same on every rank)
   keep("time_steps", grid.dt);
-  if (flow)
-    keep("flow", flow->state());
-  if (mechanics)
-    keep("displacement", mechanics->u->x()->array());
-  if (coupled)
-    keep("monolithic", coupled->state());
-  c.numbers = {{"windows", report.windows},
-               {"coupling_iterations", report.coupling_iterations},
-               {"max_iterations_per_step", report.max_iterations_per_step},
-               {"max_contraction_ratio", report.max_contraction_ratio},
-               {"ratios", report.ratios},
-               {"bound_violations", report.bound_violations},
-               {"unresolved_ratios", report.unresolved_ratios},
-               {"max_coupled_residual", report.max_coupled_residual},
-               {"ratio_sum", report.ratio_sum},
-               {"p_size", report.p_size},
-               {"u_size", report.u_size},
-               {"retries", report.retries}};
+  if (s.flow)
+    keep("flow", s.flow->unknowns());
+  if (s.mechanics)
+    keep("displacement", s.mechanics->u->x()->array());
+  if (s.monolithic)
+    keep("monolithic", s.monolithic->unknowns());
+  for_each_checkpointed(report, [&](const char* name, auto& value) { c.numbers[name] = value; });
+  const auto systems = s.systems();
   for (std::size_t i = 0; i < systems.size(); ++i)
-  {
-    if (!systems[i])
-      continue;
-    const SolverStatistics s = systems[i]->statistics();
-    const std::string k = std::to_string(i) + ".";
-    c.numbers[k + "solves"] = s.solves;
-    c.numbers[k + "setups"] = s.setups;
-    c.numbers[k + "back_solves"] = s.back_solves;
-    c.numbers[k + "linear_iterations"] = s.linear_iterations;
-    c.numbers[k + "newton_iterations"] = s.newton_iterations;
-    c.numbers[k + "active_set_changes"] = s.active_set_changes;
-    c.numbers[k + "schur_columns"] = s.schur_columns;
-  }
+    if (const System* system = systems[i].second)
+    {
+      const SolverStatistics st = system->statistics();
+      for (const auto& [name, count] : solver_counts)
+        c.numbers[std::to_string(i) + "." + name] = st.*count;
+    }
   c.output = output;
   return c;
 }
 
-/// Loads a checkpoint into the steps, the report and the solver counts.
-void restore_state(const Checkpoint& c, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* coupled,
-                   CouplingReport& report, const std::array<System*, 4>& systems, TimeGrid& grid)
+/// Loads a checkpoint into the steps, the report, the grid and the solver counts.
+void restore_checkpoint(const Checkpoint& c, Steps& s, CouplingReport& report, TimeGrid& grid)
 {
   grid.t = c.arrays.at("times");
   grid.dt = c.arrays.at("time_steps");
-  if (flow)
-    flow->set_state(c.arrays.at("flow"));
-  if (mechanics)
+  if (s.flow)
+    s.flow->set_unknowns(c.arrays.at("flow"));
+  if (s.mechanics)
   {
     const std::vector<double>& u = c.arrays.at("displacement");
-    std::copy(u.begin(), u.end(), mechanics->u->x()->mutable_array().begin());
+    std::copy(u.begin(), u.end(), s.mechanics->u->x()->mutable_array().begin());
   }
-  if (coupled)
-    coupled->set_state(c.arrays.at("monolithic"));
-  auto n = [&](const std::string& k) { return c.numbers.at(k); };
-  report.windows = static_cast<int>(n("windows"));
-  report.coupling_iterations = static_cast<long>(n("coupling_iterations"));
-  report.max_iterations_per_step = static_cast<int>(n("max_iterations_per_step"));
-  report.max_contraction_ratio = n("max_contraction_ratio");
-  report.ratios = static_cast<long>(n("ratios"));
-  report.bound_violations = static_cast<long>(n("bound_violations"));
-  report.unresolved_ratios = static_cast<long>(n("unresolved_ratios"));
-  report.max_coupled_residual = n("max_coupled_residual");
-  report.ratio_sum = n("ratio_sum");
-  report.retries = static_cast<long>(n("retries"));
-  report.p_size = n("p_size");
-  report.u_size = n("u_size");
+  if (s.monolithic)
+    s.monolithic->set_unknowns(c.arrays.at("monolithic"));
+  for_each_checkpointed(report, [&](const char* name, auto& value)
+                        { value = static_cast<std::remove_reference_t<decltype(value)>>(c.numbers.at(name)); });
+  const auto systems = s.systems();
   for (std::size_t i = 0; i < systems.size(); ++i)
-  {
-    if (!systems[i])
-      continue;
-    const std::string k = std::to_string(i) + ".";
-    SolverStatistics s;
-    s.solves = static_cast<long>(n(k + "solves"));
-    s.setups = static_cast<long>(n(k + "setups"));
-    s.back_solves = static_cast<long>(n(k + "back_solves"));
-    s.linear_iterations = static_cast<long>(n(k + "linear_iterations"));
-    s.newton_iterations = static_cast<long>(n(k + "newton_iterations"));
-    s.active_set_changes = static_cast<long>(n(k + "active_set_changes"));
-    s.schur_columns = static_cast<long>(n(k + "schur_columns"));
-    systems[i]->add_earlier(s);
-  }
+    if (System* system = systems[i].second)
+    {
+      SolverStatistics earlier;
+      for (const auto& [name, count] : solver_counts)
+        earlier.*count = static_cast<long>(c.numbers.at(std::to_string(i) + "." + name));
+      system->add_earlier(earlier);
+    }
 }
 
-} // namespace
-
-int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
+/// Per system: what solved it, how often it was set up (factorised) and
+/// solved, and where its time went; the solvers' and timings' tables.
+std::pair<Json, Json> solver_summaries(const Steps& steps, bool inexact_coupling)
 {
-  const auto start = std::chrono::steady_clock::now();
-  const bool root = rank0(comm);
-  auto say = [&](const std::string& s)
-  {
-    if (root)
-      std::printf("%s\n", s.c_str()), std::fflush(stdout);
-  };
-
-  // ---- scene -> mesh and tags -> forms ------------------------------------
-  const Domain domain = create_domain(scene, comm);
-  check_expressions(scene, domain, comm);
-  const CompiledForms& forms = compiled_forms(domain.mesh->topology().cell_type());
-  const Parameters P = derive_parameters(scene);
-  const Constants constants = make_constants(scene, P);
-  const int d = domain.dim();
-
-  // Each scene allocates only the physics it has.
-  std::string left_out;
-  auto leave_out = [&](const std::string& what) { left_out += (left_out.empty() ? "" : "; ") + what; };
-  if (!scene.flow)
-    leave_out("flow (no [flow] table): no flux or pressure unknowns");
-  if (!scene.mechanics)
-    leave_out("mechanics (no [mechanics] table): no displacement unknowns");
-  if (scene.mechanics and !scene.has_contact())
-    leave_out("contact solver (no contact boundary): linear mechanics solve");
-  if (scene.flow and !scene.flow->gravity)
-    leave_out("gravity");
-  if (scene.mechanics and !scene.mechanics->body_force)
-    leave_out("body force");
-  say("biotcontact: scene " + scene.name + " (" + scene.file + "), " + std::to_string(d) + "D, "
-      + std::to_string(domain.mesh->topology().index_map(d)->size_global()) + " cells");
-  say("left out: " + (left_out.empty() ? std::string("nothing") : left_out));
-
-  // Where the method is known to degrade, the run says so instead of
-  // returning poor numbers silently (docs/stability.md has the data).
-  std::string warnings;
-  auto warn = [&](const std::string& what)
-  {
-    warnings += (warnings.empty() ? "" : "; ") + what;
-    say("warning: " + what);
-  };
-  if (scene.mechanics)
-  {
-    const double nu = P.lambda / (2 * (P.lambda + P.G));
-    if (nu > 0.49)
-      warn("nu = " + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
-           "(too stiff a response, worse on coarse meshes)");
-  }
-  if (scene.coupling and scene.coupling->scheme != "monolithic" and P.gamma > 0.99)
-    warn("gamma = " + std::to_string(P.gamma) + " > 0.99: the contraction theorems guarantee almost "
-         "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)");
-
-  // ---- flow step / mechanics step, or the monolithic system ----------------
-  const bool monolithic = scene.coupling and scene.coupling->scheme == "monolithic";
-  std::unique_ptr<FlowStep> flow, second_pass;
-  std::unique_ptr<MechanicsStep> mechanics;
-  std::unique_ptr<MonolithicStep> coupled;
-  // What output and diagnostics read, whichever solver produced it.
-  std::shared_ptr<const fem::FunctionSpace> V;
-  std::shared_ptr<fem::Function<double>> u, p, contact_pressure, contact_active, contact_boundary;
-  std::function<void(fem::Function<double>&)> compute_flux;
-  std::function<ContactState()> compute_contact = [] { return ContactState{}; };
-  if (monolithic)
-  {
-    coupled = std::make_unique<MonolithicStep>(scene, domain, forms, constants);
-    V = coupled->V;
-    u = coupled->u;
-    p = coupled->pressure;
-    compute_flux = [&](fem::Function<double>& out) { coupled->flux(out); };
-    if (coupled->has_contact())
-    {
-      contact_pressure = coupled->contact_pressure;
-      contact_active = coupled->contact_active;
-      contact_boundary = coupled->contact_boundary;
-      compute_contact = [&] { return coupled->contact_state(); };
-    }
-  }
-  else
-  {
-    if (scene.mechanics)
-      V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "u", domain.mesh));
-    if (scene.flow)
-    {
-      flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? V : nullptr);
-      p = flow->pressure;
-      if (scene.coupling and scene.coupling->scheme == "multirate-two-pass")
-      {
-        // The second pass is the flow step without the stabilisation L.
-        Constants unstabilised = constants;
-        unstabilised["L"] = std::make_shared<const fem::Constant<double>>(0.0);
-        second_pass = std::make_unique<FlowStep>(scene, domain, forms, unstabilised, V);
-      }
-      compute_flux = [&](fem::Function<double>& out) { flow->flux(out); };
-    }
-    if (scene.mechanics)
-    {
-      mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, V, p);
-      u = mechanics->u;
-      if (mechanics->has_contact())
-      {
-        contact_pressure = mechanics->contact_pressure;
-        contact_active = mechanics->contact_active;
-        contact_boundary = mechanics->contact_boundary;
-        compute_contact = [&] { return mechanics->contact_state(); };
-      }
-    }
-  }
-
-  // ---- output fields ---------------------------------------------------------
-  std::optional<Checkpoint> resumed;
-  if (control.restart)
-    resumed = read_checkpoint(comm, directory, control.fingerprint);
-  Output output(comm, directory, domain.mesh, scene.write_xdmf, resumed ? &resumed->output : nullptr);
-  const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
-  const basix::FiniteElement dg0 = basix::create_element(
-      basix::element::family::P, cell, 0, basix::element::lagrange_variant::unset, true);
-  std::shared_ptr<fem::Function<double>> flux, sigma_v, zero_pressure;
-  if (p)
-  {
-    p->name = "pressure";
-    flux = std::make_shared<fem::Function<double>>(
-        std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, d)));
-    flux->name = "flux";
-  }
-  if (u)
-  {
-    u->name = "displacement";
-    auto Q0 = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, 1));
-    sigma_v = std::make_shared<fem::Function<double>>(Q0);
-    sigma_v->name = "sigma_v";
-    if (!p)
-      zero_pressure = std::make_shared<fem::Function<double>>(Q0);
-    if (contact_pressure)
-    {
-      contact_pressure->name = "contact_pressure";
-      contact_active->name = "contact_active";
-    }
-  }
-  auto write_flow = [&](double t)
-  {
-    output.write(*p, t);
-    compute_flux(*flux);
-    output.write(*flux, t);
-  };
-  ContactState contact;
-  auto write_mechanics = [&](double t)
-  {
-    contact = compute_contact(); // also fills the contact fields
-    volumetric_stress(forms, constants, u, p ? p : zero_pressure, *sigma_v);
-    output.write(*u, t);
-    output.write(*sigma_v, t);
-    if (contact_pressure)
-    {
-      output.write(*contact_pressure, t);
-      output.write(*contact_active, t);
-    }
-  };
-  // The time steps; a retry (time.retry) halves some of them.
-  TimeGrid grid = time_grid(scene);
-  char line[256];
-  int completed_steps = 0; // mechanics steps (windows) written
-  double completed_time = 0;
-  auto progress = [&](int step, double t, int iterations)
-  {
-    completed_steps = step;
-    completed_time = t;
-    std::snprintf(line, sizeof line, "step %4d/%d  t = %-11.5g  coupling iterations %3d  active contact nodes %d",
-                  step, grid.steps() / P.q, t, iterations, contact.active_nodes);
-    say(line);
-  };
-
-  // ---- initial state, or the state of the checkpoint ----------------------------
-  CouplingReport report;
-  std::array<System*, 4> systems = {flow ? &flow->system() : nullptr, mechanics ? &mechanics->system() : nullptr,
-                                     coupled ? &coupled->system() : nullptr,
-                                     second_pass ? &second_pass->system() : nullptr};
-  if (resumed)
-  {
-    restore_state(*resumed, flow.get(), mechanics.get(), coupled.get(), report, systems, grid);
-    completed_steps = resumed->steps;
-    completed_time = resumed->time;
-    if (u)
-      contact = compute_contact();
-    say("restarted from the checkpoint at step " + std::to_string(completed_steps) + ", t = "
-        + std::to_string(completed_time));
-  }
-  else
-  {
-    if (scene.mechanics and scene.mechanics->initial_equilibrium)
-      equilibrate(scene, domain, forms, constants, mechanics.get(), coupled.get());
-    if (p)
-      write_flow(0.0);
-    if (u)
-      write_mechanics(0.0);
-    if (contact_boundary)
-      output.write(*contact_boundary, 0.0); // once: every later time repeats it
-  }
-
-  // ---- time stepping -----------------------------------------------------------
-  std::string failure;
-  int signal = 0;
-  // After each completed (and written) step: a checkpoint every
-  // checkpoint_every steps and at an interruption; then whether to stop.
-  int saved = resumed ? completed_steps : 0;
-  auto save = [&]
-  {
-    write_checkpoint(comm, directory, control.fingerprint,
-                     capture_state(completed_steps, completed_time, flow.get(), mechanics.get(), coupled.get(),
-                                   report, systems, output.state(), grid));
-    saved = completed_steps;
-  };
-  auto stop = [&]
-  {
-    if (scene.checkpoint_every > 0 and completed_steps % scene.checkpoint_every == 0)
-      save();
-    signal = interruption_signal(comm);
-    if (signal and scene.checkpoint_every > 0 and saved != completed_steps)
-      save();
-    return signal != 0;
-  };
-  // A solve that fails names the step it was computing.
-  auto at_failing_step = [&](const std::string& cause)
-  {
-    const int step = completed_steps + 1;
-    std::ostringstream s;
-    s << "step " << step << " (t = " << grid.t[std::min<std::size_t>(step * P.q, grid.t.size() - 1)]
-      << "): " << cause;
-    return s.str();
-  };
-  try
-  {
-    if (scene.coupling and !monolithic)
-    {
-      ContractionNorm contraction(forms, V, flow->pressure_space());
-      WindowObserver observer{write_flow,
-                              [&](double t, int window, int iterations)
-                              {
-                                write_mechanics(t);
-                                progress(window, t, iterations);
-                              },
-                              stop, say};
-      run_fixed_stress(scene, P, constants, *flow, second_pass.get(), *mechanics, contraction, output, observer,
-                       report, grid);
-    }
-    else
-    {
-      // One solve per step: the monolithic system, or the single physics.
-      int attempts = 0; // retries of the current step (time.retry)
-      for (int k = report.windows + 1; k <= grid.steps(); ++k)
-      {
-        const double t = grid.t[k];
-        if (set_time_step(constants, grid.dt[k - 1]))
-        {
-          if (coupled)
-            coupled->time_step_changed();
-          if (flow)
-            flow->time_step_changed();
-        }
-        const StepState at_step_start = step_state(flow.get(), mechanics.get(), coupled.get());
-        try
-        {
-          if (coupled)
-            coupled->solve(t);
-          if (flow)
-          {
-            std::copy(p->x()->array().begin(), p->x()->array().end(),
-                      flow->p_previous->x()->mutable_array().begin());
-            flow->solve(t);
-          }
-          if (mechanics)
-            mechanics->solve(t);
-        }
-        catch (const SolverError& e)
-        {
-          // time.retry: back to the start of the step, halved.
-          const auto message = retry_step(scene, e.what(), k, attempts, grid, k - 1, 1, report.retries);
-          if (!message)
-            throw;
-          say(*message);
-          set_step_state(at_step_start, flow.get(), mechanics.get(), coupled.get());
-          --k;
-          continue;
-        }
-        attempts = 0;
-        if (p)
-          write_flow(t);
-        if (u)
-          write_mechanics(t);
-        progress(k, t, 1);
-        report.windows = k;
-        if (stop())
-          break;
-      }
-    }
-  }
-  catch (const CouplingError& e)
-  {
-    failure = e.what(); // names its step and the last increments
-  }
-  catch (const SolverError& e)
-  {
-    failure = at_failing_step(e.what());
-    report.windows = completed_steps;
-  }
-  contact = compute_contact();
-
-  // ---- errors against a closed form at the final time --------------------------
-  const bool has_errors = scene.reference and failure.empty() and signal == 0;
-  const Json errors = has_errors ? closed_form_errors(scene, P, domain, forms, u, p) : Json();
-
-  // ---- summary ------------------------------------------------------------------
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  Json dofs, timings, linear;
-  if (u)
-    dofs.set("displacement", static_cast<long>(global_size(*V)));
-  if (p)
-  {
-    dofs.set("pressure", static_cast<long>(global_size(*p->function_space())));
-    // RT0: one DOF per facet.
-    dofs.set("flux", static_cast<long>(domain.mesh->topology().index_map(d - 1)->size_global()));
-  }
-  // Per system: what solved it, how often it was set up (factorised) and
-  // solved, and where its time went.
-  const System* flow_system = flow ? &flow->system() : nullptr;
-  const System* mechanics_system = mechanics ? &mechanics->system() : nullptr;
-  const System* coupled_system = coupled ? &coupled->system() : nullptr;
-  const System* second_pass_system = second_pass ? &second_pass->system() : nullptr;
-  SolverStatistics none;
-  auto statistics = [&](const System* s) { return s ? s->statistics() : none; };
-  const SolverStatistics flow_stats = statistics(flow_system), mechanics_stats = statistics(mechanics_system),
-                         coupled_stats = statistics(coupled_system),
-                         second_pass_stats = statistics(second_pass_system);
-  Json solvers;
-  for (const auto& [name, system, st] : {std::tuple{"flow", flow_system, flow_stats},
-                                         std::tuple{"mechanics", mechanics_system, mechanics_stats},
-                                         std::tuple{"monolithic", coupled_system, coupled_stats},
-                                         std::tuple{"flow_second_pass", second_pass_system, second_pass_stats}})
+  Json solvers, timings;
+  for (const auto& [name, system] : steps.systems())
   {
     if (!system)
       continue;
-    Json j;
+    const SolverStatistics st = system->statistics();
     const bool direct = system->method() == Method::direct;
+    Json j;
     j.set("solver", method_name(system->method()))
         .set("method", system->description())
         .set("unknowns", system->unknowns())
         .set("solves", st.solves)
         .set("factorizations", direct ? st.setups : 0)
         .set("preconditioner_setups", st.setups)
-        .set("inexact_coupling", !direct and system != coupled_system and scene.solver.inexact_coupling)
+        .set("inexact_coupling", !direct and !steps.monolithic and inexact_coupling)
         .set("back_solves", st.back_solves)
         .set("linear_iterations", st.linear_iterations);
     if (system->has_contact())
@@ -652,79 +407,339 @@ int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const R
         .set("matrix_assembly", st.assembly_time);
     timings.set(name, t);
   }
-  linear.set("flow", flow_stats.linear_iterations + second_pass_stats.linear_iterations)
-      .set("mechanics", mechanics_stats.linear_iterations)
-      .set("monolithic", coupled_stats.linear_iterations);
-  timings
-      .set("assembly", (flow ? flow->assembly_time : 0.0) + (mechanics ? mechanics->assembly_time : 0.0)
-                           + (coupled ? coupled->assembly_time : 0.0)
-                           + (second_pass ? second_pass->assembly_time : 0.0) + flow_stats.assembly_time
-                           + mechanics_stats.assembly_time + coupled_stats.assembly_time
-                           + second_pass_stats.assembly_time)
-      .set("output", output.time);
+  return {solvers, timings};
+}
 
+/// The statistics of each system (zero for a system the scene has not).
+std::map<std::string, SolverStatistics> statistics(const Steps& steps)
+{
+  std::map<std::string, SolverStatistics> result;
+  for (const auto& [name, system] : steps.systems())
+    result[name] = system ? system->statistics() : SolverStatistics{};
+  return result;
+}
+
+/// @brief One run of a scene, in the order of its story: make the domain,
+/// set up the steps, open the output, start or restore, the time loop, the
+/// summary and the exit status.
+class Simulation
+{
+public:
+  Simulation(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
+      : _scene(scene), _directory(directory), _comm(comm), _control(control), _progress(comm)
+  {
+  }
+
+  int run()
+  {
+    make_domain();
+    describe();
+    _steps = _scene.coupling and _scene.coupling->scheme == "monolithic"
+                 ? monolithic_steps(_scene, *_domain, *_forms, _constants)
+                 : split_steps(_scene, *_domain, *_forms, _constants);
+    open_output();
+    start_or_restore();
+    time_loop();
+    write_summary();
+    return exit_status();
+  }
+
+private:
+  void make_domain();
+  void describe();
+  void open_output();
+  void start_or_restore();
+  WindowObserver observer();
+  void time_loop();
+  bool stop();
+  void write_summary();
+  int exit_status() const;
+
+  const Scene& _scene;
+  const std::string _directory;
+  MPI_Comm _comm;
+  const RunControl& _control;
+  Progress _progress;
+  std::optional<Domain> _domain;
+  const CompiledForms* _forms = nullptr;
+  Parameters _P;
+  Constants _constants;
+  std::string _left_out, _warnings;
+  Steps _steps;
+  std::optional<Checkpoint> _resumed;
+  std::unique_ptr<Output> _output;
+  std::unique_ptr<OutputFields> _fields;
+  TimeGrid _grid;
+  CouplingReport _report;
+  int _completed_steps = 0; // mechanics steps (windows) written
+  double _completed_time = 0;
+  int _saved = 0;           // the step of the last checkpoint
+  int _signal = 0;          // the interruption that ended the run
+  std::string _failure;     // why the run failed
+};
+
+/// The mesh and its tags, the compiled forms of its cell type, the derived
+/// parameters and the constants of the forms.
+void Simulation::make_domain()
+{
+  _domain.emplace(create_domain(_scene, _comm));
+  check_expressions(_scene, *_domain, _comm);
+  _forms = &compiled_forms(_domain->mesh->topology().cell_type());
+  _P = derive_parameters(_scene);
+  _constants = make_constants(_scene, _P);
+}
+
+/// Says what the scene leaves out, and warns where the method is known to
+/// degrade instead of returning poor numbers silently (docs/stability.md).
+void Simulation::describe()
+{
+  auto leave_out = [&](const std::string& what) { _left_out += (_left_out.empty() ? "" : "; ") + what; };
+  if (!_scene.flow)
+    leave_out("flow (no [flow] table): no flux or pressure unknowns");
+  if (!_scene.mechanics)
+    leave_out("mechanics (no [mechanics] table): no displacement unknowns");
+  if (_scene.mechanics and !_scene.has_contact())
+    leave_out("contact solver (no contact boundary): linear mechanics solve");
+  if (_scene.flow and !_scene.flow->gravity)
+    leave_out("gravity");
+  if (_scene.mechanics and !_scene.mechanics->body_force)
+    leave_out("body force");
+  const int d = _domain->dim();
+  _progress.say("biotcontact: scene " + _scene.name + " (" + _scene.file + "), " + std::to_string(d) + "D, "
+                + std::to_string(_domain->mesh->topology().index_map(d)->size_global()) + " cells");
+  _progress.say("left out: " + (_left_out.empty() ? std::string("nothing") : _left_out));
+
+  auto warn = [&](const std::string& what)
+  {
+    _warnings += (_warnings.empty() ? "" : "; ") + what;
+    _progress.say("warning: " + what);
+  };
+  if (_scene.mechanics)
+  {
+    const double nu = _P.lambda / (2 * (_P.lambda + _P.G));
+    if (nu > 0.49)
+      warn("nu = " + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
+           "(too stiff a response, worse on coarse meshes)");
+  }
+  if (_scene.coupling and _scene.coupling->scheme != "monolithic" and _P.gamma > 0.99)
+    warn("gamma = " + std::to_string(_P.gamma) + " > 0.99: the contraction theorems guarantee almost "
+         "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)");
+}
+
+/// The checkpoint a restart goes on from, the output files (created, or
+/// those of the checkpoint's run) and the fields written into them.
+void Simulation::open_output()
+{
+  if (_control.restart)
+    _resumed = read_checkpoint(_comm, _directory, _control.fingerprint);
+  _output = std::make_unique<Output>(_comm, _directory, _domain->mesh, _scene.write_xdmf,
+                                     _resumed ? &_resumed->output : nullptr);
+  _fields = std::make_unique<OutputFields>(*_domain, *_forms, _constants, _steps, *_output);
+  _grid = time_grid(_scene); // a retry (time.retry) halves some of its steps
+}
+
+/// The initial state, written at t = 0, or the state of the checkpoint.
+void Simulation::start_or_restore()
+{
+  if (_resumed)
+  {
+    restore_checkpoint(*_resumed, _steps, _report, _grid);
+    _saved = _completed_steps = _resumed->steps;
+    _completed_time = _resumed->time;
+    if (_steps.u)
+      _fields->contact = _steps.compute_contact();
+    _progress.say("restarted from the checkpoint at step " + std::to_string(_completed_steps) + ", t = "
+                  + std::to_string(_completed_time));
+    return;
+  }
+  if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
+    equilibrate(_scene, *_domain, *_forms, _constants, _steps.mechanics.get(), _steps.monolithic.get());
+  if (_steps.p)
+    _fields->write_flow(0.0);
+  if (_steps.u)
+    _fields->write_mechanics(0.0);
+  if (_steps.contact_boundary)
+    _output->write(*_steps.contact_boundary, 0.0); // once: every later time repeats it
+}
+
+/// After each completed (and written) step: a checkpoint every
+/// checkpoint_every steps and at an interruption; then whether to stop.
+bool Simulation::stop()
+{
+  auto save = [&]
+  {
+    write_checkpoint(_comm, _directory, _control.fingerprint,
+                     capture_checkpoint(_completed_steps, _completed_time, _steps, _report, _output->position(),
+                                        _grid));
+    _saved = _completed_steps;
+  };
+  if (_scene.checkpoint_every > 0 and _completed_steps % _scene.checkpoint_every == 0)
+    save();
+  _signal = interruption_signal(_comm);
+  if (_signal and _scene.checkpoint_every > 0 and _saved != _completed_steps)
+    save();
+  return _signal != 0;
+}
+
+/// What the coupling schemes tell the run: write each step, print the
+/// progress, checkpoint, stop at an interruption.
+WindowObserver Simulation::observer()
+{
+  WindowObserver o;
+  o.flow_state = [this](double t) { _fields->write_flow(t); };
+  o.mechanics_state = [this](double t, int step, int iterations)
+  {
+    if (_steps.u)
+      _fields->write_mechanics(t);
+    _completed_steps = step;
+    _completed_time = t;
+    _progress.step(step, _grid.steps() / _P.q, t, iterations, _fields->contact.active_nodes);
+  };
+  o.stop = [this] { return stop(); };
+  o.retry = [this](const std::string& message) { _progress.say(message); };
+  o.iteration = [this](int step, int iteration, double dp, double du)
+  {
+    char what[160];
+    std::snprintf(what, sizeof what, "step %d: coupling iteration %d, increments dp %.3g du %.3g", step,
+                  iteration, dp, du);
+    _progress.heartbeat(what);
+  };
+  return o;
+}
+
+/// The steps from t = 0 (or the checkpoint) to the end: the fixed-stress
+/// split, or one solve per step. A failure ends the loop with what was
+/// finished written; it names the step it was computing.
+void Simulation::time_loop()
+{
+  const WindowObserver o = observer();
+  _progress.start_loop(_completed_steps, _grid.steps() / _P.q);
+  try
+  {
+    if (_scene.coupling and !_steps.monolithic)
+    {
+      ContractionNorm contraction(*_forms, _steps.V, _steps.flow->pressure_space());
+      run_fixed_stress(_scene, _P, _constants, *_steps.flow, _steps.second_pass.get(), *_steps.mechanics,
+                       contraction, *_output, o, _report, _grid);
+    }
+    else
+      run_single_solve(_scene, _constants, _steps.flow.get(), _steps.mechanics.get(), _steps.monolithic.get(), o,
+                       _report, _grid);
+  }
+  catch (const CouplingError& e)
+  {
+    _failure = e.what(); // names its step and the last increments
+  }
+  catch (const SolverError& e)
+  {
+    const int step = _completed_steps + 1;
+    std::ostringstream s;
+    s << "step " << step << " (t = " << _grid.t[std::min<std::size_t>(step * _P.q, _grid.t.size() - 1)]
+      << "): " << e.what();
+    _failure = s.str();
+    _report.windows = _completed_steps;
+  }
+  _fields->contact = _steps.compute_contact();
+}
+
+/// summary.json: the scheme, sizes, counts, contraction measures, solvers,
+/// timings, contact and closed-form errors of the run, whatever its end.
+void Simulation::write_summary()
+{
+  const bool has_errors = _scene.reference and _failure.empty() and _signal == 0;
+  const int d = _domain->dim();
+  Json dofs;
+  if (_steps.u)
+    dofs.set("displacement", static_cast<long>(global_size(*_steps.V)));
+  if (_steps.p)
+    dofs.set("pressure", static_cast<long>(global_size(*_steps.p->function_space())))
+        .set("flux", static_cast<long>(_domain->mesh->topology().index_map(d - 1)->size_global())); // RT0: per facet
+  auto st = statistics(_steps);
+  auto [solvers, timings] = solver_summaries(_steps, _scene.solver.inexact_coupling);
+  double assembly = _steps.assembly_time();
+  for (const auto& [name, s] : st)
+    assembly += s.assembly_time;
+  timings.set("assembly", assembly).set("output", _output->time);
+  Json linear;
+  linear.set("flow", st["flow"].linear_iterations + st["flow_second_pass"].linear_iterations)
+      .set("mechanics", st["mechanics"].linear_iterations)
+      .set("monolithic", st["monolithic"].linear_iterations);
+  const CouplingSpec* c = _scene.coupling ? &*_scene.coupling : nullptr;
   Json summary;
-  summary.set("scene", scene.name)
-      .set("scheme", scene.coupling ? scene.coupling->scheme : (flow ? "flow-only" : "mechanics-only"))
-      .set("q", P.q)
-      .set("L_choice", scene.coupling ? scene.coupling->L_choice : "none")
-      .set("acceleration", scene.coupling and scene.coupling->acceleration == "anderson"
-                               ? "anderson, depth " + std::to_string(scene.coupling->depth)
-                               : std::string("none"))
-      .set("L", P.L)
-      .set("gamma", P.gamma)
+  summary.set("scene", _scene.name)
+      .set("scheme", c ? c->scheme : (_steps.flow ? "flow-only" : "mechanics-only"))
+      .set("q", _P.q)
+      .set("L_choice", c ? c->L_choice : "none")
+      .set("acceleration", c and c->acceleration == "anderson" ? "anderson, depth " + std::to_string(c->depth)
+                                                               : std::string("none"))
+      .set("L", _P.L)
+      .set("gamma", _P.gamma)
       .set("dofs", dofs)
-      .set("dt", scene.dt)
-      .set("dt_growth", scene.growth)
-      .set("steps", report.windows)
-      .set("retries", report.retries)
-      .set("fine_steps", report.windows * P.q)
-      .set("coupling_iterations", report.coupling_iterations)
-      .set("max_iterations_per_step", report.max_iterations_per_step)
-      .set("max_contraction_ratio", report.max_contraction_ratio)
-      .set("mean_contraction_ratio", report.mean_contraction_ratio)
-      .set("bound_violations", report.bound_violations)
-      .set("resolved_ratios", report.ratios)
-      .set("unresolved_ratios", report.unresolved_ratios)
-      .set("max_coupled_residual", report.max_coupled_residual)
-      .set("converged", failure.empty())
-      .set("status", !failure.empty() ? "failed" : signal ? "interrupted" : "completed")
-      .set("last_completed_time", completed_time)
-      .set("flow_solves", flow_stats.solves + second_pass_stats.solves) // both passes
-      .set("mechanics_solves", mechanics_stats.solves)
-      .set("monolithic_solves", coupled_stats.solves)
-      .set("newton_iterations", mechanics_stats.newton_iterations + coupled_stats.newton_iterations)
+      .set("dt", _scene.dt)
+      .set("dt_growth", _scene.growth)
+      .set("steps", _report.windows)
+      .set("retries", _report.retries)
+      .set("fine_steps", _report.windows * _P.q)
+      .set("coupling_iterations", _report.coupling_iterations)
+      .set("max_iterations_per_step", _report.max_iterations_per_step)
+      .set("max_contraction_ratio", _report.max_contraction_ratio)
+      .set("mean_contraction_ratio", _report.mean_contraction_ratio)
+      .set("bound_violations", _report.bound_violations)
+      .set("resolved_ratios", _report.ratios)
+      .set("unresolved_ratios", _report.unresolved_ratios)
+      .set("max_coupled_residual", _report.max_coupled_residual)
+      .set("converged", _failure.empty())
+      .set("status", !_failure.empty() ? "failed" : _signal ? "interrupted" : "completed")
+      .set("last_completed_time", _completed_time)
+      .set("flow_solves", st["flow"].solves + st["flow_second_pass"].solves) // both passes
+      .set("mechanics_solves", st["mechanics"].solves)
+      .set("monolithic_solves", st["monolithic"].solves)
+      .set("newton_iterations", st["mechanics"].newton_iterations + st["monolithic"].newton_iterations)
       .set("linear_iterations", linear)
       .set("solvers", solvers)
       .set("timings", timings)
-      .set("wall_time_s", wall)
-      .set("left_out", left_out)
-      .set("warnings", warnings)
-      .set("mpi_ranks", [&] { int n; MPI_Comm_size(comm, &n); return n; }());
-  if (contact_pressure)
-    summary.set("contact", contact_json(contact));
+      .set("wall_time_s", _progress.elapsed())
+      .set("left_out", _left_out)
+      .set("warnings", _warnings)
+      .set("mpi_ranks", [&] { int n; MPI_Comm_size(_comm, &n); return n; }());
+  if (_steps.contact_pressure)
+    summary.set("contact", contact_json(_fields->contact));
   if (has_errors)
-    summary.set("errors", errors);
-  if (!failure.empty())
-    summary.set("failure", failure);
-  output.summary(summary);
+    summary.set("errors", closed_form_errors(_scene, _P, *_domain, *_forms, _steps.u, _steps.p));
+  if (!_failure.empty())
+    summary.set("failure", _failure);
+  _output->summary(summary);
+}
 
-  if (signal)
+/// run_ok; 128 + the signal of an interruption; run_not_converged after a
+/// failure (everything finished is written).
+int Simulation::exit_status() const
+{
+  const bool root = is_rank0(_comm);
+  if (_signal)
   {
     if (root)
       std::fprintf(stderr, "biotcontact: interrupted (signal %d) after step %d, t = %g: everything up to there is in %s\n",
-                   signal, completed_steps, completed_time, directory.c_str());
-    return 128 + signal;
+                   _signal, _completed_steps, _completed_time, _directory.c_str());
+    return 128 + _signal;
   }
-  if (!failure.empty())
+  if (!_failure.empty())
   {
     if (root)
-      std::fprintf(stderr, "biotcontact: error: %s (log: %s/iterations.csv)\n", failure.c_str(),
-                   directory.c_str());
+      std::fprintf(stderr, "biotcontact: error: %s (log: %s/iterations.csv)\n", _failure.c_str(), _directory.c_str());
     return run_not_converged;
   }
-  say("wrote " + output.xdmf_path() + " and " + directory + "/summary.json (" + std::to_string(wall) + " s)");
+  if (root)
+    std::printf("wrote %s and %s/summary.json (%f s)\n", _output->xdmf_path().c_str(), _directory.c_str(),
+                _progress.elapsed()), std::fflush(stdout);
   return run_ok;
+}
+
+} // namespace
+
+int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
+{
+  return Simulation(scene, directory, comm, control).run();
 }
 
 } // namespace biotcontact

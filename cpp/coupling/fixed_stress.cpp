@@ -73,7 +73,7 @@ void second_pass_correction(FlowStep& second, const Array& p_K, const Array& u_n
     assign(*second.p_previous, p_B[m - 1]);
     second.solve(t(m));
     p_B[m] = copy(*second.pressure);
-    std::span<const double> w = second.state();
+    std::span<const double> w = second.unknowns();
     w_B[m].assign(w.begin(), w.end());
   }
   const Array p_end = difference(p_new[q], p_B[q]), w_end = difference(w_new[q], w_B[q]);
@@ -218,7 +218,7 @@ Window FixedStressSplit::begin_window(int K)
   }
   Window w;
   w.K = K;
-  w.w_K.assign(_flow.state().begin(), _flow.state().end());
+  w.w_K.assign(_flow.unknowns().begin(), _flow.unknowns().end());
   w.p_old.assign(_q + 1, _p_K);
   w.p_new.assign(_q + 1, _p_K);
   w.w_new.resize(_q + 1);
@@ -257,7 +257,7 @@ void FixedStressSplit::flow_pass(Window& w)
     assign(*_flow.p_iterate_previous, w.p_old[m - 1]);
     _flow.solve(t(w.K, m));
     w.p_new[m] = copy(*_flow.pressure);
-    std::span<const double> z_p = _flow.state();
+    std::span<const double> z_p = _flow.unknowns();
     w.w_new[m].assign(z_p.begin(), z_p.end());
   }
 }
@@ -409,6 +409,8 @@ bool FixedStressSplit::iteration(Window& w, int n)
   hold_against_gamma(w, inc, n);
   const auto [dp_norm, du_norm] = stopping_test(w, inc, n);
   next_iterate(w);
+  if (_observer.iteration)
+    _observer.iteration(w.K + 1, n + 1, dp_norm, du_norm);
   w.increment = std::max(dp_norm, du_norm);
   const bool converged = dp_norm <= _coupling.tolerance and du_norm <= _coupling.tolerance;
   if (converged)
@@ -444,7 +446,7 @@ bool FixedStressSplit::retry(const Window& w, const std::string& cause)
       = retry_step(_scene, cause, w.K + 1, _attempts, _grid, w.K * _q, _q, _report.retries);
   if (!message)
     return false;
-  _flow.set_state(w.w_K);
+  _flow.set_unknowns(w.w_K);
   assign(*_mechanics.u, _u_K);
   if (_observer.retry)
     _observer.retry(*message);
@@ -470,7 +472,7 @@ void FixedStressSplit::accept_window(const Window& w, int n)
   _attempts = 0;
   for (int m = 1; m <= _q; ++m)
   {
-    _flow.set_state(w.w_new[m]);
+    _flow.set_unknowns(w.w_new[m]);
     _observer.flow_state(t(w.K, m));
   }
   _observer.mechanics_state(t(w.K, _q), w.K + 1, n + 1);

@@ -6,6 +6,7 @@
 // replaces the fine pressures the mechanics cannot see (docs/multirate-two-pass.md).
 #pragma once
 
+#include "coupling/coupling.h"
 #include "diagnostics/diagnostics.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
@@ -13,48 +14,9 @@
 #include "assembly/parameters.h"
 #include "steps/time_grid.h"
 
-#include <functional>
-#include <stdexcept>
-#include <string>
 
 namespace biotcontact
 {
-
-/// The split did not converge within coupling.max_iterations.
-struct CouplingError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
-
-struct CouplingReport
-{
-  int windows = 0;             // mechanics (coarse) steps
-  long coupling_iterations = 0;
-  int max_iterations_per_step = 0;
-  double max_contraction_ratio = 0, mean_contraction_ratio = 0;
-  long ratios = 0;             // ratios held against gamma (resolved)
-  long bound_violations = 0;   // resolved ratios above gamma
-  long unresolved_ratios = 0;  // ratios at round-off level, logged only
-  double max_coupled_residual = 0; // relative, of each converged state
-  long retries = 0;            // failed steps retried with halved steps (time.retry)
-  // Carried from window to window (and through a checkpoint): the sum of
-  // the resolved ratios and the scales of the stopping test.
-  double ratio_sum = 0, p_size = 0, u_size = 0;
-};
-
-/// Called after each converged window: once per fine flow step (with that
-/// step's solution loaded in the FlowStep), then once for the mechanics step.
-struct WindowObserver
-{
-  std::function<void(double t)> flow_state;
-  std::function<void(double t, int window, int iterations)> mechanics_state;
-  /// Asked after each accepted (and written) window: true ends the run
-  /// there (an interruption).
-  std::function<bool()> stop;
-  /// Told that a failed window is tried again with halved steps.
-  std::function<void(const std::string& message)> retry;
-};
-
 
 /// Inexact coupling: the relative tolerance of the (iterative) linear solves
 /// of a coupling iteration, one hundredth of the previous iteration's

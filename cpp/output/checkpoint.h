@@ -24,7 +24,7 @@ struct Checkpoint
   double time = 0;   // their last time
   std::map<std::string, std::vector<double>> arrays; // this rank's, ghosts included
   std::map<std::string, double> numbers;             // counters and scales
-  std::string output;                                // Output::state()
+  std::string output;                                // Output::position()
 };
 
 /// Writes the checkpoint of a run into `directory` (collective).

@@ -131,10 +131,10 @@ Output::Output(MPI_Comm comm, const std::string& directory,
     _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh, resume ? &series : nullptr);
 }
 
-std::string Output::state()
+std::string Output::position()
 {
   const std::streamoff csv = _csv.is_open() ? static_cast<std::streamoff>(_csv.tellp()) : 0;
-  return std::to_string(csv) + "\n" + (_series ? _series->state() : std::string());
+  return std::to_string(csv) + "\n" + (_series ? _series->position() : std::string());
 }
 
 void Output::write(const dolfinx::fem::Function<double>& f, double t)

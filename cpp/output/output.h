@@ -48,18 +48,17 @@ struct IterationRecord
 class Output
 {
 public:
-  /// Creates the files; or, given the state() of an earlier run of the
+  /// Creates the files; or, given the position() of an earlier run of the
   /// same scene, goes on in its files, dropping what came after the state.
   Output(MPI_Comm comm, const std::string& directory, std::shared_ptr<const dolfinx::mesh::Mesh> mesh,
          bool xdmf, const std::string* resume = nullptr);
 
   /// Where the files stand, for a checkpoint (this rank's view).
-  std::string state();
+  std::string position();
 
   void write(const dolfinx::fem::Function<double>& f, double t);
   void iteration(const IterationRecord& r);
   void summary(const Json& json) const;
-  const std::string& directory() const { return _directory; }
   std::string xdmf_path() const { return _directory + "/solution.xdmf"; }
 
   double time = 0; // seconds spent writing

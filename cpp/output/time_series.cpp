@@ -95,7 +95,7 @@ TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::
   }
 }
 
-std::string TimeSeries::state() const
+std::string TimeSeries::position() const
 {
   std::ostringstream s;
   s << std::setprecision(17) << _grid_start << ' ' << _grids_end << ' ' << _time << ' ' << _any_time << '\n';

@@ -30,7 +30,7 @@ class TimeSeries
 {
 public:
   /// Creates `xdmf_path` and the .h5 next to it and writes the mesh; or,
-  /// given the state() of an earlier run, goes on in its files from there,
+  /// given the position() of an earlier run, goes on in its files from there,
   /// dropping what was written after that state (collective).
   TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const dolfinx::mesh::Mesh& mesh,
              const std::string* resume = nullptr);
@@ -42,7 +42,7 @@ public:
   void write(const dolfinx::fem::Function<double>& f, double t);
 
   /// Where the series stands, for a checkpoint (this rank's view).
-  std::string state() const;
+  std::string position() const;
 
 private:
   /// A field of the series and the dataset of its last written state.

@@ -17,6 +17,7 @@
 #include <petscksp.h>
 #include <petsclog.h>
 #include <stdexcept>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -143,6 +144,18 @@ struct SolverStatistics
   double assembly_time = 0;   // s assembling its matrix
   double schur_time = 0;      // s forming a contact Schur complement from its factorisation
 };
+
+/// The counts of SolverStatistics by name: the one list that checkpoints,
+/// restarts and the sum with an earlier run's counts read.
+inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 7> solver_counts{{
+    {"solves", &SolverStatistics::solves},
+    {"setups", &SolverStatistics::setups},
+    {"back_solves", &SolverStatistics::back_solves},
+    {"linear_iterations", &SolverStatistics::linear_iterations},
+    {"newton_iterations", &SolverStatistics::newton_iterations},
+    {"active_set_changes", &SolverStatistics::active_set_changes},
+    {"schur_columns", &SolverStatistics::schur_columns},
+}};
 
 /// A PETSc log stage named after a system; pushed while the system solves.
 class SolverStage

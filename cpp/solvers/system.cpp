@@ -113,13 +113,8 @@ SolverStatistics System::statistics() const
     s.schur_columns = _contact->schur_columns();
     s.schur_time = _contact->schur_time();
   }
-  s.solves += _earlier.solves;
-  s.setups += _earlier.setups;
-  s.back_solves += _earlier.back_solves;
-  s.linear_iterations += _earlier.linear_iterations;
-  s.newton_iterations += _earlier.newton_iterations;
-  s.active_set_changes += _earlier.active_set_changes;
-  s.schur_columns += _earlier.schur_columns;
+  for (const auto& [name, count] : solver_counts)
+    s.*count += _earlier.*count;
   return s;
 }
 

@@ -179,10 +179,10 @@ void FlowStep::solve(double t)
   _system->solve(b.vec(), x.vec());
   _w->x()->scatter_fwd();
 
-  set_state(_w->x()->array());
+  set_unknowns(_w->x()->array());
 }
 
-void FlowStep::set_state(std::span<const double> w)
+void FlowStep::set_unknowns(std::span<const double> w)
 {
   if (w.data() != _w->x()->array().data())
     std::copy(w.begin(), w.end(), _w->x()->mutable_array().begin());

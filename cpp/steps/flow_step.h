@@ -35,8 +35,8 @@ public:
 
   /// The mixed solution (z, p) of the last solve, and its restoration (the
   /// multirate scheme keeps one per fine step for output).
-  std::span<const double> state() const { return _w->x()->array(); }
-  void set_state(std::span<const double> w);
+  std::span<const double> unknowns() const { return _w->x()->array(); }
+  void set_unknowns(std::span<const double> w);
 
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;

@@ -244,9 +244,9 @@ void MonolithicStep::solve(double t)
 
 void MonolithicStep::time_step_changed() { _system->reassemble(); }
 
-std::span<const double> MonolithicStep::state() const { return _x->x()->array(); }
+std::span<const double> MonolithicStep::unknowns() const { return _x->x()->array(); }
 
-void MonolithicStep::set_state(std::span<const double> x)
+void MonolithicStep::set_unknowns(std::span<const double> x)
 {
   std::copy(x.begin(), x.end(), _x->x()->mutable_array().begin());
   extract(*_x, _V_to_X, *u);

@@ -47,9 +47,9 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
   /// The coupled unknown (u, z, p), ghosts included, for a checkpoint.
-  std::span<const double> state() const;
-  /// Loads a state() back (and u, pressure from it).
-  void set_state(std::span<const double> x);
+  std::span<const double> unknowns() const;
+  /// Loads unknowns() back (and u, pressure from it).
+  void set_unknowns(std::span<const double> x);
   /// Sets the displacement of the state at time t (with the pressure now in
   /// `pressure`): the initial equilibrium (mechanics.initial_equilibrium).
   void set_displacement(std::span<const double> u, double t);

@@ -1,0 +1,72 @@
+// What every coupling scheme (the fixed-stress split, the single solve per
+// step) reports and whom it tells: the report of summary.json and
+// checkpoints, and the observer that writes, prints and stops.
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace biotcontact
+{
+
+/// The split did not converge within coupling.max_iterations.
+struct CouplingError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// What a run's coupling did, step by step: the counts and contraction
+/// measures of summary.json (paper Theorems 1 and 2).
+struct CouplingReport
+{
+  int windows = 0;             // mechanics (coarse) steps
+  long coupling_iterations = 0;
+  int max_iterations_per_step = 0;
+  double max_contraction_ratio = 0, mean_contraction_ratio = 0;
+  long ratios = 0;             // ratios held against gamma (resolved)
+  long bound_violations = 0;   // resolved ratios above gamma
+  long unresolved_ratios = 0;  // ratios at round-off level, logged only
+  double max_coupled_residual = 0; // relative, of each converged state
+  long retries = 0;            // failed steps retried with halved steps (time.retry)
+  // Carried from window to window (and through a checkpoint): the sum of
+  // the resolved ratios and the scales of the stopping test.
+  double ratio_sum = 0, p_size = 0, u_size = 0;
+};
+
+/// Called after each converged window: once per fine flow step (with that
+/// step's solution loaded in the FlowStep), then once for the mechanics step.
+struct WindowObserver
+{
+  std::function<void(double t)> flow_state;
+  std::function<void(double t, int window, int iterations)> mechanics_state;
+  /// Asked after each accepted (and written) window: true ends the run
+  /// there (an interruption).
+  std::function<bool()> stop;
+  /// Told that a failed window is tried again with halved steps.
+  std::function<void(const std::string& message)> retry;
+  /// Told after each coupling iteration (window, iteration, increments dp
+  /// and du): the progress of a long window.
+  std::function<void(int window, int iteration, double dp, double du)> iteration;
+};
+
+/// Calls f(name, field) for each field of the report that a checkpoint
+/// keeps: the one list that checkpoints and restarts read.
+template <class Report, class F>
+void for_each_checkpointed(Report& r, F&& f)
+{
+  f("windows", r.windows);
+  f("coupling_iterations", r.coupling_iterations);
+  f("max_iterations_per_step", r.max_iterations_per_step);
+  f("max_contraction_ratio", r.max_contraction_ratio);
+  f("ratios", r.ratios);
+  f("bound_violations", r.bound_violations);
+  f("unresolved_ratios", r.unresolved_ratios);
+  f("max_coupled_residual", r.max_coupled_residual);
+  f("ratio_sum", r.ratio_sum);
+  f("p_size", r.p_size);
+  f("u_size", r.u_size);
+  f("retries", r.retries);
+}
+
+} // namespace biotcontact
