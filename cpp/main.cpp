@@ -43,10 +43,13 @@ mechanics_ (and its contact solve), monolithic_, e.g.
 The contact solver is SNES vinewtonrsls with bounds on the contact DOFs.
 )";
 
+/// The command line: our own arguments, and the rest for PETSc.
 struct Arguments
 {
   std::string command, scene, out, restart;
   std::vector<std::string> overrides;
+  std::vector<char*> petsc; // argv[0] and the PETSc options
+  std::string bad;          // what was wrong with the command line
 };
 
 int fail(const std::string& message, int rank)
@@ -56,14 +59,12 @@ int fail(const std::string& message, int rank)
   return 2;
 }
 
-} // namespace
-
-int main(int argc, char* argv[])
+/// Our own arguments are read first; an option with one dash goes to PETSc
+/// (with its value, if the next word is not an option).
+Arguments parse_arguments(int argc, char* argv[])
 {
-  // Our own arguments are read first; the rest go to PETSc.
   Arguments args;
-  std::vector<char*> petsc_argv = {argv[0]};
-  std::string bad;
+  args.petsc = {argv[0]};
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -74,7 +75,7 @@ int main(int argc, char* argv[])
     else if (a == "--out" or a == "--set" or a == "--restart")
     {
       if (i + 1 >= argc)
-        bad = a + " needs a value";
+        args.bad = a + " needs a value";
       else if (a == "--out")
         args.out = argv[++i];
       else if (a == "--restart")
@@ -87,18 +88,99 @@ int main(int argc, char* argv[])
     else if (args.scene.empty() and !args.command.empty() and a[0] != '-')
       args.scene = a;
     else if (a.rfind("--", 0) == 0)
-      bad = "unknown option '" + a + "' (PETSc options take one dash)";
+      args.bad = "unknown option '" + a + "' (PETSc options take one dash)";
     else if (a[0] == '-')
     {
-      petsc_argv.push_back(argv[i]);
-      // a PETSc option's value, if it has one
+      args.petsc.push_back(argv[i]);
       if (i + 1 < argc and argv[i + 1][0] != '-')
-        petsc_argv.push_back(argv[++i]);
+        args.petsc.push_back(argv[++i]);
     }
     else
-      bad = "unexpected argument '" + a + "'";
+      args.bad = "unexpected argument '" + a + "'";
   }
+  return args;
+}
 
+/// PETSc, MPI, the interruption handlers and the logs.
+void initialize(std::vector<char*> petsc, char* argv[])
+{
+  int petsc_argc = static_cast<int>(petsc.size());
+  petsc.push_back(nullptr); // MPI_Init reads argv up to its terminator
+  char** petsc_args = petsc.data();
+  PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
+  // Errors are reported by our messages, never by PETSc stack traces.
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  biotcontact::install_interruption_handlers();
+  // The solver statistics of summary.json are read from PETSc's event log
+  // (solver.h); -log_view prints the same log by system.
+  PetscLogDefaultBegin();
+  dolfinx::init_logging(1, argv);
+  loguru::g_stderr_verbosity = loguru::Verbosity_WARNING;
+}
+
+/// `check`: the scene is read and its mesh built too, since a gmsh file's
+/// boundary names are only known once it is read.
+int check_scene(const biotcontact::Scene& scene, const Arguments& args, int rank)
+{
+  const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
+  biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
+  if (rank == 0)
+    std::printf("%s: ok (%s, %d steps)\n", args.scene.c_str(), scene.name.c_str(), scene.num_steps());
+  return 0;
+}
+
+/// `run`: a restart goes on in the directory of the run it continues; the
+/// scene text and the --set values are its fingerprint.
+int run_scene(const biotcontact::Scene& scene, const Arguments& args)
+{
+  const std::string out
+      = !args.restart.empty() ? args.restart : args.out.empty() ? "results/" + scene.name : args.out;
+  biotcontact::RunControl control;
+  control.restart = !args.restart.empty();
+  std::ifstream text(args.scene);
+  control.fingerprint.assign(std::istreambuf_iterator<char>(text), {});
+  for (const std::string& o : args.overrides)
+    control.fingerprint += "\n--set " + o;
+  return biotcontact::run(scene, out, MPI_COMM_WORLD, control);
+}
+
+/// The command, with every error turned into one line and its exit status.
+int execute(const Arguments& args, int rank)
+{
+  if (!args.bad.empty())
+    return fail(args.bad + " (see --help)", rank);
+  if (args.command.empty() or args.scene.empty())
+    return fail("expected 'run SCENE.toml' or 'check SCENE.toml' (see --help)", rank);
+  try
+  {
+    const biotcontact::Scene scene = biotcontact::read_scene(args.scene, args.overrides);
+    return args.command == "check" ? check_scene(scene, args, rank) : run_scene(scene, args);
+  }
+  catch (const biotcontact::SceneError& e)
+  {
+    return fail(e.what(), rank);
+  }
+  catch (const biotcontact::OptionsError& e)
+  {
+    return fail(e.what(), rank);
+  }
+  catch (const biotcontact::SolverError& e)
+  {
+    return fail(e.what(), rank) + 1;
+  }
+  catch (const std::exception& e)
+  {
+    if (rank == 0)
+      std::fprintf(stderr, "biotcontact: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  const Arguments args = parse_arguments(argc, argv);
   if (args.command == "help")
   {
     std::printf("%s", usage);
@@ -110,74 +192,10 @@ int main(int argc, char* argv[])
                 PETSC_VERSION_MAJOR, PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR);
     return 0;
   }
-
-  int petsc_argc = static_cast<int>(petsc_argv.size());
-  petsc_argv.push_back(nullptr); // MPI_Init reads argv up to its terminator
-  char** petsc_args = petsc_argv.data();
-  PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
-  // Errors are reported by our messages, never by PETSc stack traces.
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-  biotcontact::install_interruption_handlers();
-  // The solver statistics of summary.json are read from PETSc's event log
-  // (solver.h); -log_view prints the same log by system.
-  PetscLogDefaultBegin();
-  dolfinx::init_logging(1, argv);
-  loguru::g_stderr_verbosity = loguru::Verbosity_WARNING;
+  initialize(args.petsc, argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-
-  int status = 0;
-  if (!bad.empty())
-    status = fail(bad + " (see --help)", rank);
-  else if (args.command.empty() or args.scene.empty())
-    status = fail("expected 'run SCENE.toml' or 'check SCENE.toml' (see --help)", rank);
-  else
-  {
-    try
-    {
-      const biotcontact::Scene scene = biotcontact::read_scene(args.scene, args.overrides);
-      if (args.command == "check")
-      {
-        // The mesh is built too: a gmsh file's boundary names are only
-        // known once it is read.
-        const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
-        biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
-        if (rank == 0)
-          std::printf("%s: ok (%s, %d steps)\n", args.scene.c_str(), scene.name.c_str(), scene.num_steps());
-      }
-      else
-      {
-        // A restart goes on in the directory of the run it continues.
-        const std::string out
-            = !args.restart.empty() ? args.restart : args.out.empty() ? "results/" + scene.name : args.out;
-        biotcontact::RunControl control;
-        control.restart = !args.restart.empty();
-        std::ifstream text(args.scene);
-        control.fingerprint.assign(std::istreambuf_iterator<char>(text), {});
-        for (const std::string& o : args.overrides)
-          control.fingerprint += "\n--set " + o;
-        status = biotcontact::run(scene, out, MPI_COMM_WORLD, control);
-      }
-    }
-    catch (const biotcontact::SceneError& e)
-    {
-      status = fail(e.what(), rank);
-    }
-    catch (const biotcontact::OptionsError& e)
-    {
-      status = fail(e.what(), rank);
-    }
-    catch (const biotcontact::SolverError& e)
-    {
-      status = fail(e.what(), rank) + 1;
-    }
-    catch (const std::exception& e)
-    {
-      if (rank == 0)
-        std::fprintf(stderr, "biotcontact: error: %s\n", e.what());
-      status = 1;
-    }
-  }
+  const int status = execute(args, rank);
   PetscFinalize();
   return status;
 }

@@ -25,6 +25,14 @@ std::shared_ptr<fem::Function<double>> contact_boundary_flag(const ContactSet& s
   return flag;
 }
 
+void make_contact_fields(const ContactSet& set, std::shared_ptr<fem::Function<double>>& pressure,
+                         std::shared_ptr<fem::Function<double>>& active, std::shared_ptr<fem::Function<double>>& boundary)
+{
+  pressure = std::make_shared<fem::Function<double>>(set.output_space);
+  active = std::make_shared<fem::Function<double>>(set.output_space);
+  boundary = contact_boundary_flag(set);
+}
+
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const fem::FunctionSpace> V)
 {
@@ -123,42 +131,85 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ma
 
   long local_dofs = static_cast<long>(_dofs.size()), contact_dofs = 0;
   MPI_Allreduce(&local_dofs, &contact_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  std::string vi_prefix = prefix;
   const bool condensed = use_condensation(prefix, method, contact_dofs);
   if (condensed)
-  {
-    _schur = std::make_unique<SchurComplement>(comm, prefix, A, structure, _dofs);
-    _vi_stage = std::make_unique<SolverStage>(prefix + "contact");
-    _vi_comm = PETSC_COMM_SELF;
-    _K = _schur->matrix();
-    const PetscInt m = _schur->size();
-    _bounded.resize(m);
-    for (PetscInt k = 0; k < m; ++k)
-      _bounded[k] = static_cast<std::int32_t>(k);
-    _bounded_gap.resize(m);
-    _schur->gather(_set.gap.data(), _bounded_gap.data());
-    VecCreateSeq(PETSC_COMM_SELF, m, &_x);
-    // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
-    vi_prefix = prefix + "contact_";
-    set_default_option(vi_prefix + "ksp_type", "preonly");
-    set_default_option(vi_prefix + "pc_type", structure == Structure::spd ? "cholesky" : "lu");
-    set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc");
-  }
+    condense();
   else
+    pose_on_full_system(layout);
+  const std::string vi_prefix = condensed ? prefix + "contact_" : prefix;
+  create_snes(vi_prefix);
+  if (!condensed and method == Method::iterative)
   {
-    _vi_comm = comm;
-    _K = A;
-    _bounded = _dofs;
-    _bounded_gap = _set.gap;
-    VecDuplicate(layout, &_x);
+    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, P, fields, prefix);
+    KSP ksp;
+    SNESGetKSP(_snes, &ksp);
+    KSPMonitorSet(ksp, &ContactSolver::stagnation, this, nullptr);
+    set_tolerance(iterative_tolerance);
   }
+  if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
+    throw OptionsError("the PETSc options of " + system_name(prefix)
+                       + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
+  // Only the VI methods take bounds; any other would ignore the contact.
+  // Asked of both prefixes, so that a type given for the path not taken
+  // is not ignored silently either.
+  for (const std::string& p : {prefix, prefix + "contact_"})
+  {
+    const std::string type = option(p, "-snes_type");
+    if (!type.empty() and type != SNESVINEWTONRSLS and type != SNESVINEWTONSSLS)
+      throw OptionsError("-" + p + "snes_type " + type
+                         + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
+  }
+}
+
+/// The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
+/// (schur_complement.h): every unknown of the small dense problem is bounded.
+void ContactSolver::condense()
+{
+  _schur = std::make_unique<SchurComplement>(_comm, _prefix, _A, _structure, _dofs);
+  _vi_stage = std::make_unique<SolverStage>(_prefix + "contact");
+  _vi_comm = PETSC_COMM_SELF;
+  _K = _schur->matrix();
+  const PetscInt m = _schur->size();
+  _bounded.resize(m);
+  for (PetscInt k = 0; k < m; ++k)
+    _bounded[k] = static_cast<std::int32_t>(k);
+  _bounded_gap.resize(m);
+  _schur->gather(_set.gap.data(), _bounded_gap.data());
+  VecCreateSeq(PETSC_COMM_SELF, m, &_x);
+  // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
+  const std::string vi_prefix = _prefix + "contact_";
+  set_default_option(vi_prefix + "ksp_type", "preonly");
+  set_default_option(vi_prefix + "pc_type", _structure == Structure::spd ? "cholesky" : "lu");
+  set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc");
+  make_bound_vectors();
+}
+
+/// The VI on the full system: only the contact DOFs are bounded.
+void ContactSolver::pose_on_full_system(Vec layout)
+{
+  _vi_comm = _comm;
+  _K = _A;
+  _bounded = _dofs;
+  _bounded_gap = _set.gap;
+  VecDuplicate(layout, &_x);
+  make_bound_vectors();
+}
+
+/// The residual and the bounds, unbounded until solve() sets the contact ones.
+void ContactSolver::make_bound_vectors()
+{
   VecDuplicate(_x, &_residual);
   VecDuplicate(_x, &_lower);
   VecDuplicate(_x, &_upper);
   VecDuplicate(_x, &_b_scaled);
   VecSet(_lower, PETSC_NINFINITY);
   VecSet(_upper, PETSC_INFINITY);
+}
 
+/// The semismooth Newton VI solver (SNES vinewtonrsls) and its defaults;
+/// the user's -<vi_prefix>snes_* options override them.
+void ContactSolver::create_snes(const std::string& vi_prefix)
+{
   // Jacobian evaluations cost nothing (the matrix is constant); the
   // factorisation is built at the first Newton step and then reused ("-2":
   // rebuild once, then lag forever) until the inactive set changes, when
@@ -183,34 +234,12 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ma
   SNESSetJacobian(_snes, _K, _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
   SNESSetConvergenceTest(_snes, &ContactSolver::converged, this, nullptr);
-  if (!condensed and method == Method::iterative)
-  {
-    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, P, fields, prefix);
-    KSP ksp;
-    SNESGetKSP(_snes, &ksp);
-    KSPMonitorSet(ksp, &ContactSolver::stagnation, this, nullptr);
-    set_tolerance(iterative_tolerance);
-  }
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
   SNESSetForceIteration(_snes, PETSC_TRUE);
   SNESMonitorSet(_snes, &ContactSolver::monitor, this, nullptr);
-  if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
-    throw OptionsError("the PETSc options of " + system_name(prefix)
-                       + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
-  // Only the VI methods take bounds; any other would ignore the contact.
-  // Asked of both prefixes, so that a type given for the path not taken
-  // is not ignored silently either.
-  for (const std::string& p : {prefix, prefix + "contact_"})
-  {
-    const std::string type = option(p, "-snes_type");
-    if (!type.empty() and type != SNESVINEWTONRSLS and type != SNESVINEWTONSSLS)
-      throw OptionsError("-" + p + "snes_type " + type
-                         + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
-  }
 }
-
 std::string ContactSolver::method() const
 {
   return _schur ? "condensed on " + std::to_string(_schur->size()) + " contact DOFs" : "full";
@@ -390,24 +419,56 @@ void ContactSolver::solve(Vec b, Vec x)
   // works on x / s with s the displacement scale (largest gap or |x|); the
   // residual K (x/s) - b/s has the same Jacobian K.
   _scale = displacement_scale(x);
+  set_bounds();
+  pose(b, x);
+  SNESConvergedReason reason = run_snes();
+  count_iterations(reason);
+  if (reason < 0)
   {
-    // u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
-    PetscScalar *lo, *up;
-    VecGetArray(_lower, &lo);
-    VecGetArray(_upper, &up);
-    for (std::size_t k = 0; k < _bounded.size(); ++k)
-    {
-      if (_set.sign > 0)
-        up[_bounded[k]] = _bounded_gap[k] / _scale;
-      else
-        lo[_bounded[k]] = -_bounded_gap[k] / _scale;
-    }
-    VecRestoreArray(_lower, &lo);
-    VecRestoreArray(_upper, &up);
+    // A body held in the normal direction by the foundation alone is
+    // semi-coercive: from a start where no contact DOF pushes on its bound
+    // the reduced system is singular. Start again from the state with every
+    // contact node on the foundation; there the contact forces say which
+    // nodes to release.
+    clamped_start();
+    reason = run_snes();
+    count_iterations(reason);
   }
+  if (reason < 0)
+    throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
+                      + SNESConvergedReasons[reason]);
+  VecScale(_x, _scale);
+  if (_schur)
+    _schur->extend(b, _x, x);
+  else
+    VecCopy(_x, x);
+}
+
+/// u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a,
+/// in units of the displacement scale.
+void ContactSolver::set_bounds()
+{
+  PetscScalar *lo, *up;
+  VecGetArray(_lower, &lo);
+  VecGetArray(_upper, &up);
+  for (std::size_t k = 0; k < _bounded.size(); ++k)
+  {
+    if (_set.sign > 0)
+      up[_bounded[k]] = _bounded_gap[k] / _scale;
+    else
+      lo[_bounded[k]] = -_bounded_gap[k] / _scale;
+  }
+  VecRestoreArray(_lower, &lo);
+  VecRestoreArray(_upper, &up);
+}
+
+/// The scaled load and start of the VI (on C alone when condensed: (H, g)
+/// with y = x_C, schur_complement.h), and its absolute tolerance relative
+/// to the load unless -snes_atol is given: scale-free.
+void ContactSolver::pose(Vec b, Vec x)
+{
   if (_schur)
   {
-    // The VI on C alone: (H, g) with y = x_C (schur_complement.h).
     _schur->condensed_load(b, _b_scaled);
     _schur->restrict_to_contact(x, _x);
   }
@@ -418,56 +479,34 @@ void ContactSolver::solve(Vec b, Vec x)
   }
   VecScale(_b_scaled, 1.0 / _scale);
   VecScale(_x, 1.0 / _scale);
-
   const char* prefix = nullptr;
   SNESGetOptionsPrefix(_snes, &prefix);
   PetscBool atol_given = PETSC_FALSE;
   PetscOptionsHasName(nullptr, prefix, "-snes_atol", &atol_given);
   if (!atol_given)
   {
-    // Absolute tolerance relative to the load: scale-free.
     PetscReal bnorm = 0;
     VecNorm(_b_scaled, NORM_2, &bnorm);
     SNESSetTolerances(_snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
   }
-  // Every attempt's steps count, a failed Krylov solve's iterations too
-  // (SNES leaves them out of its own count): they cost their time.
-  auto count = [&](SNESConvergedReason reason)
+}
+
+/// Every attempt's steps count, a failed Krylov solve's iterations too
+/// (SNES leaves them out of its own count): they cost their time.
+void ContactSolver::count_iterations(SNESConvergedReason reason)
+{
+  PetscInt its = 0, lits = 0, failed = 0;
+  SNESGetIterationNumber(_snes, &its);
+  SNESGetLinearSolveIterations(_snes, &lits);
+  if (reason == SNES_DIVERGED_LINEAR_SOLVE)
   {
-    PetscInt its = 0, lits = 0, failed = 0;
-    SNESGetIterationNumber(_snes, &its);
-    SNESGetLinearSolveIterations(_snes, &lits);
-    if (reason == SNES_DIVERGED_LINEAR_SOLVE)
-    {
-      KSP ksp;
-      SNESGetKSP(_snes, &ksp);
-      KSPGetIterationNumber(ksp, &failed);
-    }
-    newton_iterations += its;
-    linear_iterations += lits + failed;
-  };
-  SNESConvergedReason reason = run_snes();
-  count(reason);
-  if (reason < 0)
-  {
-    // A body held in the normal direction by the foundation alone is
-    // semi-coercive: from a start where no contact DOF pushes on its bound
-    // the reduced system is singular. Start again from the state with every
-    // contact node on the foundation; there the contact forces say which
-    // nodes to release.
-    clamped_start();
-    reason = run_snes();
-    count(reason);
+    KSP ksp;
+    SNESGetKSP(_snes, &ksp);
+    KSPGetIterationNumber(ksp, &failed);
   }
-  if (reason < 0)
-    throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
-                      + SNESConvergedReasons[reason]);
-  VecScale(_x, _scale);
-  if (_schur)
-    _schur->extend(b, _x, x);
-  else
-    VecCopy(_x, x);
+  newton_iterations += its;
+  linear_iterations += lits + failed;
 }
 
 SNESConvergedReason ContactSolver::run_snes()

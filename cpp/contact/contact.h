@@ -43,6 +43,12 @@ struct ContactSet
 /// nodes, 0 elsewhere.
 std::shared_ptr<dolfinx::fem::Function<double>> contact_boundary_flag(const ContactSet& set);
 
+/// The output fields of a contact set: the contact pressure and active flag
+/// (zero off Gamma_3) and the contact_boundary_flag.
+void make_contact_fields(const ContactSet& set, std::shared_ptr<dolfinx::fem::Function<double>>& pressure,
+                         std::shared_ptr<dolfinx::fem::Function<double>>& active,
+                         std::shared_ptr<dolfinx::fem::Function<double>>& boundary);
+
 /// Finds the contact nodes of the scene's contact boundaries (all must share
 /// one foundation normal; throws SceneError otherwise).
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
@@ -145,6 +151,13 @@ public:
   long active_set_changes = 0;
 
 private:
+  void condense();
+  void pose_on_full_system(Vec layout);
+  void make_bound_vectors();
+  void create_snes(const std::string& vi_prefix);
+  void set_bounds();
+  void pose(Vec b, Vec x);
+  void count_iterations(SNESConvergedReason reason);
   /// Sets the unknown of the VI to the solution with every contact DOF on
   /// its bound.
   void clamped_start();

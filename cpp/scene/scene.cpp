@@ -489,7 +489,7 @@ FlowSpec read_flow(Section s, int d)
   return f;
 }
 
-CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec& flow, int d)
+CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec& flow)
 {
   CouplingSpec c;
   c.alpha = s.number("alpha");
@@ -529,7 +529,6 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
     s.fail("L", "must be \"paper\", \"kdr\", \"half-kdr\" or a number");
   if (c.L_choice == "paper" and !(mech.lambda > 0))
     s.fail("L", "\"paper\" (alpha^2/lambda) needs lambda > 0; use \"kdr\"");
-  (void)d;
 
   c.tolerance = s.number("tolerance", 1e-8);
   if (!(c.tolerance > 0 and c.tolerance < 1))
@@ -547,6 +546,189 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
     s.fail("depth", "must be an integer from 1 to 50");
   s.finish();
   return c;
+}
+
+/// The scene file as a TOML table, with the --set overrides applied.
+toml::table parse_scene(const std::string& file, const std::vector<std::string>& overrides)
+{
+  if (!std::filesystem::is_regular_file(file))
+    throw SceneError(file + ": scene file not found");
+  toml::table root;
+  try
+  {
+    root = toml::parse_file(file);
+  }
+  catch (const toml::parse_error& e)
+  {
+    throw SceneError(file + ":" + std::to_string(e.source().begin.line)
+                     + ": invalid TOML: " + std::string(e.description()));
+  }
+  for (const std::string& o : overrides)
+    apply_override(root, o, file);
+  return root;
+}
+
+/// [scene]: the name (the file's stem by default) and description.
+void read_meta(Section& top, Scene& scene)
+{
+  Section meta = top.table("scene", false);
+  scene.name = meta.string("name", std::filesystem::path(scene.file).stem().string());
+  scene.description = meta.string("description", "");
+  meta.finish();
+}
+
+/// [mechanics], [flow] and, when both are there, [coupling].
+void read_physics(Section& top, Scene& scene)
+{
+  const int d = scene.mesh.dimension;
+  if (top.has("mechanics"))
+    scene.mechanics = read_mechanics(top.table("mechanics", true), d);
+  if (top.has("flow"))
+    scene.flow = read_flow(top.table("flow", true), d);
+  if (!scene.mechanics and !scene.flow)
+    top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)");
+  if (scene.mechanics and scene.flow)
+    scene.coupling = read_coupling(top.table("coupling", true), *scene.mechanics, *scene.flow);
+  else if (top.has("coupling"))
+    top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled");
+}
+
+/// [time]: the end, the first step, its growth and the retries; the steps
+/// must be whole, at most Scene::max_steps and, with q > 1, whole windows.
+void read_time(Section& top, Scene& scene)
+{
+  Section time = top.table("time", true);
+  scene.end_time = time.number("end");
+  scene.dt = time.number("dt");
+  positive(time, "dt", scene.dt);
+  positive(time, "end", scene.end_time);
+  scene.growth = time.number("growth", 1.0);
+  scene.retry = time.integer("retry", 0);
+  if (scene.retry < 0 or scene.retry > 20)
+    time.fail("retry", "must lie in [0, 20] (each retry halves the step)");
+  if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
+    time.fail("growth", "must lie in [1, 10]");
+  const double steps = scene.end_time / scene.dt;
+  // Counted in double precision: an int would overflow silently.
+  if (scene.growth == 1.0 and steps > Scene::max_steps)
+  {
+    std::ostringstream message;
+    message << "time.end / time.dt = " << std::setprecision(3) << steps << " steps, more than the limit of "
+            << Scene::max_steps;
+    time.fail("dt", message.str());
+  }
+  if (scene.growth == 1.0
+      and (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1))
+    time.fail("dt", "time.end must be a whole number of steps dt");
+  if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
+    time.fail("growth", "growing time steps need q = 1");
+  if (scene.num_steps() > Scene::max_steps)
+    time.fail("growth", "more than " + std::to_string(Scene::max_steps) + " time steps");
+  time.finish();
+  if (scene.coupling and scene.num_steps() % scene.coupling->q != 0)
+    top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");
+}
+
+/// [output]: XDMF on or off and the checkpoint interval.
+void read_output(Section output, Scene& scene)
+{
+  scene.write_xdmf = output.boolean("xdmf", true);
+  scene.checkpoint_every = output.integer("checkpoint_every", 0);
+  if (scene.checkpoint_every < 0)
+    output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
+  output.finish();
+}
+
+/// [solver]: direct, iterative or auto for each system, and inexact coupling.
+void read_solver(Section solver, SolverSpec& choices)
+{
+  for (auto [key, choice] : {std::pair{"flow", &choices.flow}, std::pair{"mechanics", &choices.mechanics},
+                             std::pair{"monolithic", &choices.monolithic}})
+  {
+    *choice = solver.string(key, "auto");
+    if (*choice != "direct" and *choice != "iterative" and *choice != "auto")
+      solver.fail(key, "must be \"direct\", \"iterative\" or \"auto\"");
+  }
+  choices.inexact_coupling = solver.boolean("inexact_coupling", true);
+  solver.finish();
+}
+
+/// [boundary.NAME]: built-in meshes know their boundaries' names; a gmsh
+/// mesh's are checked against its physical groups when the domain is made.
+void read_boundaries(Section boundaries, Scene& scene)
+{
+  const int d = scene.mesh.dimension;
+  const std::vector<std::string> names = builtin_boundary_names(d);
+  for (const std::string& name : boundaries.keys())
+  {
+    if (scene.mesh.type != "gmsh" and std::find(names.begin(), names.end(), name) == names.end())
+    {
+      std::string known;
+      for (const auto& n : names)
+        known += (known.empty() ? "" : ", ") + n;
+      boundaries.fail(name, "unknown boundary name (a " + scene.mesh.type + " has " + known + ")");
+    }
+    BoundarySpec b = read_boundary(boundaries.table(name, true), d);
+    if (!scene.mechanics and b.mechanics != BoundarySpec::Mechanics::traction_free)
+      boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]");
+    if (!scene.flow and b.flow != BoundarySpec::Flow::no_flow)
+      boundaries.fail(name, "flow boundary condition in a scene without [flow]");
+    scene.boundaries[name] = b;
+  }
+  boundaries.finish();
+}
+
+/// Mandel's rigid frictionless plate, imposed as the exact u_y on the
+/// boundary `ref.plate` (the usual set-up; docs/verification.md).
+void impose_mandel_plate(Section& r, Scene& scene, const ReferenceSpec& ref)
+{
+  if (scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0)
+    r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)");
+  auto it = scene.boundaries.find(ref.plate);
+  if (it == scene.boundaries.end() or it->second.mechanics != BoundarySpec::Mechanics::traction_free)
+    r.fail("plate", "must name a boundary with no mechanics condition of its own");
+  const FlowSpec& f = *scene.flow;
+  auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics->G,
+                                         scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
+                                         (*f.permeability)(0, 0, 0, 0) / f.mu_f, ref.force);
+  it->second.mechanics = BoundarySpec::Mechanics::displacement;
+  it->second.displacement[1] = Expression([mandel](double, double y, double, double t)
+                                          { return mandel->displacement_y(y, t); },
+                                          "Mandel's exact plate displacement");
+}
+
+/// [reference]: the closed form the run is compared with ("none" switches
+/// the comparison of a reference scene off, e.g. from --set).
+void read_reference(Section r, Scene& scene)
+{
+  ReferenceSpec ref;
+  ref.solution = r.string("solution");
+  if (ref.solution != "terzaghi" and ref.solution != "mandel" and ref.solution != "none")
+    r.fail("solution", "must be \"terzaghi\", \"mandel\" or \"none\"");
+  if (ref.solution == "none")
+  {
+    for (const std::string& key : r.keys())
+      r.node(key);
+    r.finish();
+    return;
+  }
+  if (!scene.coupling or scene.mesh.type != "rectangle")
+    r.fail("solution", ref.solution + " needs a coupled scene on a rectangle");
+  if (!scene.flow->permeability or !scene.flow->permeability->is_constant())
+    r.fail("solution", ref.solution + " needs a constant scalar flow.permeability");
+  if (ref.solution == "terzaghi")
+  {
+    ref.load = r.number("load");
+    ref.height = scene.mesh.upper[1] - scene.mesh.lower[1];
+  }
+  else
+  {
+    ref.force = r.number("force");
+    ref.plate = r.string("plate", "top");
+    impose_mandel_plate(r, scene, ref);
+  }
+  r.finish();
+  scene.reference = ref;
 }
 
 } // namespace
@@ -597,161 +779,19 @@ int Scene::num_steps() const
 
 Scene read_scene(const std::string& file, const std::vector<std::string>& overrides)
 {
-  if (!std::filesystem::is_regular_file(file))
-    throw SceneError(file + ": scene file not found");
-  toml::table root;
-  try
-  {
-    root = toml::parse_file(file);
-  }
-  catch (const toml::parse_error& e)
-  {
-    throw SceneError(file + ":" + std::to_string(e.source().begin.line)
-                     + ": invalid TOML: " + std::string(e.description()));
-  }
-  for (const std::string& o : overrides)
-    apply_override(root, o, file);
-
+  toml::table root = parse_scene(file, overrides);
   Scene scene;
   scene.file = file;
   Section top(&root, "", file);
-
-  Section meta = top.table("scene", false);
-  scene.name = meta.string("name", std::filesystem::path(file).stem().string());
-  scene.description = meta.string("description", "");
-  meta.finish();
-
+  read_meta(top, scene);
   scene.mesh = read_mesh(top.table("mesh", true), file);
-  const int d = scene.mesh.dimension;
-
-  if (top.has("mechanics"))
-    scene.mechanics = read_mechanics(top.table("mechanics", true), d);
-  if (top.has("flow"))
-    scene.flow = read_flow(top.table("flow", true), d);
-  if (!scene.mechanics and !scene.flow)
-    top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)");
-  if (scene.mechanics and scene.flow)
-    scene.coupling = read_coupling(top.table("coupling", true), *scene.mechanics, *scene.flow, d);
-  else if (top.has("coupling"))
-    top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled");
-
-  Section time = top.table("time", true);
-  scene.end_time = time.number("end");
-  scene.dt = time.number("dt");
-  positive(time, "dt", scene.dt);
-  positive(time, "end", scene.end_time);
-  scene.growth = time.number("growth", 1.0);
-  scene.retry = time.integer("retry", 0);
-  if (scene.retry < 0 or scene.retry > 20)
-    time.fail("retry", "must lie in [0, 20] (each retry halves the step)");
-  if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
-    time.fail("growth", "must lie in [1, 10]");
-  const double steps = scene.end_time / scene.dt;
-  // Counted in double precision: an int would overflow silently.
-  if (scene.growth == 1.0 and steps > Scene::max_steps)
-  {
-    std::ostringstream message;
-    message << "time.end / time.dt = " << std::setprecision(3) << steps << " steps, more than the limit of "
-            << Scene::max_steps;
-    time.fail("dt", message.str());
-  }
-  if (scene.growth == 1.0
-      and (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1))
-    time.fail("dt", "time.end must be a whole number of steps dt");
-  if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
-    time.fail("growth", "growing time steps need q = 1");
-  if (scene.num_steps() > Scene::max_steps)
-    time.fail("growth", "more than " + std::to_string(Scene::max_steps) + " time steps");
-  time.finish();
-  if (scene.coupling and scene.num_steps() % scene.coupling->q != 0)
-    top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");
-
-  Section output = top.table("output", false);
-  scene.write_xdmf = output.boolean("xdmf", true);
-  scene.checkpoint_every = output.integer("checkpoint_every", 0);
-  if (scene.checkpoint_every < 0)
-    output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
-  output.finish();
-
-  Section solver = top.table("solver", false);
-  for (auto [key, choice] : {std::pair{"flow", &scene.solver.flow}, std::pair{"mechanics", &scene.solver.mechanics},
-                             std::pair{"monolithic", &scene.solver.monolithic}})
-  {
-    *choice = solver.string(key, "auto");
-    if (*choice != "direct" and *choice != "iterative" and *choice != "auto")
-      solver.fail(key, "must be \"direct\", \"iterative\" or \"auto\"");
-  }
-  scene.solver.inexact_coupling = solver.boolean("inexact_coupling", true);
-  solver.finish();
-
-  Section boundaries = top.table("boundary", false);
-  const std::vector<std::string> names = builtin_boundary_names(d);
-  for (const std::string& name : boundaries.keys())
-  {
-    if (scene.mesh.type != "gmsh" and std::find(names.begin(), names.end(), name) == names.end())
-    {
-      std::string known;
-      for (const auto& n : names)
-        known += (known.empty() ? "" : ", ") + n;
-      boundaries.fail(name, "unknown boundary name (a " + scene.mesh.type + " has " + known + ")");
-    }
-    BoundarySpec b = read_boundary(boundaries.table(name, true), d);
-    if (!scene.mechanics and b.mechanics != BoundarySpec::Mechanics::traction_free)
-      boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]");
-    if (!scene.flow and b.flow != BoundarySpec::Flow::no_flow)
-      boundaries.fail(name, "flow boundary condition in a scene without [flow]");
-    scene.boundaries[name] = b;
-  }
-  boundaries.finish();
-
+  read_physics(top, scene);
+  read_time(top, scene);
+  read_output(top.table("output", false), scene);
+  read_solver(top.table("solver", false), scene.solver);
+  read_boundaries(top.table("boundary", false), scene);
   if (top.has("reference"))
-  {
-    Section r = top.table("reference", true);
-    ReferenceSpec ref;
-    ref.solution = r.string("solution");
-    if (ref.solution != "terzaghi" and ref.solution != "mandel" and ref.solution != "none")
-      r.fail("solution", "must be \"terzaghi\", \"mandel\" or \"none\"");
-    if (ref.solution == "none")
-    {
-      // Switches the comparison off (e.g. from --set on a reference scene).
-      for (const std::string& key : r.keys())
-        r.node(key);
-      r.finish();
-      top.finish();
-      return scene;
-    }
-    if (!scene.coupling or scene.mesh.type != "rectangle")
-      r.fail("solution", ref.solution + " needs a coupled scene on a rectangle");
-    if (!scene.flow->permeability or !scene.flow->permeability->is_constant())
-      r.fail("solution", ref.solution + " needs a constant scalar flow.permeability");
-    if (ref.solution == "terzaghi")
-    {
-      ref.load = r.number("load");
-      ref.height = scene.mesh.upper[1] - scene.mesh.lower[1];
-    }
-    else
-    {
-      // The rigid frictionless plate is imposed as the exact u_y on the top
-      // (the usual Mandel set-up; benchmarks.md).
-      ref.force = r.number("force");
-      ref.plate = r.string("plate", "top");
-      if (scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0)
-        r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)");
-      auto it = scene.boundaries.find(ref.plate);
-      if (it == scene.boundaries.end() or it->second.mechanics != BoundarySpec::Mechanics::traction_free)
-        r.fail("plate", "must name a boundary with no mechanics condition of its own");
-      const FlowSpec& f = *scene.flow;
-      auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics->G,
-                                             scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
-                                             (*f.permeability)(0, 0, 0, 0) / f.mu_f, ref.force);
-      it->second.mechanics = BoundarySpec::Mechanics::displacement;
-      it->second.displacement[1] = Expression([mandel](double, double y, double, double t)
-                                              { return mandel->displacement_y(y, t); },
-                                              "Mandel's exact plate displacement");
-    }
-    r.finish();
-    scene.reference = ref;
-  }
+    read_reference(top.table("reference", true), scene);
   top.finish();
   return scene;
 }

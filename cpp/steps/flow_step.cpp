@@ -17,97 +17,104 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
                    const Constants& constants, std::shared_ptr<const fem::FunctionSpace> V)
     : _scene(scene)
 {
-  const FlowSpec& flow = *scene.flow;
-  const auto& mesh = domain.mesh;
-  const int d = domain.dim();
-
-  _W = std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(forms.flow_space, "v_0", mesh));
-  {
-    auto [Q, map] = _W->sub({1})->collapse();
-    _Q = std::make_shared<fem::FunctionSpace>(std::move(Q));
-    _Q_to_W = std::move(map);
-    auto [Z, zmap] = _W->sub({0})->collapse();
-    _Z = std::make_shared<fem::FunctionSpace>(std::move(Z));
-    _Z_to_W = std::move(zmap);
-  }
+  make_spaces(domain, forms, V);
   auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(forms.flow_space, "resistivity", mesh)));
-  interpolate_resistivity(*R, flow, d);
+      fem::create_functionspace(forms.flow_space, "resistivity", domain.mesh)));
+  interpolate_resistivity(*R, *scene.flow, domain.dim());
+  // The coupling data are operands of the operators below, not coefficients.
+  const Coefficients coefficients = {{"resistivity", R}};
+  auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
+                  const mesh::MeshTags<std::int32_t>* marker = nullptr)
+  { return make_form(f, spaces, coefficients, constants, marker); };
+  // No flow (w.n = 0, essential for RT) wherever no pressure is given.
+  _bcs.push_back(no_flow_bc(scene, domain, _W->sub({0})));
+  _a = make(forms.a_flow, {_W, _W});
+  make_loads(domain, forms, constants);
+  make_coupling_operators(forms, make, V, constants.at("L")->value[0]);
 
+  // The flow matrix depends on dt and L only: assembled and factorised once
+  // per dt. Its diagonal blocks, the flux mass and -(S+L)/dt times the cell
+  // mass, make it quasi-definite when S + L > 0.
+  const double storage = constants.at("storage")->value[0] + constants.at("L")->value[0];
+  _system = std::make_unique<System>(domain.mesh->comm(), "flow_", _a, _bcs,
+                                     storage > 0 ? Structure::quasi_definite : Structure::general,
+                                     scene.solver.flow, fields());
+  _b = std::make_unique<la::Vector<double>>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs());
+}
+
+/// The mixed space W = RT0 x P0, its collapsed parts Z and Q with their maps
+/// into W, and the functions on them.
+void FlowStep::make_spaces(const Domain& domain, const CompiledForms& forms,
+                           std::shared_ptr<const fem::FunctionSpace> V)
+{
+  _W = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.flow_space, "v_0", domain.mesh));
+  auto [Q, map] = _W->sub({1})->collapse();
+  _Q = std::make_shared<fem::FunctionSpace>(std::move(Q));
+  _Q_to_W = std::move(map);
+  auto [Z, zmap] = _W->sub({0})->collapse();
+  _Z = std::make_shared<fem::FunctionSpace>(std::move(Z));
+  _Z_to_W = std::move(zmap);
   _w = std::make_shared<fem::Function<double>>(_W);
   pressure = std::make_shared<fem::Function<double>>(_Q);
   p_previous = std::make_shared<fem::Function<double>>(_Q);
   p_iterate = std::make_shared<fem::Function<double>>(_Q);
   p_iterate_previous = std::make_shared<fem::Function<double>>(_Q);
-  interpolate(*pressure, {flow.initial_pressure}, 0.0);
-
-  // The coupling data are operands of the operators below, not coefficients.
-  Coefficients coefficients = {{"resistivity", R}};
+  interpolate(*pressure, {_scene.flow->initial_pressure}, 0.0);
   if (V)
   {
     u_iterate = std::make_shared<fem::Function<double>>(V);
     u_window = std::make_shared<fem::Function<double>>(V);
   }
-  auto D = std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(forms.data_space, "source", mesh));
-  _source = std::make_shared<fem::Function<double>>(D);
-  _p_boundary = std::make_shared<fem::Function<double>>(D);
-  coefficients["source"] = _source;
-  coefficients["p_boundary"] = _p_boundary;
+}
 
-  auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
-                  const mesh::MeshTags<std::int32_t>* marker = nullptr)
-  { return make_form(f, spaces, coefficients, constants, marker); };
+/// Source, gravity and boundary pressures (alg. "Flow"), in that order,
+/// with the zero no-flow values set (no lifting: they are zero).
+void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants)
+{
+  auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
+  auto source = std::make_shared<fem::Function<double>>(D), p_boundary = std::make_shared<fem::Function<double>>(D);
+  const Coefficients data = {{"source", source}, {"p_boundary", p_boundary}};
+  auto make = [&](const ufcx_form* f, const mesh::MeshTags<std::int32_t>* marker = nullptr)
+  { return make_form(f, {_W}, data, constants, marker); };
+  _loads = std::make_unique<Loads>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs(),
+                                   [this](la::Vector<double>& b, double)
+                                   {
+                                     b.scatter_rev(std::plus<double>());
+                                     fem::set_bc(b.mutable_array(), _bcs);
+                                   });
+  const FlowSpec& flow = *_scene.flow;
+  if (flow.source)
+    _loads->add(make(forms.L_flow_source), source, {*flow.source});
+  if (flow.gravity)
+    _loads->add(make(forms.L_flow_gravity));
+  for (const auto& [name, b] : _scene.boundaries)
+    if (b.flow == BoundarySpec::Flow::pressure)
+      _loads->add_boundary(
+          domain, name, [&](const mesh::MeshTags<std::int32_t>* marker) { return make(forms.L_flow_pressure, marker); },
+          p_boundary, {b.pressure});
+}
 
-  for (const auto& [name, b] : scene.boundaries)
-  {
-    if (b.flow != BoundarySpec::Flow::pressure)
-      continue;
-    _markers.push_back(domain.marker(name));
-    _L_pressure.emplace_back(&b.pressure, make(forms.L_flow_pressure, {_W}, _markers.back().get()));
-    _loads_depend_on_time = _loads_depend_on_time or b.pressure.depends_on_time();
-  }
-  // No flow (w.n = 0, essential for RT) wherever no pressure is given.
-  _bcs.push_back(no_flow_bc(scene, domain, _W->sub({0})));
-
-  _a = make(forms.a_flow, {_W, _W});
-  // The terms of the right-hand side that change every coupling iteration,
-  // as operators on the iterates (forms/biot.py), assembled once per dt.
-  _a_storage = make(forms.a_flow_storage, {_W, _Q});
+/// The terms of the right-hand side that change every coupling iteration,
+/// as operators on the iterates (forms/biot.py), assembled once per dt: the
+/// storage term, the stabilisation L (coupled scenes with L > 0) and the
+/// displacement term (coupled scenes).
+template <class Make>
+void FlowStep::make_coupling_operators(const CompiledForms& forms, const Make& make,
+                                       std::shared_ptr<const fem::FunctionSpace> V, double L)
+{
+  _a_storage = make(forms.a_flow_storage, {_W, _Q}, nullptr);
   _storage.emplace(assemble_operator(*_a_storage, _bcs));
   _dp = std::make_unique<la::Vector<double>>(_Q->dofmap()->index_map, 1);
-  const double L = constants.at("L")->value[0];
-  if (V and L > 0)
+  if (!V)
+    return;
+  if (L > 0)
   {
-    _a_stabilisation = make(forms.a_flow_stabilisation, {_W, _Q});
+    _a_stabilisation = make(forms.a_flow_stabilisation, {_W, _Q}, nullptr);
     _stabilisation.emplace(assemble_operator(*_a_stabilisation, _bcs));
   }
-  if (V)
-  {
-    _a_displacement = make(forms.a_flow_displacement, {_W, V});
-    _displacement.emplace(assemble_operator(*_a_displacement, _bcs));
-    _du = std::make_unique<la::Vector<double>>(V->dofmap()->index_map, V->dofmap()->index_map_bs());
-  }
-  if (flow.source)
-  {
-    _L_source = make(forms.L_flow_source, {_W});
-    _loads_depend_on_time = _loads_depend_on_time or flow.source->depends_on_time();
-  }
-  if (flow.gravity)
-    _L_gravity = make(forms.L_flow_gravity, {_W});
-
-  // The flow matrix depends on dt and L only: assembled and factorised once
-  // per dt. Its diagonal blocks, the flux mass and -(S+L)/dt times the cell
-  // mass, make it quasi-definite when S + L > 0.
-  const double storage = constants.at("storage")->value[0] + L;
-  _system = std::make_unique<System>(mesh->comm(), "flow_", _a, _bcs,
-                                     storage > 0 ? Structure::quasi_definite : Structure::general,
-                                     scene.solver.flow, fields());
-
-  const auto& map = _W->dofmap()->index_map;
-  const int bs = _W->dofmap()->index_map_bs();
-  _b = std::make_unique<la::Vector<double>>(map, bs);
+  _a_displacement = make(forms.a_flow_displacement, {_W, V}, nullptr);
+  _displacement.emplace(assemble_operator(*_a_displacement, _bcs));
+  _du = std::make_unique<la::Vector<double>>(V->dofmap()->index_map, V->dofmap()->index_map_bs());
 }
 
 std::vector<Field> FlowStep::fields() const
@@ -116,49 +123,10 @@ std::vector<Field> FlowStep::fields() const
   return {Field{"flux", owned_global_dofs(map, _Z_to_W)}, Field{"pressure", owned_global_dofs(map, _Q_to_W)}};
 }
 
-std::span<const double> FlowStep::loads(double t)
-{
-  // Source, boundary pressure and gravity do not change within a time step:
-  // assembled once per time (once per run when they do not depend on t),
-  // with the zero no-flow values set (no lifting: they are zero). The
-  // loads of the last keep_loads() times are kept: a multirate iteration
-  // visits the q fine times of its window again.
-  for (const auto& [time, b] : _loads)
-    if (time == t or !_loads_depend_on_time)
-      return b->array();
-  // The oldest entry's vector is reused once the window is full.
-  std::unique_ptr<la::Vector<double>> vector;
-  if (_loads.size() >= _load_times)
-  {
-    vector = std::move(_loads.front().second);
-    _loads.pop_front();
-    vector->set(0.0);
-  }
-  else
-    vector = std::make_unique<la::Vector<double>>(_b->map(), _b->bs());
-  _loads.emplace_back(t, std::move(vector));
-  la::Vector<double>& b = *_loads.back().second;
-  if (_L_source)
-  {
-    interpolate(*_source, {*_scene.flow->source}, t);
-    add_vector(b, *_L_source);
-  }
-  if (_L_gravity)
-    add_vector(b, *_L_gravity);
-  for (const auto& [expression, form] : _L_pressure)
-  {
-    interpolate(*_p_boundary, {*expression}, t);
-    add_vector(b, *form);
-  }
-  b.scatter_rev(std::plus<double>());
-  fem::set_bc(b.mutable_array(), _bcs);
-  return b.array();
-}
-
 void FlowStep::solve(double t)
 {
   common::Timer assembly("assembly");
-  const std::span<const double> b_loads = loads(t);
+  const std::span<const double> b_loads = _loads->at(t).array();
   // b = loads - ((S+L)/dt) p^{n+1,m-1} - (L/dt)(p^{n,m} - p^{n,m-1})
   //       + (alpha/(q dt)) div(u^n - u_K), tested with th (forms/biot.py)
   std::copy(b_loads.begin(), b_loads.end(), _b->mutable_array().begin());

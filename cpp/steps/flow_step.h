@@ -6,6 +6,7 @@
 #include "domain/domain.h"
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
+#include "assembly/loads.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
 
@@ -43,7 +44,7 @@ public:
 
   /// Keeps the loads of the last `times` solve times (q for a multirate
   /// window, whose iterations revisit its fine times; 1 by default).
-  void keep_loads(int times) { _load_times = static_cast<std::size_t>(std::max(times, 1)); }
+  void keep_loads(int times) { _loads->keep(times); }
 
   /// The matrix depends on dt: reassembled (and refactorised at the next
   /// solve) after set_time_step changed the "dt" constant.
@@ -63,29 +64,27 @@ public:
   double assembly_time = 0; // right-hand sides
 
 private:
-  /// The assembled loads at time t (source, boundary pressure, gravity).
-  std::span<const double> loads(double t);
+  void make_spaces(const Domain& domain, const CompiledForms& forms,
+                   std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
+  void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);
+  template <class Make>
+  void make_coupling_operators(const CompiledForms& forms, const Make& make,
+                               std::shared_ptr<const dolfinx::fem::FunctionSpace> V, double L);
   /// The flux and pressure DOFs of W: the splits of an iterative solve.
   std::vector<Field> fields() const;
 
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _W, _Q, _Z;
   std::vector<std::int32_t> _Q_to_W, _Z_to_W;
-  std::shared_ptr<dolfinx::fem::Function<double>> _w, _source, _p_boundary;
+  std::shared_ptr<dolfinx::fem::Function<double>> _w;
   BCs _bcs;
-  std::shared_ptr<dolfinx::fem::Form<double>> _a, _a_storage, _a_stabilisation, _a_displacement, _L_source,
-      _L_gravity;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _a_storage, _a_stabilisation, _a_displacement;
   // Operators of the coupling terms (W x Q, W x Q, W x V) and work vectors.
   std::optional<dolfinx::la::petsc::Matrix> _storage, _stabilisation, _displacement;
   std::unique_ptr<dolfinx::la::Vector<double>> _dp, _du;
-  std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
-  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
   std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b;
-  bool _loads_depend_on_time = false;
-  // The loads of the last _load_times times, oldest first.
-  std::deque<std::pair<double, std::unique_ptr<dolfinx::la::Vector<double>>>> _loads;
-  std::size_t _load_times = 1;
+  std::unique_ptr<Loads> _loads; // source, boundary pressures, gravity
 };
 
 } // namespace biotcontact

@@ -8,6 +8,7 @@
 #include "domain/domain.h"
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
+#include "assembly/loads.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
 
@@ -53,23 +54,20 @@ public:
   double assembly_time = 0; // right-hand sides
 
 private:
+  void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);
+  void attach_contact(const Domain& domain, const CompiledForms& forms);
   void assemble_rhs(double t);
 
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _V;
   BCs _bcs;
   std::vector<DisplacementValue> _bc_values;
-  std::shared_ptr<dolfinx::fem::Function<double>> _body_force, _traction;
-  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_body;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a;
   std::shared_ptr<const dolfinx::fem::Function<double>> _pressure;
   std::optional<dolfinx::la::petsc::Matrix> _pressure_load; // V x Q
-  std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
-  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
   std::unique_ptr<System> _system;
-  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
-  bool _loads_depend_on_time = false;
-  bool _loads_assembled = false;
-  double _loads_time = -1;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b;
+  std::unique_ptr<Loads> _loads; // body force, tractions
 };
 
 } // namespace biotcontact

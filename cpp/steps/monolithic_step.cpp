@@ -37,79 +37,17 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
                                const Constants& constants)
     : _scene(scene)
 {
-  const auto& mesh = domain.mesh;
-  const int d = domain.dim();
-  _X = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.monolithic_space, "v_0", mesh));
-  V = collapse(*_X, 0, _V_to_X);
-  _Z = collapse(*_X, 1, _Z_to_X);
-  Q = collapse(*_X, 2, _Q_to_X);
-
-  _x = std::make_shared<fem::Function<double>>(_X);
-  u = std::make_shared<fem::Function<double>>(V);
-  pressure = std::make_shared<fem::Function<double>>(Q);
-  _u_old = std::make_shared<fem::Function<double>>(V);
-  _p_old = std::make_shared<fem::Function<double>>(Q);
-  interpolate(*pressure, {scene.flow->initial_pressure}, 0.0);
-  {
-    // The unknown starts from the initial state (the guess of a contact solve).
-    std::span<double> x = _x->x()->mutable_array();
-    for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
-      x[_Q_to_X[i]] = pressure->x()->array()[i];
-  }
-
+  make_spaces(domain, forms);
   auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(forms.flow_space, "resistivity", mesh)));
-  interpolate_resistivity(*R, *scene.flow, d);
-  auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", mesh));
-  _body_force = std::make_shared<fem::Function<double>>(V);
-  _traction = std::make_shared<fem::Function<double>>(V);
-  _source = std::make_shared<fem::Function<double>>(D);
-  _p_boundary = std::make_shared<fem::Function<double>>(D);
-  const Coefficients coefficients = {{"resistivity", R},       {"p_previous", _p_old},
-                                     {"u_window", _u_old},     {"body_force", _body_force},
-                                     {"traction", _traction},  {"source", _source},
-                                     {"p_boundary", _p_boundary}};
-  auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
-                  const mesh::MeshTags<std::int32_t>* marker = nullptr)
-  { return make_form(f, spaces, coefficients, constants, marker); };
-
+      fem::create_functionspace(forms.flow_space, "resistivity", domain.mesh)));
+  interpolate_resistivity(*R, *scene.flow, domain.dim());
+  const Coefficients coefficients = {{"resistivity", R}, {"p_previous", _p_old}, {"u_window", _u_old}};
   // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
   _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
   _bcs.push_back(no_flow_bc(scene, domain, _X->sub({1})));
-  _loads_depend_on_time = std::any_of(_bc_values.begin(), _bc_values.end(),
-                                      [](const auto& v) { return v.value->depends_on_time(); });
-
-  for (const auto& [name, b] : scene.boundaries)
-  {
-    if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
-    {
-      _markers.push_back(domain.marker(name));
-      _L_traction.emplace_back(&b.traction, make(forms.L_monolithic_traction, {_X}, _markers.back().get()));
-      for (const Expression& e : b.traction)
-        _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
-    }
-    if (b.flow == BoundarySpec::Flow::pressure)
-    {
-      _markers.push_back(domain.marker(name));
-      _L_pressure.emplace_back(&b.pressure, make(forms.L_monolithic_pressure, {_X}, _markers.back().get()));
-      _loads_depend_on_time = _loads_depend_on_time or b.pressure.depends_on_time();
-    }
-  }
-  _a = make(forms.a_monolithic, {_X, _X});
-  _L_history = make(forms.L_monolithic_history, {_X});
-  if (scene.mechanics->body_force)
-  {
-    _L_body = make(forms.L_monolithic_body_force, {_X});
-    for (const Expression& e : *scene.mechanics->body_force)
-      _loads_depend_on_time = _loads_depend_on_time or e.depends_on_time();
-  }
-  if (scene.flow->source)
-  {
-    _L_source = make(forms.L_monolithic_source, {_X});
-    _loads_depend_on_time = _loads_depend_on_time or scene.flow->source->depends_on_time();
-  }
-  if (scene.flow->gravity)
-    _L_gravity = make(forms.L_monolithic_gravity, {_X});
+  _a = make_form(forms.a_monolithic, {_X, _X}, coefficients, constants);
+  _L_history = make_form(forms.L_monolithic_history, {_X}, coefficients, constants);
+  make_loads(domain, forms, constants);
 
   // The coupled matrix depends on dt only: assembled and factorised once per
   // dt (and per inactive set with contact). Its pressure block -(S/dt) times
@@ -117,19 +55,72 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   // poroelastic Hertz scene): LU with pivoting. The iterative path is a
   // Krylov method preconditioned by the fixed-stress split (solver.h),
   // built from a_monolithic_preconditioner and split along fields().
-  _system = std::make_unique<System>(mesh->comm(), "monolithic_", _a, _bcs, Structure::general,
+  _system = std::make_unique<System>(domain.mesh->comm(), "monolithic_", _a, _bcs, Structure::general,
                                      scene.solver.monolithic, fields(),
-                                     make(forms.a_monolithic_preconditioner, {_X, _X}));
-  const auto& map = _X->dofmap()->index_map;
-  const int bs = _X->dofmap()->index_map_bs();
-  _b = std::make_unique<la::Vector<double>>(map, bs);
-  _b_loads = std::make_unique<la::Vector<double>>(map, bs);
+                                     make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants));
+  _b = std::make_unique<la::Vector<double>>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs());
+  if (scene.has_contact())
+    attach_contact(domain, forms);
+}
 
-  if (!scene.has_contact())
-    return;
-  // Contact: the bounds sit on the contact DOFs of the displacement block.
-  ContactSet set = locate_contact(scene, domain, forms, V);
-  const std::int32_t owned_X = bs * map->size_local();
+/// The mixed space X = P1^d x RT0 x P0, its collapsed parts with their maps
+/// into X, and the unknown, started from the initial state (the guess of a
+/// contact solve).
+void MonolithicStep::make_spaces(const Domain& domain, const CompiledForms& forms)
+{
+  _X = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.monolithic_space, "v_0", domain.mesh));
+  V = collapse(*_X, 0, _V_to_X);
+  _Z = collapse(*_X, 1, _Z_to_X);
+  Q = collapse(*_X, 2, _Q_to_X);
+  _x = std::make_shared<fem::Function<double>>(_X);
+  u = std::make_shared<fem::Function<double>>(V);
+  pressure = std::make_shared<fem::Function<double>>(Q);
+  _u_old = std::make_shared<fem::Function<double>>(V);
+  _p_old = std::make_shared<fem::Function<double>>(Q);
+  interpolate(*pressure, {_scene.flow->initial_pressure}, 0.0);
+  std::span<double> x = _x->x()->mutable_array();
+  for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
+    x[_Q_to_X[i]] = pressure->x()->array()[i];
+}
+
+/// Body force, tractions, source, boundary pressures and gravity, in that
+/// order, with the Dirichlet values at t (lifted with the history term).
+void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants)
+{
+  auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
+  auto body_force = std::make_shared<fem::Function<double>>(V), traction = std::make_shared<fem::Function<double>>(V);
+  auto source = std::make_shared<fem::Function<double>>(D), p_boundary = std::make_shared<fem::Function<double>>(D);
+  const Coefficients data
+      = {{"body_force", body_force}, {"traction", traction}, {"source", source}, {"p_boundary", p_boundary}};
+  auto make = [&](const ufcx_form* f, const mesh::MeshTags<std::int32_t>* marker = nullptr)
+  { return make_form(f, {_X}, data, constants, marker); };
+  _loads = std::make_unique<Loads>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs(),
+                                   [this](la::Vector<double>&, double t) { update(_bc_values, t); });
+  for (const auto& bc : _bc_values)
+    _loads->depends_on_time(bc.value->depends_on_time());
+  if (_scene.mechanics->body_force)
+    _loads->add(make(forms.L_monolithic_body_force), body_force, *_scene.mechanics->body_force);
+  for (const auto& [name, b] : _scene.boundaries)
+    if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
+      _loads->add_boundary(
+          domain, name, [&](const mesh::MeshTags<std::int32_t>* m) { return make(forms.L_monolithic_traction, m); },
+          traction, b.traction);
+  if (_scene.flow->source)
+    _loads->add(make(forms.L_monolithic_source), source, {*_scene.flow->source});
+  for (const auto& [name, b] : _scene.boundaries)
+    if (b.flow == BoundarySpec::Flow::pressure)
+      _loads->add_boundary(
+          domain, name, [&](const mesh::MeshTags<std::int32_t>* m) { return make(forms.L_monolithic_pressure, m); },
+          p_boundary, {b.pressure});
+  if (_scene.flow->gravity)
+    _loads->add(make(forms.L_monolithic_gravity));
+}
+
+/// Contact: the bounds sit on the contact DOFs of the displacement block.
+void MonolithicStep::attach_contact(const Domain& domain, const CompiledForms& forms)
+{
+  ContactSet set = locate_contact(_scene, domain, forms, V);
+  const std::int32_t owned_X = owned_size(*_X);
   const std::int32_t owned_V = owned_size(*V);
   std::vector<std::int32_t> dofs, displacement;
   for (std::int32_t dof : set.dofs)
@@ -139,9 +130,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   for (std::int32_t dof : dofs)
     if (dof >= owned_X)
       throw std::runtime_error("monolithic contact: a contact DOF owned in V is not owned in the mixed space");
-  contact_pressure = std::make_shared<fem::Function<double>>(set.output_space);
-  contact_active = std::make_shared<fem::Function<double>>(set.output_space);
-  contact_boundary = contact_boundary_flag(set);
+  make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
   _system->use_contact(std::move(set), std::move(dofs), std::move(displacement), wrap(*_b).vec());
 }
 
@@ -173,38 +162,6 @@ std::vector<Field> MonolithicStep::fields() const
   return {std::move(flow), std::move(mechanics)};
 }
 
-void MonolithicStep::assemble_loads(double t)
-{
-  if (_loads_assembled and (!_loads_depend_on_time or t == _loads_time))
-    return;
-  _b_loads->set(0.0);
-  if (_L_body)
-  {
-    interpolate(*_body_force, *_scene.mechanics->body_force, t);
-    add_vector(*_b_loads, *_L_body);
-  }
-  for (const auto& [traction, form] : _L_traction)
-  {
-    interpolate(*_traction, *traction, t);
-    add_vector(*_b_loads, *form);
-  }
-  if (_L_source)
-  {
-    interpolate(*_source, {*_scene.flow->source}, t);
-    add_vector(*_b_loads, *_L_source);
-  }
-  for (const auto& [value, form] : _L_pressure)
-  {
-    interpolate(*_p_boundary, {*value}, t);
-    add_vector(*_b_loads, *form);
-  }
-  if (_L_gravity)
-    add_vector(*_b_loads, *_L_gravity);
-  update(_bc_values, t);
-  _loads_time = t;
-  _loads_assembled = true;
-}
-
 void MonolithicStep::assemble_rhs(double t)
 {
   common::Timer assembly("assembly");
@@ -212,8 +169,8 @@ void MonolithicStep::assemble_rhs(double t)
   std::copy(u->x()->array().begin(), u->x()->array().end(), _u_old->x()->mutable_array().begin());
   std::copy(pressure->x()->array().begin(), pressure->x()->array().end(),
             _p_old->x()->mutable_array().begin());
-  assemble_loads(t);
-  std::copy(_b_loads->array().begin(), _b_loads->array().end(), _b->mutable_array().begin());
+  const la::Vector<double>& loads = _loads->at(t);
+  std::copy(loads.array().begin(), loads.array().end(), _b->mutable_array().begin());
   add_vector(*_b, *_L_history);
   finish_rhs(*_b, _a, _bcs);
   assembly_time += assembly.stop();

@@ -9,6 +9,7 @@
 #include "domain/domain.h"
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
+#include "assembly/loads.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
 
@@ -58,8 +59,10 @@ public:
 
 private:
   /// The right-hand side of a step to t from the state in u and pressure.
+  void make_spaces(const Domain& domain, const CompiledForms& forms);
+  void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);
+  void attach_contact(const Domain& domain, const CompiledForms& forms);
   void assemble_rhs(double t);
-  void assemble_loads(double t);
   /// The splits of (u, z, p) for the fixed-stress preconditioner: the flow
   /// (flux and pressure), then the mechanics with its rigid-body modes.
   std::vector<Field> fields() const;
@@ -67,18 +70,13 @@ private:
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _X, _Z;
   std::vector<std::int32_t> _V_to_X, _Z_to_X, _Q_to_X;
-  std::shared_ptr<dolfinx::fem::Function<double>> _x, _u_old, _p_old, _body_force, _traction, _source,
-      _p_boundary;
+  std::shared_ptr<dolfinx::fem::Function<double>> _x, _u_old, _p_old;
   BCs _bcs;
   std::vector<DisplacementValue> _bc_values;
-  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_history, _L_body, _L_source, _L_gravity;
-  std::vector<std::pair<const std::vector<Expression>*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_traction;
-  std::vector<std::pair<const Expression*, std::shared_ptr<dolfinx::fem::Form<double>>>> _L_pressure;
-  std::vector<std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>> _markers;
+  std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_history;
   std::unique_ptr<System> _system;
-  std::unique_ptr<dolfinx::la::Vector<double>> _b, _b_loads;
-  double _loads_time = -1;
-  bool _loads_assembled = false, _loads_depend_on_time = false;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b;
+  std::unique_ptr<Loads> _loads; // body force, tractions, source, boundary pressures, gravity
 };
 
 } // namespace biotcontact
