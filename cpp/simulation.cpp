@@ -73,7 +73,7 @@ Json contact_json(const ContactState& c)
 
 /// The relative L2 errors (and Terzaghi's settlement) at the final time
 /// against the scene's closed form, Terzaghi or Mandel.
-Json closed_form_errors(const Scene& scene, const Parameters& P, const Domain& domain, const CompiledForms& forms,
+Json closed_form_errors(const Scene& scene, const Parameters& parameters, const Domain& domain, const CompiledForms& forms,
                         std::shared_ptr<fem::Function<double>> u, std::shared_ptr<fem::Function<double>> p)
 {
   const int d = domain.dim();
@@ -89,13 +89,13 @@ Json closed_form_errors(const Scene& scene, const Parameters& P, const Domain& d
   std::optional<Mandel> mandel;
   if (ref.solution == "terzaghi")
   {
-    terzaghi.emplace(Terzaghi{ref.height, P.G, P.lambda, P.alpha, P.storage, mobility, ref.load});
+    terzaghi.emplace(Terzaghi{ref.height, parameters.G, parameters.lambda, parameters.alpha, parameters.storage, mobility, ref.load});
     p_exact = [&](double, double y) { return terzaghi->pressure(y - y0, t); };
     u_exact = [&](double, double y) { return std::array<double, 2>{0.0, terzaghi->displacement(y - y0, t)}; };
   }
   else
   {
-    mandel.emplace(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lambda, P.alpha, P.storage, mobility,
+    mandel.emplace(scene.mesh.upper[0], scene.mesh.upper[1], parameters.G, parameters.lambda, parameters.alpha, parameters.storage, mobility,
                    ref.force);
     p_exact = [&](double x, double) { return mandel->pressure(x, t); };
     u_exact = [&](double x, double y)
@@ -227,7 +227,7 @@ Steps split_steps(const Scene& scene, const Domain& domain, const CompiledForms&
 {
   Steps s;
   if (scene.mechanics)
-    s.V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "u", domain.mesh));
+    s.V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "v_0", domain.mesh));
   if (scene.flow)
   {
     s.flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? s.V : nullptr);
@@ -462,7 +462,7 @@ private:
   Progress _progress;
   std::optional<Domain> _domain;
   const CompiledForms* _forms = nullptr;
-  Parameters _P;
+  Parameters _parameters;
   Constants _constants;
   std::string _left_out, _warnings;
   Steps _steps;
@@ -485,8 +485,8 @@ void Simulation::make_domain()
   _domain.emplace(create_domain(_scene, _comm));
   check_expressions(_scene, *_domain, _comm);
   _forms = &compiled_forms(_domain->mesh->topology().cell_type());
-  _P = derive_parameters(_scene);
-  _constants = make_constants(_scene, _P);
+  _parameters = derive_parameters(_scene);
+  _constants = make_constants(_scene, _parameters);
 }
 
 /// Says what the scene leaves out, and warns where the method is known to
@@ -516,13 +516,13 @@ void Simulation::describe()
   };
   if (_scene.mechanics)
   {
-    const double nu = _P.lambda / (2 * (_P.lambda + _P.G));
+    const double nu = _parameters.lambda / (2 * (_parameters.lambda + _parameters.G));
     if (nu > 0.49)
       warn("nu = " + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
            "(too stiff a response, worse on coarse meshes)");
   }
-  if (_scene.coupling and _scene.coupling->scheme != "monolithic" and _P.gamma > 0.99)
-    warn("gamma = " + std::to_string(_P.gamma) + " > 0.99: the contraction theorems guarantee almost "
+  if (_scene.coupling and _scene.coupling->scheme != "monolithic" and _parameters.gamma > 0.99)
+    warn("gamma = " + std::to_string(_parameters.gamma) + " > 0.99: the contraction theorems guarantee almost "
          "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)");
 }
 
@@ -593,7 +593,7 @@ WindowObserver Simulation::observer()
       _fields->write_mechanics(t);
     _completed_steps = step;
     _completed_time = t;
-    _progress.step(step, _grid.steps() / _P.q, t, iterations, _fields->contact.active_nodes);
+    _progress.step(step, _grid.steps() / _parameters.q, t, iterations, _fields->contact.active_nodes);
   };
   o.stop = [this] { return stop(); };
   o.retry = [this](const std::string& message) { _progress.say(message); };
@@ -613,13 +613,13 @@ WindowObserver Simulation::observer()
 void Simulation::time_loop()
 {
   const WindowObserver o = observer();
-  _progress.start_loop(_completed_steps, _grid.steps() / _P.q);
+  _progress.start_loop(_completed_steps, _grid.steps() / _parameters.q);
   try
   {
     if (_scene.coupling and !_steps.monolithic)
     {
       ContractionNorm contraction(*_forms, _steps.V, _steps.flow->pressure_space());
-      run_fixed_stress(_scene, _P, _constants, *_steps.flow, _steps.second_pass.get(), *_steps.mechanics,
+      run_fixed_stress(_scene, _parameters, _constants, *_steps.flow, _steps.second_pass.get(), *_steps.mechanics,
                        contraction, *_output, o, _report, _grid);
     }
     else
@@ -634,7 +634,7 @@ void Simulation::time_loop()
   {
     const int step = _completed_steps + 1;
     std::ostringstream s;
-    s << "step " << step << " (t = " << _grid.t[std::min<std::size_t>(step * _P.q, _grid.t.size() - 1)]
+    s << "step " << step << " (t = " << _grid.t[std::min<std::size_t>(step * _parameters.q, _grid.t.size() - 1)]
       << "): " << e.what();
     _failure = s.str();
     _report.windows = _completed_steps;
@@ -668,18 +668,18 @@ void Simulation::write_summary()
   Json summary;
   summary.set("scene", _scene.name)
       .set("scheme", c ? c->scheme : (_steps.flow ? "flow-only" : "mechanics-only"))
-      .set("q", _P.q)
+      .set("q", _parameters.q)
       .set("L_choice", c ? c->L_choice : "none")
       .set("acceleration", c and c->acceleration == "anderson" ? "anderson, depth " + std::to_string(c->depth)
                                                                : std::string("none"))
-      .set("L", _P.L)
-      .set("gamma", _P.gamma)
+      .set("L", _parameters.L)
+      .set("gamma", _parameters.gamma)
       .set("dofs", dofs)
       .set("dt", _scene.dt)
       .set("dt_growth", _scene.growth)
       .set("steps", _report.windows)
       .set("retries", _report.retries)
-      .set("fine_steps", _report.windows * _P.q)
+      .set("fine_steps", _report.windows * _parameters.q)
       .set("coupling_iterations", _report.coupling_iterations)
       .set("max_iterations_per_step", _report.max_iterations_per_step)
       .set("max_contraction_ratio", _report.max_contraction_ratio)
@@ -705,7 +705,7 @@ void Simulation::write_summary()
   if (_steps.contact_pressure)
     summary.set("contact", contact_json(_fields->contact));
   if (has_errors)
-    summary.set("errors", closed_form_errors(_scene, _P, *_domain, *_forms, _steps.u, _steps.p));
+    summary.set("errors", closed_form_errors(_scene, _parameters, *_domain, *_forms, _steps.u, _steps.p));
   if (!_failure.empty())
     summary.set("failure", _failure);
   _output->summary(summary);

@@ -8,50 +8,41 @@
 namespace biotcontact
 {
 
-// FFCx names every form form_<file>_<name>; the table is spelled out once
-// here for both compilations of forms/biot.py.
-#define BIOTCONTACT_FORMS(cell)                             \
-  CompiledForms                                             \
-  {                                                         \
-    form_biot_##cell##_a_elastic,                           \
-    form_biot_##cell##_a_pressure_load,                     \
-    form_biot_##cell##_L_body_force,                        \
-    form_biot_##cell##_L_traction,                          \
-    form_biot_##cell##_L_lumped_boundary,                   \
-    form_biot_##cell##_a_flow,                              \
-    form_biot_##cell##_a_flow_storage,                      \
-    form_biot_##cell##_a_flow_stabilisation,                \
-    form_biot_##cell##_a_flow_displacement,                 \
-    form_biot_##cell##_L_flow_source,                       \
-    form_biot_##cell##_L_flow_pressure,                     \
-    form_biot_##cell##_L_flow_gravity,                      \
-    form_biot_##cell##_a_divergence,                        \
-    form_biot_##cell##_L_cell_volume,                       \
-    form_biot_##cell##_L_sigma_v,                           \
-    form_biot_##cell##_M_pressure_error,                    \
-    form_biot_##cell##_M_pressure_reference,                \
-    form_biot_##cell##_M_displacement_error,                \
-    form_biot_##cell##_M_displacement_reference,            \
-    form_biot_##cell##_a_monolithic,                        \
-    form_biot_##cell##_a_monolithic_preconditioner,         \
-    form_biot_##cell##_L_monolithic_history,                \
-    form_biot_##cell##_L_monolithic_body_force,             \
-    form_biot_##cell##_L_monolithic_traction,               \
-    form_biot_##cell##_L_monolithic_source,                 \
-    form_biot_##cell##_L_monolithic_pressure,               \
-    form_biot_##cell##_L_monolithic_gravity,                \
-    functionspace_form_biot_##cell##_a_elastic,             \
-    functionspace_form_biot_##cell##_a_flow,                \
-    functionspace_form_biot_##cell##_L_flow_source,         \
-    functionspace_form_biot_##cell##_M_pressure_error,      \
-    functionspace_form_biot_##cell##_M_displacement_error,  \
-    functionspace_form_biot_##cell##_a_monolithic           \
-  }
+// FFCx names every form form_biot_<cell>_<name> and the space factories
+// of a form functionspace_form_biot_<cell>_<name>.
+#define BIOTCONTACT_SPACES(forms, cell)                                                        \
+  forms.displacement_space = functionspace_form_biot_##cell##_a_elastic;                      \
+  forms.flow_space = functionspace_form_biot_##cell##_a_flow;                                 \
+  forms.data_space = functionspace_form_biot_##cell##_L_flow_source;                          \
+  forms.pressure_reference_space = functionspace_form_biot_##cell##_M_pressure_error;         \
+  forms.displacement_reference_space = functionspace_form_biot_##cell##_M_displacement_error; \
+  forms.monolithic_space = functionspace_form_biot_##cell##_a_monolithic;
+
+namespace
+{
+CompiledForms triangle_forms()
+{
+  CompiledForms forms;
+#define BIOTCONTACT_TRIANGLE(name) forms.name = form_biot_triangle_##name;
+  BIOTCONTACT_FORMS(BIOTCONTACT_TRIANGLE)
+  BIOTCONTACT_SPACES(forms, triangle)
+  return forms;
+}
+
+CompiledForms tetrahedron_forms()
+{
+  CompiledForms forms;
+#define BIOTCONTACT_TETRAHEDRON(name) forms.name = form_biot_tetrahedron_##name;
+  BIOTCONTACT_FORMS(BIOTCONTACT_TETRAHEDRON)
+  BIOTCONTACT_SPACES(forms, tetrahedron)
+  return forms;
+}
+} // namespace
 
 const CompiledForms& compiled_forms(dolfinx::mesh::CellType cell)
 {
-  static const CompiledForms triangle = BIOTCONTACT_FORMS(triangle);
-  static const CompiledForms tetrahedron = BIOTCONTACT_FORMS(tetrahedron);
+  static const CompiledForms triangle = triangle_forms();
+  static const CompiledForms tetrahedron = tetrahedron_forms();
   switch (cell)
   {
   case dolfinx::mesh::CellType::triangle:

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "assembly/parameters.h"
+#include "biot_forms.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/FunctionSpace.h>
@@ -13,40 +14,19 @@
 namespace biotcontact
 {
 
-/// One compiled form per entry of forms/biot.py:FORM_NAMES.
+/// @brief The compiled forms of forms/biot.py for one cell type, by name.
+///
+/// One field per form of biot.py (the list BIOTCONTACT_FORMS is generated
+/// from it at build time), then the space factories the solver needs.
 struct CompiledForms
 {
-  ufcx_form* a_elastic;
-  ufcx_form* a_pressure_load;
-  ufcx_form* L_body_force;
-  ufcx_form* L_traction;
-  ufcx_form* L_lumped_boundary;
-  ufcx_form* a_flow;
-  ufcx_form* a_flow_storage;
-  ufcx_form* a_flow_stabilisation;
-  ufcx_form* a_flow_displacement;
-  ufcx_form* L_flow_source;
-  ufcx_form* L_flow_pressure;
-  ufcx_form* L_flow_gravity;
-  ufcx_form* a_divergence;
-  ufcx_form* L_cell_volume;
-  ufcx_form* L_sigma_v;
-  ufcx_form* M_pressure_error;
-  ufcx_form* M_pressure_reference;
-  ufcx_form* M_displacement_error;
-  ufcx_form* M_displacement_reference;
-  ufcx_form* a_monolithic;
-  ufcx_form* a_monolithic_preconditioner;
-  ufcx_form* L_monolithic_history;
-  ufcx_form* L_monolithic_body_force;
-  ufcx_form* L_monolithic_traction;
-  ufcx_form* L_monolithic_source;
-  ufcx_form* L_monolithic_pressure;
-  ufcx_form* L_monolithic_gravity;
+#define BIOTCONTACT_DECLARE_FORM(name) ufcx_form* name;
+  BIOTCONTACT_FORMS(BIOTCONTACT_DECLARE_FORM)
+#undef BIOTCONTACT_DECLARE_FORM
 
   // Function-space factories of the forms in which each space appears.
   using SpaceFactory = ufcx_function_space* (*)(const char*);
-  SpaceFactory displacement_space;           // "u" of a_elastic (P1 vector)
+  SpaceFactory displacement_space;           // "v_0" of a_elastic (P1 vector)
   SpaceFactory flow_space;                   // "v_0" (RT x P0), "resistivity" of a_flow
   SpaceFactory data_space;                   // "source" of L_flow_source (P1)
   SpaceFactory pressure_reference_space;     // "p_reference" (P2)

@@ -11,49 +11,49 @@ using dolfinx::fem::Constant;
 
 Parameters derive_parameters(const Scene& scene)
 {
-  Parameters P;
-  P.d = scene.mesh.dimension;
-  P.dt = scene.dt;
+  Parameters parameters;
+  parameters.d = scene.mesh.dimension;
+  parameters.dt = scene.dt;
   if (scene.mechanics)
   {
-    P.G = scene.mechanics->G;
-    P.lambda = scene.mechanics->lambda;
-    P.K_dr = P.lambda + 2 * P.G / P.d;
+    parameters.G = scene.mechanics->G;
+    parameters.lambda = scene.mechanics->lambda;
+    parameters.K_dr = parameters.lambda + 2 * parameters.G / parameters.d;
   }
   if (scene.flow)
-    P.storage = scene.flow->storage();
+    parameters.storage = scene.flow->storage();
   if (scene.coupling)
   {
     const CouplingSpec& c = *scene.coupling;
-    P.alpha = c.alpha;
-    P.q = c.q;
-    const double a2 = P.alpha * P.alpha;
+    parameters.alpha = c.alpha;
+    parameters.q = c.q;
+    const double a2 = parameters.alpha * parameters.alpha;
     if (c.L_choice == "paper")
-      P.L = a2 / P.lambda;
+      parameters.L = a2 / parameters.lambda;
     else if (c.L_choice == "kdr")
-      P.L = a2 / P.K_dr;
+      parameters.L = a2 / parameters.K_dr;
     else if (c.L_choice == "half-kdr")
-      P.L = a2 / (2 * P.K_dr);
+      parameters.L = a2 / (2 * parameters.K_dr);
     else
-      P.L = c.L_number;
-    P.gamma = a2 > 0 ? a2 / (a2 + P.lambda * P.storage) : 0.0;
+      parameters.L = c.L_number;
+    parameters.gamma = a2 > 0 ? a2 / (a2 + parameters.lambda * parameters.storage) : 0.0;
   }
-  return P;
+  return parameters;
 }
 
-Constants make_constants(const Scene& scene, const Parameters& P)
+Constants make_constants(const Scene& scene, const Parameters& parameters)
 {
   auto scalar = [](double v) { return std::make_shared<const Constant<double>>(v); };
   Constants c;
-  c["G"] = scalar(P.G);
-  c["lmbda"] = scalar(P.lambda);
-  c["alpha"] = scalar(P.alpha);
-  c["storage"] = scalar(P.storage);
-  c["L"] = scalar(P.L);
-  c["dt"] = scalar(P.dt);
-  c["q"] = scalar(P.q);
-  c["ones"] = std::make_shared<const Constant<double>>(std::vector<double>(P.d, 1.0));
-  std::vector<double> g(P.d, 0.0);
+  c["G"] = scalar(parameters.G);
+  c["lmbda"] = scalar(parameters.lambda);
+  c["alpha"] = scalar(parameters.alpha);
+  c["storage"] = scalar(parameters.storage);
+  c["L"] = scalar(parameters.L);
+  c["dt"] = scalar(parameters.dt);
+  c["q"] = scalar(parameters.q);
+  c["ones"] = std::make_shared<const Constant<double>>(std::vector<double>(parameters.d, 1.0));
+  std::vector<double> g(parameters.d, 0.0);
   double rho_f = 0;
   if (scene.flow and scene.flow->gravity)
   {

@@ -131,7 +131,6 @@ void AndersonAcceleration::next(State& x, const State& g)
     if (cholesky_solve(H, c, m))
       break;
   }
-  _used = m;
   x = g;
   for (int i = 0; i < m; ++i)
   {

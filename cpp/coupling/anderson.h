@@ -41,9 +41,6 @@ public:
   /// The next iterate from x and g = G(x); x is overwritten with it.
   void next(State& x, const State& g);
 
-  /// History columns used by the last next() (0: a plain iteration).
-  int columns_used() const { return _used; }
-
 private:
   double dot(const State& a, const State& b) const;
   MPI_Comm _comm;
@@ -56,7 +53,6 @@ private:
   State _f, _g;
   std::deque<State> _dF, _dG;
   std::deque<std::deque<double>> _gram;
-  int _used = 0;
 };
 
 } // namespace biotcontact

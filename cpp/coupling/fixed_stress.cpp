@@ -131,12 +131,12 @@ struct Increments
 class FixedStressSplit
 {
 public:
-  FixedStressSplit(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
+  FixedStressSplit(const Scene& scene, const Parameters& parameters, const Constants& constants, FlowStep& flow,
                    FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                    const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
-      : _scene(scene), _coupling(*scene.coupling), _P(P), _constants(constants), _flow(flow),
+      : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants), _flow(flow),
         _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
-        _observer(observer), _report(report), _grid(grid), _q(P.q), _V(*mechanics.space()),
+        _observer(observer), _report(report), _grid(grid), _q(parameters.q), _V(*mechanics.space()),
         _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
   {
   }
@@ -170,7 +170,7 @@ private:
 
   const Scene& _scene;
   const CouplingSpec& _coupling;
-  const Parameters& _P;
+  const Parameters& _parameters;
   const Constants& _constants;
   FlowStep& _flow;
   FlowStep* _second_pass;
@@ -287,9 +287,9 @@ Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
   for (int m = 1; m <= _q; ++m)
   {
     const Array dp = difference(w.p_new[m], w.p_old[m]);
-    if (_P.L > 0)
+    if (_parameters.L > 0)
     {
-      const double t2 = _contraction(_P.alpha / (_q * _P.L), inc.du, 1.0, difference(dp, dp_previous));
+      const double t2 = _contraction(_parameters.alpha / (_q * _parameters.L), inc.du, 1.0, difference(dp, dp_previous));
       inc.theorem2 += t2 * t2;
     }
     dp_previous = dp;
@@ -297,11 +297,11 @@ Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
     inc.dp2 += dpn * dpn;
     inc.p2 += pn * pn;
   }
-  inc.theorem2 = _P.L > 0 ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
+  inc.theorem2 = _parameters.L > 0 ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
   if (_coupling.multirate())
     inc.dsigma = inc.theorem2;
   else
-    inc.dsigma = _contraction(_P.lambda, inc.du, _P.alpha, difference(w.p_new[1], w.p_old[1]));
+    inc.dsigma = _contraction(_parameters.lambda, inc.du, _parameters.alpha, difference(w.p_new[1], w.p_old[1]));
   inc.ratio = n > 0 ? inc.dsigma / w.dsigma_previous : std::numeric_limits<double>::quiet_NaN();
   return inc;
 }
@@ -322,8 +322,8 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
   const double ratio = inc.ratio;
   if (n == 0)
     w.dsigma_first = inc.dsigma;
-  const double size = _coupling.multirate() ? _contraction(_P.alpha / (_q * _P.L), w.u_new, 1.0, w.p_new[_q])
-                                            : _contraction(_P.lambda, w.u_new, _P.alpha, w.p_new[1]);
+  const double size = _coupling.multirate() ? _contraction(_parameters.alpha / (_q * _parameters.L), w.u_new, 1.0, w.p_new[_q])
+                                            : _contraction(_parameters.lambda, w.u_new, _parameters.alpha, w.p_new[1]);
   const bool resolved = !_accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
                         and inc.dsigma >= round_off_fraction * size;
   if (n > 0 and !resolved)
@@ -333,7 +333,7 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
     _report.max_contraction_ratio = std::max(_report.max_contraction_ratio, ratio);
     _report.ratio_sum += ratio;
     ++_report.ratios;
-    if (ratio > _P.gamma)
+    if (ratio > _parameters.gamma)
       ++_report.bound_violations;
   }
   w.dsigma_previous = inc.dsigma;
@@ -349,7 +349,7 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   _report.u_size = std::max(_report.u_size, owned_norm(w.u_new, _V));
   const double dp_norm = relative(std::sqrt(inc.dp2), _report.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
-  _output.iteration({w.K + 1, t(w.K, _q), n + 1, inc.dsigma, inc.ratio, _P.gamma, dp_norm, du_norm,
+  _output.iteration({w.K + 1, t(w.K, _q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
                      _mechanics.active_contact_nodes()});
   if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
@@ -392,12 +392,12 @@ void FixedStressSplit::next_iterate(Window& w)
 /// = L delta sigma^{n+1,m}; relative to the fluid content change.
 void FixedStressSplit::record_coupled_residual(const Window& w, const Increments& inc)
 {
-  if (_P.L <= 0)
+  if (_parameters.L <= 0)
     return;
   const double change
-      = _contraction(_P.alpha, difference(w.u_new, _u_K), -_P.storage, difference(w.p_new[_q], _p_K));
+      = _contraction(_parameters.alpha, difference(w.u_new, _u_K), -_parameters.storage, difference(w.p_new[_q], _p_K));
   _report.max_coupled_residual
-      = std::max(_report.max_coupled_residual, change > 0 ? _P.L * inc.theorem2 / change : 0.0);
+      = std::max(_report.max_coupled_residual, change > 0 ? _parameters.L * inc.theorem2 / change : 0.0);
 }
 
 /// One coupling iteration n of window w; true when it converged.
@@ -514,11 +514,11 @@ void FixedStressSplit::run()
 
 } // namespace
 
-void run_fixed_stress(const Scene& scene, const Parameters& P, const Constants& constants, FlowStep& flow,
+void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants, FlowStep& flow,
                       FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
 {
-  FixedStressSplit(scene, P, constants, flow, second_pass, mechanics, contraction, output, observer, report, grid)
+  FixedStressSplit(scene, parameters, constants, flow, second_pass, mechanics, contraction, output, observer, report, grid)
       .run();
 }
 

@@ -95,22 +95,9 @@ double Mandel::pressure(double x, double t) const
   return 2 * _F * B * (1 + nu_u) / (3 * _a) * sum;
 }
 
-double Mandel::displacement_x(double x, double t) const
-{
-  double s1 = 0, s2 = 0;
-  for (double an : _roots)
-  {
-    const double D = an - std::sin(an) * std::cos(an);
-    const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
-    if (E < series_cut)
-      break;
-    s1 += std::sin(an) * std::cos(an) / D * E;
-    s2 += std::cos(an) / D * std::sin(an * x / _a) * E;
-  }
-  return (_F * nu / (2 * _G * _a) - _F * nu_u / (_G * _a) * s1) * x + _F / _G * s2;
-}
-
-double Mandel::displacement_y(double y, double t) const
+/// The series sum_n sin a_n cos a_n / (a_n - sin a_n cos a_n) E_n(t) of
+/// both displacements (the plate's part).
+double Mandel::plate_series(double t) const
 {
   double s1 = 0;
   for (double an : _roots)
@@ -121,7 +108,26 @@ double Mandel::displacement_y(double y, double t) const
       break;
     s1 += std::sin(an) * std::cos(an) / D * E;
   }
-  return (-_F * (1 - nu) / (2 * _G * _a) + _F * (1 - nu_u) / (_G * _a) * s1) * y;
+  return s1;
+}
+
+double Mandel::displacement_x(double x, double t) const
+{
+  double s2 = 0;
+  for (double an : _roots)
+  {
+    const double D = an - std::sin(an) * std::cos(an);
+    const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
+    if (E < series_cut)
+      break;
+    s2 += std::cos(an) / D * std::sin(an * x / _a) * E;
+  }
+  return (_F * nu / (2 * _G * _a) - _F * nu_u / (_G * _a) * plate_series(t)) * x + _F / _G * s2;
+}
+
+double Mandel::displacement_y(double y, double t) const
+{
+  return (-_F * (1 - nu) / (2 * _G * _a) + _F * (1 - nu_u) / (_G * _a) * plate_series(t)) * y;
 }
 
 } // namespace biotcontact

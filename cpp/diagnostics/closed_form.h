@@ -38,6 +38,7 @@ public:
   double nu, nu_u, B, consolidation_coefficient;
 
 private:
+  double plate_series(double t) const;
   double _a, _b, _G, _F;
   std::vector<double> _roots; // alpha_n: tan(a_n) = (1 - nu)/(nu_u - nu) a_n
 };

@@ -28,6 +28,7 @@ Expression::Expression(double value) : _value(value)
 Expression::Expression(const std::string& text) : _text(text)
 {
   auto p = std::make_shared<Parser>();
+  bool depends_on_space = false;
   try
   {
     p->parser.DefineVar("x", &p->x);
@@ -42,21 +43,21 @@ Expression::Expression(const std::string& text) : _text(text)
       if (name == "t")
         _depends_on_time = true;
       else
-        _depends_on_space = true;
+        depends_on_space = true;
     }
   }
   catch (const mu::Parser::exception_type& e)
   {
     throw std::invalid_argument("cannot parse expression \"" + text + "\": " + e.GetMsg());
   }
-  if (!_depends_on_time && !_depends_on_space)
+  if (!_depends_on_time and !depends_on_space)
     _value = p->parser.Eval();
   else
     _parser = p;
 }
 
 Expression::Expression(std::function<double(double, double, double, double)> f, const std::string& text)
-    : _function(std::move(f)), _depends_on_time(true), _depends_on_space(true), _text(text)
+    : _function(std::move(f)), _depends_on_time(true), _text(text)
 {
 }
 

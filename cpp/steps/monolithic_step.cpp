@@ -41,7 +41,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(forms.flow_space, "resistivity", domain.mesh)));
   interpolate_resistivity(*R, *scene.flow, domain.dim());
-  const Coefficients coefficients = {{"resistivity", R}, {"p_previous", _p_old}, {"u_window", _u_old}};
+  const Coefficients coefficients = {{"resistivity", R}, {"p_old", _p_old}, {"u_old", _u_old}};
   // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
   _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
   _bcs.push_back(no_flow_bc(scene, domain, _X->sub({1})));

@@ -37,7 +37,6 @@ class AndersonAcceleration:
     def __init__(self, comm, depth, owned, weights):
         self.comm, self.depth, self.owned, self.weights = comm, depth, owned, weights
         self.restart()
-        self.used = 0
 
     def restart(self):
         """Forgets the history (a new contact active set: another map)."""
@@ -75,7 +74,6 @@ class AndersonAcceleration:
             if c is not None:
                 break
             m -= 1
-        self.used = m
         result = [gk.copy() for gk in g]
         for i in range(m):
             for k, d in enumerate(self.dG[available - m + i]):

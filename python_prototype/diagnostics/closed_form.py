@@ -101,19 +101,23 @@ class Mandel:
                              * (np.cos(an * x / self.a) - math.cos(an)) * self._decay(an, t))
         return 2 * self.F * self.B * (1 + self.nu_u) / (3 * self.a) * total
 
-    def displacement_x(self, x, t):
-        s1, s2 = 0.0, 0.0
-        for an in self._terms(t):
-            D, E = an - math.sin(an) * math.cos(an), self._decay(an, t)
-            s1 += math.sin(an) * math.cos(an) / D * E
-            s2 = s2 + math.cos(an) / D * np.sin(an * x / self.a) * E
-        F, G, a = self.F, self.G, self.a
-        return (F * self.nu / (2 * G * a) - F * self.nu_u / (G * a) * s1) * x + F / G * s2
-
-    def displacement_y(self, y, t):
+    def _plate_series(self, t):
+        """sum_n sin a_n cos a_n / (a_n - sin a_n cos a_n) E_n(t), the plate's
+        part of both displacements."""
         s1 = 0.0
         for an in self._terms(t):
             D = an - math.sin(an) * math.cos(an)
             s1 += math.sin(an) * math.cos(an) / D * self._decay(an, t)
+        return s1
+
+    def displacement_x(self, x, t):
+        s2 = 0.0
+        for an in self._terms(t):
+            D, E = an - math.sin(an) * math.cos(an), self._decay(an, t)
+            s2 = s2 + math.cos(an) / D * np.sin(an * x / self.a) * E
         F, G, a = self.F, self.G, self.a
-        return (-F * (1 - self.nu) / (2 * G * a) + F * (1 - self.nu_u) / (G * a) * s1) * y
+        return (F * self.nu / (2 * G * a) - F * self.nu_u / (G * a) * self._plate_series(t)) * x + F / G * s2
+
+    def displacement_y(self, y, t):
+        F, G, a = self.F, self.G, self.a
+        return (-F * (1 - self.nu) / (2 * G * a) + F * (1 - self.nu_u) / (G * a) * self._plate_series(t)) * y

@@ -25,7 +25,7 @@ class MonolithicStep:
         self.Z, self.Z_to_X = X.sub(1).collapse()
         self.x, self.z = fem.Function(X), fem.Function(self.Z)
         self.u, self.pressure = fem.Function(self.V), fem.Function(self.Q)
-        self.u_old, self.p_old = F["u_window"], F["p_previous"]
+        self.u_old, self.p_old = F["u_old"], F["p_old"]
         interpolate(self.pressure, [scene.flow.initial_pressure], 0.0)
         self.x.x.array[self.Q_to_X] = self.pressure.x.array  # the first guess of a contact solve
         interpolate_resistivity(F["resistivity"], scene.flow, domain.dim)
