@@ -1,5 +1,5 @@
 // Anderson acceleration of the fixed-stress iteration (coupling.acceleration
-// = "anderson"; beyond the paper, ../shared/docs/coupling-notes.md).
+// = "anderson"; beyond the paper, docs/theory.md, "Anderson acceleration").
 //
 // The split is a fixed-point iteration x^{n+1} = G(x^n) on the state of a
 // window, x = (p^1, ..., p^q, u): the flow pass reads the pressures of the

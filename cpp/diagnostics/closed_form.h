@@ -1,4 +1,4 @@
-// Closed-form solutions (../shared/docs/benchmarks.md) for verification.
+// Closed-form solutions for verification (docs/verification.md).
 #pragma once
 
 #include <vector>
@@ -8,7 +8,7 @@ namespace biotcontact
 
 /// Terzaghi consolidation of a column of height h, base at z = 0 fixed and
 /// impermeable, top drained and loaded by the compressive traction `load`
-/// from t = 0+ (benchmarks.md, "Terzaghi consolidation").
+/// from t = 0+ (docs/verification.md, "Terzaghi").
 struct Terzaghi
 {
   double h, G, lambda, alpha, storage, mobility, load; // mobility = k/mu_f
@@ -26,7 +26,7 @@ struct Terzaghi
 /// Mandel's problem in plane strain on the quarter 0 <= x <= a, 0 <= y <= b
 /// (symmetry on x = 0 and y = 0), drained at x = a, a compressive force 2F
 /// per unit thickness through a rigid frictionless plate at y = b, applied
-/// at t = 0+ (benchmarks.md, "Mandel's problem").
+/// at t = 0+ (docs/verification.md, "Mandel").
 class Mandel
 {
 public:

@@ -62,7 +62,7 @@ class Mandel:
     """Mandel's problem in plane strain on the quarter 0 <= x <= a, 0 <= y <= b
     (symmetry on x = 0 and y = 0), drained at x = a, a compressive force 2F
     per unit thickness through a rigid frictionless plate at y = b, applied
-    at t = 0+ (benchmarks.md, "Mandel's problem")."""
+    at t = 0+ (docs/verification.md, "Mandel")."""
 
     def __init__(self, a, b, G, lmbda, alpha, storage, mobility, F):
         self.a, self.b, self.G, self.F = a, b, G, F

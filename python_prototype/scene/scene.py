@@ -557,6 +557,24 @@ def _read_coupling(s, mech, flow):
 
 def read_scene(file, overrides=()):
     """Reads and validates a scene; `overrides` are "key.path=value" strings."""
+    root = _parse_scene(file, overrides)
+    scene = Scene(file=file)
+    top = Section(root, "", file)
+    _read_meta(top, scene)
+    scene.mesh = _read_mesh(top.section("mesh", True), file)
+    _read_physics(top, scene)
+    _read_time(top, scene)
+    _read_output(top.section("output", False), scene)
+    _read_solver(top.section("solver", False), scene.solver)
+    _read_boundaries(top.section("boundary", False), scene)
+    if top.has("reference"):
+        _read_reference(top.section("reference", True), scene)
+    top.finish()
+    return scene
+
+
+def _parse_scene(file, overrides):
+    """The scene file as a dict, with the --set overrides applied."""
     if not os.path.isfile(file):
         raise SceneError(f"{file}: scene file not found")
     try:
@@ -568,18 +586,20 @@ def read_scene(file, overrides=()):
         raise SceneError(f"{file}:{line}: invalid TOML: {description}") from None
     for o in overrides:
         apply_override(root, o, file)
+    return root
 
-    scene = Scene(file=file)
-    top = Section(root, "", file)
 
+def _read_meta(top, scene):
+    """[scene]: the name (the file's stem by default) and description."""
     meta = top.section("scene", False)
-    scene.name = meta.string("name", os.path.splitext(os.path.basename(file))[0])
+    scene.name = meta.string("name", os.path.splitext(os.path.basename(scene.file))[0])
     scene.description = meta.string("description", "")
     meta.finish()
 
-    scene.mesh = _read_mesh(top.section("mesh", True), file)
-    d = scene.mesh.dimension
 
+def _read_physics(top, scene):
+    """[mechanics], [flow] and, when both are there, [coupling]."""
+    d = scene.mesh.dimension
     if top.has("mechanics"):
         scene.mechanics = _read_mechanics(top.section("mechanics", True), d)
     if top.has("flow"):
@@ -591,6 +611,10 @@ def read_scene(file, overrides=()):
     elif top.has("coupling"):
         top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled")
 
+
+def _read_time(top, scene):
+    """[time]: the end, the first step, its growth and the retries; the steps
+    must be whole, at most MAX_STEPS and, with q > 1, whole windows."""
     time = top.section("time", True)
     scene.end_time = time.number("end")
     scene.dt = time.number("dt")
@@ -615,23 +639,31 @@ def read_scene(file, overrides=()):
     if scene.coupling and scene.num_steps() % scene.coupling.q != 0:
         top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q")
 
-    output = top.section("output", False)
+
+def _read_output(output, scene):
+    """[output]: XDMF on or off and the checkpoint interval."""
     scene.write_xdmf = output.boolean("xdmf", True)
     scene.checkpoint_every = output.integer("checkpoint_every", 0)
     if scene.checkpoint_every < 0:
         output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)")
     output.finish()
 
-    solver = top.section("solver", False)
+
+def _read_solver(solver, choices):
+    """[solver]: direct, iterative or auto for each system, and inexact coupling."""
     for key in ("flow", "mechanics", "monolithic"):
         choice = solver.string(key, "auto")
         if choice not in ("direct", "iterative", "auto"):
             solver.fail(key, 'must be "direct", "iterative" or "auto"')
-        setattr(scene.solver, key, choice)
-    scene.solver.inexact_coupling = solver.boolean("inexact_coupling", True)
+        setattr(choices, key, choice)
+    choices.inexact_coupling = solver.boolean("inexact_coupling", True)
     solver.finish()
 
-    boundaries = top.section("boundary", False)
+
+def _read_boundaries(boundaries, scene):
+    """[boundary.NAME]: built-in meshes know their boundaries' names; a gmsh
+    mesh's are checked against its physical groups when the domain is made."""
+    d = scene.mesh.dimension
     names = builtin_boundary_names(d)
     for name in boundaries.keys():
         if scene.mesh.type != "gmsh" and name not in names:
@@ -644,40 +676,43 @@ def read_scene(file, overrides=()):
         scene.boundaries[name] = b
     boundaries.finish()
 
-    if top.has("reference"):
-        r = top.section("reference", True)
-        ref = ReferenceSpec(solution=r.string("solution"))
-        if ref.solution not in ("terzaghi", "mandel", "none"):
-            r.fail("solution", 'must be "terzaghi", "mandel" or "none"')
-        if ref.solution == "none":  # switches the comparison off (e.g. from --set)
-            r.used.update(r.keys())
-            r.finish()
-            top.finish()
-            return scene
-        if not scene.coupling or scene.mesh.type != "rectangle":
-            r.fail("solution", ref.solution + " needs a coupled scene on a rectangle")
-        if scene.flow.permeability is None or not scene.flow.permeability.is_constant:
-            r.fail("solution", ref.solution + " needs a constant scalar flow.permeability")
-        if ref.solution == "terzaghi":
-            ref.load = r.number("load")
-            ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]
-        else:
-            # The rigid frictionless plate is imposed as the exact u_y on the
-            # top (the usual Mandel set-up; benchmarks.md).
-            ref.force = r.number("force")
-            ref.plate = r.string("plate", "top")
-            if scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0:
-                r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)")
-            plate = scene.boundaries.get(ref.plate)
-            if plate is None or plate.mechanics != "traction_free":
-                r.fail("plate", "must name a boundary with no mechanics condition of its own")
-            f = scene.flow
-            mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
-                            scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, ref.force)
-            plate.mechanics = "displacement"
-            plate.displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),
-                                                        "Mandel's exact plate displacement")
+
+def _impose_mandel_plate(r, scene, ref):
+    """Mandel's rigid frictionless plate, imposed as the exact u_y on the
+    boundary ref.plate (the usual set-up; docs/verification.md)."""
+    if scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0:
+        r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)")
+    plate = scene.boundaries.get(ref.plate)
+    if plate is None or plate.mechanics != "traction_free":
+        r.fail("plate", "must name a boundary with no mechanics condition of its own")
+    f = scene.flow
+    mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
+                    scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, ref.force)
+    plate.mechanics = "displacement"
+    plate.displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),
+                                                "Mandel's exact plate displacement")
+
+
+def _read_reference(r, scene):
+    """[reference]: the closed form the run is compared with ("none" switches
+    the comparison of a reference scene off, e.g. from --set)."""
+    ref = ReferenceSpec(solution=r.string("solution"))
+    if ref.solution not in ("terzaghi", "mandel", "none"):
+        r.fail("solution", 'must be "terzaghi", "mandel" or "none"')
+    if ref.solution == "none":
+        r.used.update(r.keys())
         r.finish()
-        scene.reference = ref
-    top.finish()
-    return scene
+        return
+    if not scene.coupling or scene.mesh.type != "rectangle":
+        r.fail("solution", ref.solution + " needs a coupled scene on a rectangle")
+    if scene.flow.permeability is None or not scene.flow.permeability.is_constant:
+        r.fail("solution", ref.solution + " needs a constant scalar flow.permeability")
+    if ref.solution == "terzaghi":
+        ref.load = r.number("load")
+        ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]
+    else:
+        ref.force = r.number("force")
+        ref.plate = r.string("plate", "top")
+        _impose_mandel_plate(r, scene, ref)
+    r.finish()
+    scene.reference = ref
