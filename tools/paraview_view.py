@@ -19,6 +19,8 @@ from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, 
                              GetScalarBar, OpenDataFile, ResetCamera, SaveScreenshot, Show, Text, WarpByVector)
 
 
+RESOLUTION = [1400, 700]  # the screenshot, in pixels
+
 def expected(xdmf):
     """(times, point arrays, cell arrays) as the XDMF declares them."""
     tree = ET.parse(xdmf)
@@ -62,6 +64,9 @@ def screenshot(reader, xdmf, path, color):
     scene.UpdateAnimationUsingDataTimeSteps()
     scene.AnimationTime = times[-1]
     view = GetActiveViewOrCreate("RenderView")
+    # Rendered at the size of the picture: a smaller view scaled up to it
+    # scales the fonts too, and cut the title off at both edges.
+    view.ViewSize = RESOLUTION
     source = reader
     if "displacement" in point:
         source = WarpByVector(Input=reader)
@@ -83,8 +88,8 @@ def screenshot(reader, xdmf, path, color):
     bar.Orientation = "Horizontal"
     bar.WindowLocation = "Lower Right Corner"
     bar.ScalarBarLength = 0.3
-    bar.TitleFontSize = 12
-    bar.LabelFontSize = 12
+    bar.TitleFontSize = 24
+    bar.LabelFontSize = 22
     bar.Title = color
     bar.ComponentTitle = ""
     display.SetScalarBarVisibility(view, True)
@@ -94,12 +99,12 @@ def screenshot(reader, xdmf, path, color):
                  + (f", displacement x {source.ScaleFactor:.3g}" if source is not reader else ""))
     label_display = Show(label, view)
     label_display.WindowLocation = "Upper Center"
-    label_display.FontSize = 14
+    label_display.FontSize = 30
     view.OrientationAxesVisibility = 0
     view.InteractionMode = "2D"
     ResetCamera(view)
-    view.CameraParallelScale *= 0.75
-    SaveScreenshot(path, view, ImageResolution=[1400, 700])
+    view.CameraParallelScale *= 0.6
+    SaveScreenshot(path, view, ImageResolution=RESOLUTION)
     print("wrote " + path)
     return 0
 
