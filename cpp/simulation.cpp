@@ -426,7 +426,7 @@ class Simulation
 {
 public:
   Simulation(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
-      : _scene(scene), _directory(directory), _comm(comm), _control(control), _progress(comm)
+      : _scene(scene), _directory(directory), _comm(comm), _control(control), _progress(comm, scene.progress_interval)
   {
   }
 
@@ -450,6 +450,7 @@ private:
   void open_output();
   void start_or_restore();
   WindowObserver observer();
+  void report_newton_steps();
   void time_loop();
   bool stop();
   void write_summary();
@@ -607,12 +608,26 @@ WindowObserver Simulation::observer()
   return o;
 }
 
+/// A contact solve longer than 10 s (a large monolithic step) prints its
+/// Newton steps as it goes, like the coupling iterations of the split.
+void Simulation::report_newton_steps()
+{
+  for (const auto& [name, system] : _steps.systems())
+    if (system and system->has_contact())
+      system->contact().on_newton_step = [this, name = std::string(name)](int iteration)
+      {
+        _progress.heartbeat("step " + std::to_string(_completed_steps + 1) + ": " + name + " contact Newton step "
+                            + std::to_string(iteration));
+      };
+}
+
 /// The steps from t = 0 (or the checkpoint) to the end: the fixed-stress
 /// split, or one solve per step. A failure ends the loop with what was
 /// finished written; it names the step it was computing.
 void Simulation::time_loop()
 {
   const WindowObserver o = observer();
+  report_newton_steps();
   _progress.start_loop(_completed_steps, _grid.steps() / _parameters.q);
   try
   {

@@ -309,6 +309,8 @@ PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, 
     int differs = self->_pending != self->_used, any = 0;
     MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
     self->_set_repeated = !any;
+    if (self->on_newton_step)
+      self->on_newton_step(static_cast<int>(iteration));
   }
   return 0;
 }

@@ -17,6 +17,7 @@
 #include "solvers/solver.h"
 
 #include <dolfinx/fem/Function.h>
+#include <functional>
 #include <memory>
 #include <petscsnes.h>
 #include <string>
@@ -149,6 +150,10 @@ public:
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
   long active_set_changes = 0;
+
+  /// Called after each Newton step with its number: a long solve's sign of
+  /// life (the run's progress line).
+  std::function<void(int)> on_newton_step;
 
 private:
   void condense();

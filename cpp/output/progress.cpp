@@ -29,8 +29,8 @@ bool is_rank0(MPI_Comm comm)
   return rank == 0;
 }
 
-Progress::Progress(MPI_Comm comm)
-    : _root(is_rank0(comm)), _start(Clock::now()), _loop_start(_start), _last_line(_start)
+Progress::Progress(MPI_Comm comm, double interval)
+    : _root(is_rank0(comm)), _interval(interval), _start(Clock::now()), _loop_start(_start), _last_line(_start)
 {
 }
 
@@ -62,7 +62,7 @@ void Progress::step(int step, int total, double t, int iterations, int active_no
 
 void Progress::heartbeat(const std::string& what)
 {
-  if (std::chrono::duration<double>(Clock::now() - _last_line).count() >= 10.0)
+  if (std::chrono::duration<double>(Clock::now() - _last_line).count() >= _interval)
     say("  ... " + what + "  [" + duration(elapsed()) + "]");
 }
 

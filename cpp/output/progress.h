@@ -1,6 +1,7 @@
 // What a run prints while it runs: one line per completed step with the wall
-// time so far and an estimate of the time left, and a line every 10 s within
-// a step that runs longer, so that a long 3D run never looks hung.
+// time so far and an estimate of the time left, and a line every 10 s
+// (output.progress_interval) within a step that runs longer, so that a long
+// 3D run never looks hung.
 #pragma once
 
 #include <chrono>
@@ -21,7 +22,8 @@ bool is_rank0(MPI_Comm comm);
 class Progress
 {
 public:
-  explicit Progress(MPI_Comm comm);
+  /// `interval`: the seconds between the lines within a step.
+  Progress(MPI_Comm comm, double interval);
 
   /// A line, as it is (rank 0), flushed at once.
   void say(const std::string& line);
@@ -32,7 +34,7 @@ public:
   /// Step `step` of `total` (total may grow: time.retry) ended at time t.
   void step(int step, int total, double t, int iterations, int active_nodes);
 
-  /// Within a step: prints `what` when 10 s have passed since the last line.
+  /// Within a step: prints `what` when the interval has passed since the last line.
   void heartbeat(const std::string& what);
 
   /// Seconds since the run started.
@@ -41,6 +43,7 @@ public:
 private:
   using Clock = std::chrono::steady_clock;
   bool _root;
+  double _interval;
   Clock::time_point _start, _loop_start, _last_line;
   int _first = 0;
 };

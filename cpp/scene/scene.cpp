@@ -629,13 +629,16 @@ void read_time(Section& top, Scene& scene)
     top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");
 }
 
-/// [output]: XDMF on or off and the checkpoint interval.
+/// [output]: XDMF on or off, the checkpoint interval (in steps) and the
+/// progress interval (in seconds).
 void read_output(Section output, Scene& scene)
 {
   scene.write_xdmf = output.boolean("xdmf", true);
   scene.checkpoint_every = output.integer("checkpoint_every", 0);
   if (scene.checkpoint_every < 0)
     output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
+  scene.progress_interval = output.number("progress_interval", 10.0);
+  positive(output, "progress_interval", scene.progress_interval);
   output.finish();
 }
 

@@ -149,6 +149,7 @@ struct Scene
   int retry = 0;      // time.retry: a failed step is retried with halved steps up to this many times
   bool write_xdmf = true;
   int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
+  double progress_interval = 10; // output.progress_interval: seconds between lines within a step
   std::optional<ReferenceSpec> reference;
   SolverSpec solver;
 
