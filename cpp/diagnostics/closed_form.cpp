@@ -75,14 +75,15 @@ Mandel::Mandel(double a, double b, double G, double lambda, double alpha, double
   }
 }
 
-// Each series below is cut where exp(-a_n^2 c t / a^2) < 1e-18: the factor
-// decays faster than geometrically in n and multiplies terms bounded by
-// 1/(a_n - 1), so the rest is below round-off (and for t > 0 a few dozen
+// Each series is cut where E_n(t) = exp(-a_n^2 c t / a^2) < 1e-18: the
+// factor decays faster than geometrically in n and multiplies terms bounded
+// by 1/(a_n - 1), so the rest is below round-off (and for t > 0 a few dozen
 // terms replace 400, which made the closed-form errors of a fine mesh cost
 // more than its solve).
 constexpr double series_cut = 1e-18;
 
-double Mandel::pressure(double x, double t) const
+template <typename Term>
+double Mandel::series(double t, Term term) const
 {
   double sum = 0;
   for (double an : _roots)
@@ -90,38 +91,27 @@ double Mandel::pressure(double x, double t) const
     const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
     if (E < series_cut)
       break;
-    sum += std::sin(an) / (an - std::sin(an) * std::cos(an)) * (std::cos(an * x / _a) - std::cos(an)) * E;
+    sum += term(an, an - std::sin(an) * std::cos(an)) * E;
   }
+  return sum;
+}
+
+double Mandel::pressure(double x, double t) const
+{
+  const double sum = series(t, [&](double an, double D)
+                            { return std::sin(an) / D * (std::cos(an * x / _a) - std::cos(an)); });
   return 2 * _F * B * (1 + nu_u) / (3 * _a) * sum;
 }
 
-/// The series sum_n sin a_n cos a_n / (a_n - sin a_n cos a_n) E_n(t) of
-/// both displacements (the plate's part).
+/// The plate's part of both displacements.
 double Mandel::plate_series(double t) const
 {
-  double s1 = 0;
-  for (double an : _roots)
-  {
-    const double D = an - std::sin(an) * std::cos(an);
-    const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
-    if (E < series_cut)
-      break;
-    s1 += std::sin(an) * std::cos(an) / D * E;
-  }
-  return s1;
+  return series(t, [](double an, double D) { return std::sin(an) * std::cos(an) / D; });
 }
 
 double Mandel::displacement_x(double x, double t) const
 {
-  double s2 = 0;
-  for (double an : _roots)
-  {
-    const double D = an - std::sin(an) * std::cos(an);
-    const double E = std::exp(-an * an * consolidation_coefficient * t / (_a * _a));
-    if (E < series_cut)
-      break;
-    s2 += std::cos(an) / D * std::sin(an * x / _a) * E;
-  }
+  const double s2 = series(t, [&](double an, double D) { return std::cos(an) / D * std::sin(an * x / _a); });
   return (_F * nu / (2 * _G * _a) - _F * nu_u / (_G * _a) * plate_series(t)) * x + _F / _G * s2;
 }
 

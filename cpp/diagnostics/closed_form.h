@@ -38,6 +38,9 @@ public:
   double nu, nu_u, B, consolidation_coefficient;
 
 private:
+  /// sum_n term(a_n, a_n - sin a_n cos a_n) E_n(t), E_n = exp(-a_n^2 c t / a^2).
+  template <typename Term>
+  double series(double t, Term term) const;
   double plate_series(double t) const;
   double _a, _b, _G, _F;
   std::vector<double> _roots; // alpha_n: tan(a_n) = (1 - nu)/(nu_u - nu) a_n

@@ -94,27 +94,23 @@ class Mandel:
         is below round-off (cpp/diagnostics/closed_form.cpp, series_cut)."""
         return [an for an in self.roots if self._decay(an, t) >= 1e-18]
 
-    def pressure(self, x, t):
+    def _series(self, t, term):
+        """sum_n term(a_n, a_n - sin a_n cos a_n) E_n(t)."""
         total = 0.0
         for an in self._terms(t):
-            total = total + (math.sin(an) / (an - math.sin(an) * math.cos(an))
-                             * (np.cos(an * x / self.a) - math.cos(an)) * self._decay(an, t))
+            total = total + term(an, an - math.sin(an) * math.cos(an)) * self._decay(an, t)
+        return total
+
+    def pressure(self, x, t):
+        total = self._series(t, lambda an, D: math.sin(an) / D * (np.cos(an * x / self.a) - math.cos(an)))
         return 2 * self.F * self.B * (1 + self.nu_u) / (3 * self.a) * total
 
     def _plate_series(self, t):
-        """sum_n sin a_n cos a_n / (a_n - sin a_n cos a_n) E_n(t), the plate's
-        part of both displacements."""
-        s1 = 0.0
-        for an in self._terms(t):
-            D = an - math.sin(an) * math.cos(an)
-            s1 += math.sin(an) * math.cos(an) / D * self._decay(an, t)
-        return s1
+        """The plate's part of both displacements."""
+        return self._series(t, lambda an, D: math.sin(an) * math.cos(an) / D)
 
     def displacement_x(self, x, t):
-        s2 = 0.0
-        for an in self._terms(t):
-            D, E = an - math.sin(an) * math.cos(an), self._decay(an, t)
-            s2 = s2 + math.cos(an) / D * np.sin(an * x / self.a) * E
+        s2 = self._series(t, lambda an, D: math.cos(an) / D * np.sin(an * x / self.a))
         F, G, a = self.F, self.G, self.a
         return (F * self.nu / (2 * G * a) - F * self.nu_u / (G * a) * self._plate_series(t)) * x + F / G * s2
 
