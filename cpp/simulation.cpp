@@ -9,6 +9,7 @@
 #include "assembly/forms.h"
 #include "steps/mechanics_step.h"
 #include "steps/monolithic_step.h"
+#include "output/directory_lock.h"
 #include "output/checkpoint.h"
 #include "output/interruption.h"
 #include "output/output.h"
@@ -17,6 +18,7 @@
 
 #include <basix/finite-element.h>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <sstream>
 #include <cstdio>
@@ -468,6 +470,7 @@ private:
   std::string _left_out, _warnings;
   Steps _steps;
   std::optional<Checkpoint> _resumed;
+  std::optional<DirectoryLock> _lock;
   std::unique_ptr<Output> _output;
   std::unique_ptr<OutputFields> _fields;
   TimeGrid _grid;
@@ -531,6 +534,11 @@ void Simulation::describe()
 /// those of the checkpoint's run) and the fields written into them.
 void Simulation::open_output()
 {
+  // The lock first: nothing in the directory is read, created or truncated
+  // while another run holds it. A restart of a directory that does not
+  // exist is refused by read_checkpoint, without creating it.
+  if (!_control.restart or std::filesystem::is_directory(_directory))
+    _lock.emplace(_comm, _directory);
   if (_control.restart)
     _resumed = read_checkpoint(_comm, _directory, _control.fingerprint);
   _output = std::make_unique<Output>(_comm, _directory, _domain->mesh, _scene.write_xdmf,

@@ -101,16 +101,13 @@ Output::Output(MPI_Comm comm, const std::string& directory,
     state >> csv_size;
     series.assign(std::istreambuf_iterator<char>(state >> std::ws), {});
   }
-  // Rank 0 makes the directory; every rank learns whether it could (a
-  // failure on rank 0 alone would leave the others waiting).
+  // Rank 0 writes the log; every rank learns whether it could (a failure
+  // on rank 0 alone would leave the others waiting). The directory exists:
+  // the run's DirectoryLock made it.
   std::string error;
   if (is_rank0(comm))
   {
     std::error_code ec;
-    std::filesystem::create_directories(directory, ec);
-    if (ec)
-      error = "--out " + directory + ": cannot create the output directory: " + ec.message();
-    else
     {
       const std::string csv = directory + "/iterations.csv";
       if (resume)
