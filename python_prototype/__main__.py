@@ -10,7 +10,8 @@ import sys
 if not __package__:  # run as a path, `python3 /path/to/python_prototype run ...`, from any directory
     here = os.path.dirname(os.path.abspath(__file__))
     sys.path[:] = [os.path.dirname(here)] + [p for p in sys.path if os.path.abspath(p or ".") != here]
-    import python_prototype  # noqa: F401  (the parent of the relative imports below)
+    import importlib
+    importlib.import_module("python_prototype")  # the parent of the relative imports below
     __package__ = "python_prototype"
 
 USAGE = """usage:

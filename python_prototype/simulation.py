@@ -2,8 +2,8 @@
 flow step / mechanics step (or the monolithic step) -> coupling scheme ->
 output and diagnostics."""
 from dataclasses import replace
+import os
 import sys
-import time
 
 import numpy as np
 from dolfinx import fem
@@ -11,14 +11,18 @@ from dolfinx import fem
 from .output.checkpoint import Checkpoint, read_checkpoint, write_checkpoint
 from .diagnostics.closed_form import Mandel, Terzaghi
 from .domain.domain import check_expressions, create_domain
-from .coupling.fixed_stress import CouplingError, CouplingReport, run_fixed_stress
+from .coupling.coupling import CouplingError, CouplingReport, WindowObserver, for_each_checkpointed
+from .coupling.fixed_stress import run_fixed_stress
+from .coupling.single_solve import run_single_solve
 from .assembly.forms import Forms
-from .assembly.parameters import derive_parameters, set_constants, set_time_step
+from .assembly.parameters import derive_parameters, set_constants
+from .output.directory_lock import DirectoryLock
 from .output.output import Output
+from .output.progress import Progress, is_rank0
 from .contact.contact import ContactState
 from .output.interruption import interruption_signal
-from .steps.time_grid import retry_step, time_grid
-from .solvers.solver import Method, SolverError, SolverStatistics
+from .steps.time_grid import time_grid
+from .solvers.solver import Method, SolverError, SolverStatistics, solver_counts
 from .diagnostics.diagnostics import ContractionNorm, relative_error, volumetric_stress
 from .steps.flow_step import FlowStep
 from .steps.mechanics_step import MechanicsStep
@@ -27,12 +31,12 @@ from .steps.monolithic_step import MonolithicStep
 RUN_OK, RUN_NOT_CONVERGED = 0, 3
 
 
-def _global_size(V):
+def global_size(V):
     return V.dofmap.index_map.size_global * V.dofmap.index_map_bs
 
 
-def _boundary_mean(u, facets, component, comm):
-    """Mean of one displacement component over the nodes of a boundary."""
+def boundary_mean(u, facets, component, comm):
+    """Mean of one displacement component over the nodes of a boundary (collective)."""
     V = u.function_space
     dofs = fem.locate_dofs_topological(V.sub(component), V.mesh.topology.dim - 1, facets)
     dofs = dofs[dofs < V.dofmap.index_map.size_local * V.dofmap.index_map_bs]
@@ -40,55 +44,29 @@ def _boundary_mean(u, facets, component, comm):
     return total / count
 
 
-def _solvers_json(systems, stats, inexact_coupling):
-    result = {}
-    for name, system in systems.items():
-        if system is None:
-            continue
-        st = stats[name]
-        direct = system.method == Method.direct
-        j = {"solver": system.method.name, "method": system.description(), "unknowns": system.unknowns(),
-             "solves": st.solves, "factorizations": st.setups if direct else 0,
-             "preconditioner_setups": st.setups,
-             "inexact_coupling": not direct and name != "monolithic" and inexact_coupling,
-             "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
-        if system.has_contact():
-            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
-                     schur_columns=st.schur_columns)
-        result[name] = j
-    return result
-
-
-def _timings_json(systems, stats):
-    return {name: {"total": stats[name].total_time, "setup": stats[name].setup_time,
-                   "solve": stats[name].solve_time, "schur_complement": stats[name].schur_time,
-                   "other": stats[name].total_time - stats[name].setup_time - stats[name].solve_time
-                   - stats[name].schur_time,
-                   "matrix_assembly": stats[name].assembly_time}
-            for name, system in systems.items() if system is not None}
-
-
-def _contact_json(c):
+def contact_json(c):
     return {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
             "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
             "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
             "gap_scale": c.gap_scale, "total_force": c.total_force}
 
 
-def closed_form_errors(scene, P, F, domain, u, p, comm):
+def closed_form_errors(scene, parameters, F, domain, u, p, comm):
     """The relative L2 errors (and Terzaghi's settlement) at the final time
-    against the scene's closed form, Terzaghi or Mandel (cpp/simulation.cpp)."""
+    against the scene's closed form, Terzaghi or Mandel."""
     ref, fs = scene.reference, scene.flow
     mobility = fs.permeability(0, 0, 0, 0) / fs.mu_f
     t, y0 = scene.end_time, scene.mesh.lower[1]
+    # The closed form: pressure and displacement at the points x.
     terzaghi = None
     if ref.solution == "terzaghi":
-        terzaghi = Terzaghi(ref.height, P.G, P.lmbda, P.alpha, P.storage, mobility, ref.load)
+        terzaghi = Terzaghi(ref.height, parameters.G, parameters.lmbda, parameters.alpha, parameters.storage, mobility,
+                            ref.load)
         p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731
         u_exact = lambda x: [0.0 * x[0], terzaghi.displacement(x[1] - y0, t)]  # noqa: E731
     else:
-        mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], P.G, P.lmbda, P.alpha, P.storage,
-                        mobility, ref.force)
+        mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], parameters.G, parameters.lmbda, parameters.alpha,
+                        parameters.storage, mobility, ref.force)
         p_exact = lambda x: mandel.pressure(x[0], t)  # noqa: E731
         u_exact = lambda x: [mandel.displacement_x(x[0], t), mandel.displacement_y(x[1], t)]  # noqa: E731
     F["p_reference"].interpolate(p_exact)
@@ -102,342 +80,421 @@ def closed_form_errors(scene, P, F, domain, u, p, comm):
         "displacement_rel_l2": relative_error(F, F.compile("M_displacement_error"),
                                               F.compile("M_displacement_reference"), comm)}
     if terzaghi:
-        settlement = -_boundary_mean(u, domain.boundaries["top"], 1, comm)
+        settlement = -boundary_mean(u, domain.boundaries["top"], 1, comm)
         exact = terzaghi.settlement(t)
         errors.update({"settlement": settlement, "settlement_exact": exact,
                        "settlement_rel": abs(settlement - exact) / abs(exact)})
     return errors
 
 
-REPORT_NUMBERS = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
-                  "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
-                  "retries")
-COUNTS = ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations", "active_set_changes",
-          "schur_columns")
-
-
-def step_state(flow, mechanics, coupled):
-    """The unknowns at the start of a step, to go back to when it is retried."""
-    return (flow.state().copy() if flow else None, mechanics.u.x.array.copy() if mechanics else None,
-            coupled.state().copy() if coupled else None)
-
-
-def set_step_state(state, flow, mechanics, coupled):
-    flow_state, displacement, monolithic = state
-    if flow:
-        flow.set_state(flow_state)
-    if mechanics:
-        mechanics.u.x.array[:] = displacement
-    if coupled:
-        coupled.set_state(monolithic)
-
-
-def equilibrate(scene, domain, F, mechanics, coupled):
-    """mechanics.initial_equilibrium (cpp/simulation.cpp): replaces u = 0 by
-    the displacement in equilibrium with the loads at t = 0 and the initial
-    pressure (a geostatic initialisation), so that loads present from the
-    start are not applied in the first step as a sudden, undrained load."""
+def equilibrate(scene, domain, F, mechanics, monolithic):
+    """mechanics.initial_equilibrium: replaces u = 0 by the displacement in
+    equilibrium with the loads at t = 0 and the initial pressure (a geostatic
+    initialisation). Otherwise loads present from the start, such as the
+    in-situ stresses, are applied in the first step as a sudden load, whose
+    undrained pressure response the first flow steps then carry."""
     if mechanics:
         mechanics.solve(0.0)
         return
-    # the coupled system has no mechanics system of its own: one mechanics
-    # step on its displacement space, loaded by its pressure, solved once
-    step = MechanicsStep(scene, domain, F, coupled.pressure)
+    # The coupled system has no mechanics system of its own: one mechanics
+    # step on its displacement space, loaded by its pressure, solved once.
+    step = MechanicsStep(scene, domain, F, monolithic.pressure)
     step.solve(0.0)
-    coupled.set_displacement(step.u.x.array, 0.0)
+    monolithic.set_displacement(step.u.x.array, 0.0)
 
 
-def capture_state(steps, t, flow, mechanics, coupled, report, systems, output_state, grid):
+class Steps:
+    """The steps a scene has (each scene allocates only the physics it has),
+    and the fields output and diagnostics read, whichever step produced them."""
+
+    def __init__(self):
+        self.flow = self.second_pass = None  # second_pass: "multirate-two-pass"
+        self.mechanics = self.monolithic = None
+        self.V = self.u = self.p = None
+        self.contact_pressure = self.contact_active = self.contact_boundary = None
+        self.compute_flux = None
+        self.compute_contact = ContactState
+
+    def systems(self):
+        """The systems by their summary name, in the order of checkpoints."""
+        return [("flow", self.flow.system if self.flow else None),
+                ("mechanics", self.mechanics.system if self.mechanics else None),
+                ("monolithic", self.monolithic.system if self.monolithic else None),
+                ("flow_second_pass", self.second_pass.system if self.second_pass else None)]
+
+    def assembly_time(self):
+        """Assembly time of the steps' loads and matrices."""
+        t = 0.0
+        for f in (self.flow, self.second_pass):
+            t += f.assembly_time if f else 0.0
+        t += self.mechanics.assembly_time if self.mechanics else 0.0
+        return t + (self.monolithic.assembly_time if self.monolithic else 0.0)
+
+
+def take_contact_fields(s, step):
+    """The contact fields of a step that has them."""
+    if not step.system.has_contact():
+        return
+    s.contact_pressure, s.contact_active = step.contact_pressure, step.contact_active
+    s.contact_boundary = step.contact_boundary
+    s.compute_contact = step.contact_state
+
+
+def monolithic_steps(scene, domain, F):
+    """The monolithic step: u, z and p in one system."""
+    s = Steps()
+    s.monolithic = m = MonolithicStep(scene, domain, F)
+    s.V, s.u, s.p, s.compute_flux = m.V, m.u, m.pressure, m.flux
+    take_contact_fields(s, m)
+    return s
+
+
+def split_steps(scene, domain, F, parameters):
+    """The flow step and the mechanics step of the split, or the one a single
+    physics has; "multirate-two-pass" adds the flow step without L."""
+    s = Steps()
+    if scene.mechanics:
+        s.V = F["V"]
+    if scene.flow:
+        s.flow = FlowStep(scene, domain, F, coupled=scene.coupling is not None)
+        s.p = s.flow.pressure
+        if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
+            # The second pass is the flow step without the stabilisation L:
+            # forms of its own, whose constant L is 0.
+            unstabilised = Forms(domain.mesh)
+            set_constants(unstabilised, scene, replace(parameters, L=0.0))
+            s.second_pass = FlowStep(scene, domain, unstabilised, coupled=True)
+        s.compute_flux = s.flow.flux
+    if scene.mechanics:
+        s.mechanics = MechanicsStep(scene, domain, F, s.p if scene.coupling is not None else None)
+        s.u = s.mechanics.u
+        take_contact_fields(s, s.mechanics)
+    return s
+
+
+class OutputFields:
+    """The fields written at each output time: the unknowns and what is
+    derived from them (cell-averaged flux, volumetric stress sigma_v, contact)."""
+
+    def __init__(self, F, steps, output):
+        self._F, self._steps, self._output = F, steps, output
+        if steps.p is not None:
+            steps.p.name = "pressure"
+            self._flux = fem.Function(F["Qv"], name="flux")
+        if steps.u is not None:
+            steps.u.name = "displacement"
+            self._sigma_v = fem.Function(F["Q"], name="sigma_v")
+            self._L_sigma_v = F.compile("L_sigma_v")
+            if steps.contact_pressure is not None:
+                steps.contact_pressure.name = "contact_pressure"
+                steps.contact_active.name = "contact_active"
+        self.contact = ContactState()  # at the last mechanics output
+
+    def write_flow(self, t):
+        self._output.write(self._steps.p, t)
+        self._steps.compute_flux(self._flux)
+        self._output.write(self._flux, t)
+
+    def write_mechanics(self, t):
+        """Also updates `contact` (and the contact fields)."""
+        s = self._steps
+        self.contact = s.compute_contact()
+        volumetric_stress(self._F, self._L_sigma_v, s.u, s.p, self._sigma_v)
+        self._output.write(s.u, t)
+        self._output.write(self._sigma_v, t)
+        if s.contact_pressure is not None:
+            self._output.write(s.contact_pressure, t)
+            self._output.write(s.contact_active, t)
+
+
+def capture_checkpoint(steps, time, s, report, output, grid):
     """The state a restart needs after `steps` completed steps (checkpoint.py)."""
-    c = Checkpoint(steps, t, output=output_state)
+    c = Checkpoint(steps, time, output=output)
     # The grid as retries left it (the same on every rank).
     c.arrays["times"], c.arrays["time_steps"] = np.array(grid.t), np.array(grid.dt)
-    if flow:
-        c.arrays["flow"] = flow.state().copy()
-    if mechanics:
-        c.arrays["displacement"] = mechanics.u.x.array.copy()
-    if coupled:
-        c.arrays["monolithic"] = coupled.state().copy()
-    c.numbers = {name: float(getattr(report, name)) for name in REPORT_NUMBERS}
-    for i, system in enumerate(systems):
+    if s.flow:
+        c.arrays["flow"] = s.flow.unknowns().copy()
+    if s.mechanics:
+        c.arrays["displacement"] = s.mechanics.u.x.array.copy()
+    if s.monolithic:
+        c.arrays["monolithic"] = s.monolithic.unknowns().copy()
+    for_each_checkpointed(report, lambda name, value: c.numbers.__setitem__(name, float(value)))
+    for i, (_, system) in enumerate(s.systems()):
         if system is not None:
-            s = system.statistics()
-            c.numbers.update({f"{i}.{name}": float(getattr(s, name)) for name in COUNTS})
+            st = system.statistics()
+            c.numbers.update({f"{i}.{name}": float(getattr(st, name)) for name in solver_counts})
     return c
 
 
-def restore_state(c, flow, mechanics, coupled, report, systems, grid):
-    """Loads a checkpoint into the steps, the report, the time grid and the
-    solver counts."""
+def restore_checkpoint(c, s, report, grid):
+    """Loads a checkpoint into the steps, the report, the grid and the solver counts."""
     grid.t, grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
-    if flow:
-        flow.set_state(c.arrays["flow"])
-    if mechanics:
-        mechanics.u.x.array[:] = c.arrays["displacement"]
-    if coupled:
-        coupled.set_state(c.arrays["monolithic"])
-    for name in REPORT_NUMBERS:
-        value = c.numbers[name]
-        setattr(report, name, int(value) if isinstance(getattr(report, name), int) else value)
-    for i, system in enumerate(systems):
+    if s.flow:
+        s.flow.set_unknowns(c.arrays["flow"])
+    if s.mechanics:
+        s.mechanics.u.x.array[:] = c.arrays["displacement"]
+    if s.monolithic:
+        s.monolithic.set_unknowns(c.arrays["monolithic"])
+    for_each_checkpointed(report, lambda name, value: setattr(report, name, type(value)(c.numbers[name])))
+    for i, (_, system) in enumerate(s.systems()):
         if system is not None:
-            for name in COUNTS:
-                setattr(system.earlier, name, int(c.numbers[f"{i}.{name}"]))
+            earlier = SolverStatistics()
+            for name in solver_counts:
+                setattr(earlier, name, int(c.numbers[f"{i}.{name}"]))
+            system.add_earlier(earlier)
 
 
-def run(scene, directory, comm, fingerprint="", restart=False):
-    """Runs `scene` into `directory`; returns RUN_OK, or RUN_NOT_CONVERGED
-    after writing what was finished and the iteration log."""
-    start = time.perf_counter()
+def solver_summaries(steps, inexact_coupling):
+    """Per system: what solved it, how often it was set up (factorised) and
+    solved, and where its time went; the solvers' and timings' tables."""
+    solvers, timings = {}, {}
+    for name, system in steps.systems():
+        if system is None:
+            continue
+        st = system.statistics()
+        direct = system.method == Method.direct
+        j = {"solver": system.method.name, "method": system.description(), "unknowns": system.unknowns(),
+             "solves": st.solves, "factorizations": st.setups if direct else 0,
+             "preconditioner_setups": st.setups,
+             "inexact_coupling": not direct and not steps.monolithic and inexact_coupling,
+             "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
+        if system.has_contact():
+            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
+                     schur_columns=st.schur_columns)
+        solvers[name] = j
+        timings[name] = {"total": st.total_time, "setup": st.setup_time, "solve": st.solve_time,
+                         "schur_complement": st.schur_time,
+                         "other": st.total_time - st.setup_time - st.solve_time - st.schur_time,
+                         "matrix_assembly": st.assembly_time}
+    return solvers, timings
 
-    def say(s):
-        if comm.rank == 0:
-            print(s, flush=True)
 
-    # ---- scene -> mesh and tags -> forms ----------------------------------------
-    domain = create_domain(scene, comm)
-    check_expressions(scene, domain, comm)
-    F = Forms(domain.mesh)
-    P = derive_parameters(scene)
-    set_constants(F, scene, P)
-    d = domain.dim
+def statistics(steps):
+    """The statistics of each system (zero for a system the scene has not)."""
+    return {name: system.statistics() if system else SolverStatistics() for name, system in steps.systems()}
 
-    # Each scene allocates only the physics it has.
-    left_out = []
-    if not scene.flow:
-        left_out.append("flow (no [flow] table): no flux or pressure unknowns")
-    if not scene.mechanics:
-        left_out.append("mechanics (no [mechanics] table): no displacement unknowns")
-    if scene.mechanics and not scene.has_contact():
-        left_out.append("contact solver (no contact boundary): linear mechanics solve")
-    if scene.flow and not scene.flow.gravity:
-        left_out.append("gravity")
-    if scene.mechanics and not scene.mechanics.body_force:
-        left_out.append("body force")
-    left_out = "; ".join(left_out)
-    say(f"biotcontact (python prototype): scene {scene.name} ({scene.file}), {d}D, "
-        f"{domain.mesh.topology.index_map(d).size_global} cells")
-    say("left out: " + (left_out or "nothing"))
 
-    # Where the method is known to degrade, the run says so instead of
-    # returning poor numbers silently (docs/stability.md has the data).
-    warnings = []
+class Simulation:
+    """One run of a scene, in the order of its story: make the domain, set up
+    the steps, open the output, start or restore, the time loop, the summary
+    and the exit status."""
 
-    def warn(what):
-        warnings.append(what)
-        say("warning: " + what)
-    if scene.mechanics:
-        nu = P.lmbda / (2 * (P.lmbda + P.G))
-        if nu > 0.49:
-            warn(f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
-                 "(too stiff a response, worse on coarse meshes)")
-    if scene.coupling and scene.coupling.scheme != "monolithic" and P.gamma > 0.99:
-        warn(f"gamma = {P.gamma:f} > 0.99: the contraction theorems guarantee almost nothing, expect many "
-             "coupling iterations or none converging (monolithic is the robust choice)")
+    def __init__(self, scene, directory, comm, fingerprint="", restart=False):
+        self.scene, self.directory, self.comm = scene, directory, comm
+        self.fingerprint, self.restart = fingerprint, restart
+        # output.progress_interval (seconds between lines within a step)
+        self.progress = Progress(comm, scene.progress_interval)
+        self.domain = self.F = self.parameters = None
+        self.left_out, self.warnings = "", ""
+        self.steps = self.resumed = self.lock = self.output = self.fields = self.grid = None
+        self.report = CouplingReport()
+        self.completed_steps = 0     # mechanics steps (windows) written
+        self.completed_time = 0.0
+        self.saved = 0               # the step of the last checkpoint
+        self.signal = 0              # the interruption that ended the run
+        self.failure = ""            # why the run failed
 
-    # ---- flow step / mechanics step, or the monolithic system ------------------
-    monolithic = scene.coupling is not None and scene.coupling.scheme == "monolithic"
-    flow = mechanics = coupled = second_pass = None
-    u = p = contact_pressure = contact_active = contact_boundary = None
-    compute_contact = ContactState
-    if monolithic:
-        coupled = MonolithicStep(scene, domain, F)
-        u, p, compute_flux = coupled.u, coupled.pressure, coupled.flux
-        if coupled.system.has_contact():
-            contact_pressure, contact_active = coupled.contact_pressure, coupled.contact_active
-            contact_boundary = coupled.contact_boundary
-            compute_contact = coupled.contact_state
-    else:
-        if scene.flow:
-            flow = FlowStep(scene, domain, F, coupled=scene.coupling is not None)
-            p, compute_flux = flow.pressure, flow.flux
-            if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
-                # The second pass is the flow step without the stabilisation L:
-                # forms of its own, whose constant L is 0.
-                F_second = Forms(domain.mesh)
-                set_constants(F_second, scene, replace(P, L=0.0))
-                second_pass = FlowStep(scene, domain, F_second, coupled=True)
-        if scene.mechanics:
-            mechanics = MechanicsStep(scene, domain, F, p if scene.coupling is not None else None)
-            u = mechanics.u
-            if mechanics.system.has_contact():
-                contact_pressure, contact_active = mechanics.contact_pressure, mechanics.contact_active
-                contact_boundary = mechanics.contact_boundary
-                compute_contact = mechanics.contact_state
-
-    # ---- output fields ---------------------------------------------------------------
-    resumed = read_checkpoint(comm, directory, fingerprint) if restart else None
-    output = Output(comm, directory, domain.mesh, scene.write_xdmf, resumed.output if resumed else None)
-    try:
-        flux = sigma_v = L_sigma_v = None
-        if p is not None:
-            p.name = "pressure"
-            flux = fem.Function(F["Qv"], name="flux")
-        if u is not None:
-            u.name = "displacement"
-            sigma_v = fem.Function(F["Q"], name="sigma_v")
-            L_sigma_v = F.compile("L_sigma_v")
-            if contact_pressure is not None:
-                contact_pressure.name, contact_active.name = "contact_pressure", "contact_active"
-
-        def write_flow(t):
-            output.write(p, t)
-            compute_flux(flux)
-            output.write(flux, t)
-
-        contact = ContactState()
-
-        def write_mechanics(t):
-            nonlocal contact
-            contact = compute_contact()  # also fills the contact fields
-            volumetric_stress(F, L_sigma_v, u, p, sigma_v)
-            output.write(u, t)
-            output.write(sigma_v, t)
-            if contact_pressure is not None:
-                output.write(contact_pressure, t)
-                output.write(contact_active, t)
-
-        completed = [0, 0.0]  # mechanics steps (windows) written, and their last time
-
-        grid = time_grid(scene)  # the time steps; a retry (time.retry) halves some of them
-
-        def progress(step, t, iterations):
-            completed[:] = [step, t]
-            say(f"step {step:4d}/{grid.steps() // P.q}  t = {t:<11.5g}  coupling iterations "
-                f"{iterations:3d}  active contact nodes {contact.active_nodes}")
-
-        # ---- initial state, or the state of the checkpoint ----------------------------
-        report = CouplingReport()
-        systems = [flow.system if flow else None, mechanics.system if mechanics else None,
-                   coupled.system if coupled else None, second_pass.system if second_pass else None]
-        if resumed:
-            restore_state(resumed, flow, mechanics, coupled, report, systems, grid)
-            completed[:] = [resumed.steps, resumed.time]
-            if u is not None:
-                contact = compute_contact()
-            say(f"restarted from the checkpoint at step {completed[0]}, t = {completed[1]:f}")
-        else:
-            if scene.mechanics and scene.mechanics.initial_equilibrium:
-                equilibrate(scene, domain, F, mechanics, coupled)
-            if p is not None:
-                write_flow(0.0)
-            if u is not None:
-                write_mechanics(0.0)
-            if contact_boundary is not None:
-                output.write(contact_boundary, 0.0)  # once: every later time repeats it
-
-        # ---- time stepping -----------------------------------------------------------
-        failure, interrupted = "", 0
-        saved = [completed[0] if resumed else 0]
-
-        def save():
-            write_checkpoint(comm, directory, fingerprint,
-                             capture_state(completed[0], completed[1], flow, mechanics, coupled, report, systems,
-                                           output.state(), grid))
-            saved[0] = completed[0]
-
-        def stop():
-            """After each completed (and written) step: a checkpoint every
-            checkpoint_every steps and at an interruption; then whether to stop."""
-            nonlocal interrupted
-            if scene.checkpoint_every > 0 and completed[0] % scene.checkpoint_every == 0:
-                save()
-            interrupted = interruption_signal(comm)
-            if interrupted and scene.checkpoint_every > 0 and saved[0] != completed[0]:
-                save()
-            return interrupted != 0
-
+    def run(self):
+        """The story of a run; the files are closed and the directory's lock
+        released however it ends."""
+        scene = self.scene
         try:
-            if scene.coupling and not monolithic:
-                contraction = ContractionNorm(F, comm)
+            self.make_domain()
+            self.describe()
+            self.steps = (monolithic_steps(scene, self.domain, self.F)
+                          if scene.coupling and scene.coupling.scheme == "monolithic"
+                          else split_steps(scene, self.domain, self.F, self.parameters))
+            self.open_output()
+            self.start_or_restore()
+            self.time_loop()
+            self.write_summary()
+        finally:
+            self.close_output()
+        return self.exit_status()
 
-                def on_mechanics_state(t, window, iterations):
-                    write_mechanics(t)
-                    progress(window, t, iterations)
-                run_fixed_stress(scene, P, F, flow, second_pass, mechanics, contraction, output, write_flow,
-                                 on_mechanics_state, report, comm, grid, stop, say)
+    def make_domain(self):
+        """The mesh and its tags, the forms on it, the derived parameters and
+        the constants of the forms."""
+        self.domain = create_domain(self.scene, self.comm)
+        check_expressions(self.scene, self.domain, self.comm)
+        self.F = Forms(self.domain.mesh)
+        self.parameters = derive_parameters(self.scene)
+        set_constants(self.F, self.scene, self.parameters)
+
+    def describe(self):
+        """Says what the scene leaves out, and warns where the method is known
+        to degrade instead of returning poor numbers silently (docs/stability.md)."""
+        scene, parameters, d = self.scene, self.parameters, self.domain.dim
+        left_out = []
+        if not scene.flow:
+            left_out.append("flow (no [flow] table): no flux or pressure unknowns")
+        if not scene.mechanics:
+            left_out.append("mechanics (no [mechanics] table): no displacement unknowns")
+        if scene.mechanics and not scene.has_contact():
+            left_out.append("contact solver (no contact boundary): linear mechanics solve")
+        if scene.flow and not scene.flow.gravity:
+            left_out.append("gravity")
+        if scene.mechanics and not scene.mechanics.body_force:
+            left_out.append("body force")
+        self.left_out = "; ".join(left_out)
+        self.progress.say(f"biotcontact (python prototype): scene {scene.name} ({scene.file}), {d}D, "
+                          f"{self.domain.mesh.topology.index_map(d).size_global} cells")
+        self.progress.say("left out: " + (self.left_out or "nothing"))
+
+        warnings = []
+
+        def warn(what):
+            warnings.append(what)
+            self.progress.say("warning: " + what)
+        if scene.mechanics:
+            nu = parameters.lmbda / (2 * (parameters.lmbda + parameters.G))
+            if nu > 0.49:
+                warn(f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
+                     "(too stiff a response, worse on coarse meshes)")
+        if scene.coupling and scene.coupling.scheme != "monolithic" and parameters.gamma > 0.99:
+            warn(f"gamma = {parameters.gamma:f} > 0.99: the contraction theorems guarantee almost nothing, expect many "
+                 "coupling iterations or none converging (monolithic is the robust choice)")
+        self.warnings = "; ".join(warnings)
+
+    def open_output(self):
+        """The checkpoint a restart goes on from, the output files (created,
+        or those of the checkpoint's run) and the fields written into them."""
+        # The lock first: nothing in the directory is read, created or
+        # truncated while another run holds it. A restart of a directory that
+        # does not exist is refused by read_checkpoint, without creating it.
+        if not self.restart or os.path.isdir(self.directory):
+            self.lock = DirectoryLock(self.comm, self.directory)
+        if self.restart:
+            self.resumed = read_checkpoint(self.comm, self.directory, self.fingerprint)
+        self.output = Output(self.comm, self.directory, self.domain.mesh, self.scene.write_xdmf,
+                             self.resumed.output if self.resumed else None)
+        self.fields = OutputFields(self.F, self.steps, self.output)
+        self.grid = time_grid(self.scene)  # a retry (time.retry) halves some of its steps
+
+    def close_output(self):
+        """The files closed and the directory's lock released."""
+        if self.output is not None:
+            self.output.close()
+        if self.lock is not None:
+            self.lock.release()
+
+    def start_or_restore(self):
+        """The initial state, written at t = 0, or the state of the checkpoint."""
+        s = self.steps
+        if self.resumed:
+            restore_checkpoint(self.resumed, s, self.report, self.grid)
+            self.saved = self.completed_steps = self.resumed.steps
+            self.completed_time = self.resumed.time
+            if s.u is not None:
+                self.fields.contact = s.compute_contact()
+            self.progress.say(f"restarted from the checkpoint at step {self.completed_steps}, "
+                              f"t = {self.completed_time:f}")
+            return
+        if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
+            equilibrate(self.scene, self.domain, self.F, s.mechanics, s.monolithic)
+        if s.p is not None:
+            self.fields.write_flow(0.0)
+        if s.u is not None:
+            self.fields.write_mechanics(0.0)
+        if s.contact_boundary is not None:
+            self.output.write(s.contact_boundary, 0.0)  # once: every later time repeats it
+
+    def stop(self):
+        """After each completed (and written) step: a checkpoint every
+        checkpoint_every steps and at an interruption; then whether to stop."""
+        def save():
+            write_checkpoint(self.comm, self.directory, self.fingerprint,
+                             capture_checkpoint(self.completed_steps, self.completed_time, self.steps, self.report,
+                                                self.output.position(), self.grid))
+            self.saved = self.completed_steps
+        every = self.scene.checkpoint_every
+        if every > 0 and self.completed_steps % every == 0:
+            save()
+        self.signal = interruption_signal(self.comm)
+        if self.signal and every > 0 and self.saved != self.completed_steps:
+            save()
+        return self.signal != 0
+
+    def observer(self):
+        """What the coupling schemes tell the run: write each step, print the
+        progress, checkpoint, stop at an interruption."""
+        def mechanics_state(t, step, iterations):
+            if self.steps.u is not None:
+                self.fields.write_mechanics(t)
+            self.completed_steps, self.completed_time = step, t
+            self.progress.step(step, self.grid.steps() // self.parameters.q, t, iterations,
+                               self.fields.contact.active_nodes)
+
+        def iteration(step, iteration, dp, du):
+            self.progress.heartbeat(f"step {step}: coupling iteration {iteration}, increments dp {dp:.3g} "
+                                    f"du {du:.3g}")
+        return WindowObserver(flow_state=self.fields.write_flow, mechanics_state=mechanics_state, stop=self.stop,
+                              retry=self.progress.say, iteration=iteration)
+
+    def report_newton_steps(self):
+        """A contact solve longer than the interval (a large monolithic step)
+        prints its Newton steps as it goes, like the coupling iterations of
+        the split: the contact solver calls on_newton_step(iteration) after
+        each Newton step."""
+        for name, system in self.steps.systems():
+            if system is not None and system.has_contact():
+                system.contact.on_newton_step = lambda iteration, name=name: self.progress.heartbeat(
+                    f"step {self.completed_steps + 1}: {name} contact Newton step {iteration}")
+
+    def time_loop(self):
+        """The steps from t = 0 (or the checkpoint) to the end: the
+        fixed-stress split, or one solve per step. A failure ends the loop
+        with what was finished written; it names the step it was computing."""
+        s, scene, parameters = self.steps, self.scene, self.parameters
+        observer = self.observer()
+        self.report_newton_steps()
+        self.progress.start_loop(self.completed_steps, self.grid.steps() // parameters.q)
+        try:
+            if scene.coupling and not s.monolithic:
+                contraction = ContractionNorm(self.F, self.comm)
+                run_fixed_stress(scene, parameters, self.F, s.flow, s.second_pass, s.mechanics, contraction,
+                                 self.output, observer, self.report, self.comm, self.grid)
             else:
-                # One solve per step: the monolithic system, or the single physics.
-                attempts = [0]  # retries of the current step (time.retry)
-                k = report.windows + 1
-                while k <= grid.steps():
-                    t = grid.t[k]
-                    if set_time_step(F, grid.dt[k - 1]):
-                        for solver in (coupled, flow):
-                            if solver:
-                                solver.time_step_changed()
-                    at_step_start = step_state(flow, mechanics, coupled)
-                    try:
-                        if coupled:
-                            coupled.solve(t)
-                        if flow:
-                            flow.p_previous.x.array[:] = p.x.array
-                            flow.solve(t)
-                        if mechanics:
-                            mechanics.solve(t)
-                    except SolverError as e:
-                        # time.retry: back to the start of the step, halved.
-                        message = retry_step(scene, str(e), k, attempts, grid, k - 1, 1, report)
-                        if message is None:
-                            raise
-                        say(message)
-                        set_step_state(at_step_start, flow, mechanics, coupled)
-                        continue
-                    attempts[0] = 0
-                    if p is not None:
-                        write_flow(t)
-                    if u is not None:
-                        write_mechanics(t)
-                    progress(k, t, 1)
-                    report.windows = k
-                    k += 1
-                    if stop():
-                        break
+                run_single_solve(scene, self.F, s.flow, s.mechanics, s.monolithic, observer, self.report,
+                                 self.grid)
         except CouplingError as e:
-            failure = str(e)  # names its step and the last increments
+            self.failure = str(e)  # names its step and the last increments
         except SolverError as e:
-            # A solve that fails names the step it was computing.
-            step = completed[0] + 1
-            failure = f"step {step} (t = {grid.t[min(step * P.q, len(grid.t) - 1)]:g}): {e}"
-            report.windows = completed[0]
-        contact = compute_contact()
+            step = self.completed_steps + 1
+            self.failure = f"step {step} (t = {self.grid.t[min(step * parameters.q, len(self.grid.t) - 1)]:g}): {e}"
+            self.report.windows = self.completed_steps
+        self.fields.contact = s.compute_contact()
 
-        # ---- errors against a closed form at the final time --------------------------
-        errors = None
-        if scene.reference and not failure and not interrupted:
-            errors = closed_form_errors(scene, P, F, domain, u, p, comm)
-
-        # ---- summary ---------------------------------------------------------------
-        wall = time.perf_counter() - start
+    def write_summary(self):
+        """summary.json: the scheme, sizes, counts, contraction measures,
+        solvers, timings, contact and closed-form errors of the run, whatever
+        its end."""
+        scene, s, parameters, report, d = self.scene, self.steps, self.parameters, self.report, self.domain.dim
         dofs = {}
-        if u is not None:
-            dofs["displacement"] = _global_size(u.function_space)
-        if p is not None:
-            dofs["pressure"] = _global_size(p.function_space)
-            dofs["flux"] = domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
-        # Per system: what solved it, how often it was set up and solved, where its time went.
-        steps = [s for s in (flow, mechanics, coupled, second_pass) if s]
-        systems = {"flow": flow.system if flow else None,
-                   "mechanics": mechanics.system if mechanics else None,
-                   "monolithic": coupled.system if coupled else None,
-                   "flow_second_pass": second_pass.system if second_pass else None}
-        stats = {name: system.statistics() if system else SolverStatistics() for name, system in systems.items()}
-        flow_solves = stats["flow"].solves + stats["flow_second_pass"].solves  # both passes
+        if s.u is not None:
+            dofs["displacement"] = global_size(s.V)
+        if s.p is not None:
+            dofs["pressure"] = global_size(s.p.function_space)
+            dofs["flux"] = self.domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
+        st = statistics(s)
+        solvers, timings = solver_summaries(s, scene.solver.inexact_coupling)
+        timings["assembly"] = s.assembly_time() + sum(x.assembly_time for x in st.values())
+        timings["output"] = self.output.time
+        c = scene.coupling
         summary = {
             "scene": scene.name,
-            "scheme": scene.coupling.scheme if scene.coupling else ("flow-only" if flow else "mechanics-only"),
-            "q": P.q,
-            "L_choice": scene.coupling.L_choice if scene.coupling else "none",
-            "acceleration": (f"anderson, depth {scene.coupling.depth}"
-                             if scene.coupling and scene.coupling.acceleration == "anderson" else "none"),
-            "L": P.L,
-            "gamma": P.gamma,
+            "scheme": c.scheme if c else ("flow-only" if s.flow else "mechanics-only"),
+            "q": parameters.q,
+            "L_choice": c.L_choice if c else "none",
+            "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == "anderson" else "none",
+            "L": parameters.L,
+            "gamma": parameters.gamma,
             "dofs": dofs,
             "dt": scene.dt,
             "dt_growth": scene.growth,
             "steps": report.windows,
             "retries": report.retries,
-            "fine_steps": report.windows * P.q,
+            "fine_steps": report.windows * parameters.q,
             "coupling_iterations": report.coupling_iterations,
             "max_iterations_per_step": report.max_iterations_per_step,
             "max_contraction_ratio": report.max_contraction_ratio,
@@ -446,45 +503,54 @@ def run(scene, directory, comm, fingerprint="", restart=False):
             "resolved_ratios": report.ratios,
             "unresolved_ratios": report.unresolved_ratios,
             "max_coupled_residual": report.max_coupled_residual,
-            "converged": not failure,
-            "status": "failed" if failure else "interrupted" if interrupted else "completed",
-            "last_completed_time": completed[1],
-            "flow_solves": flow_solves,
-            "mechanics_solves": stats["mechanics"].solves,
-            "monolithic_solves": stats["monolithic"].solves,
-            "newton_iterations": stats["mechanics"].newton_iterations + stats["monolithic"].newton_iterations,
-            "linear_iterations": {"flow": stats["flow"].linear_iterations
-                                  + stats["flow_second_pass"].linear_iterations,
-                                  "mechanics": stats["mechanics"].linear_iterations,
-                                  "monolithic": stats["monolithic"].linear_iterations},
-            "solvers": _solvers_json(systems, stats, scene.solver.inexact_coupling),
-            "timings": dict(_timings_json(systems, stats),
-                            assembly=sum(s.assembly_time for s in steps)
-                            + sum(stats[name].assembly_time for name in systems),
-                            output=output.time),
-            "wall_time_s": wall,
-            "left_out": left_out,
-            "warnings": "; ".join(warnings),
-            "mpi_ranks": comm.size,
+            "converged": not self.failure,
+            "status": "failed" if self.failure else "interrupted" if self.signal else "completed",
+            "last_completed_time": self.completed_time,
+            "flow_solves": st["flow"].solves + st["flow_second_pass"].solves,  # both passes
+            "mechanics_solves": st["mechanics"].solves,
+            "monolithic_solves": st["monolithic"].solves,
+            "newton_iterations": st["mechanics"].newton_iterations + st["monolithic"].newton_iterations,
+            "linear_iterations": {"flow": st["flow"].linear_iterations + st["flow_second_pass"].linear_iterations,
+                                  "mechanics": st["mechanics"].linear_iterations,
+                                  "monolithic": st["monolithic"].linear_iterations},
+            "solvers": solvers,
+            "timings": timings,
+            "wall_time_s": self.progress.elapsed(),
+            "left_out": self.left_out,
+            "warnings": self.warnings,
+            "mpi_ranks": self.comm.size,
         }
-        if contact_pressure is not None:
-            summary["contact"] = _contact_json(contact)
-        if errors:
-            summary["errors"] = errors
-        if failure:
-            summary["failure"] = failure
-        output.summary(summary)
-    finally:
-        output.close()
+        if s.contact_pressure is not None:
+            summary["contact"] = contact_json(self.fields.contact)
+        if scene.reference and not self.failure and not self.signal:
+            summary["errors"] = closed_form_errors(scene, parameters, self.F, self.domain, s.u, s.p, self.comm)
+        if self.failure:
+            summary["failure"] = self.failure
+        self.output.summary(summary)
 
-    if interrupted:
-        if comm.rank == 0:
-            print(f"biotcontact: interrupted (signal {interrupted}) after step {completed[0]}, t = {completed[1]:g}: "
-                  f"everything up to there is in {directory}", file=sys.stderr, flush=True)
-        return 128 + interrupted
-    if failure:
-        if comm.rank == 0:
-            print(f"biotcontact: error: {failure} (log: {directory}/iterations.csv)", file=sys.stderr, flush=True)
-        return RUN_NOT_CONVERGED
-    say(f"wrote {output.xdmf_path()} and {directory}/summary.json ({wall:f} s)")
-    return RUN_OK
+    def exit_status(self):
+        """RUN_OK; 128 + the signal of an interruption; RUN_NOT_CONVERGED after
+        a failure (everything finished is written)."""
+        root = is_rank0(self.comm)
+        if self.signal:
+            if root:
+                print(f"biotcontact: interrupted (signal {self.signal}) after step {self.completed_steps}, "
+                      f"t = {self.completed_time:g}: everything up to there is in {self.directory}",
+                      file=sys.stderr, flush=True)
+            return 128 + self.signal
+        if self.failure:
+            if root:
+                print(f"biotcontact: error: {self.failure} (log: {self.directory}/iterations.csv)", file=sys.stderr,
+                      flush=True)
+            return RUN_NOT_CONVERGED
+        if root:
+            print(f"wrote {self.output.xdmf_path()} and {self.directory}/summary.json "
+                  f"({self.progress.elapsed():f} s)", flush=True)
+        return RUN_OK
+
+
+def run(scene, directory, comm, fingerprint="", restart=False):
+    """Runs `scene` into `directory`; returns RUN_OK, or RUN_NOT_CONVERGED
+    after writing what was finished and the iteration log, or 128 + the
+    signal after an interruption."""
+    return Simulation(scene, directory, comm, fingerprint, restart).run()

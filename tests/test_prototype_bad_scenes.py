@@ -43,6 +43,9 @@ CASES = [
     ("unknown solver choice", ["solver.flow=gpu"], "solver.flow"),
     ("unknown acceleration", ["coupling.acceleration=aitken"], "coupling.acceleration"),
     ("Anderson depth 0", ["coupling.acceleration=anderson", "coupling.depth=0"], "coupling.depth"),
+    ("negative checkpoint interval", ["output.checkpoint_every=-1"], "output.checkpoint_every"),
+    ("zero progress interval", ["output.progress_interval=0"], "output.progress_interval"),
+    ("infinite progress interval", ["output.progress_interval=inf"], "output.progress_interval"),
 ]
 for label, overrides, key in CASES:
     command = "run" if label.endswith("evaluated") else "check"  # the gap is evaluated at the nodes in a run

@@ -1,5 +1,6 @@
 #include "output/directory_lock.h"
 
+#include "output/progress.h"
 #include "scene/scene.h"
 
 #include <cerrno>
@@ -40,10 +41,8 @@ std::string this_process()
 
 DirectoryLock::DirectoryLock(MPI_Comm comm, const std::string& directory)
 {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
   std::string error;
-  if (rank == 0)
+  if (is_rank0(comm))
   {
     std::error_code ec;
     std::filesystem::create_directories(directory, ec);

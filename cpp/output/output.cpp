@@ -1,5 +1,6 @@
 #include "output/output.h"
 
+#include "output/progress.h"
 #include "scene/scene.h"
 
 #include <cmath>
@@ -32,13 +33,6 @@ std::string quoted(const std::string& v)
     q += c;
   }
   return q + "\"";
-}
-
-bool is_rank0(MPI_Comm comm)
-{
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  return rank == 0;
 }
 } // namespace
 

@@ -24,28 +24,27 @@ class Parameters:
 
 
 def derive_parameters(scene):
-    P = Parameters(d=scene.mesh.dimension, dt=scene.dt)
+    parameters = Parameters(d=scene.mesh.dimension, dt=scene.dt)
     if scene.mechanics:
-        P.G, P.lmbda = scene.mechanics.G, scene.mechanics.lmbda
-        P.K_dr = P.lmbda + 2 * P.G / P.d
+        parameters.G, parameters.lmbda = scene.mechanics.G, scene.mechanics.lmbda
+        parameters.K_dr = parameters.lmbda + 2 * parameters.G / parameters.d
     if scene.flow:
-        P.storage = scene.flow.storage()
+        parameters.storage = scene.flow.storage()
     if scene.coupling:
         c = scene.coupling
-        P.alpha, P.q = c.alpha, c.q
-        a2 = P.alpha * P.alpha
-        P.L = {"paper": lambda: a2 / P.lmbda, "kdr": lambda: a2 / P.K_dr,
-               "half-kdr": lambda: a2 / (2 * P.K_dr)}.get(c.L_choice, lambda: c.L_number)()
-        P.gamma = a2 / (a2 + P.lmbda * P.storage) if a2 > 0 else 0.0
-    return P
+        parameters.alpha, parameters.q = c.alpha, c.q
+        a2 = parameters.alpha * parameters.alpha
+        parameters.L = {"paper": lambda: a2 / parameters.lmbda, "kdr": lambda: a2 / parameters.K_dr,
+                        "half-kdr": lambda: a2 / (2 * parameters.K_dr)}.get(c.L_choice, lambda: c.L_number)()
+        parameters.gamma = a2 / (a2 + parameters.lmbda * parameters.storage) if a2 > 0 else 0.0
+    return parameters
 
 
-def set_constants(F, scene, P):
+def set_constants(F, scene, parameters):
     """The constants of forms/biot.py from the parameters (unused ones stay 0)."""
-    for name, value in (("G", P.G), ("lmbda", P.lmbda), ("alpha", P.alpha), ("storage", P.storage),
-                        ("L", P.L), ("dt", P.dt), ("q", P.q)):
-        F[name].value = value
-    F["ones"].value = np.ones(P.d)
+    for name in ("G", "lmbda", "alpha", "storage", "L", "dt", "q"):
+        F[name].value = getattr(parameters, name)
+    F["ones"].value = np.ones(parameters.d)
     if scene.flow and scene.flow.gravity:
         F["rho_f"].value = scene.flow.rho_f
         F["gravity"].value = np.array(scene.flow.gravity)

@@ -78,6 +78,13 @@ def contact_boundary_flag(contact_set):
     return flag
 
 
+def make_contact_fields(contact_set):
+    """The output fields of a contact set: the contact pressure and active
+    flag (zero off Gamma_3) and the contact_boundary_flag."""
+    return (fem.Function(contact_set.output_space), fem.Function(contact_set.output_space),
+            contact_boundary_flag(contact_set))
+
+
 class ContactState:
     """Contact diagnostics after a solve (cpp/contact/contact.h)."""
 
@@ -185,6 +192,9 @@ class ContactSolver:
         self.pending = self.used = None  # active flags of the contact DOFs
         self.set_repeated, self.relative_target = False, 0.0
         self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
+        # Called after each Newton step with its number: a long solve's sign
+        # of life (the run's progress line).
+        self.on_newton_step = None
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
@@ -231,6 +241,8 @@ class ContactSolver:
         if iteration > 0:
             differs = not np.array_equal(self.pending, self.used)
             self.set_repeated = not self.vi_mpi_comm.allreduce(int(differs), op=MPI.MAX)
+            if self.on_newton_step is not None:
+                self.on_newton_step(iteration)
 
     def _stagnation(self, ksp, iteration, rnorm):
         """A Newton step's Krylov solve that reduces its residual by less than

@@ -1,42 +1,25 @@
 """The fixed-stress split, single-rate (q = 1) and multirate (q flow steps
-per mechanics step): algorithm.md "Single-rate fixed-stress split" and
-"Multirate fixed-stress split" (paper eqs. 4.17-4.22), and the two-pass
-multirate variant ("multirate-two-pass", docs/multirate-two-pass.md); cpp/coupling/fixed_stress.cpp.
+per mechanics step): alg. "Single-rate fixed-stress split" and "Multirate
+fixed-stress split" (paper section 4, eqs. 4.17-4.22), and the two-pass
+multirate variant ("multirate-two-pass", docs/multirate-two-pass.md);
+cpp/coupling/fixed_stress.{h,cpp}.
 """
+import enum
 import math
 
 import numpy as np
 
 from ..assembly.parameters import set_time_step
 from .anderson import AndersonAcceleration
+from .coupling import CouplingError
 from ..assembly.linear_algebra import owned, owned_norm
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.time_grid import retry_step
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
-# are at round-off level (see the loop).
+# are at round-off level (see hold_against_gamma).
 RESOLVED_FRACTION = 1e-6
 ROUND_OFF_FRACTION = 1e-9
-
-
-class CouplingError(Exception):
-    """The split did not converge within coupling.max_iterations."""
-
-
-class CouplingReport:
-    def __init__(self):
-        self.windows = 0                   # mechanics (coarse) steps
-        self.coupling_iterations = 0
-        self.max_iterations_per_step = 0
-        self.max_contraction_ratio = self.mean_contraction_ratio = 0.0
-        self.ratios = 0                    # ratios held against gamma (resolved)
-        self.bound_violations = 0          # resolved ratios above gamma
-        self.unresolved_ratios = 0         # ratios at round-off level, logged only
-        self.max_coupled_residual = 0.0    # relative, of each converged state
-        self.retries = 0                   # failed steps retried with halved steps (time.retry)
-        # Carried from window to window (and through a checkpoint): the sum
-        # of the resolved ratios and the scales of the stopping test.
-        self.ratio_sum = self.p_size = self.u_size = 0.0
 
 
 def inexact_tolerance(previous_increment):
@@ -70,225 +53,334 @@ def second_pass_correction(second, p_K, u_new, t, p_new, w_new):
         second.p_previous.x.array[:] = p_B[m - 1]
         second.solve(t(m))
         p_B[m] = second.pressure.x.array.copy()
-        w_B[m] = second.state().copy()
+        w_B[m] = second.unknowns().copy()
     p_end, w_end = p_new[q] - p_B[q], w_new[q] - w_B[q]
     for m in range(1, q):
         p_new[m] = p_B[m] + (m / q) * p_end
         w_new[m] = w_B[m] + (m / q) * w_end
 
 
-def run_fixed_stress(scene, P, F, flow, second_pass, mechanics, contraction, output, on_flow_state,
-                     on_mechanics_state, report, comm, grid, stop=None, on_retry=None):
-    """Runs the coupled scene to its end time (from the end of window
-    report.windows when a restart loaded its state) on the steps of `grid`
-    (which a retry refines), filling `report`. After each converged window
-    calls on_flow_state(t) once per fine step (with that step's solution
-    loaded in `flow`), then on_mechanics_state(t, window, iterations), then
-    stop(): true ends the run there (an interruption); on_retry(message)
-    when a failed window is tried again with halved steps. Raises
-    CouplingError when a window does not converge. `second_pass` is the flow
-    step without L of "multirate-two-pass" (None for the other schemes)."""
-    coupling, q = scene.coupling, P.q
-    multirate = coupling.multirate()
-    accelerated = coupling.acceleration == "anderson"
-    V, Q = mechanics.V, flow.Q
-    nan = math.nan
-    for step in (flow, second_pass):
-        if step:
-            step.keep_loads(q)
+class Window:
+    """One window's iterates: p^{n,m} and p^{n+1,m} (m = 0..q; m = 0 is p_K),
+    u^n and u^{n+1}, the mixed states (z, p)^{n+1,m}, and what the
+    contraction measure and the error message carry from one iteration to
+    the next."""
 
-    # Converged state at t_K: (u_K, p_K).
-    p_K = flow.pressure.x.array.copy()
-    u_K = mechanics.u.x.array.copy()
-    # The largest p (summed over the q fine steps) and u of the run so far:
-    # the scales of the stopping test (a restart brings its own).
-    if report.windows == 0:
-        report.p_size = math.sqrt(q) * owned_norm(p_K, Q, comm)
-        report.u_size = owned_norm(u_K, V, comm)
+    def __init__(self, K, w_K, p_K, u_K, q):
+        self.K = K                    # the window [t_K, t_{K+1}]
+        self.w_K = w_K                # flow state (z, p) at t_K, for a retry
+        self.p_old = [p_K] * (q + 1)
+        self.p_new = [p_K] * (q + 1)
+        self.w_new = [None] * (q + 1)
+        self.u_old, self.u_new = u_K, None
+        self.anderson = None
+        self.active_set_changes = 0   # at the last Anderson restart
+        self.dsigma_previous, self.dsigma_first = math.nan, 0.0
+        self.increment = 1.0          # max(dp, du) of the last iteration
+        self.log = []                 # the last iterations, for the error message
 
-    attempts = [0]  # retries of the current window (time.retry)
-    K = report.windows
-    while K < grid.steps() // q:
-        def t(m):  # fine time m of the window (t_K + m dt for a constant step)
-            return grid.t[K * q + m]
-        if set_time_step(F, grid.dt[K * q]):
-            flow.time_step_changed()
-        if second_pass and set_time_step(second_pass.F, grid.dt[K * q]):
-            second_pass.time_step_changed()
-        w_K = flow.state().copy()
 
-        def retry(cause):
-            """time.retry: back to the start of the window, whose fine steps
-            are halved (two windows of q steps); False when no retry is left."""
-            message = retry_step(scene, cause, K + 1, attempts, grid, K * q, q, report)
-            if message is None:
-                return False
-            flow.set_state(w_K)
-            mechanics.u.x.array[:] = u_K
-            if on_retry:
-                on_retry(message)
-            return True
-        # Start: p^{0,m} = p_K for all m, u^0 = u_K.
-        p_old = [p_K] * (q + 1)
-        p_new = [p_K] * (q + 1)
-        w_new = [None] * (q + 1)
-        u_old = u_K
-        flow.u_window.x.array[:] = u_K
-        if second_pass:
-            second_pass.u_window.x.array[:] = u_K
-        # coupling.acceleration = "anderson": the iterate fed to the next pass
-        # combines the last map values (anderson.py); state (p^1..p^q, u),
-        # weighted by the scales of the stopping test.
-        anderson, active_set_changes = None, contact_changes(mechanics)
-        if accelerated:
-            owned_p, owned_u = owned(Q), owned(V)
-            anderson = AndersonAcceleration(comm, coupling.depth, [owned_p] * q + [owned_u],
-                                            [1 / report.p_size if report.p_size > 0 else 1.0] * q
-                                            + [1 / report.u_size if report.u_size > 0 else 1.0])
-        dsigma_previous, dsigma_first = nan, 0.0
-        converged, log = False, []
-        increment = 1.0  # max(dp, du) of the last iteration
+class Increments:
+    """What one coupling iteration measured on its increments."""
 
+    def __init__(self):
+        self.du = None
+        self.dsigma = 0.0    # ||delta sigma|| of Theorem 1 (q = 1) or 2 (multirate)
+        self.theorem2 = 0.0  # Theorem 2's quantity (NaN without L)
+        self.ratio = 0.0     # dsigma / the previous iteration's (NaN at n = 0)
+        self.dp2 = self.p2 = 0.0
+
+
+class Outcome(enum.Enum):
+    converged = 1
+    not_converged = 2
+    retried = 3
+
+
+class FixedStressSplit:
+    """The fixed-stress split as a sequence of windows, each iterated to
+    convergence in the stages of paper section 4: flow pass (eq. 4.17-4.19),
+    mechanics pass (eq. 4.20-4.22), contraction measure (Theorems 1 and 2),
+    stopping test, next iterate, and accept or retry."""
+
+    def __init__(self, scene, parameters, F, flow, second_pass, mechanics, contraction, output, observer, report, comm,
+                 grid):
+        self.scene, self.coupling, self.parameters, self.F = scene, scene.coupling, parameters, F
+        self.flow, self.second_pass, self.mechanics = flow, second_pass, mechanics
+        self.contraction, self.output, self.observer = contraction, output, observer
+        self.report, self.comm, self.grid = report, comm, grid
+        self.q, self.V, self.Q = parameters.q, mechanics.V, flow.Q
+        self.accelerated = self.coupling.acceleration == "anderson"
+        self.p_K = self.u_K = None  # the converged state at t_K
+        self.attempts = [0]         # retries of the current window (time.retry)
+
+    def t(self, K, m):
+        """Fine time m of window K (t_K + m dt for a constant step)."""
+        return self.grid.t[K * self.q + m]
+
+    def start(self):
+        """The converged state at the start (t = 0 or the restart's window)
+        and the scales of the stopping test: the largest p (summed over the q
+        fine steps) and u of the run so far (a restart brings its own)."""
+        for step in (self.flow, self.second_pass):
+            if step:
+                step.keep_loads(self.q)
+        self.p_K = self.flow.pressure.x.array.copy()
+        self.u_K = self.mechanics.u.x.array.copy()
+        if self.report.windows == 0:
+            self.report.p_size = math.sqrt(self.q) * owned_norm(self.p_K, self.Q, self.comm)
+            self.report.u_size = owned_norm(self.u_K, self.V, self.comm)
+
+    def begin_window(self, K):
+        """The first iterate of window K: p^{0,m} = p_K for all m, u^0 = u_K;
+        with coupling.acceleration = "anderson" the Anderson state (p^1, ...,
+        p^q, u), weighted by the scales of the stopping test (anderson.py)."""
+        q, report = self.q, self.report
+        if set_time_step(self.F, self.grid.dt[K * q]):
+            self.flow.time_step_changed()
+        if self.second_pass and set_time_step(self.second_pass.F, self.grid.dt[K * q]):
+            self.second_pass.time_step_changed()
+        w = Window(K, self.flow.unknowns().copy(), self.p_K, self.u_K, q)
+        self.flow.u_window.x.array[:] = self.u_K
+        if self.second_pass:
+            self.second_pass.u_window.x.array[:] = self.u_K
+        w.active_set_changes = contact_changes(self.mechanics)
+        if self.accelerated:
+            w.anderson = AndersonAcceleration(self.comm, self.coupling.depth,
+                                              [owned(self.Q)] * q + [owned(self.V)],
+                                              [1 / report.p_size if report.p_size > 0 else 1.0] * q
+                                              + [1 / report.u_size if report.u_size > 0 else 1.0])
+        return w
+
+    def flow_pass(self, w):
+        """(a) q flow steps with u^n lagged (eq. 4.17-4.19):
+          ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
+            = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
+              - ((alpha/q) div(u^n - u_K)/dt, th)"""
+        flow = self.flow
+        if self.scene.solver.inexact_coupling:
+            flow.system.set_tolerance(inexact_tolerance(w.increment))
+            self.mechanics.system.set_tolerance(inexact_tolerance(w.increment))
+        flow.u_iterate.x.array[:] = w.u_old
+        for m in range(1, self.q + 1):
+            flow.p_previous.x.array[:] = w.p_new[m - 1]
+            flow.p_iterate.x.array[:] = w.p_old[m]
+            flow.p_iterate_previous.x.array[:] = w.p_old[m - 1]
+            flow.solve(self.t(w.K, m))
+            w.p_new[m] = flow.pressure.x.array.copy()
+            w.w_new[m] = flow.unknowns().copy()
+
+    def mechanics_pass(self, w):
+        """(b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq.
+        4.20-4.22): flow.pressure holds it and is the pressure coefficient of
+        the mechanics load. (c) "multirate-two-pass": the fine steps again,
+        without L, with u^{n+1}; for q = 1 the correction would return p^A_1
+        itself."""
+        self.mechanics.solve(self.t(w.K, self.q))
+        w.u_new = self.mechanics.u.x.array.copy()
+        if self.second_pass and self.q > 1:
+            second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w.K, m), w.p_new,
+                                   w.w_new)
+
+    def measure_contraction(self, w, n):
+        """The contraction quantities of this iteration's increments: Theorem 1,
+          delta sigma_v^{n+1} = lambda div(du) - alpha dp,
+        for the single-rate split, Theorem 2,
+          delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
+        (summed over m in l2) for the multirate ones."""
+        parameters, q, contraction = self.parameters, self.q, self.contraction
+        inc = Increments()
+        inc.du = w.u_new - w.u_old
+        dp_previous = np.zeros_like(self.p_K)
+        for m in range(1, q + 1):
+            dp = w.p_new[m] - w.p_old[m]
+            if parameters.L > 0:
+                inc.theorem2 += contraction(parameters.alpha / (q * parameters.L), inc.du, 1.0, dp - dp_previous) ** 2
+            dp_previous = dp
+            inc.dp2 += owned_norm(dp, self.Q, self.comm) ** 2
+            inc.p2 += owned_norm(w.p_new[m], self.Q, self.comm) ** 2
+        inc.theorem2 = math.sqrt(inc.theorem2) if parameters.L > 0 else math.nan
+        if self.coupling.multirate():
+            inc.dsigma = inc.theorem2
+        else:
+            inc.dsigma = contraction(parameters.lmbda, inc.du, parameters.alpha, w.p_new[1] - w.p_old[1])
+        inc.ratio = inc.dsigma / w.dsigma_previous if n > 0 else math.nan
+        return inc
+
+    def hold_against_gamma(self, w, inc, n):
+        """A ratio is held against gamma from the second one on, while the
+        increments are resolved:
+        - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0, and
+          u^0 = u_K is no mechanics solution at this step's loads, which the
+          proof of Theorem 1 needs for both iterates it subtracts;
+        - once ||delta sigma|| has fallen six orders below the window's first
+          one, or below 1e-9 of the norm of the quantity itself, it is made of
+          the round-off of the solves.
+        The other ratios are logged and counted as unresolved. With
+        acceleration the iterates are no longer x^{n+1} = G(x^n): ratios are
+        logged only."""
+        parameters, q, report, ratio = self.parameters, self.q, self.report, inc.ratio
+        if n == 0:
+            w.dsigma_first = inc.dsigma
+        if self.coupling.multirate():
+            size = (self.contraction(parameters.alpha / (q * parameters.L), w.u_new, 1.0, w.p_new[q])
+                    if parameters.L > 0 else math.nan)
+        else:
+            size = self.contraction(parameters.lmbda, w.u_new, parameters.alpha, w.p_new[1])
+        resolved = (not self.accelerated and n > 1 and inc.dsigma >= RESOLVED_FRACTION * w.dsigma_first
+                    and inc.dsigma >= ROUND_OFF_FRACTION * size)
+        if n > 0 and not resolved:
+            report.unresolved_ratios += 1
+        if resolved and math.isfinite(ratio):
+            report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
+            report.ratio_sum += ratio
+            report.ratios += 1
+            report.bound_violations += int(ratio > parameters.gamma)
+        w.dsigma_previous = inc.dsigma
+
+    def stopping_test(self, w, inc, n):
+        """The stopping test's increments (dp, du), logged: l2 norms of the p
+        and u increments relative to the largest p and u of the run so far
+        (relative to the current iterate alone, a field decaying to zero, e.g.
+        p at steady state, would be judged by its round-off). Never on a
+        stale state."""
+        report = self.report
+        report.p_size = max(report.p_size, math.sqrt(inc.p2))
+        report.u_size = max(report.u_size, owned_norm(w.u_new, self.V, self.comm))
+        dp_norm = relative(math.sqrt(inc.dp2), report.p_size)
+        du_norm = relative(owned_norm(inc.du, self.V, self.comm), report.u_size)
+        if not math.isfinite(inc.p2) or not math.isfinite(report.u_size):
+            # The iterates hold NaN or inf (a load or coefficient that is not
+            # finite): no further iteration can recover.
+            raise SolverError("non-finite values (NaN or inf) in the "
+                              f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
+        self.output.iteration(w.K + 1, self.t(w.K, self.q), n + 1, inc.dsigma, inc.ratio, self.parameters.gamma,
+                              dp_norm, du_norm, self.mechanics.active_contact_nodes())
+        w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g};")
+        return dp_norm, du_norm
+
+    def next_iterate(self, w):
+        """The iterate the next flow pass reads: the map value (p^{n+1},
+        u^{n+1}), or with Anderson a combination of the last map values. The
+        differences of earlier iterations describe the map of their contact
+        active set only: a new set restarts the history."""
+        if not w.anderson:
+            w.p_old = list(w.p_new)
+            w.u_old = w.u_new
+            return
+        changes = contact_changes(self.mechanics)
+        if changes != w.active_set_changes:
+            w.anderson.restart()
+            w.active_set_changes = changes
+        x = w.anderson.next(w.p_old[1:] + [w.u_old], w.p_new[1:] + [w.u_new])
+        w.p_old = [w.p_old[0]] + x[:self.q]
+        w.u_old = x[self.q]
+
+    def record_coupled_residual(self, w, inc):
+        """Coupled residual of an accepted state: the flow equations with
+        u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
+        = L delta sigma^{n+1,m}; relative to the fluid content change."""
+        parameters = self.parameters
+        if parameters.L <= 0:
+            return
+        change = self.contraction(parameters.alpha, w.u_new - self.u_K, -parameters.storage, w.p_new[self.q] - self.p_K)
+        self.report.max_coupled_residual = max(self.report.max_coupled_residual,
+                                               parameters.L * inc.theorem2 / change if change > 0 else 0.0)
+
+    def iteration(self, w, n):
+        """One coupling iteration n of window w; True when it converged."""
+        self.flow_pass(w)
+        self.mechanics_pass(w)
+        inc = self.measure_contraction(w, n)
+        self.hold_against_gamma(w, inc, n)
+        dp_norm, du_norm = self.stopping_test(w, inc, n)
+        self.next_iterate(w)
+        if self.observer.iteration:
+            self.observer.iteration(w.K + 1, n + 1, dp_norm, du_norm)
+        w.increment = max(dp_norm, du_norm)
+        converged = dp_norm <= self.coupling.tolerance and du_norm <= self.coupling.tolerance
+        if converged:
+            self.record_coupled_residual(w, inc)
+        return converged
+
+    def iterate_window(self, w):
+        """Iterates window w to convergence; returns the outcome and the last
+        iteration's index."""
         n = 0
         try:
-            for n in range(coupling.max_iterations):
-                # (a) q flow steps with u^n lagged:
-                #   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
-                #     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
-                #       - ((alpha/q) div(u^n - u_K)/dt, th)
-                if scene.solver.inexact_coupling:
-                    flow.system.set_tolerance(inexact_tolerance(increment))
-                    mechanics.system.set_tolerance(inexact_tolerance(increment))
-                flow.u_iterate.x.array[:] = u_old
-                for m in range(1, q + 1):
-                    flow.p_previous.x.array[:] = p_new[m - 1]
-                    flow.p_iterate.x.array[:] = p_old[m]
-                    flow.p_iterate_previous.x.array[:] = p_old[m - 1]
-                    flow.solve(t(m))
-                    p_new[m] = flow.pressure.x.array.copy()
-                    w_new[m] = flow.state().copy()
-                # (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q}: flow.pressure
-                # holds it and is the pressure coefficient of the mechanics load.
-                mechanics.solve(t(q))
-                u_new = mechanics.u.x.array.copy()
-                # (c) "multirate-two-pass": the fine steps again, without L, with
-                # u^{n+1}; for q = 1 the correction returns p^A_1 itself.
-                if second_pass and q > 1:
-                    second_pass_correction(second_pass, p_K, u_new, t, p_new, w_new)
-
-                # Contraction quantities, measured on the increments of this iteration.
-                du = u_new - u_old
-                theorem2, dp2, p2 = 0.0, 0.0, 0.0
-                dp_previous = np.zeros_like(p_K)
-                for m in range(1, q + 1):
-                    dp = p_new[m] - p_old[m]
-                    # Theorem 2: delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du
-                    if P.L > 0:
-                        theorem2 += contraction(P.alpha / (q * P.L), du, 1.0, dp - dp_previous) ** 2
-                    dp_previous = dp
-                    dp2 += owned_norm(dp, Q, comm) ** 2
-                    p2 += owned_norm(p_new[m], Q, comm) ** 2
-                theorem2 = math.sqrt(theorem2) if P.L > 0 else nan
-                if multirate:
-                    dsigma = theorem2
-                else:  # Theorem 1: delta sigma_v^{n+1} = lambda div(du) - alpha dp
-                    dsigma = contraction(P.lmbda, du, P.alpha, p_new[1] - p_old[1])
-
-                ratio = dsigma / dsigma_previous if n > 0 else nan
-                if n == 0:
-                    dsigma_first = dsigma
-                # A ratio is held against gamma from the second one on, while the
-                # increments are resolved:
-                # - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0,
-                #   and u^0 = u_K is no mechanics solution at this step's loads, which
-                #   the proof of Theorem 1 needs for both iterates it subtracts;
-                # - once ||delta sigma|| has fallen six orders below the window's
-                #   first one, or below 1e-9 of the norm of the quantity itself, it
-                #   is made of the round-off of the solves.
-                # The other ratios are logged and counted as unresolved.
-                if multirate:
-                    size = contraction(P.alpha / (q * P.L), u_new, 1.0, p_new[q]) if P.L > 0 else nan
-                else:
-                    size = contraction(P.lmbda, u_new, P.alpha, p_new[1])
-                # with acceleration the iterates are no longer x^{n+1} = G(x^n):
-                # the ratios are logged, not held against gamma
-                resolved = (not accelerated and n > 1 and dsigma >= RESOLVED_FRACTION * dsigma_first
-                            and dsigma >= ROUND_OFF_FRACTION * size)
-                if n > 0 and not resolved:
-                    report.unresolved_ratios += 1
-                if resolved and math.isfinite(ratio):
-                    report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
-                    report.ratio_sum += ratio
-                    report.ratios += 1
-                    report.bound_violations += int(ratio > P.gamma)
-                dsigma_previous = dsigma
-
-                # Stopping test on the increments of this iteration (never on a
-                # stale state): l2 norms of the p and u increments relative to the
-                # largest p and u of the run so far (relative to the current iterate
-                # alone, a field decaying to zero would be judged by its round-off).
-                report.p_size = max(report.p_size, math.sqrt(p2))
-                report.u_size = max(report.u_size, owned_norm(u_new, V, comm))
-                dp_norm = relative(math.sqrt(dp2), report.p_size)
-                du_norm = relative(owned_norm(du, V, comm), report.u_size)
-                if not math.isfinite(p2) or not math.isfinite(report.u_size):
-                    # The iterates hold NaN or inf (a load or coefficient that is
-                    # not finite): no further iteration can recover.
-                    raise SolverError("non-finite values (NaN or inf) in the "
-                                      f"{'displacement' if math.isfinite(p2) else 'pressure'}")
-                output.iteration(K + 1, t(q), n + 1, dsigma, ratio, P.gamma, dp_norm, du_norm,
-                                 mechanics.active_contact_nodes())
-                log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {dsigma:g};")
-
-                if anderson:
-                    # earlier differences describe the map of their active set only
-                    changes = contact_changes(mechanics)
-                    if changes != active_set_changes:
-                        anderson.restart()
-                        active_set_changes = changes
-                    x = anderson.next(p_old[1:] + [u_old], p_new[1:] + [u_new])
-                    p_old = [p_old[0]] + x[:q]
-                    u_old = x[q]
-                else:
-                    p_old = list(p_new)
-                    u_old = u_new
-                increment = max(dp_norm, du_norm)
-                if dp_norm <= coupling.tolerance and du_norm <= coupling.tolerance:
-                    converged = True
-                    # Coupled residual of the accepted state: the flow equations with
-                    # u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q)
-                    # div du = L delta sigma^{n+1,m}; relative to the fluid content change.
-                    if P.L > 0:
-                        change = contraction(P.alpha, u_new - u_K, -P.storage, p_new[q] - p_K)
-                        report.max_coupled_residual = max(report.max_coupled_residual,
-                                                          P.L * theorem2 / change if change > 0 else 0.0)
-                    break
+            for n in range(self.coupling.max_iterations):
+                if self.iteration(w, n):
+                    return Outcome.converged, n
         except SolverError as e:
             # The failing solve named its system; the iteration is known here.
             cause = f"coupling iteration {n + 1}: {e}"
-            if retry(cause):
-                continue
-            raise SolverError(cause) from None
-        iterations = min(n + 1, coupling.max_iterations)
-        report.coupling_iterations += iterations
-        report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
-        if not converged:
-            if retry("the fixed-stress split did not converge"):
-                continue
-            report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
-            raise CouplingError(f"the fixed-stress split did not converge in {coupling.max_iterations} "
-                                f"iterations at t = {t(q):g} (step {K + 1}); last increments:"
-                                + "".join(log[-3:]))
-        attempts[0] = 0
+            if not self.retry(w, cause):
+                raise SolverError(cause) from None
+            return Outcome.retried, n
+        return Outcome.not_converged, n
 
-        # Accept the window: write every fine flow step, then the mechanics step.
-        for m in range(1, q + 1):
-            flow.set_state(w_new[m])
-            on_flow_state(t(m))
-        on_mechanics_state(t(q), K + 1, n + 1)
-        report.windows = K + 1
-        p_K, u_K = p_new[q], u_new
-        K += 1
-        if stop is not None and stop():
-            break
-    report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
+    def retry(self, w, cause):
+        """time.retry: back to the start of the window, whose fine steps are
+        halved (two windows of q steps); False when no retry is left."""
+        message = retry_step(self.scene, cause, w.K + 1, self.attempts, self.grid, w.K * self.q, self.q,
+                             self.report)
+        if message is None:
+            return False
+        self.flow.set_unknowns(w.w_K)
+        self.mechanics.u.x.array[:] = self.u_K
+        if self.observer.retry:
+            self.observer.retry(message)
+        return True
+
+    def not_converged(self, w):
+        """The error of a window that did not converge in
+        coupling.max_iterations, with the last increments."""
+        return CouplingError(f"the fixed-stress split did not converge in {self.coupling.max_iterations} "
+                             f"iterations at t = {self.t(w.K, self.q):g} (step {w.K + 1}); last increments:"
+                             + "".join(w.log[-3:]))
+
+    def accept_window(self, w, n):
+        """Accept the window: write every fine flow step, then the mechanics
+        step; its end state is the next window's start."""
+        self.attempts[0] = 0
+        for m in range(1, self.q + 1):
+            self.flow.set_unknowns(w.w_new[m])
+            self.observer.flow_state(self.t(w.K, m))
+        self.observer.mechanics_state(self.t(w.K, self.q), w.K + 1, n + 1)
+        self.report.windows = w.K + 1
+        self.p_K, self.u_K = w.p_new[self.q], w.u_new
+
+    def run(self):
+        report, max_iterations = self.report, self.coupling.max_iterations
+        self.start()
+        K = report.windows
+        while K < self.grid.steps() // self.q:
+            w = self.begin_window(K)
+            outcome, n = self.iterate_window(w)
+            if outcome != Outcome.retried:
+                iterations = min(n + 1, max_iterations)
+                report.coupling_iterations += iterations
+                report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
+            if outcome == Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
+                report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
+                raise self.not_converged(w)
+            if outcome != Outcome.converged:
+                continue  # the same window again, on the halved steps
+            self.accept_window(w, n)
+            K += 1
+            if self.observer.stop and self.observer.stop():
+                break
+        report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
+
+
+def run_fixed_stress(scene, parameters, F, flow, second_pass, mechanics, contraction, output, observer, report, comm,
+                     grid):
+    """Runs the coupled scene from t = 0 (or, when report.windows > 0, from
+    the end of that window: a restart with the state loaded) to its end time
+    on the steps of `grid` (which a retry refines), filling `report` as it
+    goes and telling `observer` (coupling.py). Raises CouplingError (after
+    logging every iteration) when a window does not converge; `report` then
+    describes the run up to that window. `second_pass` is the flow step
+    without L of "multirate-two-pass" (None for the other schemes)."""
+    FixedStressSplit(scene, parameters, F, flow, second_pass, mechanics, contraction, output, observer, report, comm,
+                     grid).run()

@@ -21,7 +21,7 @@ class Checkpoint:
         self.steps, self.time = steps, time
         self.arrays = arrays or {}    # this rank's, ghosts included
         self.numbers = numbers or {}  # counters and scales
-        self.output = output          # Output.state()
+        self.output = output          # Output.position()
 
 
 def _path(directory, rank):

@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from ..scene.scene import agree_on_error
+from .progress import is_rank0
 from .time_series import TimeSeries
 
 COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
@@ -35,13 +36,13 @@ def to_json(value, indent=0):
 
 class Output:
     def __init__(self, comm, directory, mesh, xdmf, resume=None):
-        """Creates the files; or, given the state() of an earlier run of the
-        same scene, goes on in its files, dropping what came after it."""
-        self.comm, self.directory, self.time = comm, directory, 0.0
+        """Creates the files; or, given the position() of an earlier run of
+        the same scene, goes on in its files, dropping what came after it."""
+        self.comm, self._directory, self.time = comm, directory, 0.0
         self.csv = None
         # Rank 0 makes the directory; every rank learns whether it could.
         error = ""
-        if comm.rank == 0:
+        if is_rank0(comm):
             try:
                 os.makedirs(directory, exist_ok=True)
             except OSError as e:
@@ -49,7 +50,7 @@ class Output:
             else:
                 path = os.path.join(directory, "iterations.csv")
                 try:
-                    if resume is not None:  # the state starts with the length of iterations.csv
+                    if resume is not None:  # the position starts with the length of iterations.csv
                         os.truncate(path, int(resume.split("\n", 1)[0]))
                     self.csv = open(path, "a" if resume is not None else "w")
                 except OSError:
@@ -62,12 +63,12 @@ class Output:
         series = resume.split("\n", 1)[1] if resume is not None else None
         self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh, series) if xdmf else None
 
-    def state(self):
-        """Where the files stand, for a checkpoint."""
-        return f"{self.csv.tell() if self.csv else 0}\n" + (self.xdmf.state() if self.xdmf else "")
+    def position(self):
+        """Where the files stand, for a checkpoint (this rank's view)."""
+        return f"{self.csv.tell() if self.csv else 0}\n" + (self.xdmf.position() if self.xdmf else "")
 
     def xdmf_path(self):
-        return os.path.join(self.directory, "solution.xdmf")
+        return os.path.join(self._directory, "solution.xdmf")
 
     def write(self, f, t):
         if self.xdmf is None:
@@ -84,8 +85,8 @@ class Output:
         self.csv.flush()
 
     def summary(self, summary):
-        if self.comm.rank == 0:
-            with open(os.path.join(self.directory, "summary.json"), "w") as f:
+        if is_rank0(self.comm):
+            with open(os.path.join(self._directory, "summary.json"), "w") as f:
                 f.write(to_json(summary) + "\n")
 
     def close(self):

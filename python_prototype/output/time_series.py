@@ -31,8 +31,8 @@ def _data_item(dimensions, number_type, h5, dataset):
 
 class TimeSeries:
     def __init__(self, comm, xdmf_path, mesh, resume=None):
-        """Creates the files and writes the mesh; or, given the state() of
-        an earlier run, goes on in its files, dropping what came after it."""
+        """Creates the files and writes the mesh; or, given the position()
+        of an earlier run, goes on in its files, dropping what came after it."""
         self.comm, self.xdmf_path = comm, xdmf_path
         self.h5_name = os.path.splitext(os.path.basename(xdmf_path))[0] + ".h5"
         mode = "a" if resume is not None else "w"
@@ -55,8 +55,8 @@ class TimeSeries:
             self.xml.truncate()
             self.xml.flush()
 
-    def state(self):
-        """Where the series stands, for a checkpoint."""
+    def position(self):
+        """Where the series stands, for a checkpoint (this rank's view)."""
         lines = [f"{self.grid_start if self.grid_start is not None else -1} {self.grids_end} "
                  f"{self.time if self.time is not None else 0.0!r} {int(self.time is not None)}"]
         lines += [f"{n} {c} {k} {w} {d}" for n, (c, k, w, d) in self.fields.items()]

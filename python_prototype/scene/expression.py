@@ -1,7 +1,7 @@
 """Scalar values of a scene: a number, or a muparser expression of x, y, z, t.
 
 The C++ solver hands the text to muparser (cpp/scene/expression.cpp); this module
-parses the same subset (README, "Expressions") and evaluates it on numpy
+parses the same subset (docs/user-guide.md, "Expressions") and evaluates it on numpy
 arrays, with muparser's rules:
 
     precedence, low to high:  c ? a : b  (right-assoc.)

@@ -1,4 +1,4 @@
-"""A scene: one TOML file that says what to simulate (README, "Scenes").
+"""A scene: one TOML file that says what to simulate (docs/user-guide.md, "Scene reference").
 
 Mirrors cpp/scene/scene.cpp key by key: the same defaults, the same checks in the
 same order, and the same one-line messages `<file>: <key>: <message>`.
@@ -254,6 +254,7 @@ class Scene:
     retry: int = 0       # time.retry: a failed step is retried with halved steps up to this many times
     write_xdmf: bool = True
     checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
+    progress_interval: float = 10.0  # output.progress_interval: seconds between lines within a step
     reference: Optional[ReferenceSpec] = None
     solver: SolverSpec = field(default_factory=SolverSpec)
 
@@ -641,11 +642,13 @@ def _read_time(top, scene):
 
 
 def _read_output(output, scene):
-    """[output]: XDMF on or off and the checkpoint interval."""
+    """[output]: XDMF on or off, the checkpoint interval and the progress interval."""
     scene.write_xdmf = output.boolean("xdmf", True)
     scene.checkpoint_every = output.integer("checkpoint_every", 0)
     if scene.checkpoint_every < 0:
         output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)")
+    scene.progress_interval = output.number("progress_interval", 10.0)
+    _positive(output, "progress_interval", scene.progress_interval)
     output.finish()
 
 

@@ -172,6 +172,12 @@ class SolverStatistics:
         self.setup_time = self.solve_time = self.total_time = self.assembly_time = self.schur_time = 0.0
 
 
+# The counts of SolverStatistics by name: the one list that checkpoints,
+# restarts and the sum with an earlier run's counts read.
+solver_counts = ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations", "active_set_changes",
+                 "schur_columns")
+
+
 class SolverStage:
     """A PETSc log stage named after a system, pushed while it solves."""
 

@@ -6,7 +6,8 @@ import time
 from ..contact.contact import ContactSolver
 from .field_split import is_coupled
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
-from .solver import LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults
+from .solver import (LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults,
+                     solver_counts)
 
 
 class System:
@@ -36,7 +37,7 @@ class System:
             self.a_preconditioner, self.P = a_preconditioner, assemble_matrix(a_preconditioner, bcs)
             self._statistics.assembly_time += time.perf_counter() - start
         self.contact = None
-        self.earlier = SolverStatistics()  # the counts of the run a restart continues
+        self._earlier = SolverStatistics()  # the counts of the run a restart continues
         # made now, so that options that make no solver are refused before the run
         self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
 
@@ -93,7 +94,13 @@ class System:
         else:
             self.linear.operator_changed()
 
+    def add_earlier(self, earlier):
+        """The counts of the run a restart continues, added to statistics()."""
+        self._earlier = earlier
+
     def statistics(self):
+        """The statistics of all solves so far, the counts of an earlier run
+        included (restart)."""
         s = SolverStatistics()
         s.__dict__.update(self._statistics.__dict__)
         self.stage.read(s)
@@ -109,9 +116,8 @@ class System:
             s.linear_iterations = self.contact.linear_iterations
             s.active_set_changes = self.contact.active_set_changes
             s.schur_columns, s.schur_time = self.contact.schur_columns(), self.contact.schur_time()
-        for name in ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations",
-                     "active_set_changes", "schur_columns"):
-            setattr(s, name, getattr(s, name) + getattr(self.earlier, name))
+        for name in solver_counts:
+            setattr(s, name, getattr(s, name) + getattr(self._earlier, name))
         return s
 
     def description(self):

@@ -5,8 +5,10 @@ import time
 from dolfinx import fem
 
 from ..solvers.field_split import Field
+from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate, interpolate_resistivity
-from ..assembly.linear_algebra import (accumulate_ghosts, add_vector, assemble_operator, dof_map, multiply_add, owned_global_dofs, reassemble_operator)
+from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, multiply_add, owned_global_dofs,
+                                       reassemble_operator)
 from ..solvers.solver import Structure
 from ..solvers.system import System
 from ..assembly.boundary_conditions import no_flow_bc
@@ -38,14 +40,10 @@ class FlowStep:
         self.u_iterate, self.u_window, self.du = (fem.Function(F["V"]) for _ in range(3)) if coupled \
             else (None, None, None)
         interpolate(self.pressure, [flow.initial_pressure], 0.0)
-        self.source, self.p_boundary = F["source"], F["p_boundary"]
 
-        self.L_pressure, self.loads_depend_on_time = [], False
-        for name, b in scene.boundaries.items():
-            if b.flow == "pressure":
-                self.L_pressure.append((b.pressure, F.compile("L_flow_pressure", domain.marker(name))))
-                self.loads_depend_on_time |= b.pressure.depends_on_time
+        # No flow (w.n = 0, essential for RT) wherever no pressure is given.
         self.bcs = [no_flow_bc(scene, domain, W.sub(0))]
+        self.make_loads(domain)
 
         self.a = F.compile("a_flow")
         # The terms that change every coupling iteration, as operators on the
@@ -59,10 +57,6 @@ class FlowStep:
         for name, x in operands:
             a = F.compile(name)
             self.operators.append((a, assemble_operator(a, self.bcs), x))
-        self.L_source = F.compile("L_flow_source") if flow.source else None
-        if flow.source:
-            self.loads_depend_on_time |= flow.source.depends_on_time
-        self.L_gravity = F.compile("L_flow_gravity") if flow.gravity else None
 
         self.assembly_time = 0.0  # right-hand sides
         # Quasi-definite when S + L > 0 (cpp/steps/flow_step.cpp): factorised once per dt.
@@ -70,14 +64,30 @@ class FlowStep:
         self.system = System(comm, "flow_", self.a, self.bcs,
                              Structure.quasi_definite if storage > 0 else Structure.general,
                              scene.solver.flow, self.fields(W))
-        self.b, self.b_loads = fem.Function(W), fem.Function(W)
-        # The loads of the last `load_times` times, oldest first (cpp/steps/flow_step.h).
-        self.loads_by_time, self.load_times = [], 1
+        self.b = fem.Function(W)
+
+    def make_loads(self, domain):
+        """Source, gravity and boundary pressures (alg. "Flow"), in that order,
+        with the zero no-flow values set (no lifting: they are zero)."""
+        F, flow = self.F, self.scene.flow
+
+        def finish(b, t):
+            accumulate_ghosts(b)
+            fem.set_bc(b.x.array, self.bcs)
+        self.loads = Loads(F["W"], finish)
+        if flow.source:
+            self.loads.add(F.compile("L_flow_source"), F["source"], [flow.source])
+        if flow.gravity:
+            self.loads.add(F.compile("L_flow_gravity"))
+        for name, b in self.scene.boundaries.items():
+            if b.flow == "pressure":
+                self.loads.add_boundary(domain, name, lambda marker: F.compile("L_flow_pressure", marker),
+                                        F["p_boundary"], [b.pressure])
 
     def keep_loads(self, times):
         """Keeps the loads of the last `times` solve times (q for a multirate
-        window, whose iterations revisit its fine times)."""
-        self.load_times = max(times, 1)
+        window, whose iterations revisit its fine times; 1 by default)."""
+        self.loads.keep(times)
 
     def fields(self, W):
         """The flux and pressure DOFs of W (owned, global numbering): the
@@ -86,35 +96,12 @@ class FlowStep:
         return [Field("flux", owned_global_dofs(index_map, self.Z_to_W)),
                 Field("pressure", owned_global_dofs(index_map, self.Q_to_W))]
 
-    def loads(self, t):
-        """Source, boundary pressure, gravity at time t: assembled once per
-        time (once per run if they do not depend on t), kept for the last
-        keep_loads() times."""
-        for time_, b in self.loads_by_time:
-            if time_ == t or not self.loads_depend_on_time:
-                return b
-        if len(self.loads_by_time) >= self.load_times:
-            self.loads_by_time.pop(0)
-        self.b_loads.x.array[:] = 0.0
-        if self.L_source:
-            interpolate(self.source, [self.scene.flow.source], t)
-            add_vector(self.b_loads, self.L_source)
-        if self.L_gravity:
-            add_vector(self.b_loads, self.L_gravity)
-        for expression, form in self.L_pressure:
-            interpolate(self.p_boundary, [expression], t)
-            add_vector(self.b_loads, form)
-        accumulate_ghosts(self.b_loads)  # the essential flux values are zero: no lifting
-        fem.set_bc(self.b_loads.x.array, self.bcs)
-        self.loads_by_time.append((t, self.b_loads.x.array.copy()))
-        return self.loads_by_time[-1][1]
-
     def solve(self, t):
         """(z, p) at time t from the coupling data; leaves p in `pressure`:
         b = loads - ((S+L)/dt) p^{n+1,m-1} - (L/dt)(p^{n,m} - p^{n,m-1})
               + (alpha/(q dt)) div(u^n - u_K), tested with th."""
         start = time.perf_counter()
-        self.b.x.array[:] = self.loads(t)
+        self.b.x.array[:] = self.loads.at(t).x.array
         if self.u_iterate is not None:
             self.dp.x.array[:] = self.p_iterate.x.array - self.p_iterate_previous.x.array
             self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
@@ -124,9 +111,10 @@ class FlowStep:
 
         self.system.solve(self.b.vector, self.w.vector)
         self.w.x.scatter_forward()
-        self.set_state(self.w.x.array)
+        self.set_unknowns(self.w.x.array)
 
-    def state(self):
+    def unknowns(self):
+        """The mixed solution (z, p) of the last solve."""
         return self.w.x.array
 
     def time_step_changed(self):
@@ -138,7 +126,7 @@ class FlowStep:
             reassemble_operator(A, a, self.bcs)
         self.assembly_time += time.perf_counter() - start
 
-    def set_state(self, w):
+    def set_unknowns(self, w):
         """Restores a mixed solution (the multirate scheme keeps one per fine step)."""
         if w is not self.w.x.array:
             self.w.x.array[:] = w

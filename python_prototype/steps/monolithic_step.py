@@ -5,8 +5,9 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ContactSet, ContactState, contact_boundary_flag
+from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..solvers.field_split import Field, part_of
+from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate, interpolate_resistivity
 from ..assembly.linear_algebra import add_vector, dof_map, finish_rhs, owned, owned_global_dofs, rigid_body_modes
 from ..solvers.solver import Structure
@@ -29,29 +30,13 @@ class MonolithicStep:
         interpolate(self.pressure, [scene.flow.initial_pressure], 0.0)
         self.x.x.array[self.Q_to_X] = self.pressure.x.array  # the first guess of a contact solve
         interpolate_resistivity(F["resistivity"], scene.flow, domain.dim)
-        self.body_force, self.traction = F["body_force"], F["traction"]
-        self.source, self.p_boundary = F["source"], F["p_boundary"]
 
+        # Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
         self.bcs, self.bc_values = displacement_bcs(scene, domain, X.sub(0))
         self.bcs.append(no_flow_bc(scene, domain, X.sub(1)))
-        self.loads_depend_on_time = any(e.depends_on_time for e, *_ in self.bc_values)
-        self.L_traction, self.L_pressure = [], []
-        for name, b in scene.boundaries.items():
-            if b.traction:  # a traction boundary, or a loaded contact boundary
-                self.L_traction.append((b.traction, F.compile("L_monolithic_traction", domain.marker(name))))
-                self.loads_depend_on_time |= any(e.depends_on_time for e in b.traction)
-            if b.flow == "pressure":
-                self.L_pressure.append((b.pressure, F.compile("L_monolithic_pressure", domain.marker(name))))
-                self.loads_depend_on_time |= b.pressure.depends_on_time
         self.a = F.compile("a_monolithic")
         self.L_history = F.compile("L_monolithic_history")
-        self.L_body = F.compile("L_monolithic_body_force") if scene.mechanics.body_force else None
-        if self.L_body:
-            self.loads_depend_on_time |= any(e.depends_on_time for e in scene.mechanics.body_force)
-        self.L_source = F.compile("L_monolithic_source") if scene.flow.source else None
-        if self.L_source:
-            self.loads_depend_on_time |= scene.flow.source.depends_on_time
-        self.L_gravity = F.compile("L_monolithic_gravity") if scene.flow.gravity else None
+        self.make_loads(domain, F)
 
         self.assembly_time = 0.0  # right-hand sides
         # Depends on dt only; its pressure block -(S/dt) is often negligible
@@ -59,19 +44,41 @@ class MonolithicStep:
         # iterative path is preconditioned by the fixed-stress split.
         self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, scene.solver.monolithic,
                              self.fields(X), F.compile("a_monolithic_preconditioner"))
-        self.b, self.b_loads = fem.Function(X), fem.Function(X)
-        self.loads_time = None
+        self.b = fem.Function(X)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
-        if not scene.has_contact():
-            return
-        # Contact: the bounds sit on the contact DOFs of the displacement block.
-        contact_set = ContactSet(scene, domain, F, self.V)
+        if scene.has_contact():
+            self.attach_contact(domain, F)
+
+    def make_loads(self, domain, F):
+        """Body force, tractions, source, boundary pressures and gravity, in
+        that order, with the Dirichlet values at t (lifted with the history
+        term, assemble_rhs)."""
+        scene = self.scene
+        self.loads = Loads(F["X"], lambda b, t: update(self.bc_values, t))
+        for expression, *_ in self.bc_values:
+            self.loads.depends_on_time(expression.depends_on_time)
+        if scene.mechanics.body_force:
+            self.loads.add(F.compile("L_monolithic_body_force"), F["body_force"], scene.mechanics.body_force)
+        for name, b in scene.boundaries.items():
+            if b.traction:  # a traction boundary, or a loaded contact boundary
+                self.loads.add_boundary(domain, name, lambda m: F.compile("L_monolithic_traction", m),
+                                        F["traction"], b.traction)
+        if scene.flow.source:
+            self.loads.add(F.compile("L_monolithic_source"), F["source"], [scene.flow.source])
+        for name, b in scene.boundaries.items():
+            if b.flow == "pressure":
+                self.loads.add_boundary(domain, name, lambda m: F.compile("L_monolithic_pressure", m),
+                                        F["p_boundary"], [b.pressure])
+        if scene.flow.gravity:
+            self.loads.add(F.compile("L_monolithic_gravity"))
+
+    def attach_contact(self, domain, F):
+        """Contact: the bounds sit on the contact DOFs of the displacement block."""
+        contact_set = ContactSet(self.scene, domain, F, self.V)
         dofs = self.V_to_X[contact_set.dofs]
-        if np.any(dofs >= owned(X)):
+        if np.any(dofs >= owned(F["X"])):
             raise RuntimeError("monolithic contact: a contact DOF owned in V is not owned in the mixed space")
-        self.contact_pressure = fem.Function(contact_set.output_space)
-        self.contact_active = fem.Function(contact_set.output_space)
-        self.contact_boundary = contact_boundary_flag(contact_set)
+        self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
         self.system.use_contact(contact_set, dofs, self.V_to_X[:owned(self.V)])
 
     def fields(self, X):
@@ -87,34 +94,12 @@ class MonolithicStep:
         mechanics = Field("mechanics", u, self.V.dofmap.index_map_bs, rigid_body_modes(self.V, position))
         return [flow, mechanics]
 
-    def assemble_loads(self, t):
-        if self.loads_time is not None and (not self.loads_depend_on_time or t == self.loads_time):
-            return
-        self.b_loads.x.array[:] = 0.0
-        if self.L_body:
-            interpolate(self.body_force, self.scene.mechanics.body_force, t)
-            add_vector(self.b_loads, self.L_body)
-        for traction, form in self.L_traction:
-            interpolate(self.traction, traction, t)
-            add_vector(self.b_loads, form)
-        if self.L_source:
-            interpolate(self.source, [self.scene.flow.source], t)
-            add_vector(self.b_loads, self.L_source)
-        for value, form in self.L_pressure:
-            interpolate(self.p_boundary, [value], t)
-            add_vector(self.b_loads, form)
-        if self.L_gravity:
-            add_vector(self.b_loads, self.L_gravity)
-        update(self.bc_values, t)
-        self.loads_time = t
-
     def assemble_rhs(self, t):
         """The right-hand side of a step to t from the state in u and pressure."""
         start = time.perf_counter()
         self.u_old.x.array[:] = self.u.x.array
         self.p_old.x.array[:] = self.pressure.x.array
-        self.assemble_loads(t)
-        self.b.x.array[:] = self.b_loads.x.array
+        self.b.x.array[:] = self.loads.at(t).x.array
         add_vector(self.b, self.L_history)
         finish_rhs(self.b, self.a, self.bcs)
         self.assembly_time += time.perf_counter() - start
@@ -144,12 +129,12 @@ class MonolithicStep:
         self.z.x.array[:] = self.x.x.array[self.Z_to_X]
         out.interpolate(self.z)
 
-    def state(self):
+    def unknowns(self):
         """The coupled unknown (u, z, p), ghosts included, for a checkpoint."""
         return self.x.x.array
 
-    def set_state(self, x):
-        """Loads a state() back (and u, pressure from it)."""
+    def set_unknowns(self, x):
+        """Loads unknowns() back (and u, pressure from it)."""
         self.x.x.array[:] = x
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]

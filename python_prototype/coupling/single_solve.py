@@ -1,0 +1,67 @@
+"""The scheme of a scene with one solve per step: the monolithic system, or
+a single physics (flow only, mechanics only); cpp/coupling/single_solve.cpp."""
+from ..assembly.parameters import set_time_step
+from ..solvers.solver import SolverError
+from ..steps.time_grid import retry_step
+
+
+def step_start(flow, mechanics, monolithic):
+    """The unknowns at the start of a step, to go back to when it is retried."""
+    return (flow.unknowns().copy() if flow else None, mechanics.u.x.array.copy() if mechanics else None,
+            monolithic.unknowns().copy() if monolithic else None)
+
+
+def go_back(start, flow, mechanics, monolithic):
+    flow_unknowns, displacement, monolithic_unknowns = start
+    if flow:
+        flow.set_unknowns(flow_unknowns)
+    if mechanics:
+        mechanics.u.x.array[:] = displacement
+    if monolithic:
+        monolithic.set_unknowns(monolithic_unknowns)
+
+
+def solve_step(t, flow, mechanics, monolithic):
+    """The solves of step t: the flow from the last step's pressure, then the
+    mechanics with the new one (a single physics has one of them)."""
+    if monolithic:
+        monolithic.solve(t)
+    if flow:
+        flow.p_previous.x.array[:] = flow.pressure.x.array
+        flow.solve(t)
+    if mechanics:
+        mechanics.solve(t)
+
+
+def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, grid):
+    """Runs the scene from the end of step report.windows (0, or a restart's)
+    to its end time, one solve per step: the monolithic step, or the one step
+    the scene has (the others are None). A step whose solve fails is retried
+    with halved steps (time.retry); otherwise the SolverError ends the run."""
+    attempts = [0]  # retries of the current step (time.retry)
+    k = report.windows + 1
+    while k <= grid.steps():
+        t = grid.t[k]
+        if set_time_step(F, grid.dt[k - 1]):
+            if monolithic:
+                monolithic.time_step_changed()
+            if flow:
+                flow.time_step_changed()
+        start = step_start(flow, mechanics, monolithic)
+        try:
+            solve_step(t, flow, mechanics, monolithic)
+        except SolverError as e:
+            message = retry_step(scene, str(e), k, attempts, grid, k - 1, 1, report)
+            if message is None:
+                raise
+            observer.retry(message)
+            go_back(start, flow, mechanics, monolithic)
+            continue  # the same step again, halved
+        attempts[0] = 0
+        if flow or monolithic:
+            observer.flow_state(t)
+        observer.mechanics_state(t, k, 1)
+        report.windows = k
+        k += 1
+        if observer.stop():
+            break
