@@ -3,12 +3,14 @@
 docs/performance.md (machine, commands, tables of medians, the targets
 table) and its plots in docs/performance/.
 
-    /usr/bin/python3 bench/report.py [--results bench/results] [--output docs/performance.md] [--readme [README.md]]
+    /usr/bin/python3 bench/report.py [--results bench/results] [--output docs/performance.md] [--measured FILE]
 
 The block between `<!-- analysis begin -->` and `<!-- analysis end -->` of an
-existing output file is hand-written and kept. With --readme the block
-between `<!-- measured begin -->` and `<!-- measured end -->` of README.md is
-replaced by the targets table (only if both markers are there).
+existing output file is hand-written and kept. The targets table lives in the
+report (its section "Targets"); no other page of the repository repeats it.
+With --measured FILE the block between `<!-- measured begin -->` and
+`<!-- measured end -->` of FILE (a page outside the repository, say) is
+replaced by the targets table too (only if both markers are there).
 """
 import argparse
 import math
@@ -298,7 +300,7 @@ def mandel_section(header, rows, plot_dir, relative):
     lines = ["## Mandel: pressure error against wall time", "", provenance(header), ""] + commands(header, rows)
     lines += ["`scenes/mandel.toml`, `time.end=50`, h and dt halved together (dt = 1000/nx). The error is the "
               "cell-area weighted relative l2 error of the P0 pressure at the cell centres at t = 50 s against "
-              "the closed form (`python_prototype/closed_form.py`); the solver's own `errors.pressure_rel_l2` "
+              "the closed form (`python_prototype/diagnostics/closed_form.py`); the solver's own `errors.pressure_rel_l2` "
               "(L2 over the domain against the interpolated closed form, so it includes the P0 projection "
               "error) is listed for comparison. These runs write XDMF (the error is read from it), so the "
               "wall time includes the output.", ""]
@@ -403,9 +405,9 @@ def report(data, output, results):
     return "\n".join(lines).rstrip() + "\n"
 
 
-def update_readme(path, data):
-    """Replaces the measured block of README.md with the targets table;
-    returns False (and changes nothing) if the markers are missing."""
+def update_measured_block(path, data):
+    """Replaces the measured block of the page `path` with the targets
+    table; returns False (and changes nothing) if the markers are missing."""
     with open(path) as f:
         text = f.read()
     pattern = re.escape(MEASURED[0]) + r".*?" + re.escape(MEASURED[1])
@@ -413,7 +415,7 @@ def update_readme(path, data):
         return False
     dates = sorted({h.get("date", "?")[:10] for h, _ in data.values()})
     block = "\n".join([MEASURED[0], f"Performance targets, measured {', '.join(dates)} "
-                       "(`bash bench/run_all.sh`; details in [docs/performance.md](docs/performance.md)):", ""]
+                       "(`bash bench/run_all.sh`; details in docs/performance.md):", ""]
                       + targets_table(data) + [MEASURED[1]])
     with open(path, "w") as f:
         f.write(re.sub(pattern, lambda _: block, text, count=1, flags=re.S))
@@ -425,19 +427,19 @@ def main():
     p.add_argument("--results", default=common.RESULTS, help="directory of the CSVs (default bench/results)")
     p.add_argument("--output", default=os.path.join(common.ROOT, "docs", "performance.md"),
                    help="the report (default docs/performance.md; plots go to docs/performance/)")
-    p.add_argument("--readme", nargs="?", const=os.path.join(common.ROOT, "README.md"),
-                   help="also replace the measured block of README.md (or the given file)")
+    p.add_argument("--measured", metavar="FILE",
+                   help="also replace the block between the measured markers of FILE by the targets table")
     args = p.parse_args()
     data = load(args.results)
     text = report(data, args.output, os.path.abspath(args.results))
     with open(args.output, "w") as f:
         f.write(text)
     print(f"wrote {args.output} and its plots")
-    if args.readme:
-        if update_readme(args.readme, data):
-            print(f"updated the measured block of {args.readme}")
+    if args.measured:
+        if update_measured_block(args.measured, data):
+            print(f"updated the measured block of {args.measured}")
         else:
-            print(f"{args.readme}: no {MEASURED[0]} ... {MEASURED[1]} block; left unchanged")
+            print(f"{args.measured}: no {MEASURED[0]} ... {MEASURED[1]} block; left unchanged")
     return 0
 
 

@@ -1,8 +1,8 @@
 """The benchmark scripts (bench/) end to end on tiny settings: each writes
 its CSV with the header lines and the expected columns, and report.py turns
 them into a report with the targets table and plots, keeps a hand-written
-analysis block, and refreshes a README's measured block. Nothing is written
-to bench/results or docs/."""
+analysis block, and refreshes the measured block of a page given with
+--measured. Nothing is written to bench/results or docs/."""
 import os
 import shutil
 import subprocess
@@ -77,7 +77,7 @@ with open(output, "w") as f:
 readme = os.path.join(docs, "README.md")
 with open(readme, "w") as f:
     f.write("intro\n<!-- measured begin -->\nstale\n<!-- measured end -->\nrest\n")
-bench("report.py", "--results", results, "--output", output, "--readme", readme)
+bench("report.py", "--results", results, "--output", output, "--measured", readme)
 with open(output) as f:
     report = f.read()
 check("## Targets" in report and "| target | goal | baseline | measured (median) | status |" in report
@@ -94,5 +94,5 @@ for name in ("wall_vs_unknowns.png", "time_per_iteration.png", "memory_vs_unknow
 with open(readme) as f:
     text = f.read()
 check("stale" not in text and "| target |" in text and text.startswith("intro") and text.endswith("rest\n"),
-      "--readme replaces only the measured block")
+      "--measured replaces only the measured block")
 shutil.rmtree(results)

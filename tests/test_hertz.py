@@ -1,4 +1,4 @@
-"""Hertz line contact (benchmarks.md): an elastic cylinder pressed on a rigid
+"""Hertz line contact (docs/verification.md, "Hertz line contact"): an elastic cylinder pressed on a rigid
 flat (pure mechanics, no flow allocated), gmsh mesh refined near the
 contact. With P the measured load, the contact half-width and the peak
 contact pressure are within 5% of a = sqrt(4PR/(pi E*)), p_max = 2P/(pi a)."""

@@ -1,4 +1,4 @@
-"""Poroelastic Hertz contact (benchmarks.md): under a fixed load the contact
+"""Poroelastic Hertz contact (docs/verification.md, "Hertz line contact"): under a fixed load the contact
 half-width starts at the undrained Hertz value (E* with nu_u) and grows
 monotonically to the drained one (nu), each within 5%. Geometrically growing
 time steps (time.growth) reach both limits in 56 steps."""

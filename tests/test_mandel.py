@@ -1,4 +1,4 @@
-"""Mandel's problem (benchmarks.md) against its closed form: errors under
+"""Mandel's problem (docs/verification.md, "Mandel") against its closed form: errors under
 refinement of h and dt together (3 levels; orders >= 0.8), the fixed-stress
 split and the monolithic solve agree, and the Mandel-Cryer effect (the
 centre pressure first rising above its t = 0+ value) is reproduced. The
@@ -8,7 +8,7 @@ import math
 import numpy as np
 from support import Fields, check, run, scene, summary
 
-# benchmarks.md check values for the scene's parameters.
+# docs/verification.md check values for the scene's parameters.
 lam, G, S, alpha, mobility, F, a = 1.65e9, 2.475e9, 1 / 1.65e10, 1.0, 9.869e-14 / 1e-3, 6.0e8, 100.0
 K = lam + 2 * G / 3
 nu = (3 * K - 2 * G) / (2 * (3 * K + G))
@@ -24,7 +24,7 @@ for n in range(1, 200):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if math.tan(mid) - (1 - nu) / (nu_u - nu) * mid < 0 else (lo, mid)
     roots.append(0.5 * (lo + hi))
-check(np.allclose(roots[:3], [1.352522, 4.647934, 7.815616], atol=1e-6), "first roots as in benchmarks.md")
+check(np.allclose(roots[:3], [1.352522, 4.647934, 7.815616], atol=1e-6), "first roots as in docs/verification.md")
 
 
 def p_exact(x, t):

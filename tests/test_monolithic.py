@@ -1,4 +1,4 @@
-"""The converged split equals the monolithic solve (algorithm.md, "Monolithic
+"""The converged split equals the monolithic solve (docs/theory.md, "Monolithic
 reference") on the default scene, whose contact set changes during the run;
 and the monolithic VI satisfies the Signorini conditions at every node."""
 from support import check, check_signorini, max_difference, run, scene, summary

@@ -2,7 +2,7 @@
 scene for q = 2, 4, 8, 16: it converges in every window, takes 48/q
 mechanics steps, each coupling iteration costs q flow solves and one
 mechanics solve, and Theorem 2's ratio stays <= gamma (as measured; a
-violation would be a finding, see README)."""
+violation would be a finding, see docs/theory.md, "Findings")."""
 from support import check, run, scene, summary
 
 single = summary(run(scene("default"))[0])

@@ -1,4 +1,4 @@
-"""Multirate with q = 1 is the single-rate scheme (algorithm.md): the same
+"""Multirate with q = 1 is the single-rate scheme (docs/theory.md, "Multirate fixed-stress split"): the same
 fields in every step to 1e-12 relative, and identical iteration counts."""
 from support import check, iterations, max_difference, run, scene
 

@@ -1,5 +1,5 @@
 """The Python prototype alone passes the Terzaghi closed-form checks
-(benchmarks.md), errors computed as cpp/simulation.cpp does (P2
+(docs/verification.md, "Terzaghi"), errors computed as cpp/simulation.cpp does (P2
 interpolants of the closed form)."""
 import subprocess
 import tempfile

@@ -1,4 +1,4 @@
-"""Terzaghi consolidation against its closed form (benchmarks.md)."""
+"""Terzaghi consolidation against its closed form (docs/verification.md, "Terzaghi")."""
 from support import check, run, scene, summary
 
 out, _ = run(scene("terzaghi"))

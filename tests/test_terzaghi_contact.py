@@ -1,5 +1,5 @@
 """Terzaghi with the base on frictionless contact at zero gap equals Terzaghi
-with a fixed base (benchmarks.md): the base is held by the foundation alone
+with a fixed base (docs/verification.md, "Properties any split must show"): the base is held by the foundation alone
 (semi-coercive), so this also exercises the contact solver's clamped start."""
 from support import check, check_signorini, iterations, max_difference, run, scene, summary
 

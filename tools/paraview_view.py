@@ -1,6 +1,6 @@
 """What a new user sees in ParaView: opens a run's solution.xdmf with
 ParaView's default reader, and either checks it (--check: one block, every
-array, every time) or renders the screenshot of the README (--screenshot
+array, every time) or renders the screenshot of docs/user-guide.md (--screenshot
 PNG: warped by the displacement, coloured by a field, at the last time).
 
     xvfb-run -a pvpython tools/paraview_view.py RUN_DIR --check

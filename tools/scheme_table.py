@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Runs the shipped coupled scenes with every scheme, q and L choice and
 writes the table of iteration counts and contraction ratios against gamma
-into README.md (between the scheme-table markers) and docs/schemes.md.
+into docs/schemes.md, between its markers `<!-- scheme-table begin -->` and
+`<!-- scheme-table end -->` (the rest of the page is hand-written and kept;
+a page without the markers gets the block appended).
 
     /usr/bin/python3 tools/scheme_table.py [--binary build/biotcontact]
 """
@@ -57,7 +59,7 @@ def main():
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for label, scene, overrides in SCENES:
         for scheme, q, L, depth in CASES:
-            accelerate = [f"coupling.acceleration=anderson", f"coupling.depth={depth}"] if depth else []
+            accelerate = ["coupling.acceleration=anderson", f"coupling.depth={depth}"] if depth else []
             s, code = run(args.binary, scene, overrides + [f"coupling.scheme={scheme}", f"coupling.q={q}",
                                                             f"coupling.L={L}"] + accelerate)
             acceleration = f"Anderson ({depth})" if depth else "-"
@@ -83,22 +85,32 @@ def main():
              f"({os.cpu_count()} cores), {datetime.date.today()}. Ratios are Theorem 1's quantity "
              "for fixed-stress and Theorem 2's for both multirate schemes (for the two-pass variant no "
              "theorem bounds it by gamma: it is measured); only resolved ratios are counted "
-             "(see Findings). Two-pass: coupling.scheme = \"multirate-two-pass\", 2q flow solves per "
-             "iteration. L = paper is alpha^2/lambda, the theorems' choice. Anderson (m): "
+             "(see [the theorems' quantities](theory.md#the-theorems-quantities-as-measured)). "
+             "Two-pass: coupling.scheme = \"multirate-two-pass\", 2q flow solves per iteration. "
+             "L = paper is alpha^2/lambda, the theorems' choice. Anderson (m): "
              "coupling.acceleration = \"anderson\" with depth m; its iterates are not the paper's map, so no "
              "ratio is held against gamma.")
     table = stamp + "\n\n" + "\n".join(rows) + "\n"
-    with open(os.path.join(ROOT, "docs", "schemes.md"), "w") as f:
-        f.write("# Schemes, q and L on the shipped scenes\n\n" + table)
-    readme = os.path.join(ROOT, "README.md")
-    with open(readme) as f:
-        text = f.read()
+    write_block(os.path.join(ROOT, "docs", "schemes.md"), table)
+
+
+def write_block(path, table):
+    """Replaces the text between the scheme-table markers of `path` by
+    `table`, keeping the rest; appends the block if a marker is missing."""
     begin, end = "<!-- scheme-table begin -->", "<!-- scheme-table end -->"
-    if begin in text and end in text:
-        head, rest = text.split(begin)
-        text = head + begin + "\n" + table + end + rest.split(end)[1]
-        with open(readme, "w") as f:
-            f.write(text)
+    text = ""
+    if os.path.exists(path):
+        with open(path) as f:
+            text = f.read()
+    block = begin + "\n" + table + end
+    if begin in text and end in text.split(begin, 1)[1]:
+        head, rest = text.split(begin, 1)
+        text = head + block + rest.split(end, 1)[1]
+    else:
+        text = (text.rstrip("\n") + "\n\n" if text else "# Schemes, q and L on the shipped scenes\n\n") + block + "\n"
+    with open(path, "w") as f:
+        f.write(text)
+    print(f"wrote the scheme table into {os.path.relpath(path, ROOT)}")
 
 
 if __name__ == "__main__":

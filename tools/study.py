@@ -120,7 +120,7 @@ class ClosedFormReference:
         self.terzaghi = Terzaghi(s["mesh"]["upper"][1] - self.y0, mech["G"], mech["lambda"], coupling["alpha"],
                                  1 / flow.get("M", math.inf) + flow.get("c_f", 0.0) * flow.get("phi0", 0.0),
                                  flow["permeability"] / flow["mu_f"], s["reference"]["load"])
-        self.description = "Terzaghi's closed form (benchmarks.md)"
+        self.description = "Terzaghi's closed form (docs/verification.md)"
 
     def fields(self, fields, t):
         T, y0 = self.terzaghi, self.y0

@@ -1,6 +1,6 @@
 // A scalar value given in a scene: a number, or an expression of the
 // coordinates and time (x, y, z, t) in muparser syntax. The Python prototype
-// evaluates the same subset (see README, "Expressions").
+// evaluates the same subset (docs/user-guide.md, "Expressions").
 #pragma once
 
 #include <functional>

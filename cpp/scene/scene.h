@@ -1,4 +1,4 @@
-// A scene: one TOML file that says what to simulate (see README, "Scenes").
+// A scene: one TOML file that says what to simulate (docs/user-guide.md, "Scene reference").
 // Reading it validates every key; a bad scene raises SceneError whose message
 // is one line naming the file and the key.
 #pragma once
