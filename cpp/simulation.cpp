@@ -319,21 +319,26 @@ private:
 };
 
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
-Checkpoint capture_checkpoint(int steps, double time, const Steps& s, CouplingReport report,
+Checkpoint capture_checkpoint(int steps, double time, const Steps& s, const mesh::Mesh& mesh, CouplingReport report,
                               const std::string& output, const TimeGrid& grid)
 {
   Checkpoint c;
   c.steps = steps;
   c.time = time;
-  auto keep = [&](const std::string& name, std::span<const double> x) { c.arrays[name].assign(x.begin(), x.end()); };
-  keep("times", grid.t); // the grid as retries left it (the same on every rank)
-  keep("time_steps", grid.dt);
+  c.arrays["times"] = grid.t; // the grid as retries left it (the same on every rank)
+  c.arrays["time_steps"] = grid.dt;
+  c.arrays["mesh"] = mesh_signature(mesh);
+  auto keep = [&](const std::vector<UnknownsPart>& parts, std::span<const double> unknowns)
+  {
+    for (const UnknownsPart& part : parts)
+      c.fields[part.name] = keyed_values(mesh, part, unknowns);
+  };
   if (s.flow)
-    keep("flow", s.flow->unknowns());
+    keep(s.flow->parts(), s.flow->unknowns());
   if (s.mechanics)
-    keep("displacement", s.mechanics->u->x()->array());
+    keep({{"displacement", s.V, {}}}, s.mechanics->u->x()->array());
   if (s.monolithic)
-    keep("monolithic", s.monolithic->unknowns());
+    keep(s.monolithic->parts(), s.monolithic->unknowns());
   for_each_checkpointed(report, [&](const char* name, auto& value) { c.numbers[name] = value; });
   const auto systems = s.systems();
   for (std::size_t i = 0; i < systems.size(); ++i)
@@ -347,20 +352,53 @@ Checkpoint capture_checkpoint(int steps, double time, const Steps& s, CouplingRe
   return c;
 }
 
+/// Loads the stored unknowns into the steps, whatever the partition;
+/// refuses a checkpoint of another mesh, or one that lacks any of them
+/// (collective).
+void restore_unknowns(const Checkpoint& c, Steps& s, const mesh::Mesh& mesh, MPI_Comm comm,
+                      const std::string& directory)
+{
+  const auto stored_mesh = c.arrays.find("mesh");
+  const std::string difference
+      = mesh_difference(stored_mesh == c.arrays.end() ? std::vector<double>{} : stored_mesh->second,
+                        mesh_signature(mesh));
+  if (not difference.empty())
+    throw SceneError("--restart " + directory + ": the checkpoint does not match this mesh (" + difference + ")");
+  auto restore = [&](const std::vector<UnknownsPart>& parts, std::span<double> unknowns)
+  {
+    for (const UnknownsPart& part : parts)
+    {
+      const auto stored = c.fields.find(part.name);
+      std::int64_t missing = stored == c.fields.end() ? 1 : restore_values(mesh, part, stored->second, unknowns);
+      MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_INT64_T, MPI_SUM, comm);
+      if (missing > 0)
+        throw SceneError("--restart " + directory + ": the checkpoint does not match this mesh ("
+                         + std::to_string(missing) + " values of the " + part.name + " not in it)");
+    }
+  };
+  if (s.flow)
+  {
+    std::vector<double> w(s.flow->unknowns().begin(), s.flow->unknowns().end());
+    restore(s.flow->parts(), w);
+    s.flow->set_unknowns(w);
+  }
+  if (s.mechanics)
+    restore({{"displacement", s.V, {}}}, s.mechanics->u->x()->mutable_array());
+  if (s.monolithic)
+  {
+    std::vector<double> x(s.monolithic->unknowns().begin(), s.monolithic->unknowns().end());
+    restore(s.monolithic->parts(), x);
+    s.monolithic->set_unknowns(x);
+  }
+}
+
 /// Loads a checkpoint into the steps, the report, the grid and the solver counts.
-void restore_checkpoint(const Checkpoint& c, Steps& s, CouplingReport& report, TimeGrid& grid)
+void restore_checkpoint(const Checkpoint& c, Steps& s, const mesh::Mesh& mesh, MPI_Comm comm,
+                        const std::string& directory, CouplingReport& report, TimeGrid& grid)
 {
   grid.t = c.arrays.at("times");
   grid.dt = c.arrays.at("time_steps");
-  if (s.flow)
-    s.flow->set_unknowns(c.arrays.at("flow"));
-  if (s.mechanics)
-  {
-    const std::vector<double>& u = c.arrays.at("displacement");
-    std::copy(u.begin(), u.end(), s.mechanics->u->x()->mutable_array().begin());
-  }
-  if (s.monolithic)
-    s.monolithic->set_unknowns(c.arrays.at("monolithic"));
+  restore_unknowns(c, s, mesh, comm, directory);
   for_each_checkpointed(report, [&](const char* name, auto& value)
                         { value = static_cast<std::remove_reference_t<decltype(value)>>(c.numbers.at(name)); });
   const auto systems = s.systems();
@@ -530,8 +568,9 @@ void Simulation::describe()
          "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)");
 }
 
-/// The checkpoint a restart goes on from, the output files (created, or
-/// those of the checkpoint's run) and the fields written into them.
+/// The time grid, the checkpoint a restart goes on from (loaded into the
+/// steps), the output files (created, or those of the checkpoint's run) and
+/// the fields written into them.
 void Simulation::open_output()
 {
   // The lock first: nothing in the directory is read, created or truncated
@@ -539,20 +578,24 @@ void Simulation::open_output()
   // exist is refused by read_checkpoint, without creating it.
   if (!_control.restart or std::filesystem::is_directory(_directory))
     _lock.emplace(_comm, _directory);
+  _grid = time_grid(_scene); // a retry (time.retry) halves some of its steps
   if (_control.restart)
+  {
+    // Loaded before the files are opened: a checkpoint that does not match
+    // is refused with the files as they were.
     _resumed = read_checkpoint(_comm, _directory, _control.fingerprint);
+    restore_checkpoint(*_resumed, _steps, *_domain->mesh, _comm, _directory, _report, _grid);
+  }
   _output = std::make_unique<Output>(_comm, _directory, _domain->mesh, _scene.write_xdmf,
                                      _resumed ? &_resumed->output : nullptr);
   _fields = std::make_unique<OutputFields>(*_domain, *_forms, _constants, _steps, *_output);
-  _grid = time_grid(_scene); // a retry (time.retry) halves some of its steps
 }
 
-/// The initial state, written at t = 0, or the state of the checkpoint.
+/// The initial state, written at t = 0, or the checkpoint's step and time.
 void Simulation::start_or_restore()
 {
   if (_resumed)
   {
-    restore_checkpoint(*_resumed, _steps, _report, _grid);
     _saved = _completed_steps = _resumed->steps;
     _completed_time = _resumed->time;
     if (_steps.u)
@@ -578,8 +621,8 @@ bool Simulation::stop()
   auto save = [&]
   {
     write_checkpoint(_comm, _directory, _control.fingerprint,
-                     capture_checkpoint(_completed_steps, _completed_time, _steps, _report, _output->position(),
-                                        _grid));
+                     capture_checkpoint(_completed_steps, _completed_time, _steps, *_domain->mesh, _report,
+                                        _output->position(), _grid));
     _saved = _completed_steps;
   };
   if (_scene.checkpoint_every > 0 and _completed_steps % _scene.checkpoint_every == 0)

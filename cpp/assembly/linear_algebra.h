@@ -9,12 +9,24 @@
 #include <memory>
 #include <petscmat.h>
 #include <petscvec.h>
+#include <span>
+#include <string>
 #include <vector>
 
 namespace biotcontact
 {
 
 using BCs = std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>>;
+
+/// @brief One field within a vector of unknowns: its own (collapsed) space
+/// and the position in the vector of each of its entries (empty: the
+/// vector is the field's own). A checkpoint stores the unknowns field by field.
+struct UnknownsPart
+{
+  std::string name;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> space;
+  std::span<const std::int32_t> position;
+};
 
 /// Assembles a bilinear form; rows and columns of Dirichlet DOFs become
 /// identity rows (the right-hand side gets the lifting, see assemble_rhs).

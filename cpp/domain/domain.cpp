@@ -48,6 +48,27 @@ struct GmshData
   std::vector<std::string> names;
 };
 
+/// Keeps only the nodes of the cells, numbered in their order in the file:
+/// the mesh's input numbering is then 0 .. N-1, the rows of the output.
+void drop_unused_nodes(GmshData& data, int d)
+{
+  std::vector<std::int64_t> index(data.x.size() / d, -1);
+  for (std::int64_t node : data.cells)
+    index[node] = 0;
+  std::vector<double> x;
+  for (std::size_t i = 0, used = 0; i < index.size(); ++i)
+    if (index[i] == 0)
+    {
+      index[i] = static_cast<std::int64_t>(used++);
+      x.insert(x.end(), data.x.begin() + i * d, data.x.begin() + (i + 1) * d);
+    }
+  data.x = std::move(x);
+  for (std::int64_t& node : data.cells)
+    node = index[node];
+  for (std::int64_t& node : data.facets)
+    node = index[node];
+}
+
 GmshData read_gmsh_file(const std::string& file, int d, int refine)
 {
   GmshData data;
@@ -113,6 +134,7 @@ GmshData read_gmsh_file(const std::string& file, int d, int refine)
   if (data.cells.empty())
     throw SceneError(file + ": no " + (d == 2 ? std::string("triangles") : "tetrahedra")
                      + " in the mesh (mesh.dimension = " + std::to_string(d) + ")");
+  drop_unused_nodes(data, d);
   return data;
 }
 

@@ -2,20 +2,28 @@
 
 #include "scene/scene.h"
 
-#include <cstdint>
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <dolfinx/fem/FunctionSpace.h>
 #include <filesystem>
 #include <fstream>
+#include <unordered_map>
 
 namespace biotcontact
 {
 
 namespace
 {
-const char magic[] = "biotcontact checkpoint 1";
+const char magic[] = "biotcontact checkpoint 2";
 
-std::string rank_file(const std::string& directory, int rank)
+std::string state_file(const std::string& directory) { return directory + "/checkpoint/state.bin"; }
+
+std::string values_file(const std::string& directory, int steps, int rank)
 {
-  return directory + "/checkpoint/rank" + std::to_string(rank) + ".bin";
+  return directory + "/checkpoint/values." + std::to_string(steps) + "." + std::to_string(rank) + ".bin";
 }
 
 void put(std::ofstream& f, const std::string& s)
@@ -29,6 +37,13 @@ template <typename T>
 void put(std::ofstream& f, T value)
 {
   f.write(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+template <typename T>
+void put_vector(std::ofstream& f, const std::vector<T>& v)
+{
+  put(f, static_cast<std::uint64_t>(v.size()));
+  f.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 
 std::string get_string(std::ifstream& f)
@@ -51,7 +66,220 @@ T get(std::ifstream& f)
     throw std::runtime_error("truncated");
   return value;
 }
+
+template <typename T>
+std::vector<T> get_vector(std::ifstream& f)
+{
+  const auto n = get<std::uint64_t>(f);
+  if (n > (std::uint64_t(1) << 40) / sizeof(T))
+    throw std::runtime_error("truncated");
+  std::vector<T> v(n);
+  f.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
+  if (!f)
+    throw std::runtime_error("truncated");
+  return v;
+}
+
+/// Writes a file through `path`.new and renames it into place.
+template <typename Write>
+void write_file(const std::string& path, const Write& write)
+{
+  {
+    std::ofstream f(path + ".new", std::ios::binary | std::ios::trunc);
+    write(f);
+    f.flush();
+    if (!f)
+      throw std::runtime_error("cannot write the checkpoint " + path + ": " + std::strerror(errno));
+  }
+  std::filesystem::rename(path + ".new", path);
+}
+
+/// @brief The input names of the entities a space's DOFs sit on, per local
+/// DOF block (owned and ghost), and the orientation of each.
+struct EntityNames
+{
+  int width = 1;
+  std::vector<std::int64_t> names; // width per block, ascending
+  std::vector<double> sign;        // +-1: the DOF's orientation against the names' order
+};
+
+/// The input index of every local vertex: vertex k of a cell is the
+/// cell's geometry node k on a P1 mesh.
+std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh)
+{
+  const int tdim = mesh.topology().dim();
+  const auto c_to_v = mesh.topology().connectivity(tdim, 0);
+  const auto& nodes = mesh.geometry().dofmap();
+  const std::vector<std::int64_t>& input = mesh.geometry().input_global_indices();
+  const auto map = mesh.topology().index_map(0);
+  std::vector<std::int64_t> result(map->size_local() + map->num_ghosts());
+  for (std::int32_t c = 0; c < c_to_v->num_nodes(); ++c)
+  {
+    auto v = c_to_v->links(c);
+    auto x = nodes.links(c);
+    for (std::size_t k = 0; k < v.size(); ++k)
+      result[v[k]] = input[x[k]];
+  }
+  return result;
+}
+
+/// The sorted input indices of a facet's vertices and the parity of the
+/// permutation from the order of the partition's global vertex numbering
+/// (dolfinx's orientation of the facet) to that sorted order.
+double facet_name(std::span<const std::int32_t> vertices, const std::vector<std::int64_t>& input,
+                  const dolfinx::common::IndexMap& vertex_map, std::int64_t* name)
+{
+  std::array<std::int32_t, 3> local{};
+  std::array<std::int64_t, 3> global{};
+  const std::size_t n = std::min<std::size_t>(vertices.size(), 3); // simplex facets
+  std::copy(vertices.begin(), vertices.end(), local.begin());
+  vertex_map.local_to_global(std::span(local.data(), n), std::span(global.data(), n));
+  std::array<std::size_t, 3> order{0, 1, 2};
+  for (std::size_t a = 1; a < n; ++a) // insertion sort of at most 3
+    for (std::size_t b = a; b > 0 and global[order[b]] < global[order[b - 1]]; --b)
+      std::swap(order[b], order[b - 1]);
+  int inversions = 0;
+  for (std::size_t a = 0; a < n; ++a)
+  {
+    name[a] = input[local[order[a]]];
+    for (std::size_t b = a + 1; b < n; ++b)
+      inversions += input[local[order[a]]] > input[local[order[b]]];
+  }
+  std::sort(name, name + n);
+  return inversions % 2 == 0 ? 1.0 : -1.0;
+}
+
+/// The names of the DOF blocks of V: one DOF per vertex, facet or cell.
+EntityNames entity_names(const dolfinx::mesh::Mesh& mesh, const dolfinx::fem::FunctionSpace& V)
+{
+  const int tdim = mesh.topology().dim();
+  const auto& dofmap = *V.dofmap();
+  const auto& layout = dofmap.element_dof_layout();
+  int dim = 0;
+  while (dim <= tdim and layout.num_entity_dofs(dim) == 0)
+    ++dim;
+  const int per_cell = dim > tdim ? 0 : mesh::cell_num_entities(mesh.topology().cell_type(), dim);
+  if (dim > tdim or layout.num_entity_dofs(dim) != 1 or layout.num_dofs() != per_cell)
+    throw std::runtime_error("checkpoint: a space that is not one DOF per vertex, facet or cell");
+  const auto blocks = dofmap.index_map->size_local() + dofmap.index_map->num_ghosts();
+  EntityNames e;
+  e.width = dim == tdim - 1 ? tdim : 1;
+  e.names.assign(blocks * e.width, -1);
+  e.sign.assign(blocks, 1.0);
+  const std::vector<std::int64_t> input = vertex_input_indices(mesh);
+  const auto cells = mesh.topology().index_map(tdim);
+  const auto c_to_f = dim == tdim - 1 ? mesh.topology().connectivity(tdim, dim) : nullptr;
+  const auto f_to_v = dim == tdim - 1 ? mesh.topology().connectivity(dim, 0) : nullptr;
+  for (std::int32_t c = 0; c < cells->size_local() + cells->num_ghosts(); ++c)
+  {
+    auto cell_dofs = dofmap.cell_dofs(c);
+    for (int k = 0; k < per_cell; ++k)
+    {
+      const std::int32_t block = cell_dofs[layout.entity_dofs(dim, k)[0]];
+      std::int64_t* name = e.names.data() + block * e.width;
+      if (dim == 0)
+        name[0] = input[mesh.topology().connectivity(tdim, 0)->links(c)[k]];
+      else if (dim == tdim)
+        name[0] = mesh.topology().original_cell_index[c];
+      else
+        e.sign[block] = facet_name(f_to_v->links(c_to_f->links(c)[k]), input, *mesh.topology().index_map(0), name);
+    }
+  }
+  return e;
+}
+
+using Key = std::array<std::int64_t, 3>;
+struct KeyHash
+{
+  std::size_t operator()(const Key& k) const
+  {
+    std::size_t h = 0;
+    for (std::int64_t v : k)
+      h = h * 1000003u ^ std::hash<std::int64_t>()(v);
+    return h;
+  }
+};
+
+Key key(const std::int64_t* name, int width)
+{
+  Key k{-1, -1, -1};
+  std::copy(name, name + width, k.begin());
+  return k;
+}
 } // namespace
+
+KeyedValues keyed_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part, std::span<const double> unknowns)
+{
+  const auto& dofmap = *part.space->dofmap();
+  const int bs = dofmap.index_map_bs();
+  const EntityNames e = entity_names(mesh, *part.space);
+  KeyedValues kv;
+  kv.width = e.width;
+  for (std::int32_t block = 0; block < dofmap.index_map->size_local(); ++block)
+    for (int j = 0; j < bs; ++j)
+    {
+      const std::int32_t entry = block * bs + j;
+      for (int w = 0; w < e.width; ++w)
+        kv.keys.push_back(bs == 1 ? e.names[block * e.width + w] : e.names[block] * bs + j);
+      kv.values.push_back(e.sign[block] * unknowns[part.position.empty() ? entry : part.position[entry]]);
+    }
+  return kv;
+}
+
+std::int64_t restore_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part, const KeyedValues& values,
+                            std::span<double> unknowns)
+{
+  const auto& dofmap = *part.space->dofmap();
+  const int bs = dofmap.index_map_bs();
+  const EntityNames e = entity_names(mesh, *part.space);
+  const std::int32_t blocks = dofmap.index_map->size_local() + dofmap.index_map->num_ghosts();
+  std::unordered_map<Key, std::int32_t, KeyHash> entry_of;
+  for (std::int32_t block = 0; block < blocks; ++block)
+    for (int j = 0; j < bs; ++j)
+    {
+      const std::int64_t vertex = e.names[block] * bs + j;
+      entry_of[bs == 1 ? key(&e.names[block * e.width], e.width) : key(&vertex, 1)] = block * bs + j;
+    }
+  std::int64_t found = 0;
+  const std::int32_t owned = dofmap.index_map->size_local() * bs;
+  if (values.width == e.width)
+    for (std::size_t i = 0; i < values.values.size(); ++i)
+      if (auto it = entry_of.find(key(&values.keys[i * values.width], values.width)); it != entry_of.end())
+      {
+        const std::int32_t entry = it->second;
+        unknowns[part.position.empty() ? entry : part.position[entry]] = e.sign[entry / bs] * values.values[i];
+        found += entry < owned;
+      }
+  return owned - found;
+}
+
+std::vector<double> mesh_signature(const dolfinx::mesh::Mesh& mesh)
+{
+  const auto& geometry = mesh.geometry();
+  const std::vector<std::int64_t>& input = geometry.input_global_indices();
+  const auto x = geometry.x();
+  double sum = 0.0;
+  for (std::int32_t node = 0; node < geometry.index_map()->size_local(); ++node)
+    for (int j = 0; j < geometry.dim(); ++j)
+      sum += x[3 * node + j] * static_cast<double>(1 + (input[node] * 3 + j) % 1009);
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, mesh.comm());
+  const int tdim = mesh.topology().dim();
+  return {static_cast<double>(geometry.index_map()->size_global()),
+          static_cast<double>(mesh.topology().index_map(tdim)->size_global()), sum};
+}
+
+std::string mesh_difference(const std::vector<double>& stored, const std::vector<double>& current)
+{
+  auto size = [](const std::vector<double>& s)
+  { return std::to_string(std::int64_t(s[0])) + " nodes and " + std::to_string(std::int64_t(s[1])) + " cells"; };
+  if (stored.size() != 3)
+    return "written for an unknown mesh";
+  if (stored[0] != current[0] or stored[1] != current[1])
+    return "written for " + size(stored) + ", this mesh has " + size(current);
+  if (std::abs(stored[2] - current[2]) > 1e-12 * std::max(std::abs(stored[2]), std::abs(current[2])))
+    return "the same numbers of nodes and cells, but the nodes moved";
+  return "";
+}
 
 void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint,
                       const Checkpoint& c)
@@ -62,73 +290,113 @@ void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::st
   if (rank == 0)
     std::filesystem::create_directories(directory + "/checkpoint");
   MPI_Barrier(comm);
-  const std::string path = rank_file(directory, rank);
-  {
-    std::ofstream f(path + ".new", std::ios::binary | std::ios::trunc);
-    put(f, std::string(magic));
-    put(f, fingerprint);
-    put(f, size);
-    put(f, c.steps);
-    put(f, c.time);
-    put(f, static_cast<std::uint64_t>(c.numbers.size()));
-    for (const auto& [name, value] : c.numbers)
-      put(f, name), put(f, value);
-    put(f, static_cast<std::uint64_t>(c.arrays.size()));
-    for (const auto& [name, values] : c.arrays)
-    {
-      put(f, name);
-      put(f, static_cast<std::uint64_t>(values.size()));
-      f.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(double)));
-    }
-    put(f, c.output);
-    if (!f)
-      throw std::runtime_error("cannot write the checkpoint " + path);
-  }
-  // Every rank's new file is complete before any replaces the old one.
+  write_file(values_file(directory, c.steps, rank),
+             [&](std::ofstream& f)
+             {
+               put(f, std::string(magic));
+               put(f, c.steps);
+               put(f, static_cast<std::uint64_t>(c.fields.size()));
+               for (const auto& [name, kv] : c.fields)
+               {
+                 put(f, name);
+                 put(f, kv.width);
+                 put_vector(f, kv.keys);
+                 put_vector(f, kv.values);
+               }
+             });
+  // Every rank's values are complete before the state points at them.
   MPI_Barrier(comm);
-  std::filesystem::rename(path + ".new", path);
+  if (rank == 0)
+  {
+    write_file(state_file(directory),
+               [&](std::ofstream& f)
+               {
+                 put(f, std::string(magic));
+                 put(f, fingerprint);
+                 put(f, size);
+                 put(f, c.steps);
+                 put(f, c.time);
+                 put(f, static_cast<std::uint64_t>(c.numbers.size()));
+                 for (const auto& [name, value] : c.numbers)
+                   put(f, name), put(f, value);
+                 put(f, static_cast<std::uint64_t>(c.arrays.size()));
+                 for (const auto& [name, values] : c.arrays)
+                   put(f, name), put_vector(f, values);
+                 put(f, c.output);
+               });
+    // The values of earlier checkpoints (of any number of ranks) go.
+    const std::string current = "values." + std::to_string(c.steps) + ".";
+    for (const auto& entry : std::filesystem::directory_iterator(directory + "/checkpoint"))
+      if (const std::string name = entry.path().filename().string();
+          name.rfind("values.", 0) == 0 and name.rfind(current, 0) != 0)
+        std::filesystem::remove(entry.path());
+  }
   MPI_Barrier(comm);
 }
 
+namespace
+{
+/// The state file: everything but the values.
+Checkpoint read_state(const std::string& directory, const std::string& fingerprint, int& ranks)
+{
+  const std::string path = state_file(directory);
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw SceneError("--restart " + directory + ": no checkpoint there (" + path
+                     + "; runs write one with output.checkpoint_every)");
+  if (get_string(f) != magic)
+    throw SceneError("--restart " + directory + ": " + path + " is no checkpoint of this version of biotcontact");
+  if (get_string(f) != fingerprint)
+    throw SceneError("--restart " + directory + ": the checkpoint was written for another scene or other --set values");
+  Checkpoint c;
+  ranks = get<int>(f);
+  c.steps = get<int>(f);
+  c.time = get<double>(f);
+  for (auto n = get<std::uint64_t>(f); n > 0; --n)
+  {
+    const std::string name = get_string(f);
+    c.numbers[name] = get<double>(f);
+  }
+  for (auto n = get<std::uint64_t>(f); n > 0; --n)
+  {
+    const std::string name = get_string(f);
+    c.arrays[name] = get_vector<double>(f);
+  }
+  c.output = get_string(f);
+  return c;
+}
+
+/// Appends the values of one rank's file to c.fields.
+void read_values(const std::string& path, Checkpoint& c)
+{
+  std::ifstream f(path, std::ios::binary);
+  if (!f or get_string(f) != magic or get<int>(f) != c.steps)
+    throw std::runtime_error("missing");
+  for (auto n = get<std::uint64_t>(f); n > 0; --n)
+  {
+    KeyedValues& kv = c.fields[get_string(f)];
+    kv.width = get<int>(f);
+    const std::vector<std::int64_t> keys = get_vector<std::int64_t>(f);
+    const std::vector<double> values = get_vector<double>(f);
+    if (keys.size() != values.size() * kv.width)
+      throw std::runtime_error("truncated");
+    kv.keys.insert(kv.keys.end(), keys.begin(), keys.end());
+    kv.values.insert(kv.values.end(), values.begin(), values.end());
+  }
+}
+} // namespace
+
 Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint)
 {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
   Checkpoint c;
   std::string error;
-  const std::string path = rank_file(directory, rank);
+  std::string path = state_file(directory);
   try
   {
-    std::ifstream f(path, std::ios::binary);
-    if (!f)
-      throw SceneError("--restart " + directory + ": no checkpoint there (" + path
-                       + "; runs write one with output.checkpoint_every)");
-    if (get_string(f) != magic)
-      throw SceneError("--restart " + directory + ": " + path + " is no biotcontact checkpoint");
-    if (get_string(f) != fingerprint)
-      throw SceneError("--restart " + directory
-                       + ": the checkpoint was written for another scene or other --set values");
-    if (const int ranks = get<int>(f); ranks != size)
-      throw SceneError("--restart " + directory + ": the checkpoint was written by " + std::to_string(ranks)
-                       + " ranks; restart with as many");
-    c.steps = get<int>(f);
-    c.time = get<double>(f);
-    for (auto n = get<std::uint64_t>(f); n > 0; --n)
-    {
-      const std::string name = get_string(f);
-      c.numbers[name] = get<double>(f);
-    }
-    for (auto n = get<std::uint64_t>(f); n > 0; --n)
-    {
-      const std::string name = get_string(f);
-      std::vector<double>& values = c.arrays[name];
-      values.resize(get<std::uint64_t>(f));
-      f.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(double)));
-    }
-    c.output = get_string(f);
-    if (!f)
-      throw std::runtime_error("truncated");
+    int ranks = 0;
+    c = read_state(directory, fingerprint, ranks);
+    for (int r = 0; r < ranks; ++r)
+      read_values(path = values_file(directory, c.steps, r), c);
   }
   catch (const SceneError& e)
   {
@@ -136,14 +404,9 @@ Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const st
   }
   catch (const std::exception&)
   {
-    error = "--restart " + directory + ": the checkpoint " + path + " is damaged";
+    error = "--restart " + directory + ": the checkpoint " + path + " is damaged or missing";
   }
   agree_on_error(error, comm);
-  // The ranks' files must be of one checkpoint.
-  int steps[2] = {c.steps, -c.steps}, extremes[2];
-  MPI_Allreduce(steps, extremes, 2, MPI_INT, MPI_MAX, comm);
-  if (extremes[0] != -extremes[1])
-    throw SceneError("--restart " + directory + ": the ranks' checkpoint files are of different steps");
   return c;
 }
 

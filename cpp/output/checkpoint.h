@@ -3,36 +3,87 @@
 // it is interrupted), so that `biotcontact run SCENE --restart DIR` goes on
 // in the same files and ends as the uninterrupted run would.
 //
-// Each rank writes its own local arrays (ghosts included) to
-// DIR/checkpoint/rank<r>.bin: a restart needs the same scene (compared by
-// its fingerprint: the file's text and the --set overrides) and the same
-// number of ranks, and then finds every array in the layout it left.
-// A checkpoint replaces the previous one only once it is complete.
+// The state does not depend on the partition: every unknown is stored under
+// a name taken from the mesh's input numbering (see KeyedValues), so that a
+// run may be restarted on any partition and any number of ranks. A restart
+// needs the same scene (compared by its fingerprint: the file's text and the
+// --set overrides) and a mesh that holds every stored name; otherwise it is
+// refused in one line.
+//
+// Layout of DIR/checkpoint: state.bin (rank 0: the step, the time, the
+// counters, the time grid, the output position, the number of value files)
+// and values.<step>.<rank>.bin (each rank's owned unknowns with their
+// names). A checkpoint replaces the previous one when its state.bin is
+// renamed into place, after every value file is complete; the files of
+// other steps are removed after that.
 #pragma once
 
+#include "assembly/linear_algebra.h"
+
+#include <cstdint>
+#include <dolfinx/mesh/Mesh.h>
 #include <map>
 #include <mpi.h>
+#include <span>
 #include <string>
 #include <vector>
 
 namespace biotcontact
 {
 
+/// @brief The owned entries of one field, each under a name that no
+/// partition changes.
+///
+/// A DOF is named by the mesh entity it sits on, written as the input
+/// indices of the entity's vertices in ascending order (a vertex: its input
+/// index times the block size plus the component; a facet: its d vertices;
+/// a cell: its input cell index). A flux DOF is the flux through its facet
+/// along the normal of that vertex order; dolfinx orients a facet by the
+/// partition's global vertex numbering, so the value is turned by the
+/// parity of the permutation between the two orders.
+struct KeyedValues
+{
+  int width = 1;                  // int64 per name
+  std::vector<std::int64_t> keys; // width per entry
+  std::vector<double> values;
+};
+
 struct Checkpoint
 {
-  int steps = 0;     // completed mechanics steps (windows)
-  double time = 0;   // their last time
-  std::map<std::string, std::vector<double>> arrays; // this rank's, ghosts included
-  std::map<std::string, double> numbers;             // counters and scales
-  std::string output;                                // Output::position()
+  int steps = 0;   // completed mechanics steps (windows)
+  double time = 0; // their last time
+  std::map<std::string, std::vector<double>> arrays; // the same on every rank (the time grid)
+  std::map<std::string, KeyedValues> fields;          // every rank's entries after read_checkpoint
+  std::map<std::string, double> numbers;              // counters and scales
+  std::string output;                                 // Output::position()
 };
+
+/// The owned entries of `part` in `unknowns` with their names.
+KeyedValues keyed_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part,
+                         std::span<const double> unknowns);
+
+/// Sets the local entries (owned and ghost) of `part` in `unknowns` from the
+/// stored `values` of every rank; returns how many owned ones were not found.
+std::int64_t restore_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part, const KeyedValues& values,
+                            std::span<double> unknowns);
+
+/// A partition-independent signature of the mesh: its global numbers of
+/// nodes and cells and a weighted sum of the node coordinates by input
+/// index. A checkpoint keeps it, so that a mesh whose nodes moved or whose
+/// size changed under the same scene text is refused (collective).
+std::vector<double> mesh_signature(const dolfinx::mesh::Mesh& mesh);
+
+/// How the mesh of signature `current` differs from the `stored` one, in
+/// words; empty when they are the same (counts equal, the sums to
+/// round-off: ranks add in another order).
+std::string mesh_difference(const std::vector<double>& stored, const std::vector<double>& current);
 
 /// Writes the checkpoint of a run into `directory` (collective).
 void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint,
                       const Checkpoint& checkpoint);
 
-/// Reads it back; throws SceneError when there is none, or it belongs to
-/// another scene or number of ranks (collective).
+/// Reads it back with every rank's values; throws SceneError when there is
+/// none, or it belongs to another scene, or is damaged (collective).
 Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint);
 
 } // namespace biotcontact

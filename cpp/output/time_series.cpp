@@ -6,8 +6,10 @@
 #include <dolfinx/fem/FunctionSpace.h>
 #include <dolfinx/io/HDF5Interface.h>
 #include <dolfinx/io/cells.h>
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <unistd.h>
@@ -50,7 +52,79 @@ std::string data_item(const std::string& dimensions, const std::string& type, co
 }
 
 const std::string tail = "    </Grid>\n  </Domain>\n</Xdmf>\n";
+
+template <typename T>
+MPI_Datatype mpi_type();
+template <>
+MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
+template <>
+MPI_Datatype mpi_type<std::int64_t>() { return MPI_INT64_T; }
 } // namespace
+
+InputOrder::InputOrder(MPI_Comm comm, std::span<const std::int64_t> rows, std::int64_t total) : _comm(comm)
+{
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  std::vector<std::int64_t> start(size + 1);
+  for (int r = 0; r <= size; ++r)
+    start[r] = total * r / size;
+  _range = {start[rank], start[rank + 1]};
+  std::vector<int> destination(rows.size());
+  _send_counts.assign(size, 0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+  {
+    if (rows[i] < 0 or rows[i] >= total)
+      throw std::runtime_error("XDMF output: the mesh's input numbering is not 0 .. " + std::to_string(total - 1));
+    destination[i] = static_cast<int>(std::upper_bound(start.begin(), start.end(), rows[i]) - start.begin()) - 1;
+    ++_send_counts[destination[i]];
+  }
+  _order.resize(rows.size());
+  std::iota(_order.begin(), _order.end(), 0);
+  std::stable_sort(_order.begin(), _order.end(), [&](auto a, auto b) { return destination[a] < destination[b]; });
+  _recv_counts.resize(size);
+  MPI_Alltoall(_send_counts.data(), 1, MPI_INT, _recv_counts.data(), 1, MPI_INT, comm);
+  _send_offsets.assign(size, 0);
+  _recv_offsets.assign(size, 0);
+  for (int r = 1; r < size; ++r)
+  {
+    _send_offsets[r] = _send_offsets[r - 1] + _send_counts[r - 1];
+    _recv_offsets[r] = _recv_offsets[r - 1] + _recv_counts[r - 1];
+  }
+  std::vector<std::int64_t> sorted(rows.size());
+  for (std::size_t i = 0; i < _order.size(); ++i)
+    sorted[i] = rows[_order[i]];
+  _received_rows = exchange(std::span<const std::int64_t>(sorted), 1);
+  if (static_cast<std::int64_t>(_received_rows.size()) != _range[1] - _range[0])
+    throw std::runtime_error("XDMF output: the mesh's input numbering has gaps or repeats");
+}
+
+template <typename T>
+std::vector<T> InputOrder::exchange(std::span<const T> packed, int width) const
+{
+  const std::size_t size = _send_counts.size();
+  std::vector<int> sc(size), so(size), rc(size), ro(size);
+  for (std::size_t r = 0; r < size; ++r)
+    sc[r] = _send_counts[r] * width, so[r] = _send_offsets[r] * width, rc[r] = _recv_counts[r] * width,
+    ro[r] = _recv_offsets[r] * width;
+  std::vector<T> received(static_cast<std::size_t>(ro.back() + rc.back()));
+  MPI_Alltoallv(packed.data(), sc.data(), so.data(), mpi_type<T>(), received.data(), rc.data(), ro.data(),
+                mpi_type<T>(), _comm);
+  return received;
+}
+
+template <typename T>
+std::vector<T> InputOrder::send(std::span<const T> values, int width) const
+{
+  std::vector<T> packed(_order.size() * width);
+  for (std::size_t i = 0; i < _order.size(); ++i)
+    std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(_order[i]) * width, width, packed.begin() + i * width);
+  const std::vector<T> received = exchange(std::span<const T>(packed), width);
+  std::vector<T> block(received.size());
+  for (std::size_t i = 0; i < _received_rows.size(); ++i)
+    std::copy_n(received.begin() + i * width, width, block.begin() + (_received_rows[i] - _range[0]) * width);
+  return block;
+}
 
 TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::Mesh& mesh,
                        const std::string* resume)
@@ -114,45 +188,44 @@ TimeSeries::~TimeSeries()
 
 void TimeSeries::describe_mesh(const mesh::Mesh& mesh, bool write)
 {
-  // Geometry: the owned nodes, gdim coordinates each.
+  // Geometry: the owned nodes, gdim coordinates each, in input order.
   const int gdim = mesh.geometry().dim();
   const auto& node_map = mesh.geometry().index_map();
   const std::int32_t owned_nodes = node_map->size_local();
-  _node_range = node_map->local_range();
+  const std::vector<std::int64_t>& input = mesh.geometry().input_global_indices();
   _num_nodes = node_map->size_global();
+  _nodes = InputOrder(_comm, std::span(input.data(), owned_nodes), _num_nodes);
   std::vector<double> x(owned_nodes * gdim);
   std::span<const double> coordinates = mesh.geometry().x();
   for (std::int32_t i = 0; i < owned_nodes; ++i)
     for (int j = 0; j < gdim; ++j)
       x[i * gdim + j] = coordinates[3 * i + j];
   if (write)
-    io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", x.data(), _node_range, {_num_nodes, gdim}, _parallel,
-                                     false);
+    io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", _nodes.send<double>(x, gdim).data(), _nodes.range(),
+                                     {_num_nodes, gdim}, _parallel, false);
 
-  // Topology: the owned cells, their nodes by global index in the order
-  // of VTK (which XDMF readers follow).
+  // Topology: the owned cells in input order, their nodes by input index in
+  // the order of VTK (which XDMF readers follow).
   const int tdim = mesh.topology().dim();
   const auto& cell_map = mesh.topology().index_map(tdim);
   const std::int32_t owned_cells = cell_map->size_local();
-  _cell_range = cell_map->local_range();
   _num_cells = cell_map->size_global();
+  _cells = InputOrder(_comm, std::span(mesh.topology().original_cell_index.data(), owned_cells), _num_cells);
   const auto& dofmap = mesh.geometry().dofmap();
   const int nodes_per_cell = dofmap.num_links(0);
   const std::vector<std::uint8_t> vtk
       = io::cells::transpose(io::cells::perm_vtk(mesh.topology().cell_type(), nodes_per_cell));
-  std::vector<std::int32_t> local(owned_cells * nodes_per_cell);
+  std::vector<std::int64_t> topology(owned_cells * nodes_per_cell);
   for (std::int32_t c = 0; c < owned_cells; ++c)
   {
     auto nodes = dofmap.links(c);
     for (int k = 0; k < nodes_per_cell; ++k)
-      local[c * nodes_per_cell + k] = nodes[vtk[k]];
+      topology[c * nodes_per_cell + k] = input[nodes[vtk[k]]];
   }
-  std::vector<std::int64_t> topology(local.size());
-  node_map->local_to_global(local, topology);
   if (write)
   {
-    io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", topology.data(), _cell_range,
-                                     {_num_cells, nodes_per_cell}, _parallel, false);
+    io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", _cells.send<std::int64_t>(topology, nodes_per_cell).data(),
+                                     _cells.range(), {_num_cells, nodes_per_cell}, _parallel, false);
     io::HDF5Interface::flush_file(_h5);
   }
 
@@ -180,12 +253,12 @@ void TimeSeries::write(const fem::Function<double>& f, double t)
   // Values at the owned nodes (P1) or owned cells (constant per cell).
   std::string center;
   std::vector<double> data;
-  std::array<std::int64_t, 2> range;
+  const InputOrder* order = nullptr;
   std::int64_t rows = 0;
   if (per_cell == 1)
   {
     center = "Cell";
-    range = _cell_range;
+    order = &_cells;
     rows = _num_cells;
     const std::int32_t owned = mesh.topology().index_map(tdim)->size_local();
     data.assign(owned * components, 0.0);
@@ -197,7 +270,7 @@ void TimeSeries::write(const fem::Function<double>& f, double t)
   {
     // P1 on a P1 mesh: local DOF k of a cell sits at the cell's node k.
     center = "Node";
-    range = _node_range;
+    order = &_nodes;
     rows = _num_nodes;
     const std::int32_t owned = mesh.geometry().index_map()->size_local();
     data.assign(owned * components, 0.0);
@@ -225,7 +298,8 @@ void TimeSeries::write(const fem::Function<double>& f, double t)
       and H5Lexists(_h5, ("/Function/" + f.name).c_str(), H5P_DEFAULT) > 0
       and H5Lexists(_h5, field->dataset.c_str(), H5P_DEFAULT) > 0)
     H5Ldelete(_h5, field->dataset.c_str(), H5P_DEFAULT);
-  io::HDF5Interface::write_dataset(_h5, field->dataset, data.data(), range, {rows, components}, _parallel, false);
+  io::HDF5Interface::write_dataset(_h5, field->dataset, order->send<double>(data, components).data(), order->range(),
+                                   {rows, components}, _parallel, false);
   io::HDF5Interface::flush_file(_h5);
 
   const bool new_time = !_any_time or t != _time;

@@ -19,12 +19,43 @@
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/Mesh.h>
 #include <hdf5.h>
+#include <array>
 #include <mpi.h>
+#include <span>
 #include <string>
 #include <vector>
 
 namespace biotcontact
 {
+
+/// @brief The rows of a dataset in the mesh's input numbering, whatever
+/// the partition: the rows this rank owns (each named by its input index)
+/// go to the rank that writes them, rank r the contiguous block
+/// [r N / size, (r + 1) N / size). So the files of a run are the same on
+/// any partition and number of ranks, and a restart on another partition
+/// goes on in them (collective).
+class InputOrder
+{
+public:
+  InputOrder(MPI_Comm comm, std::span<const std::int64_t> rows, std::int64_t total);
+  InputOrder() = default;
+  /// The rows this rank writes.
+  std::array<std::int64_t, 2> range() const { return _range; }
+  /// `width` values per owned row (in the order of `rows`) -> this rank's
+  /// block of rows (collective).
+  template <typename T>
+  std::vector<T> send(std::span<const T> values, int width) const;
+
+private:
+  template <typename T>
+  std::vector<T> exchange(std::span<const T> packed, int width) const;
+
+  MPI_Comm _comm = MPI_COMM_NULL;
+  std::array<std::int64_t, 2> _range{};
+  std::vector<std::int32_t> _order; // owned rows by destination rank
+  std::vector<int> _send_counts, _send_offsets, _recv_counts, _recv_offsets;
+  std::vector<std::int64_t> _received_rows;
+};
 
 class TimeSeries
 {
@@ -71,7 +102,7 @@ private:
   double _time = 0;
   bool _any_time = false;
   std::int64_t _num_nodes = 0, _num_cells = 0;
-  std::array<std::int64_t, 2> _node_range{}, _cell_range{};
+  InputOrder _nodes, _cells;
 };
 
 } // namespace biotcontact

@@ -38,6 +38,8 @@ public:
   /// multirate scheme keeps one per fine step for output).
   std::span<const double> unknowns() const { return _w->x()->array(); }
   void set_unknowns(std::span<const double> w);
+  /// The fields of unknowns(): the flux and the pressure.
+  std::vector<UnknownsPart> parts() const { return {{"flux", _Z, _Z_to_W}, {"pressure", _Q, _Q_to_W}}; }
 
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;

@@ -51,6 +51,11 @@ public:
   std::span<const double> unknowns() const;
   /// Loads unknowns() back (and u, pressure from it).
   void set_unknowns(std::span<const double> x);
+  /// The fields of unknowns(): the displacement, the flux and the pressure.
+  std::vector<UnknownsPart> parts() const
+  {
+    return {{"displacement", V, _V_to_X}, {"flux", _Z, _Z_to_X}, {"pressure", Q, _Q_to_X}};
+  }
   /// Sets the displacement of the state at time t (with the pressure now in
   /// `pressure`): the initial equilibrium (mechanics.initial_equilibrium).
   void set_displacement(std::span<const double> u, double t);

@@ -1,0 +1,115 @@
+"""Restarts on any partition (issue 21): a checkpoint names each value by the
+mesh's input numbering (a node's, a cell's, a facet's vertices'), so a run
+checkpointed on 2 ranks goes on, on 2 ranks (another partition: PT-SCOTCH
+differs from run to run) or on 1, and a 1-rank checkpoint goes on, on 2,
+each ending with the uninterrupted 1-rank run's fields (to 1e-8: the ranks
+sum in another order), active sets and coupling iterations, for the split
+with contact and the monolithic solve. The flux values carry the facet's
+orientation: a wrong sign would show at the first step after the restart.
+A checkpoint of another mesh under the same scene text (the gmsh file was
+changed in between: another size, or the same size with its nodes moved) is
+refused in one line, on 1 and on 2 ranks, and no output file is touched."""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+
+from support import BINARY, MPI_ENV, ROOT, check, scene
+
+sys.path.insert(0, ROOT)
+from python_prototype.diagnostics.compare import compare  # noqa: E402
+
+CHECKPOINT = ["--set", "output.checkpoint_every=3"]
+
+
+def command(ranks, scene_file, *arguments):
+    cmd = [BINARY, "run", scene_file, *arguments]
+    return ["mpirun", "-n", str(ranks)] + cmd if ranks > 1 else cmd
+
+
+def stopped_run(ranks, scene_file, options, steps=4):
+    """A run on `ranks` stopped by SIGTERM once `steps` steps are printed."""
+    out = tempfile.mkdtemp(prefix="restart-mpi-")
+    p = subprocess.Popen(command(ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=MPI_ENV)
+    printed = 0
+    for line in p.stdout:
+        printed += line.startswith("step")
+        if printed == steps:
+            p.send_signal(signal.SIGTERM)
+            break
+    _, err = p.communicate(timeout=600)
+    check("interrupted" in err and os.path.exists(os.path.join(out, "checkpoint", "state.bin")),
+          f"{ranks} rank(s) stopped by SIGTERM with a checkpoint ({err.strip()[-200:]!r})")
+    return out
+
+
+def restart(ranks, scene_file, directory, options):
+    return subprocess.run(command(ranks, scene_file, "--restart", directory, *options), capture_output=True,
+                          text=True, env=MPI_ENV, timeout=900)
+
+
+def stamps(directory):
+    """Each output file's modification time (.lock records who holds it)."""
+    return {name: os.stat(os.path.join(directory, name)).st_mtime_ns for name in os.listdir(directory)
+            if name != ".lock"}
+
+
+def continues_the_run(label, whole, stopped_on, restarted_on, options):
+    checkpointed = stopped_run(stopped_on, scene("default"), options)
+    p = restart(restarted_on, scene("default"), checkpointed, options)
+    check(p.returncode == 0 and "restarted from the checkpoint at step" in p.stdout,
+          f"{label}: checkpointed on {stopped_on}, restarted on {restarted_on} rank(s), runs to the end "
+          f"({p.stderr.strip()[-200:]!r})")
+    lines = []
+    agreed = compare(whole, checkpointed, tolerance=1e-8, out=lines.append) == 0
+    check(agreed, f"{label}, {stopped_on} -> {restarted_on} rank(s): the uninterrupted run's fields to 1e-8, "
+          f"active sets and coupling iterations:\n  " + "\n  ".join(lines[1:]))
+
+
+# Meshes large enough that the run is still going when the signal arrives.
+for label, extra in [("split with contact", ["--set", "mesh.cells=[80,8]", "--set", "time.end=4.8"]),
+                     ("monolithic", ["--set", "coupling.scheme=monolithic", "--set", "mesh.cells=[160,16]"])]:
+    options = CHECKPOINT + extra
+    whole = tempfile.mkdtemp(prefix="whole-")
+    p = subprocess.run(command(1, scene("default"), "--out", whole, *options), capture_output=True, text=True,
+                       env=MPI_ENV, timeout=600)
+    check(p.returncode == 0, f"{label}: the uninterrupted run on 1 rank ({p.stderr.strip()[-200:]!r})")
+    for stopped_on, restarted_on in [(2, 2), (2, 1), (1, 2)]:
+        continues_the_run(label, whole, stopped_on, restarted_on, options)
+
+# Another mesh under the same scene text: the gmsh file changed in between,
+# to another size, or to the same size with its nodes moved.
+folder = tempfile.mkdtemp(prefix="restart-mesh-")
+scene_file = os.path.join(folder, "hertz.toml")
+geometry_file = os.path.join(folder, "hertz.geo")
+shutil.copy(scene("hertz"), scene_file)
+shutil.copy(os.path.join(ROOT, "meshes", "hertz.geo"), geometry_file)
+with open(geometry_file) as f:
+    geometry = f.read()
+options = ["--set", "time.dt=0.1", "--set", "output.checkpoint_every=1"]
+checkpointed = tempfile.mkdtemp(prefix="restart-mesh-out-")
+p = subprocess.run(command(2, scene_file, "--out", checkpointed, *options), capture_output=True, text=True,
+                   env=MPI_ENV, timeout=600)
+check(p.returncode == 0 and os.path.exists(os.path.join(checkpointed, "checkpoint", "state.bin")),
+      f"the Hertz scene on 2 ranks leaves its checkpoint ({p.stderr.strip()[-200:]!r})")
+
+before = stamps(checkpointed)
+for change, changed, reason in [("another size", geometry.replace("SizeMin = 0.004", "SizeMin = 0.005"), "cells"),
+                                ("moved nodes", geometry.replace("Plane Surface(1) = {1};", "Plane Surface(1) = {1};\n"
+                                                                 "Translate {0.001, 0, 0} { Surface{1}; }"),
+                                 "nodes moved")]:
+    with open(geometry_file, "w") as f:
+        f.write(changed)
+    for ranks in (1, 2):
+        p = restart(ranks, scene_file, checkpointed, options)
+        # mpirun adds its own report of the exit code; ours is one line.
+        ours = [line for line in p.stderr.splitlines() if line.startswith("biotcontact")]
+        error = "\n".join(ours)
+        check(p.returncode == 2 and len(ours) == 1 and "does not match this mesh" in error
+              and "PETSC ERROR" not in p.stderr
+              and reason in error, f"a checkpoint of a mesh with {change} is refused on {ranks} rank(s) in one "
+              f"line: {error!r}")
+check(before == stamps(checkpointed), "the refused restarts touched no file of the run")
