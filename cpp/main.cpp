@@ -7,6 +7,7 @@
 // coupling did not converge (what was finished is written), 1 anything else.
 #include "domain/domain.h"
 #include "output/interruption.h"
+#include "output/write_failure.h"
 #include "scene/scene.h"
 #include "simulation.h"
 #include "solvers/solver.h"
@@ -104,6 +105,7 @@ Arguments parse_arguments(int argc, char* argv[])
 /// PETSc, MPI, the interruption handlers and the logs.
 void initialize(std::vector<char*> petsc, char* argv[])
 {
+  biotcontact::silence_hdf5_errors(); // before any HDF5 call
   int petsc_argc = static_cast<int>(petsc.size());
   petsc.push_back(nullptr); // MPI_Init reads argv up to its terminator
   char** petsc_args = petsc.data();

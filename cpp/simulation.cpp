@@ -477,9 +477,16 @@ public:
     _steps = _scene.coupling and _scene.coupling->scheme == "monolithic"
                  ? monolithic_steps(_scene, *_domain, *_forms, _constants)
                  : split_steps(_scene, *_domain, *_forms, _constants);
-    open_output();
-    start_or_restore();
-    time_loop();
+    try
+    {
+      open_output();
+      start_or_restore();
+      time_loop();
+    }
+    catch (const OutputError& e)
+    {
+      output_failed(e);
+    }
     write_summary();
     return exit_status();
   }
@@ -492,6 +499,8 @@ private:
   WindowObserver observer();
   void report_newton_steps();
   void time_loop();
+  std::string step_being_computed() const;
+  void output_failed(const OutputError& e);
   bool stop();
   void write_summary();
   int exit_status() const;
@@ -516,8 +525,10 @@ private:
   int _completed_steps = 0; // mechanics steps (windows) written
   double _completed_time = 0;
   int _saved = 0;           // the step of the last checkpoint
+  bool _checkpointing = false; // writing the checkpoint of the last completed step
   int _signal = 0;          // the interruption that ended the run
   std::string _failure;     // why the run failed
+  bool _output_failed = false; // ... because a file could not be written
 };
 
 /// The mesh and its tags, the compiled forms of its cell type, the derived
@@ -620,9 +631,11 @@ bool Simulation::stop()
 {
   auto save = [&]
   {
+    _checkpointing = true;
     write_checkpoint(_comm, _directory, _control.fingerprint,
                      capture_checkpoint(_completed_steps, _completed_time, _steps, *_domain->mesh, _report,
                                         _output->position(), _grid));
+    _checkpointing = false;
     _saved = _completed_steps;
   };
   if (_scene.checkpoint_every > 0 and _completed_steps % _scene.checkpoint_every == 0)
@@ -698,20 +711,40 @@ void Simulation::time_loop()
   }
   catch (const SolverError& e)
   {
-    const int step = _completed_steps + 1;
-    std::ostringstream s;
-    s << "step " << step << " (t = " << _grid.t[std::min<std::size_t>(step * _parameters.q, _grid.t.size() - 1)]
-      << "): " << e.what();
-    _failure = s.str();
+    _failure = step_being_computed() + ": " + e.what();
     _report.windows = _completed_steps;
   }
   _fields->contact = _steps.compute_contact();
 }
 
+/// "step N (t = T)" of the step after the last completed one.
+std::string Simulation::step_being_computed() const
+{
+  const int step = _completed_steps + 1;
+  std::ostringstream s;
+  s << "step " << step;
+  if (!_grid.t.empty())
+    s << " (t = " << _grid.t[std::min<std::size_t>(step * _parameters.q, _grid.t.size() - 1)] << ")";
+  return s.str();
+}
+
+/// A file could not be written: the run ends with what it wrote before,
+/// and the failure names the step it was writing.
+void Simulation::output_failed(const OutputError& e)
+{
+  _failure = (_checkpointing ? "after step " + std::to_string(_completed_steps) : step_being_computed())
+             + ": " + e.what();
+  _output_failed = true;
+  _report.windows = _completed_steps;
+}
+
 /// summary.json: the scheme, sizes, counts, contraction measures, solvers,
-/// timings, contact and closed-form errors of the run, whatever its end.
+/// timings, contact and closed-form errors of the run, whatever its end
+/// (when the disk is full, as far as it can be written).
 void Simulation::write_summary()
 {
+  if (!_output)
+    return;
   const bool has_errors = _scene.reference and _failure.empty() and _signal == 0;
   const int d = _domain->dim();
   Json dofs;
@@ -774,7 +807,17 @@ void Simulation::write_summary()
     summary.set("errors", closed_form_errors(_scene, _parameters, *_domain, *_forms, _steps.u, _steps.p));
   if (!_failure.empty())
     summary.set("failure", _failure);
-  _output->summary(summary);
+  try
+  {
+    _output->summary(summary);
+  }
+  catch (const OutputError& e)
+  {
+    if (_output_failed)
+      _failure += "; summary.json could not be written either";
+    else
+      output_failed(e);
+  }
 }
 
 /// run_ok; 128 + the signal of an interruption; run_not_converged after a
@@ -788,6 +831,14 @@ int Simulation::exit_status() const
       std::fprintf(stderr, "biotcontact: interrupted (signal %d) after step %d, t = %g: everything up to there is in %s\n",
                    _signal, _completed_steps, _completed_time, _directory.c_str());
     return 128 + _signal;
+  }
+  if (_output_failed)
+  {
+    if (root)
+      std::fprintf(stderr, "biotcontact: error: %s (steps 1 to %d, t <= %g, are in %s%s)\n", _failure.c_str(),
+                   _completed_steps, _completed_time, _directory.c_str(),
+                   _saved > 0 ? ("; its last checkpoint is of step " + std::to_string(_saved)).c_str() : "");
+    return run_output_failed;
   }
   if (!_failure.empty())
   {

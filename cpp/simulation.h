@@ -15,6 +15,7 @@ enum RunStatus
 {
   run_ok = 0,
   run_not_converged = 3,
+  run_output_failed = 4,
 };
 
 /// How a run is started.
@@ -29,7 +30,8 @@ struct RunControl
 
 /// Runs `scene`, writing into `directory`; returns run_ok, or
 /// run_not_converged after writing what was finished and the iteration log,
-/// or 128 + the signal after an interruption.
+/// run_output_failed when a file could not be written (a full disk), or
+/// 128 + the signal after an interruption.
 int run(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control);
 
 } // namespace biotcontact

@@ -1,12 +1,12 @@
 #include "output/checkpoint.h"
 
+#include "output/write_failure.h"
 #include "scene/scene.h"
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <filesystem>
 #include <fstream>
@@ -80,18 +80,26 @@ std::vector<T> get_vector(std::ifstream& f)
   return v;
 }
 
-/// Writes a file through `path`.new and renames it into place.
+/// Writes a file through `path`.new and renames it into place; returns
+/// why it could not (the new file removed), or an empty string.
 template <typename Write>
-void write_file(const std::string& path, const Write& write)
+std::string write_file(const std::string& path, const Write& write)
 {
+  errno = 0;
+  std::error_code ec;
   {
     std::ofstream f(path + ".new", std::ios::binary | std::ios::trunc);
     write(f);
     f.flush();
-    if (!f)
-      throw std::runtime_error("cannot write the checkpoint " + path + ": " + std::strerror(errno));
+    if (f)
+      std::filesystem::rename(path + ".new", path, ec);
+    if (f and !ec)
+      return "";
   }
-  std::filesystem::rename(path + ".new", path);
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  const std::string failure = "cannot write " + path + ": " + write_failure_reason(directory);
+  std::filesystem::remove(path + ".new", ec);
+  return failure;
 }
 
 /// @brief The input names of the entities a space's DOFs sit on, per local
@@ -281,57 +289,74 @@ std::string mesh_difference(const std::vector<double>& stored, const std::vector
   return "";
 }
 
+namespace
+{
+/// This rank's owned values, with their names.
+std::string write_values(const std::string& directory, int rank, const Checkpoint& c)
+{
+  return write_file(values_file(directory, c.steps, rank),
+                    [&](std::ofstream& f)
+                    {
+                      put(f, std::string(magic));
+                      put(f, c.steps);
+                      put(f, static_cast<std::uint64_t>(c.fields.size()));
+                      for (const auto& [name, kv] : c.fields)
+                      {
+                        put(f, name);
+                        put(f, kv.width);
+                        put_vector(f, kv.keys);
+                        put_vector(f, kv.values);
+                      }
+                    });
+}
+
+/// Everything but the values (rank 0); once it is in place, the values of
+/// earlier checkpoints (of any number of ranks) go.
+std::string write_state(const std::string& directory, const std::string& fingerprint, int ranks,
+                        const Checkpoint& c)
+{
+  const std::string failure = write_file(state_file(directory),
+                                         [&](std::ofstream& f)
+                                         {
+                                           put(f, std::string(magic));
+                                           put(f, fingerprint);
+                                           put(f, ranks);
+                                           put(f, c.steps);
+                                           put(f, c.time);
+                                           put(f, static_cast<std::uint64_t>(c.numbers.size()));
+                                           for (const auto& [name, value] : c.numbers)
+                                             put(f, name), put(f, value);
+                                           put(f, static_cast<std::uint64_t>(c.arrays.size()));
+                                           for (const auto& [name, values] : c.arrays)
+                                             put(f, name), put_vector(f, values);
+                                           put(f, c.output);
+                                         });
+  if (!failure.empty())
+    return failure;
+  const std::string current = "values." + std::to_string(c.steps) + ".";
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(directory + "/checkpoint", ec))
+    if (const std::string name = entry.path().filename().string();
+        name.rfind("values.", 0) == 0 and name.rfind(current, 0) != 0)
+      std::filesystem::remove(entry.path(), ec);
+  return "";
+}
+} // namespace
+
 void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint,
                       const Checkpoint& c)
 {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
+  std::error_code ec;
   if (rank == 0)
-    std::filesystem::create_directories(directory + "/checkpoint");
+    std::filesystem::create_directories(directory + "/checkpoint", ec);
   MPI_Barrier(comm);
-  write_file(values_file(directory, c.steps, rank),
-             [&](std::ofstream& f)
-             {
-               put(f, std::string(magic));
-               put(f, c.steps);
-               put(f, static_cast<std::uint64_t>(c.fields.size()));
-               for (const auto& [name, kv] : c.fields)
-               {
-                 put(f, name);
-                 put(f, kv.width);
-                 put_vector(f, kv.keys);
-                 put_vector(f, kv.values);
-               }
-             });
-  // Every rank's values are complete before the state points at them.
-  MPI_Barrier(comm);
-  if (rank == 0)
-  {
-    write_file(state_file(directory),
-               [&](std::ofstream& f)
-               {
-                 put(f, std::string(magic));
-                 put(f, fingerprint);
-                 put(f, size);
-                 put(f, c.steps);
-                 put(f, c.time);
-                 put(f, static_cast<std::uint64_t>(c.numbers.size()));
-                 for (const auto& [name, value] : c.numbers)
-                   put(f, name), put(f, value);
-                 put(f, static_cast<std::uint64_t>(c.arrays.size()));
-                 for (const auto& [name, values] : c.arrays)
-                   put(f, name), put_vector(f, values);
-                 put(f, c.output);
-               });
-    // The values of earlier checkpoints (of any number of ranks) go.
-    const std::string current = "values." + std::to_string(c.steps) + ".";
-    for (const auto& entry : std::filesystem::directory_iterator(directory + "/checkpoint"))
-      if (const std::string name = entry.path().filename().string();
-          name.rfind("values.", 0) == 0 and name.rfind(current, 0) != 0)
-        std::filesystem::remove(entry.path());
-  }
-  MPI_Barrier(comm);
+  // Every rank's values are complete before the state points at them: a
+  // failure anywhere leaves the previous checkpoint as it was.
+  agree_on_output_error(write_values(directory, rank, c), comm);
+  agree_on_output_error(rank == 0 ? write_state(directory, fingerprint, size, c) : "", comm);
 }
 
 namespace

@@ -78,7 +78,9 @@ std::vector<double> mesh_signature(const dolfinx::mesh::Mesh& mesh);
 /// round-off: ranks add in another order).
 std::string mesh_difference(const std::vector<double>& stored, const std::vector<double>& current);
 
-/// Writes the checkpoint of a run into `directory` (collective).
+/// Writes the checkpoint of a run into `directory` (collective); throws
+/// OutputError on every rank when a file could not be written, leaving the
+/// previous checkpoint as it was.
 void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint,
                       const Checkpoint& checkpoint);
 

@@ -3,6 +3,7 @@
 #include "output/progress.h"
 #include "scene/scene.h"
 
+#include <cerrno>
 #include <cmath>
 #include <dolfinx/common/Timer.h>
 #include <filesystem>
@@ -118,8 +119,18 @@ Output::Output(MPI_Comm comm, const std::string& directory,
     }
   }
   agree_on_error(error, comm);
-  if (xdmf)
+  if (!xdmf)
+    return;
+  std::string failed;
+  try
+  {
     _series = std::make_unique<TimeSeries>(comm, xdmf_path(), *mesh, resume ? &series : nullptr);
+  }
+  catch (const OutputError& e) // rank 0's XML file
+  {
+    failed = e.what();
+  }
+  agree_on_output_error(failed, comm);
 }
 
 std::string Output::position()
@@ -133,27 +144,57 @@ void Output::write(const dolfinx::fem::Function<double>& f, double t)
   if (!_series)
     return;
   dolfinx::common::Timer timer("output");
-  _series->write(f, t);
+  std::string failed;
+  try
+  {
+    _series->write(f, t);
+  }
+  catch (const OutputError& e)
+  {
+    failed = e.what();
+  }
+  agree_on_output_error(failed, _comm);
   time += timer.stop();
 }
 
 void Output::iteration(const IterationRecord& r)
 {
-  if (!_csv.is_open())
-    return;
-  auto v = [](double x) { return std::isfinite(x) ? number(x) : std::string(""); };
-  _csv << r.step << ',' << number(r.time) << ',' << r.iteration << ',' << v(r.dsigma_norm) << ','
-       << v(r.ratio) << ',' << v(r.gamma) << ',' << v(r.dp_norm) << ',' << v(r.du_norm) << ','
-       << r.active_nodes << '\n'
-       << std::flush;
+  std::string failed;
+  if (_csv.is_open())
+  {
+    auto v = [](double x) { return std::isfinite(x) ? number(x) : std::string(""); };
+    errno = 0;
+    _csv << r.step << ',' << number(r.time) << ',' << r.iteration << ',' << v(r.dsigma_norm) << ','
+         << v(r.ratio) << ',' << v(r.gamma) << ',' << v(r.dp_norm) << ',' << v(r.du_norm) << ','
+         << r.active_nodes << '\n'
+         << std::flush;
+    if (!_csv)
+      failed = "cannot write " + _directory + "/iterations.csv: " + write_failure_reason(_directory);
+  }
+  agree_on_output_error(failed, _comm);
 }
 
 void Output::summary(const Json& json) const
 {
-  if (!is_rank0(_comm))
-    return;
-  std::ofstream f(_directory + "/summary.json");
-  f << json.str() << "\n";
+  std::string failed;
+  if (is_rank0(_comm))
+  {
+    // Written beside and renamed: a full disk leaves the old one or none,
+    // never half of one.
+    const std::string path = _directory + "/summary.json";
+    errno = 0;
+    std::ofstream f(path + ".new");
+    f << json.str() << "\n" << std::flush;
+    std::error_code ec;
+    if (f)
+      std::filesystem::rename(path + ".new", path, ec);
+    if (!f or ec)
+    {
+      failed = "cannot write " + path + ": " + write_failure_reason(_directory);
+      std::filesystem::remove(path + ".new", ec);
+    }
+  }
+  agree_on_output_error(failed, _comm);
 }
 
 } // namespace biotcontact

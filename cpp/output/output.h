@@ -4,6 +4,7 @@
 #pragma once
 
 #include "output/time_series.h"
+#include "output/write_failure.h"
 
 #include <dolfinx/fem/Function.h>
 #include <fstream>
@@ -56,6 +57,7 @@ public:
   /// Where the files stand, for a checkpoint (this rank's view).
   std::string position();
 
+  /// The writers throw OutputError on every rank when any rank failed.
   void write(const dolfinx::fem::Function<double>& f, double t);
   void iteration(const IterationRecord& r);
   void summary(const Json& json) const;

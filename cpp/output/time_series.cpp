@@ -1,5 +1,8 @@
 #include "output/time_series.h"
 
+#include "output/write_failure.h"
+#include "scene/scene.h"
+
 #include <dolfinx/common/IndexMap.h>
 #include <dolfinx/fem/DofMap.h>
 #include <dolfinx/fem/FiniteElement.h>
@@ -7,7 +10,10 @@
 #include <dolfinx/io/HDF5Interface.h>
 #include <dolfinx/io/cells.h>
 #include <algorithm>
+#include <cerrno>
+#include <fcntl.h>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <numeric>
 #include <sstream>
@@ -20,6 +26,19 @@ using namespace dolfinx;
 
 namespace
 {
+/// Writes all of `text` at `offset`; false when the system refused.
+bool write_at(int fd, const std::string& text, off_t offset)
+{
+  for (std::size_t done = 0; done < text.size();)
+  {
+    const ssize_t n = pwrite(fd, text.data() + done, text.size() - done, offset + static_cast<off_t>(done));
+    if (n <= 0)
+      return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
 std::string full_precision(double v)
 {
   std::ostringstream s;
@@ -136,8 +155,9 @@ TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::
   _parallel = size > 1;
   _rank0 = rank == 0;
   std::filesystem::path h5 = std::filesystem::path(xdmf_path).replace_extension(".h5");
+  _h5_path = h5.string();
   _h5_name = h5.filename().string();
-  _h5 = io::HDF5Interface::open_file(comm, h5, resume ? "a" : "w", _parallel);
+  hdf5_stage([&] { _h5 = io::HDF5Interface::open_file(comm, h5, resume ? "a" : "w", _parallel); });
   describe_mesh(mesh, !resume);
   const std::string head = "<?xml version=\"1.0\"?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
                            "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
@@ -155,17 +175,13 @@ TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::
   }
   if (_rank0)
   {
-    _xml = std::fopen(xdmf_path.c_str(), resume ? "r+" : "w");
-    if (!_xml)
-      throw std::runtime_error("cannot write " + xdmf_path);
+    _xml = open(xdmf_path.c_str(), O_RDWR | O_CREAT | (resume ? 0 : O_TRUNC), 0644);
     // Fresh: the empty collection; resumed: the grids up to the state,
     // closed again (what came after it is dropped).
     const std::string text = resume ? tail : head + tail;
-    std::fseek(_xml, resume ? _grids_end : 0, SEEK_SET);
-    std::fputs(text.c_str(), _xml);
-    std::fflush(_xml);
-    if (ftruncate(fileno(_xml), _grids_end + static_cast<long>(tail.size())) != 0)
-      throw std::runtime_error("cannot write " + xdmf_path);
+    if (_xml < 0 or !write_at(_xml, text, resume ? _grids_end : 0)
+        or ftruncate(_xml, _grids_end + static_cast<off_t>(tail.size())) != 0)
+      throw OutputError(cannot_write(xdmf_path));
   }
 }
 
@@ -180,10 +196,14 @@ std::string TimeSeries::position() const
 
 TimeSeries::~TimeSeries()
 {
-  if (_xml)
-    std::fclose(_xml);
-  if (_h5 >= 0)
-    io::HDF5Interface::close_file(_h5);
+  if (_xml >= 0)
+    close(_xml);
+  // Every write was flushed. After a failed one the ranks' views of the
+  // file differ and a collective close could wait forever: the file is
+  // left as the last flush made it (HDF5 does not close it at exit either:
+  // silence_hdf5_errors).
+  if (_h5 >= 0 and !_failed)
+    H5Fclose(_h5);
 }
 
 void TimeSeries::describe_mesh(const mesh::Mesh& mesh, bool write)
@@ -201,8 +221,11 @@ void TimeSeries::describe_mesh(const mesh::Mesh& mesh, bool write)
     for (int j = 0; j < gdim; ++j)
       x[i * gdim + j] = coordinates[3 * i + j];
   if (write)
-    io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", _nodes.send<double>(x, gdim).data(), _nodes.range(),
-                                     {_num_nodes, gdim}, _parallel, false);
+  {
+    const std::vector<double> rows = _nodes.send<double>(x, gdim);
+    hdf5_stage([&] { io::HDF5Interface::write_dataset(_h5, "/Mesh/geometry", rows.data(), _nodes.range(),
+                                                      {_num_nodes, gdim}, _parallel, false); });
+  }
 
   // Topology: the owned cells in input order, their nodes by input index in
   // the order of VTK (which XDMF readers follow).
@@ -224,9 +247,10 @@ void TimeSeries::describe_mesh(const mesh::Mesh& mesh, bool write)
   }
   if (write)
   {
-    io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", _cells.send<std::int64_t>(topology, nodes_per_cell).data(),
-                                     _cells.range(), {_num_cells, nodes_per_cell}, _parallel, false);
-    io::HDF5Interface::flush_file(_h5);
+    const std::vector<std::int64_t> rows = _cells.send<std::int64_t>(topology, nodes_per_cell);
+    hdf5_stage([&] { io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", rows.data(), _cells.range(),
+                                                      {_num_cells, nodes_per_cell}, _parallel, false); });
+    hdf5_stage([&] { io::HDF5Interface::flush_file(_h5); });
   }
 
   const std::string n = std::to_string(_num_nodes), e = std::to_string(_num_cells);
@@ -292,15 +316,24 @@ void TimeSeries::write(const fem::Function<double>& f, double t)
   if (field == _fields.end())
     field = _fields.insert(_fields.end(), Field{f.name, center, components, 0, ""});
   field->dataset = "/Function/" + f.name + "/" + std::to_string(field->writes++);
-  // A resumed run writes again what its first run wrote after the
-  // checkpoint: that dataset goes first.
-  if (H5Lexists(_h5, "/Function", H5P_DEFAULT) > 0
-      and H5Lexists(_h5, ("/Function/" + f.name).c_str(), H5P_DEFAULT) > 0
-      and H5Lexists(_h5, field->dataset.c_str(), H5P_DEFAULT) > 0)
-    H5Ldelete(_h5, field->dataset.c_str(), H5P_DEFAULT);
-  io::HDF5Interface::write_dataset(_h5, field->dataset, order->send<double>(data, components).data(), order->range(),
-                                   {rows, components}, _parallel, false);
-  io::HDF5Interface::flush_file(_h5);
+  const std::vector<double> rows_in_order = order->send<double>(data, components);
+  // A time whose fields could not all be written is not listed: the XML
+  // ends before it again.
+  const bool listed = _rank0 and _any_time and t == _time;
+  hdf5_stage(
+      [&]
+      {
+        // A resumed run writes again what its first run wrote after the
+        // checkpoint: that dataset goes first.
+        if (H5Lexists(_h5, "/Function", H5P_DEFAULT) > 0
+            and H5Lexists(_h5, ("/Function/" + f.name).c_str(), H5P_DEFAULT) > 0
+            and H5Lexists(_h5, field->dataset.c_str(), H5P_DEFAULT) > 0)
+          H5Ldelete(_h5, field->dataset.c_str(), H5P_DEFAULT);
+        io::HDF5Interface::write_dataset(_h5, field->dataset, rows_in_order.data(), order->range(),
+                                         {rows, components}, _parallel, false);
+      },
+      listed);
+  hdf5_stage([&] { io::HDF5Interface::flush_file(_h5); }, listed);
 
   const bool new_time = !_any_time or t != _time;
   _time = t;
@@ -331,12 +364,52 @@ void TimeSeries::write_xml(double t, bool new_time)
   if (new_time)
     _grid_start = _grids_end;
   const std::string g = grid(t);
-  std::fseek(_xml, _grid_start, SEEK_SET);
-  std::fputs((g + tail).c_str(), _xml);
-  std::fflush(_xml);
+  errno = 0;
+  if (!write_at(_xml, g + tail, _grid_start))
+  {
+    end_before_current_time();
+    throw OutputError(cannot_write(_xdmf_path));
+  }
   _grids_end = _grid_start + static_cast<long>(g.size());
-  if (ftruncate(fileno(_xml), _grids_end + static_cast<long>(tail.size())) != 0)
-    throw std::runtime_error("cannot write " + _xdmf_path);
+  if (ftruncate(_xml, _grids_end + static_cast<off_t>(tail.size())) != 0)
+    throw OutputError(cannot_write(_xdmf_path));
+}
+
+void TimeSeries::hdf5_stage(const std::function<void()>& write, bool drop_current_time)
+{
+  std::string failure;
+  errno = 0;
+  try
+  {
+    write();
+  }
+  catch (const std::runtime_error&)
+  {
+    failure = cannot_write(_h5_path);
+  }
+  // Every rank learns of a failure before the next collective HDF5 call.
+  failure = agreed_error(failure, _comm);
+  if (failure.empty())
+    return;
+  if (drop_current_time)
+    end_before_current_time();
+  _failed = true;
+  throw OutputError(failure);
+}
+
+void TimeSeries::end_before_current_time()
+{
+  // In bytes the file already had, so that this works on a full disk; the
+  // errno of the failure that led here is kept.
+  const int reason = errno;
+  if (write_at(_xml, tail, _grid_start) and ftruncate(_xml, _grid_start + static_cast<off_t>(tail.size())) == 0)
+    errno = reason;
+}
+
+std::string TimeSeries::cannot_write(const std::string& path) const
+{
+  return "cannot write " + path + ": "
+         + write_failure_reason(std::filesystem::path(_xdmf_path).parent_path().string());
 }
 
 } // namespace biotcontact

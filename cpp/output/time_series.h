@@ -20,6 +20,7 @@
 #include <dolfinx/mesh/Mesh.h>
 #include <hdf5.h>
 #include <array>
+#include <functional>
 #include <mpi.h>
 #include <span>
 #include <string>
@@ -90,12 +91,21 @@ private:
   std::string grid(double t) const;
   /// Rewrites the XML from the current grid on (rank 0).
   void write_xml(double t, bool new_time);
+  /// Runs one collective HDF5 call; throws OutputError on every rank when
+  /// it failed on any (after end_before_current_time if asked).
+  void hdf5_stage(const std::function<void()>& write, bool drop_current_time = false);
+  /// Closes the XML after the times before the current one (rank 0): a
+  /// time whose fields could not all be written is not listed.
+  void end_before_current_time();
+  /// "cannot write PATH: " and the system's reason.
+  std::string cannot_write(const std::string& path) const;
 
   MPI_Comm _comm;
   bool _parallel = false, _rank0 = false;
-  std::string _xdmf_path, _h5_name;
+  std::string _xdmf_path, _h5_path, _h5_name;
   hid_t _h5 = -1;
-  std::FILE* _xml = nullptr;
+  bool _failed = false; // a collective HDF5 call failed
+  int _xml = -1; // rank 0's descriptor of the XML file
   std::vector<Field> _fields;
   std::string _mesh_xml; // topology and geometry of every grid
   long _grid_start = -1, _grids_end = -1; // positions in the XML file

@@ -799,7 +799,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   return scene;
 }
 
-void agree_on_error(const std::string& message, MPI_Comm comm)
+std::string agreed_error(const std::string& message, MPI_Comm comm)
 {
   int size = 1, rank = 0;
   MPI_Comm_size(comm, &size);
@@ -808,13 +808,19 @@ void agree_on_error(const std::string& message, MPI_Comm comm)
   int owner = size;
   MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MIN, comm);
   if (owner == size)
-    return;
+    return "";
   int length = static_cast<int>(message.size());
   MPI_Bcast(&length, 1, MPI_INT, owner, comm);
   std::string text = message;
   text.resize(length);
   MPI_Bcast(text.data(), length, MPI_CHAR, owner, comm);
-  throw SceneError(text);
+  return text;
+}
+
+void agree_on_error(const std::string& message, MPI_Comm comm)
+{
+  if (const std::string text = agreed_error(message, comm); !text.empty())
+    throw SceneError(text);
 }
 
 } // namespace biotcontact

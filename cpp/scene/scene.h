@@ -23,6 +23,10 @@ struct SceneError : std::runtime_error
   using std::runtime_error::runtime_error;
 };
 
+/// The message of the lowest rank whose `message` is not empty, or an empty
+/// string when none has one (collective).
+std::string agreed_error(const std::string& message, MPI_Comm comm);
+
 /// Bad input found on some ranks only (a value at their own nodes): every
 /// rank throws SceneError with the message of the lowest rank that found
 /// one, so that no rank is left waiting in a collective call. Does nothing

@@ -10,6 +10,7 @@ import numpy as np
 from ..scene.scene import agree_on_error
 from .progress import is_rank0
 from .time_series import TimeSeries
+from .write_failure import OutputError, agree_on_output_error, write_failure_reason
 
 COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
 
@@ -70,24 +71,48 @@ class Output:
     def xdmf_path(self):
         return os.path.join(self._directory, "solution.xdmf")
 
+    def _cannot_write(self, path, error):
+        return f"cannot write {path}: {write_failure_reason(self._directory, error)}"
+
     def write(self, f, t):
+        """Raises OutputError on every rank when any rank failed."""
         if self.xdmf is None:
             return
         start = time.perf_counter()
-        self.xdmf.write(f, t)
+        failed = ""
+        try:
+            self.xdmf.write(f, t)
+        except OutputError as e:
+            failed = str(e)
+        agree_on_output_error(failed, self.comm)
         self.time += time.perf_counter() - start
 
     def iteration(self, step, t, iteration, dsigma, ratio, gamma, dp_norm, du_norm, active_nodes):
-        if self.csv is None:
-            return
-        v = [number(x) if math.isfinite(x) else "" for x in (dsigma, ratio, gamma, dp_norm, du_norm)]
-        self.csv.write(f"{step},{number(t)},{iteration},{','.join(v)},{active_nodes}\n")
-        self.csv.flush()
+        failed = ""
+        if self.csv is not None:
+            v = [number(x) if math.isfinite(x) else "" for x in (dsigma, ratio, gamma, dp_norm, du_norm)]
+            try:
+                self.csv.write(f"{step},{number(t)},{iteration},{','.join(v)},{active_nodes}\n")
+                self.csv.flush()
+            except OSError as e:
+                failed = self._cannot_write(self.csv.name, e)
+        agree_on_output_error(failed, self.comm)
 
     def summary(self, summary):
+        """Written beside and renamed: a full disk leaves the old one or
+        none, never half of one."""
+        failed = ""
         if is_rank0(self.comm):
-            with open(os.path.join(self._directory, "summary.json"), "w") as f:
-                f.write(to_json(summary) + "\n")
+            path = os.path.join(self._directory, "summary.json")
+            try:
+                with open(path + ".new", "w") as f:
+                    f.write(to_json(summary) + "\n")
+                os.replace(path + ".new", path)
+            except OSError as e:
+                failed = self._cannot_write(path, e)
+                if os.path.exists(path + ".new"):
+                    os.remove(path + ".new")
+        agree_on_output_error(failed, self.comm)
 
     def close(self):
         if self.xdmf is not None:

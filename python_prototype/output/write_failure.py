@@ -1,0 +1,37 @@
+"""A file of the run that cannot be written (cpp/output/write_failure.h): a
+full disk, a quota, a lost mount. The run stops at the write that failed,
+with one line naming the file and the system's reason, and keeps
+everything written before (exit status RUN_OUTPUT_FAILED)."""
+import errno
+import os
+
+from mpi4py import MPI
+
+
+class OutputError(RuntimeError):
+    """A file of the run could not be written; the message names the file
+    and the reason."""
+
+
+def write_failure_reason(directory, error=None):
+    """Why the write into `directory` failed, as the system says it (the
+    OSError's words), with the space left on the device."""
+    reason = error.strerror if isinstance(error, OSError) and error.strerror else ""
+    try:
+        disk = os.statvfs(directory)
+    except OSError:
+        disk = None
+    if disk is not None:
+        if not reason and disk.f_bavail == 0:
+            reason = os.strerror(errno.ENOSPC)
+        left = f"{disk.f_bavail * disk.f_frsize / 1e6:.3g} MB left on the device"
+        reason += ("; " if reason else "") + left
+    return reason or "the system gave no reason"
+
+
+def agree_on_output_error(failed, comm):
+    """Raises OutputError with the lowest failing rank's message on every
+    rank when `failed` is not empty on any (collective)."""
+    owner = comm.allreduce(comm.rank if failed else comm.size, op=MPI.MIN)
+    if owner < comm.size:
+        raise OutputError(comm.bcast(failed, root=owner))
