@@ -8,16 +8,20 @@ import sys
 import numpy as np
 from dolfinx import fem
 
-from .output.checkpoint import Checkpoint, read_checkpoint, write_checkpoint
+from .output.checkpoint import (Checkpoint, keyed_values, mesh_difference, mesh_signature, read_checkpoint,
+                                restore_values, write_checkpoint)
 from .diagnostics.closed_form import Mandel, Terzaghi
 from .domain.domain import check_expressions, create_domain
 from .coupling.coupling import CouplingError, CouplingReport, WindowObserver, for_each_checkpointed
 from .coupling.fixed_stress import run_fixed_stress
 from .coupling.single_solve import run_single_solve
 from .assembly.forms import Forms
+from .assembly.linear_algebra import UnknownsPart
 from .assembly.parameters import derive_parameters, set_constants
 from .output.directory_lock import DirectoryLock
+from .scene.scene import SceneError
 from .output.output import Output
+from .output.write_failure import OutputError
 from .output.progress import Progress, is_rank0
 from .contact.contact import ContactState
 from .output.interruption import interruption_signal
@@ -28,7 +32,7 @@ from .steps.flow_step import FlowStep
 from .steps.mechanics_step import MechanicsStep
 from .steps.monolithic_step import MonolithicStep
 
-RUN_OK, RUN_NOT_CONVERGED = 0, 3
+RUN_OK, RUN_NOT_CONVERGED, RUN_OUTPUT_FAILED = 0, 3, 4
 
 
 def global_size(V):
@@ -207,17 +211,15 @@ class OutputFields:
             self._output.write(s.contact_active, t)
 
 
-def capture_checkpoint(steps, time, s, report, output, grid):
+def capture_checkpoint(steps, time, s, mesh, report, output, grid):
     """The state a restart needs after `steps` completed steps (checkpoint.py)."""
     c = Checkpoint(steps, time, output=output)
     # The grid as retries left it (the same on every rank).
     c.arrays["times"], c.arrays["time_steps"] = np.array(grid.t), np.array(grid.dt)
-    if s.flow:
-        c.arrays["flow"] = s.flow.unknowns().copy()
-    if s.mechanics:
-        c.arrays["displacement"] = s.mechanics.u.x.array.copy()
-    if s.monolithic:
-        c.arrays["monolithic"] = s.monolithic.unknowns().copy()
+    c.arrays["mesh"] = mesh_signature(mesh)
+    for parts, unknowns in unknowns_parts(s):
+        for part in parts:
+            c.fields[part.name] = keyed_values(mesh, part, unknowns)
     for_each_checkpointed(report, lambda name, value: c.numbers.__setitem__(name, float(value)))
     for i, (_, system) in enumerate(s.systems()):
         if system is not None:
@@ -226,15 +228,42 @@ def capture_checkpoint(steps, time, s, report, output, grid):
     return c
 
 
-def restore_checkpoint(c, s, report, grid):
+def unknowns_parts(s):
+    """Each step's fields and the vector of unknowns they sit in."""
+    result = []
+    if s.flow:
+        result.append((s.flow.parts(), s.flow.unknowns()))
+    if s.mechanics:
+        result.append(([UnknownsPart("displacement", s.V)], s.mechanics.u.x.array))
+    if s.monolithic:
+        result.append((s.monolithic.parts(), s.monolithic.unknowns()))
+    return result
+
+
+def restore_unknowns(c, s, mesh, directory):
+    """Loads the stored unknowns into the steps, whatever the partition;
+    refuses a checkpoint of another mesh, or one that lacks any of them
+    (collective)."""
+    difference = mesh_difference(c.arrays.get("mesh"), mesh_signature(mesh))
+    if difference:
+        raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({difference})")
+    for parts, unknowns in unknowns_parts(s):
+        for part in parts:
+            stored = c.fields.get(part.name)
+            missing = mesh.comm.allreduce(1 if stored is None else restore_values(mesh, part, stored, unknowns))
+            if missing > 0:
+                raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({missing} "
+                                 f"values of the {part.name} not in it)")
+    if s.flow:
+        s.flow.set_unknowns(s.flow.unknowns())
+    if s.monolithic:
+        s.monolithic.set_unknowns(s.monolithic.unknowns())
+
+
+def restore_checkpoint(c, s, mesh, directory, report, grid):
     """Loads a checkpoint into the steps, the report, the grid and the solver counts."""
     grid.t, grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
-    if s.flow:
-        s.flow.set_unknowns(c.arrays["flow"])
-    if s.mechanics:
-        s.mechanics.u.x.array[:] = c.arrays["displacement"]
-    if s.monolithic:
-        s.monolithic.set_unknowns(c.arrays["monolithic"])
+    restore_unknowns(c, s, mesh, directory)
     for_each_checkpointed(report, lambda name, value: setattr(report, name, type(value)(c.numbers[name])))
     for i, (_, system) in enumerate(s.systems()):
         if system is not None:
@@ -291,8 +320,10 @@ class Simulation:
         self.completed_steps = 0     # mechanics steps (windows) written
         self.completed_time = 0.0
         self.saved = 0               # the step of the last checkpoint
+        self.checkpointing = False   # writing the checkpoint of the last completed step
         self.signal = 0              # the interruption that ended the run
         self.failure = ""            # why the run failed
+        self.output_failed = False   # ... because a file could not be written
 
     def run(self):
         """The story of a run; the files are closed and the directory's lock
@@ -304,9 +335,12 @@ class Simulation:
             self.steps = (monolithic_steps(scene, self.domain, self.F)
                           if scene.coupling and scene.coupling.scheme == "monolithic"
                           else split_steps(scene, self.domain, self.F, self.parameters))
-            self.open_output()
-            self.start_or_restore()
-            self.time_loop()
+            try:
+                self.open_output()
+                self.start_or_restore()
+                self.time_loop()
+            except OutputError as e:
+                self.stop_at_output_failure(e)
             self.write_summary()
         finally:
             self.close_output()
@@ -364,12 +398,15 @@ class Simulation:
         # does not exist is refused by read_checkpoint, without creating it.
         if not self.restart or os.path.isdir(self.directory):
             self.lock = DirectoryLock(self.comm, self.directory)
+        self.grid = time_grid(self.scene)  # a retry (time.retry) halves some of its steps
         if self.restart:
+            # Loaded before the files are opened: a checkpoint that does not
+            # match is refused with the files as they were.
             self.resumed = read_checkpoint(self.comm, self.directory, self.fingerprint)
+            restore_checkpoint(self.resumed, self.steps, self.domain.mesh, self.directory, self.report, self.grid)
         self.output = Output(self.comm, self.directory, self.domain.mesh, self.scene.write_xdmf,
                              self.resumed.output if self.resumed else None)
         self.fields = OutputFields(self.F, self.steps, self.output)
-        self.grid = time_grid(self.scene)  # a retry (time.retry) halves some of its steps
 
     def close_output(self):
         """The files closed and the directory's lock released."""
@@ -382,7 +419,6 @@ class Simulation:
         """The initial state, written at t = 0, or the state of the checkpoint."""
         s = self.steps
         if self.resumed:
-            restore_checkpoint(self.resumed, s, self.report, self.grid)
             self.saved = self.completed_steps = self.resumed.steps
             self.completed_time = self.resumed.time
             if s.u is not None:
@@ -403,9 +439,11 @@ class Simulation:
         """After each completed (and written) step: a checkpoint every
         checkpoint_every steps and at an interruption; then whether to stop."""
         def save():
+            self.checkpointing = True
             write_checkpoint(self.comm, self.directory, self.fingerprint,
-                             capture_checkpoint(self.completed_steps, self.completed_time, self.steps, self.report,
-                                                self.output.position(), self.grid))
+                             capture_checkpoint(self.completed_steps, self.completed_time, self.steps, self.domain.mesh,
+                                                self.report, self.output.position(), self.grid))
+            self.checkpointing = False
             self.saved = self.completed_steps
         every = self.scene.checkpoint_every
         if every > 0 and self.completed_steps % every == 0:
@@ -460,15 +498,31 @@ class Simulation:
         except CouplingError as e:
             self.failure = str(e)  # names its step and the last increments
         except SolverError as e:
-            step = self.completed_steps + 1
-            self.failure = f"step {step} (t = {self.grid.t[min(step * parameters.q, len(self.grid.t) - 1)]:g}): {e}"
+            self.failure = f"{self.step_being_computed()}: {e}"
             self.report.windows = self.completed_steps
         self.fields.contact = s.compute_contact()
+
+    def step_being_computed(self):
+        """"step N (t = T)" of the step after the last completed one."""
+        step = self.completed_steps + 1
+        if not self.grid or not self.grid.t:
+            return f"step {step}"
+        return f"step {step} (t = {self.grid.t[min(step * self.parameters.q, len(self.grid.t) - 1)]:g})"
+
+    def stop_at_output_failure(self, e):
+        """A file could not be written (a full disk): the run ends with what
+        was finished, and the failure names the step it was writing."""
+        self.failure = (f"after step {self.completed_steps}" if self.checkpointing else self.step_being_computed()) \
+            + f": {e}"
+        self.output_failed = True
+        self.report.windows = self.completed_steps
 
     def write_summary(self):
         """summary.json: the scheme, sizes, counts, contraction measures,
         solvers, timings, contact and closed-form errors of the run, whatever
-        its end."""
+        its end (when the disk is full, as far as it can be written)."""
+        if self.output is None:
+            return
         scene, s, parameters, report, d = self.scene, self.steps, self.parameters, self.report, self.domain.dim
         dofs = {}
         if s.u is not None:
@@ -526,7 +580,13 @@ class Simulation:
             summary["errors"] = closed_form_errors(scene, parameters, self.F, self.domain, s.u, s.p, self.comm)
         if self.failure:
             summary["failure"] = self.failure
-        self.output.summary(summary)
+        try:
+            self.output.summary(summary)
+        except OutputError as e:
+            if self.output_failed:
+                self.failure += "; summary.json could not be written either"
+            else:
+                self.stop_at_output_failure(e)
 
     def exit_status(self):
         """RUN_OK; 128 + the signal of an interruption; RUN_NOT_CONVERGED after
@@ -538,6 +598,12 @@ class Simulation:
                       f"t = {self.completed_time:g}: everything up to there is in {self.directory}",
                       file=sys.stderr, flush=True)
             return 128 + self.signal
+        if self.output_failed:
+            if root:
+                checkpoint = f"; its last checkpoint is of step {self.saved}" if self.saved > 0 else ""
+                print(f"biotcontact: error: {self.failure} (steps 1 to {self.completed_steps}, "
+                      f"t <= {self.completed_time:g}, are in {self.directory}{checkpoint})", file=sys.stderr, flush=True)
+            return RUN_OUTPUT_FAILED
         if self.failure:
             if root:
                 print(f"biotcontact: error: {self.failure} (log: {self.directory}/iterations.csv)", file=sys.stderr,

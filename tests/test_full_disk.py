@@ -5,8 +5,8 @@ left waiting in a collective HDF5 call would hang the run). What it wrote
 before stays readable: solution.xdmf lists exactly the completed steps and
 meshio reads every array of them. A checkpoint that does not fit leaves the
 previous one, and a restart from it in a directory with room ends as the
-uninterrupted run. The disk is a 3 MB tmpfs; without the right to mount one
-the test is skipped (exit 77)."""
+uninterrupted run. The same for the prototype. The disk is a 3 MB tmpfs;
+without the right to mount one the test is skipped (exit 77)."""
 import os
 import re
 import shutil
@@ -16,28 +16,30 @@ import tempfile
 
 import meshio
 
-from support import BINARY, MPI_ENV, ROOT, check, scene
+from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, scene
 
 sys.path.insert(0, ROOT)
 from python_prototype.diagnostics.compare import compare  # noqa: E402
 from python_prototype.output.time_series import Fields  # noqa: E402
 
 OPTIONS = ["--set", "mesh.cells=[160,16]"]
+TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 
 
-def command(ranks, *arguments):
-    cmd = [BINARY, "run", scene("default"), *arguments, *OPTIONS]
-    return ["mpirun", "-n", str(ranks)] + cmd if ranks > 1 else cmd
+def execute(track, ranks, *arguments):
+    cmd = [*TRACKS[track], "run", scene("default"), *arguments, *OPTIONS]
+    cmd = ["mpirun", "-n", str(ranks)] + cmd if ranks > 1 else cmd
+    return subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=600)
 
 
-def full_disk_run(disk, ranks, extra, failing_file):
+def full_disk_run(disk, track, ranks, extra, failing_file):
     """A run into the full disk; the directory with what it wrote, copied out."""
     out = os.path.join(disk, "run")
-    p = subprocess.run(command(ranks, "--out", out, *extra), capture_output=True, text=True, env=MPI_ENV,
-                       timeout=600)
+    p = execute(track, ranks, "--out", out, *extra)
     ours = [line for line in p.stderr.splitlines() if line.startswith("biotcontact")]
-    label = f"{ranks} rank(s), {' '.join(extra) or 'no checkpoints'}"
-    check(p.returncode == 4 and len(ours) == 1 and "HDF5" not in p.stderr and "H5" not in p.stderr,
+    label = f"{track}, {ranks} rank(s), {' '.join(extra) or 'no checkpoints'}"
+    check(p.returncode == 4 and len(ours) == 1 and "HDF5" not in p.stderr and "H5" not in p.stderr
+          and "Traceback" not in p.stderr,
           f"{label}: exit 4 with one line ({p.returncode}: {p.stderr.strip()[-300:]!r})")
     check(f"cannot write {out}/{failing_file}" in ours[0] and "No space left on device" in ours[0],
           f"{label}: the line names the file and the reason: {ours[0]!r}")
@@ -63,19 +65,18 @@ if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=3m", "tmpfs", disk], capt
     print("skipped: cannot mount a small tmpfs here")
     sys.exit(77)
 try:
-    whole = tempfile.mkdtemp(prefix="whole-")
-    p = subprocess.run(command(1, "--out", whole), capture_output=True, text=True, env=MPI_ENV, timeout=600)
-    check(p.returncode == 0, "the uninterrupted run")
-    for ranks in (1, 2):
-        full_disk_run(disk, ranks, [], "solution.h5")
-    for ranks in (1, 2):
-        kept = full_disk_run(disk, ranks, ["--set", "output.checkpoint_every=1"], "checkpoint/values.")
-        p = subprocess.run(command(1, "--restart", kept, "--set", "output.checkpoint_every=1"), capture_output=True,
-                           text=True, env=MPI_ENV, timeout=600)
-        check(p.returncode == 0, f"checkpointed on {ranks} rank(s): the restart with room runs to the end "
-              f"({p.stderr.strip()[-200:]!r})")
-        lines = []
-        check(compare(whole, kept, tolerance=1e-8, out=lines.append) == 0,
-              f"checkpointed on {ranks} rank(s): the restart ends as the uninterrupted run: {lines[-1]}")
+    for track in TRACKS:
+        whole = tempfile.mkdtemp(prefix="whole-")
+        check(execute(track, 1, "--out", whole).returncode == 0, f"{track}: the uninterrupted run")
+        for ranks in (1, 2):
+            full_disk_run(disk, track, ranks, [], "solution.h5")
+        for ranks in (1, 2):
+            kept = full_disk_run(disk, track, ranks, ["--set", "output.checkpoint_every=1"], "checkpoint/values.")
+            p = execute(track, 1, "--restart", kept, "--set", "output.checkpoint_every=1")
+            check(p.returncode == 0, f"{track}, checkpointed on {ranks} rank(s): the restart with room runs to the "
+                  f"end ({p.stderr.strip()[-200:]!r})")
+            lines = []
+            check(compare(whole, kept, tolerance=1e-8, out=lines.append) == 0,
+                  f"{track}, checkpointed on {ranks} rank(s): the restart ends as the uninterrupted run: {lines[-1]}")
 finally:
     subprocess.run(["umount", disk])

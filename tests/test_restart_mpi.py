@@ -8,7 +8,8 @@ with contact and the monolithic solve. The flux values carry the facet's
 orientation: a wrong sign would show at the first step after the restart.
 A checkpoint of another mesh under the same scene text (the gmsh file was
 changed in between: another size, or the same size with its nodes moved) is
-refused in one line, on 1 and on 2 ranks, and no output file is touched."""
+refused in one line, on 1 and on 2 ranks, and no output file is touched.
+The prototype does the same with its own checkpoint files."""
 import os
 import shutil
 import signal
@@ -16,7 +17,7 @@ import subprocess
 import sys
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, scene
+from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, scene
 
 sys.path.insert(0, ROOT)
 from python_prototype.diagnostics.compare import compare  # noqa: E402
@@ -24,16 +25,28 @@ from python_prototype.diagnostics.compare import compare  # noqa: E402
 CHECKPOINT = ["--set", "output.checkpoint_every=3"]
 
 
-def command(ranks, scene_file, *arguments):
-    cmd = [BINARY, "run", scene_file, *arguments]
+TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
+
+
+def command(track, ranks, scene_file, *arguments):
+    cmd = [*TRACKS[track], "run", scene_file, *arguments]
     return ["mpirun", "-n", str(ranks)] + cmd if ranks > 1 else cmd
 
 
-def stopped_run(ranks, scene_file, options, steps=4):
+def execute(track, ranks, scene_file, *arguments):
+    return subprocess.run(command(track, ranks, scene_file, *arguments), capture_output=True, text=True,
+                          env=MPI_ENV, cwd=ROOT, timeout=900)
+
+
+def has_checkpoint(directory):
+    return any(name.startswith("state.") for name in os.listdir(os.path.join(directory, "checkpoint")))
+
+
+def stopped_run(track, ranks, scene_file, options, steps=4):
     """A run on `ranks` stopped by SIGTERM once `steps` steps are printed."""
     out = tempfile.mkdtemp(prefix="restart-mpi-")
-    p = subprocess.Popen(command(ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, env=MPI_ENV)
+    p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
     printed = 0
     for line in p.stdout:
         printed += line.startswith("step")
@@ -41,14 +54,9 @@ def stopped_run(ranks, scene_file, options, steps=4):
             p.send_signal(signal.SIGTERM)
             break
     _, err = p.communicate(timeout=600)
-    check("interrupted" in err and os.path.exists(os.path.join(out, "checkpoint", "state.bin")),
-          f"{ranks} rank(s) stopped by SIGTERM with a checkpoint ({err.strip()[-200:]!r})")
+    check("interrupted" in err and has_checkpoint(out),
+          f"{track}: {ranks} rank(s) stopped by SIGTERM with a checkpoint ({err.strip()[-200:]!r})")
     return out
-
-
-def restart(ranks, scene_file, directory, options):
-    return subprocess.run(command(ranks, scene_file, "--restart", directory, *options), capture_output=True,
-                          text=True, env=MPI_ENV, timeout=900)
 
 
 def stamps(directory):
@@ -57,9 +65,10 @@ def stamps(directory):
             if name != ".lock"}
 
 
-def continues_the_run(label, whole, stopped_on, restarted_on, options):
-    checkpointed = stopped_run(stopped_on, scene("default"), options)
-    p = restart(restarted_on, scene("default"), checkpointed, options)
+def continues_the_run(track, label, whole, stopped_on, restarted_on, options):
+    checkpointed = stopped_run(track, stopped_on, scene("default"), options)
+    p = execute(track, restarted_on, scene("default"), "--restart", checkpointed, *options)
+    label = f"{track}, {label}"
     check(p.returncode == 0 and "restarted from the checkpoint at step" in p.stdout,
           f"{label}: checkpointed on {stopped_on}, restarted on {restarted_on} rank(s), runs to the end "
           f"({p.stderr.strip()[-200:]!r})")
@@ -70,15 +79,16 @@ def continues_the_run(label, whole, stopped_on, restarted_on, options):
 
 
 # Meshes large enough that the run is still going when the signal arrives.
-for label, extra in [("split with contact", ["--set", "mesh.cells=[80,8]", "--set", "time.end=4.8"]),
-                     ("monolithic", ["--set", "coupling.scheme=monolithic", "--set", "mesh.cells=[160,16]"])]:
-    options = CHECKPOINT + extra
-    whole = tempfile.mkdtemp(prefix="whole-")
-    p = subprocess.run(command(1, scene("default"), "--out", whole, *options), capture_output=True, text=True,
-                       env=MPI_ENV, timeout=600)
-    check(p.returncode == 0, f"{label}: the uninterrupted run on 1 rank ({p.stderr.strip()[-200:]!r})")
-    for stopped_on, restarted_on in [(2, 2), (2, 1), (1, 2)]:
-        continues_the_run(label, whole, stopped_on, restarted_on, options)
+CASES = [("split with contact", ["--set", "mesh.cells=[80,8]", "--set", "time.end=4.8"]),
+         ("monolithic", ["--set", "coupling.scheme=monolithic", "--set", "mesh.cells=[160,16]"])]
+for track, rank_changes in [("C++", [(2, 2), (2, 1), (1, 2)]), ("prototype", [(2, 1), (1, 2)])]:
+    for label, extra in CASES:
+        options = CHECKPOINT + extra
+        whole = tempfile.mkdtemp(prefix="whole-")
+        p = execute(track, 1, scene("default"), "--out", whole, *options)
+        check(p.returncode == 0, f"{track}, {label}: the uninterrupted run on 1 rank ({p.stderr.strip()[-200:]!r})")
+        for stopped_on, restarted_on in rank_changes:
+            continues_the_run(track, label, whole, stopped_on, restarted_on, options)
 
 # Another mesh under the same scene text: the gmsh file changed in between,
 # to another size, or to the same size with its nodes moved.
@@ -90,26 +100,27 @@ shutil.copy(os.path.join(ROOT, "meshes", "hertz.geo"), geometry_file)
 with open(geometry_file) as f:
     geometry = f.read()
 options = ["--set", "time.dt=0.1", "--set", "output.checkpoint_every=1"]
-checkpointed = tempfile.mkdtemp(prefix="restart-mesh-out-")
-p = subprocess.run(command(2, scene_file, "--out", checkpointed, *options), capture_output=True, text=True,
-                   env=MPI_ENV, timeout=600)
-check(p.returncode == 0 and os.path.exists(os.path.join(checkpointed, "checkpoint", "state.bin")),
-      f"the Hertz scene on 2 ranks leaves its checkpoint ({p.stderr.strip()[-200:]!r})")
-
-before = stamps(checkpointed)
-for change, changed, reason in [("another size", geometry.replace("SizeMin = 0.004", "SizeMin = 0.005"), "cells"),
-                                ("moved nodes", geometry.replace("Plane Surface(1) = {1};", "Plane Surface(1) = {1};\n"
-                                                                 "Translate {0.001, 0, 0} { Surface{1}; }"),
-                                 "nodes moved")]:
+CHANGES = [("another size", geometry.replace("SizeMin = 0.004", "SizeMin = 0.005"), "cells"),
+           ("moved nodes", geometry.replace("Plane Surface(1) = {1};", "Plane Surface(1) = {1};\n"
+                                            "Translate {0.001, 0, 0} { Surface{1}; }"), "nodes moved")]
+for track in TRACKS:
     with open(geometry_file, "w") as f:
-        f.write(changed)
-    for ranks in (1, 2):
-        p = restart(ranks, scene_file, checkpointed, options)
-        # mpirun adds its own report of the exit code; ours is one line.
-        ours = [line for line in p.stderr.splitlines() if line.startswith("biotcontact")]
-        error = "\n".join(ours)
-        check(p.returncode == 2 and len(ours) == 1 and "does not match this mesh" in error
-              and "PETSC ERROR" not in p.stderr
-              and reason in error, f"a checkpoint of a mesh with {change} is refused on {ranks} rank(s) in one "
-              f"line: {error!r}")
-check(before == stamps(checkpointed), "the refused restarts touched no file of the run")
+        f.write(geometry)
+    checkpointed = tempfile.mkdtemp(prefix="restart-mesh-out-")
+    p = execute(track, 2, scene_file, "--out", checkpointed, *options)
+    check(p.returncode == 0 and has_checkpoint(checkpointed),
+          f"{track}: the Hertz scene on 2 ranks leaves its checkpoint ({p.stderr.strip()[-200:]!r})")
+    before = stamps(checkpointed)
+    for change, changed, reason in CHANGES:
+        with open(geometry_file, "w") as f:
+            f.write(changed)
+        for ranks in (1, 2):
+            p = execute(track, ranks, scene_file, "--restart", checkpointed, *options)
+            # mpirun adds its own report of the exit code; ours is one line.
+            ours = [line for line in p.stderr.splitlines() if line.startswith("biotcontact")]
+            error = "\n".join(ours)
+            check(p.returncode == 2 and len(ours) == 1 and "does not match this mesh" in error
+                  and "PETSC ERROR" not in p.stderr and "Traceback" not in p.stderr and reason in error,
+                  f"{track}: a checkpoint of a mesh with {change} is refused on {ranks} rank(s) in one line: "
+                  f"{error!r}")
+    check(before == stamps(checkpointed), f"{track}: the refused restarts touched no file of the run")

@@ -13,6 +13,15 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 
+class UnknownsPart:
+    """One field within a vector of unknowns: its own (collapsed) space and
+    the position in the vector of each of its local entries (None: the
+    vector is the field's own). A checkpoint stores the unknowns field by field."""
+
+    def __init__(self, name, space, position=None):
+        self.name, self.space, self.position = name, space, position
+
+
 def assemble_matrix(a, bcs):
     """Rows and columns of Dirichlet DOFs become identity rows."""
     A = fem.petsc.assemble_matrix(a, bcs)

@@ -71,7 +71,17 @@ def _read_gmsh_file(file, d, refine):
     if len(cells) == 0:
         kind = "triangles" if d == 2 else "tetrahedra"
         raise SceneError(f"{file}: no {kind} in the mesh (mesh.dimension = {d})")
-    return x, cells, np.array(facets, dtype=np.int64).reshape(-1, d), np.array(groups, dtype=np.int32), names
+    x, cells, facets = _drop_unused_nodes(x, cells, np.array(facets, dtype=np.int64).reshape(-1, d))
+    return x, cells, facets, np.array(groups, dtype=np.int32), names
+
+
+def _drop_unused_nodes(x, cells, facets):
+    """Only the nodes of the cells, numbered in their order in the file: the
+    mesh's input numbering is then 0 .. N-1, the rows of the output."""
+    used = np.unique(cells)
+    index = np.full(len(x), -1, dtype=np.int64)
+    index[used] = np.arange(len(used))
+    return x[used], index[cells], index[facets]
 
 
 def _read_gmsh(scene, comm):

@@ -1,70 +1,259 @@
 """Checkpoint and restart (cpp/output/checkpoint.h): the state a run needs to
 continue after its last completed step, written every N steps
 (output.checkpoint_every) and when the run is interrupted; `run SCENE
---restart DIR` goes on in the same files. Each rank writes its own local
-arrays (ghosts included) to DIR/checkpoint/rank<r>.npz (the C++ solver
-writes .bin files of its own format): a restart needs the same scene (by its
-fingerprint: the file's text and the --set overrides) and the same number
-of ranks. A checkpoint replaces the previous one only once it is complete."""
+--restart DIR` goes on in the same files and ends as the uninterrupted run.
+
+The state does not depend on the partition: every unknown is stored under a
+name taken from the mesh's input numbering (keyed_values), so a run may be
+restarted on any partition and any number of ranks. A restart needs the same
+scene (its fingerprint: the file's text and the --set overrides) and a mesh
+that holds every stored name; otherwise it is refused in one line.
+
+Layout of DIR/checkpoint (the C++ solver writes .bin files of its own
+format): state.npz (rank 0: the step, the time, the counters, the time grid,
+the output position, the number of value files) and values.<step>.<rank>.npz
+(each rank's owned unknowns with their names). A checkpoint replaces the
+previous one when its state.npz is renamed into place, after every value
+file is complete; the value files of other steps go after that."""
+import glob
+import io
 import os
 
 import numpy as np
-from mpi4py import MPI
 
 from ..scene.scene import SceneError, agree_on_error
+from .write_failure import agree_on_output_error, write_failure_reason
 
-FORMAT = "biotcontact checkpoint 1 (prototype)"
+FORMAT = "biotcontact checkpoint 2 (prototype)"
 
 
 class Checkpoint:
     def __init__(self, steps=0, time=0.0, arrays=None, numbers=None, output=""):
         self.steps, self.time = steps, time
-        self.arrays = arrays or {}    # this rank's, ghosts included
+        self.arrays = arrays or {}    # the same on every rank (the time grid, the mesh signature)
+        self.fields = {}              # name -> (keys, values): this rank's owned entries, or every rank's once read
         self.numbers = numbers or {}  # counters and scales
         self.output = output          # Output.position()
 
 
-def _path(directory, rank):
-    return os.path.join(directory, "checkpoint", f"rank{rank}.npz")
+def _vertex_input_indices(mesh):
+    """The input index of every local vertex: vertex k of a cell is the
+    cell's geometry node k on a P1 mesh."""
+    tdim = mesh.topology.dim
+    mesh.topology.create_connectivity(tdim, 0)
+    vertex_map = mesh.topology.index_map(0)
+    result = np.empty(vertex_map.size_local + vertex_map.num_ghosts, dtype=np.int64)
+    input_index = np.asarray(mesh.geometry.input_global_indices, dtype=np.int64)
+    result[mesh.topology.connectivity(tdim, 0).array] = input_index[mesh.geometry.dofmap.array]
+    return result
+
+
+def _facet_names(mesh, vertex_input):
+    """Per local facet: the sorted input indices of its vertices, and the
+    parity (+-1) of the permutation from the order of the partition's global
+    vertex numbering (dolfinx's orientation of the facet) to the sorted one."""
+    f = mesh.topology.dim - 1
+    mesh.topology.create_connectivity(f, 0)
+    vertices = mesh.topology.connectivity(f, 0).array.reshape(-1, f + 1)
+    global_index = mesh.topology.index_map(0).local_to_global(vertices.ravel()).reshape(vertices.shape)
+    in_global_order = np.take_along_axis(vertex_input[vertices], np.argsort(global_index, axis=1), axis=1)
+    inversions = sum((in_global_order[:, a] > in_global_order[:, b]).astype(int)
+                     for a in range(f + 1) for b in range(a + 1, f + 1))
+    return np.sort(vertex_input[vertices], axis=1), np.where(inversions % 2 == 0, 1.0, -1.0)
+
+
+def _entity_names(mesh, V):
+    """The input names of the entities V's DOF blocks sit on (rows; a
+    vertex, a facet's sorted vertices or a cell) and the sign that turns a
+    DOF to the orientation of its name."""
+    tdim, layout = mesh.topology.dim, V.dofmap.dof_layout
+    dim = next(d for d in range(tdim + 1) if layout.num_entity_dofs(d) > 0)
+    if layout.num_entity_dofs(dim) != 1:
+        raise RuntimeError("checkpoint: a space that is not one DOF per vertex, facet or cell")
+    per_cell = layout.num_dofs
+    blocks = V.dofmap.index_map.size_local + V.dofmap.index_map.num_ghosts
+    names = np.full((blocks, tdim if dim == tdim - 1 else 1), -1, dtype=np.int64)
+    sign = np.ones(blocks)
+    cell_dofs = V.dofmap.list.array.reshape(-1, per_cell)
+    vertex_input = _vertex_input_indices(mesh)
+    if dim == tdim - 1:
+        facet_names, facet_sign = _facet_names(mesh, vertex_input)
+        cell_facets = mesh.topology.connectivity(tdim, dim).array.reshape(-1, per_cell)
+    for k in range(per_cell):
+        block = cell_dofs[:, layout.entity_dofs(dim, k)[0]]
+        if dim == 0:
+            names[block, 0] = vertex_input[mesh.topology.connectivity(tdim, 0).array.reshape(-1, per_cell)[:, k]]
+        elif dim == tdim:
+            names[block, 0] = mesh.topology.original_cell_index[:len(block)]
+        else:
+            names[block], sign[block] = facet_names[cell_facets[:, k]], facet_sign[cell_facets[:, k]]
+    return names, sign
+
+
+def _entries(mesh, part):
+    """Per local entry of part's space: its name (rows) and sign."""
+    V = part.space
+    bs = V.dofmap.index_map_bs
+    names, sign = _entity_names(mesh, V)
+    if bs > 1:  # a vector at a vertex: the vertex's input index times bs plus the component
+        names = (names[:, :1] * bs + np.arange(bs)).reshape(-1, 1)
+    return names, np.repeat(sign, bs)
+
+
+def keyed_values(mesh, part, unknowns):
+    """The owned entries of `part` in `unknowns`: (names, values)."""
+    names, sign = _entries(mesh, part)
+    owned = part.space.dofmap.index_map.size_local * part.space.dofmap.index_map_bs
+    position = np.arange(owned) if part.position is None else np.asarray(part.position)[:owned]
+    return names[:owned].copy(), sign[:owned] * unknowns[position]
+
+
+def _rows(keys):
+    """Rows of int64 as one comparable value each."""
+    keys = np.ascontiguousarray(keys, dtype=np.int64)
+    return keys.view(np.dtype((np.void, keys.itemsize * keys.shape[1]))).ravel()
+
+
+def restore_values(mesh, part, stored, unknowns):
+    """Sets the local entries (owned and ghost) of `part` in `unknowns` from
+    the stored (names, values) of every rank; returns how many owned
+    entries were not found."""
+    names, sign = _entries(mesh, part)
+    stored_names, stored_values = stored
+    if stored_names.shape[1] != names.shape[1]:
+        return part.space.dofmap.index_map.size_local * part.space.dofmap.index_map_bs
+    stored_rows = _rows(stored_names)
+    order = np.argsort(stored_rows)
+    stored_rows = stored_rows[order]
+    mine = _rows(names)
+    at = np.minimum(np.searchsorted(stored_rows, mine), len(stored_rows) - 1)
+    found = stored_rows[at] == mine if len(stored_rows) else np.zeros(len(mine), dtype=bool)
+    position = np.arange(len(mine)) if part.position is None else np.asarray(part.position)
+    unknowns[position[found]] = sign[found] * stored_values[order[at[found]]]
+    owned = part.space.dofmap.index_map.size_local * part.space.dofmap.index_map_bs
+    return owned - int(np.count_nonzero(found[:owned]))
+
+
+def mesh_signature(mesh):
+    """The global numbers of nodes and cells and a sum of the node
+    coordinates weighted by input index (the same as the C++ solver's)."""
+    g = mesh.geometry
+    owned = g.index_map().size_local
+    input_index = np.asarray(g.input_global_indices, dtype=np.int64)[:owned]
+    weights = 1 + (input_index[:, None] * 3 + np.arange(g.dim)) % 1009
+    total = mesh.comm.allreduce(float(np.sum(g.x[:owned, :g.dim] * weights)))
+    return np.array([g.index_map().size_global, mesh.topology.index_map(mesh.topology.dim).size_global, total],
+                    dtype=float)
+
+
+def mesh_difference(stored, current):
+    """How the mesh of signature `current` differs from the `stored` one, in
+    words; empty when they are the same (the sums to round-off)."""
+    def size(s):
+        return f"{int(s[0])} nodes and {int(s[1])} cells"
+    if stored is None or len(stored) != 3:
+        return "written for an unknown mesh"
+    if stored[0] != current[0] or stored[1] != current[1]:
+        return f"written for {size(stored)}, this mesh has {size(current)}"
+    if abs(stored[2] - current[2]) > 1e-12 * max(abs(stored[2]), abs(current[2])):
+        return "the same numbers of nodes and cells, but the nodes moved"
+    return ""
+
+
+def _state_path(directory):
+    return os.path.join(directory, "checkpoint", "state.npz")
+
+
+def _values_path(directory, steps, rank):
+    return os.path.join(directory, "checkpoint", f"values.{steps}.{rank}.npz")
+
+
+def _write_file(path, contents):
+    """Writes an npz through `path`.new and renames it into place; returns
+    why it could not (the new file removed), or an empty string."""
+    buffer = io.BytesIO()  # in memory first: numpy's zip writer does not fail cleanly on a full disk
+    np.savez(buffer, **contents)
+    try:
+        with open(path + ".new", "wb") as f:
+            f.write(buffer.getbuffer())
+        os.replace(path + ".new", path)
+        return ""
+    except OSError as e:
+        if os.path.exists(path + ".new"):
+            os.remove(path + ".new")
+        return f"cannot write {path}: {write_failure_reason(os.path.dirname(path), e)}"
+
+
+def _write_state(directory, fingerprint, ranks, c):
+    """Everything but the values (rank 0); once it is in place, the values of
+    earlier checkpoints (of any number of ranks) go."""
+    failure = _write_file(_state_path(directory), dict(
+        format=FORMAT, fingerprint=fingerprint, ranks=ranks, steps=c.steps, time=c.time, output=c.output,
+        number_names=list(c.numbers), number_values=np.array(list(c.numbers.values()), dtype=float),
+        **{"array_" + name: values for name, values in c.arrays.items()}))
+    if not failure:
+        current = f"values.{c.steps}."
+        for path in glob.glob(os.path.join(directory, "checkpoint", "values.*")):
+            if not os.path.basename(path).startswith(current):
+                os.remove(path)
+    return failure
 
 
 def write_checkpoint(comm, directory, fingerprint, c):
+    """Writes the checkpoint (collective); raises OutputError on every rank
+    when a file could not be written, leaving the previous checkpoint."""
     if comm.rank == 0:
         os.makedirs(os.path.join(directory, "checkpoint"), exist_ok=True)
     comm.Barrier()
-    path = _path(directory, comm.rank)
-    with open(path + ".new", "wb") as f:
-        np.savez(f, format=FORMAT, fingerprint=fingerprint, ranks=comm.size, steps=c.steps, time=c.time,
-                 output=c.output, number_names=list(c.numbers), number_values=list(c.numbers.values()),
-                 **{"array_" + name: values for name, values in c.arrays.items()})
-    comm.Barrier()  # every rank's new file is complete before any replaces the old one
-    os.replace(path + ".new", path)
-    comm.Barrier()
+    contents = {"format": FORMAT, "steps": c.steps, "names": list(c.fields)}
+    for i, (keys, values) in enumerate(c.fields.values()):
+        contents[f"keys_{i}"], contents[f"values_{i}"] = keys, values
+    # Every rank's values are complete before the state points at them.
+    agree_on_output_error(_write_file(_values_path(directory, c.steps, comm.rank), contents), comm)
+    agree_on_output_error(_write_state(directory, fingerprint, comm.size, c) if comm.rank == 0 else "", comm)
+
+
+def _read_state(directory, fingerprint):
+    path = _state_path(directory)
+    if not os.path.exists(path):
+        raise SceneError(f"--restart {directory}: no checkpoint there ({path}; runs write one with "
+                         "output.checkpoint_every)")
+    with np.load(path) as data:
+        if str(data["format"]) != FORMAT:
+            raise SceneError(f"--restart {directory}: {path} is no checkpoint of this version of the prototype")
+        if str(data["fingerprint"]) != fingerprint:
+            raise SceneError(f"--restart {directory}: the checkpoint was written for another scene or other "
+                             "--set values")
+        c = Checkpoint(int(data["steps"]), float(data["time"]), output=str(data["output"]))
+        c.numbers = dict(zip((str(n) for n in data["number_names"]), (float(v) for v in data["number_values"])))
+        c.arrays = {k[len("array_"):]: data[k] for k in data.files if k.startswith("array_")}
+        return c, int(data["ranks"])
+
+
+def _read_values(path, c, parts):
+    """Every rank's values of one file, appended to parts[name]."""
+    with np.load(path) as data:
+        if str(data["format"]) != FORMAT or int(data["steps"]) != c.steps:
+            raise ValueError(path)
+        for i, name in enumerate(str(n) for n in data["names"]):
+            parts.setdefault(name, []).append((data[f"keys_{i}"], data[f"values_{i}"]))
 
 
 def read_checkpoint(comm, directory, fingerprint):
-    path, error, c = _path(directory, comm.rank), "", Checkpoint()
+    """The checkpoint with every rank's values (collective); SceneError
+    when there is none, or it belongs to another scene, or is damaged."""
+    error, c, path = "", Checkpoint(), _state_path(directory)
     try:
-        if not os.path.exists(path):
-            raise SceneError(f"--restart {directory}: no checkpoint there ({path}; runs write one with "
-                             "output.checkpoint_every)")
-        with np.load(path) as data:
-            if str(data["format"]) != FORMAT:
-                raise SceneError(f"--restart {directory}: {path} is no biotcontact checkpoint")
-            if str(data["fingerprint"]) != fingerprint:
-                raise SceneError(f"--restart {directory}: the checkpoint was written for another scene or other "
-                                 "--set values")
-            if int(data["ranks"]) != comm.size:
-                raise SceneError(f"--restart {directory}: the checkpoint was written by {int(data['ranks'])} "
-                                 "ranks; restart with as many")
-            c.steps, c.time, c.output = int(data["steps"]), float(data["time"]), str(data["output"])
-            c.numbers = dict(zip((str(n) for n in data["number_names"]), (float(v) for v in data["number_values"])))
-            c.arrays = {k[len("array_"):]: data[k] for k in data.files if k.startswith("array_")}
+        c, ranks = _read_state(directory, fingerprint)
+        parts = {}
+        for rank in range(ranks):
+            path = _values_path(directory, c.steps, rank)
+            _read_values(path, c, parts)
+        c.fields = {name: (np.concatenate([k for k, _ in p]), np.concatenate([v for _, v in p]))
+                    for name, p in parts.items()}
     except SceneError as e:
         error = str(e)
     except (OSError, KeyError, ValueError):
-        error = f"--restart {directory}: the checkpoint {path} is damaged"
+        error = f"--restart {directory}: the checkpoint {path} is damaged or missing"
     agree_on_error(error, comm)
-    if comm.allreduce(c.steps, op=MPI.MAX) != comm.allreduce(c.steps, op=MPI.MIN):
-        raise SceneError(f"--restart {directory}: the ranks' checkpoint files are of different steps")
     return c

@@ -62,7 +62,12 @@ class Output:
                         self.csv.flush()
         agree_on_error(error, comm)
         series = resume.split("\n", 1)[1] if resume is not None else None
-        self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh, series) if xdmf else None
+        failed, self.xdmf = "", None
+        try:
+            self.xdmf = TimeSeries(comm, self.xdmf_path(), mesh, series) if xdmf else None
+        except OutputError as e:
+            failed = str(e)
+        agree_on_output_error(failed, comm)
 
     def position(self):
         """Where the files stand, for a checkpoint (this rank's view)."""

@@ -7,6 +7,11 @@ components. A field not written at a time repeats its last written state
 returns: the HDF5 file is flushed, then the XML is rewritten from the start
 of the current time's grid.
 
+Rows are in the mesh's input order (nodes by input index, cells by input
+cell index), so the files do not depend on the partition. A write that
+fails (a full disk) raises OutputError and takes the incomplete time out of
+the XML again, which then lists exactly the completed times.
+
 The prototype gathers every field to rank 0, which writes both files with
 serial h5py; `read_time_series` reads either solver's output."""
 import os
@@ -14,6 +19,8 @@ import xml.etree.ElementTree as ET
 
 import h5py
 import numpy as np
+
+from .write_failure import OutputError, agree_on_output_error, write_failure_reason
 
 TAIL = "    </Grid>\n  </Domain>\n</Xdmf>\n"
 HEAD = ('<?xml version="1.0"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
@@ -35,10 +42,17 @@ class TimeSeries:
         of an earlier run, goes on in its files, dropping what came after it."""
         self.comm, self.xdmf_path = comm, xdmf_path
         self.h5_name = os.path.splitext(os.path.basename(xdmf_path))[0] + ".h5"
-        mode = "a" if resume is not None else "w"
-        self.h5 = h5py.File(os.path.splitext(xdmf_path)[0] + ".h5", mode) if comm.rank == 0 else None
+        self.h5 = None
+        h5_path, failed = os.path.splitext(xdmf_path)[0] + ".h5", ""
+        if comm.rank == 0:
+            try:
+                self.h5 = h5py.File(h5_path, "a" if resume is not None else "w")
+            except OSError as e:
+                failed = f"cannot write {h5_path}: {write_failure_reason(os.path.dirname(h5_path), e)}"
+        agree_on_output_error(failed, comm)
         self.fields = {}  # name -> [center, components, writes, dataset]
         self.time, self.grid_start, self.grids_end = None, None, len(HEAD)
+        self.failed = False  # a write failed: the HDF5 file is left as it is, not closed
         self._write_mesh(mesh, write=resume is None)
         if resume is not None:
             lines = resume.splitlines()
@@ -49,11 +63,16 @@ class TimeSeries:
                 name, center, components, writes, dataset = line.split()
                 self.fields[name] = [center, int(components), int(writes), dataset]
         if comm.rank == 0:
-            self.xml = open(xdmf_path, "r+" if resume is not None else "w")
-            self.xml.seek(self.grids_end if resume is not None else 0)
-            self.xml.write(TAIL if resume is not None else HEAD + TAIL)
-            self.xml.truncate()
-            self.xml.flush()
+            # Unbuffered: a write that fails leaves nothing behind to be retried.
+            try:
+                self.xml = os.open(xdmf_path, os.O_RDWR | os.O_CREAT | (os.O_TRUNC if resume is None else 0), 0o644)
+                if resume is None:
+                    self._write_from(0, HEAD + TAIL)
+                else:
+                    self._write_from(self.grids_end, TAIL)
+            except OSError as e:
+                raise OutputError(f"cannot write {xdmf_path}: {write_failure_reason(os.path.dirname(xdmf_path), e)}") \
+                    from None
 
     def position(self):
         """Where the series stands, for a checkpoint (this rank's view)."""
@@ -62,35 +81,64 @@ class TimeSeries:
         lines += [f"{n} {c} {k} {w} {d}" for n, (c, k, w, d) in self.fields.items()]
         return "\n".join(lines) + "\n"
 
-    def _gather(self, local):
-        """The owned rows of every rank, in rank order (= global order), on rank 0."""
-        parts = self.comm.gather(local, root=0)
-        return np.concatenate(parts) if self.comm.rank == 0 else None
+    def _gather(self, local, index):
+        """The owned rows of every rank on rank 0, row index[i] = local[i]
+        (the input order)."""
+        parts = self.comm.gather((np.asarray(index), local), root=0)
+        if self.comm.rank != 0:
+            return None
+        rows = np.concatenate([i for i, _ in parts])
+        data = np.empty((len(rows),) + local.shape[1:], dtype=local.dtype)
+        data[rows] = np.concatenate([v for _, v in parts])
+        return data
 
-    def _dataset(self, path, data):
-        if self.comm.rank == 0:
+    def _dataset(self, path, data, t=None):
+        """Rank 0 writes a dataset and flushes the file; OutputError when it
+        cannot (the time being written taken out of the XML)."""
+        if self.comm.rank != 0:
+            return
+        try:
             if path in self.h5:  # a resumed run writes again what its first run wrote after the checkpoint
                 del self.h5[path]
             self.h5.create_dataset(path, data=data)
             self.h5.flush()
+        except (OSError, RuntimeError) as e:
+            self.failed = True
+            self._end_before(t)
+            h5_path = os.path.join(os.path.dirname(self.xdmf_path), self.h5_name)
+            raise OutputError(f"cannot write {h5_path}: {write_failure_reason(os.path.dirname(h5_path), e)}") \
+                from None
+
+    def _end_before(self, t):
+        """The XML ends before the grid of time t, the time being written
+        (if any of its fields is in it)."""
+        if t is not None and self.time == t:
+            try:
+                self._write_from(self.grid_start, TAIL)
+            except OSError:
+                pass  # the XML then still names a dataset that may be incomplete; nothing more can be done
+            self.grids_end = self.grid_start
 
     def _write_mesh(self, mesh, write=True):
         gdim, tdim = mesh.geometry.dim, mesh.topology.dim
         node_map = mesh.geometry.index_map()
         owned_nodes = node_map.size_local
         self.num_nodes = node_map.size_global
-        if write:
-            self._dataset("/Mesh/geometry", self._gather(mesh.geometry.x[:owned_nodes, :gdim]))
+        input_index = np.asarray(mesh.geometry.input_global_indices, dtype=np.int64)
+        self.node_rows = input_index[:owned_nodes]
+        geometry = self._gather(mesh.geometry.x[:owned_nodes, :gdim], self.node_rows) if write else None
         owned_cells = mesh.topology.index_map(tdim).size_local
+        self.cell_rows = np.asarray(mesh.topology.original_cell_index[:owned_cells], dtype=np.int64)
         self.num_cells = mesh.topology.index_map(tdim).size_global
         nodes = mesh.geometry.dofmap.array.reshape(-1, mesh.geometry.dofmap.links(0).size)
         per_cell = nodes.shape[1]
         from dolfinx.cpp.io import perm_vtk  # here: the reader below needs no dolfinx
         vtk = np.argsort(perm_vtk(mesh.topology.cell_type, per_cell))  # the transpose of the permutation
         local = nodes[:owned_cells][:, vtk]
-        topology = node_map.local_to_global(local.ravel()).reshape(local.shape).astype(np.int64)
-        if write:
-            self._dataset("/Mesh/topology", self._gather(topology))
+        if write:  # after both gathers: a rank 0 that fails leaves no rank waiting in one
+            topology = self._gather(input_index[local], self.cell_rows)
+            self._dataset("/Mesh/geometry", geometry)
+            self._dataset("/Mesh/topology", topology)
         self.mesh_xml = (
             f'        <Topology TopologyType="{TOPOLOGY[mesh.topology.cell_type.name]}" '
             f'NumberOfElements="{self.num_cells}" NodesPerElement="{per_cell}">\n'
@@ -125,7 +173,7 @@ class TimeSeries:
         field = self.fields.setdefault(f.name, [center, components, 0, None])
         field[3] = f"/Function/{f.name}/{field[2]}"
         field[2] += 1
-        self._dataset(field[3], self._gather(data))
+        self._dataset(field[3], self._gather(data, self.cell_rows if center == "Cell" else self.node_rows), t)
         new_time = self.time is None or t != self.time
         self.time = t
         if self.comm.rank == 0:
@@ -147,16 +195,29 @@ class TimeSeries:
         if new_time:
             self.grid_start = self.grids_end
         g = self._grid(t)
-        self.xml.seek(self.grid_start)
-        self.xml.write(g + TAIL)
-        self.xml.truncate()
-        self.xml.flush()
+        try:
+            self._write_from(self.grid_start, g + TAIL)
+        except OSError as e:
+            self.failed = True
+            self._end_before(t)
+            raise OutputError(f"cannot write {self.xdmf_path}: "
+                              f"{write_failure_reason(os.path.dirname(self.xdmf_path), e)}") from None
         self.grids_end = self.grid_start + len(g)
 
+    def _write_from(self, offset, text):
+        """The XML from `offset` on replaced by `text`, on disk on return."""
+        data = text.encode()
+        if os.pwrite(self.xml, data, offset) != len(data):
+            raise OSError(0, "")
+        os.ftruncate(self.xml, offset + len(data))
+
     def close(self):
+        """Closes the files; after a failed write the HDF5 file is left as
+        the last flush made it (closing writes metadata that may not fit)."""
         if self.comm.rank == 0:
-            self.xml.close()
-            self.h5.close()
+            os.close(self.xml)
+            if not self.failed:
+                self.h5.close()
 
 
 def read_time_series(directory, repeated=False):

@@ -4,8 +4,7 @@ with one line naming the file and the system's reason, and keeps
 everything written before (exit status RUN_OUTPUT_FAILED)."""
 import errno
 import os
-
-from mpi4py import MPI
+import re
 
 
 class OutputError(RuntimeError):
@@ -15,8 +14,12 @@ class OutputError(RuntimeError):
 
 def write_failure_reason(directory, error=None):
     """Why the write into `directory` failed, as the system says it (the
-    OSError's words), with the space left on the device."""
-    reason = error.strerror if isinstance(error, OSError) and error.strerror else ""
+    OSError's words, or HDF5's record of them), with the space left on the
+    device; one line."""
+    # HDF5 (h5py) records the system's words as "error message = '...'".
+    hdf5 = re.search(r"error message = '([^']*)'", str(error)) if error is not None else None
+    reason = hdf5.group(1) if hdf5 else error.strerror if isinstance(error, OSError) and error.strerror else ""
+    reason = reason.split("\n")[0]
     try:
         disk = os.statvfs(directory)
     except OSError:
@@ -32,6 +35,10 @@ def write_failure_reason(directory, error=None):
 def agree_on_output_error(failed, comm):
     """Raises OutputError with the lowest failing rank's message on every
     rank when `failed` is not empty on any (collective)."""
+    # Imported here: readers of the output (time_series.Fields in the tests)
+    # import this module and must not start MPI in their process, whose
+    # mpirun children would then fail.
+    from mpi4py import MPI
     owner = comm.allreduce(comm.rank if failed else comm.size, op=MPI.MIN)
     if owner < comm.size:
         raise OutputError(comm.bcast(failed, root=owner))

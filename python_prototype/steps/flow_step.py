@@ -8,7 +8,7 @@ from ..solvers.field_split import Field
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate, interpolate_resistivity
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, multiply_add, owned_global_dofs,
-                                       reassemble_operator)
+                                       reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure
 from ..solvers.system import System
 from ..assembly.boundary_conditions import no_flow_bc
@@ -116,6 +116,10 @@ class FlowStep:
     def unknowns(self):
         """The mixed solution (z, p) of the last solve."""
         return self.w.x.array
+
+    def parts(self):
+        """The fields within unknowns(), for a checkpoint."""
+        return [UnknownsPart("flux", self.Z, self.Z_to_W), UnknownsPart("pressure", self.Q, self.Q_to_W)]
 
     def time_step_changed(self):
         """The matrix and the operators depend on dt: reassembled after

@@ -9,7 +9,8 @@ from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate, interpolate_resistivity
-from ..assembly.linear_algebra import add_vector, dof_map, finish_rhs, owned, owned_global_dofs, rigid_body_modes
+from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
+                                       rigid_body_modes)
 from ..solvers.solver import Structure
 from ..solvers.system import System
 from ..assembly.boundary_conditions import displacement_bcs, no_flow_bc, update
@@ -132,6 +133,11 @@ class MonolithicStep:
     def unknowns(self):
         """The coupled unknown (u, z, p), ghosts included, for a checkpoint."""
         return self.x.x.array
+
+    def parts(self):
+        """The fields within unknowns(), for a checkpoint."""
+        return [UnknownsPart("displacement", self.V, self.V_to_X), UnknownsPart("flux", self.Z, self.Z_to_X),
+                UnknownsPart("pressure", self.Q, self.Q_to_X)]
 
     def set_unknowns(self, x):
         """Loads unknowns() back (and u, pressure from it)."""
