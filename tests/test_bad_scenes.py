@@ -2,13 +2,15 @@
 option or file and exit status 2, never an abort, a PETSc trace or a silent
 NaN, and leaves no output directory behind; three of them also under
 mpirun -n 2 (one rank's error ends both). A failure found while solving
-gets exit 3, one line naming the step, and a summary that says failed."""
+gets exit 3, one line naming the step, and a summary that says failed. The
+output directory and checkpoint cases run on both tracks."""
+import fcntl
 import json
 import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, check, scene
+from support import BINARY, MPI_ENV, ROOT, check, scene
 
 DEFAULT = scene("default")
 with open(DEFAULT) as f:
@@ -205,3 +207,51 @@ p = subprocess.run([BINARY, "check", DEFAULT], capture_output=True, text=True)
 check(p.returncode == 0 and "ok" in p.stdout, "the shipped default scene passes check")
 p = subprocess.run([BINARY, "frobnicate"], capture_output=True, text=True)
 check(p.returncode == 2 and p.stderr.count("\n") == 1, "an unknown command is refused in one line")
+
+# The output directory and checkpoints (issue 21), both tracks: a directory
+# another run holds, a restart where there is no checkpoint, and a restart
+# with other --set values than the checkpointed run. Each is one line naming
+# the directory, exit 2, and touches no file there.
+PROTOTYPE_RUN = ["/usr/bin/python3", "-m", "python_prototype", "run", DEFAULT]
+SMALL = ["--set", "mesh.cells=[20,2]", "--set", "time.end=0.4", "--set", "output.checkpoint_every=1"]
+
+
+def stamps(directory):
+    """Each file's modification time (.lock records who holds the directory)."""
+    return {name: os.stat(os.path.join(directory, name)).st_mtime_ns for name in os.listdir(directory)
+            if name != ".lock"}
+
+
+def directory_case(label, track, arguments, directory, key):
+    before = stamps(directory)
+    p = subprocess.run(track + arguments, capture_output=True, text=True, timeout=300, env=MPI_ENV, cwd=ROOT)
+    after = stamps(directory)
+    where = f"{label} ({'prototype' if track == PROTOTYPE_RUN else 'C++'})"
+    check(p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and key in p.stderr
+          and p.stderr.startswith("biotcontact: error:"), f"{where}: exit 2, one line naming {key!r}: "
+          f"{p.stderr.strip()!r}")
+    check(before == after, f"{where}: no file in {directory} touched")
+    return p.stderr.strip()
+
+
+messages = []
+for track in ([BINARY, "run", DEFAULT], PROTOTYPE_RUN):
+    held = tempfile.mkdtemp(prefix="held-")
+    with open(os.path.join(held, ".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        lock.write("process 1 on this host, started 2026-11-24 12:00:00\n")
+        lock.flush()
+        message = directory_case("an output directory in use", track, ["--out", held, *SMALL], held,
+                                 f"--out {held}: the directory is in use by another run (process 1")
+        messages.append(message.replace(held, "DIR"))
+    empty = tempfile.mkdtemp(prefix="no-checkpoint-")
+    directory_case("a restart without a checkpoint", track, ["--restart", empty, *SMALL], empty,
+                   f"--restart {empty}: no checkpoint there")
+    checkpointed = tempfile.mkdtemp(prefix="checkpointed-")
+    p = subprocess.run(track + ["--out", checkpointed, *SMALL], capture_output=True, text=True, timeout=300,
+                       env=MPI_ENV, cwd=ROOT)
+    check(p.returncode == 0, f"a run that leaves a checkpoint ({p.stderr.strip()[-200:]!r})")
+    directory_case("a restart with other --set values", track,
+                   ["--restart", checkpointed, *SMALL, "--set", "coupling.L=kdr"], checkpointed,
+                   f"--restart {checkpointed}: the checkpoint was written for another scene or other --set values")
+check(messages[0] == messages[1], f"the directory in use: the same line on both tracks: {messages[0]!r}")

@@ -4,7 +4,8 @@ checkpointed on 2 ranks goes on, on 2 ranks (another partition: PT-SCOTCH
 differs from run to run) or on 1, and a 1-rank checkpoint goes on, on 2,
 each ending with the uninterrupted 1-rank run's fields (to 1e-8: the ranks
 sum in another order), active sets and coupling iterations, for the split
-with contact and the monolithic solve. The flux values carry the facet's
+with contact and the monolithic solve; a 2-rank run killed by SIGKILL goes
+on from its last periodic checkpoint on 2 ranks (another partition again). The flux values carry the facet's
 orientation: a wrong sign would show at the first step after the restart.
 A checkpoint of another mesh under the same scene text (the gmsh file was
 changed in between: another size, or the same size with its nodes moved) is
@@ -16,6 +17,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, scene
 
@@ -65,8 +67,30 @@ def stamps(directory):
             if name != ".lock"}
 
 
-def continues_the_run(track, label, whole, stopped_on, restarted_on, options):
-    checkpointed = stopped_run(track, stopped_on, scene("default"), options)
+def killed_run(track, ranks, scene_file, options, steps=5):
+    """A run on `ranks` killed (SIGKILL to mpirun and every rank at once, as
+    when a node fails) once `steps` steps are printed: its last checkpoint
+    is the periodic one before. The ranks are found by the output directory
+    on their command lines (Open MPI starts them in sessions of their own)."""
+    out = tempfile.mkdtemp(prefix="restart-mpi-killed-")
+    p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
+    printed = 0
+    for line in p.stdout:
+        printed += line.startswith("step")
+        if printed == steps:
+            subprocess.run(["pkill", "-KILL", "-f", out])
+            break
+    p.communicate(timeout=600)
+    while subprocess.run(["pgrep", "-f", out], capture_output=True).returncode == 0:
+        time.sleep(0.1)
+    check(p.returncode == -signal.SIGKILL and has_checkpoint(out),
+          f"{track}: {ranks} rank(s) killed by SIGKILL after {steps} steps, with the checkpoint before")
+    return out
+
+
+def continues_the_run(track, label, whole, stopped_on, restarted_on, options, stop=stopped_run):
+    checkpointed = stop(track, stopped_on, scene("default"), options)
     p = execute(track, restarted_on, scene("default"), "--restart", checkpointed, *options)
     label = f"{track}, {label}"
     check(p.returncode == 0 and "restarted from the checkpoint at step" in p.stdout,
@@ -89,6 +113,8 @@ for track, rank_changes in [("C++", [(2, 2), (2, 1), (1, 2)]), ("prototype", [(2
         check(p.returncode == 0, f"{track}, {label}: the uninterrupted run on 1 rank ({p.stderr.strip()[-200:]!r})")
         for stopped_on, restarted_on in rank_changes:
             continues_the_run(track, label, whole, stopped_on, restarted_on, options)
+        if label == "split with contact":
+            continues_the_run(track, label + ", killed", whole, 2, 2, options, stop=killed_run)
 
 # Another mesh under the same scene text: the gmsh file changed in between,
 # to another size, or to the same size with its nodes moved.
