@@ -129,6 +129,13 @@ CASES = [
     ("E with G", DEFAULT, s("mechanics.G=1e9"), "mechanics.E", BOTH),
     ("two mechanics conditions", DEFAULT, s("boundary.left.traction=[0, 1]"), "boundary.left", BOTH),
     ("pressure and flux", DEFAULT, s("boundary.top.flux=1.0"), "boundary.top.flux", BOTH),
+    ("flux and rate", DEFAULT, s("boundary.bottom.flux=0.0", "boundary.bottom.rate=1.0"), "boundary.bottom.rate",
+     BOTH),
+    ("a rate that varies along the boundary", DEFAULT, s("boundary.bottom.rate='1e-6*x'"), "boundary.bottom.rate",
+     BOTH),
+    ("NaN flux", DEFAULT, s("boundary.bottom.flux='sqrt(-1-x)'"), "boundary.bottom.flux", BOTH),
+    ("a flux on a curved boundary", scene("hertz_poroelastic"), s("boundary.arc.flux=-1e-6"), "boundary.arc.flux",
+     BOTH),
     # too large
     ("1e20 steps", DEFAULT, s("time.end=1e20", "time.dt=1"), "time.dt", BOTH),
     ("3e9 steps", DEFAULT, s("time.end=3e9", "time.dt=1"), "time.dt", BOTH),

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/mesh/utils.h>
+#include <xtensor/xarray.hpp>
+#include <xtensor/xbuilder.hpp>
 
 namespace biotcontact
 {
@@ -47,7 +49,7 @@ void update(std::vector<DisplacementValue>& values, double t)
 }
 
 std::shared_ptr<const fem::DirichletBC<double>>
-no_flow_bc(const Scene& scene, const Domain& domain, std::shared_ptr<const fem::FunctionSpace> Z)
+flux_bc(const Scene& scene, const Domain& domain, std::shared_ptr<const fem::FunctionSpace> Z, FluxValues& values)
 {
   const auto& mesh = domain.mesh;
   std::vector<std::int32_t> facets = mesh::exterior_facet_indices(mesh->topology());
@@ -62,9 +64,51 @@ no_flow_bc(const Scene& scene, const Domain& domain, std::shared_ptr<const fem::
     facets = std::move(rest);
   }
   auto collapsed = std::make_shared<fem::FunctionSpace>(Z->collapse().first);
-  auto zero = std::make_shared<fem::Function<double>>(collapsed);
-  auto dofs = fem::locate_dofs_topological({*Z, *collapsed}, domain.dim() - 1, facets);
-  return std::make_shared<fem::DirichletBC<double>>(zero, std::move(dofs), Z);
+  values.g = std::make_shared<fem::Function<double>>(collapsed);
+  const int d = domain.dim();
+  auto f_to_c = mesh->topology().connectivity(d - 1, d);
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (b.flow != BoundarySpec::Flow::flux)
+      continue;
+    FluxBoundary fb{b.rate ? nullptr : &b.flux, b.rate ? &*b.rate : nullptr,
+                    planar_boundary(domain, name, "boundary." + name), {}, {}};
+    for (std::int32_t f : domain.boundaries.at(name))
+      fb.cells.push_back(f_to_c->links(f)[0]);
+    fb.dofs = fem::locate_dofs_topological(*collapsed, d - 1, domain.boundaries.at(name));
+    values.boundaries.push_back(std::move(fb));
+  }
+  auto dofs = fem::locate_dofs_topological({*Z, *collapsed}, d - 1, facets);
+  return std::make_shared<fem::DirichletBC<double>>(values.g, std::move(dofs), Z);
+}
+
+void update(FluxValues& values, double t)
+{
+  if (values.boundaries.empty())
+    return;
+  fem::Function<double> boundary_g(values.g->function_space());
+  std::span<double> g = values.g->x()->mutable_array();
+  const std::size_t gdim = values.g->function_space()->mesh()->geometry().dim();
+  for (const FluxBoundary& b : values.boundaries)
+  {
+    const double uniform = b.rate ? -(*b.rate)(0, 0, 0, t) / b.plane.measure : 0.0;
+    boundary_g.interpolate(
+        [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+        {
+          xt::xarray<double> v = xt::zeros<double>({gdim, x.shape(1)});
+          for (std::size_t k = 0; k < x.shape(1); ++k)
+          {
+            const double value = b.rate ? uniform : (*b.flux)(x(0, k), x(1, k), x(2, k), t);
+            for (std::size_t i = 0; i < gdim; ++i)
+              v(i, k) = value * b.plane.normal[i];
+          }
+          return v;
+        },
+        b.cells);
+    const std::span<const double> from = boundary_g.x()->array();
+    for (std::int32_t dof : b.dofs)
+      g[dof] = from[dof];
+  }
 }
 
 } // namespace biotcontact

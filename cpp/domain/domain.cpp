@@ -306,6 +306,8 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
       uses.push_back({key + ".traction", &e, at, true});
     if (b.flow == BoundarySpec::Flow::pressure)
       uses.push_back({key + ".pressure", &b.pressure, at, true});
+    if (b.flow == BoundarySpec::Flow::flux)
+      uses.push_back(b.rate ? Use{key + ".rate", &*b.rate, at, true} : Use{key + ".flux", &b.flux, at, true});
   }
   if (scene.mechanics and scene.mechanics->body_force)
     for (const Expression& e : *scene.mechanics->body_force)
@@ -343,6 +345,81 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
     }
   }
   agree_on_error(found.message, comm);
+  for (const auto& [name, b] : scene.boundaries)
+    if (b.flow == BoundarySpec::Flow::flux)
+      planar_boundary(domain, name, scene.file + ": boundary." + name + (b.rate ? ".rate" : ".flux"));
+}
+
+namespace
+{
+/// The outward unit normal and the measure of one exterior facet, from its
+/// vertices (a, b[, c]) and the midpoint of its cell.
+std::pair<std::array<double, 3>, double> facet_normal(const double* a, const double* b, const double* c, int d,
+                                                      std::span<const double> cell_midpoint)
+{
+  std::array<double, 3> n{};
+  if (d == 2)
+    n = {b[1] - a[1], a[0] - b[0], 0.0};
+  else
+    for (int i = 0; i < 3; ++i)
+    {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      n[i] = (b[j] - a[j]) * (c[k] - a[k]) - (b[k] - a[k]) * (c[j] - a[j]);
+    }
+  double length = 0, outward = 0;
+  for (int i = 0; i < 3; ++i)
+  {
+    length += n[i] * n[i];
+    outward += n[i] * (a[i] - cell_midpoint[i]);
+  }
+  length = std::sqrt(length);
+  for (double& ni : n)
+    ni *= (outward < 0 ? -1.0 : 1.0) / length;
+  return {n, d == 2 ? length : length / 2};
+}
+} // namespace
+
+PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key)
+{
+  const mesh::Mesh& mesh = *domain.mesh;
+  const int d = mesh.topology().dim();
+  const std::vector<std::int32_t>& facets = domain.boundaries.at(name);
+  const std::vector<double> x = facet_vertices(mesh, facets);
+  auto f_to_c = mesh.topology().connectivity(d - 1, d);
+  std::vector<std::int32_t> cells;
+  for (std::int32_t f : facets)
+    cells.push_back(f_to_c->links(f)[0]);
+  const std::vector<double> midpoints = mesh::compute_midpoints(mesh, d, cells);
+  const std::int32_t owned = mesh.topology().index_map(d - 1)->size_local();
+  std::vector<std::array<double, 3>> normals;
+  std::array<double, 4> sum{}; // the measure-weighted normal and the measure, over owned facets
+  for (std::size_t k = 0; k < facets.size(); ++k)
+  {
+    const double* v = &x[3 * d * k];
+    auto [n, measure] = facet_normal(v, v + 3, v + 6, d, std::span(midpoints.data() + 3 * k, 3));
+    normals.push_back(n);
+    for (int i = 0; i < 3 and facets[k] < owned; ++i)
+      sum[i] += measure * n[i];
+    sum[3] += facets[k] < owned ? measure : 0.0;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sum.data(), 4, MPI_DOUBLE, MPI_SUM, mesh.comm());
+  PlanarBoundary p;
+  const double length = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+  for (int i = 0; i < 3; ++i)
+    p.normal[i] = sum[i] / length;
+  p.measure = sum[3];
+  double deviation = 0;
+  for (const auto& n : normals)
+    deviation = std::max(deviation, std::hypot(n[0] - p.normal[0], n[1] - p.normal[1], n[2] - p.normal[2]));
+  MPI_Allreduce(MPI_IN_PLACE, &deviation, 1, MPI_DOUBLE, MPI_MAX, mesh.comm());
+  if (!(deviation < 1e-6))
+  {
+    std::ostringstream s;
+    s << key << ": the boundary " << name << " is not planar (its facet normals differ from their mean by up to "
+      << deviation << "); a flux or rate is prescribed on planar boundaries only";
+    throw SceneError(s.str());
+  }
+  return p;
 }
 
 } // namespace biotcontact

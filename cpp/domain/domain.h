@@ -3,6 +3,7 @@
 
 #include "scene/scene.h"
 
+#include <array>
 #include <dolfinx/mesh/Mesh.h>
 #include <dolfinx/mesh/MeshTags.h>
 #include <map>
@@ -25,6 +26,19 @@ struct Domain
   /// the ds(1) integrals of that boundary.
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> marker(const std::string& name) const;
 };
+
+/// @brief A planar boundary: its outward unit normal and its measure (a
+/// length in 2D, an area in 3D), the same on every rank.
+struct PlanarBoundary
+{
+  std::array<double, 3> normal{};
+  double measure = 0;
+};
+
+/// The outward normal and the measure of the boundary `name`; throws
+/// SceneError naming `key` when its facets do not lie in one plane (a flux
+/// or rate boundary; collective).
+PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key);
 
 /// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
 /// and locates its named boundaries; throws SceneError for unknown names.

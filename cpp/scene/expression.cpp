@@ -28,7 +28,6 @@ Expression::Expression(double value) : _value(value)
 Expression::Expression(const std::string& text) : _text(text)
 {
   auto p = std::make_shared<Parser>();
-  bool depends_on_space = false;
   try
   {
     p->parser.DefineVar("x", &p->x);
@@ -43,14 +42,14 @@ Expression::Expression(const std::string& text) : _text(text)
       if (name == "t")
         _depends_on_time = true;
       else
-        depends_on_space = true;
+        _depends_on_space = true;
     }
   }
   catch (const mu::Parser::exception_type& e)
   {
     throw std::invalid_argument("cannot parse expression \"" + text + "\": " + e.GetMsg());
   }
-  if (!_depends_on_time and !depends_on_space)
+  if (!_depends_on_time and !_depends_on_space)
     _value = p->parser.Eval();
   else
     _parser = p;

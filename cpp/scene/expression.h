@@ -26,6 +26,7 @@ public:
 
   bool is_constant() const { return !_parser and !_function; }
   bool depends_on_time() const { return _depends_on_time; }
+  bool depends_on_space() const { return _depends_on_space; }
   /// The scene text, or the number printed.
   const std::string& text() const { return _text; }
 
@@ -35,6 +36,7 @@ private:
   std::function<double(double, double, double, double)> _function;
   double _value = 0.0;
   bool _depends_on_time = false;
+  bool _depends_on_space = false;
   std::string _text;
 };
 

@@ -358,8 +358,8 @@ BoundarySpec read_boundary(Section s, int d)
     b.contact = contact;
   }
 
-  if (s.has("pressure") and s.has("flux"))
-    s.fail("flux", "give at most one of pressure, flux");
+  if (s.has("pressure") + s.has("flux") + s.has("rate") > 1)
+    s.fail(s.has("rate") ? "rate" : "flux", "give at most one of pressure, flux, rate");
   if (auto p = s.expression("pressure"))
   {
     b.flow = BoundarySpec::Flow::pressure;
@@ -369,8 +369,13 @@ BoundarySpec read_boundary(Section s, int d)
   {
     b.flow = BoundarySpec::Flow::flux;
     b.flux = *f;
-    if (!b.flux.is_constant() or b.flux(0, 0, 0, 0) != 0.0)
-      s.fail("flux", "only flux = 0 (no flow) is supported; use flow.source for injection");
+  }
+  if (auto r = s.expression("rate"))
+  {
+    if (r->depends_on_space())
+      s.fail("rate", "the total rate through the boundary depends on t only (use flux for one that varies along it)");
+    b.flow = BoundarySpec::Flow::flux;
+    b.rate = *r;
   }
   s.finish();
   return b;

@@ -72,7 +72,10 @@ struct BoundarySpec
   std::vector<Expression> traction; // also on a contact boundary (a fluid-loaded fracture face)
   std::optional<ContactSpec> contact;
   Flow flow = Flow::no_flow;
-  Expression pressure, flux;
+  Expression pressure;
+  Expression flux;                  // the outward normal Darcy flux z.n (m/s; negative flows in)
+  std::optional<Expression> rate;   // or the total rate through the boundary (m^3/s, per metre
+                                    // in 2D; injection positive), spread uniformly: flux = -rate/area
 };
 
 struct MechanicsSpec

@@ -26,8 +26,9 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
                   const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, spaces, coefficients, constants, marker); };
-  // No flow (w.n = 0, essential for RT) wherever no pressure is given.
-  _bcs.push_back(no_flow_bc(scene, domain, _W->sub({0})));
+  // The normal flux (essential for RT) wherever no pressure is given: zero
+  // (no flow) but on flux and rate boundaries.
+  _bcs.push_back(flux_bc(scene, domain, _W->sub({0}), _fluxes));
   _a = make(forms.a_flow, {_W, _W});
   make_loads(domain, forms, constants);
   make_coupling_operators(forms, make, V, constants.at("L")->value[0]);
@@ -68,7 +69,8 @@ void FlowStep::make_spaces(const Domain& domain, const CompiledForms& forms,
 }
 
 /// Source, gravity and boundary pressures (alg. "Flow"), in that order,
-/// with the zero no-flow values set (no lifting: they are zero).
+/// with the prescribed normal fluxes set; a non-zero one is lifted, its
+/// column moved to the right-hand side.
 void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants)
 {
   auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
@@ -77,11 +79,16 @@ void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, cons
   auto make = [&](const ufcx_form* f, const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, {_W}, data, constants, marker); };
   _loads = std::make_unique<Loads>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs(),
-                                   [this](la::Vector<double>& b, double)
+                                   [this](la::Vector<double>& b, double t)
                                    {
+                                     update(_fluxes, t);
+                                     if (!_fluxes.boundaries.empty())
+                                       return finish_rhs(b, _a, _bcs);
                                      b.scatter_rev(std::plus<double>());
                                      fem::set_bc(b.mutable_array(), _bcs);
                                    });
+  for (const FluxBoundary& f : _fluxes.boundaries)
+    _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
   const FlowSpec& flow = *_scene.flow;
   if (flow.source)
     _loads->add(make(forms.L_flow_source), source, {*flow.source});

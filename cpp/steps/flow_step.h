@@ -3,6 +3,7 @@
 // "Multirate ... (a)" when the scene is coupled.
 #pragma once
 
+#include "assembly/boundary_conditions.h"
 #include "domain/domain.h"
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
@@ -80,6 +81,7 @@ private:
   std::vector<std::int32_t> _Q_to_W, _Z_to_W;
   std::shared_ptr<dolfinx::fem::Function<double>> _w;
   BCs _bcs;
+  FluxValues _fluxes; // the prescribed normal fluxes (flux and rate boundaries)
   std::shared_ptr<dolfinx::fem::Form<double>> _a, _a_storage, _a_stabilisation, _a_displacement;
   // Operators of the coupling terms (W x Q, W x Q, W x V) and work vectors.
   std::optional<dolfinx::la::petsc::Matrix> _storage, _stabilisation, _displacement;

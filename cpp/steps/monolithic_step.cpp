@@ -44,7 +44,7 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   const Coefficients coefficients = {{"resistivity", R}, {"p_old", _p_old}, {"u_old", _u_old}};
   // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
   _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
-  _bcs.push_back(no_flow_bc(scene, domain, _X->sub({1})));
+  _bcs.push_back(flux_bc(scene, domain, _X->sub({1}), _fluxes));
   _a = make_form(forms.a_monolithic, {_X, _X}, coefficients, constants);
   _L_history = make_form(forms.L_monolithic_history, {_X}, coefficients, constants);
   make_loads(domain, forms, constants);
@@ -95,9 +95,15 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
   auto make = [&](const ufcx_form* f, const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, {_X}, data, constants, marker); };
   _loads = std::make_unique<Loads>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs(),
-                                   [this](la::Vector<double>&, double t) { update(_bc_values, t); });
+                                   [this](la::Vector<double>&, double t)
+                                   {
+                                     update(_bc_values, t);
+                                     update(_fluxes, t);
+                                   });
   for (const auto& bc : _bc_values)
     _loads->depends_on_time(bc.value->depends_on_time());
+  for (const FluxBoundary& f : _fluxes.boundaries)
+    _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
   if (_scene.mechanics->body_force)
     _loads->add(make(forms.L_monolithic_body_force), body_force, *_scene.mechanics->body_force);
   for (const auto& [name, b] : _scene.boundaries)

@@ -78,6 +78,7 @@ private:
   std::shared_ptr<dolfinx::fem::Function<double>> _x, _u_old, _p_old;
   BCs _bcs;
   std::vector<DisplacementValue> _bc_values;
+  FluxValues _fluxes; // the prescribed normal fluxes (flux and rate boundaries)
   std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_history;
   std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b;

@@ -1,9 +1,11 @@
-"""Essential boundary conditions: the displacement values and the no-flow
-flux condition (cpp/assembly/boundary_conditions.cpp)."""
+"""Essential boundary conditions: the displacement values and the normal
+flux (prescribed on flux and rate boundaries, zero elsewhere where no
+pressure is given) (cpp/assembly/boundary_conditions.cpp)."""
 
 import numpy as np
 from dolfinx import fem, mesh as dmesh
 
+from ..domain.domain import planar_boundary
 
 
 def displacement_bcs(scene, domain, U):
@@ -32,14 +34,58 @@ def update(values, t):
         g.x.array[dofs] = expression.at(points.T, t)
 
 
-def no_flow_bc(scene, domain, Z):
-    """w.n = 0 on every boundary facet that is not a pressure boundary."""
+class FluxBoundary:
+    """The prescribed normal flux z.n = g of one (planar) flux or rate
+    boundary: g = flux(x, t), or g = -rate(t) / measure spread uniformly."""
+
+    def __init__(self, b, plane, cells, dofs):
+        self.flux, self.rate = (None, b.rate) if b.rate is not None else (b.flux, None)
+        self.plane, self.cells, self.dofs = plane, cells, dofs
+
+
+class FluxValues:
+    """The values of the essential flux condition: zero on no-flow facets,
+    set by update_fluxes on the flux and rate boundaries."""
+
+    def __init__(self, g):
+        self.g, self.boundaries = g, []
+
+
+def flux_bc(scene, domain, Z):
+    """z.n = g on every boundary facet that is not a pressure boundary (g = 0
+    but on flux and rate boundaries); returns the condition and its FluxValues."""
+    d = domain.dim
     facets = dmesh.exterior_facet_indices(domain.mesh.topology)
     for name, b in scene.boundaries.items():
         if b.flow == "pressure":
             facets = np.setdiff1d(facets, domain.boundaries[name])
     collapsed, _ = Z.collapse()
-    dofs = fem.locate_dofs_topological((Z, collapsed), domain.dim - 1, facets)
-    return fem.dirichletbc(fem.Function(collapsed), dofs, Z)
+    values = FluxValues(fem.Function(collapsed))
+    f_to_c = domain.mesh.topology.connectivity(d - 1, d)
+    for name, b in sorted(scene.boundaries.items()):  # the order of the C++ std::map
+        if b.flow == "flux":
+            boundary = domain.boundaries[name]
+            cells = np.array([f_to_c.links(f)[0] for f in boundary], dtype=np.int32)
+            values.boundaries.append(FluxBoundary(b, planar_boundary(domain, name, f"boundary.{name}"), cells,
+                                                  fem.locate_dofs_topological(collapsed, d - 1, boundary)))
+    dofs = fem.locate_dofs_topological((Z, collapsed), d - 1, facets)
+    return fem.dirichletbc(values.g, dofs, Z), values
+
+
+def update_fluxes(values, t):
+    """g on the flux and rate boundaries at time t: the RT interpolation of
+    g n on each boundary's cells, kept on its own facets only (a cell may
+    touch two boundaries)."""
+    if not values.boundaries:
+        return
+    boundary_g = fem.Function(values.g.function_space)
+    gdim = values.g.function_space.mesh.geometry.dim
+    for b in values.boundaries:
+        def g_n(x, b=b):
+            g = np.full(x.shape[1], -float(b.rate(0, 0, 0, t)) / b.plane.measure) if b.rate is not None \
+                else b.flux.at(x, t)
+            return np.outer(b.plane.normal[:gdim], g)
+        boundary_g.interpolate(g_n, b.cells)
+        values.g.x.array[b.dofs] = boundary_g.x.array[b.dofs]
 
 

@@ -10,6 +10,7 @@ import os
 
 import numpy as np
 import ufl
+from mpi4py import MPI
 from dolfinx import io, mesh as dmesh
 from dolfinx.cpp.graph import AdjacencyList_int32
 from dolfinx.cpp.mesh import entities_to_geometry
@@ -157,6 +158,9 @@ def check_expressions(scene, domain, comm):
             uses.append((f"boundary.{name}.traction", e, at, True))
         if b.flow == "pressure":
             uses.append((f"boundary.{name}.pressure", b.pressure, at, True))
+        if b.flow == "flux":
+            uses.append((f"boundary.{name}.rate", b.rate, at, True) if b.rate is not None
+                        else (f"boundary.{name}.flux", b.flux, at, True))
     if scene.mechanics and scene.mechanics.body_force:
         uses += [("mechanics.body_force", e, midpoints, True) for e in scene.mechanics.body_force]
     if scene.flow:
@@ -181,3 +185,50 @@ def check_expressions(scene, domain, comm):
         if index < len(uses):
             break
     agree_on_error(message, comm)
+    for name, b in sorted(scene.boundaries.items()):
+        if b.flow == "flux":
+            planar_boundary(domain, name, f"{scene.file}: boundary.{name}.{'rate' if b.rate is not None else 'flux'}")
+
+
+class PlanarBoundary:
+    """A planar boundary: its outward unit normal (3 components) and its
+    measure (a length in 2D, an area in 3D), the same on every rank."""
+
+    def __init__(self, normal, measure):
+        self.normal, self.measure = normal, measure
+
+
+def _facet_normals(vertices, cell_midpoints, d):
+    """Outward unit normals and measures of exterior facets from their
+    vertices (facets x d x 3) and the midpoints of their cells."""
+    a, b = vertices[:, 0], vertices[:, 1]
+    if d == 2:
+        n = np.stack([b[:, 1] - a[:, 1], a[:, 0] - b[:, 0], np.zeros(len(a))], axis=1)
+    else:
+        n = np.cross(b - a, vertices[:, 2] - a)
+    length = np.linalg.norm(n, axis=1)
+    outward = np.sign(np.sum(n * (a - cell_midpoints), axis=1))
+    outward[outward == 0] = 1
+    return n * (outward / length)[:, None], length if d == 2 else length / 2
+
+
+def planar_boundary(domain, name, key):
+    """The outward normal and the measure of the boundary `name`; SceneError
+    naming `key` when its facets do not lie in one plane (collective)."""
+    mesh, d = domain.mesh, domain.dim
+    facets = domain.boundaries[name]
+    nodes = entities_to_geometry(mesh._mesh, d - 1, facets, False)
+    f_to_c = mesh.topology.connectivity(d - 1, d)
+    cells = np.array([f_to_c.links(f)[0] for f in facets], dtype=np.int32)
+    midpoints = dmesh.compute_midpoints(mesh, d, cells) if len(cells) else np.zeros((0, 3))
+    normals, measures = _facet_normals(mesh.geometry.x[nodes].reshape(len(facets), d, 3), midpoints, d)
+    owned = facets < mesh.topology.index_map(d - 1).size_local
+    local = np.append(np.sum(normals[owned] * measures[owned, None], axis=0), np.sum(measures[owned]))
+    total = mesh.comm.allreduce(local)
+    normal = total[:3] / np.linalg.norm(total[:3])
+    deviation = mesh.comm.allreduce(float(np.max(np.linalg.norm(normals - normal, axis=1), initial=0.0)),
+                                    op=MPI.MAX)
+    if not deviation < 1e-6:
+        raise SceneError(f"{key}: the boundary {name} is not planar (its facet normals differ from their mean by up "
+                         f"to {deviation:g}); a flux or rate is prescribed on planar boundaries only")
+    return PlanarBoundary(normal, float(total[3]))

@@ -214,19 +214,20 @@ class Expression:
                 raise ExpressionError(f'cannot parse expression "{value}": {e}') from None
             used = _variables(self._tree)
             self.depends_on_time = "t" in used
+            self.depends_on_space = bool(used - {"t"})
             if not used:
                 self._value, self._tree = float(self(0.0, 0.0, 0.0, 0.0)), None
         else:
             self._value, self._tree = float(value), None
             self.text = f"{self._value:.17g}"
-            self.depends_on_time = False
+            self.depends_on_time = self.depends_on_space = False
 
     @classmethod
     def function(cls, f, text):
         """A value computed by the program itself, f(x, y, z, t) on arrays
         (e.g. a closed form imposed on a boundary); `text` describes it."""
         e = cls(0.0)
-        e.text, e._function, e.depends_on_time = text, f, True
+        e.text, e._function, e.depends_on_time, e.depends_on_space = text, f, True, True
         return e
 
     @property

@@ -171,7 +171,8 @@ class BoundarySpec:
     contact: Optional[ContactSpec] = None
     flow: str = "no_flow"             # or "pressure", "flux"
     pressure: Expression = field(default_factory=lambda: Expression(0.0))
-    flux: Expression = field(default_factory=lambda: Expression(0.0))
+    flux: Expression = field(default_factory=lambda: Expression(0.0))  # the outward normal Darcy flux z.n
+    rate: Optional[Expression] = None  # or the total rate through the boundary (injection positive)
 
 
 @dataclass
@@ -393,16 +394,20 @@ def _read_boundary(s, d):
         c.finish()
         b.contact = ContactSpec(gap, axis, sign)
 
-    if s.has("pressure") and s.has("flux"):
-        s.fail("flux", "give at most one of pressure, flux")
+    if s.has("pressure") + s.has("flux") + s.has("rate") > 1:
+        s.fail("rate" if s.has("rate") else "flux", "give at most one of pressure, flux, rate")
     p = s.expression("pressure")
     if p is not None:
         b.flow, b.pressure = "pressure", p
     f = s.expression("flux")
     if f is not None:
         b.flow, b.flux = "flux", f
-        if not f.is_constant or f(0, 0, 0, 0) != 0.0:
-            s.fail("flux", "only flux = 0 (no flow) is supported; use flow.source for injection")
+    r = s.expression("rate")
+    if r is not None:
+        if r.depends_on_space:
+            s.fail("rate", "the total rate through the boundary depends on t only (use flux for one that varies "
+                   "along it)")
+        b.flow, b.rate = "flux", r
     s.finish()
     return b
 

@@ -7,11 +7,11 @@ from dolfinx import fem
 from ..solvers.field_split import Field
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate, interpolate_resistivity
-from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, multiply_add, owned_global_dofs,
-                                       reassemble_operator, UnknownsPart)
+from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
+                                       owned_global_dofs, reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure
 from ..solvers.system import System
-from ..assembly.boundary_conditions import no_flow_bc
+from ..assembly.boundary_conditions import flux_bc, update_fluxes
 
 
 class FlowStep:
@@ -41,8 +41,10 @@ class FlowStep:
             else (None, None, None)
         interpolate(self.pressure, [flow.initial_pressure], 0.0)
 
-        # No flow (w.n = 0, essential for RT) wherever no pressure is given.
-        self.bcs = [no_flow_bc(scene, domain, W.sub(0))]
+        # The normal flux (essential for RT) wherever no pressure is given:
+        # zero (no flow) but on flux and rate boundaries.
+        bc, self.fluxes = flux_bc(scene, domain, W.sub(0))
+        self.bcs = [bc]
         self.make_loads(domain)
 
         self.a = F.compile("a_flow")
@@ -68,13 +70,19 @@ class FlowStep:
 
     def make_loads(self, domain):
         """Source, gravity and boundary pressures (alg. "Flow"), in that order,
-        with the zero no-flow values set (no lifting: they are zero)."""
+        with the prescribed normal fluxes set; a non-zero one is lifted, its
+        column moved to the right-hand side."""
         F, flow = self.F, self.scene.flow
 
         def finish(b, t):
+            update_fluxes(self.fluxes, t)
+            if self.fluxes.boundaries:
+                return finish_rhs(b, self.a, self.bcs)
             accumulate_ghosts(b)
             fem.set_bc(b.x.array, self.bcs)
         self.loads = Loads(F["W"], finish)
+        for f in self.fluxes.boundaries:
+            self.loads.depends_on_time((f.rate or f.flux).depends_on_time)
         if flow.source:
             self.loads.add(F.compile("L_flow_source"), F["source"], [flow.source])
         if flow.gravity:

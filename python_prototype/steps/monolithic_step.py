@@ -13,7 +13,7 @@ from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish
                                        rigid_body_modes)
 from ..solvers.solver import Structure
 from ..solvers.system import System
-from ..assembly.boundary_conditions import displacement_bcs, no_flow_bc, update
+from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
 
 
 class MonolithicStep:
@@ -34,7 +34,8 @@ class MonolithicStep:
 
         # Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
         self.bcs, self.bc_values = displacement_bcs(scene, domain, X.sub(0))
-        self.bcs.append(no_flow_bc(scene, domain, X.sub(1)))
+        bc, self.fluxes = flux_bc(scene, domain, X.sub(1))
+        self.bcs.append(bc)
         self.a = F.compile("a_monolithic")
         self.L_history = F.compile("L_monolithic_history")
         self.make_loads(domain, F)
@@ -55,9 +56,14 @@ class MonolithicStep:
         that order, with the Dirichlet values at t (lifted with the history
         term, assemble_rhs)."""
         scene = self.scene
-        self.loads = Loads(F["X"], lambda b, t: update(self.bc_values, t))
+        def finish(b, t):
+            update(self.bc_values, t)
+            update_fluxes(self.fluxes, t)
+        self.loads = Loads(F["X"], finish)
         for expression, *_ in self.bc_values:
             self.loads.depends_on_time(expression.depends_on_time)
+        for f in self.fluxes.boundaries:
+            self.loads.depends_on_time((f.rate or f.flux).depends_on_time)
         if scene.mechanics.body_force:
             self.loads.add(F.compile("L_monolithic_body_force"), F["body_force"], scene.mechanics.body_force)
         for name, b in scene.boundaries.items():

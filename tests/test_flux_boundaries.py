@@ -1,0 +1,168 @@
+"""Flow through boundaries (issue 22, item 3): `flux = expr` prescribes the
+outward normal Darcy flux (the essential condition of the mixed form) and
+`rate = expr` the total rate through a planar boundary, spread uniformly;
+both tracks.
+
+- A steady column, flux in at the base and p = 0 on top, in 2D and 3D: the
+  pressure at the cell centres and the cell flux equal the exact linear
+  solution p = (mu_f q / k)(H - y) to 1e-10.
+- `rate` is the flux it stands for: a rate R through a base of width 2 gives
+  the run with flux -R/2, to 1e-12.
+- Mass balance in a closed column (no pressure boundary): what entered
+  through the base, the integral of the rate over time, equals the fluid
+  content, the integral of S p + alpha div u, at every step, to 1e-10: flow
+  alone, the monolithic solve, and the split (at coupling tolerance 1e-12).
+- The split and the monolithic solve agree under a time-dependent
+  injection, and the prototype gives the C++ fields.
+- A rate that varies along the boundary, a flux on a curved boundary and
+  two flow conditions on one boundary are refused in one line."""
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+
+from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, Fields, check
+
+TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
+MU, K, Q_IN, H = 1.0e-3, 1.0e-12, 1.0e-6, 10.0
+
+
+def written(text):
+    path = os.path.join(tempfile.mkdtemp(prefix="flux-"), "scene.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def run(track, scene_file, *sets, expect=0):
+    out = tempfile.mkdtemp(prefix="flux-out-")
+    p = subprocess.run([*TRACKS[track], "run", scene_file, "--out", out, *[a for s in sets for a in ("--set", s)]],
+                       capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=600)
+    check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} {' '.join(sets)} exits {expect} "
+          f"({p.stderr.strip()[-300:]!r})")
+    return out, p
+
+
+def column(dimension, base, storage_modulus="1.0e11", mechanics=""):
+    mesh = ('type = "rectangle"\nupper = [2.0, 10.0]\ncells = [2, 20]' if dimension == 2 else
+            'type = "box"\nupper = [1.0, 1.0, 10.0]\ncells = [1, 1, 10]')
+    return f"""[scene]
+name = "column"
+description = "flow through the base of a column"
+[mesh]
+{mesh}
+{mechanics}
+[flow]
+M = {storage_modulus}
+mu_f = {MU}
+permeability = {K}
+[time]
+end = 1.0e4
+dt = 1.0e3
+[boundary.bottom]
+{base}
+"""
+
+
+def steady_column(track, dimension):
+    out, _ = run(track, written(column(dimension, f"flux = {-Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
+    fields = Fields(out)
+    t = fields.times("pressure")[-1]
+    height = fields.cells[:, dimension - 1]
+    exact = MU * Q_IN / K * (H - height)
+    p = fields.at("pressure", t)[:, 0]
+    z = fields.at("flux", t)
+    error_p = np.max(np.abs(p - exact)) / np.max(exact)
+    upward = np.zeros(3)
+    upward[dimension - 1] = Q_IN
+    error_z = np.max(np.abs(z - upward)) / Q_IN
+    check(error_p < 1e-10 and error_z < 1e-10, f"{track}, {dimension}D: the steady column's pressure and flux equal "
+          f"the exact solution (relative errors {error_p:.2e}, {error_z:.2e})")
+    return out
+
+
+def fluid_content(fields, t, storage, alpha):
+    """sum over cells of (S p + alpha div u) |T| (div u of the P1 displacement)."""
+    x, cells = fields.nodes[:, :2], fields.topology
+    p = fields.at("pressure", t)[:, 0]
+    a, b, c = x[cells[:, 0]], x[cells[:, 1]], x[cells[:, 2]]
+    area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1]))
+    content = storage * p * area
+    if alpha > 0:
+        u = fields.series["displacement"][min(fields.series["displacement"], key=lambda s: abs(s - t))][1][:, :2]
+        # The integral of div u over a triangle is the flux of u through its edges.
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            edge = x[cells[:, j]] - x[cells[:, i]]
+            normal = np.stack([edge[:, 1], -edge[:, 0]], axis=1)
+            centroid = (a + b + c) / 3
+            normal *= np.sign(np.sum(normal * (x[cells[:, i]] - centroid), axis=1))[:, None]
+            content += alpha * np.sum(0.5 * (u[cells[:, i]] + u[cells[:, j]]) * normal, axis=1)
+    return np.sum(content)
+
+
+def mass_balance(track, label, extra, alpha, tolerance, *sets):
+    """A closed column fed through its base of width 2 at the rate 2e-6 t."""
+    out, _ = run(track, written(column(2, 'rate = "2.0e-6 * t / 1.0e4"', "1.0e9", extra)), *sets)
+    fields = Fields(out)
+    worst = 0.0
+    for t in fields.times("pressure")[1:]:
+        # Backward Euler: the discrete injection is the sum of dt R(t_n).
+        injected = sum(2.0e-6 * s / 1.0e4 * 1.0e3 for s in np.arange(1.0e3, t + 1.0, 1.0e3))
+        worst = max(worst, abs(fluid_content(fields, t, 1.0e-9, alpha) - injected) / injected)
+    check(worst < tolerance, f"{track}, {label}: the fluid content equals the volume injected through the base at "
+          f"every step (largest relative difference {worst:.2e} < {tolerance:g})")
+    return out
+
+
+MECHANICS = """[mechanics]
+G = 1.0e9
+lambda = 1.0e9
+[coupling]
+alpha = 0.8
+tolerance = 1e-12
+scheme = "fixed-stress"
+[boundary.left]
+displacement = { x = 0.0 }
+[boundary.right]
+displacement = { x = 0.0 }
+[boundary.top]
+displacement = { y = 0.0 }
+"""
+
+results = {}
+for track in TRACKS:
+    results[track, 2] = steady_column(track, 2)
+    results[track, 3] = steady_column(track, 3)
+    flux_run, _ = run(track, written(column(2, f"flux = {-Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
+    rate_run, _ = run(track, written(column(2, f"rate = {2 * Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
+    c = subprocess.run(PROTOTYPE + ["compare", flux_run, rate_run, "--tolerance", "1e-12"], capture_output=True,
+                       text=True, cwd=ROOT)
+    check(c.returncode == 0, f"{track}: rate 2e-6 through a base of width 2 is flux -1e-6 to 1e-12")
+    mass_balance(track, "flow alone", "", 0.0, 1e-10)
+    results[track, "monolithic"] = mass_balance(track, "monolithic", MECHANICS, 0.8, 1e-10,
+                                                "coupling.scheme=monolithic")
+    results[track, "split"] = mass_balance(track, "fixed-stress split", MECHANICS, 0.8, 1e-10)
+
+for key in [2, 3, "monolithic", "split"]:
+    c = subprocess.run(PROTOTYPE + ["compare", results["C++", key], results["prototype", key], "--tolerance", "1e-10"],
+                       capture_output=True, text=True, cwd=ROOT)
+    check(c.returncode == 0, f"{key}: the prototype gives the C++ fields ({c.stdout.strip().splitlines()[-1]})")
+c = subprocess.run(PROTOTYPE + ["compare", results["C++", "split"], results["C++", "monolithic"], "--tolerance",
+                                "1e-6"], capture_output=True, text=True, cwd=ROOT)
+check("pressure" in c.stdout and all(" ok" in line for line in c.stdout.splitlines() if "max relative" in line),
+      "the split and the monolithic solve agree under the injection to 1e-6:\n" + c.stdout)
+
+# Bad input: each one line naming the key, exit 2, on both tracks.
+CURVED = os.path.join(ROOT, "scenes", "hertz_poroelastic.toml")
+for label, scene_file, sets, key in [
+        ("a rate that varies along the boundary", written(column(2, 'rate = "1e-6 * x"')), [], "boundary.bottom.rate"),
+        ("flux and rate on one boundary", written(column(2, "flux = 1e-6\nrate = 1e-6")), [], "boundary.bottom.rate"),
+        ("pressure and rate on one boundary", written(column(2, "pressure = 0.0\nrate = 1e-6")), [],
+         "boundary.bottom.rate"),
+        ("a NaN flux", written(column(2, 'flux = "sqrt(-x-1)"')), [], "boundary.bottom.flux"),
+        ("a flux on a curved boundary", CURVED, ["boundary.arc.flux=-1e-6"], "boundary.arc.flux")]:
+    for track in TRACKS:
+        _, p = run(track, scene_file, *sets, expect=2)
+        check(len(p.stderr.strip().splitlines()) == 1 and key in p.stderr,
+              f"{track}, {label}: one line naming {key}: {p.stderr.strip()!r}")
