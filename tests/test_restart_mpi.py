@@ -41,20 +41,20 @@ def execute(track, ranks, scene_file, *arguments):
 
 
 def has_checkpoint(directory):
-    return any(name.startswith("state.") for name in os.listdir(os.path.join(directory, "checkpoint")))
+    folder = os.path.join(directory, "checkpoint")
+    return os.path.isdir(folder) and any(name.startswith("state.") for name in os.listdir(folder))
 
 
-def stopped_run(track, ranks, scene_file, options, steps=4):
-    """A run on `ranks` stopped by SIGTERM once `steps` steps are printed."""
+def stopped_run(track, ranks, scene_file, options):
+    """A run on `ranks` stopped by SIGTERM as soon as it prints its first
+    line: the signal is recorded during the set-up (the handlers come first)
+    and the run stops after its first step, however fast the machine or
+    slow the forwarding of its output."""
     out = tempfile.mkdtemp(prefix="restart-mpi-")
     p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
-    printed = 0
-    for line in p.stdout:
-        printed += line.startswith("step")
-        if printed == steps:
-            p.send_signal(signal.SIGTERM)
-            break
+    p.stdout.readline()
+    p.send_signal(signal.SIGTERM)
     _, err = p.communicate(timeout=600)
     check("interrupted" in err and has_checkpoint(out),
           f"{track}: {ranks} rank(s) stopped by SIGTERM with a checkpoint ({err.strip()[-200:]!r})")
@@ -67,25 +67,23 @@ def stamps(directory):
             if name != ".lock"}
 
 
-def killed_run(track, ranks, scene_file, options, steps=5):
+def killed_run(track, ranks, scene_file, options):
     """A run on `ranks` killed (SIGKILL to mpirun and every rank at once, as
-    when a node fails) once `steps` steps are printed: its last checkpoint
-    is the periodic one before. The ranks are found by the output directory
-    on their command lines (Open MPI starts them in sessions of their own)."""
+    when a node fails) as soon as its first periodic checkpoint is in place:
+    it dies a few steps later, with that checkpoint its last. The ranks are
+    found by the output directory on their command lines (Open MPI starts
+    them in sessions of their own)."""
     out = tempfile.mkdtemp(prefix="restart-mpi-killed-")
-    p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
-    printed = 0
-    for line in p.stdout:
-        printed += line.startswith("step")
-        if printed == steps:
-            subprocess.run(["pkill", "-KILL", "-f", out])
-            break
-    p.communicate(timeout=600)
+    p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL, env=MPI_ENV, cwd=ROOT)
+    while not has_checkpoint(out) and p.poll() is None:
+        time.sleep(0.01)
+    subprocess.run(["pkill", "-KILL", "-f", out])
+    p.wait(timeout=600)
     while subprocess.run(["pgrep", "-f", out], capture_output=True).returncode == 0:
         time.sleep(0.1)
     check(p.returncode == -signal.SIGKILL and has_checkpoint(out),
-          f"{track}: {ranks} rank(s) killed by SIGKILL after {steps} steps, with the checkpoint before")
+          f"{track}: {ranks} rank(s) killed by SIGKILL after its first periodic checkpoint ({p.returncode})")
     return out
 
 
