@@ -92,3 +92,30 @@ def max_difference(a, b, names, sort=False):
         scale = max(max(np.abs(get_a(name, t)).max() for t in times), 1e-300)
         result[name] = max(np.abs(get_a(name, t) - get_b(name, t)).max() for t in times) / scale
     return result
+
+
+def cell_measures(fields):
+    """The area (2D) or volume (3D) of every cell of a run's mesh."""
+    v = fields.nodes[fields.topology]
+    edges = v[:, 1:] - v[:, :1]
+    if v.shape[2] == 2:
+        return 0.5 * np.abs(edges[:, 0, 0] * edges[:, 1, 1] - edges[:, 1, 0] * edges[:, 0, 1])
+    return np.abs(np.linalg.det(edges)) / 6
+
+
+def fluid_content(fields, t, storage, alpha=0.0):
+    """The fluid content of each cell at time t, (S p + alpha div u) |T|,
+    div u of the P1 displacement (2D only for alpha > 0): the mass balance
+    tests of flux boundaries and wells sum it."""
+    content = storage * fields.at("pressure", t)[:, 0] * cell_measures(fields)
+    if alpha > 0:
+        x, cells = fields.nodes[:, :2], fields.topology
+        u = fields.series["displacement"][min(fields.series["displacement"], key=lambda s: abs(s - t))][1][:, :2]
+        centroid = x[cells].mean(axis=1)
+        # The integral of div u over a triangle is the flux of u through its edges.
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            edge = x[cells[:, j]] - x[cells[:, i]]
+            normal = np.stack([edge[:, 1], -edge[:, 0]], axis=1)
+            normal *= np.sign(np.sum(normal * (x[cells[:, i]] - centroid), axis=1))[:, None]
+            content += alpha * np.sum(0.5 * (u[cells[:, i]] + u[cells[:, j]]) * normal, axis=1)
+    return content

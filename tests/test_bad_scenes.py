@@ -136,6 +136,11 @@ CASES = [
     ("NaN flux", DEFAULT, s("boundary.bottom.flux='sqrt(-1-x)'"), "boundary.bottom.flux", BOTH),
     ("a flux on a curved boundary", scene("hertz_poroelastic"), s("boundary.arc.flux=-1e-6"), "boundary.arc.flux",
      BOTH),
+    ("a well outside the mesh", DEFAULT, s("well.w.position=[100.0, 0.5]", "well.w.rate=1.0"), "well.w.position",
+     BOTH),
+    ("a well rate that varies in space", DEFAULT, s("well.w.position=[5.0, 0.5]", "well.w.rate='x'"),
+     "well.w.rate", BOTH),
+    ("a well without a rate", DEFAULT, s("well.w.position=[5.0, 0.5]"), "well.w.rate", BOTH),
     # too large
     ("1e20 steps", DEFAULT, s("time.end=1e20", "time.dt=1"), "time.dt", BOTH),
     ("3e9 steps", DEFAULT, s("time.end=3e9", "time.dt=1"), "time.dt", BOTH),

@@ -309,6 +309,12 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
     if (b.flow == BoundarySpec::Flow::flux)
       uses.push_back(b.rate ? Use{key + ".rate", &*b.rate, at, true} : Use{key + ".flux", &b.flux, at, true});
   }
+  std::map<std::string, std::vector<double>> well_points;
+  for (const auto& [name, w] : scene.wells)
+  {
+    well_points[name] = {w.position[0], w.position[1], w.bottom};
+    uses.push_back({"well." + name + ".rate", &w.rate, &well_points[name], true});
+  }
   if (scene.mechanics and scene.mechanics->body_force)
     for (const Expression& e : *scene.mechanics->body_force)
       uses.push_back({"mechanics.body_force", &e, &midpoints, true});
@@ -348,6 +354,8 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
   for (const auto& [name, b] : scene.boundaries)
     if (b.flow == BoundarySpec::Flow::flux)
       planar_boundary(domain, name, scene.file + ": boundary." + name + (b.rate ? ".rate" : ".flux"));
+  for (const auto& [name, w] : scene.wells)
+    locate_well(domain, w, scene.file + ": well." + name + ".position");
 }
 
 namespace
@@ -378,6 +386,99 @@ std::pair<std::array<double, 3>, double> facet_normal(const double* a, const dou
   return {n, d == 2 ? length : length / 2};
 }
 } // namespace
+
+namespace
+{
+/// The weight of a cell for a well: 1 if the point (2D) lies in the
+/// triangle (boundary included), or the length of the vertical segment (3D)
+/// inside the tetrahedron, from the barycentric coordinates along it.
+double well_weight(const std::vector<std::array<double, 3>>& v, const WellSpec& w, int d)
+{
+  const double tolerance = 1e-10;
+  const double px = w.position[0], py = w.position[1];
+  if (d == 2)
+  {
+    const double det = (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (v[1][1] - v[0][1]);
+    const double l1 = ((px - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (py - v[0][1])) / det;
+    const double l2 = ((v[1][0] - v[0][0]) * (py - v[0][1]) - (px - v[0][0]) * (v[1][1] - v[0][1])) / det;
+    return l1 >= -tolerance and l2 >= -tolerance and 1 - l1 - l2 >= -tolerance ? 1.0 : 0.0;
+  }
+  // lambda_i(s) = a_i + b_i s for the point (px, py, s), i = 1..3, from the
+  // inverse of T = [v1 - v0, v2 - v0, v3 - v0]; lambda_0 = 1 - sum.
+  std::array<std::array<double, 3>, 3> T, inverse;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      T[i][j] = v[j + 1][i] - v[0][i];
+  const double det = T[0][0] * (T[1][1] * T[2][2] - T[1][2] * T[2][1])
+                     - T[0][1] * (T[1][0] * T[2][2] - T[1][2] * T[2][0])
+                     + T[0][2] * (T[1][0] * T[2][1] - T[1][1] * T[2][0]);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+    {
+      const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+      inverse[i][j] = (T[i1][j1] * T[i2][j2] - T[i1][j2] * T[i2][j1]) / det;
+    }
+  std::array<double, 4> a{1, 0, 0, 0}, b{0, 0, 0, 0};
+  const std::array<double, 3> p0{px - v[0][0], py - v[0][1], -v[0][2]};
+  for (int i = 0; i < 3; ++i)
+  {
+    a[i + 1] = inverse[i][0] * p0[0] + inverse[i][1] * p0[1] + inverse[i][2] * p0[2];
+    b[i + 1] = inverse[i][2];
+    a[0] -= a[i + 1];
+    b[0] -= b[i + 1];
+  }
+  double low = w.bottom, high = w.top;
+  for (int i = 0; i < 4; ++i)
+  {
+    if (std::abs(b[i]) < 1e-14 * (1 + std::abs(a[i])))
+    {
+      if (a[i] < -tolerance)
+        return 0.0;
+    }
+    else if (b[i] > 0)
+      low = std::max(low, -(a[i] + tolerance) / b[i]);
+    else
+      high = std::min(high, -(a[i] + tolerance) / b[i]);
+  }
+  return std::max(0.0, high - low);
+}
+} // namespace
+
+WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string& key)
+{
+  const mesh::Mesh& mesh = *domain.mesh;
+  const int d = mesh.topology().dim();
+  const auto& nodes = mesh.geometry().dofmap();
+  std::span<const double> x = mesh.geometry().x();
+  WellCells result;
+  double total = 0;
+  for (std::int32_t c = 0; c < mesh.topology().index_map(d)->size_local(); ++c)
+  {
+    std::vector<std::array<double, 3>> v;
+    for (std::int32_t node : nodes.links(c))
+      v.push_back({x[3 * node], x[3 * node + 1], x[3 * node + 2]});
+    if (const double weight = well_weight(v, w, d); weight > 0)
+    {
+      result.cells.push_back(c);
+      result.shares.push_back(weight);
+      total += weight;
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_DOUBLE, MPI_SUM, mesh.comm());
+  const double length = d == 2 ? 1.0 : w.top - w.bottom;
+  if (!(total >= length * (1 - 1e-9)))
+  {
+    std::ostringstream s;
+    s << key << ": the well at (" << w.position[0] << ", " << w.position[1] << ")";
+    if (d == 3)
+      s << " from z = " << w.bottom << " to " << w.top;
+    s << (d == 2 or total == 0 ? " is not in the mesh" : " leaves the mesh");
+    throw SceneError(s.str());
+  }
+  for (double& share : result.shares)
+    share /= total;
+  return result;
+}
 
 PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key)
 {

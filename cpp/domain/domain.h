@@ -40,6 +40,19 @@ struct PlanarBoundary
 /// or rate boundary; collective).
 PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key);
 
+/// @brief Where a well injects: the owned cells it lies in and the share of
+/// its rate each takes (a point on a shared edge or vertex is split equally
+/// among its cells; a segment by its length in each cell).
+struct WellCells
+{
+  std::vector<std::int32_t> cells;
+  std::vector<double> shares;
+};
+
+/// The cells of well `w`; throws SceneError naming `key` when it is not in
+/// the mesh, or its segment leaves it (collective).
+WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string& key);
+
 /// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
 /// and locates its named boundaries; throws SceneError for unknown names.
 Domain create_domain(const Scene& scene, MPI_Comm comm);

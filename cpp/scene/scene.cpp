@@ -661,6 +661,38 @@ void read_solver(Section solver, SolverSpec& choices)
   solver.finish();
 }
 
+/// [well.NAME]: position = [x, y], rate = expr of t; in 3D a vertical
+/// segment from bottom to top (z). Whether it lies in the mesh is checked
+/// when the domain is made.
+void read_wells(Section wells, Scene& scene)
+{
+  const int d = scene.mesh.dimension;
+  for (const std::string& name : wells.keys())
+  {
+    Section s = wells.table(name, true);
+    if (!scene.flow)
+      wells.fail(name, "a well in a scene without [flow]");
+    WellSpec w;
+    w.position = s.number_vector("position", 2);
+    if (d == 3)
+    {
+      w.bottom = s.number("bottom");
+      w.top = s.number("top");
+      if (!(w.top > w.bottom))
+        s.fail("top", "must be above bottom (the well is the vertical segment from bottom to top)");
+    }
+    const std::optional<Expression> rate = s.expression("rate");
+    if (!rate)
+      s.fail("rate", "missing (the volumetric rate, injection positive)");
+    if (rate->depends_on_space())
+      s.fail("rate", "the rate of a well depends on t only");
+    w.rate = *rate;
+    s.finish();
+    scene.wells[name] = w;
+  }
+  wells.finish();
+}
+
 /// [boundary.NAME]: built-in meshes know their boundaries' names; a gmsh
 /// mesh's are checked against its physical groups when the domain is made.
 void read_boundaries(Section boundaries, Scene& scene)
@@ -798,6 +830,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   read_output(top.table("output", false), scene);
   read_solver(top.table("solver", false), scene.solver);
   read_boundaries(top.table("boundary", false), scene);
+  read_wells(top.table("well", false), scene);
   if (top.has("reference"))
     read_reference(top.table("reference", true), scene);
   top.finish();

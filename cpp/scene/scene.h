@@ -78,6 +78,15 @@ struct BoundarySpec
                                     // in 2D; injection positive), spread uniformly: flux = -rate/area
 };
 
+/// @brief A well: a point source or sink in 2D, a vertical line segment
+/// in 3D; injection positive.
+struct WellSpec
+{
+  std::vector<double> position; // (x, y) of the point (2D) or of the vertical segment (3D)
+  double bottom = 0, top = 0;   // the segment's z range (3D)
+  Expression rate;              // the total volumetric rate (m^3/s; per metre of thickness in 2D), a function of t
+};
+
 struct MechanicsSpec
 {
   double G = 0, lambda = 0;
@@ -148,6 +157,7 @@ struct Scene
   std::string file, name, description;
   MeshSpec mesh;
   std::map<std::string, BoundarySpec> boundaries;
+  std::map<std::string, WellSpec> wells;
   std::optional<MechanicsSpec> mechanics;
   std::optional<FlowSpec> flow;
   std::optional<CouplingSpec> coupling; // present iff mechanics and flow

@@ -69,8 +69,8 @@ void FlowStep::make_spaces(const Domain& domain, const CompiledForms& forms,
 }
 
 /// Source, gravity and boundary pressures (alg. "Flow"), in that order,
-/// with the prescribed normal fluxes set; a non-zero one is lifted, its
-/// column moved to the right-hand side.
+/// then the wells, with the prescribed normal fluxes set; a non-zero one is
+/// lifted, its column moved to the right-hand side.
 void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants)
 {
   auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
@@ -81,6 +81,7 @@ void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, cons
   _loads = std::make_unique<Loads>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs(),
                                    [this](la::Vector<double>& b, double t)
                                    {
+                                     add_wells(_wells, t, b.mutable_array());
                                      update(_fluxes, t);
                                      if (!_fluxes.boundaries.empty())
                                        return finish_rhs(b, _a, _bcs);
@@ -89,6 +90,8 @@ void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, cons
                                    });
   for (const FluxBoundary& f : _fluxes.boundaries)
     _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
+  _wells = well_sources(_scene, domain, *_Q, _Q_to_W);
+  _loads->depends_on_time(depends_on_time(_wells));
   const FlowSpec& flow = *_scene.flow;
   if (flow.source)
     _loads->add(make(forms.L_flow_source), source, {*flow.source});

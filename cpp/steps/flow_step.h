@@ -4,6 +4,7 @@
 #pragma once
 
 #include "assembly/boundary_conditions.h"
+#include "assembly/wells.h"
 #include "domain/domain.h"
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
@@ -82,6 +83,7 @@ private:
   std::shared_ptr<dolfinx::fem::Function<double>> _w;
   BCs _bcs;
   FluxValues _fluxes; // the prescribed normal fluxes (flux and rate boundaries)
+  std::vector<WellSource> _wells;
   std::shared_ptr<dolfinx::fem::Form<double>> _a, _a_storage, _a_stabilisation, _a_displacement;
   // Operators of the coupling terms (W x Q, W x Q, W x V) and work vectors.
   std::optional<dolfinx::la::petsc::Matrix> _storage, _stabilisation, _displacement;

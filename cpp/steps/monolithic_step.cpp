@@ -95,8 +95,9 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
   auto make = [&](const ufcx_form* f, const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, {_X}, data, constants, marker); };
   _loads = std::make_unique<Loads>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs(),
-                                   [this](la::Vector<double>&, double t)
+                                   [this](la::Vector<double>& b, double t)
                                    {
+                                     add_wells(_wells, t, b.mutable_array());
                                      update(_bc_values, t);
                                      update(_fluxes, t);
                                    });
@@ -104,6 +105,7 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
     _loads->depends_on_time(bc.value->depends_on_time());
   for (const FluxBoundary& f : _fluxes.boundaries)
     _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
+  _wells = well_sources(_scene, domain, *Q, _Q_to_X);
   if (_scene.mechanics->body_force)
     _loads->add(make(forms.L_monolithic_body_force), body_force, *_scene.mechanics->body_force);
   for (const auto& [name, b] : _scene.boundaries)

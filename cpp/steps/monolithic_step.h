@@ -5,6 +5,7 @@
 #pragma once
 
 #include "assembly/boundary_conditions.h"
+#include "assembly/wells.h"
 #include "contact/contact.h"
 #include "domain/domain.h"
 #include "assembly/forms.h"
@@ -79,6 +80,7 @@ private:
   BCs _bcs;
   std::vector<DisplacementValue> _bc_values;
   FluxValues _fluxes; // the prescribed normal fluxes (flux and rate boundaries)
+  std::vector<WellSource> _wells;
   std::shared_ptr<dolfinx::fem::Form<double>> _a, _L_history;
   std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b;

@@ -240,12 +240,22 @@ class SolverSpec:
 
 
 @dataclass
+class WellSpec:
+    """A point source or sink (2D) or a vertical line segment (3D); injection positive."""
+    position: list                 # (x, y) of the point (2D) or of the vertical segment (3D)
+    rate: Expression               # the total volumetric rate, a function of t
+    bottom: float = 0.0            # the segment's z range (3D)
+    top: float = 0.0
+
+
+@dataclass
 class Scene:
     file: str = ""
     name: str = ""
     description: str = ""
     mesh: MeshSpec = field(default_factory=MeshSpec)
     boundaries: dict = field(default_factory=dict)  # sorted by name
+    wells: dict = field(default_factory=dict)       # sorted by name
     mechanics: Optional[MechanicsSpec] = None
     flow: Optional[FlowSpec] = None
     coupling: Optional[CouplingSpec] = None
@@ -573,6 +583,7 @@ def read_scene(file, overrides=()):
     _read_output(top.section("output", False), scene)
     _read_solver(top.section("solver", False), scene.solver)
     _read_boundaries(top.section("boundary", False), scene)
+    _read_wells(top.section("well", False), scene)
     if top.has("reference"):
         _read_reference(top.section("reference", True), scene)
     top.finish()
@@ -683,6 +694,30 @@ def _read_boundaries(boundaries, scene):
             boundaries.fail(name, "flow boundary condition in a scene without [flow]")
         scene.boundaries[name] = b
     boundaries.finish()
+
+
+def _read_wells(wells, scene):
+    """[well.NAME]: position = [x, y], rate = expr of t; in 3D a vertical
+    segment from bottom to top (z). Whether it lies in the mesh is checked
+    when the domain is made."""
+    for name in sorted(wells.keys()):
+        s = wells.section(name, True)
+        if not scene.flow:
+            wells.fail(name, "a well in a scene without [flow]")
+        position = s.number_vector("position", 2)
+        bottom = top = 0.0
+        if scene.mesh.dimension == 3:
+            bottom, top = s.number("bottom"), s.number("top")
+            if not top > bottom:
+                s.fail("top", "must be above bottom (the well is the vertical segment from bottom to top)")
+        rate = s.expression("rate")
+        if rate is None:
+            s.fail("rate", "missing (the volumetric rate, injection positive)")
+        if rate.depends_on_space:
+            s.fail("rate", "the rate of a well depends on t only")
+        s.finish()
+        scene.wells[name] = WellSpec(position, rate, bottom, top)
+    wells.finish()
 
 
 def _impose_mandel_plate(r, scene, ref):

@@ -12,6 +12,7 @@ from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof
 from ..solvers.solver import Structure
 from ..solvers.system import System
 from ..assembly.boundary_conditions import flux_bc, update_fluxes
+from ..assembly.wells import add_wells, depends_on_time, well_sources
 
 
 class FlowStep:
@@ -70,11 +71,12 @@ class FlowStep:
 
     def make_loads(self, domain):
         """Source, gravity and boundary pressures (alg. "Flow"), in that order,
-        with the prescribed normal fluxes set; a non-zero one is lifted, its
+        then the wells, with the prescribed normal fluxes set; a non-zero one is lifted, its
         column moved to the right-hand side."""
         F, flow = self.F, self.scene.flow
 
         def finish(b, t):
+            add_wells(self.wells, t, b.x.array)
             update_fluxes(self.fluxes, t)
             if self.fluxes.boundaries:
                 return finish_rhs(b, self.a, self.bcs)
@@ -83,6 +85,8 @@ class FlowStep:
         self.loads = Loads(F["W"], finish)
         for f in self.fluxes.boundaries:
             self.loads.depends_on_time((f.rate or f.flux).depends_on_time)
+        self.wells = well_sources(self.scene, domain, self.Q, self.Q_to_W)
+        self.loads.depends_on_time(depends_on_time(self.wells))
         if flow.source:
             self.loads.add(F.compile("L_flow_source"), F["source"], [flow.source])
         if flow.gravity:

@@ -14,6 +14,7 @@ from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish
 from ..solvers.solver import Structure
 from ..solvers.system import System
 from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
+from ..assembly.wells import add_wells, depends_on_time, well_sources
 
 
 class MonolithicStep:
@@ -57,6 +58,7 @@ class MonolithicStep:
         term, assemble_rhs)."""
         scene = self.scene
         def finish(b, t):
+            add_wells(self.wells, t, b.x.array)
             update(self.bc_values, t)
             update_fluxes(self.fluxes, t)
         self.loads = Loads(F["X"], finish)
@@ -64,6 +66,8 @@ class MonolithicStep:
             self.loads.depends_on_time(expression.depends_on_time)
         for f in self.fluxes.boundaries:
             self.loads.depends_on_time((f.rate or f.flux).depends_on_time)
+        self.wells = well_sources(scene, domain, self.Q, self.Q_to_X)
+        self.loads.depends_on_time(depends_on_time(self.wells))
         if scene.mechanics.body_force:
             self.loads.add(F.compile("L_monolithic_body_force"), F["body_force"], scene.mechanics.body_force)
         for name, b in scene.boundaries.items():
