@@ -13,6 +13,7 @@ sys.path.insert(0, ROOT)
 from python_prototype.output.time_series import Fields, read_time_series  # noqa: E402,F401
 BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]  # run with cwd=ROOT
+TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
 
@@ -32,6 +33,45 @@ def run(scene_file, *extra, ranks=1, expect=0, out=None):
         sys.exit(f"FAIL: {' '.join(cmd)} exited {p.returncode}, expected {expect}\n"
                  f"{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
     return out, p
+
+
+def written(text, name="scene.toml"):
+    """A scene file with `text` in a new temporary folder."""
+    path = os.path.join(tempfile.mkdtemp(prefix="scene-"), name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def run_track(track, scene_file, *sets, expect=0):
+    """Runs a scene on one track ("C++" or "prototype") with --set values,
+    checking its exit status; returns (output directory, completed process)."""
+    out = tempfile.mkdtemp(prefix="run-")
+    p = subprocess.run([*TRACKS[track], "run", scene_file, "--out", out, *[a for s in sets for a in ("--set", s)]],
+                       capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
+    check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} {' '.join(sets)} exits {expect} "
+          f"({p.stderr.strip()[-300:]!r})")
+    return out, p
+
+
+def poroelastic_column(fixed):
+    """The mechanics of the mass-balance tests' 2D columns (alpha = 0.8,
+    coupling tolerance 1e-12): rollers on the sides, boundary `fixed` held
+    vertically."""
+    return f"""[mechanics]
+G = 1.0e9
+lambda = 1.0e9
+[coupling]
+alpha = 0.8
+tolerance = 1e-12
+scheme = "fixed-stress"
+[boundary.left]
+displacement = {{ x = 0.0 }}
+[boundary.right]
+displacement = {{ x = 0.0 }}
+[boundary.{fixed}]
+displacement = {{ y = 0.0 }}
+"""
 
 
 def summary(out):

@@ -23,30 +23,12 @@ both tracks.
   two flow conditions on one boundary are refused in one line."""
 import os
 import subprocess
-import tempfile
 
 import numpy as np
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, Fields, check, fluid_content
+from support import PROTOTYPE, ROOT, TRACKS, Fields, check, fluid_content, poroelastic_column, run_track, written
 
-TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 MU, K, Q_IN, H = 1.0e-3, 1.0e-12, 1.0e-6, 10.0
-
-
-def written(text):
-    path = os.path.join(tempfile.mkdtemp(prefix="flux-"), "scene.toml")
-    with open(path, "w") as f:
-        f.write(text)
-    return path
-
-
-def run(track, scene_file, *sets, expect=0):
-    out = tempfile.mkdtemp(prefix="flux-out-")
-    p = subprocess.run([*TRACKS[track], "run", scene_file, "--out", out, *[a for s in sets for a in ("--set", s)]],
-                       capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=600)
-    check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} {' '.join(sets)} exits {expect} "
-          f"({p.stderr.strip()[-300:]!r})")
-    return out, p
 
 
 def column(dimension, base, storage_modulus="1.0e11", mechanics=""):
@@ -71,7 +53,7 @@ dt = 1.0e3
 
 
 def steady_column(track, dimension):
-    out, _ = run(track, written(column(dimension, f"flux = {-Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
+    out, _ = run_track(track, written(column(dimension, f"flux = {-Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
     fields = Fields(out)
     t = fields.times("pressure")[-1]
     height = fields.cells[:, dimension - 1]
@@ -94,7 +76,7 @@ def layered_column(track):
     k = "y < 3 ? 1.0e-12 : (y < 6 ? 1.0e-15 : 1.0e-13)"
     text = column(2, f"flux = {-Q_IN}", storage_modulus="inf")
     text = text.replace(f"permeability = {K}", f'permeability = "{k}"')
-    out, _ = run(track, written(text + "[boundary.top]\npressure = 0.0\n"))
+    out, _ = run_track(track, written(text + "[boundary.top]\npressure = 0.0\n"))
     fields = Fields(out)
     t = fields.times("pressure")[-1]
     y = fields.cells[:, 1]
@@ -110,7 +92,7 @@ def layered_column(track):
 
 def mass_balance(track, label, extra, alpha, tolerance, *sets):
     """A closed column fed through its base of width 2 at the rate 2e-6 t."""
-    out, _ = run(track, written(column(2, 'rate = "2.0e-6 * t / 1.0e4"', "1.0e9", extra)), *sets)
+    out, _ = run_track(track, written(column(2, 'rate = "2.0e-6 * t / 1.0e4"', "1.0e9", extra)), *sets)
     fields = Fields(out)
     worst = 0.0
     for t in fields.times("pressure")[1:]:
@@ -122,28 +104,15 @@ def mass_balance(track, label, extra, alpha, tolerance, *sets):
     return out
 
 
-MECHANICS = """[mechanics]
-G = 1.0e9
-lambda = 1.0e9
-[coupling]
-alpha = 0.8
-tolerance = 1e-12
-scheme = "fixed-stress"
-[boundary.left]
-displacement = { x = 0.0 }
-[boundary.right]
-displacement = { x = 0.0 }
-[boundary.top]
-displacement = { y = 0.0 }
-"""
+MECHANICS = poroelastic_column("top")
 
 results = {}
 for track in TRACKS:
     results[track, 2] = steady_column(track, 2)
     results[track, 3] = steady_column(track, 3)
     layered_column(track)
-    flux_run, _ = run(track, written(column(2, f"flux = {-Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
-    rate_run, _ = run(track, written(column(2, f"rate = {2 * Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
+    flux_run, _ = run_track(track, written(column(2, f"flux = {-Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
+    rate_run, _ = run_track(track, written(column(2, f"rate = {2 * Q_IN}") + "[boundary.top]\npressure = 0.0\n"))
     c = subprocess.run(PROTOTYPE + ["compare", flux_run, rate_run, "--tolerance", "1e-12"], capture_output=True,
                        text=True, cwd=ROOT)
     check(c.returncode == 0, f"{track}: rate 2e-6 through a base of width 2 is flux -1e-6 to 1e-12")
@@ -171,6 +140,6 @@ for label, scene_file, sets, key in [
         ("a NaN flux", written(column(2, 'flux = "sqrt(-x-1)"')), [], "boundary.bottom.flux"),
         ("a flux on a curved boundary", CURVED, ["boundary.arc.flux=-1e-6"], "boundary.arc.flux")]:
     for track in TRACKS:
-        _, p = run(track, scene_file, *sets, expect=2)
+        _, p = run_track(track, scene_file, *sets, expect=2)
         check(len(p.stderr.strip().splitlines()) == 1 and key in p.stderr,
               f"{track}, {label}: one line naming {key}: {p.stderr.strip()!r}")

@@ -22,14 +22,11 @@ is 2000 m wide). The error falls with the mesh size (1.4 % at 20 m and
 100 s on this mesh, 2.0 % with elements growing twice as fast)."""
 import math
 import os
-import subprocess
-import tempfile
 
 import numpy as np
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, Fields, check
+from support import ROOT, TRACKS, Fields, check, run_track, written
 
-TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 Q, MU, K, S = 1.0e-3, 1.0e-3, 1.0e-12, 1.0e-9
 G = LAMBDA = 1.0e9
 ALPHA = 1.0
@@ -88,18 +85,11 @@ dt = 1.0
 position = [0.0, 0.0]
 rate = {Q}
 {mechanics}"""
-    path = os.path.join(tempfile.mkdtemp(prefix="theis-"), "theis.toml")
-    with open(path, "w") as f:
-        f.write(text)
-    return path
+    return written(text, "theis.toml")
 
 
 def against_theis(track, label, scene_file, storage, times, *sets):
-    out = tempfile.mkdtemp(prefix="theis-out-")
-    p = subprocess.run([*TRACKS[track], "run", scene_file, "--out", out, *[a for s in sets for a in ("--set", s)]],
-                       capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
-    check(p.returncode == 0, f"{track}, {label}: runs ({p.stderr.strip()[-300:]!r})")
-    fields = Fields(out)
+    fields = Fields(run_track(track, scene_file, *sets)[0])
     radius = np.linalg.norm(fields.cells[:, :2], axis=1)
     errors = []
     for t in times:

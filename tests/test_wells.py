@@ -16,32 +16,13 @@ is a point source (2D) or a vertical line segment from `bottom` to `top`
 - A well outside the mesh, a segment that leaves it, a rate that varies in
   space, a segment upside down and a well without [flow] are refused in one
   line naming the key."""
-import os
 import subprocess
-import tempfile
 
 import numpy as np
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, Fields, check, fluid_content
+from support import PROTOTYPE, ROOT, TRACKS, Fields, check, fluid_content, poroelastic_column, run_track, written
 
-TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 S = 1.0e-9  # 1/M
-
-
-def written(text):
-    path = os.path.join(tempfile.mkdtemp(prefix="well-"), "scene.toml")
-    with open(path, "w") as f:
-        f.write(text)
-    return path
-
-
-def run(track, scene_file, *sets, expect=0):
-    out = tempfile.mkdtemp(prefix="well-out-")
-    p = subprocess.run([*TRACKS[track], "run", scene_file, "--out", out, *[a for s in sets for a in ("--set", s)]],
-                       capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=600)
-    check(p.returncode == expect, f"{track}: {' '.join(sets) or os.path.basename(scene_file)} exits {expect} "
-          f"({p.stderr.strip()[-300:]!r})")
-    return out, p
 
 
 def box(dimension, well, permeability="1.0e-12", extra=""):
@@ -70,7 +51,7 @@ def injected(rate, t):
 
 
 def mass_balance(track, label, scene_file, rate, alpha=0.0, *sets):
-    out, _ = run(track, scene_file, *sets)
+    out, _ = run_track(track, scene_file, *sets)
     fields = Fields(out)
     worst = max(abs(np.sum(fluid_content(fields, t, S, alpha)) - injected(rate, t)) / injected(rate, t)
                 for t in fields.times("pressure")[1:])
@@ -81,20 +62,7 @@ def mass_balance(track, label, scene_file, rate, alpha=0.0, *sets):
 
 POINT = "position = [1.0, 5.0]\nrate = 2.0e-6"
 SEGMENT = 'position = [0.7, 1.3]\nbottom = 2.5\ntop = 7.5\nrate = "2.0e-6 * t / 1.0e3"'
-POROELASTIC = """[mechanics]
-G = 1.0e9
-lambda = 1.0e9
-[coupling]
-alpha = 0.8
-tolerance = 1e-12
-scheme = "fixed-stress"
-[boundary.left]
-displacement = { x = 0.0 }
-[boundary.right]
-displacement = { x = 0.0 }
-[boundary.bottom]
-displacement = { y = 0.0 }
-"""
+POROELASTIC = poroelastic_column("bottom")
 
 runs = {}
 for track in TRACKS:
@@ -106,14 +74,14 @@ for track in TRACKS:
     runs[track, "split"] = mass_balance(track, "2D point, poroelastic, split", poroelastic, lambda t: 2.0e-6, 0.8)
 
     # Where the fluid goes (nothing moves within a step).
-    fields = Fields(run(track, written(box(2, POINT, permeability="1.0e-25")))[0])
+    fields = Fields(run_track(track, written(box(2, POINT, permeability="1.0e-25")))[0])
     content = fluid_content(fields, 1.0e3, S)
     touching = np.any(np.linalg.norm(fields.nodes[fields.topology] - [1.0, 5.0], axis=2) < 1e-12, axis=1)
     fed = content[touching] / (2.0e-6 * 1.0e3)
     away = np.max(np.abs(content[~touching])) / (2.0e-6 * 1.0e3)
     check(np.allclose(fed, 1 / touching.sum(), rtol=1e-8, atol=0) and away < 1e-8,
           f"{track}: a point on a vertex feeds its {touching.sum()} cells in equal parts (elsewhere {away:.1e})")
-    fields = Fields(run(track, written(box(3, SEGMENT, permeability="1.0e-25")))[0])
+    fields = Fields(run_track(track, written(box(3, SEGMENT, permeability="1.0e-25")))[0])
     content = fluid_content(fields, 1.0e3, S) / (2.0e-6 * 1.0e3)
     layer = np.floor(fields.cells[:, 2]).astype(int)
     shares = np.array([content[layer == k].sum() for k in range(10)])
@@ -154,6 +122,6 @@ for label, scene_file, key in [
         ("a segment upside down", written(box(3, SEGMENT.replace("top = 7.5", "top = 1.0"))), "well.injector.top"),
         ("a well without [flow]", written(NO_FLOW), "well.injector")]:
     for track in TRACKS:
-        _, p = run(track, scene_file, expect=2)
+        _, p = run_track(track, scene_file, expect=2)
         check(len(p.stderr.strip().splitlines()) == 1 and key in p.stderr,
               f"{track}, {label}: one line naming {key}: {p.stderr.strip()!r}")
