@@ -144,13 +144,30 @@ Json closed_form_errors(const Scene& scene, const Parameters& parameters, const 
   return errors;
 }
 
+/// The regions of the summary: each one's cells and its material's gamma
+/// and L, and the cells in no region (the top-level material).
+Json regions_json(const CellRegions& cells, const Materials& materials)
+{
+  Json regions;
+  for (std::size_t r = 0; r < cells.names.size(); ++r)
+    regions.set(cells.names[r], Json()
+                                    .set("cells", static_cast<long>(cells.counts[r]))
+                                    .set("gamma", materials.regions[r].gamma)
+                                    .set("L", materials.regions[r].L));
+  return regions.set("no region", Json()
+                                    .set("cells", static_cast<long>(cells.outside))
+                                    .set("gamma", materials.top.gamma)
+                                    .set("L", materials.top.L));
+}
+
 /// mechanics.initial_equilibrium: replaces u = 0 by the displacement in
 /// equilibrium with the loads at t = 0 and the initial pressure (a geostatic
 /// initialisation). Otherwise loads present from the start, such as the
 /// in-situ stresses, are applied in the first step as a sudden load, whose
 /// undrained pressure response the first flow steps then carry.
 void equilibrate(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                 const Constants& constants, MechanicsStep* mechanics, MonolithicStep* monolithic)
+                 const Constants& constants, const Materials& materials, MechanicsStep* mechanics,
+                 MonolithicStep* monolithic)
 {
   if (mechanics)
   {
@@ -159,7 +176,7 @@ void equilibrate(const Scene& scene, const Domain& domain, const CompiledForms& 
   }
   // The coupled system has no mechanics system of its own: one mechanics
   // step on its displacement space, loaded by its pressure, solved once.
-  MechanicsStep step(scene, domain, forms, constants, monolithic->V, monolithic->pressure);
+  MechanicsStep step(scene, domain, forms, constants, materials, monolithic->V, monolithic->pressure);
   step.solve(0.0);
   monolithic->set_displacement(step.u->x()->array(), 0.0);
 }
@@ -210,10 +227,10 @@ void take_contact_fields(Steps& s, Step* step)
 
 /// The monolithic step: u, z and p in one system.
 Steps monolithic_steps(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                       const Constants& constants)
+                       const Constants& constants, const Materials& materials)
 {
   Steps s;
-  s.monolithic = std::make_unique<MonolithicStep>(scene, domain, forms, constants);
+  s.monolithic = std::make_unique<MonolithicStep>(scene, domain, forms, constants, materials);
   MonolithicStep* m = s.monolithic.get();
   s.V = m->V;
   s.u = m->u;
@@ -225,27 +242,25 @@ Steps monolithic_steps(const Scene& scene, const Domain& domain, const CompiledF
 
 /// The flow step and the mechanics step of the split, or the one a single
 /// physics has; "multirate-two-pass" adds the flow step without L.
-Steps split_steps(const Scene& scene, const Domain& domain, const CompiledForms& forms, const Constants& constants)
+Steps split_steps(const Scene& scene, const Domain& domain, const CompiledForms& forms, const Constants& constants,
+                  const Materials& materials)
 {
   Steps s;
   if (scene.mechanics)
     s.V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "v_0", domain.mesh));
   if (scene.flow)
   {
-    s.flow = std::make_unique<FlowStep>(scene, domain, forms, constants, scene.coupling ? s.V : nullptr);
+    s.flow = std::make_unique<FlowStep>(scene, domain, forms, constants, materials, scene.coupling ? s.V : nullptr);
     s.p = s.flow->pressure;
     if (scene.coupling and scene.coupling->scheme == "multirate-two-pass")
-    {
-      Constants unstabilised = constants;
-      unstabilised["L"] = std::make_shared<const fem::Constant<double>>(0.0);
-      s.second_pass = std::make_unique<FlowStep>(scene, domain, forms, unstabilised, s.V);
-    }
+      s.second_pass
+          = std::make_unique<FlowStep>(scene, domain, forms, constants, materials.without_stabilisation(), s.V);
     FlowStep* f = s.flow.get();
     s.compute_flux = [f](fem::Function<double>& out) { f->flux(out); };
   }
   if (scene.mechanics)
   {
-    s.mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, s.V, s.p);
+    s.mechanics = std::make_unique<MechanicsStep>(scene, domain, forms, constants, materials, s.V, s.p);
     s.u = s.mechanics->u;
     take_contact_fields(s, s.mechanics.get());
   }
@@ -257,9 +272,9 @@ Steps split_steps(const Scene& scene, const Domain& domain, const CompiledForms&
 class OutputFields
 {
 public:
-  OutputFields(const Domain& domain, const CompiledForms& forms, const Constants& constants, Steps& steps,
-               Output& output)
-      : _forms(forms), _constants(constants), _steps(steps), _output(output)
+  OutputFields(const Domain& domain, const CompiledForms& forms, const Constants& constants,
+               const Materials& materials, Steps& steps, Output& output)
+      : _forms(forms), _constants(constants), _materials(materials), _steps(steps), _output(output)
   {
     const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
     const basix::FiniteElement dg0 = basix::create_element(
@@ -298,7 +313,7 @@ public:
   void write_mechanics(double t)
   {
     contact = _steps.compute_contact();
-    volumetric_stress(_forms, _constants, _steps.u, _steps.p ? _steps.p : _zero_pressure, *_sigma_v);
+    volumetric_stress(_forms, _constants, _materials, _steps.u, _steps.p ? _steps.p : _zero_pressure, *_sigma_v);
     _output.write(*_steps.u, t);
     _output.write(*_sigma_v, t);
     if (_steps.contact_pressure)
@@ -313,6 +328,7 @@ public:
 private:
   const CompiledForms& _forms;
   const Constants& _constants;
+  const Materials& _materials;
   Steps& _steps;
   Output& _output;
   std::shared_ptr<fem::Function<double>> _flux, _sigma_v, _zero_pressure;
@@ -475,8 +491,8 @@ public:
     make_domain();
     describe();
     _steps = _scene.coupling and _scene.coupling->scheme == "monolithic"
-                 ? monolithic_steps(_scene, *_domain, *_forms, _constants)
-                 : split_steps(_scene, *_domain, *_forms, _constants);
+                 ? monolithic_steps(_scene, *_domain, *_forms, _constants, _materials)
+                 : split_steps(_scene, *_domain, *_forms, _constants, _materials);
     try
     {
       open_output();
@@ -512,7 +528,8 @@ private:
   Progress _progress;
   std::optional<Domain> _domain;
   const CompiledForms* _forms = nullptr;
-  Parameters _parameters;
+  Parameters _parameters; // of the top-level material; gamma the largest of any cell
+  Materials _materials;
   Constants _constants;
   std::string _left_out, _warnings;
   Steps _steps;
@@ -532,13 +549,15 @@ private:
 };
 
 /// The mesh and its tags, the compiled forms of its cell type, the derived
-/// parameters and the constants of the forms.
+/// parameters, the materials of its cells and the constants of the forms.
 void Simulation::make_domain()
 {
   _domain.emplace(create_domain(_scene, _comm));
   check_expressions(_scene, *_domain, _comm);
   _forms = &compiled_forms(_domain->mesh->topology().cell_type());
+  _materials = make_materials(_scene, *_domain, *_forms);
   _parameters = derive_parameters(_scene);
+  _parameters.gamma = _materials.gamma;
   _constants = make_constants(_scene, _parameters);
 }
 
@@ -567,11 +586,17 @@ void Simulation::describe()
     _warnings += (_warnings.empty() ? "" : "; ") + what;
     _progress.say("warning: " + what);
   };
-  if (_scene.mechanics)
+  const CellRegions& regions = _domain->regions;
+  for (std::size_t r = 0; r < regions.names.size(); ++r)
+    _progress.say("region " + regions.names[r] + ": " + std::to_string(regions.counts[r]) + " cells"
+                  + (_scene.coupling ? ", gamma = " + std::to_string(_materials.regions[r].gamma) : ""));
+  for (std::size_t r = 0; _scene.mechanics and r <= regions.names.size(); ++r)
   {
-    const double nu = _parameters.lambda / (2 * (_parameters.lambda + _parameters.G));
-    if (nu > 0.49)
-      warn("nu = " + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
+    const Parameters& m = r < regions.names.size() ? _materials.regions[r] : _materials.top;
+    const double nu = m.lambda / (2 * (m.lambda + m.G));
+    if (nu > 0.49 and (r < regions.names.size() or regions.outside > 0))
+      warn((r < regions.names.size() ? "region " + regions.names[r] + ": " : std::string()) + "nu = "
+           + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
            "(too stiff a response, worse on coarse meshes)");
   }
   if (_scene.coupling and _scene.coupling->scheme != "monolithic" and _parameters.gamma > 0.99)
@@ -599,7 +624,7 @@ void Simulation::open_output()
   }
   _output = std::make_unique<Output>(_comm, _directory, _domain->mesh, _scene.write_xdmf,
                                      _resumed ? &_resumed->output : nullptr);
-  _fields = std::make_unique<OutputFields>(*_domain, *_forms, _constants, _steps, *_output);
+  _fields = std::make_unique<OutputFields>(*_domain, *_forms, _constants, _materials, _steps, *_output);
 }
 
 /// The initial state, written at t = 0, or the checkpoint's step and time.
@@ -616,7 +641,7 @@ void Simulation::start_or_restore()
     return;
   }
   if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
-    equilibrate(_scene, *_domain, *_forms, _constants, _steps.mechanics.get(), _steps.monolithic.get());
+    equilibrate(_scene, *_domain, *_forms, _constants, _materials, _steps.mechanics.get(), _steps.monolithic.get());
   if (_steps.p)
     _fields->write_flow(0.0);
   if (_steps.u)
@@ -697,9 +722,9 @@ void Simulation::time_loop()
   {
     if (_scene.coupling and !_steps.monolithic)
     {
-      ContractionNorm contraction(*_forms, _steps.V, _steps.flow->pressure_space());
-      run_fixed_stress(_scene, _parameters, _constants, *_steps.flow, _steps.second_pass.get(), *_steps.mechanics,
-                       contraction, *_output, o, _report, _grid);
+      ContractionNorm contraction(*_forms, _materials, _parameters.q, _steps.V, _steps.flow->pressure_space());
+      run_fixed_stress(_scene, _parameters, _constants, _materials, *_steps.flow, _steps.second_pass.get(),
+                       *_steps.mechanics, contraction, *_output, o, _report, _grid);
     }
     else
       run_single_solve(_scene, _constants, _steps.flow.get(), _steps.mechanics.get(), _steps.monolithic.get(), o,
@@ -801,6 +826,8 @@ void Simulation::write_summary()
       .set("left_out", _left_out)
       .set("warnings", _warnings)
       .set("mpi_ranks", [&] { int n; MPI_Comm_size(_comm, &n); return n; }());
+  if (!_domain->regions.names.empty())
+    summary.set("regions", regions_json(_domain->regions, _materials));
   if (_steps.contact_pressure)
     summary.set("contact", contact_json(_fields->contact));
   if (has_errors)

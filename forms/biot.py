@@ -39,6 +39,7 @@ def build(domain, space=_ufl_space, coefficient=ufl.Coefficient,
     """
     o = _spaces(domain, space)
     o.update(_constants(domain, constant))
+    o.update(_materials(o, coefficient))
     o.update(_data(domain, o, coefficient, constant))
     terms = _Terms(domain, o)
     o.update(_mechanics_forms(o, terms))
@@ -73,19 +74,26 @@ def _spaces(domain, space):
 
 
 def _constants(domain, constant):
-    """The material constants (alg. "Parameters")."""
+    """The constants of a run (alg. "Parameters")."""
     d = domain.ufl_cell().geometric_dimension()
-    names = ("G",         # shear modulus
-             "lmbda",     # Lame lambda
-             "alpha",     # Biot coefficient
-             "storage",   # S = 1/M + c_f phi0
-             "L",         # fixed-stress stabilisation
-             "dt",        # (fine) time step
+    names = ("dt",        # (fine) time step
              "q",         # flow steps per mechanics step
              "rho_f")
     c = {name: constant(domain) for name in names}
     c["gravity"] = constant(domain, (d,))
     return c
+
+
+def _materials(o, coefficient):
+    """The material coefficients, one value per cell (DG0), so that a scene's
+    regions may each have their own (docs/theory.md, "Material regions");
+    the fixed-stress L is cell-wise with them. The resistivity is in _data."""
+    names = ("G",         # shear modulus
+             "lmbda",     # Lame lambda
+             "alpha",     # Biot coefficient
+             "storage",   # S = 1/M + c_f phi0
+             "L")         # fixed-stress stabilisation
+    return {name: coefficient(o["Q"]) for name in names}
 
 
 def _data(domain, o, coefficient, constant):

@@ -1,7 +1,6 @@
 """A run of one scene (cpp/simulation.cpp): scene -> mesh and tags -> forms ->
 flow step / mechanics step (or the monolithic step) -> coupling scheme ->
 output and diagnostics."""
-from dataclasses import replace
 import os
 import sys
 
@@ -17,6 +16,7 @@ from .coupling.fixed_stress import run_fixed_stress
 from .coupling.single_solve import run_single_solve
 from .assembly.forms import Forms
 from .assembly.linear_algebra import UnknownsPart
+from .assembly.materials import make_materials
 from .assembly.parameters import derive_parameters, set_constants
 from .output.directory_lock import DirectoryLock
 from .scene.scene import SceneError
@@ -107,6 +107,15 @@ def equilibrate(scene, domain, F, mechanics, monolithic):
     monolithic.set_displacement(step.u.x.array, 0.0)
 
 
+def regions_json(cells, materials):
+    """The regions of the summary: each one's cells and its material's gamma
+    and L, and the cells in no region (the top-level material)."""
+    regions = {name: {"cells": count, "gamma": m.gamma, "L": m.L}
+               for name, count, m in zip(cells.names, cells.counts, materials.regions)}
+    regions["no region"] = {"cells": cells.outside, "gamma": materials.top.gamma, "L": materials.top.L}
+    return regions
+
+
 class Steps:
     """The steps a scene has (each scene allocates only the physics it has),
     and the fields output and diagnostics read, whichever step produced them."""
@@ -153,21 +162,22 @@ def monolithic_steps(scene, domain, F):
     return s
 
 
-def split_steps(scene, domain, F, parameters):
+def split_steps(scene, domain, F, materials):
     """The flow step and the mechanics step of the split, or the one a single
     physics has; "multirate-two-pass" adds the flow step without L."""
     s = Steps()
     if scene.mechanics:
         s.V = F["V"]
     if scene.flow:
-        s.flow = FlowStep(scene, domain, F, coupled=scene.coupling is not None)
+        s.flow = FlowStep(scene, domain, F, materials, coupled=scene.coupling is not None)
         s.p = s.flow.pressure
         if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
             # The second pass is the flow step without the stabilisation L:
-            # forms of its own, whose constant L is 0.
+            # forms of its own, whose coefficient L is 0.
             unstabilised = Forms(domain.mesh)
-            set_constants(unstabilised, scene, replace(parameters, L=0.0))
-            s.second_pass = FlowStep(scene, domain, unstabilised, coupled=True)
+            set_constants(unstabilised, scene, derive_parameters(scene))
+            s.second_pass = FlowStep(scene, domain, unstabilised, materials.without_stabilisation(F, unstabilised),
+                                     coupled=True)
         s.compute_flux = s.flow.flux
     if scene.mechanics:
         s.mechanics = MechanicsStep(scene, domain, F, s.p if scene.coupling is not None else None)
@@ -334,7 +344,7 @@ class Simulation:
             self.describe()
             self.steps = (monolithic_steps(scene, self.domain, self.F)
                           if scene.coupling and scene.coupling.scheme == "monolithic"
-                          else split_steps(scene, self.domain, self.F, self.parameters))
+                          else split_steps(scene, self.domain, self.F, self.materials))
             try:
                 self.open_output()
                 self.start_or_restore()
@@ -352,7 +362,9 @@ class Simulation:
         self.domain = create_domain(self.scene, self.comm)
         check_expressions(self.scene, self.domain, self.comm)
         self.F = Forms(self.domain.mesh)
+        self.materials = make_materials(self.scene, self.domain, self.F)
         self.parameters = derive_parameters(self.scene)
+        self.parameters.gamma = self.materials.gamma  # the largest of any cell
         set_constants(self.F, self.scene, self.parameters)
 
     def describe(self):
@@ -380,10 +392,14 @@ class Simulation:
         def warn(what):
             warnings.append(what)
             self.progress.say("warning: " + what)
-        if scene.mechanics:
-            nu = parameters.lmbda / (2 * (parameters.lmbda + parameters.G))
-            if nu > 0.49:
-                warn(f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
+        regions, materials = self.domain.regions, self.materials
+        for name, count, m in zip(regions.names, regions.counts, materials.regions):
+            self.progress.say(f"region {name}: {count} cells" + (f", gamma = {m.gamma:f}" if scene.coupling else ""))
+        for r, m in enumerate(materials.regions + [materials.top] if scene.mechanics else []):
+            nu = m.lmbda / (2 * (m.lmbda + m.G))
+            if nu > 0.49 and (r < len(regions.names) or regions.outside > 0):
+                warn((f"region {regions.names[r]}: " if r < len(regions.names) else "")
+                     + f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
                      "(too stiff a response, worse on coarse meshes)")
         if scene.coupling and scene.coupling.scheme != "monolithic" and parameters.gamma > 0.99:
             warn(f"gamma = {parameters.gamma:f} > 0.99: the contraction theorems guarantee almost nothing, expect many "
@@ -489,9 +505,9 @@ class Simulation:
         self.progress.start_loop(self.completed_steps, self.grid.steps() // parameters.q)
         try:
             if scene.coupling and not s.monolithic:
-                contraction = ContractionNorm(self.F, self.comm)
-                run_fixed_stress(scene, parameters, self.F, s.flow, s.second_pass, s.mechanics, contraction,
-                                 self.output, observer, self.report, self.comm, self.grid)
+                contraction = ContractionNorm(self.F, parameters.q, self.comm)
+                run_fixed_stress(scene, parameters, self.materials, self.F, s.flow, s.second_pass, s.mechanics,
+                                 contraction, self.output, observer, self.report, self.comm, self.grid)
             else:
                 run_single_solve(scene, self.F, s.flow, s.mechanics, s.monolithic, observer, self.report,
                                  self.grid)
@@ -574,6 +590,8 @@ class Simulation:
             "warnings": self.warnings,
             "mpi_ranks": self.comm.size,
         }
+        if self.domain.regions.names:
+            summary["regions"] = regions_json(self.domain.regions, self.materials)
         if s.contact_pressure is not None:
             summary["contact"] = contact_json(self.fields.contact)
         if scene.reference and not self.failure and not self.signal:

@@ -148,7 +148,7 @@ def fluid_content(fields, t, storage, alpha=0.0):
     div u of the P1 displacement (2D only for alpha > 0): the mass balance
     tests of flux boundaries and wells sum it."""
     content = storage * fields.at("pressure", t)[:, 0] * cell_measures(fields)
-    if alpha > 0:
+    if np.any(np.asarray(alpha) > 0):
         x, cells = fields.nodes[:, :2], fields.topology
         u = fields.series["displacement"][min(fields.series["displacement"], key=lambda s: abs(s - t))][1][:, :2]
         centroid = x[cells].mean(axis=1)

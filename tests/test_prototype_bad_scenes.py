@@ -37,6 +37,12 @@ CASES = [
     ("negative gap where evaluated", ["boundary.bottom.contact.gap='x-5'"], "boundary.bottom.contact.gap"),
     ("NaN traction", ["boundary.top.traction=['0', 'sqrt(-1)']"], "boundary.top.traction"),
     ("infinite source", ["flow.source='1/(x-x)'"], "flow.source"),
+    ("a region without where", ["region.r.E=2e9"], "region.r.where"),
+    ("two regions that claim one cell", ["region.a.where='x < 6'", "region.b.where='x > 4'"], "region.b"),
+    ("a region that holds no cell", ["region.r.where='x > 100'"], "region.r"),
+    ("an unknown region key", ["region.r.where='x > 5'", "region.r.mu_f=1e-3"], "region.r.mu_f"),
+    ("a region permeability zero evaluated", ["region.r.where='x > 5'", "region.r.permeability='1e-13*(x-7)'"],
+     "region.r.permeability"),
     ("NaN initial pressure", ["flow.initial_pressure='log(x-100)'"], "flow.initial_pressure"),
     ("3e9 steps", ["time.end=3e9", "time.dt=1"], "time.dt"),
     ("a mesh larger than the machine", ["mesh.cells=[4000000, 4000000]"], "mesh.cells"),
@@ -61,6 +67,10 @@ for label, extra, key in (("unknown --option", ["--foo"], "--foo"),
     (cs, ce), (ps, pe) = both("run", DEFAULT, [], extra)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")
+
+(cs, ce), (ps, pe) = both("check", scene("hertz"), ["region.rock.E=2e9"])
+check(ps == cs == 2 and len(pe.splitlines()) == 1 and "region.rock" in pe and pe == ce,
+      f"a region that is no group of the gmsh file: the same line and status 2: {pe!r}")
 
 (cs, ce), (ps, pe) = both("check", os.path.join(ROOT, "no", "such.toml"), [])
 check(ps == cs == 2 and pe == ce, f"missing scene file: same line and status 2: {pe!r}")

@@ -13,6 +13,7 @@ namespace biotcontact
 #define BIOTCONTACT_SPACES(forms, cell)                                                        \
   forms.displacement_space = functionspace_form_biot_##cell##_a_elastic;                      \
   forms.flow_space = functionspace_form_biot_##cell##_a_flow;                                 \
+  forms.material_space = functionspace_form_biot_##cell##_a_elastic;                          \
   forms.data_space = functionspace_form_biot_##cell##_L_flow_source;                          \
   forms.pressure_reference_space = functionspace_form_biot_##cell##_M_pressure_error;         \
   forms.displacement_reference_space = functionspace_form_biot_##cell##_M_displacement_error; \

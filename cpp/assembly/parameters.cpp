@@ -9,23 +9,28 @@ namespace biotcontact
 {
 using dolfinx::fem::Constant;
 
-Parameters derive_parameters(const Scene& scene)
+namespace
+{
+/// The parameters of one material: its moduli, storage, alpha and the L
+/// that coupling.L chooses for them.
+Parameters material_parameters(const Scene& scene, const MechanicsSpec* mechanics, const FlowSpec* flow,
+                               double alpha)
 {
   Parameters parameters;
   parameters.d = scene.mesh.dimension;
   parameters.dt = scene.dt;
-  if (scene.mechanics)
+  if (mechanics)
   {
-    parameters.G = scene.mechanics->G;
-    parameters.lambda = scene.mechanics->lambda;
+    parameters.G = mechanics->G;
+    parameters.lambda = mechanics->lambda;
     parameters.K_dr = parameters.lambda + 2 * parameters.G / parameters.d;
   }
-  if (scene.flow)
-    parameters.storage = scene.flow->storage();
+  if (flow)
+    parameters.storage = flow->storage();
   if (scene.coupling)
   {
     const CouplingSpec& c = *scene.coupling;
-    parameters.alpha = c.alpha;
+    parameters.alpha = alpha;
     parameters.q = c.q;
     const double a2 = parameters.alpha * parameters.alpha;
     if (c.L_choice == "paper")
@@ -41,15 +46,25 @@ Parameters derive_parameters(const Scene& scene)
   return parameters;
 }
 
+const MechanicsSpec* pointer(const std::optional<MechanicsSpec>& m) { return m ? &*m : nullptr; }
+const FlowSpec* pointer(const std::optional<FlowSpec>& f) { return f ? &*f : nullptr; }
+} // namespace
+
+Parameters derive_parameters(const Scene& scene)
+{
+  return material_parameters(scene, pointer(scene.mechanics), pointer(scene.flow),
+                             scene.coupling ? scene.coupling->alpha : 0.0);
+}
+
+Parameters derive_parameters(const Scene& scene, const RegionSpec& region)
+{
+  return material_parameters(scene, pointer(region.mechanics), pointer(region.flow), region.alpha);
+}
+
 Constants make_constants(const Scene& scene, const Parameters& parameters)
 {
   auto scalar = [](double v) { return std::make_shared<const Constant<double>>(v); };
   Constants c;
-  c["G"] = scalar(parameters.G);
-  c["lmbda"] = scalar(parameters.lambda);
-  c["alpha"] = scalar(parameters.alpha);
-  c["storage"] = scalar(parameters.storage);
-  c["L"] = scalar(parameters.L);
   c["dt"] = scalar(parameters.dt);
   c["q"] = scalar(parameters.q);
   c["ones"] = std::make_shared<const Constant<double>>(std::vector<double>(parameters.d, 1.0));
@@ -92,56 +107,37 @@ void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression
       });
 }
 
-/// mu_f K^-1 as a cell-wise d x d tensor (K from a scalar expression
-/// evaluated at cell midpoints, or a constant tensor).
-void interpolate_resistivity(dolfinx::fem::Function<double>& R, const FlowSpec& flow, int d)
+std::vector<double> resistivity(const FlowSpec& flow, int d, const double* x)
 {
-  std::vector<double> Kinv(d * d, 0.0);
-  if (flow.permeability_tensor)
+  std::vector<double> R(d * d, 0.0);
+  if (flow.permeability)
   {
-    const std::vector<double>& K = *flow.permeability_tensor;
-    if (d == 2)
-    {
-      const double det = K[0] * K[3] - K[1] * K[2];
-      Kinv = {K[3] / det, -K[1] / det, -K[2] / det, K[0] / det};
-    }
-    else
-    {
-      const double det = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
-                         + K[2] * (K[3] * K[7] - K[4] * K[6]);
-      Kinv = {(K[4] * K[8] - K[5] * K[7]) / det, (K[2] * K[7] - K[1] * K[8]) / det,
-              (K[1] * K[5] - K[2] * K[4]) / det, (K[5] * K[6] - K[3] * K[8]) / det,
-              (K[0] * K[8] - K[2] * K[6]) / det, (K[2] * K[3] - K[0] * K[5]) / det,
-              (K[3] * K[7] - K[4] * K[6]) / det, (K[1] * K[6] - K[0] * K[7]) / det,
-              (K[0] * K[4] - K[1] * K[3]) / det};
-    }
+    const double k = (*flow.permeability)(x, 0.0);
+    if (!(k > 0) or !std::isfinite(k))
+      return {};
+    for (int i = 0; i < d; ++i)
+      R[i * d + i] = flow.mu_f / k;
+    return R;
   }
-  const Expression* k = flow.permeability ? &*flow.permeability : nullptr;
-  const double mu_f = flow.mu_f;
-  R.interpolate(
-      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
-      {
-        const std::size_t n = x.shape(1);
-        xt::xarray<double> v = xt::zeros<double>({static_cast<std::size_t>(d * d), n});
-        for (std::size_t j = 0; j < n; ++j)
-        {
-          if (k)
-          {
-            const double kj = (*k)(x(0, j), x(1, j), x(2, j), 0.0);
-            if (!(kj > 0) or !std::isfinite(kj))
-              throw SceneError("flow.permeability: must be positive, got " + std::to_string(kj)
-                               + " at (" + std::to_string(x(0, j)) + ", "
-                               + std::to_string(x(1, j)) + ")");
-            for (int i = 0; i < d; ++i)
-              v(i * d + i, j) = mu_f / kj;
-          }
-          else
-            for (int i = 0; i < d * d; ++i)
-              v(i, j) = mu_f * Kinv[i];
-        }
-        return v;
-      });
+  const std::vector<double>& K = *flow.permeability_tensor;
+  if (d == 2)
+  {
+    const double det = K[0] * K[3] - K[1] * K[2];
+    R = {K[3] / det, -K[1] / det, -K[2] / det, K[0] / det};
+  }
+  else
+  {
+    const double det = K[0] * (K[4] * K[8] - K[5] * K[7]) - K[1] * (K[3] * K[8] - K[5] * K[6])
+                       + K[2] * (K[3] * K[7] - K[4] * K[6]);
+    R = {(K[4] * K[8] - K[5] * K[7]) / det, (K[2] * K[7] - K[1] * K[8]) / det,
+         (K[1] * K[5] - K[2] * K[4]) / det, (K[5] * K[6] - K[3] * K[8]) / det,
+         (K[0] * K[8] - K[2] * K[6]) / det, (K[2] * K[3] - K[0] * K[5]) / det,
+         (K[3] * K[7] - K[4] * K[6]) / det, (K[1] * K[6] - K[0] * K[7]) / det,
+         (K[0] * K[4] - K[1] * K[3]) / det};
+  }
+  for (double& r : R)
+    r *= flow.mu_f;
+  return R;
 }
-
 
 } // namespace biotcontact

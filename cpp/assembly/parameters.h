@@ -23,21 +23,26 @@ struct Parameters
   double storage = 0; // S = 1/M + c_f phi0
   double K_dr = 0;    // lambda + 2G/d
   double L = 0;       // stabilisation actually used
-  /// Theorem 1 and 2 contraction factor gamma = alpha^2/(alpha^2 + lambda S).
+  /// Theorem 1 and 2 contraction factor gamma = alpha^2/(alpha^2 + lambda S)
+  /// (of a material; the run's is the largest of its cells', materials.h).
   double gamma = 0;
   int q = 1;
   double dt = 0; // fine (flow) step
 };
 
+/// The parameters of the scene's top-level material.
 Parameters derive_parameters(const Scene& scene);
+
+/// The parameters of a region's material (its own L by coupling.L).
+Parameters derive_parameters(const Scene& scene, const RegionSpec& region);
 
 /// The constants of forms/biot.py, by UFL name, set from the parameters.
 /// Unused ones stay at zero; create_form picks those a form names.
 Constants make_constants(const Scene& scene, const Parameters& parameters);
 
-/// mu_f K^-1 as a cell-wise d x d tensor: K from a scalar expression at
-/// cell midpoints, or a constant tensor. Throws SceneError where K <= 0.
-void interpolate_resistivity(dolfinx::fem::Function<double>& R, const FlowSpec& flow, int d);
+/// mu_f K^-1 at the point x (row-major d x d): K from a scalar expression,
+/// or a constant tensor; empty where the expression is not positive.
+std::vector<double> resistivity(const FlowSpec& flow, int d, const double* x);
 
 /// Sets the time step constant "dt" of `constants` (the one constant that
 /// changes during a run, with time.growth); returns whether it changed.

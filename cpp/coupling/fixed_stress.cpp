@@ -120,6 +120,7 @@ struct Increments
   Array du;
   double dsigma = 0;   // ||delta sigma|| of Theorem 1 (q = 1) or 2 (multirate)
   double theorem2 = 0; // Theorem 2's quantity (NaN without L)
+  double residual = 0; // L times it, cell by cell (ContractionNorm::Quantity::coupled_residual)
   double ratio = 0;    // dsigma / the previous iteration's (NaN at n = 0)
   double dp2 = 0, p2 = 0;
 };
@@ -131,10 +132,12 @@ struct Increments
 class FixedStressSplit
 {
 public:
-  FixedStressSplit(const Scene& scene, const Parameters& parameters, const Constants& constants, FlowStep& flow,
-                   FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
-                   const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
-      : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants), _flow(flow),
+  FixedStressSplit(const Scene& scene, const Parameters& parameters, const Constants& constants,
+                   const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
+                   ContractionNorm& contraction, Output& output, const WindowObserver& observer,
+                   CouplingReport& report, TimeGrid& grid)
+      : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants),
+        _stabilised(materials.max_L > 0), _flow(flow),
         _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
         _observer(observer), _report(report), _grid(grid), _q(parameters.q), _V(*mechanics.space()),
         _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
@@ -172,6 +175,7 @@ private:
   const CouplingSpec& _coupling;
   const Parameters& _parameters;
   const Constants& _constants;
+  const bool _stabilised; // L > 0 in some cell: Theorem 2's quantity is measured
   FlowStep& _flow;
   FlowStep* _second_pass;
   MechanicsStep& _mechanics;
@@ -274,34 +278,41 @@ void FixedStressSplit::mechanics_pass(Window& w)
     second_pass_correction(*_second_pass, _p_K, w.u_new, [&](int m) { return t(w.K, m); }, w.p_new, w.w_new);
 }
 
-/// The contraction quantities of this iteration's increments: Theorem 1,
+/// The contraction quantities of this iteration's increments, with the
+/// coefficients of each cell's material: Theorem 1,
 ///   delta sigma_v^{n+1} = lambda div(du) - alpha dp,
 /// for the single-rate split, Theorem 2,
 ///   delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
 /// (summed over m in l2) for the multirate ones.
 Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
 {
+  using Quantity = ContractionNorm::Quantity;
   Increments inc;
   inc.du = difference(w.u_new, w.u_old);
   Array dp_previous(_p_K.size(), 0.0);
   for (int m = 1; m <= _q; ++m)
   {
     const Array dp = difference(w.p_new[m], w.p_old[m]);
-    if (_parameters.L > 0)
+    if (_stabilised)
     {
-      const double t2 = _contraction(_parameters.alpha / (_q * _parameters.L), inc.du, 1.0, difference(dp, dp_previous));
+      const Array change = difference(dp, dp_previous);
+      const double t2 = m == 1 ? _contraction(Quantity::theorem2, inc.du, change)
+                               : _contraction(Quantity::theorem2, change); // the same du
+      const double r = _contraction(Quantity::coupled_residual, change);
       inc.theorem2 += t2 * t2;
+      inc.residual += r * r;
     }
     dp_previous = dp;
     const double dpn = owned_norm(dp, _Q), pn = owned_norm(w.p_new[m], _Q);
     inc.dp2 += dpn * dpn;
     inc.p2 += pn * pn;
   }
-  inc.theorem2 = _parameters.L > 0 ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
+  inc.theorem2 = _stabilised ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
+  inc.residual = std::sqrt(inc.residual);
   if (_coupling.multirate())
     inc.dsigma = inc.theorem2;
   else
-    inc.dsigma = _contraction(_parameters.lambda, inc.du, _parameters.alpha, difference(w.p_new[1], w.p_old[1]));
+    inc.dsigma = _contraction(Quantity::theorem1, inc.du, difference(w.p_new[1], w.p_old[1]));
   inc.ratio = n > 0 ? inc.dsigma / w.dsigma_previous : std::numeric_limits<double>::quiet_NaN();
   return inc;
 }
@@ -322,8 +333,9 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
   const double ratio = inc.ratio;
   if (n == 0)
     w.dsigma_first = inc.dsigma;
-  const double size = _coupling.multirate() ? _contraction(_parameters.alpha / (_q * _parameters.L), w.u_new, 1.0, w.p_new[_q])
-                                            : _contraction(_parameters.lambda, w.u_new, _parameters.alpha, w.p_new[1]);
+  using Quantity = ContractionNorm::Quantity;
+  const double size = _coupling.multirate() ? _contraction(Quantity::theorem2, w.u_new, w.p_new[_q])
+                                            : _contraction(Quantity::theorem1, w.u_new, w.p_new[1]);
   const bool resolved = !_accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
                         and inc.dsigma >= round_off_fraction * size;
   if (n > 0 and !resolved)
@@ -392,12 +404,11 @@ void FixedStressSplit::next_iterate(Window& w)
 /// = L delta sigma^{n+1,m}; relative to the fluid content change.
 void FixedStressSplit::record_coupled_residual(const Window& w, const Increments& inc)
 {
-  if (_parameters.L <= 0)
+  if (!_stabilised)
     return;
-  const double change
-      = _contraction(_parameters.alpha, difference(w.u_new, _u_K), -_parameters.storage, difference(w.p_new[_q], _p_K));
-  _report.max_coupled_residual
-      = std::max(_report.max_coupled_residual, change > 0 ? _parameters.L * inc.theorem2 / change : 0.0);
+  const double change = _contraction(ContractionNorm::Quantity::fluid_content, difference(w.u_new, _u_K),
+                                     difference(w.p_new[_q], _p_K));
+  _report.max_coupled_residual = std::max(_report.max_coupled_residual, change > 0 ? inc.residual / change : 0.0);
 }
 
 /// One coupling iteration n of window w; true when it converged.
@@ -514,11 +525,13 @@ void FixedStressSplit::run()
 
 } // namespace
 
-void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants, FlowStep& flow,
-                      FlowStep* second_pass, MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
-                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid)
+void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
+                      const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
+                      ContractionNorm& contraction, Output& output, const WindowObserver& observer,
+                      CouplingReport& report, TimeGrid& grid)
 {
-  FixedStressSplit(scene, parameters, constants, flow, second_pass, mechanics, contraction, output, observer, report, grid)
+  FixedStressSplit(scene, parameters, constants, materials, flow, second_pass, mechanics, contraction, output, observer,
+                   report, grid)
       .run();
 }
 

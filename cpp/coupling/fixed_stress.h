@@ -36,7 +36,7 @@ double inexact_tolerance(double previous_increment);
 /// `second_pass` is the flow step without L of "multirate-two-pass" (null
 /// for the other schemes).
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
-                      FlowStep& flow, FlowStep* second_pass,
+                      const Materials& materials, FlowStep& flow, FlowStep* second_pass,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
                       const WindowObserver& observer, CouplingReport& report, TimeGrid& grid);
 

@@ -46,7 +46,37 @@ struct GmshData
   std::vector<std::int64_t> facets;      // d node indices per boundary facet
   std::vector<std::int32_t> facet_group; // index into names
   std::vector<std::string> names;
+  /// The region of each cell (input order) from the physical groups of
+  /// cells the scene's regions name (regions_of_groups).
+  std::vector<std::int32_t> cell_region;
 };
+
+/// The input indices of the cells of each named physical group of cells.
+std::map<std::string, std::vector<std::int64_t>> cell_groups(int d, const std::vector<std::size_t>& element_tags)
+{
+  std::map<std::size_t, std::int64_t> position;
+  for (std::size_t i = 0; i < element_tags.size(); ++i)
+    position[element_tags[i]] = static_cast<std::int64_t>(i);
+  std::map<std::string, std::vector<std::int64_t>> groups;
+  gmsh::vectorpair tags;
+  gmsh::model::getPhysicalGroups(tags, d);
+  for (const auto& [dim, tag] : tags)
+  {
+    std::string name;
+    gmsh::model::getPhysicalName(dim, tag, name);
+    std::vector<std::int64_t>& cells = groups[name.empty() ? "group" + std::to_string(tag) : name];
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+    for (int entity : entities)
+    {
+      std::vector<std::size_t> etags, ntags;
+      gmsh::model::mesh::getElementsByType(d == 2 ? 2 : 4, etags, ntags, entity);
+      for (std::size_t t : etags)
+        cells.push_back(position.at(t));
+    }
+  }
+  return groups;
+}
 
 /// Keeps only the nodes of the cells, numbered in their order in the file:
 /// the mesh's input numbering is then 0 .. N-1, the rows of the output.
@@ -69,8 +99,10 @@ void drop_unused_nodes(GmshData& data, int d)
     node = index[node];
 }
 
-GmshData read_gmsh_file(const std::string& file, int d, int refine)
+GmshData read_gmsh_file(const Scene& scene)
 {
+  const std::string& file = scene.mesh.file;
+  const int d = scene.mesh.dimension, refine = scene.mesh.refine;
   GmshData data;
   gmsh::initialize();
   gmsh::option::setNumber("General.Terminal", 0);
@@ -96,6 +128,7 @@ GmshData read_gmsh_file(const std::string& file, int d, int refine)
     gmsh::model::mesh::getElementsByType(d == 2 ? 2 : 4, element_tags, node_tags);
     for (std::size_t t : node_tags)
       data.cells.push_back(index.at(t));
+    data.cell_region = regions_of_groups(scene, element_tags.size(), cell_groups(d, element_tags));
     // Boundaries: the named physical groups of dimension d-1.
     gmsh::vectorpair groups;
     gmsh::model::getPhysicalGroups(groups, d - 1);
@@ -118,6 +151,11 @@ GmshData read_gmsh_file(const std::string& file, int d, int refine)
         data.facet_group.insert(data.facet_group.end(), etags.size(), group);
       }
     }
+  }
+  catch (const SceneError&)
+  {
+    gmsh::finalize();
+    throw;
   }
   catch (const std::exception& e)
   {
@@ -151,7 +189,7 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
   {
     try
     {
-      data = read_gmsh_file(scene.mesh.file, d, scene.mesh.refine);
+      data = read_gmsh_file(scene);
     }
     catch (const SceneError& e)
     {
@@ -182,6 +220,7 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
   const mesh::MeshTags<std::int32_t> tags = mesh::create_meshtags<std::int32_t>(
       domain.mesh, d - 1, graph::regular_adjacency_list(std::move(entities), d), values);
 
+  domain.regions = locate_regions(scene, *domain.mesh, data.cell_region);
   std::vector<std::string> group_names;
   for (std::size_t start = 0, end; (end = names.find('\n', start)) != std::string::npos; start = end + 1)
     group_names.push_back(names.substr(start, end - start));
@@ -244,6 +283,7 @@ Domain create_domain(const Scene& scene, MPI_Comm comm)
         [axis = axis, value, tol](const xt::xtensor<double, 2>& x) -> xt::xtensor<bool, 1>
         { return xt::abs(xt::row(x, axis) - value) < tol; });
   }
+  domain.regions = locate_regions(scene, *domain.mesh, {});
   return domain;
 }
 
@@ -279,22 +319,78 @@ std::vector<double> cell_midpoints(const mesh::Mesh& mesh)
 }
 } // namespace
 
+namespace
+{
+/// An expression the run will evaluate: its key, and the points (3 per
+/// point) and times where.
+struct Use
+{
+  std::string key;
+  const Expression* expression;
+  const std::vector<double>* points;
+  bool time_dependent_use;
+};
+
+/// The volume terms, evaluated at the cell midpoints.
+void add_volume_uses(const Scene& scene, const std::vector<double>& midpoints, std::vector<Use>& uses)
+{
+  if (scene.mechanics and scene.mechanics->body_force)
+    for (const Expression& e : *scene.mechanics->body_force)
+      uses.push_back({"mechanics.body_force", &e, &midpoints, true});
+  if (scene.flow)
+  {
+    if (scene.flow->source)
+      uses.push_back({"flow.source", &*scene.flow->source, &midpoints, true});
+    if (scene.flow->permeability)
+      uses.push_back({"flow.permeability", &*scene.flow->permeability, &midpoints, false});
+    uses.push_back({"flow.initial_pressure", &scene.flow->initial_pressure, &midpoints, false});
+  }
+  for (const auto& [name, r] : scene.regions)
+  {
+    if (r.where)
+      uses.push_back({"region." + name + ".where", &*r.where, &midpoints, false});
+    if (r.flow and r.flow->permeability)
+      uses.push_back({"region." + name + ".permeability", &*r.flow->permeability, &midpoints, false});
+  }
+}
+
+/// The first use whose value is not finite on this rank, and its message.
+NonFinite first_non_finite(const Scene& scene, int d, const std::vector<Use>& uses)
+{
+  NonFinite found;
+  for (std::size_t k = 0; k < uses.size() and found.index < 0; ++k)
+  {
+    const Use& use = uses[k];
+    const std::vector<double>& p = *use.points;
+    for (double t : use.time_dependent_use ? std::vector<double>{0.0, scene.end_time} : std::vector<double>{0.0})
+    {
+      for (std::size_t i = 0; i + 2 < p.size() and found.index < 0; i += 3)
+      {
+        const double v = (*use.expression)(&p[i], t);
+        if (!std::isfinite(v))
+        {
+          std::ostringstream s;
+          s << scene.file << ": " << use.key << ": \"" << use.expression->text() << "\" is "
+            << (std::isnan(v) ? "NaN" : v > 0 ? "inf" : "-inf") << " at (" << p[i] << ", " << p[i + 1];
+          if (d == 3)
+            s << ", " << p[i + 2];
+          s << "), t = " << t;
+          found = {static_cast<int>(k), s.str()};
+        }
+      }
+    }
+  }
+  return found;
+}
+} // namespace
+
 void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
 {
-  // (key, expression, points) of every expression the run will evaluate.
-  struct Use
-  {
-    std::string key;
-    const Expression* expression;
-    const std::vector<double>* points;
-    bool time_dependent_use;
-  };
   std::vector<Use> uses;
   std::map<std::string, std::vector<double>> boundary_points;
   for (const auto& [name, b] : scene.boundaries)
     if (domain.boundaries.count(name))
       boundary_points[name] = facet_vertices(*domain.mesh, domain.boundaries.at(name));
-  const std::vector<double> midpoints = cell_midpoints(*domain.mesh);
   for (const auto& [name, b] : scene.boundaries)
   {
     const std::vector<double>* at = &boundary_points[name];
@@ -315,42 +411,9 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
     well_points[name] = {w.position[0], w.position[1], w.bottom};
     uses.push_back({"well." + name + ".rate", &w.rate, &well_points[name], true});
   }
-  if (scene.mechanics and scene.mechanics->body_force)
-    for (const Expression& e : *scene.mechanics->body_force)
-      uses.push_back({"mechanics.body_force", &e, &midpoints, true});
-  if (scene.flow)
-  {
-    if (scene.flow->source)
-      uses.push_back({"flow.source", &*scene.flow->source, &midpoints, true});
-    if (scene.flow->permeability)
-      uses.push_back({"flow.permeability", &*scene.flow->permeability, &midpoints, false});
-    uses.push_back({"flow.initial_pressure", &scene.flow->initial_pressure, &midpoints, false});
-  }
-
-  NonFinite found;
-  for (std::size_t k = 0; k < uses.size() and found.index < 0; ++k)
-  {
-    const Use& use = uses[k];
-    const std::vector<double>& p = *use.points;
-    for (double t : use.time_dependent_use ? std::vector<double>{0.0, scene.end_time} : std::vector<double>{0.0})
-    {
-      for (std::size_t i = 0; i + 2 < p.size() and found.index < 0; i += 3)
-      {
-        const double v = (*use.expression)(&p[i], t);
-        if (!std::isfinite(v))
-        {
-          std::ostringstream s;
-          s << scene.file << ": " << use.key << ": \"" << use.expression->text() << "\" is "
-            << (std::isnan(v) ? "NaN" : v > 0 ? "inf" : "-inf") << " at (" << p[i] << ", " << p[i + 1];
-          if (domain.dim() == 3)
-            s << ", " << p[i + 2];
-          s << "), t = " << t;
-          found = {static_cast<int>(k), s.str()};
-        }
-      }
-    }
-  }
-  agree_on_error(found.message, comm);
+  const std::vector<double> midpoints = cell_midpoints(*domain.mesh);
+  add_volume_uses(scene, midpoints, uses);
+  agree_on_error(first_non_finite(scene, domain.dim(), uses).message, comm);
   for (const auto& [name, b] : scene.boundaries)
     if (b.flow == BoundarySpec::Flow::flux)
       planar_boundary(domain, name, scene.file + ": boundary." + name + (b.rate ? ".rate" : ".flux"));

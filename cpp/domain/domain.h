@@ -1,6 +1,7 @@
 // Scene -> mesh and named boundaries.
 #pragma once
 
+#include "domain/regions.h"
 #include "scene/scene.h"
 
 #include <array>
@@ -20,6 +21,8 @@ struct Domain
   std::shared_ptr<dolfinx::mesh::Mesh> mesh;
   /// Sorted local indices of the exterior facets of each named boundary.
   std::map<std::string, std::vector<std::int32_t>> boundaries;
+  /// The material region of each cell ([region.NAME]).
+  CellRegions regions;
 
   int dim() const { return mesh->topology().dim(); }
   /// Facet tags with the marker of forms/biot.py (1) on one boundary, for

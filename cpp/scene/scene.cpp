@@ -693,6 +693,83 @@ void read_wells(Section wells, Scene& scene)
   wells.finish();
 }
 
+/// A copy of the scene's table `physics` ([mechanics] or [flow]) with the
+/// region's values of `keys` in place of its own; giving one of a pair of
+/// moduli drops the other pair from the copy (E, nu replace G, lambda).
+toml::table region_physics(const toml::table& root, const std::string& physics, const toml::table& region,
+                           const std::vector<std::string>& keys)
+{
+  toml::table merged = *root.get(physics)->as_table();
+  const auto gives = [&](std::initializer_list<const char*> pair)
+  { return std::any_of(pair.begin(), pair.end(), [&](const char* k) { return region.contains(k); }); };
+  if (gives({"E", "nu"}))
+    merged.erase("G"), merged.erase("lambda");
+  if (gives({"G", "lambda"}))
+    merged.erase("E"), merged.erase("nu");
+  for (const std::string& key : keys)
+    if (const toml::node* value = region.get(key))
+      merged.insert_or_assign(key, *value);
+  return merged;
+}
+
+/// [region.NAME]: the cells of a gmsh physical group NAME, or those whose
+/// midpoint satisfies `where`, with some of the scene's material values
+/// replaced. Each region's physics are read by the readers of the scene's
+/// own tables, so they are checked alike and errors name region.NAME.KEY.
+/// Which cells a region holds is settled when the domain is made.
+void read_regions(Section regions, const toml::table& root, Scene& scene)
+{
+  static const std::vector<std::string> mechanics_keys = {"E", "nu", "G", "lambda"};
+  static const std::vector<std::string> flow_keys = {"M", "c_f", "phi0", "permeability"};
+  const int d = scene.mesh.dimension;
+  for (const std::string& name : regions.keys())
+  {
+    Section s = regions.table(name, true);
+    const toml::table& table = *root.get("region")->as_table()->get(name)->as_table();
+    for (const std::string& key : s.keys())
+    {
+      const bool mechanics = std::count(mechanics_keys.begin(), mechanics_keys.end(), key) > 0;
+      const bool flow = std::count(flow_keys.begin(), flow_keys.end(), key) > 0;
+      if (key == "where" or key == "alpha" or mechanics or flow)
+      {
+        if ((mechanics and !scene.mechanics) or (flow and !scene.flow) or (key == "alpha" and !scene.coupling))
+          s.fail(key, std::string("the scene has no [") + (mechanics ? "mechanics" : flow ? "flow" : "coupling")
+                          + "] whose value a region could replace");
+        s.node(key);
+      }
+      else
+        s.fail(key, "unknown key (a region may set where, E, nu, G, lambda, alpha, M, c_f, phi0, permeability)");
+    }
+    RegionSpec r;
+    r.where = s.expression("where");
+    if (r.where and (r.where->depends_on_time() or r.where->is_constant()))
+      s.fail("where", "must be an expression of x, y, z (the cell midpoints it selects)");
+    if (scene.mesh.type != "gmsh" and !r.where)
+      s.fail("where", "missing (on a built-in mesh a region is the cells whose midpoint satisfies where)");
+    if (scene.mechanics)
+    {
+      const toml::table merged = region_physics(root, "mechanics", table, mechanics_keys);
+      r.mechanics = read_mechanics(Section(&merged, regions.name(name), scene.file), d);
+    }
+    if (scene.flow)
+    {
+      const toml::table merged = region_physics(root, "flow", table, flow_keys);
+      r.flow = read_flow(Section(&merged, regions.name(name), scene.file), d);
+    }
+    if (scene.coupling)
+    {
+      r.alpha = s.number("alpha", scene.coupling->alpha);
+      if (!(r.alpha >= 0 and r.alpha <= 1))
+        s.fail("alpha", "the Biot coefficient must lie in [0, 1]");
+      if (scene.coupling->L_choice == "paper" and !(r.mechanics->lambda > 0))
+        s.fail("lambda", "coupling.L = \"paper\" (alpha^2/lambda) needs lambda > 0; use \"kdr\"");
+    }
+    s.finish();
+    scene.regions[name] = r;
+  }
+  regions.finish();
+}
+
 /// [boundary.NAME]: built-in meshes know their boundaries' names; a gmsh
 /// mesh's are checked against its physical groups when the domain is made.
 void read_boundaries(Section boundaries, Scene& scene)
@@ -756,6 +833,8 @@ void read_reference(Section r, Scene& scene)
     r.fail("solution", ref.solution + " needs a coupled scene on a rectangle");
   if (!scene.flow->permeability or !scene.flow->permeability->is_constant())
     r.fail("solution", ref.solution + " needs a constant scalar flow.permeability");
+  if (!scene.regions.empty())
+    r.fail("solution", ref.solution + " is the closed form of a homogeneous medium: the scene has regions");
   if (ref.solution == "terzaghi")
   {
     ref.load = r.number("load");
@@ -831,6 +910,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   read_solver(top.table("solver", false), scene.solver);
   read_boundaries(top.table("boundary", false), scene);
   read_wells(top.table("well", false), scene);
+  read_regions(top.table("region", false), root, scene);
   if (top.has("reference"))
     read_reference(top.table("reference", true), scene);
   top.finish();

@@ -152,12 +152,24 @@ struct SolverSpec
   bool inexact_coupling = true;
 };
 
+/// @brief A material region: cells (a gmsh physical group of cells, or the
+/// cells whose midpoint satisfies `where`) whose physics are the scene's
+/// own with some material values replaced (docs/user-guide.md, "Regions").
+struct RegionSpec
+{
+  std::optional<Expression> where;         // the cells whose midpoint satisfies it (non-zero)
+  std::optional<MechanicsSpec> mechanics;  // the scene's [mechanics] with the region's E, nu or G, lambda
+  std::optional<FlowSpec> flow;            // the scene's [flow] with the region's M, c_f, phi0, permeability
+  double alpha = 0;                        // the scene's alpha or the region's
+};
+
 struct Scene
 {
   std::string file, name, description;
   MeshSpec mesh;
   std::map<std::string, BoundarySpec> boundaries;
   std::map<std::string, WellSpec> wells;
+  std::map<std::string, RegionSpec> regions; // cells in no region take the top-level values
   std::optional<MechanicsSpec> mechanics;
   std::optional<FlowSpec> flow;
   std::optional<CouplingSpec> coupling; // present iff mechanics and flow

@@ -14,15 +14,13 @@ namespace biotcontact
 using namespace dolfinx;
 
 FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                   const Constants& constants, std::shared_ptr<const fem::FunctionSpace> V)
+                   const Constants& constants, const Materials& materials,
+                   std::shared_ptr<const fem::FunctionSpace> V)
     : _scene(scene)
 {
   make_spaces(domain, forms, V);
-  auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(forms.flow_space, "resistivity", domain.mesh)));
-  interpolate_resistivity(*R, *scene.flow, domain.dim());
   // The coupling data are operands of the operators below, not coefficients.
-  const Coefficients coefficients = {{"resistivity", R}};
+  const Coefficients& coefficients = materials.coefficients;
   auto make = [&](const ufcx_form* f, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
                   const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, spaces, coefficients, constants, marker); };
@@ -31,14 +29,14 @@ FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms
   _bcs.push_back(flux_bc(scene, domain, _W->sub({0}), _fluxes));
   _a = make(forms.a_flow, {_W, _W});
   make_loads(domain, forms, constants);
-  make_coupling_operators(forms, make, V, constants.at("L")->value[0]);
+  make_coupling_operators(forms, make, V, materials.max_L);
 
   // The flow matrix depends on dt and L only: assembled and factorised once
   // per dt. Its diagonal blocks, the flux mass and -(S+L)/dt times the cell
-  // mass, make it quasi-definite when S + L > 0.
-  const double storage = constants.at("storage")->value[0] + constants.at("L")->value[0];
+  // mass, make it quasi-definite when S + L > 0 in every cell.
   _system = std::make_unique<System>(domain.mesh->comm(), "flow_", _a, _bcs,
-                                     storage > 0 ? Structure::quasi_definite : Structure::general,
+                                     materials.min_stabilised_storage > 0 ? Structure::quasi_definite
+                                                                          : Structure::general,
                                      scene.solver.flow, fields());
   _b = std::make_unique<la::Vector<double>>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs());
 }

@@ -9,6 +9,7 @@
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
 #include "assembly/loads.h"
+#include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
 
@@ -26,10 +27,10 @@ class FlowStep
 {
 public:
   /// `V` is the displacement space of a coupled scene, null otherwise. With
-  /// L = 0 in `constants` (the second pass of "multirate-two-pass") the step
+  /// L = 0 in `materials` (the second pass of "multirate-two-pass") the step
   /// has no stabilisation term.
   FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-           const Constants& constants,
+           const Constants& constants, const Materials& materials,
            std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
   /// Solves for (z, p) at time t from the current coupling data below;

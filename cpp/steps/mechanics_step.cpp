@@ -15,21 +15,23 @@ namespace biotcontact
 using namespace dolfinx;
 
 MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                             const Constants& constants, std::shared_ptr<const fem::FunctionSpace> V,
+                             const Constants& constants, const Materials& materials,
+                             std::shared_ptr<const fem::FunctionSpace> V,
                              std::shared_ptr<const fem::Function<double>> pressure)
     : _scene(scene), _V(V)
 {
   u = std::make_shared<fem::Function<double>>(_V);
   // Dirichlet conditions, one per prescribed component of each boundary.
   _bcs = displacement_bcs(scene, domain, _V, _bc_values);
-  _a = make_form(forms.a_elastic, {_V, _V}, {}, constants);
+  _a = make_form(forms.a_elastic, {_V, _V}, materials.coefficients, constants);
   make_loads(domain, forms, constants);
   if (pressure)
   {
     // The pressure load (alpha p, div v) is applied as an operator on p.
     _pressure = pressure;
     _pressure_load.emplace(assemble_operator(
-        *make_form(forms.a_pressure_load, {_V, pressure->function_space()}, {}, constants), _bcs));
+        *make_form(forms.a_pressure_load, {_V, pressure->function_space()}, materials.coefficients, constants),
+        _bcs));
   }
 
   // a(u, v) does not change during a run: assembled once; with Dirichlet

@@ -9,6 +9,7 @@
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
 #include "assembly/loads.h"
+#include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
 
@@ -26,7 +27,8 @@ public:
   /// `V` is the P1 displacement space; `pressure` the pore pressure of a
   /// coupled scene, null otherwise.
   MechanicsStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                const Constants& constants, std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
+                const Constants& constants, const Materials& materials,
+                std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
                 std::shared_ptr<const dolfinx::fem::Function<double>> pressure);
   ~MechanicsStep();
   MechanicsStep(const MechanicsStep&) = delete;

@@ -34,14 +34,12 @@ void extract(const fem::Function<double>& x, const std::vector<std::int32_t>& ma
 } // namespace
 
 MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                               const Constants& constants)
+                               const Constants& constants, const Materials& materials)
     : _scene(scene)
 {
   make_spaces(domain, forms);
-  auto R = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(forms.flow_space, "resistivity", domain.mesh)));
-  interpolate_resistivity(*R, *scene.flow, domain.dim());
-  const Coefficients coefficients = {{"resistivity", R}, {"p_old", _p_old}, {"u_old", _u_old}};
+  Coefficients coefficients = materials.coefficients;
+  coefficients.insert({{"p_old", _p_old}, {"u_old", _u_old}});
   // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
   _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
   _bcs.push_back(flux_bc(scene, domain, _X->sub({1}), _fluxes));

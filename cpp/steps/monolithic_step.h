@@ -11,6 +11,7 @@
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
 #include "assembly/loads.h"
+#include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
 
@@ -26,7 +27,7 @@ class MonolithicStep
 {
 public:
   MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                 const Constants& constants);
+                 const Constants& constants, const Materials& materials);
   ~MonolithicStep();
   MonolithicStep(const MonolithicStep&) = delete;
   MonolithicStep& operator=(const MonolithicStep&) = delete;

@@ -1,11 +1,9 @@
 """Derived parameters of a scene and the constants and coefficients they set
 in the forms (cpp/assembly/parameters.cpp)."""
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene.scene import SceneError
 
 
 @dataclass
@@ -23,16 +21,18 @@ class Parameters:
     dt: float = 0.0       # fine (flow) step
 
 
-def derive_parameters(scene):
+def _material_parameters(scene, mechanics, flow, alpha):
+    """The parameters of one material: its moduli, storage, alpha and the L
+    that coupling.L chooses for them."""
     parameters = Parameters(d=scene.mesh.dimension, dt=scene.dt)
-    if scene.mechanics:
-        parameters.G, parameters.lmbda = scene.mechanics.G, scene.mechanics.lmbda
+    if mechanics:
+        parameters.G, parameters.lmbda = mechanics.G, mechanics.lmbda
         parameters.K_dr = parameters.lmbda + 2 * parameters.G / parameters.d
-    if scene.flow:
-        parameters.storage = scene.flow.storage()
+    if flow:
+        parameters.storage = flow.storage()
     if scene.coupling:
         c = scene.coupling
-        parameters.alpha, parameters.q = c.alpha, c.q
+        parameters.alpha, parameters.q = alpha, c.q
         a2 = parameters.alpha * parameters.alpha
         parameters.L = {"paper": lambda: a2 / parameters.lmbda, "kdr": lambda: a2 / parameters.K_dr,
                         "half-kdr": lambda: a2 / (2 * parameters.K_dr)}.get(c.L_choice, lambda: c.L_number)()
@@ -40,9 +40,17 @@ def derive_parameters(scene):
     return parameters
 
 
+def derive_parameters(scene, region=None):
+    """The parameters of the scene's top-level material, or of a region's."""
+    if region is None:
+        return _material_parameters(scene, scene.mechanics, scene.flow,
+                                    scene.coupling.alpha if scene.coupling else 0.0)
+    return _material_parameters(scene, region.mechanics, region.flow, region.alpha)
+
+
 def set_constants(F, scene, parameters):
     """The constants of forms/biot.py from the parameters (unused ones stay 0)."""
-    for name in ("G", "lmbda", "alpha", "storage", "L", "dt", "q"):
+    for name in ("dt", "q"):
         F[name].value = getattr(parameters, name)
     F["ones"].value = np.ones(parameters.d)
     if scene.flow and scene.flow.gravity:
@@ -67,21 +75,16 @@ def interpolate(f, components, t):
         f.interpolate(lambda x: np.vstack([c.at(x, t) for c in components]))
 
 
-def interpolate_resistivity(R, flow, d):
-    """mu_f K^-1 as a cell-wise d x d tensor: K from a scalar expression at
-    cell midpoints, or a constant tensor."""
-    def values(x):
-        v = np.zeros((d * d, x.shape[1]))
-        if flow.permeability is not None:
-            k = flow.permeability.at(x, 0.0)
-            for j in range(x.shape[1]):
-                if not (k[j] > 0) or not math.isfinite(k[j]):
-                    raise SceneError(f"flow.permeability: must be positive, got {k[j]:f} "
-                                     f"at ({x[0, j]:f}, {x[1, j]:f})")
-            for i in range(d):
-                v[i * d + i] = flow.mu_f / k
-        else:
-            K = np.array(flow.permeability_tensor).reshape(d, d)
-            v[:] = (flow.mu_f * np.linalg.inv(K)).reshape(-1, 1)
-        return v
-    R.interpolate(values)
+def resistivity(flow, d, x):
+    """mu_f K^-1 at the columns of x (d*d rows): K from a scalar expression,
+    or a constant tensor; and the columns where the expression is not positive."""
+    v = np.zeros((d * d, x.shape[1]))
+    if flow.permeability is not None:
+        k = np.broadcast_to(np.asarray(flow.permeability.at(x, 0.0), dtype=float), (x.shape[1],))
+        bad = np.flatnonzero(~((k > 0) & np.isfinite(k)))
+        for i in range(d):
+            v[i * d + i] = flow.mu_f / np.where(k > 0, k, 1.0)
+        return v, bad
+    K = np.array(flow.permeability_tensor).reshape(d, d)
+    v[:] = (flow.mu_f * np.linalg.inv(K)).reshape(-1, 1)
+    return v, np.zeros(0, dtype=int)

@@ -87,6 +87,7 @@ class Increments:
         self.du = None
         self.dsigma = 0.0    # ||delta sigma|| of Theorem 1 (q = 1) or 2 (multirate)
         self.theorem2 = 0.0  # Theorem 2's quantity (NaN without L)
+        self.residual = 0.0  # L times it, cell by cell ("coupled_residual")
         self.ratio = 0.0     # dsigma / the previous iteration's (NaN at n = 0)
         self.dp2 = self.p2 = 0.0
 
@@ -103,9 +104,10 @@ class FixedStressSplit:
     mechanics pass (eq. 4.20-4.22), contraction measure (Theorems 1 and 2),
     stopping test, next iterate, and accept or retry."""
 
-    def __init__(self, scene, parameters, F, flow, second_pass, mechanics, contraction, output, observer, report, comm,
-                 grid):
+    def __init__(self, scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
+                 report, comm, grid):
         self.scene, self.coupling, self.parameters, self.F = scene, scene.coupling, parameters, F
+        self.stabilised = materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
         self.flow, self.second_pass, self.mechanics = flow, second_pass, mechanics
         self.contraction, self.output, self.observer = contraction, output, observer
         self.report, self.comm, self.grid = report, comm, grid
@@ -183,27 +185,31 @@ class FixedStressSplit:
                                    w.w_new)
 
     def measure_contraction(self, w, n):
-        """The contraction quantities of this iteration's increments: Theorem 1,
+        """The contraction quantities of this iteration's increments, with the
+        coefficients of each cell's material: Theorem 1,
           delta sigma_v^{n+1} = lambda div(du) - alpha dp,
         for the single-rate split, Theorem 2,
           delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
         (summed over m in l2) for the multirate ones."""
-        parameters, q, contraction = self.parameters, self.q, self.contraction
+        q, contraction = self.q, self.contraction
         inc = Increments()
         inc.du = w.u_new - w.u_old
         dp_previous = np.zeros_like(self.p_K)
         for m in range(1, q + 1):
             dp = w.p_new[m] - w.p_old[m]
-            if parameters.L > 0:
-                inc.theorem2 += contraction(parameters.alpha / (q * parameters.L), inc.du, 1.0, dp - dp_previous) ** 2
+            if self.stabilised:
+                change = dp - dp_previous
+                inc.theorem2 += contraction("theorem2", inc.du if m == 1 else None, change) ** 2  # the same du
+                inc.residual += contraction("coupled_residual", None, change) ** 2
             dp_previous = dp
             inc.dp2 += owned_norm(dp, self.Q, self.comm) ** 2
             inc.p2 += owned_norm(w.p_new[m], self.Q, self.comm) ** 2
-        inc.theorem2 = math.sqrt(inc.theorem2) if parameters.L > 0 else math.nan
+        inc.theorem2 = math.sqrt(inc.theorem2) if self.stabilised else math.nan
+        inc.residual = math.sqrt(inc.residual)
         if self.coupling.multirate():
             inc.dsigma = inc.theorem2
         else:
-            inc.dsigma = contraction(parameters.lmbda, inc.du, parameters.alpha, w.p_new[1] - w.p_old[1])
+            inc.dsigma = contraction("theorem1", inc.du, w.p_new[1] - w.p_old[1])
         inc.ratio = inc.dsigma / w.dsigma_previous if n > 0 else math.nan
         return inc
 
@@ -223,10 +229,9 @@ class FixedStressSplit:
         if n == 0:
             w.dsigma_first = inc.dsigma
         if self.coupling.multirate():
-            size = (self.contraction(parameters.alpha / (q * parameters.L), w.u_new, 1.0, w.p_new[q])
-                    if parameters.L > 0 else math.nan)
+            size = self.contraction("theorem2", w.u_new, w.p_new[q]) if self.stabilised else math.nan
         else:
-            size = self.contraction(parameters.lmbda, w.u_new, parameters.alpha, w.p_new[1])
+            size = self.contraction("theorem1", w.u_new, w.p_new[1])
         resolved = (not self.accelerated and n > 1 and inc.dsigma >= RESOLVED_FRACTION * w.dsigma_first
                     and inc.dsigma >= ROUND_OFF_FRACTION * size)
         if n > 0 and not resolved:
@@ -280,12 +285,11 @@ class FixedStressSplit:
         """Coupled residual of an accepted state: the flow equations with
         u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
         = L delta sigma^{n+1,m}; relative to the fluid content change."""
-        parameters = self.parameters
-        if parameters.L <= 0:
+        if not self.stabilised:
             return
-        change = self.contraction(parameters.alpha, w.u_new - self.u_K, -parameters.storage, w.p_new[self.q] - self.p_K)
+        change = self.contraction("fluid_content", w.u_new - self.u_K, w.p_new[self.q] - self.p_K)
         self.report.max_coupled_residual = max(self.report.max_coupled_residual,
-                                               parameters.L * inc.theorem2 / change if change > 0 else 0.0)
+                                               inc.residual / change if change > 0 else 0.0)
 
     def iteration(self, w, n):
         """One coupling iteration n of window w; True when it converged."""
@@ -373,8 +377,8 @@ class FixedStressSplit:
         report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
 
 
-def run_fixed_stress(scene, parameters, F, flow, second_pass, mechanics, contraction, output, observer, report, comm,
-                     grid):
+def run_fixed_stress(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
+                     report, comm, grid):
     """Runs the coupled scene from t = 0 (or, when report.windows > 0, from
     the end of that window: a restart with the state loaded) to its end time
     on the steps of `grid` (which a retry refines), filling `report` as it
@@ -382,5 +386,5 @@ def run_fixed_stress(scene, parameters, F, flow, second_pass, mechanics, contrac
     logging every iteration) when a window does not converge; `report` then
     describes the run up to that window. `second_pass` is the flow step
     without L of "multirate-two-pass" (None for the other schemes)."""
-    FixedStressSplit(scene, parameters, F, flow, second_pass, mechanics, contraction, output, observer, report, comm,
-                     grid).run()
+    FixedStressSplit(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
+                     report, comm, grid).run()

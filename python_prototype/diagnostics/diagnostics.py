@@ -9,12 +9,27 @@ from ..assembly.linear_algebra import accumulate_ghosts, add_vector, assemble_op
 
 
 class ContractionNorm:
-    """||c_u div(du) - c_p dp||_L2 (cpp/diagnostics/diagnostics.h): with D the operator of
-    the cell integrals of div and |T| the cell volumes, for P1 du and P0 dp
-    exactly sum_T (c_u (D du)_T - c_p |T| dp_T)^2 / |T|."""
+    """The norms ||c_u div(du) - c_p dp||_L2 of the coupling with cell-wise
+    coefficients from the materials of the cells (cpp/diagnostics/diagnostics.h):
+    "theorem1" (lambda w, alpha w; w = sqrt(lambda_max/lambda)), "theorem2"
+    (alpha/(q L), 1; 0 where L = 0),
+    "coupled_residual" (alpha/q, L) and "fluid_content" (alpha, -S). With D
+    the operator of the cell integrals of div and |T| the cell volumes, for
+    P1 du and P0 dp exactly sum_T (c_u,T (D du)_T - c_p,T |T| dp_T)^2 / |T|."""
 
-    def __init__(self, F, comm):
+    def __init__(self, F, q, comm):
         self.comm = comm
+        lmbda, alpha, storage, L = (F[name].x.array.copy() for name in ("lmbda", "alpha", "storage", "L"))
+        # Theorem 1 holds with the largest gamma in the norm weighted by
+        # lambda_max/lambda (docs/theory.md, "Material regions"); the plain
+        # norm where lambda is constant, and where some lambda <= 0.
+        lambda_max = comm.allreduce(float(lmbda.max(initial=0.0)), op=MPI.MAX)
+        lambda_min = comm.allreduce(float(lmbda.min(initial=np.inf)), op=MPI.MIN)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w = np.sqrt(lambda_max / lmbda) if lambda_min > 0 else np.ones_like(lmbda)
+            alpha_qL = np.where(L > 0, alpha / (q * L), 0.0)
+        self.coefficients = {"theorem1": (lmbda * w, alpha * w), "theorem2": (alpha_qL, np.ones_like(L)),
+                             "coupled_residual": (alpha / q, L), "fluid_content": (alpha, -storage)}
         self.D = assemble_operator(F.compile("a_divergence"), [])
         self.volume = fem.Function(F["Q"])
         add_vector(self.volume, F.compile("L_cell_volume"))
@@ -22,10 +37,14 @@ class ContractionNorm:
         self.du, self.div_du = fem.Function(F["V"]), fem.Function(F["Q"])
         self.cells = F["Q"].dofmap.index_map.size_local
 
-    def __call__(self, c_u, du, c_p, dp):
-        self.du.x.array[:] = du
-        self.D.mult(self.du.vector, self.div_du.vector)
+    def __call__(self, quantity, du, dp):
+        """The norm of `quantity` with the increments du and dp; du None
+        keeps the last one's D du."""
+        if du is not None:
+            self.du.x.array[:] = du
+            self.D.mult(self.du.vector, self.div_du.vector)
         n = self.cells
+        c_u, c_p = (c[:n] for c in self.coefficients[quantity])
         volume = self.volume.x.array[:n]
         w = c_u * self.div_du.x.array[:n] - c_p * volume * dp[:n]
         return np.sqrt(self.comm.allreduce(float(np.sum(w * w / volume)), op=MPI.SUM))

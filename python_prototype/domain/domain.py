@@ -16,14 +16,16 @@ from dolfinx.cpp.graph import AdjacencyList_int32
 from dolfinx.cpp.mesh import entities_to_geometry
 
 from ..scene.scene import SceneError, agree_on_error
+from .regions import locate_regions, regions_of_groups
 
 BOUNDARY_MARKER = 1  # forms/biot.py integrates ds(1)
 
 
 class Domain:
-    def __init__(self, mesh, boundaries):
+    def __init__(self, mesh, boundaries, regions):
         self.mesh = mesh
         self.boundaries = boundaries  # name -> sorted local exterior facet indices
+        self.regions = regions        # the material region of each cell (CellRegions)
         self.dim = mesh.topology.dim
 
     def marker(self, name=None, facets=None):
@@ -42,9 +44,23 @@ def _box_faces(d):
             "bottom": (2, True), "top": (2, False)}
 
 
-def _read_gmsh_file(file, d, refine):
-    """Rank 0: nodes, simplices, and the facets of each physical group of dimension d-1."""
+def _cell_groups(gmsh, d, element_tags):
+    """The input indices of the cells of each named physical group of cells."""
+    position = {int(t): i for i, t in enumerate(element_tags)}
+    groups = {}
+    for dim, tag in gmsh.model.getPhysicalGroups(d):
+        cells = groups.setdefault(gmsh.model.getPhysicalName(dim, tag) or f"group{tag}", [])
+        for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+            etags, _ = gmsh.model.mesh.getElementsByType(2 if d == 2 else 4, entity)
+            cells += [position[int(t)] for t in etags]
+    return groups
+
+
+def _read_gmsh_file(scene):
+    """Rank 0: nodes, simplices, the facets of each physical group of
+    dimension d-1 and the region of each cell."""
     import gmsh
+    file, d, refine = scene.mesh.file, scene.mesh.dimension, scene.mesh.refine
     gmsh.initialize()
     gmsh.option.setNumber("General.Terminal", 0)
     try:
@@ -56,8 +72,9 @@ def _read_gmsh_file(file, d, refine):
         tags, coords, _ = gmsh.model.mesh.getNodes(-1, -1, False, False)
         index = {int(t): i for i, t in enumerate(tags)}
         x = np.asarray(coords).reshape(-1, 3)[:, :d].copy()
-        _, node_tags = gmsh.model.mesh.getElementsByType(2 if d == 2 else 4)
+        element_tags, node_tags = gmsh.model.mesh.getElementsByType(2 if d == 2 else 4)
         cells = np.array([index[int(t)] for t in node_tags], dtype=np.int64).reshape(-1, d + 1)
+        cell_region = regions_of_groups(scene, len(element_tags), _cell_groups(gmsh, d, element_tags))
         facets, groups, names = [], [], []
         for dim, tag in gmsh.model.getPhysicalGroups(d - 1):
             names.append(gmsh.model.getPhysicalName(dim, tag) or f"group{tag}")
@@ -65,6 +82,9 @@ def _read_gmsh_file(file, d, refine):
                 etags, ntags = gmsh.model.mesh.getElementsByType(1 if d == 2 else 2, entity)
                 facets += [index[int(t)] for t in ntags]
                 groups += [len(names) - 1] * len(etags)
+    except SceneError:
+        gmsh.finalize()
+        raise
     except Exception as e:
         gmsh.finalize()
         raise SceneError(f"{file}: cannot read the gmsh file: {e}") from None
@@ -73,7 +93,7 @@ def _read_gmsh_file(file, d, refine):
         kind = "triangles" if d == 2 else "tetrahedra"
         raise SceneError(f"{file}: no {kind} in the mesh (mesh.dimension = {d})")
     x, cells, facets = _drop_unused_nodes(x, cells, np.array(facets, dtype=np.int64).reshape(-1, d))
-    return x, cells, facets, np.array(groups, dtype=np.int32), names
+    return x, cells, facets, np.array(groups, dtype=np.int32), names, cell_region
 
 
 def _drop_unused_nodes(x, cells, facets):
@@ -90,7 +110,7 @@ def _read_gmsh(scene, comm):
     data, error = None, None
     if comm.rank == 0:
         try:
-            data = _read_gmsh_file(scene.mesh.file, d, scene.mesh.refine)
+            data = _read_gmsh_file(scene)
         except SceneError as e:
             error = str(e)
     # Every rank learns the outcome and the boundary names.
@@ -99,8 +119,8 @@ def _read_gmsh(scene, comm):
         raise SceneError(error)
     if comm.rank != 0:
         data = (np.zeros((0, d)), np.zeros((0, d + 1), dtype=np.int64), np.zeros((0, d), dtype=np.int64),
-                np.zeros(0, dtype=np.int32), names)
-    x, cells, facets, groups, _ = data
+                np.zeros(0, dtype=np.int32), names, None)
+    x, cells, facets, groups, _, cell_region = data
     cell = ufl.triangle if d == 2 else ufl.tetrahedron
     mesh = dmesh.create_mesh(comm, cells, x, ufl.Mesh(ufl.VectorElement("Lagrange", cell, 1)))
     mesh.topology.create_connectivity(d - 1, d)
@@ -113,7 +133,7 @@ def _read_gmsh(scene, comm):
             known = ", ".join(names) or "none"
             raise SceneError(f"{scene.file}: boundary.{name}: unknown boundary name ({scene.mesh.file} has "
                              f"physical groups {known})")
-    return Domain(mesh, boundaries)
+    return Domain(mesh, boundaries, locate_regions(scene, mesh, cell_region))
 
 
 def create_domain(scene, comm):
@@ -134,7 +154,7 @@ def create_domain(scene, comm):
         tol = 1e-10 * (m.upper[axis] - m.lower[axis])
         boundaries[name] = np.sort(dmesh.locate_entities_boundary(
             mesh, d - 1, lambda x, a=axis, v=value, tol=tol: np.abs(x[a] - v) < tol)).astype(np.int32)
-    return Domain(mesh, boundaries)
+    return Domain(mesh, boundaries, locate_regions(scene, mesh, None))
 
 
 def check_expressions(scene, domain, comm):
@@ -171,6 +191,11 @@ def check_expressions(scene, domain, comm):
         if scene.flow.permeability is not None:
             uses.append(("flow.permeability", scene.flow.permeability, midpoints, False))
         uses.append(("flow.initial_pressure", scene.flow.initial_pressure, midpoints, False))
+    for name, r in sorted(scene.regions.items()):
+        if r.where is not None:
+            uses.append((f"region.{name}.where", r.where, midpoints, False))
+        if r.flow is not None and r.flow.permeability is not None:
+            uses.append((f"region.{name}.permeability", r.flow.permeability, midpoints, False))
 
     index, message = len(uses), ""
     for k, (key, e, p, at_end) in enumerate(uses):

@@ -249,6 +249,17 @@ class WellSpec:
 
 
 @dataclass
+class RegionSpec:
+    """A material region: the cells of a gmsh physical group of cells, or
+    those whose midpoint satisfies `where`, whose physics are the scene's own
+    with some material values replaced (cpp/scene/scene.h)."""
+    where: Optional[Expression] = None
+    mechanics: Optional[MechanicsSpec] = None  # the scene's [mechanics] with the region's moduli
+    flow: Optional[FlowSpec] = None            # the scene's [flow] with the region's M, c_f, phi0, permeability
+    alpha: float = 0.0                         # the scene's alpha or the region's
+
+
+@dataclass
 class Scene:
     file: str = ""
     name: str = ""
@@ -256,6 +267,7 @@ class Scene:
     mesh: MeshSpec = field(default_factory=MeshSpec)
     boundaries: dict = field(default_factory=dict)  # sorted by name
     wells: dict = field(default_factory=dict)       # sorted by name
+    regions: dict = field(default_factory=dict)     # sorted by name; cells in none take the top-level values
     mechanics: Optional[MechanicsSpec] = None
     flow: Optional[FlowSpec] = None
     coupling: Optional[CouplingSpec] = None
@@ -584,6 +596,7 @@ def read_scene(file, overrides=()):
     _read_solver(top.section("solver", False), scene.solver)
     _read_boundaries(top.section("boundary", False), scene)
     _read_wells(top.section("well", False), scene)
+    _read_regions(top.section("region", False), root, scene)
     if top.has("reference"):
         _read_reference(top.section("reference", True), scene)
     top.finish()
@@ -720,6 +733,65 @@ def _read_wells(wells, scene):
     wells.finish()
 
 
+_MECHANICS_KEYS = ("E", "nu", "G", "lambda")
+_FLOW_KEYS = ("M", "c_f", "phi0", "permeability")
+
+
+def _region_physics(root, physics, region, keys):
+    """A copy of the scene's table `physics` with the region's values of
+    `keys` in place of its own; giving one of a pair of moduli drops the
+    other pair from the copy (E, nu replace G, lambda)."""
+    merged = dict(root[physics])
+    if any(k in region for k in ("E", "nu")):
+        merged.pop("G", None), merged.pop("lambda", None)
+    if any(k in region for k in ("G", "lambda")):
+        merged.pop("E", None), merged.pop("nu", None)
+    merged.update({k: region[k] for k in keys if k in region})
+    return merged
+
+
+def _check_region_keys(s, scene):
+    """Each key of a region is a material value of a physics the scene has."""
+    for key in s.keys():
+        mechanics, flow = key in _MECHANICS_KEYS, key in _FLOW_KEYS
+        if key not in ("where", "alpha") and not mechanics and not flow:
+            s.fail(key, "unknown key (a region may set where, E, nu, G, lambda, alpha, M, c_f, phi0, permeability)")
+        if (mechanics and not scene.mechanics) or (flow and not scene.flow) or (key == "alpha" and not scene.coupling):
+            s.fail(key, "the scene has no [" + ("mechanics" if mechanics else "flow" if flow else "coupling")
+                   + "] whose value a region could replace")
+        s.node(key)
+
+
+def _read_regions(regions, root, scene):
+    """[region.NAME] (cpp/scene/scene.cpp read_regions): each region's physics
+    are read by the readers of the scene's own tables, so errors name
+    region.NAME.KEY; which cells it holds is settled with the domain."""
+    d = scene.mesh.dimension
+    for name in regions.keys():
+        s = regions.section(name, True)
+        _check_region_keys(s, scene)
+        r = RegionSpec(where=s.expression("where"))
+        if r.where is not None and (r.where.depends_on_time or r.where.is_constant):
+            s.fail("where", "must be an expression of x, y, z (the cell midpoints it selects)")
+        if scene.mesh.type != "gmsh" and r.where is None:
+            s.fail("where", "missing (on a built-in mesh a region is the cells whose midpoint satisfies where)")
+        if scene.mechanics:
+            merged = _region_physics(root, "mechanics", s.table, _MECHANICS_KEYS)
+            r.mechanics = _read_mechanics(Section(merged, regions.name(name), scene.file), d)
+        if scene.flow:
+            merged = _region_physics(root, "flow", s.table, _FLOW_KEYS)
+            r.flow = _read_flow(Section(merged, regions.name(name), scene.file), d)
+        if scene.coupling:
+            r.alpha = s.number("alpha", scene.coupling.alpha)
+            if not (0 <= r.alpha <= 1):
+                s.fail("alpha", "the Biot coefficient must lie in [0, 1]")
+            if scene.coupling.L_choice == "paper" and not r.mechanics.lmbda > 0:
+                s.fail("lambda", 'coupling.L = "paper" (alpha^2/lambda) needs lambda > 0; use "kdr"')
+        s.finish()
+        scene.regions[name] = r
+    regions.finish()
+
+
 def _impose_mandel_plate(r, scene, ref):
     """Mandel's rigid frictionless plate, imposed as the exact u_y on the
     boundary ref.plate (the usual set-up; docs/verification.md)."""
@@ -750,6 +822,8 @@ def _read_reference(r, scene):
         r.fail("solution", ref.solution + " needs a coupled scene on a rectangle")
     if scene.flow.permeability is None or not scene.flow.permeability.is_constant:
         r.fail("solution", ref.solution + " needs a constant scalar flow.permeability")
+    if scene.regions:
+        r.fail("solution", ref.solution + " is the closed form of a homogeneous medium: the scene has regions")
     if ref.solution == "terzaghi":
         ref.load = r.number("load")
         ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]

@@ -6,7 +6,7 @@ from dolfinx import fem
 
 from ..solvers.field_split import Field
 from ..assembly.loads import Loads
-from ..assembly.parameters import interpolate, interpolate_resistivity
+from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
                                        owned_global_dofs, reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure
@@ -22,16 +22,15 @@ class FlowStep:
     p_iterate_previous (p^{n,m-1}), u_iterate (u^n), u_window (u_K), applied
     as operators (forms/biot.py) assembled once per dt."""
 
-    def __init__(self, scene, domain, F, coupled):
-        """With L = 0 in F (the second pass of "multirate-two-pass") the step
-        has no stabilisation term."""
+    def __init__(self, scene, domain, F, materials, coupled):
+        """With L = 0 in F and `materials` (the second pass of
+        "multirate-two-pass") the step has no stabilisation term."""
         self.scene, self.F = scene, F
         flow, comm = scene.flow, domain.mesh.comm
         W = F["W"]
         self.Z, self.Z_to_W = W.sub(0).collapse()
         self.Q = F["Q"]
         self.Q_to_W = dof_map(self.Q, W.sub(1))
-        interpolate_resistivity(F["resistivity"], flow, domain.dim)
 
         self.w = fem.Function(W)
         self.z = fem.Function(self.Z)
@@ -52,7 +51,7 @@ class FlowStep:
         # The terms that change every coupling iteration, as operators on the
         # iterates (W x Q, W x Q, W x V), assembled once per dt.
         operands = [("a_flow_storage", self.p_previous)]
-        if coupled and float(F["L"].value) > 0:
+        if coupled and materials.max_L > 0:
             operands.append(("a_flow_stabilisation", self.dp))
         if coupled:
             operands.append(("a_flow_displacement", self.du))
@@ -62,10 +61,9 @@ class FlowStep:
             self.operators.append((a, assemble_operator(a, self.bcs), x))
 
         self.assembly_time = 0.0  # right-hand sides
-        # Quasi-definite when S + L > 0 (cpp/steps/flow_step.cpp): factorised once per dt.
-        storage = float(F["storage"].value) + float(F["L"].value)
+        # Quasi-definite when S + L > 0 in every cell (cpp/steps/flow_step.cpp): factorised once per dt.
         self.system = System(comm, "flow_", self.a, self.bcs,
-                             Structure.quasi_definite if storage > 0 else Structure.general,
+                             Structure.quasi_definite if materials.min_stabilised_storage > 0 else Structure.general,
                              scene.solver.flow, self.fields(W))
         self.b = fem.Function(W)
 

@@ -8,7 +8,7 @@ from dolfinx import fem
 from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
-from ..assembly.parameters import interpolate, interpolate_resistivity
+from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
 from ..solvers.solver import Structure
@@ -31,7 +31,6 @@ class MonolithicStep:
         self.u_old, self.p_old = F["u_old"], F["p_old"]
         interpolate(self.pressure, [scene.flow.initial_pressure], 0.0)
         self.x.x.array[self.Q_to_X] = self.pressure.x.array  # the first guess of a contact solve
-        interpolate_resistivity(F["resistivity"], scene.flow, domain.dim)
 
         # Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
         self.bcs, self.bc_values = displacement_bcs(scene, domain, X.sub(0))

@@ -1,0 +1,138 @@
+#include "assembly/materials.h"
+
+#include <algorithm>
+#include <dolfinx/fem/utils.h>
+#include <limits>
+#include <sstream>
+#include <xtensor/xarray.hpp>
+#include <xtensor/xtensor.hpp>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+using Function = fem::Function<double>;
+
+/// Interpolates into a DG0 function a value per cell: `value(cell, x, out)`
+/// writes the components at the cell's midpoint x (dolfinx interpolates into
+/// DG0 at one point per cell, the cells in their local order).
+void set_per_cell(Function& f, int components, const std::function<void(std::size_t, const double*, double*)>& value)
+{
+  f.interpolate(
+      [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
+      {
+        const std::size_t n = x.shape(1);
+        xt::xarray<double> v = components == 1 ? xt::xarray<double>::from_shape({n})
+                                               : xt::xarray<double>::from_shape({std::size_t(components), n});
+        std::vector<double> point(3), out(components);
+        for (std::size_t j = 0; j < n; ++j)
+        {
+          for (int i = 0; i < 3; ++i)
+            point[i] = x(i, j);
+          value(j, point.data(), out.data());
+          for (int i = 0; i < components; ++i)
+            v.data()[i * n + j] = out[i];
+        }
+        return v;
+      });
+}
+
+/// mu_f K^-1 cell by cell; the key of the first permeability that is not
+/// positive on this rank, or an empty string.
+std::string set_resistivity(Function& R, const Scene& scene, const CellRegions& cells, int d)
+{
+  std::vector<const FlowSpec*> flows;
+  for (const std::string& name : cells.names)
+    flows.push_back(&*scene.regions.at(name).flow);
+  std::string error;
+  set_per_cell(R, d * d,
+               [&](std::size_t c, const double* x, double* out)
+               {
+                 const int r = cells.region[c];
+                 const std::vector<double> values = resistivity(r < 0 ? *scene.flow : *flows[r], d, x);
+                 if (values.empty() and error.empty())
+                 {
+                   std::ostringstream where;
+                   where << (r < 0 ? "flow" : "region." + cells.names[r]) << ".permeability: must be positive at ("
+                         << x[0] << ", " << x[1];
+                   if (d == 3)
+                     where << ", " << x[2];
+                   where << ")";
+                   error = scene.file + ": " + where.str();
+                 }
+                 std::copy_n(values.empty() ? std::vector<double>(d * d, 1.0).data() : values.data(), d * d, out);
+               });
+  return error;
+}
+
+/// Over the materials that hold cells: the largest gamma and L, the smallest S + L.
+void summarise(Materials& m, const CellRegions& cells)
+{
+  std::vector<const Parameters*> used;
+  if (cells.outside > 0)
+    used.push_back(&m.top);
+  for (std::size_t r = 0; r < m.regions.size(); ++r)
+    used.push_back(&m.regions[r]);
+  m.gamma = m.max_L = 0;
+  m.min_storage = m.min_stabilised_storage = std::numeric_limits<double>::infinity();
+  for (const Parameters* p : used)
+  {
+    m.gamma = std::max(m.gamma, p->gamma);
+    m.max_L = std::max(m.max_L, p->L);
+    m.min_storage = std::min(m.min_storage, p->storage);
+    m.min_stabilised_storage = std::min(m.min_stabilised_storage, p->storage + p->L);
+  }
+}
+} // namespace
+
+Materials make_materials(const Scene& scene, const Domain& domain, const CompiledForms& forms)
+{
+  Materials m;
+  m.top = derive_parameters(scene);
+  for (const std::string& name : domain.regions.names)
+    m.regions.push_back(derive_parameters(scene, scene.regions.at(name)));
+  summarise(m, domain.regions);
+  auto Q = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.material_space, "G", domain.mesh));
+  const std::vector<std::int32_t>& region = domain.regions.region;
+  const std::pair<const char*, double Parameters::*> scalars[]
+      = {{"G", &Parameters::G}, {"lmbda", &Parameters::lambda}, {"alpha", &Parameters::alpha},
+         {"storage", &Parameters::storage}, {"L", &Parameters::L}};
+  for (const auto& [name, member] : scalars)
+  {
+    auto f = std::make_shared<Function>(Q);
+    set_per_cell(*f, 1, [&, member = member](std::size_t c, const double*, double* out)
+                 { *out = region[c] < 0 ? m.top.*member : m.regions[region[c]].*member; });
+    m.coefficients[name] = f;
+  }
+  auto R = std::make_shared<Function>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.flow_space, "resistivity", domain.mesh)));
+  if (scene.flow)
+    agree_on_error(set_resistivity(*R, scene, domain.regions, domain.dim()), domain.mesh->comm());
+  m.coefficients["resistivity"] = R;
+  return m;
+}
+
+Materials Materials::without_stabilisation() const
+{
+  Materials m = *this;
+  auto L = std::make_shared<Function>(coefficients.at("L")->function_space());
+  m.coefficients["L"] = L; // zero
+  m.top.L = 0;
+  for (Parameters& p : m.regions)
+    p.L = 0;
+  m.max_L = 0;
+  m.min_stabilised_storage = min_storage;
+  return m;
+}
+
+std::vector<double> Materials::on(const std::string& name, std::shared_ptr<const fem::FunctionSpace> Q) const
+{
+  Function f(Q);
+  f.interpolate(*coefficients.at(name));
+  const std::span<const double> x = f.x()->array();
+  return std::vector<double>(x.begin(), x.end());
+}
+
+} // namespace biotcontact

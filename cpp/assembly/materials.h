@@ -1,0 +1,51 @@
+// The material coefficients of the forms, cell by cell: the scene's
+// top-level values in cells in no region, a region's own in its cells.
+#pragma once
+
+#include "assembly/forms.h"
+#include "assembly/parameters.h"
+#include "domain/domain.h"
+
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief The material coefficients of forms/biot.py, one value per cell
+/// (DG0): G, lmbda, alpha, storage S, the fixed-stress L and the
+/// resistivity mu_f K^-1 (a d x d tensor).
+///
+/// L is cell-wise too: coupling.L = "paper" is alpha_K^2/lambda_K, "kdr"
+/// alpha_K^2/K_dr,K, a number the same everywhere (docs/theory.md,
+/// "Material regions"). A homogeneous scene has constant coefficients and
+/// the same arithmetic as scalar constants.
+struct Materials
+{
+  /// By UFL name: "G", "lmbda", "alpha", "storage", "L", "resistivity".
+  Coefficients coefficients;
+  /// The parameters of the top-level material and of each region (in the
+  /// order of CellRegions::names).
+  Parameters top;
+  std::vector<Parameters> regions;
+  /// Over the materials that hold cells: the largest gamma, the largest L
+  /// and the smallest S and S + L (whether the flow matrix is quasi-definite).
+  double gamma = 0, max_L = 0, min_storage = 0, min_stabilised_storage = 0;
+
+  /// The same coefficients with L = 0 (the second pass of "multirate-two-pass").
+  Materials without_stabilisation() const;
+
+  /// The values of coefficient `name` (a scalar) in the DOF order of the DG0
+  /// space Q, ghosts included: the cell-wise coefficients of the contraction
+  /// quantities.
+  std::vector<double> on(const std::string& name, std::shared_ptr<const dolfinx::fem::FunctionSpace> Q) const;
+};
+
+/// The materials of a scene on its domain; throws SceneError naming the
+/// permeability (flow.permeability or region.NAME.permeability) where it is
+/// not positive (collective).
+Materials make_materials(const Scene& scene, const Domain& domain, const CompiledForms& forms);
+
+} // namespace biotcontact

@@ -1,0 +1,36 @@
+// A column of three layers (1 m wide, 10 m high; interfaces at y = 3 and
+// y = 6): the cell groups "underburden", "reservoir" and "caprock" and the
+// boundaries left, right, bottom and top (each side made of three curves).
+SetFactory("Built-in");
+h = 0.5;
+Point(1) = {0, 0, 0, h};
+Point(2) = {1, 0, 0, h};
+Point(3) = {1, 3, 0, h};
+Point(4) = {0, 3, 0, h};
+Point(5) = {1, 6, 0, h};
+Point(6) = {0, 6, 0, h};
+Point(7) = {1, 10, 0, h};
+Point(8) = {0, 10, 0, h};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Line(5) = {3, 5};
+Line(6) = {5, 6};
+Line(7) = {6, 4};
+Line(8) = {5, 7};
+Line(9) = {7, 8};
+Line(10) = {8, 6};
+Curve Loop(1) = {1, 2, 3, 4};
+Curve Loop(2) = {-3, 5, 6, 7};
+Curve Loop(3) = {-6, 8, 9, 10};
+Plane Surface(1) = {1};
+Plane Surface(2) = {2};
+Plane Surface(3) = {3};
+Physical Curve("bottom") = {1};
+Physical Curve("right") = {2, 5, 8};
+Physical Curve("top") = {9};
+Physical Curve("left") = {4, 7, 10};
+Physical Surface("underburden") = {1};
+Physical Surface("reservoir") = {2};
+Physical Surface("caprock") = {3};
