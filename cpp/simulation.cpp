@@ -574,7 +574,7 @@ void Simulation::describe()
     leave_out("contact solver (no contact boundary): linear mechanics solve");
   if (_scene.flow and !_scene.flow->gravity)
     leave_out("gravity");
-  if (_scene.mechanics and !_scene.mechanics->body_force)
+  if (_scene.mechanics and !_scene.mechanics->body_force and !_scene.cellwise_body_force())
     leave_out("body force");
   const int d = _domain->dim();
   _progress.say("biotcontact: scene " + _scene.name + " (" + _scene.file + "), " + std::to_string(d) + "D, "

@@ -102,6 +102,7 @@ def _data(domain, o, coefficient, constant):
     V, Q, D = o["V"], o["Q"], o["D"]
     data = {"resistivity": coefficient(o["R"]),   # mu_f K^-1, cell-wise tensor
             "body_force": coefficient(V),         # f0
+            "body_force_cells": coefficient(o["Qv"]),  # f0 cell by cell (regions with their own)
             "traction": coefficient(V),           # f2 on the marked boundary
             "ones": constant(domain, (d,)),
             "p_old": coefficient(Q),              # the pressure of the previous time (monolithic)
@@ -136,8 +137,8 @@ class _Terms:
     def mass(self, z, p, th, s):    # -(div z, th) - (s/dt)(p, th): mass balance times -1
         return -div(z) * th * dx - s / self.o["dt"] * p * th * dx
 
-    def body(self, v):
-        return inner(self.o["body_force"], v) * dx
+    def body(self, v, f="body_force"):
+        return inner(self.o[f], v) * dx
 
     def surface_traction(self, v):
         return inner(self.o["traction"], v) * ufl.ds(BOUNDARY)
@@ -166,6 +167,7 @@ def _mechanics_forms(o, terms):
         # assembled once and applied to p.
         "a_pressure_load": terms.pressure_load(ufl.TrialFunction(o["Q"]), v),
         "L_body_force": terms.body(v),
+        "L_body_force_cells": terms.body(v, "body_force_cells"),
         "L_traction": terms.surface_traction(v),
         # The lumped boundary measure of each node on Gamma_3, to turn the
         # nodal contact force into a contact pressure.
@@ -228,6 +230,7 @@ def _monolithic_forms(o, terms):
         "L_monolithic_history": (-storage / dt * o["p_old"] * th * dx
                                  - alpha / dt * div(o["u_old"]) * th * dx),
         "L_monolithic_body_force": terms.body(v),
+        "L_monolithic_body_force_cells": terms.body(v, "body_force_cells"),
         "L_monolithic_traction": terms.surface_traction(v),
         "L_monolithic_source": terms.source(th),
         "L_monolithic_pressure": terms.boundary_pressure(w),

@@ -380,7 +380,7 @@ class Simulation:
             left_out.append("contact solver (no contact boundary): linear mechanics solve")
         if scene.flow and not scene.flow.gravity:
             left_out.append("gravity")
-        if scene.mechanics and not scene.mechanics.body_force:
+        if scene.mechanics and not scene.mechanics.body_force and not scene.cellwise_body_force():
             left_out.append("body force")
         self.left_out = "; ".join(left_out)
         self.progress.say(f"biotcontact (python prototype): scene {scene.name} ({scene.file}), {d}D, "

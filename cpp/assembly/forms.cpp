@@ -14,6 +14,7 @@ namespace biotcontact
   forms.displacement_space = functionspace_form_biot_##cell##_a_elastic;                      \
   forms.flow_space = functionspace_form_biot_##cell##_a_flow;                                 \
   forms.material_space = functionspace_form_biot_##cell##_a_elastic;                          \
+  forms.cell_vector_space = functionspace_form_biot_##cell##_L_body_force_cells;              \
   forms.data_space = functionspace_form_biot_##cell##_L_flow_source;                          \
   forms.pressure_reference_space = functionspace_form_biot_##cell##_M_pressure_error;         \
   forms.displacement_reference_space = functionspace_form_biot_##cell##_M_displacement_error; \

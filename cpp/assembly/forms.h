@@ -29,6 +29,7 @@ struct CompiledForms
   SpaceFactory displacement_space;           // "v_0" of a_elastic (P1 vector)
   SpaceFactory flow_space;                   // "v_0" (RT x P0), "resistivity" of a_flow
   SpaceFactory material_space;               // "G" of a_elastic (DG0): the cell-wise materials
+  SpaceFactory cell_vector_space;            // "body_force_cells" of L_body_force_cells (DG0 vector)
   SpaceFactory data_space;                   // "source" of L_flow_source (P1)
   SpaceFactory pressure_reference_space;     // "p_reference" (P2)
   SpaceFactory displacement_reference_space; // "u_reference" (P2 vector)

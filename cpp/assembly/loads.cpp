@@ -16,9 +16,19 @@ Loads::Loads(std::shared_ptr<const common::IndexMap> map, int bs,
 void Loads::add(std::shared_ptr<const fem::Form<double>> form, std::shared_ptr<fem::Function<double>> data,
                 std::vector<Expression> expressions)
 {
+  bool time_dependent = false;
   for (const Expression& e : expressions)
-    _time_dependent = _time_dependent or e.depends_on_time();
-  _terms.push_back({std::move(form), std::move(data), std::move(expressions)});
+    time_dependent = time_dependent or e.depends_on_time();
+  add(std::move(form), std::move(data),
+      [expressions = std::move(expressions)](fem::Function<double>& f, double t) { interpolate(f, expressions, t); },
+      time_dependent);
+}
+
+void Loads::add(std::shared_ptr<const fem::Form<double>> form, std::shared_ptr<fem::Function<double>> data,
+                std::function<void(fem::Function<double>&, double)> fill, bool time_dependent)
+{
+  _time_dependent = _time_dependent or time_dependent;
+  _terms.push_back({std::move(form), std::move(data), std::move(fill)});
 }
 
 void Loads::add_boundary(
@@ -50,7 +60,7 @@ const la::Vector<double>& Loads::at(double t)
   for (const Term& term : _terms)
   {
     if (term.data)
-      interpolate(*term.data, term.expressions, t);
+      term.fill(*term.data, t);
     add_vector(b, *term.form);
   }
   _finish(b, t);

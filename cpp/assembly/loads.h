@@ -40,6 +40,11 @@ public:
   void add(std::shared_ptr<const dolfinx::fem::Form<double>> form,
            std::shared_ptr<dolfinx::fem::Function<double>> data = nullptr, std::vector<Expression> expressions = {});
 
+  /// Adds the term `form`, whose coefficient `data` is set by `fill(data, t)`
+  /// at each time (when `time_dependent`, else once).
+  void add(std::shared_ptr<const dolfinx::fem::Form<double>> form, std::shared_ptr<dolfinx::fem::Function<double>> data,
+           std::function<void(dolfinx::fem::Function<double>&, double)> fill, bool time_dependent);
+
   /// Adds the term of a load on boundary `name`: `make(marker)` builds its
   /// form with the ds(1) integrals on that boundary's facets.
   void add_boundary(const Domain& domain, const std::string& name,
@@ -61,7 +66,7 @@ private:
   {
     std::shared_ptr<const dolfinx::fem::Form<double>> form;
     std::shared_ptr<dolfinx::fem::Function<double>> data;
-    std::vector<Expression> expressions;
+    std::function<void(dolfinx::fem::Function<double>&, double)> fill; // of data at t
   };
   std::shared_ptr<const dolfinx::common::IndexMap> _map;
   int _bs;

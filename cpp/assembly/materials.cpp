@@ -114,6 +114,54 @@ Materials make_materials(const Scene& scene, const Domain& domain, const Compile
   return m;
 }
 
+namespace
+{
+/// Each cell's body force at time t: its material's, zero where none is given.
+void set_body_force(Function& f, const Scene& scene, const CellRegions& cells, int d, double t)
+{
+  std::vector<const std::optional<std::vector<Expression>>*> forces = {&scene.mechanics->body_force};
+  for (const std::string& name : cells.names)
+    forces.push_back(&scene.regions.at(name).mechanics->body_force);
+  set_per_cell(f, d,
+               [&](std::size_t c, const double* x, double* out)
+               {
+                 const auto& force = *forces[cells.region[c] + 1];
+                 for (int i = 0; i < d; ++i)
+                   out[i] = force ? (*force)[i](x, t) : 0.0;
+               });
+}
+} // namespace
+
+void add_body_force(Loads& loads, const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                    const ufcx_form* nodal, const ufcx_form* cellwise,
+                    const std::vector<std::shared_ptr<const fem::FunctionSpace>>& spaces,
+                    std::shared_ptr<const fem::FunctionSpace> V, const Constants& constants)
+{
+  if (!scene.cellwise_body_force())
+  {
+    if (!scene.mechanics->body_force)
+      return;
+    auto f = std::make_shared<Function>(V);
+    loads.add(make_form(nodal, spaces, {{"body_force", f}}, constants), f, *scene.mechanics->body_force);
+    return;
+  }
+  auto f = std::make_shared<Function>(std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(forms.cell_vector_space, "body_force_cells", domain.mesh)));
+  bool time_dependent = false;
+  const auto depends_on_time = [&](const std::optional<std::vector<Expression>>& force)
+  {
+    for (const Expression& e : force.value_or(std::vector<Expression>{}))
+      time_dependent = time_dependent or e.depends_on_time();
+  };
+  depends_on_time(scene.mechanics->body_force);
+  for (const auto& [name, region] : scene.regions)
+    depends_on_time(region.mechanics->body_force);
+  const int d = domain.dim();
+  loads.add(make_form(cellwise, spaces, {{"body_force_cells", f}}, constants), f,
+            [&scene, &cells = domain.regions, d](Function& g, double t) { set_body_force(g, scene, cells, d, t); },
+            time_dependent);
+}
+
 Materials Materials::without_stabilisation() const
 {
   Materials m = *this;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "assembly/forms.h"
+#include "assembly/loads.h"
 #include "assembly/parameters.h"
 #include "domain/domain.h"
 
@@ -42,6 +43,17 @@ struct Materials
   /// quantities.
   std::vector<double> on(const std::string& name, std::shared_ptr<const dolfinx::fem::FunctionSpace> Q) const;
 };
+
+/// The body force term of a step's loads (`nodal`, `cellwise`: its two
+/// forms on `spaces`, the one and the other body force coefficient). The
+/// scene's body_force interpolated at the nodes into `V` (P1); when some
+/// region gives its own, each cell's material's, one value per cell (DG0),
+/// so that a force changes across a region's boundary without smearing
+/// over the nodes there. Nothing when no body force is given.
+void add_body_force(Loads& loads, const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                    const ufcx_form* nodal, const ufcx_form* cellwise,
+                    const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>>& spaces,
+                    std::shared_ptr<const dolfinx::fem::FunctionSpace> V, const Constants& constants);
 
 /// The materials of a scene on its domain; throws SceneError naming the
 /// permeability (flow.permeability or region.NAME.permeability) where it is

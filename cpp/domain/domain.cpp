@@ -349,6 +349,9 @@ void add_volume_uses(const Scene& scene, const std::vector<double>& midpoints, s
   {
     if (r.where)
       uses.push_back({"region." + name + ".where", &*r.where, &midpoints, false});
+    if (r.body_force)
+      for (const Expression& e : *r.mechanics->body_force)
+        uses.push_back({"region." + name + ".body_force", &e, &midpoints, true});
     if (r.flow and r.flow->permeability)
       uses.push_back({"region." + name + ".permeability", &*r.flow->permeability, &midpoints, false});
   }

@@ -719,7 +719,7 @@ toml::table region_physics(const toml::table& root, const std::string& physics, 
 /// Which cells a region holds is settled when the domain is made.
 void read_regions(Section regions, const toml::table& root, Scene& scene)
 {
-  static const std::vector<std::string> mechanics_keys = {"E", "nu", "G", "lambda"};
+  static const std::vector<std::string> mechanics_keys = {"E", "nu", "G", "lambda", "body_force"};
   static const std::vector<std::string> flow_keys = {"M", "c_f", "phi0", "permeability"};
   const int d = scene.mesh.dimension;
   for (const std::string& name : regions.keys())
@@ -738,10 +738,12 @@ void read_regions(Section regions, const toml::table& root, Scene& scene)
         s.node(key);
       }
       else
-        s.fail(key, "unknown key (a region may set where, E, nu, G, lambda, alpha, M, c_f, phi0, permeability)");
+        s.fail(key, "unknown key (a region may set where, E, nu, G, lambda, body_force, alpha, M, c_f, phi0, "
+                    "permeability)");
     }
     RegionSpec r;
     r.where = s.expression("where");
+    r.body_force = s.has("body_force");
     if (r.where and (r.where->depends_on_time() or r.where->is_constant()))
       s.fail("where", "must be an expression of x, y, z (the cell midpoints it selects)");
     if (scene.mesh.type != "gmsh" and !r.where)
@@ -857,6 +859,11 @@ std::vector<std::string> builtin_boundary_names(int dimension)
   if (dimension == 2)
     return {"left", "right", "bottom", "top"};
   return {"left", "right", "front", "back", "bottom", "top"};
+}
+
+bool Scene::cellwise_body_force() const
+{
+  return std::any_of(regions.begin(), regions.end(), [](const auto& entry) { return entry.second.body_force; });
 }
 
 bool Scene::has_contact() const

@@ -158,7 +158,9 @@ struct SolverSpec
 struct RegionSpec
 {
   std::optional<Expression> where;         // the cells whose midpoint satisfies it (non-zero)
-  std::optional<MechanicsSpec> mechanics;  // the scene's [mechanics] with the region's E, nu or G, lambda
+  std::optional<MechanicsSpec> mechanics;  // the scene's [mechanics] with the region's E, nu or G, lambda,
+                                           // body_force
+  bool body_force = false;                 // the region gives its own body force
   std::optional<FlowSpec> flow;            // the scene's [flow] with the region's M, c_f, phi0, permeability
   double alpha = 0;                        // the scene's alpha or the region's
 };
@@ -186,6 +188,9 @@ struct Scene
   static constexpr int max_steps = 1000000;
 
   bool has_contact() const;
+  /// Some region gives its own body force: the body force is applied cell
+  /// by cell (each cell its material's), not interpolated at the nodes.
+  bool cellwise_body_force() const;
   int num_steps() const;
   /// t_0 = 0, t_1, ..., t_N = end_time (fine steps).
   std::vector<double> times() const;

@@ -53,8 +53,8 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
 /// order, lifted and with their Dirichlet values at t.
 void MechanicsStep::make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants)
 {
-  auto body_force = std::make_shared<fem::Function<double>>(_V), traction = std::make_shared<fem::Function<double>>(_V);
-  const Coefficients data = {{"body_force", body_force}, {"traction", traction}};
+  auto traction = std::make_shared<fem::Function<double>>(_V);
+  const Coefficients data = {{"traction", traction}};
   _loads = std::make_unique<Loads>(_V->dofmap()->index_map, _V->dofmap()->index_map_bs(),
                                    [this](la::Vector<double>& b, double t)
                                    {
@@ -63,8 +63,7 @@ void MechanicsStep::make_loads(const Domain& domain, const CompiledForms& forms,
                                    });
   for (const auto& bc : _bc_values)
     _loads->depends_on_time(bc.value->depends_on_time());
-  if (_scene.mechanics->body_force)
-    _loads->add(make_form(forms.L_body_force, {_V}, data, constants), body_force, *_scene.mechanics->body_force);
+  add_body_force(*_loads, _scene, domain, forms, forms.L_body_force, forms.L_body_force_cells, {_V}, _V, constants);
   for (const auto& [name, b] : _scene.boundaries)
     if (!b.traction.empty())
       _loads->add_boundary(

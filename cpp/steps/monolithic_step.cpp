@@ -86,10 +86,9 @@ void MonolithicStep::make_spaces(const Domain& domain, const CompiledForms& form
 void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants)
 {
   auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
-  auto body_force = std::make_shared<fem::Function<double>>(V), traction = std::make_shared<fem::Function<double>>(V);
+  auto traction = std::make_shared<fem::Function<double>>(V);
   auto source = std::make_shared<fem::Function<double>>(D), p_boundary = std::make_shared<fem::Function<double>>(D);
-  const Coefficients data
-      = {{"body_force", body_force}, {"traction", traction}, {"source", source}, {"p_boundary", p_boundary}};
+  const Coefficients data = {{"traction", traction}, {"source", source}, {"p_boundary", p_boundary}};
   auto make = [&](const ufcx_form* f, const mesh::MeshTags<std::int32_t>* marker = nullptr)
   { return make_form(f, {_X}, data, constants, marker); };
   _loads = std::make_unique<Loads>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs(),
@@ -104,8 +103,8 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
   for (const FluxBoundary& f : _fluxes.boundaries)
     _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
   _wells = well_sources(_scene, domain, *Q, _Q_to_X);
-  if (_scene.mechanics->body_force)
-    _loads->add(make(forms.L_monolithic_body_force), body_force, *_scene.mechanics->body_force);
+  add_body_force(*_loads, _scene, domain, forms, forms.L_monolithic_body_force, forms.L_monolithic_body_force_cells,
+                 {_X}, V, constants);
   for (const auto& [name, b] : _scene.boundaries)
     if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
       _loads->add_boundary(

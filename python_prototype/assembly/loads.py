@@ -33,9 +33,15 @@ class Loads:
     def add(self, form, data=None, expressions=()):
         """Adds the term `form`, whose coefficient `data` is interpolated from
         `expressions` (one per component) at each time; data may be None."""
-        for e in expressions:
-            self._time_dependent = self._time_dependent or e.depends_on_time
-        self._terms.append((form, data, list(expressions)))
+        expressions = list(expressions)
+        self.add_filled(form, data, lambda f, t: interpolate(f, expressions, t),
+                        any(e.depends_on_time for e in expressions))
+
+    def add_filled(self, form, data, fill, time_dependent):
+        """Adds the term `form`, whose coefficient `data` is set by
+        `fill(data, t)` at each time (when `time_dependent`, else once)."""
+        self._time_dependent = self._time_dependent or time_dependent
+        self._terms.append((form, data, fill))
 
     def add_boundary(self, domain, name, make, data, expressions):
         """Adds the term of a load on boundary `name`: `make(marker)` builds
@@ -63,9 +69,9 @@ class Loads:
         else:
             b = fem.Function(self._space)
         self._vectors.append((t, b))
-        for form, data, expressions in self._terms:
+        for form, data, fill in self._terms:
             if data is not None:
-                interpolate(data, expressions, t)
+                fill(data, t)
             add_vector(b, form)
         self._finish(b, t)
         return b

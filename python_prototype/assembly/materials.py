@@ -68,6 +68,36 @@ def _set_resistivity(R, scene, cells, d):
     return error[0] if error else ""
 
 
+def _set_body_force(f, scene, cells, d, t):
+    """Each cell's body force at time t: its material's, zero where none is given."""
+    forces = [scene.mechanics.body_force] + [scene.regions[name].mechanics.body_force for name in cells.names]
+
+    def value(c, x):
+        v = np.zeros((d, x.shape[1]))
+        region = cells.region[c]
+        for r in np.unique(region):
+            at = np.flatnonzero(region == r)
+            if forces[r + 1]:
+                v[:, at] = np.vstack([e.at(x[:, at], t) for e in forces[r + 1]])
+        return v
+    _per_cell(f, d, value)
+
+
+def add_body_force(loads, scene, domain, F, nodal, cellwise):
+    """The body force term of a step's loads (cpp/assembly/materials.h): the
+    scene's body_force interpolated at the nodes into P1 (form `nodal`), or,
+    when some region gives its own, each cell's material's, one value per
+    cell (form `cellwise`); nothing when no body force is given."""
+    if not scene.cellwise_body_force():
+        if scene.mechanics.body_force:
+            loads.add(F.compile(nodal), F["body_force"], scene.mechanics.body_force)
+        return
+    forces = [scene.mechanics.body_force] + [r.mechanics.body_force for r in scene.regions.values()]
+    time_dependent = any(e.depends_on_time for force in forces if force for e in force)
+    loads.add_filled(F.compile(cellwise), F["body_force_cells"],
+                     lambda f, t: _set_body_force(f, scene, domain.regions, domain.dim, t), time_dependent)
+
+
 def make_materials(scene, domain, F):
     """The materials of a scene on its domain, set into F's coefficients; a
     permeability that is not positive is a SceneError naming its key."""

@@ -194,6 +194,8 @@ def check_expressions(scene, domain, comm):
     for name, r in sorted(scene.regions.items()):
         if r.where is not None:
             uses.append((f"region.{name}.where", r.where, midpoints, False))
+        if r.body_force:
+            uses += [(f"region.{name}.body_force", e, midpoints, True) for e in r.mechanics.body_force]
         if r.flow is not None and r.flow.permeability is not None:
             uses.append((f"region.{name}.permeability", r.flow.permeability, midpoints, False))
 

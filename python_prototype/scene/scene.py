@@ -254,7 +254,8 @@ class RegionSpec:
     those whose midpoint satisfies `where`, whose physics are the scene's own
     with some material values replaced (cpp/scene/scene.h)."""
     where: Optional[Expression] = None
-    mechanics: Optional[MechanicsSpec] = None  # the scene's [mechanics] with the region's moduli
+    mechanics: Optional[MechanicsSpec] = None  # the scene's [mechanics] with the region's moduli, body_force
+    body_force: bool = False                   # the region gives its own body force
     flow: Optional[FlowSpec] = None            # the scene's [flow] with the region's M, c_f, phi0, permeability
     alpha: float = 0.0                         # the scene's alpha or the region's
 
@@ -280,6 +281,11 @@ class Scene:
     progress_interval: float = 10.0  # output.progress_interval: seconds between lines within a step
     reference: Optional[ReferenceSpec] = None
     solver: SolverSpec = field(default_factory=SolverSpec)
+
+    def cellwise_body_force(self):
+        """Some region gives its own body force: the body force is applied
+        cell by cell (each cell its material's), not interpolated at the nodes."""
+        return any(r.body_force for r in self.regions.values())
 
     def has_contact(self):
         return any(b.contact for b in self.boundaries.values())
@@ -733,7 +739,7 @@ def _read_wells(wells, scene):
     wells.finish()
 
 
-_MECHANICS_KEYS = ("E", "nu", "G", "lambda")
+_MECHANICS_KEYS = ("E", "nu", "G", "lambda", "body_force")
 _FLOW_KEYS = ("M", "c_f", "phi0", "permeability")
 
 
@@ -755,7 +761,8 @@ def _check_region_keys(s, scene):
     for key in s.keys():
         mechanics, flow = key in _MECHANICS_KEYS, key in _FLOW_KEYS
         if key not in ("where", "alpha") and not mechanics and not flow:
-            s.fail(key, "unknown key (a region may set where, E, nu, G, lambda, alpha, M, c_f, phi0, permeability)")
+            s.fail(key, "unknown key (a region may set where, E, nu, G, lambda, body_force, alpha, M, c_f, phi0, "
+                   "permeability)")
         if (mechanics and not scene.mechanics) or (flow and not scene.flow) or (key == "alpha" and not scene.coupling):
             s.fail(key, "the scene has no [" + ("mechanics" if mechanics else "flow" if flow else "coupling")
                    + "] whose value a region could replace")
@@ -770,7 +777,7 @@ def _read_regions(regions, root, scene):
     for name in regions.keys():
         s = regions.section(name, True)
         _check_region_keys(s, scene)
-        r = RegionSpec(where=s.expression("where"))
+        r = RegionSpec(where=s.expression("where"), body_force=s.has("body_force"))
         if r.where is not None and (r.where.depends_on_time or r.where.is_constant):
             s.fail("where", "must be an expression of x, y, z (the cell midpoints it selects)")
         if scene.mesh.type != "gmsh" and r.where is None:

@@ -7,6 +7,7 @@ from dolfinx import fem
 
 from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..assembly.loads import Loads
+from ..assembly.materials import add_body_force
 from ..assembly.linear_algebra import assemble_operator, finish_rhs, multiply_add, owned, rigid_body_modes
 from ..solvers.solver import Method, Structure
 from ..solvers.system import System
@@ -49,8 +50,7 @@ class MechanicsStep:
         self.loads = Loads(self.V, finish)
         for expression, *_ in self.bc_values:
             self.loads.depends_on_time(expression.depends_on_time)
-        if self.scene.mechanics.body_force:
-            self.loads.add(F.compile("L_body_force"), F["body_force"], self.scene.mechanics.body_force)
+        add_body_force(self.loads, self.scene, domain, F, "L_body_force", "L_body_force_cells")
         for name, b in self.scene.boundaries.items():
             if b.traction:
                 self.loads.add_boundary(domain, name, lambda marker: F.compile("L_traction", marker),

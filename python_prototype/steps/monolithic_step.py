@@ -8,6 +8,7 @@ from dolfinx import fem
 from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
+from ..assembly.materials import add_body_force
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
@@ -67,8 +68,7 @@ class MonolithicStep:
             self.loads.depends_on_time((f.rate or f.flux).depends_on_time)
         self.wells = well_sources(scene, domain, self.Q, self.Q_to_X)
         self.loads.depends_on_time(depends_on_time(self.wells))
-        if scene.mechanics.body_force:
-            self.loads.add(F.compile("L_monolithic_body_force"), F["body_force"], scene.mechanics.body_force)
+        add_body_force(self.loads, scene, domain, F, "L_monolithic_body_force", "L_monolithic_body_force_cells")
         for name, b in scene.boundaries.items():
             if b.traction:  # a traction boundary, or a loaded contact boundary
                 self.loads.add_boundary(domain, name, lambda m: F.compile("L_monolithic_traction", m),
