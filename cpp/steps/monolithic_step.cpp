@@ -103,6 +103,7 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
   for (const FluxBoundary& f : _fluxes.boundaries)
     _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
   _wells = well_sources(_scene, domain, *Q, _Q_to_X);
+  _loads->depends_on_time(depends_on_time(_wells));
   add_body_force(*_loads, _scene, domain, forms, forms.L_monolithic_body_force, forms.L_monolithic_body_force_cells,
                  {_X}, V, constants);
   for (const auto& [name, b] : _scene.boundaries)
