@@ -131,6 +131,9 @@ class _Terms:
     def pressure_load(self, p, v):  # (alpha p, div v): the pore pressure on the skeleton
         return self.o["alpha"] * p * div(v) * dx
 
+    def face_pressure(self, p, v):  # -<p n, v> on the marked faces: the pore pressure pushing on a fracture face
+        return -p * dot(v, self.n) * ufl.ds(BOUNDARY)
+
     def darcy(self, z, p, w):       # (mu_f K^-1 z, w) - (p, div w)
         return inner(dot(self.o["resistivity"], z), w) * dx - p * div(w) * dx
 
@@ -162,10 +165,12 @@ def _mechanics_forms(o, terms):
     u, v = ufl.TrialFunction(o["V"]), ufl.TestFunction(o["V"])
     return {
         "a_elastic": terms.elastic(u, v),
-        # The pressure load (alpha p, div v) changes every coupling iteration
-        # and is linear in p: its operator (V x Q, Dirichlet rows zero) is
-        # assembled once and applied to p.
-        "a_pressure_load": terms.pressure_load(ufl.TrialFunction(o["Q"]), v),
+        # The pressure load (alpha p, div v), and -<p n, v> on the faces the
+        # pore pressure loads (a fracture; marked, or none), changes every
+        # coupling iteration and is linear in p: its operator (V x Q,
+        # Dirichlet rows zero) is assembled once and applied to p.
+        "a_pressure_load": (terms.pressure_load(ufl.TrialFunction(o["Q"]), v)
+                            + terms.face_pressure(ufl.TrialFunction(o["Q"]), v)),
         "L_body_force": terms.body(v),
         "L_body_force_cells": terms.body(v, "body_force_cells"),
         "L_traction": terms.surface_traction(v),
@@ -208,7 +213,7 @@ def _flow_forms(o, terms):
 
 def _monolithic_forms(o, terms):
     """Monolithic (alg. "Monolithic reference"): (u, z, p) together,
-      a(u, v) - (alpha p, div v) + (mu_f K^-1 z, w) - (p, div w)
+      a(u, v) - (alpha p, div v) + <p n, v>_faces + (mu_f K^-1 z, w) - (p, div w)
         - (div z, th) - (S/dt)(p, th) - (alpha/dt)(div u, th)
       = loads - (S/dt)(p_old, th) - (alpha/dt)(div u_old, th).
     """
@@ -216,7 +221,7 @@ def _monolithic_forms(o, terms):
     storage, L, dt, alpha = o["storage"], o["L"], o["dt"], o["alpha"]
 
     def operator(s):  # the coupled operator with the pressure block -(s/dt)(p, th)
-        return (terms.elastic(u, v) - terms.pressure_load(p, v) + terms.darcy(z, p, w)
+        return (terms.elastic(u, v) - terms.pressure_load(p, v) - terms.face_pressure(p, v) + terms.darcy(z, p, w)
                 + terms.mass(z, p, th, s) - alpha / dt * div(u) * th * dx)
     return {
         "a_monolithic": operator(storage),

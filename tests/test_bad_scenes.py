@@ -155,6 +155,12 @@ CASES = [
      "region.r.permeability", BOTH),
     ("a region permeability zero where evaluated", DEFAULT,
      s("region.r.where='x > 5'", "region.r.permeability='1e-13*(x-7)'"), "region.r.permeability", RUN),
+    ("a pore pressure load without contact", DEFAULT, s("boundary.top.pore_pressure_load=true"),
+     "boundary.top.pore_pressure_load", BOTH),
+    ("a pore pressure load in a scene without flow", scene("elastic_contact"),
+     s("boundary.bottom.pore_pressure_load=true"), "boundary.bottom.pore_pressure_load", BOTH),
+    ("a pore pressure load that is no boolean", DEFAULT, s("boundary.bottom.pore_pressure_load=1"),
+     "boundary.bottom.pore_pressure_load", BOTH),
     ("a closed form with regions", scene("terzaghi"), s("region.r.where='y > 5'", "region.r.G=2e9"),
      "reference.solution", BOTH),
     # too large

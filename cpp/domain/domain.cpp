@@ -9,6 +9,7 @@
 #include <dolfinx/mesh/generation.h>
 #include <dolfinx/mesh/utils.h>
 #include <filesystem>
+#include <functional>
 #include <gmsh.h>
 #include <xtensor/xtensor.hpp>
 #include <xtensor/xview.hpp>
@@ -23,6 +24,26 @@ std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::marker(const std::st
   return std::make_shared<mesh::MeshTags<std::int32_t>>(
       mesh, dim() - 1, std::vector<std::int32_t>(facets),
       std::vector<std::int32_t>(facets.size(), 1));
+}
+
+std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::marker(const std::vector<std::string>& names) const
+{
+  std::vector<std::int32_t> facets;
+  for (const std::string& name : names)
+    facets.insert(facets.end(), boundaries.at(name).begin(), boundaries.at(name).end());
+  std::sort(facets.begin(), facets.end());
+  facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+  return std::make_shared<mesh::MeshTags<std::int32_t>>(mesh, dim() - 1, std::vector<std::int32_t>(facets),
+                                                         std::vector<std::int32_t>(facets.size(), 1));
+}
+
+std::shared_ptr<const mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene, const Domain& domain)
+{
+  std::vector<std::string> names;
+  for (const auto& [name, b] : scene.boundaries)
+    if (b.pore_pressure_load)
+      names.push_back(name);
+  return names.empty() ? nullptr : domain.marker(names);
 }
 
 namespace
@@ -51,6 +72,33 @@ struct GmshData
   std::vector<std::int32_t> cell_region;
 };
 
+/// Calls visit(name, element tags, node tags) once for each physical group
+/// of dimension `dim` with its elements of gmsh type `type` (an unnamed
+/// group is "group<tag>").
+void for_each_group(int dim, int type,
+                    const std::function<void(const std::string&, const std::vector<std::size_t>&,
+                                             const std::vector<std::size_t>&)>& visit)
+{
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, dim);
+  for (const auto& [group_dim, tag] : groups)
+  {
+    std::string name;
+    gmsh::model::getPhysicalName(group_dim, tag, name);
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(group_dim, tag, entities);
+    std::vector<std::size_t> element_tags, node_tags;
+    for (int entity : entities)
+    {
+      std::vector<std::size_t> etags, ntags;
+      gmsh::model::mesh::getElementsByType(type, etags, ntags, entity);
+      element_tags.insert(element_tags.end(), etags.begin(), etags.end());
+      node_tags.insert(node_tags.end(), ntags.begin(), ntags.end());
+    }
+    visit(name.empty() ? "group" + std::to_string(tag) : name, element_tags, node_tags);
+  }
+}
+
 /// The input indices of the cells of each named physical group of cells.
 std::map<std::string, std::vector<std::int64_t>> cell_groups(int d, const std::vector<std::size_t>& element_tags)
 {
@@ -58,23 +106,13 @@ std::map<std::string, std::vector<std::int64_t>> cell_groups(int d, const std::v
   for (std::size_t i = 0; i < element_tags.size(); ++i)
     position[element_tags[i]] = static_cast<std::int64_t>(i);
   std::map<std::string, std::vector<std::int64_t>> groups;
-  gmsh::vectorpair tags;
-  gmsh::model::getPhysicalGroups(tags, d);
-  for (const auto& [dim, tag] : tags)
-  {
-    std::string name;
-    gmsh::model::getPhysicalName(dim, tag, name);
-    std::vector<std::int64_t>& cells = groups[name.empty() ? "group" + std::to_string(tag) : name];
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-    for (int entity : entities)
-    {
-      std::vector<std::size_t> etags, ntags;
-      gmsh::model::mesh::getElementsByType(d == 2 ? 2 : 4, etags, ntags, entity);
-      for (std::size_t t : etags)
-        cells.push_back(position.at(t));
-    }
-  }
+  for_each_group(d, d == 2 ? 2 : 4,
+                 [&](const std::string& name, const std::vector<std::size_t>& etags, const std::vector<std::size_t>&)
+                 {
+                   std::vector<std::int64_t>& cells = groups[name];
+                   for (std::size_t t : etags)
+                     cells.push_back(position.at(t));
+                 });
   return groups;
 }
 
@@ -130,27 +168,16 @@ GmshData read_gmsh_file(const Scene& scene)
       data.cells.push_back(index.at(t));
     data.cell_region = regions_of_groups(scene, element_tags.size(), cell_groups(d, element_tags));
     // Boundaries: the named physical groups of dimension d-1.
-    gmsh::vectorpair groups;
-    gmsh::model::getPhysicalGroups(groups, d - 1);
-    for (const auto& [dim, tag] : groups)
-    {
-      std::string name;
-      gmsh::model::getPhysicalName(dim, tag, name);
-      if (name.empty())
-        name = "group" + std::to_string(tag);
-      const auto group = static_cast<std::int32_t>(data.names.size());
-      data.names.push_back(name);
-      std::vector<int> entities;
-      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-      for (int entity : entities)
-      {
-        std::vector<std::size_t> etags, ntags;
-        gmsh::model::mesh::getElementsByType(d == 2 ? 1 : 2, etags, ntags, entity);
-        for (std::size_t t : ntags)
-          data.facets.push_back(index.at(t));
-        data.facet_group.insert(data.facet_group.end(), etags.size(), group);
-      }
-    }
+    for_each_group(d - 1, d == 2 ? 1 : 2,
+                   [&](const std::string& name, const std::vector<std::size_t>& etags,
+                       const std::vector<std::size_t>& ntags)
+                   {
+                     const auto group = static_cast<std::int32_t>(data.names.size());
+                     data.names.push_back(name);
+                     for (std::size_t t : ntags)
+                       data.facets.push_back(index.at(t));
+                     data.facet_group.insert(data.facet_group.end(), etags.size(), group);
+                   });
   }
   catch (const SceneError&)
   {

@@ -28,7 +28,15 @@ struct Domain
   /// Facet tags with the marker of forms/biot.py (1) on one boundary, for
   /// the ds(1) integrals of that boundary.
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> marker(const std::string& name) const;
+  /// The same on the facets of several boundaries.
+  std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> marker(const std::vector<std::string>& names) const;
 };
+
+/// The facets of the faces loaded by the pore pressure
+/// (boundary.NAME.pore_pressure_load) with the marker of forms/biot.py, for
+/// the face term of the pressure load; null when the scene has none.
+std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene,
+                                                                                 const Domain& domain);
 
 /// @brief A planar boundary: its outward unit normal and its measure (a
 /// length in 2D, an area in 3D), the same on every rank.

@@ -301,6 +301,26 @@ MeshSpec read_mesh(Section s, const std::string& scene_file)
   return m;
 }
 
+/// contact = { gap = .., normal = [..] }: the foundation of a contact boundary.
+ContactSpec read_contact(Section c, int d)
+{
+  ContactSpec contact;
+  const std::optional<Expression> gap = c.expression("gap");
+  if (!gap)
+    c.fail("gap", "missing (the gap g_a to the foundation)");
+  contact.gap = *gap;
+  if (contact.gap.depends_on_time())
+    c.fail("gap", "must not depend on t");
+  const std::vector<double> normal = c.number_vector("normal", d);
+  contact.axis = axis_of(normal, contact.sign);
+  if (contact.axis < 0)
+    c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)");
+  if (contact.gap.is_constant() and contact.gap(0, 0, 0, 0) < 0)
+    c.fail("gap", "must be >= 0");
+  c.finish();
+  return contact;
+}
+
 BoundarySpec read_boundary(Section s, int d)
 {
   BoundarySpec b;
@@ -340,23 +360,11 @@ BoundarySpec read_boundary(Section s, int d)
   if (s.has("contact"))
   {
     b.mechanics = BoundarySpec::Mechanics::contact;
-    Section c = s.table("contact", true);
-    ContactSpec contact;
-    const std::optional<Expression> gap = c.expression("gap");
-    if (!gap)
-      c.fail("gap", "missing (the gap g_a to the foundation)");
-    contact.gap = *gap;
-    if (contact.gap.depends_on_time())
-      c.fail("gap", "must not depend on t");
-    const std::vector<double> normal = c.number_vector("normal", d);
-    contact.axis = axis_of(normal, contact.sign);
-    if (contact.axis < 0)
-      c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)");
-    if (contact.gap.is_constant() and contact.gap(0, 0, 0, 0) < 0)
-      c.fail("gap", "must be >= 0");
-    c.finish();
-    b.contact = contact;
+    b.contact = read_contact(s.table("contact", true), d);
   }
+  b.pore_pressure_load = s.boolean("pore_pressure_load", false);
+  if (b.pore_pressure_load and !b.contact)
+    s.fail("pore_pressure_load", "loads a contact boundary only (the face of a fracture)");
 
   if (s.has("pressure") + s.has("flux") + s.has("rate") > 1)
     s.fail(s.has("rate") ? "rate" : "flux", "give at most one of pressure, flux, rate");
@@ -792,6 +800,9 @@ void read_boundaries(Section boundaries, Scene& scene)
       boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]");
     if (!scene.flow and b.flow != BoundarySpec::Flow::no_flow)
       boundaries.fail(name, "flow boundary condition in a scene without [flow]");
+    if (b.pore_pressure_load and !scene.coupling)
+      boundaries.fail(name + ".pore_pressure_load", "needs a coupled scene (the pore pressure of [flow] on a face "
+                                                    "of [mechanics])");
     scene.boundaries[name] = b;
   }
   boundaries.finish();

@@ -71,6 +71,10 @@ struct BoundarySpec
   std::array<std::optional<Expression>, 3> displacement;
   std::vector<Expression> traction; // also on a contact boundary (a fluid-loaded fracture face)
   std::optional<ContactSpec> contact;
+  /// The pore pressure of the cells beside the face pushes on it: the total
+  /// traction -p n of a fracture whose fluid is in pressure equilibrium with
+  /// the rock beside it (a contact boundary of a coupled scene).
+  bool pore_pressure_load = false;
   Flow flow = Flow::no_flow;
   Expression pressure;
   Expression flux;                  // the outward normal Darcy flux z.n (m/s; negative flows in)

@@ -30,7 +30,8 @@ MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const Com
     // The pressure load (alpha p, div v) is applied as an operator on p.
     _pressure = pressure;
     _pressure_load.emplace(assemble_operator(
-        *make_form(forms.a_pressure_load, {_V, pressure->function_space()}, materials.coefficients, constants),
+        *make_form(forms.a_pressure_load, {_V, pressure->function_space()}, materials.coefficients, constants,
+                   pore_pressure_faces(scene, domain).get()),
         _bcs));
   }
 

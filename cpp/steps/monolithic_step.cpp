@@ -43,7 +43,9 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   // Essential conditions: displacement components on X.sub(0), no flow on X.sub(1).
   _bcs = displacement_bcs(scene, domain, _X->sub({0}), _bc_values);
   _bcs.push_back(flux_bc(scene, domain, _X->sub({1}), _fluxes));
-  _a = make_form(forms.a_monolithic, {_X, _X}, coefficients, constants);
+  // The faces the pore pressure loads, for the face term of the operator.
+  const auto faces = pore_pressure_faces(scene, domain);
+  _a = make_form(forms.a_monolithic, {_X, _X}, coefficients, constants, faces.get());
   _L_history = make_form(forms.L_monolithic_history, {_X}, coefficients, constants);
   make_loads(domain, forms, constants);
 
@@ -55,7 +57,8 @@ MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const C
   // built from a_monolithic_preconditioner and split along fields().
   _system = std::make_unique<System>(domain.mesh->comm(), "monolithic_", _a, _bcs, Structure::general,
                                      scene.solver.monolithic, fields(),
-                                     make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants));
+                                     make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants,
+                                               faces.get()));
   _b = std::make_unique<la::Vector<double>>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs());
   if (scene.has_contact())
     attach_contact(domain, forms);

@@ -36,6 +36,16 @@ class Domain:
                               np.full(len(facets), BOUNDARY_MARKER, dtype=np.int32))
 
 
+def pore_pressure_faces(scene, domain):
+    """The facets of the faces loaded by the pore pressure
+    (boundary.NAME.pore_pressure_load) with the marker of forms/biot.py; None
+    when the scene has none (cpp/domain/domain.h)."""
+    names = [name for name, b in sorted(scene.boundaries.items()) if b.pore_pressure_load]
+    if not names:
+        return None
+    return domain.marker(facets=np.unique(np.concatenate([domain.boundaries[name] for name in names])))
+
+
 def _box_faces(d):
     """(axis, lower side?) of each named face of an axis-aligned box."""
     if d == 2:

@@ -169,6 +169,7 @@ class BoundarySpec:
     displacement: list = field(default_factory=lambda: [None, None, None])
     traction: list = field(default_factory=list)
     contact: Optional[ContactSpec] = None
+    pore_pressure_load: bool = False  # the pore pressure beside the face pushes on it (a fracture face)
     flow: str = "no_flow"             # or "pressure", "flux"
     pressure: Expression = field(default_factory=lambda: Expression(0.0))
     flux: Expression = field(default_factory=lambda: Expression(0.0))  # the outward normal Darcy flux z.n
@@ -384,6 +385,22 @@ def _read_mesh(s, scene_file):
     return m
 
 
+def _read_contact(c, d):
+    """contact = { gap = .., normal = [..] }: the foundation of a contact boundary."""
+    gap = c.expression("gap")
+    if gap is None:
+        c.fail("gap", "missing (the gap g_a to the foundation)")
+    if gap.depends_on_time:
+        c.fail("gap", "must not depend on t")
+    axis, sign = _axis_of(c.number_vector("normal", d))
+    if axis < 0:
+        c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)")
+    if gap.is_constant and gap(0, 0, 0, 0) < 0:
+        c.fail("gap", "must be >= 0")
+    c.finish()
+    return ContactSpec(gap, axis, sign)
+
+
 def _read_boundary(s, d):
     b = BoundarySpec()
     # A traction may load a contact boundary (the fluid pressure on an open
@@ -408,19 +425,10 @@ def _read_boundary(s, d):
         b.traction = s.expression_vector("traction", d)
     if s.has("contact"):
         b.mechanics = "contact"
-        c = s.section("contact", True)
-        gap = c.expression("gap")
-        if gap is None:
-            c.fail("gap", "missing (the gap g_a to the foundation)")
-        if gap.depends_on_time:
-            c.fail("gap", "must not depend on t")
-        axis, sign = _axis_of(c.number_vector("normal", d))
-        if axis < 0:
-            c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)")
-        if gap.is_constant and gap(0, 0, 0, 0) < 0:
-            c.fail("gap", "must be >= 0")
-        c.finish()
-        b.contact = ContactSpec(gap, axis, sign)
+        b.contact = _read_contact(s.section("contact", True), d)
+    b.pore_pressure_load = s.boolean("pore_pressure_load", False)
+    if b.pore_pressure_load and not b.contact:
+        s.fail("pore_pressure_load", "loads a contact boundary only (the face of a fracture)")
 
     if s.has("pressure") + s.has("flux") + s.has("rate") > 1:
         s.fail("rate" if s.has("rate") else "flux", "give at most one of pressure, flux, rate")
@@ -711,6 +719,9 @@ def _read_boundaries(boundaries, scene):
             boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]")
         if not scene.flow and b.flow != "no_flow":
             boundaries.fail(name, "flow boundary condition in a scene without [flow]")
+        if b.pore_pressure_load and not scene.coupling:
+            boundaries.fail(name + ".pore_pressure_load", "needs a coupled scene (the pore pressure of [flow] on a "
+                            "face of [mechanics])")
         scene.boundaries[name] = b
     boundaries.finish()
 

@@ -8,6 +8,7 @@ from dolfinx import fem
 from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..assembly.loads import Loads
 from ..assembly.materials import add_body_force
+from ..domain.domain import pore_pressure_faces
 from ..assembly.linear_algebra import assemble_operator, finish_rhs, multiply_add, owned, rigid_body_modes
 from ..solvers.solver import Method, Structure
 from ..solvers.system import System
@@ -28,7 +29,8 @@ class MechanicsStep:
         self.make_loads(domain, F)
         # The pressure load (alpha p, div v), applied as an operator on p.
         self.pressure = pressure
-        self.pressure_load = assemble_operator(F.compile("a_pressure_load"), self.bcs) \
+        self.pressure_load = assemble_operator(F.compile("a_pressure_load", pore_pressure_faces(scene, domain)),
+                                               self.bcs) \
             if pressure is not None else None
 
         self.assembly_time = 0.0  # right-hand sides

@@ -9,6 +9,7 @@ from ..contact.contact import ContactSet, ContactState, make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import add_body_force
+from ..domain.domain import pore_pressure_faces
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
@@ -37,7 +38,8 @@ class MonolithicStep:
         self.bcs, self.bc_values = displacement_bcs(scene, domain, X.sub(0))
         bc, self.fluxes = flux_bc(scene, domain, X.sub(1))
         self.bcs.append(bc)
-        self.a = F.compile("a_monolithic")
+        faces = pore_pressure_faces(scene, domain)  # the face term of the operator
+        self.a = F.compile("a_monolithic", faces)
         self.L_history = F.compile("L_monolithic_history")
         self.make_loads(domain, F)
 
@@ -46,7 +48,7 @@ class MonolithicStep:
         # against the coupling: LU with pivoting (cpp/steps/monolithic_step.cpp). The
         # iterative path is preconditioned by the fixed-stress split.
         self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, scene.solver.monolithic,
-                             self.fields(X), F.compile("a_monolithic_preconditioner"))
+                             self.fields(X), F.compile("a_monolithic_preconditioner", faces))
         self.b = fem.Function(X)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         if scene.has_contact():
