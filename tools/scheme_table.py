@@ -22,6 +22,7 @@ SCENES = [
     ("default, M = 1e9", "scenes/default.toml", ["flow.M=1e9"]),
     ("terzaghi", "scenes/terzaghi.toml", []),
     ("fracture", "scenes/fracture.toml", []),
+    ("caprock", "scenes/caprock.toml", []),
 ]
 # (scheme, q, L, Anderson depth or 0 for the paper's iteration)
 CASES = [

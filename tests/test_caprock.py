@@ -1,0 +1,82 @@
+"""The caprock scene (issue 22, item 4): CO2 injected below a caprock whose
+fracture zone above the well jacks open. Layers and the fracture zone are
+regions (gmsh cell groups), the injector a well, the fracture face a
+contact boundary loaded by the pore pressure beside it. To day 16, the
+jacking included:
+
+- the contact set only shrinks, from all 151 face nodes closed to the
+  jacking (fewer than 10 left), and the fracture opens from its base: at
+  every time the open part of the face is one interval from within 10 m of
+  its base (the corner at the reservoir's top stays pressed a little
+  longer), its upper end rising;
+- Signorini holds at every face node and time (no penetration of the
+  symmetry plane, contact pressure >= 0, complementarity);
+- the regions hold the cells of their gmsh groups;
+- 2 ranks reach the same contact sets at every time and the same fields;
+- the split and the monolithic solve reach the same contact sets;
+- the prototype gives the C++ run (fields, iterations, contact sets)."""
+import subprocess
+
+import numpy as np
+
+from support import (PROTOTYPE, ROOT, TRACKS, Fields, check, check_signorini, iterations, max_difference, run_track,
+                     scene, summary)
+
+CAPROCK = scene("caprock")
+END = "time.end=1382400"  # 16 days
+BOTTOM, TOP = -1800.0, -1650.0
+
+
+def face_nodes(fields):
+    on = np.flatnonzero(np.isclose(fields.nodes[:, 0], 0.0) & (fields.nodes[:, 1] >= BOTTOM - 1e-9)
+                        & (fields.nodes[:, 1] <= TOP + 1e-9))
+    return on[np.argsort(fields.nodes[on, 1])]
+
+
+def active_sets(out):
+    fields = Fields(out)
+    nodes = face_nodes(fields)
+    return [fields.at("contact_active", t)[nodes, 0] > 0.5 for t in fields.times("displacement")]
+
+
+runs = {}
+for track in TRACKS:
+    runs[track], _ = run_track(track, CAPROCK, END)
+out = runs["C++"]
+sets = active_sets(out)
+counts = [int(s.sum()) for s in sets]
+check(counts[0] == len(sets[0]) == 151 and counts[-1] < 10 and all(b <= a for a, b in zip(counts, counts[1:])),
+      f"the contact set only shrinks, from the whole face to the jacked fracture ({counts})")
+fields = Fields(out)
+y = fields.nodes[face_nodes(fields), 1]
+front = BOTTOM
+for t, closed in zip(fields.times("displacement"), sets):
+    open_y = y[~closed]
+    if len(open_y):
+        interval = ~closed[(y >= open_y.min()) & (y <= open_y.max())]
+        check(open_y.min() <= BOTTOM + 10.0 and interval.all() and open_y.max() >= front,
+              f"day {t / 86400:.0f}: the open part is one interval from near the base, its front rising "
+              f"({open_y.min():.0f} m to {open_y.max():.0f} m)")
+        front = open_y.max()
+check_signorini(out, 0.0, axis=0, sign=-1, pressure_scale="run")
+regions = summary(out)["regions"]
+check(all(regions[name]["cells"] > 0 for name in ("reservoir", "fracture_zone")) and regions["no region"]["cells"] > 0,
+      f"the regions hold the cells of their groups ({ {k: v['cells'] for k, v in regions.items()} })")
+
+two, _ = run_track("C++", CAPROCK, END, ranks=2)
+check(all(np.array_equal(a, b) for a, b in zip(sets, active_sets(two))), "2 ranks: the same contact set at every time")
+worst = max_difference(out, two, ["pressure", "displacement", "contact_pressure"])
+check(max(worst.values()) < 1e-8, f"2 ranks: the same fields ({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
+
+monolithic, _ = run_track("C++", CAPROCK, END, "coupling.scheme=monolithic")
+check(all(np.array_equal(a, b) for a, b in zip(sets, active_sets(monolithic))),
+      "the monolithic solve: the same contact set at every time")
+tight, _ = run_track("C++", CAPROCK, END, "coupling.tolerance=1e-12")
+worst = max_difference(tight, monolithic, ["pressure", "displacement"])
+check(max(worst.values()) < 1e-8, f"the split at coupling tolerance 1e-12 gives the monolithic fields "
+      f"({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
+
+c = subprocess.run(PROTOTYPE + ["compare", runs["C++"], runs["prototype"], "--tolerance", "1e-10"],
+                   capture_output=True, text=True, cwd=ROOT)
+check(c.returncode == 0 and len(iterations(runs["C++"])) == len(iterations(runs["prototype"])),
+      "the prototype gives the C++ run to 1e-10")
