@@ -69,6 +69,15 @@ for track in TRACKS:
               f"{track}, {scheme}: the summary lists the regions with their cells ({regions})")
         runs[track, scheme] = split
 
+# Rollers on the sides of a column, its base held vertically.
+ROLLERS = """[boundary.left]
+displacement = { x = 0.0 }
+[boundary.right]
+displacement = { x = 0.0 }
+[boundary.bottom]
+displacement = { y = 0.0 }
+"""
+
 # The layered column: gmsh groups and `where` select the same cells.
 COLUMN = """[scene]
 name = "layers"
@@ -89,13 +98,7 @@ max_iterations = 500
 [time]
 end = 2.0e4
 dt = 1.0e3
-[boundary.left]
-displacement = {{ x = 0.0 }}
-[boundary.right]
-displacement = {{ x = 0.0 }}
-[boundary.bottom]
-displacement = {{ y = 0.0 }}
-[boundary.top]
+{rollers}[boundary.top]
 traction = [0.0, -{load}]
 pressure = 0.0
 {regions}"""
@@ -113,18 +116,22 @@ def layer_tables(where):
     return text
 
 
+def column(mesh, where):
+    """The layered column on `mesh`, its layers the gmsh groups or (`where`) expressions."""
+    return written(COLUMN.format(mesh=mesh, load=LOAD, regions=layer_tables(where), rollers=ROLLERS))
+
+
 GMSH = f'type = "gmsh"\nfile = "{ROOT}/meshes/layers.geo"'
 RECTANGLE = 'type = "rectangle"\nupper = [1.0, 10.0]\ncells = [2, 30]'
 settlement = sum(LOAD * (top - bottom) / (lmbda + 2 * G) for bottom, top, G, lmbda in LAYERS.values())
 for track in TRACKS:
-    groups, _ = run_track(track, written(COLUMN.format(mesh=GMSH, load=LOAD, regions=layer_tables(False))))
-    selected, _ = run_track(track, written(COLUMN.format(mesh=GMSH, load=LOAD, regions=layer_tables(True))))
+    groups, _ = run_track(track, column(GMSH, False))
+    selected, _ = run_track(track, column(GMSH, True))
     same_run(groups, selected, f"{track}: gmsh groups and where select the same layers", FIELDS[:3])
     cells = summary(groups)["regions"]
     check(all(cells[name]["cells"] > 0 for name in LAYERS) and cells["no region"]["cells"] == 0,
           f"{track}: every cell of the gmsh column in its layer ({cells})")
-    for label, out in (("gmsh", groups), ("rectangle", run_track(track, written(
-            COLUMN.format(mesh=RECTANGLE, load=LOAD, regions=layer_tables(True))))[0])):
+    for label, out in (("gmsh", groups), ("rectangle", run_track(track, column(RECTANGLE, True))[0])):
         fields = Fields(out)
         t = fields.times("displacement")[-1]
         top = np.isclose(fields.nodes[:, 1], 10.0)
@@ -242,13 +249,7 @@ body_force = [0.0, -2.0e4]
 [time]
 end = 1.0
 dt = 1.0
-[boundary.left]
-displacement = {{ x = 0.0 }}
-[boundary.right]
-displacement = {{ x = 0.0 }}
-[boundary.bottom]
-displacement = {{ y = 0.0 }}
-[region.upper]
+{rollers}[region.upper]
 where = "y > 5"
 body_force = [0.0, -3.0e4]
 """
@@ -256,7 +257,7 @@ settlement = (3.0e4 * 12.5 + 5 * 3.0e4 * 5 + 2.0e4 * 12.5) / 3.0e9
 for track in TRACKS:
     errors = []
     for rows in (10, 20, 40):
-        fields = Fields(run_track(track, written(WEIGHT.format(rows=rows)))[0])
+        fields = Fields(run_track(track, written(WEIGHT.format(rows=rows, rollers=ROLLERS)))[0])
         top = np.isclose(fields.nodes[:, 1], 10.0)
         errors.append(np.max(np.abs(-fields.at("displacement", 1.0)[top, 1] - settlement)) / settlement)
     check(max(errors) < 1e-12, f"{track}: the settlement under two densities is the closed form "
@@ -285,7 +286,7 @@ for track in TRACKS:
 # Two ranks: the regions of gmsh groups reach every rank (rank 0 reads the
 # file), and `where` is evaluated on each rank's cells; the contact sets and
 # fields of one rank. Output rows are in input order on any partition.
-gmsh_column = written(COLUMN.format(mesh=GMSH, load=LOAD, regions=layer_tables(False)))
+gmsh_column = column(GMSH, False)
 contrast = written(with_regions(DEFAULT, CONTRAST))
 for track in TRACKS:
     for label, scene_file, end in (("gmsh column", gmsh_column, "5.0e3"), ("contrasting regions", contrast, "2.4")):
