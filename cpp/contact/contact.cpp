@@ -7,6 +7,7 @@
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -33,70 +34,201 @@ void make_contact_fields(const ContactSet& set, std::shared_ptr<fem::Function<do
   boundary = contact_boundary_flag(set);
 }
 
-ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                          std::shared_ptr<const fem::FunctionSpace> V)
+namespace
 {
-  const int fdim = domain.dim() - 1;
-  ContactSet c;
-  std::vector<std::int32_t> facets;
-  bool first = true;
-  for (const auto& [name, b] : scene.boundaries)
-  {
-    if (!b.contact)
-      continue;
-    if (first)
-    {
-      c.axis = b.contact->axis;
-      c.sign = b.contact->sign;
-      first = false;
-    }
-    else if (b.contact->axis != c.axis or b.contact->sign != c.sign)
-      throw SceneError(scene.file + ": boundary." + name
-                       + ".contact.normal: all contact boundaries must share one foundation normal");
-    const auto& f = domain.boundaries.at(name);
-    facets.insert(facets.end(), f.begin(), f.end());
-  }
-  std::sort(facets.begin(), facets.end());
-  facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+/// A constraint of one contact boundary at one node, before the nodes on
+/// several boundaries are merged.
+struct Candidate
+{
+  std::array<double, 3> normal;
+  double gap, lumped;
+  std::int32_t output_dof;
+  const std::string* boundary;
+};
 
-  // Lumped boundary measure of each node: the integral of its hat function.
-  auto marker = std::make_shared<mesh::MeshTags<std::int32_t>>(
-      domain.mesh, fdim, std::vector<std::int32_t>(facets), std::vector<std::int32_t>(facets.size(), 1));
-  const auto& map = V->dofmap()->index_map;
-  const int bs = V->dofmap()->index_map_bs();
-  la::Vector<double> lumped(map, bs);
+/// Flags of the DOFs of V (unrolled, local) whose value a displacement
+/// condition prescribes.
+std::vector<char> prescribed_dofs(const Scene& scene, const Domain& domain, const fem::FunctionSpace& V)
+{
+  const auto& map = *V.dofmap()->index_map;
+  const int bs = V.dofmap()->index_map_bs();
+  std::vector<char> prescribed(bs * (map.size_local() + map.num_ghosts()), 0);
+  for (const auto& [name, b] : scene.boundaries)
+    for (int i = 0; i < domain.dim(); ++i)
+      if (b.displacement[i])
+        for (std::int32_t dof : fem::locate_dofs_topological(*V.sub({i}), domain.dim() - 1, domain.boundaries.at(name)))
+          prescribed[dof] = 1;
+  return prescribed;
+}
+
+/// The lumped boundary measure of each DOF of V on `facets`: the integral
+/// of its hat function over them.
+la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& forms,
+                                  std::shared_ptr<const fem::FunctionSpace> V, std::vector<std::int32_t> facets)
+{
+  auto marker = std::make_shared<mesh::MeshTags<std::int32_t>>(domain.mesh, domain.dim() - 1, facets,
+                                                               std::vector<std::int32_t>(facets.size(), 1));
+  la::Vector<double> lumped(V->dofmap()->index_map, V->dofmap()->index_map_bs());
   const Constants ones = {
       {"ones", std::make_shared<const fem::Constant<double>>(std::vector<double>(domain.dim(), 1.0))}};
   add_vector(lumped, *make_form(forms.L_lumped_boundary, {V}, {}, ones, marker.get()));
   lumped.scatter_rev(std::plus<double>());
+  return lumped;
+}
 
-  auto Vi = V->sub({c.axis});
-  c.output_space = std::make_shared<fem::FunctionSpace>(Vi->collapse().first);
+std::string at(const double* x, int d)
+{
+  std::string s = "(" + std::to_string(x[0]) + ", " + std::to_string(x[1]);
+  return s + (d == 3 ? ", " + std::to_string(x[2]) : "") + ")";
+}
+
+/// The normal of a foundation at x, normalised; nothing where it is zero
+/// or not finite.
+std::optional<std::array<double, 3>> unit_normal(const ContactSpec& contact, const double* x, int d)
+{
+  std::array<double, 3> n{0, 0, 0};
+  double length = 0;
+  for (int i = 0; i < d; ++i)
+  {
+    n[i] = contact.normal[i](x, 0.0);
+    length += n[i] * n[i];
+  }
+  length = std::sqrt(length);
+  if (!(length > 0) or !std::isfinite(length))
+    return std::nullopt;
+  for (int i = 0; i < d; ++i)
+    n[i] /= length;
+  return n;
+}
+} // namespace
+namespace
+{
+/// The candidates of each owned node of the contact boundaries, nodes in
+/// the order first met (boundaries in the scene's order, each boundary's
+/// DOFs in dolfinx's), which is the order of the constraints.
+using NodeCandidates = std::vector<std::pair<std::int32_t, std::vector<Candidate>>>;
+
+NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                                 std::shared_ptr<const fem::FunctionSpace> V, const ContactSet& c,
+                                 std::string& error)
+{
+  const int d = domain.dim(), bs = V->dofmap()->index_map_bs();
+  const std::int32_t owned = bs * V->dofmap()->index_map->size_local();
   const std::vector<double> coords = V->tabulate_dof_coordinates(false);
-  const std::int32_t owned = bs * map->size_local();
-  std::set<std::int32_t> seen;
-  std::string error; // the first bad gap on this rank
+  auto V0 = V->sub({0});
+  NodeCandidates nodes;
+  std::map<std::int32_t, std::size_t> position;
   for (const auto& [name, b] : scene.boundaries)
   {
     if (!b.contact)
       continue;
-    auto [dofs, collapsed]
-        = fem::locate_dofs_topological({*Vi, *c.output_space}, fdim, domain.boundaries.at(name));
+    const auto& facets = domain.boundaries.at(name);
+    const la::Vector<double> lumped = lumped_measure(domain, forms, V, facets);
+    auto [dofs, collapsed] = fem::locate_dofs_topological({*V0, *c.output_space}, d - 1, facets);
     for (std::size_t k = 0; k < dofs.size(); ++k)
     {
-      if (dofs[k] >= owned or !seen.insert(dofs[k]).second)
+      if (dofs[k] >= owned)
         continue;
       const double* x = &coords[3 * (dofs[k] / bs)];
       const double g = b.contact->gap(x, 0.0);
+      const auto n = unit_normal(*b.contact, x, d);
       if ((!(g >= 0) or !std::isfinite(g)) and error.empty())
-        error = scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got " + std::to_string(g)
-                + " at (" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ")";
-      c.dofs.push_back(dofs[k]);
-      c.gap.push_back(g);
-      c.lumped.push_back(lumped.array()[dofs[k]]);
-      c.output_dofs.push_back(collapsed[k]);
+        error = scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got " + std::to_string(g) + " at "
+                + at(x, d);
+      if (!n and error.empty())
+        error = scene.file + ": boundary." + name + ".contact.normal: zero or not finite at " + at(x, d);
+      if (!n)
+        continue;
+      auto [it, added] = position.emplace(dofs[k], nodes.size());
+      if (added)
+        nodes.emplace_back(dofs[k], std::vector<Candidate>{});
+      nodes[it->second].second.push_back({*n, g, lumped.array()[dofs[k]], collapsed[k], &name});
     }
   }
+  return nodes;
+}
+
+/// One node's candidates merged (the same normal from two boundaries: one
+/// constraint, the smaller gap, the measures added) and entered into c as
+/// bounds on its own components (normals along coordinate axes) or on the
+/// components of its change of variables.
+void add_node(ContactSet& c, std::int32_t first, std::vector<Candidate> candidates, const std::vector<char>& prescribed,
+              const double* x, const std::string& file, std::string& error)
+{
+  std::vector<Candidate> merged;
+  for (const Candidate& k : candidates)
+  {
+    auto same = std::find_if(merged.begin(), merged.end(),
+                             [&](const Candidate& m)
+                             {
+                               double diff = 0;
+                               for (int i = 0; i < 3; ++i)
+                                 diff = std::max(diff, std::abs(m.normal[i] - k.normal[i]));
+                               return diff < 1e-12;
+                             });
+    if (same == merged.end())
+      merged.push_back(k);
+    else
+    {
+      same->gap = std::min(same->gap, k.gap);
+      same->lumped += k.lumped;
+    }
+  }
+  const int d = c.dim;
+  std::vector<std::optional<std::pair<int, int>>> axes;
+  std::set<int> distinct;
+  for (const Candidate& k : merged)
+  {
+    axes.push_back(coordinate_axis(k.normal, d));
+    if (axes.back())
+      distinct.insert(axes.back()->first);
+  }
+  const bool on_axes = distinct.size() == merged.size()
+                       and std::all_of(axes.begin(), axes.end(), [](const auto& a) { return a.has_value(); });
+  std::optional<NodeMatrix> T;
+  if (!on_axes)
+  {
+    std::vector<std::array<double, 3>> normals;
+    for (const Candidate& k : merged)
+      normals.push_back(k.normal);
+    std::array<bool, 3> held{false, false, false};
+    for (int i = 0; i < d; ++i)
+      held[i] = prescribed[first + i];
+    T = node_change_of_variables(normals, d, {false, false, false});
+    const std::string key = file + ": boundary." + *merged.front().boundary + ".contact.normal: at " + at(x, d);
+    if (!T and error.empty())
+      error = key + " the normals of the foundations that meet there are not independent";
+    else if (T and !node_change_of_variables(normals, d, held) and error.empty())
+      error = key + " the normal is not perpendicular to a prescribed displacement component of the node";
+    if (!T)
+      return;
+    c.transformed.emplace_back(first, *T);
+  }
+  for (std::size_t j = 0; j < merged.size(); ++j)
+  {
+    c.dofs.push_back(first + (on_axes ? axes[j]->first : static_cast<int>(j)));
+    c.sign.push_back(on_axes ? axes[j]->second : 1);
+    c.gap.push_back(merged[j].gap);
+    c.lumped.push_back(merged[j].lumped);
+    c.normal.push_back(merged[j].normal);
+    c.output_dofs.push_back(merged[j].output_dof);
+  }
+}
+} // namespace
+
+ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                          std::shared_ptr<const fem::FunctionSpace> V)
+{
+  ContactSet c;
+  c.dim = domain.dim();
+  c.output_space = std::make_shared<fem::FunctionSpace>(V->sub({0})->collapse().first);
+  std::string error; // the first bad input on this rank
+  NodeCandidates nodes = gather_candidates(scene, domain, forms, V, c, error);
+  const std::vector<char> prescribed = prescribed_dofs(scene, domain, *V);
+  const std::vector<double> coords = V->tabulate_dof_coordinates(false);
+  const int bs = V->dofmap()->index_map_bs();
+  for (auto& [first, candidates] : nodes)
+    add_node(c, first, std::move(candidates), prescribed, &coords[3 * (first / bs)], scene.file, error);
   agree_on_error(error, domain.mesh->comm());
   return c;
 }
@@ -119,15 +251,17 @@ bool use_condensation(const std::string& prefix, Method method, PetscInt contact
 
 ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, const std::vector<Field>& fields,
                              Structure structure, Method method, Vec layout, ContactSet set,
-                             std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs)
+                             std::vector<std::int32_t> displacement_dofs)
     : _comm(comm), _A(A), _P(P), _fields(fields), _structure(structure), _prefix(prefix), _set(std::move(set)),
-      _dofs(std::move(dofs)),
       _displacement_dofs(std::move(displacement_dofs))
 {
+  for (std::int32_t dof : _set.dofs)
+    _dofs.push_back(_displacement_dofs.at(dof));
   // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
   if (structure == Structure::spd)
     MatSetOption(A, MAT_SPD, PETSC_TRUE);
   VecDuplicate(layout, &_force);
+  make_change_of_variables(layout);
 
   long local_dofs = static_cast<long>(_dofs.size()), contact_dofs = 0;
   MPI_Allreduce(&local_dofs, &contact_dofs, 1, MPI_LONG, MPI_SUM, comm);
@@ -140,7 +274,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ma
   create_snes(vi_prefix);
   if (!condensed and method == Method::iterative)
   {
-    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, P, fields, prefix);
+    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _P_vi, _fields, prefix);
     KSP ksp;
     SNESGetKSP(_snes, &ksp);
     KSPMonitorSet(ksp, &ContactSolver::stagnation, this, nullptr);
@@ -165,7 +299,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Ma
 /// (schur_complement.h): every unknown of the small dense problem is bounded.
 void ContactSolver::condense()
 {
-  _schur = std::make_unique<SchurComplement>(_comm, _prefix, _A, _structure, _dofs);
+  _schur = std::make_unique<SchurComplement>(_comm, _prefix, _A_vi, _structure, _dofs);
   _vi_stage = std::make_unique<SolverStage>(_prefix + "contact");
   _vi_comm = PETSC_COMM_SELF;
   _K = _schur->matrix();
@@ -175,6 +309,9 @@ void ContactSolver::condense()
     _bounded[k] = static_cast<std::int32_t>(k);
   _bounded_gap.resize(m);
   _schur->gather(_set.gap.data(), _bounded_gap.data());
+  const std::vector<double> sign(_set.sign.begin(), _set.sign.end());
+  _bounded_sign.resize(m);
+  _schur->gather(sign.data(), _bounded_sign.data());
   VecCreateSeq(PETSC_COMM_SELF, m, &_x);
   // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
   const std::string vi_prefix = _prefix + "contact_";
@@ -188,9 +325,10 @@ void ContactSolver::condense()
 void ContactSolver::pose_on_full_system(Vec layout)
 {
   _vi_comm = _comm;
-  _K = _A;
+  _K = _A_vi;
   _bounded = _dofs;
   _bounded_gap = _set.gap;
+  _bounded_sign.assign(_set.sign.begin(), _set.sign.end());
   VecDuplicate(layout, &_x);
   make_bound_vectors();
 }
@@ -250,6 +388,7 @@ void ContactSolver::operator_changed()
   // H is formed again at the next solve; re-arm "rebuild once, then reuse"
   // (the lag is -1 after the first build).
   _schur_current = false;
+  _change_current = false;
   if (_lag_by_default)
     SNESSetLagPreconditioner(_snes, -2);
 }
@@ -379,8 +518,14 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
 ContactSolver::~ContactSolver()
 {
   SNESDestroy(&_snes);
-  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force})
+  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi})
     VecDestroy(v);
+  if (_change)
+  {
+    if (_P_vi != _A_vi)
+      MatDestroy(&_P_vi);
+    MatDestroy(&_A_vi);
+  }
 }
 
 // F(x) = K x - b/s: the gradient of the quadratic energy, in units of s.
@@ -412,6 +557,14 @@ double ContactSolver::displacement_scale(Vec x) const
 
 void ContactSolver::solve(Vec b, Vec x)
 {
+  change_operators();
+  Vec b_vi = b;
+  if (_change)
+  {
+    _change->dual(b, _b_vi);
+    b_vi = _b_vi;
+  }
+  Vec x_vi = to_vi(x, _x_vi);
   if (_schur and !_schur_current)
   {
     _schur->assemble();
@@ -420,9 +573,9 @@ void ContactSolver::solve(Vec b, Vec x)
   // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
   // works on x / s with s the displacement scale (largest gap or |x|); the
   // residual K (x/s) - b/s has the same Jacobian K.
-  _scale = displacement_scale(x);
+  _scale = displacement_scale(x_vi);
   set_bounds();
-  pose(b, x);
+  pose(b_vi, x_vi);
   SNESConvergedReason reason = run_snes();
   count_iterations(reason);
   if (reason < 0)
@@ -441,13 +594,15 @@ void ContactSolver::solve(Vec b, Vec x)
                       + SNESConvergedReasons[reason]);
   VecScale(_x, _scale);
   if (_schur)
-    _schur->extend(b, _x, x);
+    _schur->extend(b_vi, _x, x_vi);
   else
-    VecCopy(_x, x);
+    VecCopy(_x, x_vi);
+  if (_change)
+    _change->backward(x_vi, x);
 }
 
-/// u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a,
-/// in units of the displacement scale.
+/// u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a, in
+/// units of the displacement scale.
 void ContactSolver::set_bounds()
 {
   PetscScalar *lo, *up;
@@ -455,7 +610,7 @@ void ContactSolver::set_bounds()
   VecGetArray(_upper, &up);
   for (std::size_t k = 0; k < _bounded.size(); ++k)
   {
-    if (_set.sign > 0)
+    if (_bounded_sign[k] > 0)
       up[_bounded[k]] = _bounded_gap[k] / _scale;
     else
       lo[_bounded[k]] = -_bounded_gap[k] / _scale;
@@ -536,10 +691,11 @@ void ContactSolver::clamped_start()
   VecGetArrayRead(_upper, &up);
   PetscScalar* x;
   VecGetArray(_x, &x);
-  for (std::int32_t dof : _bounded)
+  for (std::size_t k = 0; k < _bounded.size(); ++k)
   {
+    const std::int32_t dof = _bounded[k];
     rows.push_back(start + dof);
-    x[dof] = _set.sign > 0 ? up[dof] : lo[dof];
+    x[dof] = _bounded_sign[k] > 0 ? up[dof] : lo[dof];
   }
   VecRestoreArray(_x, &x);
   VecRestoreArrayRead(_lower, &lo);
@@ -562,8 +718,8 @@ void ContactSolver::clamped_start()
   Vec rhs;
   VecDuplicate(_b_scaled, &rhs);
   VecCopy(_b_scaled, rhs);
-  Mat A = clamped_copy(_A, rhs);
-  Mat P = _P == _A ? A : clamped_copy(_P, nullptr);
+  Mat A = clamped_copy(_A_vi, rhs);
+  Mat P = _P_vi == _A_vi ? A : clamped_copy(_P_vi, nullptr);
   {
     LinearSolver clamped(_comm, _prefix, A, P, _structure, _fields);
     clamped.solve(_x, rhs);
@@ -574,15 +730,78 @@ void ContactSolver::clamped_start()
   VecDestroy(&rhs);
 }
 
+void ContactSolver::make_change_of_variables(Vec layout)
+{
+  _A_vi = _A;
+  _P_vi = _P;
+  long local = static_cast<long>(_set.transformed.size()), global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_LONG, MPI_SUM, _comm);
+  if (global == 0)
+    return;
+  std::vector<ChangeOfVariables::Node> nodes;
+  for (const auto& [first, T] : _set.transformed)
+  {
+    ChangeOfVariables::Node node{{0, 0, 0}, T};
+    for (int i = 0; i < _set.dim; ++i)
+      node.dofs[i] = _displacement_dofs.at(first + i);
+    nodes.push_back(node);
+  }
+  _change = std::make_unique<ChangeOfVariables>(_A, _set.dim, nodes, _structure == Structure::spd);
+  _A_vi = nullptr;
+  _change->congruence(_A, &_A_vi);
+  if (_P != _A)
+  {
+    _P_vi = nullptr;
+    _change->congruence(_P, &_P_vi);
+  }
+  else
+    _P_vi = _A_vi;
+  _change_current = true;
+  VecDuplicate(layout, &_x_vi);
+  VecDuplicate(layout, &_b_vi);
+  // The rigid-body modes of a field (the displacement of the coupled
+  // system) change with its DOFs.
+  for (Field& f : _fields)
+    if (f.near_nullspace)
+      f.near_nullspace = own(_change->transformed(f.near_nullspace.get(), &f.dofs, layout));
+}
+
+void ContactSolver::change_operators()
+{
+  if (!_change or _change_current)
+    return;
+  _change->congruence(_A, &_A_vi);
+  if (_P_vi != _A_vi)
+    _change->congruence(_P, &_P_vi);
+  _change_current = true;
+}
+
+Vec ContactSolver::to_vi(Vec x, Vec work) const
+{
+  if (!_change)
+    return x;
+  _change->forward(x, work);
+  return work;
+}
+
+std::vector<double> ContactSolver::distances(Vec x) const
+{
+  const PetscScalar* X;
+  Vec x_vi = to_vi(x, _x_vi);
+  VecGetArrayRead(x_vi, &X);
+  std::vector<double> distance(_dofs.size());
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    distance[k] = _set.gap[k] - _set.sign[k] * X[_dofs[k]];
+  VecRestoreArrayRead(x_vi, &X);
+  return distance;
+}
+
 int ContactSolver::active_nodes(Vec x) const
 {
   const double scale = displacement_scale(x);
-  const PetscScalar* X;
-  VecGetArrayRead(x, &X);
   int local = 0;
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    local += _set.gap[k] - _set.sign * X[_dofs[k]] <= 1e-9 * scale;
-  VecRestoreArrayRead(x, &X);
+  for (double distance : distances(x))
+    local += distance <= 1e-9 * scale;
   int global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_SUM, _comm);
   return global;
@@ -592,44 +811,55 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
                                   fem::Function<double>& active_out)
 {
   ContactState s;
+  const std::vector<double> distance = distances(x);
   // Nodal contact force R = A x - b (the residual of the unconstrained
-  // equations); the contact pressure is -R.nu_F / lumped measure.
+  // equations), in the new variables R' = T^{-T} R: the multiplier of each
+  // constraint; the contact pressure is -R'[dof] sign / lumped measure.
   MatMult(_A, x, _force);
   VecAXPY(_force, -1.0, b);
-  const PetscScalar *R, *X;
-  VecGetArrayRead(_force, &R);
-  VecGetArrayRead(x, &X);
+  Vec force = _force;
+  if (_change)
+  {
+    _change->dual(_force, _b_vi);
+    force = _b_vi;
+  }
+  const PetscScalar* R;
+  VecGetArrayRead(force, &R);
+  std::vector<double> pressure(_dofs.size());
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
+  VecRestoreArrayRead(force, &R);
+  s.gap_scale = displacement_scale(x);
+  summarise(s, pressure, distance, pressure_out, active_out);
+  return s;
+}
+
+void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressure,
+                              const std::vector<double>& distance, fem::Function<double>& pressure_out,
+                              fem::Function<double>& active_out) const
+{
   std::span<double> pc = pressure_out.x()->mutable_array();
   std::span<double> active = active_out.x()->mutable_array();
   std::fill(pc.begin(), pc.end(), 0.0);
   std::fill(active.begin(), active.end(), 0.0);
-
-  std::vector<double> pressure(_dofs.size()), normal(_dofs.size());
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-  {
-    normal[k] = _set.sign * X[_dofs[k]];
-    pressure[k] = -_set.sign * R[_dofs[k]] / _set.lumped[k];
-  }
-  VecRestoreArrayRead(_force, &R);
-  VecRestoreArrayRead(x, &X);
-  s.gap_scale = displacement_scale(x);
-
-  // A node is active when it lies on the foundation to round-off.
+  // A constraint is active when its node lies on the foundation to
+  // round-off; a node on two foundations shows the larger pressure.
   double pen = -std::numeric_limits<double>::infinity(), comp = 0, force = 0;
   double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
   int n_active = 0;
   for (std::size_t k = 0; k < _dofs.size(); ++k)
   {
-    const double distance = _set.gap[k] - normal[k];
-    const bool is_active = distance <= 1e-9 * s.gap_scale;
+    const bool is_active = distance[k] <= 1e-9 * s.gap_scale;
     n_active += is_active;
-    pen = std::max(pen, -distance);
-    comp = std::max(comp, std::abs(pressure[k] * distance));
+    pen = std::max(pen, -distance[k]);
+    comp = std::max(comp, std::abs(pressure[k] * distance[k]));
     pmax = std::max(pmax, pressure[k]);
     pmin = std::min(pmin, pressure[k]);
     force += pressure[k] * _set.lumped[k];
-    pc[_set.output_dofs[k]] = pressure[k];
-    active[_set.output_dofs[k]] = is_active ? 1.0 : 0.0;
+    const std::int32_t out = _set.output_dofs[k];
+    const bool same_node = k > 0 and _set.output_dofs[k - 1] == out;
+    pc[out] = same_node ? std::max(pc[out], pressure[k]) : pressure[k];
+    active[out] = (same_node and active[out] > 0) or is_active ? 1.0 : 0.0;
   }
   pressure_out.x()->scatter_fwd();
   active_out.x()->scatter_fwd();
@@ -645,7 +875,6 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   s.max_pressure = gmax[2];
   s.min_pressure = -gmax[3];
   MPI_Allreduce(&force, &s.total_force, 1, MPI_DOUBLE, MPI_SUM, _comm);
-  return s;
 }
 
 } // namespace biotcontact

@@ -1,18 +1,22 @@
-// Frictionless Signorini contact against a rigid foundation with normal
-// nu_F = +-e_i (alg. "Mechanics with frictionless Signorini contact").
+// Frictionless Signorini contact against rigid foundations of any normal
+// nu_F (alg. "Mechanics with frictionless Signorini contact").
 //
 // The energy is quadratic, so with A the matrix of the (mechanics or
 // monolithic) system and b its load vector the variational inequality is the
 // bound-constrained problem
-//     find x with l <= x <= g and F(x) = A x - b complementary to the bounds,
-// with bounds only on the DOF of each contact node along nu_F:
-// u.nu_F <= g_a. PETSc's reduced-space active-set Newton (SNESVINEWTONRSLS)
-// solves it; F is linear, A is its exact Jacobian, assembled once.
+//     find x' with l <= x' <= g and F(x') = A' x' - b' complementary to the
+//     bounds,
+// in the variables x' = T x of change_of_variables.h, where each constraint
+// u.nu_F <= g_a of a contact node is a bound on one DOF (T = I, A' = A
+// when every normal is a coordinate axis). PETSc's reduced-space active-set
+// Newton (SNESVINEWTONRSLS) solves it; F is linear, A' its exact Jacobian,
+// formed once per assembly of A.
 #pragma once
 
 #include "domain/domain.h"
 #include "assembly/forms.h"
 #include "solvers/inactive_set_preconditioner.h"
+#include "contact/change_of_variables.h"
 #include "contact/schur_complement.h"
 #include "solvers/solver.h"
 
@@ -26,16 +30,25 @@
 namespace biotcontact
 {
 
-/// The contact nodes of a P1 displacement space V: for each node of Gamma_3
-/// (owned by this rank) the DOF along the foundation normal, its gap g_a and
-/// its lumped boundary measure (which turns a nodal force into a pressure).
+/// The contact constraints of a P1 displacement space V: one for each node
+/// of a contact boundary (owned by this rank) and each foundation it
+/// touches (two at the apex of a groove), u.nu_F <= g_a.
 struct ContactSet
 {
-  int axis = 0, sign = 1;
-  std::vector<std::int32_t> dofs; // in V (unrolled)
+  /// Per constraint: the DOF in V (unrolled) that carries u.nu_F after the
+  /// change of variables, as sign * x'[dof] (sign +-1 at a node whose
+  /// normals are coordinate axes, where the DOF is that component of u
+  /// itself; +1 at a transformed node); its gap, its normal and its lumped
+  /// boundary measure (which turns a nodal force into a pressure).
+  std::vector<std::int32_t> dofs;
+  std::vector<int> sign;
   std::vector<double> gap, lumped;
-  /// The P1 scalar space of the normal component, for output, and the
-  /// matching DOF of each contact node there.
+  std::vector<std::array<double, 3>> normal;
+  /// The nodes whose normals are not coordinate axes: their first DOF in V
+  /// (the d components follow) and T_node (change_of_variables.h).
+  std::vector<std::pair<std::int32_t, NodeMatrix>> transformed;
+  int dim = 2;
+  /// A P1 scalar space, for output, and each constraint's node there.
   std::shared_ptr<const dolfinx::fem::FunctionSpace> output_space;
   std::vector<std::int32_t> output_dofs;
 };
@@ -50,8 +63,12 @@ void make_contact_fields(const ContactSet& set, std::shared_ptr<dolfinx::fem::Fu
                          std::shared_ptr<dolfinx::fem::Function<double>>& active,
                          std::shared_ptr<dolfinx::fem::Function<double>>& boundary);
 
-/// Finds the contact nodes of the scene's contact boundaries (all must share
-/// one foundation normal; throws SceneError otherwise).
+/// Finds the contact constraints of the scene's contact boundaries: a node
+/// on two boundaries with the same normal holds one constraint (the smaller
+/// gap), with different normals two. Throws SceneError for a gap below 0, a
+/// normal that is zero or not finite at a node, normals at a node that are
+/// not independent, or one that is not perpendicular to a prescribed
+/// displacement component of its node.
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
@@ -101,15 +118,15 @@ public:
   /// stagnated (contact.cpp, stagnation).
   static constexpr PetscInt stagnation_window = 50;
 
-  /// `dofs` are the contact DOFs of `set` in the numbering of the solved
-  /// vector (the same as set.dofs for the mechanics system, mapped into the
-  /// mixed space for the monolithic one); `displacement_dofs` the owned
-  /// displacement DOFs there (they set the length scale). `layout` is a
-  /// vector like x. On the iterative full path the Newton steps are
+  /// `displacement_dofs[i]` is the position of V's owned DOF i in the
+  /// solved vector (i itself for the mechanics system, its place in the
+  /// mixed space for the monolithic one): they locate the contact DOFs and
+  /// the transformed nodes, and set the length scale. `layout` is a vector
+  /// like x. On the iterative full path the Newton steps are
   /// preconditioned from P (A, or the fixed-stress matrix of the coupled
   /// system) split along `fields` (inactive_set_preconditioner.h).
   ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, const std::vector<Field>& fields,
-                Structure structure, Method method, Vec layout, ContactSet set, std::vector<std::int32_t> dofs,
+                Structure structure, Method method, Vec layout, ContactSet set,
                 std::vector<std::int32_t> displacement_dofs);
   ~ContactSolver();
   ContactSolver(const ContactSolver&) = delete;
@@ -184,9 +201,27 @@ private:
   /// solve that stagnates.
   static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
   std::vector<char> active_contact_dofs(Vec x) const;
+  /// The change of variables of the inclined and curved foundations, made
+  /// when any node needs one (collective), and the operators it makes.
+  void make_change_of_variables(Vec layout);
+  /// A' and P' of the current A and P (after a reassembly).
+  void change_operators();
+  /// x' = T x (x itself without a change of variables).
+  Vec to_vi(Vec x, Vec work) const;
+  /// The distance g - u.nu_F of each constraint at x (in x's units).
+  std::vector<double> distances(Vec x) const;
+  /// The diagnostics and output fields of the constraints' pressures and
+  /// distances (collective).
+  void summarise(ContactState& s, const std::vector<double>& pressure, const std::vector<double>& distance,
+                 dolfinx::fem::Function<double>& pressure_out, dolfinx::fem::Function<double>& active_out) const;
 
   MPI_Comm _comm;
   Mat _A, _P;
+  // The VI's operators: A' and P' of the change of variables, or A and P.
+  std::unique_ptr<ChangeOfVariables> _change;
+  Mat _A_vi, _P_vi;
+  bool _change_current = false;
+  Vec _x_vi = nullptr, _b_vi = nullptr; // x' and b' (work vectors when changed)
   std::vector<Field> _fields;
   Structure _structure;
   std::string _prefix;
@@ -212,7 +247,7 @@ private:
   MPI_Comm _vi_comm;
   Mat _K;
   std::vector<std::int32_t> _bounded;
-  std::vector<double> _bounded_gap;
+  std::vector<double> _bounded_gap, _bounded_sign;
   Vec _lower, _upper, _x, _residual, _b_scaled;
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;

@@ -219,23 +219,6 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   table->insert_or_assign(key, std::move(*parsed.get("value")));
 }
 
-int axis_of(const std::vector<double>& normal, int& sign)
-{
-  int axis = -1, nonzero = 0;
-  for (std::size_t i = 0; i < normal.size(); ++i)
-  {
-    if (normal[i] != 0.0)
-    {
-      ++nonzero;
-      axis = static_cast<int>(i);
-    }
-  }
-  if (nonzero != 1 or std::abs(normal[axis]) != 1.0)
-    return -1;
-  sign = normal[axis] > 0 ? 1 : -1;
-  return axis;
-}
-
 MeshSpec read_mesh(Section s, const std::string& scene_file)
 {
   MeshSpec m;
@@ -311,10 +294,19 @@ ContactSpec read_contact(Section c, int d)
   contact.gap = *gap;
   if (contact.gap.depends_on_time())
     c.fail("gap", "must not depend on t");
-  const std::vector<double> normal = c.number_vector("normal", d);
-  contact.axis = axis_of(normal, contact.sign);
-  if (contact.axis < 0)
-    c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)");
+  contact.normal = c.expression_vector("normal", d);
+  double length = 0;
+  bool constant = true;
+  for (const Expression& n : contact.normal)
+  {
+    if (n.depends_on_time())
+      c.fail("normal", "must not depend on t");
+    constant = constant and n.is_constant();
+    length += n.is_constant() ? n(0, 0, 0, 0) * n(0, 0, 0, 0) : 0.0;
+  }
+  // A normal that varies in space is checked at every contact node.
+  if (constant and !(length > 0 and std::isfinite(length)))
+    c.fail("normal", "must be a non-zero finite vector");
   if (contact.gap.is_constant() and contact.gap(0, 0, 0, 0) < 0)
     c.fail("gap", "must be >= 0");
   c.finish();

@@ -43,13 +43,15 @@ struct MeshSpec
   int refine = 0;                   // uniform refinements of a gmsh mesh (nested: each halves h)
 };
 
-/// Frictionless Signorini contact against a rigid foundation with normal
-/// nu_F = sign * e_axis: u.nu_F <= gap at the nodes of the boundary.
+/// Frictionless Signorini contact against a rigid foundation:
+/// u.nu_F <= gap at the nodes of the boundary, nu_F the foundation's
+/// outward normal (from the body into the foundation), a constant vector or
+/// one given by expressions of x, y, z (a curved foundation), normalised at
+/// each node.
 struct ContactSpec
 {
   Expression gap;
-  int axis = 0;
-  int sign = 1;
+  std::vector<Expression> normal; // d components
 };
 
 struct BoundarySpec

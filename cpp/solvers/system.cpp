@@ -48,13 +48,11 @@ void System::set_near_nullspace(MatNullSpace modes) { MatSetNearNullSpace(_A.mat
 
 System::~System() = default;
 
-void System::use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs,
-                         Vec layout)
+void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout)
 {
   _linear.reset();
   _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), preconditioner_matrix(), _fields, _structure,
-                                             _method, layout, std::move(set),
-                                             std::move(dofs), std::move(displacement_dofs));
+                                             _method, layout, std::move(set), std::move(displacement_dofs));
 }
 
 void System::solve(Vec b, Vec x)

@@ -43,10 +43,10 @@ public:
   /// `a_preconditioner` on the iterative path.
   Mat preconditioner_matrix() const { return _P ? _P->mat() : _A.mat(); }
 
-  /// Makes every solve the contact problem on the DOFs `dofs` of x (see
-  /// ContactSolver); `layout` is a vector like x.
-  void use_contact(ContactSet set, std::vector<std::int32_t> dofs, std::vector<std::int32_t> displacement_dofs,
-                   Vec layout);
+  /// Makes every solve the contact problem of `set` (see ContactSolver:
+  /// `displacement_dofs` place V's owned DOFs in x); `layout` is a vector
+  /// like x.
+  void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout);
 
   /// Solves with x as the initial guess (a contact solve starts from it).
   void solve(Vec b, Vec x);

@@ -72,15 +72,14 @@ void MechanicsStep::make_loads(const Domain& domain, const CompiledForms& forms,
           { return make_form(forms.L_traction, {_V}, data, constants, marker); }, traction, b.traction);
 }
 
-/// Contact: bounds on the normal DOF of every node of Gamma_3.
+/// Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.h).
 void MechanicsStep::attach_contact(const Domain& domain, const CompiledForms& forms)
 {
   ContactSet set = locate_contact(_scene, domain, forms, _V);
-  std::vector<std::int32_t> dofs = set.dofs;
   std::vector<std::int32_t> owned(owned_size(*_V));
   std::iota(owned.begin(), owned.end(), 0);
   make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
-  _system->use_contact(std::move(set), std::move(dofs), std::move(owned), wrap(*_b).vec());
+  _system->use_contact(std::move(set), std::move(owned), wrap(*_b).vec());
 }
 
 MechanicsStep::~MechanicsStep() = default;

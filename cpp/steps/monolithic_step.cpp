@@ -125,22 +125,20 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
     _loads->add(make(forms.L_monolithic_gravity));
 }
 
-/// Contact: the bounds sit on the contact DOFs of the displacement block.
+/// Contact: the bounds sit on DOFs of the displacement block (contact.h).
 void MonolithicStep::attach_contact(const Domain& domain, const CompiledForms& forms)
 {
   ContactSet set = locate_contact(_scene, domain, forms, V);
   const std::int32_t owned_X = owned_size(*_X);
   const std::int32_t owned_V = owned_size(*V);
-  std::vector<std::int32_t> dofs, displacement;
-  for (std::int32_t dof : set.dofs)
-    dofs.push_back(_V_to_X.at(dof));
+  std::vector<std::int32_t> displacement;
   for (std::int32_t i = 0; i < owned_V; ++i)
     displacement.push_back(_V_to_X[i]);
-  for (std::int32_t dof : dofs)
+  for (std::int32_t dof : displacement)
     if (dof >= owned_X)
-      throw std::runtime_error("monolithic contact: a contact DOF owned in V is not owned in the mixed space");
+      throw std::runtime_error("monolithic contact: a displacement DOF owned in V is not owned in the mixed space");
   make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
-  _system->use_contact(std::move(set), std::move(dofs), std::move(displacement), wrap(*_b).vec());
+  _system->use_contact(std::move(set), std::move(displacement), wrap(*_b).vec());
 }
 
 MonolithicStep::~MonolithicStep() = default;

@@ -1,19 +1,24 @@
-"""Frictionless Signorini contact against a rigid foundation with normal
-nu_F = +-e_i (alg. "Mechanics with frictionless Signorini contact";
-cpp/contact/contact.cpp), for the mechanics and the monolithic systems alike.
+"""Frictionless Signorini contact against rigid foundations of any normal
+nu_F (alg. "Mechanics with frictionless Signorini contact";
+cpp/contact/contact.h), for the mechanics and the monolithic systems alike.
 
 The energy is quadratic, so with A the system matrix and b its load vector
-the variational inequality is the bound-constrained problem: find x with
-l <= x <= g and F(x) = A x - b complementary to the bounds, bounds only on
-the DOF of each contact node along nu_F (u.nu_F <= g_a). PETSc's
-reduced-space active-set Newton (SNES vinewtonrsls) solves it.
+the variational inequality is the bound-constrained problem: find x' with
+l <= x' <= g and F(x') = A' x' - b' complementary to the bounds, in the
+variables x' = T x of change_of_variables.py, where each constraint
+u.nu_F <= g_a is a bound on one DOF (T = I, A' = A when every normal is a
+coordinate axis). PETSc's reduced-space active-set Newton (SNES
+vinewtonrsls) solves it.
 """
+import dataclasses
+
 import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..assembly.linear_algebra import accumulate_ghosts, add_vector, owned, set_lag_preconditioner
+from .change_of_variables import ChangeOfVariables, coordinate_axis, node_change_of_variables
 from .schur_complement import SchurComplement
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, OptionsError, SolverError, SolverStage, Structure,
@@ -22,51 +27,124 @@ from ..scene.scene import SceneError, agree_on_error
 
 
 class ContactSet:
-    """For each node of Gamma_3 owned here: its DOF along nu_F = sign e_axis,
-    its gap g_a and its lumped boundary measure; `output_space` is the P1
-    scalar space of that component, `output_dofs` the node's DOF there."""
+    """The contact constraints u.nu_F <= g_a of a P1 displacement space V:
+    one for each node of a contact boundary owned here and each foundation
+    it touches (cpp/contact/contact.h). Per constraint: `dofs`, the DOF in V
+    that carries u.nu_F = sign * x'[dof] after the change of variables
+    (sign +-1 where the node's normals are coordinate axes, +1 at a
+    transformed node), `gap`, `normal`, `lumped` (boundary measure) and
+    `output_dofs` (the node in the P1 scalar `output_space`); `transformed`
+    lists (first DOF in V, T_node) of the nodes that need a change of
+    variables."""
 
     def __init__(self, scene, domain, F, V):
-        fdim = domain.dim - 1
-        contacts = [(name, b) for name, b in scene.boundaries.items() if b.contact]
-        self.axis, self.sign = contacts[0][1].contact.axis, contacts[0][1].contact.sign
-        for name, b in contacts[1:]:
-            if (b.contact.axis, b.contact.sign) != (self.axis, self.sign):
-                raise SceneError(f"{scene.file}: boundary.{name}.contact.normal: all contact boundaries "
-                                 "must share one foundation normal")
-        facets = np.unique(np.concatenate([domain.boundaries[name] for name, _ in contacts]))
+        self.dim = domain.dim
+        self.output_space, _ = V.sub(0).collapse()
+        self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
+        self.transformed = []
+        error = []  # the first bad input on this rank
+        nodes = _gather_candidates(scene, domain, F, V, self.output_space, error)
+        prescribed = _prescribed_dofs(scene, domain, V)
+        coords, bs = V.tabulate_dof_coordinates(), V.dofmap.index_map_bs
+        for first, candidates in nodes.items():
+            self._add_node(first, candidates, prescribed, coords[first // bs], scene.file, error)
+        agree_on_error(error[0] if error else "", domain.mesh.comm)
+        self.dofs = np.array(self.dofs, dtype=np.int32)
+        self.sign = np.array(self.sign, dtype=np.int32)
+        self.gap, self.lumped, self.normal = np.array(self.gap), np.array(self.lumped), np.array(self.normal)
+        self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
 
+    def _add_node(self, first, candidates, prescribed, x, file, error):
+        """One node's candidates merged (the same normal from two boundaries:
+        one constraint, the smaller gap, the measures added) and entered as
+        bounds on its own components (normals along coordinate axes) or on
+        the components of its change of variables."""
+        merged = []
+        for c in candidates:
+            same = [m for m in merged if np.max(np.abs(m["normal"] - c["normal"])) < 1e-12]
+            if same:
+                same[0]["gap"] = min(same[0]["gap"], c["gap"])
+                same[0]["lumped"] += c["lumped"]
+            else:
+                merged.append(dict(c))
+        d = self.dim
+        axes = [coordinate_axis(m["normal"], d) for m in merged]
+        on_axes = all(a is not None for a in axes) and len({a[0] for a in axes}) == len(merged)
+        if not on_axes:
+            normals = [m["normal"] for m in merged]
+            T = node_change_of_variables(normals, d, [False] * 3)
+            key = f"{file}: boundary.{merged[0]['boundary']}.contact.normal: at {_at(x, d)}"
+            if T is None and not error:
+                error.append(key + " the normals of the foundations that meet there are not independent")
+            elif T is not None and node_change_of_variables(normals, d, prescribed[first:first + d]) is None \
+                    and not error:
+                error.append(key + " the normal is not perpendicular to a prescribed displacement component "
+                             "of the node")
+            if T is None:
+                return
+            self.transformed.append((first, T))
+        for j, m in enumerate(merged):
+            self.dofs.append(first + (axes[j][0] if on_axes else j))
+            self.sign.append(axes[j][1] if on_axes else 1)
+            self.gap.append(m["gap"])
+            self.lumped.append(m["lumped"])
+            self.normal.append(m["normal"])
+            self.output_dofs.append(m["output_dof"])
+
+
+def _prescribed_dofs(scene, domain, V):
+    """Flags of the DOFs of V (unrolled, local) whose value a displacement
+    condition prescribes."""
+    imap, bs = V.dofmap.index_map, V.dofmap.index_map_bs
+    prescribed = np.zeros(bs * (imap.size_local + imap.num_ghosts), dtype=bool)
+    for name, b in scene.boundaries.items():
+        for i in range(domain.dim):
+            if b.displacement[i] is not None:
+                prescribed[fem.locate_dofs_topological(V.sub(i), domain.dim - 1, domain.boundaries[name])] = True
+    return prescribed
+
+
+def _at(x, d):
+    return "(" + ", ".join(f"{v:f}" for v in x[:d]) + ")"
+
+
+def _unit_normal(contact, x, d):
+    """The foundation's normal at x, normalised; None where it is zero or
+    not finite."""
+    n = np.zeros(3)
+    n[:d] = [float(c(x[0], x[1], x[2], 0.0)) for c in contact.normal]
+    length = np.sqrt(np.dot(n, n))
+    return n / length if length > 0 and np.isfinite(length) else None
+
+
+def _gather_candidates(scene, domain, F, V, output_space, error):
+    """The constraints of each contact boundary at each owned node, by node
+    in the order first met (boundaries in the scene's order, each
+    boundary's DOFs in dolfinx's): the order of the constraints."""
+    d, bs, n_owned = domain.dim, V.dofmap.index_map_bs, owned(V)
+    coords, V0, nodes = V.tabulate_dof_coordinates(), V.sub(0), {}
+    for name, b in scene.boundaries.items():
+        if not b.contact:
+            continue
         # Lumped boundary measure of each node: the integral of its hat function.
         lumped = fem.Function(V)
-        add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=facets)))
+        add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=domain.boundaries[name])))
         accumulate_ghosts(lumped)
-
-        Vi = V.sub(self.axis)
-        self.output_space, _ = Vi.collapse()
-        coords = V.tabulate_dof_coordinates()
-        bs, n_owned = V.dofmap.index_map_bs, owned(V)
-        self.dofs, self.gap, self.lumped, self.output_dofs, seen = [], [], [], [], set()
-        error = ""  # the first bad gap on this rank
-        for name, b in contacts:
-            dofs, collapsed = fem.locate_dofs_topological((Vi, self.output_space), fdim,
-                                                          domain.boundaries[name])
-            for dof, out in zip(dofs, collapsed):
-                if dof >= n_owned or dof in seen:
-                    continue
-                seen.add(dof)
-                x = coords[dof // bs]
-                g = float(b.contact.gap(x[0], x[1], x[2], 0.0))
-                if (not (g >= 0) or not np.isfinite(g)) and not error:
-                    error = (f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} "
-                             f"at ({x[0]:f}, {x[1]:f})")
-                self.dofs.append(dof)
-                self.gap.append(g)
-                self.lumped.append(lumped.x.array[dof])
-                self.output_dofs.append(out)
-        agree_on_error(error, domain.mesh.comm)
-        self.dofs = np.array(self.dofs, dtype=np.int32)
-        self.gap, self.lumped = np.array(self.gap), np.array(self.lumped)
-        self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
+        dofs, collapsed = fem.locate_dofs_topological((V0, output_space), d - 1, domain.boundaries[name])
+        for dof, out in zip(dofs, collapsed):
+            if dof >= n_owned:
+                continue
+            x = coords[dof // bs]
+            g = float(b.contact.gap(x[0], x[1], x[2], 0.0))
+            n = _unit_normal(b.contact, x, d)
+            if (not (g >= 0) or not np.isfinite(g)) and not error:
+                error.append(f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} at {_at(x, d)}")
+            if n is None and not error:
+                error.append(f"{scene.file}: boundary.{name}.contact.normal: zero or not finite at {_at(x, d)}")
+            if n is not None:
+                nodes.setdefault(int(dof), []).append(
+                    dict(normal=n, gap=g, lumped=lumped.x.array[dof], output_dof=int(out), boundary=name))
+    return nodes
 
 
 def contact_boundary_flag(contact_set):
@@ -121,24 +199,28 @@ class ContactSolver:
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
     stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
 
-    def __init__(self, comm, prefix, A, P, fields, structure, method, contact_set, dofs, displacement_dofs):
-        """On the iterative full path the Newton steps are preconditioned from
+    def __init__(self, comm, prefix, A, P, fields, structure, method, contact_set, displacement_dofs):
+        """`displacement_dofs[i]` places V's owned DOF i in the solved vector;
+        on the iterative full path the Newton steps are preconditioned from
         P (A, or the fixed-stress matrix) split along `fields`."""
-        self.comm, self.A, self.P, self.fields, self.set, self.prefix = comm, A, P, fields, contact_set, prefix
+        self.comm, self.A, self.P, self.fields, self.set, self.prefix = comm, A, P, list(fields), contact_set, prefix
         self.structure = structure
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
-        self.dofs, self.displacement_dofs = np.asarray(dofs, dtype=np.int32), np.asarray(displacement_dofs)
+        self.displacement_dofs = np.asarray(displacement_dofs, dtype=np.int32)
+        self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
         self.force = A.createVecRight()
+        self._make_change_of_variables()
         self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
         vi_prefix = prefix
         condensed = use_condensation(prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
         if condensed:
-            self.schur = SchurComplement(comm, prefix, A, structure, self.dofs)
+            self.schur = SchurComplement(comm, prefix, self.A_vi, structure, self.dofs)
             self.vi_stage = SolverStage(prefix + "contact")
             self.vi_comm, self.vi_mpi_comm, self.K = PETSc.COMM_SELF, MPI.COMM_SELF, self.schur.H
             self.bounded = np.arange(self.schur.size(), dtype=np.int32)
             self.bounded_gap = self.schur.gather(self.set.gap)
+            self.bounded_sign = self.schur.gather(self.set.sign.astype(float))
             self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
             # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
             vi_prefix = prefix + "contact_"
@@ -146,8 +228,8 @@ class ContactSolver:
             set_default_option(vi_prefix + "pc_type", "cholesky" if structure == Structure.spd else "lu")
             set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
         else:
-            self.vi_comm, self.vi_mpi_comm, self.K = comm, comm, A
-            self.bounded, self.bounded_gap = self.dofs, self.set.gap
+            self.vi_comm, self.vi_mpi_comm, self.K = comm, comm, self.A_vi
+            self.bounded, self.bounded_gap, self.bounded_sign = self.dofs, self.set.gap, self.set.sign
             self.x = A.createVecRight()
         self.residual, self.lower, self.upper, self.b_scaled = (self.x.duplicate() for _ in range(4))
         self.lower.set(PETSc.NINFINITY)
@@ -168,7 +250,7 @@ class ContactSolver:
         self.snes.setConvergenceTest(self._converged)
         if not condensed and method == Method.iterative:
             self.snes.getKSP().setMonitor(self._stagnation)
-            self.preconditioner = InactiveSetPreconditioner(self.snes, P, fields, prefix)
+            self.preconditioner = InactiveSetPreconditioner(self.snes, self.P_vi, self.fields, prefix)
             self.set_tolerance(ITERATIVE_TOLERANCE)
         # At least one Newton step per solve, so the result never lags the load.
         if hasattr(self.snes, "setForceIteration"):
@@ -220,7 +302,7 @@ class ContactSolver:
 
     def operator_changed(self):
         """A was reassembled: H is formed again, "rebuild once, then reuse" re-armed."""
-        self.schur_current = False
+        self.schur_current = self.change_current = False
         if self.lag_by_default:
             set_lag_preconditioner(self.snes, -2)
 
@@ -294,30 +376,22 @@ class ContactSolver:
 
     def solve(self, b, x):
         """Solves the VI; x holds the initial guess on entry."""
+        self._change_operators()
+        b_vi, x_vi = b, self._to_vi(x)
+        if self.change:
+            self.change.dual(b, self.b_vi)
+            b_vi = self.b_vi
         if self.schur and not self.schur_current:
             self.schur.assemble()
             self.schur_current = True
-        scale = self.displacement_scale(x)
-        # u.nu_F <= g_a with nu_F = sign e_axis: u_axis <= g_a or u_axis >= -g_a.
-        if self.set.sign > 0:
-            with self.upper as up:
-                up[self.bounded] = self.bounded_gap / scale
-        else:
-            with self.lower as lo:
-                lo[self.bounded] = -self.bounded_gap / scale
-        if self.schur:  # the VI on C alone: (H, g) with y = x_C
-            with self.b_scaled as g:
-                g[:] = self.schur.condensed_load(b)
-            with self.x as y:
-                y[:] = self.schur.restrict_to_contact(x)
-        else:
-            b.copy(self.b_scaled)
-            x.copy(self.x)
-        self.b_scaled.scale(1.0 / scale)
-        self.x.scale(1.0 / scale)
-        if not PETSc.Options().hasName(self.snes.getOptionsPrefix() + "snes_atol"):
-            # absolute tolerance relative to the load: scale-free
-            self.snes.setTolerances(atol=max(1e-10 * self.b_scaled.norm(), 1e-300))
+        scale = self.displacement_scale(x_vi)
+        # u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a.
+        upper, lower = self.bounded_sign > 0, self.bounded_sign < 0
+        with self.upper as up:
+            up[self.bounded[upper]] = self.bounded_gap[upper] / scale
+        with self.lower as lo:
+            lo[self.bounded[lower]] = -self.bounded_gap[lower] / scale
+        self._pose(b_vi, x_vi, scale)
         reason = self._snes_solve()
         self._count(reason)
         if reason < 0:
@@ -334,9 +408,28 @@ class ContactSolver:
                               + reason_name(PETSc.SNES.ConvergedReason, reason))
         self.x.scale(scale)
         if self.schur:
-            self.schur.extend(b, self.x.getArray(readonly=True), x)
+            self.schur.extend(b_vi, self.x.getArray(readonly=True), x_vi)
         else:
-            self.x.copy(x)
+            self.x.copy(x_vi)
+        if self.change:
+            self.change.backward(x_vi, x)
+
+    def _pose(self, b, x, scale):
+        """The scaled load and start of the VI (on C alone when condensed:
+        (H, g) with y = x_C), its absolute tolerance relative to the load
+        unless -snes_atol is given: scale-free."""
+        if self.schur:
+            with self.b_scaled as g:
+                g[:] = self.schur.condensed_load(b)
+            with self.x as y:
+                y[:] = self.schur.restrict_to_contact(x)
+        else:
+            b.copy(self.b_scaled)
+            x.copy(self.x)
+        self.b_scaled.scale(1.0 / scale)
+        self.x.scale(1.0 / scale)
+        if not PETSc.Options().hasName(self.snes.getOptionsPrefix() + "snes_atol"):
+            self.snes.setTolerances(atol=max(1e-10 * self.b_scaled.norm(), 1e-300))
 
     def _count(self, reason):
         """Every attempt's steps count, a failed Krylov solve's iterations
@@ -361,9 +454,9 @@ class ContactSolver:
         """Every contact DOF on its bound; the other DOFs (none when
         condensed) solve A x = b/s with the contact rows and columns
         eliminated and the known values moved to the right-hand side."""
-        bound = (self.upper if self.set.sign > 0 else self.lower).getArray(readonly=True)
+        up, lo = self.upper.getArray(readonly=True), self.lower.getArray(readonly=True)
         with self.x as x:
-            x[self.bounded] = bound[self.bounded]
+            x[self.bounded] = np.where(self.bounded_sign > 0, up[self.bounded], lo[self.bounded])
         if self.schur:
             return
         rows = (self.x.getOwnershipRange()[0] + self.bounded).astype(PETSc.IntType)
@@ -375,34 +468,83 @@ class ContactSolver:
             C.zeroRowsColumns(rows, 1.0, self.x if rhs is not None else None, rhs)
             return C
         rhs = self.b_scaled.copy()
-        A = clamped_copy(self.A, rhs)
-        P = A if self.P is self.A else clamped_copy(self.P)
+        A = clamped_copy(self.A_vi, rhs)
+        P = A if self.P_vi is self.A_vi else clamped_copy(self.P_vi)
         LinearSolver(self.comm, self.prefix, A, P, self.structure, self.fields).solve(self.x, rhs)
 
+    def _make_change_of_variables(self):
+        """The change of variables of the inclined and curved foundations,
+        made when any node needs one (collective), and its operators."""
+        self.A_vi, self.P_vi, self.change, self.change_current = self.A, self.P, None, True
+        self.x_vi = self.b_vi = None
+        if self.comm.allreduce(len(self.set.transformed), op=MPI.SUM) == 0:
+            return
+        d = self.set.dim
+        nodes = [(self.displacement_dofs[first:first + d], T) for first, T in self.set.transformed]
+        self.change = ChangeOfVariables(self.A, d, nodes, self.structure == Structure.spd)
+        self.A_vi = self.change.congruence(self.A)
+        self.P_vi = self.A_vi if self.P is self.A else self.change.congruence(self.P)
+        self.x_vi, self.b_vi = self.A.createVecRight(), self.A.createVecRight()
+        # The rigid-body modes of a field (the displacement of the coupled
+        # system) change with its DOFs.
+        for k, f in enumerate(self.fields):
+            if f.near_nullspace is not None:
+                self.fields[k] = dataclasses.replace(
+                    f, near_nullspace=self.change.transformed(f.near_nullspace, f.dofs, self.x_vi))
+
+    def _change_operators(self):
+        """A' and P' of the current A and P (after a reassembly)."""
+        if not self.change or self.change_current:
+            return
+        self.change.congruence(self.A, self.A_vi)
+        if self.P_vi is not self.A_vi:
+            self.change.congruence(self.P, self.P_vi)
+        self.change_current = True
+
+    def _to_vi(self, x):
+        """x' = T x (x itself without a change of variables)."""
+        if not self.change:
+            return x
+        self.change.forward(x, self.x_vi)
+        return self.x_vi
+
+    def distances(self, x):
+        """The distance g - u.nu_F of each constraint at x."""
+        return self.set.gap - self.set.sign * self._to_vi(x).getArray(readonly=True)[self.dofs]
+
     def active_nodes(self, x):
-        """Contact nodes on the foundation to round-off: the active flag of
+        """Constraints on the foundation to round-off: the active flag of
         state(), without the contact forces (collective)."""
         scale = self.displacement_scale(x)
-        distance = self.set.gap - self.set.sign * x.getArray(readonly=True)[self.dofs]
-        return self.comm.allreduce(int(np.sum(distance <= 1e-9 * scale)), op=MPI.SUM)
+        return self.comm.allreduce(int(np.sum(self.distances(x) <= 1e-9 * scale)), op=MPI.SUM)
 
     def state(self, x, b, pressure_out, active_out):
-        """Contact force R = A x - b at the contact DOFs; contact pressure
-        -R.nu_F / lumped measure; a node is active on the foundation to round-off."""
-        s = ContactState()
+        """Contact force R = A x - b, in the new variables R' = T^{-T} R: the
+        multiplier of each constraint; contact pressure -sign R'[dof] / lumped
+        measure; a constraint is active on the foundation to round-off."""
+        distance = self.distances(x)
         self.A.mult(x, self.force)
         self.force.axpy(-1.0, b)
-        R, X = self.force.getArray(readonly=True), x.getArray(readonly=True)
-        sign, gap = self.set.sign, self.set.gap
-        normal = sign * X[self.dofs]
-        pressure = -sign * R[self.dofs] / self.set.lumped
+        force = self.force
+        if self.change:
+            self.change.dual(self.force, self.b_vi)
+            force = self.b_vi
+        pressure = -self.set.sign * force.getArray(readonly=True)[self.dofs] / self.set.lumped
+        s = ContactState()
         s.gap_scale = self.displacement_scale(x)
-        distance = gap - normal
+        self._summarise(s, pressure, distance, pressure_out, active_out)
+        return s
+
+    def _summarise(self, s, pressure, distance, pressure_out, active_out):
+        """The diagnostics and output fields of the constraints' pressures
+        and distances; a node on two foundations shows the larger pressure."""
         active = distance <= 1e-9 * s.gap_scale
         pressure_out.x.array[:] = 0.0
         active_out.x.array[:] = 0.0
-        pressure_out.x.array[self.set.output_dofs] = pressure
-        active_out.x.array[self.set.output_dofs] = active * 1.0
+        out = self.set.output_dofs
+        pressure_out.x.array[out] = pressure
+        np.maximum.at(pressure_out.x.array, out, pressure)
+        np.maximum.at(active_out.x.array, out, active * 1.0)
         pressure_out.x.scatter_forward()
         active_out.x.scatter_forward()
         s.active_nodes = self.comm.allreduce(int(active.sum()), op=MPI.SUM)
@@ -415,4 +557,3 @@ class ContactSolver:
         for p_k, lumped in zip(pressure, self.set.lumped):
             force += p_k * lumped
         s.total_force = self.comm.allreduce(force, op=MPI.SUM)
-        return s

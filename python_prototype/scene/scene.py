@@ -158,9 +158,11 @@ class MeshSpec:
 
 @dataclass
 class ContactSpec:
+    """u.nu_F <= gap at the nodes of the boundary, nu_F the foundation's
+    outward normal (from the body into the foundation), a constant vector or
+    expressions of x, y, z (a curved foundation), normalised at each node."""
     gap: Expression
-    axis: int = 0
-    sign: int = 1
+    normal: list
 
 
 @dataclass
@@ -332,13 +334,6 @@ def apply_override(root, assignment, file):
         table[key] = text
 
 
-def _axis_of(normal):
-    nonzero = [i for i, v in enumerate(normal) if v != 0.0]
-    if len(nonzero) != 1 or abs(normal[nonzero[0]]) != 1.0:
-        return -1, 1
-    return nonzero[0], 1 if normal[nonzero[0]] > 0 else -1
-
-
 def _read_mesh(s, scene_file):
     m = MeshSpec(type=s.string("type"))
     if m.type in ("rectangle", "box"):
@@ -392,13 +387,18 @@ def _read_contact(c, d):
         c.fail("gap", "missing (the gap g_a to the foundation)")
     if gap.depends_on_time:
         c.fail("gap", "must not depend on t")
-    axis, sign = _axis_of(c.number_vector("normal", d))
-    if axis < 0:
-        c.fail("normal", "the foundation normal must be a coordinate axis (+-x, +-y, +-z)")
+    normal = c.expression_vector("normal", d)
+    if any(n.depends_on_time for n in normal):
+        c.fail("normal", "must not depend on t")
+    # A normal that varies in space is checked at every contact node.
+    if all(n.is_constant for n in normal):
+        length = sum(n(0, 0, 0, 0) ** 2 for n in normal)
+        if not (length > 0 and math.isfinite(length)):
+            c.fail("normal", "must be a non-zero finite vector")
     if gap.is_constant and gap(0, 0, 0, 0) < 0:
         c.fail("gap", "must be >= 0")
     c.finish()
-    return ContactSpec(gap, axis, sign)
+    return ContactSpec(gap, normal)
 
 
 def _read_boundary(s, d):

@@ -52,11 +52,12 @@ class System:
         """The rigid-body modes, from which AMG builds its coarse spaces."""
         self.A.setNearNullSpace(modes)
 
-    def use_contact(self, contact_set, dofs, displacement_dofs):
-        """Every solve becomes the contact problem on the DOFs `dofs`."""
+    def use_contact(self, contact_set, displacement_dofs):
+        """Every solve becomes the contact problem of `contact_set`
+        (`displacement_dofs` place V's owned DOFs in x)."""
         self.linear = None
         self.contact = ContactSolver(self.comm, self.prefix, self.A, self.preconditioner_matrix(), self.fields,
-                                     self.structure, self.method, contact_set, dofs, displacement_dofs)
+                                     self.structure, self.method, contact_set, displacement_dofs)
 
     def has_contact(self):
         return self.contact is not None

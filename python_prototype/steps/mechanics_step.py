@@ -59,10 +59,10 @@ class MechanicsStep:
                                         F["traction"], b.traction)
 
     def attach_contact(self, domain, F):
-        """Contact: bounds on the normal DOF of every node of Gamma_3."""
+        """Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.py)."""
         contact_set = ContactSet(self.scene, domain, F, self.V)
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
-        self.system.use_contact(contact_set, contact_set.dofs, np.arange(owned(self.V)))
+        self.system.use_contact(contact_set, np.arange(owned(self.V)))
 
     def assemble_rhs(self, t):
         """The loads change with t only; the pressure load changes every

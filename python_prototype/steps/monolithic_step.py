@@ -85,13 +85,13 @@ class MonolithicStep:
             self.loads.add(F.compile("L_monolithic_gravity"))
 
     def attach_contact(self, domain, F):
-        """Contact: the bounds sit on the contact DOFs of the displacement block."""
+        """Contact: the bounds sit on DOFs of the displacement block (contact.py)."""
         contact_set = ContactSet(self.scene, domain, F, self.V)
-        dofs = self.V_to_X[contact_set.dofs]
-        if np.any(dofs >= owned(F["X"])):
-            raise RuntimeError("monolithic contact: a contact DOF owned in V is not owned in the mixed space")
+        displacement = self.V_to_X[:owned(self.V)]
+        if np.any(displacement >= owned(F["X"])):
+            raise RuntimeError("monolithic contact: a displacement DOF owned in V is not owned in the mixed space")
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
-        self.system.use_contact(contact_set, dofs, self.V_to_X[:owned(self.V)])
+        self.system.use_contact(contact_set, displacement)
 
     def fields(self, X):
         """The splits of (u, z, p) for the fixed-stress preconditioner: the

@@ -1,0 +1,254 @@
+#include "contact/change_of_variables.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace biotcontact
+{
+
+namespace
+{
+double dot(const double* a, const double* b, int d)
+{
+  double s = 0;
+  for (int i = 0; i < d; ++i)
+    s += a[i] * b[i];
+  return s;
+}
+
+double determinant(const NodeMatrix& T, int d)
+{
+  if (d == 2)
+    return T[0] * T[3] - T[1] * T[2];
+  return T[0] * (T[4] * T[8] - T[5] * T[7]) - T[1] * (T[3] * T[8] - T[5] * T[6]) + T[2] * (T[3] * T[7] - T[4] * T[6]);
+}
+
+/// Orthonormal rows completing the first m rows of T (which span the
+/// normals) to a basis: Gram-Schmidt of the coordinate axes against the
+/// rows so far, each axis kept when it adds a direction. Works on Q, an
+/// orthonormal basis of the span of every row so far.
+void complete(NodeMatrix& T, NodeMatrix Q, int m, int d)
+{
+  int rows = m;
+  for (int axis = 0; axis < d and rows < d; ++axis)
+  {
+    double v[3] = {0, 0, 0};
+    v[axis] = 1;
+    for (int r = 0; r < rows; ++r)
+    {
+      const double c = dot(v, &Q[3 * r], d);
+      for (int i = 0; i < d; ++i)
+        v[i] -= c * Q[3 * r + i];
+    }
+    const double length = std::sqrt(dot(v, v, d));
+    if (length < 1e-8)
+      continue;
+    for (int i = 0; i < d; ++i)
+      T[3 * rows + i] = Q[3 * rows + i] = v[i] / length;
+    ++rows;
+  }
+}
+} // namespace
+
+std::optional<std::pair<int, int>> coordinate_axis(const std::array<double, 3>& normal, int d)
+{
+  int axis = -1;
+  for (int i = 0; i < d; ++i)
+  {
+    if (std::abs(normal[i]) > 1 - 1e-14)
+      axis = i;
+    else if (std::abs(normal[i]) > 1e-14)
+      return std::nullopt;
+  }
+  if (axis < 0)
+    return std::nullopt;
+  return std::make_pair(axis, normal[axis] > 0 ? 1 : -1);
+}
+
+std::optional<NodeMatrix> node_change_of_variables(const std::vector<std::array<double, 3>>& normals, int d,
+                                                   const std::array<bool, 3>& prescribed)
+{
+  const int m = static_cast<int>(normals.size());
+  // Rows stored with stride 3 whatever d: T[3 r + i]; packed to d x d below.
+  NodeMatrix T{}, Q{};
+  for (int r = 0; r < m; ++r)
+  {
+    std::copy_n(normals[r].begin(), d, &T[3 * r]);
+    // Q: the normals orthonormalised; a normal (nearly) in the span of the
+    // ones before it is not an independent constraint.
+    double v[3] = {normals[r][0], normals[r][1], normals[r][2]};
+    for (int q = 0; q < r; ++q)
+    {
+      const double c = dot(v, &Q[3 * q], d);
+      for (int i = 0; i < d; ++i)
+        v[i] -= c * Q[3 * q + i];
+    }
+    const double length = std::sqrt(dot(v, v, d));
+    if (length < 1e-8)
+      return std::nullopt;
+    for (int i = 0; i < d; ++i)
+      Q[3 * r + i] = v[i] / length;
+  }
+  complete(T, Q, m, d);
+  NodeMatrix packed{};
+  for (int r = 0; r < d; ++r)
+    for (int i = 0; i < d; ++i)
+      packed[d * r + i] = T[3 * r + i];
+  if (std::abs(determinant(packed, d)) < 1e-8)
+    return std::nullopt;
+  // A prescribed component must stay one of the new variables: then no
+  // normal has a part along it (and completion keeps its axis), unless
+  // every component is prescribed (the node does not move at all).
+  const bool all = std::all_of(prescribed.begin(), prescribed.begin() + d, [](bool p) { return p; });
+  for (int i = 0; i < d and !all; ++i)
+    for (int r = 0; r < m and prescribed[i]; ++r)
+      if (std::abs(normals[r][i]) > 1e-12)
+        return std::nullopt;
+  return packed;
+}
+
+NodeMatrix inverse(const NodeMatrix& T, int d)
+{
+  const double det = determinant(T, d);
+  NodeMatrix inv{};
+  if (d == 2)
+  {
+    inv = {T[3] / det, -T[1] / det, -T[2] / det, T[0] / det};
+    return inv;
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+    {
+      // the cofactor of (c, r)
+      const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+      inv[3 * r + c] = (T[3 * r1 + c1] * T[3 * r2 + c2] - T[3 * r1 + c2] * T[3 * r2 + c1]) / det;
+    }
+  return inv;
+}
+
+namespace
+{
+/// The identity with the blocks of `nodes` (T or its inverse) in place.
+Mat block_diagonal(Mat A, int d, const std::vector<ChangeOfVariables::Node>& nodes, bool inverted)
+{
+  PetscInt m = 0, n = 0, M = 0, N = 0, start = 0, bs = 1;
+  MatGetLocalSize(A, &m, &n);
+  MatGetSize(A, &M, &N);
+  MatGetOwnershipRange(A, &start, nullptr);
+  MatGetBlockSize(A, &bs);
+  Mat T;
+  MatCreateAIJ(PetscObjectComm(reinterpret_cast<PetscObject>(A)), m, n, M, N, d, nullptr, 0, nullptr, &T);
+  MatSetBlockSize(T, bs);
+  std::vector<char> in_node(m, 0);
+  for (const auto& node : nodes)
+  {
+    const NodeMatrix B = inverted ? inverse(node.T, d) : node.T;
+    PetscInt rows[3];
+    for (int i = 0; i < d; ++i)
+    {
+      rows[i] = start + node.dofs[i];
+      in_node[node.dofs[i]] = 1;
+    }
+    MatSetValues(T, d, rows, d, rows, B.data(), INSERT_VALUES);
+  }
+  for (PetscInt i = 0; i < m; ++i)
+    if (!in_node[i])
+      MatSetValue(T, start + i, start + i, 1.0, INSERT_VALUES);
+  MatAssemblyBegin(T, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(T, MAT_FINAL_ASSEMBLY);
+  return T;
+}
+} // namespace
+
+ChangeOfVariables::ChangeOfVariables(Mat A, int d, const std::vector<Node>& nodes, bool spd)
+    : _T(block_diagonal(A, d, nodes, false)), _T_inverse(block_diagonal(A, d, nodes, true)), _spd(spd)
+{
+}
+
+ChangeOfVariables::~ChangeOfVariables()
+{
+  MatDestroy(&_T);
+  MatDestroy(&_T_inverse);
+}
+
+void ChangeOfVariables::forward(Vec x, Vec y) const { MatMult(_T, x, y); }
+
+void ChangeOfVariables::backward(Vec y, Vec x) const { MatMult(_T_inverse, y, x); }
+
+void ChangeOfVariables::dual(Vec f, Vec g) const { MatMultTranspose(_T_inverse, f, g); }
+
+void ChangeOfVariables::congruence(Mat A, Mat* At) const
+{
+  MatPtAP(A, _T_inverse, *At ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, At);
+  if (_spd)
+    MatSetOption(*At, MAT_SPD, PETSC_TRUE);
+  MatNullSpace modes = nullptr;
+  MatGetNearNullSpace(A, &modes);
+  if (modes)
+  {
+    MatNullSpace t = transformed(modes);
+    MatSetNearNullSpace(*At, t);
+    MatNullSpaceDestroy(&t);
+  }
+}
+
+/// T v for a vector v of a field: v placed into a vector like `layout`,
+/// changed, and read back.
+void ChangeOfVariables::forward_field(Vec v, Vec t, const std::vector<PetscInt>& dofs, Vec layout) const
+{
+  Vec whole, changed;
+  VecDuplicate(layout, &whole);
+  VecDuplicate(layout, &changed);
+  PetscInt start = 0;
+  VecGetOwnershipRange(layout, &start, nullptr);
+  const PetscScalar* in;
+  PetscScalar *w, *out;
+  VecGetArrayRead(v, &in);
+  VecGetArray(whole, &w);
+  for (std::size_t i = 0; i < dofs.size(); ++i)
+    w[dofs[i] - start] = in[i];
+  VecRestoreArray(whole, &w);
+  VecRestoreArrayRead(v, &in);
+  forward(whole, changed);
+  VecGetArrayRead(changed, &in);
+  VecGetArray(t, &out);
+  for (std::size_t i = 0; i < dofs.size(); ++i)
+    out[i] = in[dofs[i] - start];
+  VecRestoreArray(t, &out);
+  VecRestoreArrayRead(changed, &in);
+  VecDestroy(&whole);
+  VecDestroy(&changed);
+}
+
+MatNullSpace ChangeOfVariables::transformed(MatNullSpace modes, const std::vector<PetscInt>* dofs, Vec layout) const
+{
+  PetscBool has_constant = PETSC_FALSE;
+  PetscInt n = 0;
+  const Vec* vectors = nullptr;
+  MatNullSpaceGetVecs(modes, &has_constant, &n, &vectors);
+  // T v, orthonormalised again (PETSc asks it of a null space; a node on
+  // two foundations has a T that is not orthogonal).
+  std::vector<Vec> t(n);
+  for (PetscInt k = 0; k < n; ++k)
+  {
+    VecDuplicate(vectors[k], &t[k]);
+    if (dofs)
+      forward_field(vectors[k], t[k], *dofs, layout);
+    else
+      forward(vectors[k], t[k]);
+    for (PetscInt j = 0; j < k; ++j)
+    {
+      PetscScalar c = 0;
+      VecDot(t[k], t[j], &c);
+      VecAXPY(t[k], -c, t[j]);
+    }
+    VecNormalize(t[k], nullptr);
+  }
+  MatNullSpace space;
+  MatNullSpaceCreate(PetscObjectComm(reinterpret_cast<PetscObject>(modes)), has_constant, n, t.data(), &space);
+  for (Vec& v : t)
+    VecDestroy(&v);
+  return space;
+}
+
+} // namespace biotcontact

@@ -1,0 +1,137 @@
+"""The change of variables that turns each Signorini constraint into a bound
+(cpp/contact/change_of_variables.h says it in full).
+
+At a contact node the constraints nu_j . u <= g_j (m foundations, m <= d)
+are bounds w_j <= g_j on w = T u, the first m rows of T the normals, the
+rest completing them orthonormally (Gram-Schmidt of the coordinate axes).
+For the system, x' = T x with T block-diagonal, and A x = b becomes
+A' x' = b' with A' = T^{-T} A T^{-1}, b' = T^{-T} b; the residual
+F' = T^{-T} F holds each constraint's multiplier. Nodes whose normals are
+coordinate axes need no change; when every node is such, T is never formed.
+"""
+import numpy as np
+from petsc4py import PETSc
+
+
+def coordinate_axis(normal, d):
+    """(axis, sign) of a unit normal that is a coordinate axis to round-off
+    1e-14; None otherwise."""
+    axis = None
+    for i in range(d):
+        if abs(normal[i]) > 1 - 1e-14:
+            axis = i
+        elif abs(normal[i]) > 1e-14:
+            return None
+    return None if axis is None else (axis, 1 if normal[axis] > 0 else -1)
+
+
+def _orthonormal_to(v, rows, d):
+    """v less its parts along the orthonormal `rows`, normalised; None when
+    nothing (to 1e-8) is left."""
+    v = np.array(v[:d], dtype=float)
+    for q in rows:
+        v -= np.dot(v, q) * q
+    length = np.sqrt(np.dot(v, v))
+    return None if length < 1e-8 else v / length
+
+
+def node_change_of_variables(normals, d, prescribed):
+    """T_node (d x d) for the unit normals of the foundations at one node,
+    or None when they are not independent or the change would mix a
+    prescribed displacement component with a free one (every normal must be
+    perpendicular to it, or the whole node prescribed)."""
+    T, Q = [np.array(n[:d], dtype=float) for n in normals], []
+    for n in normals:
+        q = _orthonormal_to(n, Q, d)
+        if q is None:
+            return None
+        Q.append(q)
+    for axis in range(d):
+        if len(T) == d:
+            break
+        q = _orthonormal_to(np.eye(3)[axis], Q, d)
+        if q is not None:
+            Q.append(q)
+            T.append(q)
+    T = np.array(T)
+    if abs(np.linalg.det(T)) < 1e-8:
+        return None
+    if not all(prescribed[:d]):
+        for i in range(d):
+            if prescribed[i] and any(abs(n[i]) > 1e-12 for n in normals):
+                return None
+    return T
+
+
+def _block_diagonal(A, d, nodes, inverted):
+    """The identity with the blocks of `nodes` (T or its inverse) in place."""
+    (m, n), (M, N) = A.getLocalSize(), A.getSize()
+    start = A.getOwnershipRange()[0]
+    T = PETSc.Mat().createAIJ(((m, M), (n, N)), nnz=d, comm=A.getComm())
+    T.setBlockSize(A.getBlockSize())
+    T.setUp()
+    in_node = np.zeros(m, dtype=bool)
+    for dofs, block in nodes:
+        rows = (start + np.asarray(dofs[:d])).astype(PETSc.IntType)
+        in_node[dofs[:d]] = True
+        T.setValues(rows, rows, np.linalg.inv(block) if inverted else block, addv=PETSc.InsertMode.INSERT_VALUES)
+    for i in np.flatnonzero(~in_node):
+        T.setValue(start + i, start + i, 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
+    T.assemble()
+    return T
+
+
+class ChangeOfVariables:
+    """The block-diagonal change x' = T x of a system (vectors like A's
+    columns); `nodes` are (their d local DOFs, T_node) pairs, owned here;
+    `spd`: A is symmetric positive definite (so is A')."""
+
+    def __init__(self, A, d, nodes, spd):
+        self.T = _block_diagonal(A, d, nodes, False)
+        self.T_inverse = _block_diagonal(A, d, nodes, True)
+        self.spd = spd
+
+    def forward(self, x, y):
+        """y = T x."""
+        self.T.mult(x, y)
+
+    def backward(self, y, x):
+        """x = T^{-1} y."""
+        self.T_inverse.mult(y, x)
+
+    def dual(self, f, g):
+        """g = T^{-T} f: a load or a residual in the new variables."""
+        self.T_inverse.multTranspose(f, g)
+
+    def congruence(self, A, At=None):
+        """A' = T^{-T} A T^{-1}, reusing At's structure when given; A's
+        near-nullspace, transformed, carries over."""
+        At = A.PtAP(self.T_inverse, result=At)
+        if self.spd:
+            At.setOption(PETSc.Mat.Option.SPD, True)
+        modes = A.getNearNullSpace()
+        if modes is not None and modes.handle:
+            At.setNearNullSpace(self.transformed(modes))
+        return At
+
+    def transformed(self, modes, dofs=None, layout=None):
+        """The vectors T v of a near-nullspace, orthonormalised; they are
+        like A's columns, or, given `dofs`, those of a field (global indices
+        of their entries in a vector like `layout`)."""
+        vectors = []
+        for v in modes.getVecs():
+            t = v.duplicate()
+            if dofs is None:
+                self.forward(v, t)
+            else:
+                start = layout.getOwnershipRange()[0]
+                whole, changed = layout.duplicate(), layout.duplicate()
+                whole.set(0.0)
+                whole.getArray()[np.asarray(dofs) - start] = v.getArray(readonly=True)
+                self.forward(whole, changed)
+                t.getArray()[:] = changed.getArray(readonly=True)[np.asarray(dofs) - start]
+            for q in vectors:
+                t.axpy(-t.dot(q), q)
+            t.normalize()
+            vectors.append(t)
+        return PETSc.NullSpace().create(constant=modes.hasConstant(), vectors=vectors, comm=modes.getComm())
