@@ -70,6 +70,10 @@ Json contact_json(const ContactState& c)
       .set("min_contact_pressure", c.min_pressure)
       .set("gap_scale", c.gap_scale)
       .set("total_force", c.total_force);
+  Json boundaries;
+  for (const auto& [name, force, active] : c.boundaries)
+    boundaries.set(name, Json().set("force", force).set("active_nodes", active));
+  j.set("boundaries", boundaries);
   return j;
 }
 

@@ -52,7 +52,8 @@ def contact_json(c):
     return {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
             "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
             "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
-            "gap_scale": c.gap_scale, "total_force": c.total_force}
+            "gap_scale": c.gap_scale, "total_force": c.total_force,
+            "boundaries": {name: {"force": force, "active_nodes": active} for name, force, active in c.boundaries}}
 
 
 def closed_form_errors(scene, parameters, F, domain, u, p, comm):

@@ -5,9 +5,10 @@ the foundation's normal rotated) give the same contact sets at every output
 time, the same coupling iterations (+-1), and contact pressures and
 rotated-back fields equal to 1e-8 relative; split (direct and iterative
 solvers) and monolithic, on the C++ solver and the prototype (split,
-direct). The axis frame runs without a change of variables, the rotated one
-with a rotation at every contact node: what the test compares is the change
-of variables against no change."""
+direct). The same for the 3D block rotated by 30 degrees about (1, 1, 1).
+The axis frame runs without a change of variables, the rotated one with a
+rotation at every contact node: what the test compares is the change of
+variables against no change."""
 import os
 import re
 import subprocess
@@ -17,43 +18,57 @@ import numpy as np
 from support import ROOT, Fields, check, iterations, run_track, scene, written
 
 ANGLE = np.radians(30.0)
-R = np.array([[np.cos(ANGLE), -np.sin(ANGLE)], [np.sin(ANGLE), np.cos(ANGLE)]])
+AXIS = np.ones(3) / np.sqrt(3.0)
+CROSS = np.array([[0, -AXIS[2], AXIS[1]], [AXIS[2], 0, -AXIS[0]], [-AXIS[1], AXIS[0], 0]])
+R = {2: np.array([[np.cos(ANGLE), -np.sin(ANGLE)], [np.sin(ANGLE), np.cos(ANGLE)]]),
+     3: np.eye(3) + np.sin(ANGLE) * CROSS + (1 - np.cos(ANGLE)) * CROSS @ CROSS}  # Rodrigues
 
 
-def meshes():
-    """The cantilever's gmsh mesh, and the same mesh with its nodes rotated."""
+def meshes(geo, d):
+    """A geometry's gmsh mesh, and the same mesh with its nodes rotated."""
     folder = tempfile.mkdtemp()
     base, rotated = os.path.join(folder, "base.msh"), os.path.join(folder, "rotated.msh")
-    subprocess.run(["gmsh", "-2", os.path.join(ROOT, "meshes", "cantilever.geo"), "-format", "msh22", "-o", base],
+    subprocess.run(["gmsh", f"-{d}", os.path.join(ROOT, "meshes", geo), "-format", "msh22", "-o", base],
                    check=True, capture_output=True)
     lines = open(base).read().splitlines()
     first = lines.index("$Nodes") + 2
     for k in range(first, first + int(lines[first - 1])):
-        i, x, y, z = lines[k].split()
-        X, Y = R @ [float(x), float(y)]
-        lines[k] = f"{i} {X!r} {Y!r} {z}"
+        i, *x = lines[k].split()
+        x = np.array([float(v) for v in x])
+        x[:d] = R[d] @ x[:d]
+        lines[k] = " ".join([i] + [repr(float(v)) for v in x])
     with open(rotated, "w") as f:
         f.write("\n".join(lines) + "\n")
     return base, rotated
 
 
-def scene_on(mesh, rotated, extra=""):
-    with open(scene("default")) as f:
+def vector(v):
+    return "[" + ", ".join(repr(float(c)) for c in v) + "]"
+
+
+def scene_on(name, mesh, d, rotated, extra=""):
+    """The scene on a mesh file; rotated, its traction and normal rotated."""
+    with open(scene(name)) as f:
         text = f.read()
-    text = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)", f'[mesh]\ntype = "gmsh"\nfile = "{mesh}"\n', text)
+    text = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)", f'[mesh]\ntype = "gmsh"\nfile = "{mesh}"\ndimension = {d}\n',
+                  text)
     if rotated:
-        traction, normal = R @ [0.0, -1.0e3], R @ [0.0, -1.0]
-        text = text.replace("traction = [0.0, -1.0e3]", f"traction = [{traction[0]!r}, {traction[1]!r}]")
-        text = text.replace("normal = [0.0, -1.0]", f"normal = [{normal[0]!r}, {normal[1]!r}]")
+        for key in ("traction", "normal"):
+            match = re.search(key + r" = (\[[^]]*\])", text)
+            turned = R[d] @ np.array([float(v) for v in match.group(1).strip("[]").split(",")])
+            text = text.replace(match.group(0), f"{key} = {vector(turned)}")
     return written(text + extra)
 
 
-def matched(base, turned):
+def order(x):
+    return np.lexsort(np.round(x, 8).T[::-1])
+
+
+def matched(base, turned, d):
     """The order of the rotated run's nodes that matches the base run's."""
-    back = turned.nodes[:, :2] @ R  # R^T x for each row x
-    key = lambda x: np.lexsort(np.round(x, 8).T[::-1])
-    order_base, order_turned = key(base.nodes[:, :2]), key(back)
-    check(np.abs(base.nodes[order_base, :2] - back[order_turned]).max() < 1e-9, "the rotated mesh maps onto the base")
+    back = turned.nodes[:, :d] @ R[d]  # R^T x for each row x
+    order_base, order_turned = order(base.nodes[:, :d]), order(back)
+    check(np.abs(base.nodes[order_base, :d] - back[order_turned]).max() < 1e-9, "the rotated mesh maps onto the base")
     index = np.empty(len(order_base), dtype=int)
     index[order_base] = order_turned
     return index
@@ -67,10 +82,10 @@ def per_step(out):
     return [steps[k] for k in sorted(steps)]
 
 
-def compare(label, base_out, turned_out):
+def compare(label, base_out, turned_out, d):
     a, b = Fields(base_out), Fields(turned_out)
-    index = matched(a, b)
-    cells = np.lexsort(np.round(a.cells[:, :2], 8).T[::-1]), np.lexsort(np.round(b.cells[:, :2] @ R, 8).T[::-1])
+    index = matched(a, b, d)
+    cells = order(a.cells[:, :d]), order(b.cells[:, :d] @ R[d])
     ia, ib = per_step(base_out), per_step(turned_out)
     check(len(ia) == len(ib) and all(abs(x - y) <= 1 for x, y in zip(ia, ib)),
           f"{label}: the same coupling iterations (+-1) in all {len(ia)} steps ({sum(ia)} and {sum(ib)})")
@@ -82,7 +97,7 @@ def compare(label, base_out, turned_out):
     worst = {}
     for t in times:
         p, q = a.at("contact_pressure", t)[:, 0], b.at("contact_pressure", t)[index, 0]
-        u, v = a.at("displacement", t)[:, :2], b.at("displacement", t)[index, :2] @ R
+        u, v = a.at("displacement", t)[:, :d], b.at("displacement", t)[index, :d] @ R[d]
         pa, pb = a.at("pressure", t)[cells[0], 0], b.at("pressure", t)[cells[1], 0]
         for name, x, y in (("contact_pressure", p, q), ("displacement", u, v), ("pressure", pa, pb)):
             scale = np.abs(x).max()
@@ -91,13 +106,17 @@ def compare(label, base_out, turned_out):
           f"({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
 
 
-base_mesh, turned_mesh = meshes()
-CASES = [("split, direct", "C++", ""),
-         ("split, iterative", "C++", '\n[solver]\nflow = "iterative"\nmechanics = "iterative"\n'),
-         ("monolithic", "C++", ""),
-         ("split, direct", "prototype", "")]
-for label, track, extra in CASES:
-    sets = ("coupling.scheme=monolithic",) if label == "monolithic" else ()
-    base_out, _ = run_track(track, scene_on(base_mesh, False, extra), "time.end=4.8", *sets)
-    turned_out, _ = run_track(track, scene_on(turned_mesh, True, extra), "time.end=4.8", *sets)
-    compare(f"{label} ({track})", base_out, turned_out)
+ITERATIVE = '\n[solver]\nflow = "iterative"\nmechanics = "iterative"\nmonolithic = "iterative"\n'
+DIRECT = '\n[solver]\nflow = "direct"\nmechanics = "direct"\nmonolithic = "direct"\n'
+SCENES = [("default", "cantilever.geo", 2, "time.end=4.8"), ("block3d", "block3d.geo", 3, "time.end=0.6")]
+CASES = [("split, direct", "C++", DIRECT, ()),
+         ("split, iterative", "C++", ITERATIVE, ()),
+         ("monolithic, direct", "C++", DIRECT, ("coupling.scheme=monolithic",)),
+         ("monolithic, iterative", "C++", ITERATIVE, ("coupling.scheme=monolithic",)),
+         ("split, direct", "prototype", DIRECT, ())]
+for name, geo, d, end in SCENES:
+    base_mesh, turned_mesh = meshes(geo, d)
+    for label, track, extra, sets in CASES:
+        base_out, _ = run_track(track, scene_on(name, base_mesh, d, False, extra), end, *sets)
+        turned_out, _ = run_track(track, scene_on(name, turned_mesh, d, True, extra), end, *sets)
+        compare(f"{name}, {label} ({track})", base_out, turned_out, d)

@@ -43,7 +43,7 @@ struct Candidate
   std::array<double, 3> normal;
   double gap, lumped;
   std::int32_t output_dof;
-  const std::string* boundary;
+  int boundary; // in ContactSet::boundaries
 };
 
 /// Flags of the DOFs of V (unrolled, local) whose value a displacement
@@ -109,7 +109,7 @@ namespace
 using NodeCandidates = std::vector<std::pair<std::int32_t, std::vector<Candidate>>>;
 
 NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                                 std::shared_ptr<const fem::FunctionSpace> V, const ContactSet& c,
+                                 std::shared_ptr<const fem::FunctionSpace> V, ContactSet& c,
                                  std::string& error)
 {
   const int d = domain.dim(), bs = V->dofmap()->index_map_bs();
@@ -122,6 +122,8 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
   {
     if (!b.contact)
       continue;
+    const int boundary = static_cast<int>(c.boundaries.size());
+    c.boundaries.push_back(name);
     const auto& facets = domain.boundaries.at(name);
     const la::Vector<double> lumped = lumped_measure(domain, forms, V, facets);
     auto [dofs, collapsed] = fem::locate_dofs_topological({*V0, *c.output_space}, d - 1, facets);
@@ -142,7 +144,7 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
       auto [it, added] = position.emplace(dofs[k], nodes.size());
       if (added)
         nodes.emplace_back(dofs[k], std::vector<Candidate>{});
-      nodes[it->second].second.push_back({*n, g, lumped.array()[dofs[k]], collapsed[k], &name});
+      nodes[it->second].second.push_back({*n, g, lumped.array()[dofs[k]], collapsed[k], boundary});
     }
   }
   return nodes;
@@ -195,7 +197,7 @@ void add_node(ContactSet& c, std::int32_t first, std::vector<Candidate> candidat
     for (int i = 0; i < d; ++i)
       held[i] = prescribed[first + i];
     T = node_change_of_variables(normals, d, {false, false, false});
-    const std::string key = file + ": boundary." + *merged.front().boundary + ".contact.normal: at " + at(x, d);
+    const std::string key = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.normal: at " + at(x, d);
     if (!T and error.empty())
       error = key + " the normals of the foundations that meet there are not independent";
     else if (T and !node_change_of_variables(normals, d, held) and error.empty())
@@ -211,6 +213,7 @@ void add_node(ContactSet& c, std::int32_t first, std::vector<Candidate> candidat
     c.gap.push_back(merged[j].gap);
     c.lumped.push_back(merged[j].lumped);
     c.normal.push_back(merged[j].normal);
+    c.boundary.push_back(merged[j].boundary);
     c.output_dofs.push_back(merged[j].output_dof);
   }
 }
@@ -847,10 +850,14 @@ void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressu
   double pen = -std::numeric_limits<double>::infinity(), comp = 0, force = 0;
   double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
   int n_active = 0;
+  std::vector<double> boundary_force(_set.boundaries.size(), 0.0);
+  std::vector<int> boundary_active(_set.boundaries.size(), 0);
   for (std::size_t k = 0; k < _dofs.size(); ++k)
   {
     const bool is_active = distance[k] <= 1e-9 * s.gap_scale;
     n_active += is_active;
+    boundary_force[_set.boundary[k]] += pressure[k] * _set.lumped[k];
+    boundary_active[_set.boundary[k]] += is_active;
     pen = std::max(pen, -distance[k]);
     comp = std::max(comp, std::abs(pressure[k] * distance[k]));
     pmax = std::max(pmax, pressure[k]);
@@ -875,6 +882,11 @@ void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressu
   s.max_pressure = gmax[2];
   s.min_pressure = -gmax[3];
   MPI_Allreduce(&force, &s.total_force, 1, MPI_DOUBLE, MPI_SUM, _comm);
+  const int n = static_cast<int>(_set.boundaries.size());
+  MPI_Allreduce(MPI_IN_PLACE, boundary_force.data(), n, MPI_DOUBLE, MPI_SUM, _comm);
+  MPI_Allreduce(MPI_IN_PLACE, boundary_active.data(), n, MPI_INT, MPI_SUM, _comm);
+  for (int b = 0; b < n; ++b)
+    s.boundaries.emplace_back(_set.boundaries[b], boundary_force[b], boundary_active[b]);
 }
 
 } // namespace biotcontact

@@ -25,6 +25,7 @@
 #include <memory>
 #include <petscsnes.h>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace biotcontact
@@ -44,6 +45,10 @@ struct ContactSet
   std::vector<int> sign;
   std::vector<double> gap, lumped;
   std::vector<std::array<double, 3>> normal;
+  /// Per constraint, its contact boundary (of `boundaries`; a constraint
+  /// merged from two boundaries counts for the first).
+  std::vector<int> boundary;
+  std::vector<std::string> boundaries;
   /// The nodes whose normals are not coordinate axes: their first DOF in V
   /// (the d components follow) and T_node (change_of_variables.h).
   std::vector<std::pair<std::int32_t, NodeMatrix>> transformed;
@@ -85,6 +90,10 @@ struct ContactState
   double max_complementarity = 0; // max |p_c (u.nu_F - g_a)|
   double gap_scale = 0;           // max(|g_a|, |u|)
   double total_force = 0;         // sum of the nodal contact forces along -nu_F
+  /// Per contact boundary: its name, the sum of its nodal contact forces
+  /// along -nu_F (the resultant's magnitude on a flat foundation) and its
+  /// active constraints.
+  std::vector<std::tuple<std::string, double, int>> boundaries;
 };
 
 /// The reduced-space Newton method solves, at each step, the system on the

@@ -41,6 +41,8 @@ class ContactSet:
         self.dim = domain.dim
         self.output_space, _ = V.sub(0).collapse()
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
+        # per constraint its contact boundary (a merged one counts for the first)
+        self.boundary, self.boundaries = [], [name for name, b in scene.boundaries.items() if b.contact]
         self.transformed = []
         error = []  # the first bad input on this rank
         nodes = _gather_candidates(scene, domain, F, V, self.output_space, error)
@@ -53,6 +55,7 @@ class ContactSet:
         self.sign = np.array(self.sign, dtype=np.int32)
         self.gap, self.lumped, self.normal = np.array(self.gap), np.array(self.lumped), np.array(self.normal)
         self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
+        self.boundary = np.array(self.boundary, dtype=np.int32)
 
     def _add_node(self, first, candidates, prescribed, x, file, error):
         """One node's candidates merged (the same normal from two boundaries:
@@ -89,6 +92,7 @@ class ContactSet:
             self.gap.append(m["gap"])
             self.lumped.append(m["lumped"])
             self.normal.append(m["normal"])
+            self.boundary.append(self.boundaries.index(m["boundary"]))
             self.output_dofs.append(m["output_dof"])
 
 
@@ -170,6 +174,7 @@ class ContactState:
         self.active_nodes = self.contact_nodes = 0
         self.max_penetration = self.max_pressure = self.min_pressure = 0.0
         self.max_complementarity = self.gap_scale = self.total_force = 0.0
+        self.boundaries = []  # (name, force along -nu_F, active constraints) per contact boundary
 
 
 def use_condensation(prefix, method, contact_dofs):
@@ -557,3 +562,11 @@ class ContactSolver:
         for p_k, lumped in zip(pressure, self.set.lumped):
             force += p_k * lumped
         s.total_force = self.comm.allreduce(force, op=MPI.SUM)
+        s.boundaries = []  # (name, sum of nodal contact forces along -nu_F, active constraints)
+        for b, name in enumerate(self.set.boundaries):
+            mine = self.set.boundary == b
+            local = 0.0
+            for p_k, lumped in zip(pressure[mine], self.set.lumped[mine]):
+                local += p_k * lumped
+            s.boundaries.append((name, self.comm.allreduce(local, op=MPI.SUM),
+                                 self.comm.allreduce(int(active[mine].sum()), op=MPI.SUM)))
