@@ -93,21 +93,26 @@ def check(condition, message):
     print("ok: " + message)
 
 
-def check_signorini(out, gap, axis=1, sign=-1, label="", pressure_scale="time"):
+def check_signorini(out, gap, axis=1, sign=-1, label="", pressure_scale="time", side=None, normal=None):
     """u.nu_F <= g_a, contact pressure >= 0 and complementarity at every
     contact node (the nodes on the foundation side, coordinate 0 along the
     axis) and every output time; returns the active counts per time. `gap`
     is a number, or a function of the nodes' coordinates (n x 3). Contact
     pressures are judged against the largest at that time, or with
     pressure_scale="run" the largest of the run (where a node of zero gap
-    touches without load, the pressures of that time are all round-off)."""
+    touches without load, the pressures of that time are all round-off).
+    For a foundation of another normal, `side` (the contact nodes' mask)
+    and `normal` (their unit normals, n x d) are functions of the nodes'
+    coordinates."""
     fields = Fields(out)
-    side = np.isclose(fields.nodes[:, axis], 0.0)
+    side = side(fields.nodes) if side else np.isclose(fields.nodes[:, axis], 0.0)
     gap = gap(fields.nodes[side]) if callable(gap) else gap
     run_scale = max(fields.at("contact_pressure", t)[side, 0].max() for t in fields.times("displacement"))
     counts = []
     for t in fields.times("displacement"):
-        u_nu = sign * fields.at("displacement", t)[side, axis]
+        u = fields.at("displacement", t)[side]
+        u_nu = np.sum(u[:, :normal(fields.nodes[side]).shape[1]] * normal(fields.nodes[side]), axis=1) \
+            if normal else sign * u[:, axis]
         p_c = fields.at("contact_pressure", t)[side, 0]
         active = fields.at("contact_active", t)[side, 0]
         scale = max(np.max(gap), np.abs(fields.at("displacement", t)).max())
