@@ -3,61 +3,38 @@ default scene on a gmsh mesh, and the same scene built in a frame rotated
 by 30 degrees (the same mesh with its nodes rotated, the top's traction and
 the foundation's normal rotated) give the same contact sets at every output
 time, the same coupling iterations (+-1), and contact pressures and
-rotated-back fields equal to 1e-8 relative; split (direct and iterative
-solvers) and monolithic, on the C++ solver and the prototype (split,
-direct). The same for the 3D block rotated by 30 degrees about (1, 1, 1).
-The axis frame runs without a change of variables, the rotated one with a
+rotated-back fields equal to 1e-8 relative; split and monolithic, direct
+and iterative solvers, on the C++ solver, and direct on the prototype. The
+same for the 3D block rotated by 30 degrees about (1, 1, 1). The axis frame runs without a change of variables, the rotated one with a
 rotation at every contact node: what the test compares is the change of
 variables against no change."""
 import os
 import re
-import subprocess
 import tempfile
 
 import numpy as np
 from support import ROOT, Fields, check, iterations, run_track, scene, written
+from tools.rotate_mesh import mesh, rotate_msh, rotate_scene, rotation
 
-ANGLE = np.radians(30.0)
-AXIS = np.ones(3) / np.sqrt(3.0)
-CROSS = np.array([[0, -AXIS[2], AXIS[1]], [AXIS[2], 0, -AXIS[0]], [-AXIS[1], AXIS[0], 0]])
-R = {2: np.array([[np.cos(ANGLE), -np.sin(ANGLE)], [np.sin(ANGLE), np.cos(ANGLE)]]),
-     3: np.eye(3) + np.sin(ANGLE) * CROSS + (1 - np.cos(ANGLE)) * CROSS @ CROSS}  # Rodrigues
+R = {2: rotation(30.0, 2), 3: rotation(30.0, 3, (1.0, 1.0, 1.0))}
 
 
 def meshes(geo, d):
     """A geometry's gmsh mesh, and the same mesh with its nodes rotated."""
     folder = tempfile.mkdtemp()
     base, rotated = os.path.join(folder, "base.msh"), os.path.join(folder, "rotated.msh")
-    subprocess.run(["gmsh", f"-{d}", os.path.join(ROOT, "meshes", geo), "-format", "msh22", "-o", base],
-                   check=True, capture_output=True)
-    lines = open(base).read().splitlines()
-    first = lines.index("$Nodes") + 2
-    for k in range(first, first + int(lines[first - 1])):
-        i, *x = lines[k].split()
-        x = np.array([float(v) for v in x])
-        x[:d] = R[d] @ x[:d]
-        lines[k] = " ".join([i] + [repr(float(v)) for v in x])
-    with open(rotated, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    mesh(os.path.join(ROOT, "meshes", geo), d, base)
+    rotate_msh(base, rotated, R[d])
     return base, rotated
 
 
-def vector(v):
-    return "[" + ", ".join(repr(float(c)) for c in v) + "]"
-
-
-def scene_on(name, mesh, d, rotated, extra=""):
+def scene_on(name, mesh_file, d, rotated, extra=""):
     """The scene on a mesh file; rotated, its traction and normal rotated."""
     with open(scene(name)) as f:
         text = f.read()
-    text = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)", f'[mesh]\ntype = "gmsh"\nfile = "{mesh}"\ndimension = {d}\n',
-                  text)
-    if rotated:
-        for key in ("traction", "normal"):
-            match = re.search(key + r" = (\[[^]]*\])", text)
-            turned = R[d] @ np.array([float(v) for v in match.group(1).strip("[]").split(",")])
-            text = text.replace(match.group(0), f"{key} = {vector(turned)}")
-    return written(text + extra)
+    text = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)",
+                  f'[mesh]\ntype = "gmsh"\nfile = "{mesh_file}"\ndimension = {d}\n', text)
+    return written((rotate_scene(text, R[d]) if rotated else text) + extra)
 
 
 def order(x):
@@ -113,7 +90,8 @@ CASES = [("split, direct", "C++", DIRECT, ()),
          ("split, iterative", "C++", ITERATIVE, ()),
          ("monolithic, direct", "C++", DIRECT, ("coupling.scheme=monolithic",)),
          ("monolithic, iterative", "C++", ITERATIVE, ("coupling.scheme=monolithic",)),
-         ("split, direct", "prototype", DIRECT, ())]
+         ("split, direct", "prototype", DIRECT, ()),
+         ("monolithic, direct", "prototype", DIRECT, ("coupling.scheme=monolithic",))]
 for name, geo, d, end in SCENES:
     base_mesh, turned_mesh = meshes(geo, d)
     for label, track, extra, sets in CASES:
