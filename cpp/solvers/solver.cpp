@@ -259,7 +259,31 @@ void LinearSolver::set_up()
 
 void LinearSolver::solve(Mat X, Mat B)
 {
-  run([&] { return KSPMatSolve(_ksp, B, X); });
+  PC pc;
+  KSPGetPC(_ksp, &pc);
+  MatSolverType package = nullptr;
+  PCFactorGetMatSolverType(pc, &package);
+  if (!package or std::string(package) != MATSOLVERSUPERLU_DIST)
+  {
+    run([&] { return KSPMatSolve(_ksp, B, X); });
+    return;
+  }
+  // PETSc 3.18's SuperLU_DIST solves a block of right-hand sides with the
+  // solve structure of the first block's width, and aborts ("double free
+  // or corruption") on a later block of another width (the last block of
+  // the Schur complement's columns, measured on 2 ranks at [160,16]): one
+  // column at a time.
+  PetscInt columns = 0;
+  MatGetSize(B, nullptr, &columns);
+  for (PetscInt j = 0; j < columns; ++j)
+  {
+    Vec b, x;
+    MatDenseGetColumnVecRead(B, j, &b);
+    MatDenseGetColumnVecWrite(X, j, &x);
+    run([&] { return KSPSolve(_ksp, b, x); });
+    MatDenseRestoreColumnVecWrite(X, j, &x);
+    MatDenseRestoreColumnVecRead(B, j, &b);
+  }
 }
 
 int LinearSolver::run(const std::function<PetscErrorCode()>& solve)

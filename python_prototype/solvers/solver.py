@@ -260,9 +260,12 @@ class LinearSolver:
     def solve_block(self, X, B):
         """A X = B for the columns of the dense B, one call into the
         factorisation (KSPMatSolve, which petsc4py 3.18 lacks: for preonly
-        it is the preconditioner's PCMatApply, else a solve per column)."""
+        it is the preconditioner's PCMatApply, else a solve per column; per
+        column with SuperLU_DIST too, whose block solve in PETSc 3.18 aborts
+        on a block of another width than the first, cpp/solvers/solver.cpp)."""
         def solve():
-            if self.ksp.getType() == PETSc.KSP.Type.PREONLY:
+            if self.ksp.getType() == PETSc.KSP.Type.PREONLY \
+                    and self.ksp.getPC().getFactorSolverType() != "superlu_dist":
                 self.ksp.getPC().matApply(B, X)
                 return
             for j in range(B.getSize()[1]):
