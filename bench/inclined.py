@@ -14,14 +14,13 @@ bench/results/inclined.csv, one row per run and repetition.
 """
 import argparse
 import os
-import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
 
 sys.path.insert(0, common.ROOT)
-from tools.rotate_mesh import mesh, rotate_msh, rotate_scene, rotation  # noqa: E402
+from tools.rotate_mesh import mesh, on_mesh, rotate_msh, rotate_scene, rotation  # noqa: E402
 
 NAME = "inclined"
 PATHS = {"direct": ["solver.flow=direct", "solver.mechanics=direct"],
@@ -40,7 +39,7 @@ def scenes(work, clscale):
         text = f.read()
     files = []
     for frame, msh in (("axis", base), ("rotated", turned)):
-        scene = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)", f'[mesh]\ntype = "gmsh"\nfile = "{msh}"\n', text)
+        scene = on_mesh(text, msh)
         path = os.path.join(work, frame + ".toml")
         with open(path, "w") as f:
             f.write(rotate_scene(scene, R) if frame == "rotated" else scene)

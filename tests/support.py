@@ -167,3 +167,29 @@ def fluid_content(fields, t, storage, alpha=0.0):
             normal *= np.sign(np.sum(normal * (x[cells[:, i]] - centroid), axis=1))[:, None]
             content += alpha * np.sum(0.5 * (u[cells[:, i]] + u[cells[:, j]]) * normal, axis=1)
     return content
+
+
+def check_contact_scene_agrees(scene_file, sets, active_sets, runs, *settings):
+    """What the test of a shipped contact scene asserts beyond its own
+    physics: 2 ranks reach the same contact sets at every time (`sets`, of
+    the 1-rank C++ run) and the same fields (1e-8); the monolithic solve the
+    same contact sets, and the split at coupling tolerance 1e-12 its fields
+    (1e-8); the prototype's run (`runs["prototype"]`) the C++ one to 1e-10.
+    `active_sets(out)` lists a run's contact flags per output time;
+    `settings` are the --set values of every run."""
+    two, _ = run_track("C++", scene_file, *settings, ranks=2)
+    check(all(np.array_equal(a, b) for a, b in zip(sets, active_sets(two))),
+          "2 ranks: the same contact set at every time")
+    worst = max_difference(runs["C++"], two, ["pressure", "displacement", "contact_pressure"])
+    check(max(worst.values()) < 1e-8, f"2 ranks: the same fields ({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
+    monolithic, _ = run_track("C++", scene_file, *settings, "coupling.scheme=monolithic")
+    check(all(np.array_equal(a, b) for a, b in zip(sets, active_sets(monolithic))),
+          "the monolithic solve: the same contact set at every time")
+    tight, _ = run_track("C++", scene_file, *settings, "coupling.tolerance=1e-12")
+    worst = max_difference(tight, monolithic, ["pressure", "displacement"])
+    check(max(worst.values()) < 1e-8, f"the split at coupling tolerance 1e-12 gives the monolithic fields "
+          f"({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
+    c = subprocess.run(PROTOTYPE + ["compare", runs["C++"], runs["prototype"], "--tolerance", "1e-10"],
+                       capture_output=True, text=True, cwd=ROOT)
+    check(c.returncode == 0 and len(iterations(runs["C++"])) == len(iterations(runs["prototype"])),
+          f"the prototype gives the C++ run to 1e-10 {c.stdout[-300:]}")

@@ -11,12 +11,9 @@ whose gap and normal come from the screen. On the C++ solver:
 - the monolithic solve reaches the same contact sets, and the split at
   coupling tolerance 1e-12 its fields;
 - the prototype gives the C++ run (fields, iterations, contact sets)."""
-import subprocess
-
 import numpy as np
 
-from support import (PROTOTYPE, ROOT, TRACKS, Fields, check, check_signorini, iterations, max_difference, run_track,
-                     scene)
+from support import TRACKS, Fields, check, check_contact_scene_agrees, check_signorini, run_track, scene
 
 BOREHOLE = scene("borehole")
 R_WALL, R_SCREEN, E = 0.108, 0.0762, 0.0316  # hole and screen radii, the screen's centre (0, -E)
@@ -61,20 +58,4 @@ u = fields.at("displacement", t)[on_wall(fields.nodes)]
 radial = np.sum(u[:, :2] * x[:, :2], axis=1) / R_WALL
 check(radial.max() < 0, f"the wall converges everywhere (radial displacement {radial.min():.2e} to {radial.max():.2e} m)")
 
-two, _ = run_track("C++", BOREHOLE, ranks=2)
-check(all(np.array_equal(a, b) for a, b in zip(sets, wall_sets(two)[0])), "2 ranks: the same contact set at every time")
-worst = max_difference(out, two, ["pressure", "displacement", "contact_pressure"])
-check(max(worst.values()) < 1e-8, f"2 ranks: the same fields ({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
-
-monolithic, _ = run_track("C++", BOREHOLE, "coupling.scheme=monolithic")
-check(all(np.array_equal(a, b) for a, b in zip(sets, wall_sets(monolithic)[0])),
-      "the monolithic solve: the same contact set at every time")
-tight, _ = run_track("C++", BOREHOLE, "coupling.tolerance=1e-12")
-worst = max_difference(tight, monolithic, ["pressure", "displacement"])
-check(max(worst.values()) < 1e-8, f"the split at coupling tolerance 1e-12 gives the monolithic fields "
-      f"({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
-
-c = subprocess.run(PROTOTYPE + ["compare", runs["C++"], runs["prototype"], "--tolerance", "1e-10"],
-                   capture_output=True, text=True, cwd=ROOT)
-check(c.returncode == 0 and len(iterations(runs["C++"])) == len(iterations(runs["prototype"])),
-      f"the prototype gives the C++ run to 1e-10 {c.stdout[-300:]}")
+check_contact_scene_agrees(BOREHOLE, sets, lambda out: wall_sets(out)[0], runs)

@@ -15,12 +15,9 @@ jacking included:
 - 2 ranks reach the same contact sets at every time and the same fields;
 - the split and the monolithic solve reach the same contact sets;
 - the prototype gives the C++ run (fields, iterations, contact sets)."""
-import subprocess
-
 import numpy as np
 
-from support import (PROTOTYPE, ROOT, TRACKS, Fields, check, check_signorini, iterations, max_difference, run_track,
-                     scene, summary)
+from support import TRACKS, Fields, check, check_contact_scene_agrees, check_signorini, run_track, scene, summary
 
 CAPROCK = scene("caprock")
 END = "time.end=1382400"  # 16 days
@@ -63,20 +60,4 @@ regions = summary(out)["regions"]
 check(all(regions[name]["cells"] > 0 for name in ("reservoir", "fracture_zone")) and regions["no region"]["cells"] > 0,
       f"the regions hold the cells of their groups ({ {k: v['cells'] for k, v in regions.items()} })")
 
-two, _ = run_track("C++", CAPROCK, END, ranks=2)
-check(all(np.array_equal(a, b) for a, b in zip(sets, active_sets(two))), "2 ranks: the same contact set at every time")
-worst = max_difference(out, two, ["pressure", "displacement", "contact_pressure"])
-check(max(worst.values()) < 1e-8, f"2 ranks: the same fields ({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
-
-monolithic, _ = run_track("C++", CAPROCK, END, "coupling.scheme=monolithic")
-check(all(np.array_equal(a, b) for a, b in zip(sets, active_sets(monolithic))),
-      "the monolithic solve: the same contact set at every time")
-tight, _ = run_track("C++", CAPROCK, END, "coupling.tolerance=1e-12")
-worst = max_difference(tight, monolithic, ["pressure", "displacement"])
-check(max(worst.values()) < 1e-8, f"the split at coupling tolerance 1e-12 gives the monolithic fields "
-      f"({', '.join(f'{k} {v:.1e}' for k, v in worst.items())})")
-
-c = subprocess.run(PROTOTYPE + ["compare", runs["C++"], runs["prototype"], "--tolerance", "1e-10"],
-                   capture_output=True, text=True, cwd=ROOT)
-check(c.returncode == 0 and len(iterations(runs["C++"])) == len(iterations(runs["prototype"])),
-      "the prototype gives the C++ run to 1e-10")
+check_contact_scene_agrees(CAPROCK, sets, active_sets, runs, END)

@@ -9,12 +9,11 @@ same for the 3D block rotated by 30 degrees about (1, 1, 1). The axis frame runs
 rotation at every contact node: what the test compares is the change of
 variables against no change."""
 import os
-import re
 import tempfile
 
 import numpy as np
 from support import ROOT, Fields, check, iterations, run_track, scene, written
-from tools.rotate_mesh import mesh, rotate_msh, rotate_scene, rotation
+from tools.rotate_mesh import mesh, on_mesh, rotate_msh, rotate_scene, rotation
 
 R = {2: rotation(30.0, 2), 3: rotation(30.0, 3, (1.0, 1.0, 1.0))}
 
@@ -32,8 +31,7 @@ def scene_on(name, mesh_file, d, rotated, extra=""):
     """The scene on a mesh file; rotated, its traction and normal rotated."""
     with open(scene(name)) as f:
         text = f.read()
-    text = re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)",
-                  f'[mesh]\ntype = "gmsh"\nfile = "{mesh_file}"\ndimension = {d}\n', text)
+    text = on_mesh(text, mesh_file, d)
     return written((rotate_scene(text, R[d]) if rotated else text) + extra)
 
 

@@ -49,6 +49,12 @@ def rotate_msh(source, out, R):
         f.write("\n".join(lines) + "\n")
 
 
+def on_mesh(text, mesh_file, d=2):
+    """A scene's text with its [mesh] table replaced by a gmsh mesh file."""
+    return re.sub(r"\[mesh\]\n(.*\n)*?(?=\n\[)", f'[mesh]\ntype = "gmsh"\nfile = "{mesh_file}"\ndimension = {d}\n',
+                  text)
+
+
 def vector(v):
     return "[" + ", ".join(repr(float(c)) for c in v) + "]"
 

@@ -23,6 +23,24 @@ double determinant(const NodeMatrix& T, int d)
   return T[0] * (T[4] * T[8] - T[5] * T[7]) - T[1] * (T[3] * T[8] - T[5] * T[6]) + T[2] * (T[3] * T[7] - T[4] * T[6]);
 }
 
+/// v less its parts along the first `rows` (orthonormal) rows of Q,
+/// normalised, into row `rows` of Q; false when nothing (to 1e-8) is left.
+bool orthonormal_to(std::array<double, 3> v, NodeMatrix& Q, int rows, int d)
+{
+  for (int r = 0; r < rows; ++r)
+  {
+    const double c = dot(v.data(), &Q[3 * r], d);
+    for (int i = 0; i < d; ++i)
+      v[i] -= c * Q[3 * r + i];
+  }
+  const double length = std::sqrt(dot(v.data(), v.data(), d));
+  if (length < 1e-8)
+    return false;
+  for (int i = 0; i < d; ++i)
+    Q[3 * rows + i] = v[i] / length;
+  return true;
+}
+
 /// Orthonormal rows completing the first m rows of T (which span the
 /// normals) to a basis: Gram-Schmidt of the coordinate axes against the
 /// rows so far, each axis kept when it adds a direction. Works on Q, an
@@ -32,19 +50,11 @@ void complete(NodeMatrix& T, NodeMatrix Q, int m, int d)
   int rows = m;
   for (int axis = 0; axis < d and rows < d; ++axis)
   {
-    double v[3] = {0, 0, 0};
-    v[axis] = 1;
-    for (int r = 0; r < rows; ++r)
-    {
-      const double c = dot(v, &Q[3 * r], d);
-      for (int i = 0; i < d; ++i)
-        v[i] -= c * Q[3 * r + i];
-    }
-    const double length = std::sqrt(dot(v, v, d));
-    if (length < 1e-8)
+    std::array<double, 3> e{0, 0, 0};
+    e[axis] = 1;
+    if (!orthonormal_to(e, Q, rows, d))
       continue;
-    for (int i = 0; i < d; ++i)
-      T[3 * rows + i] = Q[3 * rows + i] = v[i] / length;
+    std::copy_n(&Q[3 * rows], d, &T[3 * rows]);
     ++rows;
   }
 }
@@ -76,18 +86,8 @@ std::optional<NodeMatrix> node_change_of_variables(const std::vector<std::array<
     std::copy_n(normals[r].begin(), d, &T[3 * r]);
     // Q: the normals orthonormalised; a normal (nearly) in the span of the
     // ones before it is not an independent constraint.
-    double v[3] = {normals[r][0], normals[r][1], normals[r][2]};
-    for (int q = 0; q < r; ++q)
-    {
-      const double c = dot(v, &Q[3 * q], d);
-      for (int i = 0; i < d; ++i)
-        v[i] -= c * Q[3 * q + i];
-    }
-    const double length = std::sqrt(dot(v, v, d));
-    if (length < 1e-8)
+    if (!orthonormal_to(normals[r], Q, r, d))
       return std::nullopt;
-    for (int i = 0; i < d; ++i)
-      Q[3 * r + i] = v[i] / length;
   }
   complete(T, Q, m, d);
   NodeMatrix packed{};
