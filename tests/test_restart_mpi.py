@@ -49,12 +49,17 @@ def stopped_run(track, ranks, scene_file, options):
     """A run on `ranks` stopped by SIGTERM as soon as it prints its first
     line: the signal is recorded during the set-up (the handlers come first)
     and the run stops after its first step, however fast the machine or
-    slow the forwarding of its output."""
+    slow the forwarding of its output. Under mpirun the signal goes to every
+    rank at once, as a batch system sends it (mpirun itself forwards it
+    only seconds later, measured: the run may be over by then)."""
     out = tempfile.mkdtemp(prefix="restart-mpi-")
     p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
     p.stdout.readline()
-    p.send_signal(signal.SIGTERM)
+    if ranks > 1:
+        subprocess.run(["pkill", "-TERM", "-f", out])
+    else:
+        p.send_signal(signal.SIGTERM)
     _, err = p.communicate(timeout=600)
     check("interrupted" in err and has_checkpoint(out),
           f"{track}: {ranks} rank(s) stopped by SIGTERM with a checkpoint ({err.strip()[-200:]!r})")

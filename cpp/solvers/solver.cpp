@@ -46,39 +46,79 @@ std::string option(const std::string& prefix, const char* name)
 
 namespace
 {
-bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky"; }
+bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky" or pc == "redundant"; }
+
+/// The one-rank factorisation of each structure, as measured on the
+/// default scene (docs/performance.md): MUMPS's solve phase costs 5-9
+/// times a CHOLMOD or PETSc back-solve of the same matrix at 1e4-1e5
+/// unknowns, and a run is thousands of back-solves. PETSc's LU does not
+/// pivot, so it only takes quasi-definite matrices.
+std::string one_rank_package(Structure structure)
+{
+  return structure == Structure::spd ? "cholmod" : structure == Structure::quasi_definite ? "petsc" : "mumps";
+}
+
+/// The PC that factorises: PCREDUNDANT's inner one when each rank holds a
+/// copy of the matrix, else the KSP's own.
+PC factor_pc(KSP ksp)
+{
+  PC pc;
+  KSPGetPC(ksp, &pc);
+  PetscBool redundant = PETSC_FALSE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCREDUNDANT, &redundant);
+  if (redundant)
+  {
+    KSP inner;
+    PCRedundantGetKSP(pc, &inner);
+    KSPGetPC(inner, &pc);
+  }
+  return pc;
+}
+
+/// The factorisation package of a KSP ("" when it does not factorise).
+std::string factor_package(KSP ksp)
+{
+  MatSolverType package = nullptr;
+  PCFactorGetMatSolverType(factor_pc(ksp), &package);
+  return package ? package : "";
+}
 
 void set_direct_defaults(const std::string& prefix, Structure structure, int ranks)
 {
-  // The factorisation of each structure on one rank, as measured on the
-  // default scene (docs/performance.md): MUMPS's solve phase costs 5-9
-  // times a CHOLMOD or PETSc back-solve of the same matrix at 1e4-1e5
-  // unknowns, and a run is thousands of back-solves. PETSc's LU does not
-  // pivot, so it only takes quasi-definite matrices; neither runs on
-  // several ranks.
-  std::string pc = "lu", package = "mumps";
-  if (ranks == 1 and structure == Structure::spd)
-    pc = "cholesky", package = "cholmod";
-  else if (ranks == 1 and structure == Structure::quasi_definite)
-    package = "petsc";
-  else if (structure == Structure::spd)
-    pc = "cholesky";
+  // On several ranks each rank factorises a copy of the whole matrix
+  // (PCREDUNDANT) with the one-rank package: a distributed factorisation's
+  // back-solve (MUMPS, SuperLU_DIST) costs 3-7 times the one-rank one on 2
+  // ranks at 1e5 unknowns (docs/performance.md, "More ranks"), and the
+  // back-solves are most of a run. A general matrix, which neither
+  // one-rank package takes, keeps MUMPS across the ranks, and so does a
+  // system whose factorisation or package the command line names.
   const std::string given = option(prefix, "-pc_type");
+  const bool named = !given.empty() or !option(prefix, "-pc_factor_mat_solver_type").empty();
+  const bool redundant = ranks > 1 and (given == "redundant" or (!named and structure != Structure::general));
+  const std::string factor = redundant ? prefix + "redundant_" : prefix;
   set_default_option(prefix + "ksp_type", "preonly");
-  set_default_option(prefix + "pc_type", pc);
-  if (!given.empty() and given != pc)
+  if (redundant)
+  {
+    set_default_option(prefix + "pc_type", "redundant");
+    set_default_option(factor + "ksp_type", "preonly");
+  }
+  const std::string pc = structure == Structure::spd ? "cholesky" : "lu";
+  std::string package = ranks == 1 or redundant ? one_rank_package(structure) : "mumps";
+  const std::string given_factor = option(factor, "-pc_type");
+  set_default_option(factor + "pc_type", pc);
+  if (!given_factor.empty() and given_factor != pc)
     // The user chose the other factorisation: the package must take it.
     package = "mumps";
-  set_default_option(prefix + "pc_factor_mat_solver_type", package);
-  const std::string used = option(prefix, "-pc_factor_mat_solver_type");
+  set_default_option(factor + "pc_factor_mat_solver_type", package);
+  const std::string used = option(factor, "-pc_factor_mat_solver_type");
   // An ordering given to MUMPS replaces its own analysis (far more fill):
   // only PETSc's factorisation gets nested dissection here.
   if (used == "petsc")
-    set_default_option(prefix + "pc_factor_mat_ordering_type", "nd");
+    set_default_option(factor + "pc_factor_mat_ordering_type", "nd");
   if (used == "mumps")
     // More workspace than MUMPS's default: refactorisations of a changed
     // inactive set may need more pivoting room than the analysis planned.
-    set_default_option(prefix + "mat_mumps_icntl_14", "400");
+    set_default_option(factor + "mat_mumps_icntl_14", "400");
 }
 
 // Elasticity: smoothed aggregation; the matrix carries block size d and
@@ -259,11 +299,7 @@ void LinearSolver::set_up()
 
 void LinearSolver::solve(Mat X, Mat B)
 {
-  PC pc;
-  KSPGetPC(_ksp, &pc);
-  MatSolverType package = nullptr;
-  PCFactorGetMatSolverType(pc, &package);
-  if (!package or std::string(package) != MATSOLVERSUPERLU_DIST)
+  if (factor_package(_ksp) != MATSOLVERSUPERLU_DIST)
   {
     run([&] { return KSPMatSolve(_ksp, B, X); });
     return;
@@ -303,25 +339,30 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
     ierr = solve();
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   KSPGetConvergedReason(_ksp, &reason);
-  PC pc;
-  KSPGetPC(_ksp, &pc);
-  MatSolverType package = nullptr;
-  PCFactorGetMatSolverType(pc, &package);
-  if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and package and std::string(package) == MATSOLVERPETSC)
+  if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and factor_package(_ksp) == MATSOLVERPETSC)
   {
     // A quasi-definite matrix whose negative block is at round-off against
     // the rest (tiny S + L) can still meet a tiny pivot without pivoting:
     // factorise it once more with UMFPACK, which pivots. (PETSc's LU runs on
-    // one rank only, and so does UMFPACK; its solve phase costs a tenth of
-    // MUMPS's on the fracture scene's flow system, 1.4e4 unknowns.)
-    PetscOptionsSetValue(nullptr, ("-" + _prefix + "pc_factor_mat_solver_type").c_str(), MATSOLVERUMFPACK);
+    // one rank only, and so does UMFPACK, each rank on its copy when there
+    // are several; its solve phase costs a tenth of MUMPS's on the fracture
+    // scene's flow system, 1.4e4 unknowns.)
+    const char* at = nullptr;
+    PCGetOptionsPrefix(factor_pc(_ksp), &at);
+    const std::string factor = at ? at : _prefix;
+    PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_solver_type").c_str(), MATSOLVERUMFPACK);
     // The PC keeps the nested-dissection ordering of the first attempt
     // unless told otherwise; given one, UMFPACK uses it instead of its own
     // (6x slower solves here).
-    PetscOptionsSetValue(nullptr, ("-" + _prefix + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL);
+    PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL);
     Mat A, P; // owned by the system: they outlive the reset
     KSPGetOperators(_ksp, &A, &P);
     KSPReset(_ksp);
+    // PCREDUNDANT keeps its inner solver's failure past a reset.
+    PC pc;
+    KSPGetPC(_ksp, &pc);
+    PCSetFailedReason(pc, PC_NOERROR);
+    PCSetFailedReason(factor_pc(_ksp), PC_NOERROR);
     KSPSetOperators(_ksp, A, P);
     KSPSetFromOptions(_ksp);
     ierr = KSPSetUp(_ksp);

@@ -100,9 +100,12 @@ Method choose_method(const std::string& choice, Structure structure, std::int64_
 /// direct, anything else iterative).
 ///
 /// Direct: preonly with the factorisation measured fastest for the
-/// structure on this communicator (docs/performance.md): on one rank
-/// CHOLMOD Cholesky for SPD matrices and PETSc's own nested-dissection LU
-/// for quasi-definite ones, MUMPS otherwise and on several ranks.
+/// structure (docs/performance.md): CHOLMOD Cholesky for SPD matrices and
+/// PETSc's own nested-dissection LU for quasi-definite ones, MUMPS for
+/// general ones; on several ranks each rank holds a copy of the first two
+/// (PCREDUNDANT, whose options prefix is <prefix>redundant_), and a general
+/// matrix is factorised by MUMPS across the ranks. A -<prefix>pc_type of
+/// lu or cholesky on several ranks asks for MUMPS across the ranks.
 /// Iterative: see Method; the relative tolerance is set on the KSP
 /// (set_relative_tolerance), not here.
 /// `fields` are the system's splits: the coupled system is the one whose

@@ -121,9 +121,12 @@ std::string System::description() const
   const std::string pc = option(_prefix, "-pc_type");
   std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + option(_prefix, "-ksp_type")
                   + " + " + pc;
-  if (const std::string package = option(_prefix, "-pc_factor_mat_solver_type");
-      !package.empty() and (pc == "lu" or pc == "cholesky"))
-    d += " (" + package + ")";
+  // PCREDUNDANT: the factorisation each rank holds a copy of.
+  const std::string factor = pc == "redundant" ? _prefix + "redundant_" : _prefix;
+  const std::string factor_pc = option(factor, "-pc_type");
+  if (const std::string package = option(factor, "-pc_factor_mat_solver_type");
+      !package.empty() and (factor_pc == "lu" or factor_pc == "cholesky"))
+    d += pc == "redundant" ? " (" + factor_pc + ", " + package + " on each rank)" : " (" + package + ")";
   return d;
 }
 

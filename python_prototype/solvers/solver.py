@@ -63,29 +63,58 @@ def choose_method(choice, structure, unknowns, dimension, coupled=False):
     return Method.direct if unknowns < CROSSOVER[(3 if dimension == 3 else 2, system)] else Method.iterative
 
 
+FACTORISATIONS = ("lu", "cholesky", "redundant")
+
+
+def _one_rank_package(structure):
+    """The one-rank factorisation measured fastest for the structure
+    (cpp/solvers/solver.cpp): CHOLMOD for SPD, PETSc's LU for quasi-definite,
+    MUMPS otherwise."""
+    return {Structure.spd: "cholmod", Structure.quasi_definite: "petsc"}.get(structure, "mumps")
+
+
 def _set_direct_defaults(prefix, structure, ranks):
-    """The factorisation measured fastest for the structure: on one rank
-    CHOLMOD Cholesky for SPD and PETSc's nested-dissection LU for
-    quasi-definite matrices, MUMPS otherwise and on several ranks."""
-    pc, package = "lu", "mumps"
-    if ranks == 1 and structure == Structure.spd:
-        pc, package = "cholesky", "cholmod"
-    elif ranks == 1 and structure == Structure.quasi_definite:
-        package = "petsc"
-    elif structure == Structure.spd:
-        pc = "cholesky"
+    """The one-rank factorisation of the structure; on several ranks each
+    rank factorises a copy (PCREDUNDANT, options prefix <prefix>redundant_),
+    MUMPS across the ranks for a general matrix or when the command line
+    names the factorisation or the package (cpp/solvers/solver.cpp)."""
     options = PETSc.Options()
-    given_pc = options.getString(prefix + "pc_type", "")
+    given = options.getString(prefix + "pc_type", "")
+    named = bool(given) or bool(options.getString(prefix + "pc_factor_mat_solver_type", ""))
+    redundant = ranks > 1 and (given == "redundant" or (not named and structure != Structure.general))
+    factor = prefix + "redundant_" if redundant else prefix
     set_default_option(prefix + "ksp_type", "preonly")
-    set_default_option(prefix + "pc_type", pc)
-    if given_pc and given_pc != pc:
+    if redundant:
+        set_default_option(prefix + "pc_type", "redundant")
+        set_default_option(factor + "ksp_type", "preonly")
+    pc = "cholesky" if structure == Structure.spd else "lu"
+    package = _one_rank_package(structure) if ranks == 1 or redundant else "mumps"
+    given_factor = options.getString(factor + "pc_type", "")
+    set_default_option(factor + "pc_type", pc)
+    if given_factor and given_factor != pc:
         package = "mumps"  # the user chose the other factorisation
-    set_default_option(prefix + "pc_factor_mat_solver_type", package)
-    used = options.getString(prefix + "pc_factor_mat_solver_type")
+    set_default_option(factor + "pc_factor_mat_solver_type", package)
+    used = options.getString(factor + "pc_factor_mat_solver_type")
     if used == "petsc":  # an ordering given to MUMPS would replace its own analysis
-        set_default_option(prefix + "pc_factor_mat_ordering_type", "nd")
+        set_default_option(factor + "pc_factor_mat_ordering_type", "nd")
     if used == "mumps":  # room for refactorisations of changed inactive sets
-        set_default_option(prefix + "mat_mumps_icntl_14", "400")
+        set_default_option(factor + "mat_mumps_icntl_14", "400")
+
+
+def factor_prefix(ksp):
+    """The options prefix of the factorisation: PCREDUNDANT's inner solver's
+    when each rank holds a copy of the matrix, else the KSP's own."""
+    prefix = ksp.getOptionsPrefix()
+    return prefix + "redundant_" if ksp.getPC().getType() == PETSc.PC.Type.REDUNDANT else prefix
+
+
+def factor_package(ksp):
+    """The factorisation package of a KSP ("" when it does not factorise;
+    petsc4py 3.18 cannot reach PCREDUNDANT's inner PC, so its package is
+    read from the options, where _set_direct_defaults put it)."""
+    if ksp.getPC().getType() == PETSc.PC.Type.REDUNDANT:
+        return PETSc.Options().getString(factor_prefix(ksp) + "pc_factor_mat_solver_type", "petsc")
+    return ksp.getPC().getFactorSolverType() or ""
 
 
 def _set_elasticity_preconditioner(prefix):
@@ -155,7 +184,7 @@ def set_solver_defaults(prefix, structure, method, comm, fields=()):
     iterative)."""
     given_pc = PETSc.Options().getString(prefix + "pc_type", "")
     if given_pc:
-        method = Method.direct if given_pc in ("lu", "cholesky") else Method.iterative
+        method = Method.direct if given_pc in FACTORISATIONS else Method.iterative
     if method == Method.direct:
         _set_direct_defaults(prefix, structure, comm.size)
     else:
@@ -264,8 +293,7 @@ class LinearSolver:
         column with SuperLU_DIST too, whose block solve in PETSc 3.18 aborts
         on a block of another width than the first, cpp/solvers/solver.cpp)."""
         def solve():
-            if self.ksp.getType() == PETSc.KSP.Type.PREONLY \
-                    and self.ksp.getPC().getFactorSolverType() != "superlu_dist":
+            if self.ksp.getType() == PETSc.KSP.Type.PREONLY and factor_package(self.ksp) != "superlu_dist":
                 self.ksp.getPC().matApply(B, X)
                 return
             for j in range(B.getSize()[1]):
@@ -277,18 +305,24 @@ class LinearSolver:
     def run(self, solve):
         ierr = self._run(solve)
         reason = self.ksp.getConvergedReason()
-        pc = self.ksp.getPC()
         if (ierr or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
-                and pc.getFactorSolverType() == "petsc":
+                and factor_package(self.ksp) == "petsc":
             # A quasi-definite matrix with a negative block at round-off can
             # still meet a tiny pivot: factorise once more with UMFPACK, which
-            # pivots (one rank, as PETSc's LU; cpp/solvers/solver.cpp).
+            # pivots (one rank, as PETSc's LU, each rank on its copy when
+            # there are several; cpp/solvers/solver.cpp).
+            factor = factor_prefix(self.ksp)
             options = PETSc.Options()
-            options.setValue(self.prefix + "pc_factor_mat_solver_type", "umfpack")
+            options.setValue(factor + "pc_factor_mat_solver_type", "umfpack")
             # its own ordering, not the nested dissection the PC kept
-            options.setValue(self.prefix + "pc_factor_mat_ordering_type", "external")
+            options.setValue(factor + "pc_factor_mat_ordering_type", "external")
             A, P = self.ksp.getOperators()
-            self.ksp.reset()
+            comm = self.ksp.getComm()
+            # A new KSP where C++ resets it and clears the failure that
+            # PCREDUNDANT keeps past a reset (petsc4py 3.18 cannot clear it).
+            self.ksp.destroy()
+            self.ksp = PETSc.KSP().create(comm)
+            self.ksp.setOptionsPrefix(self.prefix)
             self.ksp.setOperators(A, P)
             self.ksp.setFromOptions()
             ierr = self._run(solve)

@@ -127,7 +127,10 @@ class System:
         pc = options.getString(self.prefix + "pc_type", "")
         d = (f"SNES vinewtonrsls ({self.contact.method()}), " if self.contact else "") + options.getString(self.prefix + "ksp_type", "") \
             + " + " + pc
-        package = options.getString(self.prefix + "pc_factor_mat_solver_type", "")
-        if package and pc in ("lu", "cholesky"):
-            d += f" ({package})"
+        # PCREDUNDANT: the factorisation each rank holds a copy of
+        factor = self.prefix + "redundant_" if pc == "redundant" else self.prefix
+        factor_pc = options.getString(factor + "pc_type", "")
+        package = options.getString(factor + "pc_factor_mat_solver_type", "")
+        if package and factor_pc in ("lu", "cholesky"):
+            d += f" ({factor_pc}, {package} on each rank)" if pc == "redundant" else f" ({package})"
         return d
