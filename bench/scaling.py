@@ -36,7 +36,9 @@ COLUMNS = ["dimension", "cells", "solver", "ranks", "repetition", "unknowns", "f
            "wall_s", "coupling_iterations", "time_per_iteration_ms", "us_per_unknown_per_iteration",
            "flow_iterations_per_solve", "mechanics_iterations_per_newton_step", "flow_setups", "mechanics_setups",
            "active_set_changes", "flow_total_s", "mechanics_total_s", "flow_setup_s", "mechanics_setup_s",
-           "peak_rss_mb", "kb_per_unknown", "command"]
+           "flow_solve_s", "mechanics_solve_s", "mechanics_schur_complement_s", "mechanics_other_s", "assembly_s",
+           "output_s", "flow_linear_iterations", "mechanics_linear_iterations", "mechanics_newton_iterations",
+           "flow_method", "mechanics_method", "peak_rss_mb", "kb_per_unknown", "command"]
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
            "OMPI_MCA_rmaps_base_oversubscribe": "1"}
 
@@ -59,6 +61,13 @@ def row_from_run(dimension, cells, solver, ranks, repetition, result):
             "active_set_changes": mechanics["active_set_changes"],
             "flow_total_s": timings["flow"]["total"], "mechanics_total_s": timings["mechanics"]["total"],
             "flow_setup_s": timings["flow"]["setup"], "mechanics_setup_s": timings["mechanics"]["setup"],
+            "flow_solve_s": timings["flow"]["solve"], "mechanics_solve_s": timings["mechanics"]["solve"],
+            "mechanics_schur_complement_s": timings["mechanics"]["schur_complement"],
+            "mechanics_other_s": timings["mechanics"]["other"], "assembly_s": timings["assembly"],
+            "output_s": timings["output"], "flow_linear_iterations": flow["linear_iterations"],
+            "mechanics_linear_iterations": mechanics["linear_iterations"],
+            "mechanics_newton_iterations": mechanics["newton_iterations"],
+            "flow_method": flow["method"], "mechanics_method": mechanics["method"],
             "peak_rss_mb": result["peak_rss_mb"], "kb_per_unknown": 1024 * result["peak_rss_mb"] / unknowns,
             "command": result["command"]}
 
@@ -67,7 +76,8 @@ def parser():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     common.add_arguments(p, NAME)
     p.add_argument("--dims", default="2,3", help="comma-separated dimensions (default 2,3)")
-    p.add_argument("--solvers", default="direct,iterative", help="comma-separated subset of direct,iterative")
+    p.add_argument("--solvers", default="direct,iterative",
+                   help="comma-separated subset of direct,iterative,auto (auto: the defaults' own choice)")
     p.add_argument("--ranks", default="1,2", help="comma-separated MPI rank counts (default 1,2)")
     p.add_argument("--cells2", help="2D meshes instead of the default list")
     p.add_argument("--cells3", help="3D meshes instead of the default list")
@@ -97,7 +107,7 @@ def estimated_unknowns(dimension, cells):
 def main():
     args, petsc = common.parse_arguments(parser())
     dims = [int(d) for d in args.dims.split(",")]
-    solvers = common.parse_variants(args.solvers, ("direct", "iterative"))
+    solvers = common.parse_variants(args.solvers, ("direct", "iterative", "auto"))
     ranks = [int(r) for r in args.ranks.split(",")]
     if any(d not in SCENES for d in dims) or any(r < 1 for r in ranks):
         raise common.BenchError("--dims takes 2 and 3, --ranks positive integers")

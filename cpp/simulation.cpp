@@ -445,6 +445,7 @@ std::pair<Json, Json> solver_summaries(const Steps& steps, bool inexact_coupling
     const bool direct = system->method() == Method::direct;
     Json j;
     j.set("solver", method_name(system->method()))
+        .set("chosen_by", system->method_reason())
         .set("method", system->description())
         .set("unknowns", system->unknowns())
         .set("solves", st.solves)

@@ -293,7 +293,7 @@ def solver_summaries(steps, inexact_coupling):
             continue
         st = system.statistics()
         direct = system.method == Method.direct
-        j = {"solver": system.method.name, "method": system.description(), "unknowns": system.unknowns(),
+        j = {"solver": system.method.name, "chosen_by": system.method_reason, "method": system.description(), "unknowns": system.unknowns(),
              "solves": st.solves, "factorizations": st.setups if direct else 0,
              "preconditioner_setups": st.setups,
              "inexact_coupling": not direct and not steps.monolithic and inexact_coupling,

@@ -18,23 +18,25 @@ void set_default_option(const std::string& name, const std::string& value)
 
 std::string method_name(Method method) { return method == Method::direct ? "direct" : "iterative"; }
 
-Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
-                     bool coupled)
+MethodChoice choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+                           int ranks, bool coupled)
 {
-  if (choice == "direct")
-    return Method::direct;
-  if (choice == "iterative")
-    return Method::iterative;
+  if (choice == "direct" or choice == "iterative")
+    return {choice == "direct" ? Method::direct : Method::iterative, "solver." + choice + " in the scene"};
   // "auto": the crossover in unknowns measured by bench/scaling.py on the
   // default scene (2D) and the contact block (3D), docs/performance.md. A
   // 3D factorisation fills in far more (separators of n^(2/3) against
   // n^(1/2)), so its crossover is lower.
   const bool elasticity = structure == Structure::spd;
-  const std::int64_t crossover
+  const std::int64_t one_rank
       = coupled ? (dimension == 3 ? crossover_3d_monolithic : crossover_2d_monolithic)
                 : (dimension == 3 ? (elasticity ? crossover_3d_mechanics : crossover_3d_flow)
                                   : (elasticity ? crossover_2d_mechanics : crossover_2d_flow));
-  return unknowns < crossover ? Method::direct : Method::iterative;
+  const std::int64_t crossover = one_rank / std::max(ranks, 1);
+  const Method method = unknowns < crossover ? Method::direct : Method::iterative;
+  return {method, "auto: " + std::to_string(unknowns) + (method == Method::direct ? " < " : " >= ")
+                      + std::to_string(crossover) + " unknowns, the " + std::to_string(dimension) + "D crossover of "
+                      + std::to_string(one_rank) + " on one rank divided by " + std::to_string(ranks) + " rank(s)"};
 }
 
 std::string option(const std::string& prefix, const char* name)
@@ -201,15 +203,15 @@ void set_iterative_defaults(const std::string& prefix, Structure structure, cons
 }
 } // namespace
 
-Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm,
-                           const std::vector<Field>& fields)
+MethodChoice set_solver_defaults(const std::string& prefix, Structure structure, MethodChoice method, MPI_Comm comm,
+                                 const std::vector<Field>& fields)
 {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   // A -<prefix>pc_type on the command line decides the method.
   if (const std::string given = option(prefix, "-pc_type"); !given.empty())
-    method = is_factorisation(given) ? Method::direct : Method::iterative;
-  if (method == Method::direct)
+    method = {is_factorisation(given) ? Method::direct : Method::iterative, "-" + prefix + "pc_type " + given};
+  if (method.method == Method::direct)
     set_direct_defaults(prefix, structure, ranks);
   else
     set_iterative_defaults(prefix, structure, fields);

@@ -67,9 +67,9 @@ enum class Method
 /// "direct" or "iterative", as written in the summary.
 std::string method_name(Method method);
 
-/// The crossovers of "auto": systems with at least this many unknowns are
-/// solved iteratively. Measured by bench/scaling.py on the 2-core machine
-/// (docs/performance.md, "Scaling"), per system, one rank:
+/// The crossovers of "auto" on one rank: systems with at least this many
+/// unknowns are solved iteratively. Measured by bench/scaling.py on the
+/// 2-core machine (docs/performance.md, "Scaling"), per system, one rank:
 /// - 3D: the flow is faster iterative from 7.6e4 unknowns (direct still at
 ///   3.2e4), the mechanics from 1.5e4 (a tie at 6.8e3);
 /// - 2D: the factorisations stay faster at every size measured, up to
@@ -86,18 +86,30 @@ constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 800
 constexpr std::int64_t crossover_3d_mechanics = 10000, crossover_3d_flow = 50000;
 constexpr std::int64_t crossover_2d_monolithic = 8000000, crossover_3d_monolithic = 10000;
 
+/// The method of a system and why it was chosen (written to the summary).
+struct MethodChoice
+{
+  Method method;
+  std::string reason;
+};
+
 /// The method for a [solver] choice ("direct", "iterative" or "auto") of a
-/// system with `unknowns` global unknowns and `dimension` (`coupled`: the
-/// monolithic system): "auto" takes the factorisation below the crossover
-/// measured in bench/scaling.py and bench/monolithic.py
-/// (docs/performance.md) and the Krylov method above it.
-Method choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
-                     bool coupled = false);
+/// system with `unknowns` global unknowns and `dimension` on `ranks` MPI
+/// ranks (`coupled`: the monolithic system). "auto" takes the factorisation
+/// below the one-rank crossover divided by the rank count, the Krylov
+/// method above it: each rank factorises the whole matrix
+/// (set_solver_defaults), so the direct path's time stays that of one
+/// rank, while the iterative path's divides by the ranks (measured on 2
+/// ranks, 3D block, docs/performance.md "More ranks": direct 0.9-1.0x,
+/// iterative 1.6-1.8x; the crossovers moved from 1e4 to about 7e3
+/// mechanics and from 5e4 to between 1e4 and 3.2e4 flow unknowns).
+MethodChoice choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+                           int ranks, bool coupled = false);
 
 /// Sets the defaults of the solver with this options prefix unless the
 /// command line gave them, and returns the method they make (a
 /// -<prefix>pc_type given on the command line decides: a factorisation is
-/// direct, anything else iterative).
+/// direct, anything else iterative; the reason then says so).
 ///
 /// Direct: preonly with the factorisation measured fastest for the
 /// structure (docs/performance.md): CHOLMOD Cholesky for SPD matrices and
@@ -110,8 +122,8 @@ Method choose_method(const std::string& choice, Structure structure, std::int64_
 /// (set_relative_tolerance), not here.
 /// `fields` are the system's splits: the coupled system is the one whose
 /// fields (flow, mechanics) are split further.
-Method set_solver_defaults(const std::string& prefix, Structure structure, Method method, MPI_Comm comm,
-                           const std::vector<Field>& fields = {});
+MethodChoice set_solver_defaults(const std::string& prefix, Structure structure, MethodChoice method, MPI_Comm comm,
+                                 const std::vector<Field>& fields = {});
 
 /// The relative residual tolerance of an iterative solve: tight enough that
 /// the coupling tolerance (1e-8 on the relative increments) sees converged

@@ -23,10 +23,14 @@ System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const f
     : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure), _fields(std::move(fields)),
       _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
 {
-  _method = set_solver_defaults(_prefix, _structure,
-                                choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim(),
-                                              is_coupled(_fields)),
-                                _comm, _fields);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const MethodChoice chosen = set_solver_defaults(
+      _prefix, _structure,
+      choose_method(choice, _structure, unknowns(), a->mesh()->topology().dim(), ranks, is_coupled(_fields)), _comm,
+      _fields);
+  _method = chosen.method;
+  _method_reason = chosen.reason;
   // A factorisation is of A itself; only a preconditioner takes another matrix.
   if (a_preconditioner and _method == Method::iterative)
   {

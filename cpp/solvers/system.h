@@ -73,6 +73,9 @@ public:
   std::string description() const;
   /// Direct or iterative, as decided from the scene and the options.
   Method method() const { return _method; }
+  /// Why the method was chosen: the scene's entry, auto's crossover, or a
+  /// PETSc option.
+  const std::string& method_reason() const { return _method_reason; }
   /// Global number of unknowns.
   std::int64_t unknowns() const;
 
@@ -83,6 +86,7 @@ private:
   BCs _bcs;
   Structure _structure;
   Method _method;
+  std::string _method_reason;
   std::vector<Field> _fields;
   SolverStatistics _statistics; // before _A: its assembly time is counted
   dolfinx::la::petsc::Matrix _A;

@@ -54,13 +54,19 @@ CROSSOVER = {(2, "mechanics"): 4000000, (2, "flow"): 8000000, (2, "monolithic"):
              (3, "mechanics"): 10000, (3, "flow"): 50000, (3, "monolithic"): 10000}
 
 
-def choose_method(choice, structure, unknowns, dimension, coupled=False):
-    """The method for a [solver] choice: "auto" is direct below the measured
-    crossover (cpp/solvers/solver.cpp); `coupled`: the monolithic system."""
+def choose_method(choice, structure, unknowns, dimension, ranks, coupled=False):
+    """(method, reason) for a [solver] choice: "auto" is direct below the
+    measured one-rank crossover divided by the rank count, since each rank
+    factorises the whole matrix and only the iterative path's time divides by
+    the ranks (cpp/solvers/solver.h); `coupled`: the monolithic system."""
     if choice in ("direct", "iterative"):
-        return Method[choice]
+        return Method[choice], f"solver.{choice} in the scene"
     system = "monolithic" if coupled else ("mechanics" if structure == Structure.spd else "flow")
-    return Method.direct if unknowns < CROSSOVER[(3 if dimension == 3 else 2, system)] else Method.iterative
+    one_rank = CROSSOVER[(3 if dimension == 3 else 2, system)]
+    crossover = one_rank // max(ranks, 1)
+    method = Method.direct if unknowns < crossover else Method.iterative
+    return method, (f"auto: {unknowns} {'<' if method == Method.direct else '>='} {crossover} unknowns, the "
+                    f"{dimension}D crossover of {one_rank} on one rank divided by {ranks} rank(s)")
 
 
 FACTORISATIONS = ("lu", "cholesky", "redundant")
@@ -179,13 +185,14 @@ def set_relative_tolerance(ksp, prefix, tolerance):
 
 def set_solver_defaults(prefix, structure, method, comm, fields=()):
     """Sets the defaults of the solver with this prefix unless the command
-    line gave them; returns the method they make (a -<prefix>pc_type on the
-    command line decides: a factorisation is direct, anything else
-    iterative)."""
+    line gave them; returns the (method, reason) they make (a
+    -<prefix>pc_type on the command line decides: a factorisation is direct,
+    anything else iterative)."""
     given_pc = PETSc.Options().getString(prefix + "pc_type", "")
     if given_pc:
-        method = Method.direct if given_pc in FACTORISATIONS else Method.iterative
-    if method == Method.direct:
+        method = (Method.direct if given_pc in FACTORISATIONS else Method.iterative,
+                  f"-{prefix}pc_type {given_pc}")
+    if method[0] == Method.direct:
         _set_direct_defaults(prefix, structure, comm.size)
     else:
         _set_iterative_defaults(prefix, structure, fields)

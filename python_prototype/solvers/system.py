@@ -26,10 +26,9 @@ class System:
         self._statistics.assembly_time += time.perf_counter() - start
         self.stage = SolverStage(prefix[:-1])
         dimension = a.mesh.topology.dim
-        self.method = set_solver_defaults(prefix, structure,
-                                          choose_method(choice, structure, self.unknowns(), dimension,
-                                                        is_coupled(self.fields)),
-                                          comm, self.fields)
+        self.method, self.method_reason = set_solver_defaults(
+            prefix, structure, choose_method(choice, structure, self.unknowns(), dimension, comm.size,
+                                             is_coupled(self.fields)), comm, self.fields)
         # a factorisation is of A itself; only a preconditioner takes another matrix
         self.a_preconditioner, self.P = None, None
         if a_preconditioner is not None and self.method == Method.iterative:
