@@ -20,11 +20,12 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
+import ranks_report  # noqa: E402
 import scaling_report  # noqa: E402
 from markdown import commands, fmt, provenance, sci, status, table  # noqa: E402
 from common import number  # noqa: E402
 
-BENCHMARKS = ("size_sweep", "mandel", "prototype", "scaling", "monolithic")
+BENCHMARKS = ("size_sweep", "mandel", "prototype", "scaling", "ranks", "monolithic")
 ANALYSIS = ("<!-- analysis begin -->", "<!-- analysis end -->")
 MEASURED = ("<!-- measured begin -->", "<!-- measured end -->")
 SWEEP_FIELDS = ["unknowns", "wall_s", "process_wall_s", "steps", "coupling_iterations", "time_per_iteration_ms",
@@ -400,6 +401,8 @@ def report(data, output, results):
         lines += prototype_section(*data["prototype"])
     if "scaling" in data:
         lines += scaling_report.section(*data["scaling"], plot_dir, stem)
+    if "ranks" in data:
+        lines += ranks_report.section(*data["ranks"], plot_dir, stem)
     if "monolithic" in data:
         lines += monolithic_section(*data["monolithic"])
     return "\n".join(lines).rstrip() + "\n"

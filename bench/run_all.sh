@@ -11,7 +11,9 @@
 # about 45 minutes at one repetition, so it runs with REPEAT_SCALING,
 # default 1); MONOLITHIC=1 also runs bench/monolithic.py (the monolithic
 # system's factorisation against its Krylov method and the iterative
-# split, about 8 minutes at REPEAT_MONOLITHIC, default 1). Each step prints
+# split, about 8 minutes at REPEAT_MONOLITHIC, default 1); RANKS=1 also runs
+# bench/ranks.py (every case on 1 and 2 ranks with the defaults, about 25
+# minutes at REPEAT). Each step prints
 # the commands it runs. The targets table is in docs/performance.md
 # ("Targets") and nowhere else: no other page is rewritten.
 set -euo pipefail
@@ -33,6 +35,9 @@ step $PY bench/mandel.py --repeat "$REPEAT"
 step $PY bench/prototype.py --repeat "$REPEAT"
 if [ "${SCALING:-0}" = 1 ]; then
   step $PY bench/scaling.py --largest --repeat "${REPEAT_SCALING:-1}"
+fi
+if [ "${RANKS:-0}" = 1 ]; then
+  step $PY bench/ranks.py --repeat "$REPEAT"
 fi
 if [ "${MONOLITHIC:-0}" = 1 ]; then
   step $PY bench/monolithic.py --repeat "${REPEAT_MONOLITHIC:-1}"

@@ -10,20 +10,39 @@ SchurComplement::SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A
                                  std::vector<std::int32_t> dofs)
     : _comm(comm), _prefix(prefix), _A(A), _structure(structure), _dofs(std::move(dofs))
 {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
+  MPI_Comm_size(comm, &_ranks);
+  MPI_Comm_rank(comm, &_rank);
   const int local = static_cast<int>(_dofs.size());
-  _counts.resize(ranks);
+  _counts.resize(_ranks);
   MPI_Allgather(&local, 1, MPI_INT, _counts.data(), 1, MPI_INT, comm);
-  _displacements.resize(ranks);
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  for (int r = 0, sum = 0; r < ranks; sum += _counts[r], ++r)
+  _displacements.resize(_ranks);
+  for (int r = 0, sum = 0; r < _ranks; sum += _counts[r], ++r)
     _displacements[r] = sum;
-  _offset = _displacements[rank];
+  _offset = _displacements[_rank];
   _m = _displacements.back() + _counts.back();
   MatGetOwnershipRange(A, &_first_row, nullptr);
-  MatCreateVecs(A, &_v, &_w);
+  _whole = _ranks == 1 or option(prefix, "-pc_type") == "redundant";
+  std::vector<PetscInt> own(_dofs.size());
+  std::transform(_dofs.begin(), _dofs.end(), own.begin(), [&](std::int32_t d) { return _first_row + d; });
+  if (_whole)
+  {
+    // Every contact row, in H's order, on every rank.
+    _rows.resize(_m);
+    MPI_Allgatherv(own.data(), local, MPIU_INT, _rows.data(), _counts.data(), _displacements.data(), MPIU_INT, comm);
+  }
+  else
+    _rows = own;
+  if (_whole and _ranks > 1)
+  {
+    Vec layout;
+    MatCreateVecs(A, &layout, nullptr);
+    VecScatterCreateToAll(layout, &_to_all, &_b_whole);
+    VecDestroy(&layout);
+    for (Vec* v : {&_x_whole, &_v, &_w})
+      VecDuplicate(_b_whole, v);
+  }
+  else
+    MatCreateVecs(A, &_v, &_w);
   MatCreateSeqDense(PETSC_COMM_SELF, _m, _m, nullptr, &_H);
 }
 
@@ -31,9 +50,11 @@ SchurComplement::~SchurComplement()
 {
   _solver.reset();
   MatDestroy(&_clamped);
+  MatDestroy(&_A_whole);
   MatDestroy(&_H);
-  VecDestroy(&_v);
-  VecDestroy(&_w);
+  VecScatterDestroy(&_to_all);
+  for (Vec* v : {&_v, &_w, &_b_whole, &_x_whole})
+    VecDestroy(v);
 }
 
 void SchurComplement::gather(const PetscScalar* local, PetscScalar* all) const
@@ -42,30 +63,87 @@ void SchurComplement::gather(const PetscScalar* local, PetscScalar* all) const
                  _counts.data(), _displacements.data(), MPI_DOUBLE, _comm);
 }
 
+void SchurComplement::contact_values(const PetscScalar* at_contact, PetscScalar* all) const
+{
+  if (_whole)
+    std::copy(at_contact, at_contact + _m, all);
+  else
+    gather(at_contact, all);
+}
+
+PetscInt SchurComplement::local_index(std::size_t i) const
+{
+  return _rows[i] - (_A_whole ? 0 : _first_row);
+}
+
+PetscInt SchurComplement::column_of(std::size_t i) const
+{
+  return _whole ? static_cast<PetscInt>(i) : _offset + static_cast<PetscInt>(i);
+}
+
+void SchurComplement::gather_whole()
+{
+  if (!_whole or _ranks == 1)
+    return;
+  MatDestroy(&_A_whole);
+  MatCreateRedundantMatrix(_A, _ranks, PETSC_COMM_SELF, MAT_INITIAL_MATRIX, &_A_whole);
+}
+
+Vec SchurComplement::solve_vector(Vec b)
+{
+  if (!_to_all)
+    return b;
+  VecScatterBegin(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterEnd(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD);
+  return _b_whole;
+}
+
 void SchurComplement::assemble()
 {
   // A_C: the contact DOFs clamped (identity rows and columns). Its
-  // factorisation is the system's one (same options prefix, same log stage).
+  // factorisation is the system's one (the same options, the same log
+  // stage), on each rank's whole copy when the system's is (PCREDUNDANT).
   _solver.reset();
   MatDestroy(&_clamped);
-  MatDuplicate(_A, MAT_COPY_VALUES, &_clamped);
-  std::vector<PetscInt> rows(_dofs.size());
-  std::transform(_dofs.begin(), _dofs.end(), rows.begin(), [&](std::int32_t d) { return _first_row + d; });
-  MatZeroRowsColumns(_clamped, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, nullptr, nullptr);
-  _solver = std::make_unique<LinearSolver>(_comm, _prefix, _clamped, _clamped, _structure);
+  gather_whole();
+  MatDuplicate(solve_matrix(), MAT_COPY_VALUES, &_clamped);
+  MatZeroRowsColumns(_clamped, static_cast<PetscInt>(_rows.size()), _rows.data(), 1.0, nullptr, nullptr);
+  const std::string prefix = _A_whole ? _prefix + "redundant_" : _prefix;
+  _solver = std::make_unique<LinearSolver>(PetscObjectComm(reinterpret_cast<PetscObject>(_clamped)), prefix,
+                                           _clamped, _clamped, _structure);
   _solver->set_up();
 
   dolfinx::common::Timer timer("Schur complement");
 
   // Blocks of right-hand sides: one call into the factorisation each, with
-  // the dense blocks (n x block) kept to a few tens of megabytes.
+  // the dense blocks (n x block) kept to a few tens of megabytes. Each
+  // rank with a whole copy forms its share of the columns.
   PetscInt n = 0;
   MatGetSize(_A, &n, nullptr);
   const PetscInt block = std::clamp<PetscInt>(static_cast<PetscInt>(4e6 / std::max<PetscInt>(n, 1)), 1, 64);
-  for (PetscInt first = 0; first < _m; first += block)
-    form_columns(first, std::min(block, _m - first));
+  const PetscInt begin = _whole ? _m * _rank / _ranks : 0, end = _whole ? _m * (_rank + 1) / _ranks : _m;
+  for (PetscInt first = begin; first < end; first += block)
+    form_columns(first, std::min(block, end - first));
+  if (_A_whole)
+    share_columns();
   columns += _m;
   time += timer.stop();
+}
+
+void SchurComplement::share_columns()
+{
+  // H is column-major with leading dimension m: rank r's columns
+  // [m r / R, m (r + 1) / R) are one contiguous block.
+  std::vector<int> counts(_ranks), displacements(_ranks);
+  for (int r = 0; r < _ranks; ++r)
+  {
+    displacements[r] = static_cast<int>(_m * (_m * r / _ranks));
+    counts[r] = static_cast<int>(_m * (_m * (r + 1) / _ranks)) - displacements[r];
+  }
+  PetscScalar* h = nullptr;
+  MatDenseGetArray(_H, &h);
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, h, counts.data(), displacements.data(), MPIU_SCALAR, _comm);
+  MatDenseRestoreArray(_H, &h);
 }
 
 void SchurComplement::form_columns(PetscInt first, PetscInt count)
@@ -73,32 +151,34 @@ void SchurComplement::form_columns(PetscInt first, PetscInt count)
   // Column j of H is (A E_j)_C with E_j = e_j - A_C^{-1} (A e_j)|_I: the
   // unit displacement of contact DOF j, extended to I by the equations of
   // I with the other contact DOFs held at zero.
+  Mat S = solve_matrix();
   PetscInt n_local = 0;
-  MatGetLocalSize(_A, &n_local, nullptr);
+  MatGetLocalSize(S, &n_local, nullptr);
   Mat E, R, X, AE;
-  MatCreateDense(_comm, n_local, PETSC_DECIDE, PETSC_DETERMINE, count, nullptr, &E);
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    if (const PetscInt j = _offset + static_cast<PetscInt>(k); j >= first and j < first + count)
-      MatSetValue(E, _first_row + _dofs[k], j - first, 1.0, INSERT_VALUES);
+  MatCreateDense(PetscObjectComm(reinterpret_cast<PetscObject>(S)), n_local, PETSC_DECIDE, PETSC_DETERMINE, count,
+                 nullptr, &E);
+  for (std::size_t i = 0; i < _rows.size(); ++i)
+    if (const PetscInt j = column_of(i); j >= first and j < first + count)
+      MatSetValue(E, _rows[i], j - first, 1.0, INSERT_VALUES);
   MatAssemblyBegin(E, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(E, MAT_FINAL_ASSEMBLY);
 
   // R = (A e_j) with the rows of C zeroed; X = A_C^{-1} R vanishes on C.
-  MatMatMult(_A, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &R);
+  MatMatMult(S, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &R);
   {
     PetscScalar* r = nullptr;
     PetscInt lda = 0;
     MatDenseGetLDA(R, &lda);
     MatDenseGetArray(R, &r);
     for (PetscInt c = 0; c < count; ++c)
-      for (std::int32_t d : _dofs)
-        r[d + c * lda] = 0;
+      for (std::size_t i = 0; i < _rows.size(); ++i)
+        r[local_index(i) + c * lda] = 0;
     MatDenseRestoreArray(R, &r);
   }
   MatDuplicate(R, MAT_DO_NOT_COPY_VALUES, &X);
   _solver->solve(X, R);
   MatAXPY(E, -1.0, X, SAME_NONZERO_PATTERN);
-  MatMatMult(_A, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &AE);
+  MatMatMult(S, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &AE);
 
   const PetscScalar* ae = nullptr;
   PetscInt lda = 0;
@@ -106,12 +186,12 @@ void SchurComplement::form_columns(PetscInt first, PetscInt count)
   MatDenseGetArrayRead(AE, &ae);
   PetscScalar* h = nullptr;
   MatDenseGetArray(_H, &h); // column-major, leading dimension m
-  std::vector<PetscScalar> local(_dofs.size());
+  std::vector<PetscScalar> at_contact(_rows.size());
   for (PetscInt c = 0; c < count; ++c)
   {
-    for (std::size_t k = 0; k < _dofs.size(); ++k)
-      local[k] = ae[_dofs[k] + c * lda];
-    gather(local.data(), h + (first + c) * _m);
+    for (std::size_t i = 0; i < _rows.size(); ++i)
+      at_contact[i] = ae[local_index(i) + c * lda];
+    contact_values(at_contact.data(), h + (first + c) * _m);
   }
   MatDenseRestoreArray(_H, &h);
   MatDenseRestoreArrayRead(AE, &ae);
@@ -123,25 +203,26 @@ void SchurComplement::condensed_load(Vec b, Vec g)
 {
   // v = A_C^{-1} b with b_C zeroed solves the equations of I with x_C = 0;
   // then g = b_C - (A v)_C.
-  VecCopy(b, _w);
+  const Vec B = solve_vector(b);
+  VecCopy(B, _w);
   PetscScalar* w = nullptr;
   VecGetArray(_w, &w);
-  for (std::int32_t d : _dofs)
-    w[d] = 0;
+  for (std::size_t i = 0; i < _rows.size(); ++i)
+    w[local_index(i)] = 0;
   VecRestoreArray(_w, &w);
   _solver->solve(_v, _w);
-  MatMult(_A, _v, _w);
-  const PetscScalar *B, *Av;
-  VecGetArrayRead(b, &B);
+  MatMult(solve_matrix(), _v, _w);
+  const PetscScalar *b_values, *Av;
+  VecGetArrayRead(B, &b_values);
   VecGetArrayRead(_w, &Av);
-  std::vector<PetscScalar> local(_dofs.size());
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    local[k] = B[_dofs[k]] - Av[_dofs[k]];
-  VecRestoreArrayRead(b, &B);
+  std::vector<PetscScalar> at_contact(_rows.size());
+  for (std::size_t i = 0; i < _rows.size(); ++i)
+    at_contact[i] = b_values[local_index(i)] - Av[local_index(i)];
+  VecRestoreArrayRead(B, &b_values);
   VecRestoreArrayRead(_w, &Av);
   PetscScalar* G = nullptr;
   VecGetArray(g, &G);
-  gather(local.data(), G);
+  contact_values(at_contact.data(), G);
   VecRestoreArray(g, &G);
 }
 
@@ -163,23 +244,39 @@ void SchurComplement::extend(Vec b, Vec y, Vec x)
 {
   // A_C x = r with r = b - A y (y embedded by zeros) and r_C = y: the rows
   // of C give x_C = y, those of I give A_II x_I = b_I - A_IC y.
+  const Vec B = solve_vector(b);
   const PetscScalar* Y;
   VecGetArrayRead(y, &Y);
   PetscScalar* v = nullptr;
   VecSet(_v, 0);
   VecGetArray(_v, &v);
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    v[_dofs[k]] = Y[_offset + k];
+  for (std::size_t i = 0; i < _rows.size(); ++i)
+    v[local_index(i)] = Y[column_of(i)];
   VecRestoreArray(_v, &v);
-  MatMult(_A, _v, _w);
-  VecAYPX(_w, -1.0, b);
+  MatMult(solve_matrix(), _v, _w);
+  VecAYPX(_w, -1.0, B);
   PetscScalar* w = nullptr;
   VecGetArray(_w, &w);
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    w[_dofs[k]] = Y[_offset + k];
+  for (std::size_t i = 0; i < _rows.size(); ++i)
+    w[local_index(i)] = Y[column_of(i)];
   VecRestoreArray(_w, &w);
   VecRestoreArrayRead(y, &Y);
-  _solver->solve(x, _w);
+  if (!_A_whole)
+  {
+    _solver->solve(x, _w);
+    return;
+  }
+  // The whole solution on every rank; each keeps its own part.
+  _solver->solve(_x_whole, _w);
+  PetscInt lo = 0, hi = 0;
+  VecGetOwnershipRange(x, &lo, &hi);
+  const PetscScalar* all;
+  PetscScalar* own;
+  VecGetArrayRead(_x_whole, &all);
+  VecGetArray(x, &own);
+  std::copy(all + lo, all + hi, own);
+  VecRestoreArray(x, &own);
+  VecRestoreArrayRead(_x_whole, &all);
 }
 
 } // namespace biotcontact

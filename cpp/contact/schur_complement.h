@@ -17,6 +17,13 @@
 // m back-solves (in blocks of right-hand sides) and kept dense and
 // replicated on every rank; each solve then costs two back-solves of A_C
 // (one for g, one to extend y to x) and a VI on the small dense H.
+//
+// When each rank holds a copy of the factorisation (one rank, or
+// PCREDUNDANT on several, solver.h), A and A_C are gathered whole on every
+// rank and factorised there with the options of the factorisation
+// (<prefix>redundant_ on several ranks); each rank then forms its share of
+// H's columns, m / ranks of them, and the ranks exchange them. Otherwise
+// (MUMPS across the ranks) every column is one distributed back-solve.
 #pragma once
 
 #include "solvers/solver.h"
@@ -67,7 +74,23 @@ public:
   double time = 0;
 
 private:
+  /// The columns [first, first + count) of H (this rank's share when each
+  /// rank solves with the whole matrix, collective otherwise).
   void form_columns(PetscInt first, PetscInt count);
+  /// The matrix this rank solves with and multiplies by: A itself, or on
+  /// several ranks with a copy of the factorisation on each, A gathered.
+  void gather_whole();
+  /// b as the solve's right-hand side: b itself, or gathered whole.
+  Vec solve_vector(Vec b);
+  /// Values at the contact DOFs of the solve's vectors, in H's order, on
+  /// every rank (all of them, or gathered from each rank's own).
+  void contact_values(const PetscScalar* at_contact, PetscScalar* all) const;
+  /// Each rank's columns of H to every rank.
+  void share_columns();
+  /// Where the solve's vectors hold the i-th of `_rows`.
+  PetscInt local_index(std::size_t i) const;
+  /// The column (and row) of H of the i-th of `_rows`.
+  PetscInt column_of(std::size_t i) const;
 
   MPI_Comm _comm;
   std::string _prefix;
@@ -78,6 +101,15 @@ private:
   std::vector<int> _counts, _displacements; // of each rank's contact DOFs in H
   PetscInt _m = 0, _offset = 0, _first_row = 0;
   Vec _v, _w;
+
+  // Each rank solves with the whole matrix (one rank, or PCREDUNDANT).
+  bool _whole = false;
+  int _rank = 0, _ranks = 1;
+  Mat _A_whole = nullptr;                 // A gathered (several ranks only)
+  VecScatter _to_all = nullptr;           // a vector of A's layout -> whole
+  Vec _b_whole = nullptr, _x_whole = nullptr;
+  std::vector<PetscInt> _rows;            // contact rows of the solve's vectors, in H's order
+  Mat solve_matrix() const { return _A_whole ? _A_whole : _A; }
 };
 
 } // namespace biotcontact

@@ -91,12 +91,13 @@ void set_direct_defaults(const std::string& prefix, Structure structure, int ran
   // (PCREDUNDANT) with the one-rank package: a distributed factorisation's
   // back-solve (MUMPS, SuperLU_DIST) costs 3-7 times the one-rank one on 2
   // ranks at 1e5 unknowns (docs/performance.md, "More ranks"), and the
-  // back-solves are most of a run. A general matrix, which neither
-  // one-rank package takes, keeps MUMPS across the ranks, and so does a
-  // system whose factorisation or package the command line names.
+  // back-solves are most of a run; a contact Schur complement then splits
+  // its columns between the ranks (schur_complement.h). A system whose
+  // factorisation or package the command line names is factorised across
+  // the ranks, by that package or MUMPS.
   const std::string given = option(prefix, "-pc_type");
   const bool named = !given.empty() or !option(prefix, "-pc_factor_mat_solver_type").empty();
-  const bool redundant = ranks > 1 and (given == "redundant" or (!named and structure != Structure::general));
+  const bool redundant = ranks > 1 and (given == "redundant" or !named);
   const std::string factor = redundant ? prefix + "redundant_" : prefix;
   set_default_option(prefix + "ksp_type", "preonly");
   if (redundant)

@@ -114,10 +114,10 @@ MethodChoice choose_method(const std::string& choice, Structure structure, std::
 /// Direct: preonly with the factorisation measured fastest for the
 /// structure (docs/performance.md): CHOLMOD Cholesky for SPD matrices and
 /// PETSc's own nested-dissection LU for quasi-definite ones, MUMPS for
-/// general ones; on several ranks each rank holds a copy of the first two
-/// (PCREDUNDANT, whose options prefix is <prefix>redundant_), and a general
-/// matrix is factorised by MUMPS across the ranks. A -<prefix>pc_type of
-/// lu or cholesky on several ranks asks for MUMPS across the ranks.
+/// general ones; on several ranks each rank holds a copy of it
+/// (PCREDUNDANT, whose options prefix is <prefix>redundant_). A
+/// -<prefix>pc_type of lu or cholesky (or a package) on several ranks asks
+/// for a factorisation across the ranks (MUMPS unless the package is named).
 /// Iterative: see Method; the relative tolerance is set on the KSP
 /// (set_relative_tolerance), not here.
 /// `fields` are the system's splits: the coupled system is the one whose

@@ -8,7 +8,13 @@ g = b_C - A_CI A_II^{-1} b_I: the bound-constrained problem on (H, g) has the
 solution y = x_C of the one on (A, b). A_II^{-1} is applied through one
 factorisation of A_C (the contact rows and columns made identity), valid for
 every inactive set; H is formed once per operator from m back-solves and kept
-dense on every rank."""
+dense on every rank.
+
+When each rank holds a copy of the factorisation (one rank, or PCREDUNDANT on
+several), A and A_C are gathered whole on every rank and factorised there with
+the factorisation's options (<prefix>redundant_ on several ranks); each rank
+forms its share of H's columns (m / ranks) and the ranks exchange them.
+Otherwise (MUMPS across the ranks) every column is a distributed back-solve."""
 import time
 
 import numpy as np
@@ -26,7 +32,17 @@ class SchurComplement:
         self.displacements = np.concatenate([[0], np.cumsum(self.counts)[:-1]]).astype(np.int64)
         self.offset, self.m = int(self.displacements[comm.rank]), int(self.counts.sum())
         self.first_row = A.getOwnershipRange()[0]
-        self.v, self.w = A.createVecs()
+        own = (self.first_row + self.dofs).astype(PETSc.IntType)
+        # each rank solves with the whole matrix: one rank, or PCREDUNDANT
+        self.whole = comm.size == 1 or PETSc.Options().getString(prefix + "pc_type", "") == "redundant"
+        # the contact rows of the solve's vectors, in H's order: all of them or this rank's
+        self.rows = np.concatenate(comm.allgather(own)).astype(PETSc.IntType) if self.whole else own
+        self.A_whole, self.to_all = None, None
+        if self.whole and comm.size > 1:
+            self.to_all, self.b_whole = PETSc.Scatter.toAll(A.createVecs()[0])
+            self.x_whole, self.v, self.w = (self.b_whole.duplicate() for _ in range(3))
+        else:
+            self.v, self.w = A.createVecs()
         self.H = PETSc.Mat().createDense((self.m, self.m), comm=PETSc.COMM_SELF)
         self.H.setUp()
         self.solver = None
@@ -42,20 +58,54 @@ class SchurComplement:
                              [result, self.counts, self.displacements, MPI.DOUBLE])
         return result
 
+    def _contact_values(self, at_contact):
+        """Values at the contact rows of the solve's vectors, in H's order, on
+        every rank (all of them, or gathered from each rank's own)."""
+        return np.array(at_contact) if self.whole else self.gather(at_contact)
+
+    def _matrix(self):
+        """The matrix this rank solves with and multiplies by: A, or A gathered."""
+        return self.A_whole if self.A_whole is not None else self.A
+
+    def _local(self):
+        """Where the solve's vectors hold `rows`."""
+        return self.rows - (0 if self.A_whole is not None else self.first_row)
+
+    def _column_of(self):
+        """The column of H of each of `rows`."""
+        return np.arange(self.m) if self.whole else self.offset + np.arange(len(self.dofs))
+
+    def _solve_vector(self, b):
+        """b as the solve's right-hand side: b itself, or gathered whole."""
+        if self.to_all is None:
+            return b
+        self.to_all.scatter(b, self.b_whole, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.FORWARD)
+        return self.b_whole
+
     def assemble(self):
-        """Factorises A_C and forms H from the current values of A."""
-        clamped = self.A.duplicate(copy=True)
-        clamped.zeroRowsColumns((self.first_row + self.dofs).astype(PETSc.IntType), 1.0)
+        """Factorises A_C (on each rank's whole copy when the system's
+        factorisation is one) and forms H from the current values of A."""
+        ranks, rank = self.comm.size, self.comm.rank
+        if self.whole and ranks > 1:
+            self.A_whole = self.A.getRedundantMatrix(ranks, PETSc.COMM_SELF)
+        clamped = self._matrix().duplicate(copy=True)
+        clamped.zeroRowsColumns(self.rows, 1.0)
         self.clamped = clamped
-        self.solver = LinearSolver(self.comm, self.prefix, clamped, clamped, self.structure)
+        prefix = self.prefix + "redundant_" if self.A_whole is not None else self.prefix
+        self.solver = LinearSolver(clamped.getComm(), prefix, clamped, clamped, self.structure)
         self.solver.set_up()
         start = time.perf_counter()
         n = self.A.getSize()[0]
         block = int(np.clip(int(4e6 / max(n, 1)), 1, 64))
+        share = [self.m * r // ranks for r in range(ranks + 1)]  # each rank's columns, when whole
+        begin, end = (share[rank], share[rank + 1]) if self.whole else (0, self.m)
         H = self.H.getDenseArray()  # the local (= whole) array, column-major underneath
-        for first in range(0, self.m, block):
-            count = min(block, self.m - first)
+        for first in range(begin, end, block):
+            count = min(block, end - first)
             H[:, first:first + count] = self._columns(first, count)
+        if self.A_whole is not None:  # each rank's columns to every rank
+            for r in range(ranks):
+                H[:, share[r]:share[r + 1]] = self.comm.bcast(H[:, share[r]:share[r + 1]], root=r)
         self.H.assemble()
         self.columns += self.m
         self.time += time.perf_counter() - start
@@ -64,34 +114,35 @@ class SchurComplement:
         """Columns first..first+count of H: (A E_j)_C with E_j = e_j -
         A_C^{-1} (A e_j)|_I, the unit displacement of contact DOF j extended
         to I with the other contact DOFs held at zero."""
-        n_local = self.A.getLocalSize()[0]
-        E = PETSc.Mat().createDense(((n_local, None), (None, count)), comm=self.comm)
+        S = self._matrix()
+        E = PETSc.Mat().createDense(((S.getLocalSize()[0], None), (None, count)), comm=S.getComm())
         E.setUp()
-        for k, dof in enumerate(self.dofs):
-            j = self.offset + k
+        for row, j in zip(self.rows, self._column_of()):
             if first <= j < first + count:
-                E.setValue(self.first_row + dof, j - first, 1.0)
+                E.setValue(row, j - first, 1.0)
         E.assemble()
-        R = self.A.matMult(E)
-        R.getDenseArray()[self.dofs, :] = 0.0  # (A e_j) with the rows of C zeroed
+        R = S.matMult(E)
+        R.getDenseArray()[self._local(), :] = 0.0  # (A e_j) with the rows of C zeroed
         X = R.duplicate()
         self.solver.solve_block(X, R)  # vanishes on C
         E.axpy(-1.0, X)
-        AE = self.A.matMult(E)
-        local = AE.getDenseArray()[self.dofs, :]
-        result = np.column_stack([self.gather(local[:, c]) for c in range(count)]) if count else None
+        AE = S.matMult(E)
+        at_contact = AE.getDenseArray()[self._local(), :]
+        result = np.column_stack([self._contact_values(at_contact[:, c]) for c in range(count)]) if count else None
         for M in (E, R, X, AE):
             M.destroy()
         return result
 
     def condensed_load(self, b):
         """g = b_C - A_CI A_II^{-1} b_I on every rank (one back-solve)."""
-        b.copy(self.w)
+        B = self._solve_vector(b)
+        B.copy(self.w)
+        local = self._local()
         with self.w as w:
-            w[self.dofs] = 0.0
+            w[local] = 0.0
         self.solver.solve(self.v, self.w)
-        self.A.mult(self.v, self.w)
-        return self.gather(b.getArray(readonly=True)[self.dofs] - self.w.getArray(readonly=True)[self.dofs])
+        self._matrix().mult(self.v, self.w)
+        return self._contact_values(B.getArray(readonly=True)[local] - self.w.getArray(readonly=True)[local])
 
     def restrict_to_contact(self, x):
         """y = x_C on every rank."""
@@ -100,12 +151,19 @@ class SchurComplement:
     def extend(self, b, y, x):
         """x with x_C = y and x_I = A_II^{-1} (b_I - A_IC y) (one back-solve):
         A_C x = r with r = b - A y (y embedded by zeros) and r_C = y."""
-        mine = y[self.offset:self.offset + len(self.dofs)]
+        B = self._solve_vector(b)
+        local, values = self._local(), y[self._column_of()]
         self.v.set(0.0)
         with self.v as v:
-            v[self.dofs] = mine
-        self.A.mult(self.v, self.w)
-        self.w.aypx(-1.0, b)
+            v[local] = values
+        self._matrix().mult(self.v, self.w)
+        self.w.aypx(-1.0, B)
         with self.w as w:
-            w[self.dofs] = mine
-        self.solver.solve(x, self.w)
+            w[local] = values
+        if self.A_whole is None:
+            self.solver.solve(x, self.w)
+            return
+        self.solver.solve(self.x_whole, self.w)  # the whole solution; each rank keeps its part
+        lo, hi = x.getOwnershipRange()
+        with x as own:
+            own[:] = self.x_whole.getArray(readonly=True)[lo:hi]

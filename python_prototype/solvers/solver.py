@@ -82,12 +82,12 @@ def _one_rank_package(structure):
 def _set_direct_defaults(prefix, structure, ranks):
     """The one-rank factorisation of the structure; on several ranks each
     rank factorises a copy (PCREDUNDANT, options prefix <prefix>redundant_),
-    MUMPS across the ranks for a general matrix or when the command line
-    names the factorisation or the package (cpp/solvers/solver.cpp)."""
+    across the ranks (that package or MUMPS) when the command line names
+    the factorisation or the package (cpp/solvers/solver.cpp)."""
     options = PETSc.Options()
     given = options.getString(prefix + "pc_type", "")
     named = bool(given) or bool(options.getString(prefix + "pc_factor_mat_solver_type", ""))
-    redundant = ranks > 1 and (given == "redundant" or (not named and structure != Structure.general))
+    redundant = ranks > 1 and (given == "redundant" or not named)
     factor = prefix + "redundant_" if redundant else prefix
     set_default_option(prefix + "ksp_type", "preonly")
     if redundant:
