@@ -32,17 +32,12 @@ SchurComplement::SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A
   }
   else
     _rows = own;
+  MatCreateVecs(A, &_v, &_w);
   if (_whole and _ranks > 1)
   {
-    Vec layout;
-    MatCreateVecs(A, &layout, nullptr);
-    VecScatterCreateToAll(layout, &_to_all, &_b_whole);
-    VecDestroy(&layout);
-    for (Vec* v : {&_x_whole, &_v, &_w})
-      VecDuplicate(_b_whole, v);
+    VecScatterCreateToAll(_w, &_to_all, &_b_whole);
+    VecDuplicate(_b_whole, &_x_whole);
   }
-  else
-    MatCreateVecs(A, &_v, &_w);
   MatCreateSeqDense(PETSC_COMM_SELF, _m, _m, nullptr, &_H);
 }
 
@@ -89,13 +84,27 @@ void SchurComplement::gather_whole()
   MatCreateRedundantMatrix(_A, _ranks, PETSC_COMM_SELF, MAT_INITIAL_MATRIX, &_A_whole);
 }
 
-Vec SchurComplement::solve_vector(Vec b)
+void SchurComplement::solve(Vec x, Vec b)
 {
-  if (!_to_all)
-    return b;
+  if (!_A_whole)
+  {
+    _solver->solve(x, b);
+    return;
+  }
+  // The whole right-hand side to every rank, the whole solution on each;
+  // each rank keeps its own part (as PCREDUNDANT does).
   VecScatterBegin(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD);
   VecScatterEnd(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD);
-  return _b_whole;
+  _solver->solve(_x_whole, _b_whole);
+  PetscInt lo = 0, hi = 0;
+  VecGetOwnershipRange(x, &lo, &hi);
+  const PetscScalar* all;
+  PetscScalar* own;
+  VecGetArrayRead(_x_whole, &all);
+  VecGetArray(x, &own);
+  std::copy(all + lo, all + hi, own);
+  VecRestoreArray(x, &own);
+  VecRestoreArrayRead(_x_whole, &all);
 }
 
 void SchurComplement::assemble()
@@ -203,26 +212,25 @@ void SchurComplement::condensed_load(Vec b, Vec g)
 {
   // v = A_C^{-1} b with b_C zeroed solves the equations of I with x_C = 0;
   // then g = b_C - (A v)_C.
-  const Vec B = solve_vector(b);
-  VecCopy(B, _w);
+  VecCopy(b, _w);
   PetscScalar* w = nullptr;
   VecGetArray(_w, &w);
-  for (std::size_t i = 0; i < _rows.size(); ++i)
-    w[local_index(i)] = 0;
+  for (std::int32_t d : _dofs)
+    w[d] = 0;
   VecRestoreArray(_w, &w);
-  _solver->solve(_v, _w);
-  MatMult(solve_matrix(), _v, _w);
-  const PetscScalar *b_values, *Av;
-  VecGetArrayRead(B, &b_values);
+  solve(_v, _w);
+  MatMult(_A, _v, _w);
+  const PetscScalar *B, *Av;
+  VecGetArrayRead(b, &B);
   VecGetArrayRead(_w, &Av);
-  std::vector<PetscScalar> at_contact(_rows.size());
-  for (std::size_t i = 0; i < _rows.size(); ++i)
-    at_contact[i] = b_values[local_index(i)] - Av[local_index(i)];
-  VecRestoreArrayRead(B, &b_values);
+  std::vector<PetscScalar> local(_dofs.size());
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    local[k] = B[_dofs[k]] - Av[_dofs[k]];
+  VecRestoreArrayRead(b, &B);
   VecRestoreArrayRead(_w, &Av);
   PetscScalar* G = nullptr;
   VecGetArray(g, &G);
-  contact_values(at_contact.data(), G);
+  gather(local.data(), G);
   VecRestoreArray(g, &G);
 }
 
@@ -244,39 +252,23 @@ void SchurComplement::extend(Vec b, Vec y, Vec x)
 {
   // A_C x = r with r = b - A y (y embedded by zeros) and r_C = y: the rows
   // of C give x_C = y, those of I give A_II x_I = b_I - A_IC y.
-  const Vec B = solve_vector(b);
   const PetscScalar* Y;
   VecGetArrayRead(y, &Y);
   PetscScalar* v = nullptr;
   VecSet(_v, 0);
   VecGetArray(_v, &v);
-  for (std::size_t i = 0; i < _rows.size(); ++i)
-    v[local_index(i)] = Y[column_of(i)];
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    v[_dofs[k]] = Y[_offset + k];
   VecRestoreArray(_v, &v);
-  MatMult(solve_matrix(), _v, _w);
-  VecAYPX(_w, -1.0, B);
+  MatMult(_A, _v, _w);
+  VecAYPX(_w, -1.0, b);
   PetscScalar* w = nullptr;
   VecGetArray(_w, &w);
-  for (std::size_t i = 0; i < _rows.size(); ++i)
-    w[local_index(i)] = Y[column_of(i)];
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    w[_dofs[k]] = Y[_offset + k];
   VecRestoreArray(_w, &w);
   VecRestoreArrayRead(y, &Y);
-  if (!_A_whole)
-  {
-    _solver->solve(x, _w);
-    return;
-  }
-  // The whole solution on every rank; each keeps its own part.
-  _solver->solve(_x_whole, _w);
-  PetscInt lo = 0, hi = 0;
-  VecGetOwnershipRange(x, &lo, &hi);
-  const PetscScalar* all;
-  PetscScalar* own;
-  VecGetArrayRead(_x_whole, &all);
-  VecGetArray(x, &own);
-  std::copy(all + lo, all + hi, own);
-  VecRestoreArray(x, &own);
-  VecRestoreArrayRead(_x_whole, &all);
+  solve(x, _w);
 }
 
 } // namespace biotcontact

@@ -80,14 +80,15 @@ private:
   /// The matrix this rank solves with and multiplies by: A itself, or on
   /// several ranks with a copy of the factorisation on each, A gathered.
   void gather_whole();
-  /// b as the solve's right-hand side: b itself, or gathered whole.
-  Vec solve_vector(Vec b);
-  /// Values at the contact DOFs of the solve's vectors, in H's order, on
-  /// every rank (all of them, or gathered from each rank's own).
+  /// A_C x = b for x and b of A's layout, with the whole copy when each
+  /// rank holds one.
+  void solve(Vec x, Vec b);
+  /// Values at the contact DOFs of a column solve's vectors, in H's order,
+  /// on every rank (all of them, or gathered from each rank's own).
   void contact_values(const PetscScalar* at_contact, PetscScalar* all) const;
   /// Each rank's columns of H to every rank.
   void share_columns();
-  /// Where the solve's vectors hold the i-th of `_rows`.
+  /// Where a column solve's vectors hold the i-th of `_rows`.
   PetscInt local_index(std::size_t i) const;
   /// The column (and row) of H of the i-th of `_rows`.
   PetscInt column_of(std::size_t i) const;
@@ -108,7 +109,7 @@ private:
   Mat _A_whole = nullptr;                 // A gathered (several ranks only)
   VecScatter _to_all = nullptr;           // a vector of A's layout -> whole
   Vec _b_whole = nullptr, _x_whole = nullptr;
-  std::vector<PetscInt> _rows;            // contact rows of the solve's vectors, in H's order
+  std::vector<PetscInt> _rows;            // contact rows of H's columns' solves, in H's order
   Mat solve_matrix() const { return _A_whole ? _A_whole : _A; }
 };
 

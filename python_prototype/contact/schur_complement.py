@@ -35,14 +35,13 @@ class SchurComplement:
         own = (self.first_row + self.dofs).astype(PETSc.IntType)
         # each rank solves with the whole matrix: one rank, or PCREDUNDANT
         self.whole = comm.size == 1 or PETSc.Options().getString(prefix + "pc_type", "") == "redundant"
-        # the contact rows of the solve's vectors, in H's order: all of them or this rank's
+        # the contact rows of H's column solves, in H's order: all of them or this rank's
         self.rows = np.concatenate(comm.allgather(own)).astype(PETSc.IntType) if self.whole else own
         self.A_whole, self.to_all = None, None
+        self.v, self.w = A.createVecs()
         if self.whole and comm.size > 1:
-            self.to_all, self.b_whole = PETSc.Scatter.toAll(A.createVecs()[0])
-            self.x_whole, self.v, self.w = (self.b_whole.duplicate() for _ in range(3))
-        else:
-            self.v, self.w = A.createVecs()
+            self.to_all, self.b_whole = PETSc.Scatter.toAll(self.w)
+            self.x_whole = self.b_whole.duplicate()
         self.H = PETSc.Mat().createDense((self.m, self.m), comm=PETSc.COMM_SELF)
         self.H.setUp()
         self.solver = None
@@ -59,8 +58,8 @@ class SchurComplement:
         return result
 
     def _contact_values(self, at_contact):
-        """Values at the contact rows of the solve's vectors, in H's order, on
-        every rank (all of them, or gathered from each rank's own)."""
+        """Values at the contact rows of a column solve's vectors, in H's
+        order, on every rank (all of them, or gathered from each rank's own)."""
         return np.array(at_contact) if self.whole else self.gather(at_contact)
 
     def _matrix(self):
@@ -68,19 +67,25 @@ class SchurComplement:
         return self.A_whole if self.A_whole is not None else self.A
 
     def _local(self):
-        """Where the solve's vectors hold `rows`."""
+        """Where a column solve's vectors hold `rows`."""
         return self.rows - (0 if self.A_whole is not None else self.first_row)
 
     def _column_of(self):
         """The column of H of each of `rows`."""
         return np.arange(self.m) if self.whole else self.offset + np.arange(len(self.dofs))
 
-    def _solve_vector(self, b):
-        """b as the solve's right-hand side: b itself, or gathered whole."""
-        if self.to_all is None:
-            return b
+    def _solve(self, x, b):
+        """A_C x = b for x and b of A's layout, with the whole copy when each
+        rank holds one (the right-hand side gathered, each rank keeping its
+        part of the solution, as PCREDUNDANT does)."""
+        if self.A_whole is None:
+            self.solver.solve(x, b)
+            return
         self.to_all.scatter(b, self.b_whole, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.FORWARD)
-        return self.b_whole
+        self.solver.solve(self.x_whole, self.b_whole)
+        lo, hi = x.getOwnershipRange()
+        with x as own:
+            own[:] = self.x_whole.getArray(readonly=True)[lo:hi]
 
     def assemble(self):
         """Factorises A_C (on each rank's whole copy when the system's
@@ -135,14 +140,12 @@ class SchurComplement:
 
     def condensed_load(self, b):
         """g = b_C - A_CI A_II^{-1} b_I on every rank (one back-solve)."""
-        B = self._solve_vector(b)
-        B.copy(self.w)
-        local = self._local()
+        b.copy(self.w)
         with self.w as w:
-            w[local] = 0.0
-        self.solver.solve(self.v, self.w)
-        self._matrix().mult(self.v, self.w)
-        return self._contact_values(B.getArray(readonly=True)[local] - self.w.getArray(readonly=True)[local])
+            w[self.dofs] = 0.0
+        self._solve(self.v, self.w)
+        self.A.mult(self.v, self.w)
+        return self.gather(b.getArray(readonly=True)[self.dofs] - self.w.getArray(readonly=True)[self.dofs])
 
     def restrict_to_contact(self, x):
         """y = x_C on every rank."""
@@ -151,19 +154,12 @@ class SchurComplement:
     def extend(self, b, y, x):
         """x with x_C = y and x_I = A_II^{-1} (b_I - A_IC y) (one back-solve):
         A_C x = r with r = b - A y (y embedded by zeros) and r_C = y."""
-        B = self._solve_vector(b)
-        local, values = self._local(), y[self._column_of()]
+        mine = y[self.offset:self.offset + len(self.dofs)]
         self.v.set(0.0)
         with self.v as v:
-            v[local] = values
-        self._matrix().mult(self.v, self.w)
-        self.w.aypx(-1.0, B)
+            v[self.dofs] = mine
+        self.A.mult(self.v, self.w)
+        self.w.aypx(-1.0, b)
         with self.w as w:
-            w[local] = values
-        if self.A_whole is None:
-            self.solver.solve(x, self.w)
-            return
-        self.solver.solve(self.x_whole, self.w)  # the whole solution; each rank keeps its part
-        lo, hi = x.getOwnershipRange()
-        with x as own:
-            own[:] = self.x_whole.getArray(readonly=True)[lo:hi]
+            w[self.dofs] = mine
+        self._solve(x, self.w)
