@@ -167,6 +167,11 @@ def short_path(path):
     return relative if os.sep in relative else os.path.join(".", relative)
 
 
+def on_ranks(binary, ranks):
+    """The command prefix that runs `binary` on `ranks` MPI ranks."""
+    return ([] if ranks == 1 else ["mpirun", "-n", str(ranks)]) + [binary]
+
+
 def run_case(command_prefix, scene, sets, petsc_options, out):
     """One run of `command_prefix run SCENE --out OUT --set ... PETSC...`
     (command_prefix: [binary] or [python, -m, python_prototype]). Prints the

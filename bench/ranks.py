@@ -3,12 +3,14 @@
 3D scaling (the contact block) with the default solvers, on 1 and on 2 MPI
 ranks, one after the other, so that the speed-up is measured in one run.
 
-    /usr/bin/python3 bench/ranks.py [--dims 2,3] [--ranks 1,2] [--variants paper,kdr,monolithic]
+    /usr/bin/python3 bench/ranks.py [--dims 2,3] [--ranks 1,2] [--variants paper,monolithic]
         [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--repeat 3] [--binary build/biotcontact]
         [--out-dir bench/results] [-- PETSc options]
 
 2D: scenes/default.toml, cells [80,8] .. [640,64] (9.4e3 to 5.8e5 unknowns),
-variants as bench/size_sweep.py (time.end as the scene: 2.4); 3D:
+the scene's 48 steps to t = 9.6, variants `paper` (single rate) and
+`monolithic` by default (`kdr` and `multirate4` of bench/size_sweep.py take
+the split's solver paths, with other iteration counts); 3D:
 scenes/block3d_box.toml, cells [16,8,4] .. [72,36,18] (1.2e4 to 1.0e6
 unknowns), two time steps (time.end = 0.4). No XDMF output; `auto` picks
 each system's solver, as a user's run does. The rank runs of a case
@@ -64,13 +66,19 @@ def row_from_run(dimension, variant, cells, ranks, repetition, result):
     return row
 
 
+def described(row):
+    """One line of progress for a run's row."""
+    return (f"{row['wall_s']:.2f} s, {row['coupling_iterations']} coupling iterations, "
+            f"flow {row['flow_solver']}, mechanics {row['mechanics_solver']}")
+
+
 def parser():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     common.add_arguments(p, NAME)
     p.add_argument("--dims", default="2,3", help="comma-separated dimensions (default 2,3)")
     p.add_argument("--ranks", default="1,2", help="comma-separated MPI rank counts (default 1,2)")
-    p.add_argument("--variants", default="paper,kdr,monolithic",
-                   help=f"2D variants, a subset of {','.join(size_sweep.VARIANTS)} (default paper,kdr,monolithic)")
+    p.add_argument("--variants", default="paper,monolithic",
+                   help=f"2D variants, a subset of {','.join(size_sweep.VARIANTS)} (default paper,monolithic)")
     p.add_argument("--cells2", help="2D meshes instead of the default list")
     p.add_argument("--cells3", help="3D meshes instead of the default list")
     return p
@@ -110,14 +118,12 @@ def main():
             scene = os.path.join(common.ROOT, SCENES[dimension])
             for repetition in range(1, args.repeat + 1):
                 for n in ranks:
-                    prefix = ([] if n == 1 else ["mpirun", "-n", str(n)]) + [args.binary]
                     label = f"{dimension}d-{variant}-{'x'.join(map(str, mesh))}-{n}-r{repetition}"
                     row = row_from_run(dimension, variant, mesh, n, repetition,
-                                       common.run_case(prefix, scene, sets, petsc, work.run(label)))
+                                       common.run_case(common.on_ranks(args.binary, n), scene, sets, petsc,
+                                                       work.run(label)))
                     recorder.add(row)
-                    print(f"  {label}: {row['unknowns']} unknowns, {row['wall_s']:.2f} s, "
-                          f"{row['coupling_iterations']} coupling iterations, flow {row['flow_solver']}, "
-                          f"mechanics {row['mechanics_solver']}", flush=True)
+                    print(f"  {label}: {row['unknowns']} unknowns, {described(row)}", flush=True)
     recorder.finish()
     return 0
 

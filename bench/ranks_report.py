@@ -81,7 +81,7 @@ def phase_rows(es):
     block at three sizes each (the largest three run on both)."""
     out = []
     for dimension, variant in ((2, "paper"), (2, "monolithic"), (3, "auto")):
-        cases = [p for p in pairs(es) if p[0]["dimension"] == dimension and p[0]["variant"] == variant][-3:]
+        cases = [p for p in pairs(es) if str(p[0]["dimension"]) == str(dimension) and p[0]["variant"] == variant][-3:]
         for one, two in cases:
             a, b = phases(one), phases(two)
             iterations = max(one["coupling_iterations"], one["steps"] if variant == "monolithic" else 0, 1)
@@ -91,37 +91,35 @@ def phase_rows(es):
 
 
 def model(es):
-    """Per phase of the largest 3D case: t(P) = s + p / P (+ reductions),
-    s and p from the 1- and 2-rank times (Amdahl per phase: p = 2 (t1 - t2),
-    clamped to [0, t1]). Strong scaling of that case, and weak scaling with
-    its unknowns per rank on 2 ranks, where the parallel part stays per rank
-    and the serial part grows with the problem as the measured sizes show."""
-    cases = [p for p in pairs(es) if p[0]["dimension"] == 3]
+    """Per phase of the largest 3D case (the iterative path), from its 1- and
+    2-rank times: the work w = t1, which divides by the ranks, and the
+    overhead c = t2 - t1 / 2 of 2 ranks beyond halving it (communication and
+    the memory bandwidth the ranks share), taken to grow with the depth of a
+    reduction tree, log2 P, and with the surface of a rank's part,
+    (N / P)^(2/3). The solves' work also grows with the Krylov iterations,
+    measured from the next smaller size on one rank."""
+    cases = [p for p in pairs(es) if str(p[0]["dimension"]) == "3"]
     if len(cases) < 2:
         return None
-    (small1, small2), (one, two) = cases[-2], cases[-1]
-    growth = one["unknowns"] / small1["unknowns"]
-    fits = {}
-    for phase in PHASES:
-        t1, t2 = phases(one)[phase], phases(two)[phase]
-        p = min(max(2 * (t1 - t2), 0.0), t1)
-        s = t1 - p
-        # The serial part's growth with the problem, from the next smaller size.
-        s_small = phases(small1)[phase] - min(max(2 * (phases(small1)[phase] - phases(small2)[phase]), 0.0),
-                                              phases(small1)[phase])
-        exponent = math.log(max(s, 1e-9) / max(s_small, 1e-9)) / math.log(growth) if s > 0 and s_small > 0 else 1.0
-        fits[phase] = (s, p, min(max(exponent, 0.0), 2.0))
+    small, (one, two) = cases[-2][0], cases[-1]
+    its = lambda e: e["flow_linear_iterations"] + e["mechanics_linear_iterations"]  # noqa: E731
+    growth = math.log(its(one) / its(small)) / math.log(one["unknowns"] / small["unknowns"])
+    fits = {phase: (phases(one)[phase], max(phases(two)[phase] - phases(one)[phase] / 2, 0.0)) for phase in PHASES}
     # Global reductions per run: two per CG iteration and about twelve per
     # GMRES iteration (restart 30, growing Gram-Schmidt) of the Krylov solves.
     reductions = 2 * one["mechanics_linear_iterations"] + 12 * one["flow_linear_iterations"]
-    return one, two, fits, reductions
+    return one, two, fits, reductions, growth
 
 
-def predict(fits, reductions, ranks, scale):
+def predict(fits, reductions, growth, ranks, scale):
     """Seconds per phase on `ranks` for `scale` times the case's unknowns
     (strong: 1, weak: ranks / 2)."""
-    t = {phase: s * scale ** exponent + p * scale * 1.0 / ranks for phase, (s, p, exponent) in fits.items()}
-    t["global reductions"] = reductions * REDUCTION_LATENCY_S * math.log2(ranks)
+    surface = (2 * scale / ranks) ** (2 / 3)
+    t = {}
+    for phase, (work, overhead) in fits.items():
+        iterations = scale ** growth if phase == "solves" else 1.0
+        t[phase] = work * scale * iterations / ranks + overhead * math.log2(ranks) * surface
+    t["global reductions"] = reductions * scale ** growth * REDUCTION_LATENCY_S * math.log2(ranks)
     return t
 
 
@@ -129,27 +127,28 @@ def model_lines(es):
     fitted = model(es)
     if fitted is None:
         return ["_The model needs two 3D sizes on 1 and 2 ranks._", ""]
-    one, two, fits, reductions = fitted
-    lines = [f"Fitted on the 3D block at {one['cells']} ({fmt(one['unknowns'])} unknowns, the iterative path): "
-             "per phase, the part that halved on 2 ranks (parallel, p) and the rest (serial, s, with its growth "
-             "exponent in the unknowns from the next smaller size); global reductions "
-             f"({fmt(reductions)} per run, from the Krylov iterations) cost an assumed "
-             f"{REDUCTION_LATENCY_S * 1e6:.0f} us per tree level. Strong: the same problem; weak: "
-             f"{fmt(one['unknowns'] / 2)} unknowns per rank, as on 2 ranks.", ""]
-    header = ["phase", "s (s)", "p (s)", "s grows as N^"] + [f"strong {n}" for n in MODEL_RANKS] \
-        + [f"weak {n}" for n in MODEL_RANKS]
-    strong = {n: predict(fits, reductions, n, 1.0) for n in MODEL_RANKS}
-    weak = {n: predict(fits, reductions, n, n / 2) for n in MODEL_RANKS}
-    rows = [[phase, fmt(s), fmt(p), f"{exponent:.2f}"] + [fmt(strong[n][phase]) for n in MODEL_RANKS]
-            + [fmt(weak[n][phase]) for n in MODEL_RANKS] for phase, (s, p, exponent) in fits.items()]
-    rows.append(["global reductions", "-", "-", "-"] + [fmt(strong[n]["global reductions"]) for n in MODEL_RANKS]
+    one, two, fits, reductions, growth = fitted
+    lines = [f"Fitted on the 3D block at {one['cells']} ({fmt(one['unknowns'])} unknowns, the iterative path), "
+             "per phase: the work w (the 1-rank time, divided by the ranks) and the overhead c of 2 ranks "
+             "beyond halving it (t2 - t1/2: communication, and the memory bandwidth two ranks share), grown "
+             "with log2 P and the surface (N/P)^(2/3) of a rank's part; the Krylov iterations grow as "
+             f"N^{growth:.2f} (measured between the two largest sizes); global reductions "
+             f"({fmt(reductions)} per run) cost an assumed {REDUCTION_LATENCY_S * 1e6:.0f} us per tree level "
+             f"across nodes. Strong: the same problem; weak: {fmt(one['unknowns'] / 2)} unknowns per rank, "
+             "as on 2 ranks. Seconds per run.", ""]
+    header = ["phase", "w (s)", "c (s)"] + [f"strong {n}" for n in MODEL_RANKS] + [f"weak {n}" for n in MODEL_RANKS]
+    strong = {n: predict(fits, reductions, growth, n, 1.0) for n in MODEL_RANKS}
+    weak = {n: predict(fits, reductions, growth, n, n / 2) for n in MODEL_RANKS}
+    rows = [[phase, fmt(w), fmt(c)] + [fmt(strong[n][phase]) for n in MODEL_RANKS]
+            + [fmt(weak[n][phase]) for n in MODEL_RANKS] for phase, (w, c) in fits.items() if w > 0]
+    rows.append(["global reductions", "-", "-"] + [fmt(strong[n]["global reductions"]) for n in MODEL_RANKS]
                 + [fmt(weak[n]["global reductions"]) for n in MODEL_RANKS])
-    rows.append(["**total**", fmt(sum(f[0] for f in fits.values())), fmt(sum(f[1] for f in fits.values())), "-"]
+    rows.append(["**total**", fmt(sum(f[0] for f in fits.values())), fmt(sum(f[1] for f in fits.values()))]
                 + [f"**{fmt(sum(strong[n].values()))}**" for n in MODEL_RANKS]
                 + [f"**{fmt(sum(weak[n].values()))}**" for n in MODEL_RANKS])
     lines += table(header, rows)
     return lines + ["", f"Measured: {fmt(one['wall_s'])} s on 1 rank, {fmt(two['wall_s'])} s on 2 "
-                    f"(model: {fmt(sum(predict(fits, reductions, 2, 1.0).values()))} s).", ""]
+                    f"(the model: {fmt(sum(predict(fits, reductions, growth, 2, 1.0).values()))} s).", ""]
 
 
 def targets(es):
@@ -163,7 +162,7 @@ def targets(es):
                      status(1.0 / worst[0], 1.0)])
     for label, dimension, variant, cells, goal in (("2D [640,64] single rate", 2, "paper", "[640,64]", 1.4),
                                                    ("3D block at 1.0e6 unknowns", 3, "auto", "[72,36,18]", 1.85)):
-        found = [x for x in speedups if x[1]["dimension"] == dimension and x[1]["variant"] == variant
+        found = [x for x in speedups if str(x[1]["dimension"]) == str(dimension) and x[1]["variant"] == variant
                  and x[1]["cells"] == cells]
         measured = f"{found[0][0]:.2f}x ({fmt(found[0][1]['wall_s'])} s -> {fmt(found[0][2]['wall_s'])} s)" \
             if found else "not measured"
@@ -184,9 +183,10 @@ def plot(es, directory):
     families = dict.fromkeys((one["dimension"], one["variant"]) for one, _ in pairs(es))
     for marker, (dimension, variant) in zip("osD^v", families):
         runs = [(one["unknowns"], one["wall_s"] / two["wall_s"]) for one, two in pairs(es)
-                if one["dimension"] == dimension and one["variant"] == variant]
+                if str(one["dimension"]) == str(dimension) and one["variant"] == variant]
         ax.semilogx([u for u, _ in runs], [s for _, s in runs], marker + "-",
-                    label=f"{dimension}D {'block, defaults' if dimension == 3 else variant}")
+                    label={"paper": f"{dimension}D default scene, single rate", "monolithic":
+                           f"{dimension}D default scene, monolithic"}.get(variant, f"{dimension}D block"))
     ax.axhline(1.0, color="black", lw=0.8)
     ax.axhline(2.0, color="grey", lw=0.8, ls=":")
     ax.set_xlabel("unknowns")
@@ -205,10 +205,11 @@ def section(header, rows, plot_dir, relative):
     es = entries(rows)
     lines = ["## More ranks: 1 against 2 with the default solvers", "", provenance(header), ""]
     lines += commands(header, rows)
-    lines += ["Every case of the size sweep (2D, `scenes/default.toml`, to `time.end` 2.4) and of the 3D "
-              "scaling (`scenes/block3d_box.toml`, two steps), with `auto` choosing each system's solver as a "
-              "user's run does; the runs of a case alternate 1 and 2 ranks. Solvers: direct (d) or iterative (i) "
-              "per system as `auto` chose them (flow/mechanics, or the monolithic system). Speed-up is the "
+    lines += ["The meshes of the size sweep (2D, `scenes/default.toml`, 48 steps, single rate `paper` and "
+              "`monolithic`) and of the 3D scaling (`scenes/block3d_box.toml`, two steps), with `auto` choosing "
+              "each system's solver as a "
+              "user's run does; the runs of a case alternate 1 and 2 ranks. Solvers: direct or iterative per "
+              "system as `auto` chose them (flow/mechanics, or the monolithic system). Speed-up is the "
               "solver's wall time on 1 rank over that on 2; process adds start-up and exit. "
               f"Medians over {max(e['repetitions'] for e in es)} repetitions.", ""]
     lines += table(["dim", "variant", "cells", "unknowns", "solvers, 1 rank", "solvers, 2 ranks", "1 rank s",
@@ -222,3 +223,33 @@ def section(header, rows, plot_dir, relative):
     lines += ["Targets of issue 24 (bench, not ctest):", ""]
     lines += table(["target", "goal", "baseline", "measured (median)", "status"], targets(es))
     return lines + [""]
+
+
+def auto_section(header, rows):
+    """bench/auto.py: per shipped 3D scene and rank count, the wall time and
+    coupling iterations of each solver choice, and whether `auto` is within
+    10 % of the fastest."""
+    es = common.medians(rows, ["scene", "variant", "ranks"], ["wall_s", "coupling_iterations", "unknowns"])
+    picked = {}
+    for r in rows:
+        if r["variant"] == "auto":
+            picked[(r["scene"], str(r["ranks"]))] = f"{r['flow_solver']}/{r['mechanics_solver']}"
+    out, held = [], 0
+    for scene, ranks in dict.fromkeys((e["scene"], str(e["ranks"])) for e in es):
+        by = {e["variant"]: e for e in es if e["scene"] == scene and str(e["ranks"]) == ranks}
+        if not {"direct", "iterative", "auto"} <= set(by):
+            continue
+        fastest = min(("direct", "iterative"), key=lambda c: by[c]["wall_s"])
+        ok = by["auto"]["wall_s"] <= 1.1 * by[fastest]["wall_s"]
+        held += ok
+        out.append([scene, ranks, fmt(by["auto"]["unknowns"])]
+                   + [f"{fmt(by[c]['wall_s'])} ({fmt(by[c]['coupling_iterations'])})"
+                      for c in ("direct", "iterative", "auto")]
+                   + [picked.get((scene, ranks), ""), fastest, "yes" if ok else "no"])
+    lines = ["## Is `auto` right on the shipped 3D scenes?", "", provenance(header), ""] + commands(header, rows)
+    lines += ["Both systems direct, both iterative, and `auto` (flow/mechanics as it chose them), on 1 and 2 "
+              "ranks; wall time in s (coupling iterations). Medians over "
+              f"{max(e['repetitions'] for e in es)} repetitions.", ""]
+    lines += table(["scene", "ranks", "unknowns", "direct", "iterative", "auto", "auto chose", "fastest",
+                    "auto within 10 %"], out)
+    return lines + ["", f"`auto` within 10 % of the faster choice in {held} of {len(out)} cases.", ""]

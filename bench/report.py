@@ -25,7 +25,7 @@ import scaling_report  # noqa: E402
 from markdown import commands, fmt, provenance, sci, status, table  # noqa: E402
 from common import number  # noqa: E402
 
-BENCHMARKS = ("size_sweep", "mandel", "prototype", "scaling", "ranks", "monolithic")
+BENCHMARKS = ("size_sweep", "mandel", "prototype", "scaling", "ranks", "auto", "monolithic")
 ANALYSIS = ("<!-- analysis begin -->", "<!-- analysis end -->")
 MEASURED = ("<!-- measured begin -->", "<!-- measured end -->")
 SWEEP_FIELDS = ["unknowns", "wall_s", "process_wall_s", "steps", "coupling_iterations", "time_per_iteration_ms",
@@ -403,6 +403,8 @@ def report(data, output, results):
         lines += scaling_report.section(*data["scaling"], plot_dir, stem)
     if "ranks" in data:
         lines += ranks_report.section(*data["ranks"], plot_dir, stem)
+    if "auto" in data:
+        lines += ranks_report.auto_section(*data["auto"])
     if "monolithic" in data:
         lines += monolithic_section(*data["monolithic"])
     return "\n".join(lines).rstrip() + "\n"

@@ -12,8 +12,9 @@
 # default 1); MONOLITHIC=1 also runs bench/monolithic.py (the monolithic
 # system's factorisation against its Krylov method and the iterative
 # split, about 8 minutes at REPEAT_MONOLITHIC, default 1); RANKS=1 also runs
-# bench/ranks.py (every case on 1 and 2 ranks with the defaults, about 25
-# minutes at REPEAT). Each step prints
+# bench/ranks.py and bench/auto.py (every case on 1 and 2 ranks with the
+# defaults, and auto against direct and iterative on the shipped 3D scenes,
+# about an hour at REPEAT). Each step prints
 # the commands it runs. The targets table is in docs/performance.md
 # ("Targets") and nowhere else: no other page is rewritten.
 set -euo pipefail
@@ -38,6 +39,7 @@ if [ "${SCALING:-0}" = 1 ]; then
 fi
 if [ "${RANKS:-0}" = 1 ]; then
   step $PY bench/ranks.py --repeat "$REPEAT"
+  step $PY bench/auto.py --repeat "$REPEAT"
 fi
 if [ "${MONOLITHIC:-0}" = 1 ]; then
   step $PY bench/monolithic.py --repeat "${REPEAT_MONOLITHIC:-1}"

@@ -132,7 +132,7 @@ def main():
                         print(f"  skipped: direct at {common.cells_text(mesh)} (above --direct-limit{dimension})")
                         continue
                     for n in ranks:
-                        prefix = ([] if n == 1 else ["mpirun", "-n", str(n)]) + [args.binary]
+                        prefix = common.on_ranks(args.binary, n)
                         sets = [f"mesh.cells={common.cells_text(mesh)}", f"solver.flow={solver}",
                                 f"solver.mechanics={solver}"] + SETS + args.sets
                         for repetition in range(1, args.repeat + 1):

@@ -43,14 +43,14 @@ def written(text, name="scene.toml"):
     return path
 
 
-def run_track(track, scene_file, *sets, expect=0, ranks=1):
-    """Runs a scene on one track ("C++" or "prototype") with --set values,
-    on `ranks` MPI ranks, checking its exit status; returns (output
-    directory, completed process)."""
+def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
+    """Runs a scene on one track ("C++" or "prototype") with --set values
+    and PETSc `options`, on `ranks` MPI ranks, checking its exit status;
+    returns (output directory, completed process)."""
     out = tempfile.mkdtemp(prefix="run-")
     mpirun = ["mpirun", "-n", str(ranks)] if ranks > 1 else []
     p = subprocess.run([*mpirun, *TRACKS[track], "run", scene_file, "--out", out,
-                        *[a for s in sets for a in ("--set", s)]],
+                        *[a for s in sets for a in ("--set", s)], *options],
                        capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
     check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} {' '.join(sets)} exits {expect} "
           f"({p.stderr.strip()[-300:]!r})")

@@ -39,6 +39,9 @@ check("python_prototype compare" in out, "prototype.py prints the compare comman
 out = bench("scaling.py", "--cells2", "[20,2]", "--cells3", "[4,2,2]", *common_options)
 check("mpirun -n 2" in out and "solver.mechanics=iterative" in out,
       "scaling.py runs both solvers on 1 and 2 ranks and prints the commands")
+out = bench("ranks.py", "--cells2", "[20,2]", "--cells3", "[4,2,2]", "--variants", "paper,monolithic",
+            "--set", "time.end=0.4", *common_options)
+check("mpirun -n 2" in out, "ranks.py runs every case on 1 and 2 ranks and prints the commands")
 
 expected = {
     "size_sweep": ({"variant", "cells", "unknowns", "repetition", "wall_s", "coupling_iterations",
@@ -53,6 +56,9 @@ expected = {
     "scaling": ({"dimension", "cells", "solver", "ranks", "unknowns", "wall_s", "us_per_unknown_per_iteration",
                  "flow_iterations_per_solve", "mechanics_iterations_per_newton_step", "mechanics_setups",
                  "peak_rss_mb"}, 8),
+    "ranks": ({"dimension", "variant", "cells", "ranks", "unknowns", "wall_s", "coupling_iterations", "assembly_s",
+               "flow_solve_s", "mechanics_schur_complement_s", "monolithic_total_s", "flow_solver",
+               "peak_rss_mb"}, 6),
 }
 for name, (columns, count) in expected.items():
     header, rows = common.read_csv(os.path.join(results, name + ".csv"))
@@ -85,10 +91,11 @@ check("## Targets" in report and "| target | goal | baseline | measured (median)
       "the report has the targets table")
 check("Hand-written: keep me." in report and "old" not in report, "the analysis block is kept, the rest replaced")
 check(all(s in report for s in ("## Size sweep", "## Mandel", "## C++ against the Python prototype",
-                                 "## Scaling", "`auto` picks the faster method")),
+                                 "## Scaling", "`auto` picks the faster method", "## More ranks",
+                                 "2 ranks never slower than 1", "### Extrapolation to a cluster")),
       "the report has a section per benchmark")
 for name in ("wall_vs_unknowns.png", "time_per_iteration.png", "memory_vs_unknowns.png", "mandel_error_vs_wall.png",
-             "scaling.png"):
+             "scaling.png", "ranks.png"):
     with open(os.path.join(docs, "performance", name), "rb") as f:
         check(f.read(8) == b"\x89PNG\r\n\x1a\n", f"{name} is a PNG")
 with open(readme) as f:
