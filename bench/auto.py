@@ -46,7 +46,7 @@ def main():
     header = common.machine_header(args.binary)
     header["petsc_options"] = " ".join(petsc)
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for case in cases:
             scene, sets = CASES[case]

@@ -287,6 +287,8 @@ def add_arguments(parser, name):
     parser.add_argument("--keep-runs", action="store_true", help="keep the run directories")
     parser.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE",
                         help="extra scene override for every run (e.g. time.end=0.8 for a smoke run)")
+    parser.add_argument("--update", action="store_true",
+                        help=f"replace only the rerun cases' rows of an existing {name}.csv, keep the others")
 
 
 def parse_arguments(parser, argv=None):
@@ -308,17 +310,34 @@ def parse_arguments(parser, argv=None):
 
 class Recorder:
     """The CSV of one benchmark: rewritten after every row, with the header
-    (machine, command) plus `elapsed_s` and `status` (partial/complete)."""
+    (machine, command) plus `elapsed_s` and `status` (partial/complete).
+    With `update`, the rows of an existing file whose case (the columns up
+    to `repetition`) no rerun row has are kept, and the header records the
+    update (the machine and commit of the kept rows are the file's own)."""
 
-    def __init__(self, out_dir, name, columns, header):
+    def __init__(self, out_dir, name, columns, header, update=False):
         self.path = os.path.join(out_dir, name + ".csv")
         self.columns, self.header, self.rows = columns, dict(header), []
+        self.case = columns[:columns.index("repetition") + 1]
+        self.kept, self.elapsed_key = [], "elapsed_s"
+        if update:
+            if not os.path.exists(self.path):
+                raise BenchError(f"--update: {self.path} does not exist")
+            old_header, self.kept = read_csv(self.path)
+            self.header = {**old_header, "updated": f"{header['date']} {header.get('commit', '')} (dirty: "
+                                                    f"{header.get('dirty', '')}) {header.get('command', '')}"}
+            self.elapsed_key = "updated_elapsed_s"
         self.start = time.perf_counter()
 
+    def _key(self, row):
+        return tuple(str(row[c]) for c in self.case)
+
     def _write(self, status):
-        self.header["elapsed_s"] = f"{time.perf_counter() - self.start:.1f}"
+        self.header[self.elapsed_key] = f"{time.perf_counter() - self.start:.1f}"
         self.header["status"] = status
-        write_csv(self.path, self.rows, self.columns, self.header)
+        rerun = {self._key(r) for r in self.rows}
+        write_csv(self.path, [r for r in self.kept if self._key(r) not in rerun] + self.rows, self.columns,
+                  self.header)
 
     def add(self, row):
         """Appends a row and rewrites the file."""
@@ -328,7 +347,7 @@ class Recorder:
     def finish(self):
         """Marks the file complete; prints where it is."""
         self._write("complete")
-        print(f"wrote {self.path} ({len(self.rows)} rows, {self.header['elapsed_s']} s)")
+        print(f"wrote {self.path} ({len(self.rows)} rows, {self.header[self.elapsed_key]} s)")
 
 
 class WorkDir:

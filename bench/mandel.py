@@ -96,7 +96,7 @@ def main():
     header["petsc_options"] = " ".join(petsc)
     header["error"] = "cell-area weighted relative l2 error of the P0 pressure at cell centres, final time"
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for variant in variants:
             for mesh in cells:

@@ -74,7 +74,7 @@ def main():
     header["fixed_sets"] = " ".join(SETS + args.sets)
     header["petsc_options"] = " ".join(petsc)
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for dimension in dims:
             scene = os.path.join(common.ROOT, SCENES[dimension])

@@ -65,7 +65,7 @@ def main():
     header["petsc_options"] = " ".join(petsc)
     header["compare"] = "python_prototype compare, tolerance 1e-8 (relative to each field's largest value)"
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     scene = os.path.join(common.ROOT, SCENE)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for mesh in cells:

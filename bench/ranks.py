@@ -112,7 +112,7 @@ def main():
     header["petsc_options"] = " ".join(petsc)
     header["solvers"] = "the defaults (solver.flow = solver.mechanics = auto)"
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for dimension, variant, mesh, sets in cases(args):
             scene = os.path.join(common.ROOT, SCENES[dimension])

@@ -122,7 +122,7 @@ def main():
     limit = {2: args.direct_limit2, 3: args.direct_limit3}
     header["direct_limit"] = f"2D {limit[2]:g}, 3D {limit[3]:g} unknowns"
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for dimension in dims:
             scene = os.path.join(common.ROOT, SCENES[dimension])

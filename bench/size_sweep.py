@@ -96,7 +96,7 @@ def main():
     header["petsc_options"] = " ".join(petsc)
     header["iteration"] = "coupling iteration (split) or time step (monolithic)"
     common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     scene = os.path.join(common.ROOT, SCENE)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         for mesh in cells:

@@ -71,7 +71,13 @@ std::string method_name(Method method);
 /// unknowns are solved iteratively. Measured by bench/scaling.py on the
 /// 2-core machine (docs/performance.md, "Scaling"), per system, one rank:
 /// - 3D: the flow is faster iterative from 7.6e4 unknowns (direct still at
-///   3.2e4), the mechanics from 1.5e4 (a tie at 6.8e3);
+///   3.2e4); the mechanics at 3e4: iterative won from 1.5e4 on the block
+///   on an AMD EPYC machine, but on the Intel Xeon of 2026-11-25 the
+///   factorisation is faster at 1.5e4 (6.5 s against 8.3 s, 561 contact
+///   nodes) and 2.2e4 (fracture3d refined once, 810 contact nodes: 12.8 s
+///   against 49.9 s), ties at 2.8e4 (the block at [40,20,10]) and loses at
+///   4.5e4 (indenter3d, 5.3x); the Schur complement's dense VI favours the
+///   factorisation when many nodes touch (docs/performance.md, "Is auto right");
 /// - 2D: the factorisations stay faster at every size measured, up to
 ///   1.6e6 flow and 6.6e5 mechanics unknowns (2.3e6 in all): a 2D nested-
 ///   dissection factor has O(n log n) fill, and a run makes thousands of
@@ -83,7 +89,7 @@ std::string method_name(Method method);
 /// against 5.3 s) and by 6x at 3.0e5; in 2D the factorisation wins at
 /// every size measured (4.4x at 1.4e5), so it keeps the flow's crossover.
 constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 8000000;
-constexpr std::int64_t crossover_3d_mechanics = 10000, crossover_3d_flow = 50000;
+constexpr std::int64_t crossover_3d_mechanics = 30000, crossover_3d_flow = 50000;
 constexpr std::int64_t crossover_2d_monolithic = 8000000, crossover_3d_monolithic = 10000;
 
 /// The method of a system and why it was chosen (written to the summary).

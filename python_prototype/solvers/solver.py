@@ -51,7 +51,7 @@ class Method(enum.Enum):
 # The crossovers of "auto" in unknowns (cpp/solvers/solver.h, docs/performance.md),
 # by dimension and system.
 CROSSOVER = {(2, "mechanics"): 4000000, (2, "flow"): 8000000, (2, "monolithic"): 8000000,
-             (3, "mechanics"): 10000, (3, "flow"): 50000, (3, "monolithic"): 10000}
+             (3, "mechanics"): 30000, (3, "flow"): 50000, (3, "monolithic"): 10000}
 
 
 def choose_method(choice, structure, unknowns, dimension, ranks, coupled=False):
