@@ -197,6 +197,28 @@ struct Steps
   std::function<void(fem::Function<double>&)> compute_flux;
   std::function<ContactState()> compute_contact = [] { return ContactState{}; };
 
+  /// BDF2's memory (steps/time_scheme.h) by checkpoint name: the state one
+  /// step before the last completed one; none for backward Euler.
+  std::vector<std::pair<std::string, fem::Function<double>*>> history(const Scene& scene) const
+  {
+    std::vector<std::pair<std::string, fem::Function<double>*>> h;
+    if (scene.time_scheme != "bdf2")
+      return h;
+    if (flow)
+      h.push_back({"pressure_before", flow->p_before.get()});
+    if (flow and flow->u_before)
+    {
+      h.push_back({"displacement_before", flow->u_before.get()});
+      h.push_back({"displacement_path_before", flow->u_path_before.get()});
+    }
+    if (monolithic)
+    {
+      h.push_back({"pressure_before", monolithic->p_before.get()});
+      h.push_back({"displacement_before", monolithic->u_before.get()});
+    }
+    return h;
+  }
+
   /// The systems by their summary name, in the order of checkpoints.
   std::array<std::pair<const char*, System*>, 4> systems() const
   {
@@ -340,7 +362,7 @@ private:
 
 /// The state a restart needs after `steps` completed steps (checkpoint.h).
 Checkpoint capture_checkpoint(int steps, double time, const Steps& s, const mesh::Mesh& mesh, CouplingReport report,
-                              const std::string& output, const TimeGrid& grid)
+                              const std::string& output, const TimeGrid& grid, const Scene& scene)
 {
   Checkpoint c;
   c.steps = steps;
@@ -359,6 +381,8 @@ Checkpoint capture_checkpoint(int steps, double time, const Steps& s, const mesh
     keep({{"displacement", s.V, {}}}, s.mechanics->u->x()->array());
   if (s.monolithic)
     keep(s.monolithic->parts(), s.monolithic->unknowns());
+  for (const auto& [name, f] : s.history(scene))
+    keep({{name, f->function_space(), {}}}, f->x()->array());
   for_each_checkpointed(report, [&](const char* name, auto& value) { c.numbers[name] = value; });
   const auto systems = s.systems();
   for (std::size_t i = 0; i < systems.size(); ++i)
@@ -376,7 +400,7 @@ Checkpoint capture_checkpoint(int steps, double time, const Steps& s, const mesh
 /// refuses a checkpoint of another mesh, or one that lacks any of them
 /// (collective).
 void restore_unknowns(const Checkpoint& c, Steps& s, const mesh::Mesh& mesh, MPI_Comm comm,
-                      const std::string& directory)
+                      const std::string& directory, const Scene& scene)
 {
   const auto stored_mesh = c.arrays.find("mesh");
   const std::string difference
@@ -410,15 +434,17 @@ void restore_unknowns(const Checkpoint& c, Steps& s, const mesh::Mesh& mesh, MPI
     restore(s.monolithic->parts(), x);
     s.monolithic->set_unknowns(x);
   }
+  for (const auto& [name, f] : s.history(scene))
+    restore({{name, f->function_space(), {}}}, f->x()->mutable_array());
 }
 
 /// Loads a checkpoint into the steps, the report, the grid and the solver counts.
 void restore_checkpoint(const Checkpoint& c, Steps& s, const mesh::Mesh& mesh, MPI_Comm comm,
-                        const std::string& directory, CouplingReport& report, TimeGrid& grid)
+                        const std::string& directory, CouplingReport& report, TimeGrid& grid, const Scene& scene)
 {
   grid.t = c.arrays.at("times");
   grid.dt = c.arrays.at("time_steps");
-  restore_unknowns(c, s, mesh, comm, directory);
+  restore_unknowns(c, s, mesh, comm, directory, scene);
   for_each_checkpointed(report, [&](const char* name, auto& value)
                         { value = static_cast<std::remove_reference_t<decltype(value)>>(c.numbers.at(name)); });
   const auto systems = s.systems();
@@ -625,7 +651,7 @@ void Simulation::open_output()
     // Loaded before the files are opened: a checkpoint that does not match
     // is refused with the files as they were.
     _resumed = read_checkpoint(_comm, _directory, _control.fingerprint);
-    restore_checkpoint(*_resumed, _steps, *_domain->mesh, _comm, _directory, _report, _grid);
+    restore_checkpoint(*_resumed, _steps, *_domain->mesh, _comm, _directory, _report, _grid, _scene);
   }
   _output = std::make_unique<Output>(_comm, _directory, _domain->mesh, _scene.write_xdmf,
                                      _resumed ? &_resumed->output : nullptr);
@@ -664,7 +690,7 @@ bool Simulation::stop()
     _checkpointing = true;
     write_checkpoint(_comm, _directory, _control.fingerprint,
                      capture_checkpoint(_completed_steps, _completed_time, _steps, *_domain->mesh, _report,
-                                        _output->position(), _grid));
+                                        _output->position(), _grid, _scene));
     _checkpointing = false;
     _saved = _completed_steps;
   };
@@ -806,6 +832,7 @@ void Simulation::write_summary()
       .set("dofs", dofs)
       .set("dt", _scene.dt)
       .set("dt_growth", _scene.growth)
+      .set("time_scheme", _scene.time_scheme)
       .set("steps", _report.windows)
       .set("retries", _report.retries)
       .set("fine_steps", _report.windows * _parameters.q)

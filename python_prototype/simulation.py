@@ -222,13 +222,13 @@ class OutputFields:
             self._output.write(s.contact_active, t)
 
 
-def capture_checkpoint(steps, time, s, mesh, report, output, grid):
+def capture_checkpoint(steps, time, s, mesh, report, output, grid, scene):
     """The state a restart needs after `steps` completed steps (checkpoint.py)."""
     c = Checkpoint(steps, time, output=output)
     # The grid as retries left it (the same on every rank).
     c.arrays["times"], c.arrays["time_steps"] = np.array(grid.t), np.array(grid.dt)
     c.arrays["mesh"] = mesh_signature(mesh)
-    for parts, unknowns in unknowns_parts(s):
+    for parts, unknowns in unknowns_parts(s, scene):
         for part in parts:
             c.fields[part.name] = keyed_values(mesh, part, unknowns)
     for_each_checkpointed(report, lambda name, value: c.numbers.__setitem__(name, float(value)))
@@ -239,9 +239,26 @@ def capture_checkpoint(steps, time, s, mesh, report, output, grid):
     return c
 
 
-def unknowns_parts(s):
-    """Each step's fields and the vector of unknowns they sit in."""
+def history(s):
+    """BDF2's memory by checkpoint name (cpp/simulation.cpp): the state one
+    step before the last completed one."""
+    if s.monolithic:
+        return [("pressure_before", s.monolithic.p_before), ("displacement_before", s.monolithic.u_before)]
+    if not s.flow:
+        return []
+    h = [("pressure_before", s.flow.p_before)]
+    if s.flow.u_before is not None:
+        h += [("displacement_before", s.flow.u_before), ("displacement_path_before", s.flow.u_path_before)]
+    return h
+
+
+def unknowns_parts(s, scene):
+    """Each step's fields and the vector of unknowns they sit in; with
+    time.scheme = "bdf2" also its memory, the state one step before the last
+    completed one (steps/time_scheme.py)."""
     result = []
+    if scene.time_scheme == "bdf2":
+        result += [([UnknownsPart(name, f.function_space)], f.x.array) for name, f in history(s)]
     if s.flow:
         result.append((s.flow.parts(), s.flow.unknowns()))
     if s.mechanics:
@@ -251,14 +268,14 @@ def unknowns_parts(s):
     return result
 
 
-def restore_unknowns(c, s, mesh, directory):
+def restore_unknowns(c, s, mesh, directory, scene):
     """Loads the stored unknowns into the steps, whatever the partition;
     refuses a checkpoint of another mesh, or one that lacks any of them
     (collective)."""
     difference = mesh_difference(c.arrays.get("mesh"), mesh_signature(mesh))
     if difference:
         raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({difference})")
-    for parts, unknowns in unknowns_parts(s):
+    for parts, unknowns in unknowns_parts(s, scene):
         for part in parts:
             stored = c.fields.get(part.name)
             missing = mesh.comm.allreduce(1 if stored is None else restore_values(mesh, part, stored, unknowns))
@@ -271,10 +288,10 @@ def restore_unknowns(c, s, mesh, directory):
         s.monolithic.set_unknowns(s.monolithic.unknowns())
 
 
-def restore_checkpoint(c, s, mesh, directory, report, grid):
+def restore_checkpoint(c, s, mesh, directory, report, grid, scene):
     """Loads a checkpoint into the steps, the report, the grid and the solver counts."""
     grid.t, grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
-    restore_unknowns(c, s, mesh, directory)
+    restore_unknowns(c, s, mesh, directory, scene)
     for_each_checkpointed(report, lambda name, value: setattr(report, name, type(value)(c.numbers[name])))
     for i, (_, system) in enumerate(s.systems()):
         if system is not None:
@@ -420,7 +437,8 @@ class Simulation:
             # Loaded before the files are opened: a checkpoint that does not
             # match is refused with the files as they were.
             self.resumed = read_checkpoint(self.comm, self.directory, self.fingerprint)
-            restore_checkpoint(self.resumed, self.steps, self.domain.mesh, self.directory, self.report, self.grid)
+            restore_checkpoint(self.resumed, self.steps, self.domain.mesh, self.directory, self.report, self.grid,
+                               self.scene)
         self.output = Output(self.comm, self.directory, self.domain.mesh, self.scene.write_xdmf,
                              self.resumed.output if self.resumed else None)
         self.fields = OutputFields(self.F, self.steps, self.output)
@@ -459,7 +477,7 @@ class Simulation:
             self.checkpointing = True
             write_checkpoint(self.comm, self.directory, self.fingerprint,
                              capture_checkpoint(self.completed_steps, self.completed_time, self.steps, self.domain.mesh,
-                                                self.report, self.output.position(), self.grid))
+                                                self.report, self.output.position(), self.grid, self.scene))
             self.checkpointing = False
             self.saved = self.completed_steps
         every = self.scene.checkpoint_every
@@ -563,6 +581,7 @@ class Simulation:
             "dofs": dofs,
             "dt": scene.dt,
             "dt_growth": scene.growth,
+            "time_scheme": scene.time_scheme,
             "steps": report.windows,
             "retries": report.retries,
             "fine_steps": report.windows * parameters.q,

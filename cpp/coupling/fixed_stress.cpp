@@ -1,6 +1,7 @@
 #include "coupling/fixed_stress.h"
 
 #include "coupling/anderson.h"
+#include "steps/time_scheme.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,16 +62,19 @@ long contact_changes(MechanicsStep& mechanics)
 ///   p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q),   m = 1..q,
 /// the same linear correction applied to the mixed states (z, p). At the
 /// fixed point p^B = p^A: the fixed point is that of the printed scheme.
+/// `history(m, p_B)` sets the second step's time history of fine step m
+/// (the previous pressures, the window's displacement; time_scheme.h).
 void second_pass_correction(FlowStep& second, const Array& p_K, const Array& u_new,
-                            const std::function<double(int)>& t, std::vector<Array>& p_new,
-                            std::vector<Array>& w_new)
+                            const std::function<double(int)>& t,
+                            const std::function<void(int, const std::vector<Array>&)>& history,
+                            std::vector<Array>& p_new, std::vector<Array>& w_new)
 {
   const int q = static_cast<int>(p_new.size()) - 1;
   std::vector<Array> p_B(q + 1, p_K), w_B(q + 1);
   assign(*second.u_iterate, u_new);
   for (int m = 1; m <= q; ++m)
   {
-    assign(*second.p_previous, p_B[m - 1]);
+    history(m, p_B);
     second.solve(t(m));
     p_B[m] = copy(*second.pressure);
     std::span<const double> w = second.unknowns();
@@ -104,6 +108,7 @@ namespace
 struct Window
 {
   int K = 0;                           // the window [t_K, t_{K+1}]
+  TimeDerivative derivative;           // of every fine step (time_scheme.h)
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
   Array u_old, u_new;
@@ -160,6 +165,10 @@ private:
   Window begin_window(int K);
   Outcome iterate_window(Window& w, int& n);
   bool iteration(Window& w, int n);
+  TimeDerivative window_derivative(int K) const;
+  Array path(const Window& w, const Array& u, int m) const;
+  void set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
+                        const Array& u) const;
   void flow_pass(Window& w);
   void mechanics_pass(Window& w);
   Increments measure_contraction(const Window& w, int n) const;
@@ -189,6 +198,9 @@ private:
   const fem::FunctionSpace& _Q;
   const bool _accelerated;
   Array _p_K, _u_K; // the converged state at t_K
+  // For BDF2: the pressure one fine step and the displacement one window
+  // before t_K, and the displacement path's value one fine step before t_K.
+  Array _p_before, _u_before, _u_path_before;
   int _attempts = 0; // retries of the current window (time.retry)
 };
 
@@ -202,6 +214,9 @@ void FixedStressSplit::start()
     _second_pass->keep_loads(_q);
   _p_K = copy(*_flow.pressure);
   _u_K = copy(*_mechanics.u);
+  _p_before = copy(*_flow.p_before); // restored by a restart
+  _u_before = copy(*_flow.u_before);
+  _u_path_before = copy(*_flow.u_path_before);
   if (_report.windows == 0)
   {
     _report.p_size = std::sqrt(static_cast<double>(_q)) * owned_norm(_p_K, _Q);
@@ -214,13 +229,14 @@ void FixedStressSplit::start()
 /// weighted by the scales of the stopping test (coupling/anderson.h).
 Window FixedStressSplit::begin_window(int K)
 {
-  if (set_time_step(_constants, _grid.dt[K * _q]))
+  Window w;
+  w.derivative = window_derivative(K);
+  if (set_time_step(_constants, w.derivative.effective_step(_grid.dt[K * _q])))
   {
     _flow.time_step_changed();
     if (_second_pass)
       _second_pass->time_step_changed();
   }
-  Window w;
   w.K = K;
   w.w_K.assign(_flow.unknowns().begin(), _flow.unknowns().end());
   w.p_old.assign(_q + 1, _p_K);
@@ -242,10 +258,87 @@ Window FixedStressSplit::begin_window(int K)
   return w;
 }
 
+/// The time derivative of window K's fine steps: time.scheme's, from the
+/// steps before (time_scheme.h). With q > 1 every fine step of a window
+/// shares one matrix, so BDF2 needs the step before the window to equal the
+/// window's fine step (w = 1); the first window, and one whose fine step
+/// a retry halved, take backward Euler, which keeps the global error second
+/// order (a bounded number of first-order steps, each O(dt^2)).
+TimeDerivative FixedStressSplit::window_derivative(int K) const
+{
+  const int j = K * _q;
+  const double dt = _grid.dt[j], previous = j > 0 ? _grid.dt[j - 1] : 0.0;
+  if (_q > 1 and previous != dt)
+    return {};
+  return time_derivative(_scene.time_scheme, dt, previous);
+}
+
+/// The displacement of window w at its fine time m (m = 0..q) along the
+/// window's path from u_K to u = u(t_{K+1}). Backward Euler: the paper's
+/// straight line. BDF2: the quadratic through u_{K-1}, u_K, u
+///   Q(t_K + s) = u_K + s D1 + s (s - H) D2,  D1 = (u - u_K)/H,
+///   D2 = ((u - u_K)/H - (u_K - u_{K-1})/H1) / (H + H1),
+/// H and H1 the window's and the previous window's lengths: the straight
+/// line (D2 = 0) makes the flow's displacement term first order in H
+/// whatever the time scheme, the quadratic keeps it second order. The
+/// first window has no u_{K-1}, and u_0 may be the state before a load
+/// applied at t = 0+: there u takes its end value at the first fine step
+/// (the undrained response at once; the straight line would spread a jump
+/// over the window and drain too little, an O(H) error), and with q > 1 the
+/// second window, whose u_{K-1} is u_0, keeps the straight line
+/// (docs/theory.md, "Time schemes").
+Array FixedStressSplit::path(const Window& w, const Array& u, int m) const
+{
+  const bool bdf2 = _scene.time_scheme == "bdf2";
+  if (bdf2 and w.K == 0)
+    return m == 0 ? _u_K : u;
+  const double H = t(w.K, _q) - t(w.K, 0), s = t(w.K, m) - t(w.K, 0);
+  const bool quadratic = bdf2 and (_q == 1 or w.K > 1);
+  const double H1 = quadratic ? t(w.K, 0) - t(w.K - 1, 0) : 1.0;
+  Array Q(u.size());
+  for (std::size_t i = 0; i < u.size(); ++i)
+  {
+    const double D1 = (u[i] - _u_K[i]) / H;
+    const double D2 = quadratic ? (D1 - (_u_K[i] - _u_before[i]) / H1) / (H + H1) : 0.0;
+    Q[i] = _u_K[i] + s * D1 + s * (s - H) * D2;
+  }
+  return Q;
+}
+
+/// The time history of fine step m of `flow` from the pressures p[0..m-1]
+/// (p[0] = p_K) and the window's displacement u. Backward Euler: p[m-1] and
+/// u_K (the paper's scheme). BDF2 differentiates the fluid content
+/// S p + alpha div u at the fine times with the window's derivative (BDF2,
+/// or backward Euler where it starts), p from its fine steps and u along
+/// the window's path:
+///   p* = (c1 p[m-1] - c2 p[m-2]) / c0,
+///   alpha div(u - u_window) / (q dt / c0)
+///     = alpha div (c0 Q(t_m) - c1 Q(t_{m-1}) + c2 Q(t_{m-2})) / dt,
+/// i.e. u_window = u - q (Q(t_m) - Q*), where the values one fine step
+/// before t_K (p[-1], Q(t_{-1})) are those of the previous window.
+void FixedStressSplit::set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
+                                        const Array& u) const
+{
+  if (_scene.time_scheme != "bdf2")
+  {
+    assign(*flow.p_previous, p[m - 1]);
+    return;
+  }
+  const TimeDerivative& d = w.derivative;
+  assign(*flow.p_previous, history_value(d, p[m - 1], m >= 2 ? p[m - 2] : _p_before));
+  const Array Q = path(w, u, m);
+  const Array Q_star = history_value(d, path(w, u, m - 1), m >= 2 ? path(w, u, m - 2) : _u_path_before);
+  std::span<double> window = flow.u_window->x()->mutable_array();
+  for (std::size_t i = 0; i < Q.size(); ++i)
+    window[i] = u[i] - _q * (Q[i] - Q_star[i]);
+}
+
 /// (a) q flow steps with u^n lagged (eq. 4.17-4.19):
 ///   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
 ///     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
 ///       - ((alpha/q) div(u^n - u_K)/dt, th)
+/// (with BDF2, dt / c0 and the history values of set_time_history in place
+/// of dt, p^{n+1,m-1}, p^{n,m-1} and u_K).
 void FixedStressSplit::flow_pass(Window& w)
 {
   if (_scene.solver.inexact_coupling)
@@ -254,11 +347,12 @@ void FixedStressSplit::flow_pass(Window& w)
     _mechanics.system().set_tolerance(inexact_tolerance(w.increment));
   }
   assign(*_flow.u_iterate, w.u_old);
+  const TimeDerivative& d = w.derivative;
   for (int m = 1; m <= _q; ++m)
   {
-    assign(*_flow.p_previous, w.p_new[m - 1]);
+    set_time_history(_flow, w, m, w.p_new, w.u_old);
     assign(*_flow.p_iterate, w.p_old[m]);
-    assign(*_flow.p_iterate_previous, w.p_old[m - 1]);
+    assign(*_flow.p_iterate_previous, history_value(d, w.p_old[m - 1], m >= 2 ? w.p_old[m - 2] : _p_before));
     _flow.solve(t(w.K, m));
     w.p_new[m] = copy(*_flow.pressure);
     std::span<const double> z_p = _flow.unknowns();
@@ -275,7 +369,10 @@ void FixedStressSplit::mechanics_pass(Window& w)
   _mechanics.solve(t(w.K, _q));
   w.u_new = copy(*_mechanics.u);
   if (_second_pass and _q > 1)
-    second_pass_correction(*_second_pass, _p_K, w.u_new, [&](int m) { return t(w.K, m); }, w.p_new, w.w_new);
+    second_pass_correction(
+        *_second_pass, _p_K, w.u_new, [&](int m) { return t(w.K, m); },
+        [&](int m, const std::vector<Array>& p_B) { set_time_history(*_second_pass, w, m, p_B, w.u_new); }, w.p_new,
+        w.w_new);
 }
 
 /// The contraction quantities of this iteration's increments, with the
@@ -488,6 +585,12 @@ void FixedStressSplit::accept_window(const Window& w, int n)
   }
   _observer.mechanics_state(t(w.K, _q), w.K + 1, n + 1);
   _report.windows = w.K + 1;
+  _p_before = w.p_new[_q - 1]; // p_K itself for q = 1
+  _u_path_before = path(w, w.u_new, _q - 1);
+  _u_before = _u_K;
+  assign(*_flow.p_before, _p_before);
+  assign(*_flow.u_before, _u_before);
+  assign(*_flow.u_path_before, _u_path_before);
   _p_K = w.p_new[_q];
   _u_K = w.u_new;
 }

@@ -1,5 +1,7 @@
 #include "coupling/single_solve.h"
 
+#include "steps/time_scheme.h"
+
 #include <algorithm>
 
 namespace biotcontact
@@ -8,19 +10,50 @@ namespace biotcontact
 namespace
 {
 
-/// The unknowns at the start of a step, to go back to when it is retried.
+/// The unknowns at the start of a step, to go back to when it is retried,
+/// and the accumulation's state (pressure, and displacement of the
+/// monolithic step), BDF2's memory once the step is accepted.
 struct StepStart
 {
-  std::vector<double> flow, displacement, monolithic;
+  std::vector<double> flow, displacement, monolithic, p, u;
 };
 
 std::vector<double> copy(std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); }
 
+void assign(dolfinx::fem::Function<double>& f, const std::vector<double>& values)
+{
+  std::copy(values.begin(), values.end(), f.x()->mutable_array().begin());
+}
+
 StepStart step_start(const FlowStep* flow, const MechanicsStep* mechanics, const MonolithicStep* monolithic)
 {
-  return {flow ? copy(flow->unknowns()) : std::vector<double>{},
-          mechanics ? copy(mechanics->u->x()->array()) : std::vector<double>{},
-          monolithic ? copy(monolithic->unknowns()) : std::vector<double>{}};
+  StepStart s;
+  if (flow)
+    s.flow = copy(flow->unknowns());
+  if (mechanics)
+    s.displacement = copy(mechanics->u->x()->array());
+  if (monolithic)
+    s.monolithic = copy(monolithic->unknowns());
+  if (flow)
+    s.p = copy(flow->pressure->x()->array());
+  if (monolithic)
+  {
+    s.p = copy(monolithic->pressure->x()->array());
+    s.u = copy(monolithic->u->x()->array());
+  }
+  return s;
+}
+
+/// An accepted step's start becomes the state one step before the next.
+void keep_history(const StepStart& s, FlowStep* flow, MonolithicStep* monolithic)
+{
+  if (flow)
+    assign(*flow->p_before, s.p);
+  if (monolithic)
+  {
+    assign(*monolithic->p_before, s.p);
+    assign(*monolithic->u_before, s.u);
+  }
 }
 
 void go_back(const StepStart& s, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* monolithic)
@@ -33,16 +66,17 @@ void go_back(const StepStart& s, FlowStep* flow, MechanicsStep* mechanics, Monol
     monolithic->set_unknowns(s.monolithic);
 }
 
-/// The solves of step t: the flow from the last step's pressure, then the
-/// mechanics with the new one (a single physics has one of them).
-void solve_step(double t, FlowStep* flow, MechanicsStep* mechanics, MonolithicStep* monolithic)
+/// The solves of step t: the flow from the last step's pressure (BDF2: its
+/// history value, time_scheme.h), then the mechanics with the new one (a
+/// single physics has one of them).
+void solve_step(double t, const TimeDerivative& d, FlowStep* flow, MechanicsStep* mechanics,
+                MonolithicStep* monolithic)
 {
   if (monolithic)
-    monolithic->solve(t);
+    monolithic->solve(t, d);
   if (flow)
   {
-    std::span<const double> p = flow->pressure->x()->array();
-    std::copy(p.begin(), p.end(), flow->p_previous->x()->mutable_array().begin());
+    assign(*flow->p_previous, history_value(d, flow->pressure->x()->array(), flow->p_before->x()->array()));
     flow->solve(t);
   }
   if (mechanics)
@@ -59,7 +93,8 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
   for (int k = report.windows + 1; k <= grid.steps(); ++k)
   {
     const double t = grid.t[k];
-    if (set_time_step(constants, grid.dt[k - 1]))
+    const TimeDerivative d = time_derivative(scene.time_scheme, grid.dt[k - 1], k >= 2 ? grid.dt[k - 2] : 0.0);
+    if (set_time_step(constants, d.effective_step(grid.dt[k - 1])))
     {
       if (monolithic)
         monolithic->time_step_changed();
@@ -69,7 +104,7 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
     const StepStart start = step_start(flow, mechanics, monolithic);
     try
     {
-      solve_step(t, flow, mechanics, monolithic);
+      solve_step(t, d, flow, mechanics, monolithic);
     }
     catch (const SolverError& e)
     {
@@ -82,6 +117,7 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
       continue;
     }
     attempts = 0;
+    keep_history(start, flow, monolithic);
     if (flow or monolithic)
       observer.flow_state(t);
     observer.mechanics_state(t, k, 1);

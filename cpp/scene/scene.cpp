@@ -613,6 +613,9 @@ void read_time(Section& top, Scene& scene)
     time.fail("retry", "must lie in [0, 20] (each retry halves the step)");
   if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
     time.fail("growth", "must lie in [1, 10]");
+  scene.time_scheme = time.string("scheme", "backward-euler");
+  if (scene.time_scheme != "backward-euler" and scene.time_scheme != "bdf2")
+    time.fail("scheme", "must be \"backward-euler\" or \"bdf2\", got \"" + scene.time_scheme + "\"");
   const double steps = scene.end_time / scene.dt;
   // Counted in double precision: an int would overflow silently.
   if (scene.growth == 1.0 and steps > Scene::max_steps)

@@ -184,6 +184,7 @@ struct Scene
   double end_time = 0, dt = 0;
   double growth = 1; // time.growth: dt_k = dt growth^(k-1)
   int retry = 0;      // time.retry: a failed step is retried with halved steps up to this many times
+  std::string time_scheme = "backward-euler"; // time.scheme: or "bdf2" (steps/time_scheme.h)
   bool write_xdmf = true;
   int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
   double progress_interval = 10; // output.progress_interval: seconds between lines within a step

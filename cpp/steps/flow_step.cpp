@@ -58,11 +58,14 @@ void FlowStep::make_spaces(const Domain& domain, const CompiledForms& forms,
   p_previous = std::make_shared<fem::Function<double>>(_Q);
   p_iterate = std::make_shared<fem::Function<double>>(_Q);
   p_iterate_previous = std::make_shared<fem::Function<double>>(_Q);
+  p_before = std::make_shared<fem::Function<double>>(_Q);
   interpolate(*pressure, {_scene.flow->initial_pressure}, 0.0);
   if (V)
   {
     u_iterate = std::make_shared<fem::Function<double>>(V);
     u_window = std::make_shared<fem::Function<double>>(V);
+    u_before = std::make_shared<fem::Function<double>>(V);
+    u_path_before = std::make_shared<fem::Function<double>>(V);
   }
 }
 

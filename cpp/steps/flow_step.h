@@ -63,6 +63,11 @@ public:
   // single-rate step): p^{n+1,m-1}, p^{n,m}, p^{n,m-1}, u^n, u_K.
   std::shared_ptr<dolfinx::fem::Function<double>> p_previous, p_iterate, p_iterate_previous;
   std::shared_ptr<dolfinx::fem::Function<double>> u_iterate, u_window;
+  // The accumulation's memory for time.scheme = "bdf2" (steps/time_scheme.h):
+  // the pressure one fine step and the displacement one window before the
+  // current window's start, and the multirate displacement path's value one
+  // fine step before it (u_* null without mechanics); checkpointed.
+  std::shared_ptr<dolfinx::fem::Function<double>> p_before, u_before, u_path_before;
 
   const System& system() const { return *_system; }
   System& system() { return *_system; }

@@ -78,6 +78,8 @@ void MonolithicStep::make_spaces(const Domain& domain, const CompiledForms& form
   pressure = std::make_shared<fem::Function<double>>(Q);
   _u_old = std::make_shared<fem::Function<double>>(V);
   _p_old = std::make_shared<fem::Function<double>>(Q);
+  u_before = std::make_shared<fem::Function<double>>(V);
+  p_before = std::make_shared<fem::Function<double>>(Q);
   interpolate(*pressure, {_scene.flow->initial_pressure}, 0.0);
   std::span<double> x = _x->x()->mutable_array();
   for (std::size_t i = 0; i < _Q_to_X.size(); ++i)
@@ -172,10 +174,12 @@ std::vector<Field> MonolithicStep::fields() const
 void MonolithicStep::assemble_rhs(double t)
 {
   common::Timer assembly("assembly");
-  // Backward Euler from the state at the previous time.
-  std::copy(u->x()->array().begin(), u->x()->array().end(), _u_old->x()->mutable_array().begin());
-  std::copy(pressure->x()->array().begin(), pressure->x()->array().end(),
-            _p_old->x()->mutable_array().begin());
+  // Backward Euler from the state at the previous time, or from BDF2's
+  // history values (time_scheme.h).
+  const std::vector<double> u_old = history_value(_derivative, u->x()->array(), u_before->x()->array());
+  const std::vector<double> p_old = history_value(_derivative, pressure->x()->array(), p_before->x()->array());
+  std::copy(u_old.begin(), u_old.end(), _u_old->x()->mutable_array().begin());
+  std::copy(p_old.begin(), p_old.end(), _p_old->x()->mutable_array().begin());
   const la::Vector<double>& loads = _loads->at(t);
   std::copy(loads.array().begin(), loads.array().end(), _b->mutable_array().begin());
   add_vector(*_b, *_L_history);
@@ -196,8 +200,9 @@ void MonolithicStep::set_displacement(std::span<const double> values, double t)
   assemble_rhs(t);
 }
 
-void MonolithicStep::solve(double t)
+void MonolithicStep::solve(double t, const TimeDerivative& d)
 {
+  _derivative = d;
   assemble_rhs(t);
   la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
   _system->solve(b.vec(), x.vec());

@@ -14,6 +14,7 @@
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "solvers/system.h"
+#include "steps/time_scheme.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
@@ -32,8 +33,10 @@ public:
   MonolithicStep(const MonolithicStep&) = delete;
   MonolithicStep& operator=(const MonolithicStep&) = delete;
 
-  /// One step to time t from the state now in u and pressure.
-  void solve(double t);
+  /// One step to time t from the state now in u and pressure, with the
+  /// time derivative `d` of the accumulation (steps/time_scheme.h; BDF2
+  /// reads u_before and p_before, the state one step before).
+  void solve(double t, const TimeDerivative& d = {});
 
   void flux(dolfinx::fem::Function<double>& out) const;
 
@@ -47,6 +50,7 @@ public:
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
   std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
+  std::shared_ptr<dolfinx::fem::Function<double>> u_before, p_before; // BDF2's memory; checkpointed
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
   /// The coupled unknown (u, z, p), ghosts included, for a checkpoint.
@@ -78,6 +82,7 @@ private:
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _X, _Z;
   std::vector<std::int32_t> _V_to_X, _Z_to_X, _Q_to_X;
   std::shared_ptr<dolfinx::fem::Function<double>> _x, _u_old, _p_old;
+  TimeDerivative _derivative; // of the step being solved
   BCs _bcs;
   std::vector<DisplacementValue> _bc_values;
   FluxValues _fluxes; // the prescribed normal fluxes (flux and rate boundaries)

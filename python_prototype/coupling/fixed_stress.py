@@ -15,6 +15,7 @@ from .coupling import CouplingError
 from ..assembly.linear_algebra import owned, owned_norm
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.time_grid import retry_step
+from ..steps.time_scheme import TimeDerivative, history_value, time_derivative
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see hold_against_gamma).
@@ -39,18 +40,19 @@ def contact_changes(mechanics):
     return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
 
 
-def second_pass_correction(second, p_K, u_new, t, p_new, w_new):
+def second_pass_correction(second, p_K, u_new, t, history, p_new, w_new):
     """The second pass of "multirate-two-pass" (cpp/coupling/fixed_stress.cpp): the
     fine steps again without L, from p_K and with u^{n+1},
       (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
         = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
     then p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q) (and the same for the mixed
-    states): the window end keeps p^A_q, the pressure the mechanics used."""
+    states): the window end keeps p^A_q, the pressure the mechanics used.
+    history(m, p_B) sets fine step m's time history (time_scheme.py)."""
     q = len(p_new) - 1
     p_B, w_B = [p_K] * (q + 1), [None] * (q + 1)
     second.u_iterate.x.array[:] = u_new
     for m in range(1, q + 1):
-        second.p_previous.x.array[:] = p_B[m - 1]
+        history(m, p_B)
         second.solve(t(m))
         p_B[m] = second.pressure.x.array.copy()
         w_B[m] = second.unknowns().copy()
@@ -68,6 +70,7 @@ class Window:
 
     def __init__(self, K, w_K, p_K, u_K, q):
         self.K = K                    # the window [t_K, t_{K+1}]
+        self.derivative = TimeDerivative()  # of every fine step (time_scheme.py)
         self.w_K = w_K                # flow state (z, p) at t_K, for a retry
         self.p_old = [p_K] * (q + 1)
         self.p_new = [p_K] * (q + 1)
@@ -114,6 +117,9 @@ class FixedStressSplit:
         self.q, self.V, self.Q = parameters.q, mechanics.V, flow.Q
         self.accelerated = self.coupling.acceleration == "anderson"
         self.p_K = self.u_K = None  # the converged state at t_K
+        # For BDF2: the pressure one fine step and the displacement one window
+        # before t_K, and the displacement path's value one fine step before t_K.
+        self.p_before = self.u_before = self.u_path_before = None
         self.attempts = [0]         # retries of the current window (time.retry)
 
     def t(self, K, m):
@@ -129,6 +135,9 @@ class FixedStressSplit:
                 step.keep_loads(self.q)
         self.p_K = self.flow.pressure.x.array.copy()
         self.u_K = self.mechanics.u.x.array.copy()
+        self.p_before = self.flow.p_before.x.array.copy()  # restored by a restart
+        self.u_before = self.flow.u_before.x.array.copy()
+        self.u_path_before = self.flow.u_path_before.x.array.copy()
         if self.report.windows == 0:
             self.report.p_size = math.sqrt(self.q) * owned_norm(self.p_K, self.Q, self.comm)
             self.report.u_size = owned_norm(self.u_K, self.V, self.comm)
@@ -138,11 +147,14 @@ class FixedStressSplit:
         with coupling.acceleration = "anderson" the Anderson state (p^1, ...,
         p^q, u), weighted by the scales of the stopping test (anderson.py)."""
         q, report = self.q, self.report
-        if set_time_step(self.F, self.grid.dt[K * q]):
+        derivative = self.window_derivative(K)
+        dt = derivative.effective_step(self.grid.dt[K * q])
+        if set_time_step(self.F, dt):
             self.flow.time_step_changed()
-        if self.second_pass and set_time_step(self.second_pass.F, self.grid.dt[K * q]):
+        if self.second_pass and set_time_step(self.second_pass.F, dt):
             self.second_pass.time_step_changed()
         w = Window(K, self.flow.unknowns().copy(), self.p_K, self.u_K, q)
+        w.derivative = derivative
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K
@@ -154,20 +166,70 @@ class FixedStressSplit:
                                               + [1 / report.u_size if report.u_size > 0 else 1.0])
         return w
 
+    def window_derivative(self, K):
+        """The time derivative of window K's fine steps
+        (cpp/coupling/fixed_stress.cpp): with q > 1 the fine steps share one
+        matrix, so BDF2 needs the step before the window to equal the
+        window's fine step; otherwise (the first window, a halved one)
+        backward Euler, which keeps the global error second order."""
+        j = K * self.q
+        dt, previous = self.grid.dt[j], self.grid.dt[j - 1] if j > 0 else 0.0
+        if self.q > 1 and previous != dt:
+            return TimeDerivative()
+        return time_derivative(self.scene.time_scheme, dt, previous)
+
+    def path(self, w, u, m):
+        """The displacement of window w at its fine time m along the window's
+        path from u_K to u (cpp/coupling/fixed_stress.cpp): backward Euler,
+        the paper's straight line; BDF2, the quadratic through u_{K-1}, u_K, u
+          Q(t_K + s) = u_K + s D1 + s (s - H) D2,  D1 = (u - u_K)/H,
+          D2 = ((u - u_K)/H - (u_K - u_{K-1})/H1) / (H + H1),
+        but in the first window u takes its end value at the first fine step
+        and, with q > 1, the second window keeps the straight line."""
+        bdf2 = self.scene.time_scheme == "bdf2"
+        if bdf2 and w.K == 0:
+            return self.u_K if m == 0 else u
+        H, s = self.t(w.K, self.q) - self.t(w.K, 0), self.t(w.K, m) - self.t(w.K, 0)
+        D1 = (u - self.u_K) / H
+        if not (bdf2 and (self.q == 1 or w.K > 1)):
+            return self.u_K + s * D1
+        H1 = self.t(w.K, 0) - self.t(w.K - 1, 0)
+        D2 = (D1 - (self.u_K - self.u_before) / H1) / (H + H1)
+        return self.u_K + s * D1 + s * (s - H) * D2
+
+    def set_time_history(self, flow, w, m, p, u):
+        """The time history of fine step m of `flow` from p[0..m-1] and the
+        window's displacement u: backward Euler reads p[m-1] and u_K (the
+        paper's scheme); BDF2 differentiates the fluid content at the fine
+        times with the window's derivative, p from its fine steps and u along
+        the window's path:
+          p* = (c1 p[m-1] - c2 p[m-2]) / c0,  u_window = u - q (Q(t_m) - Q*),
+        the values one fine step before t_K being the previous window's."""
+        if self.scene.time_scheme != "bdf2":
+            flow.p_previous.x.array[:] = p[m - 1]
+            return
+        d = w.derivative
+        flow.p_previous.x.array[:] = history_value(d, p[m - 1], p[m - 2] if m >= 2 else self.p_before)
+        Q_star = history_value(d, self.path(w, u, m - 1),
+                               self.path(w, u, m - 2) if m >= 2 else self.u_path_before)
+        flow.u_window.x.array[:] = u - self.q * (self.path(w, u, m) - Q_star)
+
     def flow_pass(self, w):
         """(a) q flow steps with u^n lagged (eq. 4.17-4.19):
           ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
             = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
-              - ((alpha/q) div(u^n - u_K)/dt, th)"""
-        flow = self.flow
+              - ((alpha/q) div(u^n - u_K)/dt, th)
+        (with BDF2, dt / c0 and the history values of set_time_history)."""
+        flow, d = self.flow, w.derivative
         if self.scene.solver.inexact_coupling:
             flow.system.set_tolerance(inexact_tolerance(w.increment))
             self.mechanics.system.set_tolerance(inexact_tolerance(w.increment))
         flow.u_iterate.x.array[:] = w.u_old
         for m in range(1, self.q + 1):
-            flow.p_previous.x.array[:] = w.p_new[m - 1]
+            self.set_time_history(flow, w, m, w.p_new, w.u_old)
             flow.p_iterate.x.array[:] = w.p_old[m]
-            flow.p_iterate_previous.x.array[:] = w.p_old[m - 1]
+            flow.p_iterate_previous.x.array[:] = history_value(d, w.p_old[m - 1],
+                                                               w.p_old[m - 2] if m >= 2 else self.p_before)
             flow.solve(self.t(w.K, m))
             w.p_new[m] = flow.pressure.x.array.copy()
             w.w_new[m] = flow.unknowns().copy()
@@ -181,8 +243,9 @@ class FixedStressSplit:
         self.mechanics.solve(self.t(w.K, self.q))
         w.u_new = self.mechanics.u.x.array.copy()
         if self.second_pass and self.q > 1:
-            second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w.K, m), w.p_new,
-                                   w.w_new)
+            second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w.K, m),
+                                   lambda m, p_B: self.set_time_history(self.second_pass, w, m, p_B, w.u_new),
+                                   w.p_new, w.w_new)
 
     def measure_contraction(self, w, n):
         """The contraction quantities of this iteration's increments, with the
@@ -352,6 +415,12 @@ class FixedStressSplit:
             self.observer.flow_state(self.t(w.K, m))
         self.observer.mechanics_state(self.t(w.K, self.q), w.K + 1, n + 1)
         self.report.windows = w.K + 1
+        self.p_before = w.p_new[self.q - 1]  # p_K itself for q = 1
+        self.u_path_before = self.path(w, w.u_new, self.q - 1)
+        self.u_before = self.u_K
+        self.flow.p_before.x.array[:] = self.p_before
+        self.flow.u_before.x.array[:] = self.u_before
+        self.flow.u_path_before.x.array[:] = self.u_path_before
         self.p_K, self.u_K = w.p_new[self.q], w.u_new
 
     def run(self):

@@ -3,16 +3,34 @@ a single physics (flow only, mechanics only); cpp/coupling/single_solve.cpp."""
 from ..assembly.parameters import set_time_step
 from ..solvers.solver import SolverError
 from ..steps.time_grid import retry_step
+from ..steps.time_scheme import history_value, time_derivative
 
 
 def step_start(flow, mechanics, monolithic):
-    """The unknowns at the start of a step, to go back to when it is retried."""
+    """The unknowns at the start of a step, to go back to when it is retried,
+    and the accumulation's state (pressure; and displacement of the
+    monolithic step), BDF2's memory once the step is accepted."""
+    history = (None, None)
+    if flow:
+        history = (flow.pressure.x.array.copy(), None)
+    if monolithic:
+        history = (monolithic.pressure.x.array.copy(), monolithic.u.x.array.copy())
     return (flow.unknowns().copy() if flow else None, mechanics.u.x.array.copy() if mechanics else None,
-            monolithic.unknowns().copy() if monolithic else None)
+            monolithic.unknowns().copy() if monolithic else None) + history
+
+
+def keep_history(start, flow, monolithic):
+    """An accepted step's start becomes the state one step before the next."""
+    p, u = start[3:]
+    if flow:
+        flow.p_before.x.array[:] = p
+    if monolithic:
+        monolithic.p_before.x.array[:] = p
+        monolithic.u_before.x.array[:] = u
 
 
 def go_back(start, flow, mechanics, monolithic):
-    flow_unknowns, displacement, monolithic_unknowns = start
+    flow_unknowns, displacement, monolithic_unknowns = start[:3]
     if flow:
         flow.set_unknowns(flow_unknowns)
     if mechanics:
@@ -21,13 +39,14 @@ def go_back(start, flow, mechanics, monolithic):
         monolithic.set_unknowns(monolithic_unknowns)
 
 
-def solve_step(t, flow, mechanics, monolithic):
-    """The solves of step t: the flow from the last step's pressure, then the
-    mechanics with the new one (a single physics has one of them)."""
+def solve_step(t, d, flow, mechanics, monolithic):
+    """The solves of step t: the flow from the last step's pressure (BDF2: its
+    history value, time_scheme.py), then the mechanics with the new one (a
+    single physics has one of them)."""
     if monolithic:
-        monolithic.solve(t)
+        monolithic.solve(t, d)
     if flow:
-        flow.p_previous.x.array[:] = flow.pressure.x.array
+        flow.p_previous.x.array[:] = history_value(d, flow.pressure.x.array, flow.p_before.x.array)
         flow.solve(t)
     if mechanics:
         mechanics.solve(t)
@@ -42,14 +61,15 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
     k = report.windows + 1
     while k <= grid.steps():
         t = grid.t[k]
-        if set_time_step(F, grid.dt[k - 1]):
+        d = time_derivative(scene.time_scheme, grid.dt[k - 1], grid.dt[k - 2] if k >= 2 else 0.0)
+        if set_time_step(F, d.effective_step(grid.dt[k - 1])):
             if monolithic:
                 monolithic.time_step_changed()
             if flow:
                 flow.time_step_changed()
         start = step_start(flow, mechanics, monolithic)
         try:
-            solve_step(t, flow, mechanics, monolithic)
+            solve_step(t, d, flow, mechanics, monolithic)
         except SolverError as e:
             message = retry_step(scene, str(e), k, attempts, grid, k - 1, 1, report)
             if message is None:
@@ -58,6 +78,7 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
             go_back(start, flow, mechanics, monolithic)
             continue  # the same step again, halved
         attempts[0] = 0
+        keep_history(start, flow, monolithic)
         if flow or monolithic:
             observer.flow_state(t)
         observer.mechanics_state(t, k, 1)

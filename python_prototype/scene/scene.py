@@ -279,6 +279,7 @@ class Scene:
     dt: float = 0.0
     growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
     retry: int = 0       # time.retry: a failed step is retried with halved steps up to this many times
+    time_scheme: str = "backward-euler"  # time.scheme: or "bdf2" (steps/time_scheme.py)
     write_xdmf: bool = True
     checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
     progress_interval: float = 10.0  # output.progress_interval: seconds between lines within a step
@@ -670,6 +671,9 @@ def _read_time(top, scene):
         time.fail("retry", "must lie in [0, 20] (each retry halves the step)")
     if not (1.0 <= scene.growth <= 10.0):
         time.fail("growth", "must lie in [1, 10]")
+    scene.time_scheme = time.string("scheme", "backward-euler")
+    if scene.time_scheme not in ("backward-euler", "bdf2"):
+        time.fail("scheme", f'must be "backward-euler" or "bdf2", got "{scene.time_scheme}"')
     steps = scene.end_time / scene.dt
     if scene.growth == 1.0 and steps > MAX_STEPS:
         time.fail("dt", f"time.end / time.dt = {steps:.3g} steps, more than the limit of {MAX_STEPS}")

@@ -39,6 +39,13 @@ class FlowStep:
             (fem.Function(self.Q) for _ in range(4))
         self.u_iterate, self.u_window, self.du = (fem.Function(F["V"]) for _ in range(3)) if coupled \
             else (None, None, None)
+        # The accumulation's memory for time.scheme = "bdf2" (time_scheme.py):
+        # the pressure one fine step and the displacement one window before
+        # the window's start, and the multirate displacement path's value one
+        # fine step before it (u_* None without mechanics); checkpointed.
+        self.p_before = fem.Function(self.Q)
+        self.u_before, self.u_path_before = (fem.Function(F["V"]), fem.Function(F["V"])) if coupled \
+            else (None, None)
         interpolate(self.pressure, [flow.initial_pressure], 0.0)
 
         # The normal flux (essential for RT) wherever no pressure is given:

@@ -17,6 +17,7 @@ from ..solvers.solver import Structure
 from ..solvers.system import System
 from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
+from .time_scheme import TimeDerivative, history_value
 
 
 class MonolithicStep:
@@ -31,6 +32,8 @@ class MonolithicStep:
         self.x, self.z = fem.Function(X), fem.Function(self.Z)
         self.u, self.pressure = fem.Function(self.V), fem.Function(self.Q)
         self.u_old, self.p_old = F["u_old"], F["p_old"]
+        self.u_before, self.p_before = fem.Function(self.V), fem.Function(self.Q)  # BDF2's memory; checkpointed
+        self.derivative = TimeDerivative()  # of the step being solved
         interpolate(self.pressure, [scene.flow.initial_pressure], 0.0)
         self.x.x.array[self.Q_to_X] = self.pressure.x.array  # the first guess of a contact solve
 
@@ -109,8 +112,9 @@ class MonolithicStep:
     def assemble_rhs(self, t):
         """The right-hand side of a step to t from the state in u and pressure."""
         start = time.perf_counter()
-        self.u_old.x.array[:] = self.u.x.array
-        self.p_old.x.array[:] = self.pressure.x.array
+        # Backward Euler from the previous state, or BDF2's history values.
+        self.u_old.x.array[:] = history_value(self.derivative, self.u.x.array, self.u_before.x.array)
+        self.p_old.x.array[:] = history_value(self.derivative, self.pressure.x.array, self.p_before.x.array)
         self.b.x.array[:] = self.loads.at(t).x.array
         add_vector(self.b, self.L_history)
         finish_rhs(self.b, self.a, self.bcs)
@@ -125,8 +129,11 @@ class MonolithicStep:
         self.x.x.array[self.Q_to_X] = self.pressure.x.array
         self.assemble_rhs(t)
 
-    def solve(self, t):
-        """One backward-Euler step to time t from the state in u and pressure."""
+    def solve(self, t, derivative=TimeDerivative()):
+        """One step to time t from the state in u and pressure with the time
+        derivative of the accumulation (time_scheme.py; BDF2 reads u_before
+        and p_before, the state one step before)."""
+        self.derivative = derivative
         self.assemble_rhs(t)
         self.system.solve(self.b.vector, self.x.vector)
         self.x.x.scatter_forward()
