@@ -2,7 +2,7 @@
 """Error against run time: sweeps a scene over schemes, q, L, dt and mesh
 levels with the C++ solver, and writes results.csv, PNG plots and report.md.
 
-    /usr/bin/python3 tools/study.py studies/contact.toml --out DIR [--binary build/biotcontact]
+    /usr/bin/python3 tools/study.py studies/contact.toml --out DIR [--binary build/biotcontact] [--replot]
 
 A study file names a scene, a list of levels (overrides that set h and dt
 together) and a list of variants (overrides that choose scheme, q, L); every
@@ -12,7 +12,8 @@ finest level (`reference = "monolithic"`, computed once and cached), at every
 output time of the run: relative l2 errors of pressure (cell-area weighted),
 displacement (nodal) and flux (cell-area weighted), at the final time and
 the maximum over time. Finished runs are kept under DIR/runs and reused when
-the study is started again.
+the study is started again; --replot redraws the plots from DIR/results.csv
+without running anything.
 """
 import argparse
 import csv
@@ -186,79 +187,235 @@ def errors(directory, reference):
     return {name: (v[-1], max(v)) if v else (float("nan"), float("nan")) for name, v in result.items()}
 
 
-def plots(rows, out, study):
+# Family colours; grey and black are kept for the monolithic reference and the Pareto front.
+FAMILY_COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink",
+                  "tab:olive", "tab:cyan"]
+MARKERS = "osD^vP*Xh<>"
+REFERENCE_STYLE = {"color": "0.5", "marker": "o", "linestyle": "-", "lw": 1.5, "ms": 4, "zorder": 2}
+FRONT_STYLE = {"color": "black", "marker": "o", "linestyle": "-", "lw": 3.5, "ms": 8, "zorder": 1}
+
+
+def pyplot():
+    """matplotlib's pyplot, drawing to files only (studies run without a display)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    return plt
 
-    variants = sorted({r["variant"] for r in rows}, key=lambda v: [r["variant"] for r in rows].index(v))
-    files = {}
 
-    def by_variant(x, y, xlabel, ylabel, name, title, data=rows):
-        fig, ax = plt.subplots(figsize=(7, 5))
+def family(row):
+    """The family a run is coloured and given a panel by: its coupling scheme,
+    plus the time scheme when the variant's label names one (" + BDF2",
+    " adaptive"). Anderson acceleration is no family but a line style (see
+    `styles`), so that it is compared with the same scheme without it."""
+    label = row["variant"].lower()
+    return row["scheme"] + (" + BDF2" if "bdf2" in label else "") + (" adaptive" if "adaptive" in label else "")
+
+
+def reference_variant(rows):
+    """The plain monolithic variant, drawn in every panel as the reference (None if the study has none)."""
+    return next((r["variant"] for r in rows if family(r) == "monolithic"), None)
+
+
+def panels(rows):
+    """[(family, its variants)] in the order of the study, without the
+    reference variant (every panel has it) and so without a family left empty."""
+    reference, groups = reference_variant(rows), {}
+    for r in rows:
+        if r["variant"] == reference:
+            continue
+        group = groups.setdefault(family(r), [])
+        if r["variant"] not in group:
+            group.append(r["variant"])
+    return list(groups.items())
+
+
+def shade(colour, place, count):
+    """The family colour, darker for the first of `count` variants and lighter
+    for the last, so that variants of a family differ in shade as well as marker."""
+    import matplotlib.colors
+    s = 0.6 * place / (count - 1) - 0.3 if count > 1 else 0.0
+    rgb = np.array(matplotlib.colors.to_rgb(colour))
+    return tuple(rgb * (1 + s) if s < 0 else rgb + (1 - rgb) * s)
+
+
+def styles(rows):
+    """Line style of every variant but the reference: the colour of its family,
+    a marker and shade by its place among the family's variants with the same
+    acceleration, and dashed lines with open markers for Anderson (so that
+    "q = 4" and "q = 4, Anderson" share colour and marker)."""
+    result = {}
+    for i, (_, variants) in enumerate(panels(rows)):
+        colour = FAMILY_COLOURS[i % len(FAMILY_COLOURS)]
         for v in variants:
-            pts = sorted((float(r[x]), float(r[y])) for r in data if r["variant"] == v and float(r[y]) > 0)
-            if pts:
-                ax.loglog(*zip(*pts), "o-", label=v)
+            anderson = "anderson" in v.lower()
+            group = [w for w in variants if ("anderson" in w.lower()) == anderson]
+            place = group.index(v)
+            c = shade(colour, place, len(group))
+            result[v] = {"color": c, "marker": MARKERS[place % len(MARKERS)], "linestyle": "--" if anderson else "-",
+                         "markerfacecolor": "white" if anderson else c, "lw": 1.3, "ms": 6, "zorder": 3}
+    return result
+
+
+EQUAL_ERRORS = 0.01
+
+
+def pareto_front(points):
+    """The points no other point beats in both coordinates (another with lower
+    or equal x and y): the fastest run at each error level, sorted by x.
+    Errors within 1 % count as equal: variants that converge to the same
+    discrete solution differ in the last digits only, and a slower one of
+    them is no better."""
+    front = []
+    for x, y in sorted(points):
+        if not front or y < (1 - EQUAL_ERRORS) * front[-1][1]:
+            front.append((x, y))
+    return front
+
+
+def family_grid(plt, groups, title, sharex=True):
+    """A figure with one panel per family, two to a row, the y axes shared so
+    that the panels compare at a glance; returns the figure and the panels."""
+    ncols = min(len(groups), 2)
+    nrows = math.ceil(len(groups) / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(5.5 * ncols, 5.2 * nrows), sharex=sharex, sharey=True,
+                             squeeze=False, layout="constrained")
+    axes = list(axes.ravel())
+    for ax in axes[len(groups):]:
+        ax.remove()
+    for ax, (name, _) in zip(axes, groups):
+        ax.set_title(name)
+        # Shared axes label only the outer panels; every panel has its own legend below, so label them all.
+        ax.tick_params(which="both", labelbottom=True, labelleft=True)
+        ax.grid(True, which="both", alpha=0.3)
+    fig.suptitle(title)
+    return fig, axes[:len(groups)]
+
+
+def legend_below(ax, markerscale=1.0):
+    """The panel's legend under its axes, clear of the data."""
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), fontsize=8, markerscale=markerscale)
+
+
+def draw(ax, points, **style):
+    """A log-log line through the points, if there are any."""
+    if points:
+        ax.loglog(*zip(*points), **style)
+
+
+def by_family(rows, x, y, xlabel, ylabel, path, title):
+    """y against x on log-log axes, one panel per family, each with the
+    monolithic reference and the Pareto front of all runs (in x and y)."""
+    plt = pyplot()
+    look, reference = styles(rows), reference_variant(rows)
+    # A study of the reference alone still gets its panel.
+    groups = panels(rows) or [("monolithic", [])]
+
+    def line(variant):
+        return sorted((float(r[x]), float(r[y])) for r in rows if r["variant"] == variant and float(r[y]) > 0)
+    front = pareto_front([p for v in list(look) + [reference] for p in line(v)])
+    fig, axes = family_grid(plt, groups, title)
+    for ax, (_, variants) in zip(axes, groups):
+        draw(ax, front, **FRONT_STYLE, label="Pareto front (all runs)")
+        draw(ax, line(reference), **REFERENCE_STYLE, label=f"{reference} (reference)")
+        for v in variants:
+            draw(ax, line(v), **look[v], label=v)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
-        ax.set_title(title)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(os.path.join(out, name), dpi=110)
-        plt.close(fig)
-        files[name] = title
+        legend_below(ax)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
-    by_variant("wall_time_s", "pressure_error_final", "wall time [s]", "relative pressure error (final time)",
-               "error_vs_time.png", f"{study['name']}: pressure error against run time")
-    by_variant("wall_time_s", "displacement_error_final", "wall time [s]",
-               "relative displacement error (final time)", "displacement_error_vs_time.png",
-               f"{study['name']}: displacement error against run time")
+
+def plot_iterations(rows, path, title):
+    """Coupling iterations per step against gamma. gamma is the same for all
+    variants of a scene, so each variant is shifted sideways (within 3 % of
+    gamma, in the order of the study) to keep the points from hiding each other."""
+    plt = pyplot()
+    look = styles(rows)
+    split = [r for r in rows if r["scheme"] != "monolithic"]
+    variants = [v for v in look if any(r["variant"] == v for r in split)]
+    fig, ax = plt.subplots(figsize=(10, 5.5), layout="constrained")
+    for i, v in enumerate(variants):
+        shift = 1 + 0.06 * ((i + 0.5) / len(variants) - 0.5)
+        pts = [(float(r["gamma"]) * shift, int(r["coupling_iterations"]) / max(int(r["steps"]), 1))
+               for r in split if r["variant"] == v]
+        ax.plot(*zip(*pts), **dict(look[v], linestyle="none"), label=v)
+    for gamma in sorted({float(r["gamma"]) for r in split}):
+        ax.axvline(gamma, color="black", lw=1, linestyle=":", zorder=1, label=f"gamma = {gamma:.3f} (unshifted)")
+    ax.set_xlabel("gamma = alpha^2/(alpha^2 + lambda S), each variant shifted by up to 3 %")
+    ax.set_ylabel("coupling iterations per mechanics step")
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1), fontsize=8)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def iteration_logs(rows):
+    """{variant: (iterations, ratios, gamma)} of the split runs on the finest
+    level, from iterations.csv in their run directories; runs whose directory
+    is gone (results.csv copied without its runs) are left out."""
+    finest = max(int(r["level"]) for r in rows)
+    logs = {}
+    for r in rows:
+        path = os.path.join(r["directory"], "iterations.csv") if r.get("directory") else ""
+        if int(r["level"]) != finest or r["scheme"] == "monolithic" or not os.path.exists(path):
+            continue
+        with open(path) as f:
+            log = [x for x in csv.DictReader(f) if x["ratio"]]
+        logs[r["variant"]] = ([int(x["iteration"]) for x in log], [float(x["ratio"]) for x in log], float(r["gamma"]))
+    return logs
+
+
+def plot_contraction(rows, path, title):
+    """The contraction ratio of every coupling iteration on the finest level,
+    one panel per family, with gamma, the bound. Draws nothing and returns
+    False when no run has its iterations log."""
+    logs = iteration_logs(rows)
+    if not logs:
+        return False
+    plt = pyplot()
+    look = styles(rows)
+    groups = [(name, [v for v in variants if v in logs]) for name, variants in panels(rows)]
+    groups = [(name, variants) for name, variants in groups if variants]
+    # Iteration counts differ tenfold between families: each panel keeps its own x axis.
+    fig, axes = family_grid(plt, groups, title, sharex=False)
+    for ax, (_, variants) in zip(axes, groups):
+        for v in variants:
+            ax.semilogy(logs[v][0], logs[v][1], **dict(look[v], linestyle="none", ms=3, alpha=0.6), label=v)
+        for gamma in sorted({logs[v][2] for v in variants}):
+            ax.axhline(gamma, color="black", lw=1, label=f"gamma = {gamma:.3f}")
+        ax.set_xlabel("coupling iteration within the step")
+        ax.set_ylabel("||delta sigma^{n+1}|| / ||delta sigma^n||")
+        legend_below(ax, markerscale=2)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def plots(rows, out, study):
+    """Draws the study's plots into `out`; returns {file: title} of those drawn."""
+    name, files = study["name"], {}
     rows_work = [dict(r, work=int(r["flow_solves"]) + int(r["mechanics_solves"]) + int(r["monolithic_solves"]))
                  for r in rows]
-    by_variant("work", "pressure_error_final", "flow + mechanics (+ monolithic) solves",
-               "relative pressure error (final time)", "work_vs_error.png", f"{study['name']}: work against error",
-               data=rows_work)
-    # Iterations per step against gamma.
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for v in variants:
-        pts = [(float(r["gamma"]), int(r["coupling_iterations"]) / max(int(r["steps"]), 1))
-               for r in rows if r["variant"] == v and r["scheme"] != "monolithic"]
-        if pts:
-            ax.plot(*zip(*pts), "o", label=v)
-    ax.set_xlabel("gamma = alpha^2/(alpha^2 + lambda S)")
-    ax.set_ylabel("coupling iterations per mechanics step")
-    ax.set_title(f"{study['name']}: iterations per step against gamma")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "iterations_vs_gamma.png"), dpi=110)
-    plt.close(fig)
+    pressure = "relative pressure error (final time)"
+    for file, data, x, y, xlabel, ylabel, title in (
+            ("error_vs_time.png", rows, "wall_time_s", "pressure_error_final", "wall time [s]", pressure,
+             "pressure error against run time"),
+            ("displacement_error_vs_time.png", rows, "wall_time_s", "displacement_error_final", "wall time [s]",
+             "relative displacement error (final time)", "displacement error against run time"),
+            ("work_vs_error.png", rows_work, "work", "pressure_error_final", "flow + mechanics (+ monolithic) solves",
+             pressure, "work against error")):
+        by_family(data, x, y, xlabel, ylabel, os.path.join(out, file), f"{name}: {title}")
+        files[file] = f"{name}: {title}"
+    plot_iterations(rows, os.path.join(out, "iterations_vs_gamma.png"), f"{name}: iterations per step against gamma")
     files["iterations_vs_gamma.png"] = "iterations per step against gamma"
-    # Contraction ratio per iteration against the bound (finest level).
-    fig, ax = plt.subplots(figsize=(7, 5))
-    finest = max(int(r["level"]) for r in rows)
-    gamma = None
-    for r in rows:
-        if int(r["level"]) != finest or r["scheme"] == "monolithic":
-            continue
-        with open(os.path.join(r["directory"], "iterations.csv")) as f:
-            log = [row for row in csv.DictReader(f) if row["ratio"]]
-        ax.semilogy([int(x["iteration"]) for x in log], [float(x["ratio"]) for x in log], ".", ms=2,
-                    label=r["variant"])
-        gamma = float(r["gamma"])
-    if gamma is not None:
-        ax.axhline(gamma, color="k", lw=1, label=f"gamma = {gamma:.3f}")
-    ax.set_xlabel("coupling iteration within the step")
-    ax.set_ylabel("||delta sigma^{n+1}|| / ||delta sigma^n||")
-    ax.set_title(f"{study['name']}: contraction ratio per iteration (finest level)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, markerscale=4)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "contraction.png"), dpi=110)
-    plt.close(fig)
-    files["contraction.png"] = "contraction ratio per iteration against gamma"
+    if plot_contraction(rows, os.path.join(out, "contraction.png"),
+                        f"{name}: contraction ratio per iteration (finest level)"):
+        files["contraction.png"] = "contraction ratio per iteration against gamma"
+    else:
+        print(f"{out}: no run directory has iterations.csv, contraction.png not drawn")
     return files
 
 
@@ -279,81 +436,71 @@ def fastest(rows):
     return lines
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("study")
-    parser.add_argument("--out", required=True)
-    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "biotcontact"))
-    args = parser.parse_args()
-    try:
-        study = read_study(args.study)
-    except StudyError as e:
-        print(f"study: error: {e}", file=sys.stderr)
-        return 2
-    os.makedirs(os.path.join(args.out, "runs"), exist_ok=True)
-    scene = study["scene"]
-    levels, variants = study["levels"], study["variants"]
-
+def make_reference(study, out, binary):
+    """The reference the errors are measured against; a monolithic one is run
+    (once, then cached) on the finest level."""
+    scene, levels = study["scene"], study["levels"]
     if study["reference"] == "closed-form":
-        reference = ClosedFormReference(scene)
-    else:
-        overrides = levels[-1]["overrides"] + study.get("reference_overrides", []) + ["coupling.scheme=monolithic"]
-        directory = run_directory(args.out, scene, overrides)
-        _, cached = run(args.binary, scene, overrides, directory)
-        print(f"reference: monolithic on level {len(levels) - 1} ({'cached' if cached else 'computed'})", flush=True)
-        reference = RunReference(directory, "monolithic run on the finest level (" + ", ".join(overrides) + ")")
+        return ClosedFormReference(scene)
+    overrides = levels[-1]["overrides"] + study.get("reference_overrides", []) + ["coupling.scheme=monolithic"]
+    directory = run_directory(out, scene, overrides)
+    _, cached = run(binary, scene, overrides, directory)
+    print(f"reference: monolithic on level {len(levels) - 1} ({'cached' if cached else 'computed'})", flush=True)
+    return RunReference(directory, "monolithic run on the finest level (" + ", ".join(overrides) + ")")
 
-    rows, started, done_time = [], time.time(), 0.0
+
+def result_row(study, level, variant, s, e, cached, directory):
+    """A row of results.csv (and the run's directory) from a run's summary `s` and errors `e`."""
+    timings = s["timings"]
+
+    def system_time(name):
+        """Seconds in a system's solves (summary.json lists only the systems a run has)."""
+        return timings[name]["total"] if name in timings else 0.0
+    return {"variant": variant["label"], "scheme": s["scheme"], "q": s["q"], "L": s["L"], "level": level,
+            "h": study["levels"][level].get("h", ""), "dt": s["dt"], "dofs": sum(s["dofs"].values()),
+            "steps": s["steps"], "coupling_iterations": s["coupling_iterations"], "flow_solves": s["flow_solves"],
+            "mechanics_solves": s["mechanics_solves"], "monolithic_solves": s["monolithic_solves"],
+            "wall_time_s": s["wall_time_s"], "time_flow_s": system_time("flow"),
+            "time_mechanics_s": system_time("mechanics"), "time_monolithic_s": system_time("monolithic"),
+            "time_assembly_s": timings["assembly"], "time_output_s": timings["output"],
+            "pressure_error_final": e["pressure"][0], "pressure_error_max": e["pressure"][1],
+            "displacement_error_final": e["displacement"][0], "displacement_error_max": e["displacement"][1],
+            "flux_error_final": e["flux"][0], "flux_error_max": e["flux"][1], "gamma": s["gamma"],
+            "reference": study["reference"], "cached": cached, "directory": directory}
+
+
+def run_all(study, out, binary, reference):
+    """Runs every variant on every level (reusing finished runs), printing
+    progress and the time left; returns the rows of results.csv."""
+    scene, levels, variants = study["scene"], study["levels"], study["variants"]
+    rows, done_time = [], 0.0
     total = len(levels) * len(variants)
     for i, (level, variant) in enumerate([(lv, v) for lv in range(len(levels)) for v in variants]):
         overrides = levels[level]["overrides"] + variant["overrides"]
-        directory = run_directory(args.out, scene, overrides)
+        directory = run_directory(out, scene, overrides)
         t0 = time.time()
-        try:
-            s, cached = run(args.binary, scene, overrides, directory)
-        except StudyError as e:
-            print(f"study: error: {e}", file=sys.stderr)
-            return 3
+        s, cached = run(binary, scene, overrides, directory)
         spent = time.time() - t0
         if not cached:
             done_time += spent
         e = errors(directory, reference)
-        timings = s["timings"]
-
-        def system_time(name):
-            """Seconds in a system's solves (summary.json lists only the systems a run has)."""
-            return timings[name]["total"] if name in timings else 0.0
-        dofs = sum(s["dofs"].values())
-        row = {"variant": variant["label"], "scheme": s["scheme"], "q": s["q"], "L": s["L"], "level": level,
-               "h": levels[level].get("h", ""), "dt": s["dt"], "dofs": dofs, "steps": s["steps"],
-               "coupling_iterations": s["coupling_iterations"], "flow_solves": s["flow_solves"],
-               "mechanics_solves": s["mechanics_solves"], "monolithic_solves": s["monolithic_solves"],
-               "wall_time_s": s["wall_time_s"], "time_flow_s": system_time("flow"),
-               "time_mechanics_s": system_time("mechanics"), "time_monolithic_s": system_time("monolithic"),
-               "time_assembly_s": timings["assembly"], "time_output_s": timings["output"],
-               "pressure_error_final": e["pressure"][0], "pressure_error_max": e["pressure"][1],
-               "displacement_error_final": e["displacement"][0], "displacement_error_max": e["displacement"][1],
-               "flux_error_final": e["flux"][0], "flux_error_max": e["flux"][1], "gamma": s["gamma"],
-               "reference": study["reference"], "cached": cached, "directory": directory}
-        rows.append(row)
-        remaining = total - i - 1
+        rows.append(result_row(study, level, variant, s, e, cached, directory))
         computed = sum(1 for r in rows if not r["cached"])
-        eta = done_time / computed * remaining if computed else 0.0
+        eta = done_time / computed * (total - i - 1) if computed else 0.0
         print(f"[{i + 1}/{total}] {variant['label']}, level {level}: {'cached' if cached else f'{spent:.1f} s'}, "
               f"pressure error {e['pressure'][0]:.3e}; about {eta:.0f} s left", flush=True)
+    return rows
 
-    with open(os.path.join(args.out, "results.csv"), "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
-    files = plots(rows, args.out, study)
+
+def write_report(args, study, reference, rows, files, started):
+    """DIR/report.md: how the study was run, the fastest run for each error level, the plots and every run."""
     version = subprocess.run([args.binary, "--version"], capture_output=True, text=True).stdout.strip()
     lines = [f"# Study: {study['name']}", "", study.get("description", ""), "",
              f"- command: `/usr/bin/python3 tools/study.py {args.study} --out {args.out}`",
              f"- machine: {platform.node()}, {os.cpu_count()} cores, {platform.platform()}",
              f"- solver: {version}", f"- date: {datetime.date.today()}",
-             f"- scene: `{scene}`; reference: {reference.description}",
-             f"- {total} runs taking {sum(float(r['wall_time_s']) for r in rows):.0f} s of solver wall time "
+             f"- scene: `{study['scene']}`; reference: {reference.description}",
+             f"- {len(rows)} runs taking {sum(float(r['wall_time_s']) for r in rows):.0f} s of solver wall time "
              f"({time.time() - started:.0f} s for this invocation, finished runs reused)",
              "- errors: relative l2 over cell midpoints (pressure, flux; cell-area weighted) and nodes "
              "(displacement), at every output time; 'final' at the end time, 'max' over time", "",
@@ -376,6 +523,58 @@ def main():
                      f"| {r['flux_error_final']:.2e} / {r['flux_error_max']:.2e} |")
     with open(os.path.join(args.out, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
+
+
+def replot(study, out):
+    """Redraws the plots from DIR/results.csv without running anything (report.md
+    is left as it is). The run directories are found again from the study file,
+    for the contraction plot, where they are still there."""
+    try:
+        with open(os.path.join(out, "results.csv")) as f:
+            rows = list(csv.DictReader(f))
+    except FileNotFoundError:
+        print(f"study: error: {out}/results.csv: not found", file=sys.stderr)
+        return 2
+    levels, overrides = study["levels"], {v["label"]: v["overrides"] for v in study["variants"]}
+    for r in rows:
+        level = int(r["level"])
+        known = r["variant"] in overrides and level < len(levels)
+        r["directory"] = run_directory(out, study["scene"], levels[level]["overrides"] + overrides[r["variant"]]) \
+            if known else ""
+    files = plots(rows, out, study)
+    print(f"wrote {len(files)} plots to {out}")
+    return 0
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("study")
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "biotcontact"))
+    parser.add_argument("--replot", action="store_true",
+                        help="redraw the plots from OUT/results.csv without running anything")
+    args = parser.parse_args()
+    try:
+        study = read_study(args.study)
+    except StudyError as e:
+        print(f"study: error: {e}", file=sys.stderr)
+        return 2
+    if args.replot:
+        return replot(study, args.out)
+    os.makedirs(os.path.join(args.out, "runs"), exist_ok=True)
+    reference = make_reference(study, args.out, args.binary)
+    started = time.time()
+    try:
+        rows = run_all(study, args.out, args.binary, reference)
+    except StudyError as e:
+        print(f"study: error: {e}", file=sys.stderr)
+        return 3
+    with open(os.path.join(args.out, "results.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+    files = plots(rows, args.out, study)
+    write_report(args, study, reference, rows, files, started)
     print(f"wrote {args.out}/results.csv, report.md and {len(files)} plots")
     return 0
 

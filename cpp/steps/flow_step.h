@@ -1,5 +1,6 @@
-// One backward-Euler flow step in mixed form, RT0 flux x P0 pressure
-// (alg. "Flow"), with the fixed-stress terms of alg. "Single-rate ... (a)" and
+// One flow step in mixed form, RT0 flux x P0 pressure (alg. "Flow"), backward
+// Euler in form (BDF2 enters through the step dt/c0 and the history values of
+// steps/time_scheme.h), with the fixed-stress terms of alg. "Single-rate ... (a)" and
 // "Multirate ... (a)" when the scene is coupled.
 #pragma once
 
