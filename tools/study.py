@@ -39,7 +39,8 @@ COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "
            "flow_solves", "mechanics_solves", "monolithic_solves", "wall_time_s", "time_flow_s",
            "time_mechanics_s", "time_monolithic_s", "time_assembly_s", "time_output_s",
            "pressure_error_final", "pressure_error_max", "displacement_error_final", "displacement_error_max",
-           "flux_error_final", "flux_error_max", "gamma", "reference", "cached"]
+           "flux_error_final", "flux_error_max", "pressure_space_error_final", "pressure_time_error_final",
+           "gamma", "reference", "cached"]
 
 
 class StudyError(Exception):
@@ -492,6 +493,52 @@ def run_all(study, out, binary, reference):
     return rows
 
 
+def level_dt(level):
+    """The time.dt a level's overrides set."""
+    for o in level["overrides"]:
+        if o.startswith("time.dt="):
+            return float(o.split("=", 1)[1])
+    raise StudyError("space_part: every level must set time.dt")
+
+
+def error_split(study, out, binary, reference, rows):
+    """With `space_part` in the study (the overrides of a run whose time error
+    is negligible, e.g. a BDF2 monolithic run) and `space_part_steps` (16):
+    per level, the error of that run on the level's mesh with a step
+    space_part_steps times smaller is the space part of the error; each
+    run's time part is its distance to that run (the same mesh), at the
+    final time, relative to the reference. Adds both to the rows."""
+    if "space_part" not in study:
+        return
+    levels, factor = study["levels"], study.get("space_part_steps", 16)
+    for level in range(len(levels)):
+        overrides = (levels[level]["overrides"] + study["space_part"]
+                     + [f"time.dt={level_dt(levels[level]) / factor!r}"])
+        directory = run_directory(out, study["scene"], overrides)
+        run(binary, study["scene"], overrides, directory)
+        space = errors(directory, reference)["pressure"][0]
+        same_mesh = RunReference(directory, "the space-part run")
+        for r in rows:
+            if r["level"] == level:
+                r["pressure_space_error_final"] = space
+                r["pressure_time_error_final"] = errors(r["directory"], same_mesh)["pressure"][0]
+        print(f"space part of level {level}: pressure error {space:.3e}", flush=True)
+
+
+def split_table(study, rows):
+    """The report's lines on the error split (none without `space_part`)."""
+    if "space_part" not in study:
+        return []
+    lines = ["## The error split into space and time (final-time relative pressure error)", "",
+             f"Space part: the error of a run on the level's mesh with `{' '.join(study['space_part'])}` and a step "
+             f"{study.get('space_part_steps', 16)} times smaller; time part: each run's distance to that run.", "",
+             "| variant | level | dt | total | space part | time part |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['variant']} | {r['level']} | {r['dt']:g} | {r['pressure_error_final']:.2e} "
+                     f"| {r['pressure_space_error_final']:.2e} | {r['pressure_time_error_final']:.2e} |")
+    return lines + [""]
+
+
 def write_report(args, study, reference, rows, files, started):
     """DIR/report.md: how the study was run, the fastest run for each error level, the plots and every run."""
     version = subprocess.run([args.binary, "--version"], capture_output=True, text=True).stdout.strip()
@@ -510,7 +557,7 @@ def write_report(args, study, reference, rows, files, started):
     for level, r in sorted(fastest(rows), key=lambda lr: -lr[0]):
         lines.append(f"| {level:.0e} | {r['variant']} | {r['level']} | {float(r['wall_time_s']):.2f} "
                      f"| {r['coupling_iterations']} | {int(r['mechanics_solves']) + int(r['monolithic_solves'])} |")
-    lines += ["", "## Plots", ""]
+    lines += [""] + split_table(study, rows) + ["## Plots", ""]
     for name, title in files.items():
         lines += [f"![{title}]({name})", ""]
     lines += ["## Runs", "", "| variant | level | dt | dofs | wall s | iterations | flow solves | mechanics solves "
@@ -566,6 +613,7 @@ def main():
     started = time.time()
     try:
         rows = run_all(study, args.out, args.binary, reference)
+        error_split(study, args.out, args.binary, reference, rows)
     except StudyError as e:
         print(f"study: error: {e}", file=sys.stderr)
         return 3
