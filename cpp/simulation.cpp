@@ -150,6 +150,24 @@ Json closed_form_errors(const Scene& scene, const Parameters& parameters, const 
 
 /// The regions of the summary: each one's cells and its material's gamma
 /// and L, and the cells in no region (the top-level material).
+/// time.adaptive's part of summary.json: the tolerance, the steps rejected
+/// or forced at dt_min, the largest accepted estimate, the steps taken.
+Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const TimeGrid& grid)
+{
+  const auto taken = std::span(grid.dt).first(std::min<std::size_t>(report.windows, grid.dt.size()));
+  const auto [smallest, largest] = std::minmax_element(taken.begin(), taken.end());
+  Json j;
+  j.set("tolerance", spec.tolerance)
+      .set("dt_min", spec.dt_min)
+      .set("dt_max", spec.dt_max)
+      .set("rejected_steps", report.rejected_steps)
+      .set("forced_steps", report.forced_steps)
+      .set("max_error_estimate", report.max_error_estimate);
+  if (!taken.empty())
+    j.set("smallest_step", *smallest).set("largest_step", *largest);
+  return j;
+}
+
 Json regions_json(const CellRegions& cells, const Materials& materials)
 {
   Json regions;
@@ -197,25 +215,29 @@ struct Steps
   std::function<void(fem::Function<double>&)> compute_flux;
   std::function<ContactState()> compute_contact = [] { return ContactState{}; };
 
-  /// BDF2's memory (steps/time_scheme.h) by checkpoint name: the state one
-  /// step before the last completed one; none for backward Euler.
+  std::unique_ptr<StepControl> step_control; // time.adaptive
+
+  /// The memory of the time scheme and of time.adaptive by checkpoint name:
+  /// BDF2's state one step before the last completed one
+  /// (steps/time_scheme.h), the step control's accepted states.
   std::vector<std::pair<std::string, fem::Function<double>*>> history(const Scene& scene) const
   {
     std::vector<std::pair<std::string, fem::Function<double>*>> h;
-    if (scene.time_scheme != "bdf2")
-      return h;
-    if (flow)
+    if (scene.time_scheme == "bdf2" and flow)
       h.push_back({"pressure_before", flow->p_before.get()});
-    if (flow and flow->u_before)
+    if (scene.time_scheme == "bdf2" and flow and flow->u_before)
     {
       h.push_back({"displacement_before", flow->u_before.get()});
       h.push_back({"displacement_path_before", flow->u_path_before.get()});
     }
-    if (monolithic)
+    if (scene.time_scheme == "bdf2" and monolithic)
     {
       h.push_back({"pressure_before", monolithic->p_before.get()});
       h.push_back({"displacement_before", monolithic->u_before.get()});
     }
+    if (step_control)
+      for (const auto& entry : step_control->history())
+        h.push_back(entry);
     return h;
   }
 
@@ -524,6 +546,9 @@ public:
     _steps = _scene.coupling and _scene.coupling->scheme == "monolithic"
                  ? monolithic_steps(_scene, *_domain, *_forms, _constants, _materials)
                  : split_steps(_scene, *_domain, *_forms, _constants, _materials);
+    if (_scene.adaptive)
+      _steps.step_control = std::make_unique<StepControl>(_scene, _steps.p ? _steps.p->function_space() : nullptr,
+                                                          _steps.V);
     try
     {
       open_output();
@@ -679,6 +704,9 @@ void Simulation::start_or_restore()
     _fields->write_mechanics(0.0);
   if (_steps.contact_boundary)
     _output->write(*_steps.contact_boundary, 0.0); // once: every later time repeats it
+  if (_steps.step_control)
+    _steps.step_control->start(_steps.p ? _steps.p->x()->array() : std::span<const double>(),
+                               _steps.u ? _steps.u->x()->array() : std::span<const double>(), _report);
 }
 
 /// After each completed (and written) step: a checkpoint every
@@ -707,11 +735,17 @@ bool Simulation::stop()
 WindowObserver Simulation::observer()
 {
   WindowObserver o;
-  o.flow_state = [this](double t) { _fields->write_flow(t); };
+  o.flow_state = [this](double t)
+  {
+    if (_scene.is_output_time(t))
+      _fields->write_flow(t);
+  };
   o.mechanics_state = [this](double t, int step, int iterations)
   {
-    if (_steps.u)
+    if (_steps.u and _scene.is_output_time(t))
       _fields->write_mechanics(t);
+    else if (_steps.u)
+      _fields->contact = _steps.compute_contact();
     _completed_steps = step;
     _completed_time = t;
     _progress.step(step, _grid.steps() / _parameters.q, t, iterations, _fields->contact.active_nodes);
@@ -755,11 +789,11 @@ void Simulation::time_loop()
     {
       ContractionNorm contraction(*_forms, _materials, _parameters.q, _steps.V, _steps.flow->pressure_space());
       run_fixed_stress(_scene, _parameters, _constants, _materials, *_steps.flow, _steps.second_pass.get(),
-                       *_steps.mechanics, contraction, *_output, o, _report, _grid);
+                       *_steps.mechanics, contraction, *_output, o, _report, _grid, _steps.step_control.get());
     }
     else
       run_single_solve(_scene, _constants, _steps.flow.get(), _steps.mechanics.get(), _steps.monolithic.get(), o,
-                       _report, _grid);
+                       _report, _grid, _steps.step_control.get());
   }
   catch (const CouplingError& e)
   {
@@ -858,6 +892,8 @@ void Simulation::write_summary()
       .set("left_out", _left_out)
       .set("warnings", _warnings)
       .set("mpi_ranks", [&] { int n; MPI_Comm_size(_comm, &n); return n; }());
+  if (_scene.adaptive)
+    summary.set("adaptive", adaptive_json(*_scene.adaptive, _report, _grid));
   if (!_domain->regions.names.empty())
     summary.set("regions", regions_json(_domain->regions, _materials));
   if (_steps.contact_pressure)

@@ -14,6 +14,7 @@ from .domain.domain import check_expressions, create_domain
 from .coupling.coupling import CouplingError, CouplingReport, WindowObserver, for_each_checkpointed
 from .coupling.fixed_stress import run_fixed_stress
 from .coupling.single_solve import run_single_solve
+from .coupling.step_control import StepControl
 from .assembly.forms import Forms
 from .assembly.linear_algebra import UnknownsPart
 from .assembly.materials import make_materials
@@ -128,6 +129,7 @@ class Steps:
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         self.compute_flux = None
         self.compute_contact = ContactState
+        self.step_control = None  # time.adaptive
 
     def systems(self):
         """The systems by their summary name, in the order of checkpoints."""
@@ -239,26 +241,36 @@ def capture_checkpoint(steps, time, s, mesh, report, output, grid, scene):
     return c
 
 
-def history(s):
-    """BDF2's memory by checkpoint name (cpp/simulation.cpp): the state one
-    step before the last completed one."""
-    if s.monolithic:
-        return [("pressure_before", s.monolithic.p_before), ("displacement_before", s.monolithic.u_before)]
-    if not s.flow:
-        return []
-    h = [("pressure_before", s.flow.p_before)]
-    if s.flow.u_before is not None:
-        h += [("displacement_before", s.flow.u_before), ("displacement_path_before", s.flow.u_path_before)]
-    return h
+def adaptive_json(spec, report, grid):
+    """time.adaptive's part of summary.json: the tolerance, the steps
+    rejected or forced at dt_min, the largest accepted estimate, the steps taken."""
+    j = {"tolerance": spec.tolerance, "dt_min": spec.dt_min, "dt_max": spec.dt_max,
+         "rejected_steps": report.rejected_steps, "forced_steps": report.forced_steps,
+         "max_error_estimate": report.max_error_estimate}
+    taken = grid.dt[:report.windows]
+    if taken:
+        j.update(smallest_step=min(taken), largest_step=max(taken))
+    return j
+
+
+def history(s, scene):
+    """The memory of the time scheme and of time.adaptive by checkpoint name
+    (cpp/simulation.cpp): BDF2's state one step before the last completed
+    one, the step control's accepted states."""
+    h = []
+    if scene.time_scheme == "bdf2" and s.monolithic:
+        h = [("pressure_before", s.monolithic.p_before), ("displacement_before", s.monolithic.u_before)]
+    elif scene.time_scheme == "bdf2" and s.flow:
+        h = [("pressure_before", s.flow.p_before)]
+        if s.flow.u_before is not None:
+            h += [("displacement_before", s.flow.u_before), ("displacement_path_before", s.flow.u_path_before)]
+    return h + (s.step_control.history() if s.step_control else [])
 
 
 def unknowns_parts(s, scene):
-    """Each step's fields and the vector of unknowns they sit in; with
-    time.scheme = "bdf2" also its memory, the state one step before the last
-    completed one (steps/time_scheme.py)."""
-    result = []
-    if scene.time_scheme == "bdf2":
-        result += [([UnknownsPart(name, f.function_space)], f.x.array) for name, f in history(s)]
+    """Each step's fields and the vector of unknowns they sit in; also the
+    memory of BDF2 and of time.adaptive (history)."""
+    result = [([UnknownsPart(name, f.function_space)], f.x.array) for name, f in history(s, scene)]
     if s.flow:
         result.append((s.flow.parts(), s.flow.unknowns()))
     if s.mechanics:
@@ -363,6 +375,9 @@ class Simulation:
             self.steps = (monolithic_steps(scene, self.domain, self.F)
                           if scene.coupling and scene.coupling.scheme == "monolithic"
                           else split_steps(scene, self.domain, self.F, self.materials))
+            if scene.adaptive:
+                self.steps.step_control = StepControl(scene, self.steps.p.function_space if self.steps.p else None,
+                                                      self.steps.V, self.comm)
             try:
                 self.open_output()
                 self.start_or_restore()
@@ -469,6 +484,8 @@ class Simulation:
             self.fields.write_mechanics(0.0)
         if s.contact_boundary is not None:
             self.output.write(s.contact_boundary, 0.0)  # once: every later time repeats it
+        if s.step_control:
+            s.step_control.start(s.p.x.array if s.p else None, s.u.x.array if s.u else None, self.report)
 
     def stop(self):
         """After each completed (and written) step: a checkpoint every
@@ -491,9 +508,15 @@ class Simulation:
     def observer(self):
         """What the coupling schemes tell the run: write each step, print the
         progress, checkpoint, stop at an interruption."""
+        def flow_state(t):
+            if self.scene.is_output_time(t):
+                self.fields.write_flow(t)
+
         def mechanics_state(t, step, iterations):
-            if self.steps.u is not None:
+            if self.steps.u is not None and self.scene.is_output_time(t):
                 self.fields.write_mechanics(t)
+            elif self.steps.u is not None:
+                self.fields.contact = self.steps.compute_contact()
             self.completed_steps, self.completed_time = step, t
             self.progress.step(step, self.grid.steps() // self.parameters.q, t, iterations,
                                self.fields.contact.active_nodes)
@@ -501,7 +524,7 @@ class Simulation:
         def iteration(step, iteration, dp, du):
             self.progress.heartbeat(f"step {step}: coupling iteration {iteration}, increments dp {dp:.3g} "
                                     f"du {du:.3g}")
-        return WindowObserver(flow_state=self.fields.write_flow, mechanics_state=mechanics_state, stop=self.stop,
+        return WindowObserver(flow_state=flow_state, mechanics_state=mechanics_state, stop=self.stop,
                               retry=self.progress.say, iteration=iteration)
 
     def report_newton_steps(self):
@@ -526,10 +549,11 @@ class Simulation:
             if scene.coupling and not s.monolithic:
                 contraction = ContractionNorm(self.F, parameters.q, self.comm)
                 run_fixed_stress(scene, parameters, self.materials, self.F, s.flow, s.second_pass, s.mechanics,
-                                 contraction, self.output, observer, self.report, self.comm, self.grid)
+                                 contraction, self.output, observer, self.report, self.comm, self.grid,
+                                 s.step_control)
             else:
                 run_single_solve(scene, self.F, s.flow, s.mechanics, s.monolithic, observer, self.report,
-                                 self.grid)
+                                 self.grid, s.step_control)
         except CouplingError as e:
             self.failure = str(e)  # names its step and the last increments
         except SolverError as e:
@@ -610,6 +634,8 @@ class Simulation:
             "warnings": self.warnings,
             "mpi_ranks": self.comm.size,
         }
+        if scene.adaptive:
+            summary["adaptive"] = adaptive_json(scene.adaptive, report, self.grid)
         if self.domain.regions.names:
             summary["regions"] = regions_json(self.domain.regions, self.materials)
         if s.contact_pressure is not None:

@@ -29,9 +29,15 @@ struct CouplingReport
   long unresolved_ratios = 0;  // ratios at round-off level, logged only
   double max_coupled_residual = 0; // relative, of each converged state
   long retries = 0;            // failed steps retried with halved steps (time.retry)
+  long rejected_steps = 0;     // time.adaptive: steps tried again, shorter, for their error estimate
+  long forced_steps = 0;       // ... accepted at dt_min above the tolerance
+  double max_error_estimate = 0; // ... the largest of an accepted step (1: the tolerance)
   // Carried from window to window (and through a checkpoint): the sum of
   // the resolved ratios and the scales of the stopping test.
   double ratio_sum = 0, p_size = 0, u_size = 0;
+  // time.adaptive: the last accepted step's error estimate (the PI
+  // controller's memory) and the largest norms of pressure and displacement.
+  double error_estimate = 0, p_largest = 0, u_largest = 0;
 };
 
 /// Called after each converged window: once per fine flow step (with that
@@ -43,7 +49,8 @@ struct WindowObserver
   /// Asked after each accepted (and written) window: true ends the run
   /// there (an interruption).
   std::function<bool()> stop;
-  /// Told that a failed window is tried again with halved steps.
+  /// Told that a window is tried again with shorter steps (a failed solve,
+  /// or an error estimate above time.adaptive.tolerance).
   std::function<void(const std::string& message)> retry;
   /// Told after each coupling iteration (window, iteration, increments dp
   /// and du): the progress of a long window.
@@ -67,6 +74,12 @@ void for_each_checkpointed(Report& r, F&& f)
   f("p_size", r.p_size);
   f("u_size", r.u_size);
   f("retries", r.retries);
+  f("rejected_steps", r.rejected_steps);
+  f("forced_steps", r.forced_steps);
+  f("max_error_estimate", r.max_error_estimate);
+  f("error_estimate", r.error_estimate);
+  f("p_largest", r.p_largest);
+  f("u_largest", r.u_largest);
 }
 
 } // namespace biotcontact

@@ -140,11 +140,11 @@ public:
   FixedStressSplit(const Scene& scene, const Parameters& parameters, const Constants& constants,
                    const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
                    ContractionNorm& contraction, Output& output, const WindowObserver& observer,
-                   CouplingReport& report, TimeGrid& grid)
+                   CouplingReport& report, TimeGrid& grid, StepControl* control)
       : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants),
         _stabilised(materials.max_L > 0), _flow(flow),
         _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
-        _observer(observer), _report(report), _grid(grid), _q(parameters.q), _V(*mechanics.space()),
+        _observer(observer), _report(report), _grid(grid), _control(control), _q(parameters.q), _V(*mechanics.space()),
         _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
   {
   }
@@ -177,6 +177,7 @@ private:
   void next_iterate(Window& w);
   void record_coupled_residual(const Window& w, const Increments& inc);
   bool retry(const Window& w, const std::string& cause);
+  bool error_accepted(const Window& w);
   CouplingError not_converged(const Window& w);
   void accept_window(const Window& w, int n);
 
@@ -193,6 +194,7 @@ private:
   const WindowObserver& _observer;
   CouplingReport& _report;
   TimeGrid& _grid;
+  StepControl* _control; // time.adaptive (q = 1), or null
   const int _q;
   const fem::FunctionSpace& _V;
   const fem::FunctionSpace& _Q;
@@ -561,6 +563,21 @@ bool FixedStressSplit::retry(const Window& w, const std::string& cause)
   return true;
 }
 
+/// time.adaptive: whether the converged window's error estimate accepts it
+/// (the control then plans the next steps); if not, back to its start, to
+/// be computed again on the shorter steps the control planned.
+bool FixedStressSplit::error_accepted(const Window& w)
+{
+  std::string message;
+  if (!_control or _control->judge(_grid, (w.K + 1) * _q, w.p_new[_q], w.u_new, _report, message))
+    return true;
+  _flow.set_unknowns(w.w_K);
+  assign(*_mechanics.u, _u_K);
+  if (_observer.retry)
+    _observer.retry(message);
+  return false;
+}
+
 /// The error of a window that did not converge in coupling.max_iterations,
 /// with the last increments.
 CouplingError FixedStressSplit::not_converged(const Window& w)
@@ -614,9 +631,9 @@ void FixedStressSplit::run()
       _report.mean_contraction_ratio = _report.ratios ? _report.ratio_sum / _report.ratios : 0.0;
       throw not_converged(w);
     }
-    if (outcome != Outcome::converged)
+    if (outcome != Outcome::converged or !error_accepted(w))
     {
-      K = w.K - 1; // the same window again, on the halved steps
+      K = w.K - 1; // the same window again, on the shorter steps
       continue;
     }
     accept_window(w, n);
@@ -631,10 +648,10 @@ void FixedStressSplit::run()
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
                       const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
                       ContractionNorm& contraction, Output& output, const WindowObserver& observer,
-                      CouplingReport& report, TimeGrid& grid)
+                      CouplingReport& report, TimeGrid& grid, StepControl* control)
 {
   FixedStressSplit(scene, parameters, constants, materials, flow, second_pass, mechanics, contraction, output, observer,
-                   report, grid)
+                   report, grid, control)
       .run();
 }
 

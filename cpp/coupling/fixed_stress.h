@@ -7,6 +7,7 @@
 #pragma once
 
 #include "coupling/coupling.h"
+#include "coupling/step_control.h"
 #include "diagnostics/diagnostics.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
@@ -38,6 +39,7 @@ double inexact_tolerance(double previous_increment);
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
                       const Materials& materials, FlowStep& flow, FlowStep* second_pass,
                       MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
-                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid);
+                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid,
+                      StepControl* control);
 
 } // namespace biotcontact

@@ -83,11 +83,30 @@ void solve_step(double t, const TimeDerivative& d, FlowStep* flow, MechanicsStep
     mechanics->solve(t);
 }
 
+/// time.adaptive: whether the step's error estimate accepts it (the control
+/// then plans the next steps; otherwise the step's, shorter).
+bool error_accepted(StepControl* control, TimeGrid& grid, int k, const FlowStep* flow, const MechanicsStep* mechanics,
+                    const MonolithicStep* monolithic, CouplingReport& report, const WindowObserver& observer)
+{
+  if (!control)
+    return true;
+  std::span<const double> p, u;
+  if (flow or monolithic)
+    p = (flow ? flow->pressure : monolithic->pressure)->x()->array();
+  if (mechanics or monolithic)
+    u = (mechanics ? mechanics->u : monolithic->u)->x()->array();
+  std::string message;
+  if (control->judge(grid, k, p, u, report, message))
+    return true;
+  observer.retry(message);
+  return false;
+}
+
 } // namespace
 
 void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* flow, MechanicsStep* mechanics,
                       MonolithicStep* monolithic, const WindowObserver& observer, CouplingReport& report,
-                      TimeGrid& grid)
+                      TimeGrid& grid, StepControl* control)
 {
   int attempts = 0; // retries of the current step (time.retry)
   for (int k = report.windows + 1; k <= grid.steps(); ++k)
@@ -114,6 +133,12 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
       observer.retry(*message);
       go_back(start, flow, mechanics, monolithic);
       --k; // the same step again, halved
+      continue;
+    }
+    if (!error_accepted(control, grid, k, flow, mechanics, monolithic, report, observer))
+    {
+      go_back(start, flow, mechanics, monolithic);
+      --k; // the same step again, shorter
       continue;
     }
     attempts = 0;

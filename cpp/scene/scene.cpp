@@ -148,7 +148,7 @@ public:
   {
     const toml::node* n = node(key);
     if (!n or !n->is_array() or (size > 0 and n->as_array()->size() != size))
-      fail(key, "must be an array of " + std::to_string(size) + " numbers");
+      fail(key, size > 0 ? "must be an array of " + std::to_string(size) + " numbers" : "must be an array of numbers");
     std::vector<double> v;
     for (const toml::node& e : *n->as_array())
     {
@@ -598,8 +598,53 @@ void read_physics(Section& top, Scene& scene)
     top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled");
 }
 
-/// [time]: the end, the first step, its growth and the retries; the steps
-/// must be whole, at most Scene::max_steps and, with q > 1, whole windows.
+/// time.adaptive: the tolerance and the bounds of the step (the first step
+/// is time.dt).
+std::optional<AdaptiveSpec> read_adaptive(Section& time, const Scene& scene)
+{
+  if (!time.has("adaptive"))
+    return std::nullopt;
+  Section a = time.table("adaptive", false);
+  AdaptiveSpec s;
+  s.tolerance = a.number("tolerance");
+  if (!(s.tolerance > 0 and s.tolerance < 1))
+    a.fail("tolerance", "must lie in (0, 1)");
+  s.dt_min = a.number("dt_min", std::min(scene.dt, std::max(scene.dt / 1000, scene.end_time / Scene::max_steps)));
+  s.dt_max = a.number("dt_max", scene.end_time);
+  if (!(s.dt_min > 0 and s.dt_min <= scene.dt))
+    a.fail("dt_min", "must lie in (0, time.dt] (default time.dt / 1000)");
+  if (!(s.dt_max >= scene.dt))
+    a.fail("dt_max", "must be >= time.dt (default time.end)");
+  if (scene.end_time / s.dt_min > Scene::max_steps)
+    a.fail("dt_min", "time.end / dt_min is more than the limit of " + std::to_string(Scene::max_steps) + " steps");
+  a.finish();
+  if (scene.growth > 1.0)
+    time.fail("adaptive", "adaptive steps and time.growth exclude each other");
+  if (scene.coupling and scene.coupling->q != 1)
+    time.fail("adaptive", "adaptive steps need q = 1 (coupling.q is " + std::to_string(scene.coupling->q) + ")");
+  return s;
+}
+
+/// Fixed steps: time.end must be a whole number of at most Scene::max_steps
+/// steps dt.
+void check_step_count(Section& time, const Scene& scene)
+{
+  const double steps = scene.end_time / scene.dt;
+  // Counted in double precision: an int would overflow silently.
+  if (steps > Scene::max_steps)
+  {
+    std::ostringstream message;
+    message << "time.end / time.dt = " << std::setprecision(3) << steps << " steps, more than the limit of "
+            << Scene::max_steps;
+    time.fail("dt", message.str());
+  }
+  if (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1)
+    time.fail("dt", "time.end must be a whole number of steps dt");
+}
+
+/// [time]: the end, the first step, its growth or adaptation, the retries
+/// and the scheme; fixed steps must be whole, at most Scene::max_steps and,
+/// with q > 1, whole windows.
 void read_time(Section& top, Scene& scene)
 {
   Section time = top.table("time", true);
@@ -616,18 +661,14 @@ void read_time(Section& top, Scene& scene)
   scene.time_scheme = time.string("scheme", "backward-euler");
   if (scene.time_scheme != "backward-euler" and scene.time_scheme != "bdf2")
     time.fail("scheme", "must be \"backward-euler\" or \"bdf2\", got \"" + scene.time_scheme + "\"");
-  const double steps = scene.end_time / scene.dt;
-  // Counted in double precision: an int would overflow silently.
-  if (scene.growth == 1.0 and steps > Scene::max_steps)
+  scene.adaptive = read_adaptive(time, scene);
+  if (scene.adaptive)
   {
-    std::ostringstream message;
-    message << "time.end / time.dt = " << std::setprecision(3) << steps << " steps, more than the limit of "
-            << Scene::max_steps;
-    time.fail("dt", message.str());
+    time.finish();
+    return;
   }
-  if (scene.growth == 1.0
-      and (std::abs(steps - std::round(steps)) > 1e-9 * steps or std::round(steps) < 1))
-    time.fail("dt", "time.end must be a whole number of steps dt");
+  if (scene.growth == 1.0)
+    check_step_count(time, scene);
   if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
     time.fail("growth", "growing time steps need q = 1");
   if (scene.num_steps() > Scene::max_steps)
@@ -637,11 +678,60 @@ void read_time(Section& top, Scene& scene)
     top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q");
 }
 
-/// [output]: XDMF on or off, the checkpoint interval (in steps) and the
-/// progress interval (in seconds).
+/// output.times or output.every: the times written, increasing, in
+/// (0, time.end], time.end added; with fixed or growing steps each must be
+/// the end of a step (of a window for q > 1).
+std::vector<double> read_output_times(Section& output, const Scene& scene)
+{
+  if (output.has("times") and output.has("every"))
+    output.fail("every", "give output.times or output.every, not both");
+  const double end = scene.end_time, slack = 1e-9 * end;
+  std::vector<double> t;
+  if (output.has("times"))
+  {
+    t = output.number_vector("times", 0);
+    for (std::size_t i = 0; i < t.size(); ++i)
+      if (!(t[i] > 0 and t[i] <= end + slack and (i == 0 or t[i] > t[i - 1] + slack)))
+        output.fail("times", "must increase strictly within (0, time.end]");
+  }
+  else if (output.has("every"))
+  {
+    const double every = output.number("every");
+    if (!(every > 0 and every <= end))
+      output.fail("every", "must lie in (0, time.end]");
+    for (long k = 1; k * every <= end + slack; ++k)
+      t.push_back(k * every);
+  }
+  else
+    return t;
+  if (t.empty() or t.back() < end - slack)
+    t.push_back(end);
+  t.back() = end;
+  if (scene.adaptive)
+    return t;
+  const std::vector<double> run = scene.times();
+  const int q = scene.coupling ? scene.coupling->q : 1;
+  for (double s : t)
+  {
+    const auto k = std::lower_bound(run.begin(), run.end(), s - slack) - run.begin();
+    if (k == static_cast<long>(run.size()) or std::abs(run[k] - s) > slack or k % q != 0)
+    {
+      std::ostringstream message;
+      message << std::setprecision(6) << s << " is not the end of a " << (q > 1 ? "window" : "step")
+              << " of the run (time.dt = " << scene.dt << (q > 1 ? ", q = " + std::to_string(q) : "")
+              << "); time.adaptive lands on any time";
+      output.fail(output.has("times") ? "times" : "every", message.str());
+    }
+  }
+  return t;
+}
+
+/// [output]: XDMF on or off, the times written, the checkpoint interval (in
+/// steps) and the progress interval (seconds).
 void read_output(Section output, Scene& scene)
 {
   scene.write_xdmf = output.boolean("xdmf", true);
+  scene.output_times = read_output_times(output, scene);
   scene.checkpoint_every = output.integer("checkpoint_every", 0);
   if (scene.checkpoint_every < 0)
     output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)");
@@ -907,6 +997,19 @@ int Scene::num_steps() const
   if (growth == 1.0)
     return static_cast<int>(std::llround(end_time / dt));
   return static_cast<int>(times().size()) - 1;
+}
+
+std::vector<double> Scene::stops() const
+{
+  return output_times.empty() ? std::vector<double>{end_time} : output_times;
+}
+
+bool Scene::is_output_time(double t) const
+{
+  if (output_times.empty())
+    return true;
+  const auto k = std::lower_bound(output_times.begin(), output_times.end(), t - 1e-9 * end_time);
+  return k != output_times.end() and std::abs(*k - t) <= 1e-9 * end_time;
 }
 
 Scene read_scene(const std::string& file, const std::vector<std::string>& overrides)

@@ -171,6 +171,14 @@ struct RegionSpec
   double alpha = 0;                        // the scene's alpha or the region's
 };
 
+/// time.adaptive: steps chosen by a local error estimate
+/// (coupling/step_control.h); time.dt is the first step.
+struct AdaptiveSpec
+{
+  double tolerance = 0; // of the error per unit step, relative to the field's largest norm
+  double dt_min = 0, dt_max = 0;
+};
+
 struct Scene
 {
   std::string file, name, description;
@@ -185,7 +193,11 @@ struct Scene
   double growth = 1; // time.growth: dt_k = dt growth^(k-1)
   int retry = 0;      // time.retry: a failed step is retried with halved steps up to this many times
   std::string time_scheme = "backward-euler"; // time.scheme: or "bdf2" (steps/time_scheme.h)
+  std::optional<AdaptiveSpec> adaptive;       // time.adaptive
   bool write_xdmf = true;
+  /// output.times or output.every (and time.end): the times written after
+  /// t = 0; empty: every step.
+  std::vector<double> output_times;
   int checkpoint_every = 0; // output.checkpoint_every: steps between checkpoints, 0 none
   double progress_interval = 10; // output.progress_interval: seconds between lines within a step
   std::optional<ReferenceSpec> reference;
@@ -199,8 +211,13 @@ struct Scene
   /// by cell (each cell its material's), not interpolated at the nodes.
   bool cellwise_body_force() const;
   int num_steps() const;
-  /// t_0 = 0, t_1, ..., t_N = end_time (fine steps).
+  /// t_0 = 0, t_1, ..., t_N = end_time (fine steps) of fixed or growing
+  /// steps (adaptive steps are planned by steps/time_grid.h).
   std::vector<double> times() const;
+  /// The times a step must land on: the output times and time.end.
+  std::vector<double> stops() const;
+  /// Whether t is one of the output times (every t with no output.times).
+  bool is_output_time(double t) const;
 };
 
 /// Reads and validates a scene; `overrides` are "key.path=value" strings

@@ -1,5 +1,7 @@
 #include "steps/time_grid.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace biotcontact
@@ -8,10 +10,36 @@ namespace biotcontact
 TimeGrid time_grid(const Scene& scene)
 {
   TimeGrid g;
+  if (scene.adaptive)
+  {
+    g.t = {0.0};
+    plan_steps(g, 0, scene.dt, scene.stops());
+    return g;
+  }
   g.t = scene.times();
   for (std::size_t k = 0; k + 1 < g.t.size(); ++k)
     g.dt.push_back(scene.growth == 1.0 ? scene.dt : g.t[k + 1] - g.t[k]);
   return g;
+}
+
+void plan_steps(TimeGrid& grid, int k, double h, const std::vector<double>& stops)
+{
+  grid.t.resize(k + 1);
+  grid.dt.resize(k);
+  const double slack = 1e-12 * stops.back();
+  for (double stop : stops)
+  {
+    const double t0 = grid.t.back();
+    if (stop <= t0 + slack)
+      continue;
+    const long n = std::max(1L, static_cast<long>(std::ceil((stop - t0) / h - 1e-9)));
+    const double step = (stop - t0) / n;
+    for (long i = 1; i <= n; ++i)
+    {
+      grid.t.push_back(i == n ? stop : t0 + i * step);
+      grid.dt.push_back(step);
+    }
+  }
 }
 
 void halve_steps(TimeGrid& grid, int first, int count)

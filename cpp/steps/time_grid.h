@@ -1,9 +1,11 @@
 // The times of a run, t_0 = 0 < t_1 < ... < t_N = time.end, and the step
-// dt_k = t_{k+1} - t_k of each, kept exactly (dt from the scene, or grown by
-// time.growth) so that a constant step is recognised as unchanged and its
-// matrices are not rebuilt. A failed step retried with time.retry has its
-// fine steps halved (dt/2 is exact in binary floating point); a checkpoint
-// keeps the grid, so that a restart continues on it.
+// dt_k = t_{k+1} - t_k of each, kept exactly (dt from the scene, grown by
+// time.growth, or planned by time.adaptive) so that a constant step is
+// recognised as unchanged and its matrices are not rebuilt. A failed step
+// retried with time.retry has its fine steps halved (dt/2 is exact in
+// binary floating point); an adaptive run plans the steps after each
+// accepted one again (coupling/step_control.h); a checkpoint keeps the
+// grid, so that a restart continues on it.
 #pragma once
 
 #include "scene/scene.h"
@@ -24,6 +26,10 @@ struct TimeGrid
 
 /// The scene's times (Scene::times) with their steps.
 TimeGrid time_grid(const Scene& scene);
+
+/// Replaces the steps after t_k by steps of about h that land on every stop
+/// after t_k (Scene::stops): n = ceil((stop - t) / h) equal steps to each.
+void plan_steps(TimeGrid& grid, int k, double h, const std::vector<double>& stops);
 
 /// Halves the steps first, ..., first + count - 1 (count more steps).
 void halve_steps(TimeGrid& grid, int first, int count);

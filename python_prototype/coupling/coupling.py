@@ -24,9 +24,15 @@ class CouplingReport:
         self.unresolved_ratios = 0         # ratios at round-off level, logged only
         self.max_coupled_residual = 0.0    # relative, of each converged state
         self.retries = 0                   # failed steps retried with halved steps (time.retry)
+        self.rejected_steps = 0            # time.adaptive: steps tried again, shorter, for their error estimate
+        self.forced_steps = 0              # ... accepted at dt_min above the tolerance
+        self.max_error_estimate = 0.0      # ... the largest of an accepted step (1: the tolerance)
         # Carried from window to window (and through a checkpoint): the sum
         # of the resolved ratios and the scales of the stopping test.
         self.ratio_sum = self.p_size = self.u_size = 0.0
+        # time.adaptive: the last accepted step's error estimate (the PI
+        # controller's memory) and the largest norms of pressure and displacement.
+        self.error_estimate = self.p_largest = self.u_largest = 0.0
 
 
 @dataclass
@@ -39,7 +45,8 @@ class WindowObserver:
     # Asked after each accepted (and written) window: true ends the run
     # there (an interruption).
     stop: Optional[Callable[[], bool]] = None
-    # Told that a failed window is tried again with halved steps.
+    # Told that a window is tried again with shorter steps (a failed solve,
+    # or an error estimate above time.adaptive.tolerance).
     retry: Optional[Callable[[str], None]] = None
     # Told after each coupling iteration (window, iteration, increments dp
     # and du): the progress of a long window.
@@ -49,7 +56,8 @@ class WindowObserver:
 # The fields of the report that a checkpoint keeps, in the order of the C++.
 CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
-                "retries")
+                "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate", "p_largest",
+                "u_largest")
 
 
 def for_each_checkpointed(report, f):

@@ -108,12 +108,13 @@ class FixedStressSplit:
     stopping test, next iterate, and accept or retry."""
 
     def __init__(self, scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
-                 report, comm, grid):
+                 report, comm, grid, control):
         self.scene, self.coupling, self.parameters, self.F = scene, scene.coupling, parameters, F
         self.stabilised = materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
         self.flow, self.second_pass, self.mechanics = flow, second_pass, mechanics
         self.contraction, self.output, self.observer = contraction, output, observer
         self.report, self.comm, self.grid = report, comm, grid
+        self.control = control  # time.adaptive (q = 1), or None
         self.q, self.V, self.Q = parameters.q, mechanics.V, flow.Q
         self.accelerated = self.coupling.acceleration == "anderson"
         self.p_K = self.u_K = None  # the converged state at t_K
@@ -399,6 +400,21 @@ class FixedStressSplit:
             self.observer.retry(message)
         return True
 
+    def error_accepted(self, w):
+        """time.adaptive: whether the converged window's error estimate accepts
+        it (the control then plans the next steps); if not, back to its start,
+        to be computed again on the shorter steps the control planned."""
+        if self.control is None:
+            return True
+        message = self.control.judge(self.grid, (w.K + 1) * self.q, w.p_new[self.q], w.u_new, self.report)
+        if message is None:
+            return True
+        self.flow.set_unknowns(w.w_K)
+        self.mechanics.u.x.array[:] = self.u_K
+        if self.observer.retry:
+            self.observer.retry(message)
+        return False
+
     def not_converged(self, w):
         """The error of a window that did not converge in
         coupling.max_iterations, with the last increments."""
@@ -437,8 +453,8 @@ class FixedStressSplit:
             if outcome == Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
                 report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
                 raise self.not_converged(w)
-            if outcome != Outcome.converged:
-                continue  # the same window again, on the halved steps
+            if outcome != Outcome.converged or not self.error_accepted(w):
+                continue  # the same window again, on the shorter steps
             self.accept_window(w, n)
             K += 1
             if self.observer.stop and self.observer.stop():
@@ -447,13 +463,14 @@ class FixedStressSplit:
 
 
 def run_fixed_stress(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
-                     report, comm, grid):
+                     report, comm, grid, control):
     """Runs the coupled scene from t = 0 (or, when report.windows > 0, from
     the end of that window: a restart with the state loaded) to its end time
     on the steps of `grid` (which a retry refines), filling `report` as it
     goes and telling `observer` (coupling.py). Raises CouplingError (after
     logging every iteration) when a window does not converge; `report` then
     describes the run up to that window. `second_pass` is the flow step
-    without L of "multirate-two-pass" (None for the other schemes)."""
+    without L of "multirate-two-pass" (None for the other schemes).
+    `control` is time.adaptive's step control (None without)."""
     FixedStressSplit(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
-                     report, comm, grid).run()
+                     report, comm, grid, control).run()

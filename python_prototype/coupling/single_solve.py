@@ -52,11 +52,27 @@ def solve_step(t, d, flow, mechanics, monolithic):
         mechanics.solve(t)
 
 
-def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, grid):
+def error_accepted(control, grid, k, flow, mechanics, monolithic, report, observer):
+    """time.adaptive: whether the step's error estimate accepts it (the
+    control then plans the next steps; otherwise the step's, shorter)."""
+    if control is None:
+        return True
+    p = (flow or monolithic).pressure.x.array if (flow or monolithic) else None
+    u = (mechanics or monolithic).u.x.array if (mechanics or monolithic) else None
+    message = control.judge(grid, k, p, u, report)
+    if message is None:
+        return True
+    observer.retry(message)
+    return False
+
+
+def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, grid, control):
     """Runs the scene from the end of step report.windows (0, or a restart's)
     to its end time, one solve per step: the monolithic step, or the one step
     the scene has (the others are None). A step whose solve fails is retried
-    with halved steps (time.retry); otherwise the SolverError ends the run."""
+    with halved steps (time.retry); otherwise the SolverError ends the run.
+    With `control` (time.adaptive) a step whose error estimate is too large
+    is tried again, shorter, and each accepted one plans the next."""
     attempts = [0]  # retries of the current step (time.retry)
     k = report.windows + 1
     while k <= grid.steps():
@@ -77,6 +93,9 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
             observer.retry(message)
             go_back(start, flow, mechanics, monolithic)
             continue  # the same step again, halved
+        if not error_accepted(control, grid, k, flow, mechanics, monolithic, report, observer):
+            go_back(start, flow, mechanics, monolithic)
+            continue  # the same step again, shorter
         attempts[0] = 0
         keep_history(start, flow, monolithic)
         if flow or monolithic:

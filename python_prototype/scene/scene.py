@@ -5,6 +5,7 @@ same order, and the same one-line messages `<file>: <key>: <message>`.
 Tables are read in sorted key order, as toml++ (a sorted map) does, so the
 first unknown key named and the order of the boundaries are the same.
 """
+import bisect
 import math
 import os
 import re
@@ -129,7 +130,7 @@ class Section:
     def number_vector(self, key, size):
         n = self.node(key)
         if not isinstance(n, list) or (size > 0 and len(n) != size):
-            self.fail(key, f"must be an array of {size} numbers")
+            self.fail(key, f"must be an array of {size} numbers" if size > 0 else "must be an array of numbers")
         if not all(_is_number(e) for e in n):
             self.fail(key, "must be an array of numbers")
         return [float(e) for e in n]
@@ -233,6 +234,15 @@ class ReferenceSpec:
 
 
 @dataclass
+class AdaptiveSpec:
+    """time.adaptive: steps chosen by a local error estimate
+    (coupling/step_control.py); time.dt is the first step."""
+    tolerance: float = 0.0  # of the error per unit step, relative to the field's largest norm
+    dt_min: float = 0.0
+    dt_max: float = 0.0
+
+
+@dataclass
 class SolverSpec:
     """How each system is solved: "direct", "iterative" or "auto" (by size,
     solver.choose_method); PETSc options of a system's prefix override."""
@@ -280,7 +290,11 @@ class Scene:
     growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
     retry: int = 0       # time.retry: a failed step is retried with halved steps up to this many times
     time_scheme: str = "backward-euler"  # time.scheme: or "bdf2" (steps/time_scheme.py)
+    adaptive: Optional[AdaptiveSpec] = None  # time.adaptive
     write_xdmf: bool = True
+    # output.times or output.every (and time.end): the times written after
+    # t = 0; empty: every step.
+    output_times: list = field(default_factory=list)
     checkpoint_every: int = 0  # output.checkpoint_every: steps between checkpoints, 0 none
     progress_interval: float = 10.0  # output.progress_interval: seconds between lines within a step
     reference: Optional[ReferenceSpec] = None
@@ -295,7 +309,8 @@ class Scene:
         return any(b.contact for b in self.boundaries.values())
 
     def times(self):
-        """t_0 = 0, t_1, ..., t_N = end_time (fine steps)."""
+        """t_0 = 0, t_1, ..., t_N = end_time (fine steps) of fixed or growing
+        steps (adaptive steps are planned by steps/time_grid.py)."""
         if self.growth == 1.0:  # whole multiples of dt, so every scheme writes the same times
             return [0.0] + [k * self.dt for k in range(1, int(round(self.end_time / self.dt)) + 1)]
         t, step = [0.0], self.dt  # dt_k = dt growth^(k-1); the last step ends at time.end
@@ -304,6 +319,14 @@ class Scene:
             t.append(min(t[-1] + step, self.end_time))
             step *= self.growth
         return t
+
+    def stops(self):
+        """The times a step must land on: the output times and time.end."""
+        return self.output_times or [self.end_time]
+
+    def is_output_time(self, t):
+        """Whether t is one of the output times (every t with no output.times)."""
+        return not self.output_times or any(abs(s - t) <= 1e-9 * self.end_time for s in self.output_times)
 
     def num_steps(self):
         if self.growth == 1.0:
@@ -657,9 +680,46 @@ def _read_physics(top, scene):
         top.fail("coupling", "only a scene with both [mechanics] and [flow] is coupled")
 
 
+def _read_adaptive(time, scene):
+    """time.adaptive: the tolerance and the bounds of the step (the first step
+    is time.dt)."""
+    if not time.has("adaptive"):
+        return None
+    a = time.section("adaptive", False)
+    s = AdaptiveSpec()
+    s.tolerance = a.number("tolerance")
+    if not 0 < s.tolerance < 1:
+        a.fail("tolerance", "must lie in (0, 1)")
+    s.dt_min = a.number("dt_min", min(scene.dt, max(scene.dt / 1000, scene.end_time / MAX_STEPS)))
+    s.dt_max = a.number("dt_max", scene.end_time)
+    if not 0 < s.dt_min <= scene.dt:
+        a.fail("dt_min", "must lie in (0, time.dt] (default time.dt / 1000)")
+    if not s.dt_max >= scene.dt:
+        a.fail("dt_max", "must be >= time.dt (default time.end)")
+    if scene.end_time / s.dt_min > MAX_STEPS:
+        a.fail("dt_min", f"time.end / dt_min is more than the limit of {MAX_STEPS} steps")
+    a.finish()
+    if scene.growth > 1.0:
+        time.fail("adaptive", "adaptive steps and time.growth exclude each other")
+    if scene.coupling and scene.coupling.q != 1:
+        time.fail("adaptive", f"adaptive steps need q = 1 (coupling.q is {scene.coupling.q})")
+    return s
+
+
+def _check_step_count(time, scene):
+    """Fixed steps: time.end must be a whole number of at most MAX_STEPS
+    steps dt."""
+    steps = scene.end_time / scene.dt
+    if steps > MAX_STEPS:
+        time.fail("dt", f"time.end / time.dt = {steps:.3g} steps, more than the limit of {MAX_STEPS}")
+    if abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1:
+        time.fail("dt", "time.end must be a whole number of steps dt")
+
+
 def _read_time(top, scene):
-    """[time]: the end, the first step, its growth and the retries; the steps
-    must be whole, at most MAX_STEPS and, with q > 1, whole windows."""
+    """[time]: the end, the first step, its growth or adaptation, the retries
+    and the scheme; fixed steps must be whole, at most MAX_STEPS and, with
+    q > 1, whole windows."""
     time = top.section("time", True)
     scene.end_time = time.number("end")
     scene.dt = time.number("dt")
@@ -674,11 +734,12 @@ def _read_time(top, scene):
     scene.time_scheme = time.string("scheme", "backward-euler")
     if scene.time_scheme not in ("backward-euler", "bdf2"):
         time.fail("scheme", f'must be "backward-euler" or "bdf2", got "{scene.time_scheme}"')
-    steps = scene.end_time / scene.dt
-    if scene.growth == 1.0 and steps > MAX_STEPS:
-        time.fail("dt", f"time.end / time.dt = {steps:.3g} steps, more than the limit of {MAX_STEPS}")
-    if scene.growth == 1.0 and (abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1):
-        time.fail("dt", "time.end must be a whole number of steps dt")
+    scene.adaptive = _read_adaptive(time, scene)
+    if scene.adaptive:
+        time.finish()
+        return
+    if scene.growth == 1.0:
+        _check_step_count(time, scene)
     if scene.growth > 1.0 and scene.coupling and scene.coupling.q != 1:
         time.fail("growth", "growing time steps need q = 1")
     if scene.num_steps() > MAX_STEPS:
@@ -688,9 +749,50 @@ def _read_time(top, scene):
         top.fail("coupling.q", "the number of fine steps (time.end/time.dt) must be a multiple of q")
 
 
+def _read_output_times(output, scene):
+    """output.times or output.every: the times written, increasing, in
+    (0, time.end], time.end added; with fixed or growing steps each must be
+    the end of a step (of a window for q > 1)."""
+    if output.has("times") and output.has("every"):
+        output.fail("every", "give output.times or output.every, not both")
+    end = scene.end_time
+    slack = 1e-9 * end
+    if output.has("times"):
+        t = output.number_vector("times", 0)
+        for i, ti in enumerate(t):
+            if not (ti > 0 and ti <= end + slack and (i == 0 or ti > t[i - 1] + slack)):
+                output.fail("times", "must increase strictly within (0, time.end]")
+    elif output.has("every"):
+        every = output.number("every")
+        if not 0 < every <= end:
+            output.fail("every", "must lie in (0, time.end]")
+        t, k = [], 1
+        while k * every <= end + slack:
+            t.append(k * every)
+            k += 1
+    else:
+        return []
+    if not t or t[-1] < end - slack:
+        t.append(end)
+    t[-1] = end
+    if scene.adaptive:
+        return t
+    run, q = scene.times(), scene.coupling.q if scene.coupling else 1
+    for s in t:
+        k = bisect.bisect_left(run, s - slack)
+        if k == len(run) or abs(run[k] - s) > slack or k % q != 0:
+            what = "window" if q > 1 else "step"
+            output.fail("times" if output.has("times") else "every",
+                        f"{s:.6g} is not the end of a {what} of the run (time.dt = {scene.dt:g}"
+                        f"{f', q = {q}' if q > 1 else ''}); time.adaptive lands on any time")
+    return t
+
+
 def _read_output(output, scene):
-    """[output]: XDMF on or off, the checkpoint interval and the progress interval."""
+    """[output]: XDMF on or off, the times written, the checkpoint interval
+    (in steps) and the progress interval (seconds)."""
     scene.write_xdmf = output.boolean("xdmf", True)
+    scene.output_times = _read_output_times(output, scene)
     scene.checkpoint_every = output.integer("checkpoint_every", 0)
     if scene.checkpoint_every < 0:
         output.fail("checkpoint_every", "must be >= 0 (0: no checkpoints)")

@@ -1,8 +1,10 @@
 """The times of a run and the step of each (cpp/steps/time_grid.h): kept exactly
-(dt from the scene, or grown by time.growth) so that a constant step is
-recognised as unchanged; a failed step retried with time.retry has its fine
-steps halved (dt/2 is exact in binary floating point); a checkpoint keeps
-the grid."""
+(dt from the scene, grown by time.growth, or planned by time.adaptive) so
+that a constant step is recognised as unchanged; a failed step retried with
+time.retry has its fine steps halved (dt/2 is exact in binary floating
+point); an adaptive run plans the steps after each accepted one again
+(coupling/step_control.py); a checkpoint keeps the grid."""
+import math
 
 
 class TimeGrid:
@@ -16,8 +18,27 @@ class TimeGrid:
 
 def time_grid(scene):
     """The scene's times with their steps."""
+    if scene.adaptive:
+        grid = TimeGrid([0.0], [])
+        plan_steps(grid, 0, scene.dt, scene.stops())
+        return grid
     t = scene.times()
     return TimeGrid(t, [scene.dt if scene.growth == 1.0 else t[k + 1] - t[k] for k in range(len(t) - 1)])
+
+
+def plan_steps(grid, k, h, stops):
+    """Replaces the steps after t_k by steps of about h that land on every
+    stop after t_k (Scene.stops): n = ceil((stop - t) / h) equal steps to each."""
+    del grid.t[k + 1:], grid.dt[k:]
+    slack = 1e-12 * stops[-1]
+    for stop in stops:
+        t0 = grid.t[-1]
+        if stop <= t0 + slack:
+            continue
+        n = max(1, math.ceil((stop - t0) / h - 1e-9))
+        step = (stop - t0) / n
+        grid.t += [stop if i == n else t0 + i * step for i in range(1, n + 1)]
+        grid.dt += [step] * n
 
 
 def halve_steps(grid, first, count):

@@ -1,0 +1,81 @@
+// time.adaptive: the time step chosen from a local error estimate
+// (docs/theory.md "Adaptive steps").
+//
+// After a step from t_{n-1} to t_n = t_{n-1} + h (solution y_n, for the
+// pressure and for the displacement) the local error is estimated by
+// Milne's device: y_n minus the polynomial P through the last accepted
+// states is a known multiple of the leading error term, so
+//   backward Euler: LTE = h / (2h + h1) (y_n - P),  P linear through
+//                   y_{n-1}, y_{n-2} (error h (h + h1) y''/2, the step's h^2 y''/2);
+//   BDF2:           LTE = E / (E + C) (y_n - P),    P quadratic through
+//                   y_{n-1}, y_{n-2}, y_{n-3}, E = h^3 (1 + w) / (6 w c0),
+//                   C = h (h + h1)(h + h1 + h2) / 6, w = h / h1,
+// h1, h2 the steps before. The error is controlled per unit step, relative
+// to the field's largest norm so far:
+//   est = max over fields ||LTE|| / ||y||_max * (time.end / h) / tolerance,
+// so that the error the steps add up to over the run stays near the
+// tolerance and est ~ h^p (p = 1 backward Euler, 2 BDF2): BDF2's step count
+// grows as tolerance^(-1/2). A step with est <= 1 is accepted; the next step
+// comes from the PI controller h' = h 0.9 est^(-0.7/p) est_before^(0.4/p)
+// (Gustafsson's; factor within [0.2, 5], not above 1 after a rejection),
+// kept at h when the factor lies in [1, 1.5] (CVODE's fixed-step band: the
+// flow's matrix is not rebuilt for a small gain). A step with est > 1 is
+// tried again with h 0.9 est^(-1/p) (at least h/5). At dt_min a step is
+// accepted whatever its estimate (counted as forced): where the solution is
+// not smooth (a contact set that changes, a load switched on) the estimate
+// does not fall with h, and the run goes on at dt_min instead of stalling.
+// The predictor does not reach back to t = 0: loads switched on at t = 0+
+// make the state there the one before a jump (the undrained response).
+// The first steps (two for backward Euler, three for BDF2) have no
+// predictor and keep time.dt. The states and the controller's memory are kept in
+// checkpoints: a restart continues the same steps.
+#pragma once
+
+#include "coupling/coupling.h"
+#include "scene/scene.h"
+#include "steps/time_grid.h"
+
+#include <dolfinx/fem/Function.h>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief The error estimate and PI controller of time.adaptive, for the
+/// pressure in Q and the displacement in V (either may be absent).
+class StepControl
+{
+public:
+  StepControl(const Scene& scene, std::shared_ptr<const dolfinx::fem::FunctionSpace> Q,
+              std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
+
+  /// The norms of the state at t = 0 (the fields' scales start there).
+  void start(std::span<const double> p, std::span<const double> u, CouplingReport& report);
+
+  /// Judges the step ending at grid.t[k] with solution (p, u): accepted,
+  /// it is remembered and the steps after t_k are planned again; rejected,
+  /// the steps from t_{k-1} on are, shorter, and the message says so.
+  bool judge(TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u,
+             CouplingReport& report, std::string& message);
+
+  /// The accepted states y_{n-1}, y_{n-2}, y_{n-3} by checkpoint name.
+  std::vector<std::pair<std::string, dolfinx::fem::Function<double>*>> history() const;
+
+private:
+  double estimate(const TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u,
+                  CouplingReport& report) const;
+  void remember(std::span<const double> p, std::span<const double> u);
+
+  const AdaptiveSpec _spec;
+  const std::vector<double> _stops;
+  const double _end;
+  const int _order;      // p: 1 backward Euler, 2 BDF2
+  bool _rejected = false; // the step being judged was rejected before
+  // y_{n-1}, y_{n-2}, y_{n-3} of each field (empty for an absent one).
+  std::vector<std::shared_ptr<dolfinx::fem::Function<double>>> _p, _u;
+};
+
+} // namespace biotcontact

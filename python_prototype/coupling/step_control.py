@@ -1,0 +1,118 @@
+"""time.adaptive: the time step chosen from a local error estimate
+(cpp/coupling/step_control.h, docs/theory.md "Adaptive steps"): Milne's
+device with the Lagrange predictor through the last accepted states (linear
+for backward Euler, quadratic for BDF2), the error per unit step relative to
+the time reached and to the field's largest norm, a PI controller steering
+the estimate to 1/2 with a band that keeps the step, rejection above 1, and
+acceptance at dt_min (forced) where the estimate does not fall with h."""
+import math
+
+import numpy as np
+from dolfinx import fem
+
+from ..assembly.linear_algebra import owned_norm
+from ..steps.time_grid import plan_steps
+
+# The PI controller's set point (the estimate it steers to) and the band of
+# growth factors [1, BAND] that keep the step.
+TARGET, BAND = 0.5, 1.1
+
+
+def milne_weight(order, t):
+    """The weight of the predictor's error against the step's own: the local
+    error is weight * (y_n - P); t = (t_n, t_{n-1}, ...)."""
+    h, h1 = t[0] - t[1], t[1] - t[2]
+    if order == 1:
+        return h / (2 * h + h1)
+    h2, w = t[2] - t[3], h / h1
+    c0 = (1 + 2 * w) / (1 + w)
+    E, C = h ** 3 * (1 + w) / (6 * w * c0), h * (h + h1) * (h + h1 + h2) / 6
+    return E / (E + C)
+
+
+def local_error(y, past, order, t, V, comm):
+    """||LTE|| of one field: Milne's device with the Lagrange predictor of
+    degree `order` through the accepted states at t[1], ..., t[order + 1]."""
+    error = np.array(y, dtype=float)
+    for i in range(1, order + 2):
+        weight = 1.0
+        for j in range(1, order + 2):
+            if j != i:
+                weight *= (t[0] - t[j]) / (t[i] - t[j])
+        error -= weight * past[i - 1].x.array
+    return owned_norm(milne_weight(order, t) * error, V, comm)
+
+
+class StepControl:
+    """The error estimate and PI controller of time.adaptive, for the
+    pressure in Q and the displacement in V (either may be None)."""
+
+    def __init__(self, scene, Q, V, comm):
+        self.spec, self.stops, self.comm = scene.adaptive, scene.stops(), comm
+        self.order = 2 if scene.time_scheme == "bdf2" else 1  # p
+        self.rejected = False  # the step being judged was rejected before
+        # y_{n-1}, y_{n-2}, y_{n-3} of each field (empty for an absent one).
+        self.p = [fem.Function(Q) for _ in range(3)] if Q else []
+        self.u = [fem.Function(V) for _ in range(3)] if V else []
+
+    def start(self, p, u, report):
+        """The norms of the state at t = 0 (the fields' scales start there)."""
+        report.p_largest = owned_norm(p, self.p[0].function_space, self.comm) if self.p else 0.0
+        report.u_largest = owned_norm(u, self.u[0].function_space, self.comm) if self.u else 0.0
+
+    def remember(self, p, u):
+        for past, y in ((self.p, p), (self.u, u)):
+            if past:
+                past.insert(0, past.pop())  # y_{n-3} is overwritten
+                past[0].x.array[:] = y
+
+    def estimate(self, grid, k, p, u, report):
+        """est of the step ending at t_k: the larger of the pressure's and the
+        displacement's relative local error per unit step."""
+        t = [grid.t[k - i] for i in range(self.order + 2)]
+        error = 0.0
+        for past, y, name in ((self.p, p, "p_largest"), (self.u, u, "u_largest")):
+            if not past:
+                continue
+            V = past[0].function_space
+            setattr(report, name, max(getattr(report, name), owned_norm(y, V, self.comm)))
+            if getattr(report, name) > 0:
+                error = max(error, local_error(y, past, self.order, t, V, self.comm) / getattr(report, name))
+        return error * grid.t[k] / (grid.dt[k - 1] * self.spec.tolerance)
+
+    def judge(self, grid, k, p, u, report):
+        """Judges the step ending at grid.t[k] with solution (p, u): accepted
+        (returns None), it is remembered and the steps after t_k are planned
+        again; rejected, the steps from t_{k-1} on are, shorter, and the
+        message saying so is returned."""
+        h, order = grid.dt[k - 1], self.order
+        estimated = k > order + 1  # a predictor through order + 1 accepted states after t_0
+        est = self.estimate(grid, k, p, u, report) if estimated else 0.0
+        if est > 1 and h > self.spec.dt_min * (1 + 1e-9):
+            shorter = max(self.spec.dt_min, h * max(0.2, (TARGET / est) ** (1 / order)))
+            plan_steps(grid, k - 1, shorter, self.stops)
+            report.rejected_steps += 1
+            self.rejected = True
+            return (f"step {k} rejected: error estimate {est:g} > 1 (time.adaptive.tolerance); "
+                    f"dt {h:g} -> {shorter:g}")
+        report.forced_steps += est > 1
+        report.max_error_estimate = max(report.max_error_estimate, est)
+        self.remember(p, u)
+        factor = 1.0
+        if estimated:
+            before = report.error_estimate if report.error_estimate > 0 else est
+            factor = BAND * (TARGET / est) ** (0.7 / order) * (before / TARGET) ** (0.4 / order) if est > 0 else 2.0
+            factor = min(max(factor, 0.2), 1.0 if self.rejected else 2.0)
+            if 1 <= factor <= BAND:
+                factor = 1.0
+            report.error_estimate = max(est, 1e-10)
+        self.rejected = False
+        following = min(max(h * factor, self.spec.dt_min), self.spec.dt_max)
+        if following != h:
+            plan_steps(grid, k, following, self.stops)
+        return None
+
+    def history(self):
+        """The accepted states y_{n-1}, y_{n-2}, y_{n-3} by checkpoint name."""
+        return ([(f"adaptive_pressure_{i + 1}", f) for i, f in enumerate(self.p)]
+                + [(f"adaptive_displacement_{i + 1}", f) for i, f in enumerate(self.u)])
