@@ -11,19 +11,26 @@
 //                   y_{n-1}, y_{n-2}, y_{n-3}, E = h^3 (1 + w) / (6 w c0),
 //                   C = h (h + h1)(h + h1 + h2) / 6, w = h / h1,
 // h1, h2 the steps before. The error is controlled per unit step, relative
-// to the field's largest norm so far:
-//   est = max over fields ||LTE|| / ||y||_max * (time.end / h) / tolerance,
-// so that the error the steps add up to over the run stays near the
-// tolerance and est ~ h^p (p = 1 backward Euler, 2 BDF2): BDF2's step count
-// grows as tolerance^(-1/2). A step with est <= 1 is accepted; the next step
-// comes from the PI controller h' = h 0.9 est^(-0.7/p) est_before^(0.4/p)
-// (Gustafsson's; factor within [0.2, 5], not above 1 after a rejection),
-// kept at h when the factor lies in [1, 1.5] (CVODE's fixed-step band: the
-// flow's matrix is not rebuilt for a small gain). A step with est > 1 is
-// tried again with h 0.9 est^(-1/p) (at least h/5). At dt_min a step is
-// accepted whatever its estimate (counted as forced): where the solution is
-// not smooth (a contact set that changes, a load switched on) the estimate
-// does not fall with h, and the run goes on at dt_min instead of stalling.
+// to the time reached and to the field's largest norm so far:
+//   est = max over fields ||LTE|| / ||y||_max * (t_n / h) / tolerance.
+// Per unit step, est ~ h^p (p = 1 backward Euler, 2 BDF2), so the error the
+// steps add up to moves with the tolerance and BDF2's step count grows as
+// tolerance^(-1/2); relative to t_n because a load switched on at t = 0+
+// gives a solution whose time scale at t is about t (a pressure boundary
+// layer of width sqrt(c t)): an error made early is forgotten by the time
+// the solution has changed, and scaling by time.end instead took eight times
+// the steps for a similar error at the output times (docs/theory.md).
+// A step with est <= 1 is accepted; the next step comes from Gustafsson's
+// PI controller steering est to the set point 1/2,
+//   h' = h b (1/2 / est)^(0.7/p) (est_before / (1/2))^(0.4/p),
+// (b = 1.1, the factor within [0.2, 2], not above 1 after a rejection),
+// kept at h when the factor lies in [1, b]: the matrices are not rebuilt
+// for a small gain, and the set point is where the controller keeps the
+// step. A step with est > 1 is tried again with h (1/2 / est)^(1/p) (at
+// least h/5). At dt_min a step is accepted whatever its estimate (counted
+// as forced): where the solution is not smooth (a contact set that changes)
+// the estimate need not fall with h, and the run goes on at dt_min instead
+// of stalling. Steps land on every output time (time_grid.h, plan_steps).
 // The predictor does not reach back to t = 0: loads switched on at t = 0+
 // make the state there the one before a jump (the undrained response).
 // The first steps (two for backward Euler, three for BDF2) have no
