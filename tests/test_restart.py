@@ -5,8 +5,9 @@ uninterrupted run's fields (to 1e-12), output times, iterations.csv and
 summary counts (a restart factorises again and forms the Schur complement
 again: those two counts differ), for the single-rate, multirate, two-pass
 multirate and monolithic schemes with contact, with backward Euler and
-with BDF2 (whose memory, the state one step back, the checkpoint keeps);
-the prototype does the same.
+with BDF2 (whose memory, the state one step back, the checkpoint keeps)
+and with time.adaptive (the same steps after the restart); the prototype
+does the same.
 A restart of another scene, or of a directory without a checkpoint, is
 refused."""
 import json
@@ -58,6 +59,7 @@ def run(exe, *arguments):
     return subprocess.run(exe + list(arguments), capture_output=True, text=True, env=ENV, timeout=600)
 
 
+ADAPTIVE = ["--set", "time.end=4.8", "--set", "time.adaptive.tolerance=1e-2", "--set", "output.every=1.2"]
 CASES = [("single rate", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGTERM),
          ("single rate after SIGKILL", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGKILL),
          ("multirate", BINARY, ["--set", "coupling.scheme=multirate", "--set", "coupling.q=4"], signal.SIGTERM),
@@ -72,7 +74,13 @@ CASES = [("single rate", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGTERM)
                                       "time.scheme=bdf2"], signal.SIGTERM),
          ("monolithic, BDF2", BINARY, ["--set", "coupling.scheme=monolithic", "--set", "time.scheme=bdf2"],
           signal.SIGTERM),
-         ("prototype, single rate, BDF2", "prototype", ["--set", "time.scheme=bdf2"], signal.SIGTERM)]
+         ("prototype, single rate, BDF2", "prototype", ["--set", "time.scheme=bdf2"], signal.SIGTERM),
+         # time.adaptive: the grid as planned, the accepted states and the
+         # controller's memory are in the checkpoint: the same steps follow.
+         ("single rate, adaptive BDF2", BINARY, ADAPTIVE + ["--set", "time.scheme=bdf2"], signal.SIGTERM),
+         ("monolithic, adaptive", BINARY, ADAPTIVE + ["--set", "coupling.scheme=monolithic"], signal.SIGKILL),
+         ("prototype, single rate, adaptive BDF2", "prototype", ADAPTIVE + ["--set", "time.scheme=bdf2"],
+          signal.SIGTERM)]
 for label, exe, options, number in CASES:
     exe = PROTOTYPE if exe == "prototype" else [exe]
     options = options + CHECKPOINT
