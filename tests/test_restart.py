@@ -12,6 +12,7 @@ A restart of another scene, or of a directory without a checkpoint, is
 refused."""
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -47,7 +48,7 @@ def stopped_run(exe, options, number, steps=5):
                          stderr=subprocess.PIPE, text=True, env=ENV)
     printed = 0
     for line in p.stdout:
-        printed += line.startswith("step")
+        printed += re.match(r"step +\d+/", line) is not None  # a completed step, not a retry's line
         if printed == steps:
             p.send_signal(number)
             break

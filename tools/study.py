@@ -5,8 +5,9 @@ levels with the C++ solver, and writes results.csv, PNG plots and report.md.
     /usr/bin/python3 tools/study.py studies/contact.toml --out DIR [--binary build/biotcontact] [--replot]
 
 A study file names a scene, a list of levels (overrides that set h and dt
-together) and a list of variants (overrides that choose scheme, q, L); every
-variant runs on every level. Errors are measured against the closed form
+together) and a list of variants (overrides that choose scheme, q, L; a
+"{key}" in them takes the level's value of key, e.g. an adaptive tolerance
+per level); every variant runs on every level. Errors are measured against the closed form
 (`reference = "closed-form"`, Terzaghi) or against a monolithic run on the
 finest level (`reference = "monolithic"`, computed once and cached), at every
 output time of the run: relative l2 errors of pressure (cell-area weighted),
@@ -470,6 +471,15 @@ def result_row(study, level, variant, s, e, cached, directory):
             "reference": study["reference"], "cached": cached, "directory": directory}
 
 
+def variant_overrides(variant, level):
+    """A variant's overrides on a level: "{key}" takes the level's value of
+    key (e.g. "time.adaptive.tolerance={tolerance}", a tolerance per level)."""
+    try:
+        return [o.format_map(level) for o in variant["overrides"]]
+    except KeyError as e:
+        raise StudyError(f"variant {variant['label']!r}: the level has no {e.args[0]!r} for its overrides")
+
+
 def run_all(study, out, binary, reference):
     """Runs every variant on every level (reusing finished runs), printing
     progress and the time left; returns the rows of results.csv."""
@@ -477,7 +487,7 @@ def run_all(study, out, binary, reference):
     rows, done_time = [], 0.0
     total = len(levels) * len(variants)
     for i, (level, variant) in enumerate([(lv, v) for lv in range(len(levels)) for v in variants]):
-        overrides = levels[level]["overrides"] + variant["overrides"]
+        overrides = levels[level]["overrides"] + variant_overrides(variant, levels[level])
         directory = run_directory(out, scene, overrides)
         t0 = time.time()
         s, cached = run(binary, scene, overrides, directory)
