@@ -151,7 +151,8 @@ Json closed_form_errors(const Scene& scene, const Parameters& parameters, const 
 /// The regions of the summary: each one's cells and its material's gamma
 /// and L, and the cells in no region (the top-level material).
 /// time.adaptive's part of summary.json: the tolerance, the steps rejected
-/// or forced at dt_min, the largest accepted estimate, the steps taken.
+/// or forced at dt_min, the contact breaks, the largest accepted estimate,
+/// the steps taken.
 Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const TimeGrid& grid)
 {
   const auto taken = std::span(grid.dt).first(std::min<std::size_t>(report.windows, grid.dt.size()));
@@ -162,6 +163,7 @@ Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const
       .set("dt_max", spec.dt_max)
       .set("rejected_steps", report.rejected_steps)
       .set("forced_steps", report.forced_steps)
+      .set("contact_breaks", report.contact_breaks)
       .set("max_error_estimate", report.max_error_estimate);
   if (!taken.empty())
     j.set("smallest_step", *smallest).set("largest_step", *largest);
@@ -528,6 +530,18 @@ std::map<std::string, SolverStatistics> statistics(const Steps& steps)
   return result;
 }
 
+/// The unknowns of each physics (global counts).
+Json dofs_json(const Steps& steps, const Domain& domain)
+{
+  Json dofs;
+  if (steps.u)
+    dofs.set("displacement", static_cast<long>(global_size(*steps.V)));
+  if (steps.p)
+    dofs.set("pressure", static_cast<long>(global_size(*steps.p->function_space())))
+        .set("flux", static_cast<long>(domain.mesh->topology().index_map(domain.dim() - 1)->size_global())); // RT0
+  return dofs;
+}
+
 /// @brief One run of a scene, in the order of its story: make the domain,
 /// set up the steps, open the output, start or restore, the time loop, the
 /// summary and the exit status.
@@ -836,13 +850,6 @@ void Simulation::write_summary()
   if (!_output)
     return;
   const bool has_errors = _scene.reference and _failure.empty() and _signal == 0;
-  const int d = _domain->dim();
-  Json dofs;
-  if (_steps.u)
-    dofs.set("displacement", static_cast<long>(global_size(*_steps.V)));
-  if (_steps.p)
-    dofs.set("pressure", static_cast<long>(global_size(*_steps.p->function_space())))
-        .set("flux", static_cast<long>(_domain->mesh->topology().index_map(d - 1)->size_global())); // RT0: per facet
   auto st = statistics(_steps);
   auto [solvers, timings] = solver_summaries(_steps, _scene.solver.inexact_coupling);
   double assembly = _steps.assembly_time();
@@ -863,7 +870,7 @@ void Simulation::write_summary()
                                                                : std::string("none"))
       .set("L", _parameters.L)
       .set("gamma", _parameters.gamma)
-      .set("dofs", dofs)
+      .set("dofs", dofs_json(_steps, *_domain))
       .set("dt", _scene.dt)
       .set("dt_growth", _scene.growth)
       .set("time_scheme", _scene.time_scheme)

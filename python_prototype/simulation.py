@@ -243,9 +243,11 @@ def capture_checkpoint(steps, time, s, mesh, report, output, grid, scene):
 
 def adaptive_json(spec, report, grid):
     """time.adaptive's part of summary.json: the tolerance, the steps
-    rejected or forced at dt_min, the largest accepted estimate, the steps taken."""
+    rejected or forced at dt_min, the contact breaks, the largest accepted
+    estimate, the steps taken."""
     j = {"tolerance": spec.tolerance, "dt_min": spec.dt_min, "dt_max": spec.dt_max,
          "rejected_steps": report.rejected_steps, "forced_steps": report.forced_steps,
+         "contact_breaks": report.contact_breaks,
          "max_error_estimate": report.max_error_estimate}
     taken = grid.dt[:report.windows]
     if taken:

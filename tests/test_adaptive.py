@@ -78,7 +78,8 @@ check(all(np.array_equal(field_at(a, n, t), field_at(b, n, t)) for n in FIELDS f
 
 # Contact (the default scene: the active set moves): the run completes,
 # every step lands on the grid, steps forced at dt_min are counted.
-out, _ = run_track("C++", scene("default"), "time.scheme=bdf2", "time.adaptive.tolerance=1e-3", "output.times=[1.0, 4.8]")
+out, _ = run_track("C++", scene("default"), "time.scheme=bdf2", "time.adaptive.tolerance=1e-3",
+                   "output.times=[1.0, 4.8]")
 s = summary(out)
 check(s["status"] == "completed" and Fields(out).times("pressure") == [0.0, 1.0, 4.8, 9.6],
       f"contact scene, adaptive: completed in {s['steps']} steps ({s['adaptive']}), written at t = 0, 1, 4.8, 9.6")

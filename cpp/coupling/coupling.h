@@ -32,12 +32,14 @@ struct CouplingReport
   long rejected_steps = 0;     // time.adaptive: steps tried again, shorter, for their error estimate
   long forced_steps = 0;       // ... accepted at dt_min above the tolerance
   double max_error_estimate = 0; // ... the largest of an accepted step (1: the tolerance)
+  long contact_breaks = 0;     // ... steps accepted unestimated: the active contact set changed in them
   // Carried from window to window (and through a checkpoint): the sum of
   // the resolved ratios and the scales of the stopping test.
   double ratio_sum = 0, p_size = 0, u_size = 0;
   // time.adaptive: the last accepted step's error estimate (the PI
   // controller's memory) and the largest norms of pressure and displacement.
   double error_estimate = 0, p_largest = 0, u_largest = 0;
+  long smooth_states = 0; // accepted states since t = 0 or the last contact break: the predictor's reach
 };
 
 /// Called after each converged window: once per fine flow step (with that
@@ -80,6 +82,8 @@ void for_each_checkpointed(Report& r, F&& f)
   f("error_estimate", r.error_estimate);
   f("p_largest", r.p_largest);
   f("u_largest", r.u_largest);
+  f("contact_breaks", r.contact_breaks);
+  f("smooth_states", r.smooth_states);
 }
 
 } // namespace biotcontact

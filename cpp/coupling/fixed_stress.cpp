@@ -204,6 +204,7 @@ private:
   // before t_K, and the displacement path's value one fine step before t_K.
   Array _p_before, _u_before, _u_path_before;
   int _attempts = 0; // retries of the current window (time.retry)
+  int _active_K = 0;  // time.adaptive: active contact nodes at t_K
 };
 
 /// The converged state at the start (t = 0 or the restart's window) and the
@@ -219,6 +220,8 @@ void FixedStressSplit::start()
   _p_before = copy(*_flow.p_before); // restored by a restart
   _u_before = copy(*_flow.u_before);
   _u_path_before = copy(*_flow.u_path_before);
+  if (_control)
+    _active_K = _mechanics.active_contact_nodes();
   if (_report.windows == 0)
   {
     _report.p_size = std::sqrt(static_cast<double>(_q)) * owned_norm(_p_K, _Q);
@@ -564,13 +567,21 @@ bool FixedStressSplit::retry(const Window& w, const std::string& cause)
 }
 
 /// time.adaptive: whether the converged window's error estimate accepts it
-/// (the control then plans the next steps); if not, back to its start, to
-/// be computed again on the shorter steps the control planned.
+/// (the control then plans the next steps; a window in which the active
+/// contact set changed is accepted unestimated); if not, back to its start,
+/// to be computed again on the shorter steps the control planned.
 bool FixedStressSplit::error_accepted(const Window& w)
 {
-  std::string message;
-  if (!_control or _control->judge(_grid, (w.K + 1) * _q, w.p_new[_q], w.u_new, _report, message))
+  if (!_control)
     return true;
+  assign(*_mechanics.u, w.u_new);
+  const int active = _mechanics.active_contact_nodes();
+  std::string message;
+  if (_control->judge(_grid, (w.K + 1) * _q, w.p_new[_q], w.u_new, active == _active_K, _report, message))
+  {
+    _active_K = active;
+    return true;
+  }
   _flow.set_unknowns(w.w_K);
   assign(*_mechanics.u, _u_K);
   if (_observer.retry)

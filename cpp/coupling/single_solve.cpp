@@ -83,20 +83,30 @@ void solve_step(double t, const TimeDerivative& d, FlowStep* flow, MechanicsStep
     mechanics->solve(t);
 }
 
+/// The active contact nodes of the step's displacement (0 without contact).
+int active_contact_nodes(MechanicsStep* mechanics, MonolithicStep* monolithic)
+{
+  return mechanics ? mechanics->active_contact_nodes() : monolithic ? monolithic->active_contact_nodes() : 0;
+}
+
 /// time.adaptive: whether the step's error estimate accepts it (the control
-/// then plans the next steps; otherwise the step's, shorter).
-bool error_accepted(StepControl* control, TimeGrid& grid, int k, const FlowStep* flow, const MechanicsStep* mechanics,
-                    const MonolithicStep* monolithic, CouplingReport& report, const WindowObserver& observer)
+/// then plans the next steps, otherwise the step's, shorter; a step in which
+/// the active contact set changed from `active_before` is accepted
+/// unestimated).
+bool error_accepted(StepControl* control, TimeGrid& grid, int k, const FlowStep* flow, MechanicsStep* mechanics,
+                    MonolithicStep* monolithic, int active_before, CouplingReport& report,
+                    const WindowObserver& observer)
 {
   if (!control)
     return true;
+  const bool smooth = active_contact_nodes(mechanics, monolithic) == active_before;
   std::span<const double> p, u;
   if (flow or monolithic)
     p = (flow ? flow->pressure : monolithic->pressure)->x()->array();
   if (mechanics or monolithic)
     u = (mechanics ? mechanics->u : monolithic->u)->x()->array();
   std::string message;
-  if (control->judge(grid, k, p, u, report, message))
+  if (control->judge(grid, k, p, u, smooth, report, message))
     return true;
   observer.retry(message);
   return false;
@@ -121,6 +131,7 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
         flow->time_step_changed();
     }
     const StepStart start = step_start(flow, mechanics, monolithic);
+    const int active_before = control ? active_contact_nodes(mechanics, monolithic) : 0;
     try
     {
       solve_step(t, d, flow, mechanics, monolithic);
@@ -135,7 +146,7 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
       --k; // the same step again, halved
       continue;
     }
-    if (!error_accepted(control, grid, k, flow, mechanics, monolithic, report, observer))
+    if (!error_accepted(control, grid, k, flow, mechanics, monolithic, active_before, report, observer))
     {
       go_back(start, flow, mechanics, monolithic);
       --k; // the same step again, shorter

@@ -108,11 +108,12 @@ double StepControl::estimate(const TimeGrid& grid, int k, std::span<const double
   return error * grid.t[k] / (grid.dt[k - 1] * _spec.tolerance);
 }
 
-bool StepControl::judge(TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u,
+bool StepControl::judge(TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u, bool smooth,
                         CouplingReport& report, std::string& message)
 {
   const double h = grid.dt[k - 1], p_order = _order;
-  const bool estimated = k > _order + 1; // a predictor through order + 1 accepted states after t_0
+  // A predictor through order + 1 accepted states after the last break.
+  const bool estimated = smooth and report.smooth_states > _order;
   const double est = estimated ? estimate(grid, k, p, u, report) : 0.0;
   if (est > 1 and h > _spec.dt_min * (1 + 1e-9))
   {
@@ -128,6 +129,8 @@ bool StepControl::judge(TimeGrid& grid, int k, std::span<const double> p, std::s
   }
   report.forced_steps += est > 1;
   report.max_error_estimate = std::max(report.max_error_estimate, est);
+  report.contact_breaks += !smooth;
+  report.smooth_states = smooth ? report.smooth_states + 1 : 1;
   remember(p, u);
   double factor = 1;
   if (estimated)

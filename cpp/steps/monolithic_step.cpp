@@ -229,6 +229,11 @@ void MonolithicStep::flux(fem::Function<double>& out) const
   out.interpolate(z);
 }
 
+int MonolithicStep::active_contact_nodes()
+{
+  return _system->has_contact() ? _system->contact().active_nodes(wrap(*_x->x()).vec()) : 0;
+}
+
 ContactState MonolithicStep::contact_state()
 {
   if (!_system->has_contact())

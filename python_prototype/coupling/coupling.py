@@ -27,12 +27,14 @@ class CouplingReport:
         self.rejected_steps = 0            # time.adaptive: steps tried again, shorter, for their error estimate
         self.forced_steps = 0              # ... accepted at dt_min above the tolerance
         self.max_error_estimate = 0.0      # ... the largest of an accepted step (1: the tolerance)
+        self.contact_breaks = 0            # ... steps accepted unestimated: the active contact set changed in them
         # Carried from window to window (and through a checkpoint): the sum
         # of the resolved ratios and the scales of the stopping test.
         self.ratio_sum = self.p_size = self.u_size = 0.0
         # time.adaptive: the last accepted step's error estimate (the PI
         # controller's memory) and the largest norms of pressure and displacement.
         self.error_estimate = self.p_largest = self.u_largest = 0.0
+        self.smooth_states = 0  # accepted states since t = 0 or the last contact break: the predictor's reach
 
 
 @dataclass
@@ -57,7 +59,7 @@ class WindowObserver:
 CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
                 "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate", "p_largest",
-                "u_largest")
+                "u_largest", "contact_breaks", "smooth_states")
 
 
 def for_each_checkpointed(report, f):

@@ -139,6 +139,8 @@ class FixedStressSplit:
         self.p_before = self.flow.p_before.x.array.copy()  # restored by a restart
         self.u_before = self.flow.u_before.x.array.copy()
         self.u_path_before = self.flow.u_path_before.x.array.copy()
+        if self.control:
+            self.active_K = self.mechanics.active_contact_nodes()  # time.adaptive: active contact nodes at t_K
         if self.report.windows == 0:
             self.report.p_size = math.sqrt(self.q) * owned_norm(self.p_K, self.Q, self.comm)
             self.report.u_size = owned_norm(self.u_K, self.V, self.comm)
@@ -402,12 +404,17 @@ class FixedStressSplit:
 
     def error_accepted(self, w):
         """time.adaptive: whether the converged window's error estimate accepts
-        it (the control then plans the next steps); if not, back to its start,
-        to be computed again on the shorter steps the control planned."""
+        it (the control then plans the next steps; a window in which the
+        active contact set changed is accepted unestimated); if not, back to
+        its start, to be computed again on the shorter steps the control planned."""
         if self.control is None:
             return True
-        message = self.control.judge(self.grid, (w.K + 1) * self.q, w.p_new[self.q], w.u_new, self.report)
+        self.mechanics.u.x.array[:] = w.u_new
+        active = self.mechanics.active_contact_nodes()
+        message = self.control.judge(self.grid, (w.K + 1) * self.q, w.p_new[self.q], w.u_new,
+                                     active == self.active_K, self.report)
         if message is None:
+            self.active_K = active
             return True
         self.flow.set_unknowns(w.w_K)
         self.mechanics.u.x.array[:] = self.u_K

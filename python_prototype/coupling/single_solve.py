@@ -52,14 +52,23 @@ def solve_step(t, d, flow, mechanics, monolithic):
         mechanics.solve(t)
 
 
-def error_accepted(control, grid, k, flow, mechanics, monolithic, report, observer):
+def active_contact_nodes(mechanics, monolithic):
+    """The active contact nodes of the step's displacement (0 without contact)."""
+    step = mechanics or monolithic
+    return step.active_contact_nodes() if step else 0
+
+
+def error_accepted(control, grid, k, flow, mechanics, monolithic, active_before, report, observer):
     """time.adaptive: whether the step's error estimate accepts it (the
-    control then plans the next steps; otherwise the step's, shorter)."""
+    control then plans the next steps, otherwise the step's, shorter; a step
+    in which the active contact set changed from `active_before` is accepted
+    unestimated)."""
     if control is None:
         return True
+    smooth = active_contact_nodes(mechanics, monolithic) == active_before
     p = (flow or monolithic).pressure.x.array if (flow or monolithic) else None
     u = (mechanics or monolithic).u.x.array if (mechanics or monolithic) else None
-    message = control.judge(grid, k, p, u, report)
+    message = control.judge(grid, k, p, u, smooth, report)
     if message is None:
         return True
     observer.retry(message)
@@ -84,6 +93,7 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
             if flow:
                 flow.time_step_changed()
         start = step_start(flow, mechanics, monolithic)
+        active_before = active_contact_nodes(mechanics, monolithic) if control else 0
         try:
             solve_step(t, d, flow, mechanics, monolithic)
         except SolverError as e:
@@ -93,7 +103,7 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
             observer.retry(message)
             go_back(start, flow, mechanics, monolithic)
             continue  # the same step again, halved
-        if not error_accepted(control, grid, k, flow, mechanics, monolithic, report, observer):
+        if not error_accepted(control, grid, k, flow, mechanics, monolithic, active_before, report, observer):
             go_back(start, flow, mechanics, monolithic)
             continue  # the same step again, shorter
         attempts[0] = 0

@@ -4,7 +4,9 @@ device with the Lagrange predictor through the last accepted states (linear
 for backward Euler, quadratic for BDF2), the error per unit step relative to
 the time reached and to the field's largest norm, a PI controller steering
 the estimate to 1/2 with a band that keeps the step, rejection above 1, and
-acceptance at dt_min (forced) where the estimate does not fall with h."""
+acceptance at dt_min (forced) where the estimate does not fall with h; the
+predictor does not reach back across t = 0 or a step in which the active
+contact set changed (a break in smoothness, accepted unestimated)."""
 import math
 
 import numpy as np
@@ -80,13 +82,16 @@ class StepControl:
                 error = max(error, local_error(y, past, self.order, t, V, self.comm) / getattr(report, name))
         return error * grid.t[k] / (grid.dt[k - 1] * self.spec.tolerance)
 
-    def judge(self, grid, k, p, u, report):
+    def judge(self, grid, k, p, u, smooth, report):
         """Judges the step ending at grid.t[k] with solution (p, u): accepted
         (returns None), it is remembered and the steps after t_k are planned
         again; rejected, the steps from t_{k-1} on are, shorter, and the
-        message saying so is returned."""
+        message saying so is returned. `smooth` is False when the active
+        contact set changed in the step: it is accepted as it is and the
+        predictor restarts after it."""
         h, order = grid.dt[k - 1], self.order
-        estimated = k > order + 1  # a predictor through order + 1 accepted states after t_0
+        # A predictor through order + 1 accepted states after the last break.
+        estimated = smooth and report.smooth_states > order
         est = self.estimate(grid, k, p, u, report) if estimated else 0.0
         if est > 1 and h > self.spec.dt_min * (1 + 1e-9):
             shorter = max(self.spec.dt_min, h * max(0.2, (TARGET / est) ** (1 / order)))
@@ -97,6 +102,8 @@ class StepControl:
                     f"dt {h:g} -> {shorter:g}")
         report.forced_steps += est > 1
         report.max_error_estimate = max(report.max_error_estimate, est)
+        report.contact_breaks += not smooth
+        report.smooth_states = report.smooth_states + 1 if smooth else 1
         self.remember(p, u)
         factor = 1.0
         if estimated:

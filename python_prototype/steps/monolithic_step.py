@@ -163,6 +163,10 @@ class MonolithicStep:
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
 
+    def active_contact_nodes(self):
+        """Only the number of active contact nodes (collective, cheap)."""
+        return self.system.contact.active_nodes(self.x.vector) if self.system.has_contact() else 0
+
     def contact_state(self):
         if not self.system.has_contact():
             return ContactState()
