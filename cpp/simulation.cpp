@@ -170,6 +170,19 @@ Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const
   return j;
 }
 
+/// coupling.q = "auto"'s part of summary.json: its settings, the windows'
+/// mean and largest q, the windows tried again with q = 1 (contact).
+Json window_steps_json(const CouplingSpec& c, const CouplingReport& report)
+{
+  Json j;
+  j.set("q_max", c.q_max)
+      .set("q_tolerance", c.q_tolerance)
+      .set("mean_q", report.windows ? static_cast<double>(report.fine_steps) / report.windows : 0.0)
+      .set("largest_q", report.max_window_q)
+      .set("q_rejections", report.q_rejections);
+  return j;
+}
+
 Json regions_json(const CellRegions& cells, const Materials& materials)
 {
   Json regions;
@@ -221,17 +234,21 @@ struct Steps
 
   /// The memory of the time scheme and of time.adaptive by checkpoint name:
   /// BDF2's state one step before the last completed one
-  /// (steps/time_scheme.h), the step control's accepted states.
+  /// (steps/time_scheme.h), the displacement one window before with
+  /// coupling.q = "auto" (its last change), the step control's accepted states.
   std::vector<std::pair<std::string, fem::Function<double>*>> history(const Scene& scene) const
   {
     std::vector<std::pair<std::string, fem::Function<double>*>> h;
     if (scene.time_scheme == "bdf2" and flow)
       h.push_back({"pressure_before", flow->p_before.get()});
+    const bool q_auto = scene.coupling and scene.coupling->q_auto;
     if (scene.time_scheme == "bdf2" and flow and flow->u_before)
     {
       h.push_back({"displacement_before", flow->u_before.get()});
       h.push_back({"displacement_path_before", flow->u_path_before.get()});
     }
+    else if (q_auto and flow and flow->u_before) // the last window's change of u (window_control.h)
+      h.push_back({"displacement_before", flow->u_before.get()});
     if (scene.time_scheme == "bdf2" and monolithic)
     {
       h.push_back({"pressure_before", monolithic->p_before.get()});
@@ -586,6 +603,7 @@ private:
   void report_newton_steps();
   void time_loop();
   std::string step_being_computed() const;
+  int planned_steps() const;
   void output_failed(const OutputError& e);
   bool stop();
   void write_summary();
@@ -762,7 +780,7 @@ WindowObserver Simulation::observer()
       _fields->contact = _steps.compute_contact();
     _completed_steps = step;
     _completed_time = t;
-    _progress.step(step, _grid.steps() / _parameters.q, t, iterations, _fields->contact.active_nodes);
+    _progress.step(step, planned_steps(), t, iterations, _fields->contact.active_nodes);
   };
   o.stop = [this] { return stop(); };
   o.retry = [this](const std::string& message) { _progress.say(message); };
@@ -796,7 +814,7 @@ void Simulation::time_loop()
 {
   const WindowObserver o = observer();
   report_newton_steps();
-  _progress.start_loop(_completed_steps, _grid.steps() / _parameters.q);
+  _progress.start_loop(_completed_steps, planned_steps());
   try
   {
     if (_scene.coupling and !_steps.monolithic)
@@ -821,6 +839,14 @@ void Simulation::time_loop()
   _fields->contact = _steps.compute_contact();
 }
 
+/// The mechanics steps (windows) of the run, for the progress: with
+/// coupling.q = "auto" those done and the rest at the last window's q.
+int Simulation::planned_steps() const
+{
+  const int q = _report.window_q > 0 ? _report.window_q : _parameters.q;
+  return _report.windows + static_cast<int>((_grid.steps() - _report.fine_steps + q - 1) / q);
+}
+
 /// "step N (t = T)" of the step after the last completed one.
 std::string Simulation::step_being_computed() const
 {
@@ -828,7 +854,7 @@ std::string Simulation::step_being_computed() const
   std::ostringstream s;
   s << "step " << step;
   if (!_grid.t.empty())
-    s << " (t = " << _grid.t[std::min<std::size_t>(step * _parameters.q, _grid.t.size() - 1)] << ")";
+    s << " (t = " << _grid.t[std::min<std::size_t>(_report.fine_steps + _parameters.q, _grid.t.size() - 1)] << ")";
   return s.str();
 }
 
@@ -862,10 +888,12 @@ void Simulation::write_summary()
       .set("monolithic", st["monolithic"].linear_iterations);
   const CouplingSpec* c = _scene.coupling ? &*_scene.coupling : nullptr;
   Json summary;
-  summary.set("scene", _scene.name)
-      .set("scheme", c ? c->scheme : (_steps.flow ? "flow-only" : "mechanics-only"))
-      .set("q", _parameters.q)
-      .set("L_choice", c ? c->L_choice : "none")
+  summary.set("scene", _scene.name).set("scheme", c ? c->scheme : (_steps.flow ? "flow-only" : "mechanics-only"));
+  if (c and c->q_auto)
+    summary.set("q", "auto");
+  else
+    summary.set("q", _parameters.q);
+  summary      .set("L_choice", c ? c->L_choice : "none")
       .set("acceleration", c and c->acceleration == "anderson" ? "anderson, depth " + std::to_string(c->depth)
                                                                : std::string("none"))
       .set("L", _parameters.L)
@@ -876,7 +904,7 @@ void Simulation::write_summary()
       .set("time_scheme", _scene.time_scheme)
       .set("steps", _report.windows)
       .set("retries", _report.retries)
-      .set("fine_steps", _report.windows * _parameters.q)
+      .set("fine_steps", _report.fine_steps)
       .set("coupling_iterations", _report.coupling_iterations)
       .set("max_iterations_per_step", _report.max_iterations_per_step)
       .set("max_contraction_ratio", _report.max_contraction_ratio)
@@ -899,6 +927,8 @@ void Simulation::write_summary()
       .set("left_out", _left_out)
       .set("warnings", _warnings)
       .set("mpi_ranks", [&] { int n; MPI_Comm_size(_comm, &n); return n; }());
+  if (c and c->q_auto)
+    summary.set("window_steps", window_steps_json(*c, _report));
   if (_scene.adaptive)
     summary.set("adaptive", adaptive_json(*_scene.adaptive, _report, _grid));
   if (!_domain->regions.names.empty())

@@ -241,6 +241,14 @@ def capture_checkpoint(steps, time, s, mesh, report, output, grid, scene):
     return c
 
 
+def window_steps_json(c, report):
+    """coupling.q = "auto"'s part of summary.json: its settings, the
+    windows' mean and largest q, the windows tried again with q = 1 (contact)."""
+    return {"q_max": c.q_max, "q_tolerance": c.q_tolerance,
+            "mean_q": report.fine_steps / report.windows if report.windows else 0.0,
+            "largest_q": report.max_window_q, "q_rejections": report.q_rejections}
+
+
 def adaptive_json(spec, report, grid):
     """time.adaptive's part of summary.json: the tolerance, the steps
     rejected or forced at dt_min, the contact breaks, the largest accepted
@@ -258,7 +266,8 @@ def adaptive_json(spec, report, grid):
 def history(s, scene):
     """The memory of the time scheme and of time.adaptive by checkpoint name
     (cpp/simulation.cpp): BDF2's state one step before the last completed
-    one, the step control's accepted states."""
+    one, the displacement one window before with coupling.q = "auto" (its
+    last change), the step control's accepted states."""
     h = []
     if scene.time_scheme == "bdf2" and s.monolithic:
         h = [("pressure_before", s.monolithic.p_before), ("displacement_before", s.monolithic.u_before)]
@@ -266,6 +275,8 @@ def history(s, scene):
         h = [("pressure_before", s.flow.p_before)]
         if s.flow.u_before is not None:
             h += [("displacement_before", s.flow.u_before), ("displacement_path_before", s.flow.u_path_before)]
+    elif scene.coupling and scene.coupling.q_auto and s.flow and s.flow.u_before is not None:
+        h = [("displacement_before", s.flow.u_before)]
     return h + (s.step_control.history() if s.step_control else [])
 
 
@@ -520,7 +531,7 @@ class Simulation:
             elif self.steps.u is not None:
                 self.fields.contact = self.steps.compute_contact()
             self.completed_steps, self.completed_time = step, t
-            self.progress.step(step, self.grid.steps() // self.parameters.q, t, iterations,
+            self.progress.step(step, self.planned_steps(), t, iterations,
                                self.fields.contact.active_nodes)
 
         def iteration(step, iteration, dp, du):
@@ -546,7 +557,7 @@ class Simulation:
         s, scene, parameters = self.steps, self.scene, self.parameters
         observer = self.observer()
         self.report_newton_steps()
-        self.progress.start_loop(self.completed_steps, self.grid.steps() // parameters.q)
+        self.progress.start_loop(self.completed_steps, self.planned_steps())
         try:
             if scene.coupling and not s.monolithic:
                 contraction = ContractionNorm(self.F, parameters.q, self.comm)
@@ -563,12 +574,19 @@ class Simulation:
             self.report.windows = self.completed_steps
         self.fields.contact = s.compute_contact()
 
+    def planned_steps(self):
+        """The mechanics steps (windows) of the run, for the progress: with
+        coupling.q = "auto" those done and the rest at the last window's q."""
+        q = self.report.window_q or self.parameters.q
+        return self.report.windows + (self.grid.steps() - self.report.fine_steps + q - 1) // q
+
     def step_being_computed(self):
         """"step N (t = T)" of the step after the last completed one."""
         step = self.completed_steps + 1
         if not self.grid or not self.grid.t:
             return f"step {step}"
-        return f"step {step} (t = {self.grid.t[min(step * self.parameters.q, len(self.grid.t) - 1)]:g})"
+        k = min(self.report.fine_steps + self.parameters.q, len(self.grid.t) - 1)
+        return f"step {step} (t = {self.grid.t[k]:g})"
 
     def stop_at_output_failure(self, e):
         """A file could not be written (a full disk): the run ends with what
@@ -610,7 +628,7 @@ class Simulation:
             "time_scheme": scene.time_scheme,
             "steps": report.windows,
             "retries": report.retries,
-            "fine_steps": report.windows * parameters.q,
+            "fine_steps": report.fine_steps,
             "coupling_iterations": report.coupling_iterations,
             "max_iterations_per_step": report.max_iterations_per_step,
             "max_contraction_ratio": report.max_contraction_ratio,
@@ -636,6 +654,8 @@ class Simulation:
             "warnings": self.warnings,
             "mpi_ranks": self.comm.size,
         }
+        if c and c.q_auto:
+            summary["q"], summary["window_steps"] = "auto", window_steps_json(c, report)
         if scene.adaptive:
             summary["adaptive"] = adaptive_json(scene.adaptive, report, self.grid)
         if self.domain.regions.names:

@@ -80,16 +80,23 @@ Constants make_constants(const Scene& scene, const Parameters& parameters)
   return c;
 }
 
-bool set_time_step(const Constants& constants, double dt)
+namespace
 {
-  // The forms see the constants as const; the run owns them and may change
-  // this one between steps.
-  auto c = std::const_pointer_cast<Constant<double>>(constants.at("dt"));
-  if (c->value[0] == dt)
+/// Sets a scalar constant; whether it changed. The forms see the constants
+/// as const; the run owns them and may change "dt" and "q" between steps.
+bool set_constant(const Constants& constants, const std::string& name, double value)
+{
+  auto c = std::const_pointer_cast<Constant<double>>(constants.at(name));
+  if (c->value[0] == value)
     return false;
-  c->value[0] = dt;
+  c->value[0] = value;
   return true;
 }
+} // namespace
+
+bool set_time_step(const Constants& constants, double dt) { return set_constant(constants, "dt", dt); }
+
+bool set_window_steps(const Constants& constants, int q) { return set_constant(constants, "q", q); }
 
 void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t)
 {

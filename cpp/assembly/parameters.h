@@ -44,9 +44,13 @@ Constants make_constants(const Scene& scene, const Parameters& parameters);
 /// or a constant tensor; empty where the expression is not positive.
 std::vector<double> resistivity(const FlowSpec& flow, int d, const double* x);
 
-/// Sets the time step constant "dt" of `constants` (the one constant that
-/// changes during a run, with time.growth); returns whether it changed.
+/// Sets the time step constant "dt" of `constants` (it changes during a
+/// run with time.growth, time.adaptive and retries); returns whether it changed.
 bool set_time_step(const Constants& constants, double dt);
+
+/// Sets the constant "q" (the fine steps of the current window; it changes
+/// between windows with coupling.q = "auto"); returns whether it changed.
+bool set_window_steps(const Constants& constants, int q);
 
 /// Interpolates one expression per component (at time t) into f.
 void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t);

@@ -21,6 +21,7 @@ struct CouplingError : std::runtime_error
 struct CouplingReport
 {
   int windows = 0;             // mechanics (coarse) steps
+  long fine_steps = 0;         // flow (fine) steps: windows times q, or their sum with coupling.q = "auto"
   long coupling_iterations = 0;
   int max_iterations_per_step = 0;
   double max_contraction_ratio = 0, mean_contraction_ratio = 0;
@@ -40,6 +41,12 @@ struct CouplingReport
   // controller's memory) and the largest norms of pressure and displacement.
   double error_estimate = 0, p_largest = 0, u_largest = 0;
   long smooth_states = 0; // accepted states since t = 0 or the last contact break: the predictor's reach
+  // coupling.q = "auto" (coupling/window_control.h): the last window's q,
+  // the largest q the next may take (1 after a change of the contact set,
+  // then doubling), the largest q taken and the windows tried again with
+  // q = 1 because the contact set changed in them.
+  int window_q = 0, q_limit = 1, max_window_q = 0;
+  long q_rejections = 0;
 };
 
 /// Called after each converged window: once per fine flow step (with that
@@ -84,6 +91,11 @@ void for_each_checkpointed(Report& r, F&& f)
   f("u_largest", r.u_largest);
   f("contact_breaks", r.contact_breaks);
   f("smooth_states", r.smooth_states);
+  f("fine_steps", r.fine_steps);
+  f("window_q", r.window_q);
+  f("q_limit", r.q_limit);
+  f("max_window_q", r.max_window_q);
+  f("q_rejections", r.q_rejections);
 }
 
 } // namespace biotcontact

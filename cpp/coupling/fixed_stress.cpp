@@ -1,6 +1,7 @@
 #include "coupling/fixed_stress.h"
 
 #include "coupling/anderson.h"
+#include "coupling/window_control.h"
 #include "steps/time_scheme.h"
 
 #include <algorithm>
@@ -108,6 +109,7 @@ namespace
 struct Window
 {
   int K = 0;                           // the window [t_K, t_{K+1}]
+  int j = 0, q = 1;                    // its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
   TimeDerivative derivative;           // of every fine step (time_scheme.h)
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
@@ -144,7 +146,7 @@ public:
       : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants),
         _stabilised(materials.max_L > 0), _flow(flow),
         _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
-        _observer(observer), _report(report), _grid(grid), _control(control), _q(parameters.q), _V(*mechanics.space()),
+        _observer(observer), _report(report), _grid(grid), _control(control), _V(*mechanics.space()),
         _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
   {
   }
@@ -159,13 +161,14 @@ private:
     retried
   };
 
-  /// Fine time m of window K (t_K + m dt for a constant step).
-  double t(int K, int m) const { return _grid.t[K * _q + m]; }
+  /// Fine time m of window w (t_K + m dt for a constant step).
+  double t(const Window& w, int m) const { return _grid.t[w.j + m]; }
   void start();
-  Window begin_window(int K);
+  int window_steps(int j) const;
+  Window begin_window(int K, int j, int q);
   Outcome iterate_window(Window& w, int& n);
   bool iteration(Window& w, int n);
-  TimeDerivative window_derivative(int K) const;
+  TimeDerivative window_derivative(int j, int q) const;
   Array path(const Window& w, const Array& u, int m) const;
   void set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
                         const Array& u) const;
@@ -176,8 +179,10 @@ private:
   std::pair<double, double> stopping_test(Window& w, const Increments& inc, int n);
   void next_iterate(Window& w);
   void record_coupled_residual(const Window& w, const Increments& inc);
+  void go_back(const Window& w, const std::string& message);
   bool retry(const Window& w, const std::string& cause);
   bool error_accepted(const Window& w);
+  bool contact_accepted(const Window& w);
   CouplingError not_converged(const Window& w);
   void accept_window(const Window& w, int n);
 
@@ -195,7 +200,6 @@ private:
   CouplingReport& _report;
   TimeGrid& _grid;
   StepControl* _control; // time.adaptive (q = 1), or null
-  const int _q;
   const fem::FunctionSpace& _V;
   const fem::FunctionSpace& _Q;
   const bool _accelerated;
@@ -203,50 +207,73 @@ private:
   // For BDF2: the pressure one fine step and the displacement one window
   // before t_K, and the displacement path's value one fine step before t_K.
   Array _p_before, _u_before, _u_path_before;
+  int _j_before = 0;  // the previous window's first fine step (t_{K-1})
   int _attempts = 0; // retries of the current window (time.retry)
-  int _active_K = 0;  // time.adaptive: active contact nodes at t_K
+  int _active_K = 0;  // active contact nodes at t_K (time.adaptive, q = "auto")
 };
 
 /// The converged state at the start (t = 0 or the restart's window) and the
-/// scales of the stopping test: the largest p (summed over the q fine
-/// steps) and u of the run so far.
+/// scales of the stopping test: the largest p (root mean square over a
+/// window's fine steps) and u of the run so far.
 void FixedStressSplit::start()
 {
-  _flow.keep_loads(_q);
+  const int q_max = _coupling.q_auto ? _coupling.q_max : _coupling.q;
+  _flow.keep_loads(q_max);
   if (_second_pass)
-    _second_pass->keep_loads(_q);
+    _second_pass->keep_loads(q_max);
   _p_K = copy(*_flow.pressure);
   _u_K = copy(*_mechanics.u);
   _p_before = copy(*_flow.p_before); // restored by a restart
   _u_before = copy(*_flow.u_before);
   _u_path_before = copy(*_flow.u_path_before);
-  if (_control)
+  _j_before = static_cast<int>(_report.fine_steps) - _report.window_q;
+  if (_control or _coupling.q_auto)
     _active_K = _mechanics.active_contact_nodes();
   if (_report.windows == 0)
   {
-    _report.p_size = std::sqrt(static_cast<double>(_q)) * owned_norm(_p_K, _Q);
+    _report.p_size = owned_norm(_p_K, _Q);
     _report.u_size = owned_norm(_u_K, _V);
   }
 }
 
-/// The first iterate of window K: p^{0,m} = p_K for all m, u^0 = u_K; with
-/// coupling.acceleration = "anderson" the Anderson state (p^1, ..., p^q, u),
-/// weighted by the scales of the stopping test (coupling/anderson.h).
-Window FixedStressSplit::begin_window(int K)
+/// The fine steps of the window that starts at fine step j: coupling.q, or
+/// with q = "auto" those of window_steps (coupling/window_control.h) from the
+/// last window's relative change of u per unit time.
+int FixedStressSplit::window_steps(int j) const
+{
+  if (!_coupling.q_auto)
+    return _coupling.q;
+  double rate = 0;
+  if (_report.windows > 0)
+    rate = relative(owned_norm(difference(_u_K, _u_before), _V), _report.u_size)
+           / (_grid.t[j] - _grid.t[_j_before]);
+  return biotcontact::window_steps(_grid, j, _report.q_limit, rate, _coupling.q_tolerance, _scene.stops());
+}
+
+/// The first iterate of window K (fine steps j + 1, ..., j + q): p^{0,m} =
+/// p_K for all m, u^0 = u_K; with coupling.acceleration = "anderson" the
+/// Anderson state (p^1, ..., p^q, u), weighted by the scales of the
+/// stopping test (coupling/anderson.h).
+Window FixedStressSplit::begin_window(int K, int j, int q)
 {
   Window w;
-  w.derivative = window_derivative(K);
-  if (set_time_step(_constants, w.derivative.effective_step(_grid.dt[K * _q])))
-  {
-    _flow.time_step_changed();
-    if (_second_pass)
-      _second_pass->time_step_changed();
-  }
+  w.derivative = window_derivative(j, q);
+  const bool q_changed = set_window_steps(_constants, q);
+  const bool dt_changed = set_time_step(_constants, w.derivative.effective_step(_grid.dt[j]));
+  if (q_changed)
+    _contraction.set_window_steps(q);
+  for (FlowStep* flow : {&_flow, _second_pass})
+    if (flow and dt_changed)
+      flow->time_step_changed(); // all its operators, with the new q too
+    else if (flow and q_changed)
+      flow->window_steps_changed();
   w.K = K;
+  w.j = j;
+  w.q = q;
   w.w_K.assign(_flow.unknowns().begin(), _flow.unknowns().end());
-  w.p_old.assign(_q + 1, _p_K);
-  w.p_new.assign(_q + 1, _p_K);
-  w.w_new.resize(_q + 1);
+  w.p_old.assign(q + 1, _p_K);
+  w.p_new.assign(q + 1, _p_K);
+  w.w_new.resize(q + 1);
   w.u_old = _u_K;
   assign(*_flow.u_window, _u_K);
   if (_second_pass)
@@ -254,9 +281,11 @@ Window FixedStressSplit::begin_window(int K)
   w.active_set_changes = contact_changes(_mechanics);
   if (_accelerated)
   {
-    std::vector<std::int32_t> owned(_q, owned_size(_Q));
+    std::vector<std::int32_t> owned(q, owned_size(_Q));
     owned.push_back(owned_size(_V));
-    std::vector<double> weights(_q, _report.p_size > 0 ? 1 / _report.p_size : 1.0);
+    // p_size is a fine step's: the window's q pressures weigh as one field.
+    const double p_size = std::sqrt(static_cast<double>(q)) * _report.p_size;
+    std::vector<double> weights(q, p_size > 0 ? 1 / p_size : 1.0);
     weights.push_back(_report.u_size > 0 ? 1 / _report.u_size : 1.0);
     w.anderson.emplace(_V.mesh()->comm(), _coupling.depth, owned, weights);
   }
@@ -269,11 +298,10 @@ Window FixedStressSplit::begin_window(int K)
 /// window's fine step (w = 1); the first window, and one whose fine step
 /// a retry halved, take backward Euler, which keeps the global error second
 /// order (a bounded number of first-order steps, each O(dt^2)).
-TimeDerivative FixedStressSplit::window_derivative(int K) const
+TimeDerivative FixedStressSplit::window_derivative(int j, int q) const
 {
-  const int j = K * _q;
   const double dt = _grid.dt[j], previous = j > 0 ? _grid.dt[j - 1] : 0.0;
-  if (_q > 1 and previous != dt)
+  if (q > 1 and previous != dt)
     return {};
   return time_derivative(_scene.time_scheme, dt, previous);
 }
@@ -297,9 +325,9 @@ Array FixedStressSplit::path(const Window& w, const Array& u, int m) const
   const bool bdf2 = _scene.time_scheme == "bdf2";
   if (bdf2 and w.K == 0)
     return m == 0 ? _u_K : u;
-  const double H = t(w.K, _q) - t(w.K, 0), s = t(w.K, m) - t(w.K, 0);
-  const bool quadratic = bdf2 and (_q == 1 or w.K > 1);
-  const double H1 = quadratic ? t(w.K, 0) - t(w.K - 1, 0) : 1.0;
+  const double H = t(w, w.q) - t(w, 0), s = t(w, m) - t(w, 0);
+  const bool quadratic = bdf2 and (w.q == 1 or w.K > 1);
+  const double H1 = quadratic ? t(w, 0) - _grid.t[_j_before] : 1.0;
   Array Q(u.size());
   for (std::size_t i = 0; i < u.size(); ++i)
   {
@@ -335,7 +363,7 @@ void FixedStressSplit::set_time_history(FlowStep& flow, const Window& w, int m, 
   const Array Q_star = history_value(d, path(w, u, m - 1), m >= 2 ? path(w, u, m - 2) : _u_path_before);
   std::span<double> window = flow.u_window->x()->mutable_array();
   for (std::size_t i = 0; i < Q.size(); ++i)
-    window[i] = u[i] - _q * (Q[i] - Q_star[i]);
+    window[i] = u[i] - w.q * (Q[i] - Q_star[i]);
 }
 
 /// (a) q flow steps with u^n lagged (eq. 4.17-4.19):
@@ -353,12 +381,12 @@ void FixedStressSplit::flow_pass(Window& w)
   }
   assign(*_flow.u_iterate, w.u_old);
   const TimeDerivative& d = w.derivative;
-  for (int m = 1; m <= _q; ++m)
+  for (int m = 1; m <= w.q; ++m)
   {
     set_time_history(_flow, w, m, w.p_new, w.u_old);
     assign(*_flow.p_iterate, w.p_old[m]);
     assign(*_flow.p_iterate_previous, history_value(d, w.p_old[m - 1], m >= 2 ? w.p_old[m - 2] : _p_before));
-    _flow.solve(t(w.K, m));
+    _flow.solve(t(w, m));
     w.p_new[m] = copy(*_flow.pressure);
     std::span<const double> z_p = _flow.unknowns();
     w.w_new[m].assign(z_p.begin(), z_p.end());
@@ -371,11 +399,11 @@ void FixedStressSplit::flow_pass(Window& w)
 /// u^{n+1}; for q = 1 the correction would return p^A_1 itself.
 void FixedStressSplit::mechanics_pass(Window& w)
 {
-  _mechanics.solve(t(w.K, _q));
+  _mechanics.solve(t(w, w.q));
   w.u_new = copy(*_mechanics.u);
-  if (_second_pass and _q > 1)
+  if (_second_pass and w.q > 1)
     second_pass_correction(
-        *_second_pass, _p_K, w.u_new, [&](int m) { return t(w.K, m); },
+        *_second_pass, _p_K, w.u_new, [&](int m) { return t(w, m); },
         [&](int m, const std::vector<Array>& p_B) { set_time_history(*_second_pass, w, m, p_B, w.u_new); }, w.p_new,
         w.w_new);
 }
@@ -392,7 +420,7 @@ Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
   Increments inc;
   inc.du = difference(w.u_new, w.u_old);
   Array dp_previous(_p_K.size(), 0.0);
-  for (int m = 1; m <= _q; ++m)
+  for (int m = 1; m <= w.q; ++m)
   {
     const Array dp = difference(w.p_new[m], w.p_old[m]);
     if (_stabilised)
@@ -436,7 +464,7 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
   if (n == 0)
     w.dsigma_first = inc.dsigma;
   using Quantity = ContractionNorm::Quantity;
-  const double size = _coupling.multirate() ? _contraction(Quantity::theorem2, w.u_new, w.p_new[_q])
+  const double size = _coupling.multirate() ? _contraction(Quantity::theorem2, w.u_new, w.p_new[w.q])
                                             : _contraction(Quantity::theorem1, w.u_new, w.p_new[1]);
   const bool resolved = !_accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
                         and inc.dsigma >= round_off_fraction * size;
@@ -453,17 +481,18 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
   w.dsigma_previous = inc.dsigma;
 }
 
-/// The stopping test's increments (dp, du), logged: l2 norms of the p and u
-/// increments relative to the largest p and u of the run so far (relative
+/// The stopping test's increments (dp, du), logged: l2 norms of the p (root
+/// mean square over the window's fine steps) and u increments relative to
+/// the largest p and u of the run so far (relative
 /// to the current iterate alone, a field decaying to zero, e.g. p at steady
 /// state, would be judged by its round-off). Never on a stale state.
 std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Increments& inc, int n)
 {
-  _report.p_size = std::max(_report.p_size, std::sqrt(inc.p2));
+  _report.p_size = std::max(_report.p_size, std::sqrt(inc.p2 / w.q));
   _report.u_size = std::max(_report.u_size, owned_norm(w.u_new, _V));
-  const double dp_norm = relative(std::sqrt(inc.dp2), _report.p_size);
+  const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _report.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
-  _output.iteration({w.K + 1, t(w.K, _q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
+  _output.iteration({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
                      _mechanics.active_contact_nodes()});
   if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
@@ -497,7 +526,7 @@ void FixedStressSplit::next_iterate(Window& w)
   x.push_back(w.u_old);
   g.push_back(w.u_new);
   w.anderson->next(x, g);
-  std::copy(x.begin(), x.begin() + _q, w.p_old.begin() + 1);
+  std::copy(x.begin(), x.begin() + w.q, w.p_old.begin() + 1);
   w.u_old = x.back();
 }
 
@@ -509,7 +538,7 @@ void FixedStressSplit::record_coupled_residual(const Window& w, const Increments
   if (!_stabilised)
     return;
   const double change = _contraction(ContractionNorm::Quantity::fluid_content, difference(w.u_new, _u_K),
-                                     difference(w.p_new[_q], _p_K));
+                                     difference(w.p_new[w.q], _p_K));
   _report.max_coupled_residual = std::max(_report.max_coupled_residual, change > 0 ? inc.residual / change : 0.0);
 }
 
@@ -551,18 +580,24 @@ FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
   return Outcome::not_converged;
 }
 
+/// Back to the start of window w, to be computed again (`message` says why
+/// and on which steps).
+void FixedStressSplit::go_back(const Window& w, const std::string& message)
+{
+  _flow.set_unknowns(w.w_K);
+  assign(*_mechanics.u, _u_K);
+  if (_observer.retry)
+    _observer.retry(message);
+}
+
 /// time.retry: back to the start of the window, whose fine steps are
 /// halved (two windows of q steps); false when no retry is left.
 bool FixedStressSplit::retry(const Window& w, const std::string& cause)
 {
-  const auto message
-      = retry_step(_scene, cause, w.K + 1, _attempts, _grid, w.K * _q, _q, _report.retries);
+  const auto message = retry_step(_scene, cause, w.K + 1, _attempts, _grid, w.j, w.q, _report.retries);
   if (!message)
     return false;
-  _flow.set_unknowns(w.w_K);
-  assign(*_mechanics.u, _u_K);
-  if (_observer.retry)
-    _observer.retry(*message);
+  go_back(w, *message);
   return true;
 }
 
@@ -577,25 +612,39 @@ bool FixedStressSplit::error_accepted(const Window& w)
   assign(*_mechanics.u, w.u_new);
   const int active = _mechanics.active_contact_nodes();
   std::string message;
-  if (_control->judge(_grid, (w.K + 1) * _q, w.p_new[_q], w.u_new, active == _active_K, _report, message))
-  {
-    _active_K = active;
+  if (_control->judge(_grid, w.j + w.q, w.p_new[w.q], w.u_new, active == _active_K, _report, message))
     return true;
-  }
-  _flow.set_unknowns(w.w_K);
-  assign(*_mechanics.u, _u_K);
-  if (_observer.retry)
-    _observer.retry(message);
+  go_back(w, message);
   return false;
 }
 
+/// coupling.q = "auto": a window of q > 1 fine steps in which the number of
+/// active contact nodes changed is computed again with q = 1 (the
+/// mechanics would have seen the change only at the window's end); the
+/// windows then grow again from q = 1 (window_limit). Accepted otherwise.
+bool FixedStressSplit::contact_accepted(const Window& w)
+{
+  if (!_coupling.q_auto)
+    return true;
+  assign(*_mechanics.u, w.u_new);
+  const int active = _mechanics.active_contact_nodes();
+  if (w.q == 1 or active == _active_K)
+    return true;
+  ++_report.q_rejections;
+  _report.q_limit = 1;
+  std::ostringstream message;
+  message << "step " << w.K + 1 << ": the active contact nodes changed (" << _active_K << " -> " << active
+          << ") in a window of q = " << w.q << "; again with q = 1";
+  go_back(w, message.str());
+  return false;
+}
 /// The error of a window that did not converge in coupling.max_iterations,
 /// with the last increments.
 CouplingError FixedStressSplit::not_converged(const Window& w)
 {
   std::ostringstream message;
   message << "the fixed-stress split did not converge in " << _coupling.max_iterations
-          << " iterations at t = " << t(w.K, _q) << " (step " << w.K + 1 << "); last increments:";
+          << " iterations at t = " << t(w, w.q) << " (step " << w.K + 1 << "); last increments:";
   for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
     message << w.log[i];
   return CouplingError(message.str());
@@ -606,29 +655,36 @@ CouplingError FixedStressSplit::not_converged(const Window& w)
 void FixedStressSplit::accept_window(const Window& w, int n)
 {
   _attempts = 0;
-  for (int m = 1; m <= _q; ++m)
+  for (int m = 1; m <= w.q; ++m)
   {
     _flow.set_unknowns(w.w_new[m]);
-    _observer.flow_state(t(w.K, m));
+    _observer.flow_state(t(w, m));
   }
-  _observer.mechanics_state(t(w.K, _q), w.K + 1, n + 1);
+  const int active = _control or _coupling.q_auto ? _mechanics.active_contact_nodes() : 0;
+  _report.q_limit = window_limit(w.q, _coupling.q_max, active != _active_K);
+  _active_K = active;
   _report.windows = w.K + 1;
-  _p_before = w.p_new[_q - 1]; // p_K itself for q = 1
-  _u_path_before = path(w, w.u_new, _q - 1);
+  _report.fine_steps = w.j + w.q;
+  _report.window_q = w.q;
+  _report.max_window_q = std::max(_report.max_window_q, w.q);
+  _observer.mechanics_state(t(w, w.q), w.K + 1, n + 1);
+  _p_before = w.p_new[w.q - 1]; // p_K itself for q = 1
+  _u_path_before = path(w, w.u_new, w.q - 1);
   _u_before = _u_K;
+  _j_before = w.j;
   assign(*_flow.p_before, _p_before);
   assign(*_flow.u_before, _u_before);
   assign(*_flow.u_path_before, _u_path_before);
-  _p_K = w.p_new[_q];
+  _p_K = w.p_new[w.q];
   _u_K = w.u_new;
 }
 
 void FixedStressSplit::run()
 {
   start();
-  for (int K = _report.windows; K < _grid.steps() / _q; ++K)
+  for (int K = _report.windows, j = static_cast<int>(_report.fine_steps); j < _grid.steps(); ++K)
   {
-    Window w = begin_window(K);
+    Window w = begin_window(K, j, window_steps(j));
     int n = 0;
     const Outcome outcome = iterate_window(w, n);
     if (outcome != Outcome::retried)
@@ -642,12 +698,13 @@ void FixedStressSplit::run()
       _report.mean_contraction_ratio = _report.ratios ? _report.ratio_sum / _report.ratios : 0.0;
       throw not_converged(w);
     }
-    if (outcome != Outcome::converged or !error_accepted(w))
+    if (outcome != Outcome::converged or !error_accepted(w) or !contact_accepted(w))
     {
-      K = w.K - 1; // the same window again, on the shorter steps
+      K = w.K - 1; // the same window again, on the shorter steps or with q = 1
       continue;
     }
     accept_window(w, n);
+    j = w.j + w.q;
     if (_observer.stop and _observer.stop())
       break;
   }

@@ -158,6 +158,7 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
       observer.flow_state(t);
     observer.mechanics_state(t, k, 1);
     report.windows = k;
+    report.fine_steps = k;
     if (observer.stop())
       break;
   }

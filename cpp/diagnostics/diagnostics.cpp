@@ -38,20 +38,22 @@ ContractionNorm::ContractionNorm(const CompiledForms& forms, const Materials& ma
     lambda_max = std::max(lambda_max, lambda[T]), lambda_min = std::min(lambda_min, lambda[T]);
   MPI_Allreduce(MPI_IN_PLACE, &lambda_max, 1, MPI_DOUBLE, MPI_MAX, _comm);
   MPI_Allreduce(MPI_IN_PLACE, &lambda_min, 1, MPI_DOUBLE, MPI_MIN, _comm);
-  std::vector<double> lambda_w(n), alpha_w(n), alpha_qL(n), alpha_q(n), minus_storage(n);
+  std::vector<double> lambda_w(n), alpha_w(n), minus_storage(n);
+  _alpha = alpha;
+  _alpha_L.resize(n);
   for (std::size_t T = 0; T < n; ++T)
   {
     const double w = lambda_min > 0 ? std::sqrt(lambda_max / lambda[T]) : 1.0;
     lambda_w[T] = lambda[T] * w;
     alpha_w[T] = alpha[T] * w;
-    alpha_qL[T] = L[T] > 0 ? alpha[T] / (q * L[T]) : 0.0;
-    alpha_q[T] = alpha[T] / q;
+    _alpha_L[T] = L[T] > 0 ? alpha[T] / L[T] : 0.0;
     minus_storage[T] = -storage[T];
   }
   _coefficients[Quantity::theorem1] = {lambda_w, alpha_w};
-  _coefficients[Quantity::theorem2] = {alpha_qL, std::vector<double>(n, 1.0)};
-  _coefficients[Quantity::coupled_residual] = {alpha_q, L};
+  _coefficients[Quantity::theorem2] = {{}, std::vector<double>(n, 1.0)};
+  _coefficients[Quantity::coupled_residual] = {{}, L};
   _coefficients[Quantity::fluid_content] = {alpha, minus_storage};
+  set_window_steps(q);
 
   _divergence.emplace(assemble_operator(*make_form(forms.a_divergence, {Q, V}, {}, {}), {}));
   _volume = std::make_unique<la::Vector<double>>(Q->dofmap()->index_map, 1);
@@ -59,6 +61,19 @@ ContractionNorm::ContractionNorm(const CompiledForms& forms, const Materials& ma
   _volume->scatter_rev(std::plus<double>());
   _div_du = std::make_unique<la::Vector<double>>(Q->dofmap()->index_map, 1);
   _du = std::make_unique<la::Vector<double>>(V->dofmap()->index_map, V->dofmap()->index_map_bs());
+}
+
+void ContractionNorm::set_window_steps(int q)
+{
+  std::vector<double>& alpha_qL = _coefficients[Quantity::theorem2].first;
+  std::vector<double>& alpha_q = _coefficients[Quantity::coupled_residual].first;
+  alpha_qL.resize(_alpha.size());
+  alpha_q.resize(_alpha.size());
+  for (std::size_t T = 0; T < _alpha.size(); ++T)
+  {
+    alpha_qL[T] = _alpha_L[T] / q;
+    alpha_q[T] = _alpha[T] / q;
+  }
 }
 
 double ContractionNorm::operator()(Quantity quantity, std::span<const double> du, std::span<const double> dp)

@@ -54,9 +54,13 @@ public:
   double operator()(Quantity quantity, std::span<const double> du, std::span<const double> dp);
   /// The same with the du of the last call (D du is kept).
   double operator()(Quantity quantity, std::span<const double> dp) const;
+  /// The coefficients of theorem2 and coupled_residual for windows of q
+  /// fine steps (coupling.q = "auto" changes q between windows).
+  void set_window_steps(int q);
 
 private:
   MPI_Comm _comm;
+  std::vector<double> _alpha, _alpha_L; // alpha and alpha/L (0 where L = 0) per cell
   std::optional<dolfinx::la::petsc::Matrix> _divergence; // Q x V
   std::unique_ptr<dolfinx::la::Vector<double>> _volume, _du, _div_du;
   std::map<Quantity, std::pair<std::vector<double>, std::vector<double>>> _coefficients; // (c_u, c_p) per cell

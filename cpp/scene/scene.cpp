@@ -494,6 +494,34 @@ FlowSpec read_flow(Section s, int d)
   return f;
 }
 
+/// coupling.q: a positive integer, or "auto" (coupling/window_control.h)
+/// with the largest q (q_max) and the tolerance of the predicted relative
+/// change of the displacement over a window (q_tolerance).
+void read_window_steps(Section& s, CouplingSpec& c)
+{
+  const toml::node* q = s.node("q");
+  c.q_auto = q and q->is_string() and q->value<std::string>().value() == "auto";
+  c.q = c.q_auto ? 1 : s.integer("q", 1);
+  if (c.q < 1)
+    s.fail("q", "must be a positive integer or \"auto\"");
+  if (!c.multirate() and (c.q != 1 or c.q_auto))
+    s.fail("q", std::string(c.q_auto ? "q = \"auto\"" : "q > 1")
+                    + " needs scheme = \"multirate\" or \"multirate-two-pass\"");
+  if (!c.q_auto)
+  {
+    for (const char* key : {"q_max", "q_tolerance"})
+      if (s.has(key))
+        s.fail(key, "needs q = \"auto\"");
+    return;
+  }
+  c.q_max = s.integer("q_max", 16);
+  if (c.q_max < 1 or c.q_max > 1024)
+    s.fail("q_max", "must be an integer from 1 to 1024");
+  c.q_tolerance = s.number("q_tolerance", 1e-2);
+  if (!(c.q_tolerance > 0 and c.q_tolerance < 1))
+    s.fail("q_tolerance", "must lie in (0, 1)");
+}
+
 CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec& flow)
 {
   CouplingSpec c;
@@ -508,11 +536,7 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
   // zero pressure block, singular wherever no pressure is prescribed.
   if (c.scheme == "multirate-two-pass" and !(flow.storage() > 0))
     s.fail("scheme", "\"multirate-two-pass\" needs a storage coefficient S = 1/M + c_f phi0 > 0");
-  c.q = s.integer("q", 1);
-  if (c.q < 1)
-    s.fail("q", "must be a positive integer");
-  if (!c.multirate() and c.q != 1)
-    s.fail("q", "q > 1 needs scheme = \"multirate\" or \"multirate-two-pass\"");
+  read_window_steps(s, c);
 
   const toml::node* L = s.node("L");
   if (!L)
@@ -620,8 +644,9 @@ std::optional<AdaptiveSpec> read_adaptive(Section& time, const Scene& scene)
   a.finish();
   if (scene.growth > 1.0)
     time.fail("adaptive", "adaptive steps and time.growth exclude each other");
-  if (scene.coupling and scene.coupling->q != 1)
-    time.fail("adaptive", "adaptive steps need q = 1 (coupling.q is " + std::to_string(scene.coupling->q) + ")");
+  if (scene.coupling and (scene.coupling->q != 1 or scene.coupling->q_auto))
+    time.fail("adaptive", "adaptive steps need q = 1 (coupling.q is "
+                              + (scene.coupling->q_auto ? "\"auto\"" : std::to_string(scene.coupling->q)) + ")");
   return s;
 }
 
@@ -669,7 +694,7 @@ void read_time(Section& top, Scene& scene)
   }
   if (scene.growth == 1.0)
     check_step_count(time, scene);
-  if (scene.growth > 1.0 and scene.coupling and scene.coupling->q != 1)
+  if (scene.growth > 1.0 and scene.coupling and (scene.coupling->q != 1 or scene.coupling->q_auto))
     time.fail("growth", "growing time steps need q = 1");
   if (scene.num_steps() > Scene::max_steps)
     time.fail("growth", "more than " + std::to_string(Scene::max_steps) + " time steps");

@@ -125,7 +125,13 @@ struct CouplingSpec
   /// "multirate-two-pass" (docs/multirate-two-pass.md: a second flow pass without L
   /// corrects the fine steps) or "monolithic".
   std::string scheme = "fixed-stress";
-  int q = 1;
+  int q = 1;                // 1 with q = "auto" (the first window's)
+  /// coupling.q = "auto" (coupling/window_control.h): each window's q, at
+  /// most q_max, from the predicted relative change of the displacement
+  /// over the window, at most q_tolerance.
+  bool q_auto = false;
+  int q_max = 16;
+  double q_tolerance = 1e-2;
   std::string L_choice = "paper";      // "paper", "kdr", "half-kdr" or a number
   double L_number = 0;
   double tolerance = 1e-8;

@@ -182,6 +182,15 @@ void FlowStep::time_step_changed()
   assembly_time += timer.stop();
 }
 
+void FlowStep::window_steps_changed()
+{
+  if (!_displacement)
+    return;
+  common::Timer timer("assembly");
+  reassemble_operator(_displacement->mat(), *_a_displacement, _bcs);
+  assembly_time += timer.stop();
+}
+
 void FlowStep::flux(fem::Function<double>& out) const
 {
   fem::Function<double> z(_Z);

@@ -56,6 +56,10 @@ public:
   /// solve) after set_time_step changed the "dt" constant.
   void time_step_changed();
 
+  /// Only the displacement term, alpha/(q dt) div, depends on q: reassembled
+  /// after set_window_steps changed the "q" constant (no refactorisation).
+  void window_steps_changed();
+
   std::shared_ptr<const dolfinx::fem::FunctionSpace> pressure_space() const { return _Q; }
 
   // The unknown of the last solve.

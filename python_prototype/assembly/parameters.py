@@ -58,13 +58,26 @@ def set_constants(F, scene, parameters):
         F["gravity"].value = np.array(scene.flow.gravity)
 
 
-def set_time_step(F, dt):
-    """Sets the constant "dt" (the one that changes during a run, with
-    time.growth); returns whether it changed."""
-    if F["dt"].value == dt:
+def _set_constant(F, name, value):
+    """Sets a scalar constant ("dt" and "q" change between steps); returns
+    whether it changed."""
+    if F[name].value == value:
         return False
-    F["dt"].value = dt
+    F[name].value = value
     return True
+
+
+def set_time_step(F, dt):
+    """Sets the constant "dt" (it changes during a run with time.growth,
+    time.adaptive and retries); returns whether it changed."""
+    return _set_constant(F, "dt", dt)
+
+
+def set_window_steps(F, q):
+    """Sets the constant "q" (the fine steps of the current window; it
+    changes between windows with coupling.q = "auto"); returns whether it
+    changed."""
+    return _set_constant(F, "q", q)
 
 
 def interpolate(f, components, t):

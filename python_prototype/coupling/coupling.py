@@ -16,6 +16,7 @@ class CouplingReport:
 
     def __init__(self):
         self.windows = 0                   # mechanics (coarse) steps
+        self.fine_steps = 0                # flow (fine) steps: windows times q, or their sum with q = "auto"
         self.coupling_iterations = 0
         self.max_iterations_per_step = 0
         self.max_contraction_ratio = self.mean_contraction_ratio = 0.0
@@ -35,6 +36,12 @@ class CouplingReport:
         # controller's memory) and the largest norms of pressure and displacement.
         self.error_estimate = self.p_largest = self.u_largest = 0.0
         self.smooth_states = 0  # accepted states since t = 0 or the last contact break: the predictor's reach
+        # coupling.q = "auto" (window_control.py): the last window's q, the
+        # largest q the next may take (1 after a change of the contact set,
+        # then doubling), the largest q taken and the windows tried again
+        # with q = 1 because the contact set changed in them.
+        self.window_q, self.q_limit, self.max_window_q = 0, 1, 0
+        self.q_rejections = 0
 
 
 @dataclass
@@ -59,7 +66,8 @@ class WindowObserver:
 CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
                 "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate", "p_largest",
-                "u_largest", "contact_breaks", "smooth_states")
+                "u_largest", "contact_breaks", "smooth_states", "fine_steps", "window_q", "q_limit", "max_window_q",
+                "q_rejections")
 
 
 def for_each_checkpointed(report, f):

@@ -9,9 +9,10 @@ import math
 
 import numpy as np
 
-from ..assembly.parameters import set_time_step
+from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
 from .coupling import CouplingError
+from .window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.time_grid import retry_step
@@ -68,8 +69,9 @@ class Window:
     contraction measure and the error message carry from one iteration to
     the next."""
 
-    def __init__(self, K, w_K, p_K, u_K, q):
+    def __init__(self, K, j, q, w_K, p_K, u_K):
         self.K = K                    # the window [t_K, t_{K+1}]
+        self.j, self.q = j, q         # its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
         self.derivative = TimeDerivative()  # of every fine step (time_scheme.py)
         self.w_K = w_K                # flow state (z, p) at t_K, for a retry
         self.p_old = [p_K] * (q + 1)
@@ -115,69 +117,93 @@ class FixedStressSplit:
         self.contraction, self.output, self.observer = contraction, output, observer
         self.report, self.comm, self.grid = report, comm, grid
         self.control = control  # time.adaptive (q = 1), or None
-        self.q, self.V, self.Q = parameters.q, mechanics.V, flow.Q
+        self.V, self.Q = mechanics.V, flow.Q
         self.accelerated = self.coupling.acceleration == "anderson"
         self.p_K = self.u_K = None  # the converged state at t_K
         # For BDF2: the pressure one fine step and the displacement one window
         # before t_K, and the displacement path's value one fine step before t_K.
         self.p_before = self.u_before = self.u_path_before = None
+        self.j_before = 0           # the previous window's first fine step (t_{K-1})
         self.attempts = [0]         # retries of the current window (time.retry)
+        self.active_K = 0           # active contact nodes at t_K (time.adaptive, q = "auto")
 
-    def t(self, K, m):
-        """Fine time m of window K (t_K + m dt for a constant step)."""
-        return self.grid.t[K * self.q + m]
+    def t(self, w, m):
+        """Fine time m of window w (t_K + m dt for a constant step)."""
+        return self.grid.t[w.j + m]
 
     def start(self):
         """The converged state at the start (t = 0 or the restart's window)
-        and the scales of the stopping test: the largest p (summed over the q
-        fine steps) and u of the run so far (a restart brings its own)."""
+        and the scales of the stopping test: the largest p (root mean square
+        over a window's fine steps) and u of the run so far (a restart brings
+        its own)."""
+        q_max = self.coupling.q_max if self.coupling.q_auto else self.coupling.q
         for step in (self.flow, self.second_pass):
             if step:
-                step.keep_loads(self.q)
+                step.keep_loads(q_max)
         self.p_K = self.flow.pressure.x.array.copy()
         self.u_K = self.mechanics.u.x.array.copy()
         self.p_before = self.flow.p_before.x.array.copy()  # restored by a restart
         self.u_before = self.flow.u_before.x.array.copy()
         self.u_path_before = self.flow.u_path_before.x.array.copy()
-        if self.control:
-            self.active_K = self.mechanics.active_contact_nodes()  # time.adaptive: active contact nodes at t_K
+        self.j_before = self.report.fine_steps - self.report.window_q
+        if self.control or self.coupling.q_auto:
+            self.active_K = self.mechanics.active_contact_nodes()
         if self.report.windows == 0:
-            self.report.p_size = math.sqrt(self.q) * owned_norm(self.p_K, self.Q, self.comm)
+            self.report.p_size = owned_norm(self.p_K, self.Q, self.comm)
             self.report.u_size = owned_norm(self.u_K, self.V, self.comm)
 
-    def begin_window(self, K):
-        """The first iterate of window K: p^{0,m} = p_K for all m, u^0 = u_K;
-        with coupling.acceleration = "anderson" the Anderson state (p^1, ...,
-        p^q, u), weighted by the scales of the stopping test (anderson.py)."""
-        q, report = self.q, self.report
-        derivative = self.window_derivative(K)
-        dt = derivative.effective_step(self.grid.dt[K * q])
-        if set_time_step(self.F, dt):
-            self.flow.time_step_changed()
-        if self.second_pass and set_time_step(self.second_pass.F, dt):
-            self.second_pass.time_step_changed()
-        w = Window(K, self.flow.unknowns().copy(), self.p_K, self.u_K, q)
+    def window_steps(self, j):
+        """The fine steps of the window that starts at fine step j:
+        coupling.q, or with q = "auto" those of window_steps
+        (window_control.py) from the last window's relative change of u per
+        unit time."""
+        if not self.coupling.q_auto:
+            return self.coupling.q
+        rate = 0.0
+        if self.report.windows > 0:
+            rate = (relative(owned_norm(self.u_K - self.u_before, self.V, self.comm), self.report.u_size)
+                    / (self.grid.t[j] - self.grid.t[self.j_before]))
+        return window_steps(self.grid, j, self.report.q_limit, rate, self.coupling.q_tolerance, self.scene.stops())
+
+    def begin_window(self, K, j, q):
+        """The first iterate of window K (fine steps j + 1, ..., j + q):
+        p^{0,m} = p_K for all m, u^0 = u_K; with coupling.acceleration =
+        "anderson" the Anderson state (p^1, ..., p^q, u), weighted by the
+        scales of the stopping test (anderson.py)."""
+        report = self.report
+        derivative = self.window_derivative(j, q)
+        dt = derivative.effective_step(self.grid.dt[j])
+        for flow in (self.flow, self.second_pass):
+            if flow:
+                q_changed = set_window_steps(flow.F, q)
+                if set_time_step(flow.F, dt):
+                    flow.time_step_changed()  # all its operators, with the new q too
+                elif q_changed:
+                    flow.window_steps_changed()
+        self.contraction.set_window_steps(q)
+        w = Window(K, j, q, self.flow.unknowns().copy(), self.p_K, self.u_K)
         w.derivative = derivative
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K
         w.active_set_changes = contact_changes(self.mechanics)
         if self.accelerated:
+            # p_size is a fine step's: the window's q pressures weigh as one field.
+            p_size = math.sqrt(q) * report.p_size
             w.anderson = AndersonAcceleration(self.comm, self.coupling.depth,
                                               [owned(self.Q)] * q + [owned(self.V)],
-                                              [1 / report.p_size if report.p_size > 0 else 1.0] * q
+                                              [1 / p_size if p_size > 0 else 1.0] * q
                                               + [1 / report.u_size if report.u_size > 0 else 1.0])
         return w
 
-    def window_derivative(self, K):
+    def window_derivative(self, j, q):
         """The time derivative of window K's fine steps
         (cpp/coupling/fixed_stress.cpp): with q > 1 the fine steps share one
         matrix, so BDF2 needs the step before the window to equal the
         window's fine step; otherwise (the first window, a halved one)
         backward Euler, which keeps the global error second order."""
-        j = K * self.q
         dt, previous = self.grid.dt[j], self.grid.dt[j - 1] if j > 0 else 0.0
-        if self.q > 1 and previous != dt:
+        if q > 1 and previous != dt:
             return TimeDerivative()
         return time_derivative(self.scene.time_scheme, dt, previous)
 
@@ -192,11 +218,11 @@ class FixedStressSplit:
         bdf2 = self.scene.time_scheme == "bdf2"
         if bdf2 and w.K == 0:
             return self.u_K if m == 0 else u
-        H, s = self.t(w.K, self.q) - self.t(w.K, 0), self.t(w.K, m) - self.t(w.K, 0)
+        H, s = self.t(w, w.q) - self.t(w, 0), self.t(w, m) - self.t(w, 0)
         D1 = (u - self.u_K) / H
-        if not (bdf2 and (self.q == 1 or w.K > 1)):
+        if not (bdf2 and (w.q == 1 or w.K > 1)):
             return self.u_K + s * D1
-        H1 = self.t(w.K, 0) - self.t(w.K - 1, 0)
+        H1 = self.t(w, 0) - self.grid.t[self.j_before]
         D2 = (D1 - (self.u_K - self.u_before) / H1) / (H + H1)
         return self.u_K + s * D1 + s * (s - H) * D2
 
@@ -215,7 +241,7 @@ class FixedStressSplit:
         flow.p_previous.x.array[:] = history_value(d, p[m - 1], p[m - 2] if m >= 2 else self.p_before)
         Q_star = history_value(d, self.path(w, u, m - 1),
                                self.path(w, u, m - 2) if m >= 2 else self.u_path_before)
-        flow.u_window.x.array[:] = u - self.q * (self.path(w, u, m) - Q_star)
+        flow.u_window.x.array[:] = u - w.q * (self.path(w, u, m) - Q_star)
 
     def flow_pass(self, w):
         """(a) q flow steps with u^n lagged (eq. 4.17-4.19):
@@ -228,12 +254,12 @@ class FixedStressSplit:
             flow.system.set_tolerance(inexact_tolerance(w.increment))
             self.mechanics.system.set_tolerance(inexact_tolerance(w.increment))
         flow.u_iterate.x.array[:] = w.u_old
-        for m in range(1, self.q + 1):
+        for m in range(1, w.q + 1):
             self.set_time_history(flow, w, m, w.p_new, w.u_old)
             flow.p_iterate.x.array[:] = w.p_old[m]
             flow.p_iterate_previous.x.array[:] = history_value(d, w.p_old[m - 1],
                                                                w.p_old[m - 2] if m >= 2 else self.p_before)
-            flow.solve(self.t(w.K, m))
+            flow.solve(self.t(w, m))
             w.p_new[m] = flow.pressure.x.array.copy()
             w.w_new[m] = flow.unknowns().copy()
 
@@ -243,10 +269,10 @@ class FixedStressSplit:
         the mechanics load. (c) "multirate-two-pass": the fine steps again,
         without L, with u^{n+1}; for q = 1 the correction would return p^A_1
         itself."""
-        self.mechanics.solve(self.t(w.K, self.q))
+        self.mechanics.solve(self.t(w, w.q))
         w.u_new = self.mechanics.u.x.array.copy()
-        if self.second_pass and self.q > 1:
-            second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w.K, m),
+        if self.second_pass and w.q > 1:
+            second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w, m),
                                    lambda m, p_B: self.set_time_history(self.second_pass, w, m, p_B, w.u_new),
                                    w.p_new, w.w_new)
 
@@ -257,7 +283,7 @@ class FixedStressSplit:
         for the single-rate split, Theorem 2,
           delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
         (summed over m in l2) for the multirate ones."""
-        q, contraction = self.q, self.contraction
+        q, contraction = w.q, self.contraction
         inc = Increments()
         inc.du = w.u_new - w.u_old
         dp_previous = np.zeros_like(self.p_K)
@@ -291,7 +317,7 @@ class FixedStressSplit:
         The other ratios are logged and counted as unresolved. With
         acceleration the iterates are no longer x^{n+1} = G(x^n): ratios are
         logged only."""
-        parameters, q, report, ratio = self.parameters, self.q, self.report, inc.ratio
+        parameters, q, report, ratio = self.parameters, w.q, self.report, inc.ratio
         if n == 0:
             w.dsigma_first = inc.dsigma
         if self.coupling.multirate():
@@ -311,21 +337,22 @@ class FixedStressSplit:
 
     def stopping_test(self, w, inc, n):
         """The stopping test's increments (dp, du), logged: l2 norms of the p
-        and u increments relative to the largest p and u of the run so far
+        (root mean square over the window's fine steps) and u increments
+        relative to the largest p and u of the run so far
         (relative to the current iterate alone, a field decaying to zero, e.g.
         p at steady state, would be judged by its round-off). Never on a
         stale state."""
         report = self.report
-        report.p_size = max(report.p_size, math.sqrt(inc.p2))
+        report.p_size = max(report.p_size, math.sqrt(inc.p2 / w.q))
         report.u_size = max(report.u_size, owned_norm(w.u_new, self.V, self.comm))
-        dp_norm = relative(math.sqrt(inc.dp2), report.p_size)
+        dp_norm = relative(math.sqrt(inc.dp2 / w.q), report.p_size)
         du_norm = relative(owned_norm(inc.du, self.V, self.comm), report.u_size)
         if not math.isfinite(inc.p2) or not math.isfinite(report.u_size):
             # The iterates hold NaN or inf (a load or coefficient that is not
             # finite): no further iteration can recover.
             raise SolverError("non-finite values (NaN or inf) in the "
                               f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
-        self.output.iteration(w.K + 1, self.t(w.K, self.q), n + 1, inc.dsigma, inc.ratio, self.parameters.gamma,
+        self.output.iteration(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio, self.parameters.gamma,
                               dp_norm, du_norm, self.mechanics.active_contact_nodes())
         w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g};")
         return dp_norm, du_norm
@@ -344,8 +371,8 @@ class FixedStressSplit:
             w.anderson.restart()
             w.active_set_changes = changes
         x = w.anderson.next(w.p_old[1:] + [w.u_old], w.p_new[1:] + [w.u_new])
-        w.p_old = [w.p_old[0]] + x[:self.q]
-        w.u_old = x[self.q]
+        w.p_old = [w.p_old[0]] + x[:w.q]
+        w.u_old = x[w.q]
 
     def record_coupled_residual(self, w, inc):
         """Coupled residual of an accepted state: the flow equations with
@@ -353,7 +380,7 @@ class FixedStressSplit:
         = L delta sigma^{n+1,m}; relative to the fluid content change."""
         if not self.stabilised:
             return
-        change = self.contraction("fluid_content", w.u_new - self.u_K, w.p_new[self.q] - self.p_K)
+        change = self.contraction("fluid_content", w.u_new - self.u_K, w.p_new[w.q] - self.p_K)
         self.report.max_coupled_residual = max(self.report.max_coupled_residual,
                                                inc.residual / change if change > 0 else 0.0)
 
@@ -389,17 +416,21 @@ class FixedStressSplit:
             return Outcome.retried, n
         return Outcome.not_converged, n
 
-    def retry(self, w, cause):
-        """time.retry: back to the start of the window, whose fine steps are
-        halved (two windows of q steps); False when no retry is left."""
-        message = retry_step(self.scene, cause, w.K + 1, self.attempts, self.grid, w.K * self.q, self.q,
-                             self.report)
-        if message is None:
-            return False
+    def go_back(self, w, message):
+        """Back to the start of window w, to be computed again (`message`
+        says why and on which steps)."""
         self.flow.set_unknowns(w.w_K)
         self.mechanics.u.x.array[:] = self.u_K
         if self.observer.retry:
             self.observer.retry(message)
+
+    def retry(self, w, cause):
+        """time.retry: back to the start of the window, whose fine steps are
+        halved (two windows of q steps); False when no retry is left."""
+        message = retry_step(self.scene, cause, w.K + 1, self.attempts, self.grid, w.j, w.q, self.report)
+        if message is None:
+            return False
+        self.go_back(w, message)
         return True
 
     def error_accepted(self, w):
@@ -411,47 +442,66 @@ class FixedStressSplit:
             return True
         self.mechanics.u.x.array[:] = w.u_new
         active = self.mechanics.active_contact_nodes()
-        message = self.control.judge(self.grid, (w.K + 1) * self.q, w.p_new[self.q], w.u_new,
-                                     active == self.active_K, self.report)
+        message = self.control.judge(self.grid, w.j + w.q, w.p_new[w.q], w.u_new, active == self.active_K,
+                                     self.report)
         if message is None:
-            self.active_K = active
             return True
-        self.flow.set_unknowns(w.w_K)
-        self.mechanics.u.x.array[:] = self.u_K
-        if self.observer.retry:
-            self.observer.retry(message)
+        self.go_back(w, message)
+        return False
+
+    def contact_accepted(self, w):
+        """coupling.q = "auto": a window of q > 1 fine steps in which the
+        number of active contact nodes changed is computed again with q = 1
+        (the mechanics would have seen the change only at the window's end);
+        the windows then grow again from q = 1 (window_limit)."""
+        if not self.coupling.q_auto:
+            return True
+        self.mechanics.u.x.array[:] = w.u_new
+        active = self.mechanics.active_contact_nodes()
+        if w.q == 1 or active == self.active_K:
+            return True
+        self.report.q_rejections += 1
+        self.report.q_limit = 1
+        self.go_back(w, f"step {w.K + 1}: the active contact nodes changed ({self.active_K} -> {active}) "
+                        f"in a window of q = {w.q}; again with q = 1")
         return False
 
     def not_converged(self, w):
         """The error of a window that did not converge in
         coupling.max_iterations, with the last increments."""
         return CouplingError(f"the fixed-stress split did not converge in {self.coupling.max_iterations} "
-                             f"iterations at t = {self.t(w.K, self.q):g} (step {w.K + 1}); last increments:"
+                             f"iterations at t = {self.t(w, w.q):g} (step {w.K + 1}); last increments:"
                              + "".join(w.log[-3:]))
 
     def accept_window(self, w, n):
         """Accept the window: write every fine flow step, then the mechanics
         step; its end state is the next window's start."""
+        report = self.report
         self.attempts[0] = 0
-        for m in range(1, self.q + 1):
+        for m in range(1, w.q + 1):
             self.flow.set_unknowns(w.w_new[m])
-            self.observer.flow_state(self.t(w.K, m))
-        self.observer.mechanics_state(self.t(w.K, self.q), w.K + 1, n + 1)
-        self.report.windows = w.K + 1
-        self.p_before = w.p_new[self.q - 1]  # p_K itself for q = 1
-        self.u_path_before = self.path(w, w.u_new, self.q - 1)
+            self.observer.flow_state(self.t(w, m))
+        active = self.mechanics.active_contact_nodes() if self.control or self.coupling.q_auto else 0
+        report.q_limit = window_limit(w.q, self.coupling.q_max, active != self.active_K)
+        self.active_K = active
+        report.windows, report.fine_steps, report.window_q = w.K + 1, w.j + w.q, w.q
+        report.max_window_q = max(report.max_window_q, w.q)
+        self.observer.mechanics_state(self.t(w, w.q), w.K + 1, n + 1)
+        self.p_before = w.p_new[w.q - 1]  # p_K itself for q = 1
+        self.u_path_before = self.path(w, w.u_new, w.q - 1)
         self.u_before = self.u_K
+        self.j_before = w.j
         self.flow.p_before.x.array[:] = self.p_before
         self.flow.u_before.x.array[:] = self.u_before
         self.flow.u_path_before.x.array[:] = self.u_path_before
-        self.p_K, self.u_K = w.p_new[self.q], w.u_new
+        self.p_K, self.u_K = w.p_new[w.q], w.u_new
 
     def run(self):
         report, max_iterations = self.report, self.coupling.max_iterations
         self.start()
-        K = report.windows
-        while K < self.grid.steps() // self.q:
-            w = self.begin_window(K)
+        K, j = report.windows, report.fine_steps
+        while j < self.grid.steps():
+            w = self.begin_window(K, j, self.window_steps(j))
             outcome, n = self.iterate_window(w)
             if outcome != Outcome.retried:
                 iterations = min(n + 1, max_iterations)
@@ -460,10 +510,10 @@ class FixedStressSplit:
             if outcome == Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
                 report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
                 raise self.not_converged(w)
-            if outcome != Outcome.converged or not self.error_accepted(w):
-                continue  # the same window again, on the shorter steps
+            if outcome != Outcome.converged or not self.error_accepted(w) or not self.contact_accepted(w):
+                continue  # the same window again, on the shorter steps or with q = 1
             self.accept_window(w, n)
-            K += 1
+            K, j = K + 1, w.j + w.q
             if self.observer.stop and self.observer.stop():
                 break
         report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0

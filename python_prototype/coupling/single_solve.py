@@ -112,6 +112,7 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
             observer.flow_state(t)
         observer.mechanics_state(t, k, 1)
         report.windows = k
+        report.fine_steps = k
         k += 1
         if observer.stop():
             break

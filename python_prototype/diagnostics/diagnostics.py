@@ -27,15 +27,23 @@ class ContractionNorm:
         lambda_min = comm.allreduce(float(lmbda.min(initial=np.inf)), op=MPI.MIN)
         with np.errstate(divide="ignore", invalid="ignore"):
             w = np.sqrt(lambda_max / lmbda) if lambda_min > 0 else np.ones_like(lmbda)
-            alpha_qL = np.where(L > 0, alpha / (q * L), 0.0)
-        self.coefficients = {"theorem1": (lmbda * w, alpha * w), "theorem2": (alpha_qL, np.ones_like(L)),
-                             "coupled_residual": (alpha / q, L), "fluid_content": (alpha, -storage)}
+            self.alpha_L = np.where(L > 0, alpha / L, 0.0)
+        self.alpha = alpha
+        self.coefficients = {"theorem1": (lmbda * w, alpha * w), "theorem2": (None, np.ones_like(L)),
+                             "coupled_residual": (None, L), "fluid_content": (alpha, -storage)}
+        self.set_window_steps(q)
         self.D = assemble_operator(F.compile("a_divergence"), [])
         self.volume = fem.Function(F["Q"])
         add_vector(self.volume, F.compile("L_cell_volume"))
         accumulate_ghosts(self.volume)
         self.du, self.div_du = fem.Function(F["V"]), fem.Function(F["Q"])
         self.cells = F["Q"].dofmap.index_map.size_local
+
+    def set_window_steps(self, q):
+        """The coefficients of theorem2 and coupled_residual for windows of q
+        fine steps (coupling.q = "auto" changes q between windows)."""
+        self.coefficients["theorem2"] = (self.alpha_L / q, self.coefficients["theorem2"][1])
+        self.coefficients["coupled_residual"] = (self.alpha / q, self.coefficients["coupled_residual"][1])
 
     def __call__(self, quantity, du, dp):
         """The norm of `quantity` with the increments du and dp; du None

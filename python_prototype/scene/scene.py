@@ -211,7 +211,13 @@ class FlowSpec:
 class CouplingSpec:
     alpha: float = 1.0
     scheme: str = "fixed-stress"
-    q: int = 1
+    q: int = 1                  # 1 with q = "auto" (the first window's)
+    # coupling.q = "auto" (window_control.py): each window's q, at most
+    # q_max, from the predicted relative change of the displacement over
+    # the window, at most q_tolerance.
+    q_auto: bool = False
+    q_max: int = 16
+    q_tolerance: float = 1e-2
     L_choice: str = "paper"
     L_number: float = 0.0
     tolerance: float = 1e-8
@@ -567,6 +573,29 @@ def _read_flow(s, d):
     return f
 
 
+def _read_window_steps(s, c):
+    """coupling.q: a positive integer, or "auto" (window_control.py) with
+    the largest q (q_max) and the tolerance of the predicted relative change
+    of the displacement over a window (q_tolerance)."""
+    c.q_auto = s.node("q") == "auto"
+    c.q = 1 if c.q_auto else s.integer("q", 1)
+    if c.q < 1:
+        s.fail("q", 'must be a positive integer or "auto"')
+    if not c.multirate() and (c.q != 1 or c.q_auto):
+        s.fail("q", ('q = "auto"' if c.q_auto else "q > 1") + ' needs scheme = "multirate" or "multirate-two-pass"')
+    if not c.q_auto:
+        for key in ("q_max", "q_tolerance"):
+            if s.has(key):
+                s.fail(key, 'needs q = "auto"')
+        return
+    c.q_max = s.integer("q_max", 16)
+    if not 1 <= c.q_max <= 1024:
+        s.fail("q_max", "must be an integer from 1 to 1024")
+    c.q_tolerance = s.number("q_tolerance", 1e-2)
+    if not 0 < c.q_tolerance < 1:
+        s.fail("q_tolerance", "must lie in (0, 1)")
+
+
 def _read_coupling(s, mech, flow):
     c = CouplingSpec()
     c.alpha = s.number("alpha")
@@ -580,11 +609,7 @@ def _read_coupling(s, mech, flow):
     # zero pressure block, singular wherever no pressure is prescribed.
     if c.scheme == "multirate-two-pass" and not flow.storage() > 0:
         s.fail("scheme", '"multirate-two-pass" needs a storage coefficient S = 1/M + c_f phi0 > 0')
-    c.q = s.integer("q", 1)
-    if c.q < 1:
-        s.fail("q", "must be a positive integer")
-    if not c.multirate() and c.q != 1:
-        s.fail("q", 'q > 1 needs scheme = "multirate" or "multirate-two-pass"')
+    _read_window_steps(s, c)
 
     L = s.node("L")
     bad_L = 'must be "paper", "kdr", "half-kdr" or a number'
@@ -701,8 +726,9 @@ def _read_adaptive(time, scene):
     a.finish()
     if scene.growth > 1.0:
         time.fail("adaptive", "adaptive steps and time.growth exclude each other")
-    if scene.coupling and scene.coupling.q != 1:
-        time.fail("adaptive", f"adaptive steps need q = 1 (coupling.q is {scene.coupling.q})")
+    if scene.coupling and (scene.coupling.q != 1 or scene.coupling.q_auto):
+        q = '"auto"' if scene.coupling.q_auto else scene.coupling.q
+        time.fail("adaptive", f"adaptive steps need q = 1 (coupling.q is {q})")
     return s
 
 
@@ -740,7 +766,7 @@ def _read_time(top, scene):
         return
     if scene.growth == 1.0:
         _check_step_count(time, scene)
-    if scene.growth > 1.0 and scene.coupling and scene.coupling.q != 1:
+    if scene.growth > 1.0 and scene.coupling and (scene.coupling.q != 1 or scene.coupling.q_auto):
         time.fail("growth", "growing time steps need q = 1")
     if scene.num_steps() > MAX_STEPS:
         time.fail("growth", f"more than {MAX_STEPS} time steps")

@@ -147,6 +147,15 @@ class FlowStep:
             reassemble_operator(A, a, self.bcs)
         self.assembly_time += time.perf_counter() - start
 
+    def window_steps_changed(self):
+        """Only the displacement term, alpha/(q dt) div, depends on q:
+        reassembled after set_window_steps changed it (no refactorisation)."""
+        start = time.perf_counter()
+        for a, A, x in self.operators:
+            if x is self.du:
+                reassemble_operator(A, a, self.bcs)
+        self.assembly_time += time.perf_counter() - start
+
     def set_unknowns(self, w):
         """Restores a mixed solution (the multirate scheme keeps one per fine step)."""
         if w is not self.w.x.array:
