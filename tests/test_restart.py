@@ -6,8 +6,8 @@ summary counts (a restart factorises again and forms the Schur complement
 again: those two counts differ), for the single-rate, multirate, two-pass
 multirate and monolithic schemes with contact, with backward Euler and
 with BDF2 (whose memory, the state one step back, the checkpoint keeps)
-and with time.adaptive (the same steps after the restart); the prototype
-does the same.
+with time.adaptive (the same steps after the restart) and with
+coupling.q = "auto" (the same windows); the prototype does the same.
 A restart of another scene, or of a directory without a checkpoint, is
 refused."""
 import json
@@ -61,6 +61,7 @@ def run(exe, *arguments):
 
 
 ADAPTIVE = ["--set", "time.end=4.8", "--set", "time.adaptive.tolerance=1e-2", "--set", "output.every=1.2"]
+Q_AUTO = ["--set", "coupling.scheme=multirate", "--set", "coupling.q=auto"]
 CASES = [("single rate", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGTERM),
          ("single rate after SIGKILL", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGKILL),
          ("multirate", BINARY, ["--set", "coupling.scheme=multirate", "--set", "coupling.q=4"], signal.SIGTERM),
@@ -81,7 +82,13 @@ CASES = [("single rate", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGTERM)
          ("single rate, adaptive BDF2", BINARY, ADAPTIVE + ["--set", "time.scheme=bdf2"], signal.SIGTERM),
          ("monolithic, adaptive", BINARY, ADAPTIVE + ["--set", "coupling.scheme=monolithic"], signal.SIGKILL),
          ("prototype, single rate, adaptive BDF2", "prototype", ADAPTIVE + ["--set", "time.scheme=bdf2"],
-          signal.SIGTERM)]
+          signal.SIGTERM),
+         # coupling.q = "auto": the last window's q, its change of u and the
+         # limit of the next q are in the checkpoint: the same windows follow.
+         ("multirate, q = auto", BINARY, Q_AUTO, signal.SIGKILL),
+         ("multirate, q = auto, BDF2", BINARY, Q_AUTO + ["--set", "time.scheme=bdf2"], signal.SIGTERM),
+         ("prototype, two-pass multirate, q = auto", "prototype",
+          ["--set", "coupling.scheme=multirate-two-pass", "--set", "coupling.q=auto"], signal.SIGTERM)]
 for label, exe, options, number in CASES:
     exe = PROTOTYPE if exe == "prototype" else [exe]
     options = options + CHECKPOINT

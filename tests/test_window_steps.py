@@ -37,7 +37,7 @@ def pressure_error(out, reference):
     return np.linalg.norm(errors) / np.linalg.norm(changes), errors.max() / changes.max(), len(errors)
 
 
-def windows(out):
+def windows(out, dt):
     """(q, active contact nodes at its end) of each accepted window, from
     iterations.csv (a window computed again logs its rows before the
     accepted ones; the last rows of a step are the accepted window's)."""
@@ -47,7 +47,7 @@ def windows(out):
     t, result = 0.0, []
     for k in sorted(last):
         end = float(last[k]["time"])
-        result.append((round((end - t) / DT), int(last[k]["active_nodes"])))
+        result.append((round((end - t) / dt), int(last[k]["active_nodes"])))
         t = end
     return result
 
@@ -71,7 +71,7 @@ for time_scheme in ("backward-euler", "bdf2"):
     check(s["window_steps"]["largest_q"] > 1 and s["window_steps"]["q_rejections"] > 0,
           f"{time_scheme}: windows of q > 1 taken ({s['window_steps']['largest_q']}), "
           f"{s['window_steps']['q_rejections']} computed again with q = 1 for a change of the contact set")
-    history = windows(auto)
+    history = windows(auto, DT)
     check(sum(q for q, _ in history) == s["fine_steps"] and len(history) == s["steps"],
           f"{time_scheme}: the windows' q add up to the flow steps")
     spans = [k for k in range(1, len(history)) if history[k][0] > 1 and history[k][1] != history[k - 1][1]]
@@ -84,6 +84,16 @@ loose = summary(auto)
 check(summary(tight)["window_steps"]["mean_q"] < loose["window_steps"]["mean_q"],
       f"q_tolerance 1e-3 takes smaller windows than 1e-2 (mean q {summary(tight)['window_steps']['mean_q']:.2f} "
       f"against {loose['window_steps']['mean_q']:.2f})")
+
+# Without contact (Terzaghi: the settlement slows down) the windows grow,
+# at most doubling, up to q_max, and end on every output time.
+terzaghi, _ = run_track("C++", scene("terzaghi"), *AUTO, "coupling.q_max=8", "output.every=0.25")
+history = [q for q, _ in windows(terzaghi, 0.01)]
+ends = np.cumsum(history) * 0.01
+check(history[0] == 1 and max(history) == 8 and all(b <= 2 * a for a, b in zip(history, history[1:])),
+      f"Terzaghi: windows from q = 1, at most doubling, up to q_max = 8: {history}")
+check(all(np.isclose(ends, t, rtol=0, atol=1e-9).any() for t in (0.25, 0.5, 0.75, 1.0)),
+      "Terzaghi: a window ends on every output time")
 
 # The prototype: the same windows, iterations and fields.
 cpp, _ = run_track("C++", scene("fracture"), *AUTO, "time.scheme=bdf2")
