@@ -7,12 +7,15 @@ in l2 over the flow steps and the largest), is within 1 % of the
 single-rate split's with the same flow step, backward Euler and BDF2; no
 window of q > 1 spans a change of the contact set (a window in which it
 changed is computed again with q = 1); windows of q > 1 are taken and a
-smaller tolerance takes smaller ones. The prototype gives the C++ windows,
-iterations and fields."""
+smaller tolerance takes smaller ones. The rule itself on synthetic grids:
+stops, rate, limit and a change of dt end a window. The prototype gives
+the C++ windows, iterations and fields."""
 import numpy as np
 
 from support import check, iterations, max_difference, run_track, scene, summary
+from python_prototype.coupling.window_control import window_limit, window_steps
 from python_prototype.output.time_series import Fields
+from python_prototype.steps.time_grid import TimeGrid, halve_steps
 
 DT = 43200.0
 BASE = ["mesh.refine=1", f"time.dt={DT}"]
@@ -51,6 +54,21 @@ def windows(out, dt):
         t = end
     return result
 
+
+# The rule itself (the prototype's window_control, which the C++ mirrors:
+# the prototype = C++ check below): the stops, the rate, the limit, a
+# change of dt (a retry's halved steps) end a window; the limit's update.
+grid = TimeGrid([0.1 * k for k in range(11)], [0.1] * 10)
+stops = [0.5, 1.0]
+check(window_steps(grid, 0, 16, 0.0, 1e-2, stops) == 5 and window_steps(grid, 5, 16, 0.0, 1e-2, stops) == 5,
+      "window_control: a window ends on every stop")
+check(window_steps(grid, 0, 16, 1.0, 0.25, stops) == 2 and window_steps(grid, 0, 16, 1.0, 0.05, stops) == 1
+      and window_steps(grid, 0, 3, 0.0, 1e-2, stops) == 3, "window_control: q dt rate <= tolerance, q <= limit, q >= 1")
+halve_steps(grid, 1, 2)
+check(window_steps(grid, 0, 16, 0.0, 1e-2, stops) == 1 and window_steps(grid, 1, 16, 0.0, 1e-2, stops) == 4
+      and window_steps(grid, 5, 16, 0.0, 1e-2, stops) == 2, "window_control: a window's fine steps share one dt")
+check((window_limit(4, 16, True), window_limit(4, 16, False), window_limit(16, 16, False)) == (1, 8, 16),
+      "window_control: the limit is 1 after a change of the contact set, else doubles up to q_max")
 
 reference, _ = run_track("C++", scene("fracture"), *BASE, f"time.dt={DT / 16}", "coupling.scheme=monolithic",
                          "time.scheme=bdf2", f"output.every={DT}")
