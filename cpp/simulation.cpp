@@ -148,8 +148,6 @@ Json closed_form_errors(const Scene& scene, const Parameters& parameters, const 
   return errors;
 }
 
-/// The regions of the summary: each one's cells and its material's gamma
-/// and L, and the cells in no region (the top-level material).
 /// time.adaptive's part of summary.json: the tolerance, the steps rejected
 /// or forced at dt_min, the contact breaks, the largest accepted estimate,
 /// the steps taken.
@@ -183,6 +181,8 @@ Json window_steps_json(const CouplingSpec& c, const CouplingReport& report)
   return j;
 }
 
+/// The regions of the summary: each one's cells and its material's gamma
+/// and L, and the cells in no region (the top-level material).
 Json regions_json(const CellRegions& cells, const Materials& materials)
 {
   Json regions;
@@ -241,14 +241,11 @@ struct Steps
     std::vector<std::pair<std::string, fem::Function<double>*>> h;
     if (scene.time_scheme == "bdf2" and flow)
       h.push_back({"pressure_before", flow->p_before.get()});
-    const bool q_auto = scene.coupling and scene.coupling->q_auto;
-    if (scene.time_scheme == "bdf2" and flow and flow->u_before)
-    {
+    const bool bdf2 = scene.time_scheme == "bdf2", q_auto = scene.coupling and scene.coupling->q_auto;
+    if ((bdf2 or q_auto) and flow and flow->u_before) // q = "auto": the last window's change of u
       h.push_back({"displacement_before", flow->u_before.get()});
+    if (bdf2 and flow and flow->u_before)
       h.push_back({"displacement_path_before", flow->u_path_before.get()});
-    }
-    else if (q_auto and flow and flow->u_before) // the last window's change of u (window_control.h)
-      h.push_back({"displacement_before", flow->u_before.get()});
     if (scene.time_scheme == "bdf2" and monolithic)
     {
       h.push_back({"pressure_before", monolithic->p_before.get()});
@@ -893,7 +890,7 @@ void Simulation::write_summary()
     summary.set("q", "auto");
   else
     summary.set("q", _parameters.q);
-  summary      .set("L_choice", c ? c->L_choice : "none")
+  summary.set("L_choice", c ? c->L_choice : "none")
       .set("acceleration", c and c->acceleration == "anderson" ? "anderson, depth " + std::to_string(c->depth)
                                                                : std::string("none"))
       .set("L", _parameters.L)

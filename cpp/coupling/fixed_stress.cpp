@@ -110,6 +110,7 @@ struct Window
 {
   int K = 0;                           // the window [t_K, t_{K+1}]
   int j = 0, q = 1;                    // its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
+  int active = 0;                      // active contact nodes of u^{n+1} (the last iteration's)
   TimeDerivative derivative;           // of every fine step (time_scheme.h)
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
@@ -209,7 +210,7 @@ private:
   Array _p_before, _u_before, _u_path_before;
   int _j_before = 0;  // the previous window's first fine step (t_{K-1})
   int _attempts = 0; // retries of the current window (time.retry)
-  int _active_K = 0;  // active contact nodes at t_K (time.adaptive, q = "auto")
+  int _active_K = 0;  // active contact nodes at t_K
 };
 
 /// The converged state at the start (t = 0 or the restart's window) and the
@@ -227,8 +228,7 @@ void FixedStressSplit::start()
   _u_before = copy(*_flow.u_before);
   _u_path_before = copy(*_flow.u_path_before);
   _j_before = static_cast<int>(_report.fine_steps) - _report.window_q;
-  if (_control or _coupling.q_auto)
-    _active_K = _mechanics.active_contact_nodes();
+  _active_K = _mechanics.active_contact_nodes();
   if (_report.windows == 0)
   {
     _report.p_size = owned_norm(_p_K, _Q);
@@ -492,8 +492,9 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   _report.u_size = std::max(_report.u_size, owned_norm(w.u_new, _V));
   const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _report.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
-  _output.iteration({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
-                     _mechanics.active_contact_nodes()});
+  w.active = _mechanics.active_contact_nodes();
+  _output.iteration(
+      {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active});
   if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.
@@ -609,10 +610,8 @@ bool FixedStressSplit::error_accepted(const Window& w)
 {
   if (!_control)
     return true;
-  assign(*_mechanics.u, w.u_new);
-  const int active = _mechanics.active_contact_nodes();
   std::string message;
-  if (_control->judge(_grid, w.j + w.q, w.p_new[w.q], w.u_new, active == _active_K, _report, message))
+  if (_control->judge(_grid, w.j + w.q, w.p_new[w.q], w.u_new, w.active == _active_K, _report, message))
     return true;
   go_back(w, message);
   return false;
@@ -624,20 +623,17 @@ bool FixedStressSplit::error_accepted(const Window& w)
 /// windows then grow again from q = 1 (window_limit). Accepted otherwise.
 bool FixedStressSplit::contact_accepted(const Window& w)
 {
-  if (!_coupling.q_auto)
-    return true;
-  assign(*_mechanics.u, w.u_new);
-  const int active = _mechanics.active_contact_nodes();
-  if (w.q == 1 or active == _active_K)
+  if (!_coupling.q_auto or w.q == 1 or w.active == _active_K)
     return true;
   ++_report.q_rejections;
   _report.q_limit = 1;
   std::ostringstream message;
-  message << "step " << w.K + 1 << ": the active contact nodes changed (" << _active_K << " -> " << active
+  message << "step " << w.K + 1 << ": the active contact nodes changed (" << _active_K << " -> " << w.active
           << ") in a window of q = " << w.q << "; again with q = 1";
   go_back(w, message.str());
   return false;
 }
+
 /// The error of a window that did not converge in coupling.max_iterations,
 /// with the last increments.
 CouplingError FixedStressSplit::not_converged(const Window& w)
@@ -660,9 +656,8 @@ void FixedStressSplit::accept_window(const Window& w, int n)
     _flow.set_unknowns(w.w_new[m]);
     _observer.flow_state(t(w, m));
   }
-  const int active = _control or _coupling.q_auto ? _mechanics.active_contact_nodes() : 0;
-  _report.q_limit = window_limit(w.q, _coupling.q_max, active != _active_K);
-  _active_K = active;
+  _report.q_limit = window_limit(w.q, _coupling.q_max, w.active != _active_K);
+  _active_K = w.active;
   _report.windows = w.K + 1;
   _report.fine_steps = w.j + w.q;
   _report.window_q = w.q;
