@@ -45,19 +45,38 @@ def has_checkpoint(directory):
     return os.path.isdir(folder) and any(name.startswith("state.") for name in os.listdir(folder))
 
 
+def ranks_of(out):
+    """The ranks of the run writing to `out` (their command lines name it),
+    without mpirun."""
+    found = subprocess.run(["pgrep", "-f", out], capture_output=True, text=True).stdout.split()
+    pids = []
+    for pid in map(int, found):
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                program = os.path.basename(f.read().split(b"\0")[0].decode())
+        except FileNotFoundError:
+            continue
+        if program not in ("mpirun", "mpiexec", "orterun"):
+            pids.append(pid)
+    return pids
+
+
 def stopped_run(track, ranks, scene_file, options):
     """A run on `ranks` stopped by SIGTERM as soon as it prints its first
     line: the signal is recorded during the set-up (the handlers come first)
     and the run stops after its first step, however fast the machine or
     slow the forwarding of its output. Under mpirun the signal goes to every
-    rank at once, as a batch system sends it (mpirun itself forwards it
-    only seconds later, measured: the run may be over by then)."""
+    rank at once and not to mpirun, as SLURM's --signal sends it: mpirun
+    answers a SIGTERM of its own by killing the ranks a second later
+    (odls_base_sigkill_timeout), before a slow first step has ended
+    (docs/user-guide.md, "Interruption")."""
     out = tempfile.mkdtemp(prefix="restart-mpi-")
     p = subprocess.Popen(command(track, ranks, scene_file, "--out", out, *options), stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
     p.stdout.readline()
     if ranks > 1:
-        subprocess.run(["pkill", "-TERM", "-f", out])
+        for pid in ranks_of(out):
+            os.kill(pid, signal.SIGTERM)
     else:
         p.send_signal(signal.SIGTERM)
     _, err = p.communicate(timeout=600)
