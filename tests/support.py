@@ -21,6 +21,13 @@ if os.environ.get("BIOTCONTACT_KEEP_TEST_RUNS") != "1":
     atexit.register(shutil.rmtree, tempfile.tempdir, ignore_errors=True)
 sys.path.insert(0, ROOT)
 from python_prototype.output.time_series import Fields, read_time_series  # noqa: E402,F401
+# Open MPI's start-up, in every process the tests start: a one-rank run
+# (a singleton) would start a helper daemon and every run would try UCX
+# before settling on shared memory, 0.33 of the 0.35 s MPI_Init takes on
+# this machine (docs/verification.md, "Runs and what they printed"). Neither changes
+# a result; a value set outside the tests is kept.
+os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
+os.environ.setdefault("OMPI_MCA_pml", "ob1")
 BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]  # run with cwd=ROOT
 TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
