@@ -9,7 +9,7 @@ packages=(
   libdolfinx-dev python3-dolfinx python3-ffcx python3-basix python3-ufl
   libtomlplusplus-dev libmuparser-dev
   gmsh python3-gmsh libgmsh-dev
-  python3-numpy python3-h5py python3-matplotlib python3-meshio
+  python3-numpy python3-h5py python3-matplotlib python3-meshio python3-scipy
 )
 missing=()
 for p in "${packages[@]}"; do
