@@ -1,12 +1,21 @@
 """The error-against-run-time study end to end on a tiny study: the CSV has
 its columns, every plot is a PNG, errors fall under refinement, and a study
-started again reuses its finished runs."""
+started again reuses its finished runs. A run reference compares P0 fields
+with its average over each coarse cell: on meshes nested by halving h each
+coarse cell gets exactly its 4 fine cells (their areas sum to its own), and
+a run against itself has no error (to round-off)."""
 import csv
 import os
 import subprocess
+import sys
 import tempfile
 
-from support import BINARY, ROOT, check
+import numpy as np
+
+from support import BINARY, ROOT, check, run, scene
+
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import study as study_tool  # noqa: E402
 
 study = os.path.join(tempfile.mkdtemp(), "tiny.toml")
 with open(study, "w") as f:
@@ -52,3 +61,16 @@ p = subprocess.run(command, capture_output=True, text=True)
 with open(os.path.join(out, "results.csv")) as f:
     again = list(csv.DictReader(f))
 check(p.returncode == 0 and all(r["cached"] == "True" for r in again), "a second start reuses every finished run")
+
+# The run reference's cell averages, on two nested meshes of the default scene.
+SHORT = ["--set", "time.end=0.4", "--set", "coupling.scheme=monolithic"]
+coarse, _ = run(scene("default"), "--set", "mesh.cells=[20,2]", *SHORT)
+fine, _ = run(scene("default"), "--set", "mesh.cells=[40,4]", *SHORT)
+reference = study_tool.RunReference(fine, "the finer run")
+fields = study_tool.Fields(coarse)
+_, owner, weights = reference._maps_for(fields)
+check(np.all(np.bincount(owner, minlength=len(fields.cells)) == 4)
+      and np.allclose(weights, study_tool.cell_areas(fields), rtol=1e-12, atol=0),
+      "run reference: each coarse cell averages exactly its 4 fine cells, whose areas sum to its own")
+itself = study_tool.errors(fine, study_tool.RunReference(fine, "itself"))
+check(max(max(v) for v in itself.values()) <= 1e-14, f"run reference: a run against itself has no error {itself}")
