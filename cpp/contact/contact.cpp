@@ -799,15 +799,22 @@ std::vector<double> ContactSolver::distances(Vec x) const
   return distance;
 }
 
-int ContactSolver::active_nodes(Vec x) const
+ActiveSet ContactSolver::active_set(Vec x) const
 {
   const double scale = displacement_scale(x);
-  int local = 0;
+  ActiveSet set;
   for (double distance : distances(x))
-    local += distance <= 1e-9 * scale;
-  int global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_SUM, _comm);
-  return global;
+    set.flags.push_back(distance <= 1e-9 * scale);
+  int local = static_cast<int>(std::count(set.flags.begin(), set.flags.end(), 1));
+  MPI_Allreduce(&local, &set.nodes, 1, MPI_INT, MPI_SUM, _comm);
+  return set;
+}
+
+bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm)
+{
+  int differs = a.flags != b.flags, any = 0;
+  MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, comm);
+  return !any;
 }
 
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,

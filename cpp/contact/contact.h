@@ -96,6 +96,21 @@ struct ContactState
   std::vector<std::tuple<std::string, double, int>> boundaries;
 };
 
+/// @brief The contact active set of a displacement: the flag of each
+/// contact DOF this rank owns (on the foundation to round-off) and the
+/// number of active nodes on all ranks. Two sets of one run compare flag
+/// by flag (same_active_set): equal counts can hide nodes that open while
+/// as many close elsewhere.
+struct ActiveSet
+{
+  std::vector<std::int8_t> flags; // this rank's contact DOFs
+  int nodes = 0;                  // active nodes on all ranks
+};
+
+/// Whether a and b, two active sets on one partition, hold the same nodes
+/// on every rank (collective over `comm`).
+bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm);
+
 /// The reduced-space Newton method solves, at each step, the system on the
 /// inactive set (the DOFs not held on a bound). It runs in one of two ways:
 ///
@@ -153,9 +168,9 @@ public:
   /// it; a tighter Newton tolerance would only add steps.
   void set_tolerance(double relative);
 
-  /// The number of contact nodes on the foundation to round-off (the
-  /// active flag of state(), without the contact forces; collective).
-  int active_nodes(Vec x) const;
+  /// The contact nodes on the foundation to round-off (the active flag of
+  /// state(), without the contact forces; collective).
+  ActiveSet active_set(Vec x) const;
 
   /// Contact diagnostics of x (collective); fills the output fields.
   ContactState state(Vec x, Vec b, dolfinx::fem::Function<double>& pressure,

@@ -110,7 +110,8 @@ struct Window
 {
   int K = 0;                           // the window [t_K, t_{K+1}]
   int j = 0, q = 1;                    // its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
-  int active = 0;                      // active contact nodes of u^{n+1} (the last iteration's)
+  ActiveSet active;                    // contact active set of u^{n+1} (the last iteration's)
+  bool contact_changed = false;        // active != the set at t_K
   TimeDerivative derivative;           // of every fine step (time_scheme.h)
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
@@ -210,7 +211,7 @@ private:
   Array _p_before, _u_before, _u_path_before;
   int _j_before = 0;  // the previous window's first fine step (t_{K-1})
   int _attempts = 0; // retries of the current window (time.retry)
-  int _active_K = 0;  // active contact nodes at t_K
+  ActiveSet _active_K; // contact active set at t_K
 };
 
 /// The converged state at the start (t = 0 or the restart's window) and the
@@ -228,7 +229,7 @@ void FixedStressSplit::start()
   _u_before = copy(*_flow.u_before);
   _u_path_before = copy(*_flow.u_path_before);
   _j_before = static_cast<int>(_report.fine_steps) - _report.window_q;
-  _active_K = _mechanics.active_contact_nodes();
+  _active_K = _mechanics.active_contact_set();
   if (_report.windows == 0)
   {
     _report.p_size = owned_norm(_p_K, _Q);
@@ -492,9 +493,10 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   _report.u_size = std::max(_report.u_size, owned_norm(w.u_new, _V));
   const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _report.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
-  w.active = _mechanics.active_contact_nodes();
+  w.active = _mechanics.active_contact_set();
+  w.contact_changed = !same_active_set(w.active, _active_K, _V.mesh()->comm());
   _output.iteration(
-      {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active});
+      {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active.nodes});
   if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.
@@ -611,25 +613,25 @@ bool FixedStressSplit::error_accepted(const Window& w)
   if (!_control)
     return true;
   std::string message;
-  if (_control->judge(_grid, w.j + w.q, w.p_new[w.q], w.u_new, w.active == _active_K, _report, message))
+  if (_control->judge(_grid, w.j + w.q, w.p_new[w.q], w.u_new, !w.contact_changed, _report, message))
     return true;
   go_back(w, message);
   return false;
 }
 
-/// coupling.q = "auto": a window of q > 1 fine steps in which the number of
-/// active contact nodes changed is computed again with q = 1 (the
+/// coupling.q = "auto": a window of q > 1 fine steps in which the contact
+/// active set changed is computed again with q = 1 (the
 /// mechanics would have seen the change only at the window's end); the
 /// windows then grow again from q = 1 (window_limit). Accepted otherwise.
 bool FixedStressSplit::contact_accepted(const Window& w)
 {
-  if (!_coupling.q_auto or w.q == 1 or w.active == _active_K)
+  if (!_coupling.q_auto or w.q == 1 or !w.contact_changed)
     return true;
   ++_report.q_rejections;
   _report.q_limit = 1;
   std::ostringstream message;
-  message << "step " << w.K + 1 << ": the active contact nodes changed (" << _active_K << " -> " << w.active
-          << ") in a window of q = " << w.q << "; again with q = 1";
+  message << "step " << w.K + 1 << ": the contact active set changed (" << _active_K.nodes << " -> "
+          << w.active.nodes << " nodes) in a window of q = " << w.q << "; again with q = 1";
   go_back(w, message.str());
   return false;
 }
@@ -656,7 +658,7 @@ void FixedStressSplit::accept_window(const Window& w, int n)
     _flow.set_unknowns(w.w_new[m]);
     _observer.flow_state(t(w, m));
   }
-  _report.q_limit = window_limit(w.q, _coupling.q_max, w.active != _active_K);
+  _report.q_limit = window_limit(w.q, _coupling.q_max, w.contact_changed);
   _active_K = w.active;
   _report.windows = w.K + 1;
   _report.fine_steps = w.j + w.q;

@@ -83,10 +83,20 @@ void solve_step(double t, const TimeDerivative& d, FlowStep* flow, MechanicsStep
     mechanics->solve(t);
 }
 
-/// The active contact nodes of the step's displacement (0 without contact).
-int active_contact_nodes(MechanicsStep* mechanics, MonolithicStep* monolithic)
+/// The contact active set of the step's displacement (empty without contact).
+ActiveSet active_contact_set(MechanicsStep* mechanics, MonolithicStep* monolithic)
 {
-  return mechanics ? mechanics->active_contact_nodes() : monolithic ? monolithic->active_contact_nodes() : 0;
+  return mechanics ? mechanics->active_contact_set() : monolithic ? monolithic->active_contact_set() : ActiveSet{};
+}
+
+/// Whether the step's displacement has the contact active set `before`
+/// (collective; true without mechanics).
+bool same_contact_set(MechanicsStep* mechanics, MonolithicStep* monolithic, const ActiveSet& before)
+{
+  if (!mechanics and !monolithic)
+    return true;
+  const auto& u = mechanics ? *mechanics->u : *monolithic->u;
+  return same_active_set(active_contact_set(mechanics, monolithic), before, u.function_space()->mesh()->comm());
 }
 
 /// time.adaptive: whether the step's error estimate accepts it (the control
@@ -94,12 +104,12 @@ int active_contact_nodes(MechanicsStep* mechanics, MonolithicStep* monolithic)
 /// the active contact set changed from `active_before` is accepted
 /// unestimated).
 bool error_accepted(StepControl* control, TimeGrid& grid, int k, const FlowStep* flow, MechanicsStep* mechanics,
-                    MonolithicStep* monolithic, int active_before, CouplingReport& report,
+                    MonolithicStep* monolithic, const ActiveSet& active_before, CouplingReport& report,
                     const WindowObserver& observer)
 {
   if (!control)
     return true;
-  const bool smooth = active_contact_nodes(mechanics, monolithic) == active_before;
+  const bool smooth = same_contact_set(mechanics, monolithic, active_before);
   std::span<const double> p, u;
   if (flow or monolithic)
     p = (flow ? flow->pressure : monolithic->pressure)->x()->array();
@@ -131,7 +141,7 @@ void run_single_solve(const Scene& scene, const Constants& constants, FlowStep* 
         flow->time_step_changed();
     }
     const StepStart start = step_start(flow, mechanics, monolithic);
-    const int active_before = control ? active_contact_nodes(mechanics, monolithic) : 0;
+    const ActiveSet active_before = control ? active_contact_set(mechanics, monolithic) : ActiveSet{};
     try
     {
       solve_step(t, d, flow, mechanics, monolithic);

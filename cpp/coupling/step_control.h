@@ -32,8 +32,8 @@
 // time (time_grid.h, plan_steps).
 // The predictor does not reach back across a break in smoothness: not to
 // t = 0 (loads switched on at t = 0+ make the state there the one before a
-// jump, the undrained response), nor across a step in which the number of
-// active contact nodes changed (a node that closes puts a kink into u(t);
+// jump, the undrained response), nor across a step in which the contact
+// active set changed (a node that closes puts a kink into u(t);
 // the estimate there measures the kink, not the scheme's error, and cut the
 // steps of the fracture scene to a tenth while the error stayed far below
 // the tolerance). Such a step is accepted as it is and counted

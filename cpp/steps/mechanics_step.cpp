@@ -112,9 +112,9 @@ ContactState MechanicsStep::contact_state()
   return _system->contact().state(wrap(*u->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
 }
 
-int MechanicsStep::active_contact_nodes()
+ActiveSet MechanicsStep::active_contact_set()
 {
-  return _system->has_contact() ? _system->contact().active_nodes(wrap(*u->x()).vec()) : 0;
+  return _system->has_contact() ? _system->contact().active_set(wrap(*u->x()).vec()) : ActiveSet{};
 }
 
 } // namespace biotcontact

@@ -40,9 +40,10 @@ public:
   /// Contact diagnostics of the current u (collective); also fills the
   /// contact pressure and active-flag fields.
   ContactState contact_state();
-  /// Only the number of active contact nodes of u (collective, cheap: no
-  /// contact forces), for the log of every coupling iteration.
-  int active_contact_nodes();
+  /// Only the contact active set of u (collective, cheap: no contact
+  /// forces), for the log of every coupling iteration; empty without
+  /// contact.
+  ActiveSet active_contact_set();
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
   bool has_contact() const { return _system->has_contact(); }

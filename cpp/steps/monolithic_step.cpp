@@ -229,9 +229,9 @@ void MonolithicStep::flux(fem::Function<double>& out) const
   out.interpolate(z);
 }
 
-int MonolithicStep::active_contact_nodes()
+ActiveSet MonolithicStep::active_contact_set()
 {
-  return _system->has_contact() ? _system->contact().active_nodes(wrap(*_x->x()).vec()) : 0;
+  return _system->has_contact() ? _system->contact().active_set(wrap(*_x->x()).vec()) : ActiveSet{};
 }
 
 ContactState MonolithicStep::contact_state()

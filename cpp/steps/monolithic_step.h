@@ -44,8 +44,8 @@ public:
   /// solve) after set_time_step changed the "dt" constant.
   void time_step_changed();
   ContactState contact_state();
-  /// Only the number of active contact nodes (collective, cheap).
-  int active_contact_nodes();
+  /// Only the contact active set (collective, cheap); empty without contact.
+  ActiveSet active_contact_set();
   bool has_contact() const { return _system->has_contact(); }
   const System& system() const { return *_system; }
   System& system() { return *_system; }

@@ -167,6 +167,24 @@ def make_contact_fields(contact_set):
             contact_boundary_flag(contact_set))
 
 
+class ActiveSet:
+    """The contact active set of a displacement (cpp/contact/contact.h): the
+    flag of each contact DOF this rank owns and the number of active nodes
+    on all ranks. Two sets of one run compare flag by flag
+    (same_active_set): equal counts can hide nodes that open while as many
+    close elsewhere."""
+
+    def __init__(self, flags=None, nodes=0):
+        self.flags = np.zeros(0, dtype=bool) if flags is None else flags
+        self.nodes = nodes
+
+
+def same_active_set(a, b, comm):
+    """Whether a and b, two active sets on one partition, hold the same nodes
+    on every rank (collective)."""
+    return not comm.allreduce(not np.array_equal(a.flags, b.flags), op=MPI.LOR)
+
+
 class ContactState:
     """Contact diagnostics after a solve (cpp/contact/contact.h)."""
 
@@ -517,11 +535,11 @@ class ContactSolver:
         """The distance g - u.nu_F of each constraint at x."""
         return self.set.gap - self.set.sign * self._to_vi(x).getArray(readonly=True)[self.dofs]
 
-    def active_nodes(self, x):
+    def active_set(self, x):
         """Constraints on the foundation to round-off: the active flag of
         state(), without the contact forces (collective)."""
-        scale = self.displacement_scale(x)
-        return self.comm.allreduce(int(np.sum(self.distances(x) <= 1e-9 * scale)), op=MPI.SUM)
+        flags = self.distances(x) <= 1e-9 * self.displacement_scale(x)
+        return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
     def state(self, x, b, pressure_out, active_out):
         """Contact force R = A x - b, in the new variables R' = T^{-T} R: the

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
+from ..contact.contact import ActiveSet, same_active_set
 from .coupling import CouplingError
 from .window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
@@ -72,7 +73,8 @@ class Window:
     def __init__(self, K, j, q, w_K, p_K, u_K):
         self.K = K                    # the window [t_K, t_{K+1}]
         self.j, self.q = j, q         # its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
-        self.active = 0               # active contact nodes of u^{n+1} (the last iteration's)
+        self.active = ActiveSet()     # contact active set of u^{n+1} (the last iteration's)
+        self.contact_changed = False  # active != the set at t_K
         self.derivative = TimeDerivative()  # of every fine step (time_scheme.py)
         self.w_K = w_K                # flow state (z, p) at t_K, for a retry
         self.p_old = [p_K] * (q + 1)
@@ -126,7 +128,7 @@ class FixedStressSplit:
         self.p_before = self.u_before = self.u_path_before = None
         self.j_before = 0           # the previous window's first fine step (t_{K-1})
         self.attempts = [0]         # retries of the current window (time.retry)
-        self.active_K = 0           # active contact nodes at t_K
+        self.active_K = ActiveSet()  # contact active set at t_K
 
     def t(self, w, m):
         """Fine time m of window w (t_K + m dt for a constant step)."""
@@ -147,7 +149,7 @@ class FixedStressSplit:
         self.u_before = self.flow.u_before.x.array.copy()
         self.u_path_before = self.flow.u_path_before.x.array.copy()
         self.j_before = self.report.fine_steps - self.report.window_q
-        self.active_K = self.mechanics.active_contact_nodes()
+        self.active_K = self.mechanics.active_contact_set()
         if self.report.windows == 0:
             self.report.p_size = owned_norm(self.p_K, self.Q, self.comm)
             self.report.u_size = owned_norm(self.u_K, self.V, self.comm)
@@ -352,9 +354,10 @@ class FixedStressSplit:
             # finite): no further iteration can recover.
             raise SolverError("non-finite values (NaN or inf) in the "
                               f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
-        w.active = self.mechanics.active_contact_nodes()
+        w.active = self.mechanics.active_contact_set()
+        w.contact_changed = not same_active_set(w.active, self.active_K, self.comm)
         self.output.iteration(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio, self.parameters.gamma,
-                              dp_norm, du_norm, w.active)
+                              dp_norm, du_norm, w.active.nodes)
         w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g};")
         return dp_norm, du_norm
 
@@ -441,7 +444,7 @@ class FixedStressSplit:
         its start, to be computed again on the shorter steps the control planned."""
         if self.control is None:
             return True
-        message = self.control.judge(self.grid, w.j + w.q, w.p_new[w.q], w.u_new, w.active == self.active_K,
+        message = self.control.judge(self.grid, w.j + w.q, w.p_new[w.q], w.u_new, not w.contact_changed,
                                      self.report)
         if message is None:
             return True
@@ -450,15 +453,15 @@ class FixedStressSplit:
 
     def contact_accepted(self, w):
         """coupling.q = "auto": a window of q > 1 fine steps in which the
-        number of active contact nodes changed is computed again with q = 1
+        contact active set changed is computed again with q = 1
         (the mechanics would have seen the change only at the window's end);
         the windows then grow again from q = 1 (window_limit)."""
-        if not self.coupling.q_auto or w.q == 1 or w.active == self.active_K:
+        if not self.coupling.q_auto or w.q == 1 or not w.contact_changed:
             return True
         self.report.q_rejections += 1
         self.report.q_limit = 1
-        self.go_back(w, f"step {w.K + 1}: the active contact nodes changed ({self.active_K} -> {w.active}) "
-                        f"in a window of q = {w.q}; again with q = 1")
+        self.go_back(w, f"step {w.K + 1}: the contact active set changed ({self.active_K.nodes} -> "
+                        f"{w.active.nodes} nodes) in a window of q = {w.q}; again with q = 1")
         return False
 
     def not_converged(self, w):
@@ -476,7 +479,7 @@ class FixedStressSplit:
         for m in range(1, w.q + 1):
             self.flow.set_unknowns(w.w_new[m])
             self.observer.flow_state(self.t(w, m))
-        report.q_limit = window_limit(w.q, self.coupling.q_max, w.active != self.active_K)
+        report.q_limit = window_limit(w.q, self.coupling.q_max, w.contact_changed)
         self.active_K = w.active
         report.windows, report.fine_steps, report.window_q = w.K + 1, w.j + w.q, w.q
         report.max_window_q = max(report.max_window_q, w.q)

@@ -1,6 +1,7 @@
 """The scheme of a scene with one solve per step: the monolithic system, or
 a single physics (flow only, mechanics only); cpp/coupling/single_solve.cpp."""
 from ..assembly.parameters import set_time_step
+from ..contact.contact import ActiveSet, same_active_set
 from ..solvers.solver import SolverError
 from ..steps.time_grid import retry_step
 from ..steps.time_scheme import history_value, time_derivative
@@ -52,10 +53,17 @@ def solve_step(t, d, flow, mechanics, monolithic):
         mechanics.solve(t)
 
 
-def active_contact_nodes(mechanics, monolithic):
-    """The active contact nodes of the step's displacement (0 without contact)."""
+def active_contact_set(mechanics, monolithic):
+    """The contact active set of the step's displacement (empty without contact)."""
     step = mechanics or monolithic
-    return step.active_contact_nodes() if step else 0
+    return step.active_contact_set() if step else ActiveSet()
+
+
+def same_contact_set(mechanics, monolithic, before):
+    """Whether the step's displacement has the contact active set `before`
+    (collective; true without mechanics)."""
+    step = mechanics or monolithic
+    return same_active_set(step.active_contact_set(), before, step.u.function_space.mesh.comm) if step else True
 
 
 def error_accepted(control, grid, k, flow, mechanics, monolithic, active_before, report, observer):
@@ -65,7 +73,7 @@ def error_accepted(control, grid, k, flow, mechanics, monolithic, active_before,
     unestimated)."""
     if control is None:
         return True
-    smooth = active_contact_nodes(mechanics, monolithic) == active_before
+    smooth = same_contact_set(mechanics, monolithic, active_before)
     p = (flow or monolithic).pressure.x.array if (flow or monolithic) else None
     u = (mechanics or monolithic).u.x.array if (mechanics or monolithic) else None
     message = control.judge(grid, k, p, u, smooth, report)
@@ -93,7 +101,7 @@ def run_single_solve(scene, F, flow, mechanics, monolithic, observer, report, gr
             if flow:
                 flow.time_step_changed()
         start = step_start(flow, mechanics, monolithic)
-        active_before = active_contact_nodes(mechanics, monolithic) if control else 0
+        active_before = active_contact_set(mechanics, monolithic) if control else ActiveSet()
         try:
             solve_step(t, d, flow, mechanics, monolithic)
         except SolverError as e:

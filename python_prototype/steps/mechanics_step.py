@@ -5,7 +5,7 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ContactSet, ContactState, make_contact_fields
+from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields
 from ..assembly.loads import Loads
 from ..assembly.materials import add_body_force
 from ..domain.domain import pore_pressure_faces
@@ -78,9 +78,10 @@ class MechanicsStep:
         self.system.solve(self.b.vector, self.u.vector)
         self.u.x.scatter_forward()
 
-    def active_contact_nodes(self):
-        """Only the number of active contact nodes of u, for the log of every iteration."""
-        return self.system.contact.active_nodes(self.u.vector) if self.system.has_contact() else 0
+    def active_contact_set(self):
+        """Only the contact active set of u, for the log of every iteration
+        (empty without contact)."""
+        return self.system.contact.active_set(self.u.vector) if self.system.has_contact() else ActiveSet()
 
     def contact_state(self):
         """Also fills the contact pressure and active-flag fields."""

@@ -5,7 +5,7 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ContactSet, ContactState, make_contact_fields
+from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import add_body_force
@@ -163,9 +163,9 @@ class MonolithicStep:
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
 
-    def active_contact_nodes(self):
-        """Only the number of active contact nodes (collective, cheap)."""
-        return self.system.contact.active_nodes(self.x.vector) if self.system.has_contact() else 0
+    def active_contact_set(self):
+        """Only the contact active set (collective, cheap; empty without contact)."""
+        return self.system.contact.active_set(self.x.vector) if self.system.has_contact() else ActiveSet()
 
     def contact_state(self):
         if not self.system.has_contact():
