@@ -24,8 +24,8 @@ from python_prototype.output.time_series import Fields, read_time_series  # noqa
 # Open MPI's start-up, in every process the tests start: a one-rank run
 # (a singleton) would start a helper daemon and every run would try UCX
 # before settling on shared memory, 0.33 of the 0.35 s MPI_Init takes on
-# this machine (docs/verification.md, "Runs and what they printed"). Neither changes
-# a result; a value set outside the tests is kept.
+# this machine (docs/verification.md, "Runs and what they printed").
+# Neither changes a result; a value set outside the tests is kept.
 os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 os.environ.setdefault("OMPI_MCA_pml", "ob1")
 BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))

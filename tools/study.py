@@ -7,10 +7,11 @@ levels with the C++ solver, and writes results.csv, PNG plots and report.md.
 A study file names a scene, a list of levels (overrides that set h and dt
 together) and a list of variants (overrides that choose scheme, q, L; a
 "{key}" in them takes the level's value of key, e.g. an adaptive tolerance
-per level); every variant runs on every level. Errors are measured against the closed form
-(`reference = "closed-form"`, Terzaghi) or against a monolithic run on the
-finest level (`reference = "monolithic"`, computed once and cached; its
-cell averages over each coarse cell), at every output time of the run: relative l2 errors of pressure (cell-area weighted),
+per level); every variant runs on every level. Errors are measured against
+the closed form (`reference = "closed-form"`, Terzaghi) or against a
+monolithic run on the finest level (`reference = "monolithic"`, computed
+once and cached; its cell averages over each coarse cell), at every output
+time of the run: relative l2 errors of pressure (cell-area weighted),
 displacement (nodal) and flux (cell-area weighted), at the final time and
 the maximum over time. Finished runs are kept under DIR/runs and reused when
 the study is started again; --replot redraws the plots from DIR/results.csv
