@@ -132,12 +132,12 @@ class ClosedFormReference:
         T, y0 = self.terzaghi, self.y0
         zc = fields.cells[:, 1] - y0
         zn = fields.nodes[:, 1] - y0
-        p = np.array([T.pressure(z, t) for z in zc])
+        p = T.pressure(zc, t)
         u = np.zeros((len(zn), 3))
-        u[:, 1] = [T.displacement(z, t) for z in zn]
+        u[:, 1] = T.displacement(zn, t)
         # z = -k/mu_f dp/dz, dp/dz = -(2 p0/h) sum (-1)^(j-1) sin((2j-1) pi z/(2h)) E_j
-        dpdz = np.array([-2 * T.initial_pressure() / T.h * T._series(
-            z, t, lambda j, k: (1.0 if j % 2 == 1 else -1.0) * np.sin(k * math.pi * z / (2 * T.h))) for z in zc])
+        dpdz = -2 * T.initial_pressure() / T.h * T._series(
+            zc, t, lambda j, k: (1.0 if j % 2 == 1 else -1.0) * np.sin(k * math.pi * zc / (2 * T.h)))
         flux = np.zeros((len(zc), 3))
         flux[:, 1] = -T.mobility * dpdz
         return {"pressure": p[:, None], "displacement": u, "flux": flux}
