@@ -238,6 +238,11 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
 
 namespace
 {
+/// Whether a constraint is active: its node lies on the foundation to
+/// round-off, within 1e-9 of the displacement scale (the one test behind the
+/// active set the coupling compares and the contact_active field).
+bool on_foundation(double distance, double scale) { return distance <= 1e-9 * scale; }
+
 /// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
 /// by default when the system is solved directly and C is small enough.
 bool use_condensation(const std::string& prefix, Method method, PetscInt contact_dofs)
@@ -804,7 +809,7 @@ ActiveSet ContactSolver::active_set(Vec x) const
   const double scale = displacement_scale(x);
   ActiveSet set;
   for (double distance : distances(x))
-    set.flags.push_back(distance <= 1e-9 * scale);
+    set.flags.push_back(on_foundation(distance, scale));
   int local = static_cast<int>(std::count(set.flags.begin(), set.flags.end(), 1));
   MPI_Allreduce(&local, &set.nodes, 1, MPI_INT, MPI_SUM, _comm);
   return set;
@@ -852,8 +857,7 @@ void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressu
   std::span<double> active = active_out.x()->mutable_array();
   std::fill(pc.begin(), pc.end(), 0.0);
   std::fill(active.begin(), active.end(), 0.0);
-  // A constraint is active when its node lies on the foundation to
-  // round-off; a node on two foundations shows the larger pressure.
+  // A node on two foundations shows the larger pressure.
   double pen = -std::numeric_limits<double>::infinity(), comp = 0, force = 0;
   double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
   int n_active = 0;
@@ -861,7 +865,7 @@ void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressu
   std::vector<int> boundary_active(_set.boundaries.size(), 0);
   for (std::size_t k = 0; k < _dofs.size(); ++k)
   {
-    const bool is_active = distance[k] <= 1e-9 * s.gap_scale;
+    const bool is_active = on_foundation(distance[k], s.gap_scale);
     n_active += is_active;
     boundary_force[_set.boundary[k]] += pressure[k] * _set.lumped[k];
     boundary_active[_set.boundary[k]] += is_active;

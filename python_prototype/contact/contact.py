@@ -179,6 +179,13 @@ class ActiveSet:
         self.nodes = nodes
 
 
+def on_foundation(distance, scale):
+    """Whether constraints are active: their nodes lie on the foundation to
+    round-off, within 1e-9 of the displacement scale (the one test behind
+    the active set the coupling compares and the contact_active field)."""
+    return distance <= 1e-9 * scale
+
+
 def same_active_set(a, b, comm):
     """Whether a and b, two active sets on one partition, hold the same nodes
     on every rank (collective)."""
@@ -538,7 +545,7 @@ class ContactSolver:
     def active_set(self, x):
         """Constraints on the foundation to round-off: the active flag of
         state(), without the contact forces (collective)."""
-        flags = self.distances(x) <= 1e-9 * self.displacement_scale(x)
+        flags = on_foundation(self.distances(x), self.displacement_scale(x))
         return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
     def state(self, x, b, pressure_out, active_out):
@@ -561,7 +568,7 @@ class ContactSolver:
     def _summarise(self, s, pressure, distance, pressure_out, active_out):
         """The diagnostics and output fields of the constraints' pressures
         and distances; a node on two foundations shows the larger pressure."""
-        active = distance <= 1e-9 * s.gap_scale
+        active = on_foundation(distance, s.gap_scale)
         pressure_out.x.array[:] = 0.0
         active_out.x.array[:] = 0.0
         out = self.set.output_dofs
