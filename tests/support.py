@@ -210,3 +210,29 @@ def check_contact_scene_agrees(scene_file, sets, active_sets, runs, *settings):
                        capture_output=True, text=True, cwd=ROOT)
     check(c.returncode == 0 and len(iterations(runs["C++"])) == len(iterations(runs["prototype"])),
           f"the prototype gives the C++ run to 1e-10 {c.stdout[-300:]}")
+
+
+def windows(out, dt):
+    """(q, active contact nodes at its end) of each accepted window, from
+    iterations.csv (a window computed again logs its rows before the
+    accepted ones; the last rows of a step are the accepted window's)."""
+    last = {}
+    for row in iterations(out):
+        last[int(row["step"])] = row
+    t, result = 0.0, []
+    for k in sorted(last):
+        end = float(last[k]["time"])
+        result.append((round((end - t) / dt), int(last[k]["active_nodes"])))
+        t = end
+    return result
+
+
+def set_changes(out, dt, history):
+    """The windows of q > 1 whose contact set (the contact_active field,
+    node by node) at their end differs from the one at their start."""
+    run = Fields(out)
+    written = run.times("contact_active")
+    ends = [min(written, key=lambda s: abs(s - t)) for t in [0.0, *np.cumsum([q for q, _ in history]) * dt]]
+    check(len(set(ends)) == len(ends), "the contact set is written at every window's end")
+    sets = [run.at("contact_active", t) for t in ends]
+    return [k for k, (q, _) in enumerate(history) if q > 1 and not np.array_equal(sets[k], sets[k + 1])]

@@ -12,7 +12,7 @@ stops, rate, limit and a change of dt end a window. The prototype gives
 the C++ windows, iterations and fields."""
 import numpy as np
 
-from support import check, iterations, max_difference, run_track, scene, summary
+from support import check, max_difference, run_track, scene, set_changes, summary, windows
 from python_prototype.coupling.window_control import window_limit, window_steps
 from python_prototype.output.time_series import Fields
 from python_prototype.steps.time_grid import TimeGrid, halve_steps
@@ -38,32 +38,6 @@ def pressure_error(out, reference):
         changes.append(np.linalg.norm(y - p0))
     errors, changes = np.array(errors), np.array(changes)
     return np.linalg.norm(errors) / np.linalg.norm(changes), errors.max() / changes.max(), len(errors)
-
-
-def windows(out, dt):
-    """(q, active contact nodes at its end) of each accepted window, from
-    iterations.csv (a window computed again logs its rows before the
-    accepted ones; the last rows of a step are the accepted window's)."""
-    last = {}
-    for row in iterations(out):
-        last[int(row["step"])] = row
-    t, result = 0.0, []
-    for k in sorted(last):
-        end = float(last[k]["time"])
-        result.append((round((end - t) / dt), int(last[k]["active_nodes"])))
-        t = end
-    return result
-
-
-def set_changes(out, dt, history):
-    """The windows of q > 1 whose contact set (the contact_active field,
-    node by node) at their end differs from the one at their start."""
-    run = Fields(out)
-    written = run.times("contact_active")
-    ends = [min(written, key=lambda s: abs(s - t)) for t in [0.0, *np.cumsum([q for q, _ in history]) * dt]]
-    check(len(set(ends)) == len(ends), "the contact set is written at every window's end")
-    sets = [run.at("contact_active", t) for t in ends]
-    return [k for k, (q, _) in enumerate(history) if q > 1 and not np.array_equal(sets[k], sets[k + 1])]
 
 
 # The rule itself (the prototype's window_control, which the C++ mirrors:

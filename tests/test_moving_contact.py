@@ -1,0 +1,102 @@
+"""A contact set that moves at constant size: a poroelastic slab on a rigid
+foundation, pressed on its top except under an uplift bump that steps one
+node spacing along the top every 0.25 s. After the first step 28 of the
+41 base nodes touch at all times, and at every jump of the bump one node
+opens ahead of it and one closes behind it. The decisions that depend on a
+change of the contact set compare it node by node (ActiveSet), so they see
+these changes, which a comparison of counts would miss:
+- adaptive steps: every step with a change is a contact break (8 breaks,
+  while the count changes once); the steps across the jumps are accepted
+  as breaks instead of being estimated across a kink;
+- q = "auto": windows over a jump are computed again with q = 1, though
+  the count at their ends is unchanged; no window of q > 1 spans a change,
+  node by node.
+Both tracks, with the same steps, windows and breaks."""
+from support import TRACKS, Fields, check, run_track, set_changes, summary, windows, written
+
+JUMP, NODE = 0.25, 0.25  # the bump's period and step (the mesh's node spacing)
+centre = "(" + " : ".join(f"t <= {JUMP * (k + 1)} ? {2.5 + NODE * k}" for k in range(8)) + " : 4.5)"
+bump = f"(abs(x - {centre}) < 1 ? 6e3 * cos(pi * (x - {centre}) / 2)^2 : 0)"
+SCENE = written(f"""
+[scene]
+name = "moving_contact"
+description = "A slab on a rigid foundation under an uplift bump stepping along its top"
+[mesh]
+type = "rectangle"
+lower = [0.0, 0.0]
+upper = [10.0, 1.0]
+cells = [40, 4]
+[mechanics]
+E = 1.0e9
+nu = 0.2
+[flow]
+M = 1.0e11
+c_f = 4.4e-10
+phi0 = 0.2
+mu_f = 1.0e-3
+permeability = 1.0e-13
+[coupling]
+alpha = 1.0
+scheme = "fixed-stress"
+L = "kdr"
+tolerance = 1e-8
+max_iterations = 1000
+[time]
+end = 2.0
+dt = {JUMP}
+[boundary.left]
+displacement = {{ x = 0.0 }}
+[boundary.right]
+displacement = {{ x = 0.0 }}
+[boundary.top]
+traction = [0.0, "-2e3 + {bump}"]
+pressure = 0.0
+[boundary.bottom]
+contact = {{ gap = 0.0, normal = [0.0, -1.0] }}
+""")
+
+
+def contact_sets(out):
+    """The contact_active field (node by node) at every written time."""
+    run = Fields(out)
+    return [run.at("contact_active", t).ravel() > 0.5 for t in run.times("contact_active")]
+
+
+def changes(sets):
+    """Steps whose contact set differs from the one before, node by node,
+    and steps whose count of active nodes does."""
+    pairs = list(zip(sets, sets[1:]))
+    return sum((a != b).any() for a, b in pairs), sum(a.sum() != b.sum() for a, b in pairs)
+
+
+ADAPTIVE = ["time.scheme=bdf2", "time.adaptive.tolerance=1e-2", "time.dt=0.01"]
+AUTO = ["coupling.scheme=multirate", "coupling.q=auto", "coupling.q_tolerance=0.1", f"time.dt={JUMP / 8}"]
+results = {}
+for track in TRACKS:
+    fixed, _ = run_track(track, SCENE)
+    sets = contact_sets(fixed)
+    check([s.sum() for s in sets[1:]] == [28] * 8 and all((a != b).sum() == 2 for a, b in zip(sets[1:], sets[2:])),
+          f"{track}: fixed steps of {JUMP}: 28 nodes touch after the first step, and at every jump one node "
+          f"opens and one closes ({[int(s.sum()) for s in sets]})")
+
+    adaptive, _ = run_track(track, SCENE, *ADAPTIVE)
+    a = summary(adaptive)["adaptive"]
+    by_node, by_count = changes(contact_sets(adaptive))
+    check(a["contact_breaks"] == by_node == 8 and by_count == 1 and a["forced_steps"] == 0,
+          f"{track}: adaptive steps: {a['contact_breaks']} contact breaks, one per step whose set changed node by "
+          f"node ({by_node}; the count changed in {by_count}), none forced ({summary(adaptive)['steps']} steps)")
+
+    auto, _ = run_track(track, SCENE, *AUTO)
+    w = summary(auto)["window_steps"]
+    history = windows(auto, JUMP / 8)
+    spanned = set_changes(auto, JUMP / 8, history)
+    check(w["q_rejections"] > 0 and w["largest_q"] > 1 and all(n == 28 for _, n in history),
+          f"{track}: q = auto: {w['q_rejections']} windows computed again with q = 1 for a change of the contact "
+          f"set at an unchanged count (28 at every window's end), windows up to q = {w['largest_q']}")
+    check(not spanned, f"{track}: q = auto: no window of q > 1 spans a change of the contact set, node by node "
+          f"(windows that do: {spanned}; q per window: {[q for q, _ in history]})")
+    results[track] = (summary(adaptive)["steps"], [a[k] for k in ("rejected_steps", "contact_breaks")],
+                      summary(auto)["steps"], w)
+
+check(results["C++"] == results["prototype"],
+      f"prototype = C++: adaptive steps and breaks, q = auto windows ({results['C++']})")
