@@ -179,6 +179,7 @@ private:
   Increments measure_contraction(const Window& w, int n) const;
   void hold_against_gamma(Window& w, const Increments& inc, int n);
   std::pair<double, double> stopping_test(Window& w, const Increments& inc, int n);
+  double stopping_tolerance(const Window& w) const;
   void next_iterate(Window& w);
   void record_coupled_residual(const Window& w, const Increments& inc);
   void go_back(const Window& w, const std::string& message);
@@ -557,10 +558,24 @@ bool FixedStressSplit::iteration(Window& w, int n)
   if (_observer.iteration)
     _observer.iteration(w.K + 1, n + 1, dp_norm, du_norm);
   w.increment = std::max(dp_norm, du_norm);
-  const bool converged = dp_norm <= _coupling.tolerance and du_norm <= _coupling.tolerance;
+  const double tolerance = stopping_tolerance(w);
+  const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
     record_coupled_residual(w, inc);
   return converged;
+}
+
+/// The coupling tolerance of window w: coupling.tolerance, and under
+/// time.adaptive at most a tenth of the error tolerance per unit step,
+/// tolerance h / t. The iteration's own error enters the error estimate
+/// multiplied by t / h (step_control.h); above that bound it would keep
+/// short steps short (a crawl at dt_min, docs/theory.md "Adaptive steps").
+double FixedStressSplit::stopping_tolerance(const Window& w) const
+{
+  if (!_control)
+    return _coupling.tolerance;
+  const double per_unit_step = _scene.adaptive->tolerance * _grid.dt[w.j] / t(w, w.q);
+  return std::min(_coupling.tolerance, 0.1 * per_unit_step);
 }
 
 /// Iterates window w to convergence (n ends as the last iteration's index).

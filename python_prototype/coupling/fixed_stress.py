@@ -399,10 +399,22 @@ class FixedStressSplit:
         if self.observer.iteration:
             self.observer.iteration(w.K + 1, n + 1, dp_norm, du_norm)
         w.increment = max(dp_norm, du_norm)
-        converged = dp_norm <= self.coupling.tolerance and du_norm <= self.coupling.tolerance
+        tolerance = self.stopping_tolerance(w)
+        converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
             self.record_coupled_residual(w, inc)
         return converged
+
+    def stopping_tolerance(self, w):
+        """The coupling tolerance of window w: coupling.tolerance, and under
+        time.adaptive at most a tenth of the error tolerance per unit step,
+        tolerance h / t. The iteration's own error enters the error estimate
+        multiplied by t / h (step_control.py); above that bound it would keep
+        short steps short (a crawl at dt_min, docs/theory.md "Adaptive steps")."""
+        if self.control is None:
+            return self.coupling.tolerance
+        per_unit_step = self.scene.adaptive.tolerance * self.grid.dt[w.j] / self.t(w, w.q)
+        return min(self.coupling.tolerance, 0.1 * per_unit_step)
 
     def iterate_window(self, w):
         """Iterates window w to convergence; returns the outcome and the last
