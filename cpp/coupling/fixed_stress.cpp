@@ -111,7 +111,7 @@ struct Window
   int K = 0;                           // the window [t_K, t_{K+1}]
   int j = 0, q = 1;                    // its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
   ActiveSet active;                    // contact active set of u^{n+1} (the last iteration's)
-  bool contact_changed = false;        // active != the set at t_K
+  bool contact_changed = false;        // converged active != the set at t_K
   TimeDerivative derivative;           // of every fine step (time_scheme.h)
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
@@ -495,7 +495,6 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _report.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
   w.active = _mechanics.active_contact_set();
-  w.contact_changed = !same_active_set(w.active, _active_K, _V.mesh()->comm());
   _output.iteration(
       {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active.nodes});
   if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
@@ -561,7 +560,11 @@ bool FixedStressSplit::iteration(Window& w, int n)
   const double tolerance = stopping_tolerance(w);
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
+  {
     record_coupled_residual(w, inc);
+    // Compared once per window, on the converged iterate (one collective).
+    w.contact_changed = !same_active_set(w.active, _active_K, _V.mesh()->comm());
+  }
   return converged;
 }
 

@@ -74,7 +74,7 @@ class Window:
         self.K = K                    # the window [t_K, t_{K+1}]
         self.j, self.q = j, q         # its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
         self.active = ActiveSet()     # contact active set of u^{n+1} (the last iteration's)
-        self.contact_changed = False  # active != the set at t_K
+        self.contact_changed = False  # converged active != the set at t_K
         self.derivative = TimeDerivative()  # of every fine step (time_scheme.py)
         self.w_K = w_K                # flow state (z, p) at t_K, for a retry
         self.p_old = [p_K] * (q + 1)
@@ -355,7 +355,6 @@ class FixedStressSplit:
             raise SolverError("non-finite values (NaN or inf) in the "
                               f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
         w.active = self.mechanics.active_contact_set()
-        w.contact_changed = not same_active_set(w.active, self.active_K, self.comm)
         self.output.iteration(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio, self.parameters.gamma,
                               dp_norm, du_norm, w.active.nodes)
         w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g};")
@@ -403,6 +402,8 @@ class FixedStressSplit:
         converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
             self.record_coupled_residual(w, inc)
+            # Compared once per window, on the converged iterate (one collective).
+            w.contact_changed = not same_active_set(w.active, self.active_K, self.comm)
         return converged
 
     def stopping_tolerance(self, w):
