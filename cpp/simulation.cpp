@@ -563,7 +563,7 @@ class Simulation
 {
 public:
   Simulation(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
-      : _scene(scene), _directory(directory), _comm(comm), _control(control), _progress(comm, scene.progress_interval)
+      : _scene(with_mandel_plate(scene)), _directory(directory), _comm(comm), _control(control), _progress(comm, scene.progress_interval)
   {
   }
 
@@ -606,7 +606,7 @@ private:
   void write_summary();
   int exit_status() const;
 
-  const Scene& _scene;
+  const Scene _scene; // as read, with a closed form's boundary values imposed
   const std::string _directory;
   MPI_Comm _comm;
   const RunControl& _control;
@@ -788,6 +788,7 @@ WindowObserver Simulation::observer()
                   iteration, dp, du);
     _progress.heartbeat(what);
   };
+  o.record = [this](const IterationRecord& r) { _output->iteration(r); };
   return o;
 }
 
@@ -818,7 +819,7 @@ void Simulation::time_loop()
     {
       ContractionNorm contraction(*_forms, _materials, _parameters.q, _steps.V, _steps.flow->pressure_space());
       run_fixed_stress(_scene, _parameters, _constants, _materials, *_steps.flow, _steps.second_pass.get(),
-                       *_steps.mechanics, contraction, *_output, o, _report, _grid, _steps.step_control.get());
+                       *_steps.mechanics, contraction, o, _report, _grid, _steps.step_control.get());
     }
     else
       run_single_solve(_scene, _constants, _steps.flow.get(), _steps.mechanics.get(), _steps.monolithic.get(), o,

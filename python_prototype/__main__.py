@@ -83,7 +83,7 @@ def compare_main(argv):
     if len(argv) != 2:
         print("biotcontact: error: expected 'compare DIR_A DIR_B [--tolerance T]' (see --help)", file=sys.stderr)
         return 2
-    from .diagnostics.compare import compare
+    from .output.compare import compare
     return compare(argv[0], argv[1], tolerance)
 
 
@@ -111,7 +111,8 @@ def main(argv):
     from .output.interruption import install_interruption_handlers
     from .scene.scene import SceneError, read_scene
     from .simulation import run
-    from .solvers.solver import OptionsError, SolverError
+    from .solvers.options import OptionsError
+    from .solvers.solver import SolverError
 
     comm = MPI.COMM_WORLD
     install_interruption_handlers()

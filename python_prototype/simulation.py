@@ -9,7 +9,7 @@ from dolfinx import fem
 
 from .output.checkpoint import (Checkpoint, keyed_values, mesh_difference, mesh_signature, read_checkpoint,
                                 restore_values, write_checkpoint)
-from .diagnostics.closed_form import Mandel, Terzaghi
+from .diagnostics.closed_form import Mandel, Terzaghi, with_mandel_plate
 from .domain.domain import check_expressions, create_domain
 from .coupling.coupling import CouplingError, CouplingReport, WindowObserver, for_each_checkpointed
 from .coupling.fixed_stress import run_fixed_stress
@@ -362,7 +362,8 @@ class Simulation:
     and the exit status."""
 
     def __init__(self, scene, directory, comm, fingerprint="", restart=False):
-        self.scene, self.directory, self.comm = scene, directory, comm
+        # The scene as read, with a closed form's boundary values imposed.
+        self.scene, self.directory, self.comm = with_mandel_plate(scene), directory, comm
         self.fingerprint, self.restart = fingerprint, restart
         # output.progress_interval (seconds between lines within a step)
         self.progress = Progress(comm, scene.progress_interval)
@@ -538,7 +539,7 @@ class Simulation:
             self.progress.heartbeat(f"step {step}: coupling iteration {iteration}, increments dp {dp:.3g} "
                                     f"du {du:.3g}")
         return WindowObserver(flow_state=flow_state, mechanics_state=mechanics_state, stop=self.stop,
-                              retry=self.progress.say, iteration=iteration)
+                              retry=self.progress.say, iteration=iteration, record=self.output.iteration)
 
     def report_newton_steps(self):
         """A contact solve longer than the interval (a large monolithic step)
@@ -562,7 +563,7 @@ class Simulation:
             if scene.coupling and not s.monolithic:
                 contraction = ContractionNorm(self.F, parameters.q, self.comm)
                 run_fixed_stress(scene, parameters, self.materials, self.F, s.flow, s.second_pass, s.mechanics,
-                                 contraction, self.output, observer, self.report, self.comm, self.grid,
+                                 contraction, observer, self.report, self.comm, self.grid,
                                  s.step_control)
             else:
                 run_single_solve(scene, self.F, s.flow, s.mechanics, s.monolithic, observer, self.report,

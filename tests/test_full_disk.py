@@ -19,7 +19,7 @@ import meshio
 from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, scene
 
 sys.path.insert(0, ROOT)
-from python_prototype.diagnostics.compare import compare  # noqa: E402
+from python_prototype.output.compare import compare  # noqa: E402
 from python_prototype.output.time_series import Fields  # noqa: E402
 
 OPTIONS = ["--set", "mesh.cells=[160,16]"]

@@ -11,7 +11,7 @@ from support import ROOT, check
 # Modules with no twin, and why.
 CPP_ONLY = {}
 PROTOTYPE_ONLY = {
-    "diagnostics/compare": "compares the two tracks' outputs; C++ has nothing to compare with",
+    "output/compare": "compares the two tracks' outputs; C++ has nothing to compare with",
 }
 # The entry points: the same role under each language's name.
 ENTRY = {"main": "__main__"}

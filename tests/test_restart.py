@@ -21,7 +21,7 @@ import tempfile
 from support import BINARY, MPI_ENV, ROOT, check, scene
 
 sys.path.insert(0, ROOT)
-from python_prototype.diagnostics.compare import compare  # noqa: E402
+from python_prototype.output.compare import compare  # noqa: E402
 
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)

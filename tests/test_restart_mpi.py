@@ -22,7 +22,7 @@ import time
 from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, scene
 
 sys.path.insert(0, ROOT)
-from python_prototype.diagnostics.compare import compare  # noqa: E402
+from python_prototype.output.compare import compare  # noqa: E402
 
 CHECKPOINT = ["--set", "output.checkpoint_every=3"]
 

@@ -49,6 +49,16 @@ struct CouplingReport
   long q_rejections = 0;
 };
 
+/// What a coupling iteration measured: one row of iterations.csv.
+struct IterationRecord
+{
+  int step;
+  double time;
+  int iteration;
+  double dsigma_norm, ratio, gamma, dp_norm, du_norm;
+  int active_nodes;
+};
+
 /// Called after each converged window: once per fine flow step (with that
 /// step's solution loaded in the FlowStep), then once for the mechanics step.
 struct WindowObserver
@@ -64,6 +74,8 @@ struct WindowObserver
   /// Told after each coupling iteration (window, iteration, increments dp
   /// and du): the progress of a long window.
   std::function<void(int window, int iteration, double dp, double du)> iteration;
+  /// Told what each coupling iteration measured (iterations.csv).
+  std::function<void(const IterationRecord&)> record;
 };
 
 /// Calls f(name, field) for each field of the report that a checkpoint

@@ -143,11 +143,11 @@ class FixedStressSplit
 public:
   FixedStressSplit(const Scene& scene, const Parameters& parameters, const Constants& constants,
                    const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
-                   ContractionNorm& contraction, Output& output, const WindowObserver& observer,
+                   ContractionNorm& contraction, const WindowObserver& observer,
                    CouplingReport& report, TimeGrid& grid, StepControl* control)
       : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants),
         _stabilised(materials.max_L > 0), _flow(flow),
-        _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
+        _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction),
         _observer(observer), _report(report), _grid(grid), _control(control), _V(*mechanics.space()),
         _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
   {
@@ -198,7 +198,6 @@ private:
   FlowStep* _second_pass;
   MechanicsStep& _mechanics;
   ContractionNorm& _contraction;
-  Output& _output;
   const WindowObserver& _observer;
   CouplingReport& _report;
   TimeGrid& _grid;
@@ -495,7 +494,7 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _report.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
   w.active = _mechanics.active_contact_set();
-  _output.iteration(
+  _observer.record(
       {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active.nodes});
   if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
@@ -730,10 +729,10 @@ void FixedStressSplit::run()
 
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
                       const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
-                      ContractionNorm& contraction, Output& output, const WindowObserver& observer,
+                      ContractionNorm& contraction, const WindowObserver& observer,
                       CouplingReport& report, TimeGrid& grid, StepControl* control)
 {
-  FixedStressSplit(scene, parameters, constants, materials, flow, second_pass, mechanics, contraction, output, observer,
+  FixedStressSplit(scene, parameters, constants, materials, flow, second_pass, mechanics, contraction, observer,
                    report, grid, control)
       .run();
 }

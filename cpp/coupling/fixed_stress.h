@@ -11,7 +11,6 @@
 #include "diagnostics/diagnostics.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
-#include "output/output.h"
 #include "assembly/parameters.h"
 #include "steps/time_grid.h"
 
@@ -38,7 +37,7 @@ double inexact_tolerance(double previous_increment);
 /// for the other schemes).
 void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
                       const Materials& materials, FlowStep& flow, FlowStep* second_pass,
-                      MechanicsStep& mechanics, ContractionNorm& contraction, Output& output,
+                      MechanicsStep& mechanics, ContractionNorm& contraction,
                       const WindowObserver& observer, CouplingReport& report, TimeGrid& grid,
                       StepControl* control);
 

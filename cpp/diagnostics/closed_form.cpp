@@ -1,6 +1,7 @@
 #include "diagnostics/closed_form.h"
 
 #include <cmath>
+#include <memory>
 
 namespace biotcontact
 {
@@ -118,6 +119,22 @@ double Mandel::displacement_x(double x, double t) const
 double Mandel::displacement_y(double y, double t) const
 {
   return (-_F * (1 - nu) / (2 * _G * _a) + _F * (1 - nu_u) / (_G * _a) * plate_series(t)) * y;
+}
+
+Scene with_mandel_plate(Scene scene)
+{
+  if (!scene.reference or scene.reference->solution != "mandel")
+    return scene;
+  const FlowSpec& f = *scene.flow;
+  auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics->G,
+                                         scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
+                                         (*f.permeability)(0, 0, 0, 0) / f.mu_f, scene.reference->force);
+  BoundarySpec& plate = scene.boundaries.at(scene.reference->plate);
+  plate.mechanics = BoundarySpec::Mechanics::displacement;
+  plate.displacement[1] = Expression([mandel](double, double y, double, double t)
+                                     { return mandel->displacement_y(y, t); },
+                                     "Mandel's exact plate displacement");
+  return scene;
 }
 
 } // namespace biotcontact

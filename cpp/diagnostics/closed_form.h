@@ -1,6 +1,8 @@
 // Closed-form solutions for verification (docs/verification.md).
 #pragma once
 
+#include "scene/scene.h"
+
 #include <vector>
 
 namespace biotcontact
@@ -45,5 +47,11 @@ private:
   double _a, _b, _G, _F;
   std::vector<double> _roots; // alpha_n: tan(a_n) = (1 - nu)/(nu_u - nu) a_n
 };
+
+/// The scene a run solves: `scene` itself, or for a [reference] solution =
+/// "mandel" scene the scene with Mandel's rigid frictionless plate imposed
+/// as the exact u_y on the boundary reference.plate (the usual set-up;
+/// docs/verification.md), which the reader checked is free.
+Scene with_mandel_plate(Scene scene);
 
 } // namespace biotcontact

@@ -3,6 +3,7 @@
 // flushed at once, so a run that stops later loses nothing it finished.
 #pragma once
 
+#include "coupling/coupling.h"
 #include "output/time_series.h"
 #include "output/write_failure.h"
 
@@ -34,16 +35,6 @@ private:
   std::vector<std::pair<std::string, std::string>> _items;
   std::vector<bool> _nested;
   std::vector<Json> _children;
-};
-
-/// One row of iterations.csv.
-struct IterationRecord
-{
-  int step;
-  double time;
-  int iteration;
-  double dsigma_norm, ratio, gamma, dp_norm, du_norm;
-  int active_nodes;
 };
 
 class Output

@@ -1,6 +1,6 @@
 #include "solvers/field_split.h"
 
-#include "solvers/solver.h"
+#include "solvers/options.h"
 
 #include <algorithm>
 

@@ -258,8 +258,6 @@ void SolverStage::read(SolverStatistics& s) const
   s.solve_time = solve.time;
 }
 
-std::string system_name(const std::string& prefix) { return "the " + prefix.substr(0, prefix.size() - 1); }
-
 LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, Structure structure,
                            const std::vector<Field>& fields)
     : _prefix(prefix)

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "solvers/field_split.h"
+#include "solvers/options.h"
 
 #include <cstdint>
 #include <functional>
@@ -26,12 +27,6 @@ namespace biotcontact
 
 /// A solver that did not converge: the run stops with this message.
 struct SolverError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
-
-/// PETSc options that do not make a solver: bad input (exit 2).
-struct OptionsError : std::runtime_error
 {
   using std::runtime_error::runtime_error;
 };
@@ -239,8 +234,5 @@ private:
   std::string _prefix;
   bool _operator_changed = true; // the next solve sets up
 };
-
-/// "the mechanics" from "mechanics_".
-std::string system_name(const std::string& prefix);
 
 } // namespace biotcontact

@@ -11,7 +11,7 @@
 #include "assembly/loads.h"
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
-#include "solvers/system.h"
+#include "steps/system.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>

@@ -13,7 +13,7 @@
 #include "assembly/loads.h"
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
-#include "solvers/system.h"
+#include "steps/system.h"
 #include "steps/time_scheme.h"
 
 #include <dolfinx/fem/Form.h>

@@ -21,8 +21,9 @@ from ..assembly.linear_algebra import accumulate_ghosts, add_vector, owned, set_
 from .change_of_variables import ChangeOfVariables, coordinate_axis, node_change_of_variables
 from .schur_complement import SchurComplement
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
-from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, OptionsError, SolverError, SolverStage, Structure,
-                     reason_name, set_default_option, set_relative_tolerance, system_name)
+from ..solvers.options import OptionsError, system_name
+from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStage, Structure,
+                     reason_name, set_default_option, set_relative_tolerance)
 from ..scene.scene import SceneError, agree_on_error
 
 

@@ -45,6 +45,20 @@ class CouplingReport:
 
 
 @dataclass
+class IterationRecord:
+    """What a coupling iteration measured: one row of iterations.csv."""
+    step: int
+    time: float
+    iteration: int
+    dsigma_norm: float
+    ratio: float
+    gamma: float
+    dp_norm: float
+    du_norm: float
+    active_nodes: int
+
+
+@dataclass
 class WindowObserver:
     """Called after each converged window: flow_state(t) once per fine flow
     step (with that step's solution loaded in the FlowStep), then
@@ -60,6 +74,8 @@ class WindowObserver:
     # Told after each coupling iteration (window, iteration, increments dp
     # and du): the progress of a long window.
     iteration: Optional[Callable[[int, int, float, float], None]] = None
+    # Told what each coupling iteration measured (iterations.csv).
+    record: Optional[Callable[[IterationRecord], None]] = None
 
 
 # The fields of the report that a checkpoint keeps, in the order of the C++.

@@ -12,7 +12,7 @@ import numpy as np
 from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
 from ..contact.contact import ActiveSet, same_active_set
-from .coupling import CouplingError
+from .coupling import CouplingError, IterationRecord
 from .window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
@@ -112,12 +112,12 @@ class FixedStressSplit:
     mechanics pass (eq. 4.20-4.22), contraction measure (Theorems 1 and 2),
     stopping test, next iterate, and accept or retry."""
 
-    def __init__(self, scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
+    def __init__(self, scene, parameters, materials, F, flow, second_pass, mechanics, contraction, observer,
                  report, comm, grid, control):
         self.scene, self.coupling, self.parameters, self.F = scene, scene.coupling, parameters, F
         self.stabilised = materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
         self.flow, self.second_pass, self.mechanics = flow, second_pass, mechanics
-        self.contraction, self.output, self.observer = contraction, output, observer
+        self.contraction, self.observer = contraction, observer
         self.report, self.comm, self.grid = report, comm, grid
         self.control = control  # time.adaptive (q = 1), or None
         self.V, self.Q = mechanics.V, flow.Q
@@ -355,8 +355,8 @@ class FixedStressSplit:
             raise SolverError("non-finite values (NaN or inf) in the "
                               f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
         w.active = self.mechanics.active_contact_set()
-        self.output.iteration(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio, self.parameters.gamma,
-                              dp_norm, du_norm, w.active.nodes)
+        self.observer.record(IterationRecord(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio,
+                                             self.parameters.gamma, dp_norm, du_norm, w.active.nodes))
         w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g};")
         return dp_norm, du_norm
 
@@ -529,7 +529,7 @@ class FixedStressSplit:
         report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
 
 
-def run_fixed_stress(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
+def run_fixed_stress(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, observer,
                      report, comm, grid, control):
     """Runs the coupled scene from t = 0 (or, when report.windows > 0, from
     the end of that window: a restart with the state loaded) to its end time
@@ -539,5 +539,5 @@ def run_fixed_stress(scene, parameters, materials, F, flow, second_pass, mechani
     describes the run up to that window. `second_pass` is the flow step
     without L of "multirate-two-pass" (None for the other schemes).
     `control` is time.adaptive's step control (None without)."""
-    FixedStressSplit(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, output, observer,
+    FixedStressSplit(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, observer,
                      report, comm, grid, control).run()

@@ -1,9 +1,12 @@
 """Closed-form solutions for verification (cpp/diagnostics/closed_form.cpp), vectorised
 over the coordinate: Terzaghi consolidation and Mandel's problem."""
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from ..scene.expression import Expression
 
 
 @dataclass
@@ -117,3 +120,22 @@ class Mandel:
     def displacement_y(self, y, t):
         F, G, a = self.F, self.G, self.a
         return (-F * (1 - self.nu) / (2 * G * a) + F * (1 - self.nu_u) / (G * a) * self._plate_series(t)) * y
+
+
+def with_mandel_plate(scene):
+    """The scene a run solves: `scene` itself, or for a [reference] solution
+    = "mandel" scene a copy with Mandel's rigid frictionless plate imposed
+    as the exact u_y on the boundary reference.plate (the usual set-up;
+    docs/verification.md), which the reader checked is free."""
+    if scene.reference is None or scene.reference.solution != "mandel":
+        return scene
+    f = scene.flow
+    mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
+                    scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, scene.reference.force)
+    plate = scene.boundaries[scene.reference.plate]
+    displacement = list(plate.displacement)
+    displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),
+                                          "Mandel's exact plate displacement")
+    boundaries = dict(scene.boundaries)
+    boundaries[scene.reference.plate] = dataclasses.replace(plate, mechanics="displacement", displacement=displacement)
+    return dataclasses.replace(scene, boundaries=boundaries)

@@ -92,12 +92,13 @@ class Output:
         agree_on_output_error(failed, self.comm)
         self.time += time.perf_counter() - start
 
-    def iteration(self, step, t, iteration, dsigma, ratio, gamma, dp_norm, du_norm, active_nodes):
+    def iteration(self, r):
+        """Writes the IterationRecord `r` (coupling.py) as a row of iterations.csv."""
         failed = ""
         if self.csv is not None:
-            v = [number(x) if math.isfinite(x) else "" for x in (dsigma, ratio, gamma, dp_norm, du_norm)]
+            v = [number(x) if math.isfinite(x) else "" for x in (r.dsigma_norm, r.ratio, r.gamma, r.dp_norm, r.du_norm)]
             try:
-                self.csv.write(f"{step},{number(t)},{iteration},{','.join(v)},{active_nodes}\n")
+                self.csv.write(f"{r.step},{number(r.time)},{r.iteration},{','.join(v)},{r.active_nodes}\n")
                 self.csv.flush()
             except OSError as e:
                 failed = self._cannot_write(self.csv.name, e)

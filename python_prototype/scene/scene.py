@@ -15,7 +15,6 @@ from typing import Optional
 
 from mpi4py import MPI
 
-from ..diagnostics.closed_form import Mandel
 from .expression import Expression, ExpressionError
 
 MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
@@ -942,20 +941,15 @@ def _read_regions(regions, root, scene):
     regions.finish()
 
 
-def _impose_mandel_plate(r, scene, ref):
-    """Mandel's rigid frictionless plate, imposed as the exact u_y on the
-    boundary ref.plate (the usual set-up; docs/verification.md)."""
+def _check_mandel_plate(r, scene, ref):
+    """Mandel's rigid frictionless plate goes on the boundary ref.plate,
+    which must be free: set-up imposes the exact u_y there
+    (diagnostics/closed_form.py, with_mandel_plate)."""
     if scene.mesh.lower[0] != 0.0 or scene.mesh.lower[1] != 0.0:
         r.fail("solution", "mandel needs mesh.lower = [0, 0] (the quarter specimen)")
     plate = scene.boundaries.get(ref.plate)
     if plate is None or plate.mechanics != "traction_free":
         r.fail("plate", "must name a boundary with no mechanics condition of its own")
-    f = scene.flow
-    mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
-                    scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, ref.force)
-    plate.mechanics = "displacement"
-    plate.displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),
-                                                "Mandel's exact plate displacement")
 
 
 def _read_reference(r, scene):
@@ -980,6 +974,6 @@ def _read_reference(r, scene):
     else:
         ref.force = r.number("force")
         ref.plate = r.string("plate", "top")
-        _impose_mandel_plate(r, scene, ref)
+        _check_mandel_plate(r, scene, ref)
     r.finish()
     scene.reference = ref

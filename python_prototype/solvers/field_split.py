@@ -7,6 +7,8 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .options import OptionsError, system_name
+
 
 @dataclass
 class Field:
@@ -37,7 +39,6 @@ def set_fields(pc, fields, prefix):
     """If `pc` is a field split without fields yet, gives it `fields` and,
     for a field with its own splits, sets its sub-solver from the options
     and gives it those too (cpp/solvers/field_split.cpp)."""
-    from .solver import OptionsError, system_name
     if pc.getType() != PETSc.PC.Type.FIELDSPLIT:
         return
     if not fields:

@@ -9,14 +9,11 @@ import time
 from petsc4py import PETSc
 
 from .field_split import is_coupled, set_fields
+from .options import OptionsError, system_name
 
 
 class SolverError(Exception):
     """A solver did not converge: the run stops with this message (exit 3)."""
-
-
-class OptionsError(Exception):
-    """PETSc options that do not make a solver (exit 2, bad input)."""
 
 
 class Structure(enum.Enum):
@@ -231,10 +228,6 @@ class SolverStage:
 
     def __exit__(self, *_):
         self.stage.pop()
-
-
-def system_name(prefix):
-    return "the " + prefix[:-1]
 
 
 class LinearSolver:

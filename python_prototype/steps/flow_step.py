@@ -10,7 +10,7 @@ from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
                                        owned_global_dofs, reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure
-from ..solvers.system import System
+from .system import System
 from ..assembly.boundary_conditions import flux_bc, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 

@@ -11,7 +11,7 @@ from ..assembly.materials import add_body_force
 from ..domain.domain import pore_pressure_faces
 from ..assembly.linear_algebra import assemble_operator, finish_rhs, multiply_add, owned, rigid_body_modes
 from ..solvers.solver import Method, Structure
-from ..solvers.system import System
+from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, update
 
 

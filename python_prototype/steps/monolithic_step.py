@@ -14,7 +14,7 @@ from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
 from ..solvers.solver import Structure
-from ..solvers.system import System
+from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 from .time_scheme import TimeDerivative, history_value

@@ -1,4 +1,4 @@
-#include "solvers/system.h"
+#include "steps/system.h"
 
 #include <dolfinx/common/Timer.h>
 

@@ -1,12 +1,12 @@
-"""One system of a step (cpp/solvers/system.h): the matrix of a bilinear form and
+"""One system of a step (cpp/steps/system.h): the matrix of a bilinear form and
 what answers it, a linear solve or, with contact, the bound-constrained
-problem on it. How it is solved is decided here and in solver.py."""
+problem on it. How it is solved is decided here and in solvers/solver.py."""
 import time
 
-from ..contact.contact import ContactSolver
-from .field_split import is_coupled
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
-from .solver import (LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults,
+from ..contact.contact import ContactSolver
+from ..solvers.field_split import is_coupled
+from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults,
                      solver_counts)
 
 
