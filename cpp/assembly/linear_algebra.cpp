@@ -10,6 +10,13 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
+std::vector<double> values(std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); }
+
+void assign(fem::Function<double>& f, std::span<const double> x)
+{
+  std::copy(x.begin(), x.end(), f.x()->mutable_array().begin());
+}
+
 la::petsc::Matrix assemble_matrix(const fem::Form<double>& a, const BCs& bcs)
 {
   la::petsc::Matrix A(fem::petsc::create_matrix(a), false);

@@ -28,6 +28,12 @@ struct UnknownsPart
   std::span<const std::int32_t> position;
 };
 
+/// A copy of the values (ghosts included) of a function or vector.
+std::vector<double> values(std::span<const double> x);
+
+/// Sets the values of f (ghosts included) from `x`, of f's length.
+void assign(dolfinx::fem::Function<double>& f, std::span<const double> x);
+
 /// Assembles a bilinear form; rows and columns of Dirichlet DOFs become
 /// identity rows (the right-hand side gets the lifting, see assemble_rhs).
 dolfinx::la::petsc::Matrix assemble_matrix(const dolfinx::fem::Form<double>& a, const BCs& bcs);

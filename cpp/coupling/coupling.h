@@ -3,6 +3,8 @@
 // checkpoints, and the observer that writes, prints and stops.
 #pragma once
 
+#include "steps/time_grid.h"
+
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -16,8 +18,10 @@ struct CouplingError : std::runtime_error
   using std::runtime_error::runtime_error;
 };
 
-/// What a run's coupling did, step by step: the counts and contraction
-/// measures of summary.json (paper Theorems 1 and 2).
+/// @brief What a run's coupling did, step by step: the counts and
+/// contraction measures of summary.json (paper Theorems 1 and 2). Written
+/// by the schemes, read by the summary; the schemes decide nothing from it
+/// but where the run stands (windows, fine_steps).
 struct CouplingReport
 {
   int windows = 0;             // mechanics (coarse) steps
@@ -34,19 +38,25 @@ struct CouplingReport
   long forced_steps = 0;       // ... accepted at dt_min above the tolerance
   double max_error_estimate = 0; // ... the largest of an accepted step (1: the tolerance)
   long contact_breaks = 0;     // ... steps accepted unestimated: the active contact set changed in them
-  // Carried from window to window (and through a checkpoint): the sum of
-  // the resolved ratios and the scales of the stopping test.
+  int max_window_q = 0;        // coupling.q = "auto": the largest q taken
+  long q_rejections = 0;       // ... windows tried again with q = 1: the contact set changed in them
+};
+
+/// @brief The memory the schemes' controllers carry from window to window
+/// (and through a checkpoint): not reported, read back to decide.
+struct ControllerState
+{
+  // The sum of the resolved contraction ratios (their mean at the end) and
+  // the scales of the stopping test: the largest p and u so far.
   double ratio_sum = 0, p_size = 0, u_size = 0;
   // time.adaptive: the last accepted step's error estimate (the PI
   // controller's memory) and the largest norms of pressure and displacement.
   double error_estimate = 0, p_largest = 0, u_largest = 0;
   long smooth_states = 0; // accepted states since t = 0 or the last contact break: the predictor's reach
-  // coupling.q = "auto" (coupling/window_control.h): the last window's q,
+  // coupling.q = "auto" (coupling/window_control.h): the last window's q and
   // the largest q the next may take (1 after a change of the contact set,
-  // then doubling), the largest q taken and the windows tried again with
-  // q = 1 because the contact set changed in them.
-  int window_q = 0, q_limit = 1, max_window_q = 0;
-  long q_rejections = 0;
+  // then doubling).
+  int window_q = 0, q_limit = 1;
 };
 
 /// What a coupling iteration measured: one row of iterations.csv.
@@ -78,10 +88,26 @@ struct WindowObserver
   std::function<void(const IterationRecord&)> record;
 };
 
-/// Calls f(name, field) for each field of the report that a checkpoint
-/// keeps: the one list that checkpoints and restarts read.
-template <class Report, class F>
-void for_each_checkpointed(Report& r, F&& f)
+class StepControl; // time.adaptive (coupling/step_control.h)
+
+/// @brief The run a scheme drives: the time grid it steps on (time.retry
+/// and time.adaptive rewrite it), time.adaptive's control (null without),
+/// the observer it tells, the report it fills and the controllers' state.
+/// Grid, report and state are what a checkpoint keeps of it.
+struct CouplingRun
+{
+  TimeGrid& grid;
+  StepControl* control;
+  const WindowObserver& observer;
+  CouplingReport& report;
+  ControllerState& state;
+};
+
+/// Calls f(name, field) for each field of the report and the controllers'
+/// state that a checkpoint keeps: the one list that checkpoints and
+/// restarts read.
+template <class Report, class State, class F>
+void for_each_checkpointed(Report& r, State& c, F&& f)
 {
   f("windows", r.windows);
   f("coupling_iterations", r.coupling_iterations);
@@ -91,21 +117,21 @@ void for_each_checkpointed(Report& r, F&& f)
   f("bound_violations", r.bound_violations);
   f("unresolved_ratios", r.unresolved_ratios);
   f("max_coupled_residual", r.max_coupled_residual);
-  f("ratio_sum", r.ratio_sum);
-  f("p_size", r.p_size);
-  f("u_size", r.u_size);
+  f("ratio_sum", c.ratio_sum);
+  f("p_size", c.p_size);
+  f("u_size", c.u_size);
   f("retries", r.retries);
   f("rejected_steps", r.rejected_steps);
   f("forced_steps", r.forced_steps);
   f("max_error_estimate", r.max_error_estimate);
-  f("error_estimate", r.error_estimate);
-  f("p_largest", r.p_largest);
-  f("u_largest", r.u_largest);
+  f("error_estimate", c.error_estimate);
+  f("p_largest", c.p_largest);
+  f("u_largest", c.u_largest);
   f("contact_breaks", r.contact_breaks);
-  f("smooth_states", r.smooth_states);
+  f("smooth_states", c.smooth_states);
   f("fine_steps", r.fine_steps);
-  f("window_q", r.window_q);
-  f("q_limit", r.q_limit);
+  f("window_q", c.window_q);
+  f("q_limit", c.q_limit);
   f("max_window_q", r.max_window_q);
   f("q_rejections", r.q_rejections);
 }

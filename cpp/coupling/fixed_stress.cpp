@@ -18,17 +18,6 @@ namespace
 {
 using Array = std::vector<double>;
 
-Array copy(const fem::Function<double>& f)
-{
-  std::span<const double> x = f.x()->array();
-  return Array(x.begin(), x.end());
-}
-
-void assign(fem::Function<double>& f, const Array& values)
-{
-  std::copy(values.begin(), values.end(), f.x()->mutable_array().begin());
-}
-
 Array difference(const Array& a, const Array& b)
 {
   Array d(a.size());
@@ -77,7 +66,7 @@ void second_pass_correction(FlowStep& second, const Array& p_K, const Array& u_n
   {
     history(m, p_B);
     second.solve(t(m));
-    p_B[m] = copy(*second.pressure);
+    p_B[m] = values(second.pressure->x()->array());
     std::span<const double> w = second.unknowns();
     w_B[m].assign(w.begin(), w.end());
   }
@@ -141,15 +130,15 @@ struct Increments
 class FixedStressSplit
 {
 public:
-  FixedStressSplit(const Scene& scene, const Parameters& parameters, const Constants& constants,
-                   const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
-                   ContractionNorm& contraction, const WindowObserver& observer,
-                   CouplingReport& report, TimeGrid& grid, StepControl* control)
-      : _scene(scene), _coupling(*scene.coupling), _parameters(parameters), _constants(constants),
-        _stabilised(materials.max_L > 0), _flow(flow),
-        _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction),
-        _observer(observer), _report(report), _grid(grid), _control(control), _V(*mechanics.space()),
-        _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
+  FixedStressSplit(const Problem& problem, const SplitSteps& steps, CouplingRun& run)
+      : _scene(problem.scene), _coupling(*problem.scene.coupling), _parameters(problem.parameters),
+        _constants(problem.constants), _stabilised(problem.materials.max_L > 0), _flow(steps.flow),
+        _second_pass(steps.second_pass), _mechanics(steps.mechanics),
+        _contraction(problem.forms, problem.materials, problem.parameters.q, steps.mechanics.space(),
+                     steps.flow.pressure_space()),
+        _run(run), _observer(run.observer), _report(run.report), _state(run.state), _grid(run.grid), _control(run.control),
+        _V(*steps.mechanics.space()), _Q(*steps.flow.pressure_space()),
+        _accelerated(_coupling.acceleration == "anderson")
   {
   }
 
@@ -197,9 +186,11 @@ private:
   FlowStep& _flow;
   FlowStep* _second_pass;
   MechanicsStep& _mechanics;
-  ContractionNorm& _contraction;
+  mutable ContractionNorm _contraction; // its work vectors change as it measures
+  CouplingRun& _run;
   const WindowObserver& _observer;
   CouplingReport& _report;
+  ControllerState& _state;
   TimeGrid& _grid;
   StepControl* _control; // time.adaptive (q = 1), or null
   const fem::FunctionSpace& _V;
@@ -223,17 +214,17 @@ void FixedStressSplit::start()
   _flow.keep_loads(q_max);
   if (_second_pass)
     _second_pass->keep_loads(q_max);
-  _p_K = copy(*_flow.pressure);
-  _u_K = copy(*_mechanics.u);
-  _p_before = copy(*_flow.p_before); // restored by a restart
-  _u_before = copy(*_flow.u_before);
-  _u_path_before = copy(*_flow.u_path_before);
-  _j_before = static_cast<int>(_report.fine_steps) - _report.window_q;
+  _p_K = values(_flow.pressure->x()->array());
+  _u_K = values(_mechanics.u->x()->array());
+  _p_before = values(_flow.p_before->x()->array()); // restored by a restart
+  _u_before = values(_flow.u_before->x()->array());
+  _u_path_before = values(_flow.u_path_before->x()->array());
+  _j_before = static_cast<int>(_report.fine_steps) - _state.window_q;
   _active_K = _mechanics.active_contact_set();
   if (_report.windows == 0)
   {
-    _report.p_size = owned_norm(_p_K, _Q);
-    _report.u_size = owned_norm(_u_K, _V);
+    _state.p_size = owned_norm(_p_K, _Q);
+    _state.u_size = owned_norm(_u_K, _V);
   }
 }
 
@@ -246,9 +237,9 @@ int FixedStressSplit::window_steps(int j) const
     return _coupling.q;
   double rate = 0;
   if (_report.windows > 0)
-    rate = relative(owned_norm(difference(_u_K, _u_before), _V), _report.u_size)
+    rate = relative(owned_norm(difference(_u_K, _u_before), _V), _state.u_size)
            / (_grid.t[j] - _grid.t[_j_before]);
-  return biotcontact::window_steps(_grid, j, _report.q_limit, rate, _coupling.q_tolerance, _scene.stops());
+  return biotcontact::window_steps(_grid, j, _state.q_limit, rate, _coupling.q_tolerance, _scene.stops());
 }
 
 /// The first iterate of window K (fine steps j + 1, ..., j + q): p^{0,m} =
@@ -285,9 +276,9 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
     std::vector<std::int32_t> owned(q, owned_size(_Q));
     owned.push_back(owned_size(_V));
     // p_size is a fine step's: the window's q pressures weigh as one field.
-    const double p_size = std::sqrt(static_cast<double>(q)) * _report.p_size;
+    const double p_size = std::sqrt(static_cast<double>(q)) * _state.p_size;
     std::vector<double> weights(q, p_size > 0 ? 1 / p_size : 1.0);
-    weights.push_back(_report.u_size > 0 ? 1 / _report.u_size : 1.0);
+    weights.push_back(_state.u_size > 0 ? 1 / _state.u_size : 1.0);
     w.anderson.emplace(_V.mesh()->comm(), _coupling.depth, owned, weights);
   }
   return w;
@@ -388,7 +379,7 @@ void FixedStressSplit::flow_pass(Window& w)
     assign(*_flow.p_iterate, w.p_old[m]);
     assign(*_flow.p_iterate_previous, history_value(d, w.p_old[m - 1], m >= 2 ? w.p_old[m - 2] : _p_before));
     _flow.solve(t(w, m));
-    w.p_new[m] = copy(*_flow.pressure);
+    w.p_new[m] = values(_flow.pressure->x()->array());
     std::span<const double> z_p = _flow.unknowns();
     w.w_new[m].assign(z_p.begin(), z_p.end());
   }
@@ -401,7 +392,7 @@ void FixedStressSplit::flow_pass(Window& w)
 void FixedStressSplit::mechanics_pass(Window& w)
 {
   _mechanics.solve(t(w, w.q));
-  w.u_new = copy(*_mechanics.u);
+  w.u_new = values(_mechanics.u->x()->array());
   if (_second_pass and w.q > 1)
     second_pass_correction(
         *_second_pass, _p_K, w.u_new, [&](int m) { return t(w, m); },
@@ -474,7 +465,7 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
   if (resolved and std::isfinite(ratio))
   {
     _report.max_contraction_ratio = std::max(_report.max_contraction_ratio, ratio);
-    _report.ratio_sum += ratio;
+    _state.ratio_sum += ratio;
     ++_report.ratios;
     if (ratio > _parameters.gamma)
       ++_report.bound_violations;
@@ -489,14 +480,14 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
 /// state, would be judged by its round-off). Never on a stale state.
 std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Increments& inc, int n)
 {
-  _report.p_size = std::max(_report.p_size, std::sqrt(inc.p2 / w.q));
-  _report.u_size = std::max(_report.u_size, owned_norm(w.u_new, _V));
-  const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _report.p_size);
-  const double du_norm = relative(owned_norm(inc.du, _V), _report.u_size);
+  _state.p_size = std::max(_state.p_size, std::sqrt(inc.p2 / w.q));
+  _state.u_size = std::max(_state.u_size, owned_norm(w.u_new, _V));
+  const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _state.p_size);
+  const double du_norm = relative(owned_norm(inc.du, _V), _state.u_size);
   w.active = _mechanics.active_contact_set();
   _observer.record(
       {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active.nodes});
-  if (!std::isfinite(inc.p2) or !std::isfinite(_report.u_size))
+  if (!std::isfinite(inc.p2) or !std::isfinite(_state.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.
     throw SolverError("non-finite values (NaN or inf) in the "
@@ -630,7 +621,7 @@ bool FixedStressSplit::error_accepted(const Window& w)
   if (!_control)
     return true;
   std::string message;
-  if (_control->judge(_grid, w.j + w.q, w.p_new[w.q], w.u_new, !w.contact_changed, _report, message))
+  if (_control->judge({w.j + w.q, w.p_new[w.q], w.u_new, !w.contact_changed}, _run, message))
     return true;
   go_back(w, message);
   return false;
@@ -645,7 +636,7 @@ bool FixedStressSplit::contact_accepted(const Window& w)
   if (!_coupling.q_auto or w.q == 1 or !w.contact_changed)
     return true;
   ++_report.q_rejections;
-  _report.q_limit = 1;
+  _state.q_limit = 1;
   std::ostringstream message;
   message << "step " << w.K + 1 << ": the contact active set changed (" << _active_K.nodes << " -> "
           << w.active.nodes << " nodes) in a window of q = " << w.q << "; again with q = 1";
@@ -675,11 +666,11 @@ void FixedStressSplit::accept_window(const Window& w, int n)
     _flow.set_unknowns(w.w_new[m]);
     _observer.flow_state(t(w, m));
   }
-  _report.q_limit = window_limit(w.q, _coupling.q_max, w.contact_changed);
+  _state.q_limit = window_limit(w.q, _coupling.q_max, w.contact_changed);
   _active_K = w.active;
   _report.windows = w.K + 1;
   _report.fine_steps = w.j + w.q;
-  _report.window_q = w.q;
+  _state.window_q = w.q;
   _report.max_window_q = std::max(_report.max_window_q, w.q);
   _observer.mechanics_state(t(w, w.q), w.K + 1, n + 1);
   _p_before = w.p_new[w.q - 1]; // p_K itself for q = 1
@@ -709,7 +700,7 @@ void FixedStressSplit::run()
     }
     if (outcome == Outcome::not_converged and !retry(w, "the fixed-stress split did not converge"))
     {
-      _report.mean_contraction_ratio = _report.ratios ? _report.ratio_sum / _report.ratios : 0.0;
+      _report.mean_contraction_ratio = _report.ratios ? _state.ratio_sum / _report.ratios : 0.0;
       throw not_converged(w);
     }
     if (outcome != Outcome::converged or !error_accepted(w) or !contact_accepted(w))
@@ -722,19 +713,14 @@ void FixedStressSplit::run()
     if (_observer.stop and _observer.stop())
       break;
   }
-  _report.mean_contraction_ratio = _report.ratios ? _report.ratio_sum / _report.ratios : 0.0;
+  _report.mean_contraction_ratio = _report.ratios ? _state.ratio_sum / _report.ratios : 0.0;
 }
 
 } // namespace
 
-void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
-                      const Materials& materials, FlowStep& flow, FlowStep* second_pass, MechanicsStep& mechanics,
-                      ContractionNorm& contraction, const WindowObserver& observer,
-                      CouplingReport& report, TimeGrid& grid, StepControl* control)
+void run_fixed_stress(const Problem& problem, const SplitSteps& steps, CouplingRun& run)
 {
-  FixedStressSplit(scene, parameters, constants, materials, flow, second_pass, mechanics, contraction, observer,
-                   report, grid, control)
-      .run();
+  FixedStressSplit(problem, steps, run).run();
 }
 
 } // namespace biotcontact

@@ -11,7 +11,7 @@
 #include "diagnostics/diagnostics.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
-#include "assembly/parameters.h"
+#include "assembly/problem.h"
 #include "steps/time_grid.h"
 
 
@@ -28,17 +28,22 @@ namespace biotcontact
 /// so the converged state is the same to the tolerance.
 double inexact_tolerance(double previous_increment);
 
-/// Runs the coupled scene from t = 0 (or, when report.windows > 0, from the
-/// end of that window: a restart with the state loaded) to its end time on
-/// the steps of `grid` (which a retry refines),
-/// filling `report` as it goes. Throws CouplingError (after logging every iteration) when a window
-/// does not converge; `report` then describes the run up to that window.
-/// `second_pass` is the flow step without L of "multirate-two-pass" (null
-/// for the other schemes).
-void run_fixed_stress(const Scene& scene, const Parameters& parameters, const Constants& constants,
-                      const Materials& materials, FlowStep& flow, FlowStep* second_pass,
-                      MechanicsStep& mechanics, ContractionNorm& contraction,
-                      const WindowObserver& observer, CouplingReport& report, TimeGrid& grid,
-                      StepControl* control);
+/// @brief The steps the split drives: the flow step and the mechanics step,
+/// and for "multirate-two-pass" the flow step without L of its second pass
+/// (null for the other schemes).
+struct SplitSteps
+{
+  FlowStep& flow;
+  FlowStep* second_pass;
+  MechanicsStep& mechanics;
+};
+
+/// Runs the coupled scene from t = 0 (or, when run.report.windows > 0, from
+/// the end of that window: a restart with the state loaded) to its end time
+/// on the steps of run.grid (which a retry refines), filling run.report as
+/// it goes and telling run.observer. Throws CouplingError (after logging
+/// every iteration) when a window does not converge; the report then
+/// describes the run up to that window.
+void run_fixed_stress(const Problem& problem, const SplitSteps& steps, CouplingRun& run);
 
 } // namespace biotcontact

@@ -70,10 +70,10 @@ StepControl::StepControl(const Scene& scene, std::shared_ptr<const dolfinx::fem:
 {
 }
 
-void StepControl::start(std::span<const double> p, std::span<const double> u, CouplingReport& report)
+void StepControl::start(std::span<const double> p, std::span<const double> u, ControllerState& state)
 {
-  report.p_largest = _p.empty() ? 0.0 : owned_norm(p, *_p[0]->function_space());
-  report.u_largest = _u.empty() ? 0.0 : owned_norm(u, *_u[0]->function_space());
+  state.p_largest = _p.empty() ? 0.0 : owned_norm(p, *_p[0]->function_space());
+  state.u_largest = _u.empty() ? 0.0 : owned_norm(u, *_u[0]->function_space());
 }
 
 void StepControl::remember(std::span<const double> p, std::span<const double> u)
@@ -89,14 +89,15 @@ void StepControl::remember(std::span<const double> p, std::span<const double> u)
 
 /// est of the step ending at t_k (step_control.h): the larger of the
 /// pressure's and the displacement's relative local error per unit step.
-double StepControl::estimate(const TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u,
-                             CouplingReport& report) const
+double StepControl::estimate(const TimeGrid& grid, const StepSolution& step, ControllerState& state) const
 {
+  const int k = step.k;
   std::vector<double> times; // t_k, t_{k-1}, ..., t_{k-order-1}
   for (int i = 0; i <= _order + 1; ++i)
     times.push_back(grid.t[k - i]);
   double error = 0;
-  for (auto [past, y, largest] : {std::tuple{&_p, p, &report.p_largest}, std::tuple{&_u, u, &report.u_largest}})
+  for (auto [past, y, largest] :
+       {std::tuple{&_p, step.p, &state.p_largest}, std::tuple{&_u, step.u, &state.u_largest}})
   {
     if (past->empty())
       continue;
@@ -108,13 +109,17 @@ double StepControl::estimate(const TimeGrid& grid, int k, std::span<const double
   return error * grid.t[k] / (grid.dt[k - 1] * _spec.tolerance);
 }
 
-bool StepControl::judge(TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u, bool smooth,
-                        CouplingReport& report, std::string& message)
+bool StepControl::judge(const StepSolution& step, CouplingRun& run, std::string& message)
 {
+  TimeGrid& grid = run.grid;
+  CouplingReport& report = run.report;
+  ControllerState& state = run.state;
+  const int k = step.k;
+  const bool smooth = step.smooth;
   const double h = grid.dt[k - 1], p_order = _order;
   // A predictor through order + 1 accepted states after the last break.
-  const bool estimated = smooth and report.smooth_states > _order;
-  const double est = estimated ? estimate(grid, k, p, u, report) : 0.0;
+  const bool estimated = smooth and state.smooth_states > _order;
+  const double est = estimated ? estimate(grid, step, state) : 0.0;
   if (est > 1 and h > _spec.dt_min * (1 + 1e-9))
   {
     const double shorter = std::max(_spec.dt_min, h * std::max(0.2, std::pow(target / est, 1 / p_order)));
@@ -130,18 +135,18 @@ bool StepControl::judge(TimeGrid& grid, int k, std::span<const double> p, std::s
   report.forced_steps += est > 1;
   report.max_error_estimate = std::max(report.max_error_estimate, est);
   report.contact_breaks += !smooth;
-  report.smooth_states = smooth ? report.smooth_states + 1 : 1;
-  remember(p, u);
+  state.smooth_states = smooth ? state.smooth_states + 1 : 1;
+  remember(step.p, step.u);
   double factor = 1;
   if (estimated)
   {
-    const double before = report.error_estimate > 0 ? report.error_estimate : est;
+    const double before = state.error_estimate > 0 ? state.error_estimate : est;
     factor = est > 0 ? band * std::pow(target / est, 0.7 / p_order) * std::pow(before / target, 0.4 / p_order)
                      : 2.0;
     factor = std::clamp(factor, 0.2, _rejected ? 1.0 : 2.0);
     if (factor >= 1 and factor <= band)
       factor = 1;
-    report.error_estimate = std::max(est, 1e-10);
+    state.error_estimate = std::max(est, 1e-10);
   }
   _rejected = false;
   const double next = std::clamp(h * factor, _spec.dt_min, _spec.dt_max);

@@ -56,6 +56,16 @@
 namespace biotcontact
 {
 
+/// @brief A step to judge: the one ending at grid.t[k] with solution (p, u)
+/// (either may be empty); `smooth` is false when the active contact set
+/// changed in it.
+struct StepSolution
+{
+  int k;
+  std::span<const double> p, u;
+  bool smooth;
+};
+
 /// @brief The error estimate and PI controller of time.adaptive, for the
 /// pressure in Q and the displacement in V (either may be absent).
 class StepControl
@@ -65,22 +75,20 @@ public:
               std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
   /// The norms of the state at t = 0 (the fields' scales start there).
-  void start(std::span<const double> p, std::span<const double> u, CouplingReport& report);
+  void start(std::span<const double> p, std::span<const double> u, ControllerState& state);
 
-  /// Judges the step ending at grid.t[k] with solution (p, u): accepted,
-  /// it is remembered and the steps after t_k are planned again; rejected,
-  /// the steps from t_{k-1} on are, shorter, and the message says so.
-  /// `smooth` is false when the active contact set changed in the step: it
-  /// is accepted as it is and the predictor restarts after it.
-  bool judge(TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u, bool smooth,
-             CouplingReport& report, std::string& message);
+  /// Judges `step` on run.grid: accepted, it is remembered and the steps
+  /// after t_k are planned again; rejected, the steps from t_{k-1} on are,
+  /// shorter, and the message says so. A step that is not smooth (the
+  /// active contact set changed in it) is accepted as it is and the
+  /// predictor restarts after it.
+  bool judge(const StepSolution& step, CouplingRun& run, std::string& message);
 
   /// The accepted states y_{n-1}, y_{n-2}, y_{n-3} by checkpoint name.
   std::vector<std::pair<std::string, dolfinx::fem::Function<double>*>> history() const;
 
 private:
-  double estimate(const TimeGrid& grid, int k, std::span<const double> p, std::span<const double> u,
-                  CouplingReport& report) const;
+  double estimate(const TimeGrid& grid, const StepSolution& step, ControllerState& state) const;
   void remember(std::span<const double> p, std::span<const double> u);
 
   const AdaptiveSpec _spec;

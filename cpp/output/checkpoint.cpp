@@ -435,4 +435,99 @@ Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const st
   return c;
 }
 
+Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const std::string& output)
+{
+  Checkpoint c;
+  c.steps = steps;
+  c.time = time;
+  c.arrays["times"] = run.grid.t; // the grid as retries left it (the same on every rank)
+  c.arrays["time_steps"] = run.grid.dt;
+  c.arrays["mesh"] = mesh_signature(run.mesh);
+  auto keep = [&](const std::vector<UnknownsPart>& parts, std::span<const double> unknowns)
+  {
+    for (const UnknownsPart& part : parts)
+      c.fields[part.name] = keyed_values(run.mesh, part, unknowns);
+  };
+  for (const Step* step : run.scheme.steps())
+    keep(step->parts(), step->unknowns());
+  for (const auto& [name, f] : run.scheme.history())
+    keep({{name, f->function_space(), {}}}, f->x()->array());
+  for_each_checkpointed(run.report, run.state, [&](const char* name, auto& value) { c.numbers[name] = value; });
+  for (const Step* step : run.scheme.steps())
+  {
+    const SolverStatistics st = step->system().statistics();
+    for (const auto& [name, count] : solver_counts)
+      c.numbers[step->name() + "." + name] = st.*count;
+  }
+  c.output = output;
+  return c;
+}
+
+namespace
+{
+
+/// Loads the stored unknowns into the steps; refuses a checkpoint of
+/// another mesh, or one that lacks any of them (collective).
+void restore_unknowns(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory)
+{
+  const auto stored_mesh = c.arrays.find("mesh");
+  const std::string difference = mesh_difference(
+      stored_mesh == c.arrays.end() ? std::vector<double>{} : stored_mesh->second, mesh_signature(run.mesh));
+  if (not difference.empty())
+    throw SceneError("--restart " + directory + ": the checkpoint does not match this mesh (" + difference + ")");
+  auto restore = [&](const std::vector<UnknownsPart>& parts, std::span<double> unknowns)
+  {
+    for (const UnknownsPart& part : parts)
+    {
+      const auto stored = c.fields.find(part.name);
+      std::int64_t missing
+          = stored == c.fields.end() ? 1 : restore_values(run.mesh, part, stored->second, unknowns);
+      MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_INT64_T, MPI_SUM, comm);
+      if (missing > 0)
+        throw SceneError("--restart " + directory + ": the checkpoint does not match this mesh ("
+                         + std::to_string(missing) + " values of the " + part.name + " not in it)");
+    }
+  };
+  for (Step* step : run.scheme.steps())
+  {
+    const std::vector<UnknownsPart> parts = step->parts();
+    if (parts.empty())
+      continue;
+    std::vector<double> x = values(step->unknowns());
+    restore(parts, x);
+    step->set_unknowns(x);
+  }
+  for (const auto& [name, f] : run.scheme.history())
+    restore({{name, f->function_space(), {}}}, f->x()->mutable_array());
+}
+
+/// The stored count `count` of system `system`: by name, or by the
+/// system's position in the layout before names.
+double stored_count(const Checkpoint& c, const std::string& system, const std::string& count)
+{
+  if (const auto by_name = c.numbers.find(system + "." + count); by_name != c.numbers.end())
+    return by_name->second;
+  const std::vector<std::string> positions{"flow", "mechanics", "monolithic", "flow_second_pass"};
+  const auto i = std::find(positions.begin(), positions.end(), system) - positions.begin();
+  return c.numbers.at(std::to_string(i) + "." + count);
+}
+
+} // namespace
+
+void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory)
+{
+  run.grid.t = c.arrays.at("times");
+  run.grid.dt = c.arrays.at("time_steps");
+  restore_unknowns(c, run, comm, directory);
+  for_each_checkpointed(run.report, run.state, [&](const char* name, auto& value)
+                        { value = static_cast<std::remove_reference_t<decltype(value)>>(c.numbers.at(name)); });
+  for (Step* step : run.scheme.steps())
+  {
+    SolverStatistics earlier;
+    for (const auto& [name, count] : solver_counts)
+      earlier.*count = static_cast<long>(stored_count(c, step->name(), name));
+    step->system().add_earlier(earlier);
+  }
+}
+
 } // namespace biotcontact

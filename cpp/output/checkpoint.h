@@ -19,6 +19,7 @@
 #pragma once
 
 #include "assembly/linear_algebra.h"
+#include "coupling/scheme.h"
 
 #include <cstdint>
 #include <dolfinx/mesh/Mesh.h>
@@ -57,6 +58,29 @@ struct Checkpoint
   std::map<std::string, double> numbers;              // counters and scales
   std::string output;                                 // Output::position()
 };
+
+/// @brief The parts of a run a checkpoint keeps and a restart restores:
+/// the scheme's unknowns, time-scheme memory and solver counts, the report,
+/// the controllers' state and the time grid (as retries left it).
+struct RunState
+{
+  Scheme& scheme;
+  const dolfinx::mesh::Mesh& mesh;
+  CouplingReport& report;
+  ControllerState& state;
+  TimeGrid& grid;
+};
+
+/// The checkpoint of `run` after `steps` completed steps ending at `time`,
+/// with the output's position (collective).
+Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const std::string& output);
+
+/// Loads a checkpoint into `run`, whatever the partition; refuses one of
+/// another mesh, or one that lacks any of the unknowns, naming `directory`
+/// (collective). Solver counts stored by system name, or by the position of
+/// the layout before names (flow, mechanics, monolithic, second pass), are
+/// both read.
+void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory);
 
 /// The owned entries of `part` in `unknowns` with their names.
 KeyedValues keyed_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part,

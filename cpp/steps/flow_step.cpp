@@ -13,11 +13,14 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
-FlowStep::FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                   const Constants& constants, const Materials& materials,
-                   std::shared_ptr<const fem::FunctionSpace> V)
-    : _scene(scene)
+FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSpace> V, FlowPass pass)
+    : _scene(problem.scene), _pass(pass)
 {
+  const Scene& scene = problem.scene;
+  const Domain& domain = problem.domain;
+  const CompiledForms& forms = problem.forms;
+  const Materials& materials = problem.materials;
+  const Constants& constants = problem.constants;
   make_spaces(domain, forms, V);
   // The coupling data are operands of the operators below, not coefficients.
   const Coefficients& coefficients = materials.coefficients;
@@ -201,6 +204,31 @@ void FlowStep::flux(fem::Function<double>& out) const
   // The RT0 field is linear on a cell: its value at the midpoint (the DG0
   // interpolation point) is its cell average.
   out.interpolate(z);
+}
+
+void FlowStep::advance(double t, const TimeDerivative& d)
+{
+  assign(*p_previous, history_value(d, pressure->x()->array(), p_before->x()->array()));
+  solve(t);
+}
+
+StepState FlowStep::state() const { return {values(unknowns()), values(pressure->x()->array()), {}}; }
+
+void FlowStep::keep_history(const StepState& start) { assign(*p_before, start.p); }
+
+History FlowStep::history() const
+{
+  History h;
+  if (_pass == FlowPass::second)
+    return h;
+  const bool bdf2 = _scene.time_scheme == "bdf2", q_auto = _scene.coupling and _scene.coupling->q_auto;
+  if (bdf2)
+    h.push_back({"pressure_before", p_before.get()});
+  if ((bdf2 or q_auto) and u_before)
+    h.push_back({"displacement_before", u_before.get()});
+  if (bdf2 and u_before)
+    h.push_back({"displacement_path_before", u_path_before.get()});
+  return h;
 }
 
 } // namespace biotcontact

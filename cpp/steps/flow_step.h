@@ -12,6 +12,8 @@
 #include "assembly/loads.h"
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
+#include "assembly/problem.h"
+#include "steps/step.h"
 #include "steps/system.h"
 
 #include <dolfinx/fem/Form.h>
@@ -24,26 +26,55 @@
 namespace biotcontact
 {
 
-class FlowStep
+/// The flow step's place in a scheme: the flow of every scheme, or the
+/// second pass of "multirate-two-pass" (L = 0 in its problem's materials:
+/// no stabilisation term; its time history is set by the split).
+enum class FlowPass
+{
+  first,
+  second
+};
+
+/// @brief The flow step: Darcy's law and mass balance in mixed form
+/// (RT0 x P0), with the fixed-stress terms of a coupled scene.
+class FlowStep : public Step
 {
 public:
-  /// `V` is the displacement space of a coupled scene, null otherwise. With
-  /// L = 0 in `materials` (the second pass of "multirate-two-pass") the step
-  /// has no stabilisation term.
-  FlowStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-           const Constants& constants, const Materials& materials,
-           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
+  /// `V` is the displacement space of a coupled scene, null otherwise.
+  FlowStep(const Problem& problem, std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
+           FlowPass pass = FlowPass::first);
 
   /// Solves for (z, p) at time t from the current coupling data below;
   /// leaves p in `pressure`.
   void solve(double t);
 
+  /// One solve per step: the pressure history of `d` from the last step's
+  /// pressure and p_before, then solve(t).
+  void advance(double t, const TimeDerivative& d) override;
+
+  std::string name() const override { return _pass == FlowPass::first ? "flow" : "flow_second_pass"; }
+  StepState state() const override;
+  void restore(const StepState& start) override { set_unknowns(start.unknowns); }
+  /// p_before takes the accepted step's start pressure.
+  void keep_history(const StepState& start) override;
+  /// BDF2: p_before, u_before, u_path_before (u_before with coupling.q =
+  /// "auto" too: the last window's change of u); none for the second pass.
+  History history() const override;
+  std::span<const double> pressure_values() const override { return pressure->x()->array(); }
+
   /// The mixed solution (z, p) of the last solve, and its restoration (the
   /// multirate scheme keeps one per fine step for output).
-  std::span<const double> unknowns() const { return _w->x()->array(); }
-  void set_unknowns(std::span<const double> w);
-  /// The fields of unknowns(): the flux and the pressure.
-  std::vector<UnknownsPart> parts() const { return {{"flux", _Z, _Z_to_W}, {"pressure", _Q, _Q_to_W}}; }
+  std::span<const double> unknowns() const override { return _w->x()->array(); }
+  void set_unknowns(std::span<const double> w) override;
+  /// The fields of unknowns(): the flux and the pressure (none for the
+  /// second pass, which every window computes anew: a checkpoint keeps
+  /// nothing of it).
+  std::vector<UnknownsPart> parts() const override
+  {
+    if (_pass == FlowPass::second)
+      return {};
+    return {{"flux", _Z, _Z_to_W}, {"pressure", _Q, _Q_to_W}};
+  }
 
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;
@@ -54,7 +85,7 @@ public:
 
   /// The matrix depends on dt: reassembled (and refactorised at the next
   /// solve) after set_time_step changed the "dt" constant.
-  void time_step_changed();
+  void time_step_changed() override;
 
   /// Only the displacement term, alpha/(q dt) div, depends on q: reassembled
   /// after set_window_steps changed the "q" constant (no refactorisation).
@@ -74,9 +105,8 @@ public:
   // fine step before it (u_* null without mechanics); checkpointed.
   std::shared_ptr<dolfinx::fem::Function<double>> p_before, u_before, u_path_before;
 
-  const System& system() const { return *_system; }
-  System& system() { return *_system; }
-  double assembly_time = 0; // right-hand sides
+  const System& system() const override { return *_system; }
+  System& system() override { return *_system; }
 
 private:
   void make_spaces(const Domain& domain, const CompiledForms& forms,
@@ -89,6 +119,7 @@ private:
   std::vector<Field> fields() const;
 
   const Scene& _scene;
+  const FlowPass _pass;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _W, _Q, _Z;
   std::vector<std::int32_t> _Q_to_W, _Z_to_W;
   std::shared_ptr<dolfinx::fem::Function<double>> _w;

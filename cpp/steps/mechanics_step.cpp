@@ -14,12 +14,15 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
-MechanicsStep::MechanicsStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                             const Constants& constants, const Materials& materials,
-                             std::shared_ptr<const fem::FunctionSpace> V,
+MechanicsStep::MechanicsStep(const Problem& problem, std::shared_ptr<const fem::FunctionSpace> V,
                              std::shared_ptr<const fem::Function<double>> pressure)
-    : _scene(scene), _V(V)
+    : _scene(problem.scene), _V(V)
 {
+  const Scene& scene = problem.scene;
+  const Domain& domain = problem.domain;
+  const CompiledForms& forms = problem.forms;
+  const Materials& materials = problem.materials;
+  const Constants& constants = problem.constants;
   u = std::make_shared<fem::Function<double>>(_V);
   // Dirichlet conditions, one per prescribed component of each boundary.
   _bcs = displacement_bcs(scene, domain, _V, _bc_values);
@@ -115,6 +118,11 @@ ContactState MechanicsStep::contact_state()
 ActiveSet MechanicsStep::active_contact_set()
 {
   return _system->has_contact() ? _system->contact().active_set(wrap(*u->x()).vec()) : ActiveSet{};
+}
+
+bool MechanicsStep::same_contact_set(const ActiveSet& before)
+{
+  return same_active_set(active_contact_set(), before, _V->mesh()->comm());
 }
 
 } // namespace biotcontact

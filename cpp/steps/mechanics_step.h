@@ -11,6 +11,8 @@
 #include "assembly/loads.h"
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
+#include "assembly/problem.h"
+#include "steps/step.h"
 #include "steps/system.h"
 
 #include <dolfinx/fem/Form.h>
@@ -21,14 +23,14 @@
 namespace biotcontact
 {
 
-class MechanicsStep
+/// @brief The mechanics step: quasi-static linear elasticity loaded by the
+/// pore pressure, with contact where the scene has it.
+class MechanicsStep : public Step
 {
 public:
   /// `V` is the P1 displacement space; `pressure` the pore pressure of a
   /// coupled scene, null otherwise.
-  MechanicsStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                const Constants& constants, const Materials& materials,
-                std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
+  MechanicsStep(const Problem& problem, std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
                 std::shared_ptr<const dolfinx::fem::Function<double>> pressure);
   ~MechanicsStep();
   MechanicsStep(const MechanicsStep&) = delete;
@@ -37,24 +39,35 @@ public:
   /// Solves at time t with the current pressure; leaves the result in u.
   void solve(double t);
 
+  std::string name() const override { return "mechanics"; }
+  /// solve(t): the mechanics has no time derivative.
+  void advance(double t, const TimeDerivative&) override { solve(t); }
+  /// The solve at t = 0.
+  void equilibrate() override { solve(0.0); }
+  StepState state() const override { return {values(unknowns()), {}, {}}; }
+  void restore(const StepState& start) override { set_unknowns(start.unknowns); }
+  std::span<const double> unknowns() const override { return u->x()->array(); }
+  void set_unknowns(std::span<const double> x) override { assign(*u, x); }
+  std::vector<UnknownsPart> parts() const override { return {{"displacement", _V, {}}}; }
+  std::span<const double> displacement_values() const override { return u->x()->array(); }
+  bool same_contact_set(const ActiveSet& before) override;
+
   /// Contact diagnostics of the current u (collective); also fills the
   /// contact pressure and active-flag fields.
   ContactState contact_state();
   /// Only the contact active set of u (collective, cheap: no contact
   /// forces), for the log of every coupling iteration; empty without
   /// contact.
-  ActiveSet active_contact_set();
+  ActiveSet active_contact_set() override;
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
   bool has_contact() const { return _system->has_contact(); }
-  const System& system() const { return *_system; }
-  System& system() { return *_system; }
+  const System& system() const override { return *_system; }
+  System& system() override { return *_system; }
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
-
-  double assembly_time = 0; // right-hand sides
 
 private:
   void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);

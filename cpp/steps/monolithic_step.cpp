@@ -1,6 +1,7 @@
 #include "steps/monolithic_step.h"
 
 #include "assembly/boundary_conditions.h"
+#include "steps/mechanics_step.h"
 
 #include <dolfinx/common/Timer.h>
 #include <dolfinx/fem/assembler.h>
@@ -33,10 +34,13 @@ void extract(const fem::Function<double>& x, const std::vector<std::int32_t>& ma
 }
 } // namespace
 
-MonolithicStep::MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                               const Constants& constants, const Materials& materials)
-    : _scene(scene)
+MonolithicStep::MonolithicStep(const Problem& problem) : _problem(problem), _scene(problem.scene)
 {
+  const Scene& scene = problem.scene;
+  const Domain& domain = problem.domain;
+  const CompiledForms& forms = problem.forms;
+  const Materials& materials = problem.materials;
+  const Constants& constants = problem.constants;
   make_spaces(domain, forms);
   Coefficients coefficients = materials.coefficients;
   coefficients.insert({{"p_old", _p_old}, {"u_old", _u_old}});
@@ -239,6 +243,36 @@ ContactState MonolithicStep::contact_state()
   if (!_system->has_contact())
     return {};
   return _system->contact().state(wrap(*_x->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
+}
+
+void MonolithicStep::equilibrate()
+{
+  MechanicsStep step(_problem, V, pressure);
+  step.solve(0.0);
+  set_displacement(step.u->x()->array(), 0.0);
+}
+
+StepState MonolithicStep::state() const
+{
+  return {values(unknowns()), values(pressure->x()->array()), values(u->x()->array())};
+}
+
+void MonolithicStep::keep_history(const StepState& start)
+{
+  assign(*p_before, start.p);
+  assign(*u_before, start.u);
+}
+
+History MonolithicStep::history() const
+{
+  if (_scene.time_scheme != "bdf2")
+    return {};
+  return {{"pressure_before", p_before.get()}, {"displacement_before", u_before.get()}};
+}
+
+bool MonolithicStep::same_contact_set(const ActiveSet& before)
+{
+  return same_active_set(active_contact_set(), before, V->mesh()->comm());
 }
 
 } // namespace biotcontact

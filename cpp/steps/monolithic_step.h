@@ -13,6 +13,8 @@
 #include "assembly/loads.h"
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
+#include "assembly/problem.h"
+#include "steps/step.h"
 #include "steps/system.h"
 #include "steps/time_scheme.h"
 
@@ -24,11 +26,11 @@
 namespace biotcontact
 {
 
-class MonolithicStep
+/// @brief The monolithic step: displacement, flux and pressure in one system.
+class MonolithicStep : public Step
 {
 public:
-  MonolithicStep(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                 const Constants& constants, const Materials& materials);
+  explicit MonolithicStep(const Problem& problem);
   ~MonolithicStep();
   MonolithicStep(const MonolithicStep&) = delete;
   MonolithicStep& operator=(const MonolithicStep&) = delete;
@@ -38,17 +40,32 @@ public:
   /// reads u_before and p_before, the state one step before).
   void solve(double t, const TimeDerivative& d = {});
 
+  std::string name() const override { return "monolithic"; }
+  void advance(double t, const TimeDerivative& d) override { solve(t, d); }
+  /// The coupled system has no mechanics system of its own: one mechanics
+  /// step on its displacement space, loaded by its pressure, solved once.
+  void equilibrate() override;
+  StepState state() const override;
+  void restore(const StepState& start) override { set_unknowns(start.unknowns); }
+  /// p_before and u_before take the accepted step's start.
+  void keep_history(const StepState& start) override;
+  /// BDF2: p_before and u_before.
+  History history() const override;
+  std::span<const double> pressure_values() const override { return pressure->x()->array(); }
+  std::span<const double> displacement_values() const override { return u->x()->array(); }
+  bool same_contact_set(const ActiveSet& before) override;
+
   void flux(dolfinx::fem::Function<double>& out) const;
 
   /// The matrix depends on dt: reassembled (and refactorised at the next
   /// solve) after set_time_step changed the "dt" constant.
-  void time_step_changed();
+  void time_step_changed() override;
   ContactState contact_state();
   /// Only the contact active set (collective, cheap); empty without contact.
-  ActiveSet active_contact_set();
+  ActiveSet active_contact_set() override;
   bool has_contact() const { return _system->has_contact(); }
-  const System& system() const { return *_system; }
-  System& system() { return *_system; }
+  const System& system() const override { return *_system; }
+  System& system() override { return *_system; }
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> V, Q;
   std::shared_ptr<dolfinx::fem::Function<double>> u, pressure;
@@ -56,19 +73,17 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
   /// The coupled unknown (u, z, p), ghosts included, for a checkpoint.
-  std::span<const double> unknowns() const;
+  std::span<const double> unknowns() const override;
   /// Loads unknowns() back (and u, pressure from it).
-  void set_unknowns(std::span<const double> x);
+  void set_unknowns(std::span<const double> x) override;
   /// The fields of unknowns(): the displacement, the flux and the pressure.
-  std::vector<UnknownsPart> parts() const
+  std::vector<UnknownsPart> parts() const override
   {
     return {{"displacement", V, _V_to_X}, {"flux", _Z, _Z_to_X}, {"pressure", Q, _Q_to_X}};
   }
   /// Sets the displacement of the state at time t (with the pressure now in
   /// `pressure`): the initial equilibrium (mechanics.initial_equilibrium).
   void set_displacement(std::span<const double> u, double t);
-
-  double assembly_time = 0; // right-hand sides
 
 private:
   /// The right-hand side of a step to t from the state in u and pressure.
@@ -80,6 +95,7 @@ private:
   /// (flux and pressure), then the mechanics with its rigid-body modes.
   std::vector<Field> fields() const;
 
+  const Problem _problem;
   const Scene& _scene;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _X, _Z;
   std::vector<std::int32_t> _V_to_X, _Z_to_X, _Q_to_X;

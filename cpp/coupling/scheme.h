@@ -1,0 +1,64 @@
+// The scheme of a run: the steps a scene needs (each scene allocates only
+// the physics it has) and the loop that drives them, the fixed-stress split
+// or one solve per step, chosen once from the scene.
+#pragma once
+
+#include "assembly/problem.h"
+#include "coupling/coupling.h"
+#include "coupling/step_control.h"
+#include "steps/flow_step.h"
+#include "steps/mechanics_step.h"
+#include "steps/monolithic_step.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief The steps of a run and the scheme that drives them; the fields
+/// output and diagnostics read, whichever step produced them.
+///
+/// The split ("single-rate", "multirate", "multirate-two-pass") has a flow
+/// and a mechanics step (and the second pass's flow step); "monolithic" one
+/// coupled step; a scene with one physics its one step.
+class Scheme
+{
+public:
+  explicit Scheme(const Problem& problem);
+  Scheme(const Scheme&) = delete;
+  Scheme& operator=(const Scheme&) = delete;
+
+  /// Drives the steps from the end of run.report.windows to the end time
+  /// (coupling/fixed_stress.h or coupling/single_solve.h).
+  void run(CouplingRun& run) { _drive(run); }
+
+  /// The steps, in the order of summary.json.
+  const std::vector<Step*>& steps() const { return _steps; }
+  /// The time scheme's and time.adaptive's memory, by checkpoint name.
+  History history() const;
+  /// Assembly time of the steps' loads and matrices.
+  double assembly_time() const;
+
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> V; // displacement space (null without mechanics)
+  std::shared_ptr<dolfinx::fem::Function<double>> u, p, contact_pressure, contact_active, contact_boundary;
+  std::function<void(dolfinx::fem::Function<double>&)> compute_flux;
+  std::function<ContactState()> compute_contact = [] { return ContactState{}; };
+  std::unique_ptr<StepControl> step_control; // time.adaptive
+
+private:
+  void make_monolithic(const Problem& problem);
+  void make_split(const Problem& problem);
+  template <class S>
+  void take_contact_fields(S& step);
+
+  Materials _unstabilised; // the second pass's: L = 0
+  std::unique_ptr<FlowStep> _flow, _second_pass;
+  std::unique_ptr<MechanicsStep> _mechanics;
+  std::unique_ptr<MonolithicStep> _monolithic;
+  std::vector<Step*> _steps;
+  std::function<void(CouplingRun&)> _drive;
+};
+
+} // namespace biotcontact

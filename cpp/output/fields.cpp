@@ -1,0 +1,64 @@
+#include "output/fields.h"
+
+#include "diagnostics/diagnostics.h"
+
+#include <basix/finite-element.h>
+#include <dolfinx/fem/utils.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& output)
+    : _problem(problem), _scheme(scheme), _output(output)
+{
+  const Domain& domain = problem.domain;
+  const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
+  const basix::FiniteElement dg0 = basix::create_element(
+      basix::element::family::P, cell, 0, basix::element::lagrange_variant::unset, true);
+  if (scheme.p)
+  {
+    scheme.p->name = "pressure";
+    _flux = std::make_shared<fem::Function<double>>(
+        std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, domain.dim())));
+    _flux->name = "flux";
+  }
+  if (!scheme.u)
+    return;
+  scheme.u->name = "displacement";
+  auto Q0 = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, 1));
+  _sigma_v = std::make_shared<fem::Function<double>>(Q0);
+  _sigma_v->name = "sigma_v";
+  if (!scheme.p)
+    _zero_pressure = std::make_shared<fem::Function<double>>(Q0);
+  if (scheme.contact_pressure)
+  {
+    scheme.contact_pressure->name = "contact_pressure";
+    scheme.contact_active->name = "contact_active";
+  }
+}
+
+void OutputFields::write_flow(double t)
+{
+  if (!_scheme.p)
+    return;
+  _output.write(*_scheme.p, t);
+  _scheme.compute_flux(*_flux);
+  _output.write(*_flux, t);
+}
+
+void OutputFields::write_mechanics(double t)
+{
+  contact = _scheme.compute_contact();
+  volumetric_stress(_problem.forms, _problem.constants, _problem.materials, _scheme.u,
+                    _scheme.p ? _scheme.p : _zero_pressure, *_sigma_v);
+  _output.write(*_scheme.u, t);
+  _output.write(*_sigma_v, t);
+  if (_scheme.contact_pressure)
+  {
+    _output.write(*_scheme.contact_pressure, t);
+    _output.write(*_scheme.contact_active, t);
+  }
+}
+
+} // namespace biotcontact

@@ -1,0 +1,37 @@
+// The fields written at each output time: the unknowns and what is derived
+// from them (cell-averaged flux, volumetric stress sigma_v, contact).
+#pragma once
+
+#include "assembly/problem.h"
+#include "coupling/scheme.h"
+#include "output/output.h"
+
+#include <dolfinx/fem/Function.h>
+#include <memory>
+
+namespace biotcontact
+{
+
+/// @brief Writes the scheme's fields into the output at a time; names them
+/// as ParaView shows them.
+class OutputFields
+{
+public:
+  OutputFields(const Problem& problem, Scheme& scheme, Output& output);
+
+  /// The pressure and the flux (nothing without flow).
+  void write_flow(double t);
+  /// The displacement, sigma_v and the contact fields; also updates
+  /// `contact`.
+  void write_mechanics(double t);
+
+  ContactState contact; // at the last mechanics output
+
+private:
+  const Problem& _problem;
+  Scheme& _scheme;
+  Output& _output;
+  std::shared_ptr<dolfinx::fem::Function<double>> _flux, _sigma_v, _zero_pressure;
+};
+
+} // namespace biotcontact

@@ -1,0 +1,236 @@
+#include "output/summary.h"
+
+#include <algorithm>
+#include <map>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+
+std::int64_t global_size(const fem::FunctionSpace& V)
+{
+  return V.dofmap()->index_map->size_global() * V.dofmap()->index_map_bs();
+}
+
+Json contact_json(const ContactState& c)
+{
+  Json j;
+  j.set("contact_nodes", c.contact_nodes)
+      .set("active_nodes", c.active_nodes)
+      .set("max_penetration", c.max_penetration)
+      .set("max_complementarity", c.max_complementarity)
+      .set("max_contact_pressure", c.max_pressure)
+      .set("min_contact_pressure", c.min_pressure)
+      .set("gap_scale", c.gap_scale)
+      .set("total_force", c.total_force);
+  Json boundaries;
+  for (const auto& [name, force, active] : c.boundaries)
+    boundaries.set(name, Json().set("force", force).set("active_nodes", active));
+  j.set("boundaries", boundaries);
+  return j;
+}
+
+Json errors_json(const ReferenceErrors& e)
+{
+  Json errors;
+  errors.set("time", e.time)
+      .set("pressure_rel_l2", e.pressure_rel_l2)
+      .set("displacement_rel_l2", e.displacement_rel_l2);
+  if (e.settlement)
+    errors.set("settlement", e.settlement->computed)
+        .set("settlement_exact", e.settlement->exact)
+        .set("settlement_rel", e.settlement->relative);
+  return errors;
+}
+
+/// time.adaptive's part: the tolerance, the steps rejected or forced at
+/// dt_min, the contact breaks, the largest accepted estimate, the steps taken.
+Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const TimeGrid& grid)
+{
+  const auto taken = std::span(grid.dt).first(std::min<std::size_t>(report.windows, grid.dt.size()));
+  const auto [smallest, largest] = std::minmax_element(taken.begin(), taken.end());
+  Json j;
+  j.set("tolerance", spec.tolerance)
+      .set("dt_min", spec.dt_min)
+      .set("dt_max", spec.dt_max)
+      .set("rejected_steps", report.rejected_steps)
+      .set("forced_steps", report.forced_steps)
+      .set("contact_breaks", report.contact_breaks)
+      .set("max_error_estimate", report.max_error_estimate);
+  if (!taken.empty())
+    j.set("smallest_step", *smallest).set("largest_step", *largest);
+  return j;
+}
+
+/// coupling.q = "auto"'s part: its settings, the windows' mean and largest
+/// q, the windows tried again with q = 1 (contact).
+Json window_steps_json(const CouplingSpec& c, const CouplingReport& report)
+{
+  Json j;
+  j.set("q_max", c.q_max)
+      .set("q_tolerance", c.q_tolerance)
+      .set("mean_q", report.windows ? static_cast<double>(report.fine_steps) / report.windows : 0.0)
+      .set("largest_q", report.max_window_q)
+      .set("q_rejections", report.q_rejections);
+  return j;
+}
+
+/// Each region's cells and its material's gamma and L, and the cells in no
+/// region (the top-level material).
+Json regions_json(const CellRegions& cells, const Materials& materials)
+{
+  Json regions;
+  for (std::size_t r = 0; r < cells.names.size(); ++r)
+    regions.set(cells.names[r], Json()
+                                    .set("cells", static_cast<long>(cells.counts[r]))
+                                    .set("gamma", materials.regions[r].gamma)
+                                    .set("L", materials.regions[r].L));
+  return regions.set("no region", Json()
+                                    .set("cells", static_cast<long>(cells.outside))
+                                    .set("gamma", materials.top.gamma)
+                                    .set("L", materials.top.L));
+}
+
+/// Per system: what solved it, how often it was set up (factorised) and
+/// solved, and where its time went; the solvers' and timings' tables.
+std::pair<Json, Json> solver_summaries(const Scheme& scheme, bool inexact_coupling)
+{
+  Json solvers, timings;
+  for (const Step* step : scheme.steps())
+  {
+    const System& system = step->system();
+    const SolverStatistics st = system.statistics();
+    const bool direct = system.method() == Method::direct;
+    Json j;
+    j.set("solver", method_name(system.method()))
+        .set("chosen_by", system.method_reason())
+        .set("method", system.description())
+        .set("unknowns", system.unknowns())
+        .set("solves", st.solves)
+        .set("factorizations", direct ? st.setups : 0)
+        .set("preconditioner_setups", st.setups)
+        .set("inexact_coupling", !direct and inexact_coupling)
+        .set("back_solves", st.back_solves)
+        .set("linear_iterations", st.linear_iterations);
+    if (system.has_contact())
+      j.set("newton_iterations", st.newton_iterations)
+          .set("active_set_changes", st.active_set_changes)
+          .set("schur_columns", st.schur_columns);
+    solvers.set(step->name(), j);
+    timings.set(step->name(), Json()
+                                  .set("total", st.total_time)
+                                  .set("setup", st.setup_time)
+                                  .set("solve", st.solve_time)
+                                  .set("schur_complement", st.schur_time)
+                                  .set("other", st.total_time - st.setup_time - st.solve_time - st.schur_time)
+                                  .set("matrix_assembly", st.assembly_time));
+  }
+  return {solvers, timings};
+}
+
+/// The statistics of each system (zero for a system the scene has not).
+std::map<std::string, SolverStatistics> statistics(const Scheme& scheme)
+{
+  std::map<std::string, SolverStatistics> result;
+  for (const char* name : {"flow", "mechanics", "monolithic", "flow_second_pass"})
+    result[name] = {};
+  for (const Step* step : scheme.steps())
+    result[step->name()] = step->system().statistics();
+  return result;
+}
+
+/// The unknowns of each physics (global counts).
+Json dofs_json(const Scheme& scheme, const Domain& domain)
+{
+  Json dofs;
+  if (scheme.u)
+    dofs.set("displacement", static_cast<long>(global_size(*scheme.V)));
+  if (scheme.p)
+    dofs.set("pressure", static_cast<long>(global_size(*scheme.p->function_space())))
+        .set("flux", static_cast<long>(domain.mesh->topology().index_map(domain.dim() - 1)->size_global())); // RT0
+  return dofs;
+}
+
+/// The scheme's settings: its name, q, L and gamma, the acceleration.
+Json scheme_json(const Problem& problem, const Scheme& scheme)
+{
+  const CouplingSpec* c = problem.scene.coupling ? &*problem.scene.coupling : nullptr;
+  Json j;
+  j.set("scene", problem.scene.name).set("scheme", c ? c->scheme : (scheme.p ? "flow-only" : "mechanics-only"));
+  if (c and c->q_auto)
+    j.set("q", "auto");
+  else
+    j.set("q", problem.parameters.q);
+  return j.set("L_choice", c ? c->L_choice : "none")
+      .set("acceleration", c and c->acceleration == "anderson" ? "anderson, depth " + std::to_string(c->depth)
+                                                               : std::string("none"))
+      .set("L", problem.parameters.L)
+      .set("gamma", problem.parameters.gamma);
+}
+
+} // namespace
+
+Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
+{
+  const Scene& scene = in.problem.scene;
+  const CouplingReport& r = in.report;
+  auto st = statistics(in.scheme);
+  const bool monolithic = scene.coupling and scene.coupling->scheme == "monolithic";
+  auto [solvers, timings] = solver_summaries(in.scheme, !monolithic and scene.solver.inexact_coupling);
+  double assembly = in.scheme.assembly_time();
+  for (const auto& [name, s] : st)
+    assembly += s.assembly_time;
+  timings.set("assembly", assembly).set("output", outcome.output_time);
+  Json linear;
+  linear.set("flow", st["flow"].linear_iterations + st["flow_second_pass"].linear_iterations)
+      .set("mechanics", st["mechanics"].linear_iterations)
+      .set("monolithic", st["monolithic"].linear_iterations);
+  Json summary = scheme_json(in.problem, in.scheme);
+  summary.set("dofs", dofs_json(in.scheme, in.problem.domain))
+      .set("dt", scene.dt)
+      .set("dt_growth", scene.growth)
+      .set("time_scheme", scene.time_scheme)
+      .set("steps", r.windows)
+      .set("retries", r.retries)
+      .set("fine_steps", r.fine_steps)
+      .set("coupling_iterations", r.coupling_iterations)
+      .set("max_iterations_per_step", r.max_iterations_per_step)
+      .set("max_contraction_ratio", r.max_contraction_ratio)
+      .set("mean_contraction_ratio", r.mean_contraction_ratio)
+      .set("bound_violations", r.bound_violations)
+      .set("resolved_ratios", r.ratios)
+      .set("unresolved_ratios", r.unresolved_ratios)
+      .set("max_coupled_residual", r.max_coupled_residual)
+      .set("converged", outcome.failure.empty())
+      .set("status", !outcome.failure.empty() ? "failed" : outcome.signal ? "interrupted" : "completed")
+      .set("last_completed_time", outcome.completed_time)
+      .set("flow_solves", st["flow"].solves + st["flow_second_pass"].solves) // both passes
+      .set("mechanics_solves", st["mechanics"].solves)
+      .set("monolithic_solves", st["monolithic"].solves)
+      .set("newton_iterations", st["mechanics"].newton_iterations + st["monolithic"].newton_iterations)
+      .set("linear_iterations", linear)
+      .set("solvers", solvers)
+      .set("timings", timings)
+      .set("wall_time_s", outcome.wall_time)
+      .set("left_out", outcome.left_out)
+      .set("warnings", outcome.warnings)
+      .set("mpi_ranks", outcome.ranks);
+  if (scene.coupling and scene.coupling->q_auto)
+    summary.set("window_steps", window_steps_json(*scene.coupling, r));
+  if (scene.adaptive)
+    summary.set("adaptive", adaptive_json(*scene.adaptive, r, in.grid));
+  if (!in.problem.domain.regions.names.empty())
+    summary.set("regions", regions_json(in.problem.domain.regions, in.problem.materials));
+  if (in.scheme.contact_pressure)
+    summary.set("contact", contact_json(in.contact));
+  if (in.errors)
+    summary.set("errors", errors_json(*in.errors));
+  if (!outcome.failure.empty())
+    summary.set("failure", outcome.failure);
+  return summary;
+}
+
+} // namespace biotcontact

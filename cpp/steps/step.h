@@ -1,0 +1,87 @@
+// The interface of a step, whichever system it solves (the flow, the
+// mechanics, or flow and mechanics together): what the schemes, checkpoints
+// and the output ask of any step, so that none of them branches on which
+// physics a scene has.
+#pragma once
+
+#include "assembly/linear_algebra.h"
+#include "contact/contact.h"
+#include "steps/system.h"
+#include "steps/time_scheme.h"
+
+#include <dolfinx/fem/Function.h>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief The state of a step at its start: its unknowns, to go back to
+/// when the step is retried, and its pressure and displacement (empty where
+/// it has none), BDF2's memory once the step is accepted.
+struct StepState
+{
+  std::vector<double> unknowns, p, u;
+};
+
+/// The functions of a step that a checkpoint keeps besides its unknowns
+/// (the time scheme's memory), by checkpoint name.
+using History = std::vector<std::pair<std::string, dolfinx::fem::Function<double>*>>;
+
+/// @brief One step of a time-stepping scheme on one system: advances its
+/// unknowns from t_{k-1} to t_k.
+///
+/// A scheme with one solve per step (coupling/single_solve.h) drives any
+/// step through advance(); the fixed-stress split drives the flow and the
+/// mechanics step through their own interfaces, which iterate between them.
+class Step
+{
+public:
+  virtual ~Step() = default;
+
+  /// The system's name in summary.json and in checkpoints.
+  virtual std::string name() const = 0;
+  virtual const System& system() const = 0;
+  virtual System& system() = 0;
+
+  /// Solves the step to time t with the time derivative `d`
+  /// (steps/time_scheme.h) from the state the step holds.
+  virtual void advance(double t, const TimeDerivative& d) = 0;
+  /// The "dt" constant changed (parameters.h, set_time_step): rebuilds what
+  /// depends on it.
+  virtual void time_step_changed() {}
+  /// mechanics.initial_equilibrium: replaces u = 0 by the displacement in
+  /// equilibrium with the loads at t = 0 and the initial pressure (nothing
+  /// for a step without mechanics).
+  virtual void equilibrate() {}
+
+  /// The state now (at the start of a step), and going back to it.
+  virtual StepState state() const = 0;
+  virtual void restore(const StepState& start) = 0;
+  /// The step from `start` was accepted: it becomes the state one step
+  /// before the next (BDF2's memory).
+  virtual void keep_history(const StepState&) {}
+
+  /// The unknowns, their fields (for checkpoints) and their restoration.
+  virtual std::span<const double> unknowns() const = 0;
+  virtual void set_unknowns(std::span<const double> x) = 0;
+  virtual std::vector<UnknownsPart> parts() const = 0;
+  /// The time scheme's memory a checkpoint keeps (empty by default).
+  virtual History history() const { return {}; }
+
+  /// The pressure and the displacement now (empty where the step has none).
+  virtual std::span<const double> pressure_values() const { return {}; }
+  virtual std::span<const double> displacement_values() const { return {}; }
+
+  /// Whether the contact active set is `before` (collective; true without
+  /// contact).
+  virtual bool same_contact_set(const ActiveSet&) { return true; }
+  /// The contact active set now (empty without contact; collective).
+  virtual ActiveSet active_contact_set() { return {}; }
+
+  double assembly_time = 0; // right-hand sides
+};
+
+} // namespace biotcontact
