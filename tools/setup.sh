@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   g++ cmake make pkg-config openmpi-bin
   libdolfinx-dev python3-dolfinx python3-ffcx python3-basix python3-ufl
-  libtomlplusplus-dev libmuparser-dev
+  libtomlplusplus-dev libmuparser-dev libgtest-dev
   gmsh python3-gmsh libgmsh-dev
   python3-numpy python3-h5py python3-matplotlib python3-meshio python3-scipy
 )

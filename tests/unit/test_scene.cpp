@@ -1,0 +1,170 @@
+// Unit tests of the scene reader's refusals (cpp/scene/scene.h, read_scene):
+// a bad scene raises SceneError with one line "<file>: <key>: <reason>"
+// naming the key, for unknown keys, wrong types, values out of range,
+// unknown boundaries and choices, missing keys, bad expressions, output
+// times off the steps, bad files and bad --set overrides; the default
+// scene itself is read. tests/test_bad_scenes.py runs the full catalogue
+// through the binary. The prototype's twin is tests/unit/test_scene.py.
+#include "scene/scene.h"
+
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <sstream>
+
+using namespace biotcontact;
+
+namespace
+{
+const std::string default_scene = std::string(BIOTCONTACT_SOURCE_DIR) + "/scenes/default.toml";
+
+/// The message read_scene refuses the scene with ("" if it accepts it).
+std::string refusal(const std::string& file, const std::vector<std::string>& overrides = {})
+{
+  try
+  {
+    read_scene(file, overrides);
+  }
+  catch (const SceneError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+/// The default scene with `overrides` is refused with one line
+/// "<file>: <key>: ..." whose reason holds `reason`.
+void expect_refused(const std::vector<std::string>& overrides, const std::string& key, const std::string& reason)
+{
+  const std::string message = refusal(default_scene, overrides), head = default_scene + ": " + key + ": ";
+  EXPECT_EQ(message.rfind(head, 0), 0u) << "--set " << overrides.front() << ": \"" << message << "\"";
+  EXPECT_NE(message.find(reason, head.size()), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+}
+
+/// A scratch folder for scene files, removed at the end of the test.
+struct SceneFiles : testing::Test
+{
+  std::filesystem::path folder;
+  void SetUp() override
+  {
+    char name[] = "/tmp/biotcontact-unit-XXXXXX";
+    folder = mkdtemp(name);
+  }
+  void TearDown() override { std::filesystem::remove_all(folder); }
+  std::string written(const std::string& text) const
+  {
+    const std::string path = folder / "scene.toml";
+    std::ofstream(path) << text;
+    return path;
+  }
+  /// The default scene without the line that sets `key`.
+  std::string without(const std::string& key) const
+  {
+    std::ifstream in(default_scene);
+    std::ostringstream out;
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind(key + " ", 0) != 0)
+        out << line << "\n";
+    return written(out.str());
+  }
+};
+} // namespace
+
+TEST(SceneReader, ReadsTheDefaultScene)
+{
+  const Scene s = read_scene(default_scene);
+  EXPECT_EQ(s.name, "default");
+  EXPECT_EQ(s.num_steps(), 48) << "time.end = 9.6, time.dt = 0.2";
+  ASSERT_TRUE(s.mechanics);
+  // E = 1e9, nu = 0.2: G = E / (2 (1 + nu)), lambda = E nu / ((1 + nu) (1 - 2 nu)).
+  EXPECT_DOUBLE_EQ(s.mechanics->G, 1e9 / 2.4);
+  EXPECT_DOUBLE_EQ(s.mechanics->lambda, 1e9 * 0.2 / (1.2 * 0.6));
+  ASSERT_TRUE(s.has_contact());
+  const ContactSpec& c = s.boundaries.at("bottom").contact.value();
+  EXPECT_EQ(c.gap(0, 0, 0, 0), 0.0012);
+  EXPECT_EQ(c.normal.at(1)(0, 0, 0, 0), -1.0);
+  EXPECT_EQ(refusal(default_scene, {"time.dt=0.4"}), "") << "another whole number of steps";
+}
+
+TEST(SceneReader, UnknownKeysAreRefused)
+{
+  expect_refused({"mechanics.Ee=1.0"}, "mechanics.Ee", "unknown key");
+  expect_refused({"boundary.top.tracton=[0.0, 1.0]"}, "boundary.top.tracton", "unknown key");
+  expect_refused({"nosuch.key=1"}, "nosuch", "unknown key");
+}
+
+TEST(SceneReader, WrongTypesAreRefused)
+{
+  expect_refused({"mechanics.E='abc'"}, "mechanics.E", "must be a number");
+  expect_refused({"output.xdmf=3"}, "output.xdmf", "must be true or false");
+  expect_refused({"scene.name=[1, 2]"}, "scene.name", "must be a string");
+  expect_refused({"coupling.max_iterations=2.5"}, "coupling.max_iterations", "must be an integer");
+  expect_refused({"mesh.upper=[1.0]"}, "mesh.upper", "must be an array of 2 numbers");
+}
+
+TEST(SceneReader, OutOfRangeValuesAreRefused)
+{
+  expect_refused({"mechanics.nu=0.5"}, "mechanics.nu", "must lie in (-1, 0.5)");
+  expect_refused({"mechanics.E=-1.0"}, "mechanics.E", "must be a positive finite number");
+  expect_refused({"time.dt=0.0"}, "time.dt", "must be a positive finite number");
+  expect_refused({"flow.phi0=1.5"}, "flow.phi0", "must lie in [0, 1]");
+  expect_refused({"coupling.alpha=1.5"}, "coupling.alpha", "must lie in [0, 1]");
+  expect_refused({"time.retry=21"}, "time.retry", "must lie in [0, 20]");
+  expect_refused({"time.dt=0.7"}, "time.dt", "time.end must be a whole number of steps dt");
+}
+
+TEST(SceneReader, UnknownBoundariesAndChoicesAreRefused)
+{
+  expect_refused({"boundary.middle.pressure=0.0"}, "boundary.middle", "unknown boundary name");
+  expect_refused({"coupling.scheme=undrained"}, "coupling.scheme", "undrained");
+  expect_refused({"mesh.type=sphere"}, "mesh.type", "sphere");
+  expect_refused({"time.scheme=rk4"}, "time.scheme", "rk4");
+}
+
+TEST(SceneReader, BadExpressionIsRefused)
+{
+  expect_refused({"boundary.top.pressure='1 +'"}, "boundary.top.pressure", "cannot parse expression \"1 +\"");
+}
+
+TEST(SceneReader, OutputTimeOffTheStepsIsRefused)
+{
+  expect_refused({"output.times=[0.3]"}, "output.times", "0.3 is not the end of a step");
+  expect_refused({"output.times=[2.0, 1.0]"}, "output.times", "must increase strictly");
+  expect_refused({"output.times=[1.0]", "output.every=2.0"}, "output.every", "not both");
+}
+
+TEST_F(SceneFiles, MissingKeyIsRefused)
+{
+  const std::string file = without("mu_f");
+  const std::string message = refusal(file);
+  EXPECT_EQ(message, file + ": flow.mu_f: missing (a number is required)");
+}
+
+TEST_F(SceneFiles, MissingTableIsRefused)
+{
+  std::ifstream in(default_scene);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("[time]"), 6, "[tiem]");
+  const std::string file = written(text);
+  EXPECT_EQ(refusal(file), file + ": time: missing (a table is required)");
+}
+
+TEST_F(SceneFiles, BadFilesAreRefused)
+{
+  const std::string absent = (folder / "no" / "scene.toml").string();
+  EXPECT_EQ(refusal(absent), absent + ": scene file not found");
+  EXPECT_EQ(refusal(folder.string()), folder.string() + ": scene file not found") << "a directory";
+  const std::string broken = written("[mesh\ntype = 1\n");
+  const std::string message = refusal(broken);
+  EXPECT_EQ(message.rfind(broken + ":", 0), 0u) << message;
+  EXPECT_NE(message.find("invalid TOML"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(SceneReader, BadOverrideIsRefused)
+{
+  EXPECT_EQ(refusal(default_scene, {"mechanics"}), default_scene + ": --set mechanics: expected key.path=value");
+  EXPECT_EQ(refusal(default_scene, {"=1"}), default_scene + ": --set =1: expected key.path=value");
+  EXPECT_EQ(refusal(default_scene, {"mesh.type.x=1"}), default_scene + ": --set mesh.type.x: type is not a table");
+}

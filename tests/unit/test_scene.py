@@ -1,0 +1,123 @@
+"""Unit tests of the prototype's scene reader's refusals
+(python_prototype/scene/scene.py, read_scene), the twins of
+tests/unit/test_scene.cpp: a bad scene raises SceneError with one line
+"<file>: <key>: <reason>" naming the key, for unknown keys, wrong types,
+values out of range, unknown boundaries and choices, missing keys, bad
+expressions, output times off the steps, bad files and bad --set overrides;
+the default scene itself is read. tests/test_bad_scenes.py runs the full
+catalogue through both tracks' command lines."""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import support  # noqa: E402  (the repository on sys.path, a scratch temporary folder)
+from python_prototype.scene.scene import SceneError, read_scene  # noqa: E402
+
+DEFAULT = support.scene("default")
+with open(DEFAULT) as f:
+    TEXT = f.read()
+
+
+def refusal(file, overrides=()):
+    """The message read_scene refuses the scene with ("" if it accepts it)."""
+    try:
+        read_scene(file, overrides)
+    except SceneError as e:
+        return str(e)
+    return ""
+
+
+def written(text):
+    path = os.path.join(tempfile.mkdtemp(), "scene.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+class SceneReader(unittest.TestCase):
+    def expect_refused(self, overrides, key, reason):
+        """The default scene with `overrides` is refused with one line
+        "<file>: <key>: ..." whose reason holds `reason`."""
+        message, head = refusal(DEFAULT, overrides), f"{DEFAULT}: {key}: "
+        self.assertTrue(message.startswith(head), f"--set {overrides[0]}: {message!r}")
+        self.assertIn(reason, message[len(head):])
+        self.assertNotIn("\n", message, "one line")
+
+    def test_reads_the_default_scene(self):
+        s = read_scene(DEFAULT)
+        self.assertEqual(s.name, "default")
+        self.assertEqual(s.num_steps(), 48, "time.end = 9.6, time.dt = 0.2")
+        # E = 1e9, nu = 0.2: G = E / (2 (1 + nu)), lambda = E nu / ((1 + nu) (1 - 2 nu)).
+        self.assertAlmostEqual(s.mechanics.G, 1e9 / 2.4, delta=4 * math.ulp(s.mechanics.G))
+        self.assertAlmostEqual(s.mechanics.lmbda, 1e9 * 0.2 / (1.2 * 0.6), delta=4 * math.ulp(s.mechanics.lmbda))
+        self.assertTrue(s.has_contact())
+        c = s.boundaries["bottom"].contact
+        self.assertEqual(c.gap(0, 0, 0, 0), 0.0012)
+        self.assertEqual(c.normal[1](0, 0, 0, 0), -1.0)
+        self.assertEqual(refusal(DEFAULT, ["time.dt=0.4"]), "", "another whole number of steps")
+
+    def test_unknown_keys_are_refused(self):
+        self.expect_refused(["mechanics.Ee=1.0"], "mechanics.Ee", "unknown key")
+        self.expect_refused(["boundary.top.tracton=[0.0, 1.0]"], "boundary.top.tracton", "unknown key")
+        self.expect_refused(["nosuch.key=1"], "nosuch", "unknown key")
+
+    def test_wrong_types_are_refused(self):
+        self.expect_refused(["mechanics.E='abc'"], "mechanics.E", "must be a number")
+        self.expect_refused(["output.xdmf=3"], "output.xdmf", "must be true or false")
+        self.expect_refused(["scene.name=[1, 2]"], "scene.name", "must be a string")
+        self.expect_refused(["coupling.max_iterations=2.5"], "coupling.max_iterations", "must be an integer")
+        self.expect_refused(["mesh.upper=[1.0]"], "mesh.upper", "must be an array of 2 numbers")
+
+    def test_out_of_range_values_are_refused(self):
+        self.expect_refused(["mechanics.nu=0.5"], "mechanics.nu", "must lie in (-1, 0.5)")
+        self.expect_refused(["mechanics.E=-1.0"], "mechanics.E", "must be a positive finite number")
+        self.expect_refused(["time.dt=0.0"], "time.dt", "must be a positive finite number")
+        self.expect_refused(["flow.phi0=1.5"], "flow.phi0", "must lie in [0, 1]")
+        self.expect_refused(["coupling.alpha=1.5"], "coupling.alpha", "must lie in [0, 1]")
+        self.expect_refused(["time.retry=21"], "time.retry", "must lie in [0, 20]")
+        self.expect_refused(["time.dt=0.7"], "time.dt", "time.end must be a whole number of steps dt")
+
+    def test_unknown_boundaries_and_choices_are_refused(self):
+        self.expect_refused(["boundary.middle.pressure=0.0"], "boundary.middle", "unknown boundary name")
+        self.expect_refused(["coupling.scheme=undrained"], "coupling.scheme", "undrained")
+        self.expect_refused(["mesh.type=sphere"], "mesh.type", "sphere")
+        self.expect_refused(["time.scheme=rk4"], "time.scheme", "rk4")
+
+    def test_bad_expression_is_refused(self):
+        self.expect_refused(["boundary.top.pressure='1 +'"], "boundary.top.pressure", 'cannot parse expression "1 +"')
+
+    def test_output_time_off_the_steps_is_refused(self):
+        self.expect_refused(["output.times=[0.3]"], "output.times", "0.3 is not the end of a step")
+        self.expect_refused(["output.times=[2.0, 1.0]"], "output.times", "must increase strictly")
+        self.expect_refused(["output.times=[1.0]", "output.every=2.0"], "output.every", "not both")
+
+    def test_missing_key_is_refused(self):
+        file = written("\n".join(line for line in TEXT.splitlines() if not line.startswith("mu_f ")))
+        self.assertEqual(refusal(file), f"{file}: flow.mu_f: missing (a number is required)")
+
+    def test_missing_table_is_refused(self):
+        file = written(TEXT.replace("[time]", "[tiem]"))
+        self.assertEqual(refusal(file), f"{file}: time: missing (a table is required)")
+
+    def test_bad_files_are_refused(self):
+        folder = tempfile.mkdtemp()
+        absent = os.path.join(folder, "no", "scene.toml")
+        self.assertEqual(refusal(absent), f"{absent}: scene file not found")
+        self.assertEqual(refusal(folder), f"{folder}: scene file not found", "a directory")
+        broken = written("[mesh\ntype = 1\n")
+        message = refusal(broken)
+        self.assertTrue(message.startswith(broken + ":"), message)
+        self.assertIn("invalid TOML", message)
+        self.assertNotIn("\n", message)
+
+    def test_bad_override_is_refused(self):
+        self.assertEqual(refusal(DEFAULT, ["mechanics"]), f"{DEFAULT}: --set mechanics: expected key.path=value")
+        self.assertEqual(refusal(DEFAULT, ["=1"]), f"{DEFAULT}: --set =1: expected key.path=value")
+        self.assertEqual(refusal(DEFAULT, ["mesh.type.x=1"]), f"{DEFAULT}: --set mesh.type.x: type is not a table")
+
+
+if __name__ == "__main__":
+    unittest.main()
