@@ -29,7 +29,7 @@ struct Problem
   const Constants& constants;
 
   /// The same problem with other materials.
-  Problem with(const Materials& other) const { return {scene, domain, forms, other, parameters, constants}; }
+  Problem with_materials(const Materials& other) const { return {scene, domain, forms, other, parameters, constants}; }
 };
 
 } // namespace biotcontact

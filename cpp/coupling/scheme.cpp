@@ -60,7 +60,7 @@ void Scheme::make_split(const Problem& problem)
   if (scene.coupling and scene.coupling->scheme == "multirate-two-pass")
   {
     _unstabilised = problem.materials.without_stabilisation();
-    _second_pass = std::make_unique<FlowStep>(problem.with(_unstabilised), V, FlowPass::second);
+    _second_pass = std::make_unique<FlowStep>(problem.with_materials(_unstabilised), V, FlowPass::second);
     _steps.push_back(_second_pass.get());
   }
   if (scene.coupling)
