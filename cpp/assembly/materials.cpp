@@ -133,10 +133,9 @@ void set_body_force(Function& f, const Scene& scene, const CellRegions& cells, i
 } // namespace
 
 void add_body_force(Loads& loads, const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                    const ufcx_form* nodal, const ufcx_form* cellwise,
-                    const std::vector<std::shared_ptr<const fem::FunctionSpace>>& spaces,
-                    std::shared_ptr<const fem::FunctionSpace> V, const Constants& constants)
+                    const BodyForceTerm& term, const Constants& constants)
 {
+  const auto& [nodal, cellwise, spaces, V] = term;
   if (!scene.cellwise_body_force())
   {
     if (!scene.mechanics->body_force)

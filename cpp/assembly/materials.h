@@ -44,16 +44,24 @@ struct Materials
   std::vector<double> on(const std::string& name, std::shared_ptr<const dolfinx::fem::FunctionSpace> Q) const;
 };
 
-/// The body force term of a step's loads (`nodal`, `cellwise`: its two
-/// forms on `spaces`, the one and the other body force coefficient). The
-/// scene's body_force interpolated at the nodes into `V` (P1); when some
-/// region gives its own, each cell's material's, one value per cell (DG0),
-/// so that a force changes across a region's boundary without smearing
-/// over the nodes there. Nothing when no body force is given.
+/// @brief The body force term of a step: its two forms on `spaces`, with
+/// the nodal coefficient "body_force" (on the P1 space V) and the cell-wise
+/// one "body_force_cells".
+struct BodyForceTerm
+{
+  const ufcx_form* nodal;
+  const ufcx_form* cellwise;
+  std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>> spaces;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> V;
+};
+
+/// Adds the body force `term` to a step's loads: the scene's body_force
+/// interpolated at the nodes into V; when some region gives its own, each
+/// cell's material's, one value per cell (DG0), so that a force changes
+/// across a region's boundary without smearing over the nodes there.
+/// Nothing when no body force is given.
 void add_body_force(Loads& loads, const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                    const ufcx_form* nodal, const ufcx_form* cellwise,
-                    const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>>& spaces,
-                    std::shared_ptr<const dolfinx::fem::FunctionSpace> V, const Constants& constants);
+                    const BodyForceTerm& term, const Constants& constants);
 
 /// The materials of a scene on its domain; throws SceneError naming the
 /// permeability (flow.permeability or region.NAME.permeability) where it is

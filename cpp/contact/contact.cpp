@@ -150,15 +150,27 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
   return nodes;
 }
 
+/// @brief A contact node: its first DOF in V, its candidate constraints
+/// (one per foundation that holds it) and its coordinates.
+struct ContactNode
+{
+  std::int32_t first;
+  std::vector<Candidate> candidates;
+  const double* x;
+};
+
 /// One node's candidates merged (the same normal from two boundaries: one
 /// constraint, the smaller gap, the measures added) and entered into c as
 /// bounds on its own components (normals along coordinate axes) or on the
-/// components of its change of variables.
-void add_node(ContactSet& c, std::int32_t first, std::vector<Candidate> candidates, const std::vector<char>& prescribed,
-              const double* x, const std::string& file, std::string& error)
+/// components of its change of variables. The first bad input goes into
+/// `error`, with its key in `file`.
+void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& prescribed, const std::string& file,
+              std::string& error)
 {
+  const std::int32_t first = node.first;
+  const double* x = node.x;
   std::vector<Candidate> merged;
-  for (const Candidate& k : candidates)
+  for (const Candidate& k : node.candidates)
   {
     auto same = std::find_if(merged.begin(), merged.end(),
                              [&](const Candidate& m)
@@ -231,7 +243,7 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   const std::vector<double> coords = V->tabulate_dof_coordinates(false);
   const int bs = V->dofmap()->index_map_bs();
   for (auto& [first, candidates] : nodes)
-    add_node(c, first, std::move(candidates), prescribed, &coords[3 * (first / bs)], scene.file, error);
+    add_node(c, {first, std::move(candidates), &coords[3 * (first / bs)]}, prescribed, scene.file, error);
   agree_on_error(error, domain.mesh->comm());
   return c;
 }
@@ -257,17 +269,18 @@ bool use_condensation(const std::string& prefix, Method method, PetscInt contact
 }
 } // namespace
 
-ContactSolver::ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, const std::vector<Field>& fields,
-                             Structure structure, Method method, Vec layout, ContactSet set,
-                             std::vector<std::int32_t> displacement_dofs)
-    : _comm(comm), _A(A), _P(P), _fields(fields), _structure(structure), _prefix(prefix), _set(std::move(set)),
-      _displacement_dofs(std::move(displacement_dofs))
+ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method method, ContactOperators operators,
+                             ContactUnknowns unknowns)
+    : _comm(comm), _A(operators.A), _P(operators.P), _fields(system.fields), _structure(system.structure),
+      _prefix(system.prefix), _set(std::move(unknowns.set)), _displacement_dofs(std::move(unknowns.displacement_dofs))
 {
+  const std::string& prefix = system.prefix;
+  const Vec layout = unknowns.layout;
   for (std::int32_t dof : _set.dofs)
     _dofs.push_back(_displacement_dofs.at(dof));
   // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
-  if (structure == Structure::spd)
-    MatSetOption(A, MAT_SPD, PETSC_TRUE);
+  if (_structure == Structure::spd)
+    MatSetOption(_A, MAT_SPD, PETSC_TRUE);
   VecDuplicate(layout, &_force);
   make_change_of_variables(layout);
 

@@ -111,6 +111,25 @@ struct ActiveSet
 /// on every rank (collective over `comm`).
 bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm);
 
+/// @brief The matrices of the contact problem: A, and P (A, or the
+/// fixed-stress matrix of the coupled system) that the iterative full path
+/// builds its preconditioner from.
+struct ContactOperators
+{
+  Mat A, P;
+};
+
+/// @brief What the contact solver constrains: the contact set, where each
+/// owned DOF of V sits in the solved vector x (`displacement_dofs`: i itself
+/// for the mechanics system, its place in the mixed space for the
+/// monolithic one), and `layout`, a vector like x.
+struct ContactUnknowns
+{
+  ContactSet set;
+  std::vector<std::int32_t> displacement_dofs;
+  Vec layout;
+};
+
 /// The reduced-space Newton method solves, at each step, the system on the
 /// inactive set (the DOFs not held on a bound). It runs in one of two ways:
 ///
@@ -149,9 +168,8 @@ public:
   /// like x. On the iterative full path the Newton steps are
   /// preconditioned from P (A, or the fixed-stress matrix of the coupled
   /// system) split along `fields` (inactive_set_preconditioner.h).
-  ContactSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat P, const std::vector<Field>& fields,
-                Structure structure, Method method, Vec layout, ContactSet set,
-                std::vector<std::int32_t> displacement_dofs);
+  ContactSolver(MPI_Comm comm, const SystemLayout& system, Method method, ContactOperators operators,
+                ContactUnknowns unknowns);
   ~ContactSolver();
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;
@@ -218,7 +236,8 @@ private:
   /// (SNESVIGetActiveSetIS), and counts changes.
   static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
   /// PETSc's convergence test of the VI methods, and stop when a step kept
-  /// its active set (the solution on that set: see contact.cpp).
+  /// its active set (the solution on that set: see contact.cpp). A PETSc
+  /// callback: its 7 parameters are SNESSetConvergenceTest's.
   static PetscErrorCode converged(SNES, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* context);
   /// KSP monitor of the Newton steps (iterative full path): stops a Krylov

@@ -40,47 +40,6 @@ long contact_changes(MechanicsStep& mechanics)
   return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
 }
 
-/// The second pass of "multirate-two-pass" (docs/multirate-two-pass.md). The printed
-/// multirate scheme damps the fine-step pressure modes that sum to zero
-/// over the window only by L/(S+L) ~ gamma per iteration: the mechanics
-/// sees p^q alone. Here the fine steps are recomputed without L, from p_K
-/// and with the new displacement u^{n+1}:
-///   (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
-///     = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
-/// so they hold no error of their own, only that of u^{n+1}; the window end
-/// keeps the first pass's value p^A_q (the one the mechanics used) through
-///   p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q),   m = 1..q,
-/// the same linear correction applied to the mixed states (z, p). At the
-/// fixed point p^B = p^A: the fixed point is that of the printed scheme.
-/// `history(m, p_B)` sets the second step's time history of fine step m
-/// (the previous pressures, the window's displacement; time_scheme.h).
-void second_pass_correction(FlowStep& second, const Array& p_K, const Array& u_new,
-                            const std::function<double(int)>& t,
-                            const std::function<void(int, const std::vector<Array>&)>& history,
-                            std::vector<Array>& p_new, std::vector<Array>& w_new)
-{
-  const int q = static_cast<int>(p_new.size()) - 1;
-  std::vector<Array> p_B(q + 1, p_K), w_B(q + 1);
-  assign(*second.u_iterate, u_new);
-  for (int m = 1; m <= q; ++m)
-  {
-    history(m, p_B);
-    second.solve(t(m));
-    p_B[m] = values(second.pressure->x()->array());
-    std::span<const double> w = second.unknowns();
-    w_B[m].assign(w.begin(), w.end());
-  }
-  const Array p_end = difference(p_new[q], p_B[q]), w_end = difference(w_new[q], w_B[q]);
-  for (int m = 1; m < q; ++m)
-  {
-    const double s = static_cast<double>(m) / q;
-    for (std::size_t i = 0; i < p_end.size(); ++i)
-      p_new[m][i] = p_B[m][i] + s * p_end[i];
-    for (std::size_t i = 0; i < w_end.size(); ++i)
-      w_new[m][i] = w_B[m][i] + s * w_end[i];
-  }
-}
-
 } // namespace
 
 double inexact_tolerance(double previous_increment)
@@ -165,6 +124,7 @@ private:
                         const Array& u) const;
   void flow_pass(Window& w);
   void mechanics_pass(Window& w);
+  void second_pass_correction(Window& w);
   Increments measure_contraction(const Window& w, int n) const;
   void hold_against_gamma(Window& w, const Increments& inc, int n);
   std::pair<double, double> stopping_test(Window& w, const Increments& inc, int n);
@@ -394,10 +354,43 @@ void FixedStressSplit::mechanics_pass(Window& w)
   _mechanics.solve(t(w, w.q));
   w.u_new = values(_mechanics.u->x()->array());
   if (_second_pass and w.q > 1)
-    second_pass_correction(
-        *_second_pass, _p_K, w.u_new, [&](int m) { return t(w, m); },
-        [&](int m, const std::vector<Array>& p_B) { set_time_history(*_second_pass, w, m, p_B, w.u_new); }, w.p_new,
-        w.w_new);
+    second_pass_correction(w);
+}
+
+/// The second pass of "multirate-two-pass" (docs/multirate-two-pass.md). The printed
+/// multirate scheme damps the fine-step pressure modes that sum to zero
+/// over the window only by L/(S+L) ~ gamma per iteration: the mechanics
+/// sees p^q alone. Here the fine steps are recomputed without L, from p_K
+/// and with the new displacement u^{n+1}:
+///   (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
+///     = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
+/// so they hold no error of their own, only that of u^{n+1}; the window end
+/// keeps the first pass's value p^A_q (the one the mechanics used) through
+///   p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q),   m = 1..q,
+/// the same linear correction applied to the mixed states (z, p). At the
+/// fixed point p^B = p^A: the fixed point is that of the printed scheme.
+void FixedStressSplit::second_pass_correction(Window& w)
+{
+  FlowStep& second = *_second_pass;
+  const int q = w.q;
+  std::vector<Array> p_B(q + 1, _p_K), w_B(q + 1);
+  assign(*second.u_iterate, w.u_new);
+  for (int m = 1; m <= q; ++m)
+  {
+    set_time_history(second, w, m, p_B, w.u_new);
+    second.solve(t(w, m));
+    p_B[m] = values(second.pressure->x()->array());
+    w_B[m] = values(second.unknowns());
+  }
+  const Array p_end = difference(w.p_new[q], p_B[q]), w_end = difference(w.w_new[q], w_B[q]);
+  for (int m = 1; m < q; ++m)
+  {
+    const double s = static_cast<double>(m) / q;
+    for (std::size_t i = 0; i < p_end.size(); ++i)
+      w.p_new[m][i] = p_B[m][i] + s * p_end[i];
+    for (std::size_t i = 0; i < w_end.size(); ++i)
+      w.w_new[m][i] = w_B[m][i] + s * w_end[i];
+  }
 }
 
 /// The contraction quantities of this iteration's increments, with the
@@ -605,7 +598,7 @@ void FixedStressSplit::go_back(const Window& w, const std::string& message)
 /// halved (two windows of q steps); false when no retry is left.
 bool FixedStressSplit::retry(const Window& w, const std::string& cause)
 {
-  const auto message = retry_step(_scene, cause, w.K + 1, _attempts, _grid, w.j, w.q, _report.retries);
+  const auto message = retry_step(_scene, {w.K + 1, cause, w.j, w.q}, _attempts, _report.retries, _grid);
   if (!message)
     return false;
   go_back(w, *message);

@@ -54,7 +54,7 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
     catch (const SolverError& e)
     {
       const auto message
-          = retry_step(problem.scene, e.what(), k, attempts, run.grid, k - 1, 1, run.report.retries);
+          = retry_step(problem.scene, {k, e.what(), k - 1, 1}, attempts, run.report.retries, run.grid);
       if (!message)
         throw;
       run.observer.retry(*message);

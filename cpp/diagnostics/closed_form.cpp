@@ -50,10 +50,9 @@ double Terzaghi::displacement(double z, double t) const
   return m_v() * (alpha * integral - load * z);
 }
 
-Mandel::Mandel(double a, double b, double G, double lambda, double alpha, double storage,
-               double mobility, double F)
-    : _a(a), _b(b), _G(G), _F(F)
+Mandel::Mandel(double a, double b, const Medium& medium, double F) : _a(a), _b(b), _G(medium.G), _F(F)
 {
+  const auto [G, lambda, alpha, storage, mobility] = medium;
   const double K = lambda + 2 * G / 3; // drained bulk modulus (3D)
   nu = (3 * K - 2 * G) / (2 * (3 * K + G));
   const double K_u = K + alpha * alpha / storage;
@@ -126,9 +125,9 @@ Scene with_mandel_plate(Scene scene)
   if (!scene.reference or scene.reference->solution != "mandel")
     return scene;
   const FlowSpec& f = *scene.flow;
-  auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics->G,
-                                         scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
-                                         (*f.permeability)(0, 0, 0, 0) / f.mu_f, scene.reference->force);
+  const Medium medium{scene.mechanics->G, scene.mechanics->lambda, scene.coupling->alpha, f.storage(),
+                      (*f.permeability)(0, 0, 0, 0) / f.mu_f};
+  auto mandel = std::make_shared<Mandel>(scene.mesh.upper[0], scene.mesh.upper[1], medium, scene.reference->force);
   BoundarySpec& plate = scene.boundaries.at(scene.reference->plate);
   plate.mechanics = BoundarySpec::Mechanics::displacement;
   plate.displacement[1] = Expression([mandel](double, double y, double, double t)

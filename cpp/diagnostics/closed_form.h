@@ -25,6 +25,13 @@ struct Terzaghi
   double settlement(double t) const { return -displacement(h, t); }
 };
 
+/// @brief The homogeneous poroelastic medium of a closed form: shear
+/// modulus G, Lame's lambda, Biot's alpha, storage S, mobility k/mu_f.
+struct Medium
+{
+  double G, lambda, alpha, storage, mobility;
+};
+
 /// Mandel's problem in plane strain on the quarter 0 <= x <= a, 0 <= y <= b
 /// (symmetry on x = 0 and y = 0), drained at x = a, a compressive force 2F
 /// per unit thickness through a rigid frictionless plate at y = b, applied
@@ -32,8 +39,7 @@ struct Terzaghi
 class Mandel
 {
 public:
-  Mandel(double a, double b, double G, double lambda, double alpha, double storage, double mobility,
-         double F);
+  Mandel(double a, double b, const Medium& medium, double F);
   double pressure(double x, double t) const;
   double displacement_x(double x, double t) const;
   double displacement_y(double y, double t) const;

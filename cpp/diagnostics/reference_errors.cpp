@@ -85,7 +85,8 @@ ReferenceErrors reference_errors(const Problem& problem, std::shared_ptr<const f
   }
   else
   {
-    mandel.emplace(scene.mesh.upper[0], scene.mesh.upper[1], m.G, m.lambda, m.alpha, m.storage, mobility, ref.force);
+    mandel.emplace(scene.mesh.upper[0], scene.mesh.upper[1], Medium{m.G, m.lambda, m.alpha, m.storage, mobility},
+                   ref.force);
     exact.p = [&](double x, double) { return mandel->pressure(x, t); };
     exact.u = [&](double x, double y) { return std::array<double, 2>{mandel->displacement_x(x, t), mandel->displacement_y(y, t)}; };
   }

@@ -45,6 +45,16 @@ enum class Structure
   general
 };
 
+/// @brief A system as its solvers see it: the options prefix that names
+/// it ("flow_": options -flow_*, log stage "flow"), what its matrix is, and
+/// the fields of a mixed system (field_split.h; empty for one field).
+struct SystemLayout
+{
+  std::string prefix;
+  Structure structure;
+  std::vector<Field> fields = {};
+};
+
 /// How a system is solved.
 enum class Method
 {

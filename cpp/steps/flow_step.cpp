@@ -37,10 +37,10 @@ FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSp
   // The flow matrix depends on dt and L only: assembled and factorised once
   // per dt. Its diagonal blocks, the flux mass and -(S+L)/dt times the cell
   // mass, make it quasi-definite when S + L > 0 in every cell.
-  _system = std::make_unique<System>(domain.mesh->comm(), "flow_", _a, _bcs,
-                                     materials.min_stabilised_storage > 0 ? Structure::quasi_definite
-                                                                          : Structure::general,
-                                     scene.solver.flow, fields());
+  const Structure structure
+      = materials.min_stabilised_storage > 0 ? Structure::quasi_definite : Structure::general;
+  _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs, SystemLayout{"flow_", structure, fields()},
+                                     scene.solver.flow);
   _b = std::make_unique<la::Vector<double>>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs());
 }
 

@@ -40,7 +40,7 @@ MechanicsStep::MechanicsStep(const Problem& problem, std::shared_ptr<const fem::
 
   // a(u, v) does not change during a run: assembled once; with Dirichlet
   // rows made identity rows it is SPD.
-  _system = std::make_unique<System>(domain.mesh->comm(), "mechanics_", _a, _bcs, Structure::spd,
+  _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs, SystemLayout{"mechanics_", Structure::spd},
                                      scene.solver.mechanics);
   if (_system->method() == Method::iterative)
   {
@@ -67,7 +67,7 @@ void MechanicsStep::make_loads(const Domain& domain, const CompiledForms& forms,
                                    });
   for (const auto& bc : _bc_values)
     _loads->depends_on_time(bc.value->depends_on_time());
-  add_body_force(*_loads, _scene, domain, forms, forms.L_body_force, forms.L_body_force_cells, {_V}, _V, constants);
+  add_body_force(*_loads, _scene, domain, forms, {forms.L_body_force, forms.L_body_force_cells, {_V}, _V}, constants);
   for (const auto& [name, b] : _scene.boundaries)
     if (!b.traction.empty())
       _loads->add_boundary(

@@ -59,8 +59,8 @@ MonolithicStep::MonolithicStep(const Problem& problem) : _problem(problem), _sce
   // poroelastic Hertz scene): LU with pivoting. The iterative path is a
   // Krylov method preconditioned by the fixed-stress split (solver.h),
   // built from a_monolithic_preconditioner and split along fields().
-  _system = std::make_unique<System>(domain.mesh->comm(), "monolithic_", _a, _bcs, Structure::general,
-                                     scene.solver.monolithic, fields(),
+  _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs,
+                                     SystemLayout{"monolithic_", Structure::general, fields()}, scene.solver.monolithic,
                                      make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants,
                                                faces.get()));
   _b = std::make_unique<la::Vector<double>>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs());
@@ -113,8 +113,8 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
     _loads->depends_on_time((f.rate ? f.rate : f.flux)->depends_on_time());
   _wells = well_sources(_scene, domain, *Q, _Q_to_X);
   _loads->depends_on_time(depends_on_time(_wells));
-  add_body_force(*_loads, _scene, domain, forms, forms.L_monolithic_body_force, forms.L_monolithic_body_force_cells,
-                 {_X}, V, constants);
+  add_body_force(*_loads, _scene, domain, forms,
+                 {forms.L_monolithic_body_force, forms.L_monolithic_body_force_cells, {_X}, V}, constants);
   for (const auto& [name, b] : _scene.boundaries)
     if (!b.traction.empty()) // a traction boundary, or a loaded contact boundary
       _loads->add_boundary(

@@ -17,11 +17,11 @@ la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, dou
 }
 } // namespace
 
-System::System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const fem::Form<double>> a, BCs bcs,
-               Structure structure, const std::string& choice, std::vector<Field> fields,
-               std::shared_ptr<const fem::Form<double>> a_preconditioner)
-    : _comm(comm), _prefix(prefix), _a(a), _bcs(std::move(bcs)), _structure(structure), _fields(std::move(fields)),
-      _A(timed_assembly(*a, _bcs, _statistics.assembly_time)), _stage(prefix.substr(0, prefix.size() - 1))
+System::System(MPI_Comm comm, std::shared_ptr<const fem::Form<double>> a, BCs bcs, const SystemLayout& layout,
+               const std::string& choice, std::shared_ptr<const fem::Form<double>> a_preconditioner)
+    : _comm(comm), _prefix(layout.prefix), _a(a), _bcs(std::move(bcs)), _structure(layout.structure),
+      _fields(layout.fields), _A(timed_assembly(*a, _bcs, _statistics.assembly_time)),
+      _stage(_prefix.substr(0, _prefix.size() - 1))
 {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
@@ -55,8 +55,9 @@ System::~System() = default;
 void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout)
 {
   _linear.reset();
-  _contact = std::make_unique<ContactSolver>(_comm, _prefix, _A.mat(), preconditioner_matrix(), _fields, _structure,
-                                             _method, layout, std::move(set), std::move(displacement_dofs));
+  _contact = std::make_unique<ContactSolver>(_comm, SystemLayout{_prefix, _structure, _fields}, _method,
+                                             ContactOperators{_A.mat(), preconditioner_matrix()},
+                                             ContactUnknowns{std::move(set), std::move(displacement_dofs), layout});
 }
 
 void System::solve(Vec b, Vec x)

@@ -22,15 +22,14 @@ namespace biotcontact
 class System
 {
 public:
-  /// Assembles `a` with `bcs`; `prefix` names the system's PETSc options
-  /// and its log stage ("flow_" -> stage "flow"); `choice` is the scene's
-  /// [solver] entry ("direct", "iterative" or "auto", see choose_method);
-  /// `fields` the splits of a mixed system; `a_preconditioner` (optional)
+  /// Assembles `a` with `bcs`; `layout` names the system's PETSc options
+  /// and its log stage and gives the splits of a mixed system; `choice` is
+  /// the scene's [solver] entry ("direct", "iterative" or "auto", see
+  /// choose_method); `a_preconditioner` (optional)
   /// the form an iterative method builds its preconditioner from instead
   /// of `a` (the fixed-stress matrix of the coupled system).
-  System(MPI_Comm comm, const std::string& prefix, std::shared_ptr<const dolfinx::fem::Form<double>> a,
-         BCs bcs, Structure structure, const std::string& choice, std::vector<Field> fields = {},
-         std::shared_ptr<const dolfinx::fem::Form<double>> a_preconditioner = nullptr);
+  System(MPI_Comm comm, std::shared_ptr<const dolfinx::fem::Form<double>> a, BCs bcs, const SystemLayout& layout,
+         const std::string& choice, std::shared_ptr<const dolfinx::fem::Form<double>> a_preconditioner = nullptr);
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;

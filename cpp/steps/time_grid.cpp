@@ -58,17 +58,17 @@ void halve_steps(TimeGrid& grid, int first, int count)
   grid.dt = std::move(dt);
 }
 
-std::optional<std::string> retry_step(const Scene& scene, const std::string& cause, int step, int& attempts,
-                                      TimeGrid& grid, int first, int count, long& retries)
+std::optional<std::string> retry_step(const Scene& scene, const FailedStep& failed, int& attempts, long& retries,
+                                      TimeGrid& grid)
 {
   if (attempts >= scene.retry)
     return std::nullopt;
   ++attempts;
   ++retries;
-  halve_steps(grid, first, count);
+  halve_steps(grid, failed.first, failed.count);
   std::ostringstream message;
-  message << "step " << step << " failed (" << cause << "); retry " << attempts << " of " << scene.retry
-          << " with dt = " << grid.dt[first];
+  message << "step " << failed.step << " failed (" << failed.cause << "); retry " << attempts << " of "
+          << scene.retry << " with dt = " << grid.dt[failed.first];
   return message.str();
 }
 

@@ -34,11 +34,20 @@ void plan_steps(TimeGrid& grid, int k, double h, const std::vector<double>& stop
 /// Halves the steps first, ..., first + count - 1 (count more steps).
 void halve_steps(TimeGrid& grid, int first, int count);
 
+/// @brief A step that failed: its number (for the message), why, and its
+/// fine steps first, ..., first + count - 1 on the grid.
+struct FailedStep
+{
+  int step;
+  std::string cause;
+  int first, count;
+};
+
 /// time.retry: whether a step that failed may be tried again with halved
-/// steps (`attempts` retries of it so far); if so, counts the retry, halves
-/// the fine steps first, ..., first + count - 1 of `grid` and returns the
-/// message that says so.
-std::optional<std::string> retry_step(const Scene& scene, const std::string& cause, int step, int& attempts,
-                                      TimeGrid& grid, int first, int count, long& retries);
+/// steps (`attempts` retries of it so far, at most scene.retry); if so,
+/// counts the retry in `attempts` and `retries` (the run's), halves the
+/// failed fine steps of `grid` and returns the message that says so.
+std::optional<std::string> retry_step(const Scene& scene, const FailedStep& failed, int& attempts, long& retries,
+                                      TimeGrid& grid);
 
 } // namespace biotcontact

@@ -93,7 +93,7 @@ TEST(TimeGrid, RetryIsCountedAndRefusedAfterTheAllowedAttempts)
   TimeGrid g = time_grid(s);
   int attempts = 0;
   long retries = 0;
-  const auto first = retry_step(s, "the coupling did not converge", 3, attempts, g, 2, 1, retries);
+  const auto first = retry_step(s, {3, "the coupling did not converge", 2, 1}, attempts, retries, g);
   ASSERT_TRUE(first);
   EXPECT_NE(first->find("step 3"), std::string::npos) << *first;
   EXPECT_NE(first->find("the coupling did not converge"), std::string::npos) << *first;
@@ -103,14 +103,14 @@ TEST(TimeGrid, RetryIsCountedAndRefusedAfterTheAllowedAttempts)
   EXPECT_EQ(g.steps(), 5);
   EXPECT_EQ(g.dt[2], 0.125);
 
-  const auto second = retry_step(s, "the coupling did not converge", 3, attempts, g, 2, 2, retries);
+  const auto second = retry_step(s, {3, "the coupling did not converge", 2, 2}, attempts, retries, g);
   ASSERT_TRUE(second);
   EXPECT_NE(second->find("retry 2 of 2"), std::string::npos) << *second;
   EXPECT_EQ(g.steps(), 7);
   EXPECT_EQ(g.dt[2], 0.0625);
 
   const TimeGrid kept = g;
-  EXPECT_FALSE(retry_step(s, "the coupling did not converge", 3, attempts, g, 2, 4, retries));
+  EXPECT_FALSE(retry_step(s, {3, "the coupling did not converge", 2, 4}, attempts, retries, g));
   EXPECT_EQ(attempts, 2);
   EXPECT_EQ(retries, 2);
   EXPECT_EQ(g.t, kept.t) << "a refused retry leaves the grid";
@@ -122,7 +122,7 @@ TEST(TimeGrid, NoRetryWithoutTimeRetry)
   TimeGrid g = time_grid(s);
   int attempts = 0;
   long retries = 0;
-  EXPECT_FALSE(retry_step(s, "a solver failed", 1, attempts, g, 0, 1, retries));
+  EXPECT_FALSE(retry_step(s, {1, "a solver failed", 0, 1}, attempts, retries, g));
   EXPECT_EQ(attempts, 0);
   EXPECT_EQ(retries, 0);
   EXPECT_EQ(g.steps(), 4);
