@@ -11,10 +11,10 @@ from .output.checkpoint import (Checkpoint, keyed_values, mesh_difference, mesh_
                                 restore_values, write_checkpoint)
 from .diagnostics.closed_form import Mandel, Terzaghi, with_mandel_plate
 from .domain.domain import check_expressions, create_domain
-from .coupling.coupling import CouplingError, CouplingReport, WindowObserver, for_each_checkpointed
-from .coupling.fixed_stress import run_fixed_stress
-from .coupling.single_solve import run_single_solve
-from .coupling.step_control import StepControl
+from .assembly.problem import Problem
+from .coupling.coupling import (ControllerState, CouplingError, CouplingReport, CouplingRun, WindowObserver,
+                                for_each_checkpointed)
+from .coupling.scheme import Scheme
 from .assembly.forms import Forms
 from .assembly.linear_algebra import UnknownsPart
 from .assembly.materials import make_materials
@@ -28,10 +28,7 @@ from .contact.contact import ContactState
 from .output.interruption import interruption_signal
 from .steps.time_grid import time_grid
 from .solvers.solver import Method, SolverError, SolverStatistics, solver_counts
-from .diagnostics.diagnostics import ContractionNorm, relative_error, volumetric_stress
-from .steps.flow_step import FlowStep
-from .steps.mechanics_step import MechanicsStep
-from .steps.monolithic_step import MonolithicStep
+from .diagnostics.diagnostics import relative_error, volumetric_stress
 
 RUN_OK, RUN_NOT_CONVERGED, RUN_OUTPUT_FAILED = 0, 3, 4
 
@@ -93,22 +90,6 @@ def closed_form_errors(scene, parameters, F, domain, u, p, comm):
     return errors
 
 
-def equilibrate(scene, domain, F, mechanics, monolithic):
-    """mechanics.initial_equilibrium: replaces u = 0 by the displacement in
-    equilibrium with the loads at t = 0 and the initial pressure (a geostatic
-    initialisation). Otherwise loads present from the start, such as the
-    in-situ stresses, are applied in the first step as a sudden load, whose
-    undrained pressure response the first flow steps then carry."""
-    if mechanics:
-        mechanics.solve(0.0)
-        return
-    # The coupled system has no mechanics system of its own: one mechanics
-    # step on its displacement space, loaded by its pressure, solved once.
-    step = MechanicsStep(scene, domain, F, monolithic.pressure)
-    step.solve(0.0)
-    monolithic.set_displacement(step.u.x.array, 0.0)
-
-
 def regions_json(cells, materials):
     """The regions of the summary: each one's cells and its material's gamma
     and L, and the cells in no region (the top-level material)."""
@@ -118,83 +99,13 @@ def regions_json(cells, materials):
     return regions
 
 
-class Steps:
-    """The steps a scene has (each scene allocates only the physics it has),
-    and the fields output and diagnostics read, whichever step produced them."""
-
-    def __init__(self):
-        self.flow = self.second_pass = None  # second_pass: "multirate-two-pass"
-        self.mechanics = self.monolithic = None
-        self.V = self.u = self.p = None
-        self.contact_pressure = self.contact_active = self.contact_boundary = None
-        self.compute_flux = None
-        self.compute_contact = ContactState
-        self.step_control = None  # time.adaptive
-
-    def systems(self):
-        """The systems by their summary name, in the order of checkpoints."""
-        return [("flow", self.flow.system if self.flow else None),
-                ("mechanics", self.mechanics.system if self.mechanics else None),
-                ("monolithic", self.monolithic.system if self.monolithic else None),
-                ("flow_second_pass", self.second_pass.system if self.second_pass else None)]
-
-    def assembly_time(self):
-        """Assembly time of the steps' loads and matrices."""
-        t = 0.0
-        for f in (self.flow, self.second_pass):
-            t += f.assembly_time if f else 0.0
-        t += self.mechanics.assembly_time if self.mechanics else 0.0
-        return t + (self.monolithic.assembly_time if self.monolithic else 0.0)
-
-
-def take_contact_fields(s, step):
-    """The contact fields of a step that has them."""
-    if not step.system.has_contact():
-        return
-    s.contact_pressure, s.contact_active = step.contact_pressure, step.contact_active
-    s.contact_boundary = step.contact_boundary
-    s.compute_contact = step.contact_state
-
-
-def monolithic_steps(scene, domain, F):
-    """The monolithic step: u, z and p in one system."""
-    s = Steps()
-    s.monolithic = m = MonolithicStep(scene, domain, F)
-    s.V, s.u, s.p, s.compute_flux = m.V, m.u, m.pressure, m.flux
-    take_contact_fields(s, m)
-    return s
-
-
-def split_steps(scene, domain, F, materials):
-    """The flow step and the mechanics step of the split, or the one a single
-    physics has; "multirate-two-pass" adds the flow step without L."""
-    s = Steps()
-    if scene.mechanics:
-        s.V = F["V"]
-    if scene.flow:
-        s.flow = FlowStep(scene, domain, F, materials, coupled=scene.coupling is not None)
-        s.p = s.flow.pressure
-        if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
-            # The second pass is the flow step without the stabilisation L:
-            # forms of its own, whose coefficient L is 0.
-            unstabilised = Forms(domain.mesh)
-            set_constants(unstabilised, scene, derive_parameters(scene))
-            s.second_pass = FlowStep(scene, domain, unstabilised, materials.without_stabilisation(F, unstabilised),
-                                     coupled=True)
-        s.compute_flux = s.flow.flux
-    if scene.mechanics:
-        s.mechanics = MechanicsStep(scene, domain, F, s.p if scene.coupling is not None else None)
-        s.u = s.mechanics.u
-        take_contact_fields(s, s.mechanics)
-    return s
-
-
 class OutputFields:
     """The fields written at each output time: the unknowns and what is
     derived from them (cell-averaged flux, volumetric stress sigma_v, contact)."""
 
-    def __init__(self, F, steps, output):
-        self._F, self._steps, self._output = F, steps, output
+    def __init__(self, F, scheme, output):
+        self._F, self._steps, self._output = F, scheme, output
+        steps = scheme
         if steps.p is not None:
             steps.p.name = "pressure"
             self._flux = fem.Function(F["Qv"], name="flux")
@@ -208,6 +119,8 @@ class OutputFields:
         self.contact = ContactState()  # at the last mechanics output
 
     def write_flow(self, t):
+        if self._steps.p is None:
+            return
         self._output.write(self._steps.p, t)
         self._steps.compute_flux(self._flux)
         self._output.write(self._flux, t)
@@ -224,20 +137,22 @@ class OutputFields:
             self._output.write(s.contact_active, t)
 
 
-def capture_checkpoint(steps, time, s, mesh, report, output, grid, scene):
+def capture_checkpoint(steps, time, scheme, mesh, run, output):
     """The state a restart needs after `steps` completed steps (checkpoint.py)."""
     c = Checkpoint(steps, time, output=output)
     # The grid as retries left it (the same on every rank).
-    c.arrays["times"], c.arrays["time_steps"] = np.array(grid.t), np.array(grid.dt)
+    c.arrays["times"], c.arrays["time_steps"] = np.array(run.grid.t), np.array(run.grid.dt)
     c.arrays["mesh"] = mesh_signature(mesh)
-    for parts, unknowns in unknowns_parts(s, scene):
-        for part in parts:
-            c.fields[part.name] = keyed_values(mesh, part, unknowns)
-    for_each_checkpointed(report, lambda name, value: c.numbers.__setitem__(name, float(value)))
-    for i, (_, system) in enumerate(s.systems()):
-        if system is not None:
-            st = system.statistics()
-            c.numbers.update({f"{i}.{name}": float(getattr(st, name)) for name in solver_counts})
+    for step in scheme.steps():
+        for part in step.parts():
+            c.fields[part.name] = keyed_values(mesh, part, step.unknowns())
+    for name, f in scheme.history():
+        c.fields[name] = keyed_values(mesh, UnknownsPart(name, f.function_space), f.x.array)
+    for_each_checkpointed(run.report, run.state,
+                          lambda holder, name: c.numbers.__setitem__(name, float(getattr(holder, name))))
+    for step in scheme.steps():
+        st = step.system.statistics()
+        c.numbers.update({f"{step.name()}.{name}": float(getattr(st, name)) for name in solver_counts})
     return c
 
 
@@ -263,82 +178,68 @@ def adaptive_json(spec, report, grid):
     return j
 
 
-def history(s, scene):
-    """The memory of the time scheme and of time.adaptive by checkpoint name
-    (cpp/simulation.cpp): BDF2's state one step before the last completed
-    one, the displacement one window before with coupling.q = "auto" (its
-    last change), the step control's accepted states."""
-    h = []
-    if scene.time_scheme == "bdf2" and s.monolithic:
-        h = [("pressure_before", s.monolithic.p_before), ("displacement_before", s.monolithic.u_before)]
-    elif scene.time_scheme == "bdf2" and s.flow:
-        h = [("pressure_before", s.flow.p_before)]
-        if s.flow.u_before is not None:
-            h += [("displacement_before", s.flow.u_before), ("displacement_path_before", s.flow.u_path_before)]
-    elif scene.coupling and scene.coupling.q_auto and s.flow and s.flow.u_before is not None:
-        h = [("displacement_before", s.flow.u_before)]
-    return h + (s.step_control.history() if s.step_control else [])
-
-
-def unknowns_parts(s, scene):
-    """Each step's fields and the vector of unknowns they sit in; also the
-    memory of BDF2 and of time.adaptive (history)."""
-    result = [([UnknownsPart(name, f.function_space)], f.x.array) for name, f in history(s, scene)]
-    if s.flow:
-        result.append((s.flow.parts(), s.flow.unknowns()))
-    if s.mechanics:
-        result.append(([UnknownsPart("displacement", s.V)], s.mechanics.u.x.array))
-    if s.monolithic:
-        result.append((s.monolithic.parts(), s.monolithic.unknowns()))
-    return result
-
-
-def restore_unknowns(c, s, mesh, directory, scene):
+def restore_unknowns(c, scheme, mesh, directory):
     """Loads the stored unknowns into the steps, whatever the partition;
     refuses a checkpoint of another mesh, or one that lacks any of them
     (collective)."""
     difference = mesh_difference(c.arrays.get("mesh"), mesh_signature(mesh))
     if difference:
         raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({difference})")
-    for parts, unknowns in unknowns_parts(s, scene):
+
+    def restore(parts, unknowns):
         for part in parts:
             stored = c.fields.get(part.name)
             missing = mesh.comm.allreduce(1 if stored is None else restore_values(mesh, part, stored, unknowns))
             if missing > 0:
                 raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({missing} "
                                  f"values of the {part.name} not in it)")
-    if s.flow:
-        s.flow.set_unknowns(s.flow.unknowns())
-    if s.monolithic:
-        s.monolithic.set_unknowns(s.monolithic.unknowns())
+    for step in scheme.steps():
+        if step.parts():
+            x = step.unknowns().copy()
+            restore(step.parts(), x)
+            step.set_unknowns(x)
+    for name, f in scheme.history():
+        restore([UnknownsPart(name, f.function_space)], f.x.array)
 
 
-def restore_checkpoint(c, s, mesh, directory, report, grid, scene):
-    """Loads a checkpoint into the steps, the report, the grid and the solver counts."""
-    grid.t, grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
-    restore_unknowns(c, s, mesh, directory, scene)
-    for_each_checkpointed(report, lambda name, value: setattr(report, name, type(value)(c.numbers[name])))
-    for i, (_, system) in enumerate(s.systems()):
-        if system is not None:
-            earlier = SolverStatistics()
-            for name in solver_counts:
-                setattr(earlier, name, int(c.numbers[f"{i}.{name}"]))
-            system.add_earlier(earlier)
+# The systems in the order of the solver counts of older checkpoints, which
+# keyed them by position.
+POSITIONS = ("flow", "mechanics", "monolithic", "flow_second_pass")
 
 
-def solver_summaries(steps, inexact_coupling):
+def stored_count(c, system, count):
+    """The stored count `count` of system `system`: by name, or by the
+    system's position in the layout before names."""
+    by_name = c.numbers.get(f"{system}.{count}")
+    return by_name if by_name is not None else c.numbers[f"{POSITIONS.index(system)}.{count}"]
+
+
+def restore_checkpoint(c, scheme, mesh, directory, run):
+    """Loads a checkpoint into the steps, the report, the controllers' state,
+    the grid and the solver counts."""
+    run.grid.t, run.grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
+    restore_unknowns(c, scheme, mesh, directory)
+    for_each_checkpointed(run.report, run.state, lambda holder, name: setattr(
+        holder, name, type(getattr(holder, name))(c.numbers[name])))
+    for step in scheme.steps():
+        earlier = SolverStatistics()
+        for name in solver_counts:
+            setattr(earlier, name, int(stored_count(c, step.name(), name)))
+        step.system.add_earlier(earlier)
+
+
+def solver_summaries(scheme, inexact_coupling):
     """Per system: what solved it, how often it was set up (factorised) and
     solved, and where its time went; the solvers' and timings' tables."""
     solvers, timings = {}, {}
-    for name, system in steps.systems():
-        if system is None:
-            continue
+    for step in scheme.steps():
+        name, system = step.name(), step.system
         st = system.statistics()
         direct = system.method == Method.direct
         j = {"solver": system.method.name, "chosen_by": system.method_reason, "method": system.description(), "unknowns": system.unknowns(),
              "solves": st.solves, "factorizations": st.setups if direct else 0,
              "preconditioner_setups": st.setups,
-             "inexact_coupling": not direct and not steps.monolithic and inexact_coupling,
+             "inexact_coupling": not direct and inexact_coupling,
              "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
         if system.has_contact():
             j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
@@ -351,9 +252,11 @@ def solver_summaries(steps, inexact_coupling):
     return solvers, timings
 
 
-def statistics(steps):
+def statistics(scheme):
     """The statistics of each system (zero for a system the scene has not)."""
-    return {name: system.statistics() if system else SolverStatistics() for name, system in steps.systems()}
+    result = {name: SolverStatistics() for name in POSITIONS}
+    result.update({step.name(): step.system.statistics() for step in scheme.steps()})
+    return result
 
 
 class Simulation:
@@ -369,8 +272,8 @@ class Simulation:
         self.progress = Progress(comm, scene.progress_interval)
         self.domain = self.F = self.parameters = None
         self.left_out, self.warnings = "", ""
-        self.steps = self.resumed = self.lock = self.output = self.fields = self.grid = None
-        self.report = CouplingReport()
+        self.problem = self.scheme = self.resumed = self.lock = self.output = self.fields = self.grid = None
+        self.report, self.state = CouplingReport(), ControllerState()
         self.completed_steps = 0     # mechanics steps (windows) written
         self.completed_time = 0.0
         self.saved = 0               # the step of the last checkpoint
@@ -382,16 +285,10 @@ class Simulation:
     def run(self):
         """The story of a run; the files are closed and the directory's lock
         released however it ends."""
-        scene = self.scene
         try:
             self.make_domain()
             self.describe()
-            self.steps = (monolithic_steps(scene, self.domain, self.F)
-                          if scene.coupling and scene.coupling.scheme == "monolithic"
-                          else split_steps(scene, self.domain, self.F, self.materials))
-            if scene.adaptive:
-                self.steps.step_control = StepControl(scene, self.steps.p.function_space if self.steps.p else None,
-                                                      self.steps.V, self.comm)
+            self.scheme = Scheme(self.problem)
             try:
                 self.open_output()
                 self.start_or_restore()
@@ -413,6 +310,7 @@ class Simulation:
         self.parameters = derive_parameters(self.scene)
         self.parameters.gamma = self.materials.gamma  # the largest of any cell
         set_constants(self.F, self.scene, self.parameters)
+        self.problem = Problem(self.scene, self.domain, self.F, self.materials, self.parameters)
 
     def describe(self):
         """Says what the scene leaves out, and warns where the method is known
@@ -466,11 +364,10 @@ class Simulation:
             # Loaded before the files are opened: a checkpoint that does not
             # match is refused with the files as they were.
             self.resumed = read_checkpoint(self.comm, self.directory, self.fingerprint)
-            restore_checkpoint(self.resumed, self.steps, self.domain.mesh, self.directory, self.report, self.grid,
-                               self.scene)
+            restore_checkpoint(self.resumed, self.scheme, self.domain.mesh, self.directory, self.coupling_run())
         self.output = Output(self.comm, self.directory, self.domain.mesh, self.scene.write_xdmf,
                              self.resumed.output if self.resumed else None)
-        self.fields = OutputFields(self.F, self.steps, self.output)
+        self.fields = OutputFields(self.F, self.scheme, self.output)
 
     def close_output(self):
         """The files closed and the directory's lock released."""
@@ -481,7 +378,7 @@ class Simulation:
 
     def start_or_restore(self):
         """The initial state, written at t = 0, or the state of the checkpoint."""
-        s = self.steps
+        s = self.scheme
         if self.resumed:
             self.saved = self.completed_steps = self.resumed.steps
             self.completed_time = self.resumed.time
@@ -491,15 +388,15 @@ class Simulation:
                               f"t = {self.completed_time:f}")
             return
         if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
-            equilibrate(self.scene, self.domain, self.F, s.mechanics, s.monolithic)
-        if s.p is not None:
-            self.fields.write_flow(0.0)
+            for step in s.steps():
+                step.equilibrate()
+        self.fields.write_flow(0.0)
         if s.u is not None:
             self.fields.write_mechanics(0.0)
         if s.contact_boundary is not None:
             self.output.write(s.contact_boundary, 0.0)  # once: every later time repeats it
         if s.step_control:
-            s.step_control.start(s.p.x.array if s.p else None, s.u.x.array if s.u else None, self.report)
+            s.step_control.start(s.p.x.array if s.p else None, s.u.x.array if s.u else None, self.state)
 
     def stop(self):
         """After each completed (and written) step: a checkpoint every
@@ -507,8 +404,8 @@ class Simulation:
         def save():
             self.checkpointing = True
             write_checkpoint(self.comm, self.directory, self.fingerprint,
-                             capture_checkpoint(self.completed_steps, self.completed_time, self.steps, self.domain.mesh,
-                                                self.report, self.output.position(), self.grid, self.scene))
+                             capture_checkpoint(self.completed_steps, self.completed_time, self.scheme,
+                                                self.domain.mesh, self.coupling_run(), self.output.position()))
             self.checkpointing = False
             self.saved = self.completed_steps
         every = self.scene.checkpoint_every
@@ -527,10 +424,10 @@ class Simulation:
                 self.fields.write_flow(t)
 
         def mechanics_state(t, step, iterations):
-            if self.steps.u is not None and self.scene.is_output_time(t):
+            if self.scheme.u is not None and self.scene.is_output_time(t):
                 self.fields.write_mechanics(t)
-            elif self.steps.u is not None:
-                self.fields.contact = self.steps.compute_contact()
+            elif self.scheme.u is not None:
+                self.fields.contact = self.scheme.compute_contact()
             self.completed_steps, self.completed_time = step, t
             self.progress.step(step, self.planned_steps(), t, iterations,
                                self.fields.contact.active_nodes)
@@ -546,39 +443,35 @@ class Simulation:
         prints its Newton steps as it goes, like the coupling iterations of
         the split: the contact solver calls on_newton_step(iteration) after
         each Newton step."""
-        for name, system in self.steps.systems():
-            if system is not None and system.has_contact():
-                system.contact.on_newton_step = lambda iteration, name=name: self.progress.heartbeat(
+        for step in self.scheme.steps():
+            if step.system.has_contact():
+                step.system.contact.on_newton_step = lambda iteration, name=step.name(): self.progress.heartbeat(
                     f"step {self.completed_steps + 1}: {name} contact Newton step {iteration}")
 
+    def coupling_run(self, observer=None):
+        """The run the scheme drives, and a checkpoint keeps (grid, report, state)."""
+        return CouplingRun(self.grid, self.scheme.step_control, observer, self.report, self.state)
+
     def time_loop(self):
-        """The steps from t = 0 (or the checkpoint) to the end: the
-        fixed-stress split, or one solve per step. A failure ends the loop
-        with what was finished written; it names the step it was computing."""
-        s, scene, parameters = self.steps, self.scene, self.parameters
-        observer = self.observer()
+        """The steps from t = 0 (or the checkpoint) to the end, driven by the
+        scheme. A failure ends the loop with what was finished written; it
+        names the step it was computing."""
+        run = self.coupling_run(self.observer())
         self.report_newton_steps()
         self.progress.start_loop(self.completed_steps, self.planned_steps())
         try:
-            if scene.coupling and not s.monolithic:
-                contraction = ContractionNorm(self.F, parameters.q, self.comm)
-                run_fixed_stress(scene, parameters, self.materials, self.F, s.flow, s.second_pass, s.mechanics,
-                                 contraction, observer, self.report, self.comm, self.grid,
-                                 s.step_control)
-            else:
-                run_single_solve(scene, self.F, s.flow, s.mechanics, s.monolithic, observer, self.report,
-                                 self.grid, s.step_control)
+            self.scheme.run(run)
         except CouplingError as e:
             self.failure = str(e)  # names its step and the last increments
         except SolverError as e:
             self.failure = f"{self.step_being_computed()}: {e}"
             self.report.windows = self.completed_steps
-        self.fields.contact = s.compute_contact()
+        self.fields.contact = self.scheme.compute_contact()
 
     def planned_steps(self):
         """The mechanics steps (windows) of the run, for the progress: with
         coupling.q = "auto" those done and the rest at the last window's q."""
-        q = self.report.window_q or self.parameters.q
+        q = self.state.window_q or self.parameters.q
         return self.report.windows + (self.grid.steps() - self.report.fine_steps + q - 1) // q
 
     def step_being_computed(self):
@@ -603,7 +496,7 @@ class Simulation:
         its end (when the disk is full, as far as it can be written)."""
         if self.output is None:
             return
-        scene, s, parameters, report, d = self.scene, self.steps, self.parameters, self.report, self.domain.dim
+        scene, s, parameters, report, d = self.scene, self.scheme, self.parameters, self.report, self.domain.dim
         dofs = {}
         if s.u is not None:
             dofs["displacement"] = global_size(s.V)
@@ -611,13 +504,14 @@ class Simulation:
             dofs["pressure"] = global_size(s.p.function_space)
             dofs["flux"] = self.domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
         st = statistics(s)
-        solvers, timings = solver_summaries(s, scene.solver.inexact_coupling)
+        c = scene.coupling
+        monolithic = c is not None and c.scheme == "monolithic"
+        solvers, timings = solver_summaries(s, not monolithic and scene.solver.inexact_coupling)
         timings["assembly"] = s.assembly_time() + sum(x.assembly_time for x in st.values())
         timings["output"] = self.output.time
-        c = scene.coupling
         summary = {
             "scene": scene.name,
-            "scheme": c.scheme if c else ("flow-only" if s.flow else "mechanics-only"),
+            "scheme": c.scheme if c else ("flow-only" if s.p is not None else "mechanics-only"),
             "q": parameters.q,
             "L_choice": c.L_choice if c else "none",
             "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == "anderson" else "none",

@@ -1,8 +1,8 @@
 """What every coupling scheme (the fixed-stress split, the single solve per
 step) reports and whom it tells: the report of summary.json and
-checkpoints, and the observer that writes, prints and stops
-(cpp/coupling/coupling.h)."""
-from dataclasses import dataclass
+checkpoints, the controllers' state, and the observer that writes, prints
+and stops (cpp/coupling/coupling.h)."""
+from dataclasses import dataclass, fields
 from typing import Callable, Optional
 
 
@@ -10,38 +10,51 @@ class CouplingError(Exception):
     """The split did not converge within coupling.max_iterations."""
 
 
+@dataclass
 class CouplingReport:
     """What a run's coupling did, step by step: the counts and contraction
-    measures of summary.json (paper Theorems 1 and 2)."""
+    measures of summary.json (paper Theorems 1 and 2). Written by the
+    schemes, read by the summary; the schemes decide nothing from it but
+    where the run stands (windows, fine_steps)."""
+    windows: int = 0                   # mechanics (coarse) steps
+    fine_steps: int = 0                # flow (fine) steps: windows times q, or their sum with q = "auto"
+    coupling_iterations: int = 0
+    max_iterations_per_step: int = 0
+    max_contraction_ratio: float = 0.0
+    mean_contraction_ratio: float = 0.0
+    ratios: int = 0                    # ratios held against gamma (resolved)
+    bound_violations: int = 0          # resolved ratios above gamma
+    unresolved_ratios: int = 0         # ratios at round-off level, logged only
+    max_coupled_residual: float = 0.0  # relative, of each converged state
+    retries: int = 0                   # failed steps retried with halved steps (time.retry)
+    rejected_steps: int = 0            # time.adaptive: steps tried again, shorter, for their error estimate
+    forced_steps: int = 0              # ... accepted at dt_min above the tolerance
+    max_error_estimate: float = 0.0    # ... the largest of an accepted step (1: the tolerance)
+    contact_breaks: int = 0            # ... steps accepted unestimated: the active contact set changed in them
+    max_window_q: int = 0              # coupling.q = "auto": the largest q taken
+    q_rejections: int = 0              # ... windows tried again with q = 1: the contact set changed in them
 
-    def __init__(self):
-        self.windows = 0                   # mechanics (coarse) steps
-        self.fine_steps = 0                # flow (fine) steps: windows times q, or their sum with q = "auto"
-        self.coupling_iterations = 0
-        self.max_iterations_per_step = 0
-        self.max_contraction_ratio = self.mean_contraction_ratio = 0.0
-        self.ratios = 0                    # ratios held against gamma (resolved)
-        self.bound_violations = 0          # resolved ratios above gamma
-        self.unresolved_ratios = 0         # ratios at round-off level, logged only
-        self.max_coupled_residual = 0.0    # relative, of each converged state
-        self.retries = 0                   # failed steps retried with halved steps (time.retry)
-        self.rejected_steps = 0            # time.adaptive: steps tried again, shorter, for their error estimate
-        self.forced_steps = 0              # ... accepted at dt_min above the tolerance
-        self.max_error_estimate = 0.0      # ... the largest of an accepted step (1: the tolerance)
-        self.contact_breaks = 0            # ... steps accepted unestimated: the active contact set changed in them
-        # Carried from window to window (and through a checkpoint): the sum
-        # of the resolved ratios and the scales of the stopping test.
-        self.ratio_sum = self.p_size = self.u_size = 0.0
-        # time.adaptive: the last accepted step's error estimate (the PI
-        # controller's memory) and the largest norms of pressure and displacement.
-        self.error_estimate = self.p_largest = self.u_largest = 0.0
-        self.smooth_states = 0  # accepted states since t = 0 or the last contact break: the predictor's reach
-        # coupling.q = "auto" (window_control.py): the last window's q, the
-        # largest q the next may take (1 after a change of the contact set,
-        # then doubling), the largest q taken and the windows tried again
-        # with q = 1 because the contact set changed in them.
-        self.window_q, self.q_limit, self.max_window_q = 0, 1, 0
-        self.q_rejections = 0
+
+@dataclass
+class ControllerState:
+    """The memory the schemes' controllers carry from window to window (and
+    through a checkpoint): not reported, read back to decide."""
+    # The sum of the resolved contraction ratios (their mean at the end) and
+    # the scales of the stopping test: the largest p and u so far.
+    ratio_sum: float = 0.0
+    p_size: float = 0.0
+    u_size: float = 0.0
+    # time.adaptive: the last accepted step's error estimate (the PI
+    # controller's memory) and the largest norms of pressure and displacement.
+    error_estimate: float = 0.0
+    p_largest: float = 0.0
+    u_largest: float = 0.0
+    smooth_states: int = 0  # accepted states since t = 0 or the last contact break: the predictor's reach
+    # coupling.q = "auto" (window_control.py): the last window's q and the
+    # largest q the next may take (1 after a change of the contact set, then
+    # doubling).
+    window_q: int = 0
+    q_limit: int = 1
 
 
 @dataclass
@@ -78,7 +91,21 @@ class WindowObserver:
     record: Optional[Callable[[IterationRecord], None]] = None
 
 
-# The fields of the report that a checkpoint keeps, in the order of the C++.
+@dataclass
+class CouplingRun:
+    """The run a scheme drives: the time grid it steps on (time.retry and
+    time.adaptive rewrite it), time.adaptive's control (None without), the
+    observer it tells, the report it fills and the controllers' state. Grid,
+    report and state are what a checkpoint keeps of it."""
+    grid: object  # TimeGrid
+    control: object  # StepControl (coupling/step_control.py), or None
+    observer: WindowObserver
+    report: CouplingReport
+    state: ControllerState
+
+
+# The fields of the report and of the controllers' state that a checkpoint
+# keeps, in the order of the C++.
 CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
                 "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate", "p_largest",
@@ -86,8 +113,11 @@ CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "ma
                 "q_rejections")
 
 
-def for_each_checkpointed(report, f):
-    """Calls f(name, value) for each field of the report that a checkpoint
-    keeps: the one list that checkpoints and restarts read."""
+def for_each_checkpointed(report, state, f):
+    """Calls f(holder, name) for each field of the report and the
+    controllers' state that a checkpoint keeps, `holder` the one of the two
+    that has it: the one list that checkpoints and restarts read (C++ hands
+    f the field itself; f reads or sets getattr(holder, name) here)."""
+    controller = {field.name for field in fields(ControllerState)}
     for name in CHECKPOINTED:
-        f(name, getattr(report, name))
+        f(state if name in controller else report, name)

@@ -6,6 +6,8 @@ cpp/coupling/fixed_stress.{h,cpp}.
 """
 import enum
 import math
+from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -13,11 +15,15 @@ from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
 from ..contact.contact import ActiveSet, same_active_set
 from .coupling import CouplingError, IterationRecord
+from ..diagnostics.diagnostics import ContractionNorm
 from .window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
+from ..steps.flow_step import FlowStep
+from ..steps.mechanics_step import MechanicsStep
 from ..steps.time_grid import retry_step
 from ..steps.time_scheme import TimeDerivative, history_value, time_derivative
+from .step_control import StepSolution
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see hold_against_gamma).
@@ -32,17 +38,17 @@ def inexact_tolerance(previous_increment):
     return min(max(1e-2 * previous_increment, ITERATIVE_TOLERANCE), 1e-4)
 
 
-def relative(increment, size):
+def _relative(increment, size):
     """increment / size, or the increment itself while size = 0."""
     return increment / size if size > 0 else increment
 
 
-def contact_changes(mechanics):
+def _contact_changes(mechanics):
     """Changes of the contact active set so far (0 without contact)."""
     return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
 
 
-def second_pass_correction(second, p_K, u_new, t, history, p_new, w_new):
+def _second_pass_correction(second, p_K, u_new, t, history, p_new, w_new):
     """The second pass of "multirate-two-pass" (cpp/coupling/fixed_stress.cpp): the
     fine steps again without L, from p_K and with u^{n+1},
       (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
@@ -64,7 +70,7 @@ def second_pass_correction(second, p_K, u_new, t, history, p_new, w_new):
         w_new[m] = w_B[m] + (m / q) * w_end
 
 
-class Window:
+class _Window:
     """One window's iterates: p^{n,m} and p^{n+1,m} (m = 0..q; m = 0 is p_K),
     u^n and u^{n+1}, the mixed states (z, p)^{n+1,m}, and what the
     contraction measure and the error message carry from one iteration to
@@ -88,7 +94,7 @@ class Window:
         self.log = []                 # the last iterations, for the error message
 
 
-class Increments:
+class _Increments:
     """What one coupling iteration measured on its increments."""
 
     def __init__(self):
@@ -100,27 +106,28 @@ class Increments:
         self.dp2 = self.p2 = 0.0
 
 
-class Outcome(enum.Enum):
+class _Outcome(enum.Enum):
     converged = 1
     not_converged = 2
     retried = 3
 
 
-class FixedStressSplit:
+class _FixedStressSplit:
     """The fixed-stress split as a sequence of windows, each iterated to
     convergence in the stages of paper section 4: flow pass (eq. 4.17-4.19),
     mechanics pass (eq. 4.20-4.22), contraction measure (Theorems 1 and 2),
     stopping test, next iterate, and accept or retry."""
 
-    def __init__(self, scene, parameters, materials, F, flow, second_pass, mechanics, contraction, observer,
-                 report, comm, grid, control):
-        self.scene, self.coupling, self.parameters, self.F = scene, scene.coupling, parameters, F
-        self.stabilised = materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
-        self.flow, self.second_pass, self.mechanics = flow, second_pass, mechanics
-        self.contraction, self.observer = contraction, observer
-        self.report, self.comm, self.grid = report, comm, grid
-        self.control = control  # time.adaptive (q = 1), or None
-        self.V, self.Q = mechanics.V, flow.Q
+    def __init__(self, problem, steps, run):
+        self.scene, self.coupling, self.parameters = problem.scene, problem.scene.coupling, problem.parameters
+        self.stabilised = problem.materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
+        self.flow, self.second_pass, self.mechanics = steps.flow, steps.second_pass, steps.mechanics
+        self.comm = problem.domain.mesh.comm
+        self.contraction = ContractionNorm(problem.forms, problem.parameters.q, self.comm)
+        self.coupling_run, self.observer, self.report, self.state = run, run.observer, run.report, run.state
+        self.grid = run.grid
+        self.control = run.control  # time.adaptive (q = 1), or None
+        self.V, self.Q = steps.mechanics.V, steps.flow.Q
         self.accelerated = self.coupling.acceleration == "anderson"
         self.p_K = self.u_K = None  # the converged state at t_K
         # For BDF2: the pressure one fine step and the displacement one window
@@ -148,11 +155,11 @@ class FixedStressSplit:
         self.p_before = self.flow.p_before.x.array.copy()  # restored by a restart
         self.u_before = self.flow.u_before.x.array.copy()
         self.u_path_before = self.flow.u_path_before.x.array.copy()
-        self.j_before = self.report.fine_steps - self.report.window_q
+        self.j_before = self.report.fine_steps - self.state.window_q
         self.active_K = self.mechanics.active_contact_set()
         if self.report.windows == 0:
-            self.report.p_size = owned_norm(self.p_K, self.Q, self.comm)
-            self.report.u_size = owned_norm(self.u_K, self.V, self.comm)
+            self.state.p_size = owned_norm(self.p_K, self.Q, self.comm)
+            self.state.u_size = owned_norm(self.u_K, self.V, self.comm)
 
     def window_steps(self, j):
         """The fine steps of the window that starts at fine step j:
@@ -163,16 +170,16 @@ class FixedStressSplit:
             return self.coupling.q
         rate = 0.0
         if self.report.windows > 0:
-            rate = (relative(owned_norm(self.u_K - self.u_before, self.V, self.comm), self.report.u_size)
+            rate = (_relative(owned_norm(self.u_K - self.u_before, self.V, self.comm), self.state.u_size)
                     / (self.grid.t[j] - self.grid.t[self.j_before]))
-        return window_steps(self.grid, j, self.report.q_limit, rate, self.coupling.q_tolerance, self.scene.stops())
+        return window_steps(self.grid, j, self.state.q_limit, rate, self.coupling.q_tolerance, self.scene.stops())
 
     def begin_window(self, K, j, q):
         """The first iterate of window K (fine steps j + 1, ..., j + q):
         p^{0,m} = p_K for all m, u^0 = u_K; with coupling.acceleration =
         "anderson" the Anderson state (p^1, ..., p^q, u), weighted by the
         scales of the stopping test (anderson.py)."""
-        report = self.report
+        state = self.state
         derivative = self.window_derivative(j, q)
         dt = derivative.effective_step(self.grid.dt[j])
         for flow in (self.flow, self.second_pass):
@@ -183,19 +190,19 @@ class FixedStressSplit:
                 elif q_changed:
                     flow.window_steps_changed()
         self.contraction.set_window_steps(q)
-        w = Window(K, j, q, self.flow.unknowns().copy(), self.p_K, self.u_K)
+        w = _Window(K, j, q, self.flow.unknowns().copy(), self.p_K, self.u_K)
         w.derivative = derivative
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K
-        w.active_set_changes = contact_changes(self.mechanics)
+        w.active_set_changes = _contact_changes(self.mechanics)
         if self.accelerated:
             # p_size is a fine step's: the window's q pressures weigh as one field.
-            p_size = math.sqrt(q) * report.p_size
+            p_size = math.sqrt(q) * state.p_size
             w.anderson = AndersonAcceleration(self.comm, self.coupling.depth,
                                               [owned(self.Q)] * q + [owned(self.V)],
                                               [1 / p_size if p_size > 0 else 1.0] * q
-                                              + [1 / report.u_size if report.u_size > 0 else 1.0])
+                                              + [1 / state.u_size if state.u_size > 0 else 1.0])
         return w
 
     def window_derivative(self, j, q):
@@ -274,7 +281,7 @@ class FixedStressSplit:
         self.mechanics.solve(self.t(w, w.q))
         w.u_new = self.mechanics.u.x.array.copy()
         if self.second_pass and w.q > 1:
-            second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w, m),
+            _second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w, m),
                                    lambda m, p_B: self.set_time_history(self.second_pass, w, m, p_B, w.u_new),
                                    w.p_new, w.w_new)
 
@@ -286,7 +293,7 @@ class FixedStressSplit:
           delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
         (summed over m in l2) for the multirate ones."""
         q, contraction = w.q, self.contraction
-        inc = Increments()
+        inc = _Increments()
         inc.du = w.u_new - w.u_old
         dp_previous = np.zeros_like(self.p_K)
         for m in range(1, q + 1):
@@ -332,7 +339,7 @@ class FixedStressSplit:
             report.unresolved_ratios += 1
         if resolved and math.isfinite(ratio):
             report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
-            report.ratio_sum += ratio
+            self.state.ratio_sum += ratio
             report.ratios += 1
             report.bound_violations += int(ratio > parameters.gamma)
         w.dsigma_previous = inc.dsigma
@@ -344,12 +351,12 @@ class FixedStressSplit:
         (relative to the current iterate alone, a field decaying to zero, e.g.
         p at steady state, would be judged by its round-off). Never on a
         stale state."""
-        report = self.report
-        report.p_size = max(report.p_size, math.sqrt(inc.p2 / w.q))
-        report.u_size = max(report.u_size, owned_norm(w.u_new, self.V, self.comm))
-        dp_norm = relative(math.sqrt(inc.dp2 / w.q), report.p_size)
-        du_norm = relative(owned_norm(inc.du, self.V, self.comm), report.u_size)
-        if not math.isfinite(inc.p2) or not math.isfinite(report.u_size):
+        state = self.state
+        state.p_size = max(state.p_size, math.sqrt(inc.p2 / w.q))
+        state.u_size = max(state.u_size, owned_norm(w.u_new, self.V, self.comm))
+        dp_norm = _relative(math.sqrt(inc.dp2 / w.q), state.p_size)
+        du_norm = _relative(owned_norm(inc.du, self.V, self.comm), state.u_size)
+        if not math.isfinite(inc.p2) or not math.isfinite(state.u_size):
             # The iterates hold NaN or inf (a load or coefficient that is not
             # finite): no further iteration can recover.
             raise SolverError("non-finite values (NaN or inf) in the "
@@ -369,7 +376,7 @@ class FixedStressSplit:
             w.p_old = list(w.p_new)
             w.u_old = w.u_new
             return
-        changes = contact_changes(self.mechanics)
+        changes = _contact_changes(self.mechanics)
         if changes != w.active_set_changes:
             w.anderson.restart()
             w.active_set_changes = changes
@@ -424,14 +431,14 @@ class FixedStressSplit:
         try:
             for n in range(self.coupling.max_iterations):
                 if self.iteration(w, n):
-                    return Outcome.converged, n
+                    return _Outcome.converged, n
         except SolverError as e:
             # The failing solve named its system; the iteration is known here.
             cause = f"coupling iteration {n + 1}: {e}"
             if not self.retry(w, cause):
                 raise SolverError(cause) from None
-            return Outcome.retried, n
-        return Outcome.not_converged, n
+            return _Outcome.retried, n
+        return _Outcome.not_converged, n
 
     def go_back(self, w, message):
         """Back to the start of window w, to be computed again (`message`
@@ -457,9 +464,9 @@ class FixedStressSplit:
         its start, to be computed again on the shorter steps the control planned."""
         if self.control is None:
             return True
-        message = self.control.judge(self.grid, w.j + w.q, w.p_new[w.q], w.u_new, not w.contact_changed,
-                                     self.report)
-        if message is None:
+        accepted, message = self.control.judge(
+            StepSolution(w.j + w.q, w.p_new[w.q], w.u_new, not w.contact_changed), self.coupling_run)
+        if accepted:
             return True
         self.go_back(w, message)
         return False
@@ -472,7 +479,7 @@ class FixedStressSplit:
         if not self.coupling.q_auto or w.q == 1 or not w.contact_changed:
             return True
         self.report.q_rejections += 1
-        self.report.q_limit = 1
+        self.state.q_limit = 1
         self.go_back(w, f"step {w.K + 1}: the contact active set changed ({self.active_K.nodes} -> "
                         f"{w.active.nodes} nodes) in a window of q = {w.q}; again with q = 1")
         return False
@@ -492,9 +499,9 @@ class FixedStressSplit:
         for m in range(1, w.q + 1):
             self.flow.set_unknowns(w.w_new[m])
             self.observer.flow_state(self.t(w, m))
-        report.q_limit = window_limit(w.q, self.coupling.q_max, w.contact_changed)
+        self.state.q_limit = window_limit(w.q, self.coupling.q_max, w.contact_changed)
         self.active_K = w.active
-        report.windows, report.fine_steps, report.window_q = w.K + 1, w.j + w.q, w.q
+        report.windows, report.fine_steps, self.state.window_q = w.K + 1, w.j + w.q, w.q
         report.max_window_q = max(report.max_window_q, w.q)
         self.observer.mechanics_state(self.t(w, w.q), w.K + 1, n + 1)
         self.p_before = w.p_new[w.q - 1]  # p_K itself for q = 1
@@ -513,31 +520,38 @@ class FixedStressSplit:
         while j < self.grid.steps():
             w = self.begin_window(K, j, self.window_steps(j))
             outcome, n = self.iterate_window(w)
-            if outcome != Outcome.retried:
+            if outcome != _Outcome.retried:
                 iterations = min(n + 1, max_iterations)
                 report.coupling_iterations += iterations
                 report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
-            if outcome == Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
-                report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
+            if outcome == _Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
+                report.mean_contraction_ratio = self.state.ratio_sum / report.ratios if report.ratios else 0.0
                 raise self.not_converged(w)
-            if outcome != Outcome.converged or not self.error_accepted(w) or not self.contact_accepted(w):
+            if outcome != _Outcome.converged or not self.error_accepted(w) or not self.contact_accepted(w):
                 continue  # the same window again, on the shorter steps or with q = 1
             self.accept_window(w, n)
             K, j = K + 1, w.j + w.q
             if self.observer.stop and self.observer.stop():
                 break
-        report.mean_contraction_ratio = report.ratio_sum / report.ratios if report.ratios else 0.0
+        report.mean_contraction_ratio = self.state.ratio_sum / report.ratios if report.ratios else 0.0
 
 
-def run_fixed_stress(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, observer,
-                     report, comm, grid, control):
-    """Runs the coupled scene from t = 0 (or, when report.windows > 0, from
-    the end of that window: a restart with the state loaded) to its end time
-    on the steps of `grid` (which a retry refines), filling `report` as it
-    goes and telling `observer` (coupling.py). Raises CouplingError (after
-    logging every iteration) when a window does not converge; `report` then
-    describes the run up to that window. `second_pass` is the flow step
-    without L of "multirate-two-pass" (None for the other schemes).
-    `control` is time.adaptive's step control (None without)."""
-    FixedStressSplit(scene, parameters, materials, F, flow, second_pass, mechanics, contraction, observer,
-                     report, comm, grid, control).run()
+@dataclass
+class SplitSteps:
+    """The steps the split drives: the flow step and the mechanics step, and
+    for "multirate-two-pass" the flow step without L of its second pass
+    (None for the other schemes)."""
+    flow: FlowStep
+    second_pass: Optional[FlowStep]
+    mechanics: MechanicsStep
+
+
+def run_fixed_stress(problem, steps, run):
+    """Runs the coupled scene from t = 0 (or, when run.report.windows > 0,
+    from the end of that window: a restart with the state loaded) to its end
+    time on the steps of run.grid (which a retry refines), filling
+    run.report as it goes and telling run.observer (a CouplingRun,
+    coupling.py). Raises CouplingError (after logging every iteration) when
+    a window does not converge; the report then describes the run up to that
+    window."""
+    _FixedStressSplit(problem, steps, run).run()

@@ -1,5 +1,6 @@
 """The flow step: one backward-Euler step of the mixed Darcy system with the
 fixed-stress term (cpp/steps/flow_step.cpp)."""
+import enum
 import time
 
 from dolfinx import fem
@@ -10,23 +11,34 @@ from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
                                        owned_global_dofs, reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure
+from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import flux_bc, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
+from .time_scheme import history_value
 
 
-class FlowStep:
+class FlowPass(enum.Enum):
+    """The flow step's place in a scheme: the flow of every scheme, or the
+    second pass of "multirate-two-pass" (L = 0 in its problem's materials:
+    no stabilisation term; its time history is set by the split)."""
+    first = 1
+    second = 2
+
+
+class FlowStep(Step):
     """Mixed RT0 x P0, backward Euler, with the coupling right-hand side
     (alg. "Multirate ... (a)"; q = 1 is the single-rate step) from the
     coupling data p_previous (p^{n+1,m-1}), p_iterate (p^{n,m}),
     p_iterate_previous (p^{n,m-1}), u_iterate (u^n), u_window (u_K), applied
     as operators (forms/biot.py) assembled once per dt."""
 
-    def __init__(self, scene, domain, F, materials, coupled):
-        """With L = 0 in F and `materials` (the second pass of
-        "multirate-two-pass") the step has no stabilisation term."""
-        self.scene, self.F = scene, F
+    def __init__(self, problem, V, flow_pass=FlowPass.first):
+        """`V` is the displacement space of a coupled scene, None otherwise."""
+        scene, domain, F, materials = problem.scene, problem.domain, problem.forms, problem.materials
+        self.scene, self.F, self.flow_pass = scene, F, flow_pass
         flow, comm = scene.flow, domain.mesh.comm
+        coupled = V is not None
         W = F["W"]
         self.Z, self.Z_to_W = W.sub(0).collapse()
         self.Q = F["Q"]
@@ -37,15 +49,14 @@ class FlowStep:
         self.pressure = fem.Function(self.Q)  # also the pressure load of the mechanics
         self.p_previous, self.p_iterate, self.p_iterate_previous, self.dp = \
             (fem.Function(self.Q) for _ in range(4))
-        self.u_iterate, self.u_window, self.du = (fem.Function(F["V"]) for _ in range(3)) if coupled \
+        self.u_iterate, self.u_window, self.du = (fem.Function(V) for _ in range(3)) if coupled \
             else (None, None, None)
         # The accumulation's memory for time.scheme = "bdf2" (time_scheme.py):
         # the pressure one fine step and the displacement one window before
         # the window's start, and the multirate displacement path's value one
         # fine step before it (u_* None without mechanics); checkpointed.
         self.p_before = fem.Function(self.Q)
-        self.u_before, self.u_path_before = (fem.Function(F["V"]), fem.Function(F["V"])) if coupled \
-            else (None, None)
+        self.u_before, self.u_path_before = (fem.Function(V), fem.Function(V)) if coupled else (None, None)
         interpolate(self.pressure, [flow.initial_pressure], 0.0)
 
         # The normal flux (essential for RT) wherever no pressure is given:
@@ -130,12 +141,48 @@ class FlowStep:
         self.w.x.scatter_forward()
         self.set_unknowns(self.w.x.array)
 
+    def advance(self, t, d):
+        """One solve per step: the pressure history of `d` from the last
+        step's pressure and p_before, then solve(t)."""
+        self.p_previous.x.array[:] = history_value(d, self.pressure.x.array, self.p_before.x.array)
+        self.solve(t)
+
+    def name(self):
+        return "flow" if self.flow_pass == FlowPass.first else "flow_second_pass"
+
+    def state(self):
+        return StepState(self.unknowns().copy(), self.pressure.x.array.copy())
+
+    def keep_history(self, start):
+        """p_before takes the accepted step's start pressure."""
+        self.p_before.x.array[:] = start.p
+
+    def history(self):
+        """BDF2: p_before, u_before, u_path_before (u_before with coupling.q =
+        "auto" too: the last window's change of u); none for the second pass."""
+        if self.flow_pass == FlowPass.second:
+            return []
+        c = self.scene.coupling
+        bdf2, q_auto = self.scene.time_scheme == "bdf2", c is not None and c.q_auto
+        h = [("pressure_before", self.p_before)] if bdf2 else []
+        if (bdf2 or q_auto) and self.u_before is not None:
+            h.append(("displacement_before", self.u_before))
+        if bdf2 and self.u_before is not None:
+            h.append(("displacement_path_before", self.u_path_before))
+        return h
+
+    def pressure_values(self):
+        return self.pressure.x.array
+
     def unknowns(self):
         """The mixed solution (z, p) of the last solve."""
         return self.w.x.array
 
     def parts(self):
-        """The fields within unknowns(), for a checkpoint."""
+        """The fields within unknowns(), for a checkpoint (none for the second
+        pass, which every window computes anew: a checkpoint keeps nothing of it)."""
+        if self.flow_pass == FlowPass.second:
+            return []
         return [UnknownsPart("flux", self.Z, self.Z_to_W), UnknownsPart("pressure", self.Q, self.Q_to_W)]
 
     def time_step_changed(self):

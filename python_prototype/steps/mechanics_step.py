@@ -5,23 +5,28 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields
+from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
 from ..assembly.loads import Loads
 from ..assembly.materials import add_body_force
 from ..domain.domain import pore_pressure_faces
-from ..assembly.linear_algebra import assemble_operator, finish_rhs, multiply_add, owned, rigid_body_modes
+from ..assembly.linear_algebra import (UnknownsPart, assemble_operator, finish_rhs, multiply_add, owned,
+                                       rigid_body_modes)
 from ..solvers.solver import Method, Structure
+from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, update
 
 
-class MechanicsStep:
+class MechanicsStep(Step):
     """a(u, v) - (alpha p, div v) = loads, with p the flow pressure (None
     without flow); a linear solve, or the contact VI."""
 
-    def __init__(self, scene, domain, F, pressure):
+    def __init__(self, problem, V, pressure):
+        """`V` is the P1 displacement space; `pressure` the pore pressure of a
+        coupled scene, None otherwise."""
+        scene, domain, F = problem.scene, problem.domain, problem.forms
         self.scene, comm = scene, domain.mesh.comm
-        self.V = V = F["V"]
+        self.V = V
         self.u = fem.Function(V)
         # Dirichlet conditions, one per prescribed component of each boundary.
         self.bcs, self.bc_values = displacement_bcs(scene, domain, V)
@@ -72,11 +77,44 @@ class MechanicsStep:
             multiply_add(self.pressure_load, self.pressure, self.b)
 
     def solve(self, t):
+        """Solves at time t with the current pressure; leaves the result in u."""
         start = time.perf_counter()
         self.assemble_rhs(t)
         self.assembly_time += time.perf_counter() - start
         self.system.solve(self.b.vector, self.u.vector)
         self.u.x.scatter_forward()
+
+    def name(self):
+        return "mechanics"
+
+    def advance(self, t, d):
+        """solve(t): the mechanics has no time derivative."""
+        self.solve(t)
+
+    def equilibrate(self):
+        """The solve at t = 0."""
+        self.solve(0.0)
+
+    def state(self):
+        return StepState(self.u.x.array.copy())
+
+    def unknowns(self):
+        return self.u.x.array
+
+    def set_unknowns(self, x):
+        self.u.x.array[:] = x
+
+    def parts(self):
+        return [UnknownsPart("displacement", self.V)]
+
+    def displacement_values(self):
+        return self.u.x.array
+
+    def same_contact_set(self, before):
+        return same_active_set(self.active_contact_set(), before, self.V.mesh.comm)
+
+    def has_contact(self):
+        return self.system.has_contact()
 
     def active_contact_set(self):
         """Only the contact active set of u, for the log of every iteration

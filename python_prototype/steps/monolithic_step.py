@@ -5,7 +5,7 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields
+from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import add_body_force
@@ -14,17 +14,20 @@ from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
 from ..solvers.solver import Structure
+from .mechanics_step import MechanicsStep
+from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 from .time_scheme import TimeDerivative, history_value
 
 
-class MonolithicStep:
+class MonolithicStep(Step):
     """(u, z, p) together on P1^d x RT0 x P0, one VI per step."""
 
-    def __init__(self, scene, domain, F):
-        self.scene, comm = scene, domain.mesh.comm
+    def __init__(self, problem):
+        scene, domain, F = problem.scene, problem.domain, problem.forms
+        self.problem, self.scene, comm = problem, scene, domain.mesh.comm
         X = F["X"]
         self.V, self.Q = F["V"], F["Q"]
         self.V_to_X, self.Q_to_X = dof_map(self.V, X.sub(0)), dof_map(self.Q, X.sub(2))
@@ -139,6 +142,46 @@ class MonolithicStep:
         self.x.x.scatter_forward()
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
+
+    def name(self):
+        return "monolithic"
+
+    def advance(self, t, d):
+        self.solve(t, d)
+
+    def equilibrate(self):
+        """The coupled system has no mechanics system of its own: one
+        mechanics step on its displacement space, loaded by its pressure,
+        solved once."""
+        step = MechanicsStep(self.problem, self.V, self.pressure)
+        step.solve(0.0)
+        self.set_displacement(step.u.x.array, 0.0)
+
+    def state(self):
+        return StepState(self.unknowns().copy(), self.pressure.x.array.copy(), self.u.x.array.copy())
+
+    def keep_history(self, start):
+        """p_before and u_before take the accepted step's start."""
+        self.p_before.x.array[:] = start.p
+        self.u_before.x.array[:] = start.u
+
+    def history(self):
+        """BDF2: p_before and u_before."""
+        if self.scene.time_scheme != "bdf2":
+            return []
+        return [("pressure_before", self.p_before), ("displacement_before", self.u_before)]
+
+    def pressure_values(self):
+        return self.pressure.x.array
+
+    def displacement_values(self):
+        return self.u.x.array
+
+    def same_contact_set(self, before):
+        return same_active_set(self.active_contact_set(), before, self.V.mesh.comm)
+
+    def has_contact(self):
+        return self.system.has_contact()
 
     def time_step_changed(self):
         """The matrix depends on dt: reassembled after set_time_step changed it."""

@@ -1,0 +1,100 @@
+"""The scheme of a run: the steps a scene needs (each scene allocates only
+the physics it has) and the loop that drives them, the fixed-stress split
+or one solve per step, chosen once from the scene (cpp/coupling/scheme.h)."""
+from ..assembly.forms import Forms
+from ..assembly.parameters import derive_parameters, set_constants
+from ..contact.contact import ContactState
+from ..steps.flow_step import FlowPass, FlowStep
+from ..steps.mechanics_step import MechanicsStep
+from ..steps.monolithic_step import MonolithicStep
+from .fixed_stress import SplitSteps, run_fixed_stress
+from .single_solve import run_single_solve
+from .step_control import StepControl
+
+
+class Scheme:
+    """The steps of a run and the scheme that drives them; the fields output
+    and diagnostics read, whichever step produced them.
+
+    The split ("single-rate", "multirate", "multirate-two-pass") has a flow
+    and a mechanics step (and the second pass's flow step); "monolithic" one
+    coupled step; a scene with one physics its one step."""
+
+    def __init__(self, problem):
+        self.V = None  # displacement space (None without mechanics)
+        self.u = self.p = self.contact_pressure = self.contact_active = self.contact_boundary = None
+        self.compute_flux = None
+        self.compute_contact = ContactState
+        self.step_control = None  # time.adaptive
+        self._steps = []
+        scene = problem.scene
+        if scene.coupling and scene.coupling.scheme == "monolithic":
+            self._make_monolithic(problem)
+        else:
+            self._make_split(problem)
+        if scene.adaptive:
+            self.step_control = StepControl(scene, self.p.function_space if self.p else None, self.V)
+
+    def run(self, run):
+        """Drives the steps from the end of run.report.windows to the end
+        time (a CouplingRun; fixed_stress.py or single_solve.py)."""
+        self._drive(run)
+
+    def steps(self):
+        """The steps, in the order of summary.json."""
+        return self._steps
+
+    def history(self):
+        """The time scheme's and time.adaptive's memory, by checkpoint name."""
+        h = [entry for step in self._steps for entry in step.history()]
+        return h + (self.step_control.history() if self.step_control else [])
+
+    def assembly_time(self):
+        """Assembly time of the steps' loads and matrices."""
+        return sum(step.assembly_time for step in self._steps)
+
+    def _make_monolithic(self, problem):
+        """u, z and p in one system."""
+        m = MonolithicStep(problem)
+        self._steps = [m]
+        self.V, self.u, self.p, self.compute_flux = m.V, m.u, m.pressure, m.flux
+        self._take_contact_fields(m)
+        self._drive = lambda run: run_single_solve(problem, m, run)
+
+    def _make_split(self, problem):
+        """The flow step and the mechanics step of the split, or the one a
+        single physics has; "multirate-two-pass" adds the flow step without L."""
+        scene, flow, second_pass, mechanics = problem.scene, None, None, None
+        if scene.mechanics:
+            self.V = problem.forms["V"]
+        if scene.flow:
+            flow = FlowStep(problem, self.V if scene.coupling else None)
+            self.p, self.compute_flux = flow.pressure, flow.flux
+            self._steps.append(flow)
+        if scene.mechanics:
+            mechanics = MechanicsStep(problem, self.V, self.p)
+            self.u = mechanics.u
+            self._take_contact_fields(mechanics)
+            self._steps.append(mechanics)
+        if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
+            # The second pass is the flow step without the stabilisation L:
+            # forms of its own, whose coefficient L is 0.
+            unstabilised = Forms(problem.domain.mesh)
+            set_constants(unstabilised, scene, derive_parameters(scene))
+            materials = problem.materials.without_stabilisation(problem.forms, unstabilised)
+            second_pass = FlowStep(problem.with_materials(materials, unstabilised), self.V, FlowPass.second)
+            self._steps.append(second_pass)
+        if scene.coupling:
+            split = SplitSteps(flow, second_pass, mechanics)
+            self._drive = lambda run: run_fixed_stress(problem, split, run)
+        else:
+            one = self._steps[0]
+            self._drive = lambda run: run_single_solve(problem, one, run)
+
+    def _take_contact_fields(self, step):
+        """The contact fields of a step that has them."""
+        if not step.has_contact():
+            return
+        self.contact_pressure, self.contact_active = step.contact_pressure, step.contact_active
+        self.contact_boundary = step.contact_boundary
+        self.compute_contact = step.contact_state

@@ -1,0 +1,99 @@
+"""The interface of a step, whichever system it solves (the flow, the
+mechanics, or flow and mechanics together): what the schemes, checkpoints
+and the output ask of any step, so that none of them branches on which
+physics a scene has (cpp/steps/step.h)."""
+import abc
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from ..contact.contact import ActiveSet
+
+# The functions of a step that a checkpoint keeps besides its unknowns (the
+# time scheme's memory): (checkpoint name, Function) pairs.
+History = list
+
+
+@dataclass
+class StepState:
+    """The state of a step at its start: its unknowns, to go back to when
+    the step is retried, and its pressure and displacement (None where it
+    has none), BDF2's memory once the step is accepted."""
+    unknowns: np.ndarray
+    p: Optional[np.ndarray] = None
+    u: Optional[np.ndarray] = None
+
+
+class Step(abc.ABC):
+    """One step of a time-stepping scheme on one system (`system`, a
+    steps/system.py System): advances its unknowns from t_{k-1} to t_k.
+
+    A scheme with one solve per step (coupling/single_solve.py) drives any
+    step through advance(); the fixed-stress split drives the flow and the
+    mechanics step through their own interfaces, which iterate between them."""
+
+    assembly_time = 0.0  # right-hand sides
+
+    @abc.abstractmethod
+    def name(self):
+        """The system's name in summary.json and in checkpoints."""
+
+    @abc.abstractmethod
+    def advance(self, t, d):
+        """Solves the step to time t with the time derivative `d`
+        (time_scheme.py) from the state the step holds."""
+
+    def time_step_changed(self):
+        """The "dt" constant changed (parameters.py, set_time_step): rebuilds
+        what depends on it."""
+
+    def equilibrate(self):
+        """mechanics.initial_equilibrium: replaces u = 0 by the displacement
+        in equilibrium with the loads at t = 0 and the initial pressure
+        (nothing for a step without mechanics)."""
+
+    @abc.abstractmethod
+    def state(self):
+        """The StepState now (at the start of a step)."""
+
+    def restore(self, start):
+        """Back to the StepState `start`."""
+        self.set_unknowns(start.unknowns)
+
+    def keep_history(self, start):
+        """The step from `start` was accepted: it becomes the state one step
+        before the next (BDF2's memory)."""
+
+    @abc.abstractmethod
+    def unknowns(self):
+        """The unknowns (ghosts included)."""
+
+    @abc.abstractmethod
+    def set_unknowns(self, x):
+        """Restores the unknowns."""
+
+    @abc.abstractmethod
+    def parts(self):
+        """The fields within unknowns() (UnknownsPart), for a checkpoint."""
+
+    def history(self):
+        """The time scheme's memory a checkpoint keeps (History; empty by default)."""
+        return []
+
+    def pressure_values(self):
+        """The pressure now (None where the step has none)."""
+        return None
+
+    def displacement_values(self):
+        """The displacement now (None where the step has none)."""
+        return None
+
+    def same_contact_set(self, before):
+        """Whether the contact active set is `before` (collective; True
+        without contact)."""
+        return True
+
+    def active_contact_set(self):
+        """The contact active set now (empty without contact; collective)."""
+        return ActiveSet()
