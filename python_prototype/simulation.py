@@ -1,268 +1,38 @@
-"""A run of one scene (cpp/simulation.cpp): scene -> mesh and tags -> forms ->
-flow step / mechanics step (or the monolithic step) -> coupling scheme ->
-output and diagnostics."""
+"""A run of one scene (cpp/simulation.cpp), in the order of its story: set
+up the problem (mesh, forms, materials), describe it, make the scheme and
+its steps, open the output, start or restore, the time loop, the summary
+and the exit status."""
 import os
 import sys
 
-import numpy as np
-from dolfinx import fem
-
-from .output.checkpoint import (Checkpoint, keyed_values, mesh_difference, mesh_signature, read_checkpoint,
-                                restore_values, write_checkpoint)
-from .diagnostics.closed_form import Mandel, Terzaghi, with_mandel_plate
-from .domain.domain import check_expressions, create_domain
-from .assembly.problem import Problem
-from .coupling.coupling import (ControllerState, CouplingError, CouplingReport, CouplingRun, WindowObserver,
-                                for_each_checkpointed)
-from .coupling.scheme import Scheme
 from .assembly.forms import Forms
-from .assembly.linear_algebra import UnknownsPart
 from .assembly.materials import make_materials
 from .assembly.parameters import derive_parameters, set_constants
+from .assembly.problem import Problem
+from .coupling.coupling import ControllerState, CouplingError, CouplingReport, CouplingRun, WindowObserver
+from .coupling.scheme import Scheme
+from .diagnostics.closed_form import with_mandel_plate
+from .diagnostics.description import Description, describe
+from .diagnostics.reference_errors import reference_errors
+from .domain.domain import check_expressions, create_domain
+from .output.checkpoint import RunState, capture_checkpoint, read_checkpoint, restore_checkpoint, write_checkpoint
 from .output.directory_lock import DirectoryLock
-from .scene.scene import SceneError
-from .output.output import Output
-from .output.write_failure import OutputError
-from .output.progress import Progress, is_rank0
-from .contact.contact import ContactState
+from .output.fields import OutputFields
 from .output.interruption import interruption_signal
+from .output.output import Output
+from .output.progress import Progress, is_rank0
+from .output.summary import RunOutcome, SummaryInput, run_summary
+from .output.write_failure import OutputError
+from .solvers.solver import SolverError
 from .steps.time_grid import time_grid
-from .solvers.solver import Method, SolverError, SolverStatistics, solver_counts
-from .diagnostics.diagnostics import relative_error, volumetric_stress
 
 RUN_OK, RUN_NOT_CONVERGED, RUN_OUTPUT_FAILED = 0, 3, 4
 
 
-def global_size(V):
-    return V.dofmap.index_map.size_global * V.dofmap.index_map_bs
-
-
-def boundary_mean(u, facets, component, comm):
-    """Mean of one displacement component over the nodes of a boundary (collective)."""
-    V = u.function_space
-    dofs = fem.locate_dofs_topological(V.sub(component), V.mesh.topology.dim - 1, facets)
-    dofs = dofs[dofs < V.dofmap.index_map.size_local * V.dofmap.index_map_bs]
-    total, count = comm.allreduce(np.array([u.x.array[dofs].sum(), len(dofs)]))
-    return total / count
-
-
-def contact_json(c):
-    return {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
-            "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
-            "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
-            "gap_scale": c.gap_scale, "total_force": c.total_force,
-            "boundaries": {name: {"force": force, "active_nodes": active} for name, force, active in c.boundaries}}
-
-
-def closed_form_errors(scene, parameters, F, domain, u, p, comm):
-    """The relative L2 errors (and Terzaghi's settlement) at the final time
-    against the scene's closed form, Terzaghi or Mandel."""
-    ref, fs = scene.reference, scene.flow
-    mobility = fs.permeability(0, 0, 0, 0) / fs.mu_f
-    t, y0 = scene.end_time, scene.mesh.lower[1]
-    # The closed form: pressure and displacement at the points x.
-    terzaghi = None
-    if ref.solution == "terzaghi":
-        terzaghi = Terzaghi(ref.height, parameters.G, parameters.lmbda, parameters.alpha, parameters.storage, mobility,
-                            ref.load)
-        p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731
-        u_exact = lambda x: [0.0 * x[0], terzaghi.displacement(x[1] - y0, t)]  # noqa: E731
-    else:
-        mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], parameters.G, parameters.lmbda, parameters.alpha,
-                        parameters.storage, mobility, ref.force)
-        p_exact = lambda x: mandel.pressure(x[0], t)  # noqa: E731
-        u_exact = lambda x: [mandel.displacement_x(x[0], t), mandel.displacement_y(x[1], t)]  # noqa: E731
-    F["p_reference"].interpolate(p_exact)
-    F["u_reference"].interpolate(lambda x: np.vstack(u_exact(x)))
-    F["p_out"].x.array[:] = p.x.array
-    F["u_out"].x.array[:] = u.x.array
-    errors = {
-        "time": t,
-        "pressure_rel_l2": relative_error(F, F.compile("M_pressure_error"),
-                                          F.compile("M_pressure_reference"), comm),
-        "displacement_rel_l2": relative_error(F, F.compile("M_displacement_error"),
-                                              F.compile("M_displacement_reference"), comm)}
-    if terzaghi:
-        settlement = -boundary_mean(u, domain.boundaries["top"], 1, comm)
-        exact = terzaghi.settlement(t)
-        errors.update({"settlement": settlement, "settlement_exact": exact,
-                       "settlement_rel": abs(settlement - exact) / abs(exact)})
-    return errors
-
-
-def regions_json(cells, materials):
-    """The regions of the summary: each one's cells and its material's gamma
-    and L, and the cells in no region (the top-level material)."""
-    regions = {name: {"cells": count, "gamma": m.gamma, "L": m.L}
-               for name, count, m in zip(cells.names, cells.counts, materials.regions)}
-    regions["no region"] = {"cells": cells.outside, "gamma": materials.top.gamma, "L": materials.top.L}
-    return regions
-
-
-class OutputFields:
-    """The fields written at each output time: the unknowns and what is
-    derived from them (cell-averaged flux, volumetric stress sigma_v, contact)."""
-
-    def __init__(self, F, scheme, output):
-        self._F, self._steps, self._output = F, scheme, output
-        steps = scheme
-        if steps.p is not None:
-            steps.p.name = "pressure"
-            self._flux = fem.Function(F["Qv"], name="flux")
-        if steps.u is not None:
-            steps.u.name = "displacement"
-            self._sigma_v = fem.Function(F["Q"], name="sigma_v")
-            self._L_sigma_v = F.compile("L_sigma_v")
-            if steps.contact_pressure is not None:
-                steps.contact_pressure.name = "contact_pressure"
-                steps.contact_active.name = "contact_active"
-        self.contact = ContactState()  # at the last mechanics output
-
-    def write_flow(self, t):
-        if self._steps.p is None:
-            return
-        self._output.write(self._steps.p, t)
-        self._steps.compute_flux(self._flux)
-        self._output.write(self._flux, t)
-
-    def write_mechanics(self, t):
-        """Also updates `contact` (and the contact fields)."""
-        s = self._steps
-        self.contact = s.compute_contact()
-        volumetric_stress(self._F, self._L_sigma_v, s.u, s.p, self._sigma_v)
-        self._output.write(s.u, t)
-        self._output.write(self._sigma_v, t)
-        if s.contact_pressure is not None:
-            self._output.write(s.contact_pressure, t)
-            self._output.write(s.contact_active, t)
-
-
-def capture_checkpoint(steps, time, scheme, mesh, run, output):
-    """The state a restart needs after `steps` completed steps (checkpoint.py)."""
-    c = Checkpoint(steps, time, output=output)
-    # The grid as retries left it (the same on every rank).
-    c.arrays["times"], c.arrays["time_steps"] = np.array(run.grid.t), np.array(run.grid.dt)
-    c.arrays["mesh"] = mesh_signature(mesh)
-    for step in scheme.steps():
-        for part in step.parts():
-            c.fields[part.name] = keyed_values(mesh, part, step.unknowns())
-    for name, f in scheme.history():
-        c.fields[name] = keyed_values(mesh, UnknownsPart(name, f.function_space), f.x.array)
-    for_each_checkpointed(run.report, run.state,
-                          lambda holder, name: c.numbers.__setitem__(name, float(getattr(holder, name))))
-    for step in scheme.steps():
-        st = step.system.statistics()
-        c.numbers.update({f"{step.name()}.{name}": float(getattr(st, name)) for name in solver_counts})
-    return c
-
-
-def window_steps_json(c, report):
-    """coupling.q = "auto"'s part of summary.json: its settings, the
-    windows' mean and largest q, the windows tried again with q = 1 (contact)."""
-    return {"q_max": c.q_max, "q_tolerance": c.q_tolerance,
-            "mean_q": report.fine_steps / report.windows if report.windows else 0.0,
-            "largest_q": report.max_window_q, "q_rejections": report.q_rejections}
-
-
-def adaptive_json(spec, report, grid):
-    """time.adaptive's part of summary.json: the tolerance, the steps
-    rejected or forced at dt_min, the contact breaks, the largest accepted
-    estimate, the steps taken."""
-    j = {"tolerance": spec.tolerance, "dt_min": spec.dt_min, "dt_max": spec.dt_max,
-         "rejected_steps": report.rejected_steps, "forced_steps": report.forced_steps,
-         "contact_breaks": report.contact_breaks,
-         "max_error_estimate": report.max_error_estimate}
-    taken = grid.dt[:report.windows]
-    if taken:
-        j.update(smallest_step=min(taken), largest_step=max(taken))
-    return j
-
-
-def restore_unknowns(c, scheme, mesh, directory):
-    """Loads the stored unknowns into the steps, whatever the partition;
-    refuses a checkpoint of another mesh, or one that lacks any of them
-    (collective)."""
-    difference = mesh_difference(c.arrays.get("mesh"), mesh_signature(mesh))
-    if difference:
-        raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({difference})")
-
-    def restore(parts, unknowns):
-        for part in parts:
-            stored = c.fields.get(part.name)
-            missing = mesh.comm.allreduce(1 if stored is None else restore_values(mesh, part, stored, unknowns))
-            if missing > 0:
-                raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({missing} "
-                                 f"values of the {part.name} not in it)")
-    for step in scheme.steps():
-        if step.parts():
-            x = step.unknowns().copy()
-            restore(step.parts(), x)
-            step.set_unknowns(x)
-    for name, f in scheme.history():
-        restore([UnknownsPart(name, f.function_space)], f.x.array)
-
-
-# The systems in the order of the solver counts of older checkpoints, which
-# keyed them by position.
-POSITIONS = ("flow", "mechanics", "monolithic", "flow_second_pass")
-
-
-def stored_count(c, system, count):
-    """The stored count `count` of system `system`: by name, or by the
-    system's position in the layout before names."""
-    by_name = c.numbers.get(f"{system}.{count}")
-    return by_name if by_name is not None else c.numbers[f"{POSITIONS.index(system)}.{count}"]
-
-
-def restore_checkpoint(c, scheme, mesh, directory, run):
-    """Loads a checkpoint into the steps, the report, the controllers' state,
-    the grid and the solver counts."""
-    run.grid.t, run.grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
-    restore_unknowns(c, scheme, mesh, directory)
-    for_each_checkpointed(run.report, run.state, lambda holder, name: setattr(
-        holder, name, type(getattr(holder, name))(c.numbers[name])))
-    for step in scheme.steps():
-        earlier = SolverStatistics()
-        for name in solver_counts:
-            setattr(earlier, name, int(stored_count(c, step.name(), name)))
-        step.system.add_earlier(earlier)
-
-
-def solver_summaries(scheme, inexact_coupling):
-    """Per system: what solved it, how often it was set up (factorised) and
-    solved, and where its time went; the solvers' and timings' tables."""
-    solvers, timings = {}, {}
-    for step in scheme.steps():
-        name, system = step.name(), step.system
-        st = system.statistics()
-        direct = system.method == Method.direct
-        j = {"solver": system.method.name, "chosen_by": system.method_reason, "method": system.description(), "unknowns": system.unknowns(),
-             "solves": st.solves, "factorizations": st.setups if direct else 0,
-             "preconditioner_setups": st.setups,
-             "inexact_coupling": not direct and inexact_coupling,
-             "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
-        if system.has_contact():
-            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
-                     schur_columns=st.schur_columns)
-        solvers[name] = j
-        timings[name] = {"total": st.total_time, "setup": st.setup_time, "solve": st.solve_time,
-                         "schur_complement": st.schur_time,
-                         "other": st.total_time - st.setup_time - st.solve_time - st.schur_time,
-                         "matrix_assembly": st.assembly_time}
-    return solvers, timings
-
-
-def statistics(scheme):
-    """The statistics of each system (zero for a system the scene has not)."""
-    result = {name: SolverStatistics() for name in POSITIONS}
-    result.update({step.name(): step.system.statistics() for step in scheme.steps()})
-    return result
-
-
 class Simulation:
-    """One run of a scene, in the order of its story: make the domain, set up
-    the steps, open the output, start or restore, the time loop, the summary
-    and the exit status."""
+    """One run of a scene, in the order of its story: set up the problem,
+    describe it, make the scheme and its steps, open the output, start or
+    restore, the time loop, the summary and the exit status."""
 
     def __init__(self, scene, directory, comm, fingerprint="", restart=False):
         # The scene as read, with a closed form's boundary values imposed.
@@ -270,9 +40,9 @@ class Simulation:
         self.fingerprint, self.restart = fingerprint, restart
         # output.progress_interval (seconds between lines within a step)
         self.progress = Progress(comm, scene.progress_interval)
-        self.domain = self.F = self.parameters = None
-        self.left_out, self.warnings = "", ""
-        self.problem = self.scheme = self.resumed = self.lock = self.output = self.fields = self.grid = None
+        self.domain = self.F = self.materials = self.parameters = self.problem = None
+        self.description = Description()
+        self.scheme = self.resumed = self.lock = self.output = self.fields = self.grid = None
         self.report, self.state = CouplingReport(), ControllerState()
         self.completed_steps = 0     # mechanics steps (windows) written
         self.completed_time = 0.0
@@ -286,7 +56,7 @@ class Simulation:
         """The story of a run; the files are closed and the directory's lock
         released however it ends."""
         try:
-            self.make_domain()
+            self.set_up()
             self.describe()
             self.scheme = Scheme(self.problem)
             try:
@@ -300,9 +70,9 @@ class Simulation:
             self.close_output()
         return self.exit_status()
 
-    def make_domain(self):
-        """The mesh and its tags, the forms on it, the derived parameters and
-        the constants of the forms."""
+    def set_up(self):
+        """The problem: the mesh and its tags, the forms on it, the materials
+        of its cells, the derived parameters and the constants of the forms."""
         self.domain = create_domain(self.scene, self.comm)
         check_expressions(self.scene, self.domain, self.comm)
         self.F = Forms(self.domain.mesh)
@@ -314,46 +84,19 @@ class Simulation:
 
     def describe(self):
         """Says what the scene leaves out, and warns where the method is known
-        to degrade instead of returning poor numbers silently (docs/stability.md)."""
-        scene, parameters, d = self.scene, self.parameters, self.domain.dim
-        left_out = []
-        if not scene.flow:
-            left_out.append("flow (no [flow] table): no flux or pressure unknowns")
-        if not scene.mechanics:
-            left_out.append("mechanics (no [mechanics] table): no displacement unknowns")
-        if scene.mechanics and not scene.has_contact():
-            left_out.append("contact solver (no contact boundary): linear mechanics solve")
-        if scene.flow and not scene.flow.gravity:
-            left_out.append("gravity")
-        if scene.mechanics and not scene.mechanics.body_force and not scene.cellwise_body_force():
-            left_out.append("body force")
-        self.left_out = "; ".join(left_out)
-        self.progress.say(f"biotcontact (python prototype): scene {scene.name} ({scene.file}), {d}D, "
-                          f"{self.domain.mesh.topology.index_map(d).size_global} cells")
-        self.progress.say("left out: " + (self.left_out or "nothing"))
+        to degrade (diagnostics/description.py)."""
+        self.description = describe(self.problem)
+        for line in self.description.lines:
+            self.progress.say(line)
 
-        warnings = []
-
-        def warn(what):
-            warnings.append(what)
-            self.progress.say("warning: " + what)
-        regions, materials = self.domain.regions, self.materials
-        for name, count, m in zip(regions.names, regions.counts, materials.regions):
-            self.progress.say(f"region {name}: {count} cells" + (f", gamma = {m.gamma:f}" if scene.coupling else ""))
-        for r, m in enumerate(materials.regions + [materials.top] if scene.mechanics else []):
-            nu = m.lmbda / (2 * (m.lmbda + m.G))
-            if nu > 0.49 and (r < len(regions.names) or regions.outside > 0):
-                warn((f"region {regions.names[r]}: " if r < len(regions.names) else "")
-                     + f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
-                     "(too stiff a response, worse on coarse meshes)")
-        if scene.coupling and scene.coupling.scheme != "monolithic" and parameters.gamma > 0.99:
-            warn(f"gamma = {parameters.gamma:f} > 0.99: the contraction theorems guarantee almost nothing, expect many "
-                 "coupling iterations or none converging (monolithic is the robust choice)")
-        self.warnings = "; ".join(warnings)
+    def run_state(self):
+        """What a checkpoint keeps of the run and a restart restores."""
+        return RunState(self.scheme, self.domain.mesh, self.report, self.state, self.grid)
 
     def open_output(self):
-        """The checkpoint a restart goes on from, the output files (created,
-        or those of the checkpoint's run) and the fields written into them."""
+        """The time grid, the checkpoint a restart goes on from (loaded into
+        the steps), the output files (created, or those of the checkpoint's
+        run) and the fields written into them."""
         # The lock first: nothing in the directory is read, created or
         # truncated while another run holds it. A restart of a directory that
         # does not exist is refused by read_checkpoint, without creating it.
@@ -364,10 +107,10 @@ class Simulation:
             # Loaded before the files are opened: a checkpoint that does not
             # match is refused with the files as they were.
             self.resumed = read_checkpoint(self.comm, self.directory, self.fingerprint)
-            restore_checkpoint(self.resumed, self.scheme, self.domain.mesh, self.directory, self.coupling_run())
+            restore_checkpoint(self.resumed, self.run_state(), self.comm, self.directory)
         self.output = Output(self.comm, self.directory, self.domain.mesh, self.scene.write_xdmf,
                              self.resumed.output if self.resumed else None)
-        self.fields = OutputFields(self.F, self.scheme, self.output)
+        self.fields = OutputFields(self.problem, self.scheme, self.output)
 
     def close_output(self):
         """The files closed and the directory's lock released."""
@@ -377,7 +120,7 @@ class Simulation:
             self.lock.release()
 
     def start_or_restore(self):
-        """The initial state, written at t = 0, or the state of the checkpoint."""
+        """The initial state, written at t = 0, or the checkpoint's step and time."""
         s = self.scheme
         if self.resumed:
             self.saved = self.completed_steps = self.resumed.steps
@@ -404,8 +147,8 @@ class Simulation:
         def save():
             self.checkpointing = True
             write_checkpoint(self.comm, self.directory, self.fingerprint,
-                             capture_checkpoint(self.completed_steps, self.completed_time, self.scheme,
-                                                self.domain.mesh, self.coupling_run(), self.output.position()))
+                             capture_checkpoint(self.run_state(), self.completed_steps, self.completed_time,
+                                                self.output.position()))
             self.checkpointing = False
             self.saved = self.completed_steps
         every = self.scene.checkpoint_every
@@ -418,7 +161,7 @@ class Simulation:
 
     def observer(self):
         """What the coupling schemes tell the run: write each step, print the
-        progress, checkpoint, stop at an interruption."""
+        progress, log each iteration, checkpoint, stop at an interruption."""
         def flow_state(t):
             if self.scene.is_output_time(t):
                 self.fields.write_flow(t)
@@ -448,15 +191,11 @@ class Simulation:
                 step.system.contact.on_newton_step = lambda iteration, name=step.name(): self.progress.heartbeat(
                     f"step {self.completed_steps + 1}: {name} contact Newton step {iteration}")
 
-    def coupling_run(self, observer=None):
-        """The run the scheme drives, and a checkpoint keeps (grid, report, state)."""
-        return CouplingRun(self.grid, self.scheme.step_control, observer, self.report, self.state)
-
     def time_loop(self):
         """The steps from t = 0 (or the checkpoint) to the end, driven by the
         scheme. A failure ends the loop with what was finished written; it
         names the step it was computing."""
-        run = self.coupling_run(self.observer())
+        run = CouplingRun(self.grid, self.scheme.step_control, self.observer(), self.report, self.state)
         self.report_newton_steps()
         self.progress.start_loop(self.completed_steps, self.planned_steps())
         try:
@@ -491,78 +230,17 @@ class Simulation:
         self.report.windows = self.completed_steps
 
     def write_summary(self):
-        """summary.json: the scheme, sizes, counts, contraction measures,
-        solvers, timings, contact and closed-form errors of the run, whatever
-        its end (when the disk is full, as far as it can be written)."""
+        """summary.json (output/summary.py), whatever the run's end (when the
+        disk is full, as far as it can be written)."""
         if self.output is None:
             return
-        scene, s, parameters, report, d = self.scene, self.scheme, self.parameters, self.report, self.domain.dim
-        dofs = {}
-        if s.u is not None:
-            dofs["displacement"] = global_size(s.V)
-        if s.p is not None:
-            dofs["pressure"] = global_size(s.p.function_space)
-            dofs["flux"] = self.domain.mesh.topology.index_map(d - 1).size_global  # RT0: one per facet
-        st = statistics(s)
-        c = scene.coupling
-        monolithic = c is not None and c.scheme == "monolithic"
-        solvers, timings = solver_summaries(s, not monolithic and scene.solver.inexact_coupling)
-        timings["assembly"] = s.assembly_time() + sum(x.assembly_time for x in st.values())
-        timings["output"] = self.output.time
-        summary = {
-            "scene": scene.name,
-            "scheme": c.scheme if c else ("flow-only" if s.p is not None else "mechanics-only"),
-            "q": parameters.q,
-            "L_choice": c.L_choice if c else "none",
-            "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == "anderson" else "none",
-            "L": parameters.L,
-            "gamma": parameters.gamma,
-            "dofs": dofs,
-            "dt": scene.dt,
-            "dt_growth": scene.growth,
-            "time_scheme": scene.time_scheme,
-            "steps": report.windows,
-            "retries": report.retries,
-            "fine_steps": report.fine_steps,
-            "coupling_iterations": report.coupling_iterations,
-            "max_iterations_per_step": report.max_iterations_per_step,
-            "max_contraction_ratio": report.max_contraction_ratio,
-            "mean_contraction_ratio": report.mean_contraction_ratio,
-            "bound_violations": report.bound_violations,
-            "resolved_ratios": report.ratios,
-            "unresolved_ratios": report.unresolved_ratios,
-            "max_coupled_residual": report.max_coupled_residual,
-            "converged": not self.failure,
-            "status": "failed" if self.failure else "interrupted" if self.signal else "completed",
-            "last_completed_time": self.completed_time,
-            "flow_solves": st["flow"].solves + st["flow_second_pass"].solves,  # both passes
-            "mechanics_solves": st["mechanics"].solves,
-            "monolithic_solves": st["monolithic"].solves,
-            "newton_iterations": st["mechanics"].newton_iterations + st["monolithic"].newton_iterations,
-            "linear_iterations": {"flow": st["flow"].linear_iterations + st["flow_second_pass"].linear_iterations,
-                                  "mechanics": st["mechanics"].linear_iterations,
-                                  "monolithic": st["monolithic"].linear_iterations},
-            "solvers": solvers,
-            "timings": timings,
-            "wall_time_s": self.progress.elapsed(),
-            "left_out": self.left_out,
-            "warnings": self.warnings,
-            "mpi_ranks": self.comm.size,
-        }
-        if c and c.q_auto:
-            summary["q"], summary["window_steps"] = "auto", window_steps_json(c, report)
-        if scene.adaptive:
-            summary["adaptive"] = adaptive_json(scene.adaptive, report, self.grid)
-        if self.domain.regions.names:
-            summary["regions"] = regions_json(self.domain.regions, self.materials)
-        if s.contact_pressure is not None:
-            summary["contact"] = contact_json(self.fields.contact)
-        if scene.reference and not self.failure and not self.signal:
-            summary["errors"] = closed_form_errors(scene, parameters, self.F, self.domain, s.u, s.p, self.comm)
-        if self.failure:
-            summary["failure"] = self.failure
+        summary_input = SummaryInput(self.problem, self.scheme, self.report, self.grid, self.fields.contact)
+        if self.scene.reference and not self.failure and not self.signal:
+            summary_input.errors = reference_errors(self.problem, self.scheme.u, self.scheme.p)
+        outcome = RunOutcome(self.failure, self.signal, self.completed_time, self.description.left_out,
+                             self.description.warnings, self.progress.elapsed(), self.output.time, self.comm.size)
         try:
-            self.output.summary(summary)
+            self.output.summary(run_summary(summary_input, outcome))
         except OutputError as e:
             if self.output_failed:
                 self.failure += "; summary.json could not be written either"

@@ -18,10 +18,14 @@ file is complete; the value files of other steps go after that."""
 import glob
 import io
 import os
+from dataclasses import dataclass
 
 import numpy as np
 
+from ..assembly.linear_algebra import UnknownsPart
+from ..coupling.coupling import for_each_checkpointed
 from ..scene.scene import SceneError, agree_on_error
+from ..solvers.solver import SolverStatistics, solver_counts
 from .write_failure import agree_on_output_error, write_failure_reason
 
 FORMAT = "biotcontact checkpoint 2 (prototype)"
@@ -34,6 +38,18 @@ class Checkpoint:
         self.fields = {}              # name -> (keys, values): this rank's owned entries, or every rank's once read
         self.numbers = numbers or {}  # counters and scales
         self.output = output          # Output.position()
+
+
+@dataclass
+class RunState:
+    """The parts of a run a checkpoint keeps and a restart restores: the
+    scheme's unknowns, time-scheme memory and solver counts, the report,
+    the controllers' state and the time grid (as retries left it)."""
+    scheme: object  # coupling/scheme.py
+    mesh: object
+    report: object  # CouplingReport
+    state: object   # ControllerState
+    grid: object    # TimeGrid
 
 
 def _vertex_input_indices(mesh):
@@ -257,3 +273,75 @@ def read_checkpoint(comm, directory, fingerprint):
         error = f"--restart {directory}: the checkpoint {path} is damaged or missing"
     agree_on_error(error, comm)
     return c
+
+
+def capture_checkpoint(run, steps, time, output):
+    """The checkpoint of the RunState `run` after `steps` completed steps
+    ending at `time`, with the output's position (collective)."""
+    c = Checkpoint(steps, time, output=output)
+    # The grid as retries left it (the same on every rank).
+    c.arrays["times"], c.arrays["time_steps"] = np.array(run.grid.t), np.array(run.grid.dt)
+    c.arrays["mesh"] = mesh_signature(run.mesh)
+    for step in run.scheme.steps():
+        for part in step.parts():
+            c.fields[part.name] = keyed_values(run.mesh, part, step.unknowns())
+    for name, f in run.scheme.history():
+        c.fields[name] = keyed_values(run.mesh, UnknownsPart(name, f.function_space), f.x.array)
+    for_each_checkpointed(run.report, run.state,
+                          lambda holder, name: c.numbers.__setitem__(name, float(getattr(holder, name))))
+    for step in run.scheme.steps():
+        st = step.system.statistics()
+        c.numbers.update({f"{step.name()}.{name}": float(getattr(st, name)) for name in solver_counts})
+    return c
+
+
+def _restore_unknowns(c, run, comm, directory):
+    """Loads the stored unknowns into the steps; refuses a checkpoint of
+    another mesh, or one that lacks any of them (collective)."""
+    difference = mesh_difference(c.arrays.get("mesh"), mesh_signature(run.mesh))
+    if difference:
+        raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({difference})")
+
+    def restore(parts, unknowns):
+        for part in parts:
+            stored = c.fields.get(part.name)
+            missing = comm.allreduce(1 if stored is None else restore_values(run.mesh, part, stored, unknowns))
+            if missing > 0:
+                raise SceneError(f"--restart {directory}: the checkpoint does not match this mesh ({missing} "
+                                 f"values of the {part.name} not in it)")
+    for step in run.scheme.steps():
+        parts = step.parts()
+        if parts:
+            x = step.unknowns().copy()
+            restore(parts, x)
+            step.set_unknowns(x)
+    for name, f in run.scheme.history():
+        restore([UnknownsPart(name, f.function_space)], f.x.array)
+
+
+def _stored_count(c, system, count):
+    """The stored count `count` of system `system`: by name, or by the
+    system's position in the layout before names (flow, mechanics,
+    monolithic, second pass)."""
+    by_name = c.numbers.get(f"{system}.{count}")
+    if by_name is not None:
+        return by_name
+    positions = ("flow", "mechanics", "monolithic", "flow_second_pass")
+    return c.numbers[f"{positions.index(system)}.{count}"]
+
+
+def restore_checkpoint(c, run, comm, directory):
+    """Loads the checkpoint `c` into the RunState `run`, whatever the
+    partition; refuses one of another mesh, or one that lacks any of the
+    unknowns, naming `directory` (collective). Solver counts stored by
+    system name, or by the position of the layout before names, are both
+    read."""
+    run.grid.t, run.grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
+    _restore_unknowns(c, run, comm, directory)
+    for_each_checkpointed(run.report, run.state, lambda holder, name: setattr(
+        holder, name, type(getattr(holder, name))(c.numbers[name])))
+    for step in run.scheme.steps():
+        earlier = SolverStatistics()
+        for name in solver_counts:
+            setattr(earlier, name, int(_stored_count(c, step.name(), name)))
+        step.system.add_earlier(earlier)

@@ -1,0 +1,48 @@
+"""The fields written at each output time: the unknowns and what is derived
+from them (cell-averaged flux, volumetric stress sigma_v, contact);
+cpp/output/fields.h."""
+from dolfinx import fem
+
+from ..contact.contact import ContactState
+from ..diagnostics.diagnostics import volumetric_stress
+
+
+class OutputFields:
+    """Writes the scheme's fields into the output at a time; names them as
+    ParaView shows them."""
+
+    def __init__(self, problem, scheme, output):
+        F = problem.forms
+        self._F, self._scheme, self._output = F, scheme, output
+        if scheme.p is not None:
+            scheme.p.name = "pressure"
+            self._flux = fem.Function(F["Qv"], name="flux")
+        if scheme.u is not None:
+            scheme.u.name = "displacement"
+            self._sigma_v = fem.Function(F["Q"], name="sigma_v")
+            self._L_sigma_v = F.compile("L_sigma_v")
+            if scheme.contact_pressure is not None:
+                scheme.contact_pressure.name = "contact_pressure"
+                scheme.contact_active.name = "contact_active"
+        self.contact = ContactState()  # at the last mechanics output
+
+    def write_flow(self, t):
+        """The pressure and the flux (nothing without flow)."""
+        s = self._scheme
+        if s.p is None:
+            return
+        self._output.write(s.p, t)
+        s.compute_flux(self._flux)
+        self._output.write(self._flux, t)
+
+    def write_mechanics(self, t):
+        """The displacement, sigma_v and the contact fields; also updates
+        `contact`."""
+        s = self._scheme
+        self.contact = s.compute_contact()
+        volumetric_stress(self._F, self._L_sigma_v, s.u, s.p, self._sigma_v)
+        self._output.write(s.u, t)
+        self._output.write(self._sigma_v, t)
+        if s.contact_pressure is not None:
+            self._output.write(s.contact_pressure, t)
+            self._output.write(s.contact_active, t)

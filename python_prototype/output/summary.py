@@ -1,0 +1,196 @@
+"""summary.json: what a run computed and what it cost, whatever its end
+(docs/user-guide.md, "summary.json"); cpp/output/summary.h."""
+from dataclasses import dataclass
+from typing import Optional
+
+from ..solvers.solver import Method, SolverStatistics
+
+
+@dataclass
+class RunOutcome:
+    """How a run ended and what it said on the way."""
+    failure: str = ""            # empty when nothing failed
+    signal: int = 0              # the interruption that ended it
+    completed_time: float = 0.0  # of its last completed step
+    left_out: str = ""
+    warnings: str = ""
+    wall_time: float = 0.0       # s
+    output_time: float = 0.0     # s spent writing
+    ranks: int = 1
+
+
+@dataclass
+class SummaryInput:
+    """Everything summary.json reports on: the Problem, the Scheme, the
+    CouplingReport, the TimeGrid, the ContactState at the last mechanics
+    output and the ReferenceErrors against the scene's closed form (None
+    without one)."""
+    problem: object
+    scheme: object
+    report: object
+    grid: object
+    contact: object
+    errors: Optional[object] = None
+
+
+def _global_size(V):
+    return V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+
+
+def _contact_json(c):
+    return {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
+            "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
+            "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
+            "gap_scale": c.gap_scale, "total_force": c.total_force,
+            "boundaries": {name: {"force": force, "active_nodes": active} for name, force, active in c.boundaries}}
+
+
+def _errors_json(e):
+    errors = {"time": e.time, "pressure_rel_l2": e.pressure_rel_l2, "displacement_rel_l2": e.displacement_rel_l2}
+    if e.settlement is not None:
+        errors.update({"settlement": e.settlement.computed, "settlement_exact": e.settlement.exact,
+                       "settlement_rel": e.settlement.relative})
+    return errors
+
+
+def _adaptive_json(spec, report, grid):
+    """time.adaptive's part: the tolerance, the steps rejected or forced at
+    dt_min, the contact breaks, the largest accepted estimate, the steps taken."""
+    j = {"tolerance": spec.tolerance, "dt_min": spec.dt_min, "dt_max": spec.dt_max,
+         "rejected_steps": report.rejected_steps, "forced_steps": report.forced_steps,
+         "contact_breaks": report.contact_breaks,
+         "max_error_estimate": report.max_error_estimate}
+    taken = grid.dt[:report.windows]
+    if taken:
+        j.update(smallest_step=min(taken), largest_step=max(taken))
+    return j
+
+
+def _window_steps_json(c, report):
+    """coupling.q = "auto"'s part: its settings, the windows' mean and
+    largest q, the windows tried again with q = 1 (contact)."""
+    return {"q_max": c.q_max, "q_tolerance": c.q_tolerance,
+            "mean_q": report.fine_steps / report.windows if report.windows else 0.0,
+            "largest_q": report.max_window_q, "q_rejections": report.q_rejections}
+
+
+def _regions_json(cells, materials):
+    """Each region's cells and its material's gamma and L, and the cells in
+    no region (the top-level material)."""
+    regions = {name: {"cells": count, "gamma": m.gamma, "L": m.L}
+               for name, count, m in zip(cells.names, cells.counts, materials.regions)}
+    regions["no region"] = {"cells": cells.outside, "gamma": materials.top.gamma, "L": materials.top.L}
+    return regions
+
+
+def _solver_summaries(scheme, inexact_coupling):
+    """Per system: what solved it, how often it was set up (factorised) and
+    solved, and where its time went; the solvers' and timings' tables."""
+    solvers, timings = {}, {}
+    for step in scheme.steps():
+        system = step.system
+        st = system.statistics()
+        direct = system.method == Method.direct
+        j = {"solver": system.method.name, "chosen_by": system.method_reason, "method": system.description(),
+             "unknowns": system.unknowns(), "solves": st.solves, "factorizations": st.setups if direct else 0,
+             "preconditioner_setups": st.setups, "inexact_coupling": not direct and inexact_coupling,
+             "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
+        if system.has_contact():
+            j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
+                     schur_columns=st.schur_columns)
+        solvers[step.name()] = j
+        timings[step.name()] = {"total": st.total_time, "setup": st.setup_time, "solve": st.solve_time,
+                                "schur_complement": st.schur_time,
+                                "other": st.total_time - st.setup_time - st.solve_time - st.schur_time,
+                                "matrix_assembly": st.assembly_time}
+    return solvers, timings
+
+
+def _statistics(scheme):
+    """The statistics of each system (zero for a system the scene has not)."""
+    result = {name: SolverStatistics() for name in ("flow", "mechanics", "monolithic", "flow_second_pass")}
+    result.update({step.name(): step.system.statistics() for step in scheme.steps()})
+    return result
+
+
+def _dofs_json(scheme, domain):
+    """The unknowns of each physics (global counts)."""
+    dofs = {}
+    if scheme.u is not None:
+        dofs["displacement"] = _global_size(scheme.V)
+    if scheme.p is not None:
+        dofs["pressure"] = _global_size(scheme.p.function_space)
+        dofs["flux"] = domain.mesh.topology.index_map(domain.dim - 1).size_global  # RT0: one per facet
+    return dofs
+
+
+def _scheme_json(problem, scheme):
+    """The scheme's settings: its name, q, L and gamma, the acceleration."""
+    c, parameters = problem.scene.coupling, problem.parameters
+    return {"scene": problem.scene.name,
+            "scheme": c.scheme if c else ("flow-only" if scheme.p is not None else "mechanics-only"),
+            "q": "auto" if c and c.q_auto else parameters.q,
+            "L_choice": c.L_choice if c else "none",
+            "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == "anderson" else "none",
+            "L": parameters.L,
+            "gamma": parameters.gamma}
+
+
+def run_summary(summary_input, outcome):
+    """The summary (a dict in the order of summary.json, which
+    Output.summary writes) of the SummaryInput and the RunOutcome: the
+    scheme, sizes, counts, contraction measures, solvers, timings, contact
+    and closed-form errors of the run."""
+    i, r = summary_input, summary_input.report
+    scene = i.problem.scene
+    st = _statistics(i.scheme)
+    monolithic = scene.coupling is not None and scene.coupling.scheme == "monolithic"
+    solvers, timings = _solver_summaries(i.scheme, not monolithic and scene.solver.inexact_coupling)
+    timings["assembly"] = i.scheme.assembly_time() + sum(s.assembly_time for s in st.values())
+    timings["output"] = outcome.output_time
+    summary = _scheme_json(i.problem, i.scheme)
+    summary.update({
+        "dofs": _dofs_json(i.scheme, i.problem.domain),
+        "dt": scene.dt,
+        "dt_growth": scene.growth,
+        "time_scheme": scene.time_scheme,
+        "steps": r.windows,
+        "retries": r.retries,
+        "fine_steps": r.fine_steps,
+        "coupling_iterations": r.coupling_iterations,
+        "max_iterations_per_step": r.max_iterations_per_step,
+        "max_contraction_ratio": r.max_contraction_ratio,
+        "mean_contraction_ratio": r.mean_contraction_ratio,
+        "bound_violations": r.bound_violations,
+        "resolved_ratios": r.ratios,
+        "unresolved_ratios": r.unresolved_ratios,
+        "max_coupled_residual": r.max_coupled_residual,
+        "converged": not outcome.failure,
+        "status": "failed" if outcome.failure else "interrupted" if outcome.signal else "completed",
+        "last_completed_time": outcome.completed_time,
+        "flow_solves": st["flow"].solves + st["flow_second_pass"].solves,  # both passes
+        "mechanics_solves": st["mechanics"].solves,
+        "monolithic_solves": st["monolithic"].solves,
+        "newton_iterations": st["mechanics"].newton_iterations + st["monolithic"].newton_iterations,
+        "linear_iterations": {"flow": st["flow"].linear_iterations + st["flow_second_pass"].linear_iterations,
+                              "mechanics": st["mechanics"].linear_iterations,
+                              "monolithic": st["monolithic"].linear_iterations},
+        "solvers": solvers,
+        "timings": timings,
+        "wall_time_s": outcome.wall_time,
+        "left_out": outcome.left_out,
+        "warnings": outcome.warnings,
+        "mpi_ranks": outcome.ranks})
+    if scene.coupling and scene.coupling.q_auto:
+        summary["window_steps"] = _window_steps_json(scene.coupling, r)
+    if scene.adaptive:
+        summary["adaptive"] = _adaptive_json(scene.adaptive, r, i.grid)
+    if i.problem.domain.regions.names:
+        summary["regions"] = _regions_json(i.problem.domain.regions, i.problem.materials)
+    if i.scheme.contact_pressure is not None:
+        summary["contact"] = _contact_json(i.contact)
+    if i.errors is not None:
+        summary["errors"] = _errors_json(i.errors)
+    if outcome.failure:
+        summary["failure"] = outcome.failure
+    return summary
