@@ -1,6 +1,5 @@
 #include "simulation.h"
 
-#include "assembly/problem.h"
 #include "coupling/scheme.h"
 #include "diagnostics/closed_form.h"
 #include "diagnostics/description.h"
@@ -10,11 +9,9 @@
 #include "output/directory_lock.h"
 #include "output/fields.h"
 #include "output/interruption.h"
-#include "output/output.h"
 #include "output/progress.h"
 #include "output/summary.h"
 
-#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -41,7 +38,6 @@ public:
   int run()
   {
     set_up();
-    describe();
     _scheme = std::make_unique<Scheme>(*_problem);
     try
     {
@@ -59,11 +55,9 @@ public:
 
 private:
   void set_up();
-  void describe();
   void open_output();
   void start_or_restore();
   WindowObserver observer();
-  void report_newton_steps();
   void time_loop();
   std::string step_being_computed() const;
   int planned_steps() const;
@@ -92,18 +86,14 @@ private:
   TimeGrid _grid;
   CouplingReport _report;
   ControllerState _state;
-  int _completed_steps = 0; // mechanics steps (windows) written
-  double _completed_time = 0;
-  int _saved = 0;           // the step of the last checkpoint
+  RunEnd _end;                 // the steps completed and saved so far; why the run stopped
   bool _checkpointing = false; // writing the checkpoint of the last completed step
-  int _signal = 0;          // the interruption that ended the run
-  std::string _failure;     // why the run failed
-  bool _output_failed = false; // ... because a file could not be written
 };
 
 /// The problem: the mesh and its tags, the compiled forms of its cell type,
 /// the materials of its cells, the derived parameters and the constants of
-/// the forms.
+/// the forms; then what the scene leaves out, and warnings where the method
+/// is known to degrade (diagnostics/description.h).
 void Simulation::set_up()
 {
   _domain.emplace(create_domain(_scene, _comm));
@@ -114,13 +104,7 @@ void Simulation::set_up()
   _parameters.gamma = _materials.gamma;
   _constants = make_constants(_scene, _parameters);
   _problem.emplace(Problem{_scene, *_domain, forms, _materials, _parameters, _constants});
-}
-
-/// Says what the scene leaves out, and warns where the method is known to
-/// degrade (diagnostics/description.h).
-void Simulation::describe()
-{
-  _description = biotcontact::describe(*_problem);
+  _description = describe(*_problem);
   for (const std::string& line : _description.lines)
     _progress.say(line);
 }
@@ -153,12 +137,12 @@ void Simulation::start_or_restore()
 {
   if (_resumed)
   {
-    _saved = _completed_steps = _resumed->steps;
-    _completed_time = _resumed->time;
+    _end.saved = _end.completed_steps = _resumed->steps;
+    _end.completed_time = _resumed->time;
     if (_scheme->u)
       _fields->contact = _scheme->compute_contact();
-    _progress.say("restarted from the checkpoint at step " + std::to_string(_completed_steps) + ", t = "
-                  + std::to_string(_completed_time));
+    _progress.say("restarted from the checkpoint at step " + std::to_string(_end.completed_steps) + ", t = "
+                  + std::to_string(_end.completed_time));
     return;
   }
   if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
@@ -169,9 +153,7 @@ void Simulation::start_or_restore()
     _fields->write_mechanics(0.0);
   if (_scheme->contact_boundary)
     _output->write(*_scheme->contact_boundary, 0.0); // once: every later time repeats it
-  if (_scheme->step_control)
-    _scheme->step_control->start(_scheme->p ? _scheme->p->x()->array() : std::span<const double>(),
-                                 _scheme->u ? _scheme->u->x()->array() : std::span<const double>(), _state);
+  _scheme->start(_state);
 }
 
 /// After each completed (and written) step: a checkpoint every
@@ -182,16 +164,16 @@ bool Simulation::stop()
   {
     _checkpointing = true;
     write_checkpoint(_comm, _directory, _control.fingerprint,
-                     capture_checkpoint(run_state(), _completed_steps, _completed_time, _output->position()));
+                     capture_checkpoint(run_state(), _end.completed_steps, _end.completed_time, _output->position()));
     _checkpointing = false;
-    _saved = _completed_steps;
+    _end.saved = _end.completed_steps;
   };
-  if (_scene.checkpoint_every > 0 and _completed_steps % _scene.checkpoint_every == 0)
+  if (_scene.checkpoint_every > 0 and _end.completed_steps % _scene.checkpoint_every == 0)
     save();
-  _signal = interruption_signal(_comm);
-  if (_signal and _scene.checkpoint_every > 0 and _saved != _completed_steps)
+  _end.signal = interruption_signal(_comm);
+  if (_end.signal and _scene.checkpoint_every > 0 and _end.saved != _end.completed_steps)
     save();
-  return _signal != 0;
+  return _end.signal != 0;
 }
 
 /// What the coupling schemes tell the run: write each step, print the
@@ -199,45 +181,23 @@ bool Simulation::stop()
 WindowObserver Simulation::observer()
 {
   WindowObserver o;
-  o.flow_state = [this](double t)
-  {
-    if (_scene.is_output_time(t))
-      _fields->write_flow(t);
-  };
+  o.flow_state = [this](double t) { if (_scene.is_output_time(t)) _fields->write_flow(t); };
   o.mechanics_state = [this](double t, int step, int iterations)
   {
     if (_scheme->u and _scene.is_output_time(t))
       _fields->write_mechanics(t);
     else if (_scheme->u)
       _fields->contact = _scheme->compute_contact();
-    _completed_steps = step;
-    _completed_time = t;
+    _end.completed_steps = step;
+    _end.completed_time = t;
     _progress.step(step, planned_steps(), t, iterations, _fields->contact.active_nodes);
   };
   o.stop = [this] { return stop(); };
   o.retry = [this](const std::string& message) { _progress.say(message); };
   o.iteration = [this](int step, int iteration, double dp, double du)
-  {
-    char what[160];
-    std::snprintf(what, sizeof what, "step %d: coupling iteration %d, increments dp %.3g du %.3g", step,
-                  iteration, dp, du);
-    _progress.heartbeat(what);
-  };
+  { _progress.iteration(step, iteration, dp, du); };
   o.record = [this](const IterationRecord& r) { _output->iteration(r); };
   return o;
-}
-
-/// A contact solve longer than 10 s (a large monolithic step) prints its
-/// Newton steps as it goes, like the coupling iterations of the split.
-void Simulation::report_newton_steps()
-{
-  for (Step* step : _scheme->steps())
-    if (step->system().has_contact())
-      step->system().contact().on_newton_step = [this, name = step->name()](int iteration)
-      {
-        _progress.heartbeat("step " + std::to_string(_completed_steps + 1) + ": " + name + " contact Newton step "
-                            + std::to_string(iteration));
-      };
 }
 
 /// The steps from t = 0 (or the checkpoint) to the end, driven by the
@@ -246,8 +206,11 @@ void Simulation::report_newton_steps()
 void Simulation::time_loop()
 {
   const WindowObserver o = observer();
-  report_newton_steps();
-  _progress.start_loop(_completed_steps, planned_steps());
+  // A contact solve longer than 10 s (a large monolithic step) prints its
+  // Newton steps as it goes, like the coupling iterations of the split.
+  _scheme->on_newton_step([this](const std::string& system, int iteration)
+                          { _progress.newton_step(_end.completed_steps + 1, system, iteration); });
+  _progress.start_loop(_end.completed_steps, planned_steps());
   CouplingRun run{_grid, _scheme->step_control.get(), o, _report, _state};
   try
   {
@@ -255,12 +218,12 @@ void Simulation::time_loop()
   }
   catch (const CouplingError& e)
   {
-    _failure = e.what(); // names its step and the last increments
+    _end.failure = e.what(); // names its step and the last increments
   }
   catch (const SolverError& e)
   {
-    _failure = step_being_computed() + ": " + e.what();
-    _report.windows = _completed_steps;
+    _end.failure = step_being_computed() + ": " + e.what();
+    _report.windows = _end.completed_steps;
   }
   _fields->contact = _scheme->compute_contact();
 }
@@ -276,7 +239,7 @@ int Simulation::planned_steps() const
 /// "step N (t = T)" of the step after the last completed one.
 std::string Simulation::step_being_computed() const
 {
-  const int step = _completed_steps + 1;
+  const int step = _end.completed_steps + 1;
   std::ostringstream s;
   s << "step " << step;
   if (!_grid.t.empty())
@@ -288,10 +251,10 @@ std::string Simulation::step_being_computed() const
 /// and the failure names the step it was writing.
 void Simulation::output_failed(const OutputError& e)
 {
-  _failure = (_checkpointing ? "after step " + std::to_string(_completed_steps) : step_being_computed())
+  _end.failure = (_checkpointing ? "after step " + std::to_string(_end.completed_steps) : step_being_computed())
              + ": " + e.what();
-  _output_failed = true;
-  _report.windows = _completed_steps;
+  _end.output_failed = true;
+  _report.windows = _end.completed_steps;
 }
 
 /// summary.json (output/summary.h), whatever the run's end (when the disk
@@ -301,11 +264,11 @@ void Simulation::write_summary()
   if (!_output)
     return;
   SummaryInput in{*_problem, *_scheme, _report, _grid, _fields->contact, std::nullopt};
-  if (_scene.reference and _failure.empty() and _signal == 0)
+  if (_scene.reference and _end.failure.empty() and _end.signal == 0)
     in.errors = reference_errors(*_problem, _scheme->u, _scheme->p);
   int ranks;
   MPI_Comm_size(_comm, &ranks);
-  const RunOutcome outcome{_failure,  _signal, _completed_time, _description.left_out, _description.warnings,
+  const RunOutcome outcome{_end.failure, _end.signal, _end.completed_time, _description.left_out, _description.warnings,
                            _progress.elapsed(), _output->time, ranks};
   try
   {
@@ -313,43 +276,17 @@ void Simulation::write_summary()
   }
   catch (const OutputError& e)
   {
-    if (_output_failed)
-      _failure += "; summary.json could not be written either";
+    if (_end.output_failed)
+      _end.failure += "; summary.json could not be written either";
     else
       output_failed(e);
   }
 }
 
-/// run_ok; 128 + the signal of an interruption; run_not_converged after a
-/// failure (everything finished is written).
+/// The last line and the exit status (output/progress.h).
 int Simulation::exit_status() const
 {
-  const bool root = is_rank0(_comm);
-  if (_signal)
-  {
-    if (root)
-      std::fprintf(stderr, "biotcontact: interrupted (signal %d) after step %d, t = %g: everything up to there is in %s\n",
-                   _signal, _completed_steps, _completed_time, _directory.c_str());
-    return 128 + _signal;
-  }
-  if (_output_failed)
-  {
-    if (root)
-      std::fprintf(stderr, "biotcontact: error: %s (steps 1 to %d, t <= %g, are in %s%s)\n", _failure.c_str(),
-                   _completed_steps, _completed_time, _directory.c_str(),
-                   _saved > 0 ? ("; its last checkpoint is of step " + std::to_string(_saved)).c_str() : "");
-    return run_output_failed;
-  }
-  if (!_failure.empty())
-  {
-    if (root)
-      std::fprintf(stderr, "biotcontact: error: %s (log: %s/iterations.csv)\n", _failure.c_str(), _directory.c_str());
-    return run_not_converged;
-  }
-  if (root)
-    std::printf("wrote %s and %s/summary.json (%f s)\n", _output->xdmf_path().c_str(), _directory.c_str(),
-                _progress.elapsed()), std::fflush(stdout);
-  return run_ok;
+  return _progress.finish(_end, _directory, _output ? _output->xdmf_path() : std::string());
 }
 
 } // namespace

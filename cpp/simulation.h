@@ -2,6 +2,7 @@
 // mechanics step -> coupling scheme -> output and diagnostics.
 #pragma once
 
+#include "output/progress.h"
 #include "scene/scene.h"
 
 #include <mpi.h>
@@ -9,14 +10,6 @@
 
 namespace biotcontact
 {
-
-/// Exit status of a run.
-enum RunStatus
-{
-  run_ok = 0,
-  run_not_converged = 3,
-  run_output_failed = 4,
-};
 
 /// How a run is started.
 struct RunControl

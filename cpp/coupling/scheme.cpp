@@ -87,6 +87,20 @@ void Scheme::take_contact_fields(S& step)
   compute_contact = [&step] { return step.contact_state(); };
 }
 
+void Scheme::start(ControllerState& state)
+{
+  if (step_control)
+    step_control->start(p ? p->x()->array() : std::span<const double>(),
+                        u ? u->x()->array() : std::span<const double>(), state);
+}
+
+void Scheme::on_newton_step(const std::function<void(const std::string&, int)>& told)
+{
+  for (Step* step : _steps)
+    if (step->system().has_contact())
+      step->system().contact().on_newton_step = [told, name = step->name()](int iteration) { told(name, iteration); };
+}
+
 History Scheme::history() const
 {
   History h;

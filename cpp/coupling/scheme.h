@@ -34,6 +34,11 @@ public:
   /// (coupling/fixed_stress.h or coupling/single_solve.h).
   void run(CouplingRun& run) { _drive(run); }
 
+  /// time.adaptive's scales from the state at t = 0 (nothing without it).
+  void start(ControllerState& state);
+  /// `told(system, iteration)` after each Newton step of a contact solve.
+  void on_newton_step(const std::function<void(const std::string&, int)>& told);
+
   /// The steps, in the order of summary.json.
   const std::vector<Step*>& steps() const { return _steps; }
   /// The time scheme's and time.adaptive's memory, by checkpoint name.

@@ -68,4 +68,45 @@ void Progress::heartbeat(const std::string& what)
 
 double Progress::elapsed() const { return std::chrono::duration<double>(Clock::now() - _start).count(); }
 
+void Progress::iteration(int step, int iteration, double dp, double du)
+{
+  char what[160];
+  std::snprintf(what, sizeof what, "step %d: coupling iteration %d, increments dp %.3g du %.3g", step, iteration,
+                dp, du);
+  heartbeat(what);
+}
+
+void Progress::newton_step(int step, const std::string& system, int iteration)
+{
+  heartbeat("step " + std::to_string(step) + ": " + system + " contact Newton step " + std::to_string(iteration));
+}
+
+int Progress::finish(const RunEnd& end, const std::string& directory, const std::string& xdmf) const
+{
+  if (end.signal)
+  {
+    if (_root)
+      std::fprintf(stderr, "biotcontact: interrupted (signal %d) after step %d, t = %g: everything up to there is in %s\n",
+                   end.signal, end.completed_steps, end.completed_time, directory.c_str());
+    return 128 + end.signal;
+  }
+  if (end.output_failed)
+  {
+    if (_root)
+      std::fprintf(stderr, "biotcontact: error: %s (steps 1 to %d, t <= %g, are in %s%s)\n", end.failure.c_str(),
+                   end.completed_steps, end.completed_time, directory.c_str(),
+                   end.saved > 0 ? ("; its last checkpoint is of step " + std::to_string(end.saved)).c_str() : "");
+    return run_output_failed;
+  }
+  if (!end.failure.empty())
+  {
+    if (_root)
+      std::fprintf(stderr, "biotcontact: error: %s (log: %s/iterations.csv)\n", end.failure.c_str(), directory.c_str());
+    return run_not_converged;
+  }
+  if (_root)
+    std::printf("wrote %s and %s/summary.json (%f s)\n", xdmf.c_str(), directory.c_str(), elapsed()), std::fflush(stdout);
+  return run_ok;
+}
+
 } // namespace biotcontact

@@ -11,6 +11,27 @@
 namespace biotcontact
 {
 
+/// Exit status of a run.
+enum RunStatus
+{
+  run_ok = 0,
+  run_not_converged = 3,
+  run_output_failed = 4,
+};
+
+/// @brief How a run ended, for its last line: why it failed (empty when
+/// it did not; output_failed when a file could not be written), the
+/// interruption's signal, the last completed and the last checkpointed step.
+struct RunEnd
+{
+  std::string failure;
+  bool output_failed = false;
+  int signal = 0;
+  int completed_steps = 0;
+  double completed_time = 0;
+  int saved = 0;
+};
+
 /// Whether this process is rank 0 of comm (the one that prints).
 bool is_rank0(MPI_Comm comm);
 
@@ -36,6 +57,18 @@ public:
 
   /// Within a step: prints `what` when the interval has passed since the last line.
   void heartbeat(const std::string& what);
+  /// The heartbeat of coupling iteration `iteration` of step `step`, with
+  /// its increments.
+  void iteration(int step, int iteration, double dp, double du);
+
+  /// The heartbeat of Newton step `iteration` of `system`'s contact solve
+  /// in step `step`.
+  void newton_step(int step, const std::string& system, int iteration);
+
+  /// Prints the run's last line (what it wrote into `directory`, or why it
+  /// stopped: to stderr) and returns its exit status (RunStatus, or 128 +
+  /// the signal of an interruption).
+  int finish(const RunEnd& end, const std::string& directory, const std::string& xdmf) const;
 
   /// Seconds since the run started.
   double elapsed() const;
