@@ -1,6 +1,8 @@
 """The material coefficients of the forms, cell by cell: the scene's
 top-level values in cells in no region, a region's own in its cells
 (cpp/assembly/materials.h)."""
+from dataclasses import dataclass
+
 import numpy as np
 from dolfinx import fem
 
@@ -83,18 +85,28 @@ def _set_body_force(f, scene, cells, d, t):
     _per_cell(f, d, value)
 
 
-def add_body_force(loads, scene, domain, F, nodal, cellwise):
-    """The body force term of a step's loads (cpp/assembly/materials.h): the
-    scene's body_force interpolated at the nodes into P1 (form `nodal`), or,
-    when some region gives its own, each cell's material's, one value per
-    cell (form `cellwise`); nothing when no body force is given."""
+@dataclass
+class BodyForceTerm:
+    """The body force term of a step: the names of its two forms, with the
+    nodal coefficient "body_force" (P1) and the cell-wise one
+    "body_force_cells" (DG0)."""
+    nodal: str
+    cellwise: str
+
+
+def add_body_force(loads, scene, domain, F, term):
+    """Adds the BodyForceTerm `term` to a step's loads (cpp/assembly/materials.h):
+    the scene's body_force interpolated at the nodes into P1, or, when some
+    region gives its own, each cell's material's, one value per cell, so that
+    a force changes across a region's boundary without smearing over the
+    nodes there; nothing when no body force is given."""
     if not scene.cellwise_body_force():
         if scene.mechanics.body_force:
-            loads.add(F.compile(nodal), F["body_force"], scene.mechanics.body_force)
+            loads.add(F.compile(term.nodal), F["body_force"], scene.mechanics.body_force)
         return
     forces = [scene.mechanics.body_force] + [r.mechanics.body_force for r in scene.regions.values()]
     time_dependent = any(e.depends_on_time for force in forces if force for e in force)
-    loads.add_filled(F.compile(cellwise), F["body_force_cells"],
+    loads.add_filled(F.compile(term.cellwise), F["body_force_cells"],
                      lambda f, t: _set_body_force(f, scene, domain.regions, domain.dim, t), time_dependent)
 
 

@@ -193,6 +193,25 @@ def same_active_set(a, b, comm):
     return not comm.allreduce(not np.array_equal(a.flags, b.flags), op=MPI.LOR)
 
 
+@dataclasses.dataclass
+class ContactOperators:
+    """The matrices of the contact problem: A, and P (A, or the fixed-stress
+    matrix of the coupled system) that the iterative full path builds its
+    preconditioner from."""
+    A: PETSc.Mat
+    P: PETSc.Mat
+
+
+@dataclasses.dataclass
+class ContactUnknowns:
+    """What the contact solver constrains: the ContactSet, and where each
+    owned DOF of V sits in the solved vector (`displacement_dofs`: i itself
+    for the mechanics system, its place in the mixed space for the
+    monolithic one)."""
+    set: object
+    displacement_dofs: object
+
+
 class ContactState:
     """Contact diagnostics after a solve (cpp/contact/contact.h)."""
 
@@ -230,15 +249,17 @@ class ContactSolver:
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
     stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
 
-    def __init__(self, comm, prefix, A, P, fields, structure, method, contact_set, displacement_dofs):
-        """`displacement_dofs[i]` places V's owned DOF i in the solved vector;
-        on the iterative full path the Newton steps are preconditioned from
-        P (A, or the fixed-stress matrix) split along `fields`."""
-        self.comm, self.A, self.P, self.fields, self.set, self.prefix = comm, A, P, list(fields), contact_set, prefix
-        self.structure = structure
+    def __init__(self, comm, system, method, operators, unknowns):
+        """`system` the SystemLayout of the system it solves, `operators` its
+        ContactOperators, `unknowns` the ContactUnknowns: on the iterative
+        full path the Newton steps are preconditioned from P split along the
+        system's fields."""
+        prefix, structure, A, P = system.prefix, system.structure, operators.A, operators.P
+        self.comm, self.A, self.P, self.fields, self.prefix = comm, A, P, list(system.fields), prefix
+        self.set, self.structure = unknowns.set, structure
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
-        self.displacement_dofs = np.asarray(displacement_dofs, dtype=np.int32)
+        self.displacement_dofs = np.asarray(unknowns.displacement_dofs, dtype=np.int32)
         self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
         self.force = A.createVecRight()
         self._make_change_of_variables()

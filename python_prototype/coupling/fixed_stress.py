@@ -21,7 +21,7 @@ from ..assembly.linear_algebra import owned, owned_norm
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.flow_step import FlowStep
 from ..steps.mechanics_step import MechanicsStep
-from ..steps.time_grid import retry_step
+from ..steps.time_grid import FailedStep, retry_step
 from ..steps.time_scheme import TimeDerivative, history_value, time_derivative
 from .step_control import StepSolution
 
@@ -46,28 +46,6 @@ def _relative(increment, size):
 def _contact_changes(mechanics):
     """Changes of the contact active set so far (0 without contact)."""
     return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
-
-
-def _second_pass_correction(second, p_K, u_new, t, history, p_new, w_new):
-    """The second pass of "multirate-two-pass" (cpp/coupling/fixed_stress.cpp): the
-    fine steps again without L, from p_K and with u^{n+1},
-      (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
-        = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
-    then p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q) (and the same for the mixed
-    states): the window end keeps p^A_q, the pressure the mechanics used.
-    history(m, p_B) sets fine step m's time history (time_scheme.py)."""
-    q = len(p_new) - 1
-    p_B, w_B = [p_K] * (q + 1), [None] * (q + 1)
-    second.u_iterate.x.array[:] = u_new
-    for m in range(1, q + 1):
-        history(m, p_B)
-        second.solve(t(m))
-        p_B[m] = second.pressure.x.array.copy()
-        w_B[m] = second.unknowns().copy()
-    p_end, w_end = p_new[q] - p_B[q], w_new[q] - w_B[q]
-    for m in range(1, q):
-        p_new[m] = p_B[m] + (m / q) * p_end
-        w_new[m] = w_B[m] + (m / q) * w_end
 
 
 class _Window:
@@ -281,9 +259,29 @@ class _FixedStressSplit:
         self.mechanics.solve(self.t(w, w.q))
         w.u_new = self.mechanics.u.x.array.copy()
         if self.second_pass and w.q > 1:
-            _second_pass_correction(self.second_pass, self.p_K, w.u_new, lambda m: self.t(w, m),
-                                   lambda m, p_B: self.set_time_history(self.second_pass, w, m, p_B, w.u_new),
-                                   w.p_new, w.w_new)
+            self.second_pass_correction(w)
+
+    def second_pass_correction(self, w):
+        """The second pass of "multirate-two-pass" (docs/multirate-two-pass.md):
+        the fine steps again without L, from p_K and with u^{n+1},
+          (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
+            = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
+        then p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q) (and the same for the
+        mixed states): the window end keeps p^A_q, the pressure the mechanics
+        used. At the fixed point p^B = p^A: the fixed point is that of the
+        printed scheme."""
+        second, q = self.second_pass, w.q
+        p_B, w_B = [self.p_K] * (q + 1), [None] * (q + 1)
+        second.u_iterate.x.array[:] = w.u_new
+        for m in range(1, q + 1):
+            self.set_time_history(second, w, m, p_B, w.u_new)
+            second.solve(self.t(w, m))
+            p_B[m] = second.pressure.x.array.copy()
+            w_B[m] = second.unknowns().copy()
+        p_end, w_end = w.p_new[q] - p_B[q], w.w_new[q] - w_B[q]
+        for m in range(1, q):
+            w.p_new[m] = p_B[m] + (m / q) * p_end
+            w.w_new[m] = w_B[m] + (m / q) * w_end
 
     def measure_contraction(self, w, n):
         """The contraction quantities of this iteration's increments, with the
@@ -451,7 +449,7 @@ class _FixedStressSplit:
     def retry(self, w, cause):
         """time.retry: back to the start of the window, whose fine steps are
         halved (two windows of q steps); False when no retry is left."""
-        message = retry_step(self.scene, cause, w.K + 1, self.attempts, self.grid, w.j, w.q, self.report)
+        message = retry_step(self.scene, FailedStep(w.K + 1, cause, w.j, w.q), self.attempts, self.report, self.grid)
         if message is None:
             return False
         self.go_back(w, message)

@@ -4,7 +4,7 @@ It drives any step through the step interface (steps/step.py)."""
 from ..assembly.parameters import set_time_step
 from ..contact.contact import ActiveSet
 from ..solvers.solver import SolverError
-from ..steps.time_grid import retry_step
+from ..steps.time_grid import FailedStep, retry_step
 from ..steps.time_scheme import time_derivative
 from .step_control import StepSolution
 
@@ -50,7 +50,7 @@ def run_single_solve(problem, step, run):
         try:
             step.advance(t, d)
         except SolverError as e:
-            message = retry_step(problem.scene, str(e), k, attempts, run.grid, k - 1, 1, run.report)
+            message = retry_step(problem.scene, FailedStep(k, str(e), k - 1, 1), attempts, run.report, run.grid)
             if message is None:
                 raise
             run.observer.retry(message)

@@ -5,6 +5,7 @@ and counts set-ups and solves per system, from PETSc's event log of the
 system's own log stage."""
 import enum
 import time
+from dataclasses import dataclass
 
 from petsc4py import PETSc
 
@@ -21,6 +22,17 @@ class Structure(enum.Enum):
     spd = 1             # elasticity with Dirichlet rows: Cholesky
     quasi_definite = 2  # RT0 x P0 with S + L > 0: LU without pivoting is stable
     general = 3         # LU with pivoting
+
+
+@dataclass
+class SystemLayout:
+    """A system as its solvers see it: the options prefix that names it
+    ("flow_": options -flow_*, log stage "flow"), what its matrix is
+    (Structure), and the fields of a mixed system (field_split.py; empty for
+    one field)."""
+    prefix: str
+    structure: Structure
+    fields: tuple = ()
 
 
 def reason_name(enum_, reason):

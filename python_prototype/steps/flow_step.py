@@ -10,7 +10,7 @@ from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
                                        owned_global_dofs, reassemble_operator, UnknownsPart)
-from ..solvers.solver import Structure
+from ..solvers.solver import Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import flux_bc, update_fluxes
@@ -80,9 +80,9 @@ class FlowStep(Step):
 
         self.assembly_time = 0.0  # right-hand sides
         # Quasi-definite when S + L > 0 in every cell (cpp/steps/flow_step.cpp): factorised once per dt.
-        self.system = System(comm, "flow_", self.a, self.bcs,
-                             Structure.quasi_definite if materials.min_stabilised_storage > 0 else Structure.general,
-                             scene.solver.flow, self.fields(W))
+        structure = Structure.quasi_definite if materials.min_stabilised_storage > 0 else Structure.general
+        self.system = System(comm, self.a, self.bcs, SystemLayout("flow_", structure, self.fields(W)),
+                             scene.solver.flow)
         self.b = fem.Function(W)
 
     def make_loads(self, domain):

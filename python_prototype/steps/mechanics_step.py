@@ -7,11 +7,11 @@ from dolfinx import fem
 
 from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
 from ..assembly.loads import Loads
-from ..assembly.materials import add_body_force
+from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
 from ..assembly.linear_algebra import (UnknownsPart, assemble_operator, finish_rhs, multiply_add, owned,
                                        rigid_body_modes)
-from ..solvers.solver import Method, Structure
+from ..solvers.solver import Method, Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, update
@@ -40,7 +40,7 @@ class MechanicsStep(Step):
 
         self.assembly_time = 0.0  # right-hand sides
         # a(u, v) never changes: assembled once; SPD with identity Dirichlet rows.
-        self.system = System(comm, "mechanics_", self.a, self.bcs, Structure.spd, scene.solver.mechanics)
+        self.system = System(comm, self.a, self.bcs, SystemLayout("mechanics_", Structure.spd), scene.solver.mechanics)
         if self.system.method == Method.iterative:
             self.system.set_near_nullspace(rigid_body_modes(V))
         self.b = fem.Function(V)
@@ -57,7 +57,7 @@ class MechanicsStep(Step):
         self.loads = Loads(self.V, finish)
         for expression, *_ in self.bc_values:
             self.loads.depends_on_time(expression.depends_on_time)
-        add_body_force(self.loads, self.scene, domain, F, "L_body_force", "L_body_force_cells")
+        add_body_force(self.loads, self.scene, domain, F, BodyForceTerm("L_body_force", "L_body_force_cells"))
         for name, b in self.scene.boundaries.items():
             if b.traction:
                 self.loads.add_boundary(domain, name, lambda marker: F.compile("L_traction", marker),

@@ -8,12 +8,12 @@ from dolfinx import fem
 from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
-from ..assembly.materials import add_body_force
+from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
-from ..solvers.solver import Structure
+from ..solvers.solver import Structure, SystemLayout
 from .mechanics_step import MechanicsStep
 from .step import Step, StepState
 from .system import System
@@ -53,8 +53,8 @@ class MonolithicStep(Step):
         # Depends on dt only; its pressure block -(S/dt) is often negligible
         # against the coupling: LU with pivoting (cpp/steps/monolithic_step.cpp). The
         # iterative path is preconditioned by the fixed-stress split.
-        self.system = System(comm, "monolithic_", self.a, self.bcs, Structure.general, scene.solver.monolithic,
-                             self.fields(X), F.compile("a_monolithic_preconditioner", faces))
+        self.system = System(comm, self.a, self.bcs, SystemLayout("monolithic_", Structure.general, self.fields(X)),
+                             scene.solver.monolithic, F.compile("a_monolithic_preconditioner", faces))
         self.b = fem.Function(X)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         if scene.has_contact():
@@ -76,7 +76,8 @@ class MonolithicStep(Step):
             self.loads.depends_on_time((f.rate or f.flux).depends_on_time)
         self.wells = well_sources(scene, domain, self.Q, self.Q_to_X)
         self.loads.depends_on_time(depends_on_time(self.wells))
-        add_body_force(self.loads, scene, domain, F, "L_monolithic_body_force", "L_monolithic_body_force_cells")
+        add_body_force(self.loads, scene, domain, F,
+                       BodyForceTerm("L_monolithic_body_force", "L_monolithic_body_force_cells"))
         for name, b in scene.boundaries.items():
             if b.traction:  # a traction boundary, or a loaded contact boundary
                 self.loads.add_boundary(domain, name, lambda m: F.compile("L_monolithic_traction", m),

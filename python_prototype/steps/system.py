@@ -4,22 +4,24 @@ problem on it. How it is solved is decided here and in solvers/solver.py."""
 import time
 
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
-from ..contact.contact import ContactSolver
+from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
 from ..solvers.field_split import is_coupled
-from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, choose_method, set_solver_defaults,
-                     solver_counts)
+from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, SystemLayout, choose_method,
+                              set_solver_defaults, solver_counts)
 
 
 class System:
-    """`choice` is the scene's [solver] entry ("direct", "iterative" or
-    "auto"); `fields` the (name, global DOFs) splits of a mixed system."""
+    """`layout` (a SystemLayout) names the system's PETSc options and its
+    log stage and gives the (name, global DOFs) splits of a mixed system;
+    `choice` is the scene's [solver] entry ("direct", "iterative" or "auto")."""
 
-    def __init__(self, comm, prefix, a, bcs, structure, choice, fields=(), a_preconditioner=None):
+    def __init__(self, comm, a, bcs, layout, choice, a_preconditioner=None):
         """`a_preconditioner` (optional): the form an iterative method builds
         its preconditioner from instead of `a` (the fixed-stress matrix of
         the coupled system)."""
+        prefix, structure = layout.prefix, layout.structure
         self.comm, self.prefix, self.a, self.bcs, self.structure = comm, prefix, a, bcs, structure
-        self.fields = list(fields)
+        self.fields = list(layout.fields)
         self._statistics = SolverStatistics()
         start = time.perf_counter()
         self.A = assemble_matrix(a, bcs)
@@ -55,8 +57,9 @@ class System:
         """Every solve becomes the contact problem of `contact_set`
         (`displacement_dofs` place V's owned DOFs in x)."""
         self.linear = None
-        self.contact = ContactSolver(self.comm, self.prefix, self.A, self.preconditioner_matrix(), self.fields,
-                                     self.structure, self.method, contact_set, displacement_dofs)
+        self.contact = ContactSolver(self.comm, SystemLayout(self.prefix, self.structure, self.fields), self.method,
+                                     ContactOperators(self.A, self.preconditioner_matrix()),
+                                     ContactUnknowns(contact_set, displacement_dofs))
 
     def has_contact(self):
         return self.contact is not None

@@ -5,6 +5,7 @@ time.retry has its fine steps halved (dt/2 is exact in binary floating
 point); an adaptive run plans the steps after each accepted one again
 (coupling/step_control.py); a checkpoint keeps the grid."""
 import math
+from dataclasses import dataclass
 
 
 class TimeGrid:
@@ -52,15 +53,26 @@ def halve_steps(grid, first, count):
     grid.dt = dt + grid.dt[first + count:]
 
 
-def retry_step(scene, cause, step, attempts, grid, first, count, report):
-    """time.retry: whether a failed step may be tried again with halved steps
-    (`attempts[0]` retries of it so far); if so, counts the retry in
-    report.retries, halves the fine steps first, ..., first + count - 1 and
-    returns the message that says so (else None)."""
+@dataclass
+class FailedStep:
+    """A step that failed: its number (for the message), why, and its fine
+    steps first, ..., first + count - 1 on the grid."""
+    step: int
+    cause: str
+    first: int
+    count: int
+
+
+def retry_step(scene, failed, attempts, report, grid):
+    """time.retry: whether the FailedStep `failed` may be tried again with
+    halved steps (`attempts[0]` retries of it so far, at most scene.retry);
+    if so, counts the retry in attempts[0] and report.retries (the run's),
+    halves the failed fine steps of `grid` and returns the message that says
+    so (else None)."""
     if attempts[0] >= scene.retry:
         return None
     attempts[0] += 1
     report.retries += 1
-    halve_steps(grid, first, count)
-    return (f"step {step} failed ({cause}); retry {attempts[0]} of {scene.retry} "
-            f"with dt = {grid.dt[first]:g}")
+    halve_steps(grid, failed.first, failed.count)
+    return (f"step {failed.step} failed ({failed.cause}); retry {attempts[0]} of {scene.retry} "
+            f"with dt = {grid.dt[failed.first]:g}")

@@ -14,7 +14,8 @@ import unittest
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.scene.scene import AdaptiveSpec, Scene  # noqa: E402
-from python_prototype.steps.time_grid import TimeGrid, halve_steps, plan_steps, retry_step, time_grid  # noqa: E402
+from python_prototype.steps.time_grid import (FailedStep, TimeGrid, halve_steps, plan_steps, retry_step,  # noqa: E402
+                                              time_grid)
 
 CAUSE = "the coupling did not converge"
 
@@ -77,7 +78,7 @@ class TimeGridTest(unittest.TestCase):
         s.retry = 2
         g = time_grid(s)
         attempts, report = [0], types.SimpleNamespace(retries=0)
-        first = retry_step(s, CAUSE, 3, attempts, g, 2, 1, report)
+        first = retry_step(s, FailedStep(3, CAUSE, 2, 1), attempts, report, g)
         self.assertIsNotNone(first)
         for part in ("step 3", CAUSE, "retry 1 of 2"):
             self.assertIn(part, first)
@@ -85,13 +86,13 @@ class TimeGridTest(unittest.TestCase):
         self.assertEqual(g.steps(), 5)
         self.assertEqual(g.dt[2], 0.125)
 
-        second = retry_step(s, CAUSE, 3, attempts, g, 2, 2, report)
+        second = retry_step(s, FailedStep(3, CAUSE, 2, 2), attempts, report, g)
         self.assertIn("retry 2 of 2", second)
         self.assertEqual(g.steps(), 7)
         self.assertEqual(g.dt[2], 0.0625)
 
         kept = list(g.t)
-        self.assertIsNone(retry_step(s, CAUSE, 3, attempts, g, 2, 4, report))
+        self.assertIsNone(retry_step(s, FailedStep(3, CAUSE, 2, 4), attempts, report, g))
         self.assertEqual((attempts[0], report.retries), (2, 2))
         self.assertEqual(g.t, kept, "a refused retry leaves the grid")
 
@@ -99,7 +100,7 @@ class TimeGridTest(unittest.TestCase):
         s = timed(1.0, 0.25)
         g = time_grid(s)
         attempts, report = [0], types.SimpleNamespace(retries=0)
-        self.assertIsNone(retry_step(s, "a solver failed", 1, attempts, g, 0, 1, report))
+        self.assertIsNone(retry_step(s, FailedStep(1, "a solver failed", 0, 1), attempts, report, g))
         self.assertEqual((attempts[0], report.retries), (0, 0))
         self.assertEqual(g.steps(), 4)
 
