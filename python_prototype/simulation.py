@@ -3,7 +3,6 @@ up the problem (mesh, forms, materials), describe it, make the scheme and
 its steps, open the output, start or restore, the time loop, the summary
 and the exit status."""
 import os
-import sys
 
 from .assembly.forms import Forms
 from .assembly.materials import make_materials
@@ -20,13 +19,11 @@ from .output.directory_lock import DirectoryLock
 from .output.fields import OutputFields
 from .output.interruption import interruption_signal
 from .output.output import Output
-from .output.progress import Progress, is_rank0
+from .output.progress import Progress, RunEnd
 from .output.summary import RunOutcome, SummaryInput, run_summary
 from .output.write_failure import OutputError
 from .solvers.solver import SolverError
 from .steps.time_grid import time_grid
-
-RUN_OK, RUN_NOT_CONVERGED, RUN_OUTPUT_FAILED = 0, 3, 4
 
 
 class Simulation:
@@ -44,20 +41,14 @@ class Simulation:
         self.description = Description()
         self.scheme = self.resumed = self.lock = self.output = self.fields = self.grid = None
         self.report, self.state = CouplingReport(), ControllerState()
-        self.completed_steps = 0     # mechanics steps (windows) written
-        self.completed_time = 0.0
-        self.saved = 0               # the step of the last checkpoint
+        self.end = RunEnd()          # the steps completed and saved so far; why the run stopped
         self.checkpointing = False   # writing the checkpoint of the last completed step
-        self.signal = 0              # the interruption that ended the run
-        self.failure = ""            # why the run failed
-        self.output_failed = False   # ... because a file could not be written
 
     def run(self):
         """The story of a run; the files are closed and the directory's lock
         released however it ends."""
         try:
             self.set_up()
-            self.describe()
             self.scheme = Scheme(self.problem)
             try:
                 self.open_output()
@@ -72,7 +63,9 @@ class Simulation:
 
     def set_up(self):
         """The problem: the mesh and its tags, the forms on it, the materials
-        of its cells, the derived parameters and the constants of the forms."""
+        of its cells, the derived parameters and the constants of the forms;
+        then what the scene leaves out, and warnings where the method is
+        known to degrade (diagnostics/description.py)."""
         self.domain = create_domain(self.scene, self.comm)
         check_expressions(self.scene, self.domain, self.comm)
         self.F = Forms(self.domain.mesh)
@@ -81,10 +74,6 @@ class Simulation:
         self.parameters.gamma = self.materials.gamma  # the largest of any cell
         set_constants(self.F, self.scene, self.parameters)
         self.problem = Problem(self.scene, self.domain, self.F, self.materials, self.parameters)
-
-    def describe(self):
-        """Says what the scene leaves out, and warns where the method is known
-        to degrade (diagnostics/description.py)."""
         self.description = describe(self.problem)
         for line in self.description.lines:
             self.progress.say(line)
@@ -123,12 +112,12 @@ class Simulation:
         """The initial state, written at t = 0, or the checkpoint's step and time."""
         s = self.scheme
         if self.resumed:
-            self.saved = self.completed_steps = self.resumed.steps
-            self.completed_time = self.resumed.time
+            self.end.saved = self.end.completed_steps = self.resumed.steps
+            self.end.completed_time = self.resumed.time
             if s.u is not None:
                 self.fields.contact = s.compute_contact()
-            self.progress.say(f"restarted from the checkpoint at step {self.completed_steps}, "
-                              f"t = {self.completed_time:f}")
+            self.progress.say(f"restarted from the checkpoint at step {self.end.completed_steps}, "
+                              f"t = {self.end.completed_time:f}")
             return
         if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
             for step in s.steps():
@@ -138,26 +127,27 @@ class Simulation:
             self.fields.write_mechanics(0.0)
         if s.contact_boundary is not None:
             self.output.write(s.contact_boundary, 0.0)  # once: every later time repeats it
-        if s.step_control:
-            s.step_control.start(s.p.x.array if s.p else None, s.u.x.array if s.u else None, self.state)
+        s.start(self.state)
 
     def stop(self):
         """After each completed (and written) step: a checkpoint every
         checkpoint_every steps and at an interruption; then whether to stop."""
+        end = self.end
+
         def save():
             self.checkpointing = True
             write_checkpoint(self.comm, self.directory, self.fingerprint,
-                             capture_checkpoint(self.run_state(), self.completed_steps, self.completed_time,
+                             capture_checkpoint(self.run_state(), end.completed_steps, end.completed_time,
                                                 self.output.position()))
             self.checkpointing = False
-            self.saved = self.completed_steps
+            end.saved = end.completed_steps
         every = self.scene.checkpoint_every
-        if every > 0 and self.completed_steps % every == 0:
+        if every > 0 and end.completed_steps % every == 0:
             save()
-        self.signal = interruption_signal(self.comm)
-        if self.signal and every > 0 and self.saved != self.completed_steps:
+        end.signal = interruption_signal(self.comm)
+        if end.signal and every > 0 and end.saved != end.completed_steps:
             save()
-        return self.signal != 0
+        return end.signal != 0
 
     def observer(self):
         """What the coupling schemes tell the run: write each step, print the
@@ -171,40 +161,31 @@ class Simulation:
                 self.fields.write_mechanics(t)
             elif self.scheme.u is not None:
                 self.fields.contact = self.scheme.compute_contact()
-            self.completed_steps, self.completed_time = step, t
+            self.end.completed_steps, self.end.completed_time = step, t
             self.progress.step(step, self.planned_steps(), t, iterations,
                                self.fields.contact.active_nodes)
-
-        def iteration(step, iteration, dp, du):
-            self.progress.heartbeat(f"step {step}: coupling iteration {iteration}, increments dp {dp:.3g} "
-                                    f"du {du:.3g}")
         return WindowObserver(flow_state=flow_state, mechanics_state=mechanics_state, stop=self.stop,
-                              retry=self.progress.say, iteration=iteration, record=self.output.iteration)
-
-    def report_newton_steps(self):
-        """A contact solve longer than the interval (a large monolithic step)
-        prints its Newton steps as it goes, like the coupling iterations of
-        the split: the contact solver calls on_newton_step(iteration) after
-        each Newton step."""
-        for step in self.scheme.steps():
-            if step.system.has_contact():
-                step.system.contact.on_newton_step = lambda iteration, name=step.name(): self.progress.heartbeat(
-                    f"step {self.completed_steps + 1}: {name} contact Newton step {iteration}")
+                              retry=self.progress.say, iteration=self.progress.iteration,
+                              record=self.output.iteration)
 
     def time_loop(self):
         """The steps from t = 0 (or the checkpoint) to the end, driven by the
         scheme. A failure ends the loop with what was finished written; it
         names the step it was computing."""
         run = CouplingRun(self.grid, self.scheme.step_control, self.observer(), self.report, self.state)
-        self.report_newton_steps()
-        self.progress.start_loop(self.completed_steps, self.planned_steps())
+        # A contact solve longer than the interval (a large monolithic step)
+        # prints its Newton steps as it goes, like the coupling iterations
+        # of the split.
+        self.scheme.on_newton_step(
+            lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
+        self.progress.start_loop(self.end.completed_steps, self.planned_steps())
         try:
             self.scheme.run(run)
         except CouplingError as e:
-            self.failure = str(e)  # names its step and the last increments
+            self.end.failure = str(e)  # names its step and the last increments
         except SolverError as e:
-            self.failure = f"{self.step_being_computed()}: {e}"
-            self.report.windows = self.completed_steps
+            self.end.failure = f"{self.step_being_computed()}: {e}"
+            self.report.windows = self.end.completed_steps
         self.fields.contact = self.scheme.compute_contact()
 
     def planned_steps(self):
@@ -215,7 +196,7 @@ class Simulation:
 
     def step_being_computed(self):
         """"step N (t = T)" of the step after the last completed one."""
-        step = self.completed_steps + 1
+        step = self.end.completed_steps + 1
         if not self.grid or not self.grid.t:
             return f"step {step}"
         k = min(self.report.fine_steps + self.parameters.q, len(self.grid.t) - 1)
@@ -224,10 +205,11 @@ class Simulation:
     def stop_at_output_failure(self, e):
         """A file could not be written (a full disk): the run ends with what
         was finished, and the failure names the step it was writing."""
-        self.failure = (f"after step {self.completed_steps}" if self.checkpointing else self.step_being_computed()) \
+        end = self.end
+        end.failure = (f"after step {end.completed_steps}" if self.checkpointing else self.step_being_computed()) \
             + f": {e}"
-        self.output_failed = True
-        self.report.windows = self.completed_steps
+        end.output_failed = True
+        self.report.windows = end.completed_steps
 
     def write_summary(self):
         """summary.json (output/summary.py), whatever the run's end (when the
@@ -235,47 +217,26 @@ class Simulation:
         if self.output is None:
             return
         summary_input = SummaryInput(self.problem, self.scheme, self.report, self.grid, self.fields.contact)
-        if self.scene.reference and not self.failure and not self.signal:
+        end = self.end
+        if self.scene.reference and not end.failure and not end.signal:
             summary_input.errors = reference_errors(self.problem, self.scheme.u, self.scheme.p)
-        outcome = RunOutcome(self.failure, self.signal, self.completed_time, self.description.left_out,
+        outcome = RunOutcome(end.failure, end.signal, end.completed_time, self.description.left_out,
                              self.description.warnings, self.progress.elapsed(), self.output.time, self.comm.size)
         try:
             self.output.summary(run_summary(summary_input, outcome))
         except OutputError as e:
-            if self.output_failed:
-                self.failure += "; summary.json could not be written either"
+            if end.output_failed:
+                end.failure += "; summary.json could not be written either"
             else:
                 self.stop_at_output_failure(e)
 
     def exit_status(self):
-        """RUN_OK; 128 + the signal of an interruption; RUN_NOT_CONVERGED after
-        a failure (everything finished is written)."""
-        root = is_rank0(self.comm)
-        if self.signal:
-            if root:
-                print(f"biotcontact: interrupted (signal {self.signal}) after step {self.completed_steps}, "
-                      f"t = {self.completed_time:g}: everything up to there is in {self.directory}",
-                      file=sys.stderr, flush=True)
-            return 128 + self.signal
-        if self.output_failed:
-            if root:
-                checkpoint = f"; its last checkpoint is of step {self.saved}" if self.saved > 0 else ""
-                print(f"biotcontact: error: {self.failure} (steps 1 to {self.completed_steps}, "
-                      f"t <= {self.completed_time:g}, are in {self.directory}{checkpoint})", file=sys.stderr, flush=True)
-            return RUN_OUTPUT_FAILED
-        if self.failure:
-            if root:
-                print(f"biotcontact: error: {self.failure} (log: {self.directory}/iterations.csv)", file=sys.stderr,
-                      flush=True)
-            return RUN_NOT_CONVERGED
-        if root:
-            print(f"wrote {self.output.xdmf_path()} and {self.directory}/summary.json "
-                  f"({self.progress.elapsed():f} s)", flush=True)
-        return RUN_OK
-
+        """The last line and the exit status (output/progress.py)."""
+        return self.progress.finish(self.end, self.directory, self.output.xdmf_path() if self.output else "")
 
 def run(scene, directory, comm, fingerprint="", restart=False):
     """Runs `scene` into `directory`; returns RUN_OK, or RUN_NOT_CONVERGED
-    after writing what was finished and the iteration log, or 128 + the
-    signal after an interruption."""
+    after writing what was finished and the iteration log, RUN_OUTPUT_FAILED
+    when a file could not be written (a full disk), or 128 + the signal after
+    an interruption (output/progress.py)."""
     return Simulation(scene, directory, comm, fingerprint, restart).run()

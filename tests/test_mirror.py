@@ -73,18 +73,7 @@ DIFFERENCES = {
     "simulation": {
         "RunControl": "C++ only: run()'s named options (fingerprint, restart) in a struct; Python passes them as "
                       "keyword arguments of run()",
-        "RunStatus": "C++ only: the type of the unscoped enum whose values run_ok, run_not_converged and "
-                     "run_output_failed Python holds as plain constants (RUN_OK, ...)",
-        **{name: private("simulation.cpp") for name in (
-            "OutputFields", "Steps", "adaptive_json", "boundary_mean", "capture_checkpoint", "closed_form_errors",
-            "contact_json", "equilibrate", "global_size", "monolithic_steps", "regions_json", "restore_checkpoint",
-            "restore_unknowns", "solver_summaries", "split_steps", "statistics", "take_contact_fields",
-            "window_steps_json")},
         "Simulation": private("simulation.cpp") + " (tests/test_regions.py imports it)",
-        "history": "Python only: to align (issue 36): in C++ the member Steps::history (private to simulation.cpp), "
-                   "here a free function of the steps",
-        "unknowns_parts": "Python only: to align (issue 36): C++ has no such function: capture_checkpoint and "
-                          "restore_unknowns walk the steps' parts in lambdas of their own",
     },
     "scene/expression": {
         "ExpressionError": "Python only: the prototype's own expression parser raises this ValueError subclass, "
@@ -143,6 +132,10 @@ DIFFERENCES = {
         "wrap": "C++ only: a dolfinx vector as a PETSc Vec sharing its memory; dolfinx's Python API already "
                 "provides it (Function.vector)",
         "owned_size": "C++ only: to align (issue 36): the same function is `owned` in Python",
+        "values": "C++ only: a copy of a function's or a vector's values (ghosts included); numpy's "
+                  "x.array.copy() in Python",
+        "assign": "C++ only: sets a function's values (ghosts included) from a span; Python assigns the numpy "
+                  "array (f.x.array[:] = x)",
         "owned": "Python only: to align (issue 36): the same function is owned_size in C++",
         "owned_norm": "Python only: to align (issue 36): C++ declares it in diagnostics/diagnostics.h",
         "accumulate_ghosts": "Python only: to align (issue 36): a one-line wrapper of "
@@ -173,8 +166,6 @@ DIFFERENCES = {
                        "(keys, values) as two numpy arrays, the keys' width their second dimension",
     },
     "output/output": {
-        "IterationRecord": "C++ only: to align (issue 36): one row of iterations.csv; Python's Output.iteration "
-                           "takes its nine values as parameters (over the 6-parameter rule)",
         "Json": "C++ only: a JSON object built key by key in insertion order; a Python dict is one (to_json "
                 "writes it)",
         "to_json": "Python only: writes a dict in the layout of C++'s Json::str (17 significant digits, null for "
@@ -182,7 +173,8 @@ DIFFERENCES = {
         "number": private("output.cpp"),
     },
     "output/progress": {
-        "duration": private("progress.cpp"),
+        "RunStatus": "C++ only: the type of the unscoped enum whose values run_ok, run_not_converged and "
+                     "run_output_failed Python holds as plain constants (RUN_OK, ...)",
     },
     "output/time_series": {
         "InputOrder": "C++ only: sends each rank's rows, in the mesh's input order, to the rank that writes "
@@ -212,16 +204,11 @@ DIFFERENCES = {
         "State": "C++ only: a type alias for the iterates (a vector of vectors of doubles); Python's lists need "
                  "no type",
     },
-    "coupling/fixed_stress": {
-        **{name: private("fixed_stress.cpp") for name in (
-            "FixedStressSplit", "Increments", "Window", "contact_changes", "relative", "second_pass_correction")},
-        "Outcome": "Python only: to align (issue 36): in C++ the enum FixedStressSplit::Outcome, private to "
-                   "fixed_stress.cpp; here a module-level class",
+    "diagnostics/closed_form": {
+        "Medium": "C++ only: to align (issue 36): the medium of Mandel's closed form (G, lambda, alpha, S, "
+                  "k/mu_f), which C++'s Mandel takes as one parameter; the prototype's Mandel still takes the five "
+                  "values, which bench/mandel.py passes by keyword",
     },
-    "coupling/single_solve": {name: private("single_solve.cpp") for name in (
-        "active_contact_set", "error_accepted", "go_back", "keep_history", "same_contact_set", "solve_step",
-        "step_start")},
-    "coupling/step_control": {name: private("step_control.cpp") for name in ("local_error", "milne_weight")},
     "diagnostics/diagnostics": {
         "owned_norm": "C++ only: to align (issue 36): Python defines it in assembly/linear_algebra.py",
     },

@@ -40,6 +40,19 @@ class Scheme:
         time (a CouplingRun; fixed_stress.py or single_solve.py)."""
         self._drive(run)
 
+    def start(self, state):
+        """time.adaptive's scales from the state at t = 0, into the
+        ControllerState `state` (nothing without it)."""
+        if self.step_control:
+            self.step_control.start(self.p.x.array if self.p else None, self.u.x.array if self.u else None, state)
+
+    def on_newton_step(self, told):
+        """`told(system, iteration)` after each Newton step of a contact solve."""
+        for step in self._steps:
+            if step.system.has_contact():
+                step.system.contact.on_newton_step = \
+                    lambda iteration, name=step.name(): told(name, iteration)
+
     def steps(self):
         """The steps, in the order of summary.json."""
         return self._steps

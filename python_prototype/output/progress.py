@@ -1,9 +1,28 @@
 """What a run prints while it runs (cpp/output/progress.h): one line per
 completed step with the wall time so far and an estimate of the time left,
 and a line every 10 s (output.progress_interval) within a step that runs
-longer, so that a long 3D run never looks hung."""
+longer, so that a long 3D run never looks hung; and the run's last line
+and exit status."""
 import math
+import sys
 import time
+from dataclasses import dataclass
+
+# Exit status of a run.
+RUN_OK, RUN_NOT_CONVERGED, RUN_OUTPUT_FAILED = 0, 3, 4
+
+
+@dataclass
+class RunEnd:
+    """How a run ended, for its last line: why it failed (empty when it did
+    not; output_failed when a file could not be written), the interruption's
+    signal, the last completed and the last checkpointed step."""
+    failure: str = ""
+    output_failed: bool = False
+    signal: int = 0
+    completed_steps: int = 0
+    completed_time: float = 0.0
+    saved: int = 0
 
 
 def is_rank0(comm):
@@ -11,7 +30,7 @@ def is_rank0(comm):
     return comm.rank == 0
 
 
-def duration(s):
+def _duration(s):
     """Seconds as a short duration: 42.1 s, 12 min 5 s, 3 h 20 min."""
     if s < 60:
         return f"{s:.1f} s"
@@ -51,12 +70,48 @@ class Progress:
         left = in_loop / done * (total - step) if done > 0 else math.nan
         self.say(f"step {step:4d}/{total}  t = {t:<11.5g}  coupling iterations {iterations:3d}  "
                  f"active contact nodes {active_nodes}  "
-                 f"[{duration(self.elapsed())}, {duration(left) if math.isfinite(left) else '?'} left]")
+                 f"[{_duration(self.elapsed())}, {_duration(left) if math.isfinite(left) else '?'} left]")
 
     def heartbeat(self, what):
         """Within a step: prints `what` when the interval has passed since the last line."""
         if time.perf_counter() - self._last_line >= self._interval:
-            self.say(f"  ... {what}  [{duration(self.elapsed())}]")
+            self.say(f"  ... {what}  [{_duration(self.elapsed())}]")
+
+    def iteration(self, step, iteration, dp, du):
+        """The heartbeat of coupling iteration `iteration` of step `step`,
+        with its increments."""
+        self.heartbeat(f"step {step}: coupling iteration {iteration}, increments dp {dp:.3g} du {du:.3g}")
+
+    def newton_step(self, step, system, iteration):
+        """The heartbeat of Newton step `iteration` of `system`'s contact
+        solve in step `step`."""
+        self.heartbeat(f"step {step}: {system} contact Newton step {iteration}")
+
+    def finish(self, end, directory, xdmf):
+        """Prints the run's last line (what it wrote into `directory`, or why
+        it stopped: to stderr) for the RunEnd `end` and returns its exit
+        status (RUN_OK, RUN_NOT_CONVERGED, RUN_OUTPUT_FAILED, or 128 + the
+        signal of an interruption)."""
+        if end.signal:
+            if self._root:
+                print(f"biotcontact: interrupted (signal {end.signal}) after step {end.completed_steps}, "
+                      f"t = {end.completed_time:g}: everything up to there is in {directory}",
+                      file=sys.stderr, flush=True)
+            return 128 + end.signal
+        if end.output_failed:
+            if self._root:
+                checkpoint = f"; its last checkpoint is of step {end.saved}" if end.saved > 0 else ""
+                print(f"biotcontact: error: {end.failure} (steps 1 to {end.completed_steps}, "
+                      f"t <= {end.completed_time:g}, are in {directory}{checkpoint})", file=sys.stderr, flush=True)
+            return RUN_OUTPUT_FAILED
+        if end.failure:
+            if self._root:
+                print(f"biotcontact: error: {end.failure} (log: {directory}/iterations.csv)", file=sys.stderr,
+                      flush=True)
+            return RUN_NOT_CONVERGED
+        if self._root:
+            print(f"wrote {xdmf} and {directory}/summary.json ({self.elapsed():f} s)", flush=True)
+        return RUN_OK
 
     def elapsed(self):
         """Seconds since the run started."""
