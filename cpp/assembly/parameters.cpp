@@ -33,11 +33,11 @@ Parameters material_parameters(const Scene& scene, const MechanicsSpec* mechanic
     parameters.alpha = alpha;
     parameters.q = c.q;
     const double a2 = parameters.alpha * parameters.alpha;
-    if (c.L_choice == "paper")
+    if (c.L_choice == LChoice::paper)
       parameters.L = a2 / parameters.lambda;
-    else if (c.L_choice == "kdr")
+    else if (c.L_choice == LChoice::kdr)
       parameters.L = a2 / parameters.K_dr;
-    else if (c.L_choice == "half-kdr")
+    else if (c.L_choice == LChoice::half_kdr)
       parameters.L = a2 / (2 * parameters.K_dr);
     else
       parameters.L = c.L_number;

@@ -97,7 +97,7 @@ public:
                      steps.flow.pressure_space()),
         _run(run), _observer(run.observer), _report(run.report), _state(run.state), _grid(run.grid), _control(run.control),
         _V(*steps.mechanics.space()), _Q(*steps.flow.pressure_space()),
-        _accelerated(_coupling.acceleration == "anderson")
+        _accelerated(_coupling.acceleration == Acceleration::anderson)
   {
   }
 
@@ -274,7 +274,7 @@ TimeDerivative FixedStressSplit::window_derivative(int j, int q) const
 /// (docs/theory.md, "Time schemes").
 Array FixedStressSplit::path(const Window& w, const Array& u, int m) const
 {
-  const bool bdf2 = _scene.time_scheme == "bdf2";
+  const bool bdf2 = _scene.time_scheme == TimeScheme::bdf2;
   if (bdf2 and w.K == 0)
     return m == 0 ? _u_K : u;
   const double H = t(w, w.q) - t(w, 0), s = t(w, m) - t(w, 0);
@@ -304,7 +304,7 @@ Array FixedStressSplit::path(const Window& w, const Array& u, int m) const
 void FixedStressSplit::set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
                                         const Array& u) const
 {
-  if (_scene.time_scheme != "bdf2")
+  if (_scene.time_scheme != TimeScheme::bdf2)
   {
     assign(*flow.p_previous, p[m - 1]);
     return;

@@ -12,7 +12,7 @@ using namespace dolfinx;
 Scheme::Scheme(const Problem& problem)
 {
   const Scene& scene = problem.scene;
-  if (scene.coupling and scene.coupling->scheme == "monolithic")
+  if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic)
     make_monolithic(problem);
   else
     make_split(problem);
@@ -57,7 +57,7 @@ void Scheme::make_split(const Problem& problem)
     take_contact_fields(*_mechanics);
     _steps.push_back(_mechanics.get());
   }
-  if (scene.coupling and scene.coupling->scheme == "multirate-two-pass")
+  if (scene.coupling and scene.coupling->scheme == CouplingScheme::multirate_two_pass)
   {
     _unstabilised = problem.materials.without_stabilisation();
     _second_pass = std::make_unique<FlowStep>(problem.with_materials(_unstabilised), V, FlowPass::second);

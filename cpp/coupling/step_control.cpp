@@ -66,7 +66,7 @@ double local_error(std::span<const double> y, const Past& past, int order, const
 StepControl::StepControl(const Scene& scene, std::shared_ptr<const dolfinx::fem::FunctionSpace> Q,
                          std::shared_ptr<const dolfinx::fem::FunctionSpace> V)
     : _spec(*scene.adaptive), _stops(scene.stops()), _end(scene.end_time),
-      _order(scene.time_scheme == "bdf2" ? 2 : 1), _p(past_states(Q)), _u(past_states(V))
+      _order(scene.time_scheme == TimeScheme::bdf2 ? 2 : 1), _p(past_states(Q)), _u(past_states(V))
 {
 }
 

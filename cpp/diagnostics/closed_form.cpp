@@ -122,7 +122,7 @@ double Mandel::displacement_y(double y, double t) const
 
 Scene with_mandel_plate(Scene scene)
 {
-  if (!scene.reference or scene.reference->solution != "mandel")
+  if (!scene.reference or scene.reference->solution != ReferenceSolution::mandel)
     return scene;
   const FlowSpec& f = *scene.flow;
   const Medium medium{scene.mechanics->G, scene.mechanics->lambda, scene.coupling->alpha, f.storage(),

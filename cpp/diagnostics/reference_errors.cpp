@@ -77,7 +77,7 @@ ReferenceErrors reference_errors(const Problem& problem, std::shared_ptr<const f
   ClosedForm exact;
   std::optional<Terzaghi> terzaghi;
   std::optional<Mandel> mandel;
-  if (ref.solution == "terzaghi")
+  if (ref.solution == ReferenceSolution::terzaghi)
   {
     terzaghi.emplace(Terzaghi{ref.height, m.G, m.lambda, m.alpha, m.storage, mobility, ref.load});
     exact.p = [&](double, double y) { return terzaghi->pressure(y - y0, t); };

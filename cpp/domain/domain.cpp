@@ -279,11 +279,11 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
 Domain create_domain(const Scene& scene, MPI_Comm comm)
 {
   const MeshSpec& m = scene.mesh;
-  if (m.type == "gmsh")
+  if (m.type == MeshType::gmsh)
     return read_gmsh(scene, comm);
 
   Domain domain;
-  if (m.type == "rectangle")
+  if (m.type == MeshType::rectangle)
   {
     domain.mesh = std::make_shared<mesh::Mesh>(mesh::create_rectangle(
         comm, {{{m.lower[0], m.lower[1]}, {m.upper[0], m.upper[1]}}}, {m.cells[0], m.cells[1]},

@@ -159,13 +159,13 @@ Json scheme_json(const Problem& problem, const Scheme& scheme)
 {
   const CouplingSpec* c = problem.scene.coupling ? &*problem.scene.coupling : nullptr;
   Json j;
-  j.set("scene", problem.scene.name).set("scheme", c ? c->scheme : (scheme.p ? "flow-only" : "mechanics-only"));
+  j.set("scene", problem.scene.name).set("scheme", c ? name_of(c->scheme) : (scheme.p ? "flow-only" : "mechanics-only"));
   if (c and c->q_auto)
     j.set("q", "auto");
   else
     j.set("q", problem.parameters.q);
-  return j.set("L_choice", c ? c->L_choice : "none")
-      .set("acceleration", c and c->acceleration == "anderson" ? "anderson, depth " + std::to_string(c->depth)
+  return j.set("L_choice", c ? name_of(c->L_choice) : "none")
+      .set("acceleration", c and c->acceleration == Acceleration::anderson ? "anderson, depth " + std::to_string(c->depth)
                                                                : std::string("none"))
       .set("L", problem.parameters.L)
       .set("gamma", problem.parameters.gamma);
@@ -178,7 +178,7 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
   const Scene& scene = in.problem.scene;
   const CouplingReport& r = in.report;
   auto st = statistics(in.scheme);
-  const bool monolithic = scene.coupling and scene.coupling->scheme == "monolithic";
+  const bool monolithic = scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic;
   auto [solvers, timings] = solver_summaries(in.scheme, !monolithic and scene.solver.inexact_coupling);
   double assembly = in.scheme.assembly_time();
   for (const auto& [name, s] : st)
@@ -192,7 +192,7 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
   summary.set("dofs", dofs_json(in.scheme, in.problem.domain))
       .set("dt", scene.dt)
       .set("dt_growth", scene.growth)
-      .set("time_scheme", scene.time_scheme)
+      .set("time_scheme", name_of(scene.time_scheme))
       .set("steps", r.windows)
       .set("retries", r.retries)
       .set("fine_steps", r.fine_steps)

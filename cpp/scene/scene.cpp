@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "scene/section.h"
+
 
 #include <algorithm>
 #include <functional>
@@ -18,213 +20,13 @@ namespace biotcontact
 namespace
 {
 
-/// One TOML table of the scene, read key by key. Every key read is marked,
-/// so that `finish` can refuse the keys nobody asked for (typos).
-class Section
-{
-public:
-  Section(const toml::table* table, std::string path, const std::string& file)
-      : _table(table), _path(std::move(path)), _file(file)
-  {
-  }
-
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const
-  {
-    throw SceneError(_file + ": " + name(key) + ": " + message);
-  }
-
-  std::string name(const std::string& key) const { return _path.empty() ? key : _path + "." + key; }
-
-  bool has(const std::string& key) const { return _table and _table->contains(key); }
-
-  const toml::node* node(const std::string& key)
-  {
-    _used.insert(key);
-    return _table ? _table->get(key) : nullptr;
-  }
-
-  Section table(const std::string& key, bool required)
-  {
-    const toml::node* n = node(key);
-    if (!n)
-    {
-      if (required)
-        fail(key, "missing (a table is required)");
-      return Section(nullptr, name(key), _file);
-    }
-    if (!n->is_table())
-      fail(key, "must be a table");
-    return Section(n->as_table(), name(key), _file);
-  }
-
-  double number(const std::string& key, std::optional<double> fallback = std::nullopt)
-  {
-    const toml::node* n = node(key);
-    if (!n)
-    {
-      if (!fallback)
-        fail(key, "missing (a number is required)");
-      return *fallback;
-    }
-    if (!n->is_number())
-      fail(key, "must be a number");
-    return n->value<double>().value();
-  }
-
-  int integer(const std::string& key, int fallback)
-  {
-    const toml::node* n = node(key);
-    if (!n)
-      return fallback;
-    if (!n->is_integer())
-      fail(key, "must be an integer");
-    return static_cast<int>(n->value<std::int64_t>().value());
-  }
-
-  bool boolean(const std::string& key, bool fallback)
-  {
-    const toml::node* n = node(key);
-    if (!n)
-      return fallback;
-    if (!n->is_boolean())
-      fail(key, "must be true or false");
-    return n->value<bool>().value();
-  }
-
-  std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt)
-  {
-    const toml::node* n = node(key);
-    if (!n)
-    {
-      if (!fallback)
-        fail(key, "missing (a string is required)");
-      return *fallback;
-    }
-    if (!n->is_string())
-      fail(key, "must be a string");
-    return n->value<std::string>().value();
-  }
-
-  /// A number or an expression string.
-  Expression expression(const toml::node* n, const std::string& key) const
-  {
-    if (n->is_number())
-      return Expression(n->value<double>().value());
-    if (n->is_string())
-    {
-      try
-      {
-        return Expression(n->value<std::string>().value());
-      }
-      catch (const std::invalid_argument& e)
-      {
-        fail(key, e.what());
-      }
-    }
-    fail(key, "must be a number or an expression string");
-  }
-
-  std::optional<Expression> expression(const std::string& key)
-  {
-    const toml::node* n = node(key);
-    if (!n)
-      return std::nullopt;
-    return expression(n, key);
-  }
-
-  std::vector<Expression> expression_vector(const std::string& key, std::size_t size)
-  {
-    const toml::node* n = node(key);
-    if (!n or !n->is_array() or n->as_array()->size() != size)
-      fail(key, "must be an array of " + std::to_string(size) + " numbers or expressions");
-    std::vector<Expression> v;
-    for (std::size_t i = 0; i < size; ++i)
-      v.push_back(expression(n->as_array()->get(i), key));
-    return v;
-  }
-
-  std::vector<double> number_vector(const std::string& key, std::size_t size)
-  {
-    const toml::node* n = node(key);
-    if (!n or !n->is_array() or (size > 0 and n->as_array()->size() != size))
-      fail(key, size > 0 ? "must be an array of " + std::to_string(size) + " numbers" : "must be an array of numbers");
-    std::vector<double> v;
-    for (const toml::node& e : *n->as_array())
-    {
-      if (!e.is_number())
-        fail(key, "must be an array of numbers");
-      v.push_back(e.value<double>().value());
-    }
-    return v;
-  }
-
-  std::vector<std::string> keys() const
-  {
-    std::vector<std::string> k;
-    if (_table)
-      for (const auto& [key, value] : *_table)
-        k.emplace_back(key.str());
-    return k;
-  }
-
-  /// Refuses keys that were never read.
-  void finish() const
-  {
-    for (const std::string& key : keys())
-      if (_used.count(key) == 0)
-        fail(key, "unknown key");
-  }
-
-private:
-  const toml::table* _table;
-  std::string _path;
-  const std::string& _file;
-  std::set<std::string> _used;
-};
-
-/// Applies one "a.b.c=value" override; the value is read as TOML, and taken
-/// as a string when it is not valid TOML (so `--set coupling.L=kdr` works).
-void apply_override(toml::table& root, const std::string& assignment, const std::string& file)
-{
-  const auto eq = assignment.find('=');
-  if (eq == std::string::npos or eq == 0)
-    throw SceneError(file + ": --set " + assignment + ": expected key.path=value");
-  const std::string path = assignment.substr(0, eq);
-  const std::string text = assignment.substr(eq + 1);
-
-  toml::table* table = &root;
-  std::string::size_type start = 0, dot;
-  while ((dot = path.find('.', start)) != std::string::npos)
-  {
-    const std::string key = path.substr(start, dot - start);
-    if (!table->contains(key))
-      table->insert(key, toml::table{});
-    toml::node* next = table->get(key);
-    if (!next->is_table())
-      throw SceneError(file + ": --set " + path + ": " + key + " is not a table");
-    table = next->as_table();
-    start = dot + 1;
-  }
-  const std::string key = path.substr(start);
-  toml::table parsed;
-  try
-  {
-    parsed = toml::parse("value = " + text);
-  }
-  catch (const toml::parse_error&)
-  {
-    parsed.insert("value", text);
-  }
-  table->insert_or_assign(key, std::move(*parsed.get("value")));
-}
-
 MeshSpec read_mesh(Section s, const std::string& scene_file)
 {
   MeshSpec m;
-  m.type = s.string("type");
-  if (m.type == "rectangle" or m.type == "box")
+  m.type = s.choice<MeshType>("type");
+  if (m.type == MeshType::rectangle or m.type == MeshType::box)
   {
-    const std::size_t d = m.type == "rectangle" ? 2 : 3;
+    const std::size_t d = m.type == MeshType::rectangle ? 2 : 3;
     m.dimension = static_cast<int>(d);
     m.lower = s.has("lower") ? s.number_vector("lower", d) : std::vector<double>(d, 0.0);
     m.upper = s.number_vector("upper", d);
@@ -251,7 +53,7 @@ MeshSpec read_mesh(Section s, const std::string& scene_file)
       s.fail("cells", message.str());
     }
   }
-  else if (m.type == "gmsh")
+  else
   {
     const std::string name = s.string("file");
     namespace fs = std::filesystem;
@@ -277,8 +79,6 @@ MeshSpec read_mesh(Section s, const std::string& scene_file)
     if (m.refine < 0 or m.refine > 6)
       s.fail("refine", "must be an integer in [0, 6]");
   }
-  else
-    s.fail("type", "must be \"rectangle\", \"box\" or \"gmsh\", got \"" + m.type + "\"");
   s.finish();
   return m;
 }
@@ -527,35 +327,32 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
   c.alpha = s.number("alpha");
   if (!(c.alpha >= 0 and c.alpha <= 1))
     s.fail("alpha", "the Biot coefficient must lie in [0, 1]");
-  c.scheme = s.string("scheme", "fixed-stress");
-  if (c.scheme != "fixed-stress" and !c.multirate() and c.scheme != "monolithic")
-    s.fail("scheme", "must be \"fixed-stress\", \"multirate\", \"multirate-two-pass\" or \"monolithic\", got \""
-                         + c.scheme + "\"");
+  c.scheme = s.choice<CouplingScheme>("scheme", CouplingScheme::fixed_stress);
   // The second pass is a flow step without L: with S = 0 its matrix has a
   // zero pressure block, singular wherever no pressure is prescribed.
-  if (c.scheme == "multirate-two-pass" and !(flow.storage() > 0))
+  if (c.scheme == CouplingScheme::multirate_two_pass and !(flow.storage() > 0))
     s.fail("scheme", "\"multirate-two-pass\" needs a storage coefficient S = 1/M + c_f phi0 > 0");
   read_window_steps(s, c);
 
   const toml::node* L = s.node("L");
   if (!L)
-    c.L_choice = "paper";
+    c.L_choice = LChoice::paper;
   else if (L->is_number())
   {
-    c.L_choice = "number";
+    c.L_choice = LChoice::number;
     c.L_number = L->value<double>().value();
     if (!(c.L_number >= 0) or !std::isfinite(c.L_number))
       s.fail("L", "must be >= 0");
   }
-  else if (L->is_string())
-  {
-    c.L_choice = L->value<std::string>().value();
-    if (c.L_choice != "paper" and c.L_choice != "kdr" and c.L_choice != "half-kdr")
-      s.fail("L", "must be \"paper\", \"kdr\", \"half-kdr\" or a number");
-  }
+  else if (const std::string given = L->value<std::string>().value_or(""); given == "paper")
+    c.L_choice = LChoice::paper;
+  else if (given == "kdr")
+    c.L_choice = LChoice::kdr;
+  else if (given == "half-kdr")
+    c.L_choice = LChoice::half_kdr;
   else
     s.fail("L", "must be \"paper\", \"kdr\", \"half-kdr\" or a number");
-  if (c.L_choice == "paper" and !(mech.lambda > 0))
+  if (c.L_choice == LChoice::paper and !(mech.lambda > 0))
     s.fail("L", "\"paper\" (alpha^2/lambda) needs lambda > 0; use \"kdr\"");
 
   c.tolerance = s.number("tolerance", 1e-8);
@@ -564,10 +361,8 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
   c.max_iterations = s.integer("max_iterations", 100);
   if (c.max_iterations < 1)
     s.fail("max_iterations", "must be a positive integer");
-  c.acceleration = s.string("acceleration", "none");
-  if (c.acceleration != "none" and c.acceleration != "anderson")
-    s.fail("acceleration", "must be \"none\" or \"anderson\", got \"" + c.acceleration + "\"");
-  if (c.acceleration != "none" and c.scheme == "monolithic")
+  c.acceleration = s.choice<Acceleration>("acceleration", Acceleration::none);
+  if (c.acceleration != Acceleration::none and c.scheme == CouplingScheme::monolithic)
     s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration");
   c.depth = s.integer("depth", 8);
   if (c.depth < 1 or c.depth > 50)
@@ -682,9 +477,7 @@ void read_time(Section& top, Scene& scene)
     time.fail("retry", "must lie in [0, 20] (each retry halves the step)");
   if (!(scene.growth >= 1.0 and scene.growth <= 10.0))
     time.fail("growth", "must lie in [1, 10]");
-  scene.time_scheme = time.string("scheme", "backward-euler");
-  if (scene.time_scheme != "backward-euler" and scene.time_scheme != "bdf2")
-    time.fail("scheme", "must be \"backward-euler\" or \"bdf2\", got \"" + scene.time_scheme + "\"");
+  scene.time_scheme = time.choice<TimeScheme>("scheme", TimeScheme::backward_euler);
   scene.adaptive = read_adaptive(time, scene);
   if (scene.adaptive)
   {
@@ -769,11 +562,7 @@ void read_solver(Section solver, SolverSpec& choices)
 {
   for (auto [key, choice] : {std::pair{"flow", &choices.flow}, std::pair{"mechanics", &choices.mechanics},
                              std::pair{"monolithic", &choices.monolithic}})
-  {
-    *choice = solver.string(key, "auto");
-    if (*choice != "direct" and *choice != "iterative" and *choice != "auto")
-      solver.fail(key, "must be \"direct\", \"iterative\" or \"auto\"");
-  }
+    *choice = solver.choice<SolverChoice>(key, SolverChoice::automatic);
   choices.inexact_coupling = solver.boolean("inexact_coupling", true);
   solver.finish();
 }
@@ -863,7 +652,7 @@ void read_regions(Section regions, const toml::table& root, Scene& scene)
     r.body_force = s.has("body_force");
     if (r.where and (r.where->depends_on_time() or r.where->is_constant()))
       s.fail("where", "must be an expression of x, y, z (the cell midpoints it selects)");
-    if (scene.mesh.type != "gmsh" and !r.where)
+    if (scene.mesh.type != MeshType::gmsh and !r.where)
       s.fail("where", "missing (on a built-in mesh a region is the cells whose midpoint satisfies where)");
     if (scene.mechanics)
     {
@@ -880,7 +669,7 @@ void read_regions(Section regions, const toml::table& root, Scene& scene)
       r.alpha = s.number("alpha", scene.coupling->alpha);
       if (!(r.alpha >= 0 and r.alpha <= 1))
         s.fail("alpha", "the Biot coefficient must lie in [0, 1]");
-      if (scene.coupling->L_choice == "paper" and !(r.mechanics->lambda > 0))
+      if (scene.coupling->L_choice == LChoice::paper and !(r.mechanics->lambda > 0))
         s.fail("lambda", "coupling.L = \"paper\" (alpha^2/lambda) needs lambda > 0; use \"kdr\"");
     }
     s.finish();
@@ -897,12 +686,12 @@ void read_boundaries(Section boundaries, Scene& scene)
   const std::vector<std::string> names = builtin_boundary_names(d);
   for (const std::string& name : boundaries.keys())
   {
-    if (scene.mesh.type != "gmsh" and std::find(names.begin(), names.end(), name) == names.end())
+    if (scene.mesh.type != MeshType::gmsh and std::find(names.begin(), names.end(), name) == names.end())
     {
       std::string known;
       for (const auto& n : names)
         known += (known.empty() ? "" : ", ") + n;
-      boundaries.fail(name, "unknown boundary name (a " + scene.mesh.type + " has " + known + ")");
+      boundaries.fail(name, "unknown boundary name (a " + std::string(name_of(scene.mesh.type)) + " has " + known + ")");
     }
     BoundarySpec b = read_boundary(boundaries.table(name, true), d);
     if (!scene.mechanics and b.mechanics != BoundarySpec::Mechanics::traction_free)
@@ -934,23 +723,24 @@ void check_mandel_plate(Section& r, const Scene& scene, const ReferenceSpec& ref
 void read_reference(Section r, Scene& scene)
 {
   ReferenceSpec ref;
-  ref.solution = r.string("solution");
-  if (ref.solution != "terzaghi" and ref.solution != "mandel" and ref.solution != "none")
+  const std::string solution = r.string("solution");
+  if (solution != "terzaghi" and solution != "mandel" and solution != "none")
     r.fail("solution", "must be \"terzaghi\", \"mandel\" or \"none\"");
-  if (ref.solution == "none")
+  if (solution == "none")
   {
     for (const std::string& key : r.keys())
       r.node(key);
     r.finish();
     return;
   }
-  if (!scene.coupling or scene.mesh.type != "rectangle")
-    r.fail("solution", ref.solution + " needs a coupled scene on a rectangle");
+  ref.solution = solution == "terzaghi" ? ReferenceSolution::terzaghi : ReferenceSolution::mandel;
+  if (!scene.coupling or scene.mesh.type != MeshType::rectangle)
+    r.fail("solution", solution + " needs a coupled scene on a rectangle");
   if (!scene.flow->permeability or !scene.flow->permeability->is_constant())
-    r.fail("solution", ref.solution + " needs a constant scalar flow.permeability");
+    r.fail("solution", solution + " needs a constant scalar flow.permeability");
   if (!scene.regions.empty())
-    r.fail("solution", ref.solution + " is the closed form of a homogeneous medium: the scene has regions");
-  if (ref.solution == "terzaghi")
+    r.fail("solution", solution + " is the closed form of a homogeneous medium: the scene has regions");
+  if (ref.solution == ReferenceSolution::terzaghi)
   {
     ref.load = r.number("load");
     ref.height = scene.mesh.upper[1] - scene.mesh.lower[1];

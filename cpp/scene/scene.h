@@ -4,6 +4,7 @@
 #pragma once
 
 #include "scene/expression.h"
+#include "scene/input.h"
 
 #include <mpi.h>
 
@@ -13,15 +14,11 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace biotcontact
 {
-
-struct SceneError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
 
 /// The message of the lowest rank whose `message` is not empty, or an empty
 /// string when none has one (collective).
@@ -35,7 +32,7 @@ void agree_on_error(const std::string& message, MPI_Comm comm);
 
 struct MeshSpec
 {
-  std::string type;                 // "rectangle", "box" or "gmsh"
+  MeshType type = MeshType::rectangle;
   std::vector<double> lower, upper; // corners (built-in meshes)
   std::vector<std::size_t> cells;   // cells per direction (built-in meshes)
   std::string file;                 // .msh or .geo (gmsh), resolved path
@@ -121,10 +118,7 @@ struct FlowSpec
 struct CouplingSpec
 {
   double alpha = 1;
-  /// "fixed-stress" (single rate), "multirate" (the paper's, as printed),
-  /// "multirate-two-pass" (docs/multirate-two-pass.md: a second flow pass without L
-  /// corrects the fine steps) or "monolithic".
-  std::string scheme = "fixed-stress";
+  CouplingScheme scheme = CouplingScheme::fixed_stress;
   int q = 1;                // 1 with q = "auto" (the first window's)
   /// coupling.q = "auto" (coupling/window_control.h): each window's q, at
   /// most q_max, from the predicted relative change of the displacement
@@ -132,33 +126,35 @@ struct CouplingSpec
   bool q_auto = false;
   int q_max = 16;
   double q_tolerance = 1e-2;
-  std::string L_choice = "paper";      // "paper", "kdr", "half-kdr" or a number
-  double L_number = 0;
+  LChoice L_choice = LChoice::paper;
+  double L_number = 0; // L_choice = number
   double tolerance = 1e-8;
   int max_iterations = 100;
-  /// "none" (the paper's iteration) or "anderson" (anderson.h) with
-  /// `depth` differences kept.
-  std::string acceleration = "none";
+  /// Anderson's keeps `depth` differences.
+  Acceleration acceleration = Acceleration::none;
   int depth = 8;
   /// q flow steps per mechanics step (either multirate scheme).
-  bool multirate() const { return scheme == "multirate" or scheme == "multirate-two-pass"; }
+  bool multirate() const
+  {
+    return scheme == CouplingScheme::multirate or scheme == CouplingScheme::multirate_two_pass;
+  }
 };
 
 /// Closed-form solution to compare with at the final time.
 struct ReferenceSpec
 {
-  std::string solution; // "terzaghi" or "mandel"
+  ReferenceSolution solution = ReferenceSolution::terzaghi;
   double load = 0;      // terzaghi: q_load, the compressive traction on the top
   double height = 0;    // terzaghi: h
   double force = 0;     // mandel: F (2F on the full specimen, per unit thickness)
   std::string plate;    // mandel: the boundary (y = b) carrying the rigid plate
 };
 
-/// How each system is solved: "direct", "iterative" or "auto" (by size,
-/// solver.h choose_method). PETSc options of a system's prefix override.
+/// How each system is solved. PETSc options of a system's prefix override.
 struct SolverSpec
 {
-  std::string flow = "auto", mechanics = "auto", monolithic = "auto";
+  SolverChoice flow = SolverChoice::automatic, mechanics = SolverChoice::automatic,
+               monolithic = SolverChoice::automatic;
   /// Inexact coupling (fixed_stress.h): the iterative solves of a coupling
   /// iteration are only as accurate as its increment needs.
   bool inexact_coupling = true;
@@ -198,7 +194,7 @@ struct Scene
   double end_time = 0, dt = 0;
   double growth = 1; // time.growth: dt_k = dt growth^(k-1)
   int retry = 0;      // time.retry: a failed step is retried with halved steps up to this many times
-  std::string time_scheme = "backward-euler"; // time.scheme: or "bdf2" (steps/time_scheme.h)
+  TimeScheme time_scheme = TimeScheme::backward_euler; // time.scheme
   std::optional<AdaptiveSpec> adaptive;       // time.adaptive
   bool write_xdmf = true;
   /// output.times or output.every (and time.end): the times written after

@@ -18,11 +18,12 @@ void set_default_option(const std::string& name, const std::string& value)
 
 std::string method_name(Method method) { return method == Method::direct ? "direct" : "iterative"; }
 
-MethodChoice choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
-                           int ranks, bool coupled)
+MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_t unknowns, int dimension, int ranks,
+                           bool coupled)
 {
-  if (choice == "direct" or choice == "iterative")
-    return {choice == "direct" ? Method::direct : Method::iterative, "solver." + choice + " in the scene"};
+  if (choice != SolverChoice::automatic)
+    return {choice == SolverChoice::direct ? Method::direct : Method::iterative,
+            "solver." + std::string(name_of(choice)) + " in the scene"};
   // "auto": the crossover in unknowns measured by bench/scaling.py on the
   // default scene (2D) and the contact block (3D), docs/performance.md. A
   // 3D factorisation fills in far more (separators of n^(2/3) against

@@ -9,6 +9,7 @@
 // numbers stage by stage.
 #pragma once
 
+#include "scene/scene.h"
 #include "solvers/field_split.h"
 #include "solvers/options.h"
 
@@ -114,7 +115,7 @@ struct MethodChoice
 /// ranks, 3D block, docs/performance.md "More ranks": direct 0.9-1.0x,
 /// iterative 1.6-1.8x; the crossovers moved from 1e4 to about 7e3
 /// mechanics and from 5e4 to between 1e4 and 3.2e4 flow unknowns).
-MethodChoice choose_method(const std::string& choice, Structure structure, std::int64_t unknowns, int dimension,
+MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_t unknowns, int dimension,
                            int ranks, bool coupled = false);
 
 /// Sets the defaults of the solver with this options prefix unless the

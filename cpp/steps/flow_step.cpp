@@ -221,7 +221,7 @@ History FlowStep::history() const
   History h;
   if (_pass == FlowPass::second)
     return h;
-  const bool bdf2 = _scene.time_scheme == "bdf2", q_auto = _scene.coupling and _scene.coupling->q_auto;
+  const bool bdf2 = _scene.time_scheme == TimeScheme::bdf2, q_auto = _scene.coupling and _scene.coupling->q_auto;
   if (bdf2)
     h.push_back({"pressure_before", p_before.get()});
   if ((bdf2 or q_auto) and u_before)

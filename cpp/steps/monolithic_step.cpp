@@ -265,7 +265,7 @@ void MonolithicStep::keep_history(const StepState& start)
 
 History MonolithicStep::history() const
 {
-  if (_scene.time_scheme != "bdf2")
+  if (_scene.time_scheme != TimeScheme::bdf2)
     return {};
   return {{"pressure_before", p_before.get()}, {"displacement_before", u_before.get()}};
 }

@@ -18,7 +18,7 @@ la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, dou
 } // namespace
 
 System::System(MPI_Comm comm, std::shared_ptr<const fem::Form<double>> a, BCs bcs, const SystemLayout& layout,
-               const std::string& choice, std::shared_ptr<const fem::Form<double>> a_preconditioner)
+               SolverChoice choice, std::shared_ptr<const fem::Form<double>> a_preconditioner)
     : _comm(comm), _prefix(layout.prefix), _a(a), _bcs(std::move(bcs)), _structure(layout.structure),
       _fields(layout.fields), _A(timed_assembly(*a, _bcs, _statistics.assembly_time)),
       _stage(_prefix.substr(0, _prefix.size() - 1))

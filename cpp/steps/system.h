@@ -29,7 +29,7 @@ public:
   /// the form an iterative method builds its preconditioner from instead
   /// of `a` (the fixed-stress matrix of the coupled system).
   System(MPI_Comm comm, std::shared_ptr<const dolfinx::fem::Form<double>> a, BCs bcs, const SystemLayout& layout,
-         const std::string& choice, std::shared_ptr<const dolfinx::fem::Form<double>> a_preconditioner = nullptr);
+         SolverChoice choice, std::shared_ptr<const dolfinx::fem::Form<double>> a_preconditioner = nullptr);
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;

@@ -3,9 +3,9 @@
 namespace biotcontact
 {
 
-TimeDerivative time_derivative(const std::string& scheme, double dt, double dt_previous)
+TimeDerivative time_derivative(TimeScheme scheme, double dt, double dt_previous)
 {
-  if (scheme != "bdf2" or !(dt_previous > 0))
+  if (scheme != TimeScheme::bdf2 or !(dt_previous > 0))
     return {};
   const double w = dt / dt_previous;
   return {(1 + 2 * w) / (1 + w), 1 + w, w * w / (1 + w)};

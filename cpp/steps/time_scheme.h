@@ -10,6 +10,8 @@
 // constant to dt_n / c0 and reads y* where backward Euler reads y_n.
 #pragma once
 
+#include "scene/scene.h"
+
 #include <span>
 #include <string>
 #include <vector>
@@ -31,7 +33,7 @@ struct TimeDerivative
 /// under time.scheme `scheme`: BDF2 when the scheme is "bdf2" and there is a
 /// previous step (dt_previous > 0), backward Euler otherwise (the first
 /// step, which starts BDF2).
-TimeDerivative time_derivative(const std::string& scheme, double dt, double dt_previous);
+TimeDerivative time_derivative(TimeScheme scheme, double dt, double dt_previous);
 
 /// The history value y* = (c1 y_n - c2 y_{n-1}) / c0 (y_n itself for
 /// backward Euler).

@@ -1,0 +1,192 @@
+#include "scene/section.h"
+
+namespace biotcontact
+{
+
+Section::Section(const toml::table* table, std::string path, const std::string& file)
+    : _table(table), _path(std::move(path)), _file(file)
+{
+}
+
+void Section::fail(const std::string& key, const std::string& message) const
+{
+  throw SceneError(_file + ": " + name(key) + ": " + message);
+}
+
+std::string Section::name(const std::string& key) const { return _path.empty() ? key : _path + "." + key; }
+
+bool Section::has(const std::string& key) const { return _table and _table->contains(key); }
+
+const toml::node* Section::node(const std::string& key)
+{
+  _used.insert(key);
+  return _table ? _table->get(key) : nullptr;
+}
+
+Section Section::table(const std::string& key, bool required)
+{
+  const toml::node* n = node(key);
+  if (!n)
+  {
+    if (required)
+      fail(key, "missing (a table is required)");
+    return Section(nullptr, name(key), _file);
+  }
+  if (!n->is_table())
+    fail(key, "must be a table");
+  return Section(n->as_table(), name(key), _file);
+}
+
+double Section::number(const std::string& key, std::optional<double> fallback)
+{
+  const toml::node* n = node(key);
+  if (!n)
+  {
+    if (!fallback)
+      fail(key, "missing (a number is required)");
+    return *fallback;
+  }
+  if (!n->is_number())
+    fail(key, "must be a number");
+  return n->value<double>().value();
+}
+
+int Section::integer(const std::string& key, int fallback)
+{
+  const toml::node* n = node(key);
+  if (!n)
+    return fallback;
+  if (!n->is_integer())
+    fail(key, "must be an integer");
+  return static_cast<int>(n->value<std::int64_t>().value());
+}
+
+bool Section::boolean(const std::string& key, bool fallback)
+{
+  const toml::node* n = node(key);
+  if (!n)
+    return fallback;
+  if (!n->is_boolean())
+    fail(key, "must be true or false");
+  return n->value<bool>().value();
+}
+
+std::string Section::string(const std::string& key, std::optional<std::string> fallback)
+{
+  const toml::node* n = node(key);
+  if (!n)
+  {
+    if (!fallback)
+      fail(key, "missing (a string is required)");
+    return *fallback;
+  }
+  if (!n->is_string())
+    fail(key, "must be a string");
+  return n->value<std::string>().value();
+}
+
+Expression Section::expression(const toml::node* n, const std::string& key) const
+{
+  if (n->is_number())
+    return Expression(n->value<double>().value());
+  if (n->is_string())
+  {
+    try
+    {
+      return Expression(n->value<std::string>().value());
+    }
+    catch (const std::invalid_argument& e)
+    {
+      fail(key, e.what());
+    }
+  }
+  fail(key, "must be a number or an expression string");
+}
+
+std::optional<Expression> Section::expression(const std::string& key)
+{
+  const toml::node* n = node(key);
+  if (!n)
+    return std::nullopt;
+  return expression(n, key);
+}
+
+std::vector<Expression> Section::expression_vector(const std::string& key, std::size_t size)
+{
+  const toml::node* n = node(key);
+  if (!n or !n->is_array() or n->as_array()->size() != size)
+    fail(key, "must be an array of " + std::to_string(size) + " numbers or expressions");
+  std::vector<Expression> v;
+  for (std::size_t i = 0; i < size; ++i)
+    v.push_back(expression(n->as_array()->get(i), key));
+  return v;
+}
+
+std::vector<double> Section::number_vector(const std::string& key, std::size_t size)
+{
+  const toml::node* n = node(key);
+  if (!n or !n->is_array() or (size > 0 and n->as_array()->size() != size))
+    fail(key, size > 0 ? "must be an array of " + std::to_string(size) + " numbers" : "must be an array of numbers");
+  std::vector<double> v;
+  for (const toml::node& e : *n->as_array())
+  {
+    if (!e.is_number())
+      fail(key, "must be an array of numbers");
+    v.push_back(e.value<double>().value());
+  }
+  return v;
+}
+
+std::vector<std::string> Section::keys() const
+{
+  std::vector<std::string> k;
+  if (_table)
+    for (const auto& [key, value] : *_table)
+      k.emplace_back(key.str());
+  return k;
+}
+
+void Section::finish() const
+{
+  for (const std::string& key : keys())
+    if (_used.count(key) == 0)
+      fail(key, "unknown key");
+}
+
+
+void apply_override(toml::table& root, const std::string& assignment, const std::string& file)
+{
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos or eq == 0)
+    throw SceneError(file + ": --set " + assignment + ": expected key.path=value");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+
+  toml::table* table = &root;
+  std::string::size_type start = 0, dot;
+  while ((dot = path.find('.', start)) != std::string::npos)
+  {
+    const std::string key = path.substr(start, dot - start);
+    if (!table->contains(key))
+      table->insert(key, toml::table{});
+    toml::node* next = table->get(key);
+    if (!next->is_table())
+      throw SceneError(file + ": --set " + path + ": " + key + " is not a table");
+    table = next->as_table();
+    start = dot + 1;
+  }
+  const std::string key = path.substr(start);
+  toml::table parsed;
+  try
+  {
+    parsed = toml::parse("value = " + text);
+  }
+  catch (const toml::parse_error&)
+  {
+    parsed.insert("value", text);
+  }
+  table->insert_or_assign(key, std::move(*parsed.get("value")));
+}
+
+
+} // namespace biotcontact

@@ -1,0 +1,79 @@
+// The generic reader of a scene's TOML: one table read key by key, with
+// every refusal one line naming the file and the key; `--set` overrides
+// applied to the parsed tree. The scene's schema (which keys, which
+// values) is scene.h's; this file knows none of it.
+#pragma once
+
+#include "scene/expression.h"
+#include "scene/input.h"
+
+#include <optional>
+#include <set>
+#include <string>
+#include <toml++/toml.h>
+#include <utility>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief One TOML table of a scene, read key by key. Every key read is
+/// marked, so that `finish` can refuse the keys nobody asked for (typos).
+/// Every reader throws SceneError "FILE: PATH.KEY: what is wrong".
+class Section
+{
+public:
+  /// `table` may be null (an absent optional table): then every key is
+  /// absent. `path` is the table's dotted name ("" for the root).
+  Section(const toml::table* table, std::string path, const std::string& file);
+
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  /// The dotted name of `key` in this table.
+  std::string name(const std::string& key) const;
+  bool has(const std::string& key) const;
+  /// The node of `key` (null when absent), marked as read.
+  const toml::node* node(const std::string& key);
+
+  Section table(const std::string& key, bool required);
+  double number(const std::string& key, std::optional<double> fallback = std::nullopt);
+  int integer(const std::string& key, int fallback);
+  bool boolean(const std::string& key, bool fallback);
+  std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt);
+  /// A choice by its name (Choices, input.h); the fallback when absent
+  /// (without one, `key` is required); refused naming every choice otherwise.
+  template <class E>
+  E choice(const std::string& key, std::optional<E> fallback = std::nullopt)
+  {
+    const std::string given
+        = string(key, fallback ? std::optional<std::string>(name_of(*fallback)) : std::nullopt);
+    for (const auto& [value, text] : Choices<E>::names)
+      if (given == text)
+        return value;
+    std::string list;
+    for (std::size_t i = 0; i < Choices<E>::names.size(); ++i)
+      list += (i == 0 ? "" : i + 1 == Choices<E>::names.size() ? " or " : ", ") + std::string("\"")
+              + Choices<E>::names[i].second + "\"";
+    fail(key, "must be " + list + ", got \"" + given + "\"");
+  }
+  /// A number or an expression string.
+  Expression expression(const toml::node* n, const std::string& key) const;
+  std::optional<Expression> expression(const std::string& key);
+  std::vector<Expression> expression_vector(const std::string& key, std::size_t size);
+  /// An array of `size` numbers (any length when size = 0).
+  std::vector<double> number_vector(const std::string& key, std::size_t size);
+  std::vector<std::string> keys() const;
+  /// Refuses keys that were never read.
+  void finish() const;
+
+private:
+  const toml::table* _table;
+  std::string _path;
+  const std::string& _file;
+  std::set<std::string> _used;
+};
+
+/// Applies one "a.b.c=value" override; the value is read as TOML, and taken
+/// as a string when it is not valid TOML (so `--set coupling.L=kdr` works).
+void apply_override(toml::table& root, const std::string& assignment, const std::string& file);
+
+} // namespace biotcontact
