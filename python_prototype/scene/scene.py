@@ -831,7 +831,7 @@ def _read_solver(solver, choices):
     for key in ("flow", "mechanics", "monolithic"):
         choice = solver.string(key, "auto")
         if choice not in ("direct", "iterative", "auto"):
-            solver.fail(key, 'must be "direct", "iterative" or "auto"')
+            solver.fail(key, f'must be "direct", "iterative" or "auto", got "{choice}"')
         setattr(choices, key, choice)
     choices.inexact_coupling = solver.boolean("inexact_coupling", True)
     solver.finish()
