@@ -2,11 +2,13 @@
 default Krylov method once the preconditioner is no factorisation) gives the
 same answer as the direct default, and options that make no solver are
 refused in one line, without a PETSc trace. SuperLU_DIST solves the
-condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve)."""
+condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve).
+-help lists the project's own options with this run's default and value
+(issue 36), on both tracks."""
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, run, scene, summary
+from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, run, run_track, scene, summary
 
 direct = summary(run(scene("terzaghi"))[0])
 iterative = summary(run(scene("terzaghi"), "-flow_pc_type", "ilu", "-flow_ksp_rtol", "1e-12")[0])
@@ -33,3 +35,22 @@ for track, command in (("C++", [BINARY]), ("prototype", PROTOTYPE)):
     check(p.returncode == 0 and "superlu_dist" in summary(out)["solvers"]["mechanics"]["method"]
           and c.returncode == 0, f"{track}, 2 ranks, SuperLU_DIST on the condensed contact problem: the default's run "
           f"({p.stderr.strip()[-200:]!r}, {c.stdout.strip()[-120:]!r})")
+
+# -help lists -<prefix>contact_condensed, registered with PETSc's options
+# database, once per system, as "<default : value>" with its description:
+# condensed by default with a direct solver, not with an iterative one, and
+# the command line's value where it gives one.
+HELP = [((), "-mechanics_contact_condensed: <TRUE : TRUE>"),
+        (("solver.mechanics=iterative",), "-mechanics_contact_condensed: <FALSE : FALSE>"),
+        (("coupling.scheme=monolithic", "-monolithic_contact_condensed", "false"),
+         "-monolithic_contact_condensed: <TRUE : FALSE>")]
+for track in TRACKS:
+    for arguments, line in HELP:
+        sets = ["time.end=0.2", *(a for a in arguments if "=" in a)]
+        options = ["-help", *(a for a in arguments if "=" not in a)]
+        _, p = run_track(track, scene("default"), *sets, options=options)
+        listed = [l for l in p.stdout.splitlines() if "contact_condensed" in l]
+        check(len(listed) == 1 and listed[0].strip().startswith(line)
+              and "Schur complement of the contact DOFs" in listed[0] and "Contact solver (biotcontact):" in p.stdout,
+              f"{track}, {' '.join(arguments) or 'default scene'}: -help lists {line!r} with its description "
+              f"({listed!r})")
