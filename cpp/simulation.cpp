@@ -684,9 +684,8 @@ void Simulation::describe()
            + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
            "(too stiff a response, worse on coarse meshes)");
   }
-  if (_scene.coupling and _scene.coupling->scheme != "monolithic" and _parameters.gamma > 0.99)
-    warn("gamma = " + std::to_string(_parameters.gamma) + " > 0.99: the contraction theorems guarantee almost "
-         "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)");
+  if (const std::string w = gamma_warning(_scene, _materials.gamma_peak()); !w.empty())
+    warn(w);
 }
 
 /// The time grid, the checkpoint a restart goes on from (loaded into the

@@ -17,7 +17,7 @@ from .coupling.single_solve import run_single_solve
 from .coupling.step_control import StepControl
 from .assembly.forms import Forms
 from .assembly.linear_algebra import UnknownsPart
-from .assembly.materials import make_materials
+from .assembly.materials import gamma_warning, make_materials
 from .assembly.parameters import derive_parameters, set_constants
 from .output.directory_lock import DirectoryLock
 from .scene.scene import SceneError
@@ -416,7 +416,7 @@ class Simulation:
     def describe(self):
         """Says what the scene leaves out, and warns where the method is known
         to degrade instead of returning poor numbers silently (docs/stability.md)."""
-        scene, parameters, d = self.scene, self.parameters, self.domain.dim
+        scene, d = self.scene, self.domain.dim
         left_out = []
         if not scene.flow:
             left_out.append("flow (no [flow] table): no flux or pressure unknowns")
@@ -447,9 +447,8 @@ class Simulation:
                 warn((f"region {regions.names[r]}: " if r < len(regions.names) else "")
                      + f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
                      "(too stiff a response, worse on coarse meshes)")
-        if scene.coupling and scene.coupling.scheme != "monolithic" and parameters.gamma > 0.99:
-            warn(f"gamma = {parameters.gamma:f} > 0.99: the contraction theorems guarantee almost nothing, expect many "
-                 "coupling iterations or none converging (monolithic is the robust choice)")
+        if warning := gamma_warning(scene, materials.gamma_peak()):
+            warn(warning)
         self.warnings = "; ".join(warnings)
 
     def open_output(self):

@@ -149,7 +149,8 @@ public:
         _stabilised(materials.max_L > 0), _flow(flow),
         _second_pass(second_pass), _mechanics(mechanics), _contraction(contraction), _output(output),
         _observer(observer), _report(report), _grid(grid), _control(control), _V(*mechanics.space()),
-        _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson")
+        _Q(*flow.pressure_space()), _accelerated(_coupling.acceleration == "anderson"),
+        _advice(split_advice(materials.gamma_peak(), _coupling.acceleration))
   {
   }
 
@@ -206,6 +207,7 @@ private:
   const fem::FunctionSpace& _V;
   const fem::FunctionSpace& _Q;
   const bool _accelerated;
+  const std::string _advice; // gamma and what converges instead, for not_converged
   Array _p_K, _u_K; // the converged state at t_K
   // For BDF2: the pressure one fine step and the displacement one window
   // before t_K, and the displacement path's value one fine step before t_K.
@@ -663,6 +665,7 @@ CouplingError FixedStressSplit::not_converged(const Window& w)
           << " iterations at t = " << t(w, w.q) << " (step " << w.K + 1 << "); last increments:";
   for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
     message << w.log[i];
+  message << " " << _advice;
   return CouplingError(message.str());
 }
 
