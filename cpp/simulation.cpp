@@ -41,7 +41,7 @@ std::int64_t global_size(const fem::FunctionSpace& V)
   return V.dofmap()->index_map->size_global() * V.dofmap()->index_map_bs();
 }
 
-/// Mean vertical displacement of the nodes of one boundary (collective).
+/// Mean of one displacement component over the nodes of a boundary (collective).
 double boundary_mean(const fem::Function<double>& u, const std::vector<std::int32_t>& facets, int component)
 {
   const auto& V = *u.function_space();
