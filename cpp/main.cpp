@@ -5,6 +5,7 @@
 //
 // Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
 // coupling did not converge (what was finished is written), 1 anything else.
+#include "assembly/materials.h"
 #include "domain/domain.h"
 #include "output/interruption.h"
 #include "output/write_failure.h"
@@ -126,6 +127,9 @@ int check_scene(const biotcontact::Scene& scene, const Arguments& args, int rank
 {
   const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
   biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
+  const std::string warning = biotcontact::gamma_warning(scene, biotcontact::largest_gamma_of(scene, domain.regions));
+  if (rank == 0 and !warning.empty())
+    std::printf("warning: %s\n", warning.c_str());
   if (rank == 0)
     std::printf("%s: ok (%s, %d steps)\n", args.scene.c_str(), scene.name.c_str(), scene.num_steps());
   return 0;

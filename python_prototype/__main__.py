@@ -107,6 +107,7 @@ def main(argv):
     # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
+    from .assembly.materials import gamma_warning, largest_gamma_of
     from .domain.domain import check_expressions, create_domain
     from .output.interruption import install_interruption_handlers
     from .scene.scene import SceneError, read_scene
@@ -135,6 +136,9 @@ def main(argv):
         if command == "check":
             domain = create_domain(scene, comm)  # a gmsh file's boundary names are known once read
             check_expressions(scene, domain, comm)
+            warning = gamma_warning(scene, largest_gamma_of(scene, domain.regions))
+            if comm.rank == 0 and warning:
+                print(f"warning: {warning}")
             if comm.rank == 0:
                 print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
             return 0

@@ -251,6 +251,8 @@ CASES = [
     ("solver choice not a string", DEFAULT, s("solver.mechanics=1"), "solver.mechanics", BOTH),
     ("unknown key in [solver]", DEFAULT, s("solver.mechanic=direct"), "solver.mechanic", BOTH),
     ("a field split without fields", DEFAULT, ["-mechanics_pc_type", "fieldsplit"], "-mechanics_pc_type", RUN),
+    ("contact_condensed not a boolean", DEFAULT, ["-mechanics_contact_condensed", "maybe"],
+     "-mechanics_contact_condensed", RUN),
 ]
 # Under mpirun -n 2 (an error found by one rank must end both).
 MPI_CASES = ["negative gap where evaluated", "an output directory that cannot be made", "corrupt .msh"]

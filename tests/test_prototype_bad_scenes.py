@@ -68,6 +68,8 @@ for label, overrides, key in CASES:
 for label, extra, key in (("unknown --option", ["--foo"], "--foo"),
                           ("no bounds in the contact solver", ["-mechanics_snes_type", "newtonls"],
                            "-mechanics_snes_type"),
+                          ("contact_condensed not a boolean", ["-mechanics_contact_condensed", "maybe"],
+                           "-mechanics_contact_condensed"),
                           ("an output directory that cannot be made", ["--out", "/proc/x"], "/proc/x")):
     (cs, ce), (ps, pe) = both("run", DEFAULT, [], extra)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,

@@ -197,7 +197,7 @@ from python_prototype.simulation import Simulation
 sim = Simulation(read_scene({box!r}), sys.argv[1], MPI.COMM_WORLD)
 assert sim.run() == 0
 Q, mesh = sim.F["Q"], sim.domain.mesh
-divergence = fem.assemble_vector(fem.form(ufl.div(ufl.split(sim.steps.flow.w)[0]) * ufl.TestFunction(Q) * ufl.dx)).array
+divergence = fem.assemble_vector(fem.form(ufl.div(ufl.split(sim.scheme.steps()[0].w)[0]) * ufl.TestFunction(Q) * ufl.dx)).array
 cells = np.arange(mesh.topology.index_map(2).size_local)
 rows = np.asarray(mesh.topology.original_cell_index)[cells]
 values = np.empty(len(cells))

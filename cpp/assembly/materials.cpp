@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <dolfinx/fem/utils.h>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <xtensor/xarray.hpp>
@@ -75,17 +76,64 @@ void summarise(Materials& m, const CellRegions& cells)
     used.push_back(&m.top);
   for (std::size_t r = 0; r < m.regions.size(); ++r)
     used.push_back(&m.regions[r]);
-  m.gamma = m.max_L = 0;
+  const GammaPeak peak = largest_gamma(m.top, m.regions, cells);
+  m.gamma = peak.gamma;
+  m.gamma_region = peak.region;
+  m.max_L = 0;
   m.min_storage = m.min_stabilised_storage = std::numeric_limits<double>::infinity();
   for (const Parameters* p : used)
   {
-    m.gamma = std::max(m.gamma, p->gamma);
     m.max_L = std::max(m.max_L, p->L);
     m.min_storage = std::min(m.min_storage, p->storage);
     m.min_stabilised_storage = std::min(m.min_stabilised_storage, p->storage + p->L);
   }
 }
 } // namespace
+
+GammaPeak largest_gamma(const Parameters& top, const std::vector<Parameters>& regions, const CellRegions& cells)
+{
+  GammaPeak peak;
+  if (cells.outside > 0)
+    peak.gamma = top.gamma;
+  for (std::size_t r = 0; r < regions.size(); ++r)
+    if (regions[r].gamma > peak.gamma)
+      peak = {regions[r].gamma, cells.names[r]};
+  return peak;
+}
+
+GammaPeak largest_gamma_of(const Scene& scene, const CellRegions& cells)
+{
+  std::vector<Parameters> regions;
+  for (const std::string& name : cells.names)
+    regions.push_back(derive_parameters(scene, scene.regions.at(name)));
+  return largest_gamma(derive_parameters(scene), regions, cells);
+}
+
+std::string split_advice(const GammaPeak& peak, Acceleration acceleration)
+{
+  std::ostringstream advice;
+  advice << "gamma = " << std::setprecision(7) << peak.gamma;
+  if (!peak.region.empty())
+    advice << " in region " << peak.region;
+  if (peak.gamma > high_gamma)
+    advice << " > " << high_gamma << ": the contraction theorems guarantee almost nothing, expect many coupling "
+           << "iterations or none converging";
+  // docs/theory.md, "Anderson acceleration": its iterates are not bound to
+  // contract by gamma each.
+  advice << "; instead: coupling.scheme = \"monolithic\" (no coupling iteration: the robust choice)";
+  if (acceleration != Acceleration::anderson)
+    advice << ", coupling.acceleration = \"anderson\" (not bound to gamma per iteration)";
+  if (peak.gamma <= high_gamma)
+    advice << ", a larger coupling.max_iterations (each iteration contracts by gamma or better)";
+  return advice.str();
+}
+
+std::string gamma_warning(const Scene& scene, const GammaPeak& peak)
+{
+  if (!scene.coupling or scene.coupling->scheme == CouplingScheme::monolithic or peak.gamma <= high_gamma)
+    return "";
+  return split_advice(peak, scene.coupling->acceleration);
+}
 
 Materials make_materials(const Scene& scene, const Domain& domain, const CompiledForms& forms)
 {

@@ -15,6 +15,20 @@
 namespace biotcontact
 {
 
+/// Where the contraction factor gamma = alpha^2/(alpha^2 + lambda S) is
+/// largest, over the materials that hold cells: its value and the region
+/// that reaches it ("" for the scene's top-level material; on a tie the
+/// top-level material, then the first region in name order).
+struct GammaPeak
+{
+  double gamma = 0;
+  std::string region;
+};
+
+/// Above this gamma the split's contraction theorems guarantee almost
+/// nothing (docs/theory.md): the run and `check` warn.
+constexpr double high_gamma = 0.99;
+
 /// @brief The material coefficients of forms/biot.py, one value per cell
 /// (DG0): G, lmbda, alpha, storage S, the fixed-stress L and the
 /// resistivity mu_f K^-1 (a d x d tensor).
@@ -34,6 +48,9 @@ struct Materials
   /// Over the materials that hold cells: the largest gamma, the largest L
   /// and the smallest S and S + L (whether the flow matrix is quasi-definite).
   double gamma = 0, max_L = 0, min_storage = 0, min_stabilised_storage = 0;
+  /// The region where gamma is reached (GammaPeak).
+  std::string gamma_region;
+  GammaPeak gamma_peak() const { return {gamma, gamma_region}; }
 
   /// The same coefficients with L = 0 (the second pass of "multirate-two-pass").
   Materials without_stabilisation() const;
@@ -62,6 +79,25 @@ struct BodyForceTerm
 /// Nothing when no body force is given.
 void add_body_force(Loads& loads, const Scene& scene, const Domain& domain, const CompiledForms& forms,
                     const BodyForceTerm& term, const Constants& constants);
+
+/// The largest gamma of the materials `top` (the cells in no region) and
+/// `regions` (in the order of cells.names) that hold cells.
+GammaPeak largest_gamma(const Parameters& top, const std::vector<Parameters>& regions, const CellRegions& cells);
+/// The same from the scene's values (what `check` reads, without the forms).
+GammaPeak largest_gamma_of(const Scene& scene, const CellRegions& cells);
+
+/// What to know of a split at this gamma and what converges instead, in
+/// one sentence: gamma and the region where it is reached; above
+/// high_gamma, that the contraction theorems guarantee almost nothing;
+/// then the choices: coupling.scheme = "monolithic", coupling.acceleration
+/// = "anderson" unless `acceleration` is it already, and below high_gamma
+/// more coupling.max_iterations. The one wording of the gamma warning and
+/// of the error of a split that did not converge, on both tracks.
+std::string split_advice(const GammaPeak& peak, Acceleration acceleration);
+
+/// The warning of a split scene whose gamma exceeds high_gamma, "" for any
+/// other (what the run and `check` print).
+std::string gamma_warning(const Scene& scene, const GammaPeak& peak);
 
 /// The materials of a scene on its domain; throws SceneError naming the
 /// permeability (flow.permeability or region.NAME.permeability) where it is

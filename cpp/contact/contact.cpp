@@ -255,17 +255,32 @@ namespace
 /// active set the coupling compares and the contact_active field).
 bool on_foundation(double distance, double scale) { return distance <= 1e-9 * scale; }
 
+/// Reads -<prefix>contact_condensed through PETSc's options database, so
+/// that -help lists it with this run's default.
+PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, prefix.c_str(), "Contact solver (biotcontact)", nullptr);
+  const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
+                           "direct solver and at most "
+                           + std::to_string(ContactSolver::max_condensed_dofs)
+                           + " contact DOFs), else on the whole system";
+  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, nullptr));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
 /// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
 /// by default when the system is solved directly and C is small enough.
-bool use_condensation(const std::string& prefix, Method method, PetscInt contact_dofs)
+bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs)
 {
-  PetscBool condensed = PETSC_FALSE, given = PETSC_FALSE;
-  PetscOptionsGetBool(nullptr, prefix.c_str(), "-contact_condensed", &condensed, &given);
-  if (given)
-    return condensed;
   // Forming H takes m solves: cheap back-solves of a factorisation, but m
   // full Krylov solves with an iterative method.
-  return method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs;
+  const bool fallback = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs;
+  PetscBool condensed = fallback ? PETSC_TRUE : PETSC_FALSE;
+  if (read_condensed(comm, prefix, condensed, &condensed) != 0)
+    throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
+  return condensed;
 }
 } // namespace
 
@@ -286,7 +301,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
   long local_dofs = static_cast<long>(_dofs.size()), contact_dofs = 0;
   MPI_Allreduce(&local_dofs, &contact_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  const bool condensed = use_condensation(prefix, method, contact_dofs);
+  const bool condensed = use_condensation(comm, prefix, method, contact_dofs);
   if (condensed)
     condense();
   else

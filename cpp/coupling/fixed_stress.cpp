@@ -97,7 +97,8 @@ public:
                      steps.flow.pressure_space()),
         _run(run), _observer(run.observer), _report(run.report), _state(run.state), _grid(run.grid), _control(run.control),
         _V(*steps.mechanics.space()), _Q(*steps.flow.pressure_space()),
-        _accelerated(_coupling.acceleration == Acceleration::anderson)
+        _accelerated(_coupling.acceleration == Acceleration::anderson),
+        _advice(split_advice(problem.materials.gamma_peak(), _coupling.acceleration))
   {
   }
 
@@ -156,6 +157,7 @@ private:
   const fem::FunctionSpace& _V;
   const fem::FunctionSpace& _Q;
   const bool _accelerated;
+  const std::string _advice; // gamma and what converges instead, for not_converged
   Array _p_K, _u_K; // the converged state at t_K
   // For BDF2: the pressure one fine step and the displacement one window
   // before t_K, and the displacement path's value one fine step before t_K.
@@ -646,6 +648,7 @@ CouplingError FixedStressSplit::not_converged(const Window& w)
           << " iterations at t = " << t(w, w.q) << " (step " << w.K + 1 << "); last increments:";
   for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
     message << w.log[i];
+  message << " " << _advice;
   return CouplingError(message.str());
 }
 

@@ -42,10 +42,8 @@ std::vector<std::string> warnings(const Problem& problem)
                       + std::to_string(nu) + " > 0.49: P1 displacements lock as nu -> 0.5 "
                       "(too stiff a response, worse on coarse meshes)");
   }
-  if (scene.coupling and scene.coupling->scheme != CouplingScheme::monolithic and problem.parameters.gamma > 0.99)
-    found.push_back("gamma = " + std::to_string(problem.parameters.gamma)
-                    + " > 0.99: the contraction theorems guarantee almost nothing, expect many coupling "
-                      "iterations or none converging (monolithic is the robust choice)");
+  if (const std::string w = gamma_warning(scene, materials.gamma_peak()); !w.empty())
+    found.push_back(w);
   return found;
 }
 

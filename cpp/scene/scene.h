@@ -162,7 +162,7 @@ struct SolverSpec
 
 /// @brief A material region: cells (a gmsh physical group of cells, or the
 /// cells whose midpoint satisfies `where`) whose physics are the scene's
-/// own with some material values replaced (docs/user-guide.md, "Regions").
+/// own with some material values replaced (docs/user-guide.md, "Material regions").
 struct RegionSpec
 {
   std::optional<Expression> where;         // the cells whose midpoint satisfies it (non-zero)

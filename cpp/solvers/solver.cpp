@@ -24,10 +24,8 @@ MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_
   if (choice != SolverChoice::automatic)
     return {choice == SolverChoice::direct ? Method::direct : Method::iterative,
             "solver." + std::string(name_of(choice)) + " in the scene"};
-  // "auto": the crossover in unknowns measured by bench/scaling.py on the
-  // default scene (2D) and the contact block (3D), docs/performance.md. A
-  // 3D factorisation fills in far more (separators of n^(2/3) against
-  // n^(1/2)), so its crossover is lower.
+  // "auto": the one-rank crossover of the system and dimension (solver.h
+  // says where each was measured) divided by the ranks.
   const bool elasticity = structure == Structure::spd;
   const std::int64_t one_rank
       = coupled ? (dimension == 3 ? crossover_3d_monolithic : crossover_2d_monolithic)

@@ -74,26 +74,22 @@ enum class Method
 std::string method_name(Method method);
 
 /// The crossovers of "auto" on one rank: systems with at least this many
-/// unknowns are solved iteratively. Measured by bench/scaling.py on the
-/// 2-core machine (docs/performance.md, "Scaling"), per system, one rank:
-/// - 3D: the flow is faster iterative from 7.6e4 unknowns (direct still at
-///   3.2e4); the mechanics at 3e4: iterative won from 1.5e4 on the block
-///   on an AMD EPYC machine, but on the Intel Xeon of 2026-11-25 the
-///   factorisation is faster at 1.5e4 (6.5 s against 8.3 s, 561 contact
-///   nodes) and 2.2e4 (fracture3d refined once, 810 contact nodes: 12.8 s
-///   against 49.9 s), ties at 2.8e4 (the block at [40,20,10]) and loses at
-///   4.5e4 (indenter3d, 5.3x); the Schur complement's dense VI favours the
-///   factorisation when many nodes touch (docs/performance.md, "Is auto right");
-/// - 2D: the factorisations stay faster at every size measured, up to
-///   1.6e6 flow and 6.6e5 mechanics unknowns (2.3e6 in all): a 2D nested-
-///   dissection factor has O(n log n) fill, and a run makes thousands of
-///   cheap back-solves from it. The 2D crossovers lie beyond that.
-/// The coupled system, by bench/monolithic.py (docs/performance.md, "The
-/// monolithic system"): in 3D its factorisation and the fixed-stress
-/// preconditioned FGMRES tie at 1.2e4 unknowns (0.83 s against 0.74 s, and
-/// 0.81 s against 1.08 s in another run), FGMRES wins from 3.9e4 (3.1 s
-/// against 5.3 s) and by 6x at 3.0e5; in 2D the factorisation wins at
-/// every size measured (4.4x at 1.4e5), so it keeps the flow's crossover.
+/// unknowns are solved iteratively. They follow the measurements on the
+/// 2-core machine in docs/performance.md, section "Issue 10: iterative
+/// solvers, 3D at a million unknowns, two ranks" (items 5, "Crossovers
+/// and auto", and 8, the monolithic Krylov solve) and section "2026-11-25:
+/// more ranks (issue 24)" (item "Is `auto` right": the 3D mechanics).
+/// - 3D: a factorisation fills in far more (separators of n^(2/3) against
+///   n^(1/2)), so the Krylov methods win early: the flow between 3.2e4 and
+///   7.6e4 unknowns, the coupled system near 1e4; the mechanics only at
+///   3e4, since the Schur complement's dense VI favours the factorisation
+///   when many nodes touch (and that crossover moves with the machine's
+///   BLAS and memory bandwidth);
+/// - 2D: the factorisations stay faster at every size measured (flow and
+///   mechanics up to 2.3e6 unknowns in all, the coupled system up to
+///   1.4e5): a 2D nested-dissection factor has O(n log n) fill, and a run
+///   makes thousands of cheap back-solves from it. The 2D crossovers lie
+///   beyond that.
 constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 8000000;
 constexpr std::int64_t crossover_3d_mechanics = 30000, crossover_3d_flow = 50000;
 constexpr std::int64_t crossover_2d_monolithic = 8000000, crossover_3d_monolithic = 10000;
@@ -111,10 +107,9 @@ struct MethodChoice
 /// below the one-rank crossover divided by the rank count, the Krylov
 /// method above it: each rank factorises the whole matrix
 /// (set_solver_defaults), so the direct path's time stays that of one
-/// rank, while the iterative path's divides by the ranks (measured on 2
-/// ranks, 3D block, docs/performance.md "More ranks": direct 0.9-1.0x,
-/// iterative 1.6-1.8x; the crossovers moved from 1e4 to about 7e3
-/// mechanics and from 5e4 to between 1e4 and 3.2e4 flow unknowns).
+/// rank, while the iterative path's divides by the ranks
+/// (docs/performance.md, section "2026-11-25: more ranks (issue 24)",
+/// item "What was built" (3)).
 MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_t unknowns, int dimension,
                            int ranks, bool coupled = false);
 

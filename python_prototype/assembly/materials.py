@@ -1,6 +1,7 @@
 """The material coefficients of the forms, cell by cell: the scene's
 top-level values in cells in no region, a region's own in its cells
 (cpp/assembly/materials.h)."""
+import typing
 from dataclasses import dataclass
 
 import numpy as np
@@ -10,6 +11,61 @@ from ..scene.scene import agree_on_error
 from .parameters import derive_parameters, resistivity
 
 SCALARS = (("G", "G"), ("lmbda", "lmbda"), ("alpha", "alpha"), ("storage", "storage"), ("L", "L"))
+
+# Above this gamma the split's contraction theorems guarantee almost nothing
+# (docs/theory.md): the run and `check` warn.
+HIGH_GAMMA = 0.99
+
+
+class GammaPeak(typing.NamedTuple):
+    """Where gamma = alpha^2/(alpha^2 + lambda S) is largest over the
+    materials that hold cells: its value and the region that reaches it (""
+    for the top-level material; on a tie the top-level material, then the
+    first region in name order; cpp/assembly/materials.h)."""
+    gamma: float
+    region: str
+
+
+def largest_gamma(top, regions, cells):
+    """The largest gamma of the materials `top` (the cells in no region) and
+    `regions` (in the order of cells.names) that hold cells."""
+    peak = GammaPeak(top.gamma if cells.outside > 0 else 0.0, "")
+    for name, p in zip(cells.names, regions):
+        if p.gamma > peak.gamma:
+            peak = GammaPeak(p.gamma, name)
+    return peak
+
+
+def largest_gamma_of(scene, cells):
+    """The same from the scene's values (what `check` reads, without the forms)."""
+    return largest_gamma(derive_parameters(scene), [derive_parameters(scene, scene.regions[n]) for n in cells.names],
+                         cells)
+
+
+def split_advice(peak, acceleration):
+    """What to know of a split at this gamma and what converges instead, in
+    one sentence (cpp/assembly/materials.h): the one wording of the gamma
+    warning and of the error of a split that did not converge."""
+    advice = f"gamma = {peak.gamma:.7g}" + (f" in region {peak.region}" if peak.region else "")
+    if peak.gamma > HIGH_GAMMA:
+        advice += (f" > {HIGH_GAMMA:.7g}: the contraction theorems guarantee almost nothing, expect many coupling "
+                   "iterations or none converging")
+    # docs/theory.md, "Anderson acceleration": its iterates are not bound to
+    # contract by gamma each.
+    advice += '; instead: coupling.scheme = "monolithic" (no coupling iteration: the robust choice)'
+    if acceleration != "anderson":
+        advice += ', coupling.acceleration = "anderson" (not bound to gamma per iteration)'
+    if peak.gamma <= HIGH_GAMMA:
+        advice += ", a larger coupling.max_iterations (each iteration contracts by gamma or better)"
+    return advice
+
+
+def gamma_warning(scene, peak):
+    """The warning of a split scene whose gamma exceeds HIGH_GAMMA, "" for any
+    other (what the run and `check` print)."""
+    if not scene.coupling or scene.coupling.scheme == "monolithic" or peak.gamma <= HIGH_GAMMA:
+        return ""
+    return split_advice(peak, scene.coupling.acceleration)
 
 
 class Materials:
@@ -21,10 +77,13 @@ class Materials:
     def __init__(self, top, regions, cells):
         self.top, self.regions = top, regions
         used = ([top] if cells.outside > 0 else []) + regions
-        self.gamma = max(p.gamma for p in used)
+        self.gamma, self.gamma_region = largest_gamma(top, regions, cells)
         self.max_L = max(p.L for p in used)
         self.min_storage = min(p.storage for p in used)
         self.min_stabilised_storage = min(p.storage + p.L for p in used)
+
+    def gamma_peak(self):
+        return GammaPeak(self.gamma, self.gamma_region)
 
     def without_stabilisation(self, F, into):
         """Sets the coefficients of F into the forms `into` with L = 0 (the

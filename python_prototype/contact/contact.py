@@ -222,14 +222,33 @@ class ContactState:
         self.boundaries = []  # (name, force along -nu_F, active constraints) per contact boundary
 
 
-def use_condensation(prefix, method, contact_dofs):
+_help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
+
+
+def read_condensed(comm, prefix, fallback):
+    """-<prefix>contact_condensed, `fallback` when not given; with -help, the
+    lines PETSc prints for the option the C++ registers (cpp/contact/contact.cpp,
+    read_condensed), which petsc4py 3.18 cannot register."""
+    options = PETSc.Options()
+    try:
+        condensed = options.getBool(prefix + "contact_condensed", fallback)
+    except PETSc.Error:
+        raise OptionsError(f"-{prefix}contact_condensed: not a boolean (true or false)") from None
+    if options.hasName("help") and prefix not in _help_printed:
+        _help_printed.add(prefix)
+        text = ("pose the contact VI on the Schur complement of the contact DOFs (default with a direct solver and "
+                f"at most {ContactSolver.max_condensed_dofs} contact DOFs), else on the whole system")
+        PETSc.Sys.Print(f"----------------------------------------\nContact solver (biotcontact):\n"
+                        f"  -{prefix}contact_condensed: <{str(fallback).upper()} : {str(condensed).upper()}> {text} "
+                        "(docs/user-guide.md)", comm=comm)
+    return condensed
+
+
+def use_condensation(comm, prefix, method, contact_dofs):
     """-<prefix>contact_condensed, by default when the system is solved
     directly and C is small enough (cpp/contact/contact.cpp): forming H takes m
     solves, cheap back-solves of a factorisation but full Krylov solves."""
-    options = PETSc.Options()
-    if options.hasName(prefix + "contact_condensed"):
-        return options.getBool(prefix + "contact_condensed")
-    return method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs
+    return read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs)
 
 
 class ContactSolver:
@@ -265,7 +284,7 @@ class ContactSolver:
         self._make_change_of_variables()
         self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
         vi_prefix = prefix
-        condensed = use_condensation(prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
+        condensed = use_condensation(comm, prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
         if condensed:
             self.schur = SchurComplement(comm, prefix, self.A_vi, structure, self.dofs)
             self.vi_stage = SolverStage(prefix + "contact")

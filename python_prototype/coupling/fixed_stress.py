@@ -11,6 +11,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..assembly.materials import split_advice
 from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
 from ..contact.contact import ActiveSet, same_active_set
@@ -107,6 +108,7 @@ class _FixedStressSplit:
         self.control = run.control  # time.adaptive (q = 1), or None
         self.V, self.Q = steps.mechanics.V, steps.flow.Q
         self.accelerated = self.coupling.acceleration == "anderson"
+        self.advice = split_advice(problem.materials.gamma_peak(), self.coupling.acceleration)  # for not_converged
         self.p_K = self.u_K = None  # the converged state at t_K
         # For BDF2: the pressure one fine step and the displacement one window
         # before t_K, and the displacement path's value one fine step before t_K.
@@ -487,7 +489,7 @@ class _FixedStressSplit:
         coupling.max_iterations, with the last increments."""
         return CouplingError(f"the fixed-stress split did not converge in {self.coupling.max_iterations} "
                              f"iterations at t = {self.t(w, w.q):g} (step {w.K + 1}); last increments:"
-                             + "".join(w.log[-3:]))
+                             + "".join(w.log[-3:]) + " " + self.advice)
 
     def accept_window(self, w, n):
         """Accept the window: write every fine flow step, then the mechanics

@@ -4,6 +4,8 @@ degrade, instead of returning poor numbers silently (docs/stability.md);
 cpp/diagnostics/description.h."""
 from dataclasses import dataclass, field
 
+from ..assembly.materials import gamma_warning
+
 
 @dataclass
 class Description:
@@ -41,9 +43,8 @@ def _warnings(problem):
             found.append((f"region {regions.names[r]}: " if r < len(regions.names) else "")
                          + f"nu = {nu:f} > 0.49: P1 displacements lock as nu -> 0.5 "
                          "(too stiff a response, worse on coarse meshes)")
-    if scene.coupling and scene.coupling.scheme != "monolithic" and problem.parameters.gamma > 0.99:
-        found.append(f"gamma = {problem.parameters.gamma:f} > 0.99: the contraction theorems guarantee almost "
-                     "nothing, expect many coupling iterations or none converging (monolithic is the robust choice)")
+    if warning := gamma_warning(scene, materials.gamma_peak()):
+        found.append(warning)
     return found
 
 

@@ -54,11 +54,11 @@ def set_default_option(name, value):
 class Method(enum.Enum):
     """How a system is solved (cpp/solvers/solver.h)."""
     direct = 1     # a sparse factorisation, reused while the matrix is unchanged
-    iterative = 2  # CG + GAMG (elasticity), GMRES + Schur field split (flow)
+    iterative = 2  # CG + GAMG (elasticity), GMRES + Schur field split (flow), FGMRES + a fixed-stress sweep (coupled)
 
 
-# The crossovers of "auto" in unknowns (cpp/solvers/solver.h, docs/performance.md),
-# by dimension and system.
+# The one-rank crossovers of "auto" in unknowns, by dimension and system
+# (cpp/solvers/solver.h says where each was measured).
 CROSSOVER = {(2, "mechanics"): 4000000, (2, "flow"): 8000000, (2, "monolithic"): 8000000,
              (3, "mechanics"): 30000, (3, "flow"): 50000, (3, "monolithic"): 10000}
 
