@@ -197,8 +197,6 @@ DIFFERENCES = {
     "contact/contact": {
         "locate_contact": "C++ only: to align (issue 36): this free function finds the contact constraints and "
                           "returns a ContactSet; Python finds them in ContactSet's constructor",
-        "on_foundation": private("contact.cpp"),
-        "use_condensation": private("contact.cpp"),
     },
     "coupling/anderson": {
         "State": "C++ only: a type alias for the iterates (a vector of vectors of doubles); Python's lists need "

@@ -180,7 +180,7 @@ class ActiveSet:
         self.nodes = nodes
 
 
-def on_foundation(distance, scale):
+def _on_foundation(distance, scale):
     """Whether constraints are active: their nodes lie on the foundation to
     round-off, within 1e-9 of the displacement scale (the one test behind
     the active set the coupling compares and the contact_active field)."""
@@ -225,7 +225,7 @@ class ContactState:
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
 
 
-def read_condensed(comm, prefix, fallback):
+def _read_condensed(comm, prefix, fallback):
     """-<prefix>contact_condensed, `fallback` when not given; with -help, the
     lines PETSc prints for the option the C++ registers (cpp/contact/contact.cpp,
     read_condensed), which petsc4py 3.18 cannot register."""
@@ -244,11 +244,11 @@ def read_condensed(comm, prefix, fallback):
     return condensed
 
 
-def use_condensation(comm, prefix, method, contact_dofs):
+def _use_condensation(comm, prefix, method, contact_dofs):
     """-<prefix>contact_condensed, by default when the system is solved
     directly and C is small enough (cpp/contact/contact.cpp): forming H takes m
     solves, cheap back-solves of a factorisation but full Krylov solves."""
-    return read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs)
+    return _read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs)
 
 
 class ContactSolver:
@@ -284,7 +284,7 @@ class ContactSolver:
         self._make_change_of_variables()
         self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
         vi_prefix = prefix
-        condensed = use_condensation(comm, prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
+        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
         if condensed:
             self.schur = SchurComplement(comm, prefix, self.A_vi, structure, self.dofs)
             self.vi_stage = SolverStage(prefix + "contact")
@@ -586,7 +586,7 @@ class ContactSolver:
     def active_set(self, x):
         """Constraints on the foundation to round-off: the active flag of
         state(), without the contact forces (collective)."""
-        flags = on_foundation(self.distances(x), self.displacement_scale(x))
+        flags = _on_foundation(self.distances(x), self.displacement_scale(x))
         return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
     def state(self, x, b, pressure_out, active_out):
@@ -609,7 +609,7 @@ class ContactSolver:
     def _summarise(self, s, pressure, distance, pressure_out, active_out):
         """The diagnostics and output fields of the constraints' pressures
         and distances; a node on two foundations shows the larger pressure."""
-        active = on_foundation(distance, s.gap_scale)
+        active = _on_foundation(distance, s.gap_scale)
         pressure_out.x.array[:] = 0.0
         active_out.x.array[:] = 0.0
         out = self.set.output_dofs
