@@ -80,9 +80,12 @@ DIFFERENCES = {
                            "so that scene.py catches its errors and no other; C++ turns muparser's exception into "
                            "std::invalid_argument",
     },
+    "scene/input": {
+        "Choices": "C++ only: the names a scene gives a choice's values, in the order its messages list them, "
+                   "a traits template (Choices<E>::names) that name_of and Section::choice read; a Python "
+                   "enum.Enum holds them itself (its values, in definition order)",
+    },
     "scene/scene": {
-        "Section": private("scene.cpp"),
-        "apply_override": private("scene.cpp"),
         "agreed_error": "C++ only: to align (issue 36): the lowest rank's message, which agree_on_error, "
                         "agree_on_output_error and TimeSeries share; Python writes the allreduce and bcast out "
                         "in agree_on_error and agree_on_output_error",

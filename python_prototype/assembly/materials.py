@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from dolfinx import fem
 
+from ..scene.input import Acceleration, CouplingScheme
 from ..scene.scene import agree_on_error
 from .parameters import derive_parameters, resistivity
 
@@ -53,7 +54,7 @@ def split_advice(peak, acceleration):
     # docs/theory.md, "Anderson acceleration": its iterates are not bound to
     # contract by gamma each.
     advice += '; instead: coupling.scheme = "monolithic" (no coupling iteration: the robust choice)'
-    if acceleration != "anderson":
+    if acceleration != Acceleration.anderson:
         advice += ', coupling.acceleration = "anderson" (not bound to gamma per iteration)'
     if peak.gamma <= HIGH_GAMMA:
         advice += ", a larger coupling.max_iterations (each iteration contracts by gamma or better)"
@@ -63,7 +64,7 @@ def split_advice(peak, acceleration):
 def gamma_warning(scene, peak):
     """The warning of a split scene whose gamma exceeds HIGH_GAMMA, "" for any
     other (what the run and `check` print)."""
-    if not scene.coupling or scene.coupling.scheme == "monolithic" or peak.gamma <= HIGH_GAMMA:
+    if not scene.coupling or scene.coupling.scheme == CouplingScheme.monolithic or peak.gamma <= HIGH_GAMMA:
         return ""
     return split_advice(peak, scene.coupling.acceleration)
 

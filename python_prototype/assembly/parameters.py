@@ -4,6 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..scene.input import LChoice
 
 
 @dataclass
@@ -34,8 +35,8 @@ def _material_parameters(scene, mechanics, flow, alpha):
         c = scene.coupling
         parameters.alpha, parameters.q = alpha, c.q
         a2 = parameters.alpha * parameters.alpha
-        parameters.L = {"paper": lambda: a2 / parameters.lmbda, "kdr": lambda: a2 / parameters.K_dr,
-                        "half-kdr": lambda: a2 / (2 * parameters.K_dr)}.get(c.L_choice, lambda: c.L_number)()
+        parameters.L = {LChoice.paper: lambda: a2 / parameters.lmbda, LChoice.kdr: lambda: a2 / parameters.K_dr,
+                        LChoice.half_kdr: lambda: a2 / (2 * parameters.K_dr)}.get(c.L_choice, lambda: c.L_number)()
         parameters.gamma = a2 / (a2 + parameters.lmbda * parameters.storage) if a2 > 0 else 0.0
     return parameters
 

@@ -19,6 +19,7 @@ from .coupling import CouplingError, IterationRecord
 from ..diagnostics.diagnostics import ContractionNorm
 from .window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
+from ..scene.input import Acceleration, TimeScheme
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.flow_step import FlowStep
 from ..steps.mechanics_step import MechanicsStep
@@ -107,7 +108,7 @@ class _FixedStressSplit:
         self.grid = run.grid
         self.control = run.control  # time.adaptive (q = 1), or None
         self.V, self.Q = steps.mechanics.V, steps.flow.Q
-        self.accelerated = self.coupling.acceleration == "anderson"
+        self.accelerated = self.coupling.acceleration == Acceleration.anderson
         self.advice = split_advice(problem.materials.gamma_peak(), self.coupling.acceleration)  # for not_converged
         self.p_K = self.u_K = None  # the converged state at t_K
         # For BDF2: the pressure one fine step and the displacement one window
@@ -204,7 +205,7 @@ class _FixedStressSplit:
           D2 = ((u - u_K)/H - (u_K - u_{K-1})/H1) / (H + H1),
         but in the first window u takes its end value at the first fine step
         and, with q > 1, the second window keeps the straight line."""
-        bdf2 = self.scene.time_scheme == "bdf2"
+        bdf2 = self.scene.time_scheme == TimeScheme.bdf2
         if bdf2 and w.K == 0:
             return self.u_K if m == 0 else u
         H, s = self.t(w, w.q) - self.t(w, 0), self.t(w, m) - self.t(w, 0)
@@ -223,7 +224,7 @@ class _FixedStressSplit:
         the window's path:
           p* = (c1 p[m-1] - c2 p[m-2]) / c0,  u_window = u - q (Q(t_m) - Q*),
         the values one fine step before t_K being the previous window's."""
-        if self.scene.time_scheme != "bdf2":
+        if self.scene.time_scheme != TimeScheme.bdf2:
             flow.p_previous.x.array[:] = p[m - 1]
             return
         d = w.derivative

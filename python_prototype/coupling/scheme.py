@@ -4,6 +4,7 @@ or one solve per step, chosen once from the scene (cpp/coupling/scheme.h)."""
 from ..assembly.forms import Forms
 from ..assembly.parameters import derive_parameters, set_constants
 from ..contact.contact import ContactState
+from ..scene.input import CouplingScheme
 from ..steps.flow_step import FlowPass, FlowStep
 from ..steps.mechanics_step import MechanicsStep
 from ..steps.monolithic_step import MonolithicStep
@@ -28,7 +29,7 @@ class Scheme:
         self.step_control = None  # time.adaptive
         self._steps = []
         scene = problem.scene
-        if scene.coupling and scene.coupling.scheme == "monolithic":
+        if scene.coupling and scene.coupling.scheme == CouplingScheme.monolithic:
             self._make_monolithic(problem)
         else:
             self._make_split(problem)
@@ -89,7 +90,7 @@ class Scheme:
             self.u = mechanics.u
             self._take_contact_fields(mechanics)
             self._steps.append(mechanics)
-        if scene.coupling and scene.coupling.scheme == "multirate-two-pass":
+        if scene.coupling and scene.coupling.scheme == CouplingScheme.multirate_two_pass:
             # The second pass is the flow step without the stabilisation L:
             # forms of its own, whose coefficient L is 0.
             unstabilised = Forms(problem.domain.mesh)

@@ -14,6 +14,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..assembly.linear_algebra import owned_norm
+from ..scene.input import TimeScheme
 from ..steps.time_grid import plan_steps
 
 # The PI controller's set point (the estimate it steers to) and the band of
@@ -64,7 +65,7 @@ class StepControl:
     def __init__(self, scene, Q, V):
         self.spec, self.stops = scene.adaptive, scene.stops()
         self.comm = (Q if Q is not None else V).mesh.comm
-        self.order = 2 if scene.time_scheme == "bdf2" else 1  # p
+        self.order = 2 if scene.time_scheme == TimeScheme.bdf2 else 1  # p
         self.rejected = False  # the step being judged was rejected before
         # y_{n-1}, y_{n-2}, y_{n-3} of each field (empty for an absent one).
         self.p = [fem.Function(Q) for _ in range(3)] if Q else []

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..scene.expression import Expression
+from ..scene.input import ReferenceSolution
 
 
 @dataclass
@@ -127,7 +128,7 @@ def with_mandel_plate(scene):
     = "mandel" scene a copy with Mandel's rigid frictionless plate imposed
     as the exact u_y on the boundary reference.plate (the usual set-up;
     docs/verification.md), which the reader checked is free."""
-    if scene.reference is None or scene.reference.solution != "mandel":
+    if scene.reference is None or scene.reference.solution != ReferenceSolution.mandel:
         return scene
     f = scene.flow
     mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,

@@ -7,6 +7,7 @@ from typing import Optional
 import numpy as np
 from dolfinx import fem
 
+from ..scene.input import ReferenceSolution
 from .closed_form import Mandel, Terzaghi
 from .diagnostics import relative_error
 
@@ -46,7 +47,7 @@ def reference_errors(problem, u, p):
     t, y0 = scene.end_time, scene.mesh.lower[1]
     # The closed form: pressure and displacement at the points x.
     terzaghi = None
-    if ref.solution == "terzaghi":
+    if ref.solution == ReferenceSolution.terzaghi:
         terzaghi = Terzaghi(ref.height, parameters.G, parameters.lmbda, parameters.alpha, parameters.storage, mobility,
                             ref.load)
         p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731

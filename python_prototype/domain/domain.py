@@ -15,6 +15,7 @@ from dolfinx import io, mesh as dmesh
 from dolfinx.cpp.graph import AdjacencyList_int32
 from dolfinx.cpp.mesh import entities_to_geometry
 
+from ..scene.input import MeshType
 from ..scene.scene import SceneError, agree_on_error
 from .regions import locate_regions, regions_of_groups
 
@@ -148,9 +149,9 @@ def _read_gmsh(scene, comm):
 
 def create_domain(scene, comm):
     m = scene.mesh
-    if m.type == "gmsh":
+    if m.type == MeshType.gmsh:
         return _read_gmsh(scene, comm)
-    if m.type == "rectangle":
+    if m.type == MeshType.rectangle:
         mesh = dmesh.create_rectangle(comm, [m.lower, m.upper], m.cells, dmesh.CellType.triangle,
                                       dmesh.GhostMode.shared_facet, diagonal=dmesh.DiagonalType.crossed)
     else:

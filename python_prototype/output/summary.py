@@ -3,6 +3,7 @@
 from dataclasses import dataclass
 from typing import Optional
 
+from ..scene.input import Acceleration, CouplingScheme, name_of
 from ..solvers.solver import Method, SolverStatistics
 
 
@@ -128,10 +129,10 @@ def _scheme_json(problem, scheme):
     """The scheme's settings: its name, q, L and gamma, the acceleration."""
     c, parameters = problem.scene.coupling, problem.parameters
     return {"scene": problem.scene.name,
-            "scheme": c.scheme if c else ("flow-only" if scheme.p is not None else "mechanics-only"),
+            "scheme": name_of(c.scheme) if c else ("flow-only" if scheme.p is not None else "mechanics-only"),
             "q": "auto" if c and c.q_auto else parameters.q,
-            "L_choice": c.L_choice if c else "none",
-            "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == "anderson" else "none",
+            "L_choice": name_of(c.L_choice) if c else "none",
+            "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == Acceleration.anderson else "none",
             "L": parameters.L,
             "gamma": parameters.gamma}
 
@@ -144,7 +145,7 @@ def run_summary(summary_input, outcome):
     i, r = summary_input, summary_input.report
     scene = i.problem.scene
     st = _statistics(i.scheme)
-    monolithic = scene.coupling is not None and scene.coupling.scheme == "monolithic"
+    monolithic = scene.coupling is not None and scene.coupling.scheme == CouplingScheme.monolithic
     solvers, timings = _solver_summaries(i.scheme, not monolithic and scene.solver.inexact_coupling)
     timings["assembly"] = i.scheme.assembly_time() + sum(s.assembly_time for s in st.values())
     timings["output"] = outcome.output_time
@@ -153,7 +154,7 @@ def run_summary(summary_input, outcome):
         "dofs": _dofs_json(i.scheme, i.problem.domain),
         "dt": scene.dt,
         "dt_growth": scene.growth,
-        "time_scheme": scene.time_scheme,
+        "time_scheme": name_of(scene.time_scheme),
         "steps": r.windows,
         "retries": r.retries,
         "fine_steps": r.fine_steps,

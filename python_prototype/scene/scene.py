@@ -1,9 +1,10 @@
 """A scene: one TOML file that says what to simulate (docs/user-guide.md, "Scene reference").
 
 Mirrors cpp/scene/scene.cpp key by key: the same defaults, the same checks in the
-same order, and the same one-line messages `<file>: <key>: <message>`.
-Tables are read in sorted key order, as toml++ (a sorted map) does, so the
-first unknown key named and the order of the boundaries are the same.
+same order, and the same one-line messages `<file>: <key>: <message>`; the
+choices are read into the enums of input.py, the tables by section.py's
+Section. Tables are read in sorted key order, as toml++ (a sorted map) does,
+so the order of the boundaries is the same.
 """
 import bisect
 import math
@@ -15,13 +16,12 @@ from typing import Optional
 
 from mpi4py import MPI
 
-from .expression import Expression, ExpressionError
+from .expression import Expression
+from .input import (Acceleration, CouplingScheme, LChoice, MeshType, ReferenceSolution, SceneError, SolverChoice,
+                    TimeScheme, name_of)
+from .section import Section, apply_override
 
 MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
-
-
-class SceneError(Exception):
-    """Bad input: the message is one line naming the file and the key."""
 
 
 def agree_on_error(message, comm):
@@ -33,121 +33,11 @@ def agree_on_error(message, comm):
         raise SceneError(comm.bcast(message, root=owner))
 
 
-def _is_number(v):
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-def _is_integer(v):
-    return isinstance(v, int) and not isinstance(v, bool)
-
-
-class Section:
-    """One TOML table, read key by key; `finish` refuses keys never read."""
-
-    def __init__(self, table, path, file):
-        self.table, self.path, self.file, self.used = table, path, file, set()
-
-    def fail(self, key, message):
-        raise SceneError(f"{self.file}: {self.name(key)}: {message}")
-
-    def name(self, key):
-        return f"{self.path}.{key}" if self.path else key
-
-    def has(self, key):
-        return self.table is not None and key in self.table
-
-    def node(self, key):
-        self.used.add(key)
-        return None if self.table is None else self.table.get(key)
-
-    def section(self, key, required):
-        n = self.node(key)
-        if n is None:
-            if required:
-                self.fail(key, "missing (a table is required)")
-            return Section(None, self.name(key), self.file)
-        if not isinstance(n, dict):
-            self.fail(key, "must be a table")
-        return Section(n, self.name(key), self.file)
-
-    def number(self, key, fallback=None):
-        n = self.node(key)
-        if n is None:
-            if fallback is None:
-                self.fail(key, "missing (a number is required)")
-            return fallback
-        if not _is_number(n):
-            self.fail(key, "must be a number")
-        return float(n)
-
-    def integer(self, key, fallback):
-        n = self.node(key)
-        if n is None:
-            return fallback
-        if not _is_integer(n):
-            self.fail(key, "must be an integer")
-        return int(n)
-
-    def boolean(self, key, fallback):
-        n = self.node(key)
-        if n is None:
-            return fallback
-        if not isinstance(n, bool):
-            self.fail(key, "must be true or false")
-        return n
-
-    def string(self, key, fallback=None):
-        n = self.node(key)
-        if n is None:
-            if fallback is None:
-                self.fail(key, "missing (a string is required)")
-            return fallback
-        if not isinstance(n, str):
-            self.fail(key, "must be a string")
-        return n
-
-    def to_expression(self, n, key):
-        if _is_number(n):
-            return Expression(float(n))
-        if isinstance(n, str):
-            try:
-                return Expression(n)
-            except ExpressionError as e:
-                self.fail(key, str(e))
-        self.fail(key, "must be a number or an expression string")
-
-    def expression(self, key):
-        n = self.node(key)
-        return None if n is None else self.to_expression(n, key)
-
-    def expression_vector(self, key, size):
-        n = self.node(key)
-        if not isinstance(n, list) or len(n) != size:
-            self.fail(key, f"must be an array of {size} numbers or expressions")
-        return [self.to_expression(e, key) for e in n]
-
-    def number_vector(self, key, size):
-        n = self.node(key)
-        if not isinstance(n, list) or (size > 0 and len(n) != size):
-            self.fail(key, f"must be an array of {size} numbers" if size > 0 else "must be an array of numbers")
-        if not all(_is_number(e) for e in n):
-            self.fail(key, "must be an array of numbers")
-        return [float(e) for e in n]
-
-    def keys(self):
-        return sorted(self.table) if self.table is not None else []
-
-    def finish(self):
-        for key in self.keys():
-            if key not in self.used:
-                self.fail(key, "unknown key")
-
-
 # ---- the scene, as cpp/scene/scene.h ------------------------------------------------
 
 @dataclass
 class MeshSpec:
-    type: str = ""
+    type: MeshType = MeshType.rectangle
     lower: list = field(default_factory=list)
     upper: list = field(default_factory=list)
     cells: list = field(default_factory=list)
@@ -209,7 +99,7 @@ class FlowSpec:
 @dataclass
 class CouplingSpec:
     alpha: float = 1.0
-    scheme: str = "fixed-stress"
+    scheme: CouplingScheme = CouplingScheme.fixed_stress
     q: int = 1                  # 1 with q = "auto" (the first window's)
     # coupling.q = "auto" (window_control.py): each window's q, at most
     # q_max, from the predicted relative change of the displacement over
@@ -217,21 +107,21 @@ class CouplingSpec:
     q_auto: bool = False
     q_max: int = 16
     q_tolerance: float = 1e-2
-    L_choice: str = "paper"
-    L_number: float = 0.0
+    L_choice: LChoice = LChoice.paper
+    L_number: float = 0.0  # L_choice = number
     tolerance: float = 1e-8
     max_iterations: int = 100
-    acceleration: str = "none"  # or "anderson" (anderson.py) with `depth` differences
+    acceleration: Acceleration = Acceleration.none  # Anderson's keeps `depth` differences
     depth: int = 8
 
     def multirate(self):
         """q flow steps per mechanics step (either multirate scheme)."""
-        return self.scheme in ("multirate", "multirate-two-pass")
+        return self.scheme in (CouplingScheme.multirate, CouplingScheme.multirate_two_pass)
 
 
 @dataclass
 class ReferenceSpec:
-    solution: str = ""  # "terzaghi" or "mandel"
+    solution: ReferenceSolution = ReferenceSolution.terzaghi
     load: float = 0.0   # terzaghi: the compressive traction on the top
     height: float = 0.0  # terzaghi: h
     force: float = 0.0  # mandel: F (2F on the full specimen, per unit thickness)
@@ -249,11 +139,10 @@ class AdaptiveSpec:
 
 @dataclass
 class SolverSpec:
-    """How each system is solved: "direct", "iterative" or "auto" (by size,
-    solver.choose_method); PETSc options of a system's prefix override."""
-    flow: str = "auto"
-    mechanics: str = "auto"
-    monolithic: str = "auto"
+    """How each system is solved. PETSc options of a system's prefix override."""
+    flow: SolverChoice = SolverChoice.automatic
+    mechanics: SolverChoice = SolverChoice.automatic
+    monolithic: SolverChoice = SolverChoice.automatic
     inexact_coupling: bool = True  # iterative solves only as accurate as the coupling increment needs
 
 
@@ -294,7 +183,7 @@ class Scene:
     dt: float = 0.0
     growth: float = 1.0  # time.growth: dt_k = dt growth^(k-1)
     retry: int = 0       # time.retry: a failed step is retried with halved steps up to this many times
-    time_scheme: str = "backward-euler"  # time.scheme: or "bdf2" (steps/time_scheme.py)
+    time_scheme: TimeScheme = TimeScheme.backward_euler  # time.scheme
     adaptive: Optional[AdaptiveSpec] = None  # time.adaptive
     write_xdmf: bool = True
     # output.times or output.every (and time.end): the times written after
@@ -346,27 +235,10 @@ def builtin_boundary_names(d):
 
 # ---- reading -------------------------------------------------------------------
 
-def apply_override(root, assignment, file):
-    """`a.b.c=value`; the value is read as TOML, else taken as a string."""
-    path, eq, text = assignment.partition("=")
-    if not eq or not path:
-        raise SceneError(f"{file}: --set {assignment}: expected key.path=value")
-    *tables, key = path.split(".")
-    table = root
-    for t in tables:
-        table = table.setdefault(t, {})
-        if not isinstance(table, dict):
-            raise SceneError(f"{file}: --set {path}: {t} is not a table")
-    try:
-        table[key] = tomllib.loads("value = " + text)["value"]
-    except tomllib.TOMLDecodeError:
-        table[key] = text
-
-
 def _read_mesh(s, scene_file):
-    m = MeshSpec(type=s.string("type"))
-    if m.type in ("rectangle", "box"):
-        d = 2 if m.type == "rectangle" else 3
+    m = MeshSpec(type=s.choice("type", MeshType))
+    if m.type in (MeshType.rectangle, MeshType.box):
+        d = 2 if m.type == MeshType.rectangle else 3
         m.dimension = d
         m.lower = s.number_vector("lower", d) if s.has("lower") else [0.0] * d
         m.upper = s.number_vector("upper", d)
@@ -385,7 +257,7 @@ def _read_mesh(s, scene_file):
         if have > 0 and need > have:
             s.fail("cells", f"{simplices:.2g} cells need about {need / 1e9:.2g} GB of memory; "
                    f"this machine has {have / 1e9:.2g} GB")
-    elif m.type == "gmsh":
+    else:
         name = s.string("file")
         # Mesh files are looked up next to the scene, then in meshes/.
         here = os.path.dirname(scene_file)
@@ -403,8 +275,6 @@ def _read_mesh(s, scene_file):
         m.refine = s.integer("refine", 0)
         if not 0 <= m.refine <= 6:
             s.fail("refine", "must be an integer in [0, 6]")
-    else:
-        s.fail("type", f'must be "rectangle", "box" or "gmsh", got "{m.type}"')
     s.finish()
     return m
 
@@ -543,7 +413,7 @@ def _read_flow(s, d):
             if not isinstance(row, list) or len(row) != d:
                 s.fail("permeability", f"a tensor must be {d} rows of {d} numbers")
             for e in row:
-                if not _is_number(e):
+                if not Section.is_number(e):
                     s.fail("permeability", "tensor entries must be numbers")
                 K.append(float(e))
         if len(K) != d * d:
@@ -600,31 +470,25 @@ def _read_coupling(s, mech, flow):
     c.alpha = s.number("alpha")
     if not (0 <= c.alpha <= 1):
         s.fail("alpha", "the Biot coefficient must lie in [0, 1]")
-    c.scheme = s.string("scheme", "fixed-stress")
-    if c.scheme not in ("fixed-stress", "monolithic") and not c.multirate():
-        s.fail("scheme", 'must be "fixed-stress", "multirate", "multirate-two-pass" or "monolithic", '
-                         f'got "{c.scheme}"')
+    c.scheme = s.choice("scheme", CouplingScheme, CouplingScheme.fixed_stress)
     # The second pass is a flow step without L: with S = 0 its matrix has a
     # zero pressure block, singular wherever no pressure is prescribed.
-    if c.scheme == "multirate-two-pass" and not flow.storage() > 0:
+    if c.scheme == CouplingScheme.multirate_two_pass and not flow.storage() > 0:
         s.fail("scheme", '"multirate-two-pass" needs a storage coefficient S = 1/M + c_f phi0 > 0')
     _read_window_steps(s, c)
 
     L = s.node("L")
-    bad_L = 'must be "paper", "kdr", "half-kdr" or a number'
     if L is None:
-        c.L_choice = "paper"
-    elif _is_number(L):
-        c.L_choice, c.L_number = "number", float(L)
+        c.L_choice = LChoice.paper
+    elif Section.is_number(L):
+        c.L_choice, c.L_number = LChoice.number, float(L)
         if not (c.L_number >= 0) or not math.isfinite(c.L_number):
             s.fail("L", "must be >= 0")
-    elif isinstance(L, str):
-        c.L_choice = L
-        if L not in ("paper", "kdr", "half-kdr"):
-            s.fail("L", bad_L)
+    elif isinstance(L, str) and L in ("paper", "kdr", "half-kdr"):
+        c.L_choice = LChoice(L)
     else:
-        s.fail("L", bad_L)
-    if c.L_choice == "paper" and not (mech.lmbda > 0):
+        s.fail("L", 'must be "paper", "kdr", "half-kdr" or a number')
+    if c.L_choice == LChoice.paper and not (mech.lmbda > 0):
         s.fail("L", '"paper" (alpha^2/lambda) needs lambda > 0; use "kdr"')
 
     c.tolerance = s.number("tolerance", 1e-8)
@@ -633,10 +497,8 @@ def _read_coupling(s, mech, flow):
     c.max_iterations = s.integer("max_iterations", 100)
     if c.max_iterations < 1:
         s.fail("max_iterations", "must be a positive integer")
-    c.acceleration = s.string("acceleration", "none")
-    if c.acceleration not in ("none", "anderson"):
-        s.fail("acceleration", f'must be "none" or "anderson", got "{c.acceleration}"')
-    if c.acceleration != "none" and c.scheme == "monolithic":
+    c.acceleration = s.choice("acceleration", Acceleration, Acceleration.none)
+    if c.acceleration != Acceleration.none and c.scheme == CouplingScheme.monolithic:
         s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration")
     c.depth = s.integer("depth", 8)
     if not 1 <= c.depth <= 50:
@@ -756,9 +618,7 @@ def _read_time(top, scene):
         time.fail("retry", "must lie in [0, 20] (each retry halves the step)")
     if not (1.0 <= scene.growth <= 10.0):
         time.fail("growth", "must lie in [1, 10]")
-    scene.time_scheme = time.string("scheme", "backward-euler")
-    if scene.time_scheme not in ("backward-euler", "bdf2"):
-        time.fail("scheme", f'must be "backward-euler" or "bdf2", got "{scene.time_scheme}"')
+    scene.time_scheme = time.choice("scheme", TimeScheme, TimeScheme.backward_euler)
     scene.adaptive = _read_adaptive(time, scene)
     if scene.adaptive:
         time.finish()
@@ -829,10 +689,7 @@ def _read_output(output, scene):
 def _read_solver(solver, choices):
     """[solver]: direct, iterative or auto for each system, and inexact coupling."""
     for key in ("flow", "mechanics", "monolithic"):
-        choice = solver.string(key, "auto")
-        if choice not in ("direct", "iterative", "auto"):
-            solver.fail(key, f'must be "direct", "iterative" or "auto", got "{choice}"')
-        setattr(choices, key, choice)
+        setattr(choices, key, solver.choice(key, SolverChoice, SolverChoice.automatic))
     choices.inexact_coupling = solver.boolean("inexact_coupling", True)
     solver.finish()
 
@@ -843,8 +700,8 @@ def _read_boundaries(boundaries, scene):
     d = scene.mesh.dimension
     names = builtin_boundary_names(d)
     for name in boundaries.keys():
-        if scene.mesh.type != "gmsh" and name not in names:
-            boundaries.fail(name, f"unknown boundary name (a {scene.mesh.type} has {', '.join(names)})")
+        if scene.mesh.type != MeshType.gmsh and name not in names:
+            boundaries.fail(name, f"unknown boundary name (a {name_of(scene.mesh.type)} has {', '.join(names)})")
         b = _read_boundary(boundaries.section(name, True), d)
         if not scene.mechanics and b.mechanics != "traction_free":
             boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]")
@@ -922,7 +779,7 @@ def _read_regions(regions, root, scene):
         r = RegionSpec(where=s.expression("where"), body_force=s.has("body_force"))
         if r.where is not None and (r.where.depends_on_time or r.where.is_constant):
             s.fail("where", "must be an expression of x, y, z (the cell midpoints it selects)")
-        if scene.mesh.type != "gmsh" and r.where is None:
+        if scene.mesh.type != MeshType.gmsh and r.where is None:
             s.fail("where", "missing (on a built-in mesh a region is the cells whose midpoint satisfies where)")
         if scene.mechanics:
             merged = _region_physics(root, "mechanics", s.table, _MECHANICS_KEYS)
@@ -934,7 +791,7 @@ def _read_regions(regions, root, scene):
             r.alpha = s.number("alpha", scene.coupling.alpha)
             if not (0 <= r.alpha <= 1):
                 s.fail("alpha", "the Biot coefficient must lie in [0, 1]")
-            if scene.coupling.L_choice == "paper" and not r.mechanics.lmbda > 0:
+            if scene.coupling.L_choice == LChoice.paper and not r.mechanics.lmbda > 0:
                 s.fail("lambda", 'coupling.L = "paper" (alpha^2/lambda) needs lambda > 0; use "kdr"')
         s.finish()
         scene.regions[name] = r
@@ -955,20 +812,21 @@ def _check_mandel_plate(r, scene, ref):
 def _read_reference(r, scene):
     """[reference]: the closed form the run is compared with ("none" switches
     the comparison of a reference scene off, e.g. from --set)."""
-    ref = ReferenceSpec(solution=r.string("solution"))
-    if ref.solution not in ("terzaghi", "mandel", "none"):
+    solution = r.string("solution")
+    if solution not in ("terzaghi", "mandel", "none"):
         r.fail("solution", 'must be "terzaghi", "mandel" or "none"')
-    if ref.solution == "none":
+    if solution == "none":
         r.used.update(r.keys())
         r.finish()
         return
-    if not scene.coupling or scene.mesh.type != "rectangle":
-        r.fail("solution", ref.solution + " needs a coupled scene on a rectangle")
+    ref = ReferenceSpec(solution=ReferenceSolution(solution))
+    if not scene.coupling or scene.mesh.type != MeshType.rectangle:
+        r.fail("solution", solution + " needs a coupled scene on a rectangle")
     if scene.flow.permeability is None or not scene.flow.permeability.is_constant:
-        r.fail("solution", ref.solution + " needs a constant scalar flow.permeability")
+        r.fail("solution", solution + " needs a constant scalar flow.permeability")
     if scene.regions:
-        r.fail("solution", ref.solution + " is the closed form of a homogeneous medium: the scene has regions")
-    if ref.solution == "terzaghi":
+        r.fail("solution", solution + " is the closed form of a homogeneous medium: the scene has regions")
+    if ref.solution == ReferenceSolution.terzaghi:
         ref.load = r.number("load")
         ref.height = scene.mesh.upper[1] - scene.mesh.lower[1]
     else:

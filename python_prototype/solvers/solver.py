@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from petsc4py import PETSc
 
+from ..scene.input import SolverChoice, name_of
 from .field_split import is_coupled, set_fields
 from .options import OptionsError, system_name
 
@@ -68,8 +69,9 @@ def choose_method(choice, structure, unknowns, dimension, ranks, coupled=False):
     measured one-rank crossover divided by the rank count, since each rank
     factorises the whole matrix and only the iterative path's time divides by
     the ranks (cpp/solvers/solver.h); `coupled`: the monolithic system."""
-    if choice in ("direct", "iterative"):
-        return Method[choice], f"solver.{choice} in the scene"
+    if choice != SolverChoice.automatic:
+        return (Method.direct if choice == SolverChoice.direct else Method.iterative,
+                f"solver.{name_of(choice)} in the scene")
     system = "monolithic" if coupled else ("mechanics" if structure == Structure.spd else "flow")
     one_rank = CROSSOVER[(3 if dimension == 3 else 2, system)]
     crossover = one_rank // max(ranks, 1)

@@ -6,6 +6,7 @@ import time
 from dolfinx import fem
 
 from ..solvers.field_split import Field
+from ..scene.input import TimeScheme
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
@@ -163,7 +164,7 @@ class FlowStep(Step):
         if self.flow_pass == FlowPass.second:
             return []
         c = self.scene.coupling
-        bdf2, q_auto = self.scene.time_scheme == "bdf2", c is not None and c.q_auto
+        bdf2, q_auto = self.scene.time_scheme == TimeScheme.bdf2, c is not None and c.q_auto
         h = [("pressure_before", self.p_before)] if bdf2 else []
         if (bdf2 or q_auto) and self.u_before is not None:
             h.append(("displacement_before", self.u_before))

@@ -10,6 +10,7 @@ from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
+from ..scene.input import TimeScheme
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
@@ -168,7 +169,7 @@ class MonolithicStep(Step):
 
     def history(self):
         """BDF2: p_before and u_before."""
-        if self.scene.time_scheme != "bdf2":
+        if self.scene.time_scheme != TimeScheme.bdf2:
             return []
         return [("pressure_before", self.p_before), ("displacement_before", self.u_before)]
 

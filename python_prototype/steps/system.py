@@ -13,7 +13,7 @@ from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistic
 class System:
     """`layout` (a SystemLayout) names the system's PETSc options and its
     log stage and gives the (name, global DOFs) splits of a mixed system;
-    `choice` is the scene's [solver] entry ("direct", "iterative" or "auto")."""
+    `choice` is the scene's [solver] entry (a SolverChoice)."""
 
     def __init__(self, comm, a, bcs, layout, choice, a_preconditioner=None):
         """`a_preconditioner` (optional): the form an iterative method builds

@@ -10,6 +10,8 @@ so the forms keep their backward-Euler shape (cpp/steps/time_scheme.h).
 """
 from dataclasses import dataclass
 
+from ..scene.input import TimeScheme
+
 
 @dataclass(frozen=True)
 class TimeDerivative:
@@ -31,7 +33,7 @@ def time_derivative(scheme, dt, dt_previous):
     time.scheme: BDF2 when the scheme is "bdf2" and there is a previous step
     (dt_previous > 0), backward Euler otherwise (the first step, which starts
     BDF2)."""
-    if scheme != "bdf2" or not dt_previous > 0:
+    if scheme != TimeScheme.bdf2 or not dt_previous > 0:
         return TimeDerivative()
     w = dt / dt_previous
     return TimeDerivative((1 + 2 * w) / (1 + w), 1 + w, w * w / (1 + w))

@@ -1,0 +1,69 @@
+"""What every module shares about a scene's input (cpp/scene/input.h): bad
+input raises SceneError, one line naming the file and the key; a choice is
+one of a few named values, read into its enum once, when the scene is read
+(scene.py the schema, section.py the reader).
+
+Each enum's values are the names the scene gives them, in the order the
+messages list them (C++ keeps that list apart, in Choices<E>)."""
+import enum
+
+
+class SceneError(Exception):
+    """Bad input: the message is one line naming the file and the key."""
+
+
+def name_of(value):
+    """The scene's name of a choice's value."""
+    return value.value
+
+
+class MeshType(enum.Enum):
+    rectangle = "rectangle"
+    box = "box"
+    gmsh = "gmsh"
+
+
+class CouplingScheme(enum.Enum):
+    """The coupling scheme: "fixed-stress" (single rate), "multirate" (the
+    paper's, as printed), "multirate-two-pass" (docs/multirate-two-pass.md: a
+    second flow pass without L corrects the fine steps) or "monolithic"."""
+    fixed_stress = "fixed-stress"
+    multirate = "multirate"
+    multirate_two_pass = "multirate-two-pass"
+    monolithic = "monolithic"
+
+
+class LChoice(enum.Enum):
+    """The fixed-stress stabilisation L: alpha^2/lambda ("paper"),
+    alpha^2/K_dr ("kdr"), half of that ("half-kdr"), or a number."""
+    paper = "paper"
+    kdr = "kdr"
+    half_kdr = "half-kdr"
+    number = "number"
+
+
+class Acceleration(enum.Enum):
+    """The acceleration of the split: none (the paper's iteration) or
+    Anderson's (coupling/anderson.py)."""
+    none = "none"
+    anderson = "anderson"
+
+
+class TimeScheme(enum.Enum):
+    """time.scheme: the discrete time derivative (steps/time_scheme.py)."""
+    backward_euler = "backward-euler"
+    bdf2 = "bdf2"
+
+
+class SolverChoice(enum.Enum):
+    """How a system is solved: a factorisation, a Krylov method, or chosen by
+    size ("auto", solvers/solver.py choose_method)."""
+    direct = "direct"
+    iterative = "iterative"
+    automatic = "auto"
+
+
+class ReferenceSolution(enum.Enum):
+    """The closed form of [reference]."""
+    terzaghi = "terzaghi"
+    mandel = "mandel"

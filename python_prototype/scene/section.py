@@ -1,0 +1,163 @@
+"""The generic reader of a scene's TOML (cpp/scene/section.h): one table read
+key by key, with every refusal one line naming the file and the key;
+`--set` overrides applied to the parsed tree. The scene's schema (which
+keys, which values) is scene.py's; this file knows none of it.
+
+Tables are read in sorted key order, as toml++ (a sorted map) does, so the
+first unknown key named is the same on both tracks."""
+import tomllib
+
+from .expression import Expression, ExpressionError
+from .input import SceneError, name_of
+
+
+class Section:
+    """One TOML table of a scene (a dict, or None for an absent optional
+    table: then every key is absent; `path` its dotted name, "" for the
+    root), read key by key. Every key read is marked, so that `finish` can
+    refuse the keys nobody asked for (typos). Every reader raises SceneError
+    "FILE: PATH.KEY: what is wrong"."""
+
+    def __init__(self, table, path, file):
+        self.table, self.path, self.file, self.used = table, path, file, set()
+
+    @staticmethod
+    def is_number(value):
+        """Whether a TOML value is a number (an integer or a float, not a
+        boolean, which Python counts as an integer)."""
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+    @staticmethod
+    def is_integer(value):
+        return isinstance(value, int) and not isinstance(value, bool)
+
+    def fail(self, key, message):
+        raise SceneError(f"{self.file}: {self.name(key)}: {message}")
+
+    def name(self, key):
+        """The dotted name of `key` in this table."""
+        return f"{self.path}.{key}" if self.path else key
+
+    def has(self, key):
+        return self.table is not None and key in self.table
+
+    def node(self, key):
+        """The value of `key` (None when absent), marked as read."""
+        self.used.add(key)
+        return None if self.table is None else self.table.get(key)
+
+    def section(self, key, required):
+        """The table `key` (C++'s Section::table; `table` is this one's dict here)."""
+        n = self.node(key)
+        if n is None:
+            if required:
+                self.fail(key, "missing (a table is required)")
+            return Section(None, self.name(key), self.file)
+        if not isinstance(n, dict):
+            self.fail(key, "must be a table")
+        return Section(n, self.name(key), self.file)
+
+    def number(self, key, fallback=None):
+        n = self.node(key)
+        if n is None:
+            if fallback is None:
+                self.fail(key, "missing (a number is required)")
+            return fallback
+        if not self.is_number(n):
+            self.fail(key, "must be a number")
+        return float(n)
+
+    def integer(self, key, fallback):
+        n = self.node(key)
+        if n is None:
+            return fallback
+        if not self.is_integer(n):
+            self.fail(key, "must be an integer")
+        return int(n)
+
+    def boolean(self, key, fallback):
+        n = self.node(key)
+        if n is None:
+            return fallback
+        if not isinstance(n, bool):
+            self.fail(key, "must be true or false")
+        return n
+
+    def string(self, key, fallback=None):
+        n = self.node(key)
+        if n is None:
+            if fallback is None:
+                self.fail(key, "missing (a string is required)")
+            return fallback
+        if not isinstance(n, str):
+            self.fail(key, "must be a string")
+        return n
+
+    def choice(self, key, kind, fallback=None):
+        """A value of the choice `kind` (an enum of input.py) by its name; the
+        fallback when absent (without one, `key` is required); refused naming
+        every choice otherwise. `kind` is C++'s template argument."""
+        given = self.string(key, None if fallback is None else name_of(fallback))
+        for value in kind:
+            if given == name_of(value):
+                return value
+        names = [f'"{name_of(value)}"' for value in kind]
+        self.fail(key, f"must be {', '.join(names[:-1])} or {names[-1]}, got \"{given}\"")
+
+    def to_expression(self, n, key):
+        """A number or an expression string (C++'s expression(node, key))."""
+        if self.is_number(n):
+            return Expression(float(n))
+        if isinstance(n, str):
+            try:
+                return Expression(n)
+            except ExpressionError as e:
+                self.fail(key, str(e))
+        self.fail(key, "must be a number or an expression string")
+
+    def expression(self, key):
+        n = self.node(key)
+        return None if n is None else self.to_expression(n, key)
+
+    def expression_vector(self, key, size):
+        n = self.node(key)
+        if not isinstance(n, list) or len(n) != size:
+            self.fail(key, f"must be an array of {size} numbers or expressions")
+        return [self.to_expression(e, key) for e in n]
+
+    def number_vector(self, key, size):
+        """An array of `size` numbers (any length when size = 0)."""
+        n = self.node(key)
+        if not isinstance(n, list) or (size > 0 and len(n) != size):
+            self.fail(key, f"must be an array of {size} numbers" if size > 0 else "must be an array of numbers")
+        if not all(self.is_number(e) for e in n):
+            self.fail(key, "must be an array of numbers")
+        return [float(e) for e in n]
+
+    def keys(self):
+        return sorted(self.table) if self.table is not None else []
+
+    def finish(self):
+        """Refuses keys that were never read."""
+        for key in self.keys():
+            if key not in self.used:
+                self.fail(key, "unknown key")
+
+
+def apply_override(root, assignment, file):
+    """Applies one "a.b.c=value" override to the parsed tree `root`; the
+    value is read as TOML, and taken as a string when it is not valid TOML
+    (so `--set coupling.L=kdr` works)."""
+    path, eq, text = assignment.partition("=")
+    if not eq or not path:
+        raise SceneError(f"{file}: --set {assignment}: expected key.path=value")
+    *tables, key = path.split(".")
+    table = root
+    for t in tables:
+        table = table.setdefault(t, {})
+        if not isinstance(table, dict):
+            raise SceneError(f"{file}: --set {path}: {t} is not a table")
+    try:
+        table[key] = tomllib.loads("value = " + text)["value"]
+    except tomllib.TOMLDecodeError:
+        table[key] = text
