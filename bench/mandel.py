@@ -29,7 +29,7 @@ sys.path.insert(0, common.ROOT)
 from python_prototype.output.time_series import read_time_series  # noqa: E402
 
 sys.path.insert(0, common.ROOT)
-from python_prototype.diagnostics.closed_form import Mandel  # noqa: E402
+from python_prototype.diagnostics.closed_form import Mandel, Medium  # noqa: E402
 
 NAME = "mandel"
 SCENE = "scenes/mandel.toml"
@@ -51,9 +51,10 @@ def closed_form(scene_path):
         s = tomllib.load(f)
     mesh, mech, flow = s["mesh"], s["mechanics"], s["flow"]
     storage = 1.0 / flow.get("M", math.inf) + flow.get("c_f", 0.0) * flow.get("phi0", 0.0)
-    return Mandel(a=mesh["upper"][0] - mesh["lower"][0], b=mesh["upper"][1] - mesh["lower"][1],
-                  G=mech["G"], lmbda=mech["lambda"], alpha=s["coupling"]["alpha"], storage=storage,
-                  mobility=flow["permeability"] / flow["mu_f"], F=s["reference"]["force"])
+    medium = Medium(G=mech["G"], lmbda=mech["lambda"], alpha=s["coupling"]["alpha"], storage=storage,
+                    mobility=flow["permeability"] / flow["mu_f"])
+    return Mandel(a=mesh["upper"][0] - mesh["lower"][0], b=mesh["upper"][1] - mesh["lower"][1], medium=medium,
+                  F=s["reference"]["force"])
 
 
 def final_pressure(directory):

@@ -205,11 +205,6 @@ DIFFERENCES = {
         "State": "C++ only: a type alias for the iterates (a vector of vectors of doubles); Python's lists need "
                  "no type",
     },
-    "diagnostics/closed_form": {
-        "Medium": "C++ only: to align (issue 36): the medium of Mandel's closed form (G, lambda, alpha, S, "
-                  "k/mu_f), which C++'s Mandel takes as one parameter; the prototype's Mandel still takes the five "
-                  "values, which bench/mandel.py passes by keyword",
-    },
     "diagnostics/diagnostics": {
         "owned_norm": "C++ only: to align (issue 36): Python defines it in assembly/linear_algebra.py",
     },

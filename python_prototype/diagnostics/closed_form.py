@@ -62,13 +62,25 @@ class Terzaghi:
         return -self.displacement(self.h, t)
 
 
+@dataclass
+class Medium:
+    """The homogeneous poroelastic medium of a closed form: shear modulus G,
+    Lame's lambda, Biot's alpha, storage S, mobility k/mu_f."""
+    G: float
+    lmbda: float
+    alpha: float
+    storage: float
+    mobility: float
+
+
 class Mandel:
     """Mandel's problem in plane strain on the quarter 0 <= x <= a, 0 <= y <= b
     (symmetry on x = 0 and y = 0), drained at x = a, a compressive force 2F
     per unit thickness through a rigid frictionless plate at y = b, applied
-    at t = 0+ (docs/verification.md, "Mandel")."""
+    at t = 0+ (docs/verification.md, "Mandel"), in the Medium `medium`."""
 
-    def __init__(self, a, b, G, lmbda, alpha, storage, mobility, F):
+    def __init__(self, a, b, medium, F):
+        G, lmbda, alpha, storage, mobility = medium.G, medium.lmbda, medium.alpha, medium.storage, medium.mobility
         self.a, self.b, self.G, self.F = a, b, G, F
         K = lmbda + 2 * G / 3  # drained bulk modulus (3D)
         nu = self.nu = (3 * K - 2 * G) / (2 * (3 * K + G))
@@ -131,8 +143,9 @@ def with_mandel_plate(scene):
     if scene.reference is None or scene.reference.solution != ReferenceSolution.mandel:
         return scene
     f = scene.flow
-    mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], scene.mechanics.G, scene.mechanics.lmbda,
-                    scene.coupling.alpha, f.storage(), f.permeability(0, 0, 0, 0) / f.mu_f, scene.reference.force)
+    medium = Medium(scene.mechanics.G, scene.mechanics.lmbda, scene.coupling.alpha, f.storage(),
+                    f.permeability(0, 0, 0, 0) / f.mu_f)
+    mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], medium, scene.reference.force)
     plate = scene.boundaries[scene.reference.plate]
     displacement = list(plate.displacement)
     displacement[1] = Expression.function(lambda x, y, z, t: mandel.displacement_y(y, t),

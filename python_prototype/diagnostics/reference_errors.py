@@ -8,7 +8,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..scene.input import ReferenceSolution
-from .closed_form import Mandel, Terzaghi
+from .closed_form import Mandel, Medium, Terzaghi
 from .diagnostics import relative_error
 
 
@@ -53,8 +53,8 @@ def reference_errors(problem, u, p):
         p_exact = lambda x: terzaghi.pressure(x[1] - y0, t)  # noqa: E731
         u_exact = lambda x: [0.0 * x[0], terzaghi.displacement(x[1] - y0, t)]  # noqa: E731
     else:
-        mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], parameters.G, parameters.lmbda, parameters.alpha,
-                        parameters.storage, mobility, ref.force)
+        medium = Medium(parameters.G, parameters.lmbda, parameters.alpha, parameters.storage, mobility)
+        mandel = Mandel(scene.mesh.upper[0], scene.mesh.upper[1], medium, ref.force)
         p_exact = lambda x: mandel.pressure(x[0], t)  # noqa: E731
         u_exact = lambda x: [mandel.displacement_x(x[0], t), mandel.displacement_y(x[1], t)]  # noqa: E731
     F["p_reference"].interpolate(p_exact)
