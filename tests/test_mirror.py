@@ -68,7 +68,7 @@ DIFFERENCES = {
         "parse": "Python only: to align (issue 36): C++'s parse_arguments, private to main.cpp (its anonymous "
                  "namespace): another name, and public here",
         "compare_main": "Python only: the `compare DIR_A DIR_B` command, which only the prototype has "
-                        "(diagnostics/compare has no C++ twin)",
+                        "(output/compare has no C++ twin)",
     },
     "simulation": {
         "RunControl": "C++ only: run()'s named options (fingerprint, restart) in a struct; Python passes them as "
@@ -183,7 +183,7 @@ DIFFERENCES = {
         "InputOrder": "C++ only: sends each rank's rows, in the mesh's input order, to the rank that writes "
                       "them (every rank writes its block of the HDF5 datasets); the prototype gathers the rows "
                       "on rank 0, which writes with serial h5py",
-        "Fields": "Python only: a reader of a run's output for comparisons (tests/, diagnostics/compare); the "
+        "Fields": "Python only: a reader of a run's output for comparisons (tests/, output/compare); the "
                   "C++ solver only writes",
         "read_time_series": "Python only: a reader of a run's output (tests/support.py, tools/plot_run.py, "
                             "bench/); the C++ solver only writes",
