@@ -23,7 +23,7 @@ from .output.progress import Progress, RunEnd
 from .output.summary import RunOutcome, SummaryInput, run_summary
 from .output.write_failure import OutputError
 from .solvers.solver import SolverError
-from .steps.time_grid import time_grid
+from .time.time_grid import time_grid
 
 
 class Simulation:

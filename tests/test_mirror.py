@@ -50,7 +50,7 @@ PROTOTYPE_ONLY = {
 }
 # The entry points: the same role under each language's name.
 ENTRY = {"main": "__main__"}
-FOLDERS = ["scene", "domain", "assembly", "solvers", "contact", "steps", "coupling", "output", "diagnostics"]
+FOLDERS = ["scene", "domain", "assembly", "time", "solvers", "contact", "steps", "coupling", "output", "diagnostics"]
 
 
 def private(source):
@@ -140,7 +140,6 @@ DIFFERENCES = {
         "assign": "C++ only: sets a function's values (ghosts included) from a span; Python assigns the numpy "
                   "array (f.x.array[:] = x)",
         "owned": "Python only: to align (issue 36): the same function is owned_size in C++",
-        "owned_norm": "Python only: to align (issue 36): C++ declares it in diagnostics/diagnostics.h",
         "accumulate_ghosts": "Python only: to align (issue 36): a one-line wrapper of "
                              "x.scatter_reverse(ScatterMode.add); C++ calls scatter_rev(std::plus<double>()) "
                              "where it needs it",
@@ -204,9 +203,6 @@ DIFFERENCES = {
     "coupling/anderson": {
         "State": "C++ only: a type alias for the iterates (a vector of vectors of doubles); Python's lists need "
                  "no type",
-    },
-    "diagnostics/diagnostics": {
-        "owned_norm": "C++ only: to align (issue 36): Python defines it in assembly/linear_algebra.py",
     },
     "domain/domain": {
         "WellCells": "C++ only: the (cells, shares) pair locate_well returns; Python returns a tuple",

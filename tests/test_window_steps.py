@@ -13,9 +13,9 @@ the C++ windows, iterations and fields."""
 import numpy as np
 
 from support import check, max_difference, run_track, scene, set_changes, summary, windows
-from python_prototype.coupling.window_control import window_limit, window_steps
+from python_prototype.time.window_control import window_limit, window_steps
 from python_prototype.output.time_series import Fields
-from python_prototype.steps.time_grid import TimeGrid, halve_steps
+from python_prototype.time.time_grid import TimeGrid, halve_steps
 
 DT = 43200.0
 BASE = ["mesh.refine=1", f"time.dt={DT}"]

@@ -2,8 +2,10 @@
 step) reports and whom it tells: the report of summary.json and
 checkpoints, the controllers' state, and the observer that writes, prints
 and stops (cpp/coupling/coupling.h)."""
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Callable, Optional
+
+from ..time.step_control import AdaptiveReport, AdaptiveState
 
 
 class CouplingError(Exception):
@@ -27,10 +29,7 @@ class CouplingReport:
     unresolved_ratios: int = 0         # ratios at round-off level, logged only
     max_coupled_residual: float = 0.0  # relative, of each converged state
     retries: int = 0                   # failed steps retried with halved steps (time.retry)
-    rejected_steps: int = 0            # time.adaptive: steps tried again, shorter, for their error estimate
-    forced_steps: int = 0              # ... accepted at dt_min above the tolerance
-    max_error_estimate: float = 0.0    # ... the largest of an accepted step (1: the tolerance)
-    contact_breaks: int = 0            # ... steps accepted unestimated: the active contact set changed in them
+    adaptive: AdaptiveReport = field(default_factory=AdaptiveReport)  # time.adaptive (time/step_control.py)
     max_window_q: int = 0              # coupling.q = "auto": the largest q taken
     q_rejections: int = 0              # ... windows tried again with q = 1: the contact set changed in them
 
@@ -44,12 +43,8 @@ class ControllerState:
     ratio_sum: float = 0.0
     p_size: float = 0.0
     u_size: float = 0.0
-    # time.adaptive: the last accepted step's error estimate (the PI
-    # controller's memory) and the largest norms of pressure and displacement.
-    error_estimate: float = 0.0
-    p_largest: float = 0.0
-    u_largest: float = 0.0
-    smooth_states: int = 0  # accepted states since t = 0 or the last contact break: the predictor's reach
+    # time.adaptive: the PI controller's memory (time/step_control.py).
+    adaptive: AdaptiveState = field(default_factory=AdaptiveState)
     # coupling.q = "auto" (window_control.py): the last window's q and the
     # largest q the next may take (1 after a change of the contact set, then
     # doubling).
@@ -98,7 +93,7 @@ class CouplingRun:
     observer it tells, the report it fills and the controllers' state. Grid,
     report and state are what a checkpoint keeps of it."""
     grid: object  # TimeGrid
-    control: object  # StepControl (coupling/step_control.py), or None
+    control: object  # StepControl (time/step_control.py), or None
     observer: WindowObserver
     report: CouplingReport
     state: ControllerState
@@ -116,8 +111,11 @@ CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "ma
 def for_each_checkpointed(report, state, f):
     """Calls f(holder, name) for each field of the report and the
     controllers' state that a checkpoint keeps, `holder` the one of the two
-    that has it: the one list that checkpoints and restarts read (C++ hands
-    f the field itself; f reads or sets getattr(holder, name) here)."""
-    controller = {field.name for field in fields(ControllerState)}
+    that has it (time.adaptive's fields: report.adaptive and state.adaptive):
+    the one list that checkpoints and restarts read (C++ hands f the field
+    itself; f reads or sets getattr(holder, name) here)."""
+    holders = {}
+    for holder in (report, state, report.adaptive, state.adaptive):
+        holders.update((member.name, holder) for member in fields(holder))
     for name in CHECKPOINTED:
-        f(state if name in controller else report, name)
+        f(holders[name], name)

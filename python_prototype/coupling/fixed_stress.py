@@ -17,15 +17,15 @@ from .anderson import AndersonAcceleration
 from ..contact.contact import ActiveSet, same_active_set
 from .coupling import CouplingError, IterationRecord
 from ..diagnostics.diagnostics import ContractionNorm
-from .window_control import window_limit, window_steps
+from ..time.window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..scene.input import Acceleration, TimeScheme
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.flow_step import FlowStep
 from ..steps.mechanics_step import MechanicsStep
-from ..steps.time_grid import FailedStep, retry_step
-from ..steps.time_scheme import TimeDerivative, history_value, time_derivative
-from .step_control import StepSolution
+from ..time.time_grid import FailedStep, retry_step
+from ..time.time_scheme import TimeDerivative, history_value, time_derivative
+from ..time.step_control import StepSolution
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see hold_against_gamma).
@@ -104,7 +104,7 @@ class _FixedStressSplit:
         self.flow, self.second_pass, self.mechanics = steps.flow, steps.second_pass, steps.mechanics
         self.comm = problem.domain.mesh.comm
         self.contraction = ContractionNorm(problem.forms, problem.parameters.q, self.comm)
-        self.coupling_run, self.observer, self.report, self.state = run, run.observer, run.report, run.state
+        self.observer, self.report, self.state = run.observer, run.report, run.state
         self.grid = run.grid
         self.control = run.control  # time.adaptive (q = 1), or None
         self.V, self.Q = steps.mechanics.V, steps.flow.Q
@@ -466,7 +466,8 @@ class _FixedStressSplit:
         if self.control is None:
             return True
         accepted, message = self.control.judge(
-            StepSolution(w.j + w.q, w.p_new[w.q], w.u_new, not w.contact_changed), self.coupling_run)
+            StepSolution(w.j + w.q, w.p_new[w.q], w.u_new, not w.contact_changed), self.grid, self.report.adaptive,
+            self.state.adaptive)
         if accepted:
             return True
         self.go_back(w, message)

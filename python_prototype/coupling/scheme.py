@@ -10,7 +10,7 @@ from ..steps.mechanics_step import MechanicsStep
 from ..steps.monolithic_step import MonolithicStep
 from .fixed_stress import SplitSteps, run_fixed_stress
 from .single_solve import run_single_solve
-from .step_control import StepControl
+from ..time.step_control import StepControl
 
 
 class Scheme:
@@ -45,7 +45,8 @@ class Scheme:
         """time.adaptive's scales from the state at t = 0, into the
         ControllerState `state` (nothing without it)."""
         if self.step_control:
-            self.step_control.start(self.p.x.array if self.p else None, self.u.x.array if self.u else None, state)
+            self.step_control.start(self.p.x.array if self.p else None, self.u.x.array if self.u else None,
+                                    state.adaptive)
 
     def on_newton_step(self, told):
         """`told(system, iteration)` after each Newton step of a contact solve."""

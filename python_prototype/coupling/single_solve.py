@@ -4,9 +4,9 @@ It drives any step through the step interface (steps/step.py)."""
 from ..assembly.parameters import set_time_step
 from ..contact.contact import ActiveSet
 from ..solvers.solver import SolverError
-from ..steps.time_grid import FailedStep, retry_step
-from ..steps.time_scheme import time_derivative
-from .step_control import StepSolution
+from ..time.time_grid import FailedStep, retry_step
+from ..time.time_scheme import time_derivative
+from ..time.step_control import StepSolution
 
 
 def _error_accepted(step, k, active_before, run):
@@ -18,7 +18,8 @@ def _error_accepted(step, k, active_before, run):
         return True
     smooth = step.same_contact_set(active_before)
     accepted, message = run.control.judge(
-        StepSolution(k, step.pressure_values(), step.displacement_values(), smooth), run)
+        StepSolution(k, step.pressure_values(), step.displacement_values(), smooth), run.grid, run.report.adaptive,
+        run.state.adaptive)
     if not accepted:
         run.observer.retry(message)
     return accepted

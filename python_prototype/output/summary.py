@@ -58,9 +58,9 @@ def _adaptive_json(spec, report, grid):
     """time.adaptive's part: the tolerance, the steps rejected or forced at
     dt_min, the contact breaks, the largest accepted estimate, the steps taken."""
     j = {"tolerance": spec.tolerance, "dt_min": spec.dt_min, "dt_max": spec.dt_max,
-         "rejected_steps": report.rejected_steps, "forced_steps": report.forced_steps,
-         "contact_breaks": report.contact_breaks,
-         "max_error_estimate": report.max_error_estimate}
+         "rejected_steps": report.adaptive.rejected_steps, "forced_steps": report.adaptive.forced_steps,
+         "contact_breaks": report.adaptive.contact_breaks,
+         "max_error_estimate": report.adaptive.max_error_estimate}
     taken = grid.dt[:report.windows]
     if taken:
         j.update(smallest_step=min(taken), largest_step=max(taken))

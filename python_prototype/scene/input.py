@@ -50,7 +50,7 @@ class Acceleration(enum.Enum):
 
 
 class TimeScheme(enum.Enum):
-    """time.scheme: the discrete time derivative (steps/time_scheme.py)."""
+    """time.scheme: the discrete time derivative (time/time_scheme.py)."""
     backward_euler = "backward-euler"
     bdf2 = "bdf2"
 

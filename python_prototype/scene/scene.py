@@ -131,7 +131,7 @@ class ReferenceSpec:
 @dataclass
 class AdaptiveSpec:
     """time.adaptive: steps chosen by a local error estimate
-    (coupling/step_control.py); time.dt is the first step."""
+    (time/step_control.py); time.dt is the first step."""
     tolerance: float = 0.0  # of the error per unit step, relative to the field's largest norm
     dt_min: float = 0.0
     dt_max: float = 0.0
@@ -204,7 +204,7 @@ class Scene:
 
     def times(self):
         """t_0 = 0, t_1, ..., t_N = end_time (fine steps) of fixed or growing
-        steps (adaptive steps are planned by steps/time_grid.py)."""
+        steps (adaptive steps are planned by time/time_grid.py)."""
         if self.growth == 1.0:  # whole multiples of dt, so every scheme writes the same times
             return [0.0] + [k * self.dt for k in range(1, int(round(self.end_time / self.dt)) + 1)]
         t, step = [0.0], self.dt  # dt_k = dt growth^(k-1); the last step ends at time.end

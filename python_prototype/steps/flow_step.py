@@ -16,7 +16,7 @@ from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import flux_bc, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
-from .time_scheme import history_value
+from ..time.time_scheme import history_value
 
 
 class FlowPass(enum.Enum):

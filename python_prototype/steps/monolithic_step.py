@@ -20,7 +20,7 @@ from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
-from .time_scheme import TimeDerivative, history_value
+from ..time.time_scheme import TimeDerivative, history_value
 
 
 class MonolithicStep(Step):

@@ -1,4 +1,4 @@
-"""Unit tests of the prototype's time grid (python_prototype/steps/time_grid.py)
+"""Unit tests of the prototype's time grid (python_prototype/time/time_grid.py)
 and the scene's times (Scene.times, stops, is_output_time), the twins of
 tests/unit/test_time_grid.cpp: fixed steps kept exactly, geometric growth
 ending on time.end, halving exact in binary floating point, time.retry
@@ -14,8 +14,8 @@ import unittest
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.scene.scene import AdaptiveSpec, Scene  # noqa: E402
-from python_prototype.steps.time_grid import (FailedStep, TimeGrid, halve_steps, plan_steps, retry_step,  # noqa: E402
-                                              time_grid)
+from python_prototype.time.time_grid import (FailedStep, TimeGrid, halve_steps, plan_steps, retry_step,  # noqa: E402
+                                             time_grid)
 
 CAUSE = "the coupling did not converge"
 

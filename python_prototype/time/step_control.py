@@ -1,5 +1,5 @@
 """time.adaptive: the time step chosen from a local error estimate
-(cpp/coupling/step_control.h, docs/theory.md "Adaptive steps"): Milne's
+(cpp/time/step_control.h, docs/theory.md "Adaptive steps"): Milne's
 device with the Lagrange predictor through the last accepted states (linear
 for backward Euler, quadratic for BDF2), the error per unit step relative to
 the time reached and to the field's largest norm, a PI controller steering
@@ -15,11 +15,31 @@ from dolfinx import fem
 
 from ..assembly.linear_algebra import owned_norm
 from ..scene.input import TimeScheme
-from ..steps.time_grid import plan_steps
+from .time_grid import plan_steps
 
 # The PI controller's set point (the estimate it steers to) and the band of
 # growth factors [1, BAND] that keep the step.
 TARGET, BAND = 0.5, 1.1
+
+
+@dataclass
+class AdaptiveReport:
+    """What time.adaptive did: the counts of summary.json's "adaptive"."""
+    rejected_steps: int = 0          # steps tried again, shorter, for their error estimate
+    forced_steps: int = 0            # accepted at dt_min above the tolerance
+    max_error_estimate: float = 0.0  # the largest of an accepted step (1: the tolerance)
+    contact_breaks: int = 0          # steps accepted unestimated: the active contact set changed in them
+
+
+@dataclass
+class AdaptiveState:
+    """The PI controller's memory, carried from step to step (and through a
+    checkpoint): the last accepted step's error estimate and the largest
+    norms of pressure and displacement."""
+    error_estimate: float = 0.0
+    p_largest: float = 0.0
+    u_largest: float = 0.0
+    smooth_states: int = 0  # accepted states since t = 0 or the last contact break: the predictor's reach
 
 
 def _milne_weight(order, t):
@@ -73,7 +93,7 @@ class StepControl:
 
     def start(self, p, u, state):
         """The norms of the state at t = 0 (the fields' scales start there),
-        into the ControllerState `state`."""
+        into the AdaptiveState `state`."""
         state.p_largest = owned_norm(p, self.p[0].function_space, self.comm) if self.p else 0.0
         state.u_largest = owned_norm(u, self.u[0].function_space, self.comm) if self.u else 0.0
 
@@ -98,14 +118,14 @@ class StepControl:
                 error = max(error, _local_error(y, past, self.order, t, V, self.comm) / getattr(state, name))
         return error * grid.t[k] / (grid.dt[k - 1] * self.spec.tolerance)
 
-    def judge(self, step, run):
-        """Judges the StepSolution `step` on run.grid (a CouplingRun,
-        coupling.py): accepted, it is remembered and the steps after t_k are
+    def judge(self, step, grid, report, state):
+        """Judges the StepSolution `step` on the TimeGrid `grid`, counting
+        into the AdaptiveReport `report` and steering by the AdaptiveState
+        `state`: accepted, it is remembered and the steps after t_k are
         planned again; rejected, the steps from t_{k-1} on are, shorter.
         Returns (accepted, the message that says so when rejected). A step
         that is not smooth (the active contact set changed in it) is accepted
         as it is and the predictor restarts after it."""
-        grid, report, state = run.grid, run.report, run.state
         k, smooth = step.k, step.smooth
         h, order = grid.dt[k - 1], self.order
         # A predictor through order + 1 accepted states after the last break.

@@ -1,9 +1,9 @@
-"""The times of a run and the step of each (cpp/steps/time_grid.h): kept exactly
+"""The times of a run and the step of each (cpp/time/time_grid.h): kept exactly
 (dt from the scene, grown by time.growth, or planned by time.adaptive) so
 that a constant step is recognised as unchanged; a failed step retried with
 time.retry has its fine steps halved (dt/2 is exact in binary floating
 point); an adaptive run plans the steps after each accepted one again
-(coupling/step_control.py); a checkpoint keeps the grid."""
+(step_control.py); a checkpoint keeps the grid."""
 import math
 from dataclasses import dataclass
 

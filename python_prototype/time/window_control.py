@@ -1,7 +1,7 @@
 """coupling.q = "auto": the number q of flow (fine) steps of each multirate
 window, chosen before the window from the predicted change of the
 mechanics over it (docs/theory.md, "Multirate with q = auto");
-cpp/coupling/window_control.{h,cpp}."""
+cpp/time/window_control.{h,cpp}."""
 import bisect
 import math
 

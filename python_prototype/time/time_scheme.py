@@ -6,7 +6,7 @@ backward Euler (first order), or the variable-step BDF2 (second order),
 exact for quadratics in t. Since c0 - c1 + c2 = 0 it is backward Euler on
 the effective step dt_n / c0 from the history value
   y* = (c1 y_n - c2 y_{n-1}) / c0,
-so the forms keep their backward-Euler shape (cpp/steps/time_scheme.h).
+so the forms keep their backward-Euler shape (cpp/time/time_scheme.h).
 """
 from dataclasses import dataclass
 
