@@ -1,6 +1,7 @@
 #include "assembly/linear_algebra.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <dolfinx/fem/assembler.h>
@@ -9,6 +10,17 @@
 namespace biotcontact
 {
 using namespace dolfinx;
+
+double owned_norm(std::span<const double> x, const fem::FunctionSpace& V)
+{
+  const std::size_t owned = owned_size(V);
+  double local = 0;
+  for (std::size_t i = 0; i < owned; ++i)
+    local += x[i] * x[i];
+  double global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, V.mesh()->comm());
+  return std::sqrt(global);
+}
 
 std::vector<double> values(std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); }
 

@@ -28,6 +28,9 @@ struct UnknownsPart
   std::span<const std::int32_t> position;
 };
 
+/// Euclidean norm of the owned part of a DOF array of V (collective).
+double owned_norm(std::span<const double> x, const dolfinx::fem::FunctionSpace& V);
+
 /// A copy of the values (ghosts included) of a function or vector.
 std::vector<double> values(std::span<const double> x);
 

@@ -3,7 +3,8 @@
 // checkpoints, and the observer that writes, prints and stops.
 #pragma once
 
-#include "steps/time_grid.h"
+#include "time/step_control.h"
+#include "time/time_grid.h"
 
 #include <functional>
 #include <stdexcept>
@@ -34,10 +35,7 @@ struct CouplingReport
   long unresolved_ratios = 0;  // ratios at round-off level, logged only
   double max_coupled_residual = 0; // relative, of each converged state
   long retries = 0;            // failed steps retried with halved steps (time.retry)
-  long rejected_steps = 0;     // time.adaptive: steps tried again, shorter, for their error estimate
-  long forced_steps = 0;       // ... accepted at dt_min above the tolerance
-  double max_error_estimate = 0; // ... the largest of an accepted step (1: the tolerance)
-  long contact_breaks = 0;     // ... steps accepted unestimated: the active contact set changed in them
+  AdaptiveReport adaptive;     // time.adaptive (time/step_control.h)
   int max_window_q = 0;        // coupling.q = "auto": the largest q taken
   long q_rejections = 0;       // ... windows tried again with q = 1: the contact set changed in them
 };
@@ -49,11 +47,8 @@ struct ControllerState
   // The sum of the resolved contraction ratios (their mean at the end) and
   // the scales of the stopping test: the largest p and u so far.
   double ratio_sum = 0, p_size = 0, u_size = 0;
-  // time.adaptive: the last accepted step's error estimate (the PI
-  // controller's memory) and the largest norms of pressure and displacement.
-  double error_estimate = 0, p_largest = 0, u_largest = 0;
-  long smooth_states = 0; // accepted states since t = 0 or the last contact break: the predictor's reach
-  // coupling.q = "auto" (coupling/window_control.h): the last window's q and
+  AdaptiveState adaptive; // time.adaptive's PI controller (time/step_control.h)
+  // coupling.q = "auto" (time/window_control.h): the last window's q and
   // the largest q the next may take (1 after a change of the contact set,
   // then doubling).
   int window_q = 0, q_limit = 1;
@@ -88,8 +83,6 @@ struct WindowObserver
   std::function<void(const IterationRecord&)> record;
 };
 
-class StepControl; // time.adaptive (coupling/step_control.h)
-
 /// @brief The run a scheme drives: the time grid it steps on (time.retry
 /// and time.adaptive rewrite it), time.adaptive's control (null without),
 /// the observer it tells, the report it fills and the controllers' state.
@@ -121,14 +114,14 @@ void for_each_checkpointed(Report& r, State& c, F&& f)
   f("p_size", c.p_size);
   f("u_size", c.u_size);
   f("retries", r.retries);
-  f("rejected_steps", r.rejected_steps);
-  f("forced_steps", r.forced_steps);
-  f("max_error_estimate", r.max_error_estimate);
-  f("error_estimate", c.error_estimate);
-  f("p_largest", c.p_largest);
-  f("u_largest", c.u_largest);
-  f("contact_breaks", r.contact_breaks);
-  f("smooth_states", c.smooth_states);
+  f("rejected_steps", r.adaptive.rejected_steps);
+  f("forced_steps", r.adaptive.forced_steps);
+  f("max_error_estimate", r.adaptive.max_error_estimate);
+  f("error_estimate", c.adaptive.error_estimate);
+  f("p_largest", c.adaptive.p_largest);
+  f("u_largest", c.adaptive.u_largest);
+  f("contact_breaks", r.adaptive.contact_breaks);
+  f("smooth_states", c.adaptive.smooth_states);
   f("fine_steps", r.fine_steps);
   f("window_q", c.window_q);
   f("q_limit", c.q_limit);

@@ -1,8 +1,8 @@
 #include "coupling/fixed_stress.h"
 
 #include "coupling/anderson.h"
-#include "coupling/window_control.h"
-#include "steps/time_scheme.h"
+#include "time/window_control.h"
+#include "time/time_scheme.h"
 
 #include <algorithm>
 #include <cmath>
@@ -95,7 +95,7 @@ public:
         _second_pass(steps.second_pass), _mechanics(steps.mechanics),
         _contraction(problem.forms, problem.materials, problem.parameters.q, steps.mechanics.space(),
                      steps.flow.pressure_space()),
-        _run(run), _observer(run.observer), _report(run.report), _state(run.state), _grid(run.grid), _control(run.control),
+        _observer(run.observer), _report(run.report), _state(run.state), _grid(run.grid), _control(run.control),
         _V(*steps.mechanics.space()), _Q(*steps.flow.pressure_space()),
         _accelerated(_coupling.acceleration == Acceleration::anderson),
         _advice(split_advice(problem.materials.gamma_peak(), _coupling.acceleration))
@@ -148,7 +148,6 @@ private:
   FlowStep* _second_pass;
   MechanicsStep& _mechanics;
   mutable ContractionNorm _contraction; // its work vectors change as it measures
-  CouplingRun& _run;
   const WindowObserver& _observer;
   CouplingReport& _report;
   ControllerState& _state;
@@ -191,7 +190,7 @@ void FixedStressSplit::start()
 }
 
 /// The fine steps of the window that starts at fine step j: coupling.q, or
-/// with q = "auto" those of window_steps (coupling/window_control.h) from the
+/// with q = "auto" those of window_steps (time/window_control.h) from the
 /// last window's relative change of u per unit time.
 int FixedStressSplit::window_steps(int j) const
 {
@@ -616,7 +615,8 @@ bool FixedStressSplit::error_accepted(const Window& w)
   if (!_control)
     return true;
   std::string message;
-  if (_control->judge({w.j + w.q, w.p_new[w.q], w.u_new, !w.contact_changed}, _run, message))
+  if (_control->judge({w.j + w.q, w.p_new[w.q], w.u_new, !w.contact_changed}, _grid, _report.adaptive,
+                      _state.adaptive, message))
     return true;
   go_back(w, message);
   return false;

@@ -7,12 +7,12 @@
 #pragma once
 
 #include "coupling/coupling.h"
-#include "coupling/step_control.h"
+#include "time/step_control.h"
 #include "diagnostics/diagnostics.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
 #include "assembly/problem.h"
-#include "steps/time_grid.h"
+#include "time/time_grid.h"
 
 
 namespace biotcontact

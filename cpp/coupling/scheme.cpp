@@ -91,7 +91,7 @@ void Scheme::start(ControllerState& state)
 {
   if (step_control)
     step_control->start(p ? p->x()->array() : std::span<const double>(),
-                        u ? u->x()->array() : std::span<const double>(), state);
+                        u ? u->x()->array() : std::span<const double>(), state.adaptive);
 }
 
 void Scheme::on_newton_step(const std::function<void(const std::string&, int)>& told)

@@ -5,7 +5,7 @@
 
 #include "assembly/problem.h"
 #include "coupling/coupling.h"
-#include "coupling/step_control.h"
+#include "time/step_control.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
 #include "steps/monolithic_step.h"

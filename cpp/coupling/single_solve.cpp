@@ -1,7 +1,7 @@
 #include "coupling/single_solve.h"
 
-#include "coupling/step_control.h"
-#include "steps/time_scheme.h"
+#include "time/step_control.h"
+#include "time/time_scheme.h"
 
 namespace biotcontact
 {
@@ -19,7 +19,8 @@ bool error_accepted(Step& step, int k, const ActiveSet& active_before, CouplingR
     return true;
   const bool smooth = step.same_contact_set(active_before);
   std::string message;
-  if (run.control->judge({k, step.pressure_values(), step.displacement_values(), smooth}, run, message))
+  if (run.control->judge({k, step.pressure_values(), step.displacement_values(), smooth}, run.grid,
+                         run.report.adaptive, run.state.adaptive, message))
     return true;
   run.observer.retry(message);
   return false;

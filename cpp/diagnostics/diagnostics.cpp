@@ -128,13 +128,4 @@ double relative_error(const ufcx_form& error, const ufcx_form& norm,
   return std::sqrt(e / n);
 }
 
-double owned_norm(std::span<const double> x, const fem::FunctionSpace& V)
-{
-  const std::size_t owned = owned_size(V);
-  double local = 0;
-  for (std::size_t i = 0; i < owned; ++i)
-    local += x[i] * x[i];
-  return std::sqrt(sum_over_ranks(local, V.mesh()->comm()));
-}
-
 } // namespace biotcontact

@@ -79,7 +79,4 @@ double relative_error(const ufcx_form& error, const ufcx_form& norm,
                       std::shared_ptr<const dolfinx::fem::Function<double>> reference,
                       const std::string& reference_name);
 
-/// Euclidean norm of the owned part of a DOF array (collective).
-double owned_norm(std::span<const double> x, const dolfinx::fem::FunctionSpace& V);
-
 } // namespace biotcontact

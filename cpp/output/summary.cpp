@@ -56,10 +56,10 @@ Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const
   j.set("tolerance", spec.tolerance)
       .set("dt_min", spec.dt_min)
       .set("dt_max", spec.dt_max)
-      .set("rejected_steps", report.rejected_steps)
-      .set("forced_steps", report.forced_steps)
-      .set("contact_breaks", report.contact_breaks)
-      .set("max_error_estimate", report.max_error_estimate);
+      .set("rejected_steps", report.adaptive.rejected_steps)
+      .set("forced_steps", report.adaptive.forced_steps)
+      .set("contact_breaks", report.adaptive.contact_breaks)
+      .set("max_error_estimate", report.adaptive.max_error_estimate);
   if (!taken.empty())
     j.set("smallest_step", *smallest).set("largest_step", *largest);
   return j;

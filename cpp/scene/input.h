@@ -97,7 +97,7 @@ struct Choices<Acceleration>
       {{Acceleration::none, "none"}, {Acceleration::anderson, "anderson"}}};
 };
 
-/// time.scheme: the discrete time derivative (steps/time_scheme.h).
+/// time.scheme: the discrete time derivative (time/time_scheme.h).
 enum class TimeScheme
 {
   backward_euler,

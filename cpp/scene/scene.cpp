@@ -293,7 +293,7 @@ FlowSpec read_flow(Section s, int d)
   return f;
 }
 
-/// coupling.q: a positive integer, or "auto" (coupling/window_control.h)
+/// coupling.q: a positive integer, or "auto" (time/window_control.h)
 /// with the largest q (q_max) and the tolerance of the predicted relative
 /// change of the displacement over a window (q_tolerance).
 void read_window_steps(Section& s, CouplingSpec& c)

@@ -120,7 +120,7 @@ struct CouplingSpec
   double alpha = 1;
   CouplingScheme scheme = CouplingScheme::fixed_stress;
   int q = 1;                // 1 with q = "auto" (the first window's)
-  /// coupling.q = "auto" (coupling/window_control.h): each window's q, at
+  /// coupling.q = "auto" (time/window_control.h): each window's q, at
   /// most q_max, from the predicted relative change of the displacement
   /// over the window, at most q_tolerance.
   bool q_auto = false;
@@ -174,7 +174,7 @@ struct RegionSpec
 };
 
 /// time.adaptive: steps chosen by a local error estimate
-/// (coupling/step_control.h); time.dt is the first step.
+/// (time/step_control.h); time.dt is the first step.
 struct AdaptiveSpec
 {
   double tolerance = 0; // of the error per unit step, relative to the field's largest norm
@@ -214,7 +214,7 @@ struct Scene
   bool cellwise_body_force() const;
   int num_steps() const;
   /// t_0 = 0, t_1, ..., t_N = end_time (fine steps) of fixed or growing
-  /// steps (adaptive steps are planned by steps/time_grid.h).
+  /// steps (adaptive steps are planned by time/time_grid.h).
   std::vector<double> times() const;
   /// The times a step must land on: the output times and time.end.
   std::vector<double> stops() const;

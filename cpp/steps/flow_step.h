@@ -1,6 +1,6 @@
 // One flow step in mixed form, RT0 flux x P0 pressure (alg. "Flow"), backward
 // Euler in form (BDF2 enters through the step dt/c0 and the history values of
-// steps/time_scheme.h), with the fixed-stress terms of alg. "Single-rate ... (a)" and
+// time/time_scheme.h), with the fixed-stress terms of alg. "Single-rate ... (a)" and
 // "Multirate ... (a)" when the scene is coupled.
 #pragma once
 
@@ -99,7 +99,7 @@ public:
   // single-rate step): p^{n+1,m-1}, p^{n,m}, p^{n,m-1}, u^n, u_K.
   std::shared_ptr<dolfinx::fem::Function<double>> p_previous, p_iterate, p_iterate_previous;
   std::shared_ptr<dolfinx::fem::Function<double>> u_iterate, u_window;
-  // The accumulation's memory for time.scheme = "bdf2" (steps/time_scheme.h):
+  // The accumulation's memory for time.scheme = "bdf2" (time/time_scheme.h):
   // the pressure one fine step and the displacement one window before the
   // current window's start, and the multirate displacement path's value one
   // fine step before it (u_* null without mechanics); checkpointed.

@@ -16,7 +16,7 @@
 #include "assembly/problem.h"
 #include "steps/step.h"
 #include "steps/system.h"
-#include "steps/time_scheme.h"
+#include "time/time_scheme.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
@@ -36,7 +36,7 @@ public:
   MonolithicStep& operator=(const MonolithicStep&) = delete;
 
   /// One step to time t from the state now in u and pressure, with the
-  /// time derivative `d` of the accumulation (steps/time_scheme.h; BDF2
+  /// time derivative `d` of the accumulation (time/time_scheme.h; BDF2
   /// reads u_before and p_before, the state one step before).
   void solve(double t, const TimeDerivative& d = {});
 

@@ -7,7 +7,7 @@
 #include "assembly/linear_algebra.h"
 #include "contact/contact.h"
 #include "steps/system.h"
-#include "steps/time_scheme.h"
+#include "time/time_scheme.h"
 
 #include <dolfinx/fem/Function.h>
 #include <span>
@@ -47,7 +47,7 @@ public:
   virtual System& system() = 0;
 
   /// Solves the step to time t with the time derivative `d`
-  /// (steps/time_scheme.h) from the state the step holds.
+  /// (time/time_scheme.h) from the state the step holds.
   virtual void advance(double t, const TimeDerivative& d) = 0;
   /// The "dt" constant changed (parameters.h, set_time_step): rebuilds what
   /// depends on it.

@@ -1,10 +1,10 @@
-// Unit tests of the time grid (cpp/steps/time_grid.h) and the scene's
+// Unit tests of the time grid (cpp/time/time_grid.h) and the scene's
 // times (Scene::times, stops, is_output_time): fixed steps kept exactly,
 // geometric growth ending on time.end, halving exact in binary floating
 // point, time.retry counted and refused after the allowed attempts, and
 // planned steps equal between stops and landing on every one. The
 // prototype's twin is tests/unit/test_time_grid.py.
-#include "steps/time_grid.h"
+#include "time/time_grid.h"
 
 #include <algorithm>
 #include <cmath>

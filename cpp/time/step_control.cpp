@@ -1,6 +1,6 @@
-#include "coupling/step_control.h"
+#include "time/step_control.h"
 
-#include "diagnostics/diagnostics.h"
+#include "assembly/linear_algebra.h"
 
 #include <algorithm>
 #include <cmath>
@@ -70,7 +70,7 @@ StepControl::StepControl(const Scene& scene, std::shared_ptr<const dolfinx::fem:
 {
 }
 
-void StepControl::start(std::span<const double> p, std::span<const double> u, ControllerState& state)
+void StepControl::start(std::span<const double> p, std::span<const double> u, AdaptiveState& state)
 {
   state.p_largest = _p.empty() ? 0.0 : owned_norm(p, *_p[0]->function_space());
   state.u_largest = _u.empty() ? 0.0 : owned_norm(u, *_u[0]->function_space());
@@ -89,7 +89,7 @@ void StepControl::remember(std::span<const double> p, std::span<const double> u)
 
 /// est of the step ending at t_k (step_control.h): the larger of the
 /// pressure's and the displacement's relative local error per unit step.
-double StepControl::estimate(const TimeGrid& grid, const StepSolution& step, ControllerState& state) const
+double StepControl::estimate(const TimeGrid& grid, const StepSolution& step, AdaptiveState& state) const
 {
   const int k = step.k;
   std::vector<double> times; // t_k, t_{k-1}, ..., t_{k-order-1}
@@ -109,11 +109,9 @@ double StepControl::estimate(const TimeGrid& grid, const StepSolution& step, Con
   return error * grid.t[k] / (grid.dt[k - 1] * _spec.tolerance);
 }
 
-bool StepControl::judge(const StepSolution& step, CouplingRun& run, std::string& message)
+bool StepControl::judge(const StepSolution& step, TimeGrid& grid, AdaptiveReport& report, AdaptiveState& state,
+                        std::string& message)
 {
-  TimeGrid& grid = run.grid;
-  CouplingReport& report = run.report;
-  ControllerState& state = run.state;
   const int k = step.k;
   const bool smooth = step.smooth;
   const double h = grid.dt[k - 1], p_order = _order;

@@ -1,4 +1,4 @@
-#include "steps/time_scheme.h"
+#include "time/time_scheme.h"
 
 namespace biotcontact
 {

@@ -4,7 +4,7 @@
 // recognised as unchanged and its matrices are not rebuilt. A failed step
 // retried with time.retry has its fine steps halved (dt/2 is exact in
 // binary floating point); an adaptive run plans the steps after each
-// accepted one again (coupling/step_control.h); a checkpoint keeps the
+// accepted one again (time/step_control.h); a checkpoint keeps the
 // grid, so that a restart continues on it.
 #pragma once
 

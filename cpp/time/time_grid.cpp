@@ -1,4 +1,4 @@
-#include "steps/time_grid.h"
+#include "time/time_grid.h"
 
 #include <algorithm>
 #include <cmath>

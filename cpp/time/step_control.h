@@ -43,9 +43,8 @@
 // checkpoints: a restart continues the same steps.
 #pragma once
 
-#include "coupling/coupling.h"
 #include "scene/scene.h"
-#include "steps/time_grid.h"
+#include "time/time_grid.h"
 
 #include <dolfinx/fem/Function.h>
 #include <memory>
@@ -55,6 +54,28 @@
 
 namespace biotcontact
 {
+
+/// @brief What time.adaptive reports (summary.json): the steps tried
+/// again, shorter, for their error estimate; those accepted at dt_min above
+/// the tolerance; the largest estimate of an accepted step (1: the
+/// tolerance); the steps accepted unestimated because the active contact
+/// set changed in them.
+struct AdaptiveReport
+{
+  long rejected_steps = 0, forced_steps = 0;
+  double max_error_estimate = 0;
+  long contact_breaks = 0;
+};
+
+/// @brief The PI controller's memory (checkpointed): the last accepted
+/// step's estimate, the largest norms of pressure and displacement so far,
+/// and the accepted states since t = 0 or the last contact break (the
+/// predictor's reach).
+struct AdaptiveState
+{
+  double error_estimate = 0, p_largest = 0, u_largest = 0;
+  long smooth_states = 0;
+};
 
 /// @brief A step to judge: the one ending at grid.t[k] with solution (p, u)
 /// (either may be empty); `smooth` is false when the active contact set
@@ -75,20 +96,21 @@ public:
               std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
   /// The norms of the state at t = 0 (the fields' scales start there).
-  void start(std::span<const double> p, std::span<const double> u, ControllerState& state);
+  void start(std::span<const double> p, std::span<const double> u, AdaptiveState& state);
 
-  /// Judges `step` on run.grid: accepted, it is remembered and the steps
+  /// Judges `step` on `grid`: accepted, it is remembered and the steps
   /// after t_k are planned again; rejected, the steps from t_{k-1} on are,
   /// shorter, and the message says so. A step that is not smooth (the
   /// active contact set changed in it) is accepted as it is and the
   /// predictor restarts after it.
-  bool judge(const StepSolution& step, CouplingRun& run, std::string& message);
+  bool judge(const StepSolution& step, TimeGrid& grid, AdaptiveReport& report, AdaptiveState& state,
+             std::string& message);
 
   /// The accepted states y_{n-1}, y_{n-2}, y_{n-3} by checkpoint name.
   std::vector<std::pair<std::string, dolfinx::fem::Function<double>*>> history() const;
 
 private:
-  double estimate(const TimeGrid& grid, const StepSolution& step, ControllerState& state) const;
+  double estimate(const TimeGrid& grid, const StepSolution& step, AdaptiveState& state) const;
   void remember(std::span<const double> p, std::span<const double> u);
 
   const AdaptiveSpec _spec;

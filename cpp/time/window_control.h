@@ -3,7 +3,7 @@
 // mechanics over it (docs/theory.md, "Multirate with q = auto").
 #pragma once
 
-#include "steps/time_grid.h"
+#include "time/time_grid.h"
 
 #include <vector>
 

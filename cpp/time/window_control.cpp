@@ -1,4 +1,4 @@
-#include "coupling/window_control.h"
+#include "time/window_control.h"
 
 #include <algorithm>
 #include <cmath>
