@@ -194,9 +194,13 @@ DIFFERENCES = {
     "contact/change_of_variables": {
         "NodeMatrix": "C++ only: a type alias for a node's d x d matrix (std::array<double, 9>); Python uses "
                       "numpy arrays",
-        "inverse": "C++ only: inverts a node's matrix; Python calls numpy.linalg.inv",
+        "inverse": "C++ only: inverts a block of T; Python calls numpy.linalg.inv",
+        "node_block": "C++ only: a NodeMatrix as a block's row-major vector; Python's T_node is already an "
+                      "array",
     },
     "contact/contact": {
+        "ContactBlock": "C++ only: a block of the change of variables in V's numbering (DOFs, matrix); Python "
+                        "keeps (dofs, T) tuples",
         "locate_contact": "C++ only: to align (issue 36): this free function finds the contact constraints and "
                           "returns a ContactSet; Python finds them in ContactSet's constructor",
     },

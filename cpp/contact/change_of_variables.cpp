@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mpi.h>
 
 namespace biotcontact
 {
@@ -90,11 +91,11 @@ std::optional<NodeMatrix> node_change_of_variables(const std::vector<std::array<
       return std::nullopt;
   }
   complete(T, Q, m, d);
-  NodeMatrix packed{};
+  NodeMatrix square{};
   for (int r = 0; r < d; ++r)
     for (int i = 0; i < d; ++i)
-      packed[d * r + i] = T[3 * r + i];
-  if (std::abs(determinant(packed, d)) < 1e-8)
+      square[d * r + i] = T[3 * r + i];
+  if (std::abs(determinant(square, d)) < 1e-8)
     return std::nullopt;
   // A prescribed component must stay one of the new variables: then no
   // normal has a part along it (and completion keeps its axis), unless
@@ -104,64 +105,104 @@ std::optional<NodeMatrix> node_change_of_variables(const std::vector<std::array<
     for (int r = 0; r < m and prescribed[i]; ++r)
       if (std::abs(normals[r][i]) > 1e-12)
         return std::nullopt;
-  return packed;
+  return square;
 }
 
-NodeMatrix inverse(const NodeMatrix& T, int d)
+std::vector<double> inverse(const std::vector<double>& T, int n)
 {
-  const double det = determinant(T, d);
-  NodeMatrix inv{};
-  if (d == 2)
+  // [T | I] reduced to [I | T^-1].
+  std::vector<double> a(T), inv(n * n, 0.0);
+  for (int i = 0; i < n; ++i)
+    inv[n * i + i] = 1;
+  for (int c = 0; c < n; ++c)
   {
-    inv = {T[3] / det, -T[1] / det, -T[2] / det, T[0] / det};
-    return inv;
-  }
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
+    int pivot = c;
+    for (int r = c + 1; r < n; ++r)
+      if (std::abs(a[n * r + c]) > std::abs(a[n * pivot + c]))
+        pivot = r;
+    for (int j = 0; j < n; ++j)
     {
-      // the cofactor of (c, r)
-      const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
-      inv[3 * r + c] = (T[3 * r1 + c1] * T[3 * r2 + c2] - T[3 * r1 + c2] * T[3 * r2 + c1]) / det;
+      std::swap(a[n * c + j], a[n * pivot + j]);
+      std::swap(inv[n * c + j], inv[n * pivot + j]);
     }
+    const double p = a[n * c + c];
+    for (int j = 0; j < n; ++j)
+    {
+      a[n * c + j] /= p;
+      inv[n * c + j] /= p;
+    }
+    for (int r = 0; r < n; ++r)
+    {
+      const double f = a[n * r + c];
+      if (r == c or f == 0)
+        continue;
+      for (int j = 0; j < n; ++j)
+      {
+        a[n * r + j] -= f * a[n * c + j];
+        inv[n * r + j] -= f * inv[n * c + j];
+      }
+    }
+  }
   return inv;
+}
+
+std::vector<double> node_block(const NodeMatrix& T, int d) { return std::vector<double>(T.begin(), T.begin() + d * d); }
+
+std::vector<double> pair_change_of_variables(const NodeMatrix& R, int d)
+{
+  const int n = 2 * d;
+  std::vector<double> B(n * n, 0.0);
+  for (int r = 0; r < d; ++r)
+  {
+    for (int c = 0; c < d; ++c)
+    {
+      B[n * r + c] = R[d * r + c];
+      B[n * r + d + c] = -R[d * r + c];
+    }
+    B[n * (d + r) + r] = 0.5;
+    B[n * (d + r) + d + r] = 0.5;
+  }
+  return B;
 }
 
 namespace
 {
-/// The identity with the blocks of `nodes` (T or its inverse) in place.
-Mat block_diagonal(Mat A, int d, const std::vector<ChangeOfVariables::Node>& nodes, bool inverted)
+/// The identity with the blocks (T's or their inverses) in place: every
+/// rank adds 1 on its diagonal, each block's rank adds B - I on its rows,
+/// which another rank may own (collective).
+Mat block_diagonal(Mat A, const std::vector<ChangeOfVariables::Block>& blocks, bool inverted)
 {
   PetscInt m = 0, n = 0, M = 0, N = 0, start = 0, bs = 1;
   MatGetLocalSize(A, &m, &n);
   MatGetSize(A, &M, &N);
   MatGetOwnershipRange(A, &start, nullptr);
   MatGetBlockSize(A, &bs);
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
+  PetscInt width = 1;
+  for (const auto& block : blocks)
+    width = std::max(width, static_cast<PetscInt>(block.dofs.size()));
+  MPI_Allreduce(MPI_IN_PLACE, &width, 1, MPIU_INT, MPI_MAX, comm);
   Mat T;
-  MatCreateAIJ(PetscObjectComm(reinterpret_cast<PetscObject>(A)), m, n, M, N, d, nullptr, 0, nullptr, &T);
+  MatCreateAIJ(comm, m, n, M, N, width, nullptr, width, nullptr, &T);
   MatSetBlockSize(T, bs);
-  std::vector<char> in_node(m, 0);
-  for (const auto& node : nodes)
-  {
-    const NodeMatrix B = inverted ? inverse(node.T, d) : node.T;
-    PetscInt rows[3];
-    for (int i = 0; i < d; ++i)
-    {
-      rows[i] = start + node.dofs[i];
-      in_node[node.dofs[i]] = 1;
-    }
-    MatSetValues(T, d, rows, d, rows, B.data(), INSERT_VALUES);
-  }
   for (PetscInt i = 0; i < m; ++i)
-    if (!in_node[i])
-      MatSetValue(T, start + i, start + i, 1.0, INSERT_VALUES);
+    MatSetValue(T, start + i, start + i, 1.0, ADD_VALUES);
+  for (const auto& block : blocks)
+  {
+    const int k = static_cast<int>(block.dofs.size());
+    std::vector<double> B = inverted ? inverse(block.T, k) : block.T;
+    for (int i = 0; i < k; ++i)
+      B[k * i + i] -= 1;
+    MatSetValues(T, k, block.dofs.data(), k, block.dofs.data(), B.data(), ADD_VALUES);
+  }
   MatAssemblyBegin(T, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(T, MAT_FINAL_ASSEMBLY);
   return T;
 }
 } // namespace
 
-ChangeOfVariables::ChangeOfVariables(Mat A, int d, const std::vector<Node>& nodes, bool spd)
-    : _T(block_diagonal(A, d, nodes, false)), _T_inverse(block_diagonal(A, d, nodes, true)), _spd(spd)
+ChangeOfVariables::ChangeOfVariables(Mat A, const std::vector<Block>& blocks, bool spd)
+    : _T(block_diagonal(A, blocks, false)), _T_inverse(block_diagonal(A, blocks, true)), _spd(spd)
 {
 }
 

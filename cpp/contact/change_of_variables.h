@@ -6,17 +6,27 @@
 // d x d matrix T are the normals nu_j: w_j <= g_j. The remaining rows
 // complete the normals to a basis, orthonormally (Gram-Schmidt of the
 // coordinate axes), so with one foundation T is a rotation into (normal,
-// tangential) components, and with two it is the inverse of the matrix of
-// their normals completed by the tangent they share.
+// tangential) components, and with two the rows are the two normals and
+// the tangent they share (T is then not orthogonal, but invertible).
 //
-// For the whole system x' = T x, T block-diagonal (T_node at the transformed
-// nodes, the identity elsewhere), and A x = b becomes
+// At a node pair of a fault, (u+, u-) on its two faces, the constraint is
+// on the jump: nu . (u+ - u-) <= g with nu = -n (n the fault's normal,
+// pointing into the + side; theory.md, "Faults"). The 2d x 2d block
+//     [w_J]   [R  -R ] [u+]        [u+]   [R^T/2  I] [w_J]
+//     [w_M] = [I/2 I/2] [u-],       [u-] = [-R^T/2 I] [w_M],
+// with R the rotation whose first row is nu, makes the jump in (normal,
+// tangential) components w_J (in u+'s rows) and the mean w_M (in u-'s
+// rows) the new variables: the constraint is the bound w_J0 <= g.
+//
+// For the whole system x' = T x, T block-diagonal (the blocks at the
+// transformed nodes and pairs, the identity elsewhere), and A x = b becomes
 //     A' x' = b',   A' = T^{-T} A T^{-1},   b' = T^{-T} b,
 // the same energy in the new variables: A' is symmetric (SPD) when A is,
-// and its residual F' = A' x' - b' = T^{-T} F holds, in row j of a node,
-// the multiplier of constraint j: F = T^T F' = sum_j F'_j nu_j. Nodes whose
-// normals are coordinate axes need no change (their bound is on u_i
-// itself); when every node is such, T is the identity and never formed.
+// and its residual F' = A' x' - b' = T^{-T} F holds, in the row of a
+// constraint, its multiplier: F = T^T F' = sum_j F'_j (row j of T). Nodes
+// whose normals are coordinate axes need no change (their bound is on u_i
+// itself); when every node is such and there is no fault, T is the
+// identity and never formed.
 #pragma once
 
 #include <array>
@@ -36,13 +46,23 @@ using NodeMatrix = std::array<double, 9>;
 /// displacement component i is prescribed (a Dirichlet condition): the
 /// change must keep that component (every normal perpendicular to it), or
 /// the node must be prescribed entirely. Returns nothing when the normals
-/// are not independent (condition number of their rows above 1e8) or the
+/// are not independent (a normal within 1e-8 of the span of the ones
+/// before it) or the
 /// change would mix a prescribed component with a free one.
 std::optional<NodeMatrix> node_change_of_variables(const std::vector<std::array<double, 3>>& normals, int d,
                                                    const std::array<bool, 3>& prescribed);
 
-/// The inverse of a d x d matrix (d = 2, 3).
-NodeMatrix inverse(const NodeMatrix& T, int d);
+/// The inverse of an n x n matrix (row-major; Gauss-Jordan elimination
+/// with partial pivoting, for the small blocks of T).
+std::vector<double> inverse(const std::vector<double>& T, int n);
+
+/// The d x d matrix of T_node, row-major in n x n = d x d entries.
+std::vector<double> node_block(const NodeMatrix& T, int d);
+
+/// The 2d x 2d block of a fault's node pair for the rotation R (T_node of
+/// the constraint normal nu): rows [R, -R] (the jump) and [I/2, I/2] (the
+/// mean), columns (u+, u-).
+std::vector<double> pair_change_of_variables(const NodeMatrix& R, int d);
 
 /// The axis of a unit normal that is a coordinate axis (to round-off
 /// 1e-14), with its sign; nothing otherwise.
@@ -53,16 +73,18 @@ std::optional<std::pair<int, int>> coordinate_axis(const std::array<double, 3>& 
 class ChangeOfVariables
 {
 public:
-  /// One transformed node: its d DOFs (local indices of a vector like A's
-  /// columns, owned here) and T_node.
-  struct Node
+  /// @brief One block of T: the DOFs it mixes (global indices of a vector
+  /// like A's columns, on any rank: a fault's two faces may be owned by two)
+  /// and its n x n matrix, row-major.
+  struct Block
   {
-    std::array<std::int32_t, 3> dofs;
-    NodeMatrix T;
+    std::vector<PetscInt> dofs;
+    std::vector<double> T;
   };
 
-  /// `spd`: A is symmetric positive definite (so is A').
-  ChangeOfVariables(Mat A, int d, const std::vector<Node>& nodes, bool spd);
+  /// T from its blocks (each given on one rank; collective). `spd`: A is
+  /// symmetric positive definite (so is A').
+  ChangeOfVariables(Mat A, const std::vector<Block>& blocks, bool spd);
   ~ChangeOfVariables();
   ChangeOfVariables(const ChangeOfVariables&) = delete;
   ChangeOfVariables& operator=(const ChangeOfVariables&) = delete;

@@ -216,7 +216,10 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
       error = key + " the normal is not perpendicular to a prescribed displacement component of the node";
     if (!T)
       return;
-    c.transformed.emplace_back(first, *T);
+    ContactBlock block{{}, node_block(*T, d)};
+    for (int i = 0; i < d; ++i)
+      block.dofs.push_back(c.dof_offset + first + i);
+    c.blocks.push_back(std::move(block));
   }
   for (std::size_t j = 0; j < merged.size(); ++j)
   {
@@ -237,6 +240,7 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   ContactSet c;
   c.dim = domain.dim();
   c.output_space = std::make_shared<fem::FunctionSpace>(V->sub({0})->collapse().first);
+  c.dof_offset = V->dofmap()->index_map_bs() * V->dofmap()->index_map->local_range()[0];
   std::string error; // the first bad input on this rank
   NodeCandidates nodes = gather_candidates(scene, domain, forms, V, c, error);
   const std::vector<char> prescribed = prescribed_dofs(scene, domain, *V);
@@ -770,19 +774,24 @@ void ContactSolver::make_change_of_variables(Vec layout)
 {
   _A_vi = _A;
   _P_vi = _P;
-  long local = static_cast<long>(_set.transformed.size()), global = 0;
+  long local = static_cast<long>(_set.blocks.size()), global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_LONG, MPI_SUM, _comm);
   if (global == 0)
     return;
-  std::vector<ChangeOfVariables::Node> nodes;
-  for (const auto& [first, T] : _set.transformed)
+  std::vector<std::int64_t> requested;
+  for (const ContactBlock& block : _set.blocks)
+    requested.insert(requested.end(), block.dofs.begin(), block.dofs.end());
+  const std::vector<PetscInt> positions = solved_positions(requested, layout);
+  std::vector<ChangeOfVariables::Block> blocks;
+  std::size_t next = 0;
+  for (const ContactBlock& block : _set.blocks)
   {
-    ChangeOfVariables::Node node{{0, 0, 0}, T};
-    for (int i = 0; i < _set.dim; ++i)
-      node.dofs[i] = _displacement_dofs.at(first + i);
-    nodes.push_back(node);
+    ChangeOfVariables::Block b{{}, block.T};
+    for (std::size_t i = 0; i < block.dofs.size(); ++i)
+      b.dofs.push_back(positions[next++]);
+    blocks.push_back(std::move(b));
   }
-  _change = std::make_unique<ChangeOfVariables>(_A, _set.dim, nodes, _structure == Structure::spd);
+  _change = std::make_unique<ChangeOfVariables>(_A, blocks, _structure == Structure::spd);
   _A_vi = nullptr;
   _change->congruence(_A, &_A_vi);
   if (_P != _A)
@@ -800,6 +809,33 @@ void ContactSolver::make_change_of_variables(Vec layout)
   for (Field& f : _fields)
     if (f.near_nullspace)
       f.near_nullspace = own(_change->transformed(f.near_nullspace.get(), &f.dofs, layout));
+}
+
+std::vector<PetscInt> ContactSolver::solved_positions(const std::vector<std::int64_t>& dofs, Vec layout) const
+{
+  // Each rank answers for the DOFs it owns; a fault's other face may be
+  // owned by another rank, so every request goes to every rank (they are
+  // the few DOFs of the transformed nodes).
+  PetscInt start = 0;
+  VecGetOwnershipRange(layout, &start, nullptr);
+  const auto owned = static_cast<std::int64_t>(_displacement_dofs.size());
+  int size = 0;
+  MPI_Comm_size(_comm, &size);
+  const int count = static_cast<int>(dofs.size());
+  std::vector<int> counts(size), offsets(size + 1, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, _comm);
+  for (int r = 0; r < size; ++r)
+    offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<std::int64_t> all(offsets[size]);
+  MPI_Allgatherv(dofs.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(), MPI_INT64_T, _comm);
+  std::vector<std::int64_t> answer(all.size(), -1);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (const std::int64_t i = all[k] - _set.dof_offset; i >= 0 and i < owned)
+      answer[k] = start + _displacement_dofs[i];
+  MPI_Allreduce(MPI_IN_PLACE, answer.data(), static_cast<int>(answer.size()), MPI_INT64_T, MPI_MAX, _comm);
+  int rank = 0;
+  MPI_Comm_rank(_comm, &rank);
+  return std::vector<PetscInt>(answer.begin() + offsets[rank], answer.begin() + offsets[rank + 1]);
 }
 
 void ContactSolver::change_operators()

@@ -31,6 +31,14 @@
 namespace biotcontact
 {
 
+/// @brief A block of the change of variables in V's numbering: the global
+/// (unrolled) DOFs of V it mixes, and its matrix (change_of_variables.h).
+struct ContactBlock
+{
+  std::vector<std::int64_t> dofs;
+  std::vector<double> T;
+};
+
 /// The contact constraints of a P1 displacement space V: one for each node
 /// of a contact boundary (owned by this rank) and each foundation it
 /// touches (two at the apex of a groove), u.nu_F <= g_a.
@@ -49,9 +57,12 @@ struct ContactSet
   /// merged from two boundaries counts for the first).
   std::vector<int> boundary;
   std::vector<std::string> boundaries;
-  /// The nodes whose normals are not coordinate axes: their first DOF in V
-  /// (the d components follow) and T_node (change_of_variables.h).
-  std::vector<std::pair<std::int32_t, NodeMatrix>> transformed;
+  /// The blocks of the change of variables (change_of_variables.h): the
+  /// nodes whose normals are not coordinate axes (T_node) and the node
+  /// pairs of faults, by the global (unrolled) DOFs of V they mix.
+  std::vector<ContactBlock> blocks;
+  /// The global index in V (unrolled) of this rank's first owned DOF.
+  std::int64_t dof_offset = 0;
   int dim = 2;
   /// A P1 scalar space, for output, and each constraint's node there.
   std::shared_ptr<const dolfinx::fem::FunctionSpace> output_space;
@@ -247,6 +258,9 @@ private:
   /// The change of variables of the inclined and curved foundations, made
   /// when any node needs one (collective), and the operators it makes.
   void make_change_of_variables(Vec layout);
+  /// The global position in the solved vector of each global DOF of V in
+  /// `dofs`, wherever it is owned (collective).
+  std::vector<PetscInt> solved_positions(const std::vector<std::int64_t>& dofs, Vec layout) const;
   /// A' and P' of the current A and P (after a reassembly).
   void change_operators();
   /// x' = T x (x itself without a change of variables).

@@ -4,12 +4,16 @@
 At a contact node the constraints nu_j . u <= g_j (m foundations, m <= d)
 are bounds w_j <= g_j on w = T u, the first m rows of T the normals, the
 rest completing them orthonormally (Gram-Schmidt of the coordinate axes).
-For the system, x' = T x with T block-diagonal, and A x = b becomes
+At a fault's node pair (u+, u-) the 2d x 2d block [[R, -R], [I/2, I/2]]
+makes the jump R (u+ - u-) (in u+'s rows) and the mean (in u-'s) the new
+variables, R's first row the constraint normal nu = -n. For the system, x' = T x with T block-diagonal, and A x = b becomes
 A' x' = b' with A' = T^{-T} A T^{-1}, b' = T^{-T} b; the residual
 F' = T^{-T} F holds each constraint's multiplier. Nodes whose normals are
-coordinate axes need no change; when every node is such, T is never formed.
+coordinate axes need no change; when every node is such and there is no
+fault, T is never formed.
 """
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
 
@@ -63,32 +67,44 @@ def node_change_of_variables(normals, d, prescribed):
     return T
 
 
-def _block_diagonal(A, d, nodes, inverted):
-    """The identity with the blocks of `nodes` (T or its inverse) in place."""
+def pair_change_of_variables(R, d):
+    """The 2d x 2d block of a fault's node pair for the rotation R (T_node
+    of the constraint normal nu): rows [R, -R] (the jump) and [I/2, I/2]
+    (the mean), columns (u+, u-)."""
+    R = np.asarray(R)[:d, :d]
+    half = 0.5 * np.eye(d)
+    return np.block([[R, -R], [half, half]])
+
+
+def _block_diagonal(A, blocks, inverted):
+    """The identity with the blocks (T's or their inverses) in place: every
+    rank adds 1 on its diagonal, each block's rank adds B - I on its rows,
+    which another rank may own (collective)."""
     (m, n), (M, N) = A.getLocalSize(), A.getSize()
     start = A.getOwnershipRange()[0]
-    T = PETSc.Mat().createAIJ(((m, M), (n, N)), nnz=d, comm=A.getComm())
+    width = A.getComm().tompi4py().allreduce(max([len(dofs) for dofs, _ in blocks], default=1), op=MPI.MAX)
+    T = PETSc.Mat().createAIJ(((m, M), (n, N)), nnz=(width, width), comm=A.getComm())
     T.setBlockSize(A.getBlockSize())
     T.setUp()
-    in_node = np.zeros(m, dtype=bool)
-    for dofs, block in nodes:
-        rows = (start + np.asarray(dofs[:d])).astype(PETSc.IntType)
-        in_node[dofs[:d]] = True
-        T.setValues(rows, rows, np.linalg.inv(block) if inverted else block, addv=PETSc.InsertMode.INSERT_VALUES)
-    for i in np.flatnonzero(~in_node):
-        T.setValue(start + i, start + i, 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
+    for i in range(m):
+        T.setValue(start + i, start + i, 1.0, addv=PETSc.InsertMode.ADD_VALUES)
+    for dofs, block in blocks:
+        rows = np.asarray(dofs, dtype=PETSc.IntType)
+        B = (np.linalg.inv(block) if inverted else np.asarray(block)) - np.eye(len(rows))
+        T.setValues(rows, rows, B, addv=PETSc.InsertMode.ADD_VALUES)
     T.assemble()
     return T
 
 
 class ChangeOfVariables:
     """The block-diagonal change x' = T x of a system (vectors like A's
-    columns); `nodes` are (their d local DOFs, T_node) pairs, owned here;
-    `spd`: A is symmetric positive definite (so is A')."""
+    columns); `blocks` are (the global DOFs they mix, on any rank: a fault's
+    two faces may be owned by two; their matrix) pairs, each given on one
+    rank (collective); `spd`: A is symmetric positive definite (so is A')."""
 
-    def __init__(self, A, d, nodes, spd):
-        self.T = _block_diagonal(A, d, nodes, False)
-        self.T_inverse = _block_diagonal(A, d, nodes, True)
+    def __init__(self, A, blocks, spd):
+        self.T = _block_diagonal(A, blocks, False)
+        self.T_inverse = _block_diagonal(A, blocks, True)
         self.spd = spd
 
     def forward(self, x, y):

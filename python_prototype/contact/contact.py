@@ -34,9 +34,11 @@ class ContactSet:
     that carries u.nu_F = sign * x'[dof] after the change of variables
     (sign +-1 where the node's normals are coordinate axes, +1 at a
     transformed node), `gap`, `normal`, `lumped` (boundary measure) and
-    `output_dofs` (the node in the P1 scalar `output_space`); `transformed`
-    lists (first DOF in V, T_node) of the nodes that need a change of
-    variables."""
+    `output_dofs` (the node in the P1 scalar `output_space`); `blocks`
+    lists the blocks of the change of variables (the global unrolled DOFs
+    of V they mix, their matrix): the nodes whose normals are not
+    coordinate axes and the node pairs of faults; `dof_offset` is the
+    global index in V of this rank's first owned DOF."""
 
     def __init__(self, scene, domain, F, V):
         self.dim = domain.dim
@@ -44,7 +46,8 @@ class ContactSet:
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
         # per constraint its contact boundary (a merged one counts for the first)
         self.boundary, self.boundaries = [], [name for name, b in scene.boundaries.items() if b.contact]
-        self.transformed = []
+        self.blocks = []
+        self.dof_offset = V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0]
         error = []  # the first bad input on this rank
         nodes = _gather_candidates(scene, domain, F, V, self.output_space, error)
         prescribed = _prescribed_dofs(scene, domain, V)
@@ -86,7 +89,7 @@ class ContactSet:
                              "of the node")
             if T is None:
                 return
-            self.transformed.append((first, T))
+            self.blocks.append((self.dof_offset + first + np.arange(d), T))
         for j, m in enumerate(merged):
             self.dofs.append(first + (axes[j][0] if on_axes else j))
             self.sign.append(axes[j][1] if on_axes else 1)
@@ -548,11 +551,12 @@ class ContactSolver:
         made when any node needs one (collective), and its operators."""
         self.A_vi, self.P_vi, self.change, self.change_current = self.A, self.P, None, True
         self.x_vi = self.b_vi = None
-        if self.comm.allreduce(len(self.set.transformed), op=MPI.SUM) == 0:
+        if self.comm.allreduce(len(self.set.blocks), op=MPI.SUM) == 0:
             return
-        d = self.set.dim
-        nodes = [(self.displacement_dofs[first:first + d], T) for first, T in self.set.transformed]
-        self.change = ChangeOfVariables(self.A, d, nodes, self.structure == Structure.spd)
+        requested = np.concatenate([dofs for dofs, _ in self.set.blocks] or [np.zeros(0, dtype=np.int64)])
+        positions = iter(self._solved_positions(requested))
+        blocks = [([next(positions) for _ in dofs], T) for dofs, T in self.set.blocks]
+        self.change = ChangeOfVariables(self.A, blocks, self.structure == Structure.spd)
         self.A_vi = self.change.congruence(self.A)
         self.P_vi = self.A_vi if self.P is self.A else self.change.congruence(self.P)
         self.x_vi, self.b_vi = self.A.createVecRight(), self.A.createVecRight()
@@ -562,6 +566,22 @@ class ContactSolver:
             if f.near_nullspace is not None:
                 self.fields[k] = dataclasses.replace(
                     f, near_nullspace=self.change.transformed(f.near_nullspace, f.dofs, self.x_vi))
+
+    def _solved_positions(self, dofs):
+        """The global position in the solved vector of each global DOF of V
+        in `dofs`, wherever it is owned (collective): a fault's other face
+        may be owned by another rank, so every request goes to every rank."""
+        start = self.A.getOwnershipRange()[0]
+        owned = len(self.displacement_dofs)
+        requests = self.comm.allgather(np.asarray(dofs, dtype=np.int64))
+        everything = np.concatenate(requests)
+        local = everything - self.set.dof_offset
+        mine = (local >= 0) & (local < owned)
+        answer = np.full(len(everything), -1, dtype=np.int64)
+        answer[mine] = start + np.asarray(self.displacement_dofs)[local[mine]]
+        self.comm.Allreduce(MPI.IN_PLACE, answer, op=MPI.MAX)
+        offset = sum(len(r) for r in requests[:self.comm.rank])
+        return answer[offset:offset + len(dofs)]
 
     def _change_operators(self):
         """A' and P' of the current A and P (after a reassembly)."""

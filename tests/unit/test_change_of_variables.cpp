@@ -2,6 +2,7 @@
 // T_node's rows are the normals completed orthonormally, so each Signorini
 // constraint nu_j . u <= g_j is the bound w_j <= g_j on w = T u; dependent
 // normals and a change that would mix a prescribed component are refused;
+// a fault's pair block makes the jump and the mean the new variables;
 // on a system, A' = T^{-T} A T^{-1} is the same energy and its residual
 // holds the constraints' multipliers. The prototype's twin is
 // tests/unit/test_change_of_variables.py.
@@ -108,7 +109,10 @@ TEST(ChangeOfVariables, TwoFoundationsAtOneNode)
   EXPECT_NEAR(row_dot(T, 0, tangent, 3), 0.0, 1e-15);
   EXPECT_NEAR(row_dot(T, 1, tangent, 3), 0.0, 1e-15);
   const double g1 = 1e-3, g2 = 2e-3;
-  const std::array<double, 3> corner = apply(inverse(T, 3), {g1, g2, 0.7}, 3);
+  const std::vector<double> inv = inverse(node_block(T, 3), 3);
+  NodeMatrix T_inverse{};
+  std::copy(inv.begin(), inv.end(), T_inverse.begin());
+  const std::array<double, 3> corner = apply(T_inverse, {g1, g2, 0.7}, 3);
   EXPECT_NEAR(row_dot(T, 0, corner, 3), g1, 1e-15);
   EXPECT_NEAR(row_dot(T, 1, corner, 3), g2, 1e-15);
 
@@ -175,47 +179,92 @@ TEST(ChangeOfVariables, CoordinateAxis)
 
 TEST(ChangeOfVariables, InverseIsTheInverse)
 {
-  const NodeMatrix T2{2, 1, -0.5, 3}, T3{2, 1, 0, -1, 3, 0.5, 0.25, -2, 4};
-  for (const auto& [T, d] : {std::pair{T2, 2}, std::pair{T3, 3}})
+  const std::vector<double> T2{2, 1, -0.5, 3}, T3{2, 1, 0, -1, 3, 0.5, 0.25, -2, 4};
+  // A pivot of 0 on the diagonal: elimination must exchange rows.
+  const std::vector<double> T4{0, 1, 0, 0, 1, 0, 0, 2, 0, 0, 3, 1, 0.5, 0, 0, 3};
+  for (const auto& [T, n] : {std::pair{T2, 2}, std::pair{T3, 3}, std::pair{T4, 4}})
   {
-    const NodeMatrix inv = inverse(T, d);
-    for (int r = 0; r < d; ++r)
-      for (int c = 0; c < d; ++c)
+    const std::vector<double> inv = inverse(T, n);
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c)
       {
         double s = 0;
-        for (int k = 0; k < d; ++k)
-          s += T[d * r + k] * inv[d * k + c];
-        EXPECT_NEAR(s, r == c ? 1.0 : 0.0, 1e-15) << d << "D, entry " << r << ", " << c;
+        for (int k = 0; k < n; ++k)
+          s += T[n * r + k] * inv[n * k + c];
+        EXPECT_NEAR(s, r == c ? 1.0 : 0.0, 1e-15) << n << " x " << n << ", entry " << r << ", " << c;
       }
   }
 }
 
+TEST(ChangeOfVariables, PairBlockIsJumpAndMean)
+{
+  // A fault inclined at 30 degrees in 3D: w_J = R (u+ - u-) with R's first
+  // row the constraint normal nu = -n, w_M = (u+ + u-) / 2; the inverse is
+  // u+- = w_M +- R^T w_J / 2.
+  const int d = 3, n = 2 * d;
+  const std::array<double, 3> nu = normalised(std::sin(pi / 6), 0, -std::cos(pi / 6));
+  const NodeMatrix R = node_change_of_variables({nu}, d, free_node).value();
+  const std::vector<double> B = pair_change_of_variables(R, d), B_inverse = inverse(B, n);
+  const std::array<double, 6> u{1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3};
+  std::array<double, 3> jump{}, mean{};
+  for (int i = 0; i < d; ++i)
+  {
+    jump[i] = u[i] - u[d + i];
+    mean[i] = (u[i] + u[d + i]) / 2;
+  }
+  const std::array<double, 3> w_J = apply(R, jump, d);
+  for (int r = 0; r < n; ++r)
+  {
+    double w = 0;
+    for (int c = 0; c < n; ++c)
+      w += B[n * r + c] * u[c];
+    EXPECT_NEAR(w, r < d ? w_J[r] : mean[r - d], 1e-18) << "row " << r;
+  }
+  EXPECT_NEAR(w_J[0], row_dot(R, 0, jump, d), 1e-18);
+  EXPECT_NEAR(w_J[0], nu[0] * jump[0] + nu[1] * jump[1] + nu[2] * jump[2], 1e-18) << "the bounded jump is nu.[u]";
+  for (int r = 0; r < d; ++r)
+    for (int c = 0; c < d; ++c)
+    {
+      const double half_R_T = R[d * c + r] / 2, identity = r == c ? 1.0 : 0.0;
+      EXPECT_NEAR(B_inverse[n * r + c], half_R_T, 1e-15);
+      EXPECT_NEAR(B_inverse[n * r + d + c], identity, 1e-15);
+      EXPECT_NEAR(B_inverse[n * (d + r) + c], -half_R_T, 1e-15);
+      EXPECT_NEAR(B_inverse[n * (d + r) + d + c], identity, 1e-15);
+    }
+}
+
 namespace
 {
-/// A system of 4 nodes in 2D (8 DOFs) with two transformed nodes: node 0
-/// on a foundation inclined at 30 degrees, node 2 on two foundations.
+/// A system of 6 nodes in 2D (12 DOFs) with two transformed nodes and a
+/// fault's node pair: node 0 on a foundation inclined at 30 degrees, node 2
+/// on two foundations, nodes 3 (+) and 5 (-) the two faces of a fault
+/// inclined at 60 degrees.
 struct ChangeOfVariablesSystem : testing::Test
 {
-  const int d = 2;
-  unit::Dense A = unit::spd_matrix(8), T{8};
-  std::vector<ChangeOfVariables::Node> nodes;
+  static constexpr int d = 2, size = 12;
+  unit::Dense A = unit::spd_matrix(size), T{size};
+  std::vector<ChangeOfVariables::Block> blocks;
   Mat petsc_A = nullptr, At = nullptr;
   std::unique_ptr<ChangeOfVariables> change;
 
   void SetUp() override
   {
     const double angle = pi / 6;
-    const std::array<double, 3> inclined{std::sin(angle), -std::cos(angle), 0};
-    nodes.push_back({{0, 1, 0}, node_change_of_variables({inclined}, d, free_node).value()});
-    nodes.push_back({{4, 5, 0}, node_change_of_variables({{0, -1, 0}, {0.6, -0.8, 0}}, d, free_node).value()});
-    for (int i = 0; i < 8; ++i)
+    const std::array<double, 3> inclined{std::sin(angle), -std::cos(angle), 0}, fault{-std::cos(angle), -std::sin(angle), 0};
+    blocks.push_back({{0, 1}, node_block(node_change_of_variables({inclined}, d, free_node).value(), d)});
+    blocks.push_back({{4, 5}, node_block(node_change_of_variables({{0, -1, 0}, {0.6, -0.8, 0}}, d, free_node).value(), d)});
+    blocks.push_back({{6, 7, 10, 11}, pair_change_of_variables(node_change_of_variables({fault}, d, free_node).value(), d)});
+    for (int i = 0; i < size; ++i)
       T(i, i) = 1;
-    for (const auto& node : nodes)
-      for (int r = 0; r < d; ++r)
-        for (int c = 0; c < d; ++c)
-          T(node.dofs[r], node.dofs[c]) = node.T[d * r + c];
+    for (const auto& block : blocks)
+    {
+      const int k = static_cast<int>(block.dofs.size());
+      for (int r = 0; r < k; ++r)
+        for (int c = 0; c < k; ++c)
+          T(block.dofs[r], block.dofs[c]) = block.T[k * r + c];
+    }
     petsc_A = unit::petsc_matrix(A);
-    change = std::make_unique<ChangeOfVariables>(petsc_A, d, nodes, true);
+    change = std::make_unique<ChangeOfVariables>(petsc_A, blocks, true);
     change->congruence(petsc_A, &At);
   }
   void TearDown() override
@@ -224,25 +273,26 @@ struct ChangeOfVariablesSystem : testing::Test
     MatDestroy(&At);
     MatDestroy(&petsc_A);
   }
-  /// T^{-1}, dense, from the nodes' inverses.
+  /// T^{-1}, dense, from the blocks' inverses.
   unit::Dense inverse_T() const
   {
-    unit::Dense inv(8);
-    for (int i = 0; i < 8; ++i)
+    unit::Dense inv(size);
+    for (int i = 0; i < size; ++i)
       inv(i, i) = 1;
-    for (const auto& node : nodes)
+    for (const auto& block : blocks)
     {
-      const NodeMatrix B = inverse(node.T, d);
-      for (int r = 0; r < d; ++r)
-        for (int c = 0; c < d; ++c)
-          inv(node.dofs[r], node.dofs[c]) = B[d * r + c];
+      const int k = static_cast<int>(block.dofs.size());
+      const std::vector<double> B = inverse(block.T, k);
+      for (int r = 0; r < k; ++r)
+        for (int c = 0; c < k; ++c)
+          inv(block.dofs[r], block.dofs[c]) = B[k * r + c];
     }
     return inv;
   }
 };
 
-const std::vector<double> x_values{1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3};
-const std::vector<double> b_values{1, -2, 0.5, 3, -1, 0.25, 2, -4};
+const std::vector<double> x_values{1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3, 1.5e-3, 0.2e-3, -0.8e-3, 0.9e-3};
+const std::vector<double> b_values{1, -2, 0.5, 3, -1, 0.25, 2, -4, 1.5, -0.5, 0.75, 2.5};
 } // namespace
 
 TEST_F(ChangeOfVariablesSystem, CongruenceIsTheSameEnergy)
@@ -251,8 +301,8 @@ TEST_F(ChangeOfVariablesSystem, CongruenceIsTheSameEnergy)
   const unit::Dense inv = inverse_T(), expected = unit::product(unit::transpose(inv), unit::product(A, inv));
   const unit::Dense got = unit::dense(At);
   const double round_off = 1e-14 * unit::largest(A.a);
-  for (int i = 0; i < 8; ++i)
-    for (int j = 0; j < 8; ++j)
+  for (int i = 0; i < size; ++i)
+    for (int j = 0; j < size; ++j)
     {
       EXPECT_NEAR(got(i, j), expected(i, j), round_off) << "entry " << i << ", " << j;
       EXPECT_NEAR(got(i, j), got(j, i), round_off) << "symmetry " << i << ", " << j;
@@ -266,7 +316,7 @@ TEST_F(ChangeOfVariablesSystem, CongruenceIsTheSameEnergy)
   const std::vector<double> Tx = unit::product(T, x_values);
   double energy = 0, energy_t = 0;
   const std::vector<double> Ax = unit::product(A, x_values), Atw = unit::product(got, w);
-  for (int i = 0; i < 8; ++i)
+  for (int i = 0; i < size; ++i)
   {
     EXPECT_NEAR(w[i], Tx[i], 1e-18) << "forward, DOF " << i;
     EXPECT_NEAR(returned[i], x_values[i], 1e-18) << "backward, DOF " << i;
@@ -280,8 +330,8 @@ TEST_F(ChangeOfVariablesSystem, CongruenceIsTheSameEnergy)
 
 TEST_F(ChangeOfVariablesSystem, ResidualHoldsTheMultipliers)
 {
-  // F' = A' x' - b' with b' = T^{-T} b: at a transformed node
-  // F = T^T F' = sum_j F'_j nu_j (row j of T), elsewhere F' = F.
+  // F' = A' x' - b' with b' = T^{-T} b: in a block's DOFs F = T^T F' =
+  // sum_j F'_j (row j of T), elsewhere F' = F.
   Vec x = unit::petsc_vector(petsc_A, x_values), b = unit::petsc_vector(petsc_A, b_values), xt, bt, Ft;
   for (Vec* v : {&xt, &bt, &Ft})
     VecDuplicate(x, v);
@@ -290,17 +340,20 @@ TEST_F(ChangeOfVariablesSystem, ResidualHoldsTheMultipliers)
   MatMult(At, xt, Ft);
   VecAXPY(Ft, -1.0, bt);
   const std::vector<double> F_t = unit::values(Ft), Ax = unit::product(A, x_values);
-  std::vector<double> F(8), TtFt(F_t);
-  for (int i = 0; i < 8; ++i)
+  std::vector<double> F(size), TtFt(F_t);
+  for (int i = 0; i < size; ++i)
     F[i] = Ax[i] - b_values[i];
-  for (const auto& node : nodes)
-    for (int i = 0; i < d; ++i)
+  for (const auto& block : blocks)
+  {
+    const int k = static_cast<int>(block.dofs.size());
+    for (int i = 0; i < k; ++i)
     {
-      TtFt[node.dofs[i]] = 0;
-      for (int j = 0; j < d; ++j)
-        TtFt[node.dofs[i]] += F_t[node.dofs[j]] * node.T[d * j + i];
+      TtFt[block.dofs[i]] = 0;
+      for (int j = 0; j < k; ++j)
+        TtFt[block.dofs[i]] += F_t[block.dofs[j]] * block.T[k * j + i];
     }
-  for (int i = 0; i < 8; ++i)
+  }
+  for (int i = 0; i < size; ++i)
     EXPECT_NEAR(TtFt[i], F[i], 1e-14 * unit::largest(b_values)) << "DOF " << i;
   for (Vec* v : {&x, &b, &xt, &bt, &Ft})
     VecDestroy(v);

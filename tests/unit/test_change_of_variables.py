@@ -3,7 +3,8 @@
 tests/unit/test_change_of_variables.cpp: T_node's rows are the normals
 completed orthonormally, so each Signorini constraint nu_j . u <= g_j is the
 bound w_j <= g_j on w = T u; dependent normals and a change that would mix a
-prescribed component are refused; on a system, A' = T^{-T} A T^{-1} is the
+prescribed component are refused; a fault's pair block makes the jump and
+the mean the new variables; on a system, A' = T^{-T} A T^{-1} is the
 same energy and its residual holds the constraints' multipliers."""
 import math
 import os
@@ -15,7 +16,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.contact.change_of_variables import (  # noqa: E402
-    ChangeOfVariables, coordinate_axis, node_change_of_variables)
+    ChangeOfVariables, coordinate_axis, node_change_of_variables, pair_change_of_variables)
 from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
 
 FREE = [False, False, False]
@@ -111,33 +112,52 @@ class NodeChangeOfVariables(unittest.TestCase):
         self.assertIsNone(coordinate_axis([0.0, 0.0, 1.0], 2))
 
     def test_inverse_is_the_inverse(self):
-        # The change's T^{-1} (the prototype inverts each node's block):
+        # The change's T^{-1} (the prototype inverts each block):
         # T^{-1} T = I for blocks that are not orthogonal.
         A = petsc_matrix(spd_matrix(5))
         T2, T3 = np.array([[2, 1], [-0.5, 3]]), np.array([[2, 1, 0], [-1, 3, 0.5], [0.25, -2, 4]])
         for T, d in ((T2, 2), (T3, 3)):
-            change = ChangeOfVariables(A, d, [(list(range(1, 1 + d)), T)], True)
+            change = ChangeOfVariables(A, [(list(range(1, 1 + d)), T)], True)
             product = change.T_inverse.convert("dense").getDenseArray() @ change.T.convert("dense").getDenseArray()
             np.testing.assert_allclose(product, np.eye(5), rtol=0, atol=1e-15, err_msg=f"{d}D")
 
+    def test_pair_block_is_jump_and_mean(self):
+        # A fault inclined at 30 degrees in 3D: w_J = R (u+ - u-) with R's
+        # first row the constraint normal nu = -n, w_M = (u+ + u-) / 2; the
+        # inverse is u+- = w_M +- R^T w_J / 2.
+        d = 3
+        nu = normalised(math.sin(ANGLE), 0, -math.cos(ANGLE))
+        R = node_change_of_variables([nu], d, FREE)
+        B = pair_change_of_variables(R, d)
+        u = np.array([1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3])
+        jump, mean = u[:d] - u[d:], (u[:d] + u[d:]) / 2
+        np.testing.assert_allclose(B @ u, np.concatenate([R @ jump, mean]), rtol=0, atol=1e-18)
+        self.assertAlmostEqual((B @ u)[0], np.dot(nu, jump), delta=1e-18, msg="the bounded jump is nu.[u]")
+        I = np.eye(d)
+        np.testing.assert_allclose(np.linalg.inv(B), np.block([[R.T / 2, I], [-R.T / 2, I]]), rtol=0, atol=1e-15)
+
 
 class ChangeOfVariablesSystem(unittest.TestCase):
-    """A system of 4 nodes in 2D (8 DOFs) with two transformed nodes: node 0
-    on a foundation inclined at 30 degrees, node 2 on two foundations."""
-    x = np.array([1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3])
-    b = np.array([1, -2, 0.5, 3, -1, 0.25, 2, -4])
+    """A system of 6 nodes in 2D (12 DOFs) with two transformed nodes and a
+    fault's node pair: node 0 on a foundation inclined at 30 degrees, node 2
+    on two foundations, nodes 3 (+) and 5 (-) the two faces of a fault
+    inclined at 60 degrees."""
+    x = np.array([1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3, 1.5e-3, 0.2e-3, -0.8e-3, 0.9e-3])
+    b = np.array([1, -2, 0.5, 3, -1, 0.25, 2, -4, 1.5, -0.5, 0.75, 2.5])
 
     def setUp(self):
         self.d = 2
         inclined = [math.sin(ANGLE), -math.cos(ANGLE), 0.0]
+        fault = [-math.cos(ANGLE), -math.sin(ANGLE), 0.0]
         self.nodes = [([0, 1], node_change_of_variables([inclined], 2, FREE)),
-                      ([4, 5], node_change_of_variables([[0.0, -1.0, 0.0], [0.6, -0.8, 0.0]], 2, FREE))]
-        self.A = spd_matrix(8)
-        self.T = np.eye(8)
+                      ([4, 5], node_change_of_variables([[0.0, -1.0, 0.0], [0.6, -0.8, 0.0]], 2, FREE)),
+                      ([6, 7, 10, 11], pair_change_of_variables(node_change_of_variables([fault], 2, FREE), 2))]
+        self.A = spd_matrix(12)
+        self.T = np.eye(12)
         for dofs, block in self.nodes:
             self.T[np.ix_(dofs, dofs)] = block
         self.petsc_A = petsc_matrix(self.A)
-        self.change = ChangeOfVariables(self.petsc_A, self.d, self.nodes, True)
+        self.change = ChangeOfVariables(self.petsc_A, self.nodes, True)
         self.At = self.change.congruence(self.petsc_A)
 
     def test_congruence_is_the_same_energy(self):
@@ -158,8 +178,8 @@ class ChangeOfVariablesSystem(unittest.TestCase):
         self.assertAlmostEqual(w @ got @ w, energy, delta=1e-14 * energy)
 
     def test_residual_holds_the_multipliers(self):
-        # F' = A' x' - b' with b' = T^{-T} b: at a transformed node
-        # F = T^T F' = sum_j F'_j nu_j (row j of T), elsewhere F' = F.
+        # F' = A' x' - b' with b' = T^{-T} b: in a block's DOFs F = T^T F' =
+        # sum_j F'_j (row j of T), elsewhere F' = F.
         x, b = petsc_vector(self.petsc_A, self.x), petsc_vector(self.petsc_A, self.b)
         xt, bt, Ft = x.duplicate(), x.duplicate(), x.duplicate()
         self.change.forward(x, xt)
