@@ -1,0 +1,452 @@
+#include "domain/faults.h"
+
+#include "scene/input.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace biotcontact
+{
+namespace
+{
+
+/// A facet by its sorted nodes (the third is -1 in 2D): the same facet seen
+/// from either of its cells or from a group has one key.
+using FacetKey = std::array<std::int64_t, 3>;
+
+FacetKey facet_key(const std::int64_t* nodes, int d)
+{
+  FacetKey key{-1, -1, -1};
+  std::copy_n(nodes, d, key.begin());
+  // Two or three values sorted by exchanges: std::sort over part of the
+  // array makes GCC 12 warn of out-of-bounds accesses (-Warray-bounds).
+  if (key[0] > key[1])
+    std::swap(key[0], key[1]);
+  if (d == 3 and key[1] > key[2])
+    std::swap(key[1], key[2]);
+  if (key[0] > key[1])
+    std::swap(key[0], key[1]);
+  return key;
+}
+
+/// @brief The input mesh's topology before the split: its cells as read
+/// (every look-up uses the input numbering while the split renumbers the
+/// mesh's cells), the cells of each facet and the cells of each node.
+struct Topology
+{
+  int d = 2;
+  std::vector<std::int64_t> cells;
+  std::vector<std::pair<FacetKey, std::int64_t>> facet_cells; // sorted: a facet's cells ascending
+  std::vector<std::int64_t> node_offsets, node_cells;         // each node's cells ascending
+};
+
+Topology topology_of(const InputMesh& mesh)
+{
+  const int d = mesh.dim;
+  Topology t{d, mesh.cells, {}, {}, {}};
+  const auto num_cells = static_cast<std::int64_t>(mesh.cells.size()) / (d + 1);
+  t.node_offsets.assign(mesh.x.size() / d + 1, 0);
+  for (std::int64_t c = 0; c < num_cells; ++c)
+  {
+    const std::int64_t* cell = &mesh.cells[c * (d + 1)];
+    for (int j = 0; j <= d; ++j)
+    {
+      // The facet opposite node j.
+      std::array<std::int64_t, 3> facet{-1, -1, -1};
+      std::copy_if(cell, cell + d + 1, facet.begin(), [&](std::int64_t v) { return v != cell[j]; });
+      t.facet_cells.emplace_back(facet_key(facet.data(), d), c);
+      ++t.node_offsets[cell[j] + 1];
+    }
+  }
+  std::sort(t.facet_cells.begin(), t.facet_cells.end());
+  for (std::size_t v = 1; v < t.node_offsets.size(); ++v)
+    t.node_offsets[v] += t.node_offsets[v - 1];
+  t.node_cells.resize(mesh.cells.size());
+  std::vector<std::int64_t> next(t.node_offsets.begin(), t.node_offsets.end() - 1);
+  for (std::size_t i = 0; i < mesh.cells.size(); ++i)
+    t.node_cells[next[mesh.cells[i]]++] = static_cast<std::int64_t>(i) / (d + 1);
+  return t;
+}
+
+/// The cells that have the facet `key` (ascending): two inside the body,
+/// one on the outer boundary.
+std::vector<std::int64_t> cells_of(const Topology& t, const FacetKey& key)
+{
+  const auto [first, last] = std::equal_range(t.facet_cells.begin(), t.facet_cells.end(),
+                                              std::pair<FacetKey, std::int64_t>{key, 0},
+                                              [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::int64_t> cells;
+  for (auto it = first; it != last; ++it)
+    cells.push_back(it->second);
+  return cells;
+}
+
+/// The position of `node` in the input cell `cell`.
+int local_index(const Topology& t, std::int64_t cell, std::int64_t node)
+{
+  const std::int64_t* nodes = &t.cells[cell * (t.d + 1)];
+  return static_cast<int>(std::find(nodes, nodes + t.d + 1, node) - nodes);
+}
+
+/// The mean of `count` nodes' coordinates (a node, a facet's midpoint, a
+/// cell's centroid), z = 0 in 2D.
+std::array<double, 3> mean_point(const InputMesh& mesh, const std::int64_t* nodes, int count)
+{
+  std::array<double, 3> p{0, 0, 0};
+  for (int k = 0; k < count; ++k)
+    for (int i = 0; i < mesh.dim; ++i)
+      p[i] += mesh.x[nodes[k] * mesh.dim + i] / count;
+  return p;
+}
+
+/// "(x, y)" or "(x, y, z)", as the prototype prints it ({:g}).
+std::string point_text(const std::array<double, 3>& p, int d)
+{
+  std::ostringstream s;
+  s << "(" << p[0] << ", " << p[1];
+  if (d == 3)
+    s << ", " << p[2];
+  s << ")";
+  return s.str();
+}
+
+double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/// A facet's unit normal, either way: 2D, its segment turned by -90
+/// degrees; 3D, the cross product of its edges from the first node.
+std::array<double, 3> facet_normal(const InputMesh& mesh, const std::int64_t* nodes)
+{
+  const int d = mesh.dim;
+  std::array<std::array<double, 3>, 2> edge{};
+  for (int k = 0; k + 1 < d; ++k)
+    for (int i = 0; i < d; ++i)
+      edge[k][i] = mesh.x[nodes[k + 1] * d + i] - mesh.x[nodes[0] * d + i];
+  const auto& [a, b] = edge;
+  std::array<double, 3> n = d == 2 ? std::array<double, 3>{a[1], -a[0], 0}
+                                   : std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                                           a[0] * b[1] - a[1] * b[0]};
+  const double length = std::sqrt(dot(n, n));
+  for (double& v : n)
+    v /= length;
+  return n;
+}
+
+/// @brief A fault's facets before the split: their input indices (in input
+/// order), normals oriented by the hint, and the cell on each side.
+struct OrientedFault
+{
+  std::vector<std::size_t> facets;
+  std::vector<std::array<double, 3>> normals;
+  std::vector<std::int64_t> plus_cells, minus_cells;
+};
+
+/// The index of the group `name` in the mesh's names.
+std::int32_t group_index(const InputMesh& mesh, const std::string& name, const std::string& key)
+{
+  const auto it = std::find(mesh.names.begin(), mesh.names.end(), name);
+  if (it != mesh.names.end())
+    return static_cast<std::int32_t>(it - mesh.names.begin());
+  std::string known;
+  for (const std::string& n : mesh.names)
+    known += (known.empty() ? "" : ", ") + n;
+  throw SceneError(key + ": the mesh has no group " + name + " (its facet groups: "
+                   + (known.empty() ? "none" : known) + ")");
+}
+
+/// How far cell `cell`'s centroid lies from the facet through `nodes`,
+/// along n: the + cell is the one on the side n points into.
+double side(const InputMesh& mesh, const Topology& t, std::int64_t cell, const std::int64_t* nodes,
+            const std::array<double, 3>& n)
+{
+  const std::array<double, 3> centroid = mean_point(mesh, &t.cells[cell * (t.d + 1)], t.d + 1);
+  const std::array<double, 3> on = mean_point(mesh, nodes, 1);
+  return dot(n, {centroid[0] - on[0], centroid[1] - on[1], centroid[2] - on[2]});
+}
+
+/// The facets of the group `request.name`, each between two cells, with
+/// its normal oriented by the hint (scaled to unit length, so that the
+/// parallel test does not depend on its length) and its + and - cells.
+OrientedFault orient_fault(const InputMesh& mesh, const Topology& t, const FaultRequest& request,
+                           const std::string& key)
+{
+  const int d = mesh.dim;
+  const std::int32_t group = group_index(mesh, request.name, key);
+  const double length = std::sqrt(dot(request.hint, request.hint));
+  const std::array<double, 3> hint = length > 0 ? std::array<double, 3>{request.hint[0] / length,
+                                                                         request.hint[1] / length,
+                                                                         request.hint[2] / length}
+                                                : request.hint;
+  OrientedFault fault;
+  for (std::size_t f = 0; f < mesh.facet_group.size(); ++f)
+  {
+    if (mesh.facet_group[f] != group)
+      continue;
+    const std::int64_t* nodes = &mesh.facets[f * d];
+    const std::vector<std::int64_t> cells = cells_of(t, facet_key(nodes, d));
+    const std::string at = " at " + point_text(mean_point(mesh, nodes, d), d);
+    if (cells.size() == 1)
+      throw SceneError(key + ": the group " + request.name + " lies on the outer boundary" + at
+                       + " (a fault is inside the body)");
+    if (cells.size() != 2)
+      throw SceneError(key + ": the group " + request.name + " has a facet that is no face of the mesh's cells"
+                       + at);
+    std::array<double, 3> n = facet_normal(mesh, nodes);
+    const double along = dot(n, hint);
+    if (std::abs(along) < 1e-12)
+      throw SceneError(key + ".normal: the hint is parallel to the fault" + at + ": give a normal that crosses it");
+    if (along < 0)
+      n = {-n[0], -n[1], -n[2]};
+    const bool first_plus = side(mesh, t, cells[0], nodes, n) > side(mesh, t, cells[1], nodes, n);
+    fault.facets.push_back(f);
+    fault.normals.push_back(n);
+    fault.plus_cells.push_back(cells[first_plus ? 0 : 1]);
+    fault.minus_cells.push_back(cells[first_plus ? 1 : 0]);
+  }
+  if (fault.facets.empty())
+    throw SceneError(key + ": the group " + request.name + " has no facets");
+  return fault;
+}
+
+/// The fault facets through each fault node, (fault, facet k), by node in
+/// increasing order; within a node, in request order.
+using FaultNodes = std::map<std::int64_t, std::vector<std::pair<std::size_t, std::size_t>>>;
+
+FaultNodes fault_nodes(const InputMesh& mesh, const std::vector<OrientedFault>& faults)
+{
+  FaultNodes nodes;
+  for (std::size_t f = 0; f < faults.size(); ++f)
+    for (std::size_t k = 0; k < faults[f].facets.size(); ++k)
+      for (int i = 0; i < mesh.dim; ++i)
+        nodes[mesh.facets[faults[f].facets[k] * mesh.dim + i]].emplace_back(f, k);
+  return nodes;
+}
+
+/// Refuses a node on two faults (they cross, or one ends on the other),
+/// which would need a node split three or four ways.
+void refuse_shared_nodes(const InputMesh& mesh, const FaultNodes& nodes, const std::vector<FaultRequest>& faults,
+                         const std::string& key_prefix)
+{
+  for (const auto& [v, through] : nodes)
+    for (const auto& [f, k] : through)
+      if (f != through.front().first)
+        throw SceneError(key_prefix + faults[through.front().first].name + ": meets fault " + faults[f].name
+                         + " at " + point_text(mean_point(mesh, &v, 1), mesh.dim)
+                         + ": faults that cross or end on one another are not supported yet");
+}
+
+/// The facets of all faults, sorted.
+std::vector<FacetKey> fault_keys(const InputMesh& mesh, const std::vector<OrientedFault>& faults)
+{
+  std::vector<FacetKey> keys;
+  for (const OrientedFault& fault : faults)
+    for (std::size_t f : fault.facets)
+      keys.push_back(facet_key(&mesh.facets[f * mesh.dim], mesh.dim));
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+/// @brief The cells around a node (ascending) and the component of each:
+/// cells connected through the facets that hold the node and lie on no
+/// fault, numbered in the order of their first cell.
+struct NodeStar
+{
+  std::vector<std::int64_t> cells;
+  std::vector<int> component;
+  int count = 0;
+};
+
+/// The cells that share with `cell` a facet through node v on no fault.
+std::vector<std::int64_t> neighbours(const Topology& t, std::int64_t cell, std::int64_t v,
+                                     const std::vector<FacetKey>& keys)
+{
+  const std::int64_t* nodes = &t.cells[cell * (t.d + 1)];
+  std::vector<std::int64_t> found;
+  for (int j = 0; j <= t.d; ++j)
+  {
+    if (nodes[j] == v)
+      continue;
+    std::array<std::int64_t, 3> facet{-1, -1, -1};
+    std::copy_if(nodes, nodes + t.d + 1, facet.begin(), [&](std::int64_t u) { return u != nodes[j]; });
+    const FacetKey key = facet_key(facet.data(), t.d);
+    if (std::binary_search(keys.begin(), keys.end(), key))
+      continue;
+    for (std::int64_t other : cells_of(t, key))
+      if (other != cell)
+        found.push_back(other);
+  }
+  return found;
+}
+
+NodeStar star_of(const Topology& t, std::int64_t v, const std::vector<FacetKey>& keys)
+{
+  NodeStar star;
+  star.cells.assign(t.node_cells.begin() + t.node_offsets[v], t.node_cells.begin() + t.node_offsets[v + 1]);
+  star.component.assign(star.cells.size(), -1);
+  for (std::size_t first = 0; first < star.cells.size(); ++first)
+  {
+    if (star.component[first] >= 0)
+      continue;
+    star.component[first] = star.count;
+    std::vector<std::int64_t> stack{star.cells[first]};
+    while (!stack.empty())
+    {
+      const std::int64_t cell = stack.back();
+      stack.pop_back();
+      for (std::int64_t other : neighbours(t, cell, v, keys))
+      {
+        const auto i = std::lower_bound(star.cells.begin(), star.cells.end(), other) - star.cells.begin();
+        if (star.component[i] < 0)
+        {
+          star.component[i] = star.count;
+          stack.push_back(other);
+        }
+      }
+    }
+    ++star.count;
+  }
+  return star;
+}
+
+int component_of(const NodeStar& star, std::int64_t cell)
+{
+  return star.component[std::lower_bound(star.cells.begin(), star.cells.end(), cell) - star.cells.begin()];
+}
+
+/// The component of a doubled node v's star that holds the + cells of the
+/// fault's facets through v (`through`); refuses a star the fault cuts in
+/// more than two, and + and - cells in one component (the hint's side of
+/// the fault flips at v).
+int plus_component(const InputMesh& mesh, const NodeStar& star, const OrientedFault& fault,
+                   const std::vector<std::pair<std::size_t, std::size_t>>& through, std::int64_t v,
+                   const std::string& key)
+{
+  const std::string at = " at " + point_text(mean_point(mesh, &v, 1), mesh.dim);
+  if (star.count > 2)
+    throw SceneError(key + ": the fault branches or crosses itself" + at + " (" + std::to_string(star.count)
+                     + " pieces meet there): faults that cross or end on one another are not supported yet");
+  std::array<bool, 2> plus{false, false}, minus{false, false};
+  for (const auto& [f, k] : through)
+  {
+    plus[component_of(star, fault.plus_cells[k])] = true;
+    minus[component_of(star, fault.minus_cells[k])] = true;
+  }
+  if ((plus[0] and minus[0]) or (plus[1] and minus[1]))
+    throw SceneError(key + ": the normal hint orients the fault inconsistently" + at
+                     + " (the fault turns past the hint there: give a hint that crosses all of it the same way)");
+  return plus[0] ? 0 : 1;
+}
+
+/// Appends a copy of node v to x and returns its index.
+std::int64_t append_node(InputMesh& mesh, std::int64_t v)
+{
+  const int d = mesh.dim;
+  const auto index = static_cast<std::int64_t>(mesh.x.size()) / d;
+  for (int i = 0; i < d; ++i)
+  {
+    const double coordinate = mesh.x[v * d + i];
+    mesh.x.push_back(coordinate);
+  }
+  return index;
+}
+
+/// Each fault node (in increasing order) stays shared where the fault's
+/// cells around it hold together (a tip), or is doubled: its + side's cells
+/// take a new node.
+void split_nodes(InputMesh& mesh, const Topology& t, const std::vector<OrientedFault>& faults,
+                 const FaultNodes& nodes, const std::string& key_prefix, std::vector<SplitFault>& split)
+{
+  const std::vector<FacetKey> keys = fault_keys(mesh, faults);
+  for (const auto& [v, through] : nodes)
+  {
+    const std::size_t f = through.front().first;
+    const NodeStar star = star_of(t, v, keys);
+    if (star.count == 1)
+    {
+      split[f].tips.push_back(v);
+      continue;
+    }
+    const int plus = plus_component(mesh, star, faults[f], through, v, key_prefix + split[f].name);
+    const std::int64_t doubled = append_node(mesh, v);
+    for (std::size_t i = 0; i < star.cells.size(); ++i)
+      if (star.component[i] == plus)
+        mesh.cells[star.cells[i] * (t.d + 1) + local_index(t, star.cells[i], v)] = doubled;
+    split[f].pairs.emplace_back(doubled, v);
+  }
+}
+
+/// Appends the input facet through `nodes` as cell `cell` numbers it after
+/// the split.
+void append_face(const InputMesh& mesh, const Topology& t, std::int64_t cell, const std::int64_t* nodes,
+                 std::vector<std::int64_t>& faces)
+{
+  for (int i = 0; i < t.d; ++i)
+    faces.push_back(mesh.cells[cell * (t.d + 1) + local_index(t, cell, nodes[i])]);
+}
+
+/// A fault's two faces after the split, from its + and - cells.
+void fault_faces(const InputMesh& mesh, const Topology& t, const OrientedFault& fault, SplitFault& split)
+{
+  for (std::size_t k = 0; k < fault.facets.size(); ++k)
+  {
+    const std::int64_t* nodes = &mesh.facets[fault.facets[k] * t.d];
+    append_face(mesh, t, fault.plus_cells[k], nodes, split.plus_facets);
+    append_face(mesh, t, fault.minus_cells[k], nodes, split.minus_facets);
+  }
+}
+
+/// Keeps the facets of no fault, each as its (first) cell numbers it after
+/// the split: where a fault reaches the outer boundary, the boundary
+/// splits with it. A facet that is no face of a cell is kept as it is.
+void renumber_facets(InputMesh& mesh, const Topology& t, const std::vector<bool>& on_fault)
+{
+  std::vector<std::int64_t> facets;
+  std::vector<std::int32_t> groups;
+  for (std::size_t f = 0; f < mesh.facet_group.size(); ++f)
+  {
+    if (on_fault[f])
+      continue;
+    const std::int64_t* nodes = &mesh.facets[f * t.d];
+    const std::vector<std::int64_t> cells = cells_of(t, facet_key(nodes, t.d));
+    if (cells.empty())
+      facets.insert(facets.end(), nodes, nodes + t.d);
+    else
+      append_face(mesh, t, cells.front(), nodes, facets);
+    groups.push_back(mesh.facet_group[f]);
+  }
+  mesh.facets = std::move(facets);
+  mesh.facet_group = std::move(groups);
+}
+
+} // namespace
+
+std::vector<SplitFault> split_along_faults(InputMesh& mesh, const std::vector<FaultRequest>& faults,
+                                           const std::string& key_prefix)
+{
+  const Topology topology = topology_of(mesh);
+  std::vector<OrientedFault> oriented;
+  std::vector<SplitFault> split;
+  for (const FaultRequest& request : faults)
+  {
+    oriented.push_back(orient_fault(mesh, topology, request, key_prefix + request.name));
+    split.push_back({request.name, {}, {}, oriented.back().normals, {}, {}});
+  }
+  const FaultNodes nodes = fault_nodes(mesh, oriented);
+  refuse_shared_nodes(mesh, nodes, faults, key_prefix);
+  split_nodes(mesh, topology, oriented, nodes, key_prefix, split);
+  std::vector<bool> on_fault(mesh.facet_group.size(), false);
+  for (std::size_t f = 0; f < oriented.size(); ++f)
+  {
+    fault_faces(mesh, topology, oriented[f], split[f]);
+    for (std::size_t facet : oriented[f].facets)
+      on_fault[facet] = true;
+  }
+  renumber_facets(mesh, topology, on_fault);
+  return split;
+}
+
+} // namespace biotcontact

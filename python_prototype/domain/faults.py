@@ -1,0 +1,346 @@
+"""Faults: an input simplex mesh split along interior facet groups, on rank 0
+before dolfinx distributes it (cpp/domain/faults.cpp). Each fault node whose
+cells the fault separates is doubled (the + side gets a new node at the same
+point), so the fault's two faces become faces of the mesh that the contact
+can pair; the fault's edges inside the body (its tips) stay shared. A fault
+facet whose nodes are all tips (a fault of one facet in 2D, a triangle with
+every node on a patch's rim in 3D) therefore stays shared too: its two faces
+are the same nodes."""
+import dataclasses
+import math
+
+import numpy as np
+
+from ..scene.input import SceneError
+
+
+@dataclasses.dataclass
+class InputMesh:
+    """The input mesh as read on rank 0 (the arrays of a gmsh file that
+    _read_gmsh hands to dolfinx)."""
+    dim: int
+    x: np.ndarray            # (nodes, dim) coordinates
+    cells: np.ndarray        # (cells, dim+1) node indices
+    facets: np.ndarray       # (facets, dim) node indices of the facets of named groups
+    facet_group: np.ndarray  # per facet, an index into names
+    names: list
+
+
+@dataclasses.dataclass
+class FaultRequest:
+    """What is asked: a fault's facet group and its normal hint, a direction
+    the fault's normal is oriented along (n . hint > 0)."""
+    name: str
+    hint: tuple
+
+
+@dataclasses.dataclass
+class SplitFault:
+    """One fault after the split. Row k of plus_facets, minus_facets and
+    normals is the fault's k-th facet in input order."""
+    name: str
+    # (fault facets, dim) node indices in the split numbering: each facet's
+    # face on the + side (the side the normal points into), and on the - side
+    plus_facets: np.ndarray
+    minus_facets: np.ndarray
+    normals: np.ndarray  # (fault facets, 3) unit normals oriented by the hint, into the + side
+    # (doubled nodes, 2): (its index on the + side, its index on the - side),
+    # in increasing order of the - side's (the input) index
+    pairs: np.ndarray
+    tips: np.ndarray  # the fault nodes kept shared (the fault's edges inside the body), sorted
+
+
+def _facet_key(nodes):
+    """A facet by its sorted nodes: the same facet seen from either of its
+    cells or from a group has one key."""
+    return tuple(sorted(int(v) for v in nodes))
+
+
+class _Topology:
+    """The input mesh's topology before the split: its cells as read (every
+    look-up uses the input numbering while the split renumbers the mesh's
+    cells), the cells of each facet and the cells of each node (ascending)."""
+
+    def __init__(self, mesh):
+        self.d = mesh.dim
+        self.cells = np.array(mesh.cells, dtype=np.int64)
+        self.facet_cells = {}
+        self.node_cells = [[] for _ in range(len(mesh.x))]
+        for c, cell in enumerate(self.cells.tolist()):
+            for j, v in enumerate(cell):
+                # The facet opposite node j.
+                self.facet_cells.setdefault(_facet_key(cell[:j] + cell[j + 1:]), []).append(c)
+                self.node_cells[v].append(c)
+
+    def cells_of(self, key):
+        """The cells that have the facet `key` (ascending): two inside the
+        body, one on the outer boundary."""
+        return self.facet_cells.get(key, [])
+
+    def local_index(self, cell, node):
+        """The position of `node` in the input cell `cell`."""
+        return int(np.flatnonzero(self.cells[cell] == node)[0])
+
+
+def _mean_point(mesh, nodes):
+    """The mean of the nodes' coordinates (a node, a facet's midpoint, a
+    cell's centroid), z = 0 in 2D."""
+    p = [0.0, 0.0, 0.0]
+    for v in nodes:
+        for i in range(mesh.dim):
+            p[i] += float(mesh.x[v, i]) / len(nodes)
+    return p
+
+
+def _point_text(p, d):
+    """"(x, y)" or "(x, y, z)", as C++ prints it (an ostream's default, {:g})."""
+    return "(" + ", ".join(f"{v:g}" for v in p[:d]) + ")"
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _facet_normal(mesh, nodes):
+    """A facet's unit normal, either way: 2D, its segment turned by -90
+    degrees; 3D, the cross product of its edges from the first node."""
+    d = mesh.dim
+    a, b = ([float(mesh.x[nodes[k], i] - mesh.x[nodes[0], i]) for i in range(d)] + [0.0] * (3 - d)
+            for k in (1, d - 1))  # in 2D the one edge twice (b unused)
+    n = ([a[1], -a[0], 0.0] if d == 2 else
+         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+    length = math.sqrt(_dot(n, n))
+    return [v / length for v in n]
+
+
+@dataclasses.dataclass
+class _OrientedFault:
+    """A fault's facets before the split: their input indices (in input
+    order), normals oriented by the hint, and the cell on each side."""
+    facets: list = dataclasses.field(default_factory=list)
+    normals: list = dataclasses.field(default_factory=list)
+    plus_cells: list = dataclasses.field(default_factory=list)
+    minus_cells: list = dataclasses.field(default_factory=list)
+
+
+def _group_index(mesh, name, key):
+    """The index of the group `name` in the mesh's names."""
+    if name in mesh.names:
+        return mesh.names.index(name)
+    known = ", ".join(mesh.names) or "none"
+    raise SceneError(f"{key}: the mesh has no group {name} (its facet groups: {known})")
+
+
+def _side(mesh, topology, cell, nodes, n):
+    """How far cell `cell`'s centroid lies from the facet through `nodes`,
+    along n: the + cell is the one on the side n points into."""
+    centroid = _mean_point(mesh, topology.cells[cell])
+    on = _mean_point(mesh, nodes[:1])
+    return _dot(n, [centroid[0] - on[0], centroid[1] - on[1], centroid[2] - on[2]])
+
+
+def _orient_fault(mesh, topology, request, key):
+    """The facets of the group `request.name`, each between two cells, with
+    its normal oriented by the hint (scaled to unit length, so that the
+    parallel test does not depend on its length) and its + and - cells."""
+    d = mesh.dim
+    group = _group_index(mesh, request.name, key)
+    hint = [float(h) for h in request.hint]
+    length = math.sqrt(_dot(hint, hint))
+    if length > 0:
+        hint = [h / length for h in hint]
+    fault = _OrientedFault()
+    for f in np.flatnonzero(np.asarray(mesh.facet_group) == group).tolist():
+        nodes = mesh.facets[f].tolist()
+        cells = topology.cells_of(_facet_key(nodes))
+        at = " at " + _point_text(_mean_point(mesh, nodes), d)
+        if len(cells) == 1:
+            raise SceneError(f"{key}: the group {request.name} lies on the outer boundary{at} "
+                             "(a fault is inside the body)")
+        if len(cells) != 2:
+            raise SceneError(f"{key}: the group {request.name} has a facet that is no face of the mesh's cells{at}")
+        n = _facet_normal(mesh, nodes)
+        along = _dot(n, hint)
+        if abs(along) < 1e-12:
+            raise SceneError(f"{key}.normal: the hint is parallel to the fault{at}: give a normal that crosses it")
+        if along < 0:
+            n = [-v for v in n]
+        first_plus = _side(mesh, topology, cells[0], nodes, n) > _side(mesh, topology, cells[1], nodes, n)
+        fault.facets.append(f)
+        fault.normals.append(n)
+        fault.plus_cells.append(cells[0 if first_plus else 1])
+        fault.minus_cells.append(cells[1 if first_plus else 0])
+    if not fault.facets:
+        raise SceneError(f"{key}: the group {request.name} has no facets")
+    return fault
+
+
+def _fault_nodes(mesh, faults):
+    """The fault facets through each fault node, (fault, facet k), by node in
+    increasing order; within a node, in request order."""
+    nodes = {}
+    for f, fault in enumerate(faults):
+        for k, facet in enumerate(fault.facets):
+            for v in mesh.facets[facet].tolist():
+                nodes.setdefault(v, []).append((f, k))
+    return dict(sorted(nodes.items()))
+
+
+def _refuse_shared_nodes(mesh, nodes, faults, key_prefix):
+    """Refuses a node on two faults (they cross, or one ends on the other),
+    which would need a node split three or four ways."""
+    for v, through in nodes.items():
+        for f, _ in through:
+            if f != through[0][0]:
+                raise SceneError(f"{key_prefix}{faults[through[0][0]].name}: meets fault {faults[f].name} at "
+                                 f"{_point_text(_mean_point(mesh, [v]), mesh.dim)}: faults that cross or end on "
+                                 "one another are not supported yet")
+
+
+def _fault_keys(mesh, faults):
+    """The facets of all faults."""
+    return {_facet_key(mesh.facets[f]) for fault in faults for f in fault.facets}
+
+
+class _NodeStar:
+    """The cells around a node (ascending) and the component of each: cells
+    connected through the facets that hold the node and lie on no fault,
+    numbered in the order of their first cell."""
+
+    def __init__(self, topology, v, keys):
+        self.cells = topology.node_cells[v]
+        self.component = [-1] * len(self.cells)
+        self.count = 0
+        position = {c: i for i, c in enumerate(self.cells)}
+        for first in range(len(self.cells)):
+            if self.component[first] >= 0:
+                continue
+            self.component[first] = self.count
+            stack = [self.cells[first]]
+            while stack:
+                cell = stack.pop()
+                for other in _neighbours(topology, cell, v, keys):
+                    if self.component[position[other]] < 0:
+                        self.component[position[other]] = self.count
+                        stack.append(other)
+            self.count += 1
+
+    def component_of(self, cell):
+        return self.component[self.cells.index(cell)]
+
+
+def _neighbours(topology, cell, v, keys):
+    """The cells that share with `cell` a facet through node v on no fault."""
+    nodes = topology.cells[cell].tolist()
+    found = []
+    for j, u in enumerate(nodes):
+        if u == v:
+            continue
+        key = _facet_key(nodes[:j] + nodes[j + 1:])
+        if key in keys:
+            continue
+        found += [other for other in topology.cells_of(key) if other != cell]
+    return found
+
+
+def _plus_component(mesh, star, fault, through, v, key):
+    """The component of a doubled node v's star that holds the + cells of the
+    fault's facets through v (`through`); refuses a star the fault cuts in
+    more than two, and + and - cells in one component (the hint's side of the
+    fault flips at v)."""
+    at = " at " + _point_text(_mean_point(mesh, [v]), mesh.dim)
+    if star.count > 2:
+        raise SceneError(f"{key}: the fault branches or crosses itself{at} ({star.count} pieces meet there): "
+                         "faults that cross or end on one another are not supported yet")
+    plus, minus = [False, False], [False, False]
+    for _, k in through:
+        plus[star.component_of(fault.plus_cells[k])] = True
+        minus[star.component_of(fault.minus_cells[k])] = True
+    if (plus[0] and minus[0]) or (plus[1] and minus[1]):
+        raise SceneError(f"{key}: the normal hint orients the fault inconsistently{at} (the fault turns past the "
+                         "hint there: give a hint that crosses all of it the same way)")
+    return 0 if plus[0] else 1
+
+
+def _split_nodes(mesh, topology, faults, nodes, key_prefix, split):
+    """Each fault node (in increasing order) stays shared where the fault's
+    cells around it hold together (a tip), or is doubled: its + side's cells
+    take a new node."""
+    keys = _fault_keys(mesh, faults)
+    added = []
+    for v, through in nodes.items():
+        f = through[0][0]
+        star = _NodeStar(topology, v, keys)
+        if star.count == 1:
+            split[f].tips.append(v)
+            continue
+        plus = _plus_component(mesh, star, faults[f], through, v, key_prefix + split[f].name)
+        doubled = len(mesh.x) + len(added)
+        added.append(mesh.x[v])
+        for cell, component in zip(star.cells, star.component):
+            if component == plus:
+                mesh.cells[cell, topology.local_index(cell, v)] = doubled
+        split[f].pairs.append((doubled, v))
+    if added:
+        mesh.x = np.vstack([mesh.x, added])
+
+
+def _face(mesh, topology, cell, nodes):
+    """The input facet through `nodes` as cell `cell` numbers it after the split."""
+    return [int(mesh.cells[cell, topology.local_index(cell, v)]) for v in nodes]
+
+
+def _fault_faces(mesh, topology, fault, split):
+    """A fault's two faces after the split, from its + and - cells."""
+    for k, facet in enumerate(fault.facets):
+        nodes = mesh.facets[facet].tolist()
+        split.plus_facets.append(_face(mesh, topology, fault.plus_cells[k], nodes))
+        split.minus_facets.append(_face(mesh, topology, fault.minus_cells[k], nodes))
+
+
+def _renumber_facets(mesh, topology, on_fault):
+    """Keeps the facets of no fault, each as its (first) cell numbers it after
+    the split: where a fault reaches the outer boundary, the boundary splits
+    with it. A facet that is no face of a cell is kept as it is."""
+    facets, groups = [], []
+    for f, group in enumerate(np.asarray(mesh.facet_group).tolist()):
+        if on_fault[f]:
+            continue
+        nodes = mesh.facets[f].tolist()
+        cells = topology.cells_of(_facet_key(nodes))
+        facets.append(_face(mesh, topology, cells[0], nodes) if cells else nodes)
+        groups.append(group)
+    mesh.facets = np.array(facets, dtype=np.int64).reshape(-1, mesh.dim)
+    mesh.facet_group = np.array(groups, dtype=np.int32)
+
+
+def split_along_faults(mesh, faults, key_prefix):
+    """Splits `mesh` in place along each requested fault and returns the
+    faults (SplitFault) in request order. A doubled node's + side is appended
+    to x (in increasing order of its input index) and the + side's cells and
+    boundary facets are renumbered; the faults' facets leave facets and
+    facet_group (names keeps its entries). Raises SceneError, one line
+    "KEY_PREFIXNAME: ..." (e.g. key_prefix "scene.toml: fault."), for a group
+    that is missing, empty or on the outer boundary, a hint parallel to the
+    fault, a hint that orients the fault inconsistently, and faults that
+    cross, branch or end on one another."""
+    mesh.x = np.array(mesh.x, dtype=np.float64).reshape(-1, mesh.dim)
+    mesh.cells = np.array(mesh.cells, dtype=np.int64).reshape(-1, mesh.dim + 1)
+    mesh.facets = np.array(mesh.facets, dtype=np.int64).reshape(-1, mesh.dim)
+    topology = _Topology(mesh)
+    oriented = [_orient_fault(mesh, topology, request, key_prefix + request.name) for request in faults]
+    split = [SplitFault(request.name, [], [], fault.normals, [], []) for request, fault in zip(faults, oriented)]
+    nodes = _fault_nodes(mesh, oriented)
+    _refuse_shared_nodes(mesh, nodes, faults, key_prefix)
+    _split_nodes(mesh, topology, oriented, nodes, key_prefix, split)
+    on_fault = np.zeros(len(mesh.facet_group), dtype=bool)
+    for fault, result in zip(oriented, split):
+        _fault_faces(mesh, topology, fault, result)
+        on_fault[fault.facets] = True
+    _renumber_facets(mesh, topology, on_fault)
+    d = mesh.dim
+    return [SplitFault(s.name, np.array(s.plus_facets, dtype=np.int64).reshape(-1, d),
+                       np.array(s.minus_facets, dtype=np.int64).reshape(-1, d),
+                       np.array(s.normals, dtype=np.float64).reshape(-1, 3),
+                       np.array(s.pairs, dtype=np.int64).reshape(-1, 2), np.array(s.tips, dtype=np.int64))
+            for s in split]
