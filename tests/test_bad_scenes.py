@@ -33,6 +33,9 @@ def written(text):
 
 
 BLOCK = scene("block3d")
+HERTZ = scene("hertz")          # gmsh, no flow: faults without a pore pressure
+FRACTURE = scene("fracture")    # gmsh, coupled
+ELASTIC = scene("elastic_contact")  # a rectangle, no flow: a given pore pressure
 CORRUPT_MSH = written("$MeshFormat\n4.1 0 8\nnot a mesh\n")
 CORRUPT_MSH = CORRUPT_MSH.replace(".toml", ".msh")
 with open(CORRUPT_MSH, "w") as f:
@@ -216,6 +219,35 @@ CASES = [
      s("boundary.bottom.pore_pressure_load=true"), "boundary.bottom.pore_pressure_load", BOTH),
     ("a pore pressure load that is no boolean", DEFAULT, s("boundary.bottom.pore_pressure_load=1"),
      "boundary.bottom.pore_pressure_load", BOTH),
+    # faults (issue 37)
+    ("a fault on a built-in mesh", DEFAULT, s("fault.f.gap=0.0"), "fault.f", BOTH),
+    ("a fault that is also a boundary", HERTZ, s("fault.top.gap=0.0"), "fault.top", BOTH),
+    ("a fault gap that depends on t", HERTZ, s("fault.f.gap='1e-3*t'"), "fault.f.gap", BOTH),
+    ("a fault with pressure and pore_pressure_load", FRACTURE,
+     s("fault.f.pressure=1e5", "fault.f.pore_pressure_load=true"), "fault.f.pore_pressure_load", BOTH),
+    ("a fault pore pressure load without a pore pressure", HERTZ, s("fault.f.pore_pressure_load=true"),
+     "fault.f.pore_pressure_load", BOTH),
+    ("an unknown fault flow", HERTZ, s("fault.f.flow=leaky"), "fault.f.flow", BOTH),
+    ("a sealing fault without flow", HERTZ, s("fault.f.flow=sealing"), "fault.f.flow", BOTH),
+    ("a fault held at no pressure", FRACTURE, s("fault.f.flow=pressure"), "fault.f.pressure", BOTH),
+    ("a zero fault normal", HERTZ, s("fault.f.normal=[0, 0]"), "fault.f.normal", BOTH),
+    ("an infinite fault normal", HERTZ, s("fault.f.normal=[inf, 1]"), "fault.f.normal", BOTH),
+    ("a fault normal of the wrong length", HERTZ, s("fault.f.normal=[0, 0, 1]"), "fault.f.normal", BOTH),
+    ("an unknown fault key", HERTZ, s("fault.f.aperture=1e-3"), "fault.f.aperture", BOTH),
+    ("a fault that is no table", HERTZ, s("fault.f=1"), "fault.f", BOTH),
+    # a given pore pressure (one-way coupling)
+    ("a given pore pressure with flow", DEFAULT, s("mechanics.pore_pressure=1e5", "mechanics.alpha=1.0"),
+     "mechanics.pore_pressure", BOTH),
+    ("a given pore pressure without alpha", ELASTIC, s("mechanics.pore_pressure=1e5"), "mechanics.alpha", BOTH),
+    ("mechanics.alpha without a given pore pressure", ELASTIC, s("mechanics.alpha=0.8"), "mechanics.alpha", BOTH),
+    ("mechanics.alpha = 0", ELASTIC, s("mechanics.pore_pressure=1e5", "mechanics.alpha=0.0"), "mechanics.alpha",
+     BOTH),
+    ("mechanics.alpha > 1", ELASTIC, s("mechanics.pore_pressure=1e5", "mechanics.alpha=1.5"), "mechanics.alpha",
+     BOTH),
+    ("a NaN given pore pressure", ELASTIC, s("mechanics.pore_pressure='sqrt(-1-x)'", "mechanics.alpha=1.0"),
+     "mechanics.pore_pressure", BOTH),
+    ("an infinite given pore pressure at the end", ELASTIC,
+     s("mechanics.pore_pressure='1e5/(t-1)'", "mechanics.alpha=1.0"), "mechanics.pore_pressure", BOTH),
     ("a closed form with regions", scene("terzaghi"), s("region.r.where='y > 5'", "region.r.G=2e9"),
      "reference.solution", BOTH),
     # too large

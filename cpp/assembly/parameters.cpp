@@ -11,8 +11,9 @@ using dolfinx::fem::Constant;
 
 namespace
 {
-/// The parameters of one material: its moduli, storage, alpha and the L
-/// that coupling.L chooses for them.
+/// The parameters of one material: its moduli, storage, alpha (coupling.alpha,
+/// or mechanics.alpha of a given pore pressure) and the L that coupling.L
+/// chooses for them.
 Parameters material_parameters(const Scene& scene, const MechanicsSpec* mechanics, const FlowSpec* flow,
                                double alpha)
 {
@@ -27,10 +28,10 @@ Parameters material_parameters(const Scene& scene, const MechanicsSpec* mechanic
   }
   if (flow)
     parameters.storage = flow->storage();
+  parameters.alpha = alpha;
   if (scene.coupling)
   {
     const CouplingSpec& c = *scene.coupling;
-    parameters.alpha = alpha;
     parameters.q = c.q;
     const double a2 = parameters.alpha * parameters.alpha;
     if (c.L_choice == LChoice::paper)
@@ -52,8 +53,8 @@ const FlowSpec* pointer(const std::optional<FlowSpec>& f) { return f ? &*f : nul
 
 Parameters derive_parameters(const Scene& scene)
 {
-  return material_parameters(scene, pointer(scene.mechanics), pointer(scene.flow),
-                             scene.coupling ? scene.coupling->alpha : 0.0);
+  const double alpha = scene.coupling ? scene.coupling->alpha : scene.mechanics ? scene.mechanics->alpha : 0.0;
+  return material_parameters(scene, pointer(scene.mechanics), pointer(scene.flow), alpha);
 }
 
 Parameters derive_parameters(const Scene& scene, const RegionSpec& region)

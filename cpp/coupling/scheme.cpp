@@ -54,6 +54,7 @@ void Scheme::make_split(const Problem& problem)
   {
     _mechanics = std::make_unique<MechanicsStep>(problem, V, p);
     u = _mechanics->u;
+    given_pressure = _mechanics->given_pressure;
     take_contact_fields(*_mechanics);
     _steps.push_back(_mechanics.get());
   }

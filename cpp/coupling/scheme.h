@@ -48,6 +48,9 @@ public:
 
   std::shared_ptr<const dolfinx::fem::FunctionSpace> V; // displacement space (null without mechanics)
   std::shared_ptr<dolfinx::fem::Function<double>> u, p, contact_pressure, contact_active, contact_boundary;
+  /// The pore pressure mechanics.pore_pressure gives (one-way coupling),
+  /// null otherwise: sigma_v's pressure where there is no flow.
+  std::shared_ptr<const dolfinx::fem::Function<double>> given_pressure;
   std::function<void(dolfinx::fem::Function<double>&)> compute_flux;
   std::function<ContactState()> compute_contact = [] { return ContactState{}; };
   std::unique_ptr<StepControl> step_control; // time.adaptive

@@ -364,6 +364,8 @@ void add_volume_uses(const Scene& scene, const std::vector<double>& midpoints, s
   if (scene.mechanics and scene.mechanics->body_force)
     for (const Expression& e : *scene.mechanics->body_force)
       uses.push_back({"mechanics.body_force", &e, &midpoints, true});
+  if (scene.mechanics and scene.mechanics->pore_pressure)
+    uses.push_back({"mechanics.pore_pressure", &*scene.mechanics->pore_pressure, &midpoints, true});
   if (scene.flow)
   {
     if (scene.flow->source)

@@ -29,7 +29,7 @@ OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& outpu
   auto Q0 = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, 1));
   _sigma_v = std::make_shared<fem::Function<double>>(Q0);
   _sigma_v->name = "sigma_v";
-  if (!scheme.p)
+  if (!scheme.p and !scheme.given_pressure)
     _zero_pressure = std::make_shared<fem::Function<double>>(Q0);
   if (scheme.contact_pressure)
   {
@@ -50,8 +50,9 @@ void OutputFields::write_flow(double t)
 void OutputFields::write_mechanics(double t)
 {
   contact = _scheme.compute_contact();
-  volumetric_stress(_problem.forms, _problem.constants, _problem.materials, _scheme.u,
-                    _scheme.p ? _scheme.p : _zero_pressure, *_sigma_v);
+  const std::shared_ptr<const fem::Function<double>> p
+      = _scheme.p ? _scheme.p : _scheme.given_pressure ? _scheme.given_pressure : _zero_pressure;
+  volumetric_stress(_problem.forms, _problem.constants, _problem.materials, _scheme.u, p, *_sigma_v);
   _output.write(*_scheme.u, t);
   _output.write(*_sigma_v, t);
   if (_scheme.contact_pressure)

@@ -125,6 +125,21 @@ struct Choices<SolverChoice>
       {{SolverChoice::direct, "direct"}, {SolverChoice::iterative, "iterative"}, {SolverChoice::automatic, "auto"}}};
 };
 
+/// fault.NAME.flow: what the fault is to the flow (issue 37): no obstacle
+/// ("transparent"), a barrier ("sealing"), or held at its `pressure`.
+enum class FaultFlow
+{
+  transparent,
+  sealing,
+  pressure
+};
+template <>
+struct Choices<FaultFlow>
+{
+  static constexpr std::array<std::pair<FaultFlow, const char*>, 3> names{
+      {{FaultFlow::transparent, "transparent"}, {FaultFlow::sealing, "sealing"}, {FaultFlow::pressure, "pressure"}}};
+};
+
 /// The closed form of [reference].
 enum class ReferenceSolution
 {

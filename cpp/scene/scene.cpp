@@ -186,6 +186,21 @@ void positive(Section& s, const std::string& key, double value)
     s.fail(key, "must be a positive finite number");
 }
 
+/// mechanics.pore_pressure and its Biot coefficient mechanics.alpha: a
+/// pore pressure given as an expression loads the skeleton (one-way
+/// coupling); whether the scene may have one is read_physics's to say.
+void read_given_pore_pressure(Section& s, MechanicsSpec& m)
+{
+  m.pore_pressure = s.expression("pore_pressure");
+  if (m.pore_pressure and !s.has("alpha"))
+    s.fail("alpha", "missing (the Biot coefficient of mechanics.pore_pressure)");
+  if (!m.pore_pressure and s.has("alpha"))
+    s.fail("alpha", "needs mechanics.pore_pressure (a coupled scene gives coupling.alpha)");
+  m.alpha = s.number("alpha", 0.0);
+  if (m.pore_pressure and !(m.alpha > 0 and m.alpha <= 1))
+    s.fail("alpha", "the Biot coefficient must lie in (0, 1]");
+}
+
 MechanicsSpec read_mechanics(Section s, int d)
 {
   MechanicsSpec m;
@@ -216,6 +231,7 @@ MechanicsSpec read_mechanics(Section s, int d)
   if (s.has("body_force"))
     m.body_force = s.expression_vector("body_force", d);
   m.initial_equilibrium = s.boolean("initial_equilibrium", false);
+  read_given_pore_pressure(s, m);
   s.finish();
   return m;
 }
@@ -410,6 +426,9 @@ void read_physics(Section& top, Scene& scene)
     scene.flow = read_flow(top.table("flow", true), d);
   if (!scene.mechanics and !scene.flow)
     top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)");
+  if (scene.flow and scene.mechanics and scene.mechanics->pore_pressure)
+    top.fail("mechanics.pore_pressure", "a given pore pressure is for a scene without [flow] (here the flow "
+                                        "computes it)");
   if (scene.mechanics and scene.flow)
     scene.coupling = read_coupling(top.table("coupling", true), *scene.mechanics, *scene.flow);
   else if (top.has("coupling"))
@@ -672,6 +691,8 @@ void read_regions(Section regions, const toml::table& root, Scene& scene)
       if (scene.coupling->L_choice == LChoice::paper and !(r.mechanics->lambda > 0))
         s.fail("lambda", "coupling.L = \"paper\" (alpha^2/lambda) needs lambda > 0; use \"kdr\"");
     }
+    else if (r.mechanics)
+      r.alpha = r.mechanics->alpha; // mechanics.pore_pressure's, which a region does not replace
     s.finish();
     scene.regions[name] = r;
   }
@@ -698,12 +719,61 @@ void read_boundaries(Section boundaries, Scene& scene)
       boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]");
     if (!scene.flow and b.flow != BoundarySpec::Flow::no_flow)
       boundaries.fail(name, "flow boundary condition in a scene without [flow]");
-    if (b.pore_pressure_load and !scene.coupling)
-      boundaries.fail(name + ".pore_pressure_load", "needs a coupled scene (the pore pressure of [flow] on a face "
-                                                    "of [mechanics])");
+    if (b.pore_pressure_load and !scene.coupling and !(scene.mechanics and scene.mechanics->pore_pressure))
+      boundaries.fail(name + ".pore_pressure_load", "needs a pore pressure: a coupled scene, or "
+                                                    "mechanics.pore_pressure");
     scene.boundaries[name] = b;
   }
   boundaries.finish();
+}
+
+/// fault.NAME: the gap, the fluid pressure in the fault or the pore pressure
+/// beside it, what the fault is to the flow, and the normal's hint.
+FaultSpec read_fault(Section s, const Scene& scene)
+{
+  FaultSpec f;
+  f.gap = s.expression("gap").value_or(Expression(0.0));
+  if (f.gap.depends_on_time())
+    s.fail("gap", "must not depend on t");
+  f.pressure = s.expression("pressure");
+  f.pore_pressure_load = s.boolean("pore_pressure_load", false);
+  if (f.pore_pressure_load and f.pressure)
+    s.fail("pore_pressure_load", "give pressure or pore_pressure_load, not both");
+  if (f.pore_pressure_load and !scene.flow and !(scene.mechanics and scene.mechanics->pore_pressure))
+    s.fail("pore_pressure_load", "needs a pore pressure: [flow], or mechanics.pore_pressure");
+  f.flow = s.choice<FaultFlow>("flow", FaultFlow::transparent);
+  if (f.flow != FaultFlow::transparent and !scene.flow)
+    s.fail("flow", "\"" + std::string(name_of(f.flow)) + "\" in a scene without [flow]");
+  if (f.flow == FaultFlow::pressure and !f.pressure)
+    s.fail("pressure", "missing (flow = \"pressure\" holds the fault at this pressure)");
+  const std::size_t d = scene.mesh.dimension;
+  f.normal = std::vector<double>(d, 0.0);
+  f.normal.back() = 1.0;
+  if (s.has("normal"))
+    f.normal = s.number_vector("normal", d);
+  const double length = std::inner_product(f.normal.begin(), f.normal.end(), f.normal.begin(), 0.0);
+  if (!(length > 0 and std::isfinite(length)))
+    s.fail("normal", "must be a non-zero finite vector");
+  s.finish();
+  return f;
+}
+
+/// [fault.NAME]: faults lie inside a gmsh mesh, on groups that are not
+/// boundaries. That NAME is an interior group of the mesh, and the gap
+/// >= 0 at its nodes, are checked where the mesh is split along it.
+void read_faults(Section faults, Scene& scene)
+{
+  for (const std::string& name : faults.keys())
+  {
+    Section s = faults.table(name, true);
+    if (scene.mesh.type != MeshType::gmsh)
+      faults.fail(name, "a fault is an interior physical group of a gmsh mesh (mesh.type = \"gmsh\")");
+    if (scene.boundaries.count(name))
+      faults.fail(name, "also given as [boundary." + name + "]: a physical group is a boundary or a fault, "
+                        "not both");
+    scene.faults[name] = read_fault(s, scene);
+  }
+  faults.finish();
 }
 
 /// Mandel's rigid frictionless plate goes on the boundary `ref.plate`,
@@ -832,6 +902,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   read_output(top.table("output", false), scene);
   read_solver(top.table("solver", false), scene.solver);
   read_boundaries(top.table("boundary", false), scene);
+  read_faults(top.table("fault", false), scene);
   read_wells(top.table("well", false), scene);
   read_regions(top.table("region", false), root, scene);
   if (top.has("reference"))

@@ -97,6 +97,28 @@ struct MechanicsSpec
   /// Start from the displacement in equilibrium with the loads at t = 0 and
   /// the initial pressure (a geostatic initialisation), instead of u = 0.
   bool initial_equilibrium = false;
+  /// A given pore pressure (of x, y, z, t) loading the skeleton in a scene
+  /// without [flow]: one-way coupling, for depletion studies. `alpha` is its
+  /// Biot coefficient (0 without it).
+  std::optional<Expression> pore_pressure;
+  double alpha = 0;
+};
+
+/// @brief A fault ([fault.NAME], issue 37): an interior physical group of a
+/// gmsh mesh whose two faces may open and slide. The scene reader reads and
+/// checks it; the split of the mesh along it and the contact of its faces
+/// use it.
+struct FaultSpec
+{
+  Expression gap;                     // the initial normal aperture g0, of x, y, z
+  std::optional<Expression> pressure; // the fluid pressure in the fault, pushing both faces apart (x, y, z, t)
+  /// The pore pressure of the cells beside each face pushes on it (not
+  /// with `pressure`).
+  bool pore_pressure_load = false;
+  FaultFlow flow = FaultFlow::transparent;
+  /// d numbers: the hint that orients the fault's normal; its + side is the
+  /// side the normal points into.
+  std::vector<double> normal;
 };
 
 /// Permeability: a scalar (number or expression evaluated at cell midpoints)
@@ -188,6 +210,7 @@ struct Scene
   std::map<std::string, BoundarySpec> boundaries;
   std::map<std::string, WellSpec> wells;
   std::map<std::string, RegionSpec> regions; // cells in no region take the top-level values
+  std::map<std::string, FaultSpec> faults;
   std::optional<MechanicsSpec> mechanics;
   std::optional<FlowSpec> flow;
   std::optional<CouplingSpec> coupling; // present iff mechanics and flow

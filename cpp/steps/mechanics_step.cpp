@@ -28,6 +28,16 @@ MechanicsStep::MechanicsStep(const Problem& problem, std::shared_ptr<const fem::
   _bcs = displacement_bcs(scene, domain, _V, _bc_values);
   _a = make_form(forms.a_elastic, {_V, _V}, materials.coefficients, constants);
   make_loads(domain, forms, constants);
+  if (!pressure and scene.mechanics->pore_pressure)
+  {
+    // One-way coupling: the pressure is given, taken in P0 at the cell
+    // midpoints as the flow's would be, and loads the skeleton through the
+    // same operator as the flow's.
+    given_pressure = std::make_shared<fem::Function<double>>(std::make_shared<fem::FunctionSpace>(
+        fem::create_functionspace(forms.material_space, "G", domain.mesh)));
+    interpolate(*given_pressure, {*scene.mechanics->pore_pressure}, 0.0);
+    pressure = given_pressure;
+  }
   if (pressure)
   {
     // The pressure load (alpha p, div v) is applied as an operator on p.
@@ -93,6 +103,8 @@ void MechanicsStep::assemble_rhs(double t)
   // iteration: one product with its operator, whose Dirichlet rows are zero.
   const la::Vector<double>& loads = _loads->at(t);
   std::copy(loads.array().begin(), loads.array().end(), _b->mutable_array().begin());
+  if (given_pressure)
+    interpolate(*given_pressure, {*_scene.mechanics->pore_pressure}, t);
   if (_pressure_load)
     multiply_add(_pressure_load->mat(), *_pressure->x(), *_b);
 }

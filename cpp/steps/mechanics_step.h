@@ -29,7 +29,8 @@ class MechanicsStep : public Step
 {
 public:
   /// `V` is the P1 displacement space; `pressure` the pore pressure of a
-  /// coupled scene, null otherwise.
+  /// coupled scene, null otherwise (then the step makes `given_pressure`
+  /// from mechanics.pore_pressure, if the scene gives one).
   MechanicsStep(const Problem& problem, std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
                 std::shared_ptr<const dolfinx::fem::Function<double>> pressure);
   ~MechanicsStep();
@@ -66,6 +67,9 @@ public:
   System& system() override { return *_system; }
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;
+  /// One-way coupling: the pore pressure mechanics.pore_pressure gives, in
+  /// P0 at the cell midpoints, at the time of the last solve; null otherwise.
+  std::shared_ptr<dolfinx::fem::Function<double>> given_pressure;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 

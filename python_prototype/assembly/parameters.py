@@ -23,7 +23,8 @@ class Parameters:
 
 
 def _material_parameters(scene, mechanics, flow, alpha):
-    """The parameters of one material: its moduli, storage, alpha and the L
+    """The parameters of one material: its moduli, storage, alpha
+    (coupling.alpha, or mechanics.alpha of a given pore pressure) and the L
     that coupling.L chooses for them."""
     parameters = Parameters(d=scene.mesh.dimension, dt=scene.dt)
     if mechanics:
@@ -31,9 +32,10 @@ def _material_parameters(scene, mechanics, flow, alpha):
         parameters.K_dr = parameters.lmbda + 2 * parameters.G / parameters.d
     if flow:
         parameters.storage = flow.storage()
+    parameters.alpha = alpha
     if scene.coupling:
         c = scene.coupling
-        parameters.alpha, parameters.q = alpha, c.q
+        parameters.q = c.q
         a2 = parameters.alpha * parameters.alpha
         parameters.L = {LChoice.paper: lambda: a2 / parameters.lmbda, LChoice.kdr: lambda: a2 / parameters.K_dr,
                         LChoice.half_kdr: lambda: a2 / (2 * parameters.K_dr)}.get(c.L_choice, lambda: c.L_number)()
@@ -44,8 +46,8 @@ def _material_parameters(scene, mechanics, flow, alpha):
 def derive_parameters(scene, region=None):
     """The parameters of the scene's top-level material, or of a region's."""
     if region is None:
-        return _material_parameters(scene, scene.mechanics, scene.flow,
-                                    scene.coupling.alpha if scene.coupling else 0.0)
+        alpha = scene.coupling.alpha if scene.coupling else scene.mechanics.alpha if scene.mechanics else 0.0
+        return _material_parameters(scene, scene.mechanics, scene.flow, alpha)
     return _material_parameters(scene, region.mechanics, region.flow, region.alpha)
 
 

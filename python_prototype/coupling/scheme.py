@@ -24,6 +24,9 @@ class Scheme:
     def __init__(self, problem):
         self.V = None  # displacement space (None without mechanics)
         self.u = self.p = self.contact_pressure = self.contact_active = self.contact_boundary = None
+        # The pore pressure mechanics.pore_pressure gives (one-way coupling),
+        # None otherwise: sigma_v's pressure where there is no flow.
+        self.given_pressure = None
         self.compute_flux = None
         self.compute_contact = ContactState
         self.step_control = None  # time.adaptive
@@ -88,7 +91,7 @@ class Scheme:
             self._steps.append(flow)
         if scene.mechanics:
             mechanics = MechanicsStep(problem, self.V, self.p)
-            self.u = mechanics.u
+            self.u, self.given_pressure = mechanics.u, mechanics.given_pressure
             self._take_contact_fields(mechanics)
             self._steps.append(mechanics)
         if scene.coupling and scene.coupling.scheme == CouplingScheme.multirate_two_pass:

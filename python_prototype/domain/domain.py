@@ -196,6 +196,8 @@ def check_expressions(scene, domain, comm):
         uses.append((f"well.{name}.rate", w.rate, np.array([[w.position[0], w.position[1], w.bottom]]), True))
     if scene.mechanics and scene.mechanics.body_force:
         uses += [("mechanics.body_force", e, midpoints, True) for e in scene.mechanics.body_force]
+    if scene.mechanics and scene.mechanics.pore_pressure is not None:
+        uses.append(("mechanics.pore_pressure", scene.mechanics.pore_pressure, midpoints, True))
     if scene.flow:
         if scene.flow.source is not None:
             uses.append(("flow.source", scene.flow.source, midpoints, True))

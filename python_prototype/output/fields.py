@@ -40,7 +40,8 @@ class OutputFields:
         `contact`."""
         s = self._scheme
         self.contact = s.compute_contact()
-        volumetric_stress(self._F, self._L_sigma_v, s.u, s.p, self._sigma_v)
+        volumetric_stress(self._F, self._L_sigma_v, s.u, s.p if s.p is not None else s.given_pressure,
+                          self._sigma_v)
         self._output.write(s.u, t)
         self._output.write(self._sigma_v, t)
         if s.contact_pressure is not None:

@@ -63,6 +63,14 @@ class SolverChoice(enum.Enum):
     automatic = "auto"
 
 
+class FaultFlow(enum.Enum):
+    """fault.NAME.flow: what the fault is to the flow (issue 37): no obstacle
+    ("transparent"), a barrier ("sealing"), or held at its `pressure`."""
+    transparent = "transparent"
+    sealing = "sealing"
+    pressure = "pressure"
+
+
 class ReferenceSolution(enum.Enum):
     """The closed form of [reference]."""
     terzaghi = "terzaghi"

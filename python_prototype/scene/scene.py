@@ -17,8 +17,8 @@ from typing import Optional
 from mpi4py import MPI
 
 from .expression import Expression
-from .input import (Acceleration, CouplingScheme, LChoice, MeshType, ReferenceSolution, SceneError, SolverChoice,
-                    TimeScheme, name_of)
+from .input import (Acceleration, CouplingScheme, FaultFlow, LChoice, MeshType, ReferenceSolution, SceneError,
+                    SolverChoice, TimeScheme, name_of)
 from .section import Section, apply_override
 
 MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
@@ -76,6 +76,26 @@ class MechanicsSpec:
     # start from the displacement in equilibrium with the loads at t = 0
     # and the initial pressure (a geostatic initialisation), not u = 0
     initial_equilibrium: bool = False
+    # A given pore pressure (of x, y, z, t) loading the skeleton in a scene
+    # without [flow]: one-way coupling, for depletion studies. `alpha` is
+    # its Biot coefficient (0 without it).
+    pore_pressure: Optional[Expression] = None
+    alpha: float = 0.0
+
+
+@dataclass
+class FaultSpec:
+    """A fault ([fault.NAME], issue 37): an interior physical group of a gmsh
+    mesh whose two faces may open and slide. The scene reader reads and
+    checks it; the split of the mesh along it and the contact of its faces
+    use it (cpp/scene/scene.h)."""
+    gap: Expression = field(default_factory=lambda: Expression(0.0))  # the initial normal aperture g0, of x, y, z
+    pressure: Optional[Expression] = None  # the fluid pressure in the fault, pushing both faces apart (x, y, z, t)
+    pore_pressure_load: bool = False       # the pore pressure beside each face pushes on it (not with pressure)
+    flow: FaultFlow = FaultFlow.transparent
+    # d numbers: the hint that orients the fault's normal; its + side is the
+    # side the normal points into.
+    normal: list = field(default_factory=list)
 
 
 @dataclass
@@ -176,6 +196,7 @@ class Scene:
     boundaries: dict = field(default_factory=dict)  # sorted by name
     wells: dict = field(default_factory=dict)       # sorted by name
     regions: dict = field(default_factory=dict)     # sorted by name; cells in none take the top-level values
+    faults: dict = field(default_factory=dict)      # sorted by name
     mechanics: Optional[MechanicsSpec] = None
     flow: Optional[FlowSpec] = None
     coupling: Optional[CouplingSpec] = None
@@ -352,6 +373,20 @@ def _positive(s, key, value):
         s.fail(key, "must be a positive finite number")
 
 
+def _read_given_pore_pressure(s, m):
+    """mechanics.pore_pressure and its Biot coefficient mechanics.alpha: a
+    pore pressure given as an expression loads the skeleton (one-way
+    coupling); whether the scene may have one is _read_physics's to say."""
+    m.pore_pressure = s.expression("pore_pressure")
+    if m.pore_pressure is not None and not s.has("alpha"):
+        s.fail("alpha", "missing (the Biot coefficient of mechanics.pore_pressure)")
+    if m.pore_pressure is None and s.has("alpha"):
+        s.fail("alpha", "needs mechanics.pore_pressure (a coupled scene gives coupling.alpha)")
+    m.alpha = s.number("alpha", 0.0)
+    if m.pore_pressure is not None and not 0 < m.alpha <= 1:
+        s.fail("alpha", "the Biot coefficient must lie in (0, 1]")
+
+
 def _read_mechanics(s, d):
     m = MechanicsSpec()
     e_nu = s.has("E") or s.has("nu")
@@ -375,6 +410,7 @@ def _read_mechanics(s, d):
     if s.has("body_force"):
         m.body_force = s.expression_vector("body_force", d)
     m.initial_equilibrium = s.boolean("initial_equilibrium", False)
+    _read_given_pore_pressure(s, m)
     s.finish()
     return m
 
@@ -519,6 +555,7 @@ def read_scene(file, overrides=()):
     _read_output(top.section("output", False), scene)
     _read_solver(top.section("solver", False), scene.solver)
     _read_boundaries(top.section("boundary", False), scene)
+    _read_faults(top.section("fault", False), scene)
     _read_wells(top.section("well", False), scene)
     _read_regions(top.section("region", False), root, scene)
     if top.has("reference"):
@@ -560,6 +597,9 @@ def _read_physics(top, scene):
         scene.flow = _read_flow(top.section("flow", True), d)
     if not scene.mechanics and not scene.flow:
         top.fail("mechanics", "a scene needs a [mechanics] or a [flow] table (or both)")
+    if scene.flow and scene.mechanics and scene.mechanics.pore_pressure is not None:
+        top.fail("mechanics.pore_pressure", "a given pore pressure is for a scene without [flow] (here the flow "
+                 "computes it)")
     if scene.mechanics and scene.flow:
         scene.coupling = _read_coupling(top.section("coupling", True), scene.mechanics, scene.flow)
     elif top.has("coupling"):
@@ -707,9 +747,9 @@ def _read_boundaries(boundaries, scene):
             boundaries.fail(name, "mechanics boundary condition in a scene without [mechanics]")
         if not scene.flow and b.flow != "no_flow":
             boundaries.fail(name, "flow boundary condition in a scene without [flow]")
-        if b.pore_pressure_load and not scene.coupling:
-            boundaries.fail(name + ".pore_pressure_load", "needs a coupled scene (the pore pressure of [flow] on a "
-                            "face of [mechanics])")
+        if b.pore_pressure_load and not scene.coupling and not (scene.mechanics and scene.mechanics.pore_pressure):
+            boundaries.fail(name + ".pore_pressure_load", "needs a pore pressure: a coupled scene, or "
+                            "mechanics.pore_pressure")
         scene.boundaries[name] = b
     boundaries.finish()
 
@@ -793,9 +833,51 @@ def _read_regions(regions, root, scene):
                 s.fail("alpha", "the Biot coefficient must lie in [0, 1]")
             if scene.coupling.L_choice == LChoice.paper and not r.mechanics.lmbda > 0:
                 s.fail("lambda", 'coupling.L = "paper" (alpha^2/lambda) needs lambda > 0; use "kdr"')
+        elif r.mechanics:
+            r.alpha = r.mechanics.alpha  # mechanics.pore_pressure's, which a region does not replace
         s.finish()
         scene.regions[name] = r
     regions.finish()
+
+
+def _read_fault(s, scene):
+    """fault.NAME: the gap, the fluid pressure in the fault or the pore
+    pressure beside it, what the fault is to the flow, and the normal's hint."""
+    f = FaultSpec(gap=s.expression("gap") or Expression(0.0))
+    if f.gap.depends_on_time:
+        s.fail("gap", "must not depend on t")
+    f.pressure = s.expression("pressure")
+    f.pore_pressure_load = s.boolean("pore_pressure_load", False)
+    if f.pore_pressure_load and f.pressure is not None:
+        s.fail("pore_pressure_load", "give pressure or pore_pressure_load, not both")
+    if f.pore_pressure_load and not scene.flow and not (scene.mechanics and scene.mechanics.pore_pressure):
+        s.fail("pore_pressure_load", "needs a pore pressure: [flow], or mechanics.pore_pressure")
+    f.flow = s.choice("flow", FaultFlow, FaultFlow.transparent)
+    if f.flow != FaultFlow.transparent and not scene.flow:
+        s.fail("flow", f'"{name_of(f.flow)}" in a scene without [flow]')
+    if f.flow == FaultFlow.pressure and f.pressure is None:
+        s.fail("pressure", 'missing (flow = "pressure" holds the fault at this pressure)')
+    d = scene.mesh.dimension
+    f.normal = s.number_vector("normal", d) if s.has("normal") else [0.0] * (d - 1) + [1.0]
+    length = sum(n * n for n in f.normal)
+    if not (length > 0 and math.isfinite(length)):
+        s.fail("normal", "must be a non-zero finite vector")
+    s.finish()
+    return f
+
+
+def _read_faults(faults, scene):
+    """[fault.NAME]: faults lie inside a gmsh mesh, on groups that are not
+    boundaries. That NAME is an interior group of the mesh, and the gap
+    >= 0 at its nodes, are checked where the mesh is split along it."""
+    for name in faults.keys():
+        s = faults.section(name, True)
+        if scene.mesh.type != MeshType.gmsh:
+            faults.fail(name, 'a fault is an interior physical group of a gmsh mesh (mesh.type = "gmsh")')
+        if name in scene.boundaries:
+            faults.fail(name, f"also given as [boundary.{name}]: a physical group is a boundary or a fault, not both")
+        scene.faults[name] = _read_fault(s, scene)
+    faults.finish()
 
 
 def _check_mandel_plate(r, scene, ref):

@@ -8,6 +8,7 @@ from dolfinx import fem
 from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
+from ..assembly.parameters import interpolate
 from ..domain.domain import pore_pressure_faces
 from ..assembly.linear_algebra import (UnknownsPart, assemble_operator, finish_rhs, multiply_add, owned,
                                        rigid_body_modes)
@@ -23,7 +24,8 @@ class MechanicsStep(Step):
 
     def __init__(self, problem, V, pressure):
         """`V` is the P1 displacement space; `pressure` the pore pressure of a
-        coupled scene, None otherwise."""
+        coupled scene, None otherwise (then the step makes `given_pressure`
+        from mechanics.pore_pressure, if the scene gives one)."""
         scene, domain, F = problem.scene, problem.domain, problem.forms
         self.scene, comm = scene, domain.mesh.comm
         self.V = V
@@ -32,6 +34,14 @@ class MechanicsStep(Step):
         self.bcs, self.bc_values = displacement_bcs(scene, domain, V)
         self.a = F.compile("a_elastic")
         self.make_loads(domain, F)
+        # One-way coupling: the pressure is given (mechanics.pore_pressure),
+        # taken in P0 at the cell midpoints as the flow's would be, and loads
+        # the skeleton through the same operator as the flow's; at the time
+        # of the last solve.
+        self.given_pressure = None
+        if pressure is None and scene.mechanics.pore_pressure is not None:
+            self.given_pressure = pressure = fem.Function(F["Q"])
+            interpolate(pressure, [scene.mechanics.pore_pressure], 0.0)
         # The pressure load (alpha p, div v), applied as an operator on p.
         self.pressure = pressure
         self.pressure_load = assemble_operator(F.compile("a_pressure_load", pore_pressure_faces(scene, domain)),
@@ -73,6 +83,8 @@ class MechanicsStep(Step):
         """The loads change with t only; the pressure load changes every
         iteration: one product with its operator, whose Dirichlet rows are zero."""
         self.b.x.array[:] = self.loads.at(t).x.array
+        if self.given_pressure is not None:
+            interpolate(self.given_pressure, [self.scene.mechanics.pore_pressure], t)
         if self.pressure_load:
             multiply_add(self.pressure_load, self.pressure, self.b)
 

@@ -2,8 +2,10 @@
 // a bad scene raises SceneError with one line "<file>: <key>: <reason>"
 // naming the key, for unknown keys, wrong types, values out of range,
 // unknown boundaries and choices, missing keys, bad expressions, output
-// times off the steps, bad files and bad --set overrides; the default
-// scene itself is read. tests/test_bad_scenes.py runs the full catalogue
+// times off the steps, bad files and bad --set overrides, faults
+// ([fault.NAME]) and a given pore pressure ([mechanics] pore_pressure and
+// alpha) where the scene cannot have them or with bad values; the default
+// scene, a fault's defaults and a given pore pressure are read. tests/test_bad_scenes.py runs the full catalogue
 // through the binary. The prototype's twin is tests/unit/test_scene.py.
 #include "scene/scene.h"
 
@@ -17,6 +19,11 @@ using namespace biotcontact;
 namespace
 {
 const std::string default_scene = std::string(BIOTCONTACT_SOURCE_DIR) + "/scenes/default.toml";
+// A gmsh scene without flow (faults need gmsh), and a coupled one.
+const std::string hertz_scene = std::string(BIOTCONTACT_SOURCE_DIR) + "/scenes/hertz.toml";
+const std::string fracture_scene = std::string(BIOTCONTACT_SOURCE_DIR) + "/scenes/fracture.toml";
+// A built-in mesh without flow.
+const std::string elastic_scene = std::string(BIOTCONTACT_SOURCE_DIR) + "/scenes/elastic_contact.toml";
 
 /// The message read_scene refuses the scene with ("" if it accepts it).
 std::string refusal(const std::string& file, const std::vector<std::string>& overrides = {})
@@ -32,14 +39,21 @@ std::string refusal(const std::string& file, const std::vector<std::string>& ove
   return "";
 }
 
-/// The default scene with `overrides` is refused with one line
+/// The scene `file` with `overrides` is refused with one line
 /// "<file>: <key>: ..." whose reason holds `reason`.
-void expect_refused(const std::vector<std::string>& overrides, const std::string& key, const std::string& reason)
+void expect_refused_in(const std::string& file, const std::vector<std::string>& overrides, const std::string& key,
+                       const std::string& reason)
 {
-  const std::string message = refusal(default_scene, overrides), head = default_scene + ": " + key + ": ";
+  const std::string message = refusal(file, overrides), head = file + ": " + key + ": ";
   EXPECT_EQ(message.rfind(head, 0), 0u) << "--set " << overrides.front() << ": \"" << message << "\"";
   EXPECT_NE(message.find(reason, head.size()), std::string::npos) << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+}
+
+/// The same for the default scene.
+void expect_refused(const std::vector<std::string>& overrides, const std::string& key, const std::string& reason)
+{
+  expect_refused_in(default_scene, overrides, key, reason);
 }
 
 /// A scratch folder for scene files, removed at the end of the test.
@@ -167,4 +181,73 @@ TEST(SceneReader, BadOverrideIsRefused)
   EXPECT_EQ(refusal(default_scene, {"mechanics"}), default_scene + ": --set mechanics: expected key.path=value");
   EXPECT_EQ(refusal(default_scene, {"=1"}), default_scene + ": --set =1: expected key.path=value");
   EXPECT_EQ(refusal(default_scene, {"mesh.type.x=1"}), default_scene + ": --set mesh.type.x: type is not a table");
+}
+
+TEST(SceneReader, ReadsFaults)
+{
+  const Scene plain = read_scene(hertz_scene, {"fault.f.flow='transparent'"});
+  const FaultSpec& f = plain.faults.at("f");
+  EXPECT_EQ(f.gap(0, 0, 0, 0), 0.0) << "gap 0 by default";
+  EXPECT_FALSE(f.pressure);
+  EXPECT_FALSE(f.pore_pressure_load);
+  EXPECT_EQ(f.flow, FaultFlow::transparent);
+  EXPECT_EQ(f.normal, (std::vector<double>{0.0, 1.0})) << "[0, 1] in 2D";
+  const Scene given = read_scene(fracture_scene, {"fault.f.gap='1e-3*x'", "fault.f.pressure='1e5*t'",
+                                                  "fault.f.flow='pressure'", "fault.f.normal=[1, 1]"});
+  const FaultSpec& g = given.faults.at("f");
+  EXPECT_EQ(g.gap(2, 0, 0, 0), 2e-3);
+  EXPECT_EQ((*g.pressure)(0, 0, 0, 3), 3e5);
+  EXPECT_EQ(g.flow, FaultFlow::pressure);
+  EXPECT_EQ(g.normal, (std::vector<double>{1.0, 1.0}));
+  EXPECT_TRUE(read_scene(fracture_scene, {"fault.f.pore_pressure_load=true"}).faults.at("f").pore_pressure_load);
+}
+
+TEST(SceneReader, FaultsWhereTheSceneCannotHaveThemAreRefused)
+{
+  expect_refused({"fault.f.gap=0.0"}, "fault.f", "a fault is an interior physical group of a gmsh mesh");
+  expect_refused_in(hertz_scene, {"fault.top.gap=0.0"}, "fault.top",
+                    "also given as [boundary.top]: a physical group is a boundary or a fault, not both");
+  expect_refused_in(hertz_scene, {"fault.f.pore_pressure_load=true"}, "fault.f.pore_pressure_load",
+                    "needs a pore pressure: [flow], or mechanics.pore_pressure");
+  expect_refused_in(hertz_scene, {"fault.f.flow='sealing'"}, "fault.f.flow", "\"sealing\" in a scene without [flow]");
+}
+
+TEST(SceneReader, BadFaultValuesAreRefused)
+{
+  expect_refused_in(hertz_scene, {"fault.f.gap='1e-3*t'"}, "fault.f.gap", "must not depend on t");
+  expect_refused_in(fracture_scene, {"fault.f.pressure=1e5", "fault.f.pore_pressure_load=true"},
+                    "fault.f.pore_pressure_load", "give pressure or pore_pressure_load, not both");
+  expect_refused_in(hertz_scene, {"fault.f.flow='leaky'"}, "fault.f.flow",
+                    "must be \"transparent\", \"sealing\" or \"pressure\", got \"leaky\"");
+  expect_refused_in(fracture_scene, {"fault.f.flow='pressure'"}, "fault.f.pressure",
+                    "missing (flow = \"pressure\" holds the fault at this pressure)");
+  expect_refused_in(hertz_scene, {"fault.f.normal=[0, 0]"}, "fault.f.normal", "must be a non-zero finite vector");
+  expect_refused_in(hertz_scene, {"fault.f.normal=[inf, 1]"}, "fault.f.normal", "must be a non-zero finite vector");
+  expect_refused_in(hertz_scene, {"fault.f.normal=[0, 0, 1]"}, "fault.f.normal", "must be an array of 2 numbers");
+  expect_refused_in(hertz_scene, {"fault.f.aperture=1e-3"}, "fault.f.aperture", "unknown key");
+}
+
+TEST(SceneReader, ReadsAGivenPorePressure)
+{
+  const Scene s = read_scene(elastic_scene, {"mechanics.pore_pressure='-1e6*t'", "mechanics.alpha=0.8",
+                                             "boundary.bottom.pore_pressure_load=true"});
+  ASSERT_TRUE(s.mechanics->pore_pressure);
+  EXPECT_EQ((*s.mechanics->pore_pressure)(0, 0, 0, 2), -2e6);
+  EXPECT_EQ(s.mechanics->alpha, 0.8);
+  EXPECT_TRUE(s.boundaries.at("bottom").pore_pressure_load) << "the face takes the given pressure";
+}
+
+TEST(SceneReader, BadGivenPorePressureIsRefused)
+{
+  expect_refused({"mechanics.pore_pressure=1e5", "mechanics.alpha=1.0"}, "mechanics.pore_pressure",
+                 "a given pore pressure is for a scene without [flow] (here the flow computes it)");
+  expect_refused_in(elastic_scene, {"mechanics.pore_pressure=1e5"}, "mechanics.alpha",
+                    "missing (the Biot coefficient of mechanics.pore_pressure)");
+  expect_refused_in(elastic_scene, {"mechanics.alpha=0.8"}, "mechanics.alpha",
+                    "needs mechanics.pore_pressure (a coupled scene gives coupling.alpha)");
+  for (const char* alpha : {"mechanics.alpha=0.0", "mechanics.alpha=1.5"})
+    expect_refused_in(elastic_scene, {"mechanics.pore_pressure=1e5", alpha}, "mechanics.alpha",
+                      "the Biot coefficient must lie in (0, 1]");
+  expect_refused_in(elastic_scene, {"boundary.bottom.pore_pressure_load=true"}, "boundary.bottom.pore_pressure_load",
+                    "needs a pore pressure: a coupled scene, or mechanics.pore_pressure");
 }

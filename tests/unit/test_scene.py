@@ -3,9 +3,12 @@
 tests/unit/test_scene.cpp: a bad scene raises SceneError with one line
 "<file>: <key>: <reason>" naming the key, for unknown keys, wrong types,
 values out of range, unknown boundaries and choices, missing keys, bad
-expressions, output times off the steps, bad files and bad --set overrides;
-the default scene itself is read. tests/test_bad_scenes.py runs the full
-catalogue through both tracks' command lines."""
+expressions, output times off the steps, bad files and bad --set overrides,
+faults ([fault.NAME]) and a given pore pressure ([mechanics] pore_pressure
+and alpha) where the scene cannot have them or with bad values; the default
+scene, a fault's defaults and a given pore pressure are read.
+tests/test_bad_scenes.py runs the full catalogue through both tracks'
+command lines."""
 import math
 import os
 import sys
@@ -14,9 +17,13 @@ import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402  (the repository on sys.path, a scratch temporary folder)
+from python_prototype.scene.input import FaultFlow  # noqa: E402
 from python_prototype.scene.scene import SceneError, read_scene  # noqa: E402
 
 DEFAULT = support.scene("default")
+# A gmsh scene without flow (faults need gmsh), and a coupled one.
+HERTZ, FRACTURE = support.scene("hertz"), support.scene("fracture")
+ELASTIC = support.scene("elastic_contact")  # a built-in mesh without flow
 with open(DEFAULT) as f:
     TEXT = f.read()
 
@@ -38,13 +45,17 @@ def written(text):
 
 
 class SceneReader(unittest.TestCase):
-    def expect_refused(self, overrides, key, reason):
-        """The default scene with `overrides` is refused with one line
+    def expect_refused_in(self, file, overrides, key, reason):
+        """The scene `file` with `overrides` is refused with one line
         "<file>: <key>: ..." whose reason holds `reason`."""
-        message, head = refusal(DEFAULT, overrides), f"{DEFAULT}: {key}: "
+        message, head = refusal(file, overrides), f"{file}: {key}: "
         self.assertTrue(message.startswith(head), f"--set {overrides[0]}: {message!r}")
         self.assertIn(reason, message[len(head):])
         self.assertNotIn("\n", message, "one line")
+
+    def expect_refused(self, overrides, key, reason):
+        """The same for the default scene."""
+        self.expect_refused_in(DEFAULT, overrides, key, reason)
 
     def test_reads_the_default_scene(self):
         s = read_scene(DEFAULT)
@@ -117,6 +128,64 @@ class SceneReader(unittest.TestCase):
         self.assertEqual(refusal(DEFAULT, ["mechanics"]), f"{DEFAULT}: --set mechanics: expected key.path=value")
         self.assertEqual(refusal(DEFAULT, ["=1"]), f"{DEFAULT}: --set =1: expected key.path=value")
         self.assertEqual(refusal(DEFAULT, ["mesh.type.x=1"]), f"{DEFAULT}: --set mesh.type.x: type is not a table")
+
+    def test_reads_faults(self):
+        f = read_scene(HERTZ, ["fault.f.flow='transparent'"]).faults["f"]
+        self.assertEqual(f.gap(0, 0, 0, 0), 0.0, "gap 0 by default")
+        self.assertIsNone(f.pressure)
+        self.assertFalse(f.pore_pressure_load)
+        self.assertEqual(f.flow, FaultFlow.transparent)
+        self.assertEqual(f.normal, [0.0, 1.0], "[0, 1] in 2D")
+        g = read_scene(FRACTURE, ["fault.f.gap='1e-3*x'", "fault.f.pressure='1e5*t'", "fault.f.flow='pressure'",
+                                  "fault.f.normal=[1, 1]"]).faults["f"]
+        self.assertEqual(g.gap(2, 0, 0, 0), 2e-3)
+        self.assertEqual(g.pressure(0, 0, 0, 3), 3e5)
+        self.assertEqual(g.flow, FaultFlow.pressure)
+        self.assertEqual(g.normal, [1.0, 1.0])
+        self.assertTrue(read_scene(FRACTURE, ["fault.f.pore_pressure_load=true"]).faults["f"].pore_pressure_load)
+
+    def test_faults_where_the_scene_cannot_have_them_are_refused(self):
+        self.expect_refused(["fault.f.gap=0.0"], "fault.f", "a fault is an interior physical group of a gmsh mesh")
+        self.expect_refused_in(HERTZ, ["fault.top.gap=0.0"], "fault.top",
+                               "also given as [boundary.top]: a physical group is a boundary or a fault, not both")
+        self.expect_refused_in(HERTZ, ["fault.f.pore_pressure_load=true"], "fault.f.pore_pressure_load",
+                               "needs a pore pressure: [flow], or mechanics.pore_pressure")
+        self.expect_refused_in(HERTZ, ["fault.f.flow='sealing'"], "fault.f.flow", '"sealing" in a scene without [flow]')
+
+    def test_bad_fault_values_are_refused(self):
+        self.expect_refused_in(HERTZ, ["fault.f.gap='1e-3*t'"], "fault.f.gap", "must not depend on t")
+        self.expect_refused_in(FRACTURE, ["fault.f.pressure=1e5", "fault.f.pore_pressure_load=true"],
+                               "fault.f.pore_pressure_load", "give pressure or pore_pressure_load, not both")
+        self.expect_refused_in(HERTZ, ["fault.f.flow='leaky'"], "fault.f.flow",
+                               'must be "transparent", "sealing" or "pressure", got "leaky"')
+        self.expect_refused_in(FRACTURE, ["fault.f.flow='pressure'"], "fault.f.pressure",
+                               'missing (flow = "pressure" holds the fault at this pressure)')
+        self.expect_refused_in(HERTZ, ["fault.f.normal=[0, 0]"], "fault.f.normal", "must be a non-zero finite vector")
+        self.expect_refused_in(HERTZ, ["fault.f.normal=[inf, 1]"], "fault.f.normal",
+                               "must be a non-zero finite vector")
+        self.expect_refused_in(HERTZ, ["fault.f.normal=[0, 0, 1]"], "fault.f.normal", "must be an array of 2 numbers")
+        self.expect_refused_in(HERTZ, ["fault.f.aperture=1e-3"], "fault.f.aperture", "unknown key")
+
+    def test_reads_a_given_pore_pressure(self):
+        s = read_scene(ELASTIC, ["mechanics.pore_pressure='-1e6*t'", "mechanics.alpha=0.8",
+                                 "boundary.bottom.pore_pressure_load=true"])
+        self.assertEqual(s.mechanics.pore_pressure(0, 0, 0, 2), -2e6)
+        self.assertEqual(s.mechanics.alpha, 0.8)
+        self.assertTrue(s.boundaries["bottom"].pore_pressure_load, "the face takes the given pressure")
+
+    def test_bad_given_pore_pressure_is_refused(self):
+        self.expect_refused(["mechanics.pore_pressure=1e5", "mechanics.alpha=1.0"], "mechanics.pore_pressure",
+                            "a given pore pressure is for a scene without [flow] (here the flow computes it)")
+        self.expect_refused_in(ELASTIC, ["mechanics.pore_pressure=1e5"], "mechanics.alpha",
+                               "missing (the Biot coefficient of mechanics.pore_pressure)")
+        self.expect_refused_in(ELASTIC, ["mechanics.alpha=0.8"], "mechanics.alpha",
+                               "needs mechanics.pore_pressure (a coupled scene gives coupling.alpha)")
+        for alpha in ("mechanics.alpha=0.0", "mechanics.alpha=1.5"):
+            self.expect_refused_in(ELASTIC, ["mechanics.pore_pressure=1e5", alpha], "mechanics.alpha",
+                                   "the Biot coefficient must lie in (0, 1]")
+        self.expect_refused_in(ELASTIC, ["boundary.bottom.pore_pressure_load=true"],
+                               "boundary.bottom.pore_pressure_load",
+                               "needs a pore pressure: a coupled scene, or mechanics.pore_pressure")
 
 
 if __name__ == "__main__":
