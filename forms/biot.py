@@ -108,7 +108,7 @@ def _data(domain, o, coefficient, constant):
             "p_old": coefficient(Q),              # the pressure of the previous time (monolithic)
             "u_old": coefficient(V),              # the displacement of the previous time (monolithic)
             "source": coefficient(D),             # Q
-            "p_boundary": coefficient(D)}         # p_D on the marked boundary
+            "p_boundary": coefficient(D)}         # p_D on the marked boundary (or a fault's faces)
     # The fields of the output and of the closed-form errors.
     data.update(u_out=coefficient(V), p_out=coefficient(Q),
                 p_reference=coefficient(o["D2"]), u_reference=coefficient(o["D2v"]))
@@ -131,7 +131,7 @@ class _Terms:
     def pressure_load(self, p, v):  # (alpha p, div v): the pore pressure on the skeleton
         return self.o["alpha"] * p * div(v) * dx
 
-    def face_pressure(self, p, v):  # -<p n, v> on the marked faces: the pore pressure pushing on a fracture face
+    def face_pressure(self, p, v):  # -<p n, v> on the marked faces: a fluid pressure pushing on a fracture face
         return -p * dot(v, self.n) * ufl.ds(BOUNDARY)
 
     def darcy(self, z, p, w):       # (mu_f K^-1 z, w) - (p, div w)
@@ -174,6 +174,8 @@ def _mechanics_forms(o, terms):
         "L_body_force": terms.body(v),
         "L_body_force_cells": terms.body(v, "body_force_cells"),
         "L_traction": terms.surface_traction(v),
+        # A fault's fluid pressure on its two faces (p_boundary, given).
+        "L_face_pressure": terms.face_pressure(o["p_boundary"], v),
         # The lumped boundary measure of each node on Gamma_3, to turn the
         # nodal contact force into a contact pressure.
         "L_lumped_boundary": inner(o["ones"], v) * ufl.ds(BOUNDARY),
@@ -237,6 +239,7 @@ def _monolithic_forms(o, terms):
         "L_monolithic_body_force": terms.body(v),
         "L_monolithic_body_force_cells": terms.body(v, "body_force_cells"),
         "L_monolithic_traction": terms.surface_traction(v),
+        "L_monolithic_face_pressure": terms.face_pressure(o["p_boundary"], v),
         "L_monolithic_source": terms.source(th),
         "L_monolithic_pressure": terms.boundary_pressure(w),
         "L_monolithic_gravity": terms.gravity(w),

@@ -36,7 +36,15 @@ void Loads::add_boundary(
     const std::function<std::shared_ptr<const fem::Form<double>>(const mesh::MeshTags<std::int32_t>*)>& make,
     std::shared_ptr<fem::Function<double>> data, std::vector<Expression> expressions)
 {
-  _markers.push_back(domain.marker(name));
+  add_on_facets(domain.marker(name), make, std::move(data), std::move(expressions));
+}
+
+void Loads::add_on_facets(
+    std::shared_ptr<const mesh::MeshTags<std::int32_t>> marker,
+    const std::function<std::shared_ptr<const fem::Form<double>>(const mesh::MeshTags<std::int32_t>*)>& make,
+    std::shared_ptr<fem::Function<double>> data, std::vector<Expression> expressions)
+{
+  _markers.push_back(std::move(marker));
   add(make(_markers.back().get()), std::move(data), std::move(expressions));
 }
 

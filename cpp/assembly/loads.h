@@ -52,6 +52,13 @@ public:
                         const dolfinx::mesh::MeshTags<std::int32_t>*)>& make,
                     std::shared_ptr<dolfinx::fem::Function<double>> data, std::vector<Expression> expressions);
 
+  /// Adds the term of a load on the facets `marker` marks: `make(marker)`
+  /// builds its form.
+  void add_on_facets(std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> marker,
+                     const std::function<std::shared_ptr<const dolfinx::fem::Form<double>>(
+                         const dolfinx::mesh::MeshTags<std::int32_t>*)>& make,
+                     std::shared_ptr<dolfinx::fem::Function<double>> data, std::vector<Expression> expressions);
+
   /// Something else of the step's right-hand side depends on time (Dirichlet values).
   void depends_on_time(bool dependence) { _time_dependent = _time_dependent or dependence; }
 

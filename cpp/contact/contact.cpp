@@ -1,5 +1,8 @@
 #include "contact/contact.h"
 
+#include "contact/fault_pair.h"
+#include "contact/foundation_pair.h"
+
 #include "assembly/linear_algebra.h"
 
 #include <algorithm>
@@ -15,225 +18,6 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
-std::shared_ptr<fem::Function<double>> contact_boundary_flag(const ContactSet& set)
-{
-  auto flag = std::make_shared<fem::Function<double>>(set.output_space);
-  std::span<double> values = flag->x()->mutable_array();
-  for (std::int32_t dof : set.output_dofs)
-    values[dof] = 1.0;
-  flag->x()->scatter_fwd();
-  flag->name = "contact_boundary";
-  return flag;
-}
-
-void make_contact_fields(const ContactSet& set, std::shared_ptr<fem::Function<double>>& pressure,
-                         std::shared_ptr<fem::Function<double>>& active, std::shared_ptr<fem::Function<double>>& boundary)
-{
-  pressure = std::make_shared<fem::Function<double>>(set.output_space);
-  active = std::make_shared<fem::Function<double>>(set.output_space);
-  boundary = contact_boundary_flag(set);
-}
-
-namespace
-{
-/// A constraint of one contact boundary at one node, before the nodes on
-/// several boundaries are merged.
-struct Candidate
-{
-  std::array<double, 3> normal;
-  double gap, lumped;
-  std::int32_t output_dof;
-  int boundary; // in ContactSet::boundaries
-};
-
-/// Flags of the DOFs of V (unrolled, local) whose value a displacement
-/// condition prescribes.
-std::vector<char> prescribed_dofs(const Scene& scene, const Domain& domain, const fem::FunctionSpace& V)
-{
-  const auto& map = *V.dofmap()->index_map;
-  const int bs = V.dofmap()->index_map_bs();
-  std::vector<char> prescribed(bs * (map.size_local() + map.num_ghosts()), 0);
-  for (const auto& [name, b] : scene.boundaries)
-    for (int i = 0; i < domain.dim(); ++i)
-      if (b.displacement[i])
-        for (std::int32_t dof : fem::locate_dofs_topological(*V.sub({i}), domain.dim() - 1, domain.boundaries.at(name)))
-          prescribed[dof] = 1;
-  return prescribed;
-}
-
-/// The lumped boundary measure of each DOF of V on `facets`: the integral
-/// of its hat function over them.
-la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& forms,
-                                  std::shared_ptr<const fem::FunctionSpace> V, std::vector<std::int32_t> facets)
-{
-  auto marker = std::make_shared<mesh::MeshTags<std::int32_t>>(domain.mesh, domain.dim() - 1, facets,
-                                                               std::vector<std::int32_t>(facets.size(), 1));
-  la::Vector<double> lumped(V->dofmap()->index_map, V->dofmap()->index_map_bs());
-  const Constants ones = {
-      {"ones", std::make_shared<const fem::Constant<double>>(std::vector<double>(domain.dim(), 1.0))}};
-  add_vector(lumped, *make_form(forms.L_lumped_boundary, {V}, {}, ones, marker.get()));
-  lumped.scatter_rev(std::plus<double>());
-  return lumped;
-}
-
-std::string at(const double* x, int d)
-{
-  std::string s = "(" + std::to_string(x[0]) + ", " + std::to_string(x[1]);
-  return s + (d == 3 ? ", " + std::to_string(x[2]) : "") + ")";
-}
-
-/// The normal of a foundation at x, normalised; nothing where it is zero
-/// or not finite.
-std::optional<std::array<double, 3>> unit_normal(const ContactSpec& contact, const double* x, int d)
-{
-  std::array<double, 3> n{0, 0, 0};
-  double length = 0;
-  for (int i = 0; i < d; ++i)
-  {
-    n[i] = contact.normal[i](x, 0.0);
-    length += n[i] * n[i];
-  }
-  length = std::sqrt(length);
-  if (!(length > 0) or !std::isfinite(length))
-    return std::nullopt;
-  for (int i = 0; i < d; ++i)
-    n[i] /= length;
-  return n;
-}
-} // namespace
-namespace
-{
-/// The candidates of each owned node of the contact boundaries, nodes in
-/// the order first met (boundaries in the scene's order, each boundary's
-/// DOFs in dolfinx's), which is the order of the constraints.
-using NodeCandidates = std::vector<std::pair<std::int32_t, std::vector<Candidate>>>;
-
-NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                                 std::shared_ptr<const fem::FunctionSpace> V, ContactSet& c,
-                                 std::string& error)
-{
-  const int d = domain.dim(), bs = V->dofmap()->index_map_bs();
-  const std::int32_t owned = bs * V->dofmap()->index_map->size_local();
-  const std::vector<double> coords = V->tabulate_dof_coordinates(false);
-  auto V0 = V->sub({0});
-  NodeCandidates nodes;
-  std::map<std::int32_t, std::size_t> position;
-  for (const auto& [name, b] : scene.boundaries)
-  {
-    if (!b.contact)
-      continue;
-    const int boundary = static_cast<int>(c.boundaries.size());
-    c.boundaries.push_back(name);
-    const auto& facets = domain.boundaries.at(name);
-    const la::Vector<double> lumped = lumped_measure(domain, forms, V, facets);
-    auto [dofs, collapsed] = fem::locate_dofs_topological({*V0, *c.output_space}, d - 1, facets);
-    for (std::size_t k = 0; k < dofs.size(); ++k)
-    {
-      if (dofs[k] >= owned)
-        continue;
-      const double* x = &coords[3 * (dofs[k] / bs)];
-      const double g = b.contact->gap(x, 0.0);
-      const auto n = unit_normal(*b.contact, x, d);
-      if ((!(g >= 0) or !std::isfinite(g)) and error.empty())
-        error = scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got " + std::to_string(g) + " at "
-                + at(x, d);
-      if (!n and error.empty())
-        error = scene.file + ": boundary." + name + ".contact.normal: zero or not finite at " + at(x, d);
-      if (!n)
-        continue;
-      auto [it, added] = position.emplace(dofs[k], nodes.size());
-      if (added)
-        nodes.emplace_back(dofs[k], std::vector<Candidate>{});
-      nodes[it->second].second.push_back({*n, g, lumped.array()[dofs[k]], collapsed[k], boundary});
-    }
-  }
-  return nodes;
-}
-
-/// @brief A contact node: its first DOF in V, its candidate constraints
-/// (one per foundation that holds it) and its coordinates.
-struct ContactNode
-{
-  std::int32_t first;
-  std::vector<Candidate> candidates;
-  const double* x;
-};
-
-/// One node's candidates merged (the same normal from two boundaries: one
-/// constraint, the smaller gap, the measures added) and entered into c as
-/// bounds on its own components (normals along coordinate axes) or on the
-/// components of its change of variables. The first bad input goes into
-/// `error`, with its key in `file`.
-void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& prescribed, const std::string& file,
-              std::string& error)
-{
-  const std::int32_t first = node.first;
-  const double* x = node.x;
-  std::vector<Candidate> merged;
-  for (const Candidate& k : node.candidates)
-  {
-    auto same = std::find_if(merged.begin(), merged.end(),
-                             [&](const Candidate& m)
-                             {
-                               double diff = 0;
-                               for (int i = 0; i < 3; ++i)
-                                 diff = std::max(diff, std::abs(m.normal[i] - k.normal[i]));
-                               return diff < 1e-12;
-                             });
-    if (same == merged.end())
-      merged.push_back(k);
-    else
-    {
-      same->gap = std::min(same->gap, k.gap);
-      same->lumped += k.lumped;
-    }
-  }
-  const int d = c.dim;
-  std::vector<std::optional<std::pair<int, int>>> axes;
-  std::set<int> distinct;
-  for (const Candidate& k : merged)
-  {
-    axes.push_back(coordinate_axis(k.normal, d));
-    if (axes.back())
-      distinct.insert(axes.back()->first);
-  }
-  const bool on_axes = distinct.size() == merged.size()
-                       and std::all_of(axes.begin(), axes.end(), [](const auto& a) { return a.has_value(); });
-  std::optional<NodeMatrix> T;
-  if (!on_axes)
-  {
-    std::vector<std::array<double, 3>> normals;
-    for (const Candidate& k : merged)
-      normals.push_back(k.normal);
-    std::array<bool, 3> held{false, false, false};
-    for (int i = 0; i < d; ++i)
-      held[i] = prescribed[first + i];
-    T = node_change_of_variables(normals, d, {false, false, false});
-    const std::string key = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.normal: at " + at(x, d);
-    if (!T and error.empty())
-      error = key + " the normals of the foundations that meet there are not independent";
-    else if (T and !node_change_of_variables(normals, d, held) and error.empty())
-      error = key + " the normal is not perpendicular to a prescribed displacement component of the node";
-    if (!T)
-      return;
-    ContactBlock block{{}, node_block(*T, d)};
-    for (int i = 0; i < d; ++i)
-      block.dofs.push_back(c.dof_offset + first + i);
-    c.blocks.push_back(std::move(block));
-  }
-  for (std::size_t j = 0; j < merged.size(); ++j)
-  {
-    c.dofs.push_back(first + (on_axes ? axes[j]->first : static_cast<int>(j)));
-    c.sign.push_back(on_axes ? axes[j]->second : 1);
-    c.gap.push_back(merged[j].gap);
-    c.lumped.push_back(merged[j].lumped);
-    c.normal.push_back(merged[j].normal);
-    c.boundary.push_back(merged[j].boundary);
-    c.output_dofs.push_back(merged[j].output_dof);
-  }
-}
-} // namespace
-
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const fem::FunctionSpace> V)
 {
@@ -242,12 +26,8 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   c.output_space = std::make_shared<fem::FunctionSpace>(V->sub({0})->collapse().first);
   c.dof_offset = V->dofmap()->index_map_bs() * V->dofmap()->index_map->local_range()[0];
   std::string error; // the first bad input on this rank
-  NodeCandidates nodes = gather_candidates(scene, domain, forms, V, c, error);
-  const std::vector<char> prescribed = prescribed_dofs(scene, domain, *V);
-  const std::vector<double> coords = V->tabulate_dof_coordinates(false);
-  const int bs = V->dofmap()->index_map_bs();
-  for (auto& [first, candidates] : nodes)
-    add_node(c, {first, std::move(candidates), &coords[3 * (first / bs)]}, prescribed, scene.file, error);
+  add_foundation_pairs(scene, domain, forms, V, c, error);
+  add_fault_pairs(scene, domain, forms, V, c, error);
   agree_on_error(error, domain.mesh->comm());
   return c;
 }
@@ -444,10 +224,12 @@ void ContactSolver::set_tolerance(double relative)
     SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
 }
 
-std::vector<char> ContactSolver::active_contact_dofs(Vec x) const
+std::vector<char> ContactSolver::active_contact_dofs(Vec x, bool* clipped) const
 {
   // PETSc's rule (SNESVIGetActiveSetIS): a DOF is active when it lies on a
-  // bound to 1e-8 and F pushes it against that bound.
+  // bound to 1e-8 and F pushes it against that bound. A DOF on a bound
+  // that F does not push was put there by the projection after a step that
+  // left it free (`clipped`): that step did not solve its equation.
   Vec F = nullptr;
   SNESGetFunction(_snes, &F, nullptr, nullptr);
   const PetscScalar *X, *R, *lo, *up;
@@ -459,7 +241,10 @@ std::vector<char> ContactSolver::active_contact_dofs(Vec x) const
   for (std::size_t k = 0; k < _bounded.size(); ++k)
   {
     const std::int32_t i = _bounded[k];
-    active[k] = (X[i] <= lo[i] + 1e-8 and R[i] > 0) or (X[i] >= up[i] - 1e-8 and R[i] < 0);
+    const bool on_lower = X[i] <= lo[i] + 1e-8, on_upper = X[i] >= up[i] - 1e-8;
+    active[k] = (on_lower and R[i] > 0) or (on_upper and R[i] < 0);
+    if (clipped)
+      *clipped = *clipped or ((on_lower or on_upper) and !active[k]);
   }
   VecRestoreArrayRead(x, &X);
   VecRestoreArrayRead(F, &R);
@@ -482,10 +267,11 @@ PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, 
   }
   Vec x = nullptr;
   SNESGetSolution(snes, &x);
-  self->_pending = self->active_contact_dofs(x);
+  bool clipped = false;
+  self->_pending = self->active_contact_dofs(x, &clipped);
   if (iteration > 0)
   {
-    int differs = self->_pending != self->_used, any = 0;
+    int differs = self->_pending != self->_used or clipped, any = 0;
     MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
     self->_set_repeated = !any;
     if (self->on_newton_step)

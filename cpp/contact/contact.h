@@ -13,8 +13,7 @@
 // formed once per assembly of A.
 #pragma once
 
-#include "domain/domain.h"
-#include "assembly/forms.h"
+#include "contact/contact_set.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "contact/change_of_variables.h"
 #include "contact/schur_complement.h"
@@ -31,60 +30,10 @@
 namespace biotcontact
 {
 
-/// @brief A block of the change of variables in V's numbering: the global
-/// (unrolled) DOFs of V it mixes, and its matrix (change_of_variables.h).
-struct ContactBlock
-{
-  std::vector<std::int64_t> dofs;
-  std::vector<double> T;
-};
-
-/// The contact constraints of a P1 displacement space V: one for each node
-/// of a contact boundary (owned by this rank) and each foundation it
-/// touches (two at the apex of a groove), u.nu_F <= g_a.
-struct ContactSet
-{
-  /// Per constraint: the DOF in V (unrolled) that carries u.nu_F after the
-  /// change of variables, as sign * x'[dof] (sign +-1 at a node whose
-  /// normals are coordinate axes, where the DOF is that component of u
-  /// itself; +1 at a transformed node); its gap, its normal and its lumped
-  /// boundary measure (which turns a nodal force into a pressure).
-  std::vector<std::int32_t> dofs;
-  std::vector<int> sign;
-  std::vector<double> gap, lumped;
-  std::vector<std::array<double, 3>> normal;
-  /// Per constraint, its contact boundary (of `boundaries`; a constraint
-  /// merged from two boundaries counts for the first).
-  std::vector<int> boundary;
-  std::vector<std::string> boundaries;
-  /// The blocks of the change of variables (change_of_variables.h): the
-  /// nodes whose normals are not coordinate axes (T_node) and the node
-  /// pairs of faults, by the global (unrolled) DOFs of V they mix.
-  std::vector<ContactBlock> blocks;
-  /// The global index in V (unrolled) of this rank's first owned DOF.
-  std::int64_t dof_offset = 0;
-  int dim = 2;
-  /// A P1 scalar space, for output, and each constraint's node there.
-  std::shared_ptr<const dolfinx::fem::FunctionSpace> output_space;
-  std::vector<std::int32_t> output_dofs;
-};
-
-/// The contact boundary as a P1 field for output: exactly 1 at the contact
-/// nodes, 0 elsewhere.
-std::shared_ptr<dolfinx::fem::Function<double>> contact_boundary_flag(const ContactSet& set);
-
-/// The output fields of a contact set: the contact pressure and active flag
-/// (zero off Gamma_3) and the contact_boundary_flag.
-void make_contact_fields(const ContactSet& set, std::shared_ptr<dolfinx::fem::Function<double>>& pressure,
-                         std::shared_ptr<dolfinx::fem::Function<double>>& active,
-                         std::shared_ptr<dolfinx::fem::Function<double>>& boundary);
-
-/// Finds the contact constraints of the scene's contact boundaries: a node
-/// on two boundaries with the same normal holds one constraint (the smaller
-/// gap), with different normals two. Throws SceneError for a gap below 0, a
-/// normal that is zero or not finite at a node, normals at a node that are
-/// not independent, or one that is not perpendicular to a prescribed
-/// displacement component of its node.
+/// Finds the contact constraints of the scene: its contact boundaries
+/// against their foundations (foundation_pair.h), then the faults' node
+/// pairs (fault_pair.h). Throws SceneError, the same on every rank, for the
+/// first bad input they find (collective).
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
@@ -254,7 +203,7 @@ private:
   /// KSP monitor of the Newton steps (iterative full path): stops a Krylov
   /// solve that stagnates.
   static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
-  std::vector<char> active_contact_dofs(Vec x) const;
+  std::vector<char> active_contact_dofs(Vec x, bool* clipped = nullptr) const;
   /// The change of variables of the inclined and curved foundations, made
   /// when any node needs one (collective), and the operators it makes.
   void make_change_of_variables(Vec layout);

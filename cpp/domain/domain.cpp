@@ -1,5 +1,7 @@
 #include "domain/domain.h"
 
+#include "domain/faults.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -18,12 +20,31 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
+namespace
+{
+/// Marker 1 on `facets` (sorted and unique here).
+std::shared_ptr<const mesh::MeshTags<std::int32_t>> marked(std::shared_ptr<const mesh::Mesh> mesh,
+                                                           std::vector<std::int32_t> facets)
+{
+  std::sort(facets.begin(), facets.end());
+  facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+  const std::size_t n = facets.size();
+  return std::make_shared<mesh::MeshTags<std::int32_t>>(mesh, mesh->topology().dim() - 1, std::move(facets),
+                                                         std::vector<std::int32_t>(n, 1));
+}
+} // namespace
+
 std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::marker(const std::string& name) const
 {
-  const std::vector<std::int32_t>& facets = boundaries.at(name);
-  return std::make_shared<mesh::MeshTags<std::int32_t>>(
-      mesh, dim() - 1, std::vector<std::int32_t>(facets),
-      std::vector<std::int32_t>(facets.size(), 1));
+  return marked(mesh, boundaries.at(name));
+}
+
+std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::fault_faces(const std::string& fault) const
+{
+  const Fault& f = faults.at(fault);
+  std::vector<std::int32_t> facets(f.plus_facets);
+  facets.insert(facets.end(), f.minus_facets.begin(), f.minus_facets.end());
+  return marked(mesh, std::move(facets));
 }
 
 std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::marker(const std::vector<std::string>& names) const
@@ -31,19 +52,47 @@ std::shared_ptr<const mesh::MeshTags<std::int32_t>> Domain::marker(const std::ve
   std::vector<std::int32_t> facets;
   for (const std::string& name : names)
     facets.insert(facets.end(), boundaries.at(name).begin(), boundaries.at(name).end());
-  std::sort(facets.begin(), facets.end());
-  facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
-  return std::make_shared<mesh::MeshTags<std::int32_t>>(mesh, dim() - 1, std::vector<std::int32_t>(facets),
-                                                         std::vector<std::int32_t>(facets.size(), 1));
+  return marked(mesh, std::move(facets));
+}
+
+std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh)
+{
+  const int tdim = mesh.topology().dim();
+  const auto c_to_v = mesh.topology().connectivity(tdim, 0);
+  const auto& nodes = mesh.geometry().dofmap();
+  const std::vector<std::int64_t>& input = mesh.geometry().input_global_indices();
+  const auto map = mesh.topology().index_map(0);
+  std::vector<std::int64_t> result(map->size_local() + map->num_ghosts());
+  for (std::int32_t c = 0; c < c_to_v->num_nodes(); ++c)
+  {
+    auto v = c_to_v->links(c);
+    auto x = nodes.links(c);
+    for (std::size_t k = 0; k < v.size(); ++k)
+      result[v[k]] = input[x[k]];
+  }
+  return result;
 }
 
 std::shared_ptr<const mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene, const Domain& domain)
 {
-  std::vector<std::string> names;
+  // Whether there are any is the same on every rank, whatever facets each holds.
+  std::vector<std::int32_t> facets;
+  bool any = false;
   for (const auto& [name, b] : scene.boundaries)
     if (b.pore_pressure_load)
-      names.push_back(name);
-  return names.empty() ? nullptr : domain.marker(names);
+    {
+      facets.insert(facets.end(), domain.boundaries.at(name).begin(), domain.boundaries.at(name).end());
+      any = true;
+    }
+  for (const auto& [name, f] : scene.faults)
+    if (f.pore_pressure_load)
+    {
+      const Fault& fault = domain.faults.at(name);
+      facets.insert(facets.end(), fault.plus_facets.begin(), fault.plus_facets.end());
+      facets.insert(facets.end(), fault.minus_facets.begin(), fault.minus_facets.end());
+      any = true;
+    }
+  return any ? marked(domain.mesh, std::move(facets)) : nullptr;
 }
 
 namespace
@@ -70,6 +119,9 @@ struct GmshData
   /// The region of each cell (input order) from the physical groups of
   /// cells the scene's regions name (regions_of_groups).
   std::vector<std::int32_t> cell_region;
+  /// The scene's faults after the split, in the order of scene.faults (their
+  /// faces are the last two facet groups each, + then -).
+  std::vector<Fault> faults;
 };
 
 /// Calls visit(name, element tags, node tags) once for each physical group
@@ -137,6 +189,132 @@ void drop_unused_nodes(GmshData& data, int d)
     node = index[node];
 }
 
+/// Refuses a cell of (nearly) zero area or volume, measured against its
+/// longest edge: the stiffness and the mass balance of such a cell are
+/// round-off, and a split along a fault cannot tell its sides apart.
+void check_cells(const Scene& scene, const GmshData& data)
+{
+  const int d = scene.mesh.dimension;
+  for (std::size_t c = 0; c < data.cells.size() / (d + 1); ++c)
+  {
+    const std::int64_t* nodes = &data.cells[(d + 1) * c];
+    std::array<std::array<double, 3>, 3> edge{};
+    double longest = 0;
+    for (int k = 0; k < d; ++k)
+    {
+      for (int i = 0; i < d; ++i)
+        edge[k][i] = data.x[d * nodes[k + 1] + i] - data.x[d * nodes[0] + i];
+      longest = std::max(longest, std::hypot(edge[k][0], edge[k][1], edge[k][2]));
+    }
+    const auto& [a, b, e] = edge;
+    const double measure = d == 2 ? std::abs(a[0] * b[1] - a[1] * b[0]) / 2
+                                  : std::abs(a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
+                                             + a[2] * (b[0] * e[1] - b[1] * e[0]))
+                                        / 6;
+    if (measure < 1e-10 * std::pow(longest, d))
+      throw SceneError(scene.mesh.file + ": a cell of zero " + (d == 2 ? "area" : "volume") + " at "
+                       + point_text(&data.x[d * nodes[0]], d) + ": the mesh is degenerate there (check its sizes)");
+  }
+}
+
+/// Each [fault.NAME] names a physical group of dimension d-1 of the file;
+/// throws SceneError naming the key otherwise (gmsh open).
+void check_fault_groups(const Scene& scene)
+{
+  const int d = scene.mesh.dimension;
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups);
+  for (const auto& [name, fault] : scene.faults)
+  {
+    const std::string key = scene.file + ": fault." + name + ": ";
+    std::string known;
+    int dimension = -1;
+    for (const auto& [group_dim, tag] : groups)
+    {
+      std::string group;
+      gmsh::model::getPhysicalName(group_dim, tag, group);
+      group = group.empty() ? "group" + std::to_string(tag) : group;
+      known += (known.empty() ? "" : ", ") + group;
+      if (group == name and (dimension < 0 or group_dim == d - 1))
+        dimension = group_dim;
+    }
+    if (dimension < 0)
+      throw SceneError(key + "no physical group " + name + " in " + scene.mesh.file + " (it has "
+                       + (known.empty() ? "none" : known) + ")");
+    if (dimension != d - 1)
+      throw SceneError(key + "the physical group " + name + " is of dimension " + std::to_string(dimension)
+                       + "; a fault is of dimension " + std::to_string(d - 1)
+                       + (d == 2 ? " (a curve in the surface)" : " (a surface in the volume)"));
+  }
+}
+
+/// The unit normal at each node pair of a split fault: the mean of the
+/// normals of its facets that hold the pair's + node.
+std::vector<std::array<double, 3>> pair_normals(const SplitFault& split, int d)
+{
+  std::map<std::int64_t, std::array<double, 3>> sum;
+  for (std::size_t k = 0; k < split.normals.size(); ++k)
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < 3; ++j)
+        sum[split.plus_facets[d * k + i]][j] += split.normals[k][j];
+  std::vector<std::array<double, 3>> normals;
+  for (const auto& [plus, minus] : split.pairs)
+  {
+    std::array<double, 3> n = sum.at(plus);
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& c : n)
+      c /= length;
+    normals.push_back(n);
+  }
+  return normals;
+}
+
+/// Splits the mesh along the scene's faults (domain/faults.h): their faces
+/// become the last facet groups, + and - of each fault in turn.
+void split_faults(const Scene& scene, GmshData& data)
+{
+  if (scene.faults.empty())
+    return;
+  const int d = scene.mesh.dimension;
+  InputMesh mesh{d, std::move(data.x), std::move(data.cells), std::move(data.facets), std::move(data.facet_group),
+                 std::move(data.names)};
+  std::vector<FaultRequest> requests;
+  for (const auto& [name, fault] : scene.faults)
+  {
+    FaultRequest r{name, {0, 0, 0}};
+    std::copy(fault.normal.begin(), fault.normal.end(), r.hint.begin());
+    requests.push_back(r);
+  }
+  const std::vector<SplitFault> split = split_along_faults(mesh, requests, scene.file + ": fault.");
+  for (const SplitFault& f : split)
+  {
+    // A facet whose nodes are all tips stays inside the body (domain/faults.h):
+    // it is no face, on either side.
+    std::vector<std::size_t> opened;
+    for (std::size_t k = 0; k < f.normals.size(); ++k)
+      if (!std::equal(&f.plus_facets[d * k], &f.plus_facets[d * (k + 1)], &f.minus_facets[d * k]))
+        opened.push_back(k);
+    for (const auto* facets : {&f.plus_facets, &f.minus_facets})
+    {
+      const auto group = static_cast<std::int32_t>(mesh.names.size());
+      mesh.names.push_back("fault." + f.name + (facets == &f.plus_facets ? "+" : "-"));
+      for (std::size_t k : opened)
+        mesh.facets.insert(mesh.facets.end(), facets->begin() + d * k, facets->begin() + d * (k + 1));
+      mesh.facet_group.insert(mesh.facet_group.end(), opened.size(), group);
+    }
+    Fault fault;
+    for (const auto& [plus, minus] : f.pairs)
+      fault.pairs.push_back({plus, minus});
+    fault.normals = pair_normals(f, d);
+    data.faults.push_back(std::move(fault));
+  }
+  data.x = std::move(mesh.x);
+  data.cells = std::move(mesh.cells);
+  data.facets = std::move(mesh.facets);
+  data.facet_group = std::move(mesh.facet_group);
+  data.names = std::move(mesh.names);
+}
+
 GmshData read_gmsh_file(const Scene& scene)
 {
   const std::string& file = scene.mesh.file;
@@ -178,6 +356,7 @@ GmshData read_gmsh_file(const Scene& scene)
                        data.facets.push_back(index.at(t));
                      data.facet_group.insert(data.facet_group.end(), etags.size(), group);
                    });
+    check_fault_groups(scene);
   }
   catch (const SceneError&)
   {
@@ -200,7 +379,24 @@ GmshData read_gmsh_file(const Scene& scene)
     throw SceneError(file + ": no " + (d == 2 ? std::string("triangles") : "tetrahedra")
                      + " in the mesh (mesh.dimension = " + std::to_string(d) + ")");
   drop_unused_nodes(data, d);
+  check_cells(scene, data);
+  split_faults(scene, data);
   return data;
+}
+
+/// Rank 0's node pairs and normals of each fault, on every rank.
+void share_faults(std::vector<Fault>& faults, std::size_t count, MPI_Comm comm)
+{
+  faults.resize(count);
+  for (Fault& f : faults)
+  {
+    long size = static_cast<long>(f.pairs.size());
+    MPI_Bcast(&size, 1, MPI_LONG, 0, comm);
+    f.pairs.resize(size);
+    f.normals.resize(size);
+    MPI_Bcast(f.pairs.data(), static_cast<int>(2 * size), MPI_INT64_T, 0, comm);
+    MPI_Bcast(f.normals.data(), static_cast<int>(3 * size), MPI_DOUBLE, 0, comm);
+  }
 }
 
 /// A gmsh mesh read on rank 0 and distributed by dolfinx; boundaries are its
@@ -251,14 +447,27 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
   std::vector<std::string> group_names;
   for (std::size_t start = 0, end; (end = names.find('\n', start)) != std::string::npos; start = end + 1)
     group_names.push_back(names.substr(start, end - start));
-  for (std::size_t g = 0; g < group_names.size(); ++g)
+  auto group_facets = [&](std::size_t g)
   {
     std::vector<std::int32_t> facets;
     for (std::size_t i = 0; i < tags.indices().size(); ++i)
       if (tags.values()[i] == static_cast<std::int32_t>(g))
         facets.push_back(tags.indices()[i]);
     std::sort(facets.begin(), facets.end());
-    domain.boundaries[group_names[g]] = facets;
+    return facets;
+  };
+  // The faults' faces are the last groups, + and - of each fault in turn.
+  const std::size_t boundaries = group_names.size() - 2 * scene.faults.size();
+  for (std::size_t g = 0; g < boundaries; ++g)
+    domain.boundaries[group_names[g]] = group_facets(g);
+  share_faults(data.faults, scene.faults.size(), comm);
+  std::size_t k = 0;
+  for (const auto& [name, spec] : scene.faults)
+  {
+    Fault& fault = domain.faults[name] = std::move(data.faults[k]);
+    fault.plus_facets = group_facets(boundaries + 2 * k);
+    fault.minus_facets = group_facets(boundaries + 2 * k + 1);
+    ++k;
   }
   for (const auto& [name, b] : scene.boundaries)
   {

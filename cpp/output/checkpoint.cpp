@@ -1,6 +1,7 @@
 #include "output/checkpoint.h"
 
 #include "output/write_failure.h"
+#include "domain/domain.h"
 #include "scene/scene.h"
 
 #include <algorithm>
@@ -110,26 +111,6 @@ struct EntityNames
   std::vector<std::int64_t> names; // width per block, ascending
   std::vector<double> sign;        // +-1: the DOF's orientation against the names' order
 };
-
-/// The input index of every local vertex: vertex k of a cell is the
-/// cell's geometry node k on a P1 mesh.
-std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh)
-{
-  const int tdim = mesh.topology().dim();
-  const auto c_to_v = mesh.topology().connectivity(tdim, 0);
-  const auto& nodes = mesh.geometry().dofmap();
-  const std::vector<std::int64_t>& input = mesh.geometry().input_global_indices();
-  const auto map = mesh.topology().index_map(0);
-  std::vector<std::int64_t> result(map->size_local() + map->num_ghosts());
-  for (std::int32_t c = 0; c < c_to_v->num_nodes(); ++c)
-  {
-    auto v = c_to_v->links(c);
-    auto x = nodes.links(c);
-    for (std::size_t k = 0; k < v.size(); ++k)
-      result[v[k]] = input[x[k]];
-  }
-  return result;
-}
 
 /// The sorted input indices of a facet's vertices and the parity of the
 /// permutation from the order of the partition's global vertex numbering

@@ -18,6 +18,13 @@ struct SceneError : std::runtime_error
   using std::runtime_error::runtime_error;
 };
 
+/// A point for a message: "(x, y)" or "(x, y, z)".
+inline std::string point_text(const double* x, int d)
+{
+  std::string s = "(" + std::to_string(x[0]) + ", " + std::to_string(x[1]);
+  return s + (d == 3 ? ", " + std::to_string(x[2]) : "") + ")";
+}
+
 /// @brief The names a scene gives the values of a choice, in the order its
 /// messages list them: Choices<E>::names for every choice E below. A
 /// choice is read into its enum once, when the scene is read.

@@ -844,7 +844,7 @@ bool Scene::has_contact() const
   for (const auto& [name, b] : boundaries)
     if (b.contact)
       return true;
-  return false;
+  return !faults.empty();
 }
 
 std::vector<double> Scene::times() const

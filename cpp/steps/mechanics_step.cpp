@@ -83,6 +83,23 @@ void MechanicsStep::make_loads(const Domain& domain, const CompiledForms& forms,
       _loads->add_boundary(
           domain, name, [&](const mesh::MeshTags<std::int32_t>* marker)
           { return make_form(forms.L_traction, {_V}, data, constants, marker); }, traction, b.traction);
+  add_fault_pressures(domain, forms, constants);
+}
+
+/// A fault's fluid pressure pushing on both its faces (fault.NAME.pressure).
+void MechanicsStep::add_fault_pressures(const Domain& domain, const CompiledForms& forms, const Constants& constants)
+{
+  for (const auto& [name, f] : _scene.faults)
+  {
+    if (!f.pressure)
+      continue;
+    auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
+    auto pressure = std::make_shared<fem::Function<double>>(D);
+    const Coefficients data = {{"p_boundary", pressure}};
+    _loads->add_on_facets(
+        domain.fault_faces(name), [&](const mesh::MeshTags<std::int32_t>* marker)
+        { return make_form(forms.L_face_pressure, {_V}, data, constants, marker); }, pressure, {*f.pressure});
+  }
 }
 
 /// Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.h).

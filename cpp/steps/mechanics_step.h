@@ -75,6 +75,7 @@ public:
 
 private:
   void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);
+  void add_fault_pressures(const Domain& domain, const CompiledForms& forms, const Constants& constants);
   void attach_contact(const Domain& domain, const CompiledForms& forms);
   void assemble_rhs(double t);
 

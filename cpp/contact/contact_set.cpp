@@ -1,0 +1,61 @@
+#include "contact/contact_set.h"
+
+#include "assembly/linear_algebra.h"
+
+#include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/FunctionSpace.h>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+std::shared_ptr<fem::Function<double>> contact_boundary_flag(const ContactSet& set)
+{
+  auto flag = std::make_shared<fem::Function<double>>(set.output_space);
+  std::span<double> values = flag->x()->mutable_array();
+  for (std::int32_t dof : set.output_dofs)
+    values[dof] = 1.0;
+  flag->x()->scatter_fwd();
+  flag->name = "contact_boundary";
+  return flag;
+}
+
+void make_contact_fields(const ContactSet& set, std::shared_ptr<fem::Function<double>>& pressure,
+                         std::shared_ptr<fem::Function<double>>& active, std::shared_ptr<fem::Function<double>>& boundary)
+{
+  pressure = std::make_shared<fem::Function<double>>(set.output_space);
+  active = std::make_shared<fem::Function<double>>(set.output_space);
+  boundary = contact_boundary_flag(set);
+}
+
+/// Flags of the DOFs of V (unrolled, local) whose value a displacement
+/// condition prescribes.
+std::vector<char> prescribed_dofs(const Scene& scene, const Domain& domain, const fem::FunctionSpace& V)
+{
+  const auto& map = *V.dofmap()->index_map;
+  const int bs = V.dofmap()->index_map_bs();
+  std::vector<char> prescribed(bs * (map.size_local() + map.num_ghosts()), 0);
+  for (const auto& [name, b] : scene.boundaries)
+    for (int i = 0; i < domain.dim(); ++i)
+      if (b.displacement[i])
+        for (std::int32_t dof : fem::locate_dofs_topological(*V.sub({i}), domain.dim() - 1, domain.boundaries.at(name)))
+          prescribed[dof] = 1;
+  return prescribed;
+}
+
+/// The lumped boundary measure of each DOF of V on `facets`: the integral
+/// of its hat function over them.
+la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& forms,
+                                  std::shared_ptr<const fem::FunctionSpace> V, std::vector<std::int32_t> facets)
+{
+  auto marker = std::make_shared<mesh::MeshTags<std::int32_t>>(domain.mesh, domain.dim() - 1, facets,
+                                                               std::vector<std::int32_t>(facets.size(), 1));
+  la::Vector<double> lumped(V->dofmap()->index_map, V->dofmap()->index_map_bs());
+  const Constants ones = {
+      {"ones", std::make_shared<const fem::Constant<double>>(std::vector<double>(domain.dim(), 1.0))}};
+  add_vector(lumped, *make_form(forms.L_lumped_boundary, {V}, {}, ones, marker.get()));
+  lumped.scatter_rev(std::plus<double>());
+  return lumped;
+}
+
+} // namespace biotcontact

@@ -1,0 +1,79 @@
+// The contact constraints of a displacement space, whatever pairs them (a
+// face against a rigid foundation: foundation_pair.h; the two faces of a
+// fault: fault_pair.h): per constraint the DOF that carries it after the
+// change of variables, its gap, normal and lumped measure, and the blocks
+// of that change.
+#pragma once
+
+#include "assembly/forms.h"
+#include "contact/change_of_variables.h"
+#include "domain/domain.h"
+
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/la/Vector.h>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief A block of the change of variables in V's numbering: the global
+/// (unrolled) DOFs of V it mixes, and its matrix (change_of_variables.h).
+struct ContactBlock
+{
+  std::vector<std::int64_t> dofs;
+  std::vector<double> T;
+};
+
+/// The contact constraints of a P1 displacement space V: one for each node
+/// of a contact boundary (owned by this rank) and each foundation it
+/// touches (two at the apex of a groove), u.nu_F <= g_a.
+struct ContactSet
+{
+  /// Per constraint: the DOF in V (unrolled) that carries u.nu_F after the
+  /// change of variables, as sign * x'[dof] (sign +-1 at a node whose
+  /// normals are coordinate axes, where the DOF is that component of u
+  /// itself; +1 at a transformed node); its gap, its normal and its lumped
+  /// boundary measure (which turns a nodal force into a pressure).
+  std::vector<std::int32_t> dofs;
+  std::vector<int> sign;
+  std::vector<double> gap, lumped;
+  std::vector<std::array<double, 3>> normal;
+  /// Per constraint, its contact boundary (of `boundaries`; a constraint
+  /// merged from two boundaries counts for the first).
+  std::vector<int> boundary;
+  std::vector<std::string> boundaries;
+  /// The blocks of the change of variables (change_of_variables.h): the
+  /// nodes whose normals are not coordinate axes (T_node) and the node
+  /// pairs of faults, by the global (unrolled) DOFs of V they mix.
+  std::vector<ContactBlock> blocks;
+  /// The global index in V (unrolled) of this rank's first owned DOF.
+  std::int64_t dof_offset = 0;
+  int dim = 2;
+  /// A P1 scalar space, for output, and each constraint's node there.
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> output_space;
+  std::vector<std::int32_t> output_dofs;
+};
+
+/// Flags of the DOFs of V (unrolled, local, ghosts too) whose value a
+/// displacement condition prescribes.
+std::vector<char> prescribed_dofs(const Scene& scene, const Domain& domain, const dolfinx::fem::FunctionSpace& V);
+
+/// The lumped boundary measure of each DOF of V on `facets`: the integral
+/// of its hat function over them.
+dolfinx::la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& forms,
+                                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
+                                           std::vector<std::int32_t> facets);
+
+/// The contact boundary as a P1 field for output: exactly 1 at the contact
+/// nodes, 0 elsewhere.
+std::shared_ptr<dolfinx::fem::Function<double>> contact_boundary_flag(const ContactSet& set);
+
+/// The output fields of a contact set: the contact pressure and active flag
+/// (zero off Gamma_3) and the contact_boundary_flag.
+void make_contact_fields(const ContactSet& set, std::shared_ptr<dolfinx::fem::Function<double>>& pressure,
+                         std::shared_ptr<dolfinx::fem::Function<double>>& active,
+                         std::shared_ptr<dolfinx::fem::Function<double>>& boundary);
+
+} // namespace biotcontact

@@ -1,0 +1,154 @@
+#include "contact/fault_pair.h"
+
+#include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/FunctionSpace.h>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+namespace
+{
+/// @brief Where the nodes of the faults are in V: the local node of each
+/// input index this rank holds, and the global node of every fault node
+/// (a pair's - node may be held by another rank only).
+struct FaultNodes
+{
+  std::map<std::int64_t, std::int32_t> local;
+  std::map<std::int64_t, std::int64_t> global;
+};
+
+FaultNodes fault_nodes(const Domain& domain, const fem::FunctionSpace& V)
+{
+  const mesh::Mesh& mesh = *domain.mesh;
+  const int tdim = mesh.topology().dim();
+  std::set<std::int64_t> wanted;
+  for (const auto& [name, fault] : domain.faults)
+    for (const auto& pair : fault.pairs)
+      wanted.insert(pair.begin(), pair.end());
+  // Vertex k of a cell is its DOF k of a P1 space.
+  const std::vector<std::int64_t> input = vertex_input_indices(mesh);
+  const auto c_to_v = mesh.topology().connectivity(tdim, 0);
+  FaultNodes nodes;
+  for (std::int32_t cell = 0; cell < c_to_v->num_nodes(); ++cell)
+  {
+    auto vertices = c_to_v->links(cell);
+    auto dofs = V.dofmap()->cell_dofs(cell);
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+      if (wanted.count(input[vertices[k]]))
+        nodes.local[input[vertices[k]]] = dofs[k];
+  }
+  // Every rank learns the global node of each fault node from its owner.
+  const auto& map = *V.dofmap()->index_map;
+  std::vector<std::int64_t> mine;
+  for (const auto& [index, node] : nodes.local)
+    if (node < map.size_local())
+      mine.insert(mine.end(), {index, map.local_range()[0] + node});
+  int size = 0, count = static_cast<int>(mine.size());
+  const MPI_Comm comm = mesh.comm();
+  MPI_Comm_size(comm, &size);
+  std::vector<int> counts(size), offsets(size + 1, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < size; ++r)
+    offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<std::int64_t> all(offsets[size]);
+  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(), MPI_INT64_T, comm);
+  for (std::size_t i = 0; i < all.size(); i += 2)
+    nodes.global[all[i]] = all[i + 1];
+  return nodes;
+}
+
+/// @brief One fault's data for its constraints: its name and index among
+/// the contact's boundaries, its scene entry, and per node of its + face
+/// the lumped measure and the node in the output space.
+struct FaultFace
+{
+  std::string name;
+  const Fault& fault;
+  int boundary;
+  const FaultSpec& spec;
+  la::Vector<double> lumped;
+  std::map<std::int32_t, std::int32_t> output_dof; // first DOF in V -> node in c.output_space
+};
+
+/// @brief What every pair's constraint reads: the scene file (for
+/// messages), the coordinates of V's nodes, its prescribed DOFs and where
+/// the fault nodes are.
+struct PairContext
+{
+  const std::string& file;
+  std::vector<double> coordinates;
+  std::vector<char> prescribed;
+  FaultNodes nodes;
+};
+
+/// The constraint of one node pair, if this rank owns its + node.
+void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, std::size_t k, std::string& error)
+{
+  const int d = c.dim, bs = d;
+  const std::array<std::int64_t, 2>& pair = face.fault.pairs[k];
+  const std::array<double, 3>& n = face.fault.normals[k];
+  const FaultNodes& nodes = context.nodes;
+  const auto plus = nodes.local.find(pair[0]);
+  if (plus == nodes.local.end() or face.output_dof.count(bs * plus->second) == 0) // not owned here
+    return;
+  const std::int32_t first = bs * plus->second;
+  const double* x = &context.coordinates[3 * plus->second];
+  const double g = face.spec.gap(x, 0.0);
+  const std::string key = context.file + ": fault." + face.name;
+  if ((!(g >= 0) or !std::isfinite(g)) and error.empty())
+    error = key + ".gap: must be >= 0, got " + std::to_string(g) + " at " + point_text(x, d);
+  const std::array<double, 3> nu{-n[0], -n[1], -n[2]};
+  std::array<bool, 3> held{false, false, false};
+  for (int i = 0; i < d; ++i)
+    held[i] = context.prescribed[first + i];
+  const auto R = node_change_of_variables({nu}, d, held);
+  if (!R)
+  {
+    if (error.empty())
+      error = key + ".normal: at " + point_text(x, d)
+              + " the fault is not perpendicular to a prescribed displacement component of the node";
+    return;
+  }
+  ContactBlock block{{}, pair_change_of_variables(*R, d)};
+  for (const std::int64_t node : {nodes.global.at(pair[0]), nodes.global.at(pair[1])})
+    for (int i = 0; i < d; ++i)
+      block.dofs.push_back(bs * node + i);
+  c.blocks.push_back(std::move(block));
+  c.dofs.push_back(first);
+  c.sign.push_back(1);
+  c.gap.push_back(g);
+  c.lumped.push_back(face.lumped.array()[first]);
+  c.normal.push_back(n);
+  c.boundary.push_back(face.boundary);
+  c.output_dofs.push_back(face.output_dof.at(first));
+}
+} // namespace
+
+void add_fault_pairs(const Scene& scene, const Domain& domain, const CompiledForms& forms,
+                     std::shared_ptr<const fem::FunctionSpace> V, ContactSet& c, std::string& error)
+{
+  if (domain.faults.empty())
+    return;
+  const PairContext context{scene.file, V->tabulate_dof_coordinates(false), prescribed_dofs(scene, domain, *V),
+                            fault_nodes(domain, *V)};
+  const int d = domain.dim();
+  const std::int32_t owned = d * V->dofmap()->index_map->size_local();
+  for (const auto& [name, fault] : domain.faults)
+  {
+    FaultFace face{name, fault, static_cast<int>(c.boundaries.size()), scene.faults.at(name),
+                   lumped_measure(domain, forms, V, fault.plus_facets), {}};
+    c.boundaries.push_back(name);
+    auto [dofs, collapsed] = fem::locate_dofs_topological({*V->sub({0}), *c.output_space}, d - 1, fault.plus_facets);
+    for (std::size_t k = 0; k < dofs.size(); ++k)
+      if (dofs[k] < owned)
+        face.output_dof[dofs[k]] = collapsed[k];
+    for (std::size_t k = 0; k < fault.pairs.size(); ++k)
+      add_pair(c, context, face, k, error);
+  }
+}
+
+} // namespace biotcontact
