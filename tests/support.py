@@ -236,3 +236,20 @@ def set_changes(out, dt, history):
     check(len(set(ends)) == len(ends), "the contact set is written at every window's end")
     sets = [run.at("contact_active", t) for t in ends]
     return [k for k, (q, _) in enumerate(history) if q > 1 and not np.array_equal(sets[k], sets[k + 1])]
+
+
+def fault_pairs(fields, normal):
+    """The node pairs of a split fault in a run's output, found from the mesh
+    alone (two nodes at one point; the + node's cells lie on the side
+    `normal` points into): arrays (plus, minus) of node indices. A check
+    independent of the solver's own pairing."""
+    x = fields.nodes
+    order = np.lexsort(np.round(x, 9).T[::-1])
+    same = np.all(np.isclose(x[order[1:]], x[order[:-1]], rtol=0, atol=1e-9), axis=1)
+    first, second = order[:-1][same], order[1:][same]
+    side = np.zeros(len(x))
+    for cell in fields.topology:
+        offset = (x[cell].mean(axis=0) - x[cell]) @ np.asarray(normal)[:x.shape[1]]
+        side[cell] += np.sign(offset)
+    swap = side[first] < side[second]
+    return np.where(swap, second, first), np.where(swap, first, second)
