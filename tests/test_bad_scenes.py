@@ -44,6 +44,45 @@ CORRUPT_GEO = CORRUPT_MSH.replace(".msh", ".geo")
 with open(CORRUPT_GEO, "w") as f:
     f.write("Point(1) = {0, 0, 0\n")
 EMPTY = written("")
+# A crack in a gmsh mesh (meshes/sneddon2d.geo), mechanics only; and two
+# cracks that cross, in a small square.
+CRACK_TEXT = f"""[mesh]
+type = "gmsh"
+file = "{os.path.join(ROOT, 'meshes', 'sneddon2d.geo')}"
+dimension = 2
+[mechanics]
+E = 1.0e10
+nu = 0.25
+[time]
+end = 1.0
+dt = 1.0
+[fault.crack]
+pressure = "1.0e6"
+normal = [-0.5, 0.8660254037844386]
+[boundary.left]
+displacement = {{ x = 0.0, y = 0.0 }}
+"""
+CRACK = written(CRACK_TEXT)
+CROSSING = written(CRACK_TEXT.replace(os.path.join(ROOT, "meshes", "sneddon2d.geo"), "crossing.geo")
+                   + "[fault.other]\nnormal = [1.0, 0.0]\n")
+with open(os.path.join(os.path.dirname(CROSSING), "crossing.geo"), "w") as f:
+    f.write("""SetFactory("Built-in");
+Point(1) = {-2, -2, 0}; Point(2) = {2, -2, 0}; Point(3) = {2, 2, 0}; Point(4) = {-2, 2, 0};
+Point(5) = {-1, 0, 0}; Point(6) = {0, 0, 0}; Point(7) = {1, 0, 0}; Point(8) = {0, -1, 0}; Point(9) = {0, 1, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {8, 6}; Line(8) = {6, 9};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve{5, 6, 7, 8} In Surface{1};
+Physical Curve("left") = {4}; Physical Curve("crack") = {5, 6}; Physical Curve("other") = {7, 8};
+Physical Surface("rock") = {1};
+Mesh.CharacteristicLengthMax = 0.25;
+""")
+# The same crack with the tip cells of 0.0025 m gmsh makes one of zero area.
+DEGENERATE = written(CRACK_TEXT.replace(os.path.join(ROOT, "meshes", "sneddon2d.geo"), "degenerate.geo"))
+with open(os.path.join(ROOT, "meshes", "sneddon2d.geo")) as f:
+    degenerate = f.read().replace("Field[4].SizeMin = 0.004;", "Field[4].SizeMin = 0.0025;")
+with open(os.path.join(os.path.dirname(DEGENERATE), "degenerate.geo"), "w") as f:
+    f.write(degenerate)
 BOTH = ("check", "run")
 RUN = ("run",)
 
@@ -235,6 +274,14 @@ CASES = [
     ("a fault normal of the wrong length", HERTZ, s("fault.f.normal=[0, 0, 1]"), "fault.f.normal", BOTH),
     ("an unknown fault key", HERTZ, s("fault.f.aperture=1e-3"), "fault.f.aperture", BOTH),
     ("a fault that is no table", HERTZ, s("fault.f=1"), "fault.f", BOTH),
+    ("a transparent fault with flow", FRACTURE, s("fault.f.gap=0.0"), "fault.f.flow", BOTH),
+    ("a fault group that does not exist", CRACK, s("fault.nowhere.gap=0.0"), "fault.nowhere", BOTH),
+    ("a fault group of the wrong dimension", CRACK, s("fault.rock.gap=0.0"), "fault.rock", BOTH),
+    ("a fault group on the outer boundary", CRACK, s("fault.top.gap=0.0"), "fault.top", BOTH),
+    ("faults that cross", CROSSING, [], "fault.crack", BOTH),
+    ("a negative fault gap", CRACK, s("fault.crack.gap=-1e-3"), "fault.crack.gap", RUN),
+    ("a fault pressure that is NaN", CRACK, s("fault.crack.pressure='sqrt(x - 10)'"), "fault.crack.pressure", BOTH),
+    ("a degenerate cell", DEGENERATE, [], "degenerate.geo", BOTH),
     # a given pore pressure (one-way coupling)
     ("a given pore pressure with flow", DEFAULT, s("mechanics.pore_pressure=1e5", "mechanics.alpha=1.0"),
      "mechanics.pore_pressure", BOTH),

@@ -53,16 +53,27 @@ flux_bc(const Scene& scene, const Domain& domain, std::shared_ptr<const fem::Fun
 {
   const auto& mesh = domain.mesh;
   std::vector<std::int32_t> facets = mesh::exterior_facet_indices(mesh->topology());
-  for (const auto& [name, b] : scene.boundaries)
+  auto leave_out = [&facets](std::vector<std::int32_t> pressure)
   {
-    if (b.flow != BoundarySpec::Flow::pressure)
-      continue;
-    const std::vector<std::int32_t>& pressure = domain.boundaries.at(name);
+    std::sort(pressure.begin(), pressure.end());
     std::vector<std::int32_t> rest;
     std::set_difference(facets.begin(), facets.end(), pressure.begin(), pressure.end(),
                         std::back_inserter(rest));
     facets = std::move(rest);
-  }
+  };
+  for (const auto& [name, b] : scene.boundaries)
+    if (b.flow == BoundarySpec::Flow::pressure)
+      leave_out(domain.boundaries.at(name));
+  // A fault's faces are exterior facets of the split mesh: no flow crosses
+  // them ("sealing") unless they are pressure boundaries.
+  for (const auto& [name, f] : scene.faults)
+    if (f.flow == FaultFlow::pressure)
+    {
+      const Fault& fault = domain.faults.at(name);
+      std::vector<std::int32_t> faces(fault.plus_facets);
+      faces.insert(faces.end(), fault.minus_facets.begin(), fault.minus_facets.end());
+      leave_out(std::move(faces));
+    }
   auto collapsed = std::make_shared<fem::FunctionSpace>(Z->collapse().first);
   values.g = std::make_shared<fem::Function<double>>(collapsed);
   const int d = domain.dim();

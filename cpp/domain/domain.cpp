@@ -646,6 +646,13 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
     if (b.flow == BoundarySpec::Flow::flux)
       uses.push_back(b.rate ? Use{key + ".rate", &*b.rate, at, true} : Use{key + ".flux", &b.flux, at, true});
   }
+  std::map<std::string, std::vector<double>> fault_points;
+  for (const auto& [name, f] : scene.faults)
+    if (f.pressure and domain.faults.count(name))
+    {
+      fault_points[name] = facet_vertices(*domain.mesh, domain.faults.at(name).plus_facets);
+      uses.push_back({"fault." + name + ".pressure", &*f.pressure, &fault_points[name], true});
+    }
   std::map<std::string, std::vector<double>> well_points;
   for (const auto& [name, w] : scene.wells)
   {

@@ -106,6 +106,15 @@ void FlowStep::make_loads(const Domain& domain, const CompiledForms& forms, cons
       _loads->add_boundary(
           domain, name, [&](const mesh::MeshTags<std::int32_t>* marker) { return make(forms.L_flow_pressure, marker); },
           p_boundary, {b.pressure});
+  for (const auto& [name, f] : _scene.faults)
+    if (f.flow == FaultFlow::pressure) // the faces hold the fault's pressure
+    {
+      auto pressure = std::make_shared<fem::Function<double>>(D);
+      const Coefficients face = {{"p_boundary", pressure}};
+      _loads->add_on_facets(
+          domain.fault_faces(name), [&](const mesh::MeshTags<std::int32_t>* marker)
+          { return make_form(forms.L_flow_pressure, {_W}, face, constants, marker); }, pressure, {*f.pressure});
+    }
 }
 
 /// The terms of the right-hand side that change every coupling iteration,

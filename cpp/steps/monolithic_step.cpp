@@ -130,13 +130,19 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
   if (_scene.flow->gravity)
     _loads->add(make(forms.L_monolithic_gravity));
   for (const auto& [name, f] : _scene.faults)
-    if (f.pressure) // the fault's fluid pressure on both its faces
+    if (f.pressure) // the fault's fluid pressure on both its faces, and its flow condition
     {
       auto pressure = std::make_shared<fem::Function<double>>(D);
       const Coefficients face = {{"p_boundary", pressure}};
-      _loads->add_on_facets(
-          domain.fault_faces(name), [&](const mesh::MeshTags<std::int32_t>* m)
-          { return make_form(forms.L_monolithic_face_pressure, {_X}, face, constants, m); }, pressure, {*f.pressure});
+      auto add = [&](const ufcx_form* form)
+      {
+        _loads->add_on_facets(
+            domain.fault_faces(name), [&](const mesh::MeshTags<std::int32_t>* m)
+            { return make_form(form, {_X}, face, constants, m); }, pressure, {*f.pressure});
+      };
+      add(forms.L_monolithic_face_pressure);
+      if (f.flow == FaultFlow::pressure)
+        add(forms.L_monolithic_pressure);
     }
 }
 
