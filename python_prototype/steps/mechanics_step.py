@@ -5,7 +5,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
+from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
+from ..contact.contact_set import make_contact_fields
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..assembly.parameters import interpolate
@@ -75,7 +76,7 @@ class MechanicsStep(Step):
 
     def attach_contact(self, domain, F):
         """Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.py)."""
-        contact_set = ContactSet(self.scene, domain, F, self.V)
+        contact_set = locate_contact(self.scene, domain, F, self.V)
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
         self.system.use_contact(contact_set, np.arange(owned(self.V)))
 

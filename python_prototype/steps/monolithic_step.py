@@ -5,7 +5,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
+from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
+from ..contact.contact_set import make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
@@ -94,7 +95,7 @@ class MonolithicStep(Step):
 
     def attach_contact(self, domain, F):
         """Contact: the bounds sit on DOFs of the displacement block (contact.py)."""
-        contact_set = ContactSet(self.scene, domain, F, self.V)
+        contact_set = locate_contact(self.scene, domain, F, self.V)
         displacement = self.V_to_X[:owned(self.V)]
         if np.any(displacement >= owned(F["X"])):
             raise RuntimeError("monolithic contact: a displacement DOF owned in V is not owned in the mixed space")
