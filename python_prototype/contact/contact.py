@@ -256,11 +256,16 @@ class ContactSolver:
             set_lag_preconditioner(self.snes, -2)
 
     def _active_contact_dofs(self, x):
-        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed against it."""
+        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed
+        against it; and whether a DOF lies on a bound that F does not push
+        (clipped): the projection put it there after a step that left it
+        free, so that step did not solve its equation."""
         X, F = x.getArray(readonly=True), self.snes.getFunction()[0].getArray(readonly=True)
         lo, up = self.lower.getArray(readonly=True), self.upper.getArray(readonly=True)
         i = self.bounded
-        return ((X[i] <= lo[i] + 1e-8) & (F[i] > 0)) | ((X[i] >= up[i] - 1e-8) & (F[i] < 0))
+        on_lower, on_upper = X[i] <= lo[i] + 1e-8, X[i] >= up[i] - 1e-8
+        active = (on_lower & (F[i] > 0)) | (on_upper & (F[i] < 0))
+        return active, bool(np.any((on_lower | on_upper) & ~active))
 
     def _monitor(self, snes, iteration, norm):
         """Before each Newton step (and after the last): the set the next step uses."""
@@ -268,9 +273,9 @@ class ContactSolver:
             changed = self.used is not None and not np.array_equal(self.pending, self.used)
             self.active_set_changes += int(self.vi_mpi_comm.allreduce(int(changed), op=MPI.MAX))
             self.used = self.pending
-        self.pending = self._active_contact_dofs(snes.getSolution())
+        self.pending, clipped = self._active_contact_dofs(snes.getSolution())
         if iteration > 0:
-            differs = not np.array_equal(self.pending, self.used)
+            differs = not np.array_equal(self.pending, self.used) or clipped
             self.set_repeated = not self.vi_mpi_comm.allreduce(int(differs), op=MPI.MAX)
             if self.on_newton_step is not None:
                 self.on_newton_step(iteration)
