@@ -60,8 +60,9 @@ class MechanicsStep(Step):
             self.attach_contact(domain, F)
 
     def make_loads(self, domain, F):
-        """Body force and tractions (also on a loaded contact boundary), in
-        that order, lifted and with their Dirichlet values at t."""
+        """Body force, tractions (also on a loaded contact boundary) and the
+        faults' pressures, in that order, lifted and with their Dirichlet
+        values at t."""
         def finish(b, t):
             update(self.bc_values, t)
             finish_rhs(b, self.a, self.bcs)
@@ -73,6 +74,15 @@ class MechanicsStep(Step):
             if b.traction:
                 self.loads.add_boundary(domain, name, lambda marker: F.compile("L_traction", marker),
                                         F["traction"], b.traction)
+        self._add_fault_pressures(domain, F)
+
+    def _add_fault_pressures(self, domain, F):
+        """A fault's fluid pressure pushing on both its faces (fault.NAME.pressure),
+        through the data coefficient p_boundary (P1) the loads fill in turn."""
+        for name, f in self.scene.faults.items():
+            if f.pressure is not None:
+                self.loads.add_on_facets(domain.fault_faces(name), lambda marker: F.compile("L_face_pressure", marker),
+                                         F["p_boundary"], [f.pressure])
 
     def attach_contact(self, domain, F):
         """Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.py)."""

@@ -63,9 +63,9 @@ class MonolithicStep(Step):
             self.attach_contact(domain, F)
 
     def make_loads(self, domain, F):
-        """Body force, tractions, source, boundary pressures and gravity, in
-        that order, with the Dirichlet values at t (lifted with the history
-        term, assemble_rhs)."""
+        """Body force, tractions, source, boundary pressures, gravity and the
+        faults' pressures, in that order, with the Dirichlet values at t
+        (lifted with the history term, assemble_rhs)."""
         scene = self.scene
         def finish(b, t):
             add_wells(self.wells, t, b.x.array)
@@ -92,6 +92,10 @@ class MonolithicStep(Step):
                                         F["p_boundary"], [b.pressure])
         if scene.flow.gravity:
             self.loads.add(F.compile("L_monolithic_gravity"))
+        for name, f in scene.faults.items():
+            if f.pressure is not None:  # the fault's fluid pressure on both its faces
+                self.loads.add_on_facets(domain.fault_faces(name), lambda m: F.compile("L_monolithic_face_pressure", m),
+                                         F["p_boundary"], [f.pressure])
 
     def attach_contact(self, domain, F):
         """Contact: the bounds sit on DOFs of the displacement block (contact.py)."""
