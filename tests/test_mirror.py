@@ -198,11 +198,9 @@ DIFFERENCES = {
         "node_block": "C++ only: a NodeMatrix as a block's row-major vector; Python's T_node is already an "
                       "array",
     },
-    "contact/contact": {
+    "contact/contact_set": {
         "ContactBlock": "C++ only: a block of the change of variables in V's numbering (DOFs, matrix); Python "
                         "keeps (dofs, T) tuples",
-        "locate_contact": "C++ only: to align (issue 36): this free function finds the contact constraints and "
-                          "returns a ContactSet; Python finds them in ContactSet's constructor",
     },
     "coupling/anderson": {
         "State": "C++ only: a type alias for the iterates (a vector of vectors of doubles); Python's lists need "

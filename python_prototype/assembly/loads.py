@@ -46,8 +46,13 @@ class Loads:
     def add_boundary(self, domain, name, make, data, expressions):
         """Adds the term of a load on boundary `name`: `make(marker)` builds
         its form with the ds(1) integrals on that boundary's facets."""
-        self._markers.append(domain.marker(name))
-        self.add(make(self._markers[-1]), data, expressions)
+        self.add_on_facets(domain.marker(name), make, data, expressions)
+
+    def add_on_facets(self, marker, make, data, expressions):
+        """Adds the term of a load on the facets `marker` marks: `make(marker)`
+        builds its form."""
+        self._markers.append(marker)
+        self.add(make(marker), data, expressions)
 
     def depends_on_time(self, dependence):
         """Something else of the step's right-hand side depends on time (Dirichlet values)."""

@@ -13,162 +13,37 @@ vinewtonrsls) solves it.
 import dataclasses
 
 import numpy as np
-from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..assembly.linear_algebra import accumulate_ghosts, add_vector, owned, set_lag_preconditioner
-from .change_of_variables import ChangeOfVariables, coordinate_axis, node_change_of_variables
+from ..assembly.linear_algebra import set_lag_preconditioner
+from .change_of_variables import ChangeOfVariables
+from .contact_set import ContactSet
+from .fault_pair import add_fault_pairs
+from .foundation_pair import add_foundation_pairs
 from .schur_complement import SchurComplement
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.options import OptionsError, system_name
 from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStage, Structure,
                      reason_name, set_default_option, set_relative_tolerance)
-from ..scene.scene import SceneError, agree_on_error
+from ..scene.scene import agree_on_error
 
 
-class ContactSet:
-    """The contact constraints u.nu_F <= g_a of a P1 displacement space V:
-    one for each node of a contact boundary owned here and each foundation
-    it touches (cpp/contact/contact.h). Per constraint: `dofs`, the DOF in V
-    that carries u.nu_F = sign * x'[dof] after the change of variables
-    (sign +-1 where the node's normals are coordinate axes, +1 at a
-    transformed node), `gap`, `normal`, `lumped` (boundary measure) and
-    `output_dofs` (the node in the P1 scalar `output_space`); `blocks`
-    lists the blocks of the change of variables (the global unrolled DOFs
-    of V they mix, their matrix): the nodes whose normals are not
-    coordinate axes and the node pairs of faults; `dof_offset` is the
-    global index in V of this rank's first owned DOF."""
-
-    def __init__(self, scene, domain, F, V):
-        self.dim = domain.dim
-        self.output_space, _ = V.sub(0).collapse()
-        self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
-        # per constraint its contact boundary (a merged one counts for the first)
-        self.boundary, self.boundaries = [], [name for name, b in scene.boundaries.items() if b.contact]
-        self.blocks = []
-        self.dof_offset = V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0]
-        error = []  # the first bad input on this rank
-        nodes = _gather_candidates(scene, domain, F, V, self.output_space, error)
-        prescribed = _prescribed_dofs(scene, domain, V)
-        coords, bs = V.tabulate_dof_coordinates(), V.dofmap.index_map_bs
-        for first, candidates in nodes.items():
-            self._add_node(first, candidates, prescribed, coords[first // bs], scene.file, error)
-        agree_on_error(error[0] if error else "", domain.mesh.comm)
-        self.dofs = np.array(self.dofs, dtype=np.int32)
-        self.sign = np.array(self.sign, dtype=np.int32)
-        self.gap, self.lumped, self.normal = np.array(self.gap), np.array(self.lumped), np.array(self.normal)
-        self.output_dofs = np.array(self.output_dofs, dtype=np.int32)
-        self.boundary = np.array(self.boundary, dtype=np.int32)
-
-    def _add_node(self, first, candidates, prescribed, x, file, error):
-        """One node's candidates merged (the same normal from two boundaries:
-        one constraint, the smaller gap, the measures added) and entered as
-        bounds on its own components (normals along coordinate axes) or on
-        the components of its change of variables."""
-        merged = []
-        for c in candidates:
-            same = [m for m in merged if np.max(np.abs(m["normal"] - c["normal"])) < 1e-12]
-            if same:
-                same[0]["gap"] = min(same[0]["gap"], c["gap"])
-                same[0]["lumped"] += c["lumped"]
-            else:
-                merged.append(dict(c))
-        d = self.dim
-        axes = [coordinate_axis(m["normal"], d) for m in merged]
-        on_axes = all(a is not None for a in axes) and len({a[0] for a in axes}) == len(merged)
-        if not on_axes:
-            normals = [m["normal"] for m in merged]
-            T = node_change_of_variables(normals, d, [False] * 3)
-            key = f"{file}: boundary.{merged[0]['boundary']}.contact.normal: at {_at(x, d)}"
-            if T is None and not error:
-                error.append(key + " the normals of the foundations that meet there are not independent")
-            elif T is not None and node_change_of_variables(normals, d, prescribed[first:first + d]) is None \
-                    and not error:
-                error.append(key + " the normal is not perpendicular to a prescribed displacement component "
-                             "of the node")
-            if T is None:
-                return
-            self.blocks.append((self.dof_offset + first + np.arange(d), T))
-        for j, m in enumerate(merged):
-            self.dofs.append(first + (axes[j][0] if on_axes else j))
-            self.sign.append(axes[j][1] if on_axes else 1)
-            self.gap.append(m["gap"])
-            self.lumped.append(m["lumped"])
-            self.normal.append(m["normal"])
-            self.boundary.append(self.boundaries.index(m["boundary"]))
-            self.output_dofs.append(m["output_dof"])
-
-
-def _prescribed_dofs(scene, domain, V):
-    """Flags of the DOFs of V (unrolled, local) whose value a displacement
-    condition prescribes."""
-    imap, bs = V.dofmap.index_map, V.dofmap.index_map_bs
-    prescribed = np.zeros(bs * (imap.size_local + imap.num_ghosts), dtype=bool)
-    for name, b in scene.boundaries.items():
-        for i in range(domain.dim):
-            if b.displacement[i] is not None:
-                prescribed[fem.locate_dofs_topological(V.sub(i), domain.dim - 1, domain.boundaries[name])] = True
-    return prescribed
-
-
-def _at(x, d):
-    return "(" + ", ".join(f"{v:f}" for v in x[:d]) + ")"
-
-
-def _unit_normal(contact, x, d):
-    """The foundation's normal at x, normalised; None where it is zero or
-    not finite."""
-    n = np.zeros(3)
-    n[:d] = [float(c(x[0], x[1], x[2], 0.0)) for c in contact.normal]
-    length = np.sqrt(np.dot(n, n))
-    return n / length if length > 0 and np.isfinite(length) else None
-
-
-def _gather_candidates(scene, domain, F, V, output_space, error):
-    """The constraints of each contact boundary at each owned node, by node
-    in the order first met (boundaries in the scene's order, each
-    boundary's DOFs in dolfinx's): the order of the constraints."""
-    d, bs, n_owned = domain.dim, V.dofmap.index_map_bs, owned(V)
-    coords, V0, nodes = V.tabulate_dof_coordinates(), V.sub(0), {}
-    for name, b in scene.boundaries.items():
-        if not b.contact:
-            continue
-        # Lumped boundary measure of each node: the integral of its hat function.
-        lumped = fem.Function(V)
-        add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=domain.boundaries[name])))
-        accumulate_ghosts(lumped)
-        dofs, collapsed = fem.locate_dofs_topological((V0, output_space), d - 1, domain.boundaries[name])
-        for dof, out in zip(dofs, collapsed):
-            if dof >= n_owned:
-                continue
-            x = coords[dof // bs]
-            g = float(b.contact.gap(x[0], x[1], x[2], 0.0))
-            n = _unit_normal(b.contact, x, d)
-            if (not (g >= 0) or not np.isfinite(g)) and not error:
-                error.append(f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} at {_at(x, d)}")
-            if n is None and not error:
-                error.append(f"{scene.file}: boundary.{name}.contact.normal: zero or not finite at {_at(x, d)}")
-            if n is not None:
-                nodes.setdefault(int(dof), []).append(
-                    dict(normal=n, gap=g, lumped=lumped.x.array[dof], output_dof=int(out), boundary=name))
-    return nodes
-
-
-def contact_boundary_flag(contact_set):
-    """The contact boundary as a P1 field for output: exactly 1 at the
-    contact nodes, 0 elsewhere (cpp/contact/contact.h)."""
-    flag = fem.Function(contact_set.output_space, name="contact_boundary")
-    flag.x.array[contact_set.output_dofs] = 1.0
-    flag.x.scatter_forward()
-    return flag
-
-
-def make_contact_fields(contact_set):
-    """The output fields of a contact set: the contact pressure and active
-    flag (zero off Gamma_3) and the contact_boundary_flag."""
-    return (fem.Function(contact_set.output_space), fem.Function(contact_set.output_space),
-            contact_boundary_flag(contact_set))
+def locate_contact(scene, domain, F, V):
+    """The ContactSet of the scene: its contact boundaries against their
+    foundations (foundation_pair.py), then the faults' node pairs
+    (fault_pair.py). Raises SceneError, the same on every rank, for the
+    first bad input they find (collective)."""
+    c = ContactSet(domain.dim, V.sub(0).collapse()[0], V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0])
+    error = []  # the first bad input on this rank
+    add_foundation_pairs(scene, domain, F, V, c, error)
+    add_fault_pairs(scene, domain, F, V, c, error)
+    agree_on_error(error[0] if error else "", domain.mesh.comm)
+    c.dofs, c.sign = np.array(c.dofs, dtype=np.int32), np.array(c.sign, dtype=np.int32)
+    c.gap, c.lumped, c.normal = np.array(c.gap), np.array(c.lumped), np.array(c.normal)
+    c.output_dofs = np.array(c.output_dofs, dtype=np.int32)
+    c.boundary = np.array(c.boundary, dtype=np.int32)
+    return c
 
 
 class ActiveSet:
@@ -381,11 +256,16 @@ class ContactSolver:
             set_lag_preconditioner(self.snes, -2)
 
     def _active_contact_dofs(self, x):
-        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed against it."""
+        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed
+        against it; and whether a DOF lies on a bound that F does not push
+        (clipped): the projection put it there after a step that left it
+        free, so that step did not solve its equation."""
         X, F = x.getArray(readonly=True), self.snes.getFunction()[0].getArray(readonly=True)
         lo, up = self.lower.getArray(readonly=True), self.upper.getArray(readonly=True)
         i = self.bounded
-        return ((X[i] <= lo[i] + 1e-8) & (F[i] > 0)) | ((X[i] >= up[i] - 1e-8) & (F[i] < 0))
+        on_lower, on_upper = X[i] <= lo[i] + 1e-8, X[i] >= up[i] - 1e-8
+        active = (on_lower & (F[i] > 0)) | (on_upper & (F[i] < 0))
+        return active, bool(np.any((on_lower | on_upper) & ~active))
 
     def _monitor(self, snes, iteration, norm):
         """Before each Newton step (and after the last): the set the next step uses."""
@@ -393,9 +273,9 @@ class ContactSolver:
             changed = self.used is not None and not np.array_equal(self.pending, self.used)
             self.active_set_changes += int(self.vi_mpi_comm.allreduce(int(changed), op=MPI.MAX))
             self.used = self.pending
-        self.pending = self._active_contact_dofs(snes.getSolution())
+        self.pending, clipped = self._active_contact_dofs(snes.getSolution())
         if iteration > 0:
-            differs = not np.array_equal(self.pending, self.used)
+            differs = not np.array_equal(self.pending, self.used) or clipped
             self.set_repeated = not self.vi_mpi_comm.allreduce(int(differs), op=MPI.MAX)
             if self.on_newton_step is not None:
                 self.on_newton_step(iteration)

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..assembly.linear_algebra import UnknownsPart
 from ..coupling.coupling import for_each_checkpointed
+from ..domain.domain import vertex_input_indices
 from ..scene.scene import SceneError, agree_on_error
 from ..solvers.solver import SolverStatistics, solver_counts
 from .write_failure import agree_on_output_error, write_failure_reason
@@ -50,18 +51,6 @@ class RunState:
     report: object  # CouplingReport
     state: object   # ControllerState
     grid: object    # TimeGrid
-
-
-def _vertex_input_indices(mesh):
-    """The input index of every local vertex: vertex k of a cell is the
-    cell's geometry node k on a P1 mesh."""
-    tdim = mesh.topology.dim
-    mesh.topology.create_connectivity(tdim, 0)
-    vertex_map = mesh.topology.index_map(0)
-    result = np.empty(vertex_map.size_local + vertex_map.num_ghosts, dtype=np.int64)
-    input_index = np.asarray(mesh.geometry.input_global_indices, dtype=np.int64)
-    result[mesh.topology.connectivity(tdim, 0).array] = input_index[mesh.geometry.dofmap.array]
-    return result
 
 
 def _facet_names(mesh, vertex_input):
@@ -91,7 +80,7 @@ def _entity_names(mesh, V):
     names = np.full((blocks, tdim if dim == tdim - 1 else 1), -1, dtype=np.int64)
     sign = np.ones(blocks)
     cell_dofs = V.dofmap.list.array.reshape(-1, per_cell)
-    vertex_input = _vertex_input_indices(mesh)
+    vertex_input = vertex_input_indices(mesh)
     if dim == tdim - 1:
         facet_names, facet_sign = _facet_names(mesh, vertex_input)
         cell_facets = mesh.topology.connectivity(tdim, dim).array.reshape(-1, per_cell)

@@ -12,6 +12,13 @@ class SceneError(Exception):
     """Bad input: the message is one line naming the file and the key."""
 
 
+def point_text(x, d):
+    """A point for a message: "(x, y)" or "(x, y, z)", each coordinate with
+    six decimals as C++'s std::to_string prints it, so that both tracks
+    refuse an input in the same words."""
+    return "(" + ", ".join(f"{float(v):f}" for v in x[:d]) + ")"
+
+
 def name_of(value):
     """The scene's name of a choice's value."""
     return value.value

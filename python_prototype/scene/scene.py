@@ -221,7 +221,8 @@ class Scene:
         return any(r.body_force for r in self.regions.values())
 
     def has_contact(self):
-        return any(b.contact for b in self.boundaries.values())
+        """A contact boundary, or a fault (whose faces are a contact pair)."""
+        return any(b.contact for b in self.boundaries.values()) or bool(self.faults)
 
     def times(self):
         """t_0 = 0, t_1, ..., t_N = end_time (fine steps) of fixed or growing

@@ -5,7 +5,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
+from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
+from ..contact.contact_set import make_contact_fields
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..assembly.parameters import interpolate
@@ -59,8 +60,9 @@ class MechanicsStep(Step):
             self.attach_contact(domain, F)
 
     def make_loads(self, domain, F):
-        """Body force and tractions (also on a loaded contact boundary), in
-        that order, lifted and with their Dirichlet values at t."""
+        """Body force, tractions (also on a loaded contact boundary) and the
+        faults' pressures, in that order, lifted and with their Dirichlet
+        values at t."""
         def finish(b, t):
             update(self.bc_values, t)
             finish_rhs(b, self.a, self.bcs)
@@ -72,10 +74,19 @@ class MechanicsStep(Step):
             if b.traction:
                 self.loads.add_boundary(domain, name, lambda marker: F.compile("L_traction", marker),
                                         F["traction"], b.traction)
+        self._add_fault_pressures(domain, F)
+
+    def _add_fault_pressures(self, domain, F):
+        """A fault's fluid pressure pushing on both its faces (fault.NAME.pressure),
+        through the data coefficient p_boundary (P1) the loads fill in turn."""
+        for name, f in self.scene.faults.items():
+            if f.pressure is not None:
+                self.loads.add_on_facets(domain.fault_faces(name), lambda marker: F.compile("L_face_pressure", marker),
+                                         F["p_boundary"], [f.pressure])
 
     def attach_contact(self, domain, F):
         """Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.py)."""
-        contact_set = ContactSet(self.scene, domain, F, self.V)
+        contact_set = locate_contact(self.scene, domain, F, self.V)
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
         self.system.use_contact(contact_set, np.arange(owned(self.V)))
 

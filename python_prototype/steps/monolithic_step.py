@@ -5,7 +5,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactSet, ContactState, make_contact_fields, same_active_set
+from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
+from ..contact.contact_set import make_contact_fields
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
@@ -62,9 +63,9 @@ class MonolithicStep(Step):
             self.attach_contact(domain, F)
 
     def make_loads(self, domain, F):
-        """Body force, tractions, source, boundary pressures and gravity, in
-        that order, with the Dirichlet values at t (lifted with the history
-        term, assemble_rhs)."""
+        """Body force, tractions, source, boundary pressures, gravity and the
+        faults' pressures, in that order, with the Dirichlet values at t
+        (lifted with the history term, assemble_rhs)."""
         scene = self.scene
         def finish(b, t):
             add_wells(self.wells, t, b.x.array)
@@ -91,10 +92,14 @@ class MonolithicStep(Step):
                                         F["p_boundary"], [b.pressure])
         if scene.flow.gravity:
             self.loads.add(F.compile("L_monolithic_gravity"))
+        for name, f in scene.faults.items():
+            if f.pressure is not None:  # the fault's fluid pressure on both its faces
+                self.loads.add_on_facets(domain.fault_faces(name), lambda m: F.compile("L_monolithic_face_pressure", m),
+                                         F["p_boundary"], [f.pressure])
 
     def attach_contact(self, domain, F):
         """Contact: the bounds sit on DOFs of the displacement block (contact.py)."""
-        contact_set = ContactSet(self.scene, domain, F, self.V)
+        contact_set = locate_contact(self.scene, domain, F, self.V)
         displacement = self.V_to_X[:owned(self.V)]
         if np.any(displacement >= owned(F["X"])):
             raise RuntimeError("monolithic contact: a displacement DOF owned in V is not owned in the mixed space")

@@ -1,0 +1,71 @@
+"""The contact constraints of a displacement space, whatever pairs them (a
+face against a rigid foundation: foundation_pair.py; the two faces of a
+fault: fault_pair.py): per constraint the DOF that carries it after the
+change of variables, its gap, normal and lumped measure, and the blocks of
+that change (cpp/contact/contact_set.h)."""
+import numpy as np
+from dolfinx import fem
+
+from ..assembly.linear_algebra import accumulate_ghosts, add_vector
+
+
+class ContactSet:
+    """The contact constraints of a P1 displacement space V: one for each
+    node of a contact boundary (owned by this rank) and each foundation it
+    touches (two at the apex of a groove), u.nu_F <= g_a, and one for each
+    fault pair whose + node this rank owns. Per constraint: `dofs`, the DOF
+    in V (unrolled) that carries u.nu_F = sign * x'[dof] after the change of
+    variables (sign +-1 at a node whose normals are coordinate axes, where
+    the DOF is that component of u itself; +1 at a transformed node), `gap`,
+    `normal`, `lumped` (boundary measure, which turns a nodal force into a
+    pressure), `boundary` (its contact boundary or fault in `boundaries`; a
+    constraint merged from two boundaries counts for the first) and
+    `output_dofs` (its node in the P1 scalar `output_space`). `blocks` lists
+    the blocks of the change of variables as (the global unrolled DOFs of V
+    they mix, their matrix): the nodes whose normals are not coordinate axes
+    and the node pairs of faults; `dof_offset` is the global index in V of
+    this rank's first owned DOF. Filled as lists by the pairs, made arrays
+    by contact.locate_contact."""
+
+    def __init__(self, dim, output_space, dof_offset):
+        self.dim, self.output_space, self.dof_offset = dim, output_space, dof_offset
+        self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
+        self.boundary, self.boundaries = [], []
+        self.blocks = []
+
+
+def prescribed_dofs(scene, domain, V):
+    """Flags of the DOFs of V (unrolled, local, ghosts too) whose value a
+    displacement condition prescribes."""
+    imap, bs = V.dofmap.index_map, V.dofmap.index_map_bs
+    prescribed = np.zeros(bs * (imap.size_local + imap.num_ghosts), dtype=bool)
+    for name, b in scene.boundaries.items():
+        for i in range(domain.dim):
+            if b.displacement[i] is not None:
+                prescribed[fem.locate_dofs_topological(V.sub(i), domain.dim - 1, domain.boundaries[name])] = True
+    return prescribed
+
+
+def lumped_measure(domain, F, V, facets):
+    """The lumped boundary measure of each DOF of V (unrolled, local) on
+    `facets`: the integral of its hat function over them."""
+    lumped = fem.Function(V)
+    add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=facets)))
+    accumulate_ghosts(lumped)
+    return lumped.x.array
+
+
+def contact_boundary_flag(contact_set):
+    """The contact boundary as a P1 field for output: exactly 1 at the
+    contact nodes, 0 elsewhere."""
+    flag = fem.Function(contact_set.output_space, name="contact_boundary")
+    flag.x.array[contact_set.output_dofs] = 1.0
+    flag.x.scatter_forward()
+    return flag
+
+
+def make_contact_fields(contact_set):
+    """The output fields of a contact set: the contact pressure and active
+    flag (zero off Gamma_3) and the contact_boundary_flag."""
+    return (fem.Function(contact_set.output_space), fem.Function(contact_set.output_space),
+            contact_boundary_flag(contact_set))
