@@ -129,7 +129,7 @@ void Simulation::open_output()
   }
   _output = std::make_unique<Output>(_comm, _directory, _domain->mesh, _scene.write_xdmf,
                                      _resumed ? &_resumed->output : nullptr);
-  _fields = std::make_unique<OutputFields>(*_problem, *_scheme, *_output);
+  _fields = std::make_unique<OutputFields>(*_problem, *_scheme, *_output, _resumed ? &_resumed->time : nullptr);
 }
 
 /// The initial state, written at t = 0, or the checkpoint's step and time.

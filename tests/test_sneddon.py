@@ -95,7 +95,9 @@ for track in ("C++", "prototype"):
     check(np.abs(slip).max() <= 1e-10 * A and np.abs(opening).max() <= 1e-10 * A,
           f"closed crack ({track}): no slip ({np.abs(slip).max():.1e} m), no opening ({np.abs(opening).max():.1e} m)")
 
-for case in ("", " closed"):
-    differences = max_difference(runs["C++" + case], runs["prototype" + case], ["displacement", "contact_pressure"])
+# The open crack's contact pressures are round-off (no pair in contact):
+# there the displacement is compared.
+for case, names in (("", ["displacement"]), (" closed", ["displacement", "contact_pressure"])):
+    differences = max_difference(runs["C++" + case], runs["prototype" + case], names)
     check(max(differences.values()) <= 1e-10,
           f"prototype = C++ ({case.strip() or 'open'} crack): {differences} (limit 1e-10)")

@@ -696,7 +696,54 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   VecRestoreArrayRead(force, &R);
   s.gap_scale = displacement_scale(x);
   summarise(s, pressure, distance, pressure_out, active_out);
+  fault_states(s, x, distance, pressure);
   return s;
+}
+
+void ContactSolver::fault_states(ContactState& s, Vec x, const std::vector<double>& distance,
+                                 const std::vector<double>& pressure)
+{
+  const int d = _set.dim, n = static_cast<int>(_set.boundaries.size());
+  for (int b = 0; b < n; ++b)
+    if (_set.faults[b])
+      s.faults.push_back({_set.boundaries[b]});
+  if (s.faults.empty())
+    return;
+  std::vector<int> summary_of(n, -1);
+  for (int b = 0, f = 0; b < n; ++b)
+    if (_set.faults[b])
+      summary_of[b] = f++;
+  // The jump in the pair's frame, w_J = R [u], sits in the + node's rows of
+  // x' = T x (change_of_variables.h).
+  const PetscScalar* X;
+  Vec x_vi = to_vi(x, _x_vi);
+  VecGetArrayRead(x_vi, &X);
+  std::vector<double> closed(s.faults.size(), 0.0), largest(2 * s.faults.size(), 0.0);
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+  {
+    if (_set.pair_node[k] < 0)
+      continue;
+    const NodeMatrix& R = _set.pair_frame[k];
+    PairState p{_set.pair_node[k], _set.boundary[k], distance[k], pressure[k], {0, 0, 0}};
+    for (int r = 1; r < d; ++r) // the tangential rows: the slip
+      for (int i = 0; i < d; ++i)
+        p.slip[i] += R[d * r + i] * X[_displacement_dofs[_set.dofs[k] + r]];
+    const int f = summary_of[p.fault];
+    largest[2 * f] = std::max(largest[2 * f], p.opening);
+    largest[2 * f + 1] = std::max(largest[2 * f + 1], std::hypot(p.slip[0], p.slip[1], p.slip[2]));
+    if (on_foundation(distance[k], s.gap_scale))
+      closed[f] += _set.lumped[k];
+    s.pairs.push_back(p);
+  }
+  VecRestoreArrayRead(x_vi, &X);
+  MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX, _comm);
+  MPI_Allreduce(MPI_IN_PLACE, closed.data(), static_cast<int>(closed.size()), MPI_DOUBLE, MPI_SUM, _comm);
+  for (std::size_t f = 0; f < s.faults.size(); ++f)
+  {
+    s.faults[f].max_opening = largest[2 * f];
+    s.faults[f].max_slip = largest[2 * f + 1];
+    s.faults[f].closed = closed[f];
+  }
 }
 
 void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressure,

@@ -37,6 +37,24 @@ namespace biotcontact
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
+/// @brief A fault pair after a solve: its + node (input index), fault (index
+/// among the contact's boundaries), opening [u].n + g0, slip (the
+/// tangential jump, a vector), and contact traction.
+struct PairState
+{
+  std::int64_t node;
+  int fault;
+  double opening, traction;
+  std::array<double, 3> slip;
+};
+
+/// @brief What the summary says of a fault.
+struct FaultSummary
+{
+  std::string name;
+  double max_opening = 0, max_slip = 0, closed = 0;
+};
+
 /// The contact state after a solve: the contact force at a node is the
 /// residual of the unconstrained equations there; divided by the lumped
 /// measure it is the contact pressure -sigma_nu >= 0.
@@ -54,6 +72,12 @@ struct ContactState
   /// along -nu_F (the resultant's magnitude on a flat foundation) and its
   /// active constraints.
   std::vector<std::tuple<std::string, double, int>> boundaries;
+  /// This rank's fault pairs (faults.h), each at its + node.
+  std::vector<PairState> pairs;
+  /// Per fault (in the order of the contact's boundaries): its largest
+  /// opening and slip, and its measure in contact (a length in 2D, an area
+  /// in 3D), on all ranks.
+  std::vector<FaultSummary> faults;
 };
 
 /// @brief The contact active set of a displacement: the flag of each
@@ -216,6 +240,9 @@ private:
   Vec to_vi(Vec x, Vec work) const;
   /// The distance g - u.nu_F of each constraint at x (in x's units).
   std::vector<double> distances(Vec x) const;
+  /// The fault pairs' states and summaries from x and the constraints'
+  /// distances and pressures (collective).
+  void fault_states(ContactState& s, Vec x, const std::vector<double>& distance, const std::vector<double>& pressure);
   /// The diagnostics and output fields of the constraints' pressures and
   /// distances (collective).
   void summarise(ContactState& s, const std::vector<double>& pressure, const std::vector<double>& distance,

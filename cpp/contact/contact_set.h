@@ -40,10 +40,17 @@ struct ContactSet
   std::vector<int> sign;
   std::vector<double> gap, lumped;
   std::vector<std::array<double, 3>> normal;
-  /// Per constraint, its contact boundary (of `boundaries`; a constraint
-  /// merged from two boundaries counts for the first).
+  /// Per constraint of a fault pair: the input index of its + node and R,
+  /// the rotation of the pair's jump (pair_change_of_variables); -1 and
+  /// unused for a foundation's constraint.
+  std::vector<std::int64_t> pair_node;
+  std::vector<NodeMatrix> pair_frame;
+  /// Per constraint, its contact boundary (of `boundaries`, a fault's name
+  /// for its pairs; a constraint merged from two boundaries counts for the
+  /// first). `faults` flags the boundaries that are faults.
   std::vector<int> boundary;
   std::vector<std::string> boundaries;
+  std::vector<char> faults;
   /// The blocks of the change of variables (change_of_variables.h): the
   /// nodes whose normals are not coordinate axes (T_node) and the node
   /// pairs of faults, by the global (unrolled) DOFs of V they mix.

@@ -124,6 +124,8 @@ void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, 
   c.lumped.push_back(face.lumped.array()[first]);
   c.normal.push_back(n);
   c.boundary.push_back(face.boundary);
+  c.pair_node.push_back(pair[0]);
+  c.pair_frame.push_back(*R);
   c.output_dofs.push_back(face.output_dof.at(first));
 }
 } // namespace
@@ -142,6 +144,7 @@ void add_fault_pairs(const Scene& scene, const Domain& domain, const CompiledFor
     FaultFace face{name, fault, static_cast<int>(c.boundaries.size()), scene.faults.at(name),
                    lumped_measure(domain, forms, V, fault.plus_facets), {}};
     c.boundaries.push_back(name);
+    c.faults.push_back(1);
     auto [dofs, collapsed] = fem::locate_dofs_topological({*V->sub({0}), *c.output_space}, d - 1, fault.plus_facets);
     for (std::size_t k = 0; k < dofs.size(); ++k)
       if (dofs[k] < owned)

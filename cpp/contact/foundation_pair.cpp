@@ -66,6 +66,7 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
       continue;
     const int boundary = static_cast<int>(c.boundaries.size());
     c.boundaries.push_back(name);
+    c.faults.push_back(0);
     const auto& facets = domain.boundaries.at(name);
     const la::Vector<double> lumped = lumped_measure(domain, forms, V, facets);
     auto [dofs, collapsed] = fem::locate_dofs_topological({*V0, *c.output_space}, d - 1, facets);
@@ -171,6 +172,8 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     c.lumped.push_back(merged[j].lumped);
     c.normal.push_back(merged[j].normal);
     c.boundary.push_back(merged[j].boundary);
+    c.pair_node.push_back(-1);
+    c.pair_frame.push_back({});
     c.output_dofs.push_back(merged[j].output_dof);
   }
 }

@@ -9,7 +9,7 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
-OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& output)
+OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& output, const double* resume_time)
     : _problem(problem), _scheme(scheme), _output(output)
 {
   const Domain& domain = problem.domain;
@@ -36,6 +36,8 @@ OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& outpu
     scheme.contact_pressure->name = "contact_pressure";
     scheme.contact_active->name = "contact_active";
   }
+  if (!problem.scene.faults.empty() and problem.scene.write_xdmf)
+    _faults = std::make_unique<FaultSeries>(domain.mesh->comm(), output.directory(), problem, resume_time);
 }
 
 void OutputFields::write_flow(double t)
@@ -60,6 +62,8 @@ void OutputFields::write_mechanics(double t)
     _output.write(*_scheme.contact_pressure, t);
     _output.write(*_scheme.contact_active, t);
   }
+  if (_faults)
+    _faults->write(contact, t);
 }
 
 } // namespace biotcontact

@@ -4,6 +4,7 @@
 
 #include "assembly/problem.h"
 #include "coupling/scheme.h"
+#include "output/fault_series.h"
 #include "output/output.h"
 
 #include <dolfinx/fem/Function.h>
@@ -17,7 +18,9 @@ namespace biotcontact
 class OutputFields
 {
 public:
-  OutputFields(const Problem& problem, Scheme& scheme, Output& output);
+  /// With faults and XDMF output, the faults' fields go to fault.xdmf (kept
+  /// up to `resume_time` after a restart).
+  OutputFields(const Problem& problem, Scheme& scheme, Output& output, const double* resume_time);
 
   /// The pressure and the flux (nothing without flow).
   void write_flow(double t);
@@ -32,6 +35,7 @@ private:
   Scheme& _scheme;
   Output& _output;
   std::shared_ptr<dolfinx::fem::Function<double>> _flux, _sigma_v, _zero_pressure;
+  std::unique_ptr<FaultSeries> _faults;
 };
 
 } // namespace biotcontact

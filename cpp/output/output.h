@@ -53,6 +53,7 @@ public:
   void iteration(const IterationRecord& r);
   void summary(const Json& json) const;
   std::string xdmf_path() const { return _directory + "/solution.xdmf"; }
+  const std::string& directory() const { return _directory; }
 
   double time = 0; // seconds spent writing
 

@@ -30,6 +30,15 @@ Json contact_json(const ContactState& c)
   for (const auto& [name, force, active] : c.boundaries)
     boundaries.set(name, Json().set("force", force).set("active_nodes", active));
   j.set("boundaries", boundaries);
+  if (!c.faults.empty())
+  {
+    // Per fault: its largest opening and slip (m), and the length (2D) or
+    // area (3D) of it in contact.
+    Json faults;
+    for (const FaultSummary& f : c.faults)
+      faults.set(f.name, Json().set("max_opening", f.max_opening).set("max_slip", f.max_slip).set("closed", f.closed));
+    j.set("faults", faults);
+  }
   return j;
 }
 
