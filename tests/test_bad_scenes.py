@@ -282,6 +282,8 @@ CASES = [
     ("a negative fault gap", CRACK, s("fault.crack.gap=-1e-3"), "fault.crack.gap", RUN),
     ("a fault pressure that is NaN", CRACK, s("fault.crack.pressure='sqrt(x - 10)'"), "fault.crack.pressure", BOTH),
     ("a degenerate cell", DEGENERATE, [], "degenerate.geo", BOTH),
+    ("a foundation normal into the body", DEFAULT, s("boundary.bottom.contact.normal=[0.0, 1.0]"),
+     "boundary.bottom.contact.normal", BOTH),
     # a given pore pressure (one-way coupling)
     ("a given pore pressure with flow", DEFAULT, s("mechanics.pore_pressure=1e5", "mechanics.alpha=1.0"),
      "mechanics.pore_pressure", BOTH),

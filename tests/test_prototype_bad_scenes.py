@@ -36,6 +36,8 @@ CASES = [
     ("unknown L", ["coupling.L=optimal"], "coupling.L"),
     ("negative gap where evaluated", ["boundary.bottom.contact.gap='x-5'"], "boundary.bottom.contact.gap"),
     ("zero normal", ["boundary.bottom.contact.normal=[0, 0]"], "boundary.bottom.contact.normal"),
+    ("a foundation normal into the body", ["boundary.bottom.contact.normal=[0.0, 1.0]"],
+     "boundary.bottom.contact.normal"),
     ("a normal NaN where evaluated", ["boundary.bottom.contact.normal=['0', '-sqrt(x-5)']"],
      "boundary.bottom.contact.normal"),
     ("opposite normals at a node evaluated", ["boundary.right.contact={ gap = 0.1, normal = [0.0, 1.0] }"],

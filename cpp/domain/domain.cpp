@@ -625,6 +625,11 @@ NonFinite first_non_finite(const Scene& scene, int d, const std::vector<Use>& us
 }
 } // namespace
 
+namespace
+{
+void check_foundation_normals(const Scene& scene, const Domain& domain);
+} // namespace
+
 void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
 {
   std::vector<Use> uses;
@@ -662,6 +667,7 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
   const std::vector<double> midpoints = cell_midpoints(*domain.mesh);
   add_volume_uses(scene, midpoints, uses);
   agree_on_error(first_non_finite(scene, domain.dim(), uses).message, comm);
+  check_foundation_normals(scene, domain);
   for (const auto& [name, b] : scene.boundaries)
     if (b.flow == BoundarySpec::Flow::flux)
       planar_boundary(domain, name, scene.file + ": boundary." + name + (b.rate ? ".rate" : ".flux"));
@@ -790,6 +796,53 @@ WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string
     share /= total;
   return result;
 }
+
+namespace
+{
+/// A foundation's normal is the direction in which its face moves to touch
+/// it: outward. One that points into the body (on average over the face)
+/// holds nothing, and the run would have no contact at all: refused, the
+/// same on every rank (collective).
+void check_foundation_normals(const Scene& scene, const Domain& domain)
+{
+  const mesh::Mesh& mesh = *domain.mesh;
+  const int d = mesh.topology().dim();
+  const std::int32_t owned = mesh.topology().index_map(d - 1)->size_local();
+  auto f_to_c = mesh.topology().connectivity(d - 1, d);
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (!b.contact)
+      continue;
+    const std::vector<std::int32_t>& facets = domain.boundaries.at(name);
+    const std::vector<double> x = facet_vertices(mesh, facets);
+    std::vector<std::int32_t> cells;
+    for (std::int32_t f : facets)
+      cells.push_back(f_to_c->links(f)[0]);
+    const std::vector<double> midpoints = mesh::compute_midpoints(mesh, d, cells);
+    double along = 0; // the measure-weighted nu.n_out
+    for (std::size_t k = 0; k < facets.size(); ++k)
+    {
+      if (facets[k] >= owned)
+        continue;
+      const double* v = &x[3 * d * k];
+      auto [n, measure] = facet_normal(v, v + 3, v + 6, d, std::span(midpoints.data() + 3 * k, 3));
+      std::array<double, 3> middle{0, 0, 0}, nu{0, 0, 0};
+      for (int j = 0; j < d; ++j)
+        for (int i = 0; i < 3; ++i)
+          middle[i] += v[3 * j + i] / d;
+      for (int i = 0; i < d; ++i)
+        nu[i] = b.contact->normal[i](middle.data(), 0.0);
+      const double length = std::hypot(nu[0], nu[1], nu[2]), dot = nu[0] * n[0] + nu[1] * n[1] + nu[2] * n[2];
+      if (length > 0 and std::isfinite(dot / length))
+        along += measure * dot / length;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &along, 1, MPI_DOUBLE, MPI_SUM, mesh.comm());
+    if (along < 0)
+      throw SceneError(scene.file + ": boundary." + name + ".contact.normal: points into the body: it is the "
+                       "direction in which the face moves to touch the foundation, outward from the body");
+  }
+}
+} // namespace
 
 PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key)
 {

@@ -381,6 +381,7 @@ def check_expressions(scene, domain, comm):
         if index < len(uses):
             break
     agree_on_error(message, comm)
+    _check_foundation_normals(scene, domain)
     for name, b in sorted(scene.boundaries.items()):
         if b.flow == "flux":
             planar_boundary(domain, name, f"{scene.file}: boundary.{name}.{'rate' if b.rate is not None else 'flux'}")
@@ -453,6 +454,35 @@ def _facet_normals(vertices, cell_midpoints, d):
     outward = np.sign(np.sum(n * (a - cell_midpoints), axis=1))
     outward[outward == 0] = 1
     return n * (outward / length)[:, None], length if d == 2 else length / 2
+
+
+def _check_foundation_normals(scene, domain):
+    """A foundation's normal is the direction in which its face moves to
+    touch it: outward. One that points into the body (on average over the
+    face) holds nothing, and the run would have no contact at all: refused,
+    the same on every rank (collective; cpp/domain/domain.cpp)."""
+    mesh, d = domain.mesh, domain.dim
+    f_to_c = mesh.topology.connectivity(d - 1, d)
+    for name, b in sorted(scene.boundaries.items()):
+        if b.contact is None:
+            continue
+        facets = domain.boundaries[name]
+        facets = facets[facets < mesh.topology.index_map(d - 1).size_local]
+        nodes = entities_to_geometry(mesh._mesh, d - 1, facets, False)
+        cells = np.array([f_to_c.links(f)[0] for f in facets], dtype=np.int32)
+        midpoints = dmesh.compute_midpoints(mesh, d, cells) if len(cells) else np.zeros((0, 3))
+        vertices = mesh.geometry.x[nodes].reshape(len(facets), d, 3)
+        normals, measures = _facet_normals(vertices, midpoints, d)
+        middle = vertices.mean(axis=1)
+        nu = np.zeros((len(facets), 3))
+        for i in range(d):
+            nu[:, i] = np.broadcast_to(b.contact.normal[i](middle[:, 0], middle[:, 1], middle[:, 2], 0.0), len(facets))
+        with np.errstate(all="ignore"):
+            along = np.sum(nu * normals, axis=1) / np.linalg.norm(nu, axis=1)
+        along = mesh.comm.allreduce(float(np.sum((measures * along)[np.isfinite(along)])))
+        if along < 0:
+            raise SceneError(f"{scene.file}: boundary.{name}.contact.normal: points into the body: it is the "
+                             "direction in which the face moves to touch the foundation, outward from the body")
 
 
 def planar_boundary(domain, name, key):
