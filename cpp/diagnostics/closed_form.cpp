@@ -1,5 +1,6 @@
 #include "diagnostics/closed_form.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -118,6 +119,29 @@ double Mandel::displacement_x(double x, double t) const
 double Mandel::displacement_y(double y, double t) const
 {
   return (-_F * (1 - nu) / (2 * _G * _a) + _F * (1 - nu_u) / (_G * _a) * plate_series(t)) * y;
+}
+
+double sneddon_opening(double p, double E, double nu, double a, double s)
+{
+  return 4 * (1 - nu * nu) * p / E * std::sqrt(std::max(a * a - s * s, 0.0));
+}
+
+double penny_opening(double p, double E, double nu, double a, double r)
+{
+  return 8 * (1 - nu * nu) * p / (M_PI * E) * std::sqrt(std::max(a * a - r * r, 0.0));
+}
+
+double jansen_meulenbroek_slip(double y, DisplacedFault fault, double E, double nu, double alpha, double dp)
+{
+  // Jansen and Meulenbroek's slip is the trapezoid times C/A in size, with
+  // C = (1 - 2 nu) alpha dp / (2 pi (1 - nu)) the scale of the shear stress
+  // the depletion puts on a locked fault and A = G / (2 pi (1 - nu)) that of
+  // an edge dislocation's: a slip gradient of size |C|/A, of opposite signs
+  // on -b < y < -a and a < y < b, cancels the locked fault's logarithmic
+  // shear stress everywhere on the line x = 0.
+  const double G = E / (2 * (1 + nu));
+  const auto [a, b] = fault;
+  return -(1 - 2 * nu) * alpha * dp / G * std::clamp(b - std::abs(y), 0.0, b - a);
 }
 
 Scene with_mandel_plate(Scene scene)

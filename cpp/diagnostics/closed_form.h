@@ -54,6 +54,43 @@ private:
   std::vector<double> _roots; // alpha_n: tan(a_n) = (1 - nu)/(nu_u - nu) a_n
 };
 
+/// Sneddon's pressurised crack in plane strain (Sneddon 1946; Sneddon and
+/// Lowengrub 1969, section 2.5; docs/verification.md, "Sneddon"): the total
+/// opening (both faces) of a straight crack of half-length a in an unbounded
+/// plane (Young's modulus E, Poisson's ratio nu) under the internal pressure
+/// p, at the distance s from its centre along it:
+/// w(s) = 4 (1 - nu^2) p / E sqrt(a^2 - s^2), zero for |s| >= a.
+double sneddon_opening(double p, double E, double nu, double a, double s);
+
+/// Sneddon's penny-shaped crack (Sneddon 1946; docs/verification.md,
+/// "Penny-shaped crack"): the total opening of a disc-shaped crack of radius
+/// a in an unbounded body under the internal pressure p, at the distance r
+/// from its centre: w(r) = 8 (1 - nu^2) p / (pi E) sqrt(a^2 - r^2), zero for
+/// r >= a.
+double penny_opening(double p, double E, double nu, double a, double r);
+
+/// @brief The geometry of Jansen and Meulenbroek's displaced fault: a
+/// vertical fault at x = 0 offsets a laterally unbounded reservoir, which
+/// spans -b <= y <= a on its left (x < 0) and -a <= y <= b on its right
+/// (x > 0), 0 <= a < b: thickness a + b, throw b - a.
+struct DisplacedFault
+{
+  double a, b;
+};
+
+/// The slip of a frictionless vertical fault offsetting a reservoir whose
+/// pressure changes by dp (plane strain, unbounded plane, Biot's alpha;
+/// Jansen and Meulenbroek 2022, "Induced aseismic slip and the onset of
+/// seismicity in displaced faults", Netherlands Journal of Geosciences, the
+/// slip for zero friction; docs/verification.md, "Jansen and Meulenbroek"): the
+/// vertical displacement of the fault's right face relative to its left
+/// one, u_y(0+, y) - u_y(0-, y), a trapezoid:
+/// -(1 - 2 nu) alpha dp / G (b - a) on |y| <= a, falling linearly to zero at
+/// |y| = b, zero beyond, G = E / (2 (1 + nu)). Positive for depletion
+/// (dp < 0): each block's reservoir compacts towards its own mid-height, so
+/// in the overlap the right block, whose reservoir lies higher, moves up.
+double jansen_meulenbroek_slip(double y, DisplacedFault fault, double E, double nu, double alpha, double dp);
+
 /// The scene a run solves: `scene` itself, or for a [reference] solution =
 /// "mandel" scene the scene with Mandel's rigid frictionless plate imposed
 /// as the exact u_y on the boundary reference.plate (the usual set-up;

@@ -1,5 +1,7 @@
 """Closed-form solutions for verification (cpp/diagnostics/closed_form.cpp), vectorised
-over the coordinate: Terzaghi consolidation and Mandel's problem."""
+over the coordinate: Terzaghi consolidation, Mandel's problem, the opening of
+Sneddon's pressurised cracks (plane strain and penny-shaped) and the slip of
+Jansen and Meulenbroek's displaced fault."""
 import dataclasses
 import math
 from dataclasses import dataclass
@@ -133,6 +135,57 @@ class Mandel:
     def displacement_y(self, y, t):
         F, G, a = self.F, self.G, self.a
         return (-F * (1 - self.nu) / (2 * G * a) + F * (1 - self.nu_u) / (G * a) * self._plate_series(t)) * y
+
+
+def sneddon_opening(p, E, nu, a, s):
+    """Sneddon's pressurised crack in plane strain (Sneddon 1946; Sneddon and
+    Lowengrub 1969, section 2.5; docs/verification.md, "Sneddon"): the total
+    opening (both faces) of a straight crack of half-length a in an unbounded
+    plane (Young's modulus E, Poisson's ratio nu) under the internal pressure
+    p, at the distance s from its centre along it:
+    w(s) = 4 (1 - nu^2) p / E sqrt(a^2 - s^2), zero for |s| >= a."""
+    return 4 * (1 - nu * nu) * p / E * np.sqrt(np.maximum(a * a - np.square(s), 0.0))
+
+
+def penny_opening(p, E, nu, a, r):
+    """Sneddon's penny-shaped crack (Sneddon 1946; docs/verification.md,
+    "Penny-shaped crack"): the total opening of a disc-shaped crack of radius
+    a in an unbounded body under the internal pressure p, at the distance r
+    from its centre: w(r) = 8 (1 - nu^2) p / (pi E) sqrt(a^2 - r^2), zero for
+    r >= a."""
+    return 8 * (1 - nu * nu) * p / (math.pi * E) * np.sqrt(np.maximum(a * a - np.square(r), 0.0))
+
+
+@dataclass
+class DisplacedFault:
+    """The geometry of Jansen and Meulenbroek's displaced fault: a vertical
+    fault at x = 0 offsets a laterally unbounded reservoir, which spans
+    -b <= y <= a on its left (x < 0) and -a <= y <= b on its right (x > 0),
+    0 <= a < b: thickness a + b, throw b - a."""
+    a: float
+    b: float
+
+
+def jansen_meulenbroek_slip(y, fault, E, nu, alpha, dp):
+    """The slip of a frictionless vertical fault offsetting a reservoir whose
+    pressure changes by dp (plane strain, unbounded plane, Biot's alpha;
+    Jansen and Meulenbroek 2022, "Induced aseismic slip and the onset of
+    seismicity in displaced faults", Netherlands Journal of Geosciences, the
+    slip for zero friction; docs/verification.md, "Jansen and Meulenbroek"):
+    the vertical displacement of the fault's right face relative to its left
+    one, u_y(0+, y) - u_y(0-, y), a trapezoid:
+    -(1 - 2 nu) alpha dp / G (b - a) on |y| <= a, falling linearly to zero at
+    |y| = b, zero beyond, G = E / (2 (1 + nu)). Positive for depletion
+    (dp < 0): each block's reservoir compacts towards its own mid-height, so
+    in the overlap the right block, whose reservoir lies higher, moves up.
+
+    It is the trapezoid times C/A in size, with C = (1 - 2 nu) alpha dp / (2 pi (1 - nu))
+    the scale of the shear stress the depletion puts on a locked fault and
+    A = G / (2 pi (1 - nu)) that of an edge dislocation's: a slip gradient of
+    size |C|/A, of opposite signs on -b < y < -a and a < y < b, cancels the
+    locked fault's logarithmic shear stress everywhere on the line x = 0."""
+    G = E / (2 * (1 + nu))
+    return -(1 - 2 * nu) * alpha * dp / G * np.clip(fault.b - np.abs(y), 0.0, fault.b - fault.a)
 
 
 def with_mandel_plate(scene):
