@@ -9,7 +9,7 @@ fault stays closed, and with every pair in contact the problem is linear:
 the slip at each step is t/4 of the last one. The prototype gives the C++
 fields to 1e-10. On 2 and 3 ranks (C++) and 2 (prototype) the fields equal
 one rank's to 1e-10 with the same pairs in contact: the partitioner cuts
-along the fault (no edge of the mesh crosses it), so on 2 ranks every
+along the fault (no edge of the mesh crosses it), so on 2 ranks a
 pair's two nodes are owned by two ranks, and the pair's block of the
 change of variables spans them."""
 import numpy as np
