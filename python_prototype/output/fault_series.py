@@ -41,6 +41,8 @@ def _write_rows(h5, name, values, width):
 
 
 class FaultSeries:
+    """fault.xdmf and fault.h5 of a run with faults (rank 0 holds the files)."""
+
     def __init__(self, comm, directory, problem, resume_time=None):
         """Creates directory/fault.xdmf and .h5 with the faces' mesh; or, after
         a restart at `resume_time`, goes on in them (collective)."""
@@ -69,6 +71,7 @@ class FaultSeries:
         self._write_xml()
 
     def close(self):
+        """Closes fault.h5 (every write is on disk already)."""
         if self._h5 is not None:
             self._h5.close()
             self._h5 = None
@@ -94,8 +97,7 @@ class FaultSeries:
         all_x = _gather_to_root(np.concatenate(x), self._comm)
         if self._comm.rank != 0:
             return
-        corners = all_facets[:, 1:].reshape(-1)
-        self._nodes = np.unique(corners)
+        self._nodes = np.unique(all_facets[:, 1:])
         self._facets = np.searchsorted(self._nodes, all_facets[:, 1:]).astype(np.int64)
         self._x = np.empty((len(self._nodes), 3))
         self._fault = np.empty(len(self._nodes), dtype=np.int64)
