@@ -99,10 +99,13 @@ class Simulation:
             restore_checkpoint(self.resumed, self.run_state(), self.comm, self.directory)
         self.output = Output(self.comm, self.directory, self.domain.mesh, self.scene.write_xdmf,
                              self.resumed.output if self.resumed else None)
-        self.fields = OutputFields(self.problem, self.scheme, self.output)
+        self.fields = OutputFields(self.problem, self.scheme, self.output,
+                                   self.resumed.time if self.resumed else None)
 
     def close_output(self):
         """The files closed and the directory's lock released."""
+        if self.fields is not None:
+            self.fields.close()
         if self.output is not None:
             self.output.close()
         if self.lock is not None:

@@ -60,6 +60,54 @@ def written(text, name="scene.toml"):
     return path
 
 
+CRACK_GEO = os.path.join(ROOT, "meshes", "sneddon2d.geo")
+CRACK_TEXT = f"""[mesh]
+type = "gmsh"
+file = "{CRACK_GEO}"
+dimension = 2
+[mechanics]
+E = 1.0e10
+nu = 0.25
+[time]
+end = 1.0
+dt = 1.0
+[fault.crack]
+pressure = "1.0e6"
+normal = [-0.5, 0.8660254037844386]
+[boundary.left]
+displacement = {{ x = 0.0, y = 0.0 }}
+"""
+CROSSING_GEO = """SetFactory("Built-in");
+Point(1) = {-2, -2, 0}; Point(2) = {2, -2, 0}; Point(3) = {2, 2, 0}; Point(4) = {-2, 2, 0};
+Point(5) = {-1, 0, 0}; Point(6) = {0, 0, 0}; Point(7) = {1, 0, 0}; Point(8) = {0, -1, 0}; Point(9) = {0, 1, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {8, 6}; Line(8) = {6, 9};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve{5, 6, 7, 8} In Surface{1};
+Physical Curve("left") = {4}; Physical Curve("crack") = {5, 6}; Physical Curve("other") = {7, 8};
+Physical Surface("rock") = {1};
+Mesh.CharacteristicLengthMax = 0.25;
+"""
+
+
+def crack_scenes():
+    """The bad-input catalogues' faulted scenes (test_bad_scenes.py and its
+    prototype twin), paths of new files: a crack in a gmsh mesh
+    (meshes/sneddon2d.geo), mechanics only; two cracks that cross, in a
+    small square; and the crack with tip cells of 0.0025 m, where gmsh makes
+    one of zero area."""
+    crack = written(CRACK_TEXT)
+    crossing = written(CRACK_TEXT.replace(CRACK_GEO, "crossing.geo") + "[fault.other]\nnormal = [1.0, 0.0]\n")
+    with open(os.path.join(os.path.dirname(crossing), "crossing.geo"), "w") as f:
+        f.write(CROSSING_GEO)
+    degenerate = written(CRACK_TEXT.replace(CRACK_GEO, "degenerate.geo"))
+    with open(CRACK_GEO) as f:
+        geo = f.read().replace("Field[4].SizeMin = 0.004;", "Field[4].SizeMin = 0.0025;")
+    with open(os.path.join(os.path.dirname(degenerate), "degenerate.geo"), "w") as f:
+        f.write(geo)
+    return crack, crossing, degenerate
+
+
 def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     """Runs a scene on one track ("C++" or "prototype") with --set values
     and PETSc `options`, on `ranks` MPI ranks, checking its exit status;

@@ -10,7 +10,7 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, scene
+from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, scene
 
 DEFAULT = scene("default")
 with open(DEFAULT) as f:
@@ -44,45 +44,7 @@ CORRUPT_GEO = CORRUPT_MSH.replace(".msh", ".geo")
 with open(CORRUPT_GEO, "w") as f:
     f.write("Point(1) = {0, 0, 0\n")
 EMPTY = written("")
-# A crack in a gmsh mesh (meshes/sneddon2d.geo), mechanics only; and two
-# cracks that cross, in a small square.
-CRACK_TEXT = f"""[mesh]
-type = "gmsh"
-file = "{os.path.join(ROOT, 'meshes', 'sneddon2d.geo')}"
-dimension = 2
-[mechanics]
-E = 1.0e10
-nu = 0.25
-[time]
-end = 1.0
-dt = 1.0
-[fault.crack]
-pressure = "1.0e6"
-normal = [-0.5, 0.8660254037844386]
-[boundary.left]
-displacement = {{ x = 0.0, y = 0.0 }}
-"""
-CRACK = written(CRACK_TEXT)
-CROSSING = written(CRACK_TEXT.replace(os.path.join(ROOT, "meshes", "sneddon2d.geo"), "crossing.geo")
-                   + "[fault.other]\nnormal = [1.0, 0.0]\n")
-with open(os.path.join(os.path.dirname(CROSSING), "crossing.geo"), "w") as f:
-    f.write("""SetFactory("Built-in");
-Point(1) = {-2, -2, 0}; Point(2) = {2, -2, 0}; Point(3) = {2, 2, 0}; Point(4) = {-2, 2, 0};
-Point(5) = {-1, 0, 0}; Point(6) = {0, 0, 0}; Point(7) = {1, 0, 0}; Point(8) = {0, -1, 0}; Point(9) = {0, 1, 0};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
-Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {8, 6}; Line(8) = {6, 9};
-Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
-Curve{5, 6, 7, 8} In Surface{1};
-Physical Curve("left") = {4}; Physical Curve("crack") = {5, 6}; Physical Curve("other") = {7, 8};
-Physical Surface("rock") = {1};
-Mesh.CharacteristicLengthMax = 0.25;
-""")
-# The same crack with the tip cells of 0.0025 m gmsh makes one of zero area.
-DEGENERATE = written(CRACK_TEXT.replace(os.path.join(ROOT, "meshes", "sneddon2d.geo"), "degenerate.geo"))
-with open(os.path.join(ROOT, "meshes", "sneddon2d.geo")) as f:
-    degenerate = f.read().replace("Field[4].SizeMin = 0.004;", "Field[4].SizeMin = 0.0025;")
-with open(os.path.join(os.path.dirname(DEGENERATE), "degenerate.geo"), "w") as f:
-    f.write(degenerate)
+CRACK, CROSSING, DEGENERATE = crack_scenes()
 BOTH = ("check", "run")
 RUN = ("run",)
 

@@ -5,7 +5,7 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, scene
+from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, scene
 
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
@@ -116,6 +116,23 @@ for label, path, overrides, key in (
         ("a pore pressure load without a pore pressure", scene("elastic_contact"),
          ["boundary.bottom.pore_pressure_load=true"], "boundary.bottom.pore_pressure_load")):
     (cs, ce), (ps, pe) = both("check", path, overrides)
+    check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
+          f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")
+
+# The faults' bad inputs of the split mesh and the flow: the catalogue's
+# scenes; a negative gap is found where the pairs are made, in a run.
+CRACK, CROSSING, DEGENERATE = crack_scenes()
+for label, command, path, overrides, key in (
+        ("a transparent fault with flow", "check", scene("fracture"), ["fault.f.gap=0.0"], "fault.f.flow"),
+        ("a fault group that does not exist", "check", CRACK, ["fault.nowhere.gap=0.0"], "fault.nowhere"),
+        ("a fault group of the wrong dimension", "check", CRACK, ["fault.rock.gap=0.0"], "fault.rock"),
+        ("a fault group on the outer boundary", "check", CRACK, ["fault.top.gap=0.0"], "fault.top"),
+        ("faults that cross", "check", CROSSING, [], "fault.crack"),
+        ("a negative fault gap", "run", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
+        ("a fault pressure that is NaN", "check", CRACK, ["fault.crack.pressure='sqrt(x - 10)'"],
+         "fault.crack.pressure"),
+        ("a degenerate cell", "check", DEGENERATE, [], "degenerate.geo")):
+    (cs, ce), (ps, pe) = both(command, path, overrides)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")
 

@@ -6,6 +6,7 @@ import numpy as np
 from dolfinx import fem, mesh as dmesh
 
 from ..domain.domain import planar_boundary
+from ..scene.input import FaultFlow
 
 
 def displacement_bcs(scene, domain, U):
@@ -52,13 +53,20 @@ class FluxValues:
 
 
 def flux_bc(scene, domain, Z):
-    """z.n = g on every boundary facet that is not a pressure boundary (g = 0
-    but on flux and rate boundaries); returns the condition and its FluxValues."""
+    """z.n = g on every boundary facet that is not a pressure boundary nor a
+    face of a fault held at its pressure (g = 0 but on flux and rate
+    boundaries); returns the condition and its FluxValues."""
     d = domain.dim
     facets = dmesh.exterior_facet_indices(domain.mesh.topology)
     for name, b in scene.boundaries.items():
         if b.flow == "pressure":
             facets = np.setdiff1d(facets, domain.boundaries[name])
+    # A fault's faces are exterior facets of the split mesh: no flow crosses
+    # them ("sealing") unless they are pressure boundaries.
+    for name, f in scene.faults.items():
+        if f.flow == FaultFlow.pressure:
+            fault = domain.faults[name]
+            facets = np.setdiff1d(facets, np.concatenate([fault.plus_facets, fault.minus_facets]))
     collapsed, _ = Z.collapse()
     values = FluxValues(fem.Function(collapsed))
     f_to_c = domain.mesh.topology.connectivity(d - 1, d)

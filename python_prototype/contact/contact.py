@@ -11,6 +11,7 @@ coordinate axis). PETSc's reduced-space active-set Newton (SNES
 vinewtonrsls) solves it.
 """
 import dataclasses
+import math
 
 import numpy as np
 from mpi4py import MPI
@@ -43,6 +44,7 @@ def locate_contact(scene, domain, F, V):
     c.gap, c.lumped, c.normal = np.array(c.gap), np.array(c.lumped), np.array(c.normal)
     c.output_dofs = np.array(c.output_dofs, dtype=np.int32)
     c.boundary = np.array(c.boundary, dtype=np.int32)
+    c.pair_node = np.array(c.pair_node, dtype=np.int64)
     return c
 
 
@@ -90,6 +92,27 @@ class ContactUnknowns:
     displacement_dofs: object
 
 
+@dataclasses.dataclass
+class PairState:
+    """A fault pair after a solve: its + node (input index), fault (index
+    among the contact's boundaries), opening [u].n + g0, contact traction
+    and slip (the tangential jump, a vector of three components)."""
+    node: int
+    fault: int
+    opening: float
+    traction: float
+    slip: np.ndarray
+
+
+@dataclasses.dataclass
+class FaultSummary:
+    """What the summary says of a fault."""
+    name: str
+    max_opening: float = 0.0
+    max_slip: float = 0.0
+    closed: float = 0.0
+
+
 class ContactState:
     """Contact diagnostics after a solve (cpp/contact/contact.h)."""
 
@@ -98,6 +121,11 @@ class ContactState:
         self.max_penetration = self.max_pressure = self.min_pressure = 0.0
         self.max_complementarity = self.gap_scale = self.total_force = 0.0
         self.boundaries = []  # (name, force along -nu_F, active constraints) per contact boundary
+        self.pairs = []       # this rank's fault pairs (PairState), each at its + node
+        # Per fault (FaultSummary, in the order of the contact's boundaries):
+        # its largest opening and slip, and its measure in contact (a length
+        # in 2D, an area in 3D), on all ranks.
+        self.faults = []
 
 
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
@@ -504,7 +532,36 @@ class ContactSolver:
         s = ContactState()
         s.gap_scale = self.displacement_scale(x)
         self._summarise(s, pressure, distance, pressure_out, active_out)
+        self._fault_states(s, x, distance, pressure)
         return s
+
+    def _fault_states(self, s, x, distance, pressure):
+        """The fault pairs' states and summaries from x and the constraints'
+        distances and pressures (collective)."""
+        c, d = self.set, self.set.dim
+        s.faults = [FaultSummary(name) for name, fault in zip(c.boundaries, c.faults) if fault]
+        if not s.faults:
+            return
+        summary_of = np.cumsum(c.faults) - 1  # of a fault's boundary
+        # The jump in the pair's frame, w_J = R [u], sits in the + node's rows
+        # of x' = T x (change_of_variables.py).
+        X = self._to_vi(x).getArray(readonly=True)
+        closed, largest = np.zeros(len(s.faults)), np.zeros(2 * len(s.faults))
+        for k in np.flatnonzero(c.pair_node >= 0):
+            R = c.pair_frame[k]
+            p = PairState(int(c.pair_node[k]), int(c.boundary[k]), distance[k], pressure[k], np.zeros(3))
+            for r in range(1, d):  # the tangential rows: the slip
+                p.slip[:d] += R[r, :d] * X[self.displacement_dofs[c.dofs[k] + r]]
+            f = summary_of[p.fault]
+            largest[2 * f] = max(largest[2 * f], p.opening)
+            largest[2 * f + 1] = max(largest[2 * f + 1], math.hypot(*p.slip))
+            if _on_foundation(distance[k], s.gap_scale):
+                closed[f] += c.lumped[k]
+            s.pairs.append(p)
+        self.comm.Allreduce(MPI.IN_PLACE, largest, op=MPI.MAX)
+        self.comm.Allreduce(MPI.IN_PLACE, closed, op=MPI.SUM)
+        for f, summary in enumerate(s.faults):
+            summary.max_opening, summary.max_slip, summary.closed = largest[2 * f], largest[2 * f + 1], closed[f]
 
     def _summarise(self, s, pressure, distance, pressure_out, active_out):
         """The diagnostics and output fields of the constraints' pressures

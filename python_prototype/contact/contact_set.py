@@ -19,8 +19,12 @@ class ContactSet:
     the DOF is that component of u itself; +1 at a transformed node), `gap`,
     `normal`, `lumped` (boundary measure, which turns a nodal force into a
     pressure), `boundary` (its contact boundary or fault in `boundaries`; a
-    constraint merged from two boundaries counts for the first) and
-    `output_dofs` (its node in the P1 scalar `output_space`). `blocks` lists
+    constraint merged from two boundaries counts for the first),
+    `output_dofs` (its node in the P1 scalar `output_space`) and, for a
+    fault pair's constraint, `pair_node` (the input index of its + node)
+    and `pair_frame` (R, the rotation of the pair's jump:
+    pair_change_of_variables); -1 and None for a foundation's. `faults`
+    flags the entries of `boundaries` that are faults. `blocks` lists
     the blocks of the change of variables as (the global unrolled DOFs of V
     they mix, their matrix): the nodes whose normals are not coordinate axes
     and the node pairs of faults; `dof_offset` is the global index in V of
@@ -30,7 +34,8 @@ class ContactSet:
     def __init__(self, dim, output_space, dof_offset):
         self.dim, self.output_space, self.dof_offset = dim, output_space, dof_offset
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
-        self.boundary, self.boundaries = [], []
+        self.boundary, self.boundaries, self.faults = [], [], []
+        self.pair_node, self.pair_frame = [], []
         self.blocks = []
 
 

@@ -95,6 +95,8 @@ def _add_pair(c, context, face, k, error):
     c.lumped.append(face.lumped[first])
     c.normal.append(n)
     c.boundary.append(face.boundary)
+    c.pair_node.append(plus)
+    c.pair_frame.append(R)
     c.output_dofs.append(face.output_dof[first])
 
 
@@ -114,6 +116,7 @@ def add_fault_pairs(scene, domain, F, V, c, error):
         face = _FaultFace(name, fault, len(c.boundaries), scene.faults[name],
                           lumped_measure(domain, F, V, fault.plus_facets), {})
         c.boundaries.append(name)
+        c.faults.append(True)
         dofs, collapsed = fem.locate_dofs_topological((V.sub(0), c.output_space), d - 1, fault.plus_facets)
         face.output_dof = {int(dof): int(out) for dof, out in zip(dofs, collapsed) if dof < n_owned}
         for k in range(len(fault.pairs)):

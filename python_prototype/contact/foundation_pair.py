@@ -40,6 +40,7 @@ def _gather_candidates(scene, domain, F, V, c, error):
             continue
         boundary = len(c.boundaries)
         c.boundaries.append(name)
+        c.faults.append(False)
         lumped = lumped_measure(domain, F, V, domain.boundaries[name])
         dofs, collapsed = fem.locate_dofs_topological((V0, c.output_space), d - 1, domain.boundaries[name])
         for dof, out in zip(dofs, collapsed):
@@ -101,6 +102,8 @@ def _add_node(c, node, prescribed, file, error):
         c.lumped.append(m["lumped"])
         c.normal.append(m["normal"])
         c.boundary.append(m["boundary"])
+        c.pair_node.append(-1)
+        c.pair_frame.append(None)
         c.output_dofs.append(m["output_dof"])
 
 

@@ -324,8 +324,8 @@ def create_domain(scene, comm):
 
 def check_expressions(scene, domain, comm):
     """Every expression of the scene evaluated where it is used (boundary
-    values at the nodes of their boundary, volume terms at the cell
-    midpoints) at the first and the last time: NaN or inf is refused with
+    values at the nodes of their boundary, a fault's pressure at the nodes
+    of its + face, volume terms at the cell midpoints) at the first and the last time: NaN or inf is refused with
     SceneError naming its key, the same on every rank (cpp/domain/domain.h)."""
     mesh, d = domain.mesh, domain.mesh.topology.dim
     x = mesh.geometry.x
@@ -346,6 +346,10 @@ def check_expressions(scene, domain, comm):
         if b.flow == "flux":
             uses.append((f"boundary.{name}.rate", b.rate, at, True) if b.rate is not None
                         else (f"boundary.{name}.flux", b.flux, at, True))
+    for name, f in scene.faults.items():
+        if f.pressure is not None and name in domain.faults:
+            nodes = entities_to_geometry(mesh._mesh, d - 1, domain.faults[name].plus_facets, False).reshape(-1)
+            uses.append((f"fault.{name}.pressure", f.pressure, x[nodes], True))
     for name, w in sorted(scene.wells.items()):
         uses.append((f"well.{name}.rate", w.rate, np.array([[w.position[0], w.position[1], w.bottom]]), True))
     if scene.mechanics and scene.mechanics.body_force:

@@ -5,13 +5,16 @@ from dolfinx import fem
 
 from ..contact.contact import ContactState
 from ..diagnostics.diagnostics import volumetric_stress
+from .fault_series import FaultSeries
 
 
 class OutputFields:
     """Writes the scheme's fields into the output at a time; names them as
     ParaView shows them."""
 
-    def __init__(self, problem, scheme, output):
+    def __init__(self, problem, scheme, output, resume_time=None):
+        """With faults and XDMF output, the faults' fields go to fault.xdmf
+        (kept up to `resume_time` after a restart)."""
         F = problem.forms
         self._F, self._scheme, self._output = F, scheme, output
         if scheme.p is not None:
@@ -24,6 +27,9 @@ class OutputFields:
             if scheme.contact_pressure is not None:
                 scheme.contact_pressure.name = "contact_pressure"
                 scheme.contact_active.name = "contact_active"
+        self._faults = None
+        if scheme.u is not None and problem.scene.faults and problem.scene.write_xdmf:
+            self._faults = FaultSeries(problem.domain.mesh.comm, output.directory(), problem, resume_time)
         self.contact = ContactState()  # at the last mechanics output
 
     def write_flow(self, t):
@@ -47,3 +53,10 @@ class OutputFields:
         if s.contact_pressure is not None:
             self._output.write(s.contact_pressure, t)
             self._output.write(s.contact_active, t)
+        if self._faults is not None:
+            self._faults.write(self.contact, t)
+
+    def close(self):
+        """fault.h5 closed (every write is already on disk)."""
+        if self._faults is not None:
+            self._faults.close()

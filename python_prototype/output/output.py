@@ -76,6 +76,9 @@ class Output:
     def xdmf_path(self):
         return os.path.join(self._directory, "solution.xdmf")
 
+    def directory(self):
+        return self._directory
+
     def _cannot_write(self, path, error):
         return f"cannot write {path}: {write_failure_reason(self._directory, error)}"
 

@@ -39,11 +39,17 @@ def _global_size(V):
 
 
 def _contact_json(c):
-    return {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
-            "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
-            "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
-            "gap_scale": c.gap_scale, "total_force": c.total_force,
-            "boundaries": {name: {"force": force, "active_nodes": active} for name, force, active in c.boundaries}}
+    j = {"contact_nodes": c.contact_nodes, "active_nodes": c.active_nodes,
+         "max_penetration": c.max_penetration, "max_complementarity": c.max_complementarity,
+         "max_contact_pressure": c.max_pressure, "min_contact_pressure": c.min_pressure,
+         "gap_scale": c.gap_scale, "total_force": c.total_force,
+         "boundaries": {name: {"force": force, "active_nodes": active} for name, force, active in c.boundaries}}
+    if c.faults:
+        # Per fault: its largest opening and slip (m), and the length (2D) or
+        # area (3D) of it in contact.
+        j["faults"] = {f.name: {"max_opening": f.max_opening, "max_slip": f.max_slip, "closed": f.closed}
+                       for f in c.faults}
+    return j
 
 
 def _errors_json(e):

@@ -6,7 +6,7 @@ import time
 from dolfinx import fem
 
 from ..solvers.field_split import Field
-from ..scene.input import TimeScheme
+from ..scene.input import FaultFlow, TimeScheme
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
@@ -87,8 +87,9 @@ class FlowStep(Step):
         self.b = fem.Function(W)
 
     def make_loads(self, domain):
-        """Source, gravity and boundary pressures (alg. "Flow"), in that order,
-        then the wells, with the prescribed normal fluxes set; a non-zero one is lifted, its
+        """Source, gravity and boundary pressures (alg. "Flow"; a fault held at
+        its pressure is a boundary pressure on its faces), in that order, then
+        the wells, with the prescribed normal fluxes set; a non-zero one is lifted, its
         column moved to the right-hand side."""
         F, flow = self.F, self.scene.flow
 
@@ -112,6 +113,10 @@ class FlowStep(Step):
             if b.flow == "pressure":
                 self.loads.add_boundary(domain, name, lambda marker: F.compile("L_flow_pressure", marker),
                                         F["p_boundary"], [b.pressure])
+        for name, f in self.scene.faults.items():
+            if f.flow == FaultFlow.pressure:  # the faces hold the fault's pressure
+                self.loads.add_on_facets(domain.fault_faces(name), lambda marker: F.compile("L_flow_pressure", marker),
+                                         F["p_boundary"], [f.pressure])
 
     def keep_loads(self, times):
         """Keeps the loads of the last `times` solve times (q for a multirate

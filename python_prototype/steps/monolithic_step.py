@@ -11,7 +11,7 @@ from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
-from ..scene.input import TimeScheme
+from ..scene.input import FaultFlow, TimeScheme
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
@@ -64,7 +64,8 @@ class MonolithicStep(Step):
 
     def make_loads(self, domain, F):
         """Body force, tractions, source, boundary pressures, gravity and the
-        faults' pressures, in that order, with the Dirichlet values at t
+        faults' pressures (on both faces, and as a boundary pressure of a
+        fault held at it), in that order, with the Dirichlet values at t
         (lifted with the history term, assemble_rhs)."""
         scene = self.scene
         def finish(b, t):
@@ -93,8 +94,14 @@ class MonolithicStep(Step):
         if scene.flow.gravity:
             self.loads.add(F.compile("L_monolithic_gravity"))
         for name, f in scene.faults.items():
-            if f.pressure is not None:  # the fault's fluid pressure on both its faces
-                self.loads.add_on_facets(domain.fault_faces(name), lambda m: F.compile("L_monolithic_face_pressure", m),
+            if f.pressure is None:
+                continue
+            # The fault's fluid pressure on both its faces, and its flow condition.
+            forms = ["L_monolithic_face_pressure"]
+            if f.flow == FaultFlow.pressure:
+                forms.append("L_monolithic_pressure")
+            for form in forms:
+                self.loads.add_on_facets(domain.fault_faces(name), lambda m: F.compile(form, m),
                                          F["p_boundary"], [f.pressure])
 
     def attach_contact(self, domain, F):

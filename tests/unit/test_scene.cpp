@@ -199,7 +199,8 @@ TEST(SceneReader, ReadsFaults)
   EXPECT_EQ((*g.pressure)(0, 0, 0, 3), 3e5);
   EXPECT_EQ(g.flow, FaultFlow::pressure);
   EXPECT_EQ(g.normal, (std::vector<double>{1.0, 1.0}));
-  EXPECT_TRUE(read_scene(fracture_scene, {"fault.f.pore_pressure_load=true"}).faults.at("f").pore_pressure_load);
+  const Scene loaded = read_scene(fracture_scene, {"fault.f.pore_pressure_load=true", "fault.f.flow='sealing'"});
+  EXPECT_TRUE(loaded.faults.at("f").pore_pressure_load);
 }
 
 TEST(SceneReader, FaultsWhereTheSceneCannotHaveThemAreRefused)
@@ -210,6 +211,9 @@ TEST(SceneReader, FaultsWhereTheSceneCannotHaveThemAreRefused)
   expect_refused_in(hertz_scene, {"fault.f.pore_pressure_load=true"}, "fault.f.pore_pressure_load",
                     "needs a pore pressure: [flow], or mechanics.pore_pressure");
   expect_refused_in(hertz_scene, {"fault.f.flow='sealing'"}, "fault.f.flow", "\"sealing\" in a scene without [flow]");
+  expect_refused_in(fracture_scene, {"fault.f.gap=0.0"}, "fault.f.flow",
+                    "\"transparent\" (the default) is not available yet with [flow]: give \"sealing\" or "
+                    "\"pressure\"");
 }
 
 TEST(SceneReader, BadFaultValuesAreRefused)

@@ -142,7 +142,8 @@ class SceneReader(unittest.TestCase):
         self.assertEqual(g.pressure(0, 0, 0, 3), 3e5)
         self.assertEqual(g.flow, FaultFlow.pressure)
         self.assertEqual(g.normal, [1.0, 1.0])
-        self.assertTrue(read_scene(FRACTURE, ["fault.f.pore_pressure_load=true"]).faults["f"].pore_pressure_load)
+        self.assertTrue(read_scene(FRACTURE, ["fault.f.pore_pressure_load=true", "fault.f.flow='sealing'"])
+                        .faults["f"].pore_pressure_load)
 
     def test_faults_where_the_scene_cannot_have_them_are_refused(self):
         self.expect_refused(["fault.f.gap=0.0"], "fault.f", "a fault is an interior physical group of a gmsh mesh")
@@ -151,6 +152,9 @@ class SceneReader(unittest.TestCase):
         self.expect_refused_in(HERTZ, ["fault.f.pore_pressure_load=true"], "fault.f.pore_pressure_load",
                                "needs a pore pressure: [flow], or mechanics.pore_pressure")
         self.expect_refused_in(HERTZ, ["fault.f.flow='sealing'"], "fault.f.flow", '"sealing" in a scene without [flow]')
+        self.expect_refused_in(FRACTURE, ["fault.f.gap=0.0"], "fault.f.flow",
+                               '"transparent" (the default) is not available yet with [flow]: give "sealing" or '
+                               '"pressure"')
 
     def test_bad_fault_values_are_refused(self):
         self.expect_refused_in(HERTZ, ["fault.f.gap='1e-3*t'"], "fault.f.gap", "must not depend on t")

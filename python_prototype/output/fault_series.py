@@ -1,0 +1,155 @@
+"""fault.xdmf (+ fault.h5): the faults' fields on their + faces at every
+output time, for ParaView and meshio (cpp/output/fault_series.h). One grid
+per time on the faces' mesh (segments in 2D, triangles in 3D; the nodes of
+the + faces, a tip being one node of both faces), node data:
+- opening: [u].n + g0 (0 at the tips, where the faces meet);
+- slip: the tangential jump [u] - ([u].n) n, a vector (three components);
+- traction: the contact traction, >= 0, zero where the fault is open;
+- pressure: the fluid pressure in the fault (fault.NAME.pressure; 0 for a
+  fault loaded by the pore pressure beside it, which solution.xdmf holds).
+Rank 0 writes it with h5py, from the pairs each rank gathers to it (a fault
+holds few nodes of the mesh): the same XML text and datasets as the C++.
+Each write is complete on disk when it returns, as solution.xdmf's; a
+restart keeps the times up to its checkpoint's."""
+import os
+import re
+
+import h5py
+import numpy as np
+
+from ..domain.domain import vertex_input_indices
+
+
+def _gather_to_root(values, comm):
+    """All ranks' rows of `values` on rank 0, in rank order (None elsewhere;
+    collective)."""
+    parts = comm.gather(values, root=0)
+    return np.concatenate(parts) if comm.rank == 0 else None
+
+
+def _listed_times(xdmf):
+    """The times of an earlier run's fault.xdmf, in order."""
+    with open(xdmf) as f:
+        return [float(t) for t in re.findall(r'<Time Value="([^"]*)"', f.read())]
+
+
+def _write_rows(h5, name, values, width):
+    """Writes `values` (rows x width) as the dataset `name`, replacing it."""
+    if name in h5:
+        del h5[name]
+    h5.create_dataset(name, data=np.reshape(values, (-1, width)))
+
+
+class FaultSeries:
+    """fault.xdmf and fault.h5 of a run with faults (rank 0 holds the files)."""
+
+    def __init__(self, comm, directory, problem, resume_time=None):
+        """Creates directory/fault.xdmf and .h5 with the faces' mesh; or, after
+        a restart at `resume_time`, goes on in them (collective)."""
+        self._comm, self._scene = comm, problem.scene
+        self._xdmf = os.path.join(directory, "fault.xdmf")
+        self._h5_path = os.path.join(directory, "fault.h5")
+        self._dim = problem.domain.dim
+        self._fault_names = list(self._scene.faults)
+        # Rank 0: the faces' nodes (input indices, ascending), their
+        # coordinates and fault, the facets (d node positions each) and the
+        # times written.
+        self._nodes = self._x = self._fault = self._facets = None
+        self._times, self._h5 = [], None
+        self._gather_surface(problem)
+        if comm.rank != 0:
+            return
+        if resume_time is not None:
+            self._times = [t for t in _listed_times(self._xdmf) if t <= resume_time]
+            self._h5 = h5py.File(self._h5_path, "a")
+            self._write_xml()
+            return
+        self._h5 = h5py.File(self._h5_path, "w")
+        _write_rows(self._h5, "/Mesh/geometry", self._x, 3)
+        _write_rows(self._h5, "/Mesh/topology", self._facets, self._dim)
+        self._h5.flush()
+        self._write_xml()
+
+    def close(self):
+        """Closes fault.h5 (every write is on disk already)."""
+        if self._h5 is not None:
+            self._h5.close()
+            self._h5 = None
+
+    def _gather_surface(self, problem):
+        """The + faces' owned facets of every rank on rank 0: their nodes by
+        input index (numbered in ascending order there), coordinates and fault."""
+        mesh, d = problem.domain.mesh, self._dim
+        mesh.topology.create_connectivity(d - 1, 0)
+        f_to_v = mesh.topology.connectivity(d - 1, 0)
+        owned = mesh.topology.index_map(d - 1).size_local
+        input_index = vertex_input_indices(mesh)
+        # Vertex k of a cell is its geometry node k on a P1 mesh.
+        coordinates = np.empty((len(input_index), 3))
+        coordinates[mesh.topology.connectivity(d, 0).array] = mesh.geometry.x[mesh.geometry.dofmap.array]
+        facets, x = [np.zeros((0, d + 1), dtype=np.int64)], [np.zeros((0, 3))]  # fault, then d input indices
+        for f, name in enumerate(self._fault_names):
+            plus = problem.domain.faults[name].plus_facets
+            vertices = f_to_v.array.reshape(-1, d)[plus[plus < owned]]  # a simplex's facet has d vertices
+            facets.append(np.column_stack([np.full(len(vertices), f), input_index[vertices]]))
+            x.append(coordinates[vertices.reshape(-1)])
+        all_facets = _gather_to_root(np.concatenate(facets), self._comm)
+        all_x = _gather_to_root(np.concatenate(x), self._comm)
+        if self._comm.rank != 0:
+            return
+        self._nodes = np.unique(all_facets[:, 1:])
+        self._facets = np.searchsorted(self._nodes, all_facets[:, 1:]).astype(np.int64)
+        self._x = np.empty((len(self._nodes), 3))
+        self._fault = np.empty(len(self._nodes), dtype=np.int64)
+        self._x[self._facets.reshape(-1)] = all_x
+        self._fault[self._facets] = all_facets[:, :1]
+
+    def write(self, contact, t):
+        """Adds the state of the faults at time t (collective)."""
+        nodes = np.array([p.node for p in contact.pairs], dtype=np.int64)
+        values = np.array([[p.opening, p.traction, *p.slip] for p in contact.pairs]).reshape(-1, 5)
+        all_nodes = _gather_to_root(nodes, self._comm)
+        all_values = _gather_to_root(values, self._comm)
+        if self._comm.rank != 0:
+            return
+        n = len(self._nodes)
+        opening, traction, slip, pressure = np.zeros(n), np.zeros(n), np.zeros((n, 3)), np.zeros(n)
+        p = np.searchsorted(self._nodes, all_nodes)
+        opening[p], traction[p], slip[p] = all_values[:, 0], all_values[:, 1], all_values[:, 2:]
+        for f, name in enumerate(self._fault_names):
+            given, x = self._scene.faults[name].pressure, self._x[self._fault == f]
+            if given is not None:
+                pressure[self._fault == f] = given(x[:, 0], x[:, 1], x[:, 2], t)
+        index = len(self._times)
+        for name, data, width in (("opening", opening, 1), ("traction", traction, 1), ("slip", slip, 3),
+                                  ("pressure", pressure, 1)):
+            _write_rows(self._h5, f"/{name}/{index}", data, width)
+        self._h5.flush()
+        self._times.append(t)
+        self._write_xml()
+
+    def _write_xml(self):
+        """The whole XML, every time written (rank 0)."""
+        h5 = os.path.basename(self._h5_path)
+        n, cells, d = len(self._nodes), len(self._facets), self._dim
+
+        def item(dataset, shape, number_type):
+            return (f'<DataItem Dimensions="{shape}" NumberType="{number_type}" Precision="8" Format="HDF">{h5}:'
+                    f"{dataset}</DataItem>")
+        xml = ('<?xml version="1.0"?>\n<Xdmf Version="3.0">\n <Domain>\n'
+               '  <Grid Name="faults" GridType="Collection" CollectionType="Temporal">\n')
+        for k, t in enumerate(self._times):
+            # 17 significant digits, as C++'s stream at precision(17).
+            xml += (f'   <Grid Name="faults" GridType="Uniform">\n    <Time Value="{t:.17g}"/>\n'
+                    f'    <Topology TopologyType="{"Polyline" if d == 2 else "Triangle"}" NumberOfElements="{cells}" '
+                    f'NodesPerElement="{d}">{item("/Mesh/topology", f"{cells} {d}", "Int")}</Topology>\n'
+                    f'    <Geometry GeometryType="XYZ">{item("/Mesh/geometry", f"{n} 3", "Float")}</Geometry>\n')
+            for name in ("opening", "slip", "traction", "pressure"):
+                vector = name == "slip"
+                xml += (f'    <Attribute Name="{name}" AttributeType="{"Vector" if vector else "Scalar"}" '
+                        f'Center="Node">{item(f"/{name}/{k}", f"{n} 3" if vector else f"{n} 1", "Float")}'
+                        "</Attribute>\n")
+            xml += "   </Grid>\n"
+        xml += "  </Grid>\n </Domain>\n</Xdmf>\n"
+        with open(self._xdmf, "w") as f:
+            f.write(xml)
