@@ -1,7 +1,8 @@
 """fault.xdmf (issue 37), on the C++ solver and the prototype, with
 scenes/fault_depletion.toml (a vertical fault, its + side the right block):
-meshio reads one grid per output time on the fault's + face (213 nodes, 212
-segments); at the last time the slip is the jump of the displacement in
+meshio reads one grid per output time on the fault's + face (its pairs'
++ nodes and its two tips: one node more than segments, a single curve);
+at the last time the slip is the jump of the displacement in
 solution.xdmf at each pair found from the output mesh alone
 (support.fault_pairs), to 1e-12; the opening is 0 where the traction is
 positive; summary.json's max_slip is the largest |slip| there. The two
@@ -36,10 +37,11 @@ def check_run(track, out):
     times, points, cells, data = fault_series(out)
     fields = Fields(out)
     written = fields.times("displacement")
-    check(times == written and [c.type for c in cells] == ["line"] and len(points) == 213
-          and len(cells[0].data) == 212, f"{track}: fault.xdmf has a grid at each of the {len(written)} output "
-          f"times, {len(points)} nodes and {len(cells[0].data)} segments")
     plus, minus = fault_pairs(fields, [1.0, 0.0])
+    check(times == written and [c.type for c in cells] == ["line"] and len(points) == len(plus) + 2
+          and len(cells[0].data) == len(points) - 1, f"{track}: fault.xdmf has a grid at each of the "
+          f"{len(written)} output times, {len(points)} nodes ({len(plus)} pairs and 2 tips) and "
+          f"{len(cells[0].data)} segments")
     # The fault's node at each pair's place (the + node's coordinates).
     at = np.argmin(np.linalg.norm(points[None, :, :2] - fields.nodes[plus][:, None, :2], axis=2), axis=1)
     check(np.abs(points[at, :2] - fields.nodes[plus]).max() <= 1e-9,
