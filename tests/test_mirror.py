@@ -130,6 +130,10 @@ DIFFERENCES = {
                  "compiled_forms, make_form)",
     },
     "assembly/linear_algebra": {
+        "Gathered": "C++ only: every rank's values with their offsets, what all_gather returns; mpi4py's "
+                    "allgather returns a list per rank",
+        "all_gather": "C++ only: MPI_Allgatherv of int64 values with its counts and offsets; Python calls "
+                      "mpi4py's allgather",
         "BCs": "C++ only: a type alias for a vector of DirichletBC pointers; Python's lists need no type",
         "difference": "C++ only: d = a - b on dolfinx vectors; Python subtracts the numpy arrays",
         "wrap": "C++ only: a dolfinx vector as a PETSc Vec sharing its memory; dolfinx's Python API already "

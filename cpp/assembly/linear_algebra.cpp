@@ -136,4 +136,20 @@ std::vector<PetscInt> owned_global_dofs(const common::IndexMap& map, const std::
   return dofs;
 }
 
+Gathered all_gather(const std::vector<std::int64_t>& values, MPI_Comm comm)
+{
+  int size = 0;
+  MPI_Comm_size(comm, &size);
+  const int count = static_cast<int>(values.size());
+  std::vector<int> counts(size);
+  Gathered g{{}, std::vector<int>(size + 1, 0)};
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < size; ++r)
+    g.offsets[r + 1] = g.offsets[r] + counts[r];
+  g.values.resize(g.offsets[size]);
+  MPI_Allgatherv(values.data(), count, MPI_INT64_T, g.values.data(), counts.data(), g.offsets.data(), MPI_INT64_T,
+                 comm);
+  return g;
+}
+
 } // namespace biotcontact

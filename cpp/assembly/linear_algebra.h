@@ -31,6 +31,17 @@ struct UnknownsPart
 /// Euclidean norm of the owned part of a DOF array of V (collective).
 double owned_norm(std::span<const double> x, const dolfinx::fem::FunctionSpace& V);
 
+/// @brief Every rank's values, in rank order, on every rank: `values`, and
+/// `offsets` (size + 1) where each rank's part starts.
+struct Gathered
+{
+  std::vector<std::int64_t> values;
+  std::vector<int> offsets;
+};
+
+/// Gathers every rank's `values` on every rank (collective).
+Gathered all_gather(const std::vector<std::int64_t>& values, MPI_Comm comm);
+
 /// A copy of the values (ghosts included) of a function or vector.
 std::vector<double> values(std::span<const double> x);
 

@@ -605,15 +605,8 @@ std::vector<PetscInt> ContactSolver::solved_positions(const std::vector<std::int
   PetscInt start = 0;
   VecGetOwnershipRange(layout, &start, nullptr);
   const auto owned = static_cast<std::int64_t>(_displacement_dofs.size());
-  int size = 0;
-  MPI_Comm_size(_comm, &size);
-  const int count = static_cast<int>(dofs.size());
-  std::vector<int> counts(size), offsets(size + 1, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, _comm);
-  for (int r = 0; r < size; ++r)
-    offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<std::int64_t> all(offsets[size]);
-  MPI_Allgatherv(dofs.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(), MPI_INT64_T, _comm);
+  const Gathered requests = all_gather(dofs, _comm);
+  const std::vector<std::int64_t>& all = requests.values;
   std::vector<std::int64_t> answer(all.size(), -1);
   for (std::size_t k = 0; k < all.size(); ++k)
     if (const std::int64_t i = all[k] - _set.dof_offset; i >= 0 and i < owned)
@@ -621,7 +614,7 @@ std::vector<PetscInt> ContactSolver::solved_positions(const std::vector<std::int
   MPI_Allreduce(MPI_IN_PLACE, answer.data(), static_cast<int>(answer.size()), MPI_INT64_T, MPI_MAX, _comm);
   int rank = 0;
   MPI_Comm_rank(_comm, &rank);
-  return std::vector<PetscInt>(answer.begin() + offsets[rank], answer.begin() + offsets[rank + 1]);
+  return std::vector<PetscInt>(answer.begin() + requests.offsets[rank], answer.begin() + requests.offsets[rank + 1]);
 }
 
 void ContactSolver::change_operators()

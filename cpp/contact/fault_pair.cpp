@@ -1,5 +1,7 @@
 #include "contact/fault_pair.h"
 
+#include "assembly/linear_algebra.h"
+
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <cmath>
@@ -47,15 +49,7 @@ FaultNodes fault_nodes(const Domain& domain, const fem::FunctionSpace& V)
   for (const auto& [index, node] : nodes.local)
     if (node < map.size_local())
       mine.insert(mine.end(), {index, map.local_range()[0] + node});
-  int size = 0, count = static_cast<int>(mine.size());
-  const MPI_Comm comm = mesh.comm();
-  MPI_Comm_size(comm, &size);
-  std::vector<int> counts(size), offsets(size + 1, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 0; r < size; ++r)
-    offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<std::int64_t> all(offsets[size]);
-  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(), MPI_INT64_T, comm);
+  const std::vector<std::int64_t> all = all_gather(mine, mesh.comm()).values;
   for (std::size_t i = 0; i < all.size(); i += 2)
     nodes.global[all[i]] = all[i + 1];
   return nodes;
