@@ -236,7 +236,6 @@ CASES = [
     ("a fault normal of the wrong length", HERTZ, s("fault.f.normal=[0, 0, 1]"), "fault.f.normal", BOTH),
     ("an unknown fault key", HERTZ, s("fault.f.aperture=1e-3"), "fault.f.aperture", BOTH),
     ("a fault that is no table", HERTZ, s("fault.f=1"), "fault.f", BOTH),
-    ("a transparent fault with flow", FRACTURE, s("fault.f.gap=0.0"), "fault.f.flow", BOTH),
     ("a fault group that does not exist", CRACK, s("fault.nowhere.gap=0.0"), "fault.nowhere", BOTH),
     ("a fault group of the wrong dimension", CRACK, s("fault.rock.gap=0.0"), "fault.rock", BOTH),
     ("a fault group on the outer boundary", CRACK, s("fault.top.gap=0.0"), "fault.top", BOTH),

@@ -116,6 +116,8 @@ DIFFERENCES = {
                              "FluxValues",
         "update_fluxes": "Python only: C++'s update(FluxValues&, t), an overload of update(); Python has no "
                          "overloading",
+        "FacetFlux": "C++ only: the type of facet_flux's result, a function of the facets; Python's closures "
+                     "need no type",
     },
     "assembly/forms": {
         "CompiledForms": "C++ only: the forms of forms/biot.py compiled by FFCx at build time, for one cell "

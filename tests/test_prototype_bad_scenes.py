@@ -123,7 +123,6 @@ for label, path, overrides, key in (
 # scenes; a negative gap is found where the pairs are made, in a run.
 CRACK, CROSSING, DEGENERATE = crack_scenes()
 for label, command, path, overrides, key in (
-        ("a transparent fault with flow", "check", scene("fracture"), ["fault.f.gap=0.0"], "fault.f.flow"),
         ("a fault group that does not exist", "check", CRACK, ["fault.nowhere.gap=0.0"], "fault.nowhere"),
         ("a fault group of the wrong dimension", "check", CRACK, ["fault.rock.gap=0.0"], "fault.rock"),
         ("a fault group on the outer boundary", "check", CRACK, ["fault.top.gap=0.0"], "fault.top"),

@@ -3,7 +3,10 @@
 #include "assembly/parameters.h"
 
 #include <algorithm>
+#include <bit>
+#include <map>
 #include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/utils.h>
 #include <dolfinx/mesh/utils.h>
 #include <xtensor/xarray.hpp>
 #include <xtensor/xbuilder.hpp>
@@ -65,9 +68,10 @@ flux_bc(const Scene& scene, const Domain& domain, std::shared_ptr<const fem::Fun
     if (b.flow == BoundarySpec::Flow::pressure)
       leave_out(domain.boundaries.at(name));
   // A fault's faces are exterior facets of the split mesh: no flow crosses
-  // them ("sealing") unless they are pressure boundaries.
+  // them ("sealing") unless they are pressure boundaries or the flux is
+  // tied across them ("transparent", fault_flux_ties).
   for (const auto& [name, f] : scene.faults)
-    if (f.flow == FaultFlow::pressure)
+    if (f.flow != FaultFlow::sealing)
     {
       const Fault& fault = domain.faults.at(name);
       std::vector<std::int32_t> faces(fault.plus_facets);
@@ -120,6 +124,90 @@ void update(FluxValues& values, double t)
     for (std::int32_t dof : b.dofs)
       g[dof] = from[dof];
   }
+}
+
+namespace
+{
+/// Per face of a fault on this rank whose RT0 DOF it owns: the face's side
+/// (0: +, 1: -), its vertices' input indices (a - node replaced by its +
+/// twin, sorted: the two faces of a facet share them), the DOF's global
+/// index and its facet flux (its bits).
+void add_face_rows(const Domain& domain, const dolfinx::fem::FunctionSpace& Z, const std::string& name,
+                   std::span<const double> flux, std::vector<std::int64_t>& rows)
+{
+  const auto& mesh = *domain.mesh;
+  const int d = domain.dim();
+  const Fault& fault = domain.faults.at(name);
+  std::map<std::int64_t, std::int64_t> twin;
+  for (const auto& [plus, minus] : fault.pairs)
+    twin[minus] = plus;
+  const std::vector<std::int64_t> input = vertex_input_indices(mesh);
+  auto f_to_v = mesh.topology().connectivity(d - 1, 0), f_to_c = mesh.topology().connectivity(d - 1, d);
+  auto c_to_f = mesh.topology().connectivity(d, d - 1);
+  const auto& map = *Z.dofmap()->index_map;
+  const auto& layout = Z.dofmap()->element_dof_layout();
+  for (int side = 0; side < 2; ++side)
+    for (std::int32_t facet : side == 0 ? fault.plus_facets : fault.minus_facets)
+    {
+      const std::int32_t cell = f_to_c->links(facet)[0];
+      auto facets = c_to_f->links(cell);
+      const int local = static_cast<int>(std::find(facets.begin(), facets.end(), facet) - facets.begin());
+      const std::int32_t dof = Z.dofmap()->cell_dofs(cell)[layout.entity_dofs(d - 1, local)[0]];
+      if (dof >= map.size_local())
+        continue;
+      rows.push_back(side);
+      std::vector<std::int64_t> key;
+      for (std::int32_t v : f_to_v->links(facet))
+        key.push_back(twin.count(input[v]) ? twin[input[v]] : input[v]);
+      std::sort(key.begin(), key.end());
+      rows.insert(rows.end(), key.begin(), key.end());
+      rows.push_back(map.local_range()[0] + dof);
+      rows.push_back(std::bit_cast<std::int64_t>(flux[dof]));
+    }
+}
+} // namespace
+
+FacetFlux facet_flux(const ufcx_form* L_pressure, std::shared_ptr<const fem::FunctionSpace> X, const Domain& domain,
+                     const CompiledForms& forms, const Constants& constants)
+{
+  return [=, &domain, &forms, &constants](std::shared_ptr<const mesh::MeshTags<std::int32_t>> faces)
+  {
+    auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.data_space, "source", domain.mesh));
+    auto minus_one = std::make_shared<fem::Function<double>>(D);
+    minus_one->x()->set(-1.0);
+    const Coefficients data = {{"p_boundary", minus_one}};
+    auto L = make_form(L_pressure, {X}, data, constants, faces.get());
+    la::Vector<double> b(X->dofmap()->index_map, X->dofmap()->index_map_bs());
+    add_vector(b, *L);
+    b.scatter_rev(std::plus<double>());
+    return std::vector<double>(b.array().begin(), b.array().end());
+  };
+}
+
+std::vector<Tie> fault_flux_ties(const Scene& scene, const Domain& domain, const fem::FunctionSpace& Z,
+                                 const FacetFlux& facet_flux)
+{
+  const int d = domain.dim(), width = d + 3;
+  domain.mesh->topology_mutable().create_connectivity(d - 1, 0);
+  std::vector<std::int64_t> rows;
+  for (const auto& [name, f] : scene.faults)
+    if (scene.flow and f.flow == FaultFlow::transparent)
+      add_face_rows(domain, Z, name, facet_flux(domain.fault_faces(name)), rows);
+  const Gathered all = all_gather(rows, domain.mesh->comm());
+  std::map<std::vector<std::int64_t>, std::pair<std::int64_t, double>> plus;
+  for (std::size_t r = 0; r < all.values.size(); r += width)
+    if (all.values[r] == 0)
+      plus[{all.values.begin() + r + 1, all.values.begin() + r + 1 + d}]
+          = {all.values[r + d + 1], std::bit_cast<double>(all.values[r + d + 2])};
+  std::vector<Tie> ties;
+  for (std::size_t r = 0; r < rows.size(); r += width)
+    if (rows[r] == 1)
+    {
+      const auto& [i, c_plus] = plus.at({rows.begin() + r + 1, rows.begin() + r + 1 + d});
+      const double c_minus = std::bit_cast<double>(rows[r + d + 2]);
+      ties.push_back({static_cast<PetscInt>(i), static_cast<PetscInt>(rows[r + d + 1]), -c_plus / c_minus});
+    }
+  return ties;
 }
 
 } // namespace biotcontact

@@ -5,9 +5,12 @@
 #pragma once
 
 #include "domain/domain.h"
+#include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
+#include "assembly/tied_dofs.h"
 
 #include <dolfinx/fem/Function.h>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -63,5 +66,25 @@ flux_bc(const Scene& scene, const Domain& domain, std::shared_ptr<const dolfinx:
 /// of g n on each boundary's cells, kept on its own facets only (a cell may
 /// touch two boundaries).
 void update(FluxValues& values, double t);
+
+/// The flux of each basis function of a mixed space with an RT0 part out
+/// through the given facets, <w.n, 1> (a vector like the space's, owned
+/// entries complete): the step's boundary-pressure load with p_D = -1.
+using FacetFlux = std::function<std::vector<double>(std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>>)>;
+
+/// The FacetFlux of the mixed space X from its boundary-pressure load
+/// `L_pressure` (forms/biot.py: -<p_D, w.n> on the marked facets).
+FacetFlux facet_flux(const ufcx_form* L_pressure, std::shared_ptr<const dolfinx::fem::FunctionSpace> X,
+                     const Domain& domain, const CompiledForms& forms, const Constants& constants);
+
+/// The flux across each "transparent" fault: what leaves the cell on one
+/// face enters the cell on the other, c+ z+ + c- z- = 0 for the RT0 DOFs
+/// z+- of the two faces of each facet (c their `facet_flux`), tied as
+/// z- = -(c+/c-) z+ (tied_dofs.h). With the ties the flux space is the one
+/// of the unsplit mesh, so is the flow; the faces are left out of the
+/// no-flow condition (flux_bc). Z is the flux subspace of the mixed space.
+/// Collective; each tie is given on the rank that owns its z-.
+std::vector<Tie> fault_flux_ties(const Scene& scene, const Domain& domain, const dolfinx::fem::FunctionSpace& Z,
+                                 const FacetFlux& facet_flux);
 
 } // namespace biotcontact

@@ -746,11 +746,6 @@ FaultSpec read_fault(Section s, const Scene& scene)
     s.fail("flow", "\"" + std::string(name_of(f.flow)) + "\" in a scene without [flow]");
   if (f.flow == FaultFlow::pressure and !f.pressure)
     s.fail("pressure", "missing (flow = \"pressure\" holds the fault at this pressure)");
-  // The pressure-trace unknown of "transparent" is not built yet: the split
-  // faces would seal the fault, which is not what the name promises.
-  if (f.flow == FaultFlow::transparent and scene.flow)
-    s.fail("flow", "\"transparent\" (the default) is not available yet with [flow]: give \"sealing\" or "
-                   "\"pressure\"");
   const std::size_t d = scene.mesh.dimension;
   f.normal = std::vector<double>(d, 0.0);
   f.normal.back() = 1.0;

@@ -48,15 +48,47 @@ std::int64_t System::unknowns() const
   return n;
 }
 
-void System::set_near_nullspace(MatNullSpace modes) { MatSetNearNullSpace(_A.mat(), modes); }
+void System::set_near_nullspace(MatNullSpace modes)
+{
+  // The modes are the displacement's; the ties hold flux DOFs only.
+  MatSetNearNullSpace(_A.mat(), modes);
+  if (_A_tied)
+    MatSetNearNullSpace(_A_tied, modes);
+}
 
-System::~System() = default;
+System::~System()
+{
+  _contact.reset();
+  _linear.reset();
+  MatDestroy(&_A_tied);
+  MatDestroy(&_P_tied);
+  VecDestroy(&_b_tied);
+  VecDestroy(&_y_tied);
+}
+
+void System::tie(const std::vector<Tie>& ties)
+{
+  auto tied = std::make_unique<TiedDofs>(_A.mat(), ties);
+  if (tied->size() == 0)
+    return;
+  _tied = std::move(tied);
+  _tied->reduce(_A.mat(), &_A_tied);
+  if (_P)
+    _tied->reduce(_P->mat(), &_P_tied);
+  MatNullSpace modes = nullptr;
+  MatGetNearNullSpace(_A.mat(), &modes);
+  if (modes)
+    MatSetNearNullSpace(_A_tied, modes);
+  MatCreateVecs(_A_tied, &_y_tied, &_b_tied);
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, operator_matrix(), preconditioner_matrix(), _structure,
+                                           _fields);
+}
 
 void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout)
 {
   _linear.reset();
   _contact = std::make_unique<ContactSolver>(_comm, SystemLayout{_prefix, _structure, _fields}, _method,
-                                             ContactOperators{_A.mat(), preconditioner_matrix()},
+                                             ContactOperators{operator_matrix(), preconditioner_matrix()},
                                              ContactUnknowns{std::move(set), std::move(displacement_dofs), layout});
 }
 
@@ -64,10 +96,19 @@ void System::solve(Vec b, Vec x)
 {
   SolverStage::Guard stage(_stage);
   common::Timer timer("solve " + _prefix);
+  if (_tied) // solve for y, x = P y (tied_dofs.h)
+  {
+    _tied->load(b, _b_tied);
+    _tied->guess(x, _y_tied);
+    b = _b_tied;
+  }
+  Vec y = _tied ? _y_tied : x;
   if (_contact)
-    _contact->solve(b, x);
+    _contact->solve(b, y);
   else
-    _statistics.linear_iterations += _linear->solve(x, b);
+    _statistics.linear_iterations += _linear->solve(y, b);
+  if (_tied)
+    _tied->expand(_y_tied, x);
   _statistics.total_time += timer.stop();
   ++_statistics.solves;
 }
@@ -88,6 +129,10 @@ void System::reassemble()
   reassemble_matrix(_A.mat(), *_a, _bcs);
   if (_P)
     reassemble_matrix(_P->mat(), *_a_preconditioner, _bcs);
+  if (_tied)
+    _tied->reduce(_A.mat(), &_A_tied);
+  if (_tied and _P)
+    _tied->reduce(_P->mat(), &_P_tied);
   _statistics.assembly_time += timer.stop();
   // A linear KSP sees the new matrix state and refactorises by itself; the
   // contact solver lags its preconditioner and must be told.

@@ -8,6 +8,7 @@
 
 #include "contact/contact.h"
 #include "assembly/linear_algebra.h"
+#include "assembly/tied_dofs.h"
 #include "solvers/solver.h"
 
 #include <dolfinx/fem/Form.h>
@@ -34,13 +35,22 @@ public:
   System(const System&) = delete;
   System& operator=(const System&) = delete;
 
-  /// Gives the matrix its near-nullspace (the rigid-body modes of
+  /// Gives the matrix (and its tied form) its near-nullspace (the rigid-body modes of
   /// elasticity), which algebraic multigrid builds its coarse spaces from.
   void set_near_nullspace(MatNullSpace modes);
 
-  /// The matrix the preconditioner is built from: A, or the matrix of
-  /// `a_preconditioner` on the iterative path.
-  Mat preconditioner_matrix() const { return _P ? _P->mat() : _A.mat(); }
+  /// Ties unknowns in pairs (x_j = s x_i, tied_dofs.h; the flux across a
+  /// transparent fault): every later solve is of the tied system, its
+  /// solution x satisfying the ties (collective; nothing when no rank has
+  /// a tie).
+  void tie(const std::vector<Tie>& ties);
+
+  /// The matrix that is solved: A, or A' of the ties.
+  Mat operator_matrix() const { return _A_tied ? _A_tied : _A.mat(); }
+
+  /// The matrix the preconditioner is built from: the operator, or the
+  /// matrix of `a_preconditioner` on the iterative path (tied too).
+  Mat preconditioner_matrix() const { return _P ? (_P_tied ? _P_tied : _P->mat()) : operator_matrix(); }
 
   /// Makes every solve the contact problem of `set` (see ContactSolver:
   /// `displacement_dofs` place V's owned DOFs in x); `layout` is a vector
@@ -90,6 +100,9 @@ private:
   SolverStatistics _statistics; // before _A: its assembly time is counted
   dolfinx::la::petsc::Matrix _A;
   std::optional<dolfinx::la::petsc::Matrix> _P;
+  std::unique_ptr<TiedDofs> _tied;
+  Mat _A_tied = nullptr, _P_tied = nullptr;
+  Vec _b_tied = nullptr, _y_tied = nullptr; // b' and y of the ties
   std::unique_ptr<LinearSolver> _linear;
   std::unique_ptr<ContactSolver> _contact;
   SolverStage _stage;

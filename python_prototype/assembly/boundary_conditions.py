@@ -5,7 +5,9 @@ pressure is given) (cpp/assembly/boundary_conditions.cpp)."""
 import numpy as np
 from dolfinx import fem, mesh as dmesh
 
-from ..domain.domain import planar_boundary
+from ..domain.domain import planar_boundary, vertex_input_indices
+from .linear_algebra import accumulate_ghosts, add_vector
+from .tied_dofs import Tie
 from ..scene.input import FaultFlow
 
 
@@ -54,17 +56,18 @@ class FluxValues:
 
 def flux_bc(scene, domain, Z):
     """z.n = g on every boundary facet that is not a pressure boundary nor a
-    face of a fault held at its pressure (g = 0 but on flux and rate
-    boundaries); returns the condition and its FluxValues."""
+    face of a fault held at its pressure or transparent (g = 0 but on flux
+    and rate boundaries); returns the condition and its FluxValues."""
     d = domain.dim
     facets = dmesh.exterior_facet_indices(domain.mesh.topology)
     for name, b in scene.boundaries.items():
         if b.flow == "pressure":
             facets = np.setdiff1d(facets, domain.boundaries[name])
     # A fault's faces are exterior facets of the split mesh: no flow crosses
-    # them ("sealing") unless they are pressure boundaries.
+    # them ("sealing") unless they are pressure boundaries or the flux is
+    # tied across them ("transparent", fault_flux_ties).
     for name, f in scene.faults.items():
-        if f.flow == FaultFlow.pressure:
+        if f.flow != FaultFlow.sealing:
             fault = domain.faults[name]
             facets = np.setdiff1d(facets, np.concatenate([fault.plus_facets, fault.minus_facets]))
     collapsed, _ = Z.collapse()
@@ -97,3 +100,56 @@ def update_fluxes(values, t):
         values.g.x.array[b.dofs] = boundary_g.x.array[b.dofs]
 
 
+
+
+def facet_flux(F, L_pressure, space):
+    """The flux of each basis function of the mixed space F[space] out through
+    the facets a marker tags, <w.n, 1> (owned entries complete): the step's
+    boundary-pressure load `L_pressure` with p_D = -1."""
+    def flux(marker):
+        F["p_boundary"].x.array[:] = -1.0
+        b = fem.Function(F[space])
+        add_vector(b, F.compile(L_pressure, marker))
+        accumulate_ghosts(b)
+        return b.x.array.copy()
+    return flux
+
+
+def _face_rows(domain, Z, name, flux):
+    """Per face of the fault `name` on this rank whose RT0 DOF it owns: its
+    side (0: +, 1: -), its vertices' input indices (a - node replaced by
+    its + twin, sorted: the two faces of a facet share them), the DOF's
+    global index and its facet flux."""
+    mesh, d = domain.mesh, domain.dim
+    fault = domain.faults[name]
+    twin = {int(minus): int(plus) for plus, minus in fault.pairs}
+    inputs = vertex_input_indices(mesh)
+    f_to_v, f_to_c = mesh.topology.connectivity(d - 1, 0), mesh.topology.connectivity(d - 1, d)
+    c_to_f = mesh.topology.connectivity(d, d - 1)
+    index_map, layout = Z.dofmap.index_map, Z.dofmap.dof_layout
+    rows = []
+    for side, facets in enumerate((fault.plus_facets, fault.minus_facets)):
+        for facet in facets:
+            cell = f_to_c.links(facet)[0]
+            local = list(c_to_f.links(cell)).index(facet)
+            dof = Z.dofmap.cell_dofs(cell)[layout.entity_dofs(d - 1, local)[0]]
+            if dof >= index_map.size_local:
+                continue
+            key = tuple(sorted(twin.get(int(inputs[v]), int(inputs[v])) for v in f_to_v.links(facet)))
+            rows.append((side, key, index_map.local_range[0] + int(dof), float(flux[dof])))
+    return rows
+
+
+def fault_flux_ties(scene, domain, Z, flux):
+    """The flux across each "transparent" fault (cpp/assembly/boundary_conditions.h):
+    c+ z+ + c- z- = 0 for the RT0 DOFs z+- of the two faces of each facet
+    (c their facet flux), tied as z- = -(c+/c-) z+, given on the rank that
+    owns z- (collective). Z is the flux subspace of the mixed space."""
+    d = domain.dim
+    domain.mesh.topology.create_connectivity(d - 1, 0)
+    rows = []
+    for name, f in sorted(scene.faults.items()):  # the order of the C++ std::map
+        if scene.flow and f.flow == FaultFlow.transparent:
+            rows += _face_rows(domain, Z, name, flux(domain.fault_faces(name)))
+    plus = {key: (dof, c) for rank in domain.mesh.comm.allgather(rows) for side, key, dof, c in rank if side == 0}
+    return [Tie(plus[key][0], dof, -plus[key][1] / c) for side, key, dof, c in rows if side == 1]

@@ -858,11 +858,6 @@ def _read_fault(s, scene):
         s.fail("flow", f'"{name_of(f.flow)}" in a scene without [flow]')
     if f.flow == FaultFlow.pressure and f.pressure is None:
         s.fail("pressure", 'missing (flow = "pressure" holds the fault at this pressure)')
-    # The pressure-trace unknown of "transparent" is not built yet: the split
-    # faces would seal the fault, which is not what the name promises.
-    if f.flow == FaultFlow.transparent and scene.flow:
-        s.fail("flow", '"transparent" (the default) is not available yet with [flow]: give "sealing" or '
-                       '"pressure"')
     d = scene.mesh.dimension
     f.normal = s.number_vector("normal", d) if s.has("normal") else [0.0] * (d - 1) + [1.0]
     length = sum(n * n for n in f.normal)

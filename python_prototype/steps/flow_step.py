@@ -14,7 +14,7 @@ from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof
 from ..solvers.solver import Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
-from ..assembly.boundary_conditions import flux_bc, update_fluxes
+from ..assembly.boundary_conditions import facet_flux, fault_flux_ties, flux_bc, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 from ..time.time_scheme import history_value
 
@@ -84,6 +84,7 @@ class FlowStep(Step):
         structure = Structure.quasi_definite if materials.min_stabilised_storage > 0 else Structure.general
         self.system = System(comm, self.a, self.bcs, SystemLayout("flow_", structure, self.fields(W)),
                              scene.solver.flow)
+        self.system.tie(fault_flux_ties(scene, domain, W.sub(0), facet_flux(F, "L_flow_pressure", "W")))
         self.b = fem.Function(W)
 
     def make_loads(self, domain):

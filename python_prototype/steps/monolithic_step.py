@@ -19,7 +19,7 @@ from ..solvers.solver import Structure, SystemLayout
 from .mechanics_step import MechanicsStep
 from .step import Step, StepState
 from .system import System
-from ..assembly.boundary_conditions import displacement_bcs, flux_bc, update, update_fluxes
+from ..assembly.boundary_conditions import displacement_bcs, facet_flux, fault_flux_ties, flux_bc, update, update_fluxes
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 from ..time.time_scheme import TimeDerivative, history_value
 
@@ -57,6 +57,7 @@ class MonolithicStep(Step):
         # iterative path is preconditioned by the fixed-stress split.
         self.system = System(comm, self.a, self.bcs, SystemLayout("monolithic_", Structure.general, self.fields(X)),
                              scene.solver.monolithic, F.compile("a_monolithic_preconditioner", faces))
+        self.system.tie(fault_flux_ties(scene, domain, X.sub(1), facet_flux(F, "L_monolithic_pressure", "X")))
         self.b = fem.Function(X)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         if scene.has_contact():

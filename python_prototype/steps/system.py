@@ -4,6 +4,7 @@ problem on it. How it is solved is decided here and in solvers/solver.py."""
 import time
 
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
+from ..assembly.tied_dofs import TiedDofs
 from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
 from ..solvers.field_split import is_coupled
 from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, SystemLayout, choose_method,
@@ -38,27 +39,57 @@ class System:
             self.a_preconditioner, self.P = a_preconditioner, assemble_matrix(a_preconditioner, bcs)
             self._statistics.assembly_time += time.perf_counter() - start
         self.contact = None
+        self.tied, self.A_tied, self.P_tied = None, None, None
         self._earlier = SolverStatistics()  # the counts of the run a restart continues
         # made now, so that options that make no solver are refused before the run
         self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
 
+    def tie(self, ties):
+        """Ties unknowns in pairs (x_j = s x_i, assembly/tied_dofs.py; the flux
+        across a transparent fault): every later solve is of the tied
+        system, its solution satisfying the ties (collective; nothing when
+        no rank has a tie)."""
+        tied = TiedDofs(self.A, ties)
+        if tied.size == 0:
+            return
+        self.tied = tied
+        self.A_tied = tied.reduce(self.A)
+        if self.P is not None:
+            self.P_tied = tied.reduce(self.P)
+        modes = self.A.getNearNullSpace()
+        if modes is not None and modes.handle:
+            self.A_tied.setNearNullSpace(modes)
+        self.y_tied, self.b_tied = self.A_tied.createVecs()
+        self.linear = LinearSolver(self.comm, self.prefix, self.operator_matrix(), self.preconditioner_matrix(),
+                                   self.structure, self.fields)
+
+    def operator_matrix(self):
+        """The matrix that is solved: A, or A' of the ties."""
+        return self.A_tied if self.A_tied is not None else self.A
+
     def preconditioner_matrix(self):
-        """A, or the matrix of a_preconditioner on the iterative path."""
-        return self.P if self.P is not None else self.A
+        """The operator, or the matrix of a_preconditioner on the iterative
+        path (tied too)."""
+        if self.P is None:
+            return self.operator_matrix()
+        return self.P_tied if self.P_tied is not None else self.P
 
     def unknowns(self):
         return self.A.getSize()[0]
 
     def set_near_nullspace(self, modes):
-        """The rigid-body modes, from which AMG builds its coarse spaces."""
+        """The rigid-body modes, from which AMG builds its coarse spaces (the
+        ties hold flux DOFs only)."""
         self.A.setNearNullSpace(modes)
+        if self.A_tied is not None:
+            self.A_tied.setNearNullSpace(modes)
 
     def use_contact(self, contact_set, displacement_dofs):
         """Every solve becomes the contact problem of `contact_set`
         (`displacement_dofs` place V's owned DOFs in x)."""
         self.linear = None
         self.contact = ContactSolver(self.comm, SystemLayout(self.prefix, self.structure, self.fields), self.method,
-                                     ContactOperators(self.A, self.preconditioner_matrix()),
+                                     ContactOperators(self.operator_matrix(), self.preconditioner_matrix()),
                                      ContactUnknowns(contact_set, displacement_dofs))
 
     def has_contact(self):
@@ -68,10 +99,17 @@ class System:
         """Solves with x as the initial guess."""
         start = time.perf_counter()
         with self.stage:
+            y = x
+            if self.tied:  # solve for y, x = P y (assembly/tied_dofs.py)
+                self.tied.load(b, self.b_tied)
+                self.tied.guess(x, self.y_tied)
+                b, y = self.b_tied, self.y_tied
             if self.contact:
-                self.contact.solve(b, x)
+                self.contact.solve(b, y)
             else:
-                self._statistics.linear_iterations += self.linear.solve(x, b)
+                self._statistics.linear_iterations += self.linear.solve(y, b)
+            if self.tied:
+                self.tied.expand(y, x)
         self._statistics.total_time += time.perf_counter() - start
         self._statistics.solves += 1
 
@@ -91,6 +129,10 @@ class System:
         reassemble_matrix(self.A, self.a, self.bcs)
         if self.P is not None:
             reassemble_matrix(self.P, self.a_preconditioner, self.bcs)
+        if self.tied:
+            self.tied.reduce(self.A, self.A_tied)
+        if self.tied and self.P is not None:
+            self.tied.reduce(self.P, self.P_tied)
         self._statistics.assembly_time += time.perf_counter() - start
         if self.contact:
             self.contact.operator_changed()

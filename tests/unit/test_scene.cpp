@@ -211,9 +211,8 @@ TEST(SceneReader, FaultsWhereTheSceneCannotHaveThemAreRefused)
   expect_refused_in(hertz_scene, {"fault.f.pore_pressure_load=true"}, "fault.f.pore_pressure_load",
                     "needs a pore pressure: [flow], or mechanics.pore_pressure");
   expect_refused_in(hertz_scene, {"fault.f.flow='sealing'"}, "fault.f.flow", "\"sealing\" in a scene without [flow]");
-  expect_refused_in(fracture_scene, {"fault.f.gap=0.0"}, "fault.f.flow",
-                    "\"transparent\" (the default) is not available yet with [flow]: give \"sealing\" or "
-                    "\"pressure\"");
+  // With [flow] a fault is transparent by default (its flux tied across it).
+  EXPECT_EQ(read_scene(fracture_scene, {"fault.f.gap=0.0"}).faults.at("f").flow, FaultFlow::transparent);
 }
 
 TEST(SceneReader, BadFaultValuesAreRefused)

@@ -152,9 +152,8 @@ class SceneReader(unittest.TestCase):
         self.expect_refused_in(HERTZ, ["fault.f.pore_pressure_load=true"], "fault.f.pore_pressure_load",
                                "needs a pore pressure: [flow], or mechanics.pore_pressure")
         self.expect_refused_in(HERTZ, ["fault.f.flow='sealing'"], "fault.f.flow", '"sealing" in a scene without [flow]')
-        self.expect_refused_in(FRACTURE, ["fault.f.gap=0.0"], "fault.f.flow",
-                               '"transparent" (the default) is not available yet with [flow]: give "sealing" or '
-                               '"pressure"')
+        # With [flow] a fault is transparent by default (its flux tied across it).
+        self.assertEqual(read_scene(FRACTURE, ["fault.f.gap=0.0"]).faults["f"].flow, FaultFlow.transparent)
 
     def test_bad_fault_values_are_refused(self):
         self.expect_refused_in(HERTZ, ["fault.f.gap='1e-3*t'"], "fault.f.gap", "must not depend on t")
