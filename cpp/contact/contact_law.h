@@ -68,7 +68,7 @@ double slip_bound(const ContactLaw& law, double normal_traction);
 /// The state of one constraint: open if it is not closed; closed, stick
 /// when |t_T| < bound - status_tolerance * scale, else slip. A closed
 /// frictionless constraint therefore slips (bound 0: nothing holds it,
-/// and |t_T| is 0 to round-off).
+/// and |t_T| is only the solve's error).
 PairStatus pair_status(const ContactLaw& law, const PairTraction& traction);
 
 } // namespace biotcontact

@@ -71,7 +71,7 @@ def pair_status(law, traction):
     """The state of one constraint: open if it is not closed; closed, stick
     when |t_T| < bound - STATUS_TOLERANCE * scale, else slip. A closed
     frictionless constraint therefore slips (bound 0: nothing holds it, and
-    |t_T| is 0 to round-off)."""
+    |t_T| is only the solve's error)."""
     if not traction.closed:
         return PairStatus.open
     bound = slip_bound(law, traction.normal)
