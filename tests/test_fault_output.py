@@ -5,11 +5,20 @@ meshio reads one grid per output time on the fault's + face (its pairs'
 at the last time the slip is the jump of the displacement in
 solution.xdmf at each pair found from the output mesh alone
 (support.fault_pairs), to 1e-12; the opening is 0 where the traction is
-positive; summary.json's max_slip is the largest |slip| there. The two
-tracks write the same fault.xdmf text and fault.h5 datasets (1e-10). A run
-killed after a periodic checkpoint and continued with --restart ends with
-the uninterrupted run's fault.xdmf (the same text, values to 1e-12), the
-times it wrote after the checkpoint written again."""
+positive; summary.json's max_slip is the largest |slip| there. The pairs'
+states under the frictionless law (contact_law.h), at every output time, on
+this run and on one whose fault's upper part is pressurised open (40 MPa
+above y = 400 m): `state` is 0 (open) exactly at the pairs whose opening
+exceeds the solver's closed tolerance (1e-9 of the largest displacement), 2
+(slip) at the other pairs, 1 (stick) at the two tips; `tangential_traction`
+is round-off, below 1e-10 of the largest traction; summary.json's
+`slipping` is the measure of the nodes in state 2 (half their segments'
+lengths, to 1e-12) and equals `closed`, `stuck` is 0. The two tracks write
+the same fault.xdmf text and fault.h5 datasets (1e-10; the round-off
+tangential traction relative to the traction). A run killed after a
+periodic checkpoint and continued with --restart ends with the
+uninterrupted run's fault.xdmf (the same text, values to 1e-12), the times
+it wrote after the checkpoint written again."""
 import os
 import re
 import signal
@@ -37,13 +46,11 @@ def check_run(track, out):
     times, points, cells, data = fault_series(out)
     fields = Fields(out)
     written = fields.times("displacement")
-    plus, minus = fault_pairs(fields, [1.0, 0.0])
+    at, plus, minus = pair_nodes(fields, points)
     check(times == written and [c.type for c in cells] == ["line"] and len(points) == len(plus) + 2
           and len(cells[0].data) == len(points) - 1, f"{track}: fault.xdmf has a grid at each of the "
           f"{len(written)} output times, {len(points)} nodes ({len(plus)} pairs and 2 tips) and "
           f"{len(cells[0].data)} segments")
-    # The fault's node at each pair's place (the + node's coordinates).
-    at = np.argmin(np.linalg.norm(points[None, :, :2] - fields.nodes[plus][:, None, :2], axis=2), axis=1)
     check(np.abs(points[at, :2] - fields.nodes[plus]).max() <= 1e-9,
           f"{track}: each of the {len(plus)} pairs of solution.xdmf is a node of fault.xdmf")
     last, u = data[-1], fields.at("displacement", written[-1])
@@ -61,6 +68,58 @@ def check_run(track, out):
           f"{track}: summary.json's max_slip {faults['fault']['max_slip']:.6f} m is the largest |slip| of fault.xdmf")
 
 
+def pair_nodes(fields, points):
+    """The node of fault.xdmf at each pair of solution.xdmf (the + node's
+    coordinates), and the pairs (plus, minus) themselves."""
+    plus, minus = fault_pairs(fields, [1.0, 0.0])
+    at = np.argmin(np.linalg.norm(points[None, :, :2] - fields.nodes[plus][:, None, :2], axis=2), axis=1)
+    return at, plus, minus
+
+
+def lumped(points, cells):
+    """Each node's lumped measure on the fault: half the lengths of its segments."""
+    measure = np.zeros(len(points))
+    for a, b in cells[0].data:
+        half = np.linalg.norm(points[a] - points[b]) / 2
+        measure[a] += half
+        measure[b] += half
+    return measure
+
+
+def check_states(label, out):
+    """The pairs' states of a frictionless run at every output time, its
+    tangential traction and the summary's measures of the states."""
+    times, points, cells, data = fault_series(out)
+    fields = Fields(out)
+    at, _, _ = pair_nodes(fields, points)
+    tips = np.setdiff1d(np.arange(len(points)), at)
+    opened, wrong, worst = 0, [], 0.0
+    for t, d in zip(times, data):
+        # The solver's closed test: a distance (the opening) within 1e-9 of
+        # the displacement scale, the largest |u_i| (the gaps are 0).
+        tolerance = 1e-9 * np.abs(fields.at("displacement", t)).max()
+        state, opening = d["state"][:, 0], d["opening"][:, 0]
+        expected = np.where(opening[at] > tolerance, 0.0, 2.0)
+        opened = max(opened, int(np.sum(expected == 0)))
+        if not (np.array_equal(state[at], expected) and np.all(state[tips] == 1.0)):
+            wrong.append(t)
+        scale = np.abs(d["traction"]).max()
+        worst = max(worst, np.linalg.norm(d["tangential_traction"], axis=1).max() / scale if scale > 0 else 0.0)
+        if scale == 0 and np.abs(d["tangential_traction"]).max() > 0:
+            wrong.append(t)
+    check(not wrong and len(tips) == 2, f"{label}: state is 0 exactly where the opening exceeds the closed "
+          f"tolerance (up to {opened} of {len(at)} pairs), 2 at the other pairs, 1 at the {len(tips)} tips, at "
+          f"all {len(times)} times (wrong at {wrong})")
+    check(worst <= 1e-10, f"{label}: the tangential traction is round-off, {worst:.1e} of the largest traction "
+          "(limit 1e-10)")
+    fault = summary(out)["contact"]["faults"]["fault"]
+    slipping = lumped(points, cells)[data[-1]["state"][:, 0] == 2.0].sum()
+    check(fault["slipping"] == fault["closed"] and fault["stuck"] == 0
+          and abs(fault["slipping"] - slipping) <= 1e-12 * slipping,
+          f"{label}: summary.json's slipping {fault['slipping']:.6f} m is closed ({fault['closed']:.6f} m) and the "
+          f"length of the nodes in state 2 ({slipping:.6f} m); stuck {fault['stuck']}")
+
+
 def datasets(path):
     with h5py.File(path) as f:
         found = {}
@@ -70,11 +129,19 @@ def datasets(path):
 
 def same_datasets(a, b):
     """The largest difference of two fault.h5 files' datasets, each relative
-    to its largest value (inf when they hold other datasets or shapes)."""
+    to its largest value, the tangential traction (round-off on a
+    frictionless fault) to the traction's (inf when they hold other datasets
+    or shapes)."""
     da, db = datasets(os.path.join(a, "fault.h5")), datasets(os.path.join(b, "fault.h5"))
     if da.keys() != db.keys() or any(da[k].shape != db[k].shape for k in da):
         return np.inf, len(da)
-    worst = max(np.abs(da[k] - db[k]).max(initial=0.0) / max(np.abs(da[k]).max(initial=0.0), 1e-300) for k in da)
+
+    def scale(k):
+        largest = np.abs(da[k]).max(initial=0.0)
+        if k.startswith("tangential_traction/"):
+            largest = max(largest, np.abs(da["traction/" + k.split("/")[1]]).max(initial=0.0))
+        return max(largest, 1e-300)
+    worst = max(np.abs(da[k] - db[k]).max(initial=0.0) / scale(k) for k in da)
     return worst, len(da)
 
 
@@ -87,6 +154,9 @@ runs = {}
 for track in TRACKS:
     runs[track], _ = run_track(track, SCENE)
     check_run(track, runs[track])
+    check_states(track, runs[track])
+    opened, _ = run_track(track, SCENE, 'fault.fault.pressure="40e6 * t / 4 * (y > 400 ? 1 : 0)"')
+    check_states(f"{track}, pressurised above y = 400 m", opened)
 worst, count = same_datasets(runs["C++"], runs["prototype"])
 check(worst <= 1e-10, f"prototype = C++: the {count} datasets of fault.h5 to {worst:.1e} (limit 1e-10)")
 check(xml(runs["C++"]) == xml(runs["prototype"]), "prototype = C++: the same fault.xdmf text")

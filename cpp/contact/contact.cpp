@@ -689,54 +689,100 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   VecRestoreArrayRead(force, &R);
   s.gap_scale = displacement_scale(x);
   summarise(s, pressure, distance, pressure_out, active_out);
-  fault_states(s, x, distance, pressure);
+  fault_states(s, x, force, distance, pressure);
   return s;
 }
 
-void ContactSolver::fault_states(ContactState& s, Vec x, const std::vector<double>& distance,
+void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::vector<double>& distance,
                                  const std::vector<double>& pressure)
 {
-  const int d = _set.dim, n = static_cast<int>(_set.boundaries.size());
+  const int n = static_cast<int>(_set.boundaries.size());
+  std::vector<int> summary_of(n, -1);
   for (int b = 0; b < n; ++b)
     if (_set.faults[b])
+    {
+      summary_of[b] = static_cast<int>(s.faults.size());
       s.faults.push_back({_set.boundaries[b]});
+    }
   if (s.faults.empty())
     return;
-  std::vector<int> summary_of(n, -1);
-  for (int b = 0, f = 0; b < n; ++b)
-    if (_set.faults[b])
-      summary_of[b] = f++;
-  // The jump in the pair's frame, w_J = R [u], sits in the + node's rows of
-  // x' = T x (change_of_variables.h).
-  const PetscScalar* X;
+  const PetscScalar *X, *R;
   Vec x_vi = to_vi(x, _x_vi);
   VecGetArrayRead(x_vi, &X);
-  std::vector<double> closed(s.faults.size(), 0.0), largest(2 * s.faults.size(), 0.0);
+  VecGetArrayRead(force, &R);
+  std::vector<std::size_t> constraint; // of each pair
   for (std::size_t k = 0; k < _dofs.size(); ++k)
+    if (_set.pair_node[k] >= 0)
+    {
+      s.pairs.push_back(pair_state(k, X, R, distance[k], pressure[k]));
+      constraint.push_back(k);
+    }
+  VecRestoreArrayRead(x_vi, &X);
+  VecRestoreArrayRead(force, &R);
+  const double scale = traction_scale(pressure, s.pairs);
+  // Per fault: the largest opening and slip; the measures closed, slipping
+  // and stuck.
+  std::vector<double> largest(2 * s.faults.size(), 0.0), measure(3 * s.faults.size(), 0.0);
+  for (std::size_t j = 0; j < s.pairs.size(); ++j)
   {
-    if (_set.pair_node[k] < 0)
-      continue;
-    const NodeMatrix& R = _set.pair_frame[k];
-    PairState p{_set.pair_node[k], _set.boundary[k], distance[k], pressure[k], {0, 0, 0}};
-    for (int r = 1; r < d; ++r) // the tangential rows: the slip
-      for (int i = 0; i < d; ++i)
-        p.slip[i] += R[d * r + i] * X[_displacement_dofs[_set.dofs[k] + r]];
+    PairState& p = s.pairs[j];
+    const std::size_t k = constraint[j];
+    const bool closed = on_foundation(distance[k], s.gap_scale);
+    const auto& t = p.tangential_traction;
+    p.status = pair_status(_set.laws[p.fault], {closed, p.traction, std::hypot(t[0], t[1], t[2]), scale});
     const int f = summary_of[p.fault];
     largest[2 * f] = std::max(largest[2 * f], p.opening);
     largest[2 * f + 1] = std::max(largest[2 * f + 1], std::hypot(p.slip[0], p.slip[1], p.slip[2]));
-    if (on_foundation(distance[k], s.gap_scale))
-      closed[f] += _set.lumped[k];
-    s.pairs.push_back(p);
+    measure[3 * f] += closed ? _set.lumped[k] : 0.0;
+    measure[3 * f + 1] += p.status == PairStatus::slip ? _set.lumped[k] : 0.0;
+    measure[3 * f + 2] += p.status == PairStatus::stick ? _set.lumped[k] : 0.0;
   }
-  VecRestoreArrayRead(x_vi, &X);
   MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX, _comm);
-  MPI_Allreduce(MPI_IN_PLACE, closed.data(), static_cast<int>(closed.size()), MPI_DOUBLE, MPI_SUM, _comm);
+  MPI_Allreduce(MPI_IN_PLACE, measure.data(), static_cast<int>(measure.size()), MPI_DOUBLE, MPI_SUM, _comm);
   for (std::size_t f = 0; f < s.faults.size(); ++f)
   {
     s.faults[f].max_opening = largest[2 * f];
     s.faults[f].max_slip = largest[2 * f + 1];
-    s.faults[f].closed = closed[f];
+    s.faults[f].closed = measure[3 * f];
+    s.faults[f].slipping = measure[3 * f + 1];
+    s.faults[f].stuck = measure[3 * f + 2];
   }
+}
+
+PairState ContactSolver::pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* R, double distance,
+                                    double pressure) const
+{
+  const int d = _set.dim;
+  const NodeMatrix& frame = _set.pair_frame[k];
+  PairState p{_set.pair_node[k], _set.boundary[k], distance, pressure, {0, 0, 0}, {0, 0, 0}, PairStatus::open};
+  // The + node's tangential rows r = 1..d-1 of x' = T x hold the jump's
+  // tangential components in the pair's frame, w_J = R [u], and those of
+  // R' the contact force on them (change_of_variables.h); R^T takes both
+  // back to the global frame. The force becomes a traction as the normal
+  // one does (state: -sign R'/lumped, sign +1 for a pair): the traction
+  // the + face exerts on the - face, along the slip increment when the
+  // pair slips (contact_law.h).
+  for (int r = 1; r < d; ++r)
+  {
+    const std::int32_t row = _displacement_dofs[_set.dofs[k] + r];
+    for (int i = 0; i < d; ++i)
+    {
+      p.slip[i] += frame[d * r + i] * X[row];
+      p.tangential_traction[i] -= frame[d * r + i] * R[row] / _set.lumped[k];
+    }
+  }
+  return p;
+}
+
+double ContactSolver::traction_scale(const std::vector<double>& pressure, const std::vector<PairState>& pairs) const
+{
+  double scale = 0;
+  for (double p : pressure)
+    scale = std::max(scale, std::abs(p));
+  for (const PairState& p : pairs)
+    scale = std::max(scale, std::hypot(p.tangential_traction[0], p.tangential_traction[1], p.tangential_traction[2]));
+  MPI_Allreduce(MPI_IN_PLACE, &scale, 1, MPI_DOUBLE, MPI_MAX, _comm);
+  return scale;
 }
 
 void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressure,

@@ -13,6 +13,7 @@
 // formed once per assembly of A.
 #pragma once
 
+#include "contact/contact_law.h"
 #include "contact/contact_set.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "contact/change_of_variables.h"
@@ -38,21 +39,27 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
 /// @brief A fault pair after a solve: its + node (input index), fault (index
-/// among the contact's boundaries), opening [u].n + g0, slip (the
-/// tangential jump, a vector), and contact traction.
+/// among the contact's boundaries), opening [u].n + g0, contact traction
+/// (normal, >= 0 pressing), slip (the tangential jump, a vector),
+/// tangential traction (a vector: the one the + face exerts on the - face,
+/// along the slip increment when the pair slips) and its state under the
+/// fault's contact law (contact_law.h).
 struct PairState
 {
   std::int64_t node;
   int fault;
   double opening, traction;
-  std::array<double, 3> slip;
+  std::array<double, 3> slip, tangential_traction;
+  PairStatus status;
 };
 
-/// @brief What the summary says of a fault.
+/// @brief What the summary says of a fault: its largest opening and slip,
+/// and the measures (lumped lengths in 2D, areas in 3D) of its pairs that
+/// are closed, and of those in the states slip and stick.
 struct FaultSummary
 {
   std::string name;
-  double max_opening = 0, max_slip = 0, closed = 0;
+  double max_opening = 0, max_slip = 0, closed = 0, slipping = 0, stuck = 0;
 };
 
 /// The contact state after a solve: the contact force at a node is the
@@ -75,8 +82,8 @@ struct ContactState
   /// This rank's fault pairs (faults.h), each at its + node.
   std::vector<PairState> pairs;
   /// Per fault (in the order of the contact's boundaries): its largest
-  /// opening and slip, and its measure in contact (a length in 2D, an area
-  /// in 3D), on all ranks.
+  /// opening and slip, and its measures in contact, slipping and stuck (a
+  /// length in 2D, an area in 3D), on all ranks.
   std::vector<FaultSummary> faults;
 };
 
@@ -240,9 +247,19 @@ private:
   Vec to_vi(Vec x, Vec work) const;
   /// The distance g - u.nu_F of each constraint at x (in x's units).
   std::vector<double> distances(Vec x) const;
-  /// The fault pairs' states and summaries from x and the constraints'
-  /// distances and pressures (collective).
-  void fault_states(ContactState& s, Vec x, const std::vector<double>& distance, const std::vector<double>& pressure);
+  /// The fault pairs' states and summaries from x, the contact forces
+  /// R' = T^{-T}(A x - b) and the constraints' distances and pressures
+  /// (collective).
+  void fault_states(ContactState& s, Vec x, Vec force, const std::vector<double>& distance,
+                    const std::vector<double>& pressure);
+  /// The state of the fault pair of constraint k but its status, from x'
+  /// (X) and R' (R).
+  PairState pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* R, double distance,
+                       double pressure) const;
+  /// The largest contact traction, normal or tangential, of the
+  /// constraints on all ranks: the scale of the states' tolerance
+  /// (collective).
+  double traction_scale(const std::vector<double>& pressure, const std::vector<PairState>& pairs) const;
   /// The diagnostics and output fields of the constraints' pressures and
   /// distances (collective).
   void summarise(ContactState& s, const std::vector<double>& pressure, const std::vector<double>& distance,

@@ -2,11 +2,12 @@
 // face against a rigid foundation: foundation_pair.h; the two faces of a
 // fault: fault_pair.h): per constraint the DOF that carries it after the
 // change of variables, its gap, normal and lumped measure, and the blocks
-// of that change.
+// of that change, and the contact law of each contact boundary.
 #pragma once
 
 #include "assembly/forms.h"
 #include "contact/change_of_variables.h"
+#include "contact/contact_law.h"
 #include "domain/domain.h"
 
 #include <dolfinx/fem/Function.h>
@@ -47,10 +48,13 @@ struct ContactSet
   std::vector<NodeMatrix> pair_frame;
   /// Per constraint, its contact boundary (of `boundaries`, a fault's name
   /// for its pairs; a constraint merged from two boundaries counts for the
-  /// first). `faults` flags the boundaries that are faults.
+  /// first). `faults` flags the boundaries that are faults, `laws` holds
+  /// the contact law of each (contact_law.h; frictionless until the scene
+  /// gives friction).
   std::vector<int> boundary;
   std::vector<std::string> boundaries;
   std::vector<char> faults;
+  std::vector<ContactLaw> laws;
   /// The blocks of the change of variables (change_of_variables.h): the
   /// nodes whose normals are not coordinate axes (T_node) and the node
   /// pairs of faults, by the global (unrolled) DOFs of V they mix.

@@ -67,6 +67,7 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
     const int boundary = static_cast<int>(c.boundaries.size());
     c.boundaries.push_back(name);
     c.faults.push_back(0);
+    c.laws.push_back(ContactLaw{}); // frictionless: no scene key gives friction yet
     const auto& facets = domain.boundaries.at(name);
     const la::Vector<double> lumped = lumped_measure(domain, forms, V, facets);
     auto [dofs, collapsed] = fem::locate_dofs_topological({*V0, *c.output_space}, d - 1, facets);

@@ -5,6 +5,11 @@
 // - opening: [u].n + g0 (0 at the tips, where the faces meet);
 // - slip: the tangential jump [u] - ([u].n) n, a vector (three components);
 // - traction: the contact traction, >= 0, zero where the fault is open;
+// - tangential_traction: the tangential contact traction, a vector (three
+//   components; along the slip increment where the pair slips; on a
+//   frictionless fault the solve's error: round-off with a factorisation);
+// - state: the pair's state (contact_law.h): 0 open, 1 stick, 2 slip; 1 at
+//   the tips, where the faces are one node and neither open nor slide;
 // - pressure: the fluid pressure in the fault (fault.NAME.pressure; 0 for a
 //   fault loaded by the pore pressure beside it, which solution.xdmf holds).
 // Rank 0 writes it, from the pairs each rank gathers to it (a fault holds

@@ -33,10 +33,16 @@ Json contact_json(const ContactState& c)
   if (!c.faults.empty())
   {
     // Per fault: its largest opening and slip (m), and the length (2D) or
-    // area (3D) of it in contact.
+    // area (3D) of it in contact, and of its pairs in the states slip and
+    // stick (contact_law.h).
     Json faults;
     for (const FaultSummary& f : c.faults)
-      faults.set(f.name, Json().set("max_opening", f.max_opening).set("max_slip", f.max_slip).set("closed", f.closed));
+      faults.set(f.name, Json()
+                             .set("max_opening", f.max_opening)
+                             .set("max_slip", f.max_slip)
+                             .set("closed", f.closed)
+                             .set("slipping", f.slipping)
+                             .set("stuck", f.stuck));
     j.set("faults", faults);
   }
   return j;

@@ -19,6 +19,7 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
+from .contact_law import PairStatus, PairTraction, pair_status
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
@@ -96,21 +97,30 @@ class ContactUnknowns:
 class PairState:
     """A fault pair after a solve: its + node (input index), fault (index
     among the contact's boundaries), opening [u].n + g0, contact traction
-    and slip (the tangential jump, a vector of three components)."""
+    (normal, >= 0 pressing), slip (the tangential jump, a vector of three
+    components), tangential traction (three components: the one the + face
+    exerts on the - face, along the slip increment when the pair slips) and
+    its state under the fault's contact law (contact_law.py)."""
     node: int
     fault: int
     opening: float
     traction: float
     slip: np.ndarray
+    tangential_traction: np.ndarray
+    status: PairStatus = PairStatus.open
 
 
 @dataclasses.dataclass
 class FaultSummary:
-    """What the summary says of a fault."""
+    """What the summary says of a fault: its largest opening and slip, and
+    the measures (lumped lengths in 2D, areas in 3D) of its pairs that are
+    closed, and of those in the states slip and stick."""
     name: str
     max_opening: float = 0.0
     max_slip: float = 0.0
     closed: float = 0.0
+    slipping: float = 0.0
+    stuck: float = 0.0
 
 
 class ContactState:
@@ -123,8 +133,8 @@ class ContactState:
         self.boundaries = []  # (name, force along -nu_F, active constraints) per contact boundary
         self.pairs = []       # this rank's fault pairs (PairState), each at its + node
         # Per fault (FaultSummary, in the order of the contact's boundaries):
-        # its largest opening and slip, and its measure in contact (a length
-        # in 2D, an area in 3D), on all ranks.
+        # its largest opening and slip, and its measures in contact, slipping
+        # and stuck (a length in 2D, an area in 3D), on all ranks.
         self.faults = []
 
 
@@ -532,36 +542,68 @@ class ContactSolver:
         s = ContactState()
         s.gap_scale = self.displacement_scale(x)
         self._summarise(s, pressure, distance, pressure_out, active_out)
-        self._fault_states(s, x, distance, pressure)
+        self._fault_states(s, x, force, distance, pressure)
         return s
 
-    def _fault_states(self, s, x, distance, pressure):
-        """The fault pairs' states and summaries from x and the constraints'
-        distances and pressures (collective)."""
-        c, d = self.set, self.set.dim
+    def _fault_states(self, s, x, force, distance, pressure):
+        """The fault pairs' states and summaries from x, the contact forces
+        R' = T^{-T}(A x - b) and the constraints' distances and pressures
+        (collective)."""
+        c = self.set
+        summary_of = np.cumsum(c.faults) - 1  # of a fault's boundary
         s.faults = [FaultSummary(name) for name, fault in zip(c.boundaries, c.faults) if fault]
         if not s.faults:
             return
-        summary_of = np.cumsum(c.faults) - 1  # of a fault's boundary
-        # The jump in the pair's frame, w_J = R [u], sits in the + node's rows
-        # of x' = T x (change_of_variables.py).
-        X = self._to_vi(x).getArray(readonly=True)
-        closed, largest = np.zeros(len(s.faults)), np.zeros(2 * len(s.faults))
-        for k in np.flatnonzero(c.pair_node >= 0):
-            R = c.pair_frame[k]
-            p = PairState(int(c.pair_node[k]), int(c.boundary[k]), distance[k], pressure[k], np.zeros(3))
-            for r in range(1, d):  # the tangential rows: the slip
-                p.slip[:d] += R[r, :d] * X[self.displacement_dofs[c.dofs[k] + r]]
+        X, R = self._to_vi(x).getArray(readonly=True), force.getArray(readonly=True)
+        constraint = np.flatnonzero(c.pair_node >= 0)  # of each pair
+        s.pairs = [self._pair_state(k, X, R, distance[k], pressure[k]) for k in constraint]
+        scale = self._traction_scale(pressure, s.pairs)
+        # Per fault: the largest opening and slip; the measures closed,
+        # slipping and stuck.
+        largest, measure = np.zeros(2 * len(s.faults)), np.zeros(3 * len(s.faults))
+        for p, k in zip(s.pairs, constraint):
+            closed = bool(_on_foundation(distance[k], s.gap_scale))
+            p.status = pair_status(c.laws[p.fault], PairTraction(closed, p.traction,
+                                                                 math.hypot(*p.tangential_traction), scale))
             f = summary_of[p.fault]
             largest[2 * f] = max(largest[2 * f], p.opening)
             largest[2 * f + 1] = max(largest[2 * f + 1], math.hypot(*p.slip))
-            if _on_foundation(distance[k], s.gap_scale):
-                closed[f] += c.lumped[k]
-            s.pairs.append(p)
+            measure[3 * f] += c.lumped[k] if closed else 0.0
+            measure[3 * f + 1] += c.lumped[k] if p.status == PairStatus.slip else 0.0
+            measure[3 * f + 2] += c.lumped[k] if p.status == PairStatus.stick else 0.0
         self.comm.Allreduce(MPI.IN_PLACE, largest, op=MPI.MAX)
-        self.comm.Allreduce(MPI.IN_PLACE, closed, op=MPI.SUM)
+        self.comm.Allreduce(MPI.IN_PLACE, measure, op=MPI.SUM)
         for f, summary in enumerate(s.faults):
-            summary.max_opening, summary.max_slip, summary.closed = largest[2 * f], largest[2 * f + 1], closed[f]
+            summary.max_opening, summary.max_slip = largest[2 * f], largest[2 * f + 1]
+            summary.closed, summary.slipping, summary.stuck = measure[3 * f:3 * f + 3]
+
+    def _pair_state(self, k, X, R, distance, pressure):
+        """The state of the fault pair of constraint k but its status, from
+        x' (X) and R' (R)."""
+        c, d = self.set, self.set.dim
+        frame = c.pair_frame[k]
+        p = PairState(int(c.pair_node[k]), int(c.boundary[k]), distance, pressure, np.zeros(3), np.zeros(3))
+        # The + node's tangential rows r = 1..d-1 of x' = T x hold the jump's
+        # tangential components in the pair's frame, w_J = R [u], and those
+        # of R' the contact force on them (change_of_variables.py); R^T takes
+        # both back to the global frame. The force becomes a traction as the
+        # normal one does (state: -sign R'/lumped, sign +1 for a pair): the
+        # traction the + face exerts on the - face, along the slip increment
+        # when the pair slips (contact_law.py).
+        for r in range(1, d):
+            row = self.displacement_dofs[c.dofs[k] + r]
+            p.slip[:d] += frame[r, :d] * X[row]
+            p.tangential_traction[:d] -= frame[r, :d] * R[row] / c.lumped[k]
+        return p
+
+    def _traction_scale(self, pressure, pairs):
+        """The largest contact traction, normal or tangential, of the
+        constraints on all ranks: the scale of the states' tolerance
+        (collective)."""
+        scale = np.abs(pressure).max(initial=0.0)
+        for p in pairs:
+            scale = max(scale, math.hypot(*p.tangential_traction))
+        return self.comm.allreduce(scale, op=MPI.MAX)
 
     def _summarise(self, s, pressure, distance, pressure_out, active_out):
         """The diagnostics and output fields of the constraints' pressures

@@ -2,7 +2,8 @@
 face against a rigid foundation: foundation_pair.py; the two faces of a
 fault: fault_pair.py): per constraint the DOF that carries it after the
 change of variables, its gap, normal and lumped measure, and the blocks of
-that change (cpp/contact/contact_set.h)."""
+that change, and the contact law of each contact boundary
+(cpp/contact/contact_set.h)."""
 import numpy as np
 from dolfinx import fem
 
@@ -24,7 +25,9 @@ class ContactSet:
     fault pair's constraint, `pair_node` (the input index of its + node)
     and `pair_frame` (R, the rotation of the pair's jump:
     pair_change_of_variables); -1 and None for a foundation's. `faults`
-    flags the entries of `boundaries` that are faults. `blocks` lists
+    flags the entries of `boundaries` that are faults, `laws` holds the
+    contact law of each (contact_law.py; frictionless until the scene gives
+    friction). `blocks` lists
     the blocks of the change of variables as (the global unrolled DOFs of V
     they mix, their matrix): the nodes whose normals are not coordinate axes
     and the node pairs of faults; `dof_offset` is the global index in V of
@@ -34,7 +37,7 @@ class ContactSet:
     def __init__(self, dim, output_space, dof_offset):
         self.dim, self.output_space, self.dof_offset = dim, output_space, dof_offset
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
-        self.boundary, self.boundaries, self.faults = [], [], []
+        self.boundary, self.boundaries, self.faults, self.laws = [], [], [], []
         self.pair_node, self.pair_frame = [], []
         self.blocks = []
 

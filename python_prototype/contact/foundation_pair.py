@@ -13,6 +13,7 @@ from dolfinx import fem
 from ..assembly.linear_algebra import owned
 from ..scene.input import point_text
 from .change_of_variables import coordinate_axis, node_change_of_variables
+from .contact_law import ContactLaw
 from .contact_set import lumped_measure, prescribed_dofs
 
 # A contact node: its first DOF in V, its candidate constraints (one per
@@ -41,6 +42,7 @@ def _gather_candidates(scene, domain, F, V, c, error):
         boundary = len(c.boundaries)
         c.boundaries.append(name)
         c.faults.append(False)
+        c.laws.append(ContactLaw())  # frictionless: no scene key gives friction yet
         lumped = lumped_measure(domain, F, V, domain.boundaries[name])
         dofs, collapsed = fem.locate_dofs_topological((V0, c.output_space), d - 1, domain.boundaries[name])
         for dof, out in zip(dofs, collapsed):

@@ -46,8 +46,10 @@ def _contact_json(c):
          "boundaries": {name: {"force": force, "active_nodes": active} for name, force, active in c.boundaries}}
     if c.faults:
         # Per fault: its largest opening and slip (m), and the length (2D) or
-        # area (3D) of it in contact.
-        j["faults"] = {f.name: {"max_opening": f.max_opening, "max_slip": f.max_slip, "closed": f.closed}
+        # area (3D) of it in contact, and of its pairs in the states slip and
+        # stick (contact_law.py).
+        j["faults"] = {f.name: {"max_opening": f.max_opening, "max_slip": f.max_slip, "closed": f.closed,
+                                "slipping": f.slipping, "stuck": f.stuck}
                        for f in c.faults}
     return j
 

@@ -1,0 +1,74 @@
+// The contact law of a pair (theory.md, "Faults", "The contact law"): what
+// the traction across a closed pair may be, and the state it leaves the
+// pair in. The pairs (foundation_pair.h, fault_pair.h) say which nodes face
+// which; the VI solver (contact.h) knows no physics; the law is the physics
+// between them.
+//
+// With g the pair's gap (the distance to the foundation; the opening
+// [u].n + g0 of a fault pair), t_N >= 0 its normal traction (pressing) and
+// t_T its tangential traction (a vector in the face, along the slip
+// increment when the pair slips), a pair is in one of three states:
+//     open:   g > 0, no traction (t_N = 0, t_T = 0);
+//     stick:  g = 0, |t_T| < bound, no slip increment;
+//     slip:   g = 0, |t_T| = bound, the slip increment along t_T,
+// with the bound of the tangential traction (slip_bound)
+//     bound = tresca                           (Tresca, when given),
+//     bound = cohesion + friction max(t_N, 0)  (Coulomb otherwise),
+// the exact disc |t_T| <= bound in 3D (no polygon). The frictionless law,
+// the default-constructed one, has bound 0: a closed pair slides freely.
+#pragma once
+
+#include <optional>
+
+namespace biotcontact
+{
+
+/// The state of one constraint of a pair, with the values fault.xdmf's
+/// `state` writes.
+enum class PairStatus
+{
+  open = 0,
+  stick = 1,
+  slip = 2
+};
+
+/// @brief The contact law of a contact boundary or fault: Coulomb friction
+/// (the coefficient mu and the cohesion c), or Tresca's bound tau, which,
+/// when given, replaces both. Default: frictionless.
+struct ContactLaw
+{
+  double friction = 0;
+  double cohesion = 0;
+  std::optional<double> tresca;
+};
+
+/// @brief What decides a constraint's state: whether it is closed (as the
+/// VI solver decides: on the foundation, the faces touching), its normal
+/// traction t_N (>= 0 pressing), the magnitude of its tangential traction
+/// |t_T|, and the traction scale the tolerance is relative to.
+struct PairTraction
+{
+  bool closed = false;
+  double normal = 0;
+  double tangential = 0;
+  double scale = 0;
+};
+
+/// A closed constraint sticks when |t_T| is below its bound by more than
+/// this, relative to the traction scale: above the error of the tractions
+/// (round-off of a direct solve, the 1e-10 relative residual of an
+/// iterative one), so that a slipping pair, on its bound, is not taken for
+/// one that sticks.
+constexpr double status_tolerance = 1e-8;
+
+/// The bound of |t_T|: tresca if given, else cohesion + friction
+/// max(t_N, 0) (a pulling t_N adds no friction).
+double slip_bound(const ContactLaw& law, double normal_traction);
+
+/// The state of one constraint: open if it is not closed; closed, stick
+/// when |t_T| < bound - status_tolerance * scale, else slip. A closed
+/// frictionless constraint therefore slips (bound 0: nothing holds it,
+/// and |t_T| is only the solve's error).
+PairStatus pair_status(const ContactLaw& law, const PairTraction& traction);
+
+} // namespace biotcontact

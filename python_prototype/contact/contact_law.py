@@ -1,0 +1,78 @@
+"""The contact law of a pair (theory.md, "Faults", "The contact law";
+cpp/contact/contact_law.h): what the traction across a closed pair may be,
+and the state it leaves the pair in. The pairs (foundation_pair.py,
+fault_pair.py) say which nodes face which; the VI solver (contact.py)
+knows no physics; the law is the physics between them.
+
+With g the pair's gap (the distance to the foundation; the opening
+[u].n + g0 of a fault pair), t_N >= 0 its normal traction (pressing) and t_T
+its tangential traction (a vector in the face, along the slip increment when
+the pair slips), a pair is in one of three states:
+    open:   g > 0, no traction (t_N = 0, t_T = 0);
+    stick:  g = 0, |t_T| < bound, no slip increment;
+    slip:   g = 0, |t_T| = bound, the slip increment along t_T,
+with the bound of the tangential traction (slip_bound)
+    bound = tresca                           (Tresca, when given),
+    bound = cohesion + friction max(t_N, 0)  (Coulomb otherwise),
+the exact disc |t_T| <= bound in 3D (no polygon). The frictionless law, the
+default-constructed one, has bound 0: a closed pair slides freely."""
+import dataclasses
+import enum
+from typing import Optional
+
+
+class PairStatus(enum.IntEnum):
+    """The state of one constraint of a pair, with the values fault.xdmf's
+    `state` writes."""
+    open = 0
+    stick = 1
+    slip = 2
+
+
+@dataclasses.dataclass
+class ContactLaw:
+    """The contact law of a contact boundary or fault: Coulomb friction (the
+    coefficient mu and the cohesion c), or Tresca's bound tau, which, when
+    given, replaces both. Default: frictionless."""
+    friction: float = 0.0
+    cohesion: float = 0.0
+    tresca: Optional[float] = None
+
+
+@dataclasses.dataclass
+class PairTraction:
+    """What decides a constraint's state: whether it is closed (as the VI
+    solver decides: on the foundation, the faces touching), its normal
+    traction t_N (>= 0 pressing), the magnitude of its tangential traction
+    |t_T|, and the traction scale the tolerance is relative to."""
+    closed: bool = False
+    normal: float = 0.0
+    tangential: float = 0.0
+    scale: float = 0.0
+
+
+# A closed constraint sticks when |t_T| is below its bound by more than
+# this, relative to the traction scale: above the error of the tractions
+# (round-off of a direct solve, the 1e-10 relative residual of an iterative
+# one), so that a slipping pair, on its bound, is not taken for one that
+# sticks.
+STATUS_TOLERANCE = 1e-8
+
+
+def slip_bound(law, normal_traction):
+    """The bound of |t_T|: tresca if given, else cohesion + friction
+    max(t_N, 0) (a pulling t_N adds no friction)."""
+    if law.tresca is not None:
+        return law.tresca
+    return law.cohesion + law.friction * max(normal_traction, 0.0)
+
+
+def pair_status(law, traction):
+    """The state of one constraint: open if it is not closed; closed, stick
+    when |t_T| < bound - STATUS_TOLERANCE * scale, else slip. A closed
+    frictionless constraint therefore slips (bound 0: nothing holds it, and
+    |t_T| is only the solve's error)."""
+    if not traction.closed:
+        return PairStatus.open
+    bound = slip_bound(law, traction.normal)
+    return PairStatus.stick if traction.tangential < bound - STATUS_TOLERANCE * traction.scale else PairStatus.slip
