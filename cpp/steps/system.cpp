@@ -68,10 +68,11 @@ System::~System()
 
 void System::tie(const std::vector<Tie>& ties)
 {
-  auto tied = std::make_unique<TiedDofs>(_A.mat(), ties);
-  if (tied->size() == 0)
+  long local = static_cast<long>(ties.size()), global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_LONG, MPI_SUM, _comm);
+  if (global == 0) // a scene without transparent faults builds nothing
     return;
-  _tied = std::move(tied);
+  _tied = std::make_unique<TiedDofs>(_A.mat(), ties);
   _tied->reduce(_A.mat(), &_A_tied);
   if (_P)
     _tied->reduce(_P->mat(), &_P_tied);

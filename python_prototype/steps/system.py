@@ -49,10 +49,9 @@ class System:
         across a transparent fault): every later solve is of the tied
         system, its solution satisfying the ties (collective; nothing when
         no rank has a tie)."""
-        tied = TiedDofs(self.A, ties)
-        if tied.size == 0:
+        if self.comm.allreduce(len(ties)) == 0:  # a scene without transparent faults builds nothing
             return
-        self.tied = tied
+        self.tied = tied = TiedDofs(self.A, ties)
         self.A_tied = tied.reduce(self.A)
         if self.P is not None:
             self.P_tied = tied.reduce(self.P)
