@@ -6,6 +6,7 @@
 #include "assembly/linear_algebra.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
@@ -83,13 +84,14 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
   VecDuplicate(layout, &_force);
   make_change_of_variables(layout);
 
-  long local_dofs = static_cast<long>(_dofs.size()), contact_dofs = 0;
-  MPI_Allreduce(&local_dofs, &contact_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  const bool condensed = use_condensation(comm, prefix, method, contact_dofs);
+  long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
+  MPI_Allreduce(&local_dofs, &all_dofs, 1, MPI_LONG, MPI_SUM, comm);
+  const bool condensed = use_condensation(comm, prefix, method, all_dofs);
   if (condensed)
     condense();
   else
     pose_on_full_system(layout);
+  make_friction();
   const std::string vi_prefix = condensed ? prefix + "contact_" : prefix;
   create_snes(vi_prefix);
   if (!condensed and method == Method::iterative)
@@ -119,19 +121,29 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 /// (schur_complement.h): every unknown of the small dense problem is bounded.
 void ContactSolver::condense()
 {
-  _schur = std::make_unique<SchurComplement>(_comm, _prefix, _A_vi, _structure, _dofs);
+  const std::vector<std::int32_t> dofs = contact_dofs();
+  _schur = std::make_unique<SchurComplement>(_comm, _prefix, _A_vi, _structure, dofs);
   _vi_stage = std::make_unique<SolverStage>(_prefix + "contact");
   _vi_comm = PETSC_COMM_SELF;
   _K = _schur->matrix();
   const PetscInt m = _schur->size();
-  _bounded.resize(m);
+  // Each rank's constraints come first among its contact DOFs, its
+  // tangential ones (friction) after them: the bounded DOFs of H are the
+  // constraints'.
+  std::vector<double> bounded(dofs.size(), 0.0), gap(dofs.size(), 0.0), sign(dofs.size(), 0.0);
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    bounded[k] = 1, gap[k] = _set.gap[k], sign[k] = _set.sign[k];
+  std::vector<double> all_bounded(m), all_gap(m), all_sign(m);
+  _schur->gather(bounded.data(), all_bounded.data());
+  _schur->gather(gap.data(), all_gap.data());
+  _schur->gather(sign.data(), all_sign.data());
   for (PetscInt k = 0; k < m; ++k)
-    _bounded[k] = static_cast<std::int32_t>(k);
-  _bounded_gap.resize(m);
-  _schur->gather(_set.gap.data(), _bounded_gap.data());
-  const std::vector<double> sign(_set.sign.begin(), _set.sign.end());
-  _bounded_sign.resize(m);
-  _schur->gather(sign.data(), _bounded_sign.data());
+    if (all_bounded[k] > 0)
+    {
+      _bounded.push_back(static_cast<std::int32_t>(k));
+      _bounded_gap.push_back(all_gap[k]);
+      _bounded_sign.push_back(all_sign[k]);
+    }
   VecCreateSeq(PETSC_COMM_SELF, m, &_x);
   // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
   const std::string vi_prefix = _prefix + "contact_";
@@ -139,6 +151,60 @@ void ContactSolver::condense()
   set_default_option(vi_prefix + "pc_type", _structure == Structure::spd ? "cholesky" : "lu");
   set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc");
   make_bound_vectors();
+}
+
+std::vector<std::int32_t> ContactSolver::contact_dofs() const
+{
+  std::vector<std::int32_t> dofs = _dofs;
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+    if (!frictionless(_set.laws[_set.boundary[k]]))
+      for (int r = 1; r < _set.dim; ++r)
+        dofs.push_back(_displacement_dofs.at(_set.dofs[k] + r));
+  return dofs;
+}
+
+/// The frictional constraints in the VI's numbering: on the full system
+/// this rank's, at their local positions; condensed, every rank's at their
+/// places in H (each rank's contact DOFs from offset(), contact_dofs()'s
+/// order), gathered to every rank.
+void ContactSolver::make_friction()
+{
+  const int d = _set.dim;
+  const PetscInt first = _schur ? _schur->offset() : 0;
+  std::vector<std::int64_t> records; // per constraint: 3 positions, then 6 doubles' bits
+  PetscInt next = static_cast<PetscInt>(_dofs.size());
+  for (std::size_t k = 0; k < _dofs.size(); ++k)
+  {
+    const ContactLaw& law = _set.laws[_set.boundary[k]];
+    if (frictionless(law))
+      continue;
+    const PetscInt normal = _schur ? first + static_cast<PetscInt>(k) : _dofs[k];
+    std::array<PetscInt, 2> t{-1, -1};
+    for (int r = 1; r < d; ++r, ++next)
+      t[r - 1] = _schur ? first + next : _displacement_dofs[_set.dofs[k] + r];
+    records.insert(records.end(), {normal, t[0], t[1]});
+    for (double v : {static_cast<double>(_set.sign[k]), _set.gap[k], _set.lumped[k], law.friction, law.cohesion,
+                     law.tresca.value_or(-1.0)})
+      records.push_back(std::bit_cast<std::int64_t>(v));
+  }
+  const std::vector<std::int64_t> all = _schur ? all_gather(records, _comm).values : records;
+  auto real = [&](std::size_t i) { return std::bit_cast<double>(all[i]); };
+  for (std::size_t i = 0; i < all.size(); i += 9)
+  {
+    Friction f;
+    f.normal = all[i];
+    f.tangential = {all[i + 1], all[i + 2]};
+    f.sign = real(i + 3), f.gap = real(i + 4), f.lumped = real(i + 5);
+    f.law = {real(i + 6), real(i + 7), real(i + 8) >= 0 ? std::optional<double>(real(i + 8)) : std::nullopt};
+    _friction.push_back(f);
+  }
+  int local = !_friction.empty(), any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, _comm);
+  if (!any)
+    return;
+  for (Vec* v : {&_b_base, &_x_reference, &_stiffness, &_work})
+    VecDuplicate(_x, v);
+  VecSet(_x_reference, 0.0);
 }
 
 /// The VI on the full system: only the contact DOFs are bounded.
@@ -344,7 +410,8 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
 ContactSolver::~ContactSolver()
 {
   SNESDestroy(&_snes);
-  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi})
+  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi, &_b_base, &_x_reference,
+                 &_stiffness, &_work})
     VecDestroy(v);
   if (_change)
   {
@@ -402,6 +469,147 @@ void ContactSolver::solve(Vec b, Vec x)
   _scale = displacement_scale(x_vi);
   set_bounds();
   pose(b_vi, x_vi);
+  if (_b_base)
+    solve_with_friction();
+  else
+    solve_vi();
+  VecScale(_x, _scale);
+  if (_schur)
+    _schur->extend(b_vi, _x, x_vi);
+  else
+    VecCopy(_x, x_vi);
+  if (_change)
+    _change->backward(x_vi, x);
+}
+
+void ContactSolver::set_slip_reference(Vec x)
+{
+  if (!_x_reference)
+    return;
+  Vec x_vi = to_vi(x, _x_vi);
+  if (_schur)
+    _schur->restrict_to_contact(x_vi, _x_reference);
+  else
+    VecCopy(x_vi, _x_reference);
+}
+
+/// Friction by the primal-dual active-set method (Hueber, Stadler and
+/// Wohlmuth 2008) around the VI: each round solves the VI with every
+/// stuck tangential unknown held at its reference (no slip increment) and
+/// every slipping one loaded by its slip force, then takes from that
+/// solution the trial force theta = t_T + c ds (t_T the tangential contact
+/// force, ds the slip increment, c the diagonal stiffness) of each closed
+/// constraint: stuck when |theta| is within the bound, else slipping with
+/// the bound's force along theta (the exact disc in 3D). When no state and
+/// no slip force changes, the round's solution satisfies the law: a stuck
+/// constraint's force is within the bound, a slipping one's is on it and
+/// along its slip increment. The states and forces carry over to the next
+/// solve, whose rounds usually start from the right ones.
+void ContactSolver::solve_with_friction()
+{
+  VecCopy(_b_scaled, _b_base);
+  MatGetDiagonal(_K, _stiffness);
+  for (int round = 1;; ++round)
+  {
+    apply_friction();
+    solve_vi();
+    ++friction_iterations;
+    if (update_friction())
+      return;
+    if (round == max_friction_iterations)
+      throw SolverError("friction: the stick and slip states did not settle in "
+                        + std::to_string(max_friction_iterations) + " rounds of the active-set iteration");
+  }
+}
+
+void ContactSolver::apply_friction()
+{
+  PetscScalar *lo, *up, *b;
+  const PetscScalar *base, *ref;
+  VecGetArray(_lower, &lo);
+  VecGetArray(_upper, &up);
+  VecGetArray(_b_scaled, &b);
+  VecGetArrayRead(_b_base, &base);
+  VecGetArrayRead(_x_reference, &ref);
+  for (const Friction& f : _friction)
+    for (int r = 0; r + 1 < _set.dim; ++r)
+    {
+      const PetscInt t = f.tangential[r];
+      const bool stuck = f.status == PairStatus::stick;
+      lo[t] = stuck ? ref[t] / _scale : PETSC_NINFINITY;
+      up[t] = stuck ? ref[t] / _scale : PETSC_INFINITY;
+      // K x - b = -force on a slipping unknown: the friction opposes the slip.
+      b[t] = base[t] - f.force[r] / _scale;
+    }
+  VecRestoreArray(_lower, &lo);
+  VecRestoreArray(_upper, &up);
+  VecRestoreArray(_b_scaled, &b);
+  VecRestoreArrayRead(_b_base, &base);
+  VecRestoreArrayRead(_x_reference, &ref);
+}
+
+bool ContactSolver::update_friction()
+{
+  // R = K x - b without the slip forces: the contact forces, in units of
+  // the scale.
+  MatMult(_K, _x, _work);
+  VecAXPY(_work, -1.0, _b_base);
+  const PetscScalar *X, *R, *ref, *c;
+  VecGetArrayRead(_x, &X);
+  VecGetArrayRead(_work, &R);
+  VecGetArrayRead(_x_reference, &ref);
+  VecGetArrayRead(_stiffness, &c);
+  const int tangents = _set.dim - 1;
+  std::vector<double> bound(_friction.size());
+  std::vector<std::array<double, 2>> trial(_friction.size(), {0.0, 0.0});
+  double largest = 0;
+  for (std::size_t k = 0; k < _friction.size(); ++k)
+  {
+    const Friction& f = _friction[k];
+    const bool closed = on_foundation(f.gap - f.sign * X[f.normal] * _scale, _scale);
+    const double normal = -f.sign * R[f.normal] * _scale / f.lumped;
+    bound[k] = closed ? slip_bound(f.law, normal) * f.lumped : -1.0;
+    for (int r = 0; r < tangents; ++r)
+    {
+      const PetscInt t = f.tangential[r];
+      trial[k][r] = -R[t] * _scale + c[t] * (X[t] * _scale - ref[t]);
+    }
+    largest = std::max(largest, bound[k]);
+  }
+  VecRestoreArrayRead(_x, &X);
+  VecRestoreArrayRead(_work, &R);
+  VecRestoreArrayRead(_x_reference, &ref);
+  VecRestoreArrayRead(_stiffness, &c);
+  if (!_schur) // on the full system each rank holds its own constraints
+    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, _comm);
+  double change = 0;
+  int changed = 0;
+  for (std::size_t k = 0; k < _friction.size(); ++k)
+  {
+    Friction& f = _friction[k];
+    const double size = std::hypot(trial[k][0], trial[k][1]);
+    PairStatus status = PairStatus::open;
+    if (bound[k] >= 0)
+      status = size <= bound[k] + status_tolerance * largest ? PairStatus::stick : PairStatus::slip;
+    for (int r = 0; r < tangents; ++r)
+    {
+      const double force = status == PairStatus::slip ? bound[k] * trial[k][r] / size : 0.0;
+      change = std::max(change, std::abs(force - f.force[r]));
+      f.force[r] = force;
+    }
+    changed = changed or status != f.status;
+    f.status = status;
+  }
+  if (!_schur)
+  {
+    MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, _comm);
+    MPI_Allreduce(MPI_IN_PLACE, &change, 1, MPI_DOUBLE, MPI_MAX, _comm);
+  }
+  return !changed and change <= 1e-10 * largest;
+}
+
+void ContactSolver::solve_vi()
+{
   SNESConvergedReason reason = run_snes();
   count_iterations(reason);
   if (reason < 0)
@@ -418,13 +626,6 @@ void ContactSolver::solve(Vec b, Vec x)
   if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
                       + SNESConvergedReasons[reason]);
-  VecScale(_x, _scale);
-  if (_schur)
-    _schur->extend(b_vi, _x, x_vi);
-  else
-    VecCopy(_x, x_vi);
-  if (_change)
-    _change->backward(x_vi, x);
 }
 
 /// u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a, in

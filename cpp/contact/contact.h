@@ -20,6 +20,7 @@
 #include "contact/schur_complement.h"
 #include "solvers/solver.h"
 
+#include <array>
 #include <dolfinx/fem/Function.h>
 #include <functional>
 #include <memory>
@@ -166,7 +167,15 @@ public:
   ContactSolver& operator=(const ContactSolver&) = delete;
 
   /// Solves the VI; x holds the initial guess on entry. Throws SolverError.
+  /// With friction, the stick/slip states of the frictional constraints
+  /// are found by an active-set iteration around it (contact.cpp,
+  /// solve_with_friction); their slip increments are measured from the
+  /// slip reference.
   void solve(Vec b, Vec x);
+
+  /// A time step (or window) starts at x: friction's slip increments are
+  /// measured from it (collective; nothing without friction).
+  void set_slip_reference(Vec x);
 
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
@@ -197,6 +206,8 @@ public:
   double schur_time() const { return _schur ? _schur->time : 0; }
 
   long newton_iterations = 0, linear_iterations = 0;
+  /// Rounds of the friction's active-set iteration (each one VI solve).
+  long friction_iterations = 0;
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
   long active_set_changes = 0;
@@ -205,7 +216,40 @@ public:
   /// life (the run's progress line).
   std::function<void(int)> on_newton_step;
 
+  /// Rounds of the friction's active-set iteration before it gives up.
+  static constexpr int max_friction_iterations = 100;
+
 private:
+  /// @brief A frictional constraint in the VI's numbering (replicated on
+  /// every rank when condensed, this rank's own on the full system): the
+  /// positions of its normal and d - 1 tangential unknowns, what its law
+  /// needs, and the state and slip force of the current iterate.
+  struct Friction
+  {
+    PetscInt normal = -1;
+    std::array<PetscInt, 2> tangential{-1, -1};
+    double sign = 1, gap = 0, lumped = 0;
+    ContactLaw law;
+    PairStatus status = PairStatus::stick;
+    std::array<double, 2> force{0, 0}; // along the tangential unknowns (N)
+  };
+
+  /// The contact DOFs of the VI: each constraint's, then the tangential
+  /// ones of the frictional constraints.
+  std::vector<std::int32_t> contact_dofs() const;
+  /// The frictional constraints, once the VI is posed.
+  void make_friction();
+  /// The VI with the current bounds and load; retried from the clamped
+  /// state when the first attempt fails; throws when both do.
+  void solve_vi();
+  /// The active-set iteration of friction around the VI (contact.cpp).
+  void solve_with_friction();
+  /// Bounds and loads of the tangential unknowns from the states: a stuck
+  /// one held at its reference, a slipping one loaded by its slip force.
+  void apply_friction();
+  /// The states and slip forces of the VI's solution; true when neither
+  /// changed (collective).
+  bool update_friction();
   void condense();
   void pose_on_full_system(Vec layout);
   void make_bound_vectors();
@@ -302,6 +346,12 @@ private:
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;
   std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
+  // Friction: its constraints, the load without slip forces, the start of
+  // the step (in the VI's numbering, unscaled), the diagonal of K (the
+  // stiffness that turns a slip increment into a trial force) and a work
+  // vector.
+  std::vector<Friction> _friction;
+  Vec _b_base = nullptr, _x_reference = nullptr, _stiffness = nullptr, _work = nullptr;
 };
 
 } // namespace biotcontact

@@ -18,6 +18,8 @@
 // the default-constructed one, has bound 0: a closed pair slides freely.
 #pragma once
 
+#include "scene/scene.h"
+
 #include <optional>
 
 namespace biotcontact
@@ -60,6 +62,12 @@ struct PairTraction
 /// iterative one), so that a slipping pair, on its bound, is not taken for
 /// one that sticks.
 constexpr double status_tolerance = 1e-8;
+
+/// The law a scene gives a contact boundary or a fault.
+ContactLaw contact_law(const FrictionSpec& friction);
+
+/// Whether the law holds nothing tangentially (bound 0 whatever t_N).
+bool frictionless(const ContactLaw& law);
 
 /// The bound of |t_T|: tresca if given, else cohesion + friction
 /// max(t_N, 0) (a pulling t_N adds no friction).

@@ -42,8 +42,10 @@ struct ContactSet
   std::vector<double> gap, lumped;
   std::vector<std::array<double, 3>> normal;
   /// Per constraint of a fault pair: the input index of its + node and R,
-  /// the rotation of the pair's jump (pair_change_of_variables); -1 and
-  /// unused for a foundation's constraint.
+  /// the rotation of the pair's jump (pair_change_of_variables); for a
+  /// foundation's constraint -1, and T_node where the node has a change of
+  /// variables (a frictional one always does: its rows 1..d-1 are the
+  /// tangents friction acts along).
   std::vector<std::int64_t> pair_node;
   std::vector<NodeMatrix> pair_frame;
   /// Per constraint, its contact boundary (of `boundaries`, a fault's name

@@ -139,7 +139,7 @@ void add_fault_pairs(const Scene& scene, const Domain& domain, const CompiledFor
                    lumped_measure(domain, forms, V, fault.plus_facets), {}};
     c.boundaries.push_back(name);
     c.faults.push_back(1);
-    c.laws.push_back(ContactLaw{}); // frictionless: no scene key gives friction yet
+    c.laws.push_back(contact_law(scene.faults.at(name).friction));
     auto [dofs, collapsed] = fem::locate_dofs_topological({*V->sub({0}), *c.output_space}, d - 1, fault.plus_facets);
     for (std::size_t k = 0; k < dofs.size(); ++k)
       if (dofs[k] < owned)

@@ -67,7 +67,7 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
     const int boundary = static_cast<int>(c.boundaries.size());
     c.boundaries.push_back(name);
     c.faults.push_back(0);
-    c.laws.push_back(ContactLaw{}); // frictionless: no scene key gives friction yet
+    c.laws.push_back(contact_law(b.contact->friction));
     const auto& facets = domain.boundaries.at(name);
     const la::Vector<double> lumped = lumped_measure(domain, forms, V, facets);
     auto [dofs, collapsed] = fem::locate_dofs_topological({*V0, *c.output_space}, d - 1, facets);
@@ -141,7 +141,15 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     if (axes.back())
       distinct.insert(axes.back()->first);
   }
-  const bool on_axes = distinct.size() == merged.size()
+  // Friction acts on the tangential components of a node's change of
+  // variables (rows 1..d-1 of T): a frictional node always has one, and
+  // only one foundation (two would leave fewer tangents than friction needs).
+  const bool frictional = std::any_of(merged.begin(), merged.end(), [&](const Candidate& k)
+                                      { return !frictionless(c.laws[k.boundary]); });
+  if (frictional and merged.size() > 1 and error.empty())
+    error = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.friction: at "
+            + point_text(x, d) + " two foundations meet, where friction is not supported yet";
+  const bool on_axes = !frictional and distinct.size() == merged.size()
                        and std::all_of(axes.begin(), axes.end(), [](const auto& a) { return a.has_value(); });
   std::optional<NodeMatrix> T;
   if (!on_axes)
@@ -174,7 +182,7 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     c.normal.push_back(merged[j].normal);
     c.boundary.push_back(merged[j].boundary);
     c.pair_node.push_back(-1);
-    c.pair_frame.push_back({});
+    c.pair_frame.push_back(T.value_or(NodeMatrix{}));
     c.output_dofs.push_back(merged[j].output_dof);
   }
 }

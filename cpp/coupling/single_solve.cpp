@@ -47,6 +47,7 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
     const double t = run.grid.t[k];
     const TimeDerivative d = begin_step(problem, step, run.grid, k);
     const StepState start = step.state();
+    step.begin_step();
     const ActiveSet active_before = run.control ? step.active_contact_set() : ActiveSet{};
     try
     {

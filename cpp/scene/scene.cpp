@@ -83,7 +83,29 @@ MeshSpec read_mesh(Section s, const std::string& scene_file)
   return m;
 }
 
-/// contact = { gap = .., normal = [..] }: the foundation of a contact boundary.
+/// friction, cohesion or tresca of a contact table or a fault (FrictionSpec).
+FrictionSpec read_friction(Section& s)
+{
+  FrictionSpec f;
+  f.friction = s.number("friction", 0.0);
+  if (!(f.friction >= 0 and std::isfinite(f.friction)))
+    s.fail("friction", "must be a finite number >= 0 (the Coulomb coefficient)");
+  f.cohesion = s.number("cohesion", 0.0);
+  if (!(f.cohesion >= 0 and std::isfinite(f.cohesion)))
+    s.fail("cohesion", "must be a finite number >= 0 (Pa)");
+  if (s.has("tresca"))
+  {
+    if (s.has("friction") or s.has("cohesion"))
+      s.fail("tresca", "give tresca (a given bound) or friction and cohesion (Coulomb), not both");
+    f.tresca = s.number("tresca");
+    if (!(*f.tresca >= 0 and std::isfinite(*f.tresca)))
+      s.fail("tresca", "must be a finite number >= 0 (Pa)");
+  }
+  return f;
+}
+
+/// contact = { gap = .., normal = [..], friction.. }: the foundation of a
+/// contact boundary.
 ContactSpec read_contact(Section c, int d)
 {
   ContactSpec contact;
@@ -108,6 +130,7 @@ ContactSpec read_contact(Section c, int d)
     c.fail("normal", "must be a non-zero finite vector");
   if (contact.gap.is_constant() and contact.gap(0, 0, 0, 0) < 0)
     c.fail("gap", "must be >= 0");
+  contact.friction = read_friction(c);
   c.finish();
   return contact;
 }
@@ -153,6 +176,9 @@ BoundarySpec read_boundary(Section s, int d)
     b.mechanics = BoundarySpec::Mechanics::contact;
     b.contact = read_contact(s.table("contact", true), d);
   }
+  for (const char* key : {"friction", "cohesion", "tresca"})
+    if (s.has(key))
+      s.fail(key, "acts on a contact: give it in contact = { .., " + std::string(key) + " = .. }");
   b.pore_pressure_load = s.boolean("pore_pressure_load", false);
   if (b.pore_pressure_load and !b.contact)
     s.fail("pore_pressure_load", "loads a contact boundary only (the face of a fracture)");
@@ -754,6 +780,7 @@ FaultSpec read_fault(Section s, const Scene& scene)
   const double length = std::inner_product(f.normal.begin(), f.normal.end(), f.normal.begin(), 0.0);
   if (!(length > 0 and std::isfinite(length)))
     s.fail("normal", "must be a non-zero finite vector");
+  f.friction = read_friction(s);
   s.finish();
   return f;
 }

@@ -40,7 +40,18 @@ struct MeshSpec
   int refine = 0;                   // uniform refinements of a gmsh mesh (nested: each halves h)
 };
 
-/// Frictionless Signorini contact against a rigid foundation:
+/// Friction on a contact (a foundation, or a fault's two faces): the
+/// tangential traction |t_T| <= cohesion + friction t_N (Coulomb, t_N the
+/// contact's normal traction, an effective stress where the faces carry a
+/// fluid pressure), or <= tresca, a given bound. Frictionless by default.
+struct FrictionSpec
+{
+  double friction = 0, cohesion = 0;
+  std::optional<double> tresca;
+  bool frictionless() const { return !tresca and friction == 0 and cohesion == 0; }
+};
+
+/// Signorini contact against a rigid foundation:
 /// u.nu_F <= gap at the nodes of the boundary, nu_F the foundation's
 /// outward normal (from the body into the foundation), a constant vector or
 /// one given by expressions of x, y, z (a curved foundation), normalised at
@@ -49,6 +60,7 @@ struct ContactSpec
 {
   Expression gap;
   std::vector<Expression> normal; // d components
+  FrictionSpec friction;
 };
 
 struct BoundarySpec
@@ -119,6 +131,7 @@ struct FaultSpec
   /// d numbers: the hint that orients the fault's normal; its + side is the
   /// side the normal points into.
   std::vector<double> normal;
+  FrictionSpec friction;
 };
 
 /// Permeability: a scalar (number or expression evaluated at cell midpoints)

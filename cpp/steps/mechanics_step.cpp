@@ -154,4 +154,10 @@ bool MechanicsStep::same_contact_set(const ActiveSet& before)
   return same_active_set(active_contact_set(), before, _V->mesh()->comm());
 }
 
+void MechanicsStep::begin_step()
+{
+  la::petsc::Vector x = wrap(*u->x());
+  _system->begin_step(x.vec());
+}
+
 } // namespace biotcontact

@@ -45,6 +45,7 @@ public:
   void advance(double t, const TimeDerivative&) override { solve(t); }
   /// The solve at t = 0.
   void equilibrate() override { solve(0.0); }
+  void begin_step() override;
   StepState state() const override { return {values(unknowns()), {}, {}}; }
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }
   std::span<const double> unknowns() const override { return u->x()->array(); }

@@ -292,4 +292,10 @@ bool MonolithicStep::same_contact_set(const ActiveSet& before)
   return same_active_set(active_contact_set(), before, V->mesh()->comm());
 }
 
+void MonolithicStep::begin_step()
+{
+  la::petsc::Vector x = wrap(*_x->x());
+  _system->begin_step(x.vec());
+}
+
 } // namespace biotcontact

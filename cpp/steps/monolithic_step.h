@@ -45,6 +45,7 @@ public:
   /// The coupled system has no mechanics system of its own: one mechanics
   /// step on its displacement space, loaded by its pressure, solved once.
   void equilibrate() override;
+  void begin_step() override;
   StepState state() const override;
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }
   /// p_before and u_before take the accepted step's start.

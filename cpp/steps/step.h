@@ -57,6 +57,11 @@ public:
   /// for a step without mechanics).
   virtual void equilibrate() {}
 
+  /// A time step (or a window of the fixed-stress split) starts from the
+  /// current unknowns: friction measures its slip increments from them
+  /// (nothing without contact).
+  virtual void begin_step() {}
+
   /// The state now (at the start of a step), and going back to it.
   virtual StepState state() const = 0;
   virtual void restore(const StepState& start) = 0;

@@ -93,6 +93,12 @@ void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_
                                              ContactUnknowns{std::move(set), std::move(displacement_dofs), layout});
 }
 
+void System::begin_step(Vec x)
+{
+  if (_contact)
+    _contact->set_slip_reference(x);
+}
+
 void System::solve(Vec b, Vec x)
 {
   SolverStage::Guard stage(_stage);

@@ -57,6 +57,10 @@ public:
   /// like x.
   void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout);
 
+  /// A time step starts at x: friction's slip increments are measured
+  /// from it (ContactSolver::set_slip_reference; nothing without contact).
+  void begin_step(Vec x);
+
   /// Solves with x as the initial guess (a contact solve starts from it).
   void solve(Vec b, Vec x);
 

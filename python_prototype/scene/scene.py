@@ -47,12 +47,27 @@ class MeshSpec:
 
 
 @dataclass
+class FrictionSpec:
+    """Friction on a contact (a foundation, or a fault's two faces): the
+    tangential traction |t_T| <= cohesion + friction t_N (Coulomb, t_N the
+    contact's normal traction, an effective stress where the faces carry a
+    fluid pressure), or <= tresca, a given bound. Frictionless by default."""
+    friction: float = 0.0
+    cohesion: float = 0.0
+    tresca: Optional[float] = None
+
+    def frictionless(self):
+        return self.tresca is None and self.friction == 0 and self.cohesion == 0
+
+
+@dataclass
 class ContactSpec:
     """u.nu_F <= gap at the nodes of the boundary, nu_F the foundation's
     outward normal (from the body into the foundation), a constant vector or
     expressions of x, y, z (a curved foundation), normalised at each node."""
     gap: Expression
     normal: list
+    friction: FrictionSpec = field(default_factory=FrictionSpec)
 
 
 @dataclass
@@ -96,6 +111,7 @@ class FaultSpec:
     # d numbers: the hint that orients the fault's normal; its + side is the
     # side the normal points into.
     normal: list = field(default_factory=list)
+    friction: FrictionSpec = field(default_factory=FrictionSpec)
 
 
 @dataclass
@@ -301,8 +317,25 @@ def _read_mesh(s, scene_file):
     return m
 
 
+def _read_friction(s):
+    """friction, cohesion or tresca of a contact table or a fault (FrictionSpec)."""
+    f = FrictionSpec(friction=s.number("friction", 0.0), cohesion=s.number("cohesion", 0.0))
+    if not (f.friction >= 0 and math.isfinite(f.friction)):
+        s.fail("friction", "must be a finite number >= 0 (the Coulomb coefficient)")
+    if not (f.cohesion >= 0 and math.isfinite(f.cohesion)):
+        s.fail("cohesion", "must be a finite number >= 0 (Pa)")
+    if s.has("tresca"):
+        if s.has("friction") or s.has("cohesion"):
+            s.fail("tresca", "give tresca (a given bound) or friction and cohesion (Coulomb), not both")
+        f.tresca = s.number("tresca")
+        if not (f.tresca >= 0 and math.isfinite(f.tresca)):
+            s.fail("tresca", "must be a finite number >= 0 (Pa)")
+    return f
+
+
 def _read_contact(c, d):
-    """contact = { gap = .., normal = [..] }: the foundation of a contact boundary."""
+    """contact = { gap = .., normal = [..], friction.. }: the foundation of a
+    contact boundary."""
     gap = c.expression("gap")
     if gap is None:
         c.fail("gap", "missing (the gap g_a to the foundation)")
@@ -318,8 +351,9 @@ def _read_contact(c, d):
             c.fail("normal", "must be a non-zero finite vector")
     if gap.is_constant and gap(0, 0, 0, 0) < 0:
         c.fail("gap", "must be >= 0")
+    friction = _read_friction(c)
     c.finish()
-    return ContactSpec(gap, normal)
+    return ContactSpec(gap, normal, friction)
 
 
 def _read_boundary(s, d):
@@ -347,6 +381,9 @@ def _read_boundary(s, d):
     if s.has("contact"):
         b.mechanics = "contact"
         b.contact = _read_contact(s.section("contact", True), d)
+    for key in ("friction", "cohesion", "tresca"):
+        if s.has(key):
+            s.fail(key, f"acts on a contact: give it in contact = {{ .., {key} = .. }}")
     b.pore_pressure_load = s.boolean("pore_pressure_load", False)
     if b.pore_pressure_load and not b.contact:
         s.fail("pore_pressure_load", "loads a contact boundary only (the face of a fracture)")
@@ -863,6 +900,7 @@ def _read_fault(s, scene):
     length = sum(n * n for n in f.normal)
     if not (length > 0 and math.isfinite(length)):
         s.fail("normal", "must be a non-zero finite vector")
+    f.friction = _read_friction(s)
     s.finish()
     return f
 
