@@ -301,3 +301,21 @@ def fault_pairs(fields, normal):
         side[cell] += np.sign(offset)
     swap = side[first] < side[second]
     return np.where(swap, second, first), np.where(swap, first, second)
+
+
+def unsplit_difference(with_fault, without, names):
+    """The largest difference of each field between a run on a split mesh
+    and the run on the same mesh without its faults, relative to each
+    field's largest value: nodes matched by their point (a pair's two nodes
+    both to the one node there), cells by index (the split keeps the cells
+    and their order)."""
+    a, b = Fields(with_fault), Fields(without)
+    index = {tuple(np.round(x, 9)): i for i, x in enumerate(b.nodes)}
+    matched = np.array([index[tuple(np.round(x, 9))] for x in a.nodes])
+    worst = {}
+    for name in names:
+        scale = max(np.abs(b.at(name, t)).max() for t in b.times(name))
+        nodal = len(a.at(name, a.times(name)[-1])) == len(a.nodes)
+        worst[name] = max(np.abs(a.at(name, t) - (b.at(name, t)[matched] if nodal else b.at(name, t))).max()
+                          for t in b.times(name)) / scale
+    return worst

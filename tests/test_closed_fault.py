@@ -20,7 +20,7 @@ import os
 import tempfile
 
 import numpy as np
-from support import Fields, check, max_difference, run_track, summary
+from support import Fields, check, max_difference, run_track, summary, unsplit_difference
 
 
 
@@ -96,22 +96,6 @@ def scene(text):
     return os.path.join(folder, "scene.toml")
 
 
-def largest_difference(with_fault, without, names):
-    """Relative to each field's largest value: nodes matched by their point
-    (a pair's two nodes both to the one node there), cells by index (the
-    split keeps the cells and their order)."""
-    a, b = Fields(with_fault), Fields(without)
-    index = {tuple(np.round(x, 9)): i for i, x in enumerate(b.nodes)}
-    matched = np.array([index[tuple(np.round(x, 9))] for x in a.nodes])
-    worst = {}
-    for name in names:
-        scale = max(np.abs(b.at(name, t)).max() for t in b.times(name))
-        nodal = len(a.at(name, a.times(name)[-1])) == len(a.nodes)
-        worst[name] = max(np.abs(a.at(name, t) - (b.at(name, t)[matched] if nodal else b.at(name, t))).max()
-                          for t in b.times(name)) / scale
-    return worst
-
-
 CASES = {"mechanics": (MECHANICS, ["displacement"]),
          "fixed-stress": (MECHANICS + FLOW.format(scheme="fixed-stress"), ["displacement", "pressure"]),
          "monolithic": (MECHANICS + FLOW.format(scheme="monolithic"), ["displacement", "pressure"])}
@@ -121,7 +105,7 @@ for track in ("C++", "prototype"):
         with_fault, _ = run_track(track, scene(text + FAULT))
         runs[case] = with_fault
         without, _ = run_track(track, scene(text))
-        worst = largest_difference(with_fault, without, names)
+        worst = unsplit_difference(with_fault, without, names)
         check(max(worst.values()) <= 1e-10, f"{case} ({track}): the closed fault's run equals the run without it: "
               f"{worst} (limit 1e-10)")
         fields = Fields(with_fault)

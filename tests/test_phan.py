@@ -1,0 +1,113 @@
+"""Friction on a crack inside the body (issue 38), on the C++ solver and the
+prototype: Phan, Napier, Gray and Kaplan (2003), a straight crack of
+half-length b = 1 m at psi = 20 degrees to the axis of a uniaxial
+compression sigma = 100 MPa, in a plate of 80 m (meshes/sneddon2d.geo with
+the plate's half-side 40 m and the crack turned to 70 degrees from x),
+Coulomb friction angle theta = 30 degrees (mu = tan theta), E = 25 GPa,
+nu = 0.25, plane strain. The crack is closed under the normal traction
+sigma sin^2(psi) and slips along its whole length, the slip
+    g_T(xi) = 4 (1 - nu^2) / E sigma sin(psi) (cos(psi) - sin(psi) tan(theta))
+              sqrt(b^2 - (b - xi)^2),   xi in [0, 2b] from a tip:
+- the peak slip within 3 %, the relative l2 error within 5 % over the
+  inner 80 %, the normal traction within 1 % of sigma sin^2(psi); every
+  pair slipping, its tangential traction on the bound mu t_N (to 1e-9);
+- limits: friction = 0 is the frictionless run to 1e-12, and a friction so
+  large that nothing slips (mu = 1000) is the run on the same mesh without
+  the crack to 1e-10 (every pair stuck);
+- the prototype gives the C++ fields to 1e-10."""
+import math
+import os
+
+import h5py
+import numpy as np
+from support import ROOT, check, max_difference, run_track, summary, unsplit_difference, written
+
+E, NU, SIGMA, B = 25.0e9, 0.25, 1.0e8, 1.0
+PSI, THETA = math.radians(20), math.radians(30)
+MU = math.tan(THETA)
+ALONG = np.array([math.sin(PSI), math.cos(PSI), 0.0])   # the crack, from its lower tip up
+NORMAL = np.array([-math.cos(PSI), math.sin(PSI)])
+PLATE = f"""[mesh]
+type = "gmsh"
+file = "phan.geo"
+dimension = 2
+[mechanics]
+E = {E}
+nu = {NU}
+[time]
+end = 1.0
+dt = 1.0
+[boundary.bottom]
+displacement = {{ y = 0.0 }}
+[boundary.left]
+displacement = {{ x = 0.0 }}
+[boundary.top]
+traction = [0.0, {-SIGMA}]
+"""
+
+
+def fault(friction):
+    return f"[fault.crack]\n{friction}\nnormal = [{NORMAL[0]!r}, {NORMAL[1]!r}]\n"
+
+
+def scene(text):
+    path = written(text)
+    with open(os.path.join(ROOT, "meshes", "sneddon2d.geo")) as f:
+        geo = f.read()
+    for old, new in (("L = 50;", "L = 40;"), ("theta = Pi / 6;", "theta = 70 * Pi / 180;")):
+        check(old in geo, f"meshes/sneddon2d.geo has {old!r}")
+        geo = geo.replace(old, new)
+    with open(os.path.join(os.path.dirname(path), "phan.geo"), "w") as f:
+        f.write(geo)
+    return path
+
+
+def fault_fields(out):
+    """The last output time of fault.h5: node coordinates and fields."""
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        last = str(max(int(k) for k in f["slip"].keys()))
+        return f["Mesh/geometry"][:], {name: f[f"{name}/{last}"][:] for name in
+                                       ("slip", "traction", "tangential_traction", "state")}
+
+
+def check_phan(out, track):
+    x, fields = fault_fields(out)
+    xi = x @ ALONG + B
+    exact = (4 * (1 - NU ** 2) / E * SIGMA * math.sin(PSI) * (math.cos(PSI) - math.sin(PSI) * MU)
+             * np.sqrt(np.maximum(B ** 2 - (B - xi) ** 2, 0.0)))
+    slip = np.linalg.norm(fields["slip"], axis=1)
+    inner = np.abs(xi - B) <= 0.8 * B
+    peak = slip.max() / exact.max() - 1
+    check(abs(peak) <= 0.03, f"{track}: peak slip {slip.max():.6e} m, {100 * peak:+.2f} % of the closed form (3 %)")
+    l2 = np.linalg.norm(slip[inner] - exact[inner]) / np.linalg.norm(exact[inner])
+    check(l2 <= 0.05, f"{track}: relative l2 error of the slip over the inner 80 %: {100 * l2:.2f} % (5 %)")
+    normal = fields["traction"][inner, 0]
+    expected = SIGMA * math.sin(PSI) ** 2
+    worst = np.abs(normal / expected - 1).max()
+    check(worst <= 0.01, f"{track}: normal traction within {100 * worst:.2f} % of sigma sin^2(psi) (1 %)")
+    pairs = fields["state"][:, 0] != 1  # the two tips are one node each: stuck
+    check(np.all(fields["state"][pairs, 0] == 2), f"{track}: every pair slips ({int(pairs.sum())} pairs)")
+    ratio = np.linalg.norm(fields["tangential_traction"], axis=1)[inner] / normal
+    check(np.abs(ratio / MU - 1).max() <= 1e-9, f"{track}: |t_T| = mu t_N on the slipping pairs: "
+          f"{np.abs(ratio / MU - 1).max():.1e} (1e-9)")
+
+
+runs = {}
+for track in ("C++", "prototype"):
+    frictional, _ = run_track(track, scene(PLATE + fault(f"friction = {MU!r}")))
+    check_phan(frictional, track)
+    runs[track] = frictional
+    zero, _ = run_track(track, scene(PLATE + fault("friction = 0.0")))
+    frictionless, _ = run_track(track, scene(PLATE + fault("")))
+    same = max_difference(zero, frictionless, ["displacement"])
+    check(same["displacement"] <= 1e-12, f"{track}: friction = 0 is the frictionless run: {same} (1e-12)")
+    stuck, _ = run_track(track, scene(PLATE + fault("friction = 1000.0")))
+    unsplit, _ = run_track(track, scene(PLATE))
+    worst = unsplit_difference(stuck, unsplit, ["displacement"])
+    check(worst["displacement"] <= 1e-10, f"{track}: mu = 1000 holds every pair: the run without the crack to "
+          f"{worst['displacement']:.1e} (1e-10)")
+    faults = summary(stuck)["contact"]["faults"]["crack"]
+    check(faults["slipping"] == 0 and faults["stuck"] > 0, f"{track}: mu = 1000: stuck {faults['stuck']:.4f} m, "
+          f"slipping {faults['slipping']}")
+tracks = max_difference(runs["C++"], runs["prototype"], ["displacement"])
+check(tracks["displacement"] <= 1e-10, f"Phan's crack: the prototype equals the C++ solver: {tracks} (1e-10)")
