@@ -8,11 +8,13 @@ import atexit
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 import tempfile
 
+import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -319,3 +321,26 @@ def unsplit_difference(with_fault, without, names):
         worst[name] = max(np.abs(a.at(name, t) - (b.at(name, t)[matched] if nodal else b.at(name, t))).max()
                           for t in b.times(name)) / scale
     return worst
+
+
+def phan_geo(folder):
+    """phan.geo in `folder`: meshes/sneddon2d.geo with the plate's half-side
+    40 m and the crack turned to 70 degrees from x (20 degrees from y), the
+    crack of Phan et al. (test_phan.py)."""
+    with open(os.path.join(ROOT, "meshes", "sneddon2d.geo")) as f:
+        geo = f.read()
+    for old, new in (("L = 50;", "L = 40;"), ("theta = Pi / 6;", "theta = 70 * Pi / 180;")):
+        check(old in geo, f"meshes/sneddon2d.geo has {old!r}")
+        geo = geo.replace(old, new)
+    with open(os.path.join(folder, "phan.geo"), "w") as f:
+        f.write(geo)
+
+
+def fault_fields(out, names=("slip", "traction", "tangential_traction", "state")):
+    """fault.xdmf and .h5 of a run: its node coordinates, its output times
+    and, per time, the named fields."""
+    with open(os.path.join(out, "fault.xdmf")) as f:
+        times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', f.read())]
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        series = [{name: f[f"{name}/{i}"][:] for name in names} for i in range(len(times))]
+        return f["Mesh/geometry"][:], times, series

@@ -18,9 +18,8 @@ sigma sin^2(psi) and slips along its whole length, the slip
 import math
 import os
 
-import h5py
 import numpy as np
-from support import ROOT, check, max_difference, run_track, summary, unsplit_difference, written
+from support import check, fault_fields, max_difference, phan_geo, run_track, summary, unsplit_difference, written
 
 E, NU, SIGMA, B = 25.0e9, 0.25, 1.0e8, 1.0
 PSI, THETA = math.radians(20), math.radians(30)
@@ -52,26 +51,13 @@ def fault(friction):
 
 def scene(text):
     path = written(text)
-    with open(os.path.join(ROOT, "meshes", "sneddon2d.geo")) as f:
-        geo = f.read()
-    for old, new in (("L = 50;", "L = 40;"), ("theta = Pi / 6;", "theta = 70 * Pi / 180;")):
-        check(old in geo, f"meshes/sneddon2d.geo has {old!r}")
-        geo = geo.replace(old, new)
-    with open(os.path.join(os.path.dirname(path), "phan.geo"), "w") as f:
-        f.write(geo)
+    phan_geo(os.path.dirname(path))
     return path
 
 
-def fault_fields(out):
-    """The last output time of fault.h5: node coordinates and fields."""
-    with h5py.File(os.path.join(out, "fault.h5")) as f:
-        last = str(max(int(k) for k in f["slip"].keys()))
-        return f["Mesh/geometry"][:], {name: f[f"{name}/{last}"][:] for name in
-                                       ("slip", "traction", "tangential_traction", "state")}
-
-
 def check_phan(out, track):
-    x, fields = fault_fields(out)
+    x, _, series = fault_fields(out)
+    fields = series[-1]
     xi = x @ ALONG + B
     exact = (4 * (1 - NU ** 2) / E * SIGMA * math.sin(PSI) * (math.cos(PSI) - math.sin(PSI) * MU)
              * np.sqrt(np.maximum(B ** 2 - (B - xi) ** 2, 0.0)))

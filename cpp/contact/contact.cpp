@@ -562,6 +562,7 @@ bool ContactSolver::update_friction()
   const int tangents = _set.dim - 1;
   std::vector<double> bound(_friction.size());
   std::vector<std::array<double, 2>> trial(_friction.size(), {0.0, 0.0});
+  std::vector<char> backwards(_friction.size(), 0);
   double largest = 0;
   for (std::size_t k = 0; k < _friction.size(); ++k)
   {
@@ -569,11 +570,15 @@ bool ContactSolver::update_friction()
     const bool closed = on_foundation(f.gap - f.sign * X[f.normal] * _scale, _scale);
     const double normal = -f.sign * R[f.normal] * _scale / f.lumped;
     bound[k] = closed ? slip_bound(f.law, normal) * f.lumped : -1.0;
+    double work = 0; // of the slip force along the slip increment
     for (int r = 0; r < tangents; ++r)
     {
       const PetscInt t = f.tangential[r];
-      trial[k][r] = -R[t] * _scale + c[t] * (X[t] * _scale - ref[t]);
+      const double increment = X[t] * _scale - ref[t];
+      trial[k][r] = -R[t] * _scale + c[t] * increment;
+      work += f.force[r] * increment;
     }
+    backwards[k] = f.status == PairStatus::slip and work <= 0;
     largest = std::max(largest, bound[k]);
   }
   VecRestoreArrayRead(_x, &X);
@@ -588,8 +593,14 @@ bool ContactSolver::update_friction()
   {
     Friction& f = _friction[k];
     const double size = std::hypot(trial[k][0], trial[k][1]);
+    // A slipping constraint that moved against its slip force would have
+    // friction drive it: it sticks instead (without this rule the force of
+    // a constraint that should stick flips sign every round when c exceeds
+    // twice the stiffness its neighbours leave it).
     PairStatus status = PairStatus::open;
-    if (bound[k] >= 0)
+    if (bound[k] >= 0 and backwards[k])
+      status = PairStatus::stick;
+    else if (bound[k] >= 0)
       status = size <= bound[k] + status_tolerance * largest ? PairStatus::stick : PairStatus::slip;
     for (int r = 0; r < tangents; ++r)
     {

@@ -1,0 +1,134 @@
+"""Friction through time (issue 38), on the C++ solver and the prototype, on
+the crack of test_phan.py (psi = 20 degrees to the compression):
+- onset by pressure: under sigma = 100 MPa the crack carries the normal
+  traction s_n = sigma sin^2(psi) and the shear tau = sigma sin(psi)
+  cos(psi); with cohesion c = 30 MPa and mu = 0.6 it sticks (tau < c +
+  mu s_n) until its fluid pressure p = 1 MPa/s * t (fault.crack.pressure,
+  pushing both faces: the contact traction is the effective s_n - p)
+  reaches p* = s_n - (tau - c) / mu. Stuck and closed, the crack is the
+  unsplit body, whose stress is uniform: every pair sticks (slip 0 to
+  round-off) up to the step before t* = p* / (1 MPa/s) and slips from the
+  step that passes it, all at once;
+- hysteresis: a confinement of 50 MPa, then the vertical load raised by
+  100 MPa and taken off again (mu = 0.3): the crack slips while loaded and
+  keeps a residual slip when the load is gone; a run killed after a
+  checkpoint in the unloading and restarted ends with the uninterrupted
+  run's fields (1e-12);
+- 2 ranks give 1 rank's stick/slip states at every output time and its
+  fields to 1e-10;
+- the prototype gives the C++ fields to 1e-10."""
+import math
+import os
+import re
+import signal
+import subprocess
+import tempfile
+
+import numpy as np
+from support import MPI_ENV, ROOT, TRACKS, check, fault_fields, max_difference, phan_geo, run_track, written
+
+E, NU, SIGMA, CONFINEMENT = 25.0e9, 0.25, 1.0e8, 5.0e7
+PSI = math.radians(20)
+NORMAL = np.array([-math.cos(PSI), math.sin(PSI)])
+MECHANICS = f"""[mesh]
+type = "gmsh"
+file = "phan.geo"
+dimension = 2
+[mechanics]
+E = {E}
+nu = {NU}
+[boundary.bottom]
+displacement = {{ y = 0.0 }}
+[boundary.left]
+displacement = {{ x = 0.0 }}
+"""
+ONSET = MECHANICS + f"""[time]
+end = 10.0
+dt = 0.5
+[boundary.top]
+traction = [0.0, {-SIGMA}]
+[fault.crack]
+friction = 0.6
+cohesion = 3.0e7
+pressure = "1.0e6 * t"
+normal = [{NORMAL[0]!r}, {NORMAL[1]!r}]
+"""
+HYSTERESIS = MECHANICS + f"""[time]
+end = 2.0
+dt = 0.125
+[boundary.right]
+traction = [{-CONFINEMENT}, 0.0]
+[boundary.top]
+traction = [0.0, "-{CONFINEMENT} - {SIGMA} * (t <= 1 ? t : 2 - t)"]
+[fault.crack]
+friction = 0.3
+normal = [{NORMAL[0]!r}, {NORMAL[1]!r}]
+"""
+
+
+def scene(text):
+    path = written(text)
+    phan_geo(os.path.dirname(path))
+    return path
+
+
+def check_onset(out, track):
+    s_n, tau = SIGMA * math.sin(PSI) ** 2, SIGMA * math.sin(PSI) * math.cos(PSI)
+    t_star = (s_n - (tau - 3.0e7) / 0.6) / 1.0e6
+    _, times, series = fault_fields(out)
+    largest = max(np.linalg.norm(f["slip"], axis=1).max() for f in series)
+    for t, f in zip(times, series):
+        state, slip = f["state"][:, 0], np.linalg.norm(f["slip"], axis=1).max()
+        if t < t_star:
+            check(np.all(state == 1) and slip <= 1e-12 * largest, f"{track}: t = {t:g} < t* = {t_star:.4f}: every "
+                  f"pair stuck, slip {slip:.1e} m")
+        else:
+            check(np.count_nonzero(state == 2) == len(state) - 2, f"{track}: t = {t:g} > t* = {t_star:.4f}: every "
+                  f"pair slips ({np.count_nonzero(state == 2)} of {len(state) - 2}), slip {slip:.3e} m")
+
+
+def killed_and_restarted(track, scene_file, steps):
+    """A run with a checkpoint every 4 steps, killed once `steps` are
+    written, then continued with --restart; its output directory."""
+    sets = ["--set", "output.checkpoint_every=4"]
+    out = tempfile.mkdtemp(prefix="restart-")
+    p = subprocess.Popen(TRACKS[track] + ["run", scene_file, "--out", out] + sets, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
+    printed = 0
+    for line in p.stdout:
+        printed += re.match(r"step +\d+/", line) is not None
+        if printed == steps:
+            p.send_signal(signal.SIGKILL)
+            break
+    p.communicate(timeout=300)
+    p = subprocess.run(TRACKS[track] + ["run", scene_file, "--restart", out] + sets, capture_output=True, text=True,
+                       env=MPI_ENV, cwd=ROOT, timeout=900)
+    restarted = re.search(r"restarted from the checkpoint at step (\d+)", p.stdout)
+    check(p.returncode == 0 and restarted is not None, f"{track}: killed after step {steps} and restarted "
+          f"from step {restarted.group(1) if restarted else '?'} ({p.stderr.strip()[-200:]!r})")
+    return out
+
+
+runs = {}
+for track in ("C++", "prototype"):
+    onset, _ = run_track(track, scene(ONSET))
+    check_onset(onset, track)
+    hysteresis_scene = scene(HYSTERESIS)
+    loaded, _ = run_track(track, hysteresis_scene)
+    _, _, series = fault_fields(loaded)
+    peak = max(np.linalg.norm(f["slip"], axis=1).max() for f in series)
+    residual = np.linalg.norm(series[-1]["slip"], axis=1).max()
+    check(residual >= 0.1 * peak, f"{track}: load taken off, the slip stays: {residual:.3e} m of the peak "
+          f"{peak:.3e} m")
+    restarted = killed_and_restarted(track, hysteresis_scene, 11)
+    same = max_difference(loaded, restarted, ["displacement"])
+    check(same["displacement"] <= 1e-12, f"{track}: the restarted run is the uninterrupted one: {same} (1e-12)")
+    runs[track] = (onset, loaded)
+    two, _ = run_track(track, hysteresis_scene, ranks=2)
+    states = [np.array_equal(a["state"], b["state"]) for a, b in zip(series, fault_fields(two)[2])]
+    check(all(states), f"{track}: 2 ranks have 1 rank's stick/slip states at all {len(states)} output times")
+    ranks = max_difference(loaded, two, ["displacement"], sort=True)
+    check(ranks["displacement"] <= 1e-10, f"{track}: 2 ranks equal 1 rank: {ranks} (1e-10)")
+for k, name in enumerate(("onset", "hysteresis")):
+    tracks = max_difference(runs["C++"][k], runs["prototype"][k], ["displacement"])
+    check(tracks["displacement"] <= 1e-10, f"{name}: the prototype equals the C++ solver: {tracks} (1e-10)")
