@@ -130,7 +130,15 @@ for label, command, path, overrides, key in (
         ("a negative fault gap", "run", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
         ("a fault pressure that is NaN", "check", CRACK, ["fault.crack.pressure='sqrt(x - 10)'"],
          "fault.crack.pressure"),
-        ("a degenerate cell", "check", DEGENERATE, [], "degenerate.geo")):
+        ("a degenerate cell", "check", DEGENERATE, [], "degenerate.geo"),
+        ("a negative friction", "check", CRACK, ["fault.crack.friction=-0.1"], "fault.crack.friction"),
+        ("a negative cohesion", "check", CRACK, ["fault.crack.cohesion=-1.0"], "fault.crack.cohesion"),
+        ("a Tresca bound with friction", "check", CRACK, ["fault.crack.tresca=1e6", "fault.crack.friction=0.3"],
+         "fault.crack.tresca"),
+        ("friction on a boundary without contact", "check", CRACK, ["boundary.left.friction=0.3"],
+         "boundary.left.friction"),
+        ("friction where two foundations meet", "run", scene("groove"), ["boundary.left_flank.contact.friction=0.3"],
+         "boundary.left_flank.contact.friction")):
     (cs, ce), (ps, pe) = both(command, path, overrides)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")
