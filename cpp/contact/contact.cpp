@@ -202,9 +202,11 @@ void ContactSolver::make_friction()
   MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, _comm);
   if (!any)
     return;
-  for (Vec* v : {&_b_base, &_x_reference, &_stiffness, &_work})
+  for (Vec* v : {&_x_reference, &_stiffness, &_work})
     VecDuplicate(_x, v);
   VecSet(_x_reference, 0.0);
+  if (d == 3)
+    MatDuplicate(_K, MAT_COPY_VALUES, &_J);
 }
 
 /// The VI on the full system: only the contact DOFs are bounded.
@@ -243,7 +245,8 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
   _lag_by_default = !lag_given;
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
-  set_default_option(vi_prefix + "snes_lag_preconditioner", "-2");
+  // With friction in 3D the Jacobian changes every step: no lag.
+  set_default_option(vi_prefix + "snes_lag_preconditioner", _J ? "1" : "-2");
   set_default_option(vi_prefix + "snes_rtol", "1e-10");
   set_default_option(vi_prefix + "snes_stol", "1e-12");
   set_default_option(vi_prefix + "snes_max_it", "100");
@@ -255,7 +258,7 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   SNESSetOptionsPrefix(_snes, vi_prefix.c_str());
   SNESSetType(_snes, SNESVINEWTONRSLS);
   SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
-  SNESSetJacobian(_snes, _K, _K, &ContactSolver::jacobian, this);
+  SNESSetJacobian(_snes, _J ? _J : _K, _J ? _J : _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
   SNESSetConvergenceTest(_snes, &ContactSolver::converged, this, nullptr);
   // At least one Newton step per solve: a step is an exact solve on the
@@ -275,7 +278,7 @@ void ContactSolver::operator_changed()
   // (the lag is -1 after the first build).
   _schur_current = false;
   _change_current = false;
-  if (_lag_by_default)
+  if (_lag_by_default and !_J)
     SNESSetLagPreconditioner(_snes, -2);
 }
 
@@ -402,7 +405,9 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   // in units of the displacement scale on the coupled system) lies above
   // atol, which the test above would never see met. SNES has no reason for
   // it; CONVERGED_ITS stands for "stopped by the method's own rule".
-  else if (iteration > 0 and self->_set_repeated)
+  // With slip forces along the slip increment (3D) F is not linear: only
+  // the residual says when it is solved.
+  else if (iteration > 0 and self->_set_repeated and !self->_nonlinear)
     *reason = SNES_CONVERGED_ITS;
   return 0;
 }
@@ -410,9 +415,10 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
 ContactSolver::~ContactSolver()
 {
   SNESDestroy(&_snes);
-  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi, &_b_base, &_x_reference,
-                 &_stiffness, &_work})
+  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi, &_x_reference, &_stiffness,
+                 &_work})
     VecDestroy(v);
+  MatDestroy(&_J);
   if (_change)
   {
     if (_P_vi != _A_vi)
@@ -427,11 +433,22 @@ PetscErrorCode ContactSolver::residual(SNES, Vec x, Vec F, void* context)
   auto* self = static_cast<ContactSolver*>(context);
   MatMult(self->_K, x, F);
   VecAXPY(F, -1.0, self->_b_scaled);
+  if (!self->_friction.empty())
+    self->add_slip_forces(x, F);
   return 0;
 }
 
-// The Jacobian is the constant matrix K (A, or H formed once per A).
-PetscErrorCode ContactSolver::jacobian(SNES, Vec, Mat, Mat, void*) { return 0; }
+// The Jacobian is the constant matrix K (A, or H formed once per A); with
+// friction in 3D, K plus the derivative of the slip forces' directions.
+PetscErrorCode ContactSolver::jacobian(SNES, Vec x, Mat, Mat, void* context)
+{
+  auto* self = static_cast<ContactSolver*>(context);
+  if (!self->_J)
+    return 0;
+  MatCopy(self->_K, self->_J, SAME_NONZERO_PATTERN);
+  self->add_slip_jacobian(x, self->_J);
+  return 0;
+}
 
 double ContactSolver::displacement_scale(Vec x) const
 {
@@ -469,7 +486,7 @@ void ContactSolver::solve(Vec b, Vec x)
   _scale = displacement_scale(x_vi);
   set_bounds();
   pose(b_vi, x_vi);
-  if (_b_base)
+  if (_x_reference)
     solve_with_friction();
   else
     solve_vi();
@@ -507,12 +524,20 @@ void ContactSolver::set_slip_reference(Vec x)
 /// solve, whose rounds usually start from the right ones.
 void ContactSolver::solve_with_friction()
 {
-  VecCopy(_b_scaled, _b_base);
   MatGetDiagonal(_K, _stiffness);
   for (int round = 1;; ++round)
   {
     apply_friction();
-    solve_vi();
+    try
+    {
+      solve_vi();
+    }
+    catch (const SolverError&)
+    {
+      if (!stick_weakest())
+        throw;
+      continue;
+    }
     ++friction_iterations;
     if (update_friction())
       return;
@@ -524,12 +549,10 @@ void ContactSolver::solve_with_friction()
 
 void ContactSolver::apply_friction()
 {
-  PetscScalar *lo, *up, *b;
-  const PetscScalar *base, *ref;
+  PetscScalar *lo, *up;
+  const PetscScalar* ref;
   VecGetArray(_lower, &lo);
   VecGetArray(_upper, &up);
-  VecGetArray(_b_scaled, &b);
-  VecGetArrayRead(_b_base, &base);
   VecGetArrayRead(_x_reference, &ref);
   for (const Friction& f : _friction)
     for (int r = 0; r + 1 < _set.dim; ++r)
@@ -538,22 +561,113 @@ void ContactSolver::apply_friction()
       const bool stuck = f.status == PairStatus::stick;
       lo[t] = stuck ? ref[t] / _scale : PETSC_NINFINITY;
       up[t] = stuck ? ref[t] / _scale : PETSC_INFINITY;
-      // K x - b = -force on a slipping unknown: the friction opposes the slip.
-      b[t] = base[t] - f.force[r] / _scale;
     }
   VecRestoreArray(_lower, &lo);
   VecRestoreArray(_upper, &up);
-  VecRestoreArray(_b_scaled, &b);
-  VecRestoreArrayRead(_b_base, &base);
   VecRestoreArrayRead(_x_reference, &ref);
+  int slipping = _set.dim == 3 and std::any_of(_friction.begin(), _friction.end(), [](const Friction& f)
+                                               { return f.status == PairStatus::slip; });
+  if (!_schur)
+    MPI_Allreduce(MPI_IN_PLACE, &slipping, 1, MPI_INT, MPI_MAX, _comm);
+  _nonlinear = slipping;
 }
 
+std::array<double, 2> ContactSolver::slip_force(const Friction& f, const PetscScalar* X, const PetscScalar* ref,
+                                                std::array<double, 2>& increment) const
+{
+  const int tangents = _set.dim - 1;
+  for (int r = 0; r < tangents; ++r)
+    increment[r] = X[f.tangential[r]] * _scale - ref[f.tangential[r]];
+  if (f.status != PairStatus::slip)
+    return {0.0, 0.0};
+  const double size = std::hypot(increment[0], increment[1]);
+  // The friction opposes the slip: K x - b = -force on a slipping unknown.
+  if (tangents == 1 or size <= 1e-12 * _scale)
+    return {f.bound * f.direction[0], f.bound * f.direction[1]};
+  return {f.bound * increment[0] / size, f.bound * increment[1] / size};
+}
+
+void ContactSolver::add_slip_forces(Vec x, Vec F) const
+{
+  const PetscScalar *X, *ref;
+  PetscScalar* R;
+  VecGetArrayRead(x, &X);
+  VecGetArrayRead(_x_reference, &ref);
+  VecGetArray(F, &R);
+  std::array<double, 2> increment{0, 0};
+  for (const Friction& f : _friction)
+  {
+    const std::array<double, 2> force = slip_force(f, X, ref, increment);
+    for (int r = 0; r + 1 < _set.dim; ++r)
+      R[f.tangential[r]] += force[r] / _scale;
+  }
+  VecRestoreArrayRead(x, &X);
+  VecRestoreArrayRead(_x_reference, &ref);
+  VecRestoreArray(F, &R);
+}
+
+void ContactSolver::add_slip_jacobian(Vec x, Mat J) const
+{
+  // d(bound s/|s|)/ds = bound/|s| (I - n n^T), n = s/|s|: in the units of
+  // K (the residual is in units of the scale, so is x).
+  PetscInt start = 0;
+  MatGetOwnershipRange(J, &start, nullptr);
+  const PetscScalar *X, *ref;
+  VecGetArrayRead(x, &X);
+  VecGetArrayRead(_x_reference, &ref);
+  std::array<double, 2> s{0, 0};
+  for (const Friction& f : _friction)
+  {
+    slip_force(f, X, ref, s);
+    const double size = std::hypot(s[0], s[1]);
+    if (f.status != PairStatus::slip or size <= 1e-12 * _scale)
+      continue;
+    const PetscInt rows[2] = {start + f.tangential[0], start + f.tangential[1]};
+    const double n[2] = {s[0] / size, s[1] / size}, g = f.bound / size;
+    const PetscScalar block[4] = {g * (1 - n[0] * n[0]), -g * n[0] * n[1], -g * n[1] * n[0], g * (1 - n[1] * n[1])};
+    MatSetValues(J, 2, rows, 2, rows, block, ADD_VALUES);
+  }
+  VecRestoreArrayRead(x, &X);
+  VecRestoreArrayRead(_x_reference, &ref);
+  MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY);
+}
+
+bool ContactSolver::stick_weakest()
+{
+  const PetscScalar *X, *ref;
+  VecGetArrayRead(_x, &X);
+  VecGetArrayRead(_x_reference, &ref);
+  std::vector<double> size(_friction.size(), -1.0);
+  double largest = 0;
+  std::array<double, 2> s{0, 0};
+  for (std::size_t k = 0; k < _friction.size(); ++k)
+    if (_friction[k].status == PairStatus::slip)
+    {
+      slip_force(_friction[k], X, ref, s);
+      size[k] = std::hypot(s[0], s[1]);
+      largest = std::max(largest, size[k]);
+    }
+  VecRestoreArrayRead(_x, &X);
+  VecRestoreArrayRead(_x_reference, &ref);
+  if (!_schur)
+    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, _comm);
+  int any = 0;
+  for (std::size_t k = 0; k < _friction.size(); ++k)
+    if (size[k] >= 0 and size[k] <= 1e-2 * largest)
+      _friction[k].status = PairStatus::stick, any = 1;
+  if (!_schur)
+    MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, _comm);
+  return any;
+}
+
+/// The friction forces of the VI's solution: the contact forces R = K x - b
+/// (without the slip forces; in units of the scale) give each constraint
+/// its normal traction, so its bound, and, stuck, the force that holds it.
 bool ContactSolver::update_friction()
 {
-  // R = K x - b without the slip forces: the contact forces, in units of
-  // the scale.
   MatMult(_K, _x, _work);
-  VecAXPY(_work, -1.0, _b_base);
+  VecAXPY(_work, -1.0, _b_scaled);
   const PetscScalar *X, *R, *ref, *c;
   VecGetArrayRead(_x, &X);
   VecGetArrayRead(_work, &R);
@@ -561,8 +675,7 @@ bool ContactSolver::update_friction()
   VecGetArrayRead(_stiffness, &c);
   const int tangents = _set.dim - 1;
   std::vector<double> bound(_friction.size());
-  std::vector<std::array<double, 2>> trial(_friction.size(), {0.0, 0.0});
-  std::vector<char> backwards(_friction.size(), 0);
+  std::vector<std::array<double, 2>> trial(_friction.size(), {0.0, 0.0}), increment = trial;
   double largest = 0;
   for (std::size_t k = 0; k < _friction.size(); ++k)
   {
@@ -570,15 +683,9 @@ bool ContactSolver::update_friction()
     const bool closed = on_foundation(f.gap - f.sign * X[f.normal] * _scale, _scale);
     const double normal = -f.sign * R[f.normal] * _scale / f.lumped;
     bound[k] = closed ? slip_bound(f.law, normal) * f.lumped : -1.0;
-    double work = 0; // of the slip force along the slip increment
+    slip_force(f, X, ref, increment[k]);
     for (int r = 0; r < tangents; ++r)
-    {
-      const PetscInt t = f.tangential[r];
-      const double increment = X[t] * _scale - ref[t];
-      trial[k][r] = -R[t] * _scale + c[t] * increment;
-      work += f.force[r] * increment;
-    }
-    backwards[k] = f.status == PairStatus::slip and work <= 0;
+      trial[k][r] = -R[f.tangential[r]] * _scale + c[f.tangential[r]] * increment[k][r];
     largest = std::max(largest, bound[k]);
   }
   VecRestoreArrayRead(_x, &X);
@@ -592,22 +699,20 @@ bool ContactSolver::update_friction()
   for (std::size_t k = 0; k < _friction.size(); ++k)
   {
     Friction& f = _friction[k];
-    const double size = std::hypot(trial[k][0], trial[k][1]);
-    // A slipping constraint that moved against its slip force would have
-    // friction drive it: it sticks instead (without this rule the force of
-    // a constraint that should stick flips sign every round when c exceeds
-    // twice the stiffness its neighbours leave it).
-    PairStatus status = PairStatus::open;
-    if (bound[k] >= 0 and backwards[k])
-      status = PairStatus::stick;
-    else if (bound[k] >= 0)
-      status = size <= bound[k] + status_tolerance * largest ? PairStatus::stick : PairStatus::slip;
-    for (int r = 0; r < tangents; ++r)
+    const std::array<double, 2> before{f.bound * f.direction[0], f.bound * f.direction[1]};
+    const PairStatus status = next_status(f, bound[k], trial[k], increment[k], largest);
+    if (status == PairStatus::slip)
     {
-      const double force = status == PairStatus::slip ? bound[k] * trial[k][r] / size : 0.0;
-      change = std::max(change, std::abs(force - f.force[r]));
-      f.force[r] = force;
+      // 2D: the direction stays (a reversal sticks first); 3D: along the
+      // increment, or the trial force for a constraint that starts to slip.
+      const std::array<double, 2>& along = f.status == PairStatus::slip and tangents == 2 ? increment[k] : trial[k];
+      const double size = std::hypot(along[0], along[1]);
+      if (!(f.status == PairStatus::slip and tangents == 1) and size > 0)
+        f.direction = {along[0] / size, along[1] / size};
     }
+    f.bound = status == PairStatus::slip ? bound[k] : 0.0;
+    for (int r = 0; r < tangents; ++r)
+      change = std::max(change, std::abs(f.bound * f.direction[r] - before[r]));
     changed = changed or status != f.status;
     f.status = status;
   }
@@ -617,6 +722,22 @@ bool ContactSolver::update_friction()
     MPI_Allreduce(MPI_IN_PLACE, &change, 1, MPI_DOUBLE, MPI_MAX, _comm);
   }
   return !changed and change <= 1e-10 * largest;
+}
+
+PairStatus ContactSolver::next_status(const Friction& f, double bound, const std::array<double, 2>& trial,
+                                      const std::array<double, 2>& increment, double largest) const
+{
+  if (bound < 0)
+    return PairStatus::open;
+  // A slipping constraint that moved against its slip force would have
+  // friction drive it: it sticks instead (without this rule the force of a
+  // constraint that should stick flips sign every round when c exceeds
+  // twice the stiffness its neighbours leave it).
+  const double work = f.direction[0] * increment[0] + f.direction[1] * increment[1];
+  if (f.status == PairStatus::slip and work <= 0)
+    return PairStatus::stick;
+  // The trial force theta = t_T + c s: within the bound, the constraint sticks.
+  return std::hypot(trial[0], trial[1]) <= bound + status_tolerance * largest ? PairStatus::stick : PairStatus::slip;
 }
 
 void ContactSolver::solve_vi()

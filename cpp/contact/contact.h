@@ -231,7 +231,11 @@ private:
     double sign = 1, gap = 0, lumped = 0;
     ContactLaw law;
     PairStatus status = PairStatus::stick;
-    std::array<double, 2> force{0, 0}; // along the tangential unknowns (N)
+    // A slipping constraint's force: its bound (N) along its slip increment
+    // (3D: the increment of the current x; 2D, or an increment too small to
+    // point anywhere: `direction`, a unit vector in the tangential unknowns).
+    double bound = 0;
+    std::array<double, 2> direction{0, 0};
   };
 
   /// The contact DOFs of the VI: each constraint's, then the tangential
@@ -244,12 +248,30 @@ private:
   void solve_vi();
   /// The active-set iteration of friction around the VI (contact.cpp).
   void solve_with_friction();
-  /// Bounds and loads of the tangential unknowns from the states: a stuck
-  /// one held at its reference, a slipping one loaded by its slip force.
+  /// Bounds of the tangential unknowns from the states: a stuck one held
+  /// at its reference, the others free.
   void apply_friction();
+  /// The slip force of constraint f at the VI's unknown X (N, along its
+  /// tangential unknowns), and its slip increment there.
+  std::array<double, 2> slip_force(const Friction& f, const PetscScalar* X, const PetscScalar* ref,
+                                   std::array<double, 2>& increment) const;
+  /// F += the slip forces (in units of the scale) at x.
+  void add_slip_forces(Vec x, Vec F) const;
+  /// J += the slip forces' derivative at x (3D: the direction follows the
+  /// slip increment).
+  void add_slip_jacobian(Vec x, Mat J) const;
+  /// After a failed VI with slipping constraints (3D: a constraint that
+  /// should stick has no slip direction to settle on): the ones whose slip
+  /// increment is smallest stick; false when none slips.
+  bool stick_weakest();
   /// The states and slip forces of the VI's solution; true when neither
   /// changed (collective).
   bool update_friction();
+  /// The next state of constraint f from its bound (-1: open), trial force
+  /// and slip increment; `largest` is the largest bound (the tolerance's
+  /// scale).
+  PairStatus next_status(const Friction& f, double bound, const std::array<double, 2>& trial,
+                         const std::array<double, 2>& increment, double largest) const;
   void condense();
   void pose_on_full_system(Vec layout);
   void make_bound_vectors();
@@ -346,12 +368,13 @@ private:
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;
   std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
-  // Friction: its constraints, the load without slip forces, the start of
-  // the step (in the VI's numbering, unscaled), the diagonal of K (the
-  // stiffness that turns a slip increment into a trial force) and a work
-  // vector.
+  // Friction: its constraints, the start of the step (in the VI's
+  // numbering, unscaled), the diagonal of K (the stiffness that turns a slip
+  // increment into a trial force) and a work vector.
   std::vector<Friction> _friction;
-  Vec _b_base = nullptr, _x_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+  Vec _x_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+  Mat _J = nullptr; // 3D friction: K plus the slip forces' derivative
+  bool _nonlinear = false; // 3D friction with a slipping constraint: F is not linear
 };
 
 } // namespace biotcontact
