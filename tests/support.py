@@ -344,3 +344,19 @@ def fault_fields(out, names=("slip", "traction", "tangential_traction", "state")
     with h5py.File(os.path.join(out, "fault.h5")) as f:
         series = [{name: f[f"{name}/{i}"][:] for name in names} for i in range(len(times))]
         return f["Mesh/geometry"][:], times, series
+
+
+# A crack of half-length 1 m at 30 degrees inside the square [-2, 2]^2 (an
+# unstructured gmsh mesh with the sides "left", "right", "bottom", "top"):
+# the small faulted scenes of test_transparent_fault.py and
+# test_friction_coupled.py.
+INCLINED_CRACK_GEO = """SetFactory("Built-in");
+Point(1) = {-2, -2, 0}; Point(2) = {2, -2, 0}; Point(3) = {2, 2, 0}; Point(4) = {-2, 2, 0};
+Point(5) = {-0.8660254037844386, -0.5, 0}; Point(6) = {0.8660254037844386, 0.5, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1}; Line(5) = {5, 6};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve{5} In Surface{1};
+Physical Curve("bottom") = {1}; Physical Curve("right") = {2}; Physical Curve("top") = {3};
+Physical Curve("left") = {4}; Physical Curve("crack") = {5}; Physical Surface("rock") = {1};
+Mesh.CharacteristicLengthMax = 0.2;
+"""

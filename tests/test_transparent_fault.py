@@ -14,18 +14,8 @@ frictionless crack slides under the top load, so the fields differ from the
 unsplit mesh's), the fixed-stress split equals the monolithic solve to the
 coupling tolerance with the flux tied in both, and an iterative solve the
 direct one. The prototype equals the C++ solver."""
-from support import check, max_difference, run_track, written
+from support import INCLINED_CRACK_GEO as GEO, check, max_difference, run_track, written
 
-GEO = """SetFactory("Built-in");
-Point(1) = {-2, -2, 0}; Point(2) = {2, -2, 0}; Point(3) = {2, 2, 0}; Point(4) = {-2, 2, 0};
-Point(5) = {-0.8660254037844386, -0.5, 0}; Point(6) = {0.8660254037844386, 0.5, 0};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1}; Line(5) = {5, 6};
-Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
-Curve{5} In Surface{1};
-Physical Curve("bottom") = {1}; Physical Curve("right") = {2}; Physical Curve("top") = {3};
-Physical Curve("left") = {4}; Physical Curve("crack") = {5}; Physical Surface("rock") = {1};
-Mesh.CharacteristicLengthMax = 0.2;
-"""
 FLOW = """[mesh]
 type = "gmsh"
 file = "crack.geo"
