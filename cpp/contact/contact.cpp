@@ -157,7 +157,7 @@ std::vector<std::int32_t> ContactSolver::contact_dofs() const
 {
   std::vector<std::int32_t> dofs = _dofs;
   for (std::size_t k = 0; k < _dofs.size(); ++k)
-    if (!frictionless(_set.laws[_set.boundary[k]]))
+    if (_set.frictional[k])
       for (int r = 1; r < _set.dim; ++r)
         dofs.push_back(_displacement_dofs.at(_set.dofs[k] + r));
   return dofs;
@@ -176,7 +176,7 @@ void ContactSolver::make_friction()
   for (std::size_t k = 0; k < _dofs.size(); ++k)
   {
     const ContactLaw& law = _set.laws[_set.boundary[k]];
-    if (frictionless(law))
+    if (!_set.frictional[k])
       continue;
     const PetscInt normal = _schur ? first + static_cast<PetscInt>(k) : _dofs[k];
     std::array<PetscInt, 2> t{-1, -1};

@@ -48,6 +48,10 @@ struct ContactSet
   /// tangents friction acts along).
   std::vector<std::int64_t> pair_node;
   std::vector<NodeMatrix> pair_frame;
+  /// Per constraint: whether friction acts on it (its law holds something
+  /// and no displacement component of its node is prescribed); then rows
+  /// 1..d-1 of its change of variables, at dofs[k] + 1.., are its tangents.
+  std::vector<char> frictional;
   /// Per constraint, its contact boundary (of `boundaries`, a fault's name
   /// for its pairs; a constraint merged from two boundaries counts for the
   /// first). `faults` flags the boundaries that are faults, `laws` holds

@@ -120,6 +120,8 @@ void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, 
   c.boundary.push_back(face.boundary);
   c.pair_node.push_back(pair[0]);
   c.pair_frame.push_back(*R);
+  // A pair with a prescribed component is held there: frictionless.
+  c.frictional.push_back(!frictionless(c.laws[face.boundary]) and !held[0] and !held[1] and !held[2]);
   c.output_dofs.push_back(face.output_dof.at(first));
 }
 } // namespace

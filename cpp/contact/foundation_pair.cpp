@@ -144,8 +144,13 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
   // Friction acts on the tangential components of a node's change of
   // variables (rows 1..d-1 of T): a frictional node always has one, and
   // only one foundation (two would leave fewer tangents than friction needs).
-  const bool frictional = std::any_of(merged.begin(), merged.end(), [&](const Candidate& k)
-                                      { return !frictionless(c.laws[k.boundary]); });
+  // A node with a prescribed component (on a symmetry plane, say) is held
+  // there by it: its contact stays frictionless (docs/user-guide.md).
+  bool held_anywhere = false;
+  for (int i = 0; i < d; ++i)
+    held_anywhere = held_anywhere or prescribed[first + i];
+  const bool frictional = !held_anywhere and std::any_of(merged.begin(), merged.end(), [&](const Candidate& k)
+                                                         { return !frictionless(c.laws[k.boundary]); });
   if (frictional and merged.size() > 1 and error.empty())
     error = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.friction: at "
             + point_text(x, d) + " two foundations meet, where friction is not supported yet";
@@ -183,6 +188,7 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     c.boundary.push_back(merged[j].boundary);
     c.pair_node.push_back(-1);
     c.pair_frame.push_back(T.value_or(NodeMatrix{}));
+    c.frictional.push_back(frictional);
     c.output_dofs.push_back(merged[j].output_dof);
   }
 }
