@@ -13,8 +13,12 @@
 // nodes.
 SetFactory("Built-in");
 a = 1;          // half-length of the crack (m)
-L = 50;         // half-side of the square (m)
-theta = Pi / 6; // inclination of the crack to the x axis
+If (!Exists(L))  // meshes/phan2d.geo sets L and theta, then includes this file
+  L = 50;        // half-side of the square (m)
+EndIf
+If (!Exists(theta))
+  theta = Pi / 6; // inclination of the crack to the x axis
+EndIf
 Point(1) = {-L, -L, 0};
 Point(2) = {L, -L, 0};
 Point(3) = {L, L, 0};

@@ -31,6 +31,7 @@ from python_prototype.output.time_series import Fields, read_time_series  # noqa
 os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 os.environ.setdefault("OMPI_MCA_pml", "ob1")
 BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
+PHAN_GEO = os.path.join(ROOT, "meshes", "phan2d.geo")  # the crack of Phan et al. (test_phan.py)
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]  # run with cwd=ROOT
 TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
@@ -321,19 +322,6 @@ def unsplit_difference(with_fault, without, names):
         worst[name] = max(np.abs(a.at(name, t) - (b.at(name, t)[matched] if nodal else b.at(name, t))).max()
                           for t in b.times(name)) / scale
     return worst
-
-
-def phan_geo(folder):
-    """phan.geo in `folder`: meshes/sneddon2d.geo with the plate's half-side
-    40 m and the crack turned to 70 degrees from x (20 degrees from y), the
-    crack of Phan et al. (test_phan.py)."""
-    with open(os.path.join(ROOT, "meshes", "sneddon2d.geo")) as f:
-        geo = f.read()
-    for old, new in (("L = 50;", "L = 40;"), ("theta = Pi / 6;", "theta = 70 * Pi / 180;")):
-        check(old in geo, f"meshes/sneddon2d.geo has {old!r}")
-        geo = geo.replace(old, new)
-    with open(os.path.join(folder, "phan.geo"), "w") as f:
-        f.write(geo)
 
 
 def fault_fields(out, names=("slip", "traction", "tangential_traction", "state")):

@@ -18,21 +18,20 @@ the crack of test_phan.py (psi = 20 degrees to the compression):
   fields to 1e-10;
 - the prototype gives the C++ fields to 1e-10."""
 import math
-import os
 import re
 import signal
 import subprocess
 import tempfile
 
 import numpy as np
-from support import MPI_ENV, ROOT, TRACKS, check, fault_fields, max_difference, phan_geo, run_track, written
+from support import MPI_ENV, PHAN_GEO, ROOT, TRACKS, check, fault_fields, max_difference, run_track, written
 
 E, NU, SIGMA, CONFINEMENT = 25.0e9, 0.25, 1.0e8, 5.0e7
 PSI = math.radians(20)
 NORMAL = np.array([-math.cos(PSI), math.sin(PSI)])
 MECHANICS = f"""[mesh]
 type = "gmsh"
-file = "phan.geo"
+file = "{PHAN_GEO}"
 dimension = 2
 [mechanics]
 E = {E}
@@ -67,9 +66,7 @@ normal = [{NORMAL[0]!r}, {NORMAL[1]!r}]
 
 
 def scene(text):
-    path = written(text)
-    phan_geo(os.path.dirname(path))
-    return path
+    return written(text)
 
 
 def check_onset(out, track):
