@@ -19,7 +19,7 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
-from .contact_law import PairStatus, PairTraction, pair_status
+from .contact_law import STATUS_TOLERANCE, ContactLaw, PairStatus, PairTraction, frictionless, pair_status, slip_bound
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
@@ -138,6 +138,23 @@ class ContactState:
         self.faults = []
 
 
+@dataclasses.dataclass
+class _Friction:
+    """A frictional constraint in the VI's numbering (replicated on every
+    rank when condensed, this rank's own on the full system): the positions
+    of its normal and d - 1 tangential unknowns, what its law needs, and the
+    state and slip force of the current iterate (cpp/contact/contact.h,
+    ContactSolver::Friction)."""
+    normal: int = -1
+    tangential: list = dataclasses.field(default_factory=lambda: [-1, -1])
+    sign: float = 1.0
+    gap: float = 0.0
+    lumped: float = 0.0
+    law: ContactLaw = dataclasses.field(default_factory=ContactLaw)
+    status: PairStatus = PairStatus.stick
+    force: list = dataclasses.field(default_factory=lambda: [0.0, 0.0])  # along the tangential unknowns (N)
+
+
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
 
 
@@ -183,6 +200,7 @@ class ContactSolver:
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
     stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
+    max_friction_iterations = 100  # rounds of the friction's active-set iteration before it gives up
 
     def __init__(self, comm, system, method, operators, unknowns):
         """`system` the SystemLayout of the system it solves, `operators` its
@@ -199,28 +217,118 @@ class ContactSolver:
         self.force = A.createVecRight()
         self._make_change_of_variables()
         self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
-        vi_prefix = prefix
-        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self.dofs), op=MPI.SUM))
+        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM))
         if condensed:
-            self.schur = SchurComplement(comm, prefix, self.A_vi, structure, self.dofs)
-            self.vi_stage = SolverStage(prefix + "contact")
-            self.vi_comm, self.vi_mpi_comm, self.K = PETSc.COMM_SELF, MPI.COMM_SELF, self.schur.H
-            self.bounded = np.arange(self.schur.size(), dtype=np.int32)
-            self.bounded_gap = self.schur.gather(self.set.gap)
-            self.bounded_sign = self.schur.gather(self.set.sign.astype(float))
-            self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
-            # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
-            vi_prefix = prefix + "contact_"
-            set_default_option(vi_prefix + "ksp_type", "preonly")
-            set_default_option(vi_prefix + "pc_type", "cholesky" if structure == Structure.spd else "lu")
-            set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
+            self._condense()
         else:
-            self.vi_comm, self.vi_mpi_comm, self.K = comm, comm, self.A_vi
-            self.bounded, self.bounded_gap, self.bounded_sign = self.dofs, self.set.gap, self.set.sign
-            self.x = A.createVecRight()
+            self._pose_on_full_system()
+        self._make_friction()
+        vi_prefix = prefix + "contact_" if condensed else prefix
+        self._create_snes(vi_prefix)
+        if not condensed and method == Method.iterative:
+            self.snes.getKSP().setMonitor(self._stagnation)
+            self.preconditioner = InactiveSetPreconditioner(self.snes, self.P_vi, self.fields, prefix)
+            self.set_tolerance(ITERATIVE_TOLERANCE)
+        try:
+            self.snes.setFromOptions()
+        except PETSc.Error as e:
+            raise OptionsError(f"the PETSc options of {system_name(prefix)} contact solver do not make a solver "
+                               f"(PETSc error {e.ierr})") from None
+        # Only the VI methods take bounds; asked of both prefixes, so that a
+        # type given for the path not taken is not ignored silently either.
+        for p in (prefix, prefix + "contact_"):
+            given = PETSc.Options().getString(p + "snes_type", "")
+            if given and given not in ("vinewtonrsls", "vinewtonssls"):
+                raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
+                                   "(vinewtonrsls or vinewtonssls)")
+        self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
+        self.friction_iterations = 0  # rounds of the friction's active-set iteration (each one VI solve)
+        self.scale = 1.0  # SNES works in units of the displacement scale
+        self.pending = self.used = None  # active flags of the contact DOFs
+        self.set_repeated, self.relative_target = False, 0.0
+        self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
+        # Called after each Newton step with its number: a long solve's sign
+        # of life (the run's progress line).
+        self.on_newton_step = None
+
+    def _condense(self):
+        """The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
+        (schur_complement.py): every unknown of the small dense problem is
+        bounded but the tangential ones of friction."""
+        dofs = self._contact_dofs()
+        self.schur = SchurComplement(self.comm, self.prefix, self.A_vi, self.structure, dofs)
+        self.vi_stage = SolverStage(self.prefix + "contact")
+        self.vi_comm, self.vi_mpi_comm, self.K = PETSc.COMM_SELF, MPI.COMM_SELF, self.schur.H
+        # Each rank's constraints come first among its contact DOFs, its
+        # tangential ones (friction) after them: the bounded DOFs of H are the
+        # constraints'.
+        bounded, gap, sign = np.zeros(len(dofs)), np.zeros(len(dofs)), np.zeros(len(dofs))
+        n = len(self.dofs)
+        bounded[:n], gap[:n], sign[:n] = 1.0, self.set.gap, self.set.sign
+        kept = np.flatnonzero(self.schur.gather(bounded) > 0)
+        self.bounded = kept.astype(np.int32)
+        self.bounded_gap = self.schur.gather(gap)[kept]
+        self.bounded_sign = self.schur.gather(sign)[kept]
+        self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
+        # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
+        vi_prefix = self.prefix + "contact_"
+        set_default_option(vi_prefix + "ksp_type", "preonly")
+        set_default_option(vi_prefix + "pc_type", "cholesky" if self.structure == Structure.spd else "lu")
+        set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
+        self._make_bound_vectors()
+
+    def _contact_dofs(self):
+        """The contact DOFs of the VI: each constraint's, then the tangential
+        ones of the frictional constraints."""
+        c = self.set
+        tangential = [self.displacement_dofs[c.dofs[k] + r] for k in range(len(self.dofs))
+                      if not frictionless(c.laws[c.boundary[k]]) for r in range(1, c.dim)]
+        return np.concatenate([self.dofs, np.array(tangential, dtype=np.int32)])
+
+    def _make_friction(self):
+        """The frictional constraints (_Friction) in the VI's numbering, once
+        the VI is posed: on the full system this rank's, at their local
+        positions; condensed, every rank's at their places in H (each rank's
+        contact DOFs from its offset, in _contact_dofs()'s order), gathered
+        to every rank."""
+        c, d = self.set, self.set.dim
+        first = self.schur.offset if self.schur else 0
+        records = []
+        following = len(self.dofs)  # the place of the next tangential DOF among this rank's
+        for k in range(len(self.dofs)):
+            law = c.laws[c.boundary[k]]
+            if frictionless(law):
+                continue
+            normal = first + k if self.schur else self.dofs[k]
+            t = [-1, -1]
+            for r in range(1, d):
+                t[r - 1] = int(first + following if self.schur else self.displacement_dofs[c.dofs[k] + r])
+                following += 1
+            records.append(_Friction(int(normal), t, float(c.sign[k]), float(c.gap[k]), float(c.lumped[k]), law))
+        self.friction = [f for rank in self.comm.allgather(records) for f in rank] if self.schur else records
+        self.b_base = self.x_reference = self.stiffness = self.work = None
+        if not self.comm.allreduce(bool(self.friction), op=MPI.LOR):
+            return
+        self.b_base, self.x_reference, self.stiffness, self.work = (self.x.duplicate() for _ in range(4))
+        self.x_reference.set(0.0)
+
+    def _pose_on_full_system(self):
+        """The VI on the full system: only the contact DOFs are bounded."""
+        self.vi_comm, self.vi_mpi_comm, self.K = self.comm, self.comm, self.A_vi
+        self.bounded, self.bounded_gap, self.bounded_sign = self.dofs, self.set.gap, self.set.sign
+        self.x = self.A.createVecRight()
+        self._make_bound_vectors()
+
+    def _make_bound_vectors(self):
+        """The residual and the bounds, unbounded until solve() sets the
+        contact ones."""
         self.residual, self.lower, self.upper, self.b_scaled = (self.x.duplicate() for _ in range(4))
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
+
+    def _create_snes(self, vi_prefix):
+        """The semismooth Newton VI solver (SNES vinewtonrsls) and its
+        defaults; the user's -<vi_prefix>snes_* options override them."""
         self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
         self.snes_rtol_given = PETSc.Options().hasName(vi_prefix + "snes_rtol")
         for option, value in (("snes_lag_preconditioner", "-2"), ("snes_rtol", "1e-10"),
@@ -235,35 +343,12 @@ class ContactSolver:
         self.snes.setJacobian(lambda snes, x, J, P: None, self.K, self.K)
         self.snes.setVariableBounds(self.lower, self.upper)
         self.snes.setConvergenceTest(self._converged)
-        if not condensed and method == Method.iterative:
-            self.snes.getKSP().setMonitor(self._stagnation)
-            self.preconditioner = InactiveSetPreconditioner(self.snes, self.P_vi, self.fields, prefix)
-            self.set_tolerance(ITERATIVE_TOLERANCE)
         # At least one Newton step per solve, so the result never lags the load.
         if hasattr(self.snes, "setForceIteration"):
             self.snes.setForceIteration(True)
         else:
             set_default_option(vi_prefix + "snes_force_iteration", "true")
         self.snes.setMonitor(self._monitor)
-        try:
-            self.snes.setFromOptions()
-        except PETSc.Error as e:
-            raise OptionsError(f"the PETSc options of {system_name(prefix)} contact solver do not make a solver "
-                               f"(PETSc error {e.ierr})") from None
-        # Only the VI methods take bounds; asked of both prefixes, so that a
-        # type given for the path not taken is not ignored silently either.
-        for p in (prefix, prefix + "contact_"):
-            given = PETSc.Options().getString(p + "snes_type", "")
-            if given and given not in ("vinewtonrsls", "vinewtonssls"):
-                raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
-                                   "(vinewtonrsls or vinewtonssls)")
-        self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
-        self.pending = self.used = None  # active flags of the contact DOFs
-        self.set_repeated, self.relative_target = False, 0.0
-        self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
-        # Called after each Newton step with its number: a long solve's sign
-        # of life (the run's progress line).
-        self.on_newton_step = None
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
@@ -367,7 +452,10 @@ class ContactSolver:
         return s if s > 0 else 1.0
 
     def solve(self, b, x):
-        """Solves the VI; x holds the initial guess on entry."""
+        """Solves the VI; x holds the initial guess on entry. With friction,
+        the stick/slip states of the frictional constraints are found by an
+        active-set iteration around it (_solve_with_friction); their slip
+        increments are measured from the slip reference."""
         self._change_operators()
         b_vi, x_vi = b, self._to_vi(x)
         if self.change:
@@ -376,14 +464,119 @@ class ContactSolver:
         if self.schur and not self.schur_current:
             self.schur.assemble()
             self.schur_current = True
-        scale = self.displacement_scale(x_vi)
-        # u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a.
-        upper, lower = self.bounded_sign > 0, self.bounded_sign < 0
-        with self.upper as up:
-            up[self.bounded[upper]] = self.bounded_gap[upper] / scale
-        with self.lower as lo:
-            lo[self.bounded[lower]] = -self.bounded_gap[lower] / scale
-        self._pose(b_vi, x_vi, scale)
+        # SNESVI decides "on the bound" with an absolute tolerance (1e-8), so
+        # it works on x / s with s the displacement scale (largest gap or
+        # |x|); the residual K (x/s) - b/s has the same Jacobian K.
+        self.scale = self.displacement_scale(x_vi)
+        self._set_bounds()
+        self._pose(b_vi, x_vi, self.scale)
+        if self.b_base is not None:
+            self._solve_with_friction()
+        else:
+            self._solve_vi()
+        self.x.scale(self.scale)
+        if self.schur:
+            self.schur.extend(b_vi, self.x.getArray(readonly=True), x_vi)
+        else:
+            self.x.copy(x_vi)
+        if self.change:
+            self.change.backward(x_vi, x)
+
+    def set_slip_reference(self, x):
+        """A time step (or window) starts at x: friction's slip increments are
+        measured from it (collective; nothing without friction)."""
+        if self.x_reference is None:
+            return
+        x_vi = self._to_vi(x)
+        if self.schur:
+            with self.x_reference as reference:
+                reference[:] = self.schur.restrict_to_contact(x_vi)
+        else:
+            x_vi.copy(self.x_reference)
+
+    def _solve_with_friction(self):
+        """Friction by the primal-dual active-set method (Hueber, Stadler and
+        Wohlmuth 2008) around the VI: each round solves the VI with every
+        stuck tangential unknown held at its reference (no slip increment)
+        and every slipping one loaded by its slip force, then takes from that
+        solution the trial force theta = t_T + c ds (t_T the tangential
+        contact force, ds the slip increment, c the diagonal stiffness) of
+        each closed constraint: stuck when |theta| is within the bound, else
+        slipping with the bound's force along theta (the exact disc in 3D).
+        When no state and no slip force changes, the round's solution
+        satisfies the law: a stuck constraint's force is within the bound, a
+        slipping one's is on it and along its slip increment. The states and
+        forces carry over to the next solve, whose rounds usually start from
+        the right ones."""
+        self.b_scaled.copy(self.b_base)
+        self.K.getDiagonal(self.stiffness)
+        for _ in range(self.max_friction_iterations):
+            self._apply_friction()
+            self._solve_vi()
+            self.friction_iterations += 1
+            if self._update_friction():
+                return
+        raise SolverError(f"friction: the stick and slip states did not settle in {self.max_friction_iterations} "
+                          "rounds of the active-set iteration")
+
+    def _apply_friction(self):
+        """Bounds and loads of the tangential unknowns from the states: a
+        stuck one held at its reference, a slipping one loaded by its slip
+        force."""
+        scale = self.scale
+        base, reference = self.b_base.getArray(readonly=True), self.x_reference.getArray(readonly=True)
+        with self.lower as lo, self.upper as up, self.b_scaled as b:
+            for f in self.friction:
+                for r in range(self.set.dim - 1):
+                    t = f.tangential[r]
+                    stuck = f.status == PairStatus.stick
+                    lo[t] = reference[t] / scale if stuck else PETSc.NINFINITY
+                    up[t] = reference[t] / scale if stuck else PETSc.INFINITY
+                    # K x - b = -force on a slipping unknown: the friction opposes the slip.
+                    b[t] = base[t] - f.force[r] / scale
+
+    def _update_friction(self):
+        """The states and slip forces of the VI's solution; True when
+        neither changed (collective)."""
+        # R = K x - b without the slip forces: the contact forces, in units of
+        # the scale.
+        self.K.mult(self.x, self.work)
+        self.work.axpy(-1.0, self.b_base)
+        X, R = self.x.getArray(readonly=True), self.work.getArray(readonly=True)
+        reference, c = self.x_reference.getArray(readonly=True), self.stiffness.getArray(readonly=True)
+        scale, tangents = self.scale, self.set.dim - 1
+        bound, trial, largest = [], [], 0.0
+        for f in self.friction:
+            closed = _on_foundation(f.gap - f.sign * X[f.normal] * scale, scale)
+            normal = -f.sign * R[f.normal] * scale / f.lumped
+            bound.append(slip_bound(f.law, normal) * f.lumped if closed else -1.0)
+            trial.append([0.0, 0.0])
+            for r in range(tangents):
+                t = f.tangential[r]
+                trial[-1][r] = -R[t] * scale + c[t] * (X[t] * scale - reference[t])
+            largest = max(largest, bound[-1])
+        if not self.schur:  # on the full system each rank holds its own constraints
+            largest = self.comm.allreduce(largest, op=MPI.MAX)
+        change, changed = 0.0, False
+        for f, limit, theta in zip(self.friction, bound, trial):
+            size = np.hypot(theta[0], theta[1])  # C's hypot, as std::hypot
+            status = PairStatus.open
+            if limit >= 0:
+                status = PairStatus.stick if size <= limit + STATUS_TOLERANCE * largest else PairStatus.slip
+            for r in range(tangents):
+                force = limit * theta[r] / size if status == PairStatus.slip else 0.0
+                change = max(change, abs(force - f.force[r]))
+                f.force[r] = force
+            changed = changed or status != f.status
+            f.status = status
+        if not self.schur:
+            changed = self.comm.allreduce(changed, op=MPI.LOR)
+            change = self.comm.allreduce(change, op=MPI.MAX)
+        return not changed and change <= 1e-10 * largest
+
+    def _solve_vi(self):
+        """The VI with the current bounds and load; retried from the clamped
+        state when the first attempt fails; raises SolverError when both do."""
         reason = self._snes_solve()
         self._count(reason)
         if reason < 0:
@@ -398,13 +591,15 @@ class ContactSolver:
         if reason < 0:
             raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
                               + reason_name(PETSc.SNES.ConvergedReason, reason))
-        self.x.scale(scale)
-        if self.schur:
-            self.schur.extend(b_vi, self.x.getArray(readonly=True), x_vi)
-        else:
-            self.x.copy(x_vi)
-        if self.change:
-            self.change.backward(x_vi, x)
+
+    def _set_bounds(self):
+        """u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a,
+        in units of the displacement scale."""
+        upper, lower = self.bounded_sign > 0, self.bounded_sign < 0
+        with self.upper as up:
+            up[self.bounded[upper]] = self.bounded_gap[upper] / self.scale
+        with self.lower as lo:
+            lo[self.bounded[lower]] = -self.bounded_gap[lower] / self.scale
 
     def _pose(self, b, x, scale):
         """The scaled load and start of the VI (on C alone when condensed:

@@ -59,6 +59,16 @@ class PairTraction:
 STATUS_TOLERANCE = 1e-8
 
 
+def contact_law(friction):
+    """The law a scene gives a contact boundary or a fault (its FrictionSpec)."""
+    return ContactLaw(friction.friction, friction.cohesion, friction.tresca)
+
+
+def frictionless(law):
+    """Whether the law holds nothing tangentially (bound 0 whatever t_N)."""
+    return law.tresca == 0 if law.tresca is not None else law.friction == 0 and law.cohesion == 0
+
+
 def slip_bound(law, normal_traction):
     """The bound of |t_T|: tresca if given, else cohesion + friction
     max(t_N, 0) (a pulling t_N adds no friction)."""

@@ -24,15 +24,17 @@ class ContactSet:
     `output_dofs` (its node in the P1 scalar `output_space`) and, for a
     fault pair's constraint, `pair_node` (the input index of its + node)
     and `pair_frame` (R, the rotation of the pair's jump:
-    pair_change_of_variables); -1 and None for a foundation's. `faults`
-    flags the entries of `boundaries` that are faults, `laws` holds the
-    contact law of each (contact_law.py; frictionless until the scene gives
-    friction). `blocks` lists
-    the blocks of the change of variables as (the global unrolled DOFs of V
-    they mix, their matrix): the nodes whose normals are not coordinate axes
-    and the node pairs of faults; `dof_offset` is the global index in V of
-    this rank's first owned DOF. Filled as lists by the pairs, made arrays
-    by contact.locate_contact."""
+    pair_change_of_variables); for a foundation's constraint -1, and
+    T_node where the node has a change of variables (a frictional one
+    always does: its rows 1..d-1 are the tangents friction acts along),
+    None elsewhere. `faults` flags the entries of `boundaries` that are
+    faults, `laws` holds the contact law of each (contact_law.py;
+    frictionless until the scene gives friction). `blocks` lists the blocks
+    of the change of variables as (the global unrolled DOFs of V they mix,
+    their matrix): the nodes whose normals are not coordinate axes and the
+    node pairs of faults; `dof_offset` is the global index in V of this
+    rank's first owned DOF. Filled as lists by the pairs, made arrays by
+    contact.locate_contact."""
 
     def __init__(self, dim, output_space, dof_offset):
         self.dim, self.output_space, self.dof_offset = dim, output_space, dof_offset

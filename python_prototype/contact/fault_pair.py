@@ -16,7 +16,7 @@ from dolfinx import fem
 from ..domain.domain import vertex_input_indices
 from ..scene.input import point_text
 from .change_of_variables import node_change_of_variables, pair_change_of_variables
-from .contact_law import ContactLaw
+from .contact_law import contact_law
 from .contact_set import lumped_measure, prescribed_dofs
 
 
@@ -118,7 +118,7 @@ def add_fault_pairs(scene, domain, F, V, c, error):
                           lumped_measure(domain, F, V, fault.plus_facets), {})
         c.boundaries.append(name)
         c.faults.append(True)
-        c.laws.append(ContactLaw())  # frictionless: no scene key gives friction yet
+        c.laws.append(contact_law(scene.faults[name].friction))
         dofs, collapsed = fem.locate_dofs_topological((V.sub(0), c.output_space), d - 1, fault.plus_facets)
         face.output_dof = {int(dof): int(out) for dof, out in zip(dofs, collapsed) if dof < n_owned}
         for k in range(len(fault.pairs)):

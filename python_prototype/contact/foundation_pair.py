@@ -13,7 +13,7 @@ from dolfinx import fem
 from ..assembly.linear_algebra import owned
 from ..scene.input import point_text
 from .change_of_variables import coordinate_axis, node_change_of_variables
-from .contact_law import ContactLaw
+from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
 
 # A contact node: its first DOF in V, its candidate constraints (one per
@@ -42,7 +42,7 @@ def _gather_candidates(scene, domain, F, V, c, error):
         boundary = len(c.boundaries)
         c.boundaries.append(name)
         c.faults.append(False)
-        c.laws.append(ContactLaw())  # frictionless: no scene key gives friction yet
+        c.laws.append(contact_law(b.contact.friction))
         lumped = lumped_measure(domain, F, V, domain.boundaries[name])
         dofs, collapsed = fem.locate_dofs_topological((V0, c.output_space), d - 1, domain.boundaries[name])
         for dof, out in zip(dofs, collapsed):
@@ -84,7 +84,15 @@ def _add_node(c, node, prescribed, file, error):
     first, x, d = node.first, node.x, c.dim
     merged = _merged(node.candidates)
     axes = [coordinate_axis(m["normal"], d) for m in merged]
-    on_axes = all(a is not None for a in axes) and len({a[0] for a in axes}) == len(merged)
+    # Friction acts on the tangential components of a node's change of
+    # variables (rows 1..d-1 of T): a frictional node always has one, and
+    # only one foundation (two would leave fewer tangents than friction needs).
+    frictional = any(not frictionless(c.laws[m["boundary"]]) for m in merged)
+    if frictional and len(merged) > 1 and not error:
+        error.append(f"{file}: boundary.{c.boundaries[merged[0]['boundary']]}.contact.friction: at "
+                     f"{point_text(x, d)} two foundations meet, where friction is not supported yet")
+    on_axes = not frictional and all(a is not None for a in axes) and len({a[0] for a in axes}) == len(merged)
+    T = None
     if not on_axes:
         normals = [m["normal"] for m in merged]
         T = node_change_of_variables(normals, d, [False] * 3)
@@ -105,7 +113,7 @@ def _add_node(c, node, prescribed, file, error):
         c.normal.append(m["normal"])
         c.boundary.append(m["boundary"])
         c.pair_node.append(-1)
-        c.pair_frame.append(None)
+        c.pair_frame.append(T)
         c.output_dofs.append(m["output_dof"])
 
 

@@ -173,6 +173,7 @@ class _FixedStressSplit:
         self.contraction.set_window_steps(q)
         w = _Window(K, j, q, self.flow.unknowns().copy(), self.p_K, self.u_K)
         w.derivative = derivative
+        self.mechanics.begin_step()  # its u is u_K: the window's start, friction's reference
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K

@@ -47,6 +47,7 @@ def run_single_solve(problem, step, run):
         t = run.grid.t[k]
         d = _begin_step(problem, step, run.grid, k)
         start = step.state()
+        step.begin_step()
         active_before = step.active_contact_set() if run.control else ActiveSet()
         try:
             step.advance(t, d)

@@ -118,6 +118,9 @@ class MechanicsStep(Step):
         """The solve at t = 0."""
         self.solve(0.0)
 
+    def begin_step(self):
+        self.system.begin_step(self.u.vector)
+
     def state(self):
         return StepState(self.u.x.array.copy())
 

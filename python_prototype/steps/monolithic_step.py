@@ -172,6 +172,9 @@ class MonolithicStep(Step):
         step.solve(0.0)
         self.set_displacement(step.u.x.array, 0.0)
 
+    def begin_step(self):
+        self.system.begin_step(self.x.vector)
+
     def state(self):
         return StepState(self.unknowns().copy(), self.pressure.x.array.copy(), self.u.x.array.copy())
 

@@ -53,6 +53,11 @@ class Step(abc.ABC):
         in equilibrium with the loads at t = 0 and the initial pressure
         (nothing for a step without mechanics)."""
 
+    def begin_step(self):
+        """A time step (or a window of the fixed-stress split) starts from
+        the current unknowns: friction measures its slip increments from
+        them (nothing without contact)."""
+
     @abc.abstractmethod
     def state(self):
         """The StepState now (at the start of a step)."""

@@ -94,6 +94,12 @@ class System:
     def has_contact(self):
         return self.contact is not None
 
+    def begin_step(self, x):
+        """A time step starts at x: friction's slip increments are measured
+        from it (ContactSolver.set_slip_reference; nothing without contact)."""
+        if self.contact:
+            self.contact.set_slip_reference(x)
+
     def solve(self, b, x):
         """Solves with x as the initial guess."""
         start = time.perf_counter()
