@@ -253,7 +253,8 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // F is linear and its matrix the exact Jacobian: the full semismooth
   // Newton step is exact on the current active set, and a backtracking
   // search only fails once the residual is at round-off.
-  set_default_option(vi_prefix + "snes_linesearch_type", "basic");
+  // (With friction in 3D F is not linear: a backtracking search.)
+  set_default_option(vi_prefix + "snes_linesearch_type", _J ? "bt" : "basic");
   SNESCreate(_vi_comm, &_snes);
   SNESSetOptionsPrefix(_snes, vi_prefix.c_str());
   SNESSetType(_snes, SNESVINEWTONRSLS);
@@ -580,10 +581,16 @@ std::array<double, 2> ContactSolver::slip_force(const Friction& f, const PetscSc
     increment[r] = X[f.tangential[r]] * _scale - ref[f.tangential[r]];
   if (f.status != PairStatus::slip)
     return {0.0, 0.0};
-  const double size = std::hypot(increment[0], increment[1]);
   // The friction opposes the slip: K x - b = -force on a slipping unknown.
-  if (tangents == 1 or size <= 1e-12 * _scale)
+  if (tangents == 1)
     return {f.bound * f.direction[0], f.bound * f.direction[1]};
+  // 3D: along s, regularised, bound s / sqrt(|s|^2 + e^2) with e =
+  // slip_regularisation times the scale: the gradient of the convex
+  // bound sqrt(|s|^2 + e^2), which keeps Newton's equations solvable where
+  // a constraint marked slipping should stick (its |s| then falls to about
+  // e, and the next round sticks it); off by (e/|s|)^2 / 2 where it slips.
+  const double e = slip_regularisation * _scale;
+  const double size = std::sqrt(increment[0] * increment[0] + increment[1] * increment[1] + e * e);
   return {f.bound * increment[0] / size, f.bound * increment[1] / size};
 }
 
@@ -608,8 +615,9 @@ void ContactSolver::add_slip_forces(Vec x, Vec F) const
 
 void ContactSolver::add_slip_jacobian(Vec x, Mat J) const
 {
-  // d(bound s/|s|)/ds = bound/|s| (I - n n^T), n = s/|s|: in the units of
-  // K (the residual is in units of the scale, so is x).
+  // d(bound s/r)/ds = bound/r (I - s s^T/r^2), r = sqrt(|s|^2 + e^2)
+  // (slip_force): in the units of K (the residual is in units of the
+  // scale, so is x).
   PetscInt start = 0;
   MatGetOwnershipRange(J, &start, nullptr);
   const PetscScalar *X, *ref;
@@ -619,9 +627,10 @@ void ContactSolver::add_slip_jacobian(Vec x, Mat J) const
   for (const Friction& f : _friction)
   {
     slip_force(f, X, ref, s);
-    const double size = std::hypot(s[0], s[1]);
-    if (f.status != PairStatus::slip or size <= 1e-12 * _scale)
+    if (f.status != PairStatus::slip)
       continue;
+    const double e = slip_regularisation * _scale;
+    const double size = std::sqrt(s[0] * s[0] + s[1] * s[1] + e * e);
     const PetscInt rows[2] = {start + f.tangential[0], start + f.tangential[1]};
     const double n[2] = {s[0] / size, s[1] / size}, g = f.bound / size;
     const PetscScalar block[4] = {g * (1 - n[0] * n[0]), -g * n[0] * n[1], -g * n[1] * n[0], g * (1 - n[1] * n[1])};

@@ -218,6 +218,9 @@ public:
 
   /// Rounds of the friction's active-set iteration before it gives up.
   static constexpr int max_friction_iterations = 100;
+  /// The regularisation of a 3D slip force's direction, relative to the
+  /// displacement scale (contact.cpp, slip_force).
+  static constexpr double slip_regularisation = 1e-9;
 
 private:
   /// @brief A frictional constraint in the VI's numbering (replicated on
@@ -230,7 +233,7 @@ private:
     std::array<PetscInt, 2> tangential{-1, -1};
     double sign = 1, gap = 0, lumped = 0;
     ContactLaw law;
-    PairStatus status = PairStatus::stick;
+    PairStatus status = PairStatus::open; // free until a round finds it closed
     // A slipping constraint's force: its bound (N) along its slip increment
     // (3D: the increment of the current x; 2D, or an increment too small to
     // point anywhere: `direction`, a unit vector in the tangential unknowns).

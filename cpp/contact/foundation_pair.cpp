@@ -94,6 +94,14 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
   return nodes;
 }
 
+/// @brief Where a node's first bad input goes: its scene file (for the
+/// key) and the error text, kept if already set.
+struct NodeError
+{
+  const std::string& file;
+  std::string* error;
+};
+
 /// @brief A contact node: its first DOF in V, its candidate constraints
 /// (one per foundation that holds it) and its coordinates.
 struct ContactNode
@@ -102,6 +110,29 @@ struct ContactNode
   std::vector<Candidate> candidates;
   const double* x;
 };
+
+/// Whether friction acts at a node with the merged candidates `merged`.
+/// Friction acts on the tangential components of a node's change of
+/// variables (rows 1..d-1 of T): a frictional node always has one, and only
+/// one foundation (two would leave fewer tangents than friction needs: the
+/// first bad input, naming the frictional boundary, goes into the error). A
+/// node with a prescribed component (on a symmetry plane, say) is held there
+/// by it: its contact stays frictionless (docs/user-guide.md).
+bool frictional_node(const ContactSet& c, const ContactNode& node, const std::vector<Candidate>& merged,
+                     const std::vector<char>& prescribed, const NodeError& report)
+{
+  for (int i = 0; i < c.dim; ++i)
+    if (prescribed[node.first + i])
+      return false;
+  const auto law = std::find_if(merged.begin(), merged.end(),
+                                [&](const Candidate& k) { return !frictionless(c.laws[k.boundary]); });
+  if (law == merged.end())
+    return false;
+  if (merged.size() > 1 and report.error->empty())
+    *report.error = report.file + ": boundary." + c.boundaries[law->boundary] + ".contact.friction: at "
+                    + point_text(node.x, c.dim) + " two foundations meet, where friction is not supported yet";
+  return true;
+}
 
 /// One node's candidates merged (the same normal from two boundaries: one
 /// constraint, the smaller gap, the measures added) and entered into c as
@@ -141,19 +172,7 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     if (axes.back())
       distinct.insert(axes.back()->first);
   }
-  // Friction acts on the tangential components of a node's change of
-  // variables (rows 1..d-1 of T): a frictional node always has one, and
-  // only one foundation (two would leave fewer tangents than friction needs).
-  // A node with a prescribed component (on a symmetry plane, say) is held
-  // there by it: its contact stays frictionless (docs/user-guide.md).
-  bool held_anywhere = false;
-  for (int i = 0; i < d; ++i)
-    held_anywhere = held_anywhere or prescribed[first + i];
-  const bool frictional = !held_anywhere and std::any_of(merged.begin(), merged.end(), [&](const Candidate& k)
-                                                         { return !frictionless(c.laws[k.boundary]); });
-  if (frictional and merged.size() > 1 and error.empty())
-    error = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.friction: at "
-            + point_text(x, d) + " two foundations meet, where friction is not supported yet";
+  const bool frictional = frictional_node(c, node, merged, prescribed, {file, &error});
   const bool on_axes = !frictional and distinct.size() == merged.size()
                        and std::all_of(axes.begin(), axes.end(), [](const auto& a) { return a.has_value(); });
   std::optional<NodeMatrix> T;
