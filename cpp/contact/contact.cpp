@@ -35,6 +35,9 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
 
 namespace
 {
+/// What a friction that fails to converge most often means.
+constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
+
 /// Whether a constraint is active: its node lies on the foundation to
 /// round-off, within 1e-9 of the displacement scale (the one test behind the
 /// active set the coupling compares and the contact_active field).
@@ -253,7 +256,8 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // F is linear and its matrix the exact Jacobian: the full semismooth
   // Newton step is exact on the current active set, and a backtracking
   // search only fails once the residual is at round-off.
-  // (With friction in 3D F is not linear: a backtracking search.)
+  // With friction in 3D the slip forces' directions make full steps
+  // overshoot: a backtracking search.
   set_default_option(vi_prefix + "snes_linesearch_type", _J ? "bt" : "basic");
   SNESCreate(_vi_comm, &_snes);
   SNESSetOptionsPrefix(_snes, vi_prefix.c_str());
@@ -265,7 +269,9 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
-  SNESSetForceIteration(_snes, PETSC_TRUE);
+  // (Not with friction in 3D: its F is not linear, the residual decides,
+  // and a backtracking search fails on a zero step.)
+  SNESSetForceIteration(_snes, _J ? PETSC_FALSE : PETSC_TRUE);
   SNESMonitorSet(_snes, &ContactSolver::monitor, this, nullptr);
 }
 std::string ContactSolver::method() const
@@ -393,7 +399,7 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
     self->_relative_target = rtol * fnorm;
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
-  else if (iteration > 0 and fnorm < atol)
+  else if ((iteration > 0 or self->_J) and fnorm < atol) // a forced first step, but with friction in 3D
     *reason = SNES_CONVERGED_FNORM_ABS;
   else if (iteration > 0 and fnorm < self->_relative_target)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
@@ -529,23 +535,34 @@ void ContactSolver::solve_with_friction()
   for (int round = 1;; ++round)
   {
     apply_friction();
-    try
-    {
-      solve_vi();
-    }
-    catch (const SolverError&)
-    {
-      if (!stick_weakest())
-        throw;
+    if (!solve_round())
       continue;
-    }
     ++friction_iterations;
     if (update_friction())
       return;
     if (round == max_friction_iterations)
       throw SolverError("friction: the stick and slip states did not settle in "
-                        + std::to_string(max_friction_iterations) + " rounds of the active-set iteration");
+                        + std::to_string(max_friction_iterations) + " rounds of the active-set iteration"
+                        + no_equilibrium);
   }
+}
+
+bool ContactSolver::solve_round()
+{
+  try
+  {
+    solve_vi();
+    return true;
+  }
+  catch (const SolverError&)
+  {
+    if (!_nonlinear)
+      throw;
+  }
+  if (!stick_weakest())
+    throw SolverError("friction: the contact solver did not converge with the slipping pairs of this round"
+                      + std::string(no_equilibrium));
+  return false;
 }
 
 void ContactSolver::apply_friction()
@@ -812,7 +829,10 @@ void ContactSolver::pose(Vec b, Vec x)
   {
     PetscReal bnorm = 0;
     VecNorm(_b_scaled, NORM_2, &bnorm);
-    SNESSetTolerances(_snes, std::max(1e-10 * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
+    // With friction in 3D the residual decides the last step (F is not
+    // linear): tighter, Newton's last steps are quadratic.
+    const double relative = _J ? 1e-12 : 1e-10;
+    SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
   }
 }

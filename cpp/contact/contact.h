@@ -233,7 +233,7 @@ private:
     std::array<PetscInt, 2> tangential{-1, -1};
     double sign = 1, gap = 0, lumped = 0;
     ContactLaw law;
-    PairStatus status = PairStatus::open; // free until a round finds it closed
+    PairStatus status = PairStatus::stick; // held until a round finds it open or slipping
     // A slipping constraint's force: its bound (N) along its slip increment
     // (3D: the increment of the current x; 2D, or an increment too small to
     // point anywhere: `direction`, a unit vector in the tangential unknowns).
@@ -251,6 +251,9 @@ private:
   void solve_vi();
   /// The active-set iteration of friction around the VI (contact.cpp).
   void solve_with_friction();
+  /// One round's VI; when it fails with slipping pairs in 3D, the weakest
+  /// of them stick: false (the round is to be repeated).
+  bool solve_round();
   /// Bounds of the tangential unknowns from the states: a stuck one held
   /// at its reference, the others free.
   void apply_friction();
