@@ -545,23 +545,33 @@ class ContactSolver:
         X, R = self.x.getArray(readonly=True), self.work.getArray(readonly=True)
         reference, c = self.x_reference.getArray(readonly=True), self.stiffness.getArray(readonly=True)
         scale, tangents = self.scale, self.set.dim - 1
-        bound, trial, largest = [], [], 0.0
+        bound, trial, backwards, largest = [], [], [], 0.0
         for f in self.friction:
             closed = _on_foundation(f.gap - f.sign * X[f.normal] * scale, scale)
             normal = -f.sign * R[f.normal] * scale / f.lumped
             bound.append(slip_bound(f.law, normal) * f.lumped if closed else -1.0)
             trial.append([0.0, 0.0])
+            work = 0.0  # of the slip force along the slip increment
             for r in range(tangents):
                 t = f.tangential[r]
-                trial[-1][r] = -R[t] * scale + c[t] * (X[t] * scale - reference[t])
+                increment = X[t] * scale - reference[t]
+                trial[-1][r] = -R[t] * scale + c[t] * increment
+                work += f.force[r] * increment
+            backwards.append(f.status == PairStatus.slip and work <= 0)
             largest = max(largest, bound[-1])
         if not self.schur:  # on the full system each rank holds its own constraints
             largest = self.comm.allreduce(largest, op=MPI.MAX)
         change, changed = 0.0, False
-        for f, limit, theta in zip(self.friction, bound, trial):
+        for f, limit, theta, against in zip(self.friction, bound, trial, backwards):
             size = np.hypot(theta[0], theta[1])  # C's hypot, as std::hypot
+            # A slipping constraint that moved against its slip force would
+            # have friction drive it: it sticks instead (without this rule the
+            # force of a constraint that should stick flips sign every round
+            # when c exceeds twice the stiffness its neighbours leave it).
             status = PairStatus.open
-            if limit >= 0:
+            if limit >= 0 and against:
+                status = PairStatus.stick
+            elif limit >= 0:
                 status = PairStatus.stick if size <= limit + STATUS_TOLERANCE * largest else PairStatus.slip
             for r in range(tangents):
                 force = limit * theta[r] / size if status == PairStatus.slip else 0.0
