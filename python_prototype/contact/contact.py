@@ -20,7 +20,7 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
-from .contact_law import STATUS_TOLERANCE, ContactLaw, PairStatus, PairTraction, frictionless, pair_status, slip_bound
+from .contact_law import STATUS_TOLERANCE, ContactLaw, PairStatus, PairTraction, pair_status, slip_bound
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
@@ -47,6 +47,7 @@ def locate_contact(scene, domain, F, V):
     c.output_dofs = np.array(c.output_dofs, dtype=np.int32)
     c.boundary = np.array(c.boundary, dtype=np.int32)
     c.pair_node = np.array(c.pair_node, dtype=np.int64)
+    c.frictional = np.array(c.frictional, dtype=bool)
     return c
 
 
@@ -288,7 +289,7 @@ class ContactSolver:
         ones of the frictional constraints."""
         c = self.set
         tangential = [self.displacement_dofs[c.dofs[k] + r] for k in range(len(self.dofs))
-                      if not frictionless(c.laws[c.boundary[k]]) for r in range(1, c.dim)]
+                      if c.frictional[k] for r in range(1, c.dim)]
         return np.concatenate([self.dofs, np.array(tangential, dtype=np.int32)])
 
     def _make_friction(self):
@@ -303,7 +304,7 @@ class ContactSolver:
         following = len(self.dofs)  # the place of the next tangential DOF among this rank's
         for k in range(len(self.dofs)):
             law = c.laws[c.boundary[k]]
-            if frictionless(law):
+            if not c.frictional[k]:
                 continue
             normal = first + k if self.schur else self.dofs[k]
             t = [-1, -1]
