@@ -11,6 +11,7 @@ coordinate axis). PETSc's reduced-space active-set Newton (SNES
 vinewtonrsls) solves it.
 """
 import dataclasses
+import itertools
 import math
 
 import numpy as np
@@ -19,7 +20,7 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
-from .contact_law import STATUS_TOLERANCE, ContactLaw, PairStatus, PairTraction, frictionless, pair_status, slip_bound
+from .contact_law import STATUS_TOLERANCE, ContactLaw, PairStatus, PairTraction, pair_status, slip_bound
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
@@ -46,6 +47,7 @@ def locate_contact(scene, domain, F, V):
     c.output_dofs = np.array(c.output_dofs, dtype=np.int32)
     c.boundary = np.array(c.boundary, dtype=np.int32)
     c.pair_node = np.array(c.pair_node, dtype=np.int64)
+    c.frictional = np.array(c.frictional, dtype=bool)
     return c
 
 
@@ -152,7 +154,11 @@ class _Friction:
     lumped: float = 0.0
     law: ContactLaw = dataclasses.field(default_factory=ContactLaw)
     status: PairStatus = PairStatus.stick
-    force: list = dataclasses.field(default_factory=lambda: [0.0, 0.0])  # along the tangential unknowns (N)
+    # A slipping constraint's force: its bound (N) along its slip increment
+    # (3D: the increment of the current x; 2D, or an increment too small to
+    # point anywhere: `direction`, a unit vector in the tangential unknowns).
+    bound: float = 0.0
+    direction: list = dataclasses.field(default_factory=lambda: [0.0, 0.0])
 
 
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
@@ -246,6 +252,7 @@ class ContactSolver:
         self.scale = 1.0  # SNES works in units of the displacement scale
         self.pending = self.used = None  # active flags of the contact DOFs
         self.set_repeated, self.relative_target = False, 0.0
+        self.nonlinear = False  # 3D friction with a slipping constraint: F is not linear
         self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
         # Called after each Newton step with its number: a long solve's sign
         # of life (the run's progress line).
@@ -282,7 +289,7 @@ class ContactSolver:
         ones of the frictional constraints."""
         c = self.set
         tangential = [self.displacement_dofs[c.dofs[k] + r] for k in range(len(self.dofs))
-                      if not frictionless(c.laws[c.boundary[k]]) for r in range(1, c.dim)]
+                      if c.frictional[k] for r in range(1, c.dim)]
         return np.concatenate([self.dofs, np.array(tangential, dtype=np.int32)])
 
     def _make_friction(self):
@@ -297,7 +304,7 @@ class ContactSolver:
         following = len(self.dofs)  # the place of the next tangential DOF among this rank's
         for k in range(len(self.dofs)):
             law = c.laws[c.boundary[k]]
-            if frictionless(law):
+            if not c.frictional[k]:
                 continue
             normal = first + k if self.schur else self.dofs[k]
             t = [-1, -1]
@@ -306,11 +313,14 @@ class ContactSolver:
                 following += 1
             records.append(_Friction(int(normal), t, float(c.sign[k]), float(c.gap[k]), float(c.lumped[k]), law))
         self.friction = [f for rank in self.comm.allgather(records) for f in rank] if self.schur else records
-        self.b_base = self.x_reference = self.stiffness = self.work = None
+        self.x_reference = self.stiffness = self.work = None
+        self.J = None  # 3D friction: K plus the slip forces' derivative
         if not self.comm.allreduce(bool(self.friction), op=MPI.LOR):
             return
-        self.b_base, self.x_reference, self.stiffness, self.work = (self.x.duplicate() for _ in range(4))
+        self.x_reference, self.stiffness, self.work = (self.x.duplicate() for _ in range(3))
         self.x_reference.set(0.0)
+        if d == 3:
+            self.J = self.K.duplicate(copy=True)
 
     def _pose_on_full_system(self):
         """The VI on the full system: only the contact DOFs are bounded."""
@@ -331,7 +341,9 @@ class ContactSolver:
         defaults; the user's -<vi_prefix>snes_* options override them."""
         self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
         self.snes_rtol_given = PETSc.Options().hasName(vi_prefix + "snes_rtol")
-        for option, value in (("snes_lag_preconditioner", "-2"), ("snes_rtol", "1e-10"),
+        # With friction in 3D the Jacobian changes every step: no lag.
+        lag = "1" if self.J is not None else "-2"
+        for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active set
                               ("snes_linesearch_type", "basic")):
@@ -340,7 +352,8 @@ class ContactSolver:
         self.snes.setOptionsPrefix(vi_prefix)
         self.snes.setType("vinewtonrsls")
         self.snes.setFunction(self._residual, self.residual)
-        self.snes.setJacobian(lambda snes, x, J, P: None, self.K, self.K)
+        J = self.J if self.J is not None else self.K
+        self.snes.setJacobian(self._jacobian, J, J)
         self.snes.setVariableBounds(self.lower, self.upper)
         self.snes.setConvergenceTest(self._converged)
         # At least one Newton step per solve, so the result never lags the load.
@@ -375,7 +388,7 @@ class ContactSolver:
     def operator_changed(self):
         """A was reassembled: H is formed again, "rebuild once, then reuse" re-armed."""
         self.schur_current = self.change_current = False
-        if self.lag_by_default:
+        if self.lag_by_default and self.J is None:
             set_lag_preconditioner(self.snes, -2)
 
     def _active_contact_dofs(self, x):
@@ -424,7 +437,9 @@ class ContactSolver:
         """PETSc's test of the VI methods after at least one step, and the
         stopping rule of the primal-dual active set method: the step kept its
         active set, so x solves the VI even where the residual's round-off
-        lies above atol (cpp/contact/contact.cpp)."""
+        lies above atol (cpp/contact/contact.cpp). With slip forces along the
+        slip increment (3D) F is not linear: only the residual says when it
+        is solved."""
         _, _, fnorm = norms
         rtol, atol, _, _ = snes.getTolerances()
         if iteration == 0:
@@ -436,13 +451,25 @@ class ContactSolver:
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target:
             return reasons.CONVERGED_FNORM_RELATIVE
-        if iteration > 0 and self.set_repeated:
+        if iteration > 0 and self.set_repeated and not self.nonlinear:
             return reasons.CONVERGED_ITS
         return reasons.CONVERGED_ITERATING
 
     def _residual(self, snes, x, F):
+        """F(x) = K x - b/s: the gradient of the quadratic energy, in units
+        of s; with friction, plus the slip forces."""
         self.K.mult(x, F)
         F.axpy(-1.0, self.b_scaled)
+        if self.friction:
+            self._add_slip_forces(x, F)
+
+    def _jacobian(self, snes, x, J, P):
+        """The constant matrix K (A, or H formed once per A); with friction
+        in 3D, K plus the derivative of the slip forces' directions."""
+        if self.J is None:
+            return
+        self.K.copy(self.J, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        self._add_slip_jacobian(x, self.J)
 
     def displacement_scale(self, x):
         """The largest gap or |displacement| (collective)."""
@@ -470,7 +497,7 @@ class ContactSolver:
         self.scale = self.displacement_scale(x_vi)
         self._set_bounds()
         self._pose(b_vi, x_vi, self.scale)
-        if self.b_base is not None:
+        if self.x_reference is not None:
             self._solve_with_friction()
         else:
             self._solve_vi()
@@ -508,71 +535,166 @@ class ContactSolver:
         slipping one's is on it and along its slip increment. The states and
         forces carry over to the next solve, whose rounds usually start from
         the right ones."""
-        self.b_scaled.copy(self.b_base)
         self.K.getDiagonal(self.stiffness)
-        for _ in range(self.max_friction_iterations):
+        for rounds in itertools.count(1):
             self._apply_friction()
-            self._solve_vi()
+            try:
+                self._solve_vi()
+            except SolverError:
+                if not self._stick_weakest():
+                    raise
+                continue
             self.friction_iterations += 1
             if self._update_friction():
                 return
-        raise SolverError(f"friction: the stick and slip states did not settle in {self.max_friction_iterations} "
-                          "rounds of the active-set iteration")
+            if rounds == self.max_friction_iterations:
+                raise SolverError(f"friction: the stick and slip states did not settle in "
+                                  f"{self.max_friction_iterations} rounds of the active-set iteration")
 
     def _apply_friction(self):
-        """Bounds and loads of the tangential unknowns from the states: a
-        stuck one held at its reference, a slipping one loaded by its slip
-        force."""
+        """Bounds of the tangential unknowns from the states: a stuck one held
+        at its reference, the others free; F is not linear (3D) when one
+        slips (collective)."""
         scale = self.scale
-        base, reference = self.b_base.getArray(readonly=True), self.x_reference.getArray(readonly=True)
-        with self.lower as lo, self.upper as up, self.b_scaled as b:
+        reference = self.x_reference.getArray(readonly=True)
+        with self.lower as lo, self.upper as up:
             for f in self.friction:
                 for r in range(self.set.dim - 1):
                     t = f.tangential[r]
                     stuck = f.status == PairStatus.stick
                     lo[t] = reference[t] / scale if stuck else PETSc.NINFINITY
                     up[t] = reference[t] / scale if stuck else PETSc.INFINITY
-                    # K x - b = -force on a slipping unknown: the friction opposes the slip.
-                    b[t] = base[t] - f.force[r] / scale
+        slipping = self.set.dim == 3 and any(f.status == PairStatus.slip for f in self.friction)
+        if not self.schur:
+            slipping = self.comm.allreduce(slipping, op=MPI.LOR)
+        self.nonlinear = slipping
+
+    def _slip_force(self, f, X, reference, increment):
+        """The slip force of constraint f at the VI's unknown X (N, along its
+        tangential unknowns); its slip increment there goes into the list
+        `increment` (as the C++ reference parameter)."""
+        tangents = self.set.dim - 1
+        for r in range(tangents):
+            increment[r] = X[f.tangential[r]] * self.scale - reference[f.tangential[r]]
+        if f.status != PairStatus.slip:
+            return [0.0, 0.0]
+        size = np.hypot(increment[0], increment[1])  # C's hypot, as std::hypot
+        # The friction opposes the slip: K x - b = -force on a slipping unknown.
+        if tangents == 1 or size <= 1e-12 * self.scale:
+            return [f.bound * f.direction[0], f.bound * f.direction[1]]
+        return [f.bound * increment[0] / size, f.bound * increment[1] / size]
+
+    def _add_slip_forces(self, x, F):
+        """F += the slip forces (in units of the scale) at x."""
+        X, reference = x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
+        increment = [0.0, 0.0]
+        with F as R:
+            for f in self.friction:
+                force = self._slip_force(f, X, reference, increment)
+                for r in range(self.set.dim - 1):
+                    R[f.tangential[r]] += force[r] / self.scale
+
+    def _add_slip_jacobian(self, x, J):
+        """J += the slip forces' derivative at x (3D: the direction follows
+        the slip increment)."""
+        # d(bound s/|s|)/ds = bound/|s| (I - n n^T), n = s/|s|: in the units
+        # of K (the residual is in units of the scale, so is x).
+        start = J.getOwnershipRange()[0]
+        X, reference = x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
+        s = [0.0, 0.0]
+        for f in self.friction:
+            self._slip_force(f, X, reference, s)
+            size = np.hypot(s[0], s[1])
+            if f.status != PairStatus.slip or size <= 1e-12 * self.scale:
+                continue
+            rows = np.array([start + f.tangential[0], start + f.tangential[1]], dtype=PETSc.IntType)
+            n, g = [s[0] / size, s[1] / size], f.bound / size
+            block = [g * (1 - n[0] * n[0]), -g * n[0] * n[1], -g * n[1] * n[0], g * (1 - n[1] * n[1])]
+            J.setValues(rows, rows, block, addv=PETSc.InsertMode.ADD_VALUES)
+        J.assemble()
+
+    def _stick_weakest(self):
+        """After a failed VI with slipping constraints (3D: a constraint that
+        should stick has no slip direction to settle on): the ones whose slip
+        increment is smallest stick; False when none slips (collective)."""
+        X, reference = self.x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
+        size, largest, s = [-1.0] * len(self.friction), 0.0, [0.0, 0.0]
+        for k, f in enumerate(self.friction):
+            if f.status == PairStatus.slip:
+                self._slip_force(f, X, reference, s)
+                size[k] = np.hypot(s[0], s[1])
+                largest = max(largest, size[k])
+        if not self.schur:
+            largest = self.comm.allreduce(largest, op=MPI.MAX)
+        any_stuck = False
+        for k, f in enumerate(self.friction):
+            if size[k] >= 0 and size[k] <= 1e-2 * largest:
+                f.status, any_stuck = PairStatus.stick, True
+        if not self.schur:
+            any_stuck = self.comm.allreduce(any_stuck, op=MPI.LOR)
+        return any_stuck
 
     def _update_friction(self):
         """The states and slip forces of the VI's solution; True when
-        neither changed (collective)."""
-        # R = K x - b without the slip forces: the contact forces, in units of
-        # the scale.
+        neither changed (collective). The contact forces R = K x - b (without
+        the slip forces; in units of the scale) give each constraint its
+        normal traction, so its bound, and, stuck, the force that holds it."""
         self.K.mult(self.x, self.work)
-        self.work.axpy(-1.0, self.b_base)
+        self.work.axpy(-1.0, self.b_scaled)
         X, R = self.x.getArray(readonly=True), self.work.getArray(readonly=True)
         reference, c = self.x_reference.getArray(readonly=True), self.stiffness.getArray(readonly=True)
         scale, tangents = self.scale, self.set.dim - 1
-        bound, trial, largest = [], [], 0.0
+        bound, trial, increment, largest = [], [], [], 0.0
         for f in self.friction:
             closed = _on_foundation(f.gap - f.sign * X[f.normal] * scale, scale)
             normal = -f.sign * R[f.normal] * scale / f.lumped
             bound.append(slip_bound(f.law, normal) * f.lumped if closed else -1.0)
             trial.append([0.0, 0.0])
+            increment.append([0.0, 0.0])
+            self._slip_force(f, X, reference, increment[-1])
             for r in range(tangents):
-                t = f.tangential[r]
-                trial[-1][r] = -R[t] * scale + c[t] * (X[t] * scale - reference[t])
+                trial[-1][r] = -R[f.tangential[r]] * scale + c[f.tangential[r]] * increment[-1][r]
             largest = max(largest, bound[-1])
         if not self.schur:  # on the full system each rank holds its own constraints
             largest = self.comm.allreduce(largest, op=MPI.MAX)
         change, changed = 0.0, False
-        for f, limit, theta in zip(self.friction, bound, trial):
-            size = np.hypot(theta[0], theta[1])  # C's hypot, as std::hypot
-            status = PairStatus.open
-            if limit >= 0:
-                status = PairStatus.stick if size <= limit + STATUS_TOLERANCE * largest else PairStatus.slip
+        for f, limit, theta, ds in zip(self.friction, bound, trial, increment):
+            before = [f.bound * f.direction[0], f.bound * f.direction[1]]
+            status = self._next_status(f, limit, theta, ds, largest)
+            if status == PairStatus.slip:
+                # 2D: the direction stays (a reversal sticks first); 3D: along
+                # the increment, or the trial force for a constraint that
+                # starts to slip.
+                along = ds if f.status == PairStatus.slip and tangents == 2 else theta
+                size = np.hypot(along[0], along[1])  # C's hypot, as std::hypot
+                if not (f.status == PairStatus.slip and tangents == 1) and size > 0:
+                    f.direction = [along[0] / size, along[1] / size]
+            f.bound = limit if status == PairStatus.slip else 0.0
             for r in range(tangents):
-                force = limit * theta[r] / size if status == PairStatus.slip else 0.0
-                change = max(change, abs(force - f.force[r]))
-                f.force[r] = force
+                change = max(change, abs(f.bound * f.direction[r] - before[r]))
             changed = changed or status != f.status
             f.status = status
         if not self.schur:
             changed = self.comm.allreduce(changed, op=MPI.LOR)
             change = self.comm.allreduce(change, op=MPI.MAX)
         return not changed and change <= 1e-10 * largest
+
+    def _next_status(self, f, bound, trial, increment, largest):
+        """The next state of constraint f from its bound (-1: open), trial
+        force and slip increment; `largest` is the largest bound (the
+        tolerance's scale)."""
+        if bound < 0:
+            return PairStatus.open
+        # A slipping constraint that moved against its slip force would have
+        # friction drive it: it sticks instead (without this rule the force of
+        # a constraint that should stick flips sign every round when c exceeds
+        # twice the stiffness its neighbours leave it).
+        work = f.direction[0] * increment[0] + f.direction[1] * increment[1]
+        if f.status == PairStatus.slip and work <= 0:
+            return PairStatus.stick
+        # The trial force theta = t_T + c s: within the bound, the constraint sticks.
+        return PairStatus.stick if np.hypot(trial[0], trial[1]) <= bound + STATUS_TOLERANCE * largest \
+            else PairStatus.slip
 
     def _solve_vi(self):
         """The VI with the current bounds and load; retried from the clamped

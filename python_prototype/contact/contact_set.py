@@ -27,8 +27,11 @@ class ContactSet:
     pair_change_of_variables); for a foundation's constraint -1, and
     T_node where the node has a change of variables (a frictional one
     always does: its rows 1..d-1 are the tangents friction acts along),
-    None elsewhere. `faults` flags the entries of `boundaries` that are
-    faults, `laws` holds the contact law of each (contact_law.py;
+    None elsewhere; `frictional`, whether friction acts on it (its law
+    holds something and no displacement component of its node is
+    prescribed; then rows 1..d-1 of its change of variables, at dofs[k] +
+    1.., are its tangents). `faults` flags the entries of `boundaries`
+    that are faults, `laws` holds the contact law of each (contact_law.py;
     frictionless until the scene gives friction). `blocks` lists the blocks
     of the change of variables as (the global unrolled DOFs of V they mix,
     their matrix): the nodes whose normals are not coordinate axes and the
@@ -40,7 +43,7 @@ class ContactSet:
         self.dim, self.output_space, self.dof_offset = dim, output_space, dof_offset
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
         self.boundary, self.boundaries, self.faults, self.laws = [], [], [], []
-        self.pair_node, self.pair_frame = [], []
+        self.pair_node, self.pair_frame, self.frictional = [], [], []
         self.blocks = []
 
 

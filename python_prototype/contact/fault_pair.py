@@ -16,7 +16,7 @@ from dolfinx import fem
 from ..domain.domain import vertex_input_indices
 from ..scene.input import point_text
 from .change_of_variables import node_change_of_variables, pair_change_of_variables
-from .contact_law import contact_law
+from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
 
 
@@ -82,7 +82,8 @@ def _add_pair(c, context, face, k, error):
     key = f"{context.file}: fault.{face.name}"
     if (not (g >= 0) or not np.isfinite(g)) and not error:
         error.append(f"{key}.gap: must be >= 0, got {g:f} at {point_text(x, d)}")
-    R = node_change_of_variables([-n], d, context.prescribed[first:first + d])
+    held = context.prescribed[first:first + d]
+    R = node_change_of_variables([-n], d, held)
     if R is None:
         if not error:
             error.append(f"{key}.normal: at {point_text(x, d)} the fault is not perpendicular to a prescribed "
@@ -98,6 +99,8 @@ def _add_pair(c, context, face, k, error):
     c.boundary.append(face.boundary)
     c.pair_node.append(plus)
     c.pair_frame.append(R)
+    # A pair with a prescribed component is held there: frictionless.
+    c.frictional.append(not frictionless(c.laws[face.boundary]) and not any(held))
     c.output_dofs.append(face.output_dof[first])
 
 

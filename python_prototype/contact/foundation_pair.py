@@ -87,7 +87,10 @@ def _add_node(c, node, prescribed, file, error):
     # Friction acts on the tangential components of a node's change of
     # variables (rows 1..d-1 of T): a frictional node always has one, and
     # only one foundation (two would leave fewer tangents than friction needs).
-    frictional = any(not frictionless(c.laws[m["boundary"]]) for m in merged)
+    # A node with a prescribed component (on a symmetry plane, say) is held
+    # there by it: its contact stays frictionless (docs/user-guide.md).
+    held_anywhere = bool(np.any(prescribed[first:first + d]))
+    frictional = not held_anywhere and any(not frictionless(c.laws[m["boundary"]]) for m in merged)
     if frictional and len(merged) > 1 and not error:
         error.append(f"{file}: boundary.{c.boundaries[merged[0]['boundary']]}.contact.friction: at "
                      f"{point_text(x, d)} two foundations meet, where friction is not supported yet")
@@ -114,6 +117,7 @@ def _add_node(c, node, prescribed, file, error):
         c.boundary.append(m["boundary"])
         c.pair_node.append(-1)
         c.pair_frame.append(T)
+        c.frictional.append(frictional)
         c.output_dofs.append(m["output_dof"])
 
 
