@@ -63,6 +63,10 @@ class ActiveSet:
         self.nodes = nodes
 
 
+# What a friction that fails to converge most often means.
+NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
+
+
 def _on_foundation(distance, scale):
     """Whether constraints are active: their nodes lie on the foundation to
     round-off, within 1e-9 of the displacement scale (the one test behind
@@ -207,6 +211,7 @@ class ContactSolver:
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
     stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
     max_friction_iterations = 100  # rounds of the friction's active-set iteration before it gives up
+    slip_regularisation = 1e-9     # of a 3D slip force's direction, relative to the displacement scale
 
     def __init__(self, comm, system, method, operators, unknowns):
         """`system` the SystemLayout of the system it solves, `operators` its
@@ -345,8 +350,10 @@ class ContactSolver:
         lag = "1" if self.J is not None else "-2"
         for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
-                              # F is linear, K exact: the full step is exact on the active set
-                              ("snes_linesearch_type", "basic")):
+                              # F is linear, K exact: the full step is exact on the active
+                              # set; with friction in 3D the slip forces' directions make full
+                              # steps overshoot: a backtracking search
+                              ("snes_linesearch_type", "bt" if self.J is not None else "basic")):
             set_default_option(vi_prefix + option, value)
         self.snes = PETSc.SNES().create(self.vi_comm)
         self.snes.setOptionsPrefix(vi_prefix)
@@ -356,11 +363,14 @@ class ContactSolver:
         self.snes.setJacobian(self._jacobian, J, J)
         self.snes.setVariableBounds(self.lower, self.upper)
         self.snes.setConvergenceTest(self._converged)
-        # At least one Newton step per solve, so the result never lags the load.
+        # At least one Newton step per solve, so the result never lags the
+        # load (not with friction in 3D: its F is not linear, the residual
+        # decides, and a backtracking search fails on a zero step).
+        force = self.J is None
         if hasattr(self.snes, "setForceIteration"):
-            self.snes.setForceIteration(True)
+            self.snes.setForceIteration(force)
         else:
-            set_default_option(vi_prefix + "snes_force_iteration", "true")
+            set_default_option(vi_prefix + "snes_force_iteration", "true" if force else "false")
         self.snes.setMonitor(self._monitor)
 
     def method(self):
@@ -447,7 +457,7 @@ class ContactSolver:
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
             return reasons.DIVERGED_FNORM_NAN
-        if iteration > 0 and fnorm < atol:
+        if (iteration > 0 or self.J is not None) and fnorm < atol:  # a forced first step, but with friction in 3D
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target:
             return reasons.CONVERGED_FNORM_RELATIVE
@@ -538,18 +548,29 @@ class ContactSolver:
         self.K.getDiagonal(self.stiffness)
         for rounds in itertools.count(1):
             self._apply_friction()
-            try:
-                self._solve_vi()
-            except SolverError:
-                if not self._stick_weakest():
-                    raise
+            if not self._solve_round():
                 continue
             self.friction_iterations += 1
             if self._update_friction():
                 return
             if rounds == self.max_friction_iterations:
                 raise SolverError(f"friction: the stick and slip states did not settle in "
-                                  f"{self.max_friction_iterations} rounds of the active-set iteration")
+                                  f"{self.max_friction_iterations} rounds of the active-set iteration"
+                                  + NO_EQUILIBRIUM)
+
+    def _solve_round(self):
+        """One round's VI; when it fails with slipping pairs in 3D, the
+        weakest of them stick: False (the round is to be repeated)."""
+        try:
+            self._solve_vi()
+            return True
+        except SolverError:
+            if not self.nonlinear:
+                raise
+        if not self._stick_weakest():
+            raise SolverError("friction: the contact solver did not converge with the slipping pairs of this round"
+                              + NO_EQUILIBRIUM)
+        return False
 
     def _apply_friction(self):
         """Bounds of the tangential unknowns from the states: a stuck one held
@@ -578,10 +599,17 @@ class ContactSolver:
             increment[r] = X[f.tangential[r]] * self.scale - reference[f.tangential[r]]
         if f.status != PairStatus.slip:
             return [0.0, 0.0]
-        size = np.hypot(increment[0], increment[1])  # C's hypot, as std::hypot
         # The friction opposes the slip: K x - b = -force on a slipping unknown.
-        if tangents == 1 or size <= 1e-12 * self.scale:
+        if tangents == 1:
             return [f.bound * f.direction[0], f.bound * f.direction[1]]
+        # 3D: along s, regularised, bound s / sqrt(|s|^2 + e^2) with e =
+        # slip_regularisation times the scale: the gradient of the convex
+        # bound sqrt(|s|^2 + e^2), which keeps Newton's equations solvable
+        # where a constraint marked slipping should stick (its |s| then falls
+        # to about e, and the next round sticks it); off by (e/|s|)^2 / 2
+        # where it slips.
+        e = self.slip_regularisation * self.scale
+        size = np.sqrt(increment[0] * increment[0] + increment[1] * increment[1] + e * e)
         return [f.bound * increment[0] / size, f.bound * increment[1] / size]
 
     def _add_slip_forces(self, x, F):
@@ -597,16 +625,18 @@ class ContactSolver:
     def _add_slip_jacobian(self, x, J):
         """J += the slip forces' derivative at x (3D: the direction follows
         the slip increment)."""
-        # d(bound s/|s|)/ds = bound/|s| (I - n n^T), n = s/|s|: in the units
-        # of K (the residual is in units of the scale, so is x).
+        # d(bound s/r)/ds = bound/r (I - s s^T/r^2), r = sqrt(|s|^2 + e^2)
+        # (_slip_force): in the units of K (the residual is in units of the
+        # scale, so is x).
         start = J.getOwnershipRange()[0]
         X, reference = x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
         s = [0.0, 0.0]
         for f in self.friction:
             self._slip_force(f, X, reference, s)
-            size = np.hypot(s[0], s[1])
-            if f.status != PairStatus.slip or size <= 1e-12 * self.scale:
+            if f.status != PairStatus.slip:
                 continue
+            e = self.slip_regularisation * self.scale
+            size = np.sqrt(s[0] * s[0] + s[1] * s[1] + e * e)
             rows = np.array([start + f.tangential[0], start + f.tangential[1]], dtype=PETSc.IntType)
             n, g = [s[0] / size, s[1] / size], f.bound / size
             block = [g * (1 - n[0] * n[0]), -g * n[0] * n[1], -g * n[1] * n[0], g * (1 - n[1] * n[1])]
@@ -738,7 +768,10 @@ class ContactSolver:
         self.b_scaled.scale(1.0 / scale)
         self.x.scale(1.0 / scale)
         if not PETSc.Options().hasName(self.snes.getOptionsPrefix() + "snes_atol"):
-            self.snes.setTolerances(atol=max(1e-10 * self.b_scaled.norm(), 1e-300))
+            # With friction in 3D the residual decides the last step (F is not
+            # linear): tighter, Newton's last steps are quadratic.
+            relative = 1e-12 if self.J is not None else 1e-10
+            self.snes.setTolerances(atol=max(relative * self.b_scaled.norm(), 1e-300))
 
     def _count(self, reason):
         """Every attempt's steps count, a failed Krylov solve's iterations

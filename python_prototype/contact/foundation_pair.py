@@ -76,6 +76,27 @@ def _merged(candidates):
     return merged
 
 
+def _frictional_node(c, node, merged, prescribed, report):
+    """Whether friction acts at a node with the merged candidates `merged`
+    (cpp/contact/foundation_pair.cpp). Friction acts on the tangential
+    components of a node's change of variables (rows 1..d-1 of T): a
+    frictional node always has one, and only one foundation (two would leave
+    fewer tangents than friction needs: the first bad input, naming the
+    frictional boundary, goes into the error). A node with a prescribed
+    component (on a symmetry plane, say) is held there by it: its contact
+    stays frictionless (docs/user-guide.md). `report` is (file, error)."""
+    file, error = report
+    if np.any(prescribed[node.first:node.first + c.dim]):
+        return False
+    law = next((m for m in merged if not frictionless(c.laws[m["boundary"]])), None)
+    if law is None:
+        return False
+    if len(merged) > 1 and not error:
+        error.append(f"{file}: boundary.{c.boundaries[law['boundary']]}.contact.friction: at "
+                     f"{point_text(node.x, c.dim)} two foundations meet, where friction is not supported yet")
+    return True
+
+
 def _add_node(c, node, prescribed, file, error):
     """One node's merged candidates entered into c as bounds on its own
     components (normals along coordinate axes) or on the components of its
@@ -84,16 +105,7 @@ def _add_node(c, node, prescribed, file, error):
     first, x, d = node.first, node.x, c.dim
     merged = _merged(node.candidates)
     axes = [coordinate_axis(m["normal"], d) for m in merged]
-    # Friction acts on the tangential components of a node's change of
-    # variables (rows 1..d-1 of T): a frictional node always has one, and
-    # only one foundation (two would leave fewer tangents than friction needs).
-    # A node with a prescribed component (on a symmetry plane, say) is held
-    # there by it: its contact stays frictionless (docs/user-guide.md).
-    held_anywhere = bool(np.any(prescribed[first:first + d]))
-    frictional = not held_anywhere and any(not frictionless(c.laws[m["boundary"]]) for m in merged)
-    if frictional and len(merged) > 1 and not error:
-        error.append(f"{file}: boundary.{c.boundaries[merged[0]['boundary']]}.contact.friction: at "
-                     f"{point_text(x, d)} two foundations meet, where friction is not supported yet")
+    frictional = _frictional_node(c, node, merged, prescribed, (file, error))
     on_axes = not frictional and all(a is not None for a in axes) and len({a[0] for a in axes}) == len(merged)
     T = None
     if not on_axes:
