@@ -524,7 +524,8 @@ void ContactSolver::set_slip_reference(Vec x)
 /// solution the trial force theta = t_T + c ds (t_T the tangential contact
 /// force, ds the slip increment, c the diagonal stiffness) of each closed
 /// constraint: stuck when |theta| is within the bound, else slipping with
-/// the bound's force along theta (the exact disc in 3D). When no state and
+/// the bound's force, along theta in 2D, and in 3D along its slip increment
+/// within the VI (the exact disc, slip_force). When no state and
 /// no slip force changes, the round's solution satisfies the law: a stuck
 /// constraint's force is within the bound, a slipping one's is on it and
 /// along its slip increment. The states and forces carry over to the next
@@ -532,7 +533,7 @@ void ContactSolver::set_slip_reference(Vec x)
 void ContactSolver::solve_with_friction()
 {
   MatGetDiagonal(_K, _stiffness);
-  for (int round = 1;; ++round)
+  for (int round = 1; round <= max_friction_iterations; ++round)
   {
     apply_friction();
     if (!solve_round())
@@ -540,11 +541,9 @@ void ContactSolver::solve_with_friction()
     ++friction_iterations;
     if (update_friction())
       return;
-    if (round == max_friction_iterations)
-      throw SolverError("friction: the stick and slip states did not settle in "
-                        + std::to_string(max_friction_iterations) + " rounds of the active-set iteration"
-                        + no_equilibrium);
   }
+  throw SolverError("friction: the stick and slip states did not settle in " + std::to_string(max_friction_iterations)
+                    + " rounds of the active-set iteration" + no_equilibrium);
 }
 
 bool ContactSolver::solve_round()

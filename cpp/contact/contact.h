@@ -1,5 +1,6 @@
-// Frictionless Signorini contact against rigid foundations of any normal
-// nu_F (alg. "Mechanics with frictionless Signorini contact").
+// Signorini contact against rigid foundations of any normal nu_F and
+// between a fault's faces (alg. "Mechanics with frictionless Signorini
+// contact"; friction: contact_law.h).
 //
 // The energy is quadratic, so with A the matrix of the (mechanics or
 // monolithic) system and b its load vector the variational inequality is the
@@ -10,7 +11,10 @@
 // u.nu_F <= g_a of a contact node is a bound on one DOF (T = I, A' = A
 // when every normal is a coordinate axis). PETSc's reduced-space active-set
 // Newton (SNESVINEWTONRSLS) solves it; F is linear, A' its exact Jacobian,
-// formed once per assembly of A.
+// formed once per assembly of A. With friction (contact_law.h) the
+// stick/slip states are found by an active-set iteration around it; in 3D a
+// slipping pair's force follows its slip increment, and F is not linear
+// (contact.cpp, solve_with_friction and slip_force).
 #pragma once
 
 #include "contact/contact_law.h"
@@ -181,9 +185,10 @@ public:
   void operator_changed();
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
-  /// each Newton step and the Newton tolerance both. F is linear, so on an
-  /// unchanged active set one step with a linear solve to `relative` meets
-  /// it; a tighter Newton tolerance would only add steps.
+  /// each Newton step and the Newton tolerance both. F is linear (but with
+  /// friction in 3D), so on an unchanged active set one step with a linear
+  /// solve to `relative` meets it; a tighter Newton tolerance would only add
+  /// steps.
   void set_tolerance(double relative);
 
   /// The contact nodes on the foundation to round-off (the active flag of

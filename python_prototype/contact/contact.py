@@ -1,6 +1,7 @@
-"""Frictionless Signorini contact against rigid foundations of any normal
-nu_F (alg. "Mechanics with frictionless Signorini contact";
-cpp/contact/contact.h), for the mechanics and the monolithic systems alike.
+"""Signorini contact against rigid foundations of any normal nu_F and
+between a fault's faces (alg. "Mechanics with frictionless Signorini
+contact"; friction: contact_law.py; cpp/contact/contact.h), for the
+mechanics and the monolithic systems alike.
 
 The energy is quadratic, so with A the system matrix and b its load vector
 the variational inequality is the bound-constrained problem: find x' with
@@ -8,10 +9,11 @@ l <= x' <= g and F(x') = A' x' - b' complementary to the bounds, in the
 variables x' = T x of change_of_variables.py, where each constraint
 u.nu_F <= g_a is a bound on one DOF (T = I, A' = A when every normal is a
 coordinate axis). PETSc's reduced-space active-set Newton (SNES
-vinewtonrsls) solves it.
+vinewtonrsls) solves it. With friction the stick/slip states are found by an
+active-set iteration around it; in 3D a slipping pair's force follows its
+slip increment, and F is not linear (_solve_with_friction, _slip_force).
 """
 import dataclasses
-import itertools
 import math
 
 import numpy as np
@@ -539,24 +541,23 @@ class ContactSolver:
         solution the trial force theta = t_T + c ds (t_T the tangential
         contact force, ds the slip increment, c the diagonal stiffness) of
         each closed constraint: stuck when |theta| is within the bound, else
-        slipping with the bound's force along theta (the exact disc in 3D).
+        slipping with the bound's force, along theta in 2D, and in 3D along
+        its slip increment within the VI (the exact disc, _slip_force).
         When no state and no slip force changes, the round's solution
         satisfies the law: a stuck constraint's force is within the bound, a
         slipping one's is on it and along its slip increment. The states and
         forces carry over to the next solve, whose rounds usually start from
         the right ones."""
         self.K.getDiagonal(self.stiffness)
-        for rounds in itertools.count(1):
+        for _ in range(self.max_friction_iterations):
             self._apply_friction()
             if not self._solve_round():
                 continue
             self.friction_iterations += 1
             if self._update_friction():
                 return
-            if rounds == self.max_friction_iterations:
-                raise SolverError(f"friction: the stick and slip states did not settle in "
-                                  f"{self.max_friction_iterations} rounds of the active-set iteration"
-                                  + NO_EQUILIBRIUM)
+        raise SolverError(f"friction: the stick and slip states did not settle in "
+                          f"{self.max_friction_iterations} rounds of the active-set iteration" + NO_EQUILIBRIUM)
 
     def _solve_round(self):
         """One round's VI; when it fails with slipping pairs in 3D, the
