@@ -1,0 +1,124 @@
+#!/usr/bin/python3
+"""What friction costs: the same scene with and without friction, one
+mechanics step each.
+
+- 2D: Phan et al.'s crack (meshes/phan2d.geo, refined once: about 1e5
+  unknowns) under a uniaxial compression of 100 MPa, Coulomb mu = tan 30
+  degrees against frictionless;
+- 3D: a penny-shaped crack (meshes/sneddon3d.geo) pressed by 50 MPa and
+  sheared by 20 MPa through the cube's top, mu = 0.3 against frictionless.
+
+    /usr/bin/python3 bench/friction.py [--dims 2,3] [--repeat 3] [--binary build/biotcontact]
+        [--out-dir bench/results] [-- PETSc options]
+
+Writes bench/results/friction.csv, one row per run and repetition, and
+prints the medians and the ratio frictional / frictionless, with the
+contact solver's Newton steps and the friction's rounds.
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+
+NAME = "friction"
+COLUMNS = ["dim", "law", "repetition", "wall_s", "process_wall_s", "unknowns", "contact_dofs", "newton_iterations",
+           "mechanics_solve_s", "schur_s", "setup_s", "max_slip", "command"]
+SCENES = {2: """[mesh]
+type = "gmsh"
+file = "{meshes}/phan2d.geo"
+dimension = 2
+refine = 1
+[mechanics]
+E = 25.0e9
+nu = 0.25
+[time]
+end = 1.0
+dt = 1.0
+[boundary.bottom]
+displacement = {{ y = 0.0 }}
+[boundary.left]
+displacement = {{ x = 0.0 }}
+[boundary.top]
+traction = [0.0, -1.0e8]
+[fault.crack]
+normal = [-0.9396926207859083, 0.3420201433256687]
+{friction}
+""", 3: """[mesh]
+type = "gmsh"
+file = "{meshes}/sneddon3d.geo"
+dimension = 3
+[mechanics]
+E = 25.0e9
+nu = 0.25
+[time]
+end = 1.0
+dt = 1.0
+[boundary.bottom]
+displacement = {{ x = 0.0, y = 0.0, z = 0.0 }}
+[boundary.top]
+traction = [2.0e7, 0.0, -5.0e7]
+[fault.crack]
+normal = [0.0, 0.0, 1.0]
+{friction}
+"""}
+LAWS = {2: {"frictionless": "", "coulomb": "friction = 0.5773502691896257"},
+        3: {"frictionless": "", "coulomb": "friction = 0.3"}}
+
+
+def scene(work, dim, law):
+    path = os.path.join(work, f"friction{dim}d_{law}.toml")
+    with open(path, "w") as f:
+        f.write(SCENES[dim].format(meshes=os.path.join(common.ROOT, "meshes"), friction=LAWS[dim][law]))
+    return path
+
+
+def row_of(dim, law, repetition, result):
+    s = result["summary"]
+    t, mechanics = s["timings"]["mechanics"], s["solvers"]["mechanics"]
+    method = mechanics["method"]
+    contact_dofs = int(method.split("condensed on ")[1].split()[0]) if "condensed on" in method else 0
+    return {"dim": dim, "law": law, "repetition": repetition, "wall_s": float(s["wall_time_s"]),
+            "process_wall_s": result["process_wall_s"], "unknowns": sum(s["dofs"].values()),
+            "contact_dofs": contact_dofs, "newton_iterations": mechanics["newton_iterations"],
+            "mechanics_solve_s": t["solve"], "schur_s": t["schur_complement"], "setup_s": t["setup"],
+            "max_slip": s["contact"]["faults"]["crack"]["max_slip"], "command": result["command"]}
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    common.add_arguments(p, NAME)
+    p.add_argument("--dims", default="2,3", help="comma-separated subset of 2,3")
+    args, petsc = common.parse_arguments(p)
+    dims = [int(d) for d in args.dims.split(",")]
+    header = common.machine_header(args.binary)
+    header["scene"] = "bench/friction.py's scenes on meshes/phan2d.geo (refine 1) and meshes/sneddon3d.geo"
+    header["fixed_sets"] = " ".join(args.sets)
+    header["petsc_options"] = " ".join(petsc)
+    common.print_header(header)
+    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
+    with common.WorkDir(args.work_dir, args.keep_runs) as work:
+        for dim in dims:
+            for repetition in range(1, args.repeat + 1):
+                for law in LAWS[dim]:
+                    out = work.run(f"friction{dim}d-{law}-r{repetition}")
+                    result = common.run_case([args.binary], scene(work.path, dim, law), args.sets, petsc, out)
+                    row = row_of(dim, law, repetition, result)
+                    recorder.add(row)
+                    print(f"  {dim}D {law} #{repetition}: {row['wall_s']:.2f} s, {row['newton_iterations']} Newton "
+                          f"steps on {row['contact_dofs']} contact DOFs", flush=True)
+    recorder.finish()
+    fields = ["wall_s", "newton_iterations", "mechanics_solve_s", "schur_s", "setup_s"]
+    for dim in dims:
+        m = {law: common.medians([r for r in recorder.rows if r["dim"] == dim and r["law"] == law], [], fields)[0]
+             for law in LAWS[dim]}
+        print(f"{dim}D: frictional {m['coulomb']['wall_s']:.2f} s ({m['coulomb']['newton_iterations']:.0f} Newton "
+              f"steps), frictionless {m['frictionless']['wall_s']:.2f} s "
+              f"({m['frictionless']['newton_iterations']:.0f}): ratio "
+              f"{m['coulomb']['wall_s'] / m['frictionless']['wall_s']:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(common.main_wrapper(main))
