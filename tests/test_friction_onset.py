@@ -8,7 +8,9 @@ the crack of test_phan.py (psi = 20 degrees to the compression):
   reaches p* = s_n - (tau - c) / mu. Stuck and closed, the crack is the
   unsplit body, whose stress is uniform: every pair sticks (slip 0 to
   round-off) up to the step before t* = p* / (1 MPa/s) and slips from the
-  step that passes it, all at once;
+  step that passes it, all at once; fault.xdmf's slip_increment of each
+  step is the change of its slip since the last (output every step, to
+  1e-12 of the largest slip);
 - hysteresis: a confinement of 50 MPa, then the vertical load raised by
   100 MPa and taken off again (mu = 0.3): the crack slips while loaded and
   keeps a residual slip when the load is gone; a run killed after a
@@ -72,7 +74,11 @@ def scene(text):
 def check_onset(out, track):
     s_n, tau = SIGMA * math.sin(PSI) ** 2, SIGMA * math.sin(PSI) * math.cos(PSI)
     t_star = (s_n - (tau - 3.0e7) / 0.6) / 1.0e6
-    _, times, series = fault_fields(out)
+    _, times, series = fault_fields(out, ("slip", "slip_increment", "state"))
+    largest = max(np.abs(f["slip"]).max() for f in series)
+    increments = max(np.abs(b["slip_increment"] - (b["slip"] - a["slip"])).max() for a, b in zip(series, series[1:]))
+    check(increments <= 1e-12 * largest, f"{track}: slip_increment is each step's change of slip to "
+          f"{increments / largest:.1e} of the largest slip")
     largest = max(np.linalg.norm(f["slip"], axis=1).max() for f in series)
     for t, f in zip(times, series):
         state, slip = f["state"][:, 0], np.linalg.norm(f["slip"], axis=1).max()

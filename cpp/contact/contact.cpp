@@ -85,6 +85,9 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
   if (_structure == Structure::spd)
     MatSetOption(_A, MAT_SPD, PETSC_TRUE);
   VecDuplicate(layout, &_force);
+  VecDuplicate(layout, &_x_start);
+  VecDuplicate(layout, &_x_start_vi);
+  VecSet(_x_start, 0.0);
   make_change_of_variables(layout);
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
@@ -423,7 +426,7 @@ ContactSolver::~ContactSolver()
 {
   SNESDestroy(&_snes);
   for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi, &_x_reference, &_stiffness,
-                 &_work})
+                 &_work, &_x_start, &_x_start_vi})
     VecDestroy(v);
   MatDestroy(&_J);
   if (_change)
@@ -508,6 +511,7 @@ void ContactSolver::solve(Vec b, Vec x)
 
 void ContactSolver::set_slip_reference(Vec x)
 {
+  VecCopy(x, _x_start);
   if (!_x_reference)
     return;
   Vec x_vi = to_vi(x, _x_vi);
@@ -1067,18 +1071,20 @@ void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::v
     }
   if (s.faults.empty())
     return;
-  const PetscScalar *X, *R;
-  Vec x_vi = to_vi(x, _x_vi);
+  const PetscScalar *X, *start, *R;
+  Vec x_vi = to_vi(x, _x_vi), start_vi = to_vi(_x_start, _x_start_vi);
   VecGetArrayRead(x_vi, &X);
+  VecGetArrayRead(start_vi, &start);
   VecGetArrayRead(force, &R);
   std::vector<std::size_t> constraint; // of each pair
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     if (_set.pair_node[k] >= 0)
     {
-      s.pairs.push_back(pair_state(k, X, R, distance[k], pressure[k]));
+      s.pairs.push_back(pair_state(k, X, start, R, distance[k], pressure[k]));
       constraint.push_back(k);
     }
   VecRestoreArrayRead(x_vi, &X);
+  VecRestoreArrayRead(start_vi, &start);
   VecRestoreArrayRead(force, &R);
   const double scale = traction_scale(pressure, s.pairs);
   // Per fault: the largest opening and slip; the measures closed, slipping
@@ -1110,12 +1116,13 @@ void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::v
   }
 }
 
-PairState ContactSolver::pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* R, double distance,
-                                    double pressure) const
+PairState ContactSolver::pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* start,
+                                    const PetscScalar* R, double distance, double pressure) const
 {
   const int d = _set.dim;
   const NodeMatrix& frame = _set.pair_frame[k];
-  PairState p{_set.pair_node[k], _set.boundary[k], distance, pressure, {0, 0, 0}, {0, 0, 0}, PairStatus::open};
+  PairState p{_set.pair_node[k], _set.boundary[k], distance, pressure, {0, 0, 0},
+              {0, 0, 0}, PairStatus::open, {0, 0, 0}};
   // The + node's tangential rows r = 1..d-1 of x' = T x hold the jump's
   // tangential components in the pair's frame, w_J = R [u], and those of
   // R' the contact force on them (change_of_variables.h); R^T takes both
@@ -1129,6 +1136,7 @@ PairState ContactSolver::pair_state(std::size_t k, const PetscScalar* X, const P
     for (int i = 0; i < d; ++i)
     {
       p.slip[i] += frame[d * r + i] * X[row];
+      p.slip_increment[i] += frame[d * r + i] * (X[row] - start[row]);
       p.tangential_traction[i] -= frame[d * r + i] * R[row] / _set.lumped[k];
     }
   }

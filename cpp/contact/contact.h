@@ -56,6 +56,8 @@ struct PairState
   double opening, traction;
   std::array<double, 3> slip, tangential_traction;
   PairStatus status;
+  /// The slip since the start of the step (set_slip_reference).
+  std::array<double, 3> slip_increment;
 };
 
 /// @brief What the summary says of a fault: its largest opening and slip,
@@ -177,8 +179,8 @@ public:
   /// slip reference.
   void solve(Vec b, Vec x);
 
-  /// A time step (or window) starts at x: friction's slip increments are
-  /// measured from it (collective; nothing without friction).
+  /// A time step (or window) starts at x: the slip increments (friction's,
+  /// and those fault.xdmf writes) are measured from it (collective).
   void set_slip_reference(Vec x);
 
   /// A was reassembled: the next solve factorises anew.
@@ -330,9 +332,9 @@ private:
   void fault_states(ContactState& s, Vec x, Vec force, const std::vector<double>& distance,
                     const std::vector<double>& pressure);
   /// The state of the fault pair of constraint k but its status, from x'
-  /// (X) and R' (R).
-  PairState pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* R, double distance,
-                       double pressure) const;
+  /// (X), x' at the start of the step (start) and R' (R).
+  PairState pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* start, const PetscScalar* R,
+                       double distance, double pressure) const;
   /// The largest contact traction, normal or tangential, of the
   /// constraints on all ranks: the scale of the states' tolerance
   /// (collective).
@@ -384,6 +386,8 @@ private:
   // increment into a trial force) and a work vector.
   std::vector<Friction> _friction;
   Vec _x_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+  // The start of the step like x, and x' of it (the faults' slip increments).
+  Vec _x_start = nullptr, _x_start_vi = nullptr;
   Mat _J = nullptr; // 3D friction: K plus the slip forces' derivative
   bool _nonlinear = false; // 3D friction with a slipping constraint: F is not linear
 };

@@ -10,7 +10,10 @@ ContactLaw contact_law(const FrictionSpec& friction)
   return {friction.friction, friction.cohesion, friction.tresca};
 }
 
-bool frictionless(const ContactLaw& law) { return law.tresca ? *law.tresca == 0 : law.friction == 0 and law.cohesion == 0; }
+bool frictionless(const ContactLaw& law)
+{
+  return law.tresca ? *law.tresca == 0 : law.friction == 0 and law.cohesion == 0;
+}
 
 double slip_bound(const ContactLaw& law, double normal_traction)
 {

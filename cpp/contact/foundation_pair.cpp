@@ -185,7 +185,8 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     for (int i = 0; i < d; ++i)
       held[i] = prescribed[first + i];
     T = node_change_of_variables(normals, d, {false, false, false});
-    const std::string key = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.normal: at " + point_text(x, d);
+    const std::string key
+        = file + ": boundary." + c.boundaries[merged.front().boundary] + ".contact.normal: at " + point_text(x, d);
     if (!T and error.empty())
       error = key + " the normals of the foundations that meet there are not independent";
     else if (T and !node_change_of_variables(normals, d, held) and error.empty())

@@ -143,8 +143,9 @@ void FaultSeries::gather_surface(const Problem& problem)
 
 void FaultSeries::write(const ContactState& contact, double t)
 {
-  // Per pair: opening, traction, state, slip (3), tangential traction (3).
-  constexpr int width = 9;
+  // Per pair: opening, traction, state, slip (3), tangential traction (3),
+  // slip increment (3).
+  constexpr int width = 12;
   std::vector<std::int64_t> nodes;
   std::vector<double> values;
   for (const PairState& p : contact.pairs)
@@ -153,6 +154,7 @@ void FaultSeries::write(const ContactState& contact, double t)
     values.insert(values.end(), {p.opening, p.traction, static_cast<double>(p.status)});
     values.insert(values.end(), p.slip.begin(), p.slip.end());
     values.insert(values.end(), p.tangential_traction.begin(), p.tangential_traction.end());
+    values.insert(values.end(), p.slip_increment.begin(), p.slip_increment.end());
   }
   const std::vector<std::int64_t> all_nodes = gather_to_root(nodes, MPI_INT64_T, _comm);
   const std::vector<double> all_values = gather_to_root(values, MPI_DOUBLE, _comm);
@@ -160,6 +162,7 @@ void FaultSeries::write(const ContactState& contact, double t)
     return;
   const std::size_t n = _nodes.size();
   std::vector<double> opening(n, 0.0), traction(n, 0.0), slip(3 * n, 0.0), tangential(3 * n, 0.0), pressure(n, 0.0);
+  std::vector<double> increment(3 * n, 0.0);
   // A node without a pair is a tip: the faces are one node there.
   std::vector<double> state(n, static_cast<double>(PairStatus::stick));
   for (std::size_t k = 0; k < all_nodes.size(); ++k)
@@ -171,6 +174,7 @@ void FaultSeries::write(const ContactState& contact, double t)
     state[p] = v[2];
     std::copy_n(v + 3, 3, &slip[3 * p]);
     std::copy_n(v + 6, 3, &tangential[3 * p]);
+    std::copy_n(v + 9, 3, &increment[3 * p]);
   }
   for (std::size_t p = 0; p < n; ++p)
     if (const auto& given = _scene.faults.at(_fault_names[_fault[p]]).pressure)
@@ -179,6 +183,7 @@ void FaultSeries::write(const ContactState& contact, double t)
   write_rows(_h5, "/opening/" + index, opening, 1);
   write_rows(_h5, "/traction/" + index, traction, 1);
   write_rows(_h5, "/slip/" + index, slip, 3);
+  write_rows(_h5, "/slip_increment/" + index, increment, 3);
   write_rows(_h5, "/tangential_traction/" + index, tangential, 3);
   write_rows(_h5, "/state/" + index, state, 1);
   write_rows(_h5, "/pressure/" + index, pressure, 1);
@@ -208,9 +213,10 @@ void FaultSeries::write_xml() const
         << item("/Mesh/topology", std::to_string(cells) + " " + std::to_string(_dim), "Int") << "</Topology>\n"
         << "    <Geometry GeometryType=\"XYZ\">" << item("/Mesh/geometry", std::to_string(n) + " 3", "Float")
         << "</Geometry>\n";
-    for (const std::string name : {"opening", "slip", "traction", "tangential_traction", "state", "pressure"})
+    for (const std::string name :
+         {"opening", "slip", "slip_increment", "traction", "tangential_traction", "state", "pressure"})
     {
-      const bool vector = name == "slip" or name == "tangential_traction";
+      const bool vector = name == "slip" or name == "slip_increment" or name == "tangential_traction";
       xml << "    <Attribute Name=\"" << name << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
           << "\" Center=\"Node\">"
           << item("/" + name + "/" + std::to_string(k), std::to_string(n) + (vector ? " 3" : " 1"), "Float")

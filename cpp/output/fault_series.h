@@ -4,6 +4,8 @@
 // being one node of both faces), node data:
 // - opening: [u].n + g0 (0 at the tips, where the faces meet);
 // - slip: the tangential jump [u] - ([u].n) n, a vector (three components);
+// - slip_increment: its change since the start of the step (the one a
+//   friction law decides on), a vector;
 // - traction: the contact traction, >= 0, zero where the fault is open;
 // - tangential_traction: the tangential contact traction, a vector (three
 //   components; along the slip increment where the pair slips; on a

@@ -41,7 +41,8 @@ FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSp
       = materials.min_stabilised_storage > 0 ? Structure::quasi_definite : Structure::general;
   _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs, SystemLayout{"flow_", structure, fields()},
                                      scene.solver.flow);
-  _system->tie(fault_flux_ties(scene, domain, *_W->sub({0}), facet_flux(forms.L_flow_pressure, _W, domain, forms, constants)));
+  _system->tie(
+      fault_flux_ties(scene, domain, *_W->sub({0}), facet_flux(forms.L_flow_pressure, _W, domain, forms, constants)));
   _b = std::make_unique<la::Vector<double>>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs());
 }
 

@@ -64,7 +64,8 @@ MonolithicStep::MonolithicStep(const Problem& problem) : _problem(problem), _sce
                                      make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants,
                                                faces.get()));
   _system->tie(
-      fault_flux_ties(scene, domain, *_X->sub({1}), facet_flux(forms.L_monolithic_pressure, _X, domain, forms, constants)));
+      fault_flux_ties(scene, domain, *_X->sub({1}),
+                      facet_flux(forms.L_monolithic_pressure, _X, domain, forms, constants)));
   _b = std::make_unique<la::Vector<double>>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs());
   if (scene.has_contact())
     attach_contact(domain, forms);

@@ -116,6 +116,8 @@ class PairState:
     slip: np.ndarray
     tangential_traction: np.ndarray
     status: PairStatus = PairStatus.open
+    # The slip since the start of the step (set_slip_reference).
+    slip_increment: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
 
 
 @dataclasses.dataclass
@@ -228,6 +230,9 @@ class ContactSolver:
         self.displacement_dofs = np.asarray(unknowns.displacement_dofs, dtype=np.int32)
         self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
         self.force = A.createVecRight()
+        # The start of the step like x, and x' of it (the faults' slip increments).
+        self.x_start, self.x_start_vi = A.createVecRight(), A.createVecRight()
+        self.x_start.set(0.0)
         self._make_change_of_variables()
         self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
         condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM))
@@ -522,8 +527,10 @@ class ContactSolver:
             self.change.backward(x_vi, x)
 
     def set_slip_reference(self, x):
-        """A time step (or window) starts at x: friction's slip increments are
-        measured from it (collective; nothing without friction)."""
+        """A time step (or window) starts at x: the slip increments
+        (friction's, and those fault.xdmf writes) are measured from it
+        (collective)."""
+        x.copy(self.x_start)
         if self.x_reference is None:
             return
         x_vi = self._to_vi(x)
@@ -906,8 +913,13 @@ class ContactSolver:
         if not s.faults:
             return
         X, R = self._to_vi(x).getArray(readonly=True), force.getArray(readonly=True)
+        start = self.x_start
+        if self.change:
+            self.change.forward(self.x_start, self.x_start_vi)
+            start = self.x_start_vi
+        start = start.getArray(readonly=True)
         constraint = np.flatnonzero(c.pair_node >= 0)  # of each pair
-        s.pairs = [self._pair_state(k, X, R, distance[k], pressure[k]) for k in constraint]
+        s.pairs = [self._pair_state(k, X, start, R, distance[k], pressure[k]) for k in constraint]
         scale = self._traction_scale(pressure, s.pairs)
         # Per fault: the largest opening and slip; the measures closed,
         # slipping and stuck.
@@ -928,9 +940,9 @@ class ContactSolver:
             summary.max_opening, summary.max_slip = largest[2 * f], largest[2 * f + 1]
             summary.closed, summary.slipping, summary.stuck = measure[3 * f:3 * f + 3]
 
-    def _pair_state(self, k, X, R, distance, pressure):
+    def _pair_state(self, k, X, start, R, distance, pressure):
         """The state of the fault pair of constraint k but its status, from
-        x' (X) and R' (R)."""
+        x' (X), x' at the start of the step (start) and R' (R)."""
         c, d = self.set, self.set.dim
         frame = c.pair_frame[k]
         p = PairState(int(c.pair_node[k]), int(c.boundary[k]), distance, pressure, np.zeros(3), np.zeros(3))
@@ -944,6 +956,7 @@ class ContactSolver:
         for r in range(1, d):
             row = self.displacement_dofs[c.dofs[k] + r]
             p.slip[:d] += frame[r, :d] * X[row]
+            p.slip_increment[:d] += frame[r, :d] * (X[row] - start[row])
             p.tangential_traction[:d] -= frame[r, :d] * R[row] / c.lumped[k]
         return p
 

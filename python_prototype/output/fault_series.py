@@ -5,6 +5,8 @@ the + faces, a tip being one node of both faces), node data:
 - opening: [u].n + g0 (0 at the tips, where the faces meet);
 - slip: the tangential jump [u] - ([u].n) n, a vector (three components);
 - traction: the contact traction, >= 0, zero where the fault is open;
+- slip_increment: its change since the start of the step (the one a
+  friction law decides on), a vector;
 - tangential_traction: the tangential contact traction, a vector (three
   components; along the slip increment where the pair slips; on a
   frictionless fault the solve's error: round-off with a factorisation);
@@ -113,27 +115,29 @@ class FaultSeries:
     def write(self, contact, t):
         """Adds the state of the faults at time t (collective)."""
         nodes = np.array([p.node for p in contact.pairs], dtype=np.int64)
-        # Per pair: opening, traction, state, slip (3), tangential traction (3).
-        values = np.array([[p.opening, p.traction, float(p.status), *p.slip, *p.tangential_traction]
-                           for p in contact.pairs]).reshape(-1, 9)
+        # Per pair: opening, traction, state, slip (3), tangential traction
+        # (3), slip increment (3).
+        values = np.array([[p.opening, p.traction, float(p.status), *p.slip, *p.tangential_traction,
+                            *p.slip_increment] for p in contact.pairs]).reshape(-1, 12)
         all_nodes = _gather_to_root(nodes, self._comm)
         all_values = _gather_to_root(values, self._comm)
         if self._comm.rank != 0:
             return
         n = len(self._nodes)
         opening, traction, pressure = np.zeros(n), np.zeros(n), np.zeros(n)
-        slip, tangential = np.zeros((n, 3)), np.zeros((n, 3))
+        slip, tangential, increment = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
         state = np.full(n, float(PairStatus.stick))  # a node without a pair is a tip: the faces are one node there
         p = np.searchsorted(self._nodes, all_nodes)
         opening[p], traction[p], state[p] = all_values[:, 0], all_values[:, 1], all_values[:, 2]
-        slip[p], tangential[p] = all_values[:, 3:6], all_values[:, 6:9]
+        slip[p], tangential[p], increment[p] = all_values[:, 3:6], all_values[:, 6:9], all_values[:, 9:12]
         for f, name in enumerate(self._fault_names):
             given, x = self._scene.faults[name].pressure, self._x[self._fault == f]
             if given is not None:
                 pressure[self._fault == f] = given(x[:, 0], x[:, 1], x[:, 2], t)
         index = len(self._times)
         for name, data, width in (("opening", opening, 1), ("traction", traction, 1), ("slip", slip, 3),
-                                  ("tangential_traction", tangential, 3), ("state", state, 1),
+                                  ("slip_increment", increment, 3), ("tangential_traction", tangential, 3),
+                                  ("state", state, 1),
                                   ("pressure", pressure, 1)):
             _write_rows(self._h5, f"/{name}/{index}", data, width)
         self._h5.flush()
@@ -156,8 +160,8 @@ class FaultSeries:
                     f'    <Topology TopologyType="{"Polyline" if d == 2 else "Triangle"}" NumberOfElements="{cells}" '
                     f'NodesPerElement="{d}">{item("/Mesh/topology", f"{cells} {d}", "Int")}</Topology>\n'
                     f'    <Geometry GeometryType="XYZ">{item("/Mesh/geometry", f"{n} 3", "Float")}</Geometry>\n')
-            for name in ("opening", "slip", "traction", "tangential_traction", "state", "pressure"):
-                vector = name in ("slip", "tangential_traction")
+            for name in ("opening", "slip", "slip_increment", "traction", "tangential_traction", "state", "pressure"):
+                vector = name in ("slip", "slip_increment", "tangential_traction")
                 xml += (f'    <Attribute Name="{name}" AttributeType="{"Vector" if vector else "Scalar"}" '
                         f'Center="Node">{item(f"/{name}/{k}", f"{n} 3" if vector else f"{n} 1", "Float")}'
                         "</Attribute>\n")
