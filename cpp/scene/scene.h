@@ -48,7 +48,6 @@ struct FrictionSpec
 {
   double friction = 0, cohesion = 0;
   std::optional<double> tresca;
-  bool frictionless() const { return !tresca and friction == 0 and cohesion == 0; }
 };
 
 /// Signorini contact against a rigid foundation:

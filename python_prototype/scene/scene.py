@@ -56,9 +56,6 @@ class FrictionSpec:
     cohesion: float = 0.0
     tresca: Optional[float] = None
 
-    def frictionless(self):
-        return self.tresca is None and self.friction == 0 and self.cohesion == 0
-
 
 @dataclass
 class ContactSpec:
