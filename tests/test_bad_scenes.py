@@ -370,7 +370,7 @@ def directory_case(label, track, arguments, directory, key):
     before = stamps(directory)
     p = subprocess.run(track + arguments, capture_output=True, text=True, timeout=300, env=MPI_ENV, cwd=ROOT)
     after = stamps(directory)
-    where = f"{label} ({'prototype' if track == PROTOTYPE_RUN else 'C++'})"
+    where = f"{label} ({'C++' if track[0] == BINARY else 'prototype'})"
     check(p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and key in p.stderr
           and p.stderr.startswith("biotcontact: error:"), f"{where}: exit 2, one line naming {key!r}: "
           f"{p.stderr.strip()!r}")
@@ -398,4 +398,15 @@ for track in ([BINARY, "run", DEFAULT], PROTOTYPE_RUN):
     directory_case("a restart with other --set values", track,
                    ["--restart", checkpointed, *SMALL, "--set", "coupling.L=kdr"], checkpointed,
                    f"--restart {checkpointed}: the checkpoint was written for another scene or other --set values")
+    # A frictionless run's checkpoint holds no stick/slip state to continue
+    # from: a restart that adds friction to its fault is another scene.
+    frictionless = tempfile.mkdtemp(prefix="frictionless-")
+    CRACK_STEPS = ["--set", "time.end=2.0", "--set", "output.checkpoint_every=1"]
+    p = subprocess.run(track[:-1] + [CRACK, "--out", frictionless, *CRACK_STEPS], capture_output=True, text=True,
+                       timeout=300, env=MPI_ENV, cwd=ROOT)
+    check(p.returncode == 0, f"a frictionless fault run that leaves a checkpoint ({p.stderr.strip()[-200:]!r})")
+    directory_case("a restart adding friction to a frictionless checkpoint", track[:-1],
+                   [CRACK, "--restart", frictionless, *CRACK_STEPS, "--set", "fault.crack.friction=0.3"],
+                   frictionless, f"--restart {frictionless}: the checkpoint was written for another scene or other "
+                   "--set values")
 check(messages[0] == messages[1], f"the directory in use: the same line on both tracks: {messages[0]!r}")
