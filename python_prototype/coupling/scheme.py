@@ -28,6 +28,7 @@ class Scheme:
         # None otherwise: sigma_v's pressure where there is no flow.
         self.given_pressure = None
         self.compute_flux = None
+        self.fault_flow = lambda t: None  # the conduit faults' cell fields (FlowStep.fault_flow)
         self.compute_contact = ContactState
         self.step_control = None  # time.adaptive
         self._steps = []
@@ -87,7 +88,7 @@ class Scheme:
             self.V = problem.forms["V"]
         if scene.flow:
             flow = FlowStep(problem, self.V if scene.coupling else None)
-            self.p, self.compute_flux = flow.pressure, flow.flux
+            self.p, self.compute_flux, self.fault_flow = flow.pressure, flow.flux, flow.fault_flow
             self._steps.append(flow)
         if scene.mechanics:
             mechanics = MechanicsStep(problem, self.V, self.p)

@@ -20,6 +20,7 @@ from dolfinx.cpp.mesh import entities_to_geometry
 
 from ..scene.input import MeshType, point_text
 from ..scene.scene import SceneError, agree_on_error
+from .fault_cells import FaultCells, fault_cells
 from .faults import FaultRequest, InputMesh, split_along_faults
 from .regions import locate_regions, regions_of_groups
 
@@ -33,11 +34,13 @@ class Fault:
     and its node pairs, the same on every rank: per pair the input indices
     (mesh.geometry.input_global_indices) of its node on the + side and on
     the - side, (P, 2), and the fault's unit normal there, pointing into
-    the + side (the mean of its facets'), (P, 3)."""
+    the + side (the mean of its facets'), (P, 3); and its cells for the
+    fault's own flow (fault_cells.py)."""
     plus_facets: np.ndarray
     minus_facets: np.ndarray
     pairs: np.ndarray
     normals: np.ndarray
+    cells: FaultCells
 
 
 class Domain:
@@ -256,7 +259,7 @@ def _split_faults(scene, data):
             groups.append(np.full(len(opened), len(mesh.names), dtype=np.int32))
             mesh.names.append(f"fault.{f.name}{side}")
             facets.append(face[opened])
-        data.faults.append((f.pairs, _pair_normals(f, d)))
+        data.faults.append((f.pairs, _pair_normals(f, d), fault_cells(mesh, f)))
     data.x, data.cells, data.names = mesh.x, mesh.cells, mesh.names
     data.facets = np.concatenate(facets).astype(np.int64).reshape(-1, d)
     data.facet_group = np.concatenate(groups).astype(np.int32)

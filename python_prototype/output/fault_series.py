@@ -12,8 +12,14 @@ the + faces, a tip being one node of both faces), node data:
   frictionless fault the solve's error: round-off with a factorisation);
 - state: the pair's state (contact_law.py): 0 open, 1 stick, 2 slip; 1 at
   the tips, where the faces are one node and neither open nor slide;
-- pressure: the fluid pressure in the fault (fault.NAME.pressure; 0 for a
-  fault loaded by the pore pressure beside it, which solution.xdmf holds).
+- pressure (cell data): the fluid pressure in the fault, p_f of a conduit
+  fault, fault.NAME.pressure at the cell's centroid, 0 for a fault loaded
+  by the pore pressure beside it, which solution.xdmf holds.
+With a conduit fault, cell data also (0 on other faults):
+- hydraulic_aperture: w_h, the aperture of the cubic law;
+- exchange: the rock's volume rate per area into the fault;
+- flux: the mean flux along the fault (volume rate per length, a vector).
+A scene without mechanics has only the cell data.
 Rank 0 writes it with h5py, from the pairs each rank gathers to it (a fault
 holds few nodes of the mesh): the same XML text and datasets as the C++.
 Each write is complete on disk when it returns, as solution.xdmf's; a
@@ -25,6 +31,7 @@ import h5py
 import numpy as np
 
 from ..contact.contact_law import PairStatus
+from ..scene.input import FaultFlow
 from ..domain.domain import vertex_input_indices
 
 
@@ -111,9 +118,44 @@ class FaultSeries:
         self._fault = np.empty(len(self._nodes), dtype=np.int64)
         self._x[self._facets.reshape(-1)] = all_x
         self._fault[self._facets] = all_facets[:, :1]
+        self._facet_fault = all_facets[:, 0]
+        self._conduit_row = self._conduit_rows(problem, all_facets[:, 1:])
 
-    def write(self, contact, t):
-        """Adds the state of the faults at time t (collective)."""
+    def _conduit_rows(self, problem, keys):
+        """Per facet of the faces' mesh (its sorted input indices `keys`), its
+        row in the conduit cells' fields (ConduitFaults.cell_values), -1 on
+        other faults."""
+        rows, offset = {}, 0
+        for name, f in sorted(self._scene.faults.items()):  # the order of the C++ std::map
+            if f.flow == FaultFlow.conduit:
+                cells = problem.domain.faults[name].cells
+                rows.update({tuple(key): offset + k for k, key in enumerate(cells.keys.tolist())})
+                offset += len(cells.measures)
+        self._conduits = offset > 0
+        return np.array([rows.get(tuple(sorted(key)), -1) for key in keys.tolist()], dtype=np.int64)
+
+    def _cell_fields(self, cells, t):
+        """The cell data at time t: pressure, and with conduits their fields."""
+        pressure = np.zeros(len(self._facets))
+        centroids = self._x[self._facets].mean(axis=1)
+        for f, name in enumerate(self._fault_names):
+            given, on = self._scene.faults[name].pressure, self._facet_fault == f
+            if given is not None:
+                pressure[on] = given(centroids[on, 0], centroids[on, 1], centroids[on, 2], t)
+        fields = [("pressure", pressure, 1)]
+        if not self._conduits:
+            return fields
+        values = np.zeros((len(self._facets), 6))
+        conduit = self._conduit_row >= 0
+        values[conduit] = cells[self._conduit_row[conduit]]
+        pressure[conduit] = values[conduit, 0]
+        return fields + [("hydraulic_aperture", values[:, 1], 1), ("exchange", values[:, 2], 1),
+                         ("flux", values[:, 3:], 3)]
+
+    def write(self, contact, cells, t):
+        """Adds the state of the faults at time t (collective): the contact
+        state `contact`, and the conduit faults' `cells`
+        (ConduitFaults.cell_values, rank 0's; None without conduits)."""
         nodes = np.array([p.node for p in contact.pairs], dtype=np.int64)
         # Per pair: opening, traction, state, slip (3), tangential traction
         # (3), slip increment (3).
@@ -124,25 +166,26 @@ class FaultSeries:
         if self._comm.rank != 0:
             return
         n = len(self._nodes)
-        opening, traction, pressure = np.zeros(n), np.zeros(n), np.zeros(n)
+        opening, traction = np.zeros(n), np.zeros(n)
         slip, tangential, increment = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
         state = np.full(n, float(PairStatus.stick))  # a node without a pair is a tip: the faces are one node there
         p = np.searchsorted(self._nodes, all_nodes)
         opening[p], traction[p], state[p] = all_values[:, 0], all_values[:, 1], all_values[:, 2]
         slip[p], tangential[p], increment[p] = all_values[:, 3:6], all_values[:, 6:9], all_values[:, 9:12]
-        for f, name in enumerate(self._fault_names):
-            given, x = self._scene.faults[name].pressure, self._x[self._fault == f]
-            if given is not None:
-                pressure[self._fault == f] = given(x[:, 0], x[:, 1], x[:, 2], t)
         index = len(self._times)
-        for name, data, width in (("opening", opening, 1), ("traction", traction, 1), ("slip", slip, 3),
-                                  ("slip_increment", increment, 3), ("tangential_traction", tangential, 3),
-                                  ("state", state, 1),
-                                  ("pressure", pressure, 1)):
+        node_fields = [("opening", opening, 1), ("traction", traction, 1), ("slip", slip, 3),
+                       ("slip_increment", increment, 3), ("tangential_traction", tangential, 3), ("state", state, 1)]
+        for name, data, width in (node_fields if self._scene.mechanics else []) + self._cell_fields(cells, t):
             _write_rows(self._h5, f"/{name}/{index}", data, width)
         self._h5.flush()
         self._times.append(t)
         self._write_xml()
+
+    def _attributes(self):
+        """The fields of each time: (name, "Node" or "Cell")."""
+        nodes = ["opening", "slip", "slip_increment", "traction", "tangential_traction", "state"]
+        cells = ["pressure"] + (["hydraulic_aperture", "exchange", "flux"] if self._conduits else [])
+        return [(name, "Node") for name in (nodes if self._scene.mechanics else [])] + [(c, "Cell") for c in cells]
 
     def _write_xml(self):
         """The whole XML, every time written (rank 0)."""
@@ -160,10 +203,11 @@ class FaultSeries:
                     f'    <Topology TopologyType="{"Polyline" if d == 2 else "Triangle"}" NumberOfElements="{cells}" '
                     f'NodesPerElement="{d}">{item("/Mesh/topology", f"{cells} {d}", "Int")}</Topology>\n'
                     f'    <Geometry GeometryType="XYZ">{item("/Mesh/geometry", f"{n} 3", "Float")}</Geometry>\n')
-            for name in ("opening", "slip", "slip_increment", "traction", "tangential_traction", "state", "pressure"):
-                vector = name in ("slip", "slip_increment", "tangential_traction")
+            for name, center in self._attributes():
+                vector = name in ("slip", "slip_increment", "tangential_traction", "flux")
+                rows = n if center == "Node" else cells
                 xml += (f'    <Attribute Name="{name}" AttributeType="{"Vector" if vector else "Scalar"}" '
-                        f'Center="Node">{item(f"/{name}/{k}", f"{n} 3" if vector else f"{n} 1", "Float")}'
+                        f'Center="{center}">{item(f"/{name}/{k}", f"{rows} 3" if vector else f"{rows} 1", "Float")}'
                         "</Attribute>\n")
             xml += "   </Grid>\n"
         xml += "  </Grid>\n </Domain>\n</Xdmf>\n"

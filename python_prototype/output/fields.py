@@ -27,8 +27,8 @@ class OutputFields:
             if scheme.contact_pressure is not None:
                 scheme.contact_pressure.name = "contact_pressure"
                 scheme.contact_active.name = "contact_active"
-        self._faults = None
-        if scheme.u is not None and problem.scene.faults and problem.scene.write_xdmf:
+        self._faults, self._fault_flow = None, None
+        if problem.scene.faults and problem.scene.write_xdmf:
             self._faults = FaultSeries(problem.domain.mesh.comm, output.directory(), problem, resume_time)
         self.contact = ContactState()  # at the last mechanics output
 
@@ -40,6 +40,9 @@ class OutputFields:
         self._output.write(s.p, t)
         s.compute_flux(self._flux)
         self._output.write(self._flux, t)
+        self._fault_flow = s.fault_flow(t)
+        if self._faults is not None and s.u is None:  # else with the mechanics' fields
+            self._faults.write(ContactState(), self._fault_flow, t)
 
     def write_mechanics(self, t):
         """The displacement, sigma_v and the contact fields; also updates
@@ -54,7 +57,7 @@ class OutputFields:
             self._output.write(s.contact_pressure, t)
             self._output.write(s.contact_active, t)
         if self._faults is not None:
-            self._faults.write(self.contact, t)
+            self._faults.write(self.contact, self._fault_flow, t)
 
     def close(self):
         """fault.h5 closed (every write is already on disk)."""

@@ -72,10 +72,13 @@ class SolverChoice(enum.Enum):
 
 class FaultFlow(enum.Enum):
     """fault.NAME.flow: what the fault is to the flow (issue 37): no obstacle
-    ("transparent"), a barrier ("sealing"), or held at its `pressure`."""
+    ("transparent"), a barrier ("sealing"), held at its `pressure`, or a
+    conduit with a pressure and a flow of its own (issue 39, docs/theory.md
+    "Flow in a fault")."""
     transparent = "transparent"
     sealing = "sealing"
     pressure = "pressure"
+    conduit = "conduit"
 
 
 class ReferenceSolution(enum.Enum):

@@ -109,6 +109,11 @@ class FaultSpec:
     # side the normal points into.
     normal: list = field(default_factory=list)
     friction: FrictionSpec = field(default_factory=FrictionSpec)
+    # flow = "conduit": the hydraulic aperture w_h of the closed fault (m), and
+    # the permeability across each face's half aperture (inf: the rock's
+    # pressure at a face is the fault's)
+    residual_aperture: float = 0.0
+    normal_permeability: float = math.inf
 
 
 @dataclass
@@ -892,6 +897,8 @@ def _read_fault(s, scene):
         s.fail("flow", f'"{name_of(f.flow)}" in a scene without [flow]')
     if f.flow == FaultFlow.pressure and f.pressure is None:
         s.fail("pressure", 'missing (flow = "pressure" holds the fault at this pressure)')
+    if f.flow == FaultFlow.conduit:
+        _read_conduit(s, scene, f)
     d = scene.mesh.dimension
     f.normal = s.number_vector("normal", d) if s.has("normal") else [0.0] * (d - 1) + [1.0]
     length = sum(n * n for n in f.normal)
@@ -900,6 +907,24 @@ def _read_fault(s, scene):
     f.friction = _read_friction(s)
     s.finish()
     return f
+
+
+def _read_conduit(s, scene, f):
+    """A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
+    fault"): its aperture where closed, w_r > 0, and the permeability
+    across its faces, k_n > 0 or "inf"."""
+    if scene.mechanics:
+        s.fail("flow", '"conduit" in a scene with [mechanics]: the aperture computed by the mechanics is not yet '
+               'coupled (issue 39); give the fault in a flow scene, whose walls are rigid')
+    f.residual_aperture = s.number("residual_aperture")
+    if not (f.residual_aperture > 0 and math.isfinite(f.residual_aperture)):
+        s.fail("residual_aperture", "must be a finite number > 0 (m)")
+    if s.has("normal_permeability") and s.table["normal_permeability"] == "inf":
+        s.used.add("normal_permeability")
+    else:
+        f.normal_permeability = s.number("normal_permeability", math.inf)
+        if not f.normal_permeability > 0:
+            s.fail("normal_permeability", 'must be > 0 (m^2) or "inf"')
 
 
 def _read_faults(faults, scene):

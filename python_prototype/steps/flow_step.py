@@ -3,6 +3,7 @@ fixed-stress term (cpp/steps/flow_step.cpp)."""
 import enum
 import time
 
+import numpy as np
 from dolfinx import fem
 
 from ..solvers.field_split import Field
@@ -15,6 +16,8 @@ from ..solvers.solver import Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import facet_flux, fault_flux_ties, flux_bc, update_fluxes
+from ..assembly.fault_flow import ConduitFaults
+from .system import AppendedUnknowns
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 from ..time.time_scheme import history_value
 
@@ -86,6 +89,27 @@ class FlowStep(Step):
                              scene.solver.flow)
         self.system.tie(fault_flux_ties(scene, domain, W.sub(0), facet_flux(F, "L_flow_pressure", "W")))
         self.b = fem.Function(W)
+        self.make_conduits(domain)
+
+    def make_conduits(self, domain):
+        """The conduit faults' pressure p_f (assembly/fault_flow.py), appended
+        to the system, starting from the initial pressure at the cells'
+        centroids (nothing without conduit faults)."""
+        self.conduits = ConduitFaults(self.scene, domain, self.F["W"].sub(0),
+                                      facet_flux(self.F, "L_flow_pressure", "W"))
+        self.fault_pressure = np.zeros(self.conduits.owned)
+        self.fault_pressure_previous = np.zeros(self.conduits.owned)
+        if not self.conduits:
+            return
+        self.fault_pressure[:] = self.conduits.initial_pressure(self.scene.flow.initial_pressure)
+        self.append_conduits()
+
+    def append_conduits(self):
+        """The conduit faults' rows at the current dt, into the system."""
+        dt = float(self.F["dt"].value)
+        self.system.append(AppendedUnknowns(self.conduits.exchange(self.system.A.getLocalSize()[0]),
+                                            self.conduits.operator(dt), self.conduits.face_resistance(),
+                                            np.zeros(self.conduits.owned), self.fault_pressure))
 
     def make_loads(self, domain):
         """Source, gravity and boundary pressures (alg. "Flow"; a fault held at
@@ -142,6 +166,9 @@ class FlowStep(Step):
             self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
         for _, A, x in self.operators:
             multiply_add(A, x, self.b)
+        if self.conduits:
+            self.conduits.load(t, float(self.F["dt"].value), self.fault_pressure_previous,
+                               self.system.appended.b)
         self.assembly_time += time.perf_counter() - start
 
         self.system.solve(self.b.vector, self.w.vector)
@@ -152,6 +179,7 @@ class FlowStep(Step):
         """One solve per step: the pressure history of `d` from the last
         step's pressure and p_before, then solve(t)."""
         self.p_previous.x.array[:] = history_value(d, self.pressure.x.array, self.p_before.x.array)
+        self.fault_pressure_previous[:] = self.fault_pressure
         self.solve(t)
 
     def name(self):
@@ -182,7 +210,10 @@ class FlowStep(Step):
         return self.pressure.x.array
 
     def unknowns(self):
-        """The mixed solution (z, p) of the last solve."""
+        """The mixed solution (z, p) of the last solve, and after it the
+        conduit faults' pressure (a copy then)."""
+        if self.conduits:
+            return np.concatenate([self.w.x.array, self.fault_pressure])
         return self.w.x.array
 
     def parts(self):
@@ -196,6 +227,8 @@ class FlowStep(Step):
         """The matrix and the operators depend on dt: reassembled after
         set_time_step changed it."""
         self.system.reassemble()
+        if self.conduits:
+            self.append_conduits()
         start = time.perf_counter()
         for a, A, _ in self.operators:
             reassemble_operator(A, a, self.bcs)
@@ -211,10 +244,21 @@ class FlowStep(Step):
         self.assembly_time += time.perf_counter() - start
 
     def set_unknowns(self, w):
-        """Restores a mixed solution (the multirate scheme keeps one per fine step)."""
+        """Restores a mixed solution (the multirate scheme keeps one per fine
+        step), the conduit faults' pressure after it."""
+        n = len(self.w.x.array)
+        if len(w) > n:
+            self.fault_pressure[:] = w[n:]
         if w is not self.w.x.array:
-            self.w.x.array[:] = w
+            self.w.x.array[:] = w[:n]
         self.pressure.x.array[:] = w[self.Q_to_W]
+
+    def fault_flow(self, t):
+        """The conduit faults' cell fields at time t on rank 0
+        (ConduitFaults.cell_values; None without conduit faults; collective)."""
+        if not self.conduits:
+            return None
+        return self.conduits.cell_values(self.w.x.array, self.fault_pressure, t)
 
     def flux(self, out):
         """Cell averages of z: the RT0 field is linear on a cell, its value at

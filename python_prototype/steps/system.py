@@ -1,14 +1,30 @@
 """One system of a step (cpp/steps/system.h): the matrix of a bilinear form and
 what answers it, a linear solve or, with contact, the bound-constrained
 problem on it. How it is solved is decided here and in solvers/solver.py."""
+import dataclasses
 import time
+
+import numpy as np
+from petsc4py import PETSc
 
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
 from ..assembly.tied_dofs import TiedDofs
 from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
-from ..solvers.field_split import is_coupled
+from ..solvers.field_split import Field, is_coupled
 from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, SystemLayout, choose_method,
                               set_solver_defaults, solver_counts)
+
+
+@dataclasses.dataclass
+class AppendedUnknowns:
+    """Unknowns y appended after a system's own (the conduit faults'
+    pressure, assembly/fault_flow.py), all on the last rank:
+    [[A + D, B^T], [B, C]] [x; y] = [b; b_y], D a diagonal on A's rows."""
+    B: PETSc.Mat
+    C: PETSc.Mat
+    diagonal: list           # (global row of A, value) on the rank that owns the row
+    b: np.ndarray = None     # b_y (this rank's entries), set before each solve
+    x: np.ndarray = None     # y: the guess of each solve, then its solution
 
 
 class System:
@@ -40,6 +56,7 @@ class System:
             self._statistics.assembly_time += time.perf_counter() - start
         self.contact = None
         self.tied, self.A_tied, self.P_tied = None, None, None
+        self.appended = None
         self._earlier = SolverStatistics()  # the counts of the run a restart continues
         # made now, so that options that make no solver are refused before the run
         self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
@@ -62,8 +79,44 @@ class System:
         self.linear = LinearSolver(self.comm, self.prefix, self.operator_matrix(), self.preconditioner_matrix(),
                                    self.structure, self.fields)
 
+    def append(self, appended):
+        """Solves with the AppendedUnknowns from now on (or, called again,
+        with their new B, C and diagonal: same structure; collective). The
+        appended unknowns join the "pressure" field of an iterative solve."""
+        first = self.appended is None
+        self.appended = appended
+        big = self._appended_operator()
+        if not first:
+            big.copy(self.A_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            self.linear.operator_changed()
+            return
+        self.A_appended = big
+        self.x_appended, self.b_appended = big.createVecs()
+        start = self.A.getOwnershipRange()[0] if self.comm.rank < self.comm.size - 1 else self.A.getSize()[0]
+        rows = np.arange(start, start + appended.C.getLocalSize()[0], dtype=np.int64)
+        self.fields = [Field(f.name, np.concatenate([f.dofs, rows]) if f.name == "pressure" else f.dofs,
+                             f.block_size, f.near_nullspace, f.fields) for f in self.fields]
+        self.linear = LinearSolver(self.comm, self.prefix, self.A_appended, self.A_appended, self.structure,
+                                   self.fields)
+
+    def _appended_operator(self):
+        """[[A + D, B^T], [B, C]] as one AIJ matrix: its rows on each rank are
+        A's, then (last rank) C's."""
+        a = self.A_tied if self.A_tied is not None else self.A
+        if self.appended.diagonal:
+            a = a.copy()
+            for row, value in self.appended.diagonal:
+                a.setValue(row, row, value, addv=True)
+            a.assemble()
+        B = self.appended.B
+        nest = PETSc.Mat().createNest([[a, B.transpose(PETSc.Mat())], [B, self.appended.C]], comm=self.comm)
+        return nest.convert("aij")
+
     def operator_matrix(self):
-        """The matrix that is solved: A, or A' of the ties."""
+        """The matrix that is solved: A, A' of the ties, or the system with
+        appended unknowns."""
+        if self.appended is not None:
+            return self.A_appended
         return self.A_tied if self.A_tied is not None else self.A
 
     def preconditioner_matrix(self):
@@ -111,12 +164,23 @@ class System:
                 b, y = self.b_tied, self.y_tied
             if self.contact:
                 self.contact.solve(b, y)
+            elif self.appended is not None:
+                self._solve_appended(b, y)
             else:
                 self._statistics.linear_iterations += self.linear.solve(y, b)
             if self.tied:
                 self.tied.expand(y, x)
         self._statistics.total_time += time.perf_counter() - start
         self._statistics.solves += 1
+
+    def _solve_appended(self, b, x):
+        """Solves the system with appended unknowns: [b; b_y] in, [x; y] out."""
+        n, appended = b.getLocalSize(), self.appended
+        self.b_appended.array[:n], self.b_appended.array[n:] = b.array_r, appended.b
+        self.x_appended.array[:n], self.x_appended.array[n:] = x.array_r, appended.x
+        self._statistics.linear_iterations += self.linear.solve(self.x_appended, self.b_appended)
+        x.array[:] = self.x_appended.array_r[:n]
+        appended.x[:] = self.x_appended.array_r[n:]
 
     def set_tolerance(self, relative):
         """The accuracy the coupling asks of the next solves (inexact

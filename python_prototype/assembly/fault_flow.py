@@ -1,0 +1,182 @@
+"""The flow inside "conduit" faults (cpp/assembly/fault_flow.cpp,
+docs/theory.md "Flow in a fault"): the fault's pressure p_f, one unknown per
+fault cell (domain/fault_cells.py), appended to the flow system after the
+rock's unknowns, on the last rank. Per cell k, the mass balance times -1
+(as forms/biot.py writes the rock's),
+
+    sum_i c_i z_i - (S_k/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
+        = -(S_k/dt) p_k^old,
+
+with S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
+between the cells, d its distance to each centroid. The faces' RT0 fluxes
+z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
++c_i p_k: the rock's pressure at a face is p_f (the boundary-pressure term
+with p_D = p_f), plus mu_f (w_h/2)/k_n z.n across a finite normal
+permeability k_n. The operator stays symmetric."""
+import dataclasses
+
+import numpy as np
+from petsc4py import PETSc
+
+from ..scene.input import FaultFlow
+from .boundary_conditions import _face_rows
+
+
+@dataclasses.dataclass
+class _Conduit:
+    """One conduit fault's cells and what the flow needs of it."""
+    name: str
+    offset: int            # its first cell among the appended unknowns
+    cells: object          # FaultCells
+    aperture: np.ndarray   # w_h per cell (m)
+    normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+
+
+def transmissibilities(t, edges):
+    """The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
+    FaultEdges `edges` (t: per cell)."""
+    return edges.measures / np.sum(edges.distances / t[edges.cells], axis=1)
+
+
+class ConduitFaults:
+    """The conduit faults of a scene: their cells, numbered fault by fault
+    in the scene's order, appended after the flow system's unknowns on the
+    last rank (a fault holds few facets); the faces' flux DOFs on the ranks
+    that own them."""
+
+    def __init__(self, scene, domain, Z, flux):
+        """`flux(marker)`: the facet flux of the flux basis functions
+        (boundary_conditions.facet_flux); Z: the flux subspace."""
+        self.comm, self.flow = domain.mesh.comm, scene.flow
+        self.faults, self.faces, count = [], [], 0
+        self.pressure_boundaries = {name: b.pressure for name, b in scene.boundaries.items() if b.flow == "pressure"}
+        for name, f in sorted(scene.faults.items()):  # the order of the C++ std::map
+            if f.flow != FaultFlow.conduit:
+                continue
+            cells = domain.faults[name].cells
+            resistance = 0.0 if np.isinf(f.normal_permeability) else self.flow.mu_f / (2 * f.normal_permeability)
+            conduit = _Conduit(name, count, cells, np.full(len(cells.measures), f.residual_aperture), resistance)
+            index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
+            for _, key, dof, c in _face_rows(domain, Z, name, flux(domain.fault_faces(name))):
+                self.faces.append((dof, conduit, index[key], c))
+            self.faults.append(conduit)
+            count += len(cells.measures)
+        self.size = count
+        self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
+        self.owned = count if self.comm.rank == self.comm.size - 1 else 0
+
+    def __bool__(self):
+        return self.size > 0
+
+    def initial_pressure(self, p0):
+        """p_f at the start: the expression p0 at the cells' centroids (this
+        rank's entries)."""
+        if not self.owned:
+            return np.zeros(0)
+        x = np.concatenate([conduit.cells.centroids for conduit in self.faults])
+        return np.asarray(p0.at(x.T, 0.0), dtype=float) * np.ones(len(x))
+
+    def exchange(self, flow_rows):
+        """B: the fault's rows against the flow unknowns, c_i at each face
+        DOF (`flow_rows`: the flow system's local size; collective)."""
+        B = PETSc.Mat().createAIJ(((self.owned, None), (flow_rows, None)), comm=self.comm)
+        B.setPreallocationNNZ((2, 2))
+        B.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        for dof, conduit, k, c in self.faces:
+            B.setValue(conduit.offset + k, dof, c)
+        B.assemble()
+        return B
+
+    def face_resistance(self):
+        """The rows of the face DOFs across a finite normal permeability:
+        (dof, mu_f (w_h/2)/k_n <w_i.n, w_i.n>) with w_i.n = c_i/|face|."""
+        return [(dof, conduit.normal_resistance * conduit.aperture[k] * c * c / conduit.cells.measures[k])
+                for dof, conduit, k, c in self.faces if conduit.normal_resistance > 0]
+
+    def _storage(self, conduit, dt):
+        """S_k / dt = w_h c_f |k| / dt per cell."""
+        return conduit.aperture * self.flow.c_f * conduit.cells.measures / dt
+
+    def _conductance(self, conduit):
+        """t = w_h^3 / (12 mu_f): the cubic law's transmissivity per cell."""
+        return conduit.aperture ** 3 / (12 * self.flow.mu_f)
+
+    def _ends(self, conduit):
+        """The ends on pressure boundaries: (indices into the ends, T_e)."""
+        cells = conduit.cells
+        held = [e for e, g in enumerate(cells.end_groups) if g in self.pressure_boundaries]
+        return held, transmissibilities(self._conductance(conduit), cells.ends)[held]
+
+    def operator(self, dt):
+        """C: the fault's rows against its own unknowns (collective; the
+        entries on the last rank)."""
+        C = PETSc.Mat().createAIJ(((self.owned, None), (self.owned, None)), comm=self.comm)
+        C.setPreallocationNNZ((8, 0))
+        for conduit in self.faults if self.owned else []:
+            cells, t, o = conduit.cells, self._conductance(conduit), conduit.offset
+            diagonal = -self._storage(conduit, dt)
+            T = transmissibilities(t, cells.links)
+            for (k, l), T_kl in zip(cells.links.cells.tolist(), T):
+                C.setValues([o + k, o + l], [o + k, o + l], [[-T_kl, T_kl], [T_kl, -T_kl]], addv=True)
+            held, T_e = self._ends(conduit)
+            np.subtract.at(diagonal, cells.ends.cells[held, 0], T_e)
+            for k, value in enumerate(diagonal):
+                C.setValue(o + k, o + k, value, addv=True)
+        C.assemble()
+        return C
+
+    def load(self, t, dt, p_old, b):
+        """The fault's right-hand side at time t into b (its owned entries):
+        -(S/dt) p_old - T_e p_D at the ends on pressure boundaries."""
+        for conduit in self.faults if self.owned else []:
+            cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
+            part = -self._storage(conduit, dt) * p_old[o:o + n]
+            held, T_e = self._ends(conduit)
+            np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
+            b[o:o + n] = part
+
+    def _end_pressures(self, conduit, held, t):
+        """p_D at the ends `held` at time t."""
+        cells = conduit.cells
+        return np.array([float(self.pressure_boundaries[cells.end_groups[e]](*cells.ends.points[e], t))
+                         for e in held])
+
+    def _mean_flux(self, conduit, p, t):
+        """Per cell the mean cubic-law flux, sum_e F_e (m_e - x_k) / |k|,
+        with F_e the two-point flux out of the cell through its edge e (the
+        mean of the lowest-order Raviart-Thomas field of those fluxes)."""
+        cells, c = conduit.cells, self._conductance(conduit)
+        q = np.zeros((len(cells.measures), 3))
+        links = cells.links
+        F = transmissibilities(c, links) * (p[links.cells[:, 0]] - p[links.cells[:, 1]])
+        for side, sign in ((0, 1.0), (1, -1.0)):
+            k = links.cells[:, side]
+            np.add.at(q, k, sign * F[:, None] * (links.points - cells.centroids[k]))
+        held, T_e = self._ends(conduit)
+        k = cells.ends.cells[held, 0]
+        F_e = T_e * (p[k] - self._end_pressures(conduit, held, t))
+        np.add.at(q, k, F_e[:, None] * (cells.ends.points[held] - cells.centroids[k]))
+        return q / cells.measures[:, None]
+
+    def cell_values(self, w, p, t):
+        """The conduit cells' fields at time t, every fault in turn, on rank 0
+        (None elsewhere; collective): columns pressure, hydraulic aperture,
+        exchange (the rock's volume rate per area into the fault, sum_i c_i
+        z_i / |k|) and mean flux (3). `w` the flow unknowns (this rank's),
+        `p` the fault's pressure (the last rank's)."""
+        exchange = [(conduit.offset + k, c * w[dof - self.start]) for dof, conduit, k, c in self.faces]
+        parts, pressure = self.comm.gather(exchange, root=0), self.comm.gather(p, root=0)
+        if self.comm.rank != 0:
+            return None
+        p = np.concatenate(pressure)
+        values = np.zeros((self.size, 6))
+        for rows in parts:
+            for row, value in rows:
+                values[row, 2] += value
+        for conduit in self.faults:
+            cells = slice(conduit.offset, conduit.offset + len(conduit.cells.measures))
+            values[cells, 0], values[cells, 1] = p[cells], conduit.aperture
+            values[cells, 2] /= conduit.cells.measures
+            values[cells, 3:] = self._mean_flux(conduit, p[cells], t)
+        return values

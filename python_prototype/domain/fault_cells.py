@@ -1,0 +1,95 @@
+"""The cells of a fault's own flow (cpp/domain/fault_cells.cpp): each facet
+of the fault that the split opened is one cell of the fault (a segment in
+2D, a triangle in 3D), where the fault's pressure p_f is one unknown. Two
+cells meet at an edge (a node in 2D, an edge of two nodes in 3D); an edge
+of one cell only is an end of the fault: on the outer boundary (its group
+given) or a tip inside the rock. Computed on rank 0 from the split mesh
+(faults.py), the same on every rank afterwards."""
+import dataclasses
+import itertools
+
+import numpy as np
+
+
+@dataclasses.dataclass
+class FaultEdges:
+    """Edges of a fault's cells: links (the two cells that share the edge)
+    or ends (the one cell of an edge on the outer boundary). Distances run
+    from each cell's centroid to the edge's midpoint (the two-point flux,
+    docs/theory.md "Flow in a fault"); an edge's measure is 1 in 2D (per
+    metre of thickness)."""
+    cells: np.ndarray      # (edges, 2) for links, (edges, 1) for ends
+    measures: np.ndarray   # (edges,)
+    distances: np.ndarray  # like cells
+    points: np.ndarray     # (edges, 3) midpoints
+
+    @staticmethod
+    def of(rows, width):
+        """From (cells, measure, distances, midpoint) rows."""
+        return FaultEdges(np.array([r[0] for r in rows], dtype=np.int64).reshape(-1, width),
+                          np.array([r[1] for r in rows], dtype=float),
+                          np.array([r[2] for r in rows], dtype=float).reshape(-1, width),
+                          np.array([r[3] for r in rows], dtype=float).reshape(-1, 3))
+
+
+@dataclasses.dataclass
+class FaultCells:
+    """A fault's cells, the links between them and its ends on the outer
+    boundary (each with its boundary group's name)."""
+    keys: np.ndarray       # (cells, d) the + face's nodes, sorted (the split numbering)
+    measures: np.ndarray   # (cells,) length or area
+    centroids: np.ndarray  # (cells, 3)
+    links: FaultEdges
+    ends: FaultEdges
+    end_groups: list
+
+
+def _edge_geometry(x, nodes):
+    """An edge's measure (1 for a node) and midpoint."""
+    points = x[list(nodes)]
+    measure = 1.0 if len(nodes) == 1 else float(np.linalg.norm(points[1] - points[0]))
+    return measure, points.mean(axis=0)
+
+
+def _cell_geometry(x, nodes):
+    """A cell's measure (a segment's length, a triangle's area) and centroid."""
+    p = x[list(nodes)]
+    if len(nodes) == 2:
+        return float(np.linalg.norm(p[1] - p[0])), p.mean(axis=0)
+    return 0.5 * float(np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0]))), p.mean(axis=0)
+
+
+def _boundary_groups(mesh):
+    """The group name of every boundary edge (a sorted tuple of d - 1
+    nodes) of the outer boundary's named facets; the first group wins."""
+    groups = {}
+    for facet, group in zip(mesh.facets.tolist(), np.asarray(mesh.facet_group).tolist()):
+        for edge in itertools.combinations(sorted(facet), mesh.dim - 1):
+            groups.setdefault(edge, mesh.names[group])
+    return groups
+
+
+def fault_cells(mesh, split):
+    """The cells of the SplitFault `split` in the split InputMesh `mesh`."""
+    d = mesh.dim
+    x = np.zeros((len(mesh.x), 3))
+    x[:, :d] = mesh.x
+    opened = np.flatnonzero(np.any(split.plus_facets != split.minus_facets, axis=1))
+    keys = np.sort(split.plus_facets[opened], axis=1)
+    geometry = [_cell_geometry(x, k) for k in keys.tolist()]
+    edges = {}
+    for c, key in enumerate(keys.tolist()):
+        for edge in itertools.combinations(key, d - 1):
+            edges.setdefault(edge, []).append(c)
+    boundary = _boundary_groups(mesh)
+    links, ends, groups = [], [], []
+    for edge, cells in sorted(edges.items()):
+        measure, middle = _edge_geometry(x, edge)
+        row = (cells, measure, [float(np.linalg.norm(middle - geometry[c][1])) for c in cells], middle)
+        if len(cells) == 2:
+            links.append(row)
+        elif len(cells) == 1 and edge in boundary:
+            ends.append(row)
+            groups.append(boundary[edge])
+    return FaultCells(keys, np.array([g[0] for g in geometry]), np.array([g[1] for g in geometry]).reshape(-1, 3),
+                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups)
