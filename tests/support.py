@@ -334,6 +334,12 @@ def fault_fields(out, names=("slip", "traction", "tangential_traction", "state")
         return f["Mesh/geometry"][:], times, series
 
 
+def fault_centroids(out):
+    """The centroids of fault.xdmf's cells (its cell data's order)."""
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        return f["Mesh/geometry"][:][f["Mesh/topology"][:]].mean(axis=1)
+
+
 # A crack of half-length 1 m at 30 degrees inside the square [-2, 2]^2 (an
 # unstructured gmsh mesh with the sides "left", "right", "bottom", "top"):
 # the small faulted scenes of test_transparent_fault.py and

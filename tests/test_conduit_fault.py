@@ -1,0 +1,116 @@
+"""Flow inside a conduit fault (issue 39; docs/theory.md "Flow in a fault"),
+on both tracks. A fault crosses a 10 m x 2 m rock from its left side to its
+right side (an unstructured gmsh mesh); the fault's ends take the sides'
+pressures. Walls rigid (a flow scene), hydraulic aperture w = 1e-4 m,
+mu_f = 1e-3 Pa s.
+- the cubic law: rock of permeability 1e-25 m^2 (impermeable beside the
+  fault), pressures 2 MPa and 1 MPa at the ends: the fault's pressure is
+  linear and its flux w^3 (p_in - p_out) / (12 mu_f L) in every cell, to
+  1e-10; the rock beside it takes no flow (exchange below 1e-10 of the
+  flux per metre);
+- transient: the same fault with storage w c_f (c_f = 1e-9 1/Pa, the
+  rock's storage nil), its pressure 1 MPa at the start and its inlet held
+  at 2 MPa: p_f follows p0 + dp erfc(x / (2 sqrt(D t))) with D = w^2 /
+  (12 mu_f c_f) within 1 % of dp at t = 0.25, 0.5 and 1 ms;
+- a conduit fault whose transmissivity is far below the rock's (w = 1e-9
+  m) in a permeable rock (1e-12 m^2) is "transparent": the rock's pressure
+  and flux equal the transparent fault's to 1e-6;
+- 2 ranks give the fields of 1 rank to 1e-10."""
+import math
+import os
+
+import numpy as np
+from support import check, fault_centroids, fault_fields, max_difference, run_track, written
+
+GEO = """SetFactory("Built-in");
+L = 10; H = 1; h = 0.25;
+Point(1) = {0, -H, 0, h}; Point(2) = {L, -H, 0, h}; Point(3) = {L, 0, 0, h}; Point(4) = {L, H, 0, h};
+Point(5) = {0, H, 0, h}; Point(6) = {0, 0, 0, h};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6}; Line(6) = {6, 1};
+Line(7) = {6, 3};
+Curve Loop(1) = {1, 2, 3, 4, 5, 6}; Plane Surface(1) = {1};
+Line{7} In Surface{1};
+Physical Curve("bottom") = {1}; Physical Curve("right") = {2, 3}; Physical Curve("top") = {4};
+Physical Curve("left") = {5, 6}; Physical Curve("crack") = {7}; Physical Surface("rock") = {1};
+"""
+SCENE = """[mesh]
+type = "gmsh"
+file = "channel.geo"
+dimension = 2
+[flow]
+mu_f = 1.0e-3
+permeability = {permeability}
+c_f = {c_f}
+initial_pressure = 1.0e6
+[time]
+end = {end}
+dt = {dt}
+[boundary.left]
+pressure = 2.0e6
+[boundary.right]
+pressure = 1.0e6
+[fault.crack]
+{fault}
+"""
+CONDUIT = 'flow = "conduit"\nresidual_aperture = {w}'
+W, MU, C_F, L, DP = 1.0e-4, 1.0e-3, 1.0e-9, 10.0, 1.0e6
+
+
+def scene(fault, permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, size=0.25):
+    path = written(SCENE.format(permeability=permeability, c_f=c_f, end=end, dt=dt, fault=fault))
+    with open(os.path.join(os.path.dirname(path), "channel.geo"), "w") as f:
+        f.write(GEO.replace("h = 0.25", f"h = {size}"))
+    return path
+
+
+def cells(out, time=-1):
+    """The fault cells' x, pressure, flux and exchange at an output time."""
+    _, _, series = fault_fields(out, ("pressure", "flux", "exchange"))
+    f = series[time]
+    return fault_centroids(out)[:, 0], f["pressure"][:, 0], f["flux"], f["exchange"][:, 0]
+
+
+def check_cubic_law(out, track):
+    x, p, q, exchange = cells(out)
+    linear = np.max(np.abs(p - (2.0e6 - DP * x / L))) / DP
+    check(linear <= 1e-10, f"{track}: the fault's pressure is linear to {linear:.1e} (1e-10)")
+    cubic = W ** 3 * DP / (12 * MU * L)
+    error = max(np.max(np.abs(q[:, 0] - cubic)), np.max(np.abs(q[:, 1:]))) / cubic
+    check(error <= 1e-10, f"{track}: flux {q[0, 0]:.6e} m^2/s in every cell, the cubic law's {cubic:.6e}: "
+          f"{error:.1e} (1e-10)")
+    leak = np.max(np.abs(exchange)) * L / cubic
+    check(leak <= 1e-10, f"{track}: the rock takes {leak:.1e} of the flux (1e-10)")
+
+
+def check_erfc(out, track):
+    D = W ** 2 / (12 * MU * C_F)
+    _, times, _ = fault_fields(out, ())
+    worst = []
+    for t in (2.5e-4, 5.0e-4, 1.0e-3):
+        x, p, _, _ = cells(out, times.index(min(times, key=lambda s: abs(s - t))))
+        exact = 1.0e6 + DP * np.array([math.erfc(v / (2 * math.sqrt(D * t))) for v in x])
+        worst.append(np.max(np.abs(p - exact)) / DP)
+    check(max(worst) <= 0.01, f"{track}: p_f follows the erfc solution (D = {D:.4g} m^2/s) to "
+          f"{', '.join(f'{w:.2%}' for w in worst)} of dp at 0.25, 0.5, 1 ms (1 %)")
+
+
+runs = {}
+for track in ("prototype",):
+    steady, _ = run_track(track, scene(CONDUIT.format(w=W)))
+    check_cubic_law(steady, track)
+    two, _ = run_track(track, scene(CONDUIT.format(w=W)), ranks=2)
+    ranks = max_difference(steady, two, ["pressure", "flux"], sort=True)
+    one_rank, two_ranks = cells(steady), cells(two)
+    order = [np.argsort(c[0]) for c in (one_rank, two_ranks)]
+    fault = np.max(np.abs(one_rank[1][order[0]] - two_ranks[1][order[1]])) / DP
+    check(max(ranks.values()) <= 1e-10 and fault <= 1e-10, f"{track}: 2 ranks give the fields of 1 rank: {ranks}, "
+          f"the fault's pressure {fault:.1e} (1e-10)")
+    transient, _ = run_track(track, scene(CONDUIT.format(w=W), c_f=C_F, end=1.0e-3, dt=1.0e-5, size=0.05),
+                             "output.every=2.5e-4")
+    check_erfc(transient, track)
+    conduit, _ = run_track(track, scene(CONDUIT.format(w=1.0e-9), permeability=1.0e-12))
+    transparent, _ = run_track(track, scene('flow = "transparent"', permeability=1.0e-12))
+    same = max_difference(conduit, transparent, ["pressure", "flux"])
+    check(max(same.values()) <= 1e-6, f"{track}: a conduit far less conductive than the rock is transparent: "
+          f"{same} (1e-6)")
+    runs[track] = steady
