@@ -151,7 +151,6 @@ def main(argv):
     except SolverError as e:
         return fail(str(e), 3)
     except Exception as e:  # noqa: BLE001  (anything else: one line, status 1)
-        import traceback; traceback.print_exc()
         return fail(f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}", 1)
 
 

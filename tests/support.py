@@ -111,6 +111,26 @@ def crack_scenes():
     return crack, crossing, degenerate
 
 
+def flow_crack_scene():
+    """The catalogues' crack (meshes/sneddon2d.geo) in a flow scene (rigid
+    walls), the fault transparent: where conduit faults are refused."""
+    return written(f"""[mesh]
+type = "gmsh"
+file = "{CRACK_GEO}"
+dimension = 2
+[flow]
+mu_f = 1.0e-3
+permeability = 1.0e-12
+[time]
+end = 1.0
+dt = 1.0
+[fault.crack]
+normal = [-0.5, 0.8660254037844386]
+[boundary.left]
+pressure = 1.0e6
+""")
+
+
 def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     """Runs a scene on one track ("C++" or "prototype") with --set values
     and PETSc `options`, on `ranks` MPI ranks, checking its exit status;

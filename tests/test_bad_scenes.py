@@ -10,7 +10,7 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, scene
+from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, flow_crack_scene, scene
 
 DEFAULT = scene("default")
 with open(DEFAULT) as f:
@@ -45,6 +45,8 @@ with open(CORRUPT_GEO, "w") as f:
     f.write("Point(1) = {0, 0, 0\n")
 EMPTY = written("")
 CRACK, CROSSING, DEGENERATE = crack_scenes()
+FLOW_CRACK = flow_crack_scene()
+CONDUIT = "fault.crack.flow=conduit"
 BOTH = ("check", "run")
 RUN = ("run",)
 
@@ -254,6 +256,24 @@ CASES = [
     ("friction on a boundary without contact", HERTZ, s("boundary.top.friction=0.3"), "boundary.top.friction", BOTH),
     ("friction where two foundations meet", scene("groove"), s("boundary.left_flank.contact.friction=0.3"),
      "boundary.left_flank.contact.friction", RUN),
+    # Conduit faults (issue 39)
+    ("a conduit fault without a residual aperture", FLOW_CRACK, s(CONDUIT), "fault.crack.residual_aperture", BOTH),
+    ("a zero residual aperture", FLOW_CRACK, s(CONDUIT, "fault.crack.residual_aperture=0.0"),
+     "fault.crack.residual_aperture", BOTH),
+    ("a residual aperture that is NaN", FLOW_CRACK, s(CONDUIT, "fault.crack.residual_aperture=nan"),
+     "fault.crack.residual_aperture", BOTH),
+    ("a negative normal permeability", FLOW_CRACK,
+     s(CONDUIT, "fault.crack.residual_aperture=1e-4", "fault.crack.normal_permeability=-1.0"),
+     "fault.crack.normal_permeability", BOTH),
+    ("a normal permeability neither a number nor inf", FLOW_CRACK,
+     s(CONDUIT, "fault.crack.residual_aperture=1e-4", "fault.crack.normal_permeability=infinite"),
+     "fault.crack.normal_permeability", BOTH),
+    ("a residual aperture on a fault that is no conduit", FLOW_CRACK, s("fault.crack.residual_aperture=1e-4"),
+     "fault.crack.residual_aperture", BOTH),
+    ("a conduit fault without [flow]", CRACK, s(CONDUIT, "fault.crack.residual_aperture=1e-4"), "fault.crack.flow",
+     BOTH),
+    ("a conduit fault with [mechanics] (not yet coupled)", scene("fault_reactivation"),
+     s("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4"), "fault.fault.flow", BOTH),
     ("a foundation normal into the body", DEFAULT, s("boundary.bottom.contact.normal=[0.0, 1.0]"),
      "boundary.bottom.contact.normal", BOTH),
     # a given pore pressure (one-way coupling)

@@ -15,7 +15,9 @@ mu_f = 1e-3 Pa s.
 - a conduit fault whose transmissivity is far below the rock's (w = 1e-9
   m) in a permeable rock (1e-12 m^2) is "transparent": the rock's pressure
   and flux equal the transparent fault's to 1e-6;
-- 2 ranks give the fields of 1 rank to 1e-10."""
+- 2 ranks give the fields of 1 rank to 1e-10;
+- the prototype gives the C++ fields and fault.xdmf's XML (the same text)
+  to 1e-10."""
 import math
 import os
 
@@ -95,7 +97,7 @@ def check_erfc(out, track):
 
 
 runs = {}
-for track in ("prototype",):
+for track in ("C++", "prototype"):
     steady, _ = run_track(track, scene(CONDUIT.format(w=W)))
     check_cubic_law(steady, track)
     two, _ = run_track(track, scene(CONDUIT.format(w=W)), ranks=2)
@@ -113,4 +115,11 @@ for track in ("prototype",):
     same = max_difference(conduit, transparent, ["pressure", "flux"])
     check(max(same.values()) <= 1e-6, f"{track}: a conduit far less conductive than the rock is transparent: "
           f"{same} (1e-6)")
-    runs[track] = steady
+    runs[track] = transient
+tracks = max_difference(runs["C++"], runs["prototype"], ["pressure", "flux"])
+fault = [cells(runs[track])[1] for track in runs]
+with open(os.path.join(runs["C++"], "fault.xdmf")) as a, open(os.path.join(runs["prototype"], "fault.xdmf")) as b:
+    same_xml = a.read() == b.read()
+check(max(tracks.values()) <= 1e-10 and np.max(np.abs(fault[0] - fault[1])) <= 1e-10 * DP and same_xml,
+      f"the prototype equals the C++ solver: {tracks}, the fault's pressure "
+      f"{np.max(np.abs(fault[0] - fault[1])) / DP:.1e} of dp (1e-10), the same fault.xdmf: {same_xml}")

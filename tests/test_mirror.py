@@ -111,6 +111,8 @@ DIFFERENCES = {
                        "some reasons by other names)",
     },
     "assembly/boundary_conditions": {
+        "FaceRow": "C++ only: a fault face's row (side, key, DOF, facet flux) as a struct; Python's fault_face_rows "
+                   "gives tuples",
         "DisplacementValue": "C++ only: to align (issue 36): Python keeps each prescribed component as an "
                              "(expression, g, dofs, points) tuple, though it has classes for FluxBoundary and "
                              "FluxValues",
@@ -211,6 +213,10 @@ DIFFERENCES = {
     "coupling/anderson": {
         "State": "C++ only: a type alias for the iterates (a vector of vectors of doubles); Python's lists need "
                  "no type",
+    },
+    "domain/fault_cells": {
+        "share_fault_cells": "C++ only: rank 0's cells broadcast field by field; Python's domain.py broadcasts them "
+                             "with the faults' pairs (comm.bcast of any object)",
     },
     "domain/domain": {
         "WellCells": "C++ only: the (cells, shares) pair locate_well returns; Python returns a tuple",

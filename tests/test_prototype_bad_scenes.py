@@ -5,7 +5,7 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, scene
+from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, flow_crack_scene, scene
 
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
@@ -122,6 +122,7 @@ for label, path, overrides, key in (
 # The faults' bad inputs of the split mesh and the flow: the catalogue's
 # scenes; a negative gap is found where the pairs are made, in a run.
 CRACK, CROSSING, DEGENERATE = crack_scenes()
+FLOW_CRACK = flow_crack_scene()
 for label, command, path, overrides, key in (
         ("a fault group that does not exist", "check", CRACK, ["fault.nowhere.gap=0.0"], "fault.nowhere"),
         ("a fault group of the wrong dimension", "check", CRACK, ["fault.rock.gap=0.0"], "fault.rock"),
@@ -138,7 +139,14 @@ for label, command, path, overrides, key in (
         ("friction on a boundary without contact", "check", CRACK, ["boundary.left.friction=0.3"],
          "boundary.left.friction"),
         ("friction where two foundations meet", "run", scene("groove"), ["boundary.left_flank.contact.friction=0.3"],
-         "boundary.left_flank.contact.friction")):
+         "boundary.left_flank.contact.friction"),
+        ("a zero residual aperture", "check", FLOW_CRACK,
+         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=0.0"], "fault.crack.residual_aperture"),
+        ("a negative normal permeability", "check", FLOW_CRACK,
+         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "fault.crack.normal_permeability=-1.0"],
+         "fault.crack.normal_permeability"),
+        ("a conduit fault with [mechanics]", "check", scene("fault_reactivation"),
+         ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4"], "fault.fault.flow")):
     (cs, ce), (ps, pe) = both(command, path, overrides)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")

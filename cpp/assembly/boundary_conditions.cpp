@@ -126,17 +126,12 @@ void update(FluxValues& values, double t)
   }
 }
 
-namespace
-{
-/// Per face of a fault on this rank whose RT0 DOF it owns: the face's side
-/// (0: +, 1: -), its vertices' input indices (a - node replaced by its +
-/// twin, sorted: the two faces of a facet share them), the DOF's global
-/// index and its facet flux (its bits).
-void add_face_rows(const Domain& domain, const dolfinx::fem::FunctionSpace& Z, const std::string& name,
-                   std::span<const double> flux, std::vector<std::int64_t>& rows)
+std::vector<FaceRow> fault_face_rows(const Domain& domain, const dolfinx::fem::FunctionSpace& Z,
+                                     const std::string& name, std::span<const double> flux)
 {
   const auto& mesh = *domain.mesh;
   const int d = domain.dim();
+  mesh.topology_mutable().create_connectivity(d - 1, 0);
   const Fault& fault = domain.faults.at(name);
   std::map<std::int64_t, std::int64_t> twin;
   for (const auto& [plus, minus] : fault.pairs)
@@ -146,6 +141,7 @@ void add_face_rows(const Domain& domain, const dolfinx::fem::FunctionSpace& Z, c
   auto c_to_f = mesh.topology().connectivity(d, d - 1);
   const auto& map = *Z.dofmap()->index_map;
   const auto& layout = Z.dofmap()->element_dof_layout();
+  std::vector<FaceRow> rows;
   for (int side = 0; side < 2; ++side)
     for (std::int32_t facet : side == 0 ? fault.plus_facets : fault.minus_facets)
     {
@@ -155,17 +151,14 @@ void add_face_rows(const Domain& domain, const dolfinx::fem::FunctionSpace& Z, c
       const std::int32_t dof = Z.dofmap()->cell_dofs(cell)[layout.entity_dofs(d - 1, local)[0]];
       if (dof >= map.size_local())
         continue;
-      rows.push_back(side);
-      std::vector<std::int64_t> key;
+      FaceRow row{side, {}, map.local_range()[0] + dof, flux[dof]};
       for (std::int32_t v : f_to_v->links(facet))
-        key.push_back(twin.count(input[v]) ? twin[input[v]] : input[v]);
-      std::sort(key.begin(), key.end());
-      rows.insert(rows.end(), key.begin(), key.end());
-      rows.push_back(map.local_range()[0] + dof);
-      rows.push_back(std::bit_cast<std::int64_t>(flux[dof]));
+        row.key.push_back(twin.count(input[v]) ? twin[input[v]] : input[v]);
+      std::sort(row.key.begin(), row.key.end());
+      rows.push_back(std::move(row));
     }
+  return rows;
 }
-} // namespace
 
 FacetFlux facet_flux(const ufcx_form* L_pressure, std::shared_ptr<const fem::FunctionSpace> X, const Domain& domain,
                      const CompiledForms& forms, const Constants& constants)
@@ -188,11 +181,17 @@ std::vector<Tie> fault_flux_ties(const Scene& scene, const Domain& domain, const
                                  const FacetFlux& facet_flux)
 {
   const int d = domain.dim(), width = d + 3;
-  domain.mesh->topology_mutable().create_connectivity(d - 1, 0);
+  // Per row: side, key (d), DOF, the facet flux's bits.
   std::vector<std::int64_t> rows;
   for (const auto& [name, f] : scene.faults)
     if (scene.flow and f.flow == FaultFlow::transparent)
-      add_face_rows(domain, Z, name, facet_flux(domain.fault_faces(name)), rows);
+      for (const FaceRow& r : fault_face_rows(domain, Z, name, facet_flux(domain.fault_faces(name))))
+      {
+        rows.push_back(r.side);
+        rows.insert(rows.end(), r.key.begin(), r.key.end());
+        rows.push_back(r.dof);
+        rows.push_back(std::bit_cast<std::int64_t>(r.flux));
+      }
   const Gathered all = all_gather(rows, domain.mesh->comm());
   std::map<std::vector<std::int64_t>, std::pair<std::int64_t, double>> plus;
   for (std::size_t r = 0; r < all.values.size(); r += width)

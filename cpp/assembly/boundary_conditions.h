@@ -12,6 +12,8 @@
 #include <dolfinx/fem/Function.h>
 #include <functional>
 #include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 namespace biotcontact
@@ -76,6 +78,24 @@ using FacetFlux = std::function<std::vector<double>(std::shared_ptr<const dolfin
 /// `L_pressure` (forms/biot.py: -<p_D, w.n> on the marked facets).
 FacetFlux facet_flux(const ufcx_form* L_pressure, std::shared_ptr<const dolfinx::fem::FunctionSpace> X,
                      const Domain& domain, const CompiledForms& forms, const Constants& constants);
+
+/// @brief One face of a fault facet as the flow sees it: its side (0: +,
+/// 1: -), its vertices' input indices (a - node replaced by its + twin,
+/// sorted: the two faces of a facet share them, and they are the fault
+/// cell's key, domain/fault_cells.h), its RT0 DOF's global index and its
+/// facet flux c = <w.n, 1>.
+struct FaceRow
+{
+  int side = 0;
+  std::vector<std::int64_t> key;
+  std::int64_t dof = 0;
+  double flux = 0;
+};
+
+/// The faces of the fault `name` on this rank whose RT0 DOF it owns; `flux`
+/// the fault faces' FacetFlux. Z is the flux subspace of a mixed space.
+std::vector<FaceRow> fault_face_rows(const Domain& domain, const dolfinx::fem::FunctionSpace& Z,
+                                     const std::string& name, std::span<const double> flux);
 
 /// The flux across each "transparent" fault: what leaves the cell on one
 /// face enters the cell on the other, c+ z+ + c- z- = 0 for the RT0 DOFs

@@ -48,6 +48,7 @@ void Scheme::make_split(const Problem& problem)
     p = _flow->pressure;
     FlowStep* f = _flow.get();
     compute_flux = [f](fem::Function<double>& out) { f->flux(out); };
+    fault_flow = [f](double t) { return f->fault_flow(t); };
     _steps.push_back(f);
   }
   if (scene.mechanics)

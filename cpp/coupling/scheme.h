@@ -52,6 +52,8 @@ public:
   /// null otherwise: sigma_v's pressure where there is no flow.
   std::shared_ptr<const dolfinx::fem::Function<double>> given_pressure;
   std::function<void(dolfinx::fem::Function<double>&)> compute_flux;
+  /// The conduit faults' cell fields (FlowStep::fault_flow).
+  std::function<std::vector<double>(double)> fault_flow = [](double) { return std::vector<double>{}; };
   std::function<ContactState()> compute_contact = [] { return ContactState{}; };
   std::unique_ptr<StepControl> step_control; // time.adaptive
 

@@ -286,6 +286,9 @@ void split_faults(const Scene& scene, GmshData& data)
     requests.push_back(r);
   }
   const std::vector<SplitFault> split = split_along_faults(mesh, requests, scene.file + ": fault.");
+  std::vector<FaultCells> cells; // before the faces join the facets
+  for (const SplitFault& f : split)
+    cells.push_back(fault_cells(mesh, f));
   for (const SplitFault& f : split)
   {
     // A facet whose nodes are all tips stays inside the body (domain/faults.h):
@@ -306,6 +309,7 @@ void split_faults(const Scene& scene, GmshData& data)
     for (const auto& [plus, minus] : f.pairs)
       fault.pairs.push_back({plus, minus});
     fault.normals = pair_normals(f, d);
+    fault.cells = std::move(cells[data.faults.size()]);
     data.faults.push_back(std::move(fault));
   }
   data.x = std::move(mesh.x);
@@ -384,7 +388,7 @@ GmshData read_gmsh_file(const Scene& scene)
   return data;
 }
 
-/// Rank 0's node pairs and normals of each fault, on every rank.
+/// Rank 0's node pairs, normals and cells of each fault, on every rank.
 void share_faults(std::vector<Fault>& faults, std::size_t count, MPI_Comm comm)
 {
   faults.resize(count);
@@ -396,6 +400,7 @@ void share_faults(std::vector<Fault>& faults, std::size_t count, MPI_Comm comm)
     f.normals.resize(size);
     MPI_Bcast(f.pairs.data(), static_cast<int>(2 * size), MPI_INT64_T, 0, comm);
     MPI_Bcast(f.normals.data(), static_cast<int>(3 * size), MPI_DOUBLE, 0, comm);
+    share_fault_cells(f.cells, comm);
   }
 }
 

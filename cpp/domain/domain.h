@@ -1,6 +1,7 @@
 // Scene -> mesh and named boundaries.
 #pragma once
 
+#include "domain/fault_cells.h"
 #include "domain/regions.h"
 #include "scene/scene.h"
 
@@ -18,7 +19,8 @@ namespace biotcontact
 
 /// @brief A fault after the mesh was split along it (domain/faults.h): the
 /// facets of its two faces, exterior facets of the split mesh (sorted local
-/// indices), and its node pairs, the same on every rank.
+/// indices), its node pairs and its cells for the fault's own flow
+/// (domain/fault_cells.h), the same on every rank.
 struct Fault
 {
   std::vector<std::int32_t> plus_facets, minus_facets;
@@ -27,6 +29,7 @@ struct Fault
   /// normal there, pointing into the + side (the mean of its facets').
   std::vector<std::array<std::int64_t, 2>> pairs;
   std::vector<std::array<double, 3>> normals;
+  FaultCells cells;
 };
 
 struct Domain

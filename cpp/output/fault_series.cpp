@@ -132,6 +132,8 @@ void FaultSeries::gather_surface(const Problem& problem)
   _x.resize(3 * _nodes.size());
   _fault.resize(_nodes.size());
   for (std::size_t k = 0, j = 0; k < all_facets.size(); k += d + 1, ++j)
+  {
+    _facet_fault.push_back(static_cast<int>(all_facets[k]));
     for (int i = 0; i < d; ++i)
     {
       const std::size_t p = position[all_facets[k + 1 + i]];
@@ -139,9 +141,33 @@ void FaultSeries::gather_surface(const Problem& problem)
       _fault[p] = static_cast<int>(all_facets[k]);
       std::copy_n(&all_x[3 * (d * j + i)], 3, &_x[3 * p]);
     }
+  }
+  conduit_rows(problem, all_facets);
 }
 
-void FaultSeries::write(const ContactState& contact, double t)
+void FaultSeries::conduit_rows(const Problem& problem, const std::vector<std::int64_t>& all_facets)
+{
+  const int d = _dim;
+  std::map<std::vector<std::int64_t>, std::int64_t> rows;
+  std::int64_t offset = 0;
+  for (const auto& [name, f] : _scene.faults)
+    if (f.flow == FaultFlow::conduit)
+    {
+      const FaultCells& cells = problem.domain.faults.at(name).cells;
+      for (std::size_t k = 0; k < cells.size(); ++k)
+        rows[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = offset + static_cast<std::int64_t>(k);
+      offset += static_cast<std::int64_t>(cells.size());
+    }
+  _conduits = offset > 0;
+  for (std::size_t k = 0; k < all_facets.size(); k += d + 1)
+  {
+    std::vector<std::int64_t> key(all_facets.begin() + k + 1, all_facets.begin() + k + 1 + d);
+    std::sort(key.begin(), key.end());
+    _conduit_row.push_back(rows.count(key) ? rows.at(key) : -1);
+  }
+}
+
+std::vector<FaultSeries::Field> FaultSeries::node_fields(const ContactState& contact) const
 {
   // Per pair: opening, traction, state, slip (3), tangential traction (3),
   // slip increment (3).
@@ -159,9 +185,9 @@ void FaultSeries::write(const ContactState& contact, double t)
   const std::vector<std::int64_t> all_nodes = gather_to_root(nodes, MPI_INT64_T, _comm);
   const std::vector<double> all_values = gather_to_root(values, MPI_DOUBLE, _comm);
   if (_rank != 0)
-    return;
+    return {};
   const std::size_t n = _nodes.size();
-  std::vector<double> opening(n, 0.0), traction(n, 0.0), slip(3 * n, 0.0), tangential(3 * n, 0.0), pressure(n, 0.0);
+  std::vector<double> opening(n, 0.0), traction(n, 0.0), slip(3 * n, 0.0), tangential(3 * n, 0.0);
   std::vector<double> increment(3 * n, 0.0);
   // A node without a pair is a tip: the faces are one node there.
   std::vector<double> state(n, static_cast<double>(PairStatus::stick));
@@ -176,20 +202,67 @@ void FaultSeries::write(const ContactState& contact, double t)
     std::copy_n(v + 6, 3, &tangential[3 * p]);
     std::copy_n(v + 9, 3, &increment[3 * p]);
   }
-  for (std::size_t p = 0; p < n; ++p)
-    if (const auto& given = _scene.faults.at(_fault_names[_fault[p]]).pressure)
-      pressure[p] = (*given)(&_x[3 * p], t);
+  return {{"opening", opening, 1},          {"traction", traction, 1},
+          {"slip", slip, 3},                {"slip_increment", increment, 3},
+          {"tangential_traction", tangential, 3}, {"state", state, 1}};
+}
+
+std::vector<FaultSeries::Field> FaultSeries::cell_fields(std::span<const double> cells, double t) const
+{
+  const std::size_t n = _facet_fault.size();
+  std::vector<double> pressure(n, 0.0);
+  for (std::size_t c = 0; c < n; ++c)
+    if (const auto& given = _scene.faults.at(_fault_names[_facet_fault[c]]).pressure)
+    {
+      std::array<double, 3> centroid{0, 0, 0};
+      for (int i = 0; i < _dim; ++i)
+        for (int j = 0; j < 3; ++j)
+          centroid[j] += _x[3 * _facets[_dim * c + i] + j];
+      for (double& x : centroid)
+        x /= _dim;
+      pressure[c] = (*given)(centroid.data(), t);
+    }
+  if (!_conduits)
+    return {{"pressure", pressure, 1}};
+  std::vector<double> aperture(n, 0.0), exchange(n, 0.0), flux(3 * n, 0.0);
+  for (std::size_t c = 0; c < n; ++c)
+    if (const std::int64_t r = _conduit_row[c]; r >= 0)
+    {
+      pressure[c] = cells[6 * r], aperture[c] = cells[6 * r + 1], exchange[c] = cells[6 * r + 2];
+      std::copy_n(&cells[6 * r + 3], 3, &flux[3 * c]);
+    }
+  return {{"pressure", pressure, 1}, {"hydraulic_aperture", aperture, 1}, {"exchange", exchange, 1},
+          {"flux", flux, 3}};
+}
+
+void FaultSeries::write(const ContactState& contact, std::span<const double> cells, double t)
+{
+  std::vector<Field> fields;
+  if (_scene.mechanics)
+    fields = node_fields(contact);
+  if (_rank != 0)
+    return;
+  for (Field& f : cell_fields(cells, t))
+    fields.push_back(std::move(f));
   const std::string index = std::to_string(_times.size());
-  write_rows(_h5, "/opening/" + index, opening, 1);
-  write_rows(_h5, "/traction/" + index, traction, 1);
-  write_rows(_h5, "/slip/" + index, slip, 3);
-  write_rows(_h5, "/slip_increment/" + index, increment, 3);
-  write_rows(_h5, "/tangential_traction/" + index, tangential, 3);
-  write_rows(_h5, "/state/" + index, state, 1);
-  write_rows(_h5, "/pressure/" + index, pressure, 1);
+  for (const Field& f : fields)
+    write_rows(_h5, "/" + f.name + "/" + index, f.values, f.width);
   io::HDF5Interface::flush_file(_h5);
   _times.push_back(t);
   write_xml();
+}
+
+std::vector<std::pair<std::string, std::string>> FaultSeries::attributes() const
+{
+  std::vector<std::pair<std::string, std::string>> a;
+  if (_scene.mechanics)
+    for (const char* name : {"opening", "slip", "slip_increment", "traction", "tangential_traction", "state"})
+      a.emplace_back(name, "Node");
+  a.emplace_back("pressure", "Cell");
+  if (_conduits)
+    for (const char* name : {"hydraulic_aperture", "exchange", "flux"})
+      a.emplace_back(name, "Cell");
+  return a;
 }
 
 void FaultSeries::write_xml() const
@@ -213,13 +286,14 @@ void FaultSeries::write_xml() const
         << item("/Mesh/topology", std::to_string(cells) + " " + std::to_string(_dim), "Int") << "</Topology>\n"
         << "    <Geometry GeometryType=\"XYZ\">" << item("/Mesh/geometry", std::to_string(n) + " 3", "Float")
         << "</Geometry>\n";
-    for (const std::string name :
-         {"opening", "slip", "slip_increment", "traction", "tangential_traction", "state", "pressure"})
+    for (const auto& [name, center] : attributes())
     {
-      const bool vector = name == "slip" or name == "slip_increment" or name == "tangential_traction";
+      const bool vector = name == "slip" or name == "slip_increment" or name == "tangential_traction"
+                          or name == "flux";
+      const std::size_t rows = center == "Node" ? n : cells;
       xml << "    <Attribute Name=\"" << name << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
-          << "\" Center=\"Node\">"
-          << item("/" + name + "/" + std::to_string(k), std::to_string(n) + (vector ? " 3" : " 1"), "Float")
+          << "\" Center=\"" << center << "\">"
+          << item("/" + name + "/" + std::to_string(k), std::to_string(rows) + (vector ? " 3" : " 1"), "Float")
           << "</Attribute>\n";
     }
     xml << "   </Grid>\n";

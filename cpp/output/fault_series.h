@@ -12,8 +12,14 @@
 //   frictionless fault the solve's error: round-off with a factorisation);
 // - state: the pair's state (contact_law.h): 0 open, 1 stick, 2 slip; 1 at
 //   the tips, where the faces are one node and neither open nor slide;
-// - pressure: the fluid pressure in the fault (fault.NAME.pressure; 0 for a
-//   fault loaded by the pore pressure beside it, which solution.xdmf holds).
+// - pressure (cell data): the fluid pressure in the fault, p_f of a conduit
+//   fault, fault.NAME.pressure at the cell's centroid, 0 for a fault loaded
+//   by the pore pressure beside it, which solution.xdmf holds.
+// With a conduit fault, cell data also (0 on other faults):
+// - hydraulic_aperture: w_h, the aperture of the cubic law;
+// - exchange: the rock's volume rate per area into the fault;
+// - flux: the mean flux along the fault (volume rate per length, a vector).
+// A scene without mechanics has only the cell data.
 // Rank 0 writes it, from the pairs each rank gathers to it (a fault holds
 // few nodes of the mesh). Each write is complete on disk when it returns,
 // as solution.xdmf's; a restart keeps the times up to its checkpoint's.
@@ -24,7 +30,9 @@
 
 #include <hdf5.h>
 #include <mpi.h>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace biotcontact
@@ -40,11 +48,29 @@ public:
   FaultSeries(const FaultSeries&) = delete;
   FaultSeries& operator=(const FaultSeries&) = delete;
 
-  /// Adds the state of the faults at time t (collective).
-  void write(const ContactState& contact, double t);
+  /// Adds the state of the faults at time t (collective): the contact
+  /// state `contact`, and the conduit faults' `cells`
+  /// (ConduitFaults::cell_values, rank 0's; empty without conduits).
+  void write(const ContactState& contact, std::span<const double> cells, double t);
 
 private:
+  /// One field of a time: its name, values and width.
+  struct Field
+  {
+    std::string name;
+    std::vector<double> values;
+    int width;
+  };
   void gather_surface(const Problem& problem);
+  /// Per facet of the faces' mesh (`all_facets`: fault, then d input
+  /// indices each), its row in the conduit cells' fields, -1 on other faults.
+  void conduit_rows(const Problem& problem, const std::vector<std::int64_t>& all_facets);
+  /// The node data at time t (with mechanics).
+  std::vector<Field> node_fields(const ContactState& contact) const;
+  /// The cell data at time t: pressure, and with conduits their fields.
+  std::vector<Field> cell_fields(std::span<const double> cells, double t) const;
+  /// The fields of each time: (name, "Node" or "Cell").
+  std::vector<std::pair<std::string, std::string>> attributes() const;
   void write_xml() const;
 
   MPI_Comm _comm;
@@ -58,6 +84,9 @@ private:
   std::vector<int> _fault;
   std::vector<std::string> _fault_names;
   std::vector<std::int64_t> _facets;
+  std::vector<int> _facet_fault;            // per facet, its fault
+  std::vector<std::int64_t> _conduit_row;   // per facet (conduit_rows)
+  bool _conduits = false;
   std::vector<double> _times;
   int _dim = 2;
   hid_t _h5 = -1;

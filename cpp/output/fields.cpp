@@ -23,6 +23,8 @@ OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& outpu
         std::make_shared<fem::FunctionSpace>(fem::create_functionspace(domain.mesh, dg0, domain.dim())));
     _flux->name = "flux";
   }
+  if (!problem.scene.faults.empty() and problem.scene.write_xdmf)
+    _faults = std::make_unique<FaultSeries>(domain.mesh->comm(), output.directory(), problem, resume_time);
   if (!scheme.u)
     return;
   scheme.u->name = "displacement";
@@ -36,8 +38,6 @@ OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& outpu
     scheme.contact_pressure->name = "contact_pressure";
     scheme.contact_active->name = "contact_active";
   }
-  if (!problem.scene.faults.empty() and problem.scene.write_xdmf)
-    _faults = std::make_unique<FaultSeries>(domain.mesh->comm(), output.directory(), problem, resume_time);
 }
 
 void OutputFields::write_flow(double t)
@@ -47,6 +47,9 @@ void OutputFields::write_flow(double t)
   _output.write(*_scheme.p, t);
   _scheme.compute_flux(*_flux);
   _output.write(*_flux, t);
+  _fault_flow = _scheme.fault_flow(t);
+  if (_faults and !_scheme.u) // else with the mechanics' fields
+    _faults->write(ContactState{}, _fault_flow, t);
 }
 
 void OutputFields::write_mechanics(double t)
@@ -63,7 +66,7 @@ void OutputFields::write_mechanics(double t)
     _output.write(*_scheme.contact_active, t);
   }
   if (_faults)
-    _faults->write(contact, t);
+    _faults->write(contact, _fault_flow, t);
 }
 
 } // namespace biotcontact

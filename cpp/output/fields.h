@@ -36,6 +36,7 @@ private:
   Output& _output;
   std::shared_ptr<dolfinx::fem::Function<double>> _flux, _sigma_v, _zero_pressure;
   std::unique_ptr<FaultSeries> _faults;
+  std::vector<double> _fault_flow; // the conduit faults' cell fields at the last flow output
 };
 
 } // namespace biotcontact

@@ -133,18 +133,23 @@ struct Choices<SolverChoice>
 };
 
 /// fault.NAME.flow: what the fault is to the flow (issue 37): no obstacle
-/// ("transparent"), a barrier ("sealing"), or held at its `pressure`.
+/// ("transparent"), a barrier ("sealing"), held at its `pressure`, or a
+/// conduit with a pressure and a flow of its own (issue 39, docs/theory.md
+/// "Flow in a fault").
 enum class FaultFlow
 {
   transparent,
   sealing,
-  pressure
+  pressure,
+  conduit
 };
 template <>
 struct Choices<FaultFlow>
 {
-  static constexpr std::array<std::pair<FaultFlow, const char*>, 3> names{
-      {{FaultFlow::transparent, "transparent"}, {FaultFlow::sealing, "sealing"}, {FaultFlow::pressure, "pressure"}}};
+  static constexpr std::array<std::pair<FaultFlow, const char*>, 4> names{{{FaultFlow::transparent, "transparent"},
+                                                                           {FaultFlow::sealing, "sealing"},
+                                                                           {FaultFlow::pressure, "pressure"},
+                                                                           {FaultFlow::conduit, "conduit"}}};
 };
 
 /// The closed form of [reference].

@@ -753,6 +753,25 @@ void read_boundaries(Section boundaries, Scene& scene)
   boundaries.finish();
 }
 
+/// A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
+/// fault"): its aperture where closed, w_r > 0, and the permeability across
+/// its faces, k_n > 0 or "inf".
+void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
+{
+  if (scene.mechanics)
+    s.fail("flow", "\"conduit\" in a scene with [mechanics]: the aperture computed by the mechanics is not yet "
+                   "coupled (issue 39); give the fault in a flow scene, whose walls are rigid");
+  f.residual_aperture = s.number("residual_aperture");
+  if (!(f.residual_aperture > 0 and std::isfinite(f.residual_aperture)))
+    s.fail("residual_aperture", "must be a finite number > 0 (m)");
+  const toml::node* n = s.node("normal_permeability");
+  if (n and n->is_string() and n->value<std::string>() == "inf")
+    return;
+  f.normal_permeability = s.number("normal_permeability", std::numeric_limits<double>::infinity());
+  if (!(f.normal_permeability > 0))
+    s.fail("normal_permeability", "must be > 0 (m^2) or \"inf\"");
+}
+
 /// fault.NAME: the gap, the fluid pressure in the fault or the pore pressure
 /// beside it, what the fault is to the flow, and the normal's hint.
 FaultSpec read_fault(Section s, const Scene& scene)
@@ -772,6 +791,8 @@ FaultSpec read_fault(Section s, const Scene& scene)
     s.fail("flow", "\"" + std::string(name_of(f.flow)) + "\" in a scene without [flow]");
   if (f.flow == FaultFlow::pressure and !f.pressure)
     s.fail("pressure", "missing (flow = \"pressure\" holds the fault at this pressure)");
+  if (f.flow == FaultFlow::conduit)
+    read_conduit(s, scene, f);
   const std::size_t d = scene.mesh.dimension;
   f.normal = std::vector<double>(d, 0.0);
   f.normal.back() = 1.0;

@@ -131,6 +131,11 @@ struct FaultSpec
   /// side the normal points into.
   std::vector<double> normal;
   FrictionSpec friction;
+  /// flow = "conduit": the hydraulic aperture w_h of the closed fault (m),
+  /// and the permeability across each face's half aperture (inf: the rock's
+  /// pressure at a face is the fault's).
+  double residual_aperture = 0;
+  double normal_permeability = std::numeric_limits<double>::infinity();
 };
 
 /// Permeability: a scalar (number or expression evaluated at cell midpoints)

@@ -14,7 +14,7 @@ namespace biotcontact
 using namespace dolfinx;
 
 FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSpace> V, FlowPass pass)
-    : _scene(problem.scene), _pass(pass)
+    : _scene(problem.scene), _pass(pass), _constants(problem.constants)
 {
   const Scene& scene = problem.scene;
   const Domain& domain = problem.domain;
@@ -41,9 +41,29 @@ FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSp
       = materials.min_stabilised_storage > 0 ? Structure::quasi_definite : Structure::general;
   _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs, SystemLayout{"flow_", structure, fields()},
                                      scene.solver.flow);
-  _system->tie(
-      fault_flux_ties(scene, domain, *_W->sub({0}), facet_flux(forms.L_flow_pressure, _W, domain, forms, constants)));
+  const FacetFlux face_flux = facet_flux(forms.L_flow_pressure, _W, domain, forms, constants);
+  _system->tie(fault_flux_ties(scene, domain, *_W->sub({0}), face_flux));
   _b = std::make_unique<la::Vector<double>>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs());
+  make_conduits(domain, face_flux);
+}
+
+void FlowStep::make_conduits(const Domain& domain, const FacetFlux& flux)
+{
+  _conduits = std::make_unique<ConduitFaults>(_scene, domain, *_W->sub({0}), flux);
+  _fault_pressure.assign(_conduits->owned(), 0.0);
+  _fault_pressure_previous.assign(_conduits->owned(), 0.0);
+  if (!*_conduits)
+    return;
+  _fault_pressure = _conduits->initial_pressure(_scene.flow->initial_pressure);
+  append_conduits();
+}
+
+void FlowStep::append_conduits()
+{
+  const double dt = _constants.at("dt")->value[0];
+  const PetscInt rows = _W->dofmap()->index_map->size_local(); // block size 1
+  _system->append({_conduits->exchange(rows), _conduits->operator_matrix(dt), _conduits->face_resistance(),
+                   std::vector<double>(_conduits->owned(), 0.0), _fault_pressure});
 }
 
 /// The mixed space W = RT0 x P0, its collapsed parts Z and Q with their maps
@@ -166,19 +186,38 @@ void FlowStep::solve(double t)
     difference(*u_iterate->x(), *u_window->x(), *_du);
     multiply_add(_displacement->mat(), *_du, *_b);
   }
+  if (*_conduits)
+  {
+    _conduits->load(t, _constants.at("dt")->value[0], _fault_pressure_previous, _system->appended().b);
+    _system->appended().x = _fault_pressure;
+  }
   assembly_time += assembly.stop();
 
   la::petsc::Vector x = wrap(*_w->x()), b = wrap(*_b);
   _system->solve(b.vec(), x.vec());
   _w->x()->scatter_fwd();
+  if (*_conduits)
+    _fault_pressure = _system->appended().x;
 
   set_unknowns(_w->x()->array());
 }
 
+std::span<const double> FlowStep::unknowns() const
+{
+  if (!*_conduits)
+    return _w->x()->array();
+  _unknowns.assign(_w->x()->array().begin(), _w->x()->array().end());
+  _unknowns.insert(_unknowns.end(), _fault_pressure.begin(), _fault_pressure.end());
+  return _unknowns;
+}
+
 void FlowStep::set_unknowns(std::span<const double> w)
 {
+  const std::size_t n = _w->x()->array().size();
+  if (w.size() > n)
+    std::copy(w.begin() + n, w.end(), _fault_pressure.begin());
   if (w.data() != _w->x()->array().data())
-    std::copy(w.begin(), w.end(), _w->x()->mutable_array().begin());
+    std::copy_n(w.begin(), n, _w->x()->mutable_array().begin());
   std::span<double> p = pressure->x()->mutable_array();
   for (std::size_t i = 0; i < _Q_to_W.size(); ++i)
     p[i] = w[_Q_to_W[i]];
@@ -187,6 +226,8 @@ void FlowStep::set_unknowns(std::span<const double> w)
 void FlowStep::time_step_changed()
 {
   _system->reassemble();
+  if (*_conduits)
+    append_conduits();
   common::Timer timer("assembly");
   reassemble_operator(_storage->mat(), *_a_storage, _bcs);
   if (_stabilisation)
@@ -220,7 +261,15 @@ void FlowStep::flux(fem::Function<double>& out) const
 void FlowStep::advance(double t, const TimeDerivative& d)
 {
   assign(*p_previous, history_value(d, pressure->x()->array(), p_before->x()->array()));
+  _fault_pressure_previous = _fault_pressure;
   solve(t);
+}
+
+std::vector<double> FlowStep::fault_flow(double t) const
+{
+  if (!*_conduits)
+    return {};
+  return _conduits->cell_values(_w->x()->array(), _fault_pressure, t);
 }
 
 StepState FlowStep::state() const { return {values(unknowns()), values(pressure->x()->array()), {}}; }

@@ -4,7 +4,7 @@
 // "Multirate ... (a)" when the scene is coupled.
 #pragma once
 
-#include "assembly/boundary_conditions.h"
+#include "assembly/fault_flow.h"
 #include "assembly/wells.h"
 #include "domain/domain.h"
 #include "assembly/forms.h"
@@ -62,9 +62,10 @@ public:
   History history() const override;
   std::span<const double> pressure_values() const override { return pressure->x()->array(); }
 
-  /// The mixed solution (z, p) of the last solve, and its restoration (the
-  /// multirate scheme keeps one per fine step for output).
-  std::span<const double> unknowns() const override { return _w->x()->array(); }
+  /// The mixed solution (z, p) of the last solve, and after it the conduit
+  /// faults' pressure (a copy then); and its restoration (the multirate
+  /// scheme keeps one per fine step for output).
+  std::span<const double> unknowns() const override;
   void set_unknowns(std::span<const double> w) override;
   /// The fields of unknowns(): the flux and the pressure (none for the
   /// second pass, which every window computes anew: a checkpoint keeps
@@ -78,6 +79,10 @@ public:
 
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;
+
+  /// The conduit faults' cell fields at time t on rank 0
+  /// (ConduitFaults::cell_values; empty without conduit faults; collective).
+  std::vector<double> fault_flow(double t) const;
 
   /// Keeps the loads of the last `times` solve times (q for a multirate
   /// window, whose iterations revisit its fine times; 1 by default).
@@ -117,6 +122,12 @@ private:
                                std::shared_ptr<const dolfinx::fem::FunctionSpace> V, double L);
   /// The flux and pressure DOFs of W: the splits of an iterative solve.
   std::vector<Field> fields() const;
+  /// The conduit faults' pressure p_f (assembly/fault_flow.h), appended to
+  /// the system, starting from the initial pressure at the cells'
+  /// centroids (nothing without conduit faults).
+  void make_conduits(const Domain& domain, const FacetFlux& flux);
+  /// The conduit faults' rows at the current dt, into the system.
+  void append_conduits();
 
   const Scene& _scene;
   const FlowPass _pass;
@@ -133,6 +144,10 @@ private:
   std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b;
   std::unique_ptr<Loads> _loads; // source, boundary pressures, gravity
+  const Constants& _constants;
+  std::unique_ptr<ConduitFaults> _conduits;
+  std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (the last rank's), and one step before
+  mutable std::vector<double> _unknowns; // unknowns() with conduit faults
 };
 
 } // namespace biotcontact

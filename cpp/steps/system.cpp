@@ -1,5 +1,7 @@
 #include "steps/system.h"
 
+#include <algorithm>
+#include <array>
 #include <dolfinx/common/Timer.h>
 
 namespace biotcontact
@@ -62,6 +64,11 @@ System::~System()
   _linear.reset();
   MatDestroy(&_A_tied);
   MatDestroy(&_P_tied);
+  MatDestroy(&_A_appended);
+  MatDestroy(&_appended.B);
+  MatDestroy(&_appended.C);
+  VecDestroy(&_b_appended);
+  VecDestroy(&_x_appended);
   VecDestroy(&_b_tied);
   VecDestroy(&_y_tied);
 }
@@ -83,6 +90,88 @@ void System::tie(const std::vector<Tie>& ties)
   MatCreateVecs(_A_tied, &_y_tied, &_b_tied);
   _linear = std::make_unique<LinearSolver>(_comm, _prefix, operator_matrix(), preconditioner_matrix(), _structure,
                                            _fields);
+}
+
+Mat System::appended_operator() const
+{
+  Mat a = _A_tied ? _A_tied : _A.mat();
+  if (!_appended.diagonal.empty())
+  {
+    MatDuplicate(a, MAT_COPY_VALUES, &a);
+    for (const auto& [row, value] : _appended.diagonal)
+      MatSetValue(a, row, row, value, ADD_VALUES);
+    MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
+    MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+  }
+  Mat Bt = nullptr, nest = nullptr, big = nullptr;
+  MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &Bt);
+  std::array<Mat, 4> blocks{a, Bt, _appended.B, _appended.C};
+  MatCreateNest(_comm, 2, nullptr, 2, nullptr, blocks.data(), &nest);
+  MatConvert(nest, MATAIJ, MAT_INITIAL_MATRIX, &big);
+  MatDestroy(&nest);
+  MatDestroy(&Bt);
+  if (!_appended.diagonal.empty())
+    MatDestroy(&a);
+  return big;
+}
+
+void System::append(AppendedUnknowns appended)
+{
+  const bool first = _A_appended == nullptr;
+  MatDestroy(&_appended.B);
+  MatDestroy(&_appended.C);
+  _appended = std::move(appended);
+  Mat big = appended_operator();
+  if (!first)
+  {
+    MatCopy(big, _A_appended, SAME_NONZERO_PATTERN);
+    MatDestroy(&big);
+    _linear->operator_changed();
+    return;
+  }
+  _A_appended = big;
+  MatCreateVecs(big, &_x_appended, &_b_appended);
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(_comm, &rank);
+  MPI_Comm_size(_comm, &ranks);
+  PetscInt start = 0, rows = 0;
+  MatGetOwnershipRange(_A.mat(), &start, nullptr);
+  MatGetLocalSize(_appended.C, &rows, nullptr);
+  if (rank == ranks - 1)
+    MatGetSize(_A.mat(), &start, nullptr);
+  for (Field& f : _fields)
+    if (f.name == "pressure")
+      for (PetscInt r = 0; r < rows; ++r)
+        f.dofs.push_back(start + r);
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A_appended, _A_appended, _structure, _fields);
+}
+
+void System::solve_appended(Vec b, Vec x)
+{
+  PetscInt n = 0;
+  VecGetLocalSize(b, &n);
+  auto copy_in = [n](Vec part, const std::vector<double>& appended, Vec whole)
+  {
+    const double* from = nullptr;
+    double* to = nullptr;
+    VecGetArrayRead(part, &from);
+    VecGetArray(whole, &to);
+    std::copy_n(from, n, to);
+    std::copy(appended.begin(), appended.end(), to + n);
+    VecRestoreArray(whole, &to);
+    VecRestoreArrayRead(part, &from);
+  };
+  copy_in(b, _appended.b, _b_appended);
+  copy_in(x, _appended.x, _x_appended);
+  _statistics.linear_iterations += _linear->solve(_x_appended, _b_appended);
+  const double* from = nullptr;
+  double* to = nullptr;
+  VecGetArrayRead(_x_appended, &from);
+  VecGetArray(x, &to);
+  std::copy_n(from, n, to);
+  std::copy(from + n, from + n + _appended.x.size(), _appended.x.begin());
+  VecRestoreArray(x, &to);
+  VecRestoreArrayRead(_x_appended, &from);
 }
 
 void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout)
@@ -112,6 +201,8 @@ void System::solve(Vec b, Vec x)
   Vec y = _tied ? _y_tied : x;
   if (_contact)
     _contact->solve(b, y);
+  else if (_A_appended)
+    solve_appended(b, y);
   else
     _statistics.linear_iterations += _linear->solve(y, b);
   if (_tied)

@@ -20,6 +20,17 @@
 namespace biotcontact
 {
 
+/// @brief Unknowns y appended after a system's own (the conduit faults'
+/// pressure, assembly/fault_flow.h), all on the last rank:
+///     [[A + D, B^T], [B, C]] [x; y] = [b; b_y],   D a diagonal on A's rows.
+struct AppendedUnknowns
+{
+  Mat B = nullptr, C = nullptr; // destroyed by the System that holds them
+  std::vector<std::pair<PetscInt, double>> diagonal; // (global row of A, value) on the rank that owns the row
+  std::vector<double> b;        // b_y (this rank's entries), set before each solve
+  std::vector<double> x;        // y: the guess of each solve, then its solution
+};
+
 class System
 {
 public:
@@ -45,11 +56,20 @@ public:
   /// a tie).
   void tie(const std::vector<Tie>& ties);
 
-  /// The matrix that is solved: A, or A' of the ties.
-  Mat operator_matrix() const { return _A_tied ? _A_tied : _A.mat(); }
+  /// Solves with the AppendedUnknowns from now on (or, called again, with
+  /// their new B, C and diagonal: same structure; collective). The System
+  /// takes B and C. The appended unknowns join the "pressure" field of an
+  /// iterative solve.
+  void append(AppendedUnknowns appended);
+  AppendedUnknowns& appended() { return _appended; }
+
+  /// The matrix that is solved: A, A' of the ties, or the system with
+  /// appended unknowns.
+  Mat operator_matrix() const { return _A_appended ? _A_appended : _A_tied ? _A_tied : _A.mat(); }
 
   /// The matrix the preconditioner is built from: the operator, or the
-  /// matrix of `a_preconditioner` on the iterative path (tied too).
+  /// matrix of `a_preconditioner` on the iterative path (tied too; never
+  /// with appended unknowns).
   Mat preconditioner_matrix() const { return _P ? (_P_tied ? _P_tied : _P->mat()) : operator_matrix(); }
 
   /// Makes every solve the contact problem of `set` (see ContactSolver:
@@ -93,6 +113,12 @@ public:
   std::int64_t unknowns() const;
 
 private:
+  /// [[A + D, B^T], [B, C]] as one AIJ matrix (A tied, if so): its rows on
+  /// each rank are A's, then (last rank) C's.
+  Mat appended_operator() const;
+  /// Solves the system with appended unknowns: [b; b_y] in, [x; y] out.
+  void solve_appended(Vec b, Vec x);
+
   MPI_Comm _comm;
   std::string _prefix;
   std::shared_ptr<const dolfinx::fem::Form<double>> _a, _a_preconditioner;
@@ -107,6 +133,9 @@ private:
   std::unique_ptr<TiedDofs> _tied;
   Mat _A_tied = nullptr, _P_tied = nullptr;
   Vec _b_tied = nullptr, _y_tied = nullptr; // b' and y of the ties
+  AppendedUnknowns _appended;
+  Mat _A_appended = nullptr;
+  Vec _b_appended = nullptr, _x_appended = nullptr;
   std::unique_ptr<LinearSolver> _linear;
   std::unique_ptr<ContactSolver> _contact;
   SolverStage _stage;

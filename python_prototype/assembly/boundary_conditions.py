@@ -115,12 +115,14 @@ def facet_flux(F, L_pressure, space):
     return flux
 
 
-def _face_rows(domain, Z, name, flux):
+def fault_face_rows(domain, Z, name, flux):
     """Per face of the fault `name` on this rank whose RT0 DOF it owns: its
     side (0: +, 1: -), its vertices' input indices (a - node replaced by
-    its + twin, sorted: the two faces of a facet share them), the DOF's
-    global index and its facet flux."""
+    its + twin, sorted: the two faces of a facet share them, and they are
+    the fault cell's key, domain/fault_cells.py), the DOF's global index
+    and its facet flux c = <w.n, 1>."""
     mesh, d = domain.mesh, domain.dim
+    mesh.topology.create_connectivity(d - 1, 0)
     fault = domain.faults[name]
     twin = {int(minus): int(plus) for plus, minus in fault.pairs}
     inputs = vertex_input_indices(mesh)
@@ -145,11 +147,9 @@ def fault_flux_ties(scene, domain, Z, flux):
     c+ z+ + c- z- = 0 for the RT0 DOFs z+- of the two faces of each facet
     (c their facet flux), tied as z- = -(c+/c-) z+, given on the rank that
     owns z- (collective). Z is the flux subspace of the mixed space."""
-    d = domain.dim
-    domain.mesh.topology.create_connectivity(d - 1, 0)
     rows = []
     for name, f in sorted(scene.faults.items()):  # the order of the C++ std::map
         if scene.flow and f.flow == FaultFlow.transparent:
-            rows += _face_rows(domain, Z, name, flux(domain.fault_faces(name)))
+            rows += fault_face_rows(domain, Z, name, flux(domain.fault_faces(name)))
     plus = {key: (dof, c) for rank in domain.mesh.comm.allgather(rows) for side, key, dof, c in rank if side == 0}
     return [Tie(plus[key][0], dof, -plus[key][1] / c) for side, key, dof, c in rows if side == 1]

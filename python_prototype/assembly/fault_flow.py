@@ -20,7 +20,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from ..scene.input import FaultFlow
-from .boundary_conditions import _face_rows
+from .boundary_conditions import fault_face_rows
 
 
 @dataclasses.dataclass
@@ -58,7 +58,7 @@ class ConduitFaults:
             resistance = 0.0 if np.isinf(f.normal_permeability) else self.flow.mu_f / (2 * f.normal_permeability)
             conduit = _Conduit(name, count, cells, np.full(len(cells.measures), f.residual_aperture), resistance)
             index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
-            for _, key, dof, c in _face_rows(domain, Z, name, flux(domain.fault_faces(name))):
+            for _, key, dof, c in fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))):
                 self.faces.append((dof, conduit, index[key], c))
             self.faults.append(conduit)
             count += len(cells.measures)
@@ -102,13 +102,13 @@ class ConduitFaults:
         """t = w_h^3 / (12 mu_f): the cubic law's transmissivity per cell."""
         return conduit.aperture ** 3 / (12 * self.flow.mu_f)
 
-    def _ends(self, conduit):
+    def _held_ends(self, conduit):
         """The ends on pressure boundaries: (indices into the ends, T_e)."""
         cells = conduit.cells
         held = [e for e, g in enumerate(cells.end_groups) if g in self.pressure_boundaries]
         return held, transmissibilities(self._conductance(conduit), cells.ends)[held]
 
-    def operator(self, dt):
+    def operator_matrix(self, dt):
         """C: the fault's rows against its own unknowns (collective; the
         entries on the last rank)."""
         C = PETSc.Mat().createAIJ(((self.owned, None), (self.owned, None)), comm=self.comm)
@@ -119,7 +119,7 @@ class ConduitFaults:
             T = transmissibilities(t, cells.links)
             for (k, l), T_kl in zip(cells.links.cells.tolist(), T):
                 C.setValues([o + k, o + l], [o + k, o + l], [[-T_kl, T_kl], [T_kl, -T_kl]], addv=True)
-            held, T_e = self._ends(conduit)
+            held, T_e = self._held_ends(conduit)
             np.subtract.at(diagonal, cells.ends.cells[held, 0], T_e)
             for k, value in enumerate(diagonal):
                 C.setValue(o + k, o + k, value, addv=True)
@@ -132,7 +132,7 @@ class ConduitFaults:
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
             part = -self._storage(conduit, dt) * p_old[o:o + n]
-            held, T_e = self._ends(conduit)
+            held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
             b[o:o + n] = part
 
@@ -153,7 +153,7 @@ class ConduitFaults:
         for side, sign in ((0, 1.0), (1, -1.0)):
             k = links.cells[:, side]
             np.add.at(q, k, sign * F[:, None] * (links.points - cells.centroids[k]))
-        held, T_e = self._ends(conduit)
+        held, T_e = self._held_ends(conduit)
         k = cells.ends.cells[held, 0]
         F_e = T_e * (p[k] - self._end_pressures(conduit, held, t))
         np.add.at(q, k, F_e[:, None] * (cells.ends.points[held] - cells.centroids[k]))

@@ -87,16 +87,16 @@ class FlowStep(Step):
         structure = Structure.quasi_definite if materials.min_stabilised_storage > 0 else Structure.general
         self.system = System(comm, self.a, self.bcs, SystemLayout("flow_", structure, self.fields(W)),
                              scene.solver.flow)
-        self.system.tie(fault_flux_ties(scene, domain, W.sub(0), facet_flux(F, "L_flow_pressure", "W")))
+        face_flux = facet_flux(F, "L_flow_pressure", "W")
+        self.system.tie(fault_flux_ties(scene, domain, W.sub(0), face_flux))
         self.b = fem.Function(W)
-        self.make_conduits(domain)
+        self.make_conduits(domain, face_flux)
 
-    def make_conduits(self, domain):
+    def make_conduits(self, domain, flux):
         """The conduit faults' pressure p_f (assembly/fault_flow.py), appended
         to the system, starting from the initial pressure at the cells'
         centroids (nothing without conduit faults)."""
-        self.conduits = ConduitFaults(self.scene, domain, self.F["W"].sub(0),
-                                      facet_flux(self.F, "L_flow_pressure", "W"))
+        self.conduits = ConduitFaults(self.scene, domain, self.F["W"].sub(0), flux)
         self.fault_pressure = np.zeros(self.conduits.owned)
         self.fault_pressure_previous = np.zeros(self.conduits.owned)
         if not self.conduits:
@@ -107,8 +107,9 @@ class FlowStep(Step):
     def append_conduits(self):
         """The conduit faults' rows at the current dt, into the system."""
         dt = float(self.F["dt"].value)
-        self.system.append(AppendedUnknowns(self.conduits.exchange(self.system.A.getLocalSize()[0]),
-                                            self.conduits.operator(dt), self.conduits.face_resistance(),
+        rows = self.F["W"].dofmap.index_map.size_local  # block size 1
+        self.system.append(AppendedUnknowns(self.conduits.exchange(rows),
+                                            self.conduits.operator_matrix(dt), self.conduits.face_resistance(),
                                             np.zeros(self.conduits.owned), self.fault_pressure))
 
     def make_loads(self, domain):

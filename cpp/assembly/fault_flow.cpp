@@ -1,0 +1,236 @@
+#include "assembly/fault_flow.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+std::vector<double> transmissibilities(std::span<const double> t, const FaultEdges& edges)
+{
+  std::vector<double> T(edges.size());
+  for (std::size_t e = 0; e < edges.size(); ++e)
+  {
+    double resistance = 0;
+    for (int i = 0; i < edges.width; ++i)
+      resistance += edges.distances[edges.width * e + i] / t[edges.cells[edges.width * e + i]];
+    T[e] = edges.measures[e] / resistance;
+  }
+  return T;
+}
+
+ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem::FunctionSpace& Z,
+                             const FacetFlux& flux)
+    : _comm(domain.mesh->comm()), _flow(*scene.flow)
+{
+  for (const auto& [name, b] : scene.boundaries)
+    if (b.flow == BoundarySpec::Flow::pressure)
+      _pressure_boundaries[name] = &b.pressure;
+  const int d = domain.dim();
+  for (const auto& [name, f] : scene.faults)
+  {
+    if (f.flow != FaultFlow::conduit)
+      continue;
+    const FaultCells& cells = domain.faults.at(name).cells;
+    const double resistance = std::isinf(f.normal_permeability) ? 0.0 : _flow.mu_f / (2 * f.normal_permeability);
+    _conduits.push_back({name, _size, &cells, std::vector<double>(cells.size(), f.residual_aperture), resistance});
+    std::map<std::vector<std::int64_t>, std::int64_t> index;
+    for (std::size_t k = 0; k < cells.size(); ++k)
+      index[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = static_cast<std::int64_t>(k);
+    for (const FaceRow& r : fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))))
+      _faces.push_back({r.dof, _conduits.size() - 1, index.at(r.key), r.flux});
+    _size += static_cast<std::int64_t>(cells.size());
+  }
+  _start = Z.dofmap()->index_map->local_range()[0];
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(_comm, &rank);
+  MPI_Comm_size(_comm, &ranks);
+  _owned = rank == ranks - 1 ? static_cast<std::int32_t>(_size) : 0;
+}
+
+std::vector<double> ConduitFaults::initial_pressure(const Expression& p0) const
+{
+  std::vector<double> p;
+  for (const Conduit& c : _conduits)
+    for (std::size_t k = 0; _owned and k < c.cells->size(); ++k)
+      p.push_back(p0(c.cells->centroids[k].data(), 0.0));
+  return p;
+}
+
+Mat ConduitFaults::exchange(PetscInt flow_rows) const
+{
+  Mat B = nullptr;
+  MatCreateAIJ(_comm, _owned, flow_rows, PETSC_DETERMINE, PETSC_DETERMINE, 2, nullptr, 2, nullptr, &B);
+  MatSetOption(B, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
+  for (const Face& f : _faces)
+    MatSetValue(B, static_cast<PetscInt>(_conduits[f.conduit].offset + f.cell), static_cast<PetscInt>(f.dof),
+                f.flux, INSERT_VALUES);
+  MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY);
+  return B;
+}
+
+std::vector<std::pair<PetscInt, double>> ConduitFaults::face_resistance() const
+{
+  std::vector<std::pair<PetscInt, double>> rows;
+  for (const Face& f : _faces)
+    if (const Conduit& c = _conduits[f.conduit]; c.normal_resistance > 0)
+      rows.emplace_back(static_cast<PetscInt>(f.dof),
+                        c.normal_resistance * c.aperture[f.cell] * f.flux * f.flux / c.cells->measures[f.cell]);
+  return rows;
+}
+
+std::vector<double> ConduitFaults::storage(const Conduit& c, double dt) const
+{
+  std::vector<double> s(c.cells->size());
+  for (std::size_t k = 0; k < s.size(); ++k)
+    s[k] = c.aperture[k] * _flow.c_f * c.cells->measures[k] / dt;
+  return s;
+}
+
+std::vector<double> ConduitFaults::conductance(const Conduit& c) const
+{
+  std::vector<double> t(c.aperture.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    t[k] = std::pow(c.aperture[k], 3) / (12 * _flow.mu_f);
+  return t;
+}
+
+std::pair<std::vector<std::size_t>, std::vector<double>> ConduitFaults::held_ends(const Conduit& c) const
+{
+  const std::vector<double> T = transmissibilities(conductance(c), c.cells->ends);
+  std::pair<std::vector<std::size_t>, std::vector<double>> held;
+  for (std::size_t e = 0; e < T.size(); ++e)
+    if (_pressure_boundaries.count(c.cells->end_groups[e]))
+      held.first.push_back(e), held.second.push_back(T[e]);
+  return held;
+}
+
+std::vector<double> ConduitFaults::end_pressures(const Conduit& c, const std::vector<std::size_t>& held,
+                                                 double t) const
+{
+  std::vector<double> p;
+  for (std::size_t e : held)
+    p.push_back((*_pressure_boundaries.at(c.cells->end_groups[e]))(c.cells->ends.points[e].data(), t));
+  return p;
+}
+
+Mat ConduitFaults::operator_matrix(double dt) const
+{
+  Mat C = nullptr;
+  MatCreateAIJ(_comm, _owned, _owned, PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 0, nullptr, &C);
+  for (const Conduit& c : _conduits)
+  {
+    if (!_owned)
+      break;
+    const auto o = static_cast<PetscInt>(c.offset);
+    std::vector<double> diagonal = storage(c, dt);
+    std::transform(diagonal.begin(), diagonal.end(), diagonal.begin(), [](double s) { return -s; });
+    const std::vector<double> T = transmissibilities(conductance(c), c.cells->links);
+    for (std::size_t e = 0; e < T.size(); ++e)
+    {
+      const std::array<PetscInt, 2> kl{o + static_cast<PetscInt>(c.cells->links.cells[2 * e]),
+                                       o + static_cast<PetscInt>(c.cells->links.cells[2 * e + 1])};
+      const std::array<double, 4> values{-T[e], T[e], T[e], -T[e]};
+      MatSetValues(C, 2, kl.data(), 2, kl.data(), values.data(), ADD_VALUES);
+    }
+    const auto [held, T_e] = held_ends(c);
+    for (std::size_t i = 0; i < held.size(); ++i)
+      diagonal[c.cells->ends.cells[held[i]]] -= T_e[i];
+    for (std::size_t k = 0; k < diagonal.size(); ++k)
+      MatSetValue(C, o + static_cast<PetscInt>(k), o + static_cast<PetscInt>(k), diagonal[k], ADD_VALUES);
+  }
+  MatAssemblyBegin(C, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(C, MAT_FINAL_ASSEMBLY);
+  return C;
+}
+
+void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std::span<double> b) const
+{
+  for (const Conduit& c : _conduits)
+  {
+    if (!_owned)
+      break;
+    const std::vector<double> s = storage(c, dt);
+    for (std::size_t k = 0; k < s.size(); ++k)
+      b[c.offset + k] = -s[k] * p_old[c.offset + k];
+    const auto [held, T_e] = held_ends(c);
+    const std::vector<double> p_D = end_pressures(c, held, t);
+    for (std::size_t i = 0; i < held.size(); ++i)
+      b[c.offset + c.cells->ends.cells[held[i]]] -= T_e[i] * p_D[i];
+  }
+}
+
+std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> p, double t) const
+{
+  const FaultCells& cells = *c.cells;
+  std::vector<double> q(3 * cells.size(), 0.0);
+  auto add = [&](std::int64_t k, double F, const std::array<double, 3>& m)
+  {
+    for (int i = 0; i < 3; ++i)
+      q[3 * k + i] += F * (m[i] - cells.centroids[k][i]);
+  };
+  const std::vector<double> T = transmissibilities(conductance(c), cells.links);
+  for (std::size_t e = 0; e < T.size(); ++e)
+  {
+    const std::int64_t k = cells.links.cells[2 * e], l = cells.links.cells[2 * e + 1];
+    const double F = T[e] * (p[k] - p[l]);
+    add(k, F, cells.links.points[e]);
+    add(l, -F, cells.links.points[e]);
+  }
+  const auto [held, T_e] = held_ends(c);
+  const std::vector<double> p_D = end_pressures(c, held, t);
+  for (std::size_t i = 0; i < held.size(); ++i)
+  {
+    const std::int64_t k = cells.ends.cells[held[i]];
+    add(k, T_e[i] * (p[k] - p_D[i]), cells.ends.points[held[i]]);
+  }
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    for (int i = 0; i < 3; ++i)
+      q[3 * k + i] /= cells.measures[k];
+  return q;
+}
+
+std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::span<const double> p, double t) const
+{
+  // Per row: the kind (0: a face's exchange, 1: the pressure), the cell's
+  // row, the value's bits.
+  std::vector<std::int64_t> rows;
+  for (const Face& f : _faces)
+    for (std::int64_t v : {std::int64_t(0), _conduits[f.conduit].offset + f.cell,
+                           std::bit_cast<std::int64_t>(f.flux * w[f.dof - _start])})
+      rows.push_back(v);
+  for (std::size_t k = 0; k < p.size(); ++k)
+    for (std::int64_t v : {std::int64_t(1), static_cast<std::int64_t>(k), std::bit_cast<std::int64_t>(p[k])})
+      rows.push_back(v);
+  const Gathered all = all_gather(rows, _comm);
+  int rank = 0;
+  MPI_Comm_rank(_comm, &rank);
+  if (rank != 0)
+    return {};
+  std::vector<double> values(6 * _size, 0.0), pressure(_size, 0.0);
+  for (std::size_t r = 0; r < all.values.size(); r += 3)
+  {
+    const double v = std::bit_cast<double>(all.values[r + 2]);
+    if (all.values[r] == 0)
+      values[6 * all.values[r + 1] + 2] += v;
+    else
+      pressure[all.values[r + 1]] = v;
+  }
+  for (const Conduit& c : _conduits)
+  {
+    const std::span<const double> p_c(pressure.data() + c.offset, c.cells->size());
+    const std::vector<double> q = mean_flux(c, p_c, t);
+    for (std::size_t k = 0; k < c.cells->size(); ++k)
+    {
+      double* row = &values[6 * (c.offset + k)];
+      row[0] = p_c[k], row[1] = c.aperture[k], row[2] /= c.cells->measures[k];
+      std::copy_n(&q[3 * k], 3, row + 3);
+    }
+  }
+  return values;
+}
+
+} // namespace biotcontact

@@ -1,0 +1,108 @@
+// The flow inside "conduit" faults (docs/theory.md "Flow in a fault"): the
+// fault's pressure p_f, one unknown per fault cell (domain/fault_cells.h),
+// appended to the flow system after the rock's unknowns, on the last rank.
+// Per cell k, the mass balance times -1 (as forms/biot.py writes the
+// rock's),
+//
+//     sum_i c_i z_i - (S_k/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
+//         = -(S_k/dt) p_k^old,
+//
+// with S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+// law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
+// between the cells, d its distance to each centroid. The faces' RT0 fluxes
+// z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
+// +c_i p_k: the rock's pressure at a face is p_f (the boundary-pressure
+// term with p_D = p_f), plus mu_f (w_h/2)/k_n z.n across a finite normal
+// permeability k_n. The operator stays symmetric. The prototype's twin is
+// python_prototype/assembly/fault_flow.py.
+#pragma once
+
+#include "assembly/boundary_conditions.h"
+#include "domain/domain.h"
+#include "scene/scene.h"
+
+#include <petscmat.h>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
+/// FaultEdges `edges` (t: per cell).
+std::vector<double> transmissibilities(std::span<const double> t, const FaultEdges& edges);
+
+/// @brief The conduit faults of a scene: their cells, numbered fault by
+/// fault in the scene's order, appended after the flow system's unknowns on
+/// the last rank (a fault holds few facets); the faces' flux DOFs on the
+/// ranks that own them.
+class ConduitFaults
+{
+public:
+  /// `flux`: the facet flux of the flux basis functions (facet_flux); Z the
+  /// flux subspace.
+  ConduitFaults(const Scene& scene, const Domain& domain, const dolfinx::fem::FunctionSpace& Z,
+                const FacetFlux& flux);
+
+  explicit operator bool() const { return _size > 0; }
+  /// This rank's share of the cells (all on the last rank).
+  std::int32_t owned() const { return _owned; }
+
+  /// p_f at the start: the expression p0 at the cells' centroids (this
+  /// rank's entries).
+  std::vector<double> initial_pressure(const Expression& p0) const;
+  /// B: the fault's rows against the flow unknowns, c_i at each face DOF
+  /// (`flow_rows`: the flow system's local size; collective).
+  Mat exchange(PetscInt flow_rows) const;
+  /// The rows of the face DOFs across a finite normal permeability: (dof,
+  /// mu_f (w_h/2)/k_n <w_i.n, w_i.n>) with w_i.n = c_i/|face|.
+  std::vector<std::pair<PetscInt, double>> face_resistance() const;
+  /// C: the fault's rows against its own unknowns at step dt (collective;
+  /// the entries on the last rank).
+  Mat operator_matrix(double dt) const;
+  /// The fault's right-hand side at time t into b (its owned entries):
+  /// -(S/dt) p_old - T_e p_D at the ends on pressure boundaries.
+  void load(double t, double dt, std::span<const double> p_old, std::span<double> b) const;
+  /// The conduit cells' fields at time t, every fault in turn, on rank 0
+  /// (empty elsewhere; collective): per cell pressure, hydraulic aperture,
+  /// exchange (the rock's volume rate per area into the fault, sum_i c_i
+  /// z_i / |k|) and mean flux (3). `w` the flow unknowns (this rank's), `p`
+  /// the fault's pressure (the last rank's).
+  std::vector<double> cell_values(std::span<const double> w, std::span<const double> p, double t) const;
+
+private:
+  struct Conduit
+  {
+    std::string name;
+    std::int64_t offset;     // its first cell among the appended unknowns
+    const FaultCells* cells;
+    std::vector<double> aperture; // w_h per cell (m)
+    double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+  };
+  struct Face
+  {
+    std::int64_t dof;    // global
+    std::size_t conduit; // index into _conduits
+    std::int64_t cell;   // within its fault
+    double flux;         // c = <w_i.n, 1>
+  };
+  std::vector<double> storage(const Conduit& c, double dt) const;
+  std::vector<double> conductance(const Conduit& c) const;
+  /// The ends on pressure boundaries: (indices into the ends, T_e).
+  std::pair<std::vector<std::size_t>, std::vector<double>> held_ends(const Conduit& c) const;
+  std::vector<double> end_pressures(const Conduit& c, const std::vector<std::size_t>& held, double t) const;
+  /// Per cell the mean cubic-law flux, sum_e F_e (m_e - x_k) / |k| (3 each).
+  std::vector<double> mean_flux(const Conduit& c, std::span<const double> p, double t) const;
+
+  MPI_Comm _comm;
+  const FlowSpec& _flow;
+  std::map<std::string, const Expression*> _pressure_boundaries;
+  std::vector<Conduit> _conduits;
+  std::vector<Face> _faces;
+  std::int64_t _size = 0, _start = 0;
+  std::int32_t _owned = 0;
+};
+
+} // namespace biotcontact

@@ -1,0 +1,57 @@
+// The cells of a fault's own flow: each facet of the fault that the split
+// opened is one cell of the fault (a segment in 2D, a triangle in 3D), where
+// the fault's pressure p_f is one unknown. Two cells meet at an edge (a node
+// in 2D, an edge of two nodes in 3D); an edge of one cell only is an end of
+// the fault: on the outer boundary (its group given) or a tip inside the
+// rock. Computed on rank 0 from the split mesh (domain/faults.h), the same
+// on every rank afterwards. The prototype's twin is
+// python_prototype/domain/fault_cells.py.
+#pragma once
+
+#include "domain/faults.h"
+
+#include <array>
+#include <cstdint>
+#include <mpi.h>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief Edges of a fault's cells: links (the two cells that share the
+/// edge) or ends (the one cell of an edge on the outer boundary). Distances
+/// run from each cell's centroid to the edge's midpoint (the two-point
+/// flux, docs/theory.md "Flow in a fault"); an edge's measure is 1 in 2D
+/// (per metre of thickness).
+struct FaultEdges
+{
+  int width = 2;                       // cells per edge: 2 for links, 1 for ends
+  std::vector<std::int64_t> cells;     // width per edge
+  std::vector<double> measures;        // per edge
+  std::vector<double> distances;       // width per edge
+  std::vector<std::array<double, 3>> points; // midpoints
+
+  std::size_t size() const { return measures.size(); }
+};
+
+/// @brief A fault's cells, the links between them and its ends on the outer
+/// boundary (each with its boundary group's name).
+struct FaultCells
+{
+  std::vector<std::int64_t> keys; // d per cell: the + face's nodes, sorted (the split numbering)
+  std::vector<double> measures;   // length or area per cell
+  std::vector<std::array<double, 3>> centroids;
+  FaultEdges links{2}, ends{1};
+  std::vector<std::string> end_groups;
+
+  std::size_t size() const { return measures.size(); }
+};
+
+/// The cells of the fault `split` in the split mesh `mesh`.
+FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split);
+
+/// Rank 0's `cells` on every rank (collective).
+void share_fault_cells(FaultCells& cells, MPI_Comm comm);
+
+} // namespace biotcontact
