@@ -10,6 +10,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -352,6 +353,29 @@ def fault_fields(out, names=("slip", "traction", "tangential_traction", "state")
     with h5py.File(os.path.join(out, "fault.h5")) as f:
         series = [{name: f[f"{name}/{i}"][:] for name in names} for i in range(len(times))]
         return f["Mesh/geometry"][:], times, series
+
+
+def killed_and_restarted(track, scene_file, steps, *extra):
+    """A run with a checkpoint every 4 steps (and --set `extra`), killed
+    once `steps` are written, then continued with --restart; its output
+    directory and the step it restarted from."""
+    sets = ["--set", "output.checkpoint_every=4", *[a for s in extra for a in ("--set", s)]]
+    out = tempfile.mkdtemp(prefix="restart-")
+    p = subprocess.Popen(TRACKS[track] + ["run", scene_file, "--out", out] + sets, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
+    printed = 0
+    for line in p.stdout:
+        printed += re.match(r"step +\d+/", line) is not None
+        if printed == steps:
+            p.send_signal(signal.SIGKILL)
+            break
+    p.communicate(timeout=300)
+    p = subprocess.run(TRACKS[track] + ["run", scene_file, "--restart", out] + sets, capture_output=True, text=True,
+                       env=MPI_ENV, cwd=ROOT, timeout=900)
+    restarted = re.search(r"restarted from the checkpoint at step (\d+)", p.stdout)
+    check(p.returncode == 0 and restarted is not None, f"{track}: killed after step {steps} and restarted "
+          f"from step {restarted.group(1) if restarted else '?'} ({p.stderr.strip()[-200:]!r})")
+    return out, int(restarted.group(1))
 
 
 def fault_centroids(out):

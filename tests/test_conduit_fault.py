@@ -16,13 +16,15 @@ mu_f = 1e-3 Pa s.
   m) in a permeable rock (1e-12 m^2) is "transparent": the rock's pressure
   and flux equal the transparent fault's to 1e-6;
 - 2 ranks give the fields of 1 rank to 1e-10;
+- the transient run killed halfway and restarted from its checkpoint ends
+  with the uninterrupted run's fields and fault pressure exactly (1e-12);
 - the prototype gives the C++ fields and fault.xdmf's XML (the same text)
   to 1e-10."""
 import math
 import os
 
 import numpy as np
-from support import check, fault_centroids, fault_fields, max_difference, run_track, written
+from support import check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track, written
 
 GEO = """SetFactory("Built-in");
 L = 10; H = 1; h = 0.25;
@@ -107,9 +109,14 @@ for track in ("C++", "prototype"):
     fault = np.max(np.abs(one_rank[1][order[0]] - two_ranks[1][order[1]])) / DP
     check(max(ranks.values()) <= 1e-10 and fault <= 1e-10, f"{track}: 2 ranks give the fields of 1 rank: {ranks}, "
           f"the fault's pressure {fault:.1e} (1e-10)")
-    transient, _ = run_track(track, scene(CONDUIT.format(w=W), c_f=C_F, end=1.0e-3, dt=1.0e-5, size=0.05),
-                             "output.every=2.5e-4")
+    transient_scene = scene(CONDUIT.format(w=W), c_f=C_F, end=1.0e-3, dt=1.0e-5, size=0.05)
+    transient, _ = run_track(track, transient_scene, "output.every=2.5e-4")
     check_erfc(transient, track)
+    restarted, step = killed_and_restarted(track, transient_scene, 50, "output.every=2.5e-4")
+    same = max_difference(transient, restarted, ["pressure", "flux"])
+    fault = np.max(np.abs(cells(transient)[1] - cells(restarted)[1])) / DP
+    check(step < 100 and max(same.values()) <= 1e-12 and fault <= 1e-12, f"{track}: restarted at step {step}, "
+          f"the uninterrupted run's fields {same} and fault pressure ({fault:.1e}) (1e-12)")
     conduit, _ = run_track(track, scene(CONDUIT.format(w=1.0e-9), permeability=1.0e-12))
     transparent, _ = run_track(track, scene('flow = "transparent"', permeability=1.0e-12))
     same = max_difference(conduit, transparent, ["pressure", "flux"])

@@ -20,13 +20,9 @@ the crack of test_phan.py (psi = 20 degrees to the compression):
   fields to 1e-10;
 - the prototype gives the C++ fields to 1e-10."""
 import math
-import re
-import signal
-import subprocess
-import tempfile
 
 import numpy as np
-from support import MPI_ENV, PHAN_GEO, ROOT, TRACKS, check, fault_fields, max_difference, run_track, written
+from support import PHAN_GEO, check, fault_fields, killed_and_restarted, max_difference, run_track, written
 
 E, NU, SIGMA, CONFINEMENT = 25.0e9, 0.25, 1.0e8, 5.0e7
 PSI = math.radians(20)
@@ -90,28 +86,6 @@ def check_onset(out, track):
                   f"pair slips ({np.count_nonzero(state == 2)} of {len(state) - 2}), slip {slip:.3e} m")
 
 
-def killed_and_restarted(track, scene_file, steps):
-    """A run with a checkpoint every 4 steps, killed once `steps` are
-    written, then continued with --restart; its output directory."""
-    sets = ["--set", "output.checkpoint_every=4"]
-    out = tempfile.mkdtemp(prefix="restart-")
-    p = subprocess.Popen(TRACKS[track] + ["run", scene_file, "--out", out] + sets, stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
-    printed = 0
-    for line in p.stdout:
-        printed += re.match(r"step +\d+/", line) is not None
-        if printed == steps:
-            p.send_signal(signal.SIGKILL)
-            break
-    p.communicate(timeout=300)
-    p = subprocess.run(TRACKS[track] + ["run", scene_file, "--restart", out] + sets, capture_output=True, text=True,
-                       env=MPI_ENV, cwd=ROOT, timeout=900)
-    restarted = re.search(r"restarted from the checkpoint at step (\d+)", p.stdout)
-    check(p.returncode == 0 and restarted is not None, f"{track}: killed after step {steps} and restarted "
-          f"from step {restarted.group(1) if restarted else '?'} ({p.stderr.strip()[-200:]!r})")
-    return out
-
-
 runs = {}
 for track in ("C++", "prototype"):
     onset, _ = run_track(track, scene(ONSET))
@@ -123,7 +97,7 @@ for track in ("C++", "prototype"):
     residual = np.linalg.norm(series[-1]["slip"], axis=1).max()
     check(residual >= 0.1 * peak, f"{track}: load taken off, the slip stays: {residual:.3e} m of the peak "
           f"{peak:.3e} m")
-    restarted = killed_and_restarted(track, hysteresis_scene, 11)
+    restarted, _ = killed_and_restarted(track, hysteresis_scene, 11)
     same = max_difference(loaded, restarted, ["displacement"])
     check(same["displacement"] <= 1e-12, f"{track}: the restarted run is the uninterrupted one: {same} (1e-12)")
     runs[track] = (onset, loaded)

@@ -47,7 +47,9 @@ public:
                 const FacetFlux& flux);
 
   explicit operator bool() const { return _size > 0; }
-  /// This rank's share of the cells (all on the last rank).
+  /// The cells of every conduit fault, and this rank's share of them (all
+  /// on the last rank).
+  std::int64_t size() const { return _size; }
   std::int32_t owned() const { return _owned; }
 
   /// p_f at the start: the expression p0 at the cells' centroids (this

@@ -433,6 +433,9 @@ Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const
     keep(step->parts(), step->unknowns());
   for (const auto& [name, f] : run.scheme.history())
     keep({{name, f->function_space(), {}}}, f->x()->array());
+  for (const Step* step : run.scheme.steps())
+    for (auto& [name, values] : step->arrays())
+      c.arrays[name] = std::move(values);
   for_each_checkpointed(run.report, run.state, [&](const char* name, auto& value) { c.numbers[name] = value; });
   for (const Step* step : run.scheme.steps())
   {
@@ -480,6 +483,13 @@ void restore_unknowns(const Checkpoint& c, const RunState& run, MPI_Comm comm, c
   }
   for (const auto& [name, f] : run.scheme.history())
     restore({{name, f->function_space(), {}}}, f->x()->mutable_array());
+  for (Step* step : run.scheme.steps())
+  {
+    for (const auto& [name, values] : step->arrays())
+      if (!c.arrays.count(name))
+        throw SceneError("--restart " + directory + ": the checkpoint has no " + name);
+    step->restore_arrays(c.arrays);
+  }
 }
 
 /// The stored count `count` of system `system`: by name, or by the

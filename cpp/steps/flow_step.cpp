@@ -265,6 +265,26 @@ void FlowStep::advance(double t, const TimeDerivative& d)
   solve(t);
 }
 
+std::map<std::string, std::vector<double>> FlowStep::arrays() const
+{
+  if (!*_conduits or _pass == FlowPass::second)
+    return {};
+  std::vector<double> p(_conduits->size());
+  std::copy(_fault_pressure.begin(), _fault_pressure.end(), p.begin());
+  int ranks = 1;
+  MPI_Comm_size(_W->mesh()->comm(), &ranks);
+  MPI_Bcast(p.data(), static_cast<int>(p.size()), MPI_DOUBLE, ranks - 1, _W->mesh()->comm());
+  return {{"fault_pressure", p}};
+}
+
+void FlowStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
+{
+  if (!*_conduits or _pass == FlowPass::second)
+    return;
+  const std::vector<double>& p = arrays.at("fault_pressure");
+  std::copy_n(p.begin(), _fault_pressure.size(), _fault_pressure.begin());
+}
+
 std::vector<double> FlowStep::fault_flow(double t) const
 {
   if (!*_conduits)

@@ -70,6 +70,9 @@ public:
   /// The fields of unknowns(): the flux and the pressure (none for the
   /// second pass, which every window computes anew: a checkpoint keeps
   /// nothing of it).
+  /// The conduit faults' pressure, "fault_pressure" (every rank's copy).
+  std::map<std::string, std::vector<double>> arrays() const override;
+  void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
   std::vector<UnknownsPart> parts() const override
   {
     if (_pass == FlowPass::second)

@@ -75,6 +75,11 @@ public:
   virtual std::vector<UnknownsPart> parts() const = 0;
   /// The time scheme's memory a checkpoint keeps (empty by default).
   virtual History history() const { return {}; }
+  /// State in plain arrays, the same on every rank, that a checkpoint keeps
+  /// (the conduit faults' pressure; empty by default; collective), and its
+  /// restoration.
+  virtual std::map<std::string, std::vector<double>> arrays() const { return {}; }
+  virtual void restore_arrays(const std::map<std::string, std::vector<double>>&) {}
 
   /// The pressure and the displacement now (empty where the step has none).
   virtual std::span<const double> pressure_values() const { return {}; }

@@ -276,6 +276,8 @@ def capture_checkpoint(run, steps, time, output):
             c.fields[part.name] = keyed_values(run.mesh, part, step.unknowns())
     for name, f in run.scheme.history():
         c.fields[name] = keyed_values(run.mesh, UnknownsPart(name, f.function_space), f.x.array)
+    for step in run.scheme.steps():
+        c.arrays.update(step.arrays())
     for_each_checkpointed(run.report, run.state,
                           lambda holder, name: c.numbers.__setitem__(name, float(getattr(holder, name))))
     for step in run.scheme.steps():
@@ -306,6 +308,11 @@ def _restore_unknowns(c, run, comm, directory):
             step.set_unknowns(x)
     for name, f in run.scheme.history():
         restore([UnknownsPart(name, f.function_space)], f.x.array)
+    for step in run.scheme.steps():
+        for name in step.arrays():
+            if name not in c.arrays:
+                raise SceneError(f"--restart {directory}: the checkpoint has no {name}")
+        step.restore_arrays(c.arrays)
 
 
 def _stored_count(c, system, count):

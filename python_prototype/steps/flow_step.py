@@ -254,6 +254,18 @@ class FlowStep(Step):
             self.w.x.array[:] = w[:n]
         self.pressure.x.array[:] = w[self.Q_to_W]
 
+    def arrays(self):
+        """The conduit faults' pressure, "fault_pressure" (every rank's copy)."""
+        if not self.conduits or self.flow_pass == FlowPass.second:
+            return {}
+        comm = self.F["W"].mesh.comm
+        return {"fault_pressure": np.asarray(comm.bcast(self.fault_pressure, root=comm.size - 1))}
+
+    def restore_arrays(self, arrays):
+        if not self.conduits or self.flow_pass == FlowPass.second:
+            return
+        self.fault_pressure[:] = arrays["fault_pressure"][:len(self.fault_pressure)]
+
     def fault_flow(self, t):
         """The conduit faults' cell fields at time t on rank 0
         (ConduitFaults.cell_values; None without conduit faults; collective)."""

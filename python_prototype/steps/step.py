@@ -66,6 +66,15 @@ class Step(abc.ABC):
         """Back to the StepState `start`."""
         self.set_unknowns(start.unknowns)
 
+    def arrays(self):
+        """State in plain arrays, the same on every rank, that a checkpoint
+        keeps (the conduit faults' pressure; none by default; collective):
+        name -> array."""
+        return {}
+
+    def restore_arrays(self, arrays):
+        """Restores arrays() from a checkpoint's arrays."""
+
     def keep_history(self, start):
         """The step from `start` was accepted: it becomes the state one step
         before the next (BDF2's memory)."""
