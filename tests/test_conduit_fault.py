@@ -8,6 +8,10 @@ mu_f = 1e-3 Pa s.
   linear and its flux w^3 (p_in - p_out) / (12 mu_f L) in every cell, to
   1e-10; the rock beside it takes no flow (exchange below 1e-10 of the
   flux per metre);
+- a well injecting Q = 1e-6 m^2/s into the fault's middle, both ends at
+  1 MPa: p_f is the tent 1 MPa + (Q/2) (L/2 - |x - L/2|) / t, t = w^3 /
+  (12 mu_f), at every cell to 1e-10, and Q/2 leaves through each end (the
+  end cells' flux, to 1e-10): what the well injects leaves the fault;
 - transient: the same fault with storage w c_f (c_f = 1e-9 1/Pa, the
   rock's storage nil), its pressure 1 MPa at the start and its inlet held
   at 2 MPa: p_f follows p0 + dp erfc(x / (2 sqrt(D t))) with D = w^2 /
@@ -50,7 +54,7 @@ initial_pressure = 1.0e6
 end = {end}
 dt = {dt}
 [boundary.left]
-pressure = 2.0e6
+pressure = {left}
 [boundary.right]
 pressure = 1.0e6
 [fault.crack]
@@ -60,8 +64,9 @@ CONDUIT = 'flow = "conduit"\nresidual_aperture = {w}'
 W, MU, C_F, L, DP = 1.0e-4, 1.0e-3, 1.0e-9, 10.0, 1.0e6
 
 
-def scene(fault, permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, size=0.25):
-    path = written(SCENE.format(permeability=permeability, c_f=c_f, end=end, dt=dt, fault=fault))
+def scene(fault, permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, size=0.25, left=2.0e6, well=""):
+    path = written(SCENE.format(permeability=permeability, c_f=c_f, end=end, dt=dt, fault=fault, left=left)
+                   + well)
     with open(os.path.join(os.path.dirname(path), "channel.geo"), "w") as f:
         f.write(GEO.replace("h = 0.25", f"h = {size}"))
     return path
@@ -86,6 +91,25 @@ def check_cubic_law(out, track):
     check(leak <= 1e-10, f"{track}: the rock takes {leak:.1e} of the flux (1e-10)")
 
 
+WELL = """[well.inj]
+fault = "crack"
+position = [5.0, 0.0]
+rate = 1.0e-6
+"""
+Q = 1.0e-6
+
+
+def check_well(out, track):
+    x, p, q, _ = cells(out)
+    t = W ** 3 / (12 * MU)
+    tent = 1.0e6 + (Q / 2) * (L / 2 - np.abs(x - L / 2)) / t
+    error = np.max(np.abs(p - tent)) / np.max(tent - 1.0e6)
+    ends = [np.argmin(x), np.argmax(x)]
+    outflow = max(abs(abs(q[k, 0]) - Q / 2) for k in ends) / Q
+    check(error <= 1e-10 and outflow <= 1e-10, f"{track}: a well into the fault: p_f the tent to {error:.1e}, Q/2 "
+          f"out of each end to {outflow:.1e} (1e-10)")
+
+
 def check_erfc(out, track):
     D = W ** 2 / (12 * MU * C_F)
     _, times, _ = fault_fields(out, ())
@@ -102,6 +126,8 @@ runs = {}
 for track in ("C++", "prototype"):
     steady, _ = run_track(track, scene(CONDUIT.format(w=W)))
     check_cubic_law(steady, track)
+    well, _ = run_track(track, scene(CONDUIT.format(w=W), left=1.0e6, well=WELL))
+    check_well(well, track)
     two, _ = run_track(track, scene(CONDUIT.format(w=W)), ranks=2)
     ranks = max_difference(steady, two, ["pressure", "flux"], sort=True)
     one_rank, two_ranks = cells(steady), cells(two)

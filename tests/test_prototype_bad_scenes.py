@@ -145,6 +145,9 @@ for label, command, path, overrides, key in (
         ("a negative normal permeability", "check", FLOW_CRACK,
          ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "fault.crack.normal_permeability=-1.0"],
          "fault.crack.normal_permeability"),
+        ("a well off its fault", "check", FLOW_CRACK,
+         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "well.inj.position=[0.0, 5.0]",
+          "well.inj.rate=1e-6", "well.inj.fault=crack"], "well.inj.position"),
         ("a conduit fault with [mechanics]", "check", scene("fault_reactivation"),
          ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4"], "fault.fault.flow")):
     (cs, ce), (ps, pe) = both(command, path, overrides)

@@ -41,6 +41,7 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
       index[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = static_cast<std::int64_t>(k);
     for (const FaceRow& r : fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))))
       _faces.push_back({r.dof, _conduits.size() - 1, index.at(r.key), r.flux});
+    locate_wells(scene, name, cells, _size);
     _size += static_cast<std::int64_t>(cells.size());
   }
   _start = Z.dofmap()->index_map->local_range()[0];
@@ -48,6 +49,18 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
   MPI_Comm_rank(_comm, &rank);
   MPI_Comm_size(_comm, &ranks);
   _owned = rank == ranks - 1 ? static_cast<std::int32_t>(_size) : 0;
+}
+
+void ConduitFaults::locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells,
+                                 std::int64_t offset)
+{
+  for (const auto& [name, w] : scene.wells)
+    if (w.fault == fault)
+    {
+      const WellOnFault hit = well_cells(cells, w);
+      for (std::size_t i = 0; i < hit.cells.size(); ++i)
+        _wells.push_back({offset + hit.cells[i], hit.shares[i], &w.rate});
+    }
 }
 
 std::vector<double> ConduitFaults::initial_pressure(const Expression& p0) const
@@ -161,6 +174,9 @@ void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std
     for (std::size_t i = 0; i < held.size(); ++i)
       b[c.offset + c.cells->ends.cells[held[i]]] -= T_e[i] * p_D[i];
   }
+  for (const Well& w : _wells)
+    if (_owned)
+      b[w.row] -= w.share * (*w.rate)(0, 0, 0, t);
 }
 
 std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> p, double t) const

@@ -65,7 +65,8 @@ public:
   /// the entries on the last rank).
   Mat operator_matrix(double dt) const;
   /// The fault's right-hand side at time t into b (its owned entries):
-  /// -(S/dt) p_old - T_e p_D at the ends on pressure boundaries.
+  /// -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, and -R(t)
+  /// share in the cells a well meets (injection positive).
   void load(double t, double dt, std::span<const double> p_old, std::span<double> b) const;
   /// The conduit cells' fields at time t, every fault in turn, on rank 0
   /// (empty elsewhere; collective): per cell pressure, hydraulic aperture,
@@ -90,6 +91,15 @@ private:
     std::int64_t cell;   // within its fault
     double flux;         // c = <w_i.n, 1>
   };
+  struct Well
+  {
+    std::int64_t row; // among the appended unknowns
+    double share;
+    const Expression* rate;
+  };
+  /// The wells into the fault `fault`, per cell each meets (domain.h's
+  /// check_expressions has checked that each meets one).
+  void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;
   std::vector<double> conductance(const Conduit& c) const;
   /// The ends on pressure boundaries: (indices into the ends, T_e).
@@ -103,6 +113,7 @@ private:
   std::map<std::string, const Expression*> _pressure_boundaries;
   std::vector<Conduit> _conduits;
   std::vector<Face> _faces;
+  std::vector<Well> _wells;
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
 };

@@ -11,6 +11,8 @@ std::vector<WellSource> well_sources(const Scene& scene, const Domain& domain, c
   std::vector<WellSource> wells;
   for (const auto& [name, w] : scene.wells)
   {
+    if (!w.fault.empty())
+      continue;
     const WellCells cells = locate_well(domain, w, "well." + name + ".position");
     WellSource source{&w.rate, {}, cells.shares};
     for (std::int32_t c : cells.cells)

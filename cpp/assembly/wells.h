@@ -21,8 +21,9 @@ struct WellSource
   std::vector<double> shares;
 };
 
-/// The wells of a scene in a vector whose pressure part (the P0 space Q)
-/// sits at `Q_to_vector`.
+/// The wells of a scene into the rock, in a vector whose pressure part (the
+/// P0 space Q) sits at `Q_to_vector` (a well into a conduit fault is
+/// fault_flow.h's).
 std::vector<WellSource> well_sources(const Scene& scene, const Domain& domain, const dolfinx::fem::FunctionSpace& Q,
                                      std::span<const std::int32_t> Q_to_vector);
 

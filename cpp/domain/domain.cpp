@@ -677,7 +677,12 @@ void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm)
     if (b.flow == BoundarySpec::Flow::flux)
       planar_boundary(domain, name, scene.file + ": boundary." + name + (b.rate ? ".rate" : ".flux"));
   for (const auto& [name, w] : scene.wells)
+  {
     locate_well(domain, w, scene.file + ": well." + name + ".position");
+    if (!w.fault.empty() and well_cells(domain.faults.at(w.fault).cells, w).cells.empty())
+      throw SceneError(scene.file + ": well." + name + ".position: the well at " + well_place(w, domain.dim())
+                       + " is not on fault." + w.fault);
+  }
 }
 
 namespace
@@ -766,6 +771,15 @@ double well_weight(const std::vector<std::array<double, 3>>& v, const WellSpec& 
 }
 } // namespace
 
+std::string well_place(const WellSpec& w, int d)
+{
+  std::ostringstream s;
+  s << "(" << w.position[0] << ", " << w.position[1] << ")";
+  if (d == 3)
+    s << " from z = " << w.bottom << " to " << w.top;
+  return s.str();
+}
+
 WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string& key)
 {
   const mesh::Mesh& mesh = *domain.mesh;
@@ -790,12 +804,8 @@ WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string
   const double length = d == 2 ? 1.0 : w.top - w.bottom;
   if (!(total >= length * (1 - 1e-9)))
   {
-    std::ostringstream s;
-    s << key << ": the well at (" << w.position[0] << ", " << w.position[1] << ")";
-    if (d == 3)
-      s << " from z = " << w.bottom << " to " << w.top;
-    s << (d == 2 or total == 0 ? " is not in the mesh" : " leaves the mesh");
-    throw SceneError(s.str());
+    throw SceneError(key + ": the well at " + well_place(w, d)
+                     + (d == 2 or total == 0 ? " is not in the mesh" : " leaves the mesh"));
   }
   for (double& share : result.shares)
     share /= total;

@@ -85,6 +85,10 @@ struct WellCells
   std::vector<double> shares;
 };
 
+/// Where well `w` is, in words: "(x, y)", and in 3D " from z = bottom to
+/// top".
+std::string well_place(const WellSpec& w, int d);
+
 /// The cells of well `w`; throws SceneError naming `key` when it is not in
 /// the mesh, or its segment leaves it (collective).
 WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string& key);

@@ -97,6 +97,8 @@ FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split)
     fault.keys.insert(fault.keys.end(), key.begin(), key.end());
     fault.measures.push_back(cell_measure(mesh, key));
     fault.centroids.push_back(mean_of(mesh, key));
+    for (std::int64_t v : key)
+      fault.vertices.push_back(point_of(mesh, v));
   }
   std::map<std::vector<std::int64_t>, std::vector<std::int64_t>> edges;
   for (std::size_t c = 0; c < fault.size(); ++c)
@@ -116,6 +118,52 @@ FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split)
     }
   }
   return fault;
+}
+
+namespace
+{
+/// The distance of point p to the segment from a to b.
+double segment_distance(const Point& a, const Point& b, const Point& p)
+{
+  const Point ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double s = std::clamp(((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1] + (p[2] - a[2]) * ab[2])
+                                  / (ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]),
+                              0.0, 1.0);
+  return distance({a[0] + s * ab[0], a[1] + s * ab[1], a[2] + s * ab[2]}, p);
+}
+
+/// Whether the vertical segment at (x, y) from z = bottom to top meets the
+/// triangle a, b, c (its barycentric coordinates within round-off of [0,
+/// 1]); a triangle parallel to it is not met.
+bool meets_triangle(const Point& a, const Point& b, const Point& c, double x, double y, double bottom, double top)
+{
+  const Point u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double det = u[0] * v[1] - u[1] * v[0];
+  if (!(std::abs(det) > 1e-12 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])))
+    return false;
+  const double s = ((x - a[0]) * v[1] - (y - a[1]) * v[0]) / det;
+  const double r = (u[0] * (y - a[1]) - u[1] * (x - a[0])) / det;
+  const double z = a[2] + s * u[2] + r * v[2];
+  constexpr double tol = 1e-9;
+  return s >= -tol and r >= -tol and s + r <= 1 + tol and z >= bottom and z <= top;
+}
+} // namespace
+
+WellOnFault well_cells(const FaultCells& cells, const WellSpec& w)
+{
+  WellOnFault hit;
+  const std::size_t d = cells.size() ? cells.vertices.size() / cells.size() : 0;
+  for (std::size_t k = 0; k < cells.size(); ++k)
+  {
+    const Point* v = &cells.vertices[d * k];
+    const bool meets = d == 2 ? segment_distance(v[0], v[1], {w.position[0], w.position[1], 0.0})
+                                    <= 1e-6 * cells.measures[k]
+                              : meets_triangle(v[0], v[1], v[2], w.position[0], w.position[1], w.bottom, w.top);
+    if (meets)
+      hit.cells.push_back(static_cast<std::int64_t>(k));
+  }
+  hit.shares.assign(hit.cells.size(), 1.0 / static_cast<double>(std::max<std::size_t>(hit.cells.size(), 1)));
+  return hit;
 }
 
 namespace
@@ -143,6 +191,7 @@ void share_fault_cells(FaultCells& cells, MPI_Comm comm)
   share(cells.keys, MPI_INT64_T, 1, comm);
   share(cells.measures, MPI_DOUBLE, 1, comm);
   share(cells.centroids, MPI_DOUBLE, 3, comm);
+  share(cells.vertices, MPI_DOUBLE, 3, comm);
   share_edges(cells.links, comm);
   share_edges(cells.ends, comm);
   std::string groups;

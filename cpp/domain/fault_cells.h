@@ -9,6 +9,7 @@
 #pragma once
 
 #include "domain/faults.h"
+#include "scene/scene.h"
 
 #include <array>
 #include <cstdint>
@@ -42,6 +43,7 @@ struct FaultCells
   std::vector<std::int64_t> keys; // d per cell: the + face's nodes, sorted (the split numbering)
   std::vector<double> measures;   // length or area per cell
   std::vector<std::array<double, 3>> centroids;
+  std::vector<std::array<double, 3>> vertices; // d per cell: the + face's nodes, in the order of keys
   FaultEdges links{2}, ends{1};
   std::vector<std::string> end_groups;
 
@@ -50,6 +52,19 @@ struct FaultCells
 
 /// The cells of the fault `split` in the split mesh `mesh`.
 FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split);
+
+/// @brief The fault cells a well meets and the share of its rate each takes.
+struct WellOnFault
+{
+  std::vector<std::int64_t> cells;
+  std::vector<double> shares;
+};
+
+/// The fault cells well `w` meets (equal shares where it meets several, at a
+/// shared node or edge): in 2D the cells within 1e-6 of their length of
+/// the well's point, in 3D the triangles its vertical segment crosses;
+/// empty when it meets none.
+WellOnFault well_cells(const FaultCells& cells, const WellSpec& w);
 
 /// Rank 0's `cells` on every rank (collective).
 void share_fault_cells(FaultCells& cells, MPI_Comm comm);

@@ -638,6 +638,12 @@ void read_wells(Section wells, Scene& scene)
     if (rate->depends_on_space())
       s.fail("rate", "the rate of a well depends on t only");
     w.rate = *rate;
+    w.fault = s.string("fault", "");
+    if (!w.fault.empty() and !scene.faults.count(w.fault))
+      s.fail("fault", "no fault \"" + w.fault + "\" in the scene ([fault." + w.fault + "])");
+    if (!w.fault.empty() and scene.faults.at(w.fault).flow != FaultFlow::conduit)
+      s.fail("fault", "fault." + w.fault + " is no conduit (flow = \"conduit\"): a well injects into the rock or a "
+                      "conduit fault");
     s.finish();
     scene.wells[name] = w;
   }

@@ -99,6 +99,7 @@ struct WellSpec
   std::vector<double> position; // (x, y) of the point (2D) or of the vertical segment (3D)
   double bottom = 0, top = 0;   // the segment's z range (3D)
   Expression rate;              // the total volumetric rate (m^3/s; per metre of thickness in 2D), a function of t
+  std::string fault;            // a conduit fault the well injects into (where it meets it), or the rock
 };
 
 struct MechanicsSpec

@@ -19,6 +19,7 @@ import dataclasses
 import numpy as np
 from petsc4py import PETSc
 
+from ..domain.fault_cells import well_cells
 from ..scene.input import FaultFlow
 from .boundary_conditions import fault_face_rows
 
@@ -49,7 +50,7 @@ class ConduitFaults:
         """`flux(marker)`: the facet flux of the flux basis functions
         (boundary_conditions.facet_flux); Z: the flux subspace."""
         self.comm, self.flow = domain.mesh.comm, scene.flow
-        self.faults, self.faces, count = [], [], 0
+        self.faults, self.faces, self.wells, count = [], [], [], 0
         self.pressure_boundaries = {name: b.pressure for name, b in scene.boundaries.items() if b.flow == "pressure"}
         for name, f in sorted(scene.faults.items()):  # the order of the C++ std::map
             if f.flow != FaultFlow.conduit:
@@ -61,10 +62,20 @@ class ConduitFaults:
             for _, key, dof, c in fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))):
                 self.faces.append((dof, conduit, index[key], c))
             self.faults.append(conduit)
+            self._locate_wells(scene, name, cells, count)
             count += len(cells.measures)
         self.size = count
         self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
+
+    def _locate_wells(self, scene, fault, cells, offset):
+        """The wells into the fault `fault`: (row, share, rate) per cell each
+        meets (domain.py has checked that each meets one)."""
+        for name, w in sorted(scene.wells.items()):  # the order of the C++ std::map
+            if w.fault != fault:
+                continue
+            hit, shares = well_cells(cells, w)
+            self.wells += [(offset + int(k), float(share), w.rate) for k, share in zip(hit, shares)]
 
     def __bool__(self):
         return self.size > 0
@@ -128,13 +139,16 @@ class ConduitFaults:
 
     def load(self, t, dt, p_old, b):
         """The fault's right-hand side at time t into b (its owned entries):
-        -(S/dt) p_old - T_e p_D at the ends on pressure boundaries."""
+        -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, and -R(t)
+        share in the cells a well meets (injection positive)."""
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
             part = -self._storage(conduit, dt) * p_old[o:o + n]
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
             b[o:o + n] = part
+        for row, share, rate in self.wells if self.owned else []:
+            b[row] -= share * float(rate(0, 0, 0, t))
 
     def _end_pressures(self, conduit, held, t):
         """p_D at the ends `held` at time t."""

@@ -16,10 +16,13 @@ class WellSource:
 
 
 def well_sources(scene, domain, Q, Q_to_vector):
-    """The wells of a scene in a vector whose pressure part (the P0 space Q)
-    sits at `Q_to_vector`."""
+    """The wells of a scene into the rock, in a vector whose pressure part
+    (the P0 space Q) sits at `Q_to_vector` (a well into a conduit fault is
+    fault_flow.py's)."""
     wells = []
     for name, w in sorted(scene.wells.items()):  # the order of the C++ std::map
+        if w.fault:
+            continue
         cells, shares = locate_well(domain, w, f"well.{name}.position")
         dofs = Q.dofmap.list.array.reshape(-1, 1)[cells, 0]
         wells.append(WellSource(w.rate, np.asarray(Q_to_vector)[dofs], shares))

@@ -20,7 +20,7 @@ from dolfinx.cpp.mesh import entities_to_geometry
 
 from ..scene.input import MeshType, point_text
 from ..scene.scene import SceneError, agree_on_error
-from .fault_cells import FaultCells, fault_cells
+from .fault_cells import FaultCells, fault_cells, well_cells
 from .faults import FaultRequest, InputMesh, split_along_faults
 from .regions import locate_regions, regions_of_groups
 
@@ -394,6 +394,9 @@ def check_expressions(scene, domain, comm):
             planar_boundary(domain, name, f"{scene.file}: boundary.{name}.{'rate' if b.rate is not None else 'flux'}")
     for name, w in sorted(scene.wells.items()):
         locate_well(domain, w, f"{scene.file}: well.{name}.position")
+        if w.fault and not len(well_cells(domain.faults[w.fault].cells, w)[0]):
+            raise SceneError(f"{scene.file}: well.{name}.position: the well at {well_place(w, d)} is not on "
+                             f"fault.{w.fault}")
 
 
 def _well_weights(v, w, d, tolerance=1e-10):
@@ -423,6 +426,12 @@ def _well_weights(v, w, d, tolerance=1e-10):
     return np.where(np.any(flat & (a < -tolerance), axis=1), 0.0, np.maximum(0.0, high - low))
 
 
+def well_place(w, d):
+    """Where well `w` is, in words: "(x, y)", and in 3D " from z = bottom to
+    top"."""
+    return f"({w.position[0]:g}, {w.position[1]:g})" + (f" from z = {w.bottom:g} to {w.top:g}" if d == 3 else "")
+
+
 def locate_well(domain, w, key):
     """The owned cells of well `w` and the share of its rate each takes (a
     point on a shared edge or vertex split equally among its cells; a
@@ -436,8 +445,8 @@ def locate_well(domain, w, key):
     total = mesh.comm.allreduce(float(np.sum(weights[cells])))
     length = 1.0 if d == 2 else w.top - w.bottom
     if not total >= length * (1 - 1e-9):
-        where = f"({w.position[0]:g}, {w.position[1]:g})" + (f" from z = {w.bottom:g} to {w.top:g}" if d == 3 else "")
-        raise SceneError(f"{key}: the well at {where} {'is not in the mesh' if d == 2 or total == 0 else 'leaves the mesh'}")
+        raise SceneError(f"{key}: the well at {well_place(w, d)} "
+                         f"{'is not in the mesh' if d == 2 or total == 0 else 'leaves the mesh'}")
     return cells, weights[cells] / total
 
 

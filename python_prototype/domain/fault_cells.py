@@ -39,6 +39,7 @@ class FaultCells:
     keys: np.ndarray       # (cells, d) the + face's nodes, sorted (the split numbering)
     measures: np.ndarray   # (cells,) length or area
     centroids: np.ndarray  # (cells, 3)
+    vertices: np.ndarray   # (cells, d, 3) the + face's nodes, in the order of keys
     links: FaultEdges
     ends: FaultEdges
     end_groups: list
@@ -92,4 +93,41 @@ def fault_cells(mesh, split):
             ends.append(row)
             groups.append(boundary[edge])
     return FaultCells(keys, np.array([g[0] for g in geometry]), np.array([g[1] for g in geometry]).reshape(-1, 3),
-                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups)
+                      x[keys].reshape(-1, d, 3), FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups)
+
+
+def _on_segments(vertices, point):
+    """Per segment (vertices: cells x 2 x 3) the distance of `point` to it."""
+    a, b = vertices[:, 0], vertices[:, 1]
+    ab = b - a
+    s = np.clip(np.sum((point - a) * ab, axis=1) / np.sum(ab * ab, axis=1), 0.0, 1.0)
+    return np.linalg.norm(a + s[:, None] * ab - point, axis=1)
+
+
+def _on_triangles(vertices, x, y, bottom, top):
+    """Per triangle (vertices: cells x 3 x 3) whether the vertical segment at
+    (x, y) from z = bottom to top meets it (its barycentric coordinates
+    within round-off of [0, 1]); a triangle parallel to it is not met."""
+    a, b, c = vertices[:, 0], vertices[:, 1], vertices[:, 2]
+    u, v = b - a, c - a
+    det = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = ((x - a[:, 0]) * v[:, 1] - (y - a[:, 1]) * v[:, 0]) / det
+        r = (u[:, 0] * (y - a[:, 1]) - u[:, 1] * (x - a[:, 0])) / det
+    z = a[:, 2] + s * u[:, 2] + r * v[:, 2]
+    tol = 1e-9
+    inside = (s >= -tol) & (r >= -tol) & (s + r <= 1 + tol) & (np.abs(det) > 1e-12 * np.sum(u * u, axis=1))
+    return inside & (z >= bottom) & (z <= top)
+
+
+def well_cells(cells, well):
+    """The fault cells a well meets and the share of its rate each takes
+    (equal shares where it meets several, at a shared node or edge): in 2D
+    the cells within 1e-6 of their length of the well's point, in 3D the
+    triangles its vertical segment crosses; empty when it meets none."""
+    if cells.vertices.shape[1] == 2:
+        point = np.array([well.position[0], well.position[1], 0.0])
+        hit = np.flatnonzero(_on_segments(cells.vertices, point) <= 1e-6 * cells.measures)
+    else:
+        hit = np.flatnonzero(_on_triangles(cells.vertices, well.position[0], well.position[1], well.bottom, well.top))
+    return hit, np.full(len(hit), 1.0 / max(len(hit), 1))

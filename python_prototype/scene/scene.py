@@ -191,6 +191,7 @@ class WellSpec:
     rate: Expression               # the total volumetric rate, a function of t
     bottom: float = 0.0            # the segment's z range (3D)
     top: float = 0.0
+    fault: str = ""                # a conduit fault the well injects into (where it meets it), or the rock
 
 
 @dataclass
@@ -813,8 +814,14 @@ def _read_wells(wells, scene):
             s.fail("rate", "missing (the volumetric rate, injection positive)")
         if rate.depends_on_space:
             s.fail("rate", "the rate of a well depends on t only")
+        fault = s.string("fault", "")
+        if fault and fault not in scene.faults:
+            s.fail("fault", f'no fault "{fault}" in the scene ([fault.{fault}])')
+        if fault and scene.faults[fault].flow != FaultFlow.conduit:
+            s.fail("fault", f'fault.{fault} is no conduit (flow = "conduit"): a well injects into the rock or a '
+                   "conduit fault")
         s.finish()
-        scene.wells[name] = WellSpec(position, rate, bottom, top)
+        scene.wells[name] = WellSpec(position, rate, bottom, top, fault)
     wells.finish()
 
 
