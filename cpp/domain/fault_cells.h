@@ -27,7 +27,9 @@ namespace biotcontact
 /// (per metre of thickness).
 struct FaultEdges
 {
-  int width = 2;                       // cells per edge: 2 for links, 1 for ends
+  explicit FaultEdges(int width) : width(width) {}
+
+  int width;                           // cells per edge: 2 for links, 1 for ends
   std::vector<std::int64_t> cells;     // width per edge
   std::vector<double> measures;        // per edge
   std::vector<double> distances;       // width per edge
