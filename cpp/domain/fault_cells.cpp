@@ -132,11 +132,13 @@ double segment_distance(const Point& a, const Point& b, const Point& p)
   return distance({a[0] + s * ab[0], a[1] + s * ab[1], a[2] + s * ab[2]}, p);
 }
 
-/// Whether the vertical segment at (x, y) from z = bottom to top meets the
-/// triangle a, b, c (its barycentric coordinates within round-off of [0,
-/// 1]); a triangle parallel to it is not met.
-bool meets_triangle(const Point& a, const Point& b, const Point& c, double x, double y, double bottom, double top)
+/// Whether well w's vertical segment (at (x, y) from z = bottom to top)
+/// meets the triangle t[0], t[1], t[2] (its barycentric coordinates within
+/// round-off of [0, 1]); a triangle parallel to it is not met.
+bool meets_triangle(const Point* t, const WellSpec& w)
 {
+  const Point &a = t[0], &b = t[1], &c = t[2];
+  const double x = w.position[0], y = w.position[1];
   const Point u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
   const double det = u[0] * v[1] - u[1] * v[0];
   if (!(std::abs(det) > 1e-12 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])))
@@ -145,7 +147,7 @@ bool meets_triangle(const Point& a, const Point& b, const Point& c, double x, do
   const double r = (u[0] * (y - a[1]) - u[1] * (x - a[0])) / det;
   const double z = a[2] + s * u[2] + r * v[2];
   constexpr double tol = 1e-9;
-  return s >= -tol and r >= -tol and s + r <= 1 + tol and z >= bottom and z <= top;
+  return s >= -tol and r >= -tol and s + r <= 1 + tol and z >= w.bottom and z <= w.top;
 }
 } // namespace
 
@@ -158,7 +160,7 @@ WellOnFault well_cells(const FaultCells& cells, const WellSpec& w)
     const Point* v = &cells.vertices[d * k];
     const bool meets = d == 2 ? segment_distance(v[0], v[1], {w.position[0], w.position[1], 0.0})
                                     <= 1e-6 * cells.measures[k]
-                              : meets_triangle(v[0], v[1], v[2], w.position[0], w.position[1], w.bottom, w.top);
+                              : meets_triangle(v, w);
     if (meets)
       hit.cells.push_back(static_cast<std::int64_t>(k));
   }

@@ -104,11 +104,13 @@ def _on_segments(vertices, point):
     return np.linalg.norm(a + s[:, None] * ab - point, axis=1)
 
 
-def _on_triangles(vertices, x, y, bottom, top):
-    """Per triangle (vertices: cells x 3 x 3) whether the vertical segment at
-    (x, y) from z = bottom to top meets it (its barycentric coordinates
-    within round-off of [0, 1]); a triangle parallel to it is not met."""
+def _on_triangles(vertices, well):
+    """Per triangle (vertices: cells x 3 x 3) whether the well's vertical
+    segment (at (x, y) from z = bottom to top) meets it (its barycentric
+    coordinates within round-off of [0, 1]); a triangle parallel to it is
+    not met."""
     a, b, c = vertices[:, 0], vertices[:, 1], vertices[:, 2]
+    x, y = well.position[0], well.position[1]
     u, v = b - a, c - a
     det = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -117,7 +119,7 @@ def _on_triangles(vertices, x, y, bottom, top):
     z = a[:, 2] + s * u[:, 2] + r * v[:, 2]
     tol = 1e-9
     inside = (s >= -tol) & (r >= -tol) & (s + r <= 1 + tol) & (np.abs(det) > 1e-12 * np.sum(u * u, axis=1))
-    return inside & (z >= bottom) & (z <= top)
+    return inside & (z >= well.bottom) & (z <= well.top)
 
 
 def well_cells(cells, well):
@@ -129,5 +131,5 @@ def well_cells(cells, well):
         point = np.array([well.position[0], well.position[1], 0.0])
         hit = np.flatnonzero(_on_segments(cells.vertices, point) <= 1e-6 * cells.measures)
     else:
-        hit = np.flatnonzero(_on_triangles(cells.vertices, well.position[0], well.position[1], well.bottom, well.top))
+        hit = np.flatnonzero(_on_triangles(cells.vertices, well))
     return hit, np.full(len(hit), 1.0 / max(len(hit), 1))
