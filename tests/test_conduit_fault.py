@@ -23,7 +23,13 @@ mu_f = 1e-3 Pa s.
 - the transient run killed halfway and restarted from its checkpoint ends
   with the uninterrupted run's fields and fault pressure exactly (1e-12);
 - the prototype gives the C++ fields and fault.xdmf's XML (the same text)
-  to 1e-10."""
+  to 1e-10;
+- in 3D, a fault across a 4 m x 1 m x 2 m box (its plane z = 0 the whole
+  cross-section), the same ends: the two-point flux is not consistent on a
+  triangulation that is not K-orthogonal, so p_f is linear only to the
+  mesh's error (1.04 % of dp measured; 2 % asserted, docs/theory.md "Flow
+  in a fault"); a vertical well crossing the fault raises p_f most in the
+  cell it crosses; the prototype gives the C++ fault pressure to 1e-10."""
 import math
 import os
 
@@ -122,8 +128,49 @@ def check_erfc(out, track):
           f"{', '.join(f'{w:.2%}' for w in worst)} of dp at 0.25, 0.5, 1 ms (1 %)")
 
 
-runs = {}
+BOX_GEO = """SetFactory("OpenCASCADE");
+L = 4; B = 1; H = 1;
+Box(1) = {0, 0, -H, L, B, 2 * H};
+Rectangle(10) = {0, 0, 0, L, B};
+BooleanFragments{ Volume{1}; Delete; }{ Surface{10}; Delete; }
+e = 1e-6;
+Physical Surface("crack") = {Surface In BoundingBox{-e, -e, -e, L + e, B + e, e}};
+Physical Surface("left") = {Surface In BoundingBox{-e, -e, -H - e, e, B + e, H + e}};
+Physical Surface("right") = {Surface In BoundingBox{L - e, -e, -H - e, L + e, B + e, H + e}};
+Physical Volume("rock") = {Volume{:}};
+Mesh.CharacteristicLengthMax = 0.25;
+"""
+WELL3D = WELL.replace("position = [5.0, 0.0]", "position = [2.0, 0.5]\nbottom = -0.5\ntop = 0.5")
+
+
+def box_scene(well=""):
+    path = written(SCENE.format(permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, fault=CONDUIT.format(w=W),
+                                left=2.0e6).replace('"channel.geo"', '"box.geo"').replace("dimension = 2",
+                                                                                          "dimension = 3") + well)
+    with open(os.path.join(os.path.dirname(path), "box.geo"), "w") as f:
+        f.write(BOX_GEO)
+    return path
+
+
+def check_3d(track):
+    """The 3D box: p_f near linear, a well's rise where it crosses the fault;
+    returns the fault's pressure with the well."""
+    plain, _ = run_track(track, box_scene())
+    x, p, _, _ = cells(plain)
+    linear = np.max(np.abs(p - (2.0e6 - DP * x / 4.0))) / DP
+    check(linear <= 0.02, f"{track}: 3D: p_f linear to {linear:.2%} of dp (2 %: the two-point flux on triangles)")
+    well, _ = run_track(track, box_scene(WELL3D))
+    rise = cells(well)[1] - p
+    centroids = fault_centroids(well)
+    peak = centroids[np.argmax(rise)]
+    check(np.hypot(peak[0] - 2.0, peak[1] - 0.5) <= 0.25, f"{track}: 3D: the well raises p_f most at "
+          f"({peak[0]:.2f}, {peak[1]:.2f}), the cell it crosses at (2, 0.5), by {rise.max():.4g} Pa")
+    return cells(well)[1]
+
+
+runs, box = {}, {}
 for track in ("C++", "prototype"):
+    box[track] = check_3d(track)
     steady, _ = run_track(track, scene(CONDUIT.format(w=W)))
     check_cubic_law(steady, track)
     well, _ = run_track(track, scene(CONDUIT.format(w=W), left=1.0e6, well=WELL))
@@ -153,6 +200,8 @@ tracks = max_difference(runs["C++"], runs["prototype"], ["pressure", "flux"])
 fault = [cells(runs[track])[1] for track in runs]
 with open(os.path.join(runs["C++"], "fault.xdmf")) as a, open(os.path.join(runs["prototype"], "fault.xdmf")) as b:
     same_xml = a.read() == b.read()
+box_tracks = np.max(np.abs(box["C++"] - box["prototype"])) / DP
+check(box_tracks <= 1e-10, f"3D: the prototype gives the C++ fault pressure to {box_tracks:.1e} of dp (1e-10)")
 check(max(tracks.values()) <= 1e-10 and np.max(np.abs(fault[0] - fault[1])) <= 1e-10 * DP and same_xml,
       f"the prototype equals the C++ solver: {tracks}, the fault's pressure "
       f"{np.max(np.abs(fault[0] - fault[1])) / DP:.1e} of dp (1e-10), the same fault.xdmf: {same_xml}")
