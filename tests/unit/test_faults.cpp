@@ -6,7 +6,13 @@
 // its + side; a fault across the body cuts it in two; in 3D an interior
 // square patch keeps its rim; bad faults are refused in one line naming
 // the key. Then gmsh meshes with an embedded curve: area kept, the fault's
-// two faces at the same points and each a face of one cell.
+// two faces at the same points and each a face of one cell. Last, the
+// cells of a fault's own flow (domain/fault_cells.h) on the fault across
+// the square: four unit cells, three links and two ends on the outer
+// boundary at half a cell from the centroids; the cells a well meets; and
+// the two-point transmissibility (assembly/fault_flow.h).
+#include "assembly/fault_flow.h"
+#include "domain/fault_cells.h"
 #include "domain/faults.h"
 #include "scene/input.h"
 
@@ -565,4 +571,45 @@ TEST(FaultGmshMeshes, CurveAcross)
   EXPECT_TRUE(fault.tips.empty());
   EXPECT_EQ(fault.pairs.size(), fault.normals.size() + 1);
   EXPECT_EQ(pieces(mesh), 2);
+}
+
+TEST(FaultCells, CellsOfTheFaultAcross)
+{
+  InputMesh mesh = square({{"fault", segment({{0, 2}, {1, 2}, {2, 2}, {3, 2}, {4, 2}})}});
+  const SplitFault fault = split(mesh, {{"fault", {0, -2, 0}}}).at(0);
+  const FaultCells cells = fault_cells(mesh, fault);
+  EXPECT_EQ(cells.keys, (std::vector<std::int64_t>{25, 26, 26, 27, 27, 28, 28, 29}));
+  EXPECT_EQ(cells.measures, std::vector<double>(4, 1.0));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(cells.centroids[i], (std::array<double, 3>{i + 0.5, 2.0, 0.0}));
+  EXPECT_EQ(cells.links.cells, (std::vector<std::int64_t>{0, 1, 1, 2, 2, 3}));
+  EXPECT_EQ(cells.links.measures, std::vector<double>(3, 1.0));
+  EXPECT_EQ(cells.links.distances, std::vector<double>(6, 0.5));
+  EXPECT_EQ(cells.ends.cells, (std::vector<std::int64_t>{0, 3}));
+  EXPECT_EQ(cells.end_groups, (std::vector<std::string>{"left", "right"}));
+  EXPECT_EQ(cells.ends.distances, std::vector<double>(2, 0.5));
+  EXPECT_EQ(cells.ends.points[0], (std::array<double, 3>{0.0, 2.0, 0.0}));
+  EXPECT_EQ(cells.ends.points[1], (std::array<double, 3>{4.0, 2.0, 0.0}));
+  auto well = [&](double x, double y)
+  {
+    WellSpec w;
+    w.position = {x, y};
+    return well_cells(cells, w);
+  };
+  EXPECT_EQ(well(2.0, 2.0).cells, (std::vector<std::int64_t>{1, 2}));
+  EXPECT_EQ(well(2.0, 2.0).shares, (std::vector<double>{0.5, 0.5}));
+  EXPECT_EQ(well(2.5, 2.0).cells, (std::vector<std::int64_t>{2}));
+  EXPECT_EQ(well(2.5, 2.0).shares, (std::vector<double>{1.0}));
+  EXPECT_TRUE(well(2.0, 3.0).cells.empty());
+}
+
+TEST(FaultCells, Transmissibility)
+{
+  FaultEdges edges(2);
+  edges.cells = {0, 1};
+  edges.measures = {2.0};
+  edges.distances = {0.5, 1.5};
+  edges.points = {{0, 0, 0}};
+  // |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
+  EXPECT_EQ(transmissibilities(std::vector<double>{1.0, 3.0}, edges), std::vector<double>{2.0});
 }

@@ -6,7 +6,11 @@ fault from the outer boundary doubles the boundary node and renumbers the
 boundary facet on its + side; a fault across the body cuts it in two; in 3D
 an interior square patch keeps its rim; bad faults are refused in one line
 naming the key. Then gmsh meshes with an embedded curve: area kept, the
-fault's two faces at the same points and each a face of one cell."""
+fault's two faces at the same points and each a face of one cell. Last,
+the cells of a fault's own flow (domain/fault_cells.py) on the fault
+across the square: four unit cells, three links and two ends on the
+outer boundary at half a cell from the centroids; the cells a well meets;
+and the two-point transmissibility (assembly/fault_flow.py)."""
 import os
 import sys
 import tempfile
@@ -16,7 +20,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
+from python_prototype.assembly.fault_flow import transmissibilities  # noqa: E402
+from python_prototype.domain.fault_cells import FaultEdges, fault_cells, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
+from python_prototype.scene.scene import WellSpec  # noqa: E402
 from python_prototype.scene.input import SceneError  # noqa: E402
 
 PREFIX = "scene.toml: fault."
@@ -358,6 +365,35 @@ class GmshMeshes(unittest.TestCase):
         self.assertEqual(len(fault.tips), 0)
         self.assertEqual(len(fault.pairs), len(fault.normals) + 1)
         self.assertEqual(pieces(mesh), 2)
+
+
+class Cells(unittest.TestCase):
+    def test_cells_of_the_fault_across(self):
+        mesh = square({"fault": segment((0, 2), (1, 2), (2, 2), (3, 2), (4, 2))})
+        [fault] = split_along_faults(mesh, [FaultRequest("fault", (0.0, -2.0, 0.0))], PREFIX)
+        cells = fault_cells(mesh, fault)
+        np.testing.assert_array_equal(cells.keys, [[25, 26], [26, 27], [27, 28], [28, 29]])
+        np.testing.assert_array_equal(cells.measures, [1.0] * 4)
+        np.testing.assert_array_equal(cells.centroids, [[i + 0.5, 2.0, 0.0] for i in range(4)])
+        np.testing.assert_array_equal(cells.links.cells, [[0, 1], [1, 2], [2, 3]])
+        np.testing.assert_array_equal(cells.links.measures, [1.0] * 3)
+        np.testing.assert_array_equal(cells.links.distances, [[0.5, 0.5]] * 3)
+        np.testing.assert_array_equal(cells.ends.cells, [[0], [3]])
+        self.assertEqual(cells.end_groups, ["left", "right"])
+        np.testing.assert_array_equal(cells.ends.distances, [[0.5], [0.5]])
+        np.testing.assert_array_equal(cells.ends.points, [[0.0, 2.0, 0.0], [4.0, 2.0, 0.0]])
+
+        def well(x, y):
+            return well_cells(cells, WellSpec([x, y], None))
+        for (x, y), hit, shares in (((2.0, 2.0), [1, 2], [0.5, 0.5]), ((2.5, 2.0), [2], [1.0]), ((2.0, 3.0), [], [])):
+            found, share = well(x, y)
+            np.testing.assert_array_equal(found, hit)
+            np.testing.assert_array_equal(share, shares)
+
+    def test_transmissibility(self):
+        edges = FaultEdges(np.array([[0, 1]]), np.array([2.0]), np.array([[0.5, 1.5]]), np.zeros((1, 3)))
+        # |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
+        np.testing.assert_array_equal(transmissibilities(np.array([1.0, 3.0]), edges), [2.0])
 
 
 if __name__ == "__main__":

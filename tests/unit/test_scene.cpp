@@ -221,7 +221,7 @@ TEST(SceneReader, BadFaultValuesAreRefused)
   expect_refused_in(fracture_scene, {"fault.f.pressure=1e5", "fault.f.pore_pressure_load=true"},
                     "fault.f.pore_pressure_load", "give pressure or pore_pressure_load, not both");
   expect_refused_in(hertz_scene, {"fault.f.flow='leaky'"}, "fault.f.flow",
-                    "must be \"transparent\", \"sealing\" or \"pressure\", got \"leaky\"");
+                    "must be \"transparent\", \"sealing\", \"pressure\" or \"conduit\", got \"leaky\"");
   expect_refused_in(fracture_scene, {"fault.f.flow='pressure'"}, "fault.f.pressure",
                     "missing (flow = \"pressure\" holds the fault at this pressure)");
   expect_refused_in(hertz_scene, {"fault.f.normal=[0, 0]"}, "fault.f.normal", "must be a non-zero finite vector");

@@ -160,7 +160,7 @@ class SceneReader(unittest.TestCase):
         self.expect_refused_in(FRACTURE, ["fault.f.pressure=1e5", "fault.f.pore_pressure_load=true"],
                                "fault.f.pore_pressure_load", "give pressure or pore_pressure_load, not both")
         self.expect_refused_in(HERTZ, ["fault.f.flow='leaky'"], "fault.f.flow",
-                               'must be "transparent", "sealing" or "pressure", got "leaky"')
+                               'must be "transparent", "sealing", "pressure" or "conduit", got "leaky"')
         self.expect_refused_in(FRACTURE, ["fault.f.flow='pressure'"], "fault.f.pressure",
                                'missing (flow = "pressure" holds the fault at this pressure)')
         self.expect_refused_in(HERTZ, ["fault.f.normal=[0, 0]"], "fault.f.normal", "must be a non-zero finite vector")
