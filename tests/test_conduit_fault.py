@@ -16,6 +16,11 @@ mu_f = 1e-3 Pa s.
   rock's storage nil), its pressure 1 MPa at the start and its inlet held
   at 2 MPa: p_f follows p0 + dp erfc(x / (2 sqrt(D t))) with D = w^2 /
   (12 mu_f c_f) within 1 % of dp at t = 0.25, 0.5 and 1 ms;
+- a finite normal permeability: a fault across the rock's flow (the
+  vertical line x = 5, ends on the no-flow top and bottom), k_n = 1e-17
+  m^2, rock 1e-12 m^2: the flux through rock, faces and fault is
+  dp / (mu_f L / K + mu_f w / k_n), half of the flux with k_n = inf, in
+  every cell, and p_f the mean of the ends' pressures, to 1e-10;
 - a conduit fault whose transmissivity is far below the rock's (w = 1e-9
   m) in a permeable rock (1e-12 m^2) is "transparent": the rock's pressure
   and flux equal the transparent fault's to 1e-6;
@@ -34,7 +39,7 @@ import math
 import os
 
 import numpy as np
-from support import check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track, written
+from support import Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track, written
 
 GEO = """SetFactory("Built-in");
 L = 10; H = 1; h = 0.25;
@@ -83,6 +88,34 @@ def cells(out, time=-1):
     _, _, series = fault_fields(out, ("pressure", "flux", "exchange"))
     f = series[time]
     return fault_centroids(out)[:, 0], f["pressure"][:, 0], f["flux"], f["exchange"][:, 0]
+
+
+CROSS_GEO = GEO.replace("Point(6) = {0, 0, 0, h};", "Point(6) = {0, 0, 0, h}; Point(7) = {5, -1, 0, h}; "
+                        "Point(8) = {5, 1, 0, h};").replace("Line(7) = {6, 3};", "Line(7) = {7, 8};").replace(
+    "Line(1) = {1, 2};", "Line(1) = {1, 7}; Line(9) = {7, 2};").replace(
+    "Line(4) = {4, 5};", "Line(4) = {4, 8}; Line(10) = {8, 5};").replace(
+    "Curve Loop(1) = {1, 2, 3, 4, 5, 6};", "Curve Loop(1) = {1, 9, 2, 3, 4, 10, 5, 6};").replace(
+    'Physical Curve("bottom") = {1};', 'Physical Curve("bottom") = {1, 9};').replace(
+    'Physical Curve("top") = {4};', 'Physical Curve("top") = {4, 10};')
+K_N = 1.0e-17
+
+
+def check_normal_permeability(track):
+    """The fault across the flow, with k_n = K_N: the flux in every cell and
+    p_f against the series resistances."""
+    path = scene(CONDUIT.format(w=W) + f"\nnormal_permeability = {K_N}\nnormal = [1.0, 0.0]", permeability=1.0e-12)
+    with open(os.path.join(os.path.dirname(path), "channel.geo"), "w") as f:
+        f.write(CROSS_GEO)
+    out, _ = run_track(track, path)
+    fields = Fields(out)
+    flux = fields.at("flux", fields.times("flux")[-1])
+    exact = DP / (MU * L / 1.0e-12 + MU * W / K_N)
+    error = max(np.max(np.abs(flux[:, 0] - exact)), np.max(np.abs(flux[:, 1]))) / exact
+    p_f = cells(out)[1]
+    middle = np.max(np.abs(p_f - 1.5e6)) / DP
+    check(error <= 1e-10 and middle <= 1e-10, f"{track}: across a normal permeability of {K_N:g} m^2 the flux is "
+          f"{np.mean(flux[:, 0]):.6e} m/s in every cell, the series resistances' {exact:.6e}: {error:.1e}; p_f "
+          f"1.5 MPa to {middle:.1e} (1e-10)")
 
 
 def check_cubic_law(out, track):
@@ -190,6 +223,7 @@ for track in ("C++", "prototype"):
     fault = np.max(np.abs(cells(transient)[1] - cells(restarted)[1])) / DP
     check(step < 100 and max(same.values()) <= 1e-12 and fault <= 1e-12, f"{track}: restarted at step {step}, "
           f"the uninterrupted run's fields {same} and fault pressure ({fault:.1e}) (1e-12)")
+    check_normal_permeability(track)
     conduit, _ = run_track(track, scene(CONDUIT.format(w=1.0e-9), permeability=1.0e-12))
     transparent, _ = run_track(track, scene('flow = "transparent"', permeability=1.0e-12))
     same = max_difference(conduit, transparent, ["pressure", "flux"])
