@@ -39,7 +39,8 @@ import math
 import os
 
 import numpy as np
-from support import Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track, written
+from support import (Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track,
+                     written)
 
 GEO = """SetFactory("Built-in");
 L = 10; H = 1; h = 0.25;
