@@ -99,8 +99,9 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
     pose_on_full_system(layout);
   make_friction();
   const std::string vi_prefix = condensed ? prefix + "contact_" : prefix;
+  _preconditioner_on_P = !condensed and method == Method::iterative;
   create_snes(vi_prefix);
-  if (!condensed and method == Method::iterative)
+  if (_preconditioner_on_P)
   {
     _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _P_vi, _fields, prefix);
     KSP ksp;
@@ -251,8 +252,11 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
   _lag_by_default = !lag_given;
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
-  // With friction in 3D the Jacobian changes every step: no lag.
-  set_default_option(vi_prefix + "snes_lag_preconditioner", _J ? "1" : "-2");
+  // With friction in 3D the Jacobian changes every step: no lag for a
+  // factorisation of it. The iterative path's preconditioner is built from
+  // P and the inactive set alone (inactive_set_preconditioner.h), not from
+  // the Jacobian: it is reused across Newton steps there too.
+  set_default_option(vi_prefix + "snes_lag_preconditioner", lag_preconditioner() ? "-2" : "1");
   set_default_option(vi_prefix + "snes_rtol", "1e-10");
   set_default_option(vi_prefix + "snes_stol", "1e-12");
   set_default_option(vi_prefix + "snes_max_it", "100");
@@ -288,7 +292,7 @@ void ContactSolver::operator_changed()
   // (the lag is -1 after the first build).
   _schur_current = false;
   _change_current = false;
-  if (_lag_by_default and !_J)
+  if (_lag_by_default and lag_preconditioner())
     SNESSetLagPreconditioner(_snes, -2);
 }
 

@@ -289,6 +289,10 @@ private:
   void pose_on_full_system(Vec layout);
   void make_bound_vectors();
   void create_snes(const std::string& vi_prefix);
+  /// Whether the Newton steps reuse the preconditioner until the inactive
+  /// set or the operator changes: always but for a factorisation of the
+  /// Jacobian of friction in 3D, which changes every step.
+  bool lag_preconditioner() const { return !_J or _preconditioner_on_P; }
   void set_bounds();
   void pose(Vec b, Vec x);
   void count_iterations(SNESConvergedReason reason);
@@ -355,6 +359,7 @@ private:
   Structure _structure;
   std::string _prefix;
   bool _lag_by_default = false;
+  bool _preconditioner_on_P = false; // the iterative full path: built from P, not from the Jacobian
   PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
   std::vector<char> _pending, _used; // active flags of the contact DOFs
   bool _any_used = false;

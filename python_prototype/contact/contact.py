@@ -242,8 +242,9 @@ class ContactSolver:
             self._pose_on_full_system()
         self._make_friction()
         vi_prefix = prefix + "contact_" if condensed else prefix
+        self.preconditioner_on_P = not condensed and method == Method.iterative
         self._create_snes(vi_prefix)
-        if not condensed and method == Method.iterative:
+        if self.preconditioner_on_P:
             self.snes.getKSP().setMonitor(self._stagnation)
             self.preconditioner = InactiveSetPreconditioner(self.snes, self.P_vi, self.fields, prefix)
             self.set_tolerance(ITERATIVE_TOLERANCE)
@@ -353,8 +354,10 @@ class ContactSolver:
         defaults; the user's -<vi_prefix>snes_* options override them."""
         self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
         self.snes_rtol_given = PETSc.Options().hasName(vi_prefix + "snes_rtol")
-        # With friction in 3D the Jacobian changes every step: no lag.
-        lag = "1" if self.J is not None else "-2"
+        # With friction in 3D the Jacobian changes every step: no lag for a
+        # factorisation of it; the iterative path's preconditioner is built
+        # from P and the inactive set alone, and is reused there too.
+        lag = "-2" if self._lag_preconditioner() else "1"
         for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active
@@ -405,8 +408,14 @@ class ContactSolver:
     def operator_changed(self):
         """A was reassembled: H is formed again, "rebuild once, then reuse" re-armed."""
         self.schur_current = self.change_current = False
-        if self.lag_by_default and self.J is None:
+        if self.lag_by_default and self._lag_preconditioner():
             set_lag_preconditioner(self.snes, -2)
+
+    def _lag_preconditioner(self):
+        """Whether the Newton steps reuse the preconditioner until the inactive
+        set or the operator changes: always but for a factorisation of the
+        Jacobian of friction in 3D, which changes every step."""
+        return self.J is None or self.preconditioner_on_P
 
     def _active_contact_dofs(self, x):
         """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed
