@@ -35,7 +35,8 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
       continue;
     const FaultCells& cells = domain.faults.at(name).cells;
     const double resistance = std::isinf(f.normal_permeability) ? 0.0 : _flow.mu_f / (2 * f.normal_permeability);
-    _conduits.push_back({name, _size, &cells, std::vector<double>(cells.size(), f.residual_aperture), resistance});
+    const std::vector<double> w_r(cells.size(), f.residual_aperture);
+    _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture, resistance});
     std::map<std::vector<std::int64_t>, std::int64_t> index;
     for (std::size_t k = 0; k < cells.size(); ++k)
       index[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = static_cast<std::int64_t>(k);
@@ -160,6 +161,20 @@ Mat ConduitFaults::operator_matrix(double dt) const
   return C;
 }
 
+bool ConduitFaults::set_openings(std::span<const double> now, std::span<const double> start)
+{
+  bool changed = false;
+  for (Conduit& c : _conduits)
+    for (std::size_t k = 0; k < c.aperture.size(); ++k)
+    {
+      const double w_h = std::max(now[c.offset + k], c.residual);
+      changed = changed or w_h != c.aperture[k];
+      c.aperture[k] = w_h;
+      c.aperture_start[k] = std::max(start[c.offset + k], c.residual);
+    }
+  return changed;
+}
+
 void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std::span<double> b) const
 {
   for (const Conduit& c : _conduits)
@@ -168,7 +183,8 @@ void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std
       break;
     const std::vector<double> s = storage(c, dt);
     for (std::size_t k = 0; k < s.size(); ++k)
-      b[c.offset + k] = -s[k] * p_old[c.offset + k];
+      b[c.offset + k] = -s[k] * p_old[c.offset + k]
+                        + c.cells->measures[k] * (c.aperture[k] - c.aperture_start[k]) / dt;
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, t);
     for (std::size_t i = 0; i < held.size(); ++i)

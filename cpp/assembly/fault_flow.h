@@ -5,9 +5,11 @@
 // rock's),
 //
 //     sum_i c_i z_i - (S_k/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
-//         = -(S_k/dt) p_k^old,
+//         = -(S_k/dt) p_k^old + |k| (w_k - w_k^old)/dt,
 //
-// with S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+// with w_k the hydraulic aperture w_h of cell k (the residual aperture of
+// rigid walls; with mechanics, max(w, w_r) of the mean opening w,
+// fault_aperture.h), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
 // law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
 // between the cells, d its distance to each centroid. The faces' RT0 fluxes
 // z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
@@ -64,9 +66,16 @@ public:
   /// C: the fault's rows against its own unknowns at step dt (collective;
   /// the entries on the last rank).
   Mat operator_matrix(double dt) const;
+  /// The hydraulic apertures w_h = max(w, w_r) of the cells' mean openings
+  /// w now and at the start of the step (FaultAperture::opening; every
+  /// cell on every rank); whether w_h now changed, and with it the
+  /// operator and the faces' resistance.
+  bool set_openings(std::span<const double> now, std::span<const double> start);
   /// The fault's right-hand side at time t into b (its owned entries):
-  /// -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, and -R(t)
-  /// share in the cells a well meets (injection positive).
+  /// -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, -R(t)
+  /// share in the cells a well meets (injection positive), and the volume
+  /// the cell's opening made since the start of the step, |k| (w_h -
+  /// w_h_start)/dt.
   void load(double t, double dt, std::span<const double> p_old, std::span<double> b) const;
   /// The conduit cells' fields at time t, every fault in turn, on rank 0
   /// (empty elsewhere; collective): per cell pressure, hydraulic aperture,
@@ -82,6 +91,8 @@ private:
     std::int64_t offset;     // its first cell among the appended unknowns
     const FaultCells* cells;
     std::vector<double> aperture; // w_h per cell (m)
+    std::vector<double> aperture_start; // w_h at the start of the step
+    double residual;                    // w_r
     double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
   };
   struct Face

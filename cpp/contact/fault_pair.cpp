@@ -1,5 +1,6 @@
 #include "contact/fault_pair.h"
 
+#include "assembly/fault_aperture.h"
 #include "assembly/linear_algebra.h"
 
 #include <dolfinx/fem/DirichletBC.h>
@@ -14,47 +15,6 @@ using namespace dolfinx;
 
 namespace
 {
-/// @brief Where the nodes of the faults are in V: the local node of each
-/// input index this rank holds, and the global node of every fault node
-/// (a pair's - node may be held by another rank only).
-struct FaultNodes
-{
-  std::map<std::int64_t, std::int32_t> local;
-  std::map<std::int64_t, std::int64_t> global;
-};
-
-FaultNodes fault_nodes(const Domain& domain, const fem::FunctionSpace& V)
-{
-  const mesh::Mesh& mesh = *domain.mesh;
-  const int tdim = mesh.topology().dim();
-  std::set<std::int64_t> wanted;
-  for (const auto& [name, fault] : domain.faults)
-    for (const auto& pair : fault.pairs)
-      wanted.insert(pair.begin(), pair.end());
-  // Vertex k of a cell is its DOF k of a P1 space.
-  const std::vector<std::int64_t> input = vertex_input_indices(mesh);
-  const auto c_to_v = mesh.topology().connectivity(tdim, 0);
-  FaultNodes nodes;
-  for (std::int32_t cell = 0; cell < c_to_v->num_nodes(); ++cell)
-  {
-    auto vertices = c_to_v->links(cell);
-    auto dofs = V.dofmap()->cell_dofs(cell);
-    for (std::size_t k = 0; k < vertices.size(); ++k)
-      if (wanted.count(input[vertices[k]]))
-        nodes.local[input[vertices[k]]] = dofs[k];
-  }
-  // Every rank learns the global node of each fault node from its owner.
-  const auto& map = *V.dofmap()->index_map;
-  std::vector<std::int64_t> mine;
-  for (const auto& [index, node] : nodes.local)
-    if (node < map.size_local())
-      mine.insert(mine.end(), {index, map.local_range()[0] + node});
-  const std::vector<std::int64_t> all = all_gather(mine, mesh.comm()).values;
-  for (std::size_t i = 0; i < all.size(); i += 2)
-    nodes.global[all[i]] = all[i + 1];
-  return nodes;
-}
-
 /// @brief One fault's data for its constraints: its name and index among
 /// the contact's boundaries, its scene entry, and per node of its + face
 /// the lumped measure and the node in the output space.

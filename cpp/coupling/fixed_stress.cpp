@@ -229,6 +229,7 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   w.w_new.resize(q + 1);
   w.u_old = _u_K;
   _mechanics.begin_step(); // its u is u_K: the window's start, friction's reference
+  _flow.begin_step();      // its conduit faults' pressure is the window's start
   assign(*_flow.u_window, _u_K);
   if (_second_pass)
     assign(*_second_pass->u_window, _u_K);

@@ -54,6 +54,8 @@ void Scheme::make_split(const Problem& problem)
   if (scene.mechanics)
   {
     _mechanics = std::make_unique<MechanicsStep>(problem, V, p);
+    if (_flow and _flow->fault_aperture())
+      _mechanics->load_fault_pressure(*_flow->fault_aperture(), _flow->fault_pressure());
     u = _mechanics->u;
     given_pressure = _mechanics->given_pressure;
     take_contact_fields(*_mechanics);

@@ -92,9 +92,15 @@ FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split)
     std::span<const std::int64_t> plus(&split.plus_facets[d * k], d), minus(&split.minus_facets[d * k], d);
     if (std::equal(plus.begin(), plus.end(), minus.begin()))
       continue; // not opened: no face (domain/faults.h)
-    std::vector<std::int64_t> key(plus.begin(), plus.end());
-    std::sort(key.begin(), key.end());
+    std::vector<std::pair<std::int64_t, std::int64_t>> nodes; // (+ node, its twin), by + node
+    for (int i = 0; i < d; ++i)
+      nodes.emplace_back(plus[i], minus[i]);
+    std::sort(nodes.begin(), nodes.end());
+    std::vector<std::int64_t> key;
+    for (const auto& [p, m] : nodes)
+      key.push_back(p), fault.twins.push_back(m);
     fault.keys.insert(fault.keys.end(), key.begin(), key.end());
+    fault.normals.push_back(split.normals[k]);
     fault.measures.push_back(cell_measure(mesh, key));
     fault.centroids.push_back(mean_of(mesh, key));
     for (std::int64_t v : key)
@@ -191,6 +197,8 @@ void share_edges(FaultEdges& e, MPI_Comm comm)
 void share_fault_cells(FaultCells& cells, MPI_Comm comm)
 {
   share(cells.keys, MPI_INT64_T, 1, comm);
+  share(cells.twins, MPI_INT64_T, 1, comm);
+  share(cells.normals, MPI_DOUBLE, 3, comm);
   share(cells.measures, MPI_DOUBLE, 1, comm);
   share(cells.centroids, MPI_DOUBLE, 3, comm);
   share(cells.vertices, MPI_DOUBLE, 3, comm);

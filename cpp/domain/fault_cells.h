@@ -43,6 +43,8 @@ struct FaultEdges
 struct FaultCells
 {
   std::vector<std::int64_t> keys; // d per cell: the + face's nodes, sorted (the split numbering)
+  std::vector<std::int64_t> twins; // d per cell: each key's node on the - face (itself at a tip)
+  std::vector<std::array<double, 3>> normals; // per cell: the unit normal into the + side
   std::vector<double> measures;   // length or area per cell
   std::vector<std::array<double, 3>> centroids;
   std::vector<std::array<double, 3>> vertices; // d per cell: the + face's nodes, in the order of keys

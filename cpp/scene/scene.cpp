@@ -764,9 +764,9 @@ void read_boundaries(Section boundaries, Scene& scene)
 /// its faces, k_n > 0 or "inf".
 void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 {
-  if (scene.mechanics)
-    s.fail("flow", "\"conduit\" in a scene with [mechanics]: the aperture computed by the mechanics is not yet "
-                   "coupled (issue 39); give the fault in a flow scene, whose walls are rigid");
+  if (scene.coupling and scene.coupling->scheme != CouplingScheme::fixed_stress)
+    s.fail("flow", "\"conduit\" with coupling.scheme = \"" + std::string(name_of(scene.coupling->scheme))
+                       + "\": only the single-rate fixed-stress split carries the fault's pressure yet (issue 39)");
   f.residual_aperture = s.number("residual_aperture");
   if (!(f.residual_aperture > 0 and std::isfinite(f.residual_aperture)))
     s.fail("residual_aperture", "must be a finite number > 0 (m)");

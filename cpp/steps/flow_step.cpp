@@ -44,10 +44,10 @@ FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSp
   const FacetFlux face_flux = facet_flux(forms.L_flow_pressure, _W, domain, forms, constants);
   _system->tie(fault_flux_ties(scene, domain, *_W->sub({0}), face_flux));
   _b = std::make_unique<la::Vector<double>>(_W->dofmap()->index_map, _W->dofmap()->index_map_bs());
-  make_conduits(domain, face_flux);
+  make_conduits(domain, face_flux, V);
 }
 
-void FlowStep::make_conduits(const Domain& domain, const FacetFlux& flux)
+void FlowStep::make_conduits(const Domain& domain, const FacetFlux& flux, std::shared_ptr<const fem::FunctionSpace> V)
 {
   _conduits = std::make_unique<ConduitFaults>(_scene, domain, *_W->sub({0}), flux);
   _fault_pressure.assign(_conduits->owned(), 0.0);
@@ -55,7 +55,15 @@ void FlowStep::make_conduits(const Domain& domain, const FacetFlux& flux)
   if (!*_conduits)
     return;
   _fault_pressure = _conduits->initial_pressure(_scene.flow->initial_pressure);
+  if (V)
+    _aperture = std::make_unique<FaultAperture>(_scene, domain, *V);
   append_conduits();
+}
+
+void FlowStep::update_apertures()
+{
+  if (_conduits->set_openings(_aperture->opening(*u_iterate->x()), _aperture->opening(*u_window->x())))
+    append_conduits();
 }
 
 void FlowStep::append_conduits()
@@ -186,6 +194,8 @@ void FlowStep::solve(double t)
     difference(*u_iterate->x(), *u_window->x(), *_du);
     multiply_add(_displacement->mat(), *_du, *_b);
   }
+  if (_aperture)
+    update_apertures();
   if (*_conduits)
   {
     _conduits->load(t, _constants.at("dt")->value[0], _fault_pressure_previous, _system->appended().b);

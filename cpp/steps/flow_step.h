@@ -4,6 +4,7 @@
 // "Multirate ... (a)" when the scene is coupled.
 #pragma once
 
+#include "assembly/fault_aperture.h"
 #include "assembly/fault_flow.h"
 #include "assembly/wells.h"
 #include "domain/domain.h"
@@ -55,6 +56,9 @@ public:
   std::string name() const override { return _pass == FlowPass::first ? "flow" : "flow_second_pass"; }
   StepState state() const override;
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }
+  /// The conduit faults' pressure now is p_f^old of every solve of the
+  /// step (the split's iterations re-solve it).
+  void begin_step() override { _fault_pressure_previous = _fault_pressure; }
   /// p_before takes the accepted step's start pressure.
   void keep_history(const StepState& start) override;
   /// BDF2: p_before, u_before, u_path_before (u_before with coupling.q =
@@ -82,6 +86,12 @@ public:
 
   /// Writes the cell averages of the flux z into a DG0 vector field.
   void flux(dolfinx::fem::Function<double>& out) const;
+
+  /// The conduit faults' openings as a map of the displacement and the
+  /// load of their pressure on the faces (a coupled scene with conduit
+  /// faults; null otherwise), and that pressure (the last rank's).
+  const FaultAperture* fault_aperture() const { return _aperture.get(); }
+  const std::vector<double>& fault_pressure() const { return _fault_pressure; }
 
   /// The conduit faults' cell fields at time t on rank 0
   /// (ConduitFaults::cell_values; empty without conduit faults; collective).
@@ -128,7 +138,10 @@ private:
   /// The conduit faults' pressure p_f (assembly/fault_flow.h), appended to
   /// the system, starting from the initial pressure at the cells'
   /// centroids (nothing without conduit faults).
-  void make_conduits(const Domain& domain, const FacetFlux& flux);
+  void make_conduits(const Domain& domain, const FacetFlux& flux, std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
+  /// The conduits' hydraulic apertures from the displacement now (u_K) and
+  /// at the step's start (u^n), their rows appended again if they changed.
+  void update_apertures();
   /// The conduit faults' rows at the current dt, into the system.
   void append_conduits();
 
@@ -149,6 +162,7 @@ private:
   std::unique_ptr<Loads> _loads; // source, boundary pressures, gravity
   const Constants& _constants;
   std::unique_ptr<ConduitFaults> _conduits;
+  std::unique_ptr<FaultAperture> _aperture;
   std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (the last rank's), and one step before
   mutable std::vector<double> _unknowns; // unknowns() with conduit faults
 };

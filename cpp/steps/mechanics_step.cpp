@@ -124,6 +124,8 @@ void MechanicsStep::assemble_rhs(double t)
     interpolate(*given_pressure, {*_scene.mechanics->pore_pressure}, t);
   if (_pressure_load)
     multiply_add(_pressure_load->mat(), *_pressure->x(), *_b);
+  if (_fault_load.aperture)
+    _fault_load.aperture->add_load(*_fault_load.pressure, _bcs, *_b);
 }
 
 void MechanicsStep::solve(double t)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "assembly/boundary_conditions.h"
+#include "assembly/fault_aperture.h"
 #include "contact/contact.h"
 #include "domain/domain.h"
 #include "assembly/forms.h"
@@ -62,6 +63,13 @@ public:
   /// contact.
   ActiveSet active_contact_set() override;
 
+  /// The conduit faults' pressure p_f (the last rank's) pushes their faces
+  /// apart at every solve from now on, by the load of `aperture`.
+  void load_fault_pressure(const FaultAperture& aperture, const std::vector<double>& p_f)
+  {
+    _fault_load = {&aperture, &p_f};
+  }
+
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
   bool has_contact() const { return _system->has_contact(); }
   const System& system() const override { return *_system; }
@@ -90,6 +98,11 @@ private:
   std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b;
   std::unique_ptr<Loads> _loads; // body force, tractions
+  struct
+  {
+    const FaultAperture* aperture = nullptr;
+    const std::vector<double>* pressure = nullptr;
+  } _fault_load; // the conduit faults' pressure on their faces
 };
 
 } // namespace biotcontact

@@ -58,8 +58,8 @@ public:
   virtual void equilibrate() {}
 
   /// A time step (or a window of the fixed-stress split) starts from the
-  /// current unknowns: friction measures its slip increments from them
-  /// (nothing without contact).
+  /// current unknowns: friction measures its slip increments from them, a
+  /// conduit fault its pressure's change (nothing without either).
   virtual void begin_step() {}
 
   /// The state now (at the start of a step), and going back to it.

@@ -5,9 +5,11 @@ rock's unknowns, on the last rank. Per cell k, the mass balance times -1
 (as forms/biot.py writes the rock's),
 
     sum_i c_i z_i - (S_k/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
-        = -(S_k/dt) p_k^old,
+        = -(S_k/dt) p_k^old + |k| (w_k - w_k^old)/dt,
 
-with S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+with w_k the hydraulic aperture w_h of cell k (the residual aperture of
+rigid walls; with mechanics, max(w, w_r) of the mean opening w,
+fault_aperture.py), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
 law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
 between the cells, d its distance to each centroid. The faces' RT0 fluxes
 z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
@@ -31,6 +33,8 @@ class _Conduit:
     offset: int            # its first cell among the appended unknowns
     cells: object          # FaultCells
     aperture: np.ndarray   # w_h per cell (m)
+    aperture_start: np.ndarray  # w_h at the start of the step
+    residual: float        # w_r
     normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
 
 
@@ -57,7 +61,8 @@ class ConduitFaults:
                 continue
             cells = domain.faults[name].cells
             resistance = 0.0 if np.isinf(f.normal_permeability) else self.flow.mu_f / (2 * f.normal_permeability)
-            conduit = _Conduit(name, count, cells, np.full(len(cells.measures), f.residual_aperture), resistance)
+            w_r = np.full(len(cells.measures), f.residual_aperture)
+            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture, resistance)
             index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
             for _, key, dof, c in fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))):
                 self.faces.append((dof, conduit, index[key], c))
@@ -137,13 +142,30 @@ class ConduitFaults:
         C.assemble()
         return C
 
+    def set_openings(self, now, start):
+        """The hydraulic apertures w_h = max(w, w_r) of the cells' mean
+        openings w now and at the start of the step
+        (FaultAperture.opening; every cell on every rank); whether w_h now
+        changed, and with it the operator and the faces' resistance."""
+        changed = False
+        for conduit in self.faults:
+            o, n = conduit.offset, len(conduit.cells.measures)
+            w_h = np.maximum(now[o:o + n], conduit.residual)
+            changed = changed or not np.array_equal(w_h, conduit.aperture)
+            conduit.aperture = w_h
+            conduit.aperture_start = np.maximum(start[o:o + n], conduit.residual)
+        return changed
+
     def load(self, t, dt, p_old, b):
         """The fault's right-hand side at time t into b (its owned entries):
-        -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, and -R(t)
-        share in the cells a well meets (injection positive)."""
+        -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, -R(t)
+        share in the cells a well meets (injection positive), and the volume
+        the cell's opening made since the start of the step, |k| (w_h -
+        w_h_start)/dt."""
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            part = -self._storage(conduit, dt) * p_old[o:o + n]
+            part = (-self._storage(conduit, dt) * p_old[o:o + n]
+                    + cells.measures * (conduit.aperture - conduit.aperture_start) / dt)
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
             b[o:o + n] = part

@@ -13,36 +13,11 @@ import dataclasses
 import numpy as np
 from dolfinx import fem
 
-from ..domain.domain import vertex_input_indices
+from ..assembly.fault_aperture import FaultNodes, fault_nodes
 from ..scene.input import point_text
 from .change_of_variables import node_change_of_variables, pair_change_of_variables
 from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
-
-
-@dataclasses.dataclass
-class _FaultNodes:
-    """Where the nodes of the faults are in V: the local node of each input
-    index this rank holds, and the global node of every fault node (a
-    pair's - node may be held by another rank only)."""
-    local: dict
-    global_: dict
-
-
-def _fault_nodes(domain, V):
-    """The _FaultNodes of the domain's faults (collective)."""
-    mesh = domain.mesh
-    tdim = mesh.topology.dim
-    wanted = np.unique(np.concatenate([f.pairs.ravel() for f in domain.faults.values()]))
-    # Vertex k of a cell is its DOF k of a P1 space.
-    vertices = vertex_input_indices(mesh)[mesh.topology.connectivity(tdim, 0).array].reshape(-1, tdim + 1)
-    dofs = V.dofmap.list.array.reshape(-1, tdim + 1)
-    mask = np.isin(vertices, wanted)
-    local = dict(zip(vertices[mask].tolist(), dofs[mask].tolist()))
-    # Every rank learns the global node of each fault node from its owner.
-    index_map = V.dofmap.index_map
-    mine = [(index, index_map.local_range[0] + node) for index, node in local.items() if node < index_map.size_local]
-    return _FaultNodes(local, dict(pair for rank in mesh.comm.allgather(mine) for pair in rank))
 
 
 @dataclasses.dataclass
@@ -66,7 +41,7 @@ class _PairContext:
     file: str
     coordinates: np.ndarray
     prescribed: np.ndarray
-    nodes: _FaultNodes
+    nodes: FaultNodes
 
 
 def _add_pair(c, context, face, k, error):
@@ -113,7 +88,7 @@ def add_fault_pairs(scene, domain, F, V, c, error):
     if not domain.faults:
         return
     context = _PairContext(scene.file, V.tabulate_dof_coordinates(), prescribed_dofs(scene, domain, V),
-                           _fault_nodes(domain, V))
+                           fault_nodes(domain, V))
     d = domain.dim
     n_owned = d * V.dofmap.index_map.size_local
     for name, fault in domain.faults.items():

@@ -174,6 +174,7 @@ class _FixedStressSplit:
         w = _Window(K, j, q, self.flow.unknowns().copy(), self.p_K, self.u_K)
         w.derivative = derivative
         self.mechanics.begin_step()  # its u is u_K: the window's start, friction's reference
+        self.flow.begin_step()  # its conduit faults' pressure is the window's start
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K

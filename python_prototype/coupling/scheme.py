@@ -92,6 +92,8 @@ class Scheme:
             self._steps.append(flow)
         if scene.mechanics:
             mechanics = MechanicsStep(problem, self.V, self.p)
+            if flow is not None and flow.fault_aperture:
+                mechanics.load_fault_pressure(flow.fault_aperture, flow.fault_pressure)
             self.u, self.given_pressure = mechanics.u, mechanics.given_pressure
             self._take_contact_fields(mechanics)
             self._steps.append(mechanics)

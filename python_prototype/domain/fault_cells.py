@@ -37,6 +37,8 @@ class FaultCells:
     """A fault's cells, the links between them and its ends on the outer
     boundary (each with its boundary group's name)."""
     keys: np.ndarray       # (cells, d) the + face's nodes, sorted (the split numbering)
+    twins: np.ndarray      # (cells, d) each key's node on the - face (itself at a tip)
+    normals: np.ndarray    # (cells, 3) the unit normal into the + side
     measures: np.ndarray   # (cells,) length or area
     centroids: np.ndarray  # (cells, 3)
     vertices: np.ndarray   # (cells, d, 3) the + face's nodes, in the order of keys
@@ -76,7 +78,9 @@ def fault_cells(mesh, split):
     x = np.zeros((len(mesh.x), 3))
     x[:, :d] = mesh.x
     opened = np.flatnonzero(np.any(split.plus_facets != split.minus_facets, axis=1))
-    keys = np.sort(split.plus_facets[opened], axis=1)
+    order = np.argsort(split.plus_facets[opened], axis=1)
+    keys = np.take_along_axis(split.plus_facets[opened], order, axis=1)
+    twins = np.take_along_axis(split.minus_facets[opened], order, axis=1)
     geometry = [_cell_geometry(x, k) for k in keys.tolist()]
     edges = {}
     for c, key in enumerate(keys.tolist()):
@@ -92,8 +96,9 @@ def fault_cells(mesh, split):
         elif len(cells) == 1 and edge in boundary:
             ends.append(row)
             groups.append(boundary[edge])
-    return FaultCells(keys, np.array([g[0] for g in geometry]), np.array([g[1] for g in geometry]).reshape(-1, 3),
-                      x[keys].reshape(-1, d, 3), FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups)
+    return FaultCells(keys, twins, np.asarray(split.normals)[opened].reshape(-1, 3), np.array([g[0] for g in geometry]),
+                      np.array([g[1] for g in geometry]).reshape(-1, 3), x[keys].reshape(-1, d, 3),
+                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups)
 
 
 def _on_segments(vertices, point):

@@ -920,9 +920,9 @@ def _read_conduit(s, scene, f):
     """A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
     fault"): its aperture where closed, w_r > 0, and the permeability
     across its faces, k_n > 0 or "inf"."""
-    if scene.mechanics:
-        s.fail("flow", '"conduit" in a scene with [mechanics]: the aperture computed by the mechanics is not yet '
-               'coupled (issue 39); give the fault in a flow scene, whose walls are rigid')
+    if scene.coupling and scene.coupling.scheme != CouplingScheme.fixed_stress:
+        s.fail("flow", f'"conduit" with coupling.scheme = "{scene.coupling.scheme.value}": only the single-rate '
+               "fixed-stress split carries the fault's pressure yet (issue 39)")
     f.residual_aperture = s.number("residual_aperture")
     if not (f.residual_aperture > 0 and math.isfinite(f.residual_aperture)):
         s.fail("residual_aperture", "must be a finite number > 0 (m)")

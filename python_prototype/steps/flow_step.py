@@ -16,6 +16,7 @@ from ..solvers.solver import Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import facet_flux, fault_flux_ties, flux_bc, update_fluxes
+from ..assembly.fault_aperture import FaultAperture
 from ..assembly.fault_flow import ConduitFaults
 from .system import AppendedUnknowns
 from ..assembly.wells import add_wells, depends_on_time, well_sources
@@ -90,19 +91,32 @@ class FlowStep(Step):
         face_flux = facet_flux(F, "L_flow_pressure", "W")
         self.system.tie(fault_flux_ties(scene, domain, W.sub(0), face_flux))
         self.b = fem.Function(W)
-        self.make_conduits(domain, face_flux)
+        self.make_conduits(domain, face_flux, V)
 
-    def make_conduits(self, domain, flux):
+    def make_conduits(self, domain, flux, V):
         """The conduit faults' pressure p_f (assembly/fault_flow.py), appended
         to the system, starting from the initial pressure at the cells'
-        centroids (nothing without conduit faults)."""
+        centroids (nothing without conduit faults); in a coupled scene
+        their openings as a map of the displacement and the load of p_f on
+        their faces (fault_aperture: the mechanics takes it)."""
         self.conduits = ConduitFaults(self.scene, domain, self.F["W"].sub(0), flux)
         self.fault_pressure = np.zeros(self.conduits.owned)
         self.fault_pressure_previous = np.zeros(self.conduits.owned)
+        self.fault_aperture = None
         if not self.conduits:
             return
         self.fault_pressure[:] = self.conduits.initial_pressure(self.scene.flow.initial_pressure)
+        if V is not None:
+            self.fault_aperture = FaultAperture(self.scene, domain, V)
         self.append_conduits()
+
+    def update_apertures(self):
+        """The conduits' hydraulic apertures from the displacement now (u_K)
+        and at the step's start (u^n), their rows appended again if they
+        changed."""
+        a = self.fault_aperture
+        if self.conduits.set_openings(a.opening(self.u_iterate), a.opening(self.u_window)):
+            self.append_conduits()
 
     def append_conduits(self):
         """The conduit faults' rows at the current dt, into the system."""
@@ -167,6 +181,8 @@ class FlowStep(Step):
             self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
         for _, A, x in self.operators:
             multiply_add(A, x, self.b)
+        if self.fault_aperture:
+            self.update_apertures()
         if self.conduits:
             self.conduits.load(t, float(self.F["dt"].value), self.fault_pressure_previous,
                                self.system.appended.b)
@@ -188,6 +204,11 @@ class FlowStep(Step):
 
     def state(self):
         return StepState(self.unknowns().copy(), self.pressure.x.array.copy())
+
+    def begin_step(self):
+        """The conduit faults' pressure now is p_f^old of every solve of the
+        step (the split's iterations re-solve it)."""
+        self.fault_pressure_previous[:] = self.fault_pressure
 
     def keep_history(self, start):
         """p_before takes the accepted step's start pressure."""

@@ -55,6 +55,7 @@ class MechanicsStep(Step):
         if self.system.method == Method.iterative:
             self.system.set_near_nullspace(rigid_body_modes(V))
         self.b = fem.Function(V)
+        self.fault_load = None  # (FaultAperture, p_f): the conduit faults' pressure on their faces
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         if scene.has_contact():
             self.attach_contact(domain, F)
@@ -98,6 +99,15 @@ class MechanicsStep(Step):
             interpolate(self.given_pressure, [self.scene.mechanics.pore_pressure], t)
         if self.pressure_load:
             multiply_add(self.pressure_load, self.pressure, self.b)
+        if self.fault_load:
+            aperture, p_f = self.fault_load
+            aperture.add_load(p_f, self.bcs, self.b)
+
+    def load_fault_pressure(self, aperture, p_f):
+        """The conduit faults' pressure p_f (the last rank's array) pushes
+        their faces apart at every solve from now on, by the load of the
+        FaultAperture `aperture`."""
+        self.fault_load = (aperture, p_f)
 
     def solve(self, t):
         """Solves at time t with the current pressure; leaves the result in u."""

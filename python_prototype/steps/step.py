@@ -56,7 +56,8 @@ class Step(abc.ABC):
     def begin_step(self):
         """A time step (or a window of the fixed-stress split) starts from
         the current unknowns: friction measures its slip increments from
-        them (nothing without contact)."""
+        them, a conduit fault its pressure's change (nothing without
+        either)."""
 
     @abc.abstractmethod
     def state(self):

@@ -579,6 +579,11 @@ TEST(FaultCells, CellsOfTheFaultAcross)
   const SplitFault fault = split(mesh, {{"fault", {0, -2, 0}}}).at(0);
   const FaultCells cells = fault_cells(mesh, fault);
   EXPECT_EQ(cells.keys, (std::vector<std::int64_t>{25, 26, 26, 27, 27, 28, 28, 29}));
+  // Each key's twin is the input node it was doubled from, on the - face;
+  // the normal points into the + side, along the hint.
+  EXPECT_EQ(cells.twins, (std::vector<std::int64_t>{10, 11, 11, 12, 12, 13, 13, 14}));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(cells.normals[i], (std::array<double, 3>{0.0, -1.0, 0.0}));
   EXPECT_EQ(cells.measures, std::vector<double>(4, 1.0));
   for (int i = 0; i < 4; ++i)
     EXPECT_EQ(cells.centroids[i], (std::array<double, 3>{i + 0.5, 2.0, 0.0}));

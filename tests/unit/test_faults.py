@@ -373,6 +373,10 @@ class Cells(unittest.TestCase):
         [fault] = split_along_faults(mesh, [FaultRequest("fault", (0.0, -2.0, 0.0))], PREFIX)
         cells = fault_cells(mesh, fault)
         np.testing.assert_array_equal(cells.keys, [[25, 26], [26, 27], [27, 28], [28, 29]])
+        # Each key's twin is the input node it was doubled from, on the -
+        # face; the normal points into the + side, along the hint.
+        np.testing.assert_array_equal(cells.twins, [[10, 11], [11, 12], [12, 13], [13, 14]])
+        np.testing.assert_array_equal(cells.normals, [[0.0, -1.0, 0.0]] * 4)
         np.testing.assert_array_equal(cells.measures, [1.0] * 4)
         np.testing.assert_array_equal(cells.centroids, [[i + 0.5, 2.0, 0.0] for i in range(4)])
         np.testing.assert_array_equal(cells.links.cells, [[0, 1], [1, 2], [2, 3]])

@@ -1,0 +1,127 @@
+#include "assembly/fault_aperture.h"
+
+#include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/assembler.h>
+#include <set>
+
+namespace biotcontact
+{
+using namespace dolfinx;
+
+FaultNodes fault_nodes(const Domain& domain, const fem::FunctionSpace& V)
+{
+  const mesh::Mesh& mesh = *domain.mesh;
+  const int tdim = mesh.topology().dim();
+  std::set<std::int64_t> wanted;
+  for (const auto& [name, fault] : domain.faults)
+  {
+    for (const auto& pair : fault.pairs)
+      wanted.insert(pair.begin(), pair.end());
+    wanted.insert(fault.cells.keys.begin(), fault.cells.keys.end());
+  }
+  // Vertex k of a cell is its DOF k of a P1 space.
+  const std::vector<std::int64_t> input = vertex_input_indices(mesh);
+  const auto c_to_v = mesh.topology().connectivity(tdim, 0);
+  FaultNodes nodes;
+  for (std::int32_t cell = 0; cell < c_to_v->num_nodes(); ++cell)
+  {
+    auto vertices = c_to_v->links(cell);
+    auto dofs = V.dofmap()->cell_dofs(cell);
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+      if (wanted.count(input[vertices[k]]))
+        nodes.local[input[vertices[k]]] = dofs[k];
+  }
+  // Every rank learns the global node of each fault node from its owner.
+  const auto& map = *V.dofmap()->index_map;
+  std::vector<std::int64_t> mine;
+  for (const auto& [index, node] : nodes.local)
+    if (node < map.size_local())
+      mine.insert(mine.end(), {index, map.local_range()[0] + node});
+  const std::vector<std::int64_t> all = all_gather(mine, mesh.comm()).values;
+  for (std::size_t i = 0; i < all.size(); i += 2)
+    nodes.global[all[i]] = all[i + 1];
+  return nodes;
+}
+
+FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem::FunctionSpace& V)
+    : _comm(domain.mesh->comm())
+{
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(_comm, &rank);
+  MPI_Comm_size(_comm, &ranks);
+  const bool last = rank == ranks - 1;
+  const int d = domain.dim();
+  for (const auto& [name, f] : scene.faults)
+    if (f.flow == FaultFlow::conduit)
+      _size += static_cast<std::int64_t>(domain.faults.at(name).cells.size());
+  const FaultNodes nodes = fault_nodes(domain, V);
+  const auto columns = static_cast<PetscInt>(d * V.dofmap()->index_map->size_local());
+  MatCreateAIJ(_comm, last ? static_cast<PetscInt>(_size) : 0, columns, PETSC_DETERMINE, PETSC_DETERMINE, 2 * d * d,
+               nullptr, 2 * d * d, nullptr, &_J);
+  PetscInt row = 0;
+  for (const auto& [name, f] : scene.faults)
+  {
+    if (f.flow != FaultFlow::conduit or !last)
+      continue;
+    const FaultCells& cells = domain.faults.at(name).cells;
+    for (std::size_t k = 0; k < cells.size(); ++k, ++row)
+    {
+      double gap = 0;
+      for (int i = 0; i < d; ++i)
+      {
+        gap += f.gap(cells.vertices[d * k + i].data(), 0.0) / d;
+        for (const auto& [node, sign] : {std::pair{cells.keys[d * k + i], 1.0}, {cells.twins[d * k + i], -1.0}})
+          for (int j = 0; j < d; ++j)
+            MatSetValue(_J, row, static_cast<PetscInt>(d * nodes.global.at(node) + j), sign * cells.normals[k][j] / d,
+                        ADD_VALUES);
+      }
+      _gap.push_back(gap);
+      _measures.push_back(cells.measures[k]);
+    }
+  }
+  MatAssemblyBegin(_J, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(_J, MAT_FINAL_ASSEMBLY);
+  MatCreateVecs(_J, nullptr, &_cells);
+}
+
+FaultAperture::~FaultAperture()
+{
+  MatDestroy(&_J);
+  VecDestroy(&_cells);
+}
+
+std::vector<double> FaultAperture::opening(la::Vector<double>& u) const
+{
+  la::petsc::Vector x = wrap(u);
+  MatMult(_J, x.vec(), _cells);
+  std::vector<double> w(_size);
+  const PetscScalar* W;
+  VecGetArrayRead(_cells, &W);
+  for (std::size_t k = 0; k < _gap.size(); ++k)
+    w[k] = _gap[k] + W[k];
+  VecRestoreArrayRead(_cells, &W);
+  int ranks = 1;
+  MPI_Comm_size(_comm, &ranks);
+  MPI_Bcast(w.data(), static_cast<int>(w.size()), MPI_DOUBLE, ranks - 1, _comm);
+  return w;
+}
+
+void FaultAperture::add_load(std::span<const double> p_f, const BCs& bcs, la::Vector<double>& b) const
+{
+  PetscScalar* P;
+  VecGetArray(_cells, &P);
+  for (std::size_t k = 0; k < _measures.size(); ++k)
+    P[k] = _measures[k] * p_f[k];
+  VecRestoreArray(_cells, &P);
+  la::Vector<double> load(b.map(), b.bs());
+  la::petsc::Vector l = wrap(load);
+  MatMultTranspose(_J, _cells, l.vec());
+  fem::set_bc(load.mutable_array(), bcs, 0.0);
+  std::span<double> B = b.mutable_array();
+  const std::span<const double> L = load.array();
+  const std::size_t owned = b.bs() * b.map()->size_local();
+  for (std::size_t i = 0; i < owned; ++i)
+    B[i] += L[i];
+}
+
+} // namespace biotcontact

@@ -1,0 +1,70 @@
+// The opening of the conduit faults' cells as a linear map of the
+// displacement, and the load of the faults' fluid pressure on their faces
+// (docs/theory.md "Flow in a fault"). Per cell k (a facet of the fault, d
+// nodes), the mean of the nodes' openings g0 + [u].n:
+//
+//     w_k = g0_k + (J u)_k,   (J u)_k = (1/d) sum_i n_k . (u(i+) - u(i-)),
+//
+// n_k the cell's normal into the + side, i- the twin of node i+ on the -
+// face (the node itself at a tip, where the opening is 0). The fluid
+// pressure p_f pushes both faces apart; its work on the displacement is
+// sum_k p_k |k| w_k, so its load is the adjoint b += J^T (|k| p_f): for P1
+// on a flat face each node takes |k|/d of the face's p_f n, the integral
+// forms/biot.py's L_face_pressure takes of a given pressure. The rows are
+// the conduit cells in ConduitFaults' numbering (fault by fault), on the
+// last rank. The prototype's twin is python_prototype/assembly/fault_aperture.py.
+#pragma once
+
+#include "assembly/linear_algebra.h"
+#include "domain/domain.h"
+#include "scene/scene.h"
+
+#include <dolfinx/fem/FunctionSpace.h>
+#include <dolfinx/la/Vector.h>
+#include <map>
+#include <petscmat.h>
+#include <span>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief Where the faults' nodes are in a P1 space V: the local node of
+/// each input index this rank holds, and the global node of every fault
+/// node (a pair's - node may be held by another rank only).
+struct FaultNodes
+{
+  std::map<std::int64_t, std::int32_t> local;
+  std::map<std::int64_t, std::int64_t> global;
+};
+
+/// The nodes of every fault's node pairs and cells in V (collective).
+FaultNodes fault_nodes(const Domain& domain, const dolfinx::fem::FunctionSpace& V);
+
+/// @brief The mean opening w = g0 + J u of each conduit fault cell, and the
+/// load J^T (|k| p_f) of the faults' fluid pressure.
+class FaultAperture
+{
+public:
+  /// V: the P1 displacement space.
+  FaultAperture(const Scene& scene, const Domain& domain, const dolfinx::fem::FunctionSpace& V);
+  ~FaultAperture();
+  FaultAperture(const FaultAperture&) = delete;
+  FaultAperture& operator=(const FaultAperture&) = delete;
+
+  /// The conduit cells' mean openings g0 + J u, every cell on every rank
+  /// (collective).
+  std::vector<double> opening(dolfinx::la::Vector<double>& u) const;
+  /// Adds J^T (|k| p_f) to b but on the Dirichlet rows of `bcs`; `p_f`:
+  /// the last rank's pressures, none elsewhere (collective).
+  void add_load(std::span<const double> p_f, const BCs& bcs, dolfinx::la::Vector<double>& b) const;
+
+private:
+  Mat _J = nullptr;
+  Vec _cells = nullptr;                // on J's rows
+  std::vector<double> _gap, _measures; // per cell (the last rank's)
+  std::int64_t _size = 0;
+  MPI_Comm _comm;
+};
+
+} // namespace biotcontact

@@ -1,0 +1,96 @@
+"""The opening of the conduit faults' cells as a linear map of the
+displacement, and the load of the faults' fluid pressure on their faces
+(cpp/assembly/fault_aperture.h, docs/theory.md "Flow in a fault"). Per cell
+k (a facet of the fault, d nodes), the mean of the nodes' openings g0 + [u].n:
+
+    w_k = g0_k + (J u)_k,   (J u)_k = (1/d) sum_i n_k . (u(i+) - u(i-)),
+
+n_k the cell's normal into the + side, i- the twin of node i+ on the - face
+(the node itself at a tip, where the opening is 0). The fluid pressure p_f
+pushes both faces apart; its work on the displacement is sum_k p_k |k| w_k,
+so its load is the adjoint b += J^T (|k| p_f): for P1 on a flat face each
+node takes |k|/d of the face's p_f n, the integral forms/biot.py's
+L_face_pressure takes of a given pressure. The rows are the conduit cells in
+ConduitFaults' numbering (fault by fault), on the last rank."""
+import dataclasses
+
+import numpy as np
+from dolfinx import fem
+from petsc4py import PETSc
+
+from ..domain.domain import vertex_input_indices
+from ..scene.input import FaultFlow
+
+
+@dataclasses.dataclass
+class FaultNodes:
+    """Where the faults' nodes are in a P1 space V: the local node of each
+    input index this rank holds, and the global node of every fault node (a
+    pair's - node may be held by another rank only)."""
+    local: dict
+    global_: dict
+
+
+def fault_nodes(domain, V):
+    """The FaultNodes of every fault's node pairs and cells in V (collective)."""
+    mesh = domain.mesh
+    tdim = mesh.topology.dim
+    wanted = np.unique(np.concatenate([np.concatenate([f.pairs.ravel(), f.cells.keys.ravel()])
+                                       for f in domain.faults.values()]))
+    # Vertex k of a cell is its DOF k of a P1 space.
+    vertices = vertex_input_indices(mesh)[mesh.topology.connectivity(tdim, 0).array].reshape(-1, tdim + 1)
+    dofs = V.dofmap.list.array.reshape(-1, tdim + 1)
+    mask = np.isin(vertices, wanted)
+    local = dict(zip(vertices[mask].tolist(), dofs[mask].tolist()))
+    # Every rank learns the global node of each fault node from its owner.
+    index_map = V.dofmap.index_map
+    mine = [(index, index_map.local_range[0] + node) for index, node in local.items() if node < index_map.size_local]
+    return FaultNodes(local, dict(pair for rank in mesh.comm.allgather(mine) for pair in rank))
+
+
+class FaultAperture:
+    """The mean opening w = g0 + J u of each conduit fault cell, and the
+    load J^T (|k| p_f) of the faults' fluid pressure."""
+
+    def __init__(self, scene, domain, V):
+        """V: the P1 displacement space."""
+        self.comm = domain.mesh.comm
+        last = self.comm.rank == self.comm.size - 1
+        d = domain.dim
+        conduits = [(name, f) for name, f in sorted(scene.faults.items()) if f.flow == FaultFlow.conduit]
+        self.size = sum(len(domain.faults[name].cells.measures) for name, _ in conduits)
+        nodes = fault_nodes(domain, V)
+        self.J = PETSc.Mat().createAIJ(((self.size if last else 0, None),
+                                        (d * V.dofmap.index_map.size_local, None)),
+                                       nnz=(2 * d * d, 2 * d * d), comm=self.comm)
+        self.gap, self.measures, row = [], [], 0
+        for name, f in conduits if last else []:
+            cells = domain.faults[name].cells
+            for k in range(len(cells.measures)):
+                self.gap.append(np.mean([float(f.gap(*v, 0.0)) for v in cells.vertices[k]]))
+                self.measures.append(cells.measures[k])
+                for i in range(d):
+                    for node, sign in ((cells.keys[k, i], 1.0), (cells.twins[k, i], -1.0)):
+                        columns = [d * nodes.global_[int(node)] + j for j in range(d)]
+                        self.J.setValues(row, columns, sign * cells.normals[k, :d] / d, addv=True)
+                row += 1
+        self.J.assemble()
+        self.gap, self.measures = np.array(self.gap), np.array(self.measures)
+        self.cells = self.J.createVecLeft()
+
+    def opening(self, u):
+        """The conduit cells' mean openings g0 + J u, every cell on every rank
+        (u: a Function of V; collective)."""
+        self.J.mult(u.vector, self.cells)
+        w = self.gap + self.cells.array_r if len(self.gap) else None
+        return self.comm.bcast(w, root=self.comm.size - 1)
+
+    def add_load(self, p_f, bcs, b):
+        """Adds J^T (|k| p_f) to the Function b but on the Dirichlet rows of
+        `bcs`; `p_f`: the last rank's pressures, none elsewhere (collective)."""
+        self.cells.array[:] = self.measures * np.asarray(p_f)[:len(self.measures)]
+        load = fem.Function(b.function_space)
+        self.J.multTranspose(self.cells, load.vector)
+        fem.set_bc(load.x.array, bcs, scale=0.0)
+        n = b.function_space.dofmap.index_map.size_local * b.function_space.dofmap.index_map_bs
+        b.x.array[:n] += load.x.array[:n]

@@ -1,0 +1,184 @@
+"""A conduit fault in the coupled solve (issue 39; docs/theory.md "Flow in a
+fault"), on the C++ solver and the prototype: the fault's pressure p_f pushes
+its faces apart, so the contact traction is the effective normal stress and
+friction weakens as p_f rises.
+- The load of p_f is the load of a given pressure: the crack of
+  test_friction_coupled.py (half-length 1 m at 30 degrees in a 4 m square,
+  Coulomb friction mu = 0.3, a vertical compression of 10 MPa) in rock and
+  fluid at a uniform 5 MPa in an impermeable rock (1e-30 m^2; the load
+  squeezes it undrained): the conduit fault, which then keeps its 5 MPa,
+  gives the displacement, pore pressure, contact tractions and stick/slip
+  states of the fault held at its given pressure of 5 MPa (flow =
+  "pressure") to 1e-10 (the split solved to 1e-12).
+- Onset by injection: the crack of Phan et al. (test_phan.py: half-length
+  1 m at psi = 20 degrees to the compression sigma = 100 MPa) in an
+  impermeable rock (1e-25 m^2), a conduit (residual aperture 1e-5 m, c_f =
+  1e-9 1/Pa) into whose middle a well injects 2e-7 m^2/s. Stuck and closed,
+  the crack is the unsplit body under uniform stress, normal traction s_n =
+  sigma sin^2(psi) and shear tau = sigma sin(psi) cos(psi); with cohesion c
+  = 30 MPa and mu = 0.6 a pair slips once the pressure its faces carry (the
+  |k|-weighted mean of p_f over its cells) reaches p* = s_n - (tau - c) /
+  mu. Every pair sticks, slip 0 to round-off, while no pair's pressure has
+  reached p*; slip starts in the first step where one has, at the pair of
+  the highest pressure (by the well); from then on every pair above p*
+  slips (but at the tips, one node each), and the slipping part only grows.
+- The prototype gives the C++ fields and fault pressure to 1e-10."""
+import math
+import os
+
+import h5py
+import numpy as np
+from support import INCLINED_CRACK_GEO, PHAN_GEO, check, fault_fields, max_difference, run_track, written
+
+P, SIGMA_SMALL = 5.0e6, 1.0e7
+EQUIVALENCE = """[mesh]
+type = "gmsh"
+file = "crack.geo"
+dimension = 2
+[mechanics]
+G = 3.0e9
+lambda = 2.0e9
+[flow]
+M = 1.0e10
+c_f = 1.0e-9
+mu_f = 1.0e-3
+permeability = 1.0e-30
+initial_pressure = {P}
+[coupling]
+alpha = 1.0
+tolerance = 1e-12
+max_iterations = 400
+[time]
+end = 0.2
+dt = 0.1
+[boundary.left]
+pressure = {P}
+displacement = {{ x = 0.0 }}
+[boundary.right]
+pressure = {P}
+[boundary.bottom]
+displacement = {{ y = 0.0 }}
+[boundary.top]
+traction = [0.0, {top}]
+[fault.crack]
+friction = 0.3
+normal = [-0.5, 0.8660254037844386]
+{fault}
+"""
+E, NU, SIGMA, MU, COHESION = 25.0e9, 0.25, 1.0e8, 0.6, 3.0e7
+PSI = math.radians(20)
+NORMAL = np.array([-math.cos(PSI), math.sin(PSI)])
+W_R, C_F, RATE = 1.0e-5, 1.0e-9, 2.0e-7
+ONSET = f"""[mesh]
+type = "gmsh"
+file = "{PHAN_GEO}"
+dimension = 2
+[mechanics]
+E = {E}
+nu = {NU}
+[flow]
+M = 1.0e10
+c_f = {C_F}
+mu_f = 1.0e-3
+permeability = 1.0e-25
+initial_pressure = 0.0
+[coupling]
+alpha = 1.0
+tolerance = 1e-10
+[time]
+end = 1.0
+dt = 0.05
+[boundary.bottom]
+displacement = {{ y = 0.0 }}
+[boundary.left]
+displacement = {{ x = 0.0 }}
+[boundary.top]
+traction = [0.0, {-SIGMA}]
+[fault.crack]
+friction = {MU}
+cohesion = {COHESION}
+normal = [{NORMAL[0]!r}, {NORMAL[1]!r}]
+flow = "conduit"
+residual_aperture = {W_R}
+[well.inj]
+fault = "crack"
+position = [0.0, 0.0]
+rate = {RATE}
+"""
+FIELDS = ["displacement", "pressure", "flux"]
+FAULT = ["traction", "tangential_traction", "slip", "state"]
+
+
+def fault_series(out):
+    """Per output time the fault's pair fields and each pair's pressure: the
+    |k|-weighted mean of p_f over the fault cells it belongs to (the load
+    J^T (|k| p_f) over the pair's lumped measure)."""
+    x, times, series = fault_fields(out, FAULT)
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        cells = f["Mesh/topology"][:]
+        p_f = [f[f"pressure/{i}"][:].ravel() for i in range(len(times))]
+    measure = np.linalg.norm(x[cells[:, 1]] - x[cells[:, 0]], axis=1)
+    weight = np.zeros(len(x))
+    np.add.at(weight, cells.ravel(), np.repeat(measure, 2))
+    for fields, p in zip(series, p_f):
+        load = np.zeros(len(x))
+        np.add.at(load, cells.ravel(), np.repeat(measure * p, 2))
+        fields["p_node"], fields["p_f"] = load / weight, p
+    return x, times, series
+
+
+def check_equivalence(track):
+    """The conduit at a uniform pressure loads the faces as the given pressure."""
+    folder = os.path.dirname(written(INCLINED_CRACK_GEO, "crack.geo"))
+    runs = {}
+    for name, fault in (("conduit", 'flow = "conduit"\nresidual_aperture = 1.0e-4'),
+                        ("given", f'flow = "pressure"\npressure = {P}')):
+        path = os.path.join(folder, f"{name}.toml")
+        with open(path, "w") as f:
+            f.write(EQUIVALENCE.format(P=P, top=-SIGMA_SMALL, fault=fault))
+        runs[name], _ = run_track(track, path)
+    fields = max_difference(runs["conduit"], runs["given"], ["displacement", "pressure"])
+    a, b = fault_fields(runs["conduit"], FAULT)[2], fault_fields(runs["given"], FAULT)[2]
+    states = all(np.array_equal(s["state"], t["state"]) for s, t in zip(a, b))
+    traction = max(np.abs(s["traction"] - t["traction"]).max() for s, t in zip(a, b)) / SIGMA_SMALL
+    slipping = int(np.sum(a[-1]["state"] == 2))
+    check(max(fields.values()) <= 1e-10 and traction <= 1e-10 and states and slipping > 0,
+          f"{track}: the conduit at {P:.0e} Pa is the fault held at {P:.0e} Pa: fields {fields}, contact traction "
+          f"to {traction:.1e} of the load, the same states ({slipping} pairs slip) (1e-10)")
+
+
+def check_onset(track):
+    """Stuck until a pair's pressure reaches p*, then slipping from the well."""
+    s_n, tau = SIGMA * math.sin(PSI) ** 2, SIGMA * math.sin(PSI) * math.cos(PSI)
+    p_star = s_n - (tau - COHESION) / MU
+    out, _ = run_track(track, written(ONSET))
+    x, times, series = fault_series(out)
+    inner = np.linalg.norm(x[:, :2], axis=1) < 1 - 1e-9  # all but the tips
+    scale = max(np.linalg.norm(f["slip"], axis=1).max() for f in series)
+    first = next(i for i, f in enumerate(series) if f["p_node"].max() >= p_star)
+    stuck = max(np.linalg.norm(f["slip"], axis=1).max() for f in series[:first]) / scale
+    check(0 < first < len(series) - 2 and stuck <= 1e-12 and all(np.all(f["state"][inner] == 1)
+                                                                  for f in series[:first]),
+          f"{track}: every pair sticks (slip {stuck:.1e} of the largest, 1e-12) until t = {times[first]:g} s, the "
+          f"first output where a pair's pressure reaches p* = {p_star / 1e6:.3f} MPa")
+    onset = series[first]
+    by_well = int(np.argmax(np.where(inner, onset["p_node"], -np.inf)))
+    check(onset["state"][by_well] == 2 and np.linalg.norm(x[by_well, :2]) < 0.05,
+          f"{track}: slip starts at t = {times[first]:g} s at the pair of the highest pressure "
+          f"({onset['p_node'][by_well] / 1e6:.3f} MPa, {np.linalg.norm(x[by_well, :2]):.3f} m from the well)")
+    above = [np.all(f["state"][inner & (f["p_node"] >= p_star)] == 2) for f in series[first:]]
+    counts = [int(np.sum(f["state"][inner] == 2)) for f in series[first:]]
+    check(all(above) and counts == sorted(counts) and counts[-1] > counts[0],
+          f"{track}: from then on every pair above p* slips, and the slipping pairs only grow: {counts}")
+    return out
+
+
+runs = {}
+for track in ("C++", "prototype"):
+    check_equivalence(track)
+    runs[track] = check_onset(track)
+tracks = max_difference(runs["C++"], runs["prototype"], FIELDS)
+p_f = max(np.abs(a["p_f"] - b["p_f"]).max() for a, b in zip(fault_series(runs["C++"])[2],
+                                                             fault_series(runs["prototype"])[2])) / 1e7
+check(max(tracks.values()) <= 1e-10 and p_f <= 1e-10,
+      f"the prototype equals the C++ solver: {tracks}, the fault pressure to {p_f:.1e} of 10 MPa (1e-10)")
