@@ -22,13 +22,18 @@ friction weakens as p_f rises.
   reached p*; slip starts in the first step where one has, at the pair of
   the highest pressure (by the well); from then on every pair above p*
   slips (but at the tips, one node each), and the slipping part only grows.
+- 2 ranks give 1 rank's fields and fault pressure to 1e-10 and its
+  stick/slip states at every output time (C++).
+- Killed after 12 steps and restarted from its last checkpoint, the run
+  ends with the uninterrupted fields and fault pressure to 1e-12 (C++).
 - The prototype gives the C++ fields and fault pressure to 1e-10."""
 import math
 import os
 
 import h5py
 import numpy as np
-from support import INCLINED_CRACK_GEO, PHAN_GEO, check, fault_fields, max_difference, run_track, written
+from support import (INCLINED_CRACK_GEO, PHAN_GEO, check, fault_centroids, fault_fields, killed_and_restarted,
+                     max_difference, run_track, written)
 
 P, SIGMA_SMALL = 5.0e6, 1.0e7
 EQUIVALENCE = """[mesh]
@@ -173,12 +178,37 @@ def check_onset(track):
     return out
 
 
+def fault_difference(a, b):
+    """The largest difference of two runs' fault pressures (of 10 MPa; the
+    cells matched by centroid: fault.xdmf orders them by rank), and
+    whether their pairs' states agree at every output time."""
+    index = {tuple(np.round(c, 9)): i for i, c in enumerate(fault_centroids(b))}
+    order = [index[tuple(np.round(c, 9))] for c in fault_centroids(a)]
+    a, b = fault_series(a)[2], fault_series(b)[2]
+    p_f = max(np.abs(s["p_f"] - t["p_f"][order]).max() for s, t in zip(a, b)) / 1e7
+    return p_f, all(np.array_equal(s["state"], t["state"]) for s, t in zip(a, b))
+
+
+def check_ranks_and_restart(one):
+    """2 ranks, and a killed and restarted run, against the 1-rank run `one`."""
+    path = written(ONSET)
+    two, _ = run_track("C++", path, ranks=2)
+    fields, (p_f, states) = max_difference(one, two, FIELDS), fault_difference(one, two)
+    check(max(fields.values()) <= 1e-10 and p_f <= 1e-10 and states,
+          f"C++: 2 ranks give 1 rank's fields {fields}, fault pressure to {p_f:.1e} (1e-10) and states")
+    restarted, step = killed_and_restarted("C++", path, 12)
+    fields, (p_f, states) = max_difference(one, restarted, FIELDS), fault_difference(one, restarted)
+    check(max(fields.values()) <= 1e-12 and p_f <= 1e-12 and states,
+          f"C++: restarted from step {step}, the uninterrupted fields {fields} and fault pressure to {p_f:.1e} "
+          f"(1e-12)")
+
+
 runs = {}
 for track in ("C++", "prototype"):
     check_equivalence(track)
     runs[track] = check_onset(track)
-tracks = max_difference(runs["C++"], runs["prototype"], FIELDS)
-p_f = max(np.abs(a["p_f"] - b["p_f"]).max() for a, b in zip(fault_series(runs["C++"])[2],
-                                                             fault_series(runs["prototype"])[2])) / 1e7
-check(max(tracks.values()) <= 1e-10 and p_f <= 1e-10,
-      f"the prototype equals the C++ solver: {tracks}, the fault pressure to {p_f:.1e} of 10 MPa (1e-10)")
+check_ranks_and_restart(runs["C++"])
+tracks, (p_f, states) = max_difference(runs["C++"], runs["prototype"], FIELDS), fault_difference(*runs.values())
+check(max(tracks.values()) <= 1e-10 and p_f <= 1e-10 and states,
+      f"the prototype equals the C++ solver: {tracks}, the fault pressure to {p_f:.1e} of 10 MPa (1e-10), the "
+      "same states")
