@@ -286,6 +286,8 @@ CASES = [
     ("a conduit fault with the monolithic solve (not yet)", scene("fault_reactivation"),
      s("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", 'coupling.scheme="monolithic"'),
      "fault.fault.flow", BOTH),
+    ("a conduit fault with BDF2 (not yet)", FLOW_CRACK,
+     s(CONDUIT, "fault.crack.residual_aperture=1e-4", 'time.scheme="bdf2"'), "fault.crack.flow", BOTH),
     ("a foundation normal into the body", DEFAULT, s("boundary.bottom.contact.normal=[0.0, 1.0]"),
      "boundary.bottom.contact.normal", BOTH),
     # a given pore pressure (one-way coupling)

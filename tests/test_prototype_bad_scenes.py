@@ -150,7 +150,10 @@ for label, command, path, overrides, key in (
           "well.inj.rate=1e-6", "well.inj.fault=crack"], "well.inj.position"),
         ("a conduit fault with the monolithic solve", "check", scene("fault_reactivation"),
          ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", 'coupling.scheme="monolithic"'],
-         "fault.fault.flow")):
+         "fault.fault.flow"),
+        ("a conduit fault with BDF2", "check", FLOW_CRACK,
+         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", 'time.scheme="bdf2"'],
+         "fault.crack.flow")):
     (cs, ce), (ps, pe) = both(command, path, overrides)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")

@@ -767,6 +767,9 @@ void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
   if (scene.coupling and scene.coupling->scheme != CouplingScheme::fixed_stress)
     s.fail("flow", "\"conduit\" with coupling.scheme = \"" + std::string(name_of(scene.coupling->scheme))
                        + "\": only the single-rate fixed-stress split carries the fault's pressure yet (issue 39)");
+  if (scene.time_scheme == TimeScheme::bdf2)
+    s.fail("flow", "\"conduit\" with time.scheme = \"bdf2\": the fault's storage is backward Euler only yet "
+                   "(issue 39)");
   f.residual_aperture = s.number("residual_aperture");
   if (!(f.residual_aperture > 0 and std::isfinite(f.residual_aperture)))
     s.fail("residual_aperture", "must be a finite number > 0 (m)");

@@ -271,7 +271,6 @@ void FlowStep::flux(fem::Function<double>& out) const
 void FlowStep::advance(double t, const TimeDerivative& d)
 {
   assign(*p_previous, history_value(d, pressure->x()->array(), p_before->x()->array()));
-  _fault_pressure_previous = _fault_pressure;
   solve(t);
 }
 

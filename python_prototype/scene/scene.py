@@ -923,6 +923,9 @@ def _read_conduit(s, scene, f):
     if scene.coupling and scene.coupling.scheme != CouplingScheme.fixed_stress:
         s.fail("flow", f'"conduit" with coupling.scheme = "{scene.coupling.scheme.value}": only the single-rate '
                "fixed-stress split carries the fault's pressure yet (issue 39)")
+    if scene.time_scheme == TimeScheme.bdf2:
+        s.fail("flow", '"conduit" with time.scheme = "bdf2": the fault\'s storage is backward Euler only yet '
+               "(issue 39)")
     f.residual_aperture = s.number("residual_aperture")
     if not (f.residual_aperture > 0 and math.isfinite(f.residual_aperture)):
         s.fail("residual_aperture", "must be a finite number > 0 (m)")

@@ -196,7 +196,6 @@ class FlowStep(Step):
         """One solve per step: the pressure history of `d` from the last
         step's pressure and p_before, then solve(t)."""
         self.p_previous.x.array[:] = history_value(d, self.pressure.x.array, self.p_before.x.array)
-        self.fault_pressure_previous[:] = self.fault_pressure
         self.solve(t)
 
     def name(self):
