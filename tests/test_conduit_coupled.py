@@ -24,7 +24,7 @@ friction weakens as p_f rises.
   slips (but at the tips, one node each), and the slipping part only grows.
 - 2 ranks give 1 rank's fields and fault pressure to 1e-10 and its
   stick/slip states at every output time (C++).
-- Killed after 12 steps and restarted from its last checkpoint, the run
+- Killed after 6 steps and restarted from its last checkpoint, the run
   ends with the uninterrupted fields and fault pressure to 1e-12 (C++).
 - The prototype gives the C++ fields and fault pressure to 1e-10."""
 import math
@@ -92,7 +92,7 @@ alpha = 1.0
 tolerance = 1e-10
 [time]
 end = 1.0
-dt = 0.05
+dt = 0.1
 [boundary.bottom]
 displacement = {{ y = 0.0 }}
 [boundary.left]
@@ -196,7 +196,7 @@ def check_ranks_and_restart(one):
     fields, (p_f, states) = max_difference(one, two, FIELDS), fault_difference(one, two)
     check(max(fields.values()) <= 1e-10 and p_f <= 1e-10 and states,
           f"C++: 2 ranks give 1 rank's fields {fields}, fault pressure to {p_f:.1e} (1e-10) and states")
-    restarted, step = killed_and_restarted("C++", path, 12)
+    restarted, step = killed_and_restarted("C++", path, 6)
     fields, (p_f, states) = max_difference(one, restarted, FIELDS), fault_difference(one, restarted)
     check(max(fields.values()) <= 1e-12 and p_f <= 1e-12 and states,
           f"C++: restarted from step {step}, the uninterrupted fields {fields} and fault pressure to {p_f:.1e} "
