@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numeric>
 
 namespace biotcontact
 {
@@ -21,6 +22,47 @@ std::vector<double> transmissibilities(std::span<const double> t, const FaultEdg
   return T;
 }
 
+double softest_modulus(const Scene& scene)
+{
+  // E' = E/(1 - nu^2) = 4 G (lambda + G)/(lambda + 2 G)
+  auto modulus = [](const MechanicsSpec& m) { return 4 * m.G * (m.lambda + m.G) / (m.lambda + 2 * m.G); };
+  double E = modulus(*scene.mechanics);
+  for (const auto& [name, r] : scene.regions)
+    if (r.mechanics)
+      E = std::min(E, modulus(*r.mechanics));
+  return E;
+}
+
+double patch_compliance(double size, double modulus, int dim)
+{
+  return dim == 2 ? M_PI * (size / 2) / modulus : 16 * std::sqrt(size / M_PI) / (3 * M_PI * modulus);
+}
+
+std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open)
+{
+  // Union-find over the links between open cells; the roots numbered after.
+  std::vector<std::int64_t> parent(open.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](std::int64_t k)
+  {
+    while (parent[k] != k)
+      k = parent[k] = parent[parent[k]];
+    return k;
+  };
+  for (std::size_t e = 0; e < links.size(); ++e)
+    if (open[links.cells[2 * e]] and open[links.cells[2 * e + 1]])
+      parent[root(links.cells[2 * e])] = root(links.cells[2 * e + 1]);
+  std::vector<std::int64_t> patch(open.size(), -1), number(open.size(), -1);
+  std::int64_t patches = 0;
+  for (std::size_t k = 0; k < open.size(); ++k)
+    if (open[k])
+    {
+      std::int64_t& n = number[root(k)];
+      patch[k] = n < 0 ? (n = patches++) : n;
+    }
+  return patch;
+}
+
 ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem::FunctionSpace& Z,
                              const FacetFlux& flux)
     : _comm(domain.mesh->comm()), _flow(*scene.flow)
@@ -28,7 +70,7 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
   for (const auto& [name, b] : scene.boundaries)
     if (b.flow == BoundarySpec::Flow::pressure)
       _pressure_boundaries[name] = &b.pressure;
-  const int d = domain.dim();
+  const int d = _dim = domain.dim();
   for (const auto& [name, f] : scene.faults)
   {
     if (f.flow != FaultFlow::conduit)
@@ -36,7 +78,9 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
     const FaultCells& cells = domain.faults.at(name).cells;
     const double resistance = std::isinf(f.normal_permeability) ? 0.0 : _flow.mu_f / (2 * f.normal_permeability);
     const std::vector<double> w_r(cells.size(), f.residual_aperture);
-    _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture, resistance});
+    _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture,
+                         scene.mechanics ? softest_modulus(scene) : 0.0, std::vector<char>(cells.size(), 0),
+                         std::vector<char>(cells.size(), 0), std::vector<double>(cells.size(), 0.0), resistance});
     std::map<std::vector<std::int64_t>, std::int64_t> index;
     for (std::size_t k = 0; k < cells.size(); ++k)
       index[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = static_cast<std::int64_t>(k);
@@ -104,6 +148,28 @@ std::vector<double> ConduitFaults::storage(const Conduit& c, double dt) const
   return s;
 }
 
+void ConduitFaults::set_compliance(Conduit& c) const
+{
+  std::vector<char> stabilised(c.open.size());
+  for (std::size_t k = 0; k < stabilised.size(); ++k)
+    stabilised[k] = c.open[k] or c.open_before[k];
+  const std::vector<std::int64_t> patch = open_patches(c.cells->links, stabilised);
+  std::vector<double> size(c.cells->size(), 0.0);
+  for (std::size_t k = 0; k < patch.size(); ++k)
+    if (patch[k] >= 0)
+      size[patch[k]] += c.cells->measures[k];
+  for (std::size_t k = 0; k < patch.size(); ++k)
+    c.compliance[k] = patch[k] >= 0 ? patch_compliance(size[patch[k]], c.modulus, _dim) : 0.0;
+}
+
+std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) const
+{
+  std::vector<double> s(c.cells->size());
+  for (std::size_t k = 0; k < s.size(); ++k)
+    s[k] = c.compliance[k] * c.cells->measures[k] / dt;
+  return s;
+}
+
 std::vector<double> ConduitFaults::conductance(const Conduit& c) const
 {
   std::vector<double> t(c.aperture.size());
@@ -141,7 +207,9 @@ Mat ConduitFaults::operator_matrix(double dt) const
       break;
     const auto o = static_cast<PetscInt>(c.offset);
     std::vector<double> diagonal = storage(c, dt);
-    std::transform(diagonal.begin(), diagonal.end(), diagonal.begin(), [](double s) { return -s; });
+    const std::vector<double> L = stabilisation(c, dt);
+    std::transform(diagonal.begin(), diagonal.end(), L.begin(), diagonal.begin(),
+                   [](double s, double l) { return -s - l; });
     const std::vector<double> T = transmissibilities(conductance(c), c.cells->links);
     for (std::size_t e = 0; e < T.size(); ++e)
     {
@@ -161,29 +229,42 @@ Mat ConduitFaults::operator_matrix(double dt) const
   return C;
 }
 
+void ConduitFaults::begin_step()
+{
+  for (Conduit& c : _conduits)
+    std::fill(c.open.begin(), c.open.end(), 0);
+}
+
 bool ConduitFaults::set_openings(std::span<const double> now, std::span<const double> start)
 {
   bool changed = false;
   for (Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.aperture.size(); ++k)
     {
-      const double w_h = std::max(now[c.offset + k], c.residual);
-      changed = changed or w_h != c.aperture[k];
+      const double e = open_fraction * c.residual;
+      const double w_h = c.residual + std::max(now[c.offset + k] - e, 0.0);
+      const char open = now[c.offset + k] > e;
+      changed = changed or w_h != c.aperture[k] or (open or c.open[k]) != (c.open[k] or c.open_before[k]);
       c.aperture[k] = w_h;
-      c.aperture_start[k] = std::max(start[c.offset + k], c.residual);
+      c.open_before[k] = c.open[k];
+      c.open[k] = open;
+      c.aperture_start[k] = c.residual + std::max(start[c.offset + k] - e, 0.0);
     }
+  for (Conduit& c : _conduits)
+    set_compliance(c);
   return changed;
 }
 
-void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std::span<double> b) const
+void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std::span<const double> p_iterate,
+                         std::span<double> b) const
 {
   for (const Conduit& c : _conduits)
   {
     if (!_owned)
       break;
-    const std::vector<double> s = storage(c, dt);
+    const std::vector<double> s = storage(c, dt), L = stabilisation(c, dt);
     for (std::size_t k = 0; k < s.size(); ++k)
-      b[c.offset + k] = -s[k] * p_old[c.offset + k]
+      b[c.offset + k] = -s[k] * p_old[c.offset + k] - L[k] * p_iterate[c.offset + k]
                         + c.cells->measures[k] * (c.aperture[k] - c.aperture_start[k]) / dt;
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, t);

@@ -4,18 +4,27 @@
 // Per cell k, the mass balance times -1 (as forms/biot.py writes the
 // rock's),
 //
-//     sum_i c_i z_i - (S_k/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
-//         = -(S_k/dt) p_k^old + |k| (w_k - w_k^old)/dt,
+//     sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
+//         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 //
 // with w_k the hydraulic aperture w_h of cell k (the residual aperture of
-// rigid walls; with mechanics, max(w, w_r) of the mean opening w,
-// fault_aperture.h), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+// rigid walls; with mechanics, w_r + (w - e)^+ of the mean opening w,
+// fault_aperture.h, e = open_fraction w_r), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
 // law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
 // between the cells, d its distance to each centroid. The faces' RT0 fluxes
 // z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
 // +c_i p_k: the rock's pressure at a face is p_f (the boundary-pressure
 // term with p_D = p_f), plus mu_f (w_h/2)/k_n z.n across a finite normal
-// permeability k_n. The operator stays symmetric. The prototype's twin is
+// permeability k_n. In a coupled split w_k is the last mechanics iterate's
+// and p^i the last flow iterate's: L_k = L_f |k| is the fault's
+// fixed-stress term (Girault, Kumar and Wheeler), L_f the mean opening per
+// unit pressure of the open patch the cell belongs to (patch_compliance),
+// in the cells open (w > e) at either of the last two mechanics iterates
+// of the step; 0 in the others, whose opening p_f does not move (L there
+// would slow them to the rate L/(L + S), nearly 1). The cells open at the
+// iterate before keep L: without it a fault that opens at one iterate and
+// closes at the next cycles between the two.
+// The operator stays symmetric. The prototype's twin is
 // python_prototype/assembly/fault_flow.py.
 #pragma once
 
@@ -35,6 +44,28 @@ namespace biotcontact
 /// The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
 /// FaultEdges `edges` (t: per cell).
 std::vector<double> transmissibilities(std::span<const double> t, const FaultEdges& edges);
+
+/// Below this fraction of the residual aperture a cell's mean opening is the
+/// round-off of u+ - u- at closed pairs (1e-17 m at 0.1 m of displacement),
+/// not an opening: amplified by 1/(c_f w_r) it would move p_f, and a
+/// closed cell taken for open would take the fixed-stress term L_f, under
+/// which it converges at the rate L_f/(L_f + S), nearly 1.
+constexpr double open_fraction = 1e-6;
+
+/// The smallest plane-strain modulus E' = E/(1 - nu^2) of the scene's
+/// materials (the softest rock).
+double softest_modulus(const Scene& scene);
+
+/// The mean opening per unit pressure of an open patch of measure `size`
+/// (its length in 2D, its area in 3D) in an infinite body of plane-strain
+/// modulus E': Sneddon's pi a/E' for a 2D crack of half-length a = size/2,
+/// 16 a/(3 pi E') for a penny of radius a (area pi a^2) in 3D; the
+/// fault's fixed-stress L_f of the patch's cells.
+double patch_compliance(double size, double modulus, int dim);
+
+/// The open patches of a fault: per cell the index of the patch of open
+/// cells joined by `links` that holds it, -1 where the cell is closed.
+std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open);
 
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns on
@@ -66,17 +97,22 @@ public:
   /// C: the fault's rows against its own unknowns at step dt (collective;
   /// the entries on the last rank).
   Mat operator_matrix(double dt) const;
-  /// The hydraulic apertures w_h = max(w, w_r) of the cells' mean openings
-  /// w now and at the start of the step (FaultAperture::opening; every
-  /// cell on every rank); whether w_h now changed, and with it the
+  /// The hydraulic apertures w_h = w_r + (w - e)^+ of the cells' mean
+  /// openings w now (the last mechanics iterate) and at the start of the
+  /// step (FaultAperture::opening; every cell on every rank), and which
+  /// cells are open now (w > e; e = open_fraction w_r); whether w_h or an open cell changed, and with them the
   /// operator and the faces' resistance.
   bool set_openings(std::span<const double> now, std::span<const double> start);
+  /// A step starts: no cell was open at an iterate before (the next
+  /// set_openings's).
+  void begin_step();
   /// The fault's right-hand side at time t into b (its owned entries):
-  /// -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, -R(t)
-  /// share in the cells a well meets (injection positive), and the volume
-  /// the cell's opening made since the start of the step, |k| (w_h -
-  /// w_h_start)/dt.
-  void load(double t, double dt, std::span<const double> p_old, std::span<double> b) const;
+  /// -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on pressure
+  /// boundaries, -R(t) share in the cells a well meets (injection
+  /// positive), and the volume the cell's opening made since the start of
+  /// the step, |k| (w_h - w_h_start)/dt.
+  void load(double t, double dt, std::span<const double> p_old, std::span<const double> p_iterate,
+            std::span<double> b) const;
   /// The conduit cells' fields at time t, every fault in turn, on rank 0
   /// (empty elsewhere; collective): per cell pressure, hydraulic aperture,
   /// exchange (the rock's volume rate per area into the fault, sum_i c_i
@@ -93,6 +129,9 @@ private:
     std::vector<double> aperture; // w_h per cell (m)
     std::vector<double> aperture_start; // w_h at the start of the step
     double residual;                    // w_r
+    double modulus;                     // E' of the softest rock, 0 without mechanics
+    std::vector<char> open, open_before; // per cell: w > e at the last mechanics iterate, at the one before
+    std::vector<double> compliance;     // per cell: L_f of its patch (m/Pa), 0 where no L
     double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
   };
   struct Face
@@ -112,6 +151,10 @@ private:
   /// check_expressions has checked that each meets one).
   void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;
+  /// Each cell's L_f from the patches of the cells open now or before.
+  void set_compliance(Conduit& c) const;
+  /// L_k/dt = L_f |k|/dt in the open cells, 0 in the others.
+  std::vector<double> stabilisation(const Conduit& c, double dt) const;
   std::vector<double> conductance(const Conduit& c) const;
   /// The ends on pressure boundaries: (indices into the ends, T_e).
   std::pair<std::vector<std::size_t>, std::vector<double>> held_ends(const Conduit& c) const;
@@ -127,6 +170,7 @@ private:
   std::vector<Well> _wells;
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
+  int _dim = 2;
 };
 
 } // namespace biotcontact

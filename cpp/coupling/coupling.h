@@ -47,6 +47,7 @@ struct ControllerState
   // The sum of the resolved contraction ratios (their mean at the end) and
   // the scales of the stopping test: the largest p and u so far.
   double ratio_sum = 0, p_size = 0, u_size = 0;
+  double fault_p_size = 0; // the largest l2 norm of the conduit faults' p_f so far
   AdaptiveState adaptive; // time.adaptive's PI controller (time/step_control.h)
   // coupling.q = "auto" (time/window_control.h): the last window's q and
   // the largest q the next may take (1 after a change of the contact set,
@@ -62,6 +63,9 @@ struct IterationRecord
   int iteration;
   double dsigma_norm, ratio, gamma, dp_norm, du_norm;
   int active_nodes;
+  // The conduit faults' p_f increment (relative, as dp_norm) and its ratio
+  // to the last iteration's (NaN without conduit faults).
+  double fault_dp_norm, fault_ratio;
 };
 
 /// Called after each converged window: once per fine flow step (with that
@@ -113,6 +117,7 @@ void for_each_checkpointed(Report& r, State& c, F&& f)
   f("ratio_sum", c.ratio_sum);
   f("p_size", c.p_size);
   f("u_size", c.u_size);
+  f("fault_p_size", c.fault_p_size);
   f("retries", r.retries);
   f("rejected_steps", r.adaptive.rejected_steps);
   f("forced_steps", r.adaptive.forced_steps);

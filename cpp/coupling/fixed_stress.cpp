@@ -64,9 +64,11 @@ struct Window
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
   Array u_old, u_new;
+  Array fault_old, fault_new;          // the conduit faults' p_f before and after the flow pass (last rank's)
   std::optional<AndersonAcceleration> anderson;
   long active_set_changes = 0;         // at the last Anderson restart
   double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
+  double fault_previous = std::numeric_limits<double>::quiet_NaN(); // ||dp_f|| of the last iteration
   double increment = 1;                // max(dp, du) of the last iteration
   std::vector<std::string> log;        // the last iterations, for the error message
 };
@@ -80,6 +82,7 @@ struct Increments
   double residual = 0; // L times it, cell by cell (ContractionNorm::Quantity::coupled_residual)
   double ratio = 0;    // dsigma / the previous iteration's (NaN at n = 0)
   double dp2 = 0, p2 = 0;
+  double fault_dp = 0, fault_p = 0; // ||dp_f|| and ||p_f|| (l2 over the conduit cells; 0 without)
 };
 
 /// The fixed-stress split as a sequence of windows, each iterated to
@@ -230,6 +233,7 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   w.u_old = _u_K;
   _mechanics.begin_step(); // its u is u_K: the window's start, friction's reference
   _flow.begin_step();      // its conduit faults' pressure is the window's start
+  w.fault_new = _flow.fault_pressure();
   assign(*_flow.u_window, _u_K);
   if (_second_pass)
     assign(*_second_pass->u_window, _u_K);
@@ -335,6 +339,7 @@ void FixedStressSplit::flow_pass(Window& w)
     _mechanics.system().set_tolerance(inexact_tolerance(w.increment));
   }
   assign(*_flow.u_iterate, w.u_old);
+  w.fault_old = w.fault_new;
   const TimeDerivative& d = w.derivative;
   for (int m = 1; m <= w.q; ++m)
   {
@@ -346,6 +351,7 @@ void FixedStressSplit::flow_pass(Window& w)
     std::span<const double> z_p = _flow.unknowns();
     w.w_new[m].assign(z_p.begin(), z_p.end());
   }
+  w.fault_new = _flow.fault_pressure();
 }
 
 /// (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq. 4.20-4.22):
@@ -425,6 +431,11 @@ Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
     inc.dp2 += dpn * dpn;
     inc.p2 += pn * pn;
   }
+  std::array<double, 2> fault{0.0, 0.0}; // ||dp_f||^2, ||p_f||^2
+  for (std::size_t i = 0; i < w.fault_new.size(); ++i)
+    fault[0] += std::pow(w.fault_new[i] - w.fault_old[i], 2), fault[1] += std::pow(w.fault_new[i], 2);
+  MPI_Allreduce(MPI_IN_PLACE, fault.data(), 2, MPI_DOUBLE, MPI_SUM, _V.mesh()->comm());
+  inc.fault_dp = std::sqrt(fault[0]), inc.fault_p = std::sqrt(fault[1]);
   inc.theorem2 = _stabilised ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
   inc.residual = std::sqrt(inc.residual);
   if (_coupling.multirate())
@@ -473,25 +484,37 @@ void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int 
 /// mean square over the window's fine steps) and u increments relative to
 /// the largest p and u of the run so far (relative
 /// to the current iterate alone, a field decaying to zero, e.g. p at steady
-/// state, would be judged by its round-off). Never on a stale state.
+/// state, would be judged by its round-off). Never on a stale state. With
+/// conduit faults dp is the larger of the rock's and the faults' p_f
+/// increment (relative to the largest p_f so far), both logged, with the
+/// faults' contraction ratio ||dp_f^{n+1}|| / ||dp_f^n||.
 std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Increments& inc, int n)
 {
   _state.p_size = std::max(_state.p_size, std::sqrt(inc.p2 / w.q));
   _state.u_size = std::max(_state.u_size, owned_norm(w.u_new, _V));
+  _state.fault_p_size = std::max(_state.fault_p_size, inc.fault_p);
   const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _state.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _state.u_size);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const bool conduits = _flow.fault_aperture() != nullptr;
+  const double fault_dp = conduits ? relative(inc.fault_dp, _state.fault_p_size) : nan;
+  const double fault_ratio = conduits and n > 0 and w.fault_previous > 0 ? inc.fault_dp / w.fault_previous : nan;
+  w.fault_previous = inc.fault_dp;
   w.active = _mechanics.active_contact_set();
-  _observer.record(
-      {w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm, w.active.nodes});
+  _observer.record({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
+                    w.active.nodes, fault_dp, fault_ratio});
   if (!std::isfinite(inc.p2) or !std::isfinite(_state.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.
     throw SolverError("non-finite values (NaN or inf) in the "
                       + std::string(std::isfinite(inc.p2) ? "displacement" : "pressure"));
   std::ostringstream entry;
-  entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << inc.dsigma << ";";
+  entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << inc.dsigma;
+  if (conduits)
+    entry << " dp_f " << fault_dp;
+  entry << ";";
   w.log.push_back(entry.str());
-  return {dp_norm, du_norm};
+  return {conduits ? std::max(dp_norm, fault_dp) : dp_norm, du_norm};
 }
 
 /// The iterate the next flow pass reads: the map value (p^{n+1}, u^{n+1}),

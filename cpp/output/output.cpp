@@ -115,7 +115,9 @@ Output::Output(MPI_Comm comm, const std::string& directory,
       if (!_csv or ec)
         error = "--out " + directory + ": cannot write iterations.csv there";
       else if (!resume)
-        _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes\n" << std::flush;
+        _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes,fault_dp_norm,"
+                "fault_ratio\n"
+             << std::flush;
     }
   }
   agree_on_error(error, comm);
@@ -166,7 +168,7 @@ void Output::iteration(const IterationRecord& r)
     errno = 0;
     _csv << r.step << ',' << number(r.time) << ',' << r.iteration << ',' << v(r.dsigma_norm) << ','
          << v(r.ratio) << ',' << v(r.gamma) << ',' << v(r.dp_norm) << ',' << v(r.du_norm) << ','
-         << r.active_nodes << '\n'
+         << r.active_nodes << ',' << v(r.fault_dp_norm) << ',' << v(r.fault_ratio) << '\n'
          << std::flush;
     if (!_csv)
       failed = "cannot write " + _directory + "/iterations.csv: " + write_failure_reason(_directory);

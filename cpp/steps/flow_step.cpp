@@ -198,7 +198,8 @@ void FlowStep::solve(double t)
     update_apertures();
   if (*_conduits)
   {
-    _conduits->load(t, _constants.at("dt")->value[0], _fault_pressure_previous, _system->appended().b);
+    _conduits->load(t, _constants.at("dt")->value[0], _fault_pressure_previous, _fault_pressure,
+                    _system->appended().b);
     _system->appended().x = _fault_pressure;
   }
   assembly_time += assembly.stop();

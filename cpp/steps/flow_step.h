@@ -57,8 +57,13 @@ public:
   StepState state() const override;
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }
   /// The conduit faults' pressure now is p_f^old of every solve of the
-  /// step (the split's iterations re-solve it).
-  void begin_step() override { _fault_pressure_previous = _fault_pressure; }
+  /// step (the split's iterations re-solve it); their iterates' open cells
+  /// start anew.
+  void begin_step() override
+  {
+    _fault_pressure_previous = _fault_pressure;
+    _conduits->begin_step();
+  }
   /// p_before takes the accepted step's start pressure.
   void keep_history(const StepState& start) override;
   /// BDF2: p_before, u_before, u_path_before (u_before with coupling.q =

@@ -4,18 +4,26 @@ fault cell (domain/fault_cells.py), appended to the flow system after the
 rock's unknowns, on the last rank. Per cell k, the mass balance times -1
 (as forms/biot.py writes the rock's),
 
-    sum_i c_i z_i - (S_k/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
-        = -(S_k/dt) p_k^old + |k| (w_k - w_k^old)/dt,
+    sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
+        = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 
 with w_k the hydraulic aperture w_h of cell k (the residual aperture of
-rigid walls; with mechanics, max(w, w_r) of the mean opening w,
-fault_aperture.py), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+rigid walls; with mechanics, w_r + (w - e)^+ of the mean opening w,
+fault_aperture.py, e = OPEN_FRACTION w_r), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
 law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
 between the cells, d its distance to each centroid. The faces' RT0 fluxes
 z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
 +c_i p_k: the rock's pressure at a face is p_f (the boundary-pressure term
 with p_D = p_f), plus mu_f (w_h/2)/k_n z.n across a finite normal
-permeability k_n. The operator stays symmetric."""
+permeability k_n. In a coupled split w_k is the last mechanics iterate's
+and p^i the last flow iterate's: L_k = L_f |k| is the fault's fixed-stress
+term (Girault, Kumar and Wheeler), L_f the mean opening per unit pressure
+of the open patch the cell belongs to (patch_compliance), in the cells open
+(w > e) at either of the last two mechanics iterates of the step; 0 in the
+others, whose opening p_f does not move (L there would slow them to the
+rate L/(L + S), nearly 1). The cells open at the iterate before keep L:
+without it a fault that opens at one iterate and closes at the next cycles
+between the two. The operator stays symmetric."""
 import dataclasses
 
 import numpy as np
@@ -35,7 +43,55 @@ class _Conduit:
     aperture: np.ndarray   # w_h per cell (m)
     aperture_start: np.ndarray  # w_h at the start of the step
     residual: float        # w_r
+    modulus: float         # E' of the softest rock, 0 without mechanics
+    open: np.ndarray       # per cell: w > e at the last mechanics iterate
+    open_before: np.ndarray  # ... at the one before
+    compliance: np.ndarray  # per cell: L_f of its patch (m/Pa), 0 where no L
     normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+
+
+# Below this fraction of the residual aperture a cell's mean opening is the
+# round-off of u+ - u- at closed pairs (1e-17 m at 0.1 m of displacement),
+# not an opening: amplified by 1/(c_f w_r) it would move p_f, and a closed
+# cell taken for open would take the fixed-stress term L_f, under which it
+# converges at the rate L_f/(L_f + S), nearly 1.
+OPEN_FRACTION = 1e-6
+
+
+def softest_modulus(scene):
+    """The smallest plane-strain modulus E' = E/(1 - nu^2) of the scene's
+    materials (the softest rock)."""
+    def modulus(m):  # E' = 4 G (lambda + G)/(lambda + 2 G)
+        return 4 * m.G * (m.lmbda + m.G) / (m.lmbda + 2 * m.G)
+    return min([modulus(scene.mechanics)] + [modulus(r.mechanics) for r in scene.regions.values() if r.mechanics])
+
+
+def patch_compliance(size, modulus, dim):
+    """The mean opening per unit pressure of an open patch of measure `size`
+    (its length in 2D, its area in 3D) in an infinite body of plane-strain
+    modulus E': Sneddon's pi a/E' for a 2D crack of half-length a = size/2,
+    16 a/(3 pi E') for a penny of radius a (area pi a^2) in 3D; the fault's
+    fixed-stress L_f of the patch's cells."""
+    return np.pi * (size / 2) / modulus if dim == 2 else 16 * np.sqrt(size / np.pi) / (3 * np.pi * modulus)
+
+
+def open_patches(links, is_open):
+    """The open patches of a fault: per cell the index of the patch of open
+    cells joined by `links` that holds it, -1 where the cell is closed."""
+    parent = np.arange(len(is_open))
+
+    def root(k):
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+    for k, l in links.cells.tolist():
+        if is_open[k] and is_open[l]:
+            parent[root(k)] = root(l)
+    patch, number = np.full(len(is_open), -1), {}
+    for k in np.flatnonzero(is_open):
+        patch[k] = number.setdefault(root(k), len(number))
+    return patch
 
 
 def transmissibilities(t, edges):
@@ -62,7 +118,10 @@ class ConduitFaults:
             cells = domain.faults[name].cells
             resistance = 0.0 if np.isinf(f.normal_permeability) else self.flow.mu_f / (2 * f.normal_permeability)
             w_r = np.full(len(cells.measures), f.residual_aperture)
-            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture, resistance)
+            n = len(cells.measures)
+            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture,
+                               softest_modulus(scene) if scene.mechanics else 0.0, np.zeros(n, dtype=bool),
+                               np.zeros(n, dtype=bool), np.zeros(n), resistance)
             index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
             for _, key, dof, c in fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))):
                 self.faces.append((dof, conduit, index[key], c))
@@ -72,6 +131,7 @@ class ConduitFaults:
         self.size = count
         self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
+        self.dim = domain.mesh.topology.dim
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
@@ -114,6 +174,18 @@ class ConduitFaults:
         """S_k / dt = w_h c_f |k| / dt per cell."""
         return conduit.aperture * self.flow.c_f * conduit.cells.measures / dt
 
+    @staticmethod
+    def _stabilisation(conduit, dt):
+        """L_k / dt = L_f |k| / dt in the open cells, 0 in the others."""
+        return conduit.compliance * conduit.cells.measures / dt
+
+    def _set_compliance(self, conduit):
+        """Each cell's L_f from the patches of the cells open now or before."""
+        patch = open_patches(conduit.cells.links, conduit.open | conduit.open_before)
+        size = np.zeros(len(patch))
+        np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
+        conduit.compliance = np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), 0.0)
+
     def _conductance(self, conduit):
         """t = w_h^3 / (12 mu_f): the cubic law's transmissivity per cell."""
         return conduit.aperture ** 3 / (12 * self.flow.mu_f)
@@ -131,7 +203,7 @@ class ConduitFaults:
         C.setPreallocationNNZ((8, 0))
         for conduit in self.faults if self.owned else []:
             cells, t, o = conduit.cells, self._conductance(conduit), conduit.offset
-            diagonal = -self._storage(conduit, dt)
+            diagonal = -self._storage(conduit, dt) - self._stabilisation(conduit, dt)
             T = transmissibilities(t, cells.links)
             for (k, l), T_kl in zip(cells.links.cells.tolist(), T):
                 C.setValues([o + k, o + l], [o + k, o + l], [[-T_kl, T_kl], [T_kl, -T_kl]], addv=True)
@@ -143,28 +215,39 @@ class ConduitFaults:
         return C
 
     def set_openings(self, now, start):
-        """The hydraulic apertures w_h = max(w, w_r) of the cells' mean
-        openings w now and at the start of the step
-        (FaultAperture.opening; every cell on every rank); whether w_h now
-        changed, and with it the operator and the faces' resistance."""
+        """The hydraulic apertures w_h = w_r + (w - e)^+ of the cells' mean
+        openings w now (the last mechanics iterate) and at the start of the
+        step (FaultAperture.opening; every cell on every rank), and which
+        cells are open now (w > e; e = OPEN_FRACTION w_r); whether w_h or an
+        open cell changed, and with them the operator and the faces'
+        resistance."""
         changed = False
         for conduit in self.faults:
-            o, n = conduit.offset, len(conduit.cells.measures)
-            w_h = np.maximum(now[o:o + n], conduit.residual)
-            changed = changed or not np.array_equal(w_h, conduit.aperture)
-            conduit.aperture = w_h
-            conduit.aperture_start = np.maximum(start[o:o + n], conduit.residual)
+            o, n, e = conduit.offset, len(conduit.cells.measures), OPEN_FRACTION * conduit.residual
+            w_h, is_open = conduit.residual + np.maximum(now[o:o + n] - e, 0.0), now[o:o + n] > e
+            changed = (changed or not np.array_equal(w_h, conduit.aperture)
+                       or not np.array_equal(is_open | conduit.open, conduit.open | conduit.open_before))
+            conduit.aperture, conduit.open_before, conduit.open = w_h, conduit.open, is_open
+            conduit.aperture_start = conduit.residual + np.maximum(start[o:o + n] - e, 0.0)
+            self._set_compliance(conduit)
         return changed
 
-    def load(self, t, dt, p_old, b):
+    def begin_step(self):
+        """A step starts: no cell was open at an iterate before (the next
+        set_openings's)."""
+        for conduit in self.faults:
+            conduit.open = np.zeros_like(conduit.open)
+
+    def load(self, t, dt, p_old, p_iterate, b):
         """The fault's right-hand side at time t into b (its owned entries):
-        -(S/dt) p_old - T_e p_D at the ends on pressure boundaries, -R(t)
-        share in the cells a well meets (injection positive), and the volume
-        the cell's opening made since the start of the step, |k| (w_h -
-        w_h_start)/dt."""
+        -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on pressure
+        boundaries, -R(t) share in the cells a well meets (injection
+        positive), and the volume the cell's opening made since the start of
+        the step, |k| (w_h - w_h_start)/dt."""
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
             part = (-self._storage(conduit, dt) * p_old[o:o + n]
+                    - self._stabilisation(conduit, dt) * p_iterate[o:o + n]
                     + cells.measures * (conduit.aperture - conduit.aperture_start) / dt)
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))

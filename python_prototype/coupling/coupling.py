@@ -2,6 +2,7 @@
 step) reports and whom it tells: the report of summary.json and
 checkpoints, the controllers' state, and the observer that writes, prints
 and stops (cpp/coupling/coupling.h)."""
+import math
 from dataclasses import dataclass, field, fields
 from typing import Callable, Optional
 
@@ -43,6 +44,7 @@ class ControllerState:
     ratio_sum: float = 0.0
     p_size: float = 0.0
     u_size: float = 0.0
+    fault_p_size: float = 0.0  # the largest l2 norm of the conduit faults' p_f so far
     # time.adaptive: the PI controller's memory (time/step_control.py).
     adaptive: AdaptiveState = field(default_factory=AdaptiveState)
     # coupling.q = "auto" (window_control.py): the last window's q and the
@@ -64,6 +66,10 @@ class IterationRecord:
     dp_norm: float
     du_norm: float
     active_nodes: int
+    # The conduit faults' p_f increment (relative, as dp_norm) and its ratio
+    # to the last iteration's (NaN without conduit faults).
+    fault_dp_norm: float = math.nan
+    fault_ratio: float = math.nan
 
 
 @dataclass
@@ -103,9 +109,9 @@ class CouplingRun:
 # keeps, in the order of the C++.
 CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "max_contraction_ratio", "ratios",
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
-                "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate", "p_largest",
-                "u_largest", "contact_breaks", "smooth_states", "fine_steps", "window_q", "q_limit", "max_window_q",
-                "q_rejections")
+                "fault_p_size", "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate",
+                "p_largest", "u_largest", "contact_breaks", "smooth_states", "fine_steps", "window_q", "q_limit",
+                "max_window_q", "q_rejections")
 
 
 def for_each_checkpointed(report, state, f):

@@ -67,9 +67,11 @@ class _Window:
         self.p_new = [p_K] * (q + 1)
         self.w_new = [None] * (q + 1)
         self.u_old, self.u_new = u_K, None
+        self.fault_old = self.fault_new = None  # the conduit faults' p_f before and after the flow pass
         self.anderson = None
         self.active_set_changes = 0   # at the last Anderson restart
         self.dsigma_previous, self.dsigma_first = math.nan, 0.0
+        self.fault_previous = math.nan  # ||dp_f|| of the last iteration
         self.increment = 1.0          # max(dp, du) of the last iteration
         self.log = []                 # the last iterations, for the error message
 
@@ -84,6 +86,7 @@ class _Increments:
         self.residual = 0.0  # L times it, cell by cell ("coupled_residual")
         self.ratio = 0.0     # dsigma / the previous iteration's (NaN at n = 0)
         self.dp2 = self.p2 = 0.0
+        self.fault_dp = self.fault_p = 0.0  # ||dp_f|| and ||p_f|| (l2 over the conduit cells; 0 without)
 
 
 class _Outcome(enum.Enum):
@@ -175,6 +178,7 @@ class _FixedStressSplit:
         w.derivative = derivative
         self.mechanics.begin_step()  # its u is u_K: the window's start, friction's reference
         self.flow.begin_step()  # its conduit faults' pressure is the window's start
+        w.fault_new = self.flow.fault_pressure.copy()
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K
@@ -246,6 +250,7 @@ class _FixedStressSplit:
             flow.system.set_tolerance(inexact_tolerance(w.increment))
             self.mechanics.system.set_tolerance(inexact_tolerance(w.increment))
         flow.u_iterate.x.array[:] = w.u_old
+        w.fault_old = w.fault_new
         for m in range(1, w.q + 1):
             self.set_time_history(flow, w, m, w.p_new, w.u_old)
             flow.p_iterate.x.array[:] = w.p_old[m]
@@ -254,6 +259,7 @@ class _FixedStressSplit:
             flow.solve(self.t(w, m))
             w.p_new[m] = flow.pressure.x.array.copy()
             w.w_new[m] = flow.unknowns().copy()
+        w.fault_new = flow.fault_pressure.copy()
 
     def mechanics_pass(self, w):
         """(b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq.
@@ -308,6 +314,8 @@ class _FixedStressSplit:
             dp_previous = dp
             inc.dp2 += owned_norm(dp, self.Q, self.comm) ** 2
             inc.p2 += owned_norm(w.p_new[m], self.Q, self.comm) ** 2
+        fault = self.comm.allreduce(np.array([np.sum((w.fault_new - w.fault_old) ** 2), np.sum(w.fault_new ** 2)]))
+        inc.fault_dp, inc.fault_p = np.sqrt(fault)
         inc.theorem2 = math.sqrt(inc.theorem2) if self.stabilised else math.nan
         inc.residual = math.sqrt(inc.residual)
         if self.coupling.multirate():
@@ -353,12 +361,21 @@ class _FixedStressSplit:
         relative to the largest p and u of the run so far
         (relative to the current iterate alone, a field decaying to zero, e.g.
         p at steady state, would be judged by its round-off). Never on a
-        stale state."""
+        stale state. With conduit faults dp is the larger of the rock's and
+        the faults' p_f increment (relative to the largest p_f so far), both
+        logged, with the faults' contraction ratio ||dp_f^{n+1}|| /
+        ||dp_f^n||."""
         state = self.state
         state.p_size = max(state.p_size, math.sqrt(inc.p2 / w.q))
         state.u_size = max(state.u_size, owned_norm(w.u_new, self.V, self.comm))
+        state.fault_p_size = max(state.fault_p_size, float(inc.fault_p))
         dp_norm = _relative(math.sqrt(inc.dp2 / w.q), state.p_size)
         du_norm = _relative(owned_norm(inc.du, self.V, self.comm), state.u_size)
+        conduits = self.flow.fault_aperture is not None
+        fault_dp = _relative(float(inc.fault_dp), state.fault_p_size) if conduits else math.nan
+        resolved = conduits and n > 0 and w.fault_previous > 0
+        fault_ratio = float(inc.fault_dp) / w.fault_previous if resolved else math.nan
+        w.fault_previous = float(inc.fault_dp)
         if not math.isfinite(inc.p2) or not math.isfinite(state.u_size):
             # The iterates hold NaN or inf (a load or coefficient that is not
             # finite): no further iteration can recover.
@@ -366,9 +383,11 @@ class _FixedStressSplit:
                               f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
         w.active = self.mechanics.active_contact_set()
         self.observer.record(IterationRecord(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio,
-                                             self.parameters.gamma, dp_norm, du_norm, w.active.nodes))
-        w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g};")
-        return dp_norm, du_norm
+                                             self.parameters.gamma, dp_norm, du_norm, w.active.nodes, fault_dp,
+                                             fault_ratio))
+        w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g}"
+                     + (f" dp_f {fault_dp:g};" if conduits else ";"))
+        return (max(dp_norm, fault_dp) if conduits else dp_norm), du_norm
 
     def next_iterate(self, w):
         """The iterate the next flow pass reads: the map value (p^{n+1},

@@ -12,7 +12,7 @@ from .progress import is_rank0
 from .time_series import TimeSeries
 from .write_failure import OutputError, agree_on_output_error, write_failure_reason
 
-COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes"
+COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes,fault_dp_norm,fault_ratio"
 
 
 def number(v):
@@ -101,7 +101,9 @@ class Output:
         if self.csv is not None:
             v = [number(x) if math.isfinite(x) else "" for x in (r.dsigma_norm, r.ratio, r.gamma, r.dp_norm, r.du_norm)]
             try:
-                self.csv.write(f"{r.step},{number(r.time)},{r.iteration},{','.join(v)},{r.active_nodes}\n")
+                f = [number(x) if math.isfinite(x) else "" for x in (r.fault_dp_norm, r.fault_ratio)]
+                self.csv.write(f"{r.step},{number(r.time)},{r.iteration},{','.join(v)},{r.active_nodes},"
+                               f"{','.join(f)}\n")
                 self.csv.flush()
             except OSError as e:
                 failed = self._cannot_write(self.csv.name, e)

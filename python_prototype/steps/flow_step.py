@@ -184,7 +184,7 @@ class FlowStep(Step):
         if self.fault_aperture:
             self.update_apertures()
         if self.conduits:
-            self.conduits.load(t, float(self.F["dt"].value), self.fault_pressure_previous,
+            self.conduits.load(t, float(self.F["dt"].value), self.fault_pressure_previous, self.fault_pressure,
                                self.system.appended.b)
         self.assembly_time += time.perf_counter() - start
 
@@ -206,8 +206,10 @@ class FlowStep(Step):
 
     def begin_step(self):
         """The conduit faults' pressure now is p_f^old of every solve of the
-        step (the split's iterations re-solve it)."""
+        step (the split's iterations re-solve it); their iterates' open cells
+        start anew."""
         self.fault_pressure_previous[:] = self.fault_pressure
+        self.conduits.begin_step()
 
     def keep_history(self, start):
         """p_before takes the accepted step's start pressure."""
