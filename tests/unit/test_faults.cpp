@@ -618,3 +618,23 @@ TEST(FaultCells, Transmissibility)
   // |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
   EXPECT_EQ(transmissibilities(std::vector<double>{1.0, 3.0}, edges), std::vector<double>{2.0});
 }
+
+TEST(FaultCells, OpenPatches)
+{
+  // A chain of 6 cells, 0-1-2-3-4-5, and a 7th linked to 0: open 0, 1, 3,
+  // 4, 6 make the patches {0, 1, 6} and {3, 4}; 2 and 5 are closed.
+  FaultEdges links(2);
+  links.cells = {0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 6, 0};
+  links.measures.assign(6, 1.0);
+  const std::vector<char> open{1, 1, 0, 1, 1, 0, 1};
+  EXPECT_EQ(open_patches(links, open), (std::vector<std::int64_t>{0, 0, -1, 1, 1, -1, 0}));
+  EXPECT_EQ(open_patches(links, std::vector<char>(7, 0)), std::vector<std::int64_t>(7, -1));
+}
+
+TEST(FaultCells, PatchCompliance)
+{
+  // Sneddon's mean openings per unit pressure: pi a/E' (2D, length 2a),
+  // 16 a/(3 pi E') (a penny of area pi a^2).
+  EXPECT_DOUBLE_EQ(patch_compliance(2.0, 1.0e10, 2), M_PI / 1.0e10);
+  EXPECT_DOUBLE_EQ(patch_compliance(M_PI * 4.0, 1.0e10, 3), 32 / (3 * M_PI * 1.0e10));
+}

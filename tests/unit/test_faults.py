@@ -20,7 +20,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.assembly.fault_flow import transmissibilities  # noqa: E402
+from python_prototype.assembly.fault_flow import open_patches, patch_compliance, transmissibilities  # noqa: E402
 from python_prototype.domain.fault_cells import FaultEdges, fault_cells, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
 from python_prototype.scene.scene import WellSpec  # noqa: E402
@@ -398,6 +398,21 @@ class Cells(unittest.TestCase):
         edges = FaultEdges(np.array([[0, 1]]), np.array([2.0]), np.array([[0.5, 1.5]]), np.zeros((1, 3)))
         # |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
         np.testing.assert_array_equal(transmissibilities(np.array([1.0, 3.0]), edges), [2.0])
+
+    def test_open_patches(self):
+        # A chain of 6 cells, 0-1-2-3-4-5, and a 7th linked to 0: open 0, 1,
+        # 3, 4, 6 make the patches {0, 1, 6} and {3, 4}; 2 and 5 are closed.
+        links = FaultEdges(np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [6, 0]]), np.ones(6),
+                           np.ones((6, 2)), np.zeros((6, 3)))
+        is_open = np.array([1, 1, 0, 1, 1, 0, 1], dtype=bool)
+        np.testing.assert_array_equal(open_patches(links, is_open), [0, 0, -1, 1, 1, -1, 0])
+        np.testing.assert_array_equal(open_patches(links, np.zeros(7, dtype=bool)), [-1] * 7)
+
+    def test_patch_compliance(self):
+        # Sneddon's mean openings per unit pressure: pi a/E' (2D, length
+        # 2a), 16 a/(3 pi E') (a penny of area pi a^2).
+        self.assertAlmostEqual(patch_compliance(2.0, 1.0e10, 2) * 1e10, np.pi, places=14)
+        self.assertAlmostEqual(patch_compliance(np.pi * 4.0, 1.0e10, 3) * 1e10, 32 / (3 * np.pi), places=14)
 
 
 if __name__ == "__main__":
