@@ -38,9 +38,10 @@ mu_f = 1e-3 Pa s.
 import math
 import os
 
+import h5py
 import numpy as np
 from support import (Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track,
-                     written)
+                     summary, written)
 
 GEO = """SetFactory("Built-in");
 L = 10; H = 1; h = 0.25;
@@ -148,6 +149,24 @@ def check_well(out, track):
     outflow = max(abs(abs(q[k, 0]) - Q / 2) for k in ends) / Q
     check(error <= 1e-10 and outflow <= 1e-10, f"{track}: a well into the fault: p_f the tent to {error:.1e}, Q/2 "
           f"out of each end to {outflow:.1e} (1e-10)")
+    v = summary(out)["fault_volumes"]["crack"]
+    errors = [abs(v["injected"] - Q), abs(v["outflow"] - Q), abs(v["stored"]), abs(v["exchanged"])]
+    check(max(errors) <= 1e-10 * Q, f"{track}: summary.json: the well injected {v['injected']:.6e} m^2 in 1 s, "
+          f"as much flowed out of the ends ({v['outflow']:.6e}), nothing stored, to {max(errors) / Q:.1e} (1e-10)")
+
+
+def check_filling(out, track):
+    """The transient fault fills through its inlet: summary.json's volumes."""
+    _, p, _, _ = cells(out)
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        nodes, segments = f["Mesh/geometry"][:], f["Mesh/topology"][:]
+    lengths = np.linalg.norm(nodes[segments[:, 1]] - nodes[segments[:, 0]], axis=1)
+    stored = C_F * W * np.sum(lengths * (p - 1.0e6))
+    v = summary(out)["fault_volumes"]["crack"]
+    errors = [abs(v["stored"] - stored), abs(v["stored"] + v["outflow"] - v["exchanged"]), abs(v["injected"])]
+    check(max(errors) <= 1e-10 * stored, f"{track}: summary.json: the fault stored {v['stored']:.6e} m^2 = c_f w "
+          f"sum |k| (p_f - p0), as much flowed in at the inlet (outflow {v['outflow']:.6e}), to "
+          f"{max(errors) / stored:.1e} (1e-10)")
 
 
 def check_erfc(out, track):
@@ -219,11 +238,15 @@ for track in ("C++", "prototype"):
     transient_scene = scene(CONDUIT.format(w=W), c_f=C_F, end=1.0e-3, dt=1.0e-5, size=0.05)
     transient, _ = run_track(track, transient_scene, "output.every=2.5e-4")
     check_erfc(transient, track)
+    check_filling(transient, track)
     restarted, step = killed_and_restarted(track, transient_scene, 50, "output.every=2.5e-4")
     same = max_difference(transient, restarted, ["pressure", "flux"])
     fault = np.max(np.abs(cells(transient)[1] - cells(restarted)[1])) / DP
-    check(step < 100 and max(same.values()) <= 1e-12 and fault <= 1e-12, f"{track}: restarted at step {step}, "
-          f"the uninterrupted run's fields {same} and fault pressure ({fault:.1e}) (1e-12)")
+    a, b = summary(transient)["fault_volumes"]["crack"], summary(restarted)["fault_volumes"]["crack"]
+    volumes = max(abs(a[k] - b[k]) for k in a) / a["stored"]
+    check(step < 100 and max(same.values()) <= 1e-12 and fault <= 1e-12 and volumes <= 1e-12,
+          f"{track}: restarted at step {step}, the uninterrupted run's fields {same}, fault pressure ({fault:.1e}) "
+          f"and volumes ({volumes:.1e}) (1e-12)")
     check_normal_permeability(track)
     conduit, _ = run_track(track, scene(CONDUIT.format(w=1.0e-9), permeability=1.0e-12))
     transparent, _ = run_track(track, scene('flow = "transparent"', permeability=1.0e-12))

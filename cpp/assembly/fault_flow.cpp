@@ -104,7 +104,7 @@ void ConduitFaults::locate_wells(const Scene& scene, const std::string& fault, c
     {
       const WellOnFault hit = well_cells(cells, w);
       for (std::size_t i = 0; i < hit.cells.size(); ++i)
-        _wells.push_back({offset + hit.cells[i], hit.shares[i], &w.rate});
+        _wells.push_back({offset + hit.cells[i], hit.shares[i], &w.rate, _conduits.size() - 1});
     }
 }
 
@@ -344,6 +344,60 @@ std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::s
     }
   }
   return values;
+}
+
+void ConduitFaults::add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old,
+                                double t, double dt)
+{
+  // Per fault: injected, stored, exchanged, outflow of the step; the faces
+  // on every rank, the rest on the last.
+  std::vector<double> step(4 * _conduits.size(), 0.0);
+  for (const Face& f : _faces)
+    step[4 * f.conduit + 2] += dt * f.flux * w[f.dof - _start];
+  for (const Well& well : _wells)
+    if (_owned)
+      step[4 * well.conduit] += dt * well.share * (*well.rate)(0, 0, 0, t);
+  for (std::size_t i = 0; i < _conduits.size() and _owned; ++i)
+  {
+    const Conduit& c = _conduits[i];
+    const std::vector<double>& measures = c.cells->measures;
+    for (std::size_t k = 0; k < measures.size(); ++k)
+      step[4 * i + 1] += measures[k] * (c.aperture[k] - c.aperture_start[k])
+                         + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]);
+    const auto [held, T_e] = held_ends(c);
+    const std::vector<double> p_D = end_pressures(c, held, t);
+    for (std::size_t e = 0; e < held.size(); ++e)
+      step[4 * i + 3] += dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, step.data(), static_cast<int>(step.size()), MPI_DOUBLE, MPI_SUM, _comm);
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+  {
+    FaultVolumes& v = _conduits[i].volumes;
+    v.injected += step[4 * i], v.stored += step[4 * i + 1], v.exchanged += step[4 * i + 2];
+    v.outflow += step[4 * i + 3];
+  }
+}
+
+std::vector<std::pair<std::string, FaultVolumes>> ConduitFaults::volumes() const
+{
+  std::vector<std::pair<std::string, FaultVolumes>> v;
+  for (const Conduit& c : _conduits)
+    v.emplace_back(c.name, c.volumes);
+  return v;
+}
+
+std::vector<double> ConduitFaults::volume_values() const
+{
+  std::vector<double> values;
+  for (const Conduit& c : _conduits)
+    values.insert(values.end(), {c.volumes.injected, c.volumes.stored, c.volumes.exchanged, c.volumes.outflow});
+  return values;
+}
+
+void ConduitFaults::set_volume_values(std::span<const double> values)
+{
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+    _conduits[i].volumes = {values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]};
 }
 
 } // namespace biotcontact

@@ -67,6 +67,16 @@ double patch_compliance(double size, double modulus, int dim);
 /// cells joined by `links` that holds it, -1 where the cell is closed.
 std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open);
 
+/// @brief A conduit fault's fluid volumes since the run's start (m^3; m^2
+/// per metre of thickness in 2D): injected by its wells, stored (the
+/// volume its opening made and its fluid's compression), exchanged (from
+/// the rock through its faces) and out of its ends on pressure boundaries.
+/// Step by step, injected + exchanged = stored + outflow.
+struct FaultVolumes
+{
+  double injected = 0, stored = 0, exchanged = 0, outflow = 0;
+};
+
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns on
 /// the last rank (a fault holds few facets); the faces' flux DOFs on the
@@ -120,6 +130,17 @@ public:
   /// the fault's pressure (the last rank's).
   std::vector<double> cell_values(std::span<const double> w, std::span<const double> p, double t) const;
 
+  /// Adds the accepted step to t of length dt to each fault's volumes: `w`
+  /// the flow unknowns (this rank's), `p` and `p_old` the fault's pressure
+  /// at t and at the step's start (the last rank's; collective).
+  void add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old, double t,
+                   double dt);
+  /// Each conduit fault's name and volumes (the same on every rank).
+  std::vector<std::pair<std::string, FaultVolumes>> volumes() const;
+  /// The volumes as 4 numbers per fault (a checkpoint's), and back.
+  std::vector<double> volume_values() const;
+  void set_volume_values(std::span<const double> values);
+
 private:
   struct Conduit
   {
@@ -133,6 +154,7 @@ private:
     std::vector<char> open, open_before; // per cell: w > e at the last mechanics iterate, at the one before
     std::vector<double> compliance;     // per cell: L_f of its patch (m/Pa), 0 where no L
     double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+    FaultVolumes volumes;         // since the run's start
   };
   struct Face
   {
@@ -146,6 +168,7 @@ private:
     std::int64_t row; // among the appended unknowns
     double share;
     const Expression* rate;
+    std::size_t conduit; // index into _conduits
   };
   /// The wells into the fault `fault`, per cell each meets (domain.h's
   /// check_expressions has checked that each meets one).

@@ -685,6 +685,7 @@ void FixedStressSplit::accept_window(const Window& w, int n)
   for (int m = 1; m <= w.q; ++m)
   {
     _flow.set_unknowns(w.w_new[m]);
+    _flow.accept(t(w, m));
     _observer.flow_state(t(w, m));
   }
   _state.q_limit = window_limit(w.q, _coupling.q_max, w.contact_changed);

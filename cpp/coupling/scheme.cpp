@@ -49,6 +49,7 @@ void Scheme::make_split(const Problem& problem)
     FlowStep* f = _flow.get();
     compute_flux = [f](fem::Function<double>& out) { f->flux(out); };
     fault_flow = [f](double t) { return f->fault_flow(t); };
+    fault_volumes = [f] { return f->fault_volumes(); };
     _steps.push_back(f);
   }
   if (scene.mechanics)

@@ -72,6 +72,7 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
     }
     attempts = 0;
     step.keep_history(start);
+    step.accept(t);
     run.observer.flow_state(t);
     run.observer.mechanics_state(t, k, 1);
     run.report.windows = k;

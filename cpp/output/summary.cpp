@@ -241,6 +241,18 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
     summary.set("regions", regions_json(in.problem.domain.regions, in.problem.materials));
   if (in.scheme.contact_pressure)
     summary.set("contact", contact_json(in.contact));
+  if (const auto volumes = in.scheme.fault_volumes(); !volumes.empty())
+  {
+    // Per conduit fault, its fluid volumes since the start (FaultVolumes).
+    Json faults;
+    for (const auto& [name, v] : volumes)
+      faults.set(name, Json()
+                           .set("injected", v.injected)
+                           .set("stored", v.stored)
+                           .set("exchanged", v.exchanged)
+                           .set("outflow", v.outflow));
+    summary.set("fault_volumes", faults);
+  }
   if (in.errors)
     summary.set("errors", errors_json(*in.errors));
   if (!outcome.failure.empty())

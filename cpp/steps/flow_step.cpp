@@ -284,7 +284,7 @@ std::map<std::string, std::vector<double>> FlowStep::arrays() const
   int ranks = 1;
   MPI_Comm_size(_W->mesh()->comm(), &ranks);
   MPI_Bcast(p.data(), static_cast<int>(p.size()), MPI_DOUBLE, ranks - 1, _W->mesh()->comm());
-  return {{"fault_pressure", p}};
+  return {{"fault_pressure", p}, {"fault_volumes", _conduits->volume_values()}};
 }
 
 void FlowStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
@@ -293,6 +293,7 @@ void FlowStep::restore_arrays(const std::map<std::string, std::vector<double>>& 
     return;
   const std::vector<double>& p = arrays.at("fault_pressure");
   std::copy_n(p.begin(), _fault_pressure.size(), _fault_pressure.begin());
+  _conduits->set_volume_values(arrays.at("fault_volumes"));
 }
 
 std::vector<double> FlowStep::fault_flow(double t) const
@@ -305,6 +306,13 @@ std::vector<double> FlowStep::fault_flow(double t) const
 StepState FlowStep::state() const { return {values(unknowns()), values(pressure->x()->array()), {}}; }
 
 void FlowStep::keep_history(const StepState& start) { assign(*p_before, start.p); }
+
+void FlowStep::accept(double t)
+{
+  if (*_conduits and _pass == FlowPass::first)
+    _conduits->add_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, t,
+                           _constants.at("dt")->value[0]);
+}
 
 History FlowStep::history() const
 {

@@ -66,6 +66,8 @@ public:
   }
   /// p_before takes the accepted step's start pressure.
   void keep_history(const StepState& start) override;
+  /// The conduit faults' volumes take the accepted step to t.
+  void accept(double t) override;
   /// BDF2: p_before, u_before, u_path_before (u_before with coupling.q =
   /// "auto" too: the last window's change of u); none for the second pass.
   History history() const override;
@@ -79,7 +81,8 @@ public:
   /// The fields of unknowns(): the flux and the pressure (none for the
   /// second pass, which every window computes anew: a checkpoint keeps
   /// nothing of it).
-  /// The conduit faults' pressure, "fault_pressure" (every rank's copy).
+  /// The conduit faults' pressure, "fault_pressure" (every rank's copy),
+  /// and their volumes, "fault_volumes" (4 per fault).
   std::map<std::string, std::vector<double>> arrays() const override;
   void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
   std::vector<UnknownsPart> parts() const override
@@ -101,6 +104,9 @@ public:
   /// The conduit faults' cell fields at time t on rank 0
   /// (ConduitFaults::cell_values; empty without conduit faults; collective).
   std::vector<double> fault_flow(double t) const;
+  /// The conduit faults' volumes since the run's start (every rank; none
+  /// without conduit faults).
+  std::vector<std::pair<std::string, FaultVolumes>> fault_volumes() const { return _conduits->volumes(); }
 
   /// Keeps the loads of the last `times` solve times (q for a multirate
   /// window, whose iterations revisit its fine times; 1 by default).

@@ -68,6 +68,9 @@ public:
   /// The step from `start` was accepted: it becomes the state one step
   /// before the next (BDF2's memory).
   virtual void keep_history(const StepState&) {}
+  /// The step's solution at t (loaded in the step) was accepted: what the
+  /// step adds up over the run takes it (a conduit fault's volumes).
+  virtual void accept(double) {}
 
   /// The unknowns, their fields (for checkpoints) and their restoration.
   virtual std::span<const double> unknowns() const = 0;

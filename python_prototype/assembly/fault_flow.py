@@ -35,6 +35,19 @@ from .boundary_conditions import fault_face_rows
 
 
 @dataclasses.dataclass
+class FaultVolumes:
+    """A conduit fault's fluid volumes since the run's start (m^3; m^2 per
+    metre of thickness in 2D): injected by its wells, stored (the volume its
+    opening made and its fluid's compression), exchanged (from the rock
+    through its faces) and out of its ends on pressure boundaries. Step by
+    step, injected + exchanged = stored + outflow."""
+    injected: float = 0.0
+    stored: float = 0.0
+    exchanged: float = 0.0
+    outflow: float = 0.0
+
+
+@dataclasses.dataclass
 class _Conduit:
     """One conduit fault's cells and what the flow needs of it."""
     name: str
@@ -48,6 +61,7 @@ class _Conduit:
     open_before: np.ndarray  # ... at the one before
     compliance: np.ndarray  # per cell: L_f of its patch (m/Pa), 0 where no L
     normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+    volumes: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)  # since the run's start
 
 
 # Below this fraction of the residual aperture a cell's mean opening is the
@@ -140,7 +154,8 @@ class ConduitFaults:
             if w.fault != fault:
                 continue
             hit, shares = well_cells(cells, w)
-            self.wells += [(offset + int(k), float(share), w.rate) for k, share in zip(hit, shares)]
+            self.wells += [(offset + int(k), float(share), w.rate, len(self.faults) - 1)
+                           for k, share in zip(hit, shares)]
 
     def __bool__(self):
         return self.size > 0
@@ -252,7 +267,7 @@ class ConduitFaults:
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
             b[o:o + n] = part
-        for row, share, rate in self.wells if self.owned else []:
+        for row, share, rate, _ in self.wells if self.owned else []:
             b[row] -= share * float(rate(0, 0, 0, t))
 
     def _end_pressures(self, conduit, held, t):
@@ -299,3 +314,39 @@ class ConduitFaults:
             values[cells, 2] /= conduit.cells.measures
             values[cells, 3:] = self._mean_flux(conduit, p[cells], t)
         return values
+
+    def add_volumes(self, w, p, p_old, t, dt):
+        """Adds the accepted step to t of length dt to each fault's volumes:
+        `w` the flow unknowns (this rank's), `p` and `p_old` the fault's
+        pressure at t and at the step's start (the last rank's; collective)."""
+        # Per fault: injected, stored, exchanged, outflow of the step; the
+        # faces on every rank, the rest on the last.
+        step = np.zeros((len(self.faults), 4))
+        index = {id(conduit): i for i, conduit in enumerate(self.faults)}
+        for dof, conduit, _, c in self.faces:
+            step[index[id(conduit)], 2] += dt * c * w[dof - self.start]
+        for _, share, rate, i in self.wells if self.owned else []:
+            step[i, 0] += dt * share * float(rate(0, 0, 0, t))
+        for i, conduit in enumerate(self.faults if self.owned else []):
+            cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
+            step[i, 1] = np.sum(cells.measures * (conduit.aperture - conduit.aperture_start)
+                                + self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_old[o:o + n]))
+            held, T_e = self._held_ends(conduit)
+            step[i, 3] = dt * np.sum(T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
+        step = self.comm.allreduce(step)
+        for conduit, (injected, stored, exchanged, outflow) in zip(self.faults, step):
+            v = conduit.volumes
+            v.injected, v.stored, v.exchanged, v.outflow = (v.injected + injected, v.stored + stored,
+                                                             v.exchanged + exchanged, v.outflow + outflow)
+
+    def volumes(self):
+        """Each conduit fault's name and volumes (the same on every rank)."""
+        return [(conduit.name, conduit.volumes) for conduit in self.faults]
+
+    def volume_values(self):
+        """The volumes as 4 numbers per fault (a checkpoint's)."""
+        return np.array([[v.injected, v.stored, v.exchanged, v.outflow] for _, v in self.volumes()]).ravel()
+
+    def set_volume_values(self, values):
+        for i, conduit in enumerate(self.faults):
+            conduit.volumes = FaultVolumes(*(float(x) for x in values[4 * i:4 * i + 4]))

@@ -521,6 +521,7 @@ class _FixedStressSplit:
         self.attempts[0] = 0
         for m in range(1, w.q + 1):
             self.flow.set_unknowns(w.w_new[m])
+            self.flow.accept(self.t(w, m))
             self.observer.flow_state(self.t(w, m))
         self.state.q_limit = window_limit(w.q, self.coupling.q_max, w.contact_changed)
         self.active_K = w.active

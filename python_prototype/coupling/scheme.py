@@ -29,6 +29,7 @@ class Scheme:
         self.given_pressure = None
         self.compute_flux = None
         self.fault_flow = lambda t: None  # the conduit faults' cell fields (FlowStep.fault_flow)
+        self.fault_volumes = list  # the conduit faults' volumes since the start (FlowStep.fault_volumes)
         self.compute_contact = ContactState
         self.step_control = None  # time.adaptive
         self._steps = []
@@ -89,6 +90,7 @@ class Scheme:
         if scene.flow:
             flow = FlowStep(problem, self.V if scene.coupling else None)
             self.p, self.compute_flux, self.fault_flow = flow.pressure, flow.flux, flow.fault_flow
+            self.fault_volumes = flow.fault_volumes
             self._steps.append(flow)
         if scene.mechanics:
             mechanics = MechanicsStep(problem, self.V, self.p)

@@ -63,6 +63,7 @@ def run_single_solve(problem, step, run):
             continue  # the same step again, shorter
         attempts[0] = 0
         step.keep_history(start)
+        step.accept(t)
         run.observer.flow_state(t)
         run.observer.mechanics_state(t, k, 1)
         run.report.windows = k

@@ -198,6 +198,10 @@ def run_summary(summary_input, outcome):
         summary["regions"] = _regions_json(i.problem.domain.regions, i.problem.materials)
     if i.scheme.contact_pressure is not None:
         summary["contact"] = _contact_json(i.contact)
+    if i.scheme.fault_volumes():
+        # Per conduit fault, its fluid volumes since the start (FaultVolumes).
+        summary["fault_volumes"] = {name: {"injected": v.injected, "stored": v.stored, "exchanged": v.exchanged,
+                                           "outflow": v.outflow} for name, v in i.scheme.fault_volumes()}
     if i.errors is not None:
         summary["errors"] = _errors_json(i.errors)
     if outcome.failure:

@@ -215,6 +215,17 @@ class FlowStep(Step):
         """p_before takes the accepted step's start pressure."""
         self.p_before.x.array[:] = start.p
 
+    def accept(self, t):
+        """The conduit faults' volumes take the accepted step to t."""
+        if self.conduits and self.flow_pass == FlowPass.first:
+            self.conduits.add_volumes(self.w.x.array, self.fault_pressure, self.fault_pressure_previous, t,
+                                      float(self.F["dt"].value))
+
+    def fault_volumes(self):
+        """The conduit faults' volumes since the run's start (every rank;
+        none without conduit faults)."""
+        return self.conduits.volumes()
+
     def history(self):
         """BDF2: p_before, u_before, u_path_before (u_before with coupling.q =
         "auto" too: the last window's change of u); none for the second pass."""
@@ -277,16 +288,19 @@ class FlowStep(Step):
         self.pressure.x.array[:] = w[self.Q_to_W]
 
     def arrays(self):
-        """The conduit faults' pressure, "fault_pressure" (every rank's copy)."""
+        """The conduit faults' pressure, "fault_pressure" (every rank's copy),
+        and their volumes, "fault_volumes" (4 per fault)."""
         if not self.conduits or self.flow_pass == FlowPass.second:
             return {}
         comm = self.F["W"].mesh.comm
-        return {"fault_pressure": np.asarray(comm.bcast(self.fault_pressure, root=comm.size - 1))}
+        return {"fault_pressure": np.asarray(comm.bcast(self.fault_pressure, root=comm.size - 1)),
+                "fault_volumes": self.conduits.volume_values()}
 
     def restore_arrays(self, arrays):
         if not self.conduits or self.flow_pass == FlowPass.second:
             return
         self.fault_pressure[:] = arrays["fault_pressure"][:len(self.fault_pressure)]
+        self.conduits.set_volume_values(arrays["fault_volumes"])
 
     def fault_flow(self, t):
         """The conduit faults' cell fields at time t on rank 0

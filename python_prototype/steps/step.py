@@ -80,6 +80,10 @@ class Step(abc.ABC):
         """The step from `start` was accepted: it becomes the state one step
         before the next (BDF2's memory)."""
 
+    def accept(self, t):
+        """The step's solution at t (loaded in the step) was accepted: what
+        the step adds up over the run takes it (a conduit fault's volumes)."""
+
     @abc.abstractmethod
     def unknowns(self):
         """The unknowns (ghosts included)."""
