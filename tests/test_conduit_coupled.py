@@ -33,7 +33,7 @@ import os
 import h5py
 import numpy as np
 from support import (INCLINED_CRACK_GEO, PHAN_GEO, check, fault_centroids, fault_fields, killed_and_restarted,
-                     max_difference, run_track, written)
+                     max_difference, run_track, summary, written)
 
 P, SIGMA_SMALL = 5.0e6, 1.0e7
 EQUIVALENCE = """[mesh]
@@ -198,9 +198,11 @@ def check_ranks_and_restart(one):
           f"C++: 2 ranks give 1 rank's fields {fields}, fault pressure to {p_f:.1e} (1e-10) and states")
     restarted, step = killed_and_restarted("C++", path, 6)
     fields, (p_f, states) = max_difference(one, restarted, FIELDS), fault_difference(one, restarted)
-    check(max(fields.values()) <= 1e-12 and p_f <= 1e-12 and states,
-          f"C++: restarted from step {step}, the uninterrupted fields {fields} and fault pressure to {p_f:.1e} "
-          f"(1e-12)")
+    a, b = (summary(out)["seismic_moment"]["crack"] for out in (one, restarted))
+    moments = np.abs(np.array(a["moments"]) - np.array(b["moments"])).max() / a["total"]
+    check(max(fields.values()) <= 1e-12 and p_f <= 1e-12 and states and a["times"] == b["times"]
+          and moments <= 1e-12, f"C++: restarted from step {step}, the uninterrupted fields {fields}, fault "
+          f"pressure to {p_f:.1e} and every step's seismic moment to {moments:.1e} (1e-12)")
 
 
 runs = {}

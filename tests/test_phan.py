@@ -15,9 +15,16 @@ sigma sin^2(psi) and slips along its whole length, the slip
 - limits: friction = 0 is the frictionless run to 1e-12, and a friction so
   large that nothing slips (mu = 1000) is the run on the same mesh without
   the crack to 1e-10 (every pair stuck);
+- the seismic moment in summary.json (per metre of thickness): G times the
+  integral of the closed-form slip, G 4 (1 - nu^2)/E sigma sin(psi)
+  (cos(psi) - sin(psi) tan(theta)) pi b^2/2, within 3 %; and exactly (to
+  1e-12) G times the sum over fault.xdmf's pairs of |slip increment| times
+  their lumped length; 0 (below 1e-12 of it) when nothing slips;
 - the prototype gives the C++ fields to 1e-10."""
 import math
+import os
 
+import h5py
 import numpy as np
 from support import PHAN_GEO, check, fault_fields, max_difference, run_track, summary, unsplit_difference, written
 
@@ -76,6 +83,32 @@ def check_phan(out, track):
           f"{np.abs(ratio / MU - 1).max():.1e} (1e-9)")
 
 
+def moment(out):
+    """summary.json's seismic moment of the crack, and G times the sum of
+    fault.xdmf's |slip increment| times each pair's lumped length (half of
+    its two segments)."""
+    x, _, series = fault_fields(out, ("slip_increment",))
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        segments = f["Mesh/topology"][:]
+    lumped = np.zeros(len(x))
+    np.add.at(lumped, segments.ravel(), np.repeat(np.linalg.norm(x[segments[:, 1]] - x[segments[:, 0]], axis=1) / 2, 2))
+    fields = E / (2 * (1 + NU)) * np.sum(np.linalg.norm(series[-1]["slip_increment"], axis=1) * lumped)
+    return summary(out)["seismic_moment"]["crack"]["total"], fields
+
+
+def check_moment(track, slipping, stuck):
+    """The seismic moment of the slipping crack and of the stuck one."""
+    G = E / (2 * (1 + NU))
+    exact = (G * 4 * (1 - NU ** 2) / E * SIGMA * math.sin(PSI) * (math.cos(PSI) - math.sin(PSI) * MU)
+             * math.pi * B ** 2 / 2)
+    total, fields = moment(slipping)
+    held, _ = moment(stuck)
+    check(abs(total / exact - 1) <= 0.03 and abs(total - fields) <= 1e-12 * total and abs(held) <= 1e-12 * total,
+          f"{track}: seismic moment {total:.6e} N m/m, {100 * (total / exact - 1):+.2f} % of G times the closed "
+          f"form's slip integral (3 %); G sum |slip increment| lumped to {abs(total - fields) / total:.1e} (1e-12); "
+          f"{held:.1e} when mu = 1000")
+
+
 runs = {}
 for track in ("C++", "prototype"):
     frictional, _ = run_track(track, scene(PLATE + fault(f"friction = {MU!r}")))
@@ -93,5 +126,6 @@ for track in ("C++", "prototype"):
     faults = summary(stuck)["contact"]["faults"]["crack"]
     check(faults["slipping"] == 0 and faults["stuck"] > 0, f"{track}: mu = 1000: stuck {faults['stuck']:.4f} m, "
           f"slipping {faults['slipping']}")
+    check_moment(track, frictional, stuck)
 tracks = max_difference(runs["C++"], runs["prototype"], ["displacement"])
 check(tracks["displacement"] <= 1e-10, f"Phan's crack: the prototype equals the C++ solver: {tracks} (1e-10)")

@@ -1092,8 +1092,8 @@ void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::v
   VecRestoreArrayRead(force, &R);
   const double scale = traction_scale(pressure, s.pairs);
   // Per fault: the largest opening and slip; the measures closed, slipping
-  // and stuck.
-  std::vector<double> largest(2 * s.faults.size(), 0.0), measure(3 * s.faults.size(), 0.0);
+  // and stuck, and the moment.
+  std::vector<double> largest(2 * s.faults.size(), 0.0), measure(4 * s.faults.size(), 0.0);
   for (std::size_t j = 0; j < s.pairs.size(); ++j)
   {
     PairState& p = s.pairs[j];
@@ -1104,9 +1104,11 @@ void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::v
     const int f = summary_of[p.fault];
     largest[2 * f] = std::max(largest[2 * f], p.opening);
     largest[2 * f + 1] = std::max(largest[2 * f + 1], std::hypot(p.slip[0], p.slip[1], p.slip[2]));
-    measure[3 * f] += closed ? _set.lumped[k] : 0.0;
-    measure[3 * f + 1] += p.status == PairStatus::slip ? _set.lumped[k] : 0.0;
-    measure[3 * f + 2] += p.status == PairStatus::stick ? _set.lumped[k] : 0.0;
+    const auto& ds = p.slip_increment;
+    measure[4 * f] += closed ? _set.lumped[k] : 0.0;
+    measure[4 * f + 1] += p.status == PairStatus::slip ? _set.lumped[k] : 0.0;
+    measure[4 * f + 2] += p.status == PairStatus::stick ? _set.lumped[k] : 0.0;
+    measure[4 * f + 3] += _set.shear_modulus[k] * std::hypot(ds[0], ds[1], ds[2]) * _set.lumped[k];
   }
   MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX, _comm);
   MPI_Allreduce(MPI_IN_PLACE, measure.data(), static_cast<int>(measure.size()), MPI_DOUBLE, MPI_SUM, _comm);
@@ -1114,9 +1116,10 @@ void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::v
   {
     s.faults[f].max_opening = largest[2 * f];
     s.faults[f].max_slip = largest[2 * f + 1];
-    s.faults[f].closed = measure[3 * f];
-    s.faults[f].slipping = measure[3 * f + 1];
-    s.faults[f].stuck = measure[3 * f + 2];
+    s.faults[f].closed = measure[4 * f];
+    s.faults[f].slipping = measure[4 * f + 1];
+    s.faults[f].stuck = measure[4 * f + 2];
+    s.faults[f].moment = measure[4 * f + 3];
   }
 }
 

@@ -61,12 +61,17 @@ struct PairState
 };
 
 /// @brief What the summary says of a fault: its largest opening and slip,
-/// and the measures (lumped lengths in 2D, areas in 3D) of its pairs that
-/// are closed, and of those in the states slip and stick.
+/// the measures (lumped lengths in 2D, areas in 3D) of its pairs that are
+/// closed, and of those in the states slip and stick, and the step's
+/// seismic moment.
 struct FaultSummary
 {
   std::string name;
   double max_opening = 0, max_slip = 0, closed = 0, slipping = 0, stuck = 0;
+  /// The seismic moment of the slip since the step's start: the sum over
+  /// the pairs of G |slip increment| times their lumped measure (N m; N m
+  /// per metre of thickness in 2D).
+  double moment = 0;
 };
 
 /// The contact state after a solve: the contact force at a node is the

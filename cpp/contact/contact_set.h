@@ -52,6 +52,10 @@ struct ContactSet
   /// and no displacement component of its node is prescribed); then rows
   /// 1..d-1 of its change of variables, at dofs[k] + 1.., are its tangents.
   std::vector<char> frictional;
+  /// Per constraint: the rock's shear modulus G at a fault pair's + node (0
+  /// for a foundation's), whose product with the slip is the seismic
+  /// moment (pair_shear_moduli).
+  std::vector<double> shear_modulus;
   /// Per constraint, its contact boundary (of `boundaries`, a fault's name
   /// for its pairs; a constraint merged from two boundaries counts for the
   /// first). `faults` flags the boundaries that are faults, `laws` holds
@@ -82,6 +86,12 @@ std::vector<char> prescribed_dofs(const Scene& scene, const Domain& domain, cons
 dolfinx::la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& forms,
                                            std::shared_ptr<const dolfinx::fem::FunctionSpace> V,
                                            std::vector<std::int32_t> facets);
+
+/// The shear modulus of each constraint of `set`: at a fault pair, the
+/// value of the DG0 coefficient G in a cell of its + node (all its cells
+/// lie on the + side of the split); 0 at a foundation's constraint.
+std::vector<double> pair_shear_moduli(const ContactSet& set, const dolfinx::fem::FunctionSpace& V,
+                                      const dolfinx::fem::Function<double>& G);
 
 /// The contact boundary as a P1 field for output: exactly 1 at the contact
 /// nodes, 0 elsewhere.

@@ -694,6 +694,7 @@ void FixedStressSplit::accept_window(const Window& w, int n)
   _report.fine_steps = w.j + w.q;
   _state.window_q = w.q;
   _report.max_window_q = std::max(_report.max_window_q, w.q);
+  _mechanics.accept(t(w, w.q));
   _observer.mechanics_state(t(w, w.q), w.K + 1, n + 1);
   _p_before = w.p_new[w.q - 1]; // p_K itself for q = 1
   _u_path_before = path(w, w.u_new, w.q - 1);

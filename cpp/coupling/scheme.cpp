@@ -58,6 +58,8 @@ void Scheme::make_split(const Problem& problem)
     if (_flow and _flow->fault_aperture())
       _mechanics->load_fault_pressure(*_flow->fault_aperture(), _flow->fault_pressure());
     u = _mechanics->u;
+    MechanicsStep* m = _mechanics.get();
+    seismic_moments = [m] { return m->seismic_moments(); };
     given_pressure = _mechanics->given_pressure;
     take_contact_fields(*_mechanics);
     _steps.push_back(_mechanics.get());

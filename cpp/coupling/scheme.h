@@ -54,6 +54,9 @@ public:
   std::function<void(dolfinx::fem::Function<double>&)> compute_flux;
   /// The conduit faults' cell fields (FlowStep::fault_flow).
   std::function<std::vector<double>(double)> fault_flow = [](double) { return std::vector<double>{}; };
+  /// The faults' seismic moments step by step (MechanicsStep::seismic_moments;
+  /// none without a mechanics step).
+  std::function<SeismicMoments()> seismic_moments = [] { return SeismicMoments{}; };
   /// The conduit faults' volumes since the run's start (FlowStep::fault_volumes).
   std::function<std::vector<std::pair<std::string, FaultVolumes>>()> fault_volumes = []
   { return std::vector<std::pair<std::string, FaultVolumes>>{}; };

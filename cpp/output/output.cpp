@@ -44,6 +44,15 @@ Json& Json::set(const std::string& key, double value)
   return *this;
 }
 Json& Json::set(const std::string& key, int value) { return set(key, static_cast<long>(value)); }
+Json& Json::set(const std::string& key, const std::vector<double>& values)
+{
+  std::string text = "[";
+  for (std::size_t i = 0; i < values.size(); ++i)
+    text += (i ? ", " : "") + number(values[i]);
+  _items.emplace_back(key, text + "]");
+  _nested.push_back(false);
+  return *this;
+}
 Json& Json::set(const std::string& key, long value)
 {
   _items.emplace_back(key, std::to_string(value));

@@ -29,6 +29,8 @@ public:
   Json& set(const std::string& key, const std::string& value);
   Json& set(const std::string& key, const char* value) { return set(key, std::string(value)); }
   Json& set(const std::string& key, const Json& value);
+  /// An array of numbers.
+  Json& set(const std::string& key, const std::vector<double>& values);
   std::string str(int indent = 0) const;
 
 private:

@@ -1,6 +1,8 @@
 #include "output/summary.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <map>
 
 namespace biotcontact
@@ -186,6 +188,31 @@ Json scheme_json(const Problem& problem, const Scheme& scheme)
       .set("gamma", problem.parameters.gamma);
 }
 
+/// Per fault the seismic moment of each accepted step (FaultSummary::moment)
+/// and their sum; in 3D the moment magnitude of the sum, Mw = (2/3)
+/// (log10 M0 - 9.1) (M0 in N m; in 2D M0 is per metre and has none).
+Json seismic_moment_json(const SeismicMoments& m, int dim)
+{
+  const std::size_t width = m.names.size() + 1;
+  std::vector<double> times;
+  for (std::size_t r = 0; r < m.steps.size(); r += width)
+    times.push_back(m.steps[r]);
+  Json faults;
+  for (std::size_t f = 0; f < m.names.size(); ++f)
+  {
+    std::vector<double> moments;
+    for (std::size_t r = 0; r < m.steps.size(); r += width)
+      moments.push_back(m.steps[r + 1 + f]);
+    const double total = std::accumulate(moments.begin(), moments.end(), 0.0);
+    Json fault;
+    fault.set("total", total);
+    if (dim == 3 and total > 0)
+      fault.set("magnitude", 2.0 / 3.0 * (std::log10(total) - 9.1));
+    faults.set(m.names[f], fault.set("times", times).set("moments", moments));
+  }
+  return faults;
+}
+
 } // namespace
 
 Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
@@ -241,6 +268,8 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
     summary.set("regions", regions_json(in.problem.domain.regions, in.problem.materials));
   if (in.scheme.contact_pressure)
     summary.set("contact", contact_json(in.contact));
+  if (const SeismicMoments m = in.scheme.seismic_moments(); !m.names.empty() and !m.steps.empty())
+    summary.set("seismic_moment", seismic_moment_json(m, in.problem.domain.dim()));
   if (const auto volumes = in.scheme.fault_volumes(); !volumes.empty())
   {
     // Per conduit fault, its fluid volumes since the start (FaultVolumes).

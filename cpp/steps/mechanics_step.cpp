@@ -60,7 +60,7 @@ MechanicsStep::MechanicsStep(const Problem& problem, std::shared_ptr<const fem::
   }
   _b = std::make_unique<la::Vector<double>>(_V->dofmap()->index_map, _V->dofmap()->index_map_bs());
   if (scene.has_contact())
-    attach_contact(domain, forms);
+    attach_contact(domain, forms, materials);
 }
 
 /// Body force and tractions (also on a loaded contact boundary), in that
@@ -103,9 +103,13 @@ void MechanicsStep::add_fault_pressures(const Domain& domain, const CompiledForm
 }
 
 /// Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.h).
-void MechanicsStep::attach_contact(const Domain& domain, const CompiledForms& forms)
+void MechanicsStep::attach_contact(const Domain& domain, const CompiledForms& forms, const Materials& materials)
 {
   ContactSet set = locate_contact(_scene, domain, forms, _V);
+  set.shear_modulus = pair_shear_moduli(set, *_V, *materials.coefficients.at("G"));
+  for (std::size_t b = 0; b < set.boundaries.size(); ++b)
+    if (set.faults[b])
+      _moments.names.push_back(set.boundaries[b]);
   std::vector<std::int32_t> owned(owned_size(*_V));
   std::iota(owned.begin(), owned.end(), 0);
   make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
@@ -160,6 +164,31 @@ void MechanicsStep::begin_step()
 {
   la::petsc::Vector x = wrap(*u->x());
   _system->begin_step(x.vec());
+}
+
+void MechanicsStep::accept(double t)
+{
+  if (!_system->has_contact())
+    return;
+  const ContactState s = contact_state();
+  if (s.faults.empty())
+    return;
+  _moments.steps.push_back(t);
+  for (const FaultSummary& f : s.faults)
+    _moments.steps.push_back(f.moment);
+}
+
+std::map<std::string, std::vector<double>> MechanicsStep::arrays() const
+{
+  if (_moments.steps.empty())
+    return {};
+  return {{"seismic_moments", _moments.steps}};
+}
+
+void MechanicsStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
+{
+  if (const auto found = arrays.find("seismic_moments"); found != arrays.end())
+    _moments.steps = found->second;
 }
 
 } // namespace biotcontact

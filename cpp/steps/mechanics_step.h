@@ -24,6 +24,14 @@
 namespace biotcontact
 {
 
+/// @brief The faults' seismic moments step by step (FaultSummary::moment):
+/// per accepted step its time, then the moment of each of `names`.
+struct SeismicMoments
+{
+  std::vector<std::string> names;
+  std::vector<double> steps;
+};
+
 /// @brief The mechanics step: quasi-static linear elasticity loaded by the
 /// pore pressure, with contact where the scene has it.
 class MechanicsStep : public Step
@@ -70,6 +78,17 @@ public:
     _fault_load = {&aperture, &p_f};
   }
 
+  /// The accepted step's seismic moment, per fault (FaultSummary::moment),
+  /// joins the run's record.
+  void accept(double t) override;
+  /// The record of the faults' seismic moments, "seismic_moments" (a
+  /// checkpoint's), and its restoration.
+  std::map<std::string, std::vector<double>> arrays() const override;
+  void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
+  /// The faults' seismic moments of every accepted step: the faults'
+  /// names, then per step its time and each fault's moment.
+  const SeismicMoments& seismic_moments() const { return _moments; }
+
   std::shared_ptr<const dolfinx::fem::FunctionSpace> space() const { return _V; }
   bool has_contact() const { return _system->has_contact(); }
   const System& system() const override { return *_system; }
@@ -85,7 +104,7 @@ public:
 private:
   void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);
   void add_fault_pressures(const Domain& domain, const CompiledForms& forms, const Constants& constants);
-  void attach_contact(const Domain& domain, const CompiledForms& forms);
+  void attach_contact(const Domain& domain, const CompiledForms& forms, const Materials& materials);
   void assemble_rhs(double t);
 
   const Scene& _scene;
@@ -103,6 +122,7 @@ private:
     const FaultAperture* aperture = nullptr;
     const std::vector<double>* pressure = nullptr;
   } _fault_load; // the conduit faults' pressure on their faces
+  SeismicMoments _moments;
 };
 
 } // namespace biotcontact

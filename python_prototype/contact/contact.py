@@ -122,14 +122,19 @@ class PairState:
 
 @dataclasses.dataclass
 class FaultSummary:
-    """What the summary says of a fault: its largest opening and slip, and
-    the measures (lumped lengths in 2D, areas in 3D) of its pairs that are
-    closed, and of those in the states slip and stick."""
+    """What the summary says of a fault: its largest opening and slip, the
+    measures (lumped lengths in 2D, areas in 3D) of its pairs that are
+    closed, and of those in the states slip and stick, and the step's
+    seismic moment."""
     name: str
     max_opening: float = 0.0
     max_slip: float = 0.0
     closed: float = 0.0
     slipping: float = 0.0
+    # The seismic moment of the slip since the step's start: the sum over the
+    # pairs of G |slip increment| times their lumped measure (N m; N m per
+    # metre of thickness in 2D).
+    moment: float = 0.0
     stuck: float = 0.0
 
 
@@ -931,8 +936,8 @@ class ContactSolver:
         s.pairs = [self._pair_state(k, X, start, R, distance[k], pressure[k]) for k in constraint]
         scale = self._traction_scale(pressure, s.pairs)
         # Per fault: the largest opening and slip; the measures closed,
-        # slipping and stuck.
-        largest, measure = np.zeros(2 * len(s.faults)), np.zeros(3 * len(s.faults))
+        # slipping and stuck, and the moment.
+        largest, measure = np.zeros(2 * len(s.faults)), np.zeros(4 * len(s.faults))
         for p, k in zip(s.pairs, constraint):
             closed = bool(_on_foundation(distance[k], s.gap_scale))
             p.status = pair_status(c.laws[p.fault], PairTraction(closed, p.traction,
@@ -940,14 +945,15 @@ class ContactSolver:
             f = summary_of[p.fault]
             largest[2 * f] = max(largest[2 * f], p.opening)
             largest[2 * f + 1] = max(largest[2 * f + 1], math.hypot(*p.slip))
-            measure[3 * f] += c.lumped[k] if closed else 0.0
-            measure[3 * f + 1] += c.lumped[k] if p.status == PairStatus.slip else 0.0
-            measure[3 * f + 2] += c.lumped[k] if p.status == PairStatus.stick else 0.0
+            measure[4 * f] += c.lumped[k] if closed else 0.0
+            measure[4 * f + 1] += c.lumped[k] if p.status == PairStatus.slip else 0.0
+            measure[4 * f + 2] += c.lumped[k] if p.status == PairStatus.stick else 0.0
+            measure[4 * f + 3] += c.shear_modulus[k] * math.hypot(*p.slip_increment) * c.lumped[k]
         self.comm.Allreduce(MPI.IN_PLACE, largest, op=MPI.MAX)
         self.comm.Allreduce(MPI.IN_PLACE, measure, op=MPI.SUM)
         for f, summary in enumerate(s.faults):
             summary.max_opening, summary.max_slip = largest[2 * f], largest[2 * f + 1]
-            summary.closed, summary.slipping, summary.stuck = measure[3 * f:3 * f + 3]
+            summary.closed, summary.slipping, summary.stuck, summary.moment = measure[4 * f:4 * f + 4]
 
     def _pair_state(self, k, X, start, R, distance, pressure):
         """The state of the fault pair of constraint k but its status, from

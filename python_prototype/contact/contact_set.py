@@ -30,7 +30,9 @@ class ContactSet:
     None elsewhere; `frictional`, whether friction acts on it (its law
     holds something and no displacement component of its node is
     prescribed; then rows 1..d-1 of its change of variables, at dofs[k] +
-    1.., are its tangents). `faults` flags the entries of `boundaries`
+    1.., are its tangents); `shear_modulus`, the rock's G at a fault pair's
+    + node (0 for a foundation's), whose product with the slip is the
+    seismic moment (pair_shear_moduli). `faults` flags the entries of `boundaries`
     that are faults, `laws` holds the contact law of each (contact_law.py;
     frictionless until the scene gives friction). `blocks` lists the blocks
     of the change of variables as (the global unrolled DOFs of V they mix,
@@ -44,6 +46,7 @@ class ContactSet:
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
         self.boundary, self.boundaries, self.faults, self.laws = [], [], [], []
         self.pair_node, self.pair_frame, self.frictional = [], [], []
+        self.shear_modulus = np.zeros(0)
         self.blocks = []
 
 
@@ -66,6 +69,23 @@ def lumped_measure(domain, F, V, facets):
     add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=facets)))
     accumulate_ghosts(lumped)
     return lumped.x.array
+
+
+def pair_shear_moduli(contact_set, V, G):
+    """The shear modulus of each constraint of `contact_set`: at a fault
+    pair, the value of the DG0 coefficient G in a cell of its + node (all
+    its cells lie on the + side of the split); 0 at a foundation's
+    constraint."""
+    cells = V.mesh.topology.index_map(V.mesh.topology.dim)
+    nodes = V.dofmap.index_map
+    cell_of = np.full(nodes.size_local + nodes.num_ghosts, -1)
+    for c in range(cells.size_local + cells.num_ghosts):
+        cell_of[V.dofmap.cell_dofs(c)] = c
+    g, bs = G.x.array, V.dofmap.index_map_bs
+    moduli = np.zeros(len(contact_set.dofs))
+    for k in np.flatnonzero(np.asarray(contact_set.pair_node) >= 0):
+        moduli[k] = g[G.function_space.dofmap.cell_dofs(cell_of[contact_set.dofs[k] // bs])[0]]
+    return moduli
 
 
 def contact_boundary_flag(contact_set):

@@ -527,6 +527,7 @@ class _FixedStressSplit:
         self.active_K = w.active
         report.windows, report.fine_steps, self.state.window_q = w.K + 1, w.j + w.q, w.q
         report.max_window_q = max(report.max_window_q, w.q)
+        self.mechanics.accept(self.t(w, w.q))
         self.observer.mechanics_state(self.t(w, w.q), w.K + 1, n + 1)
         self.p_before = w.p_new[w.q - 1]  # p_K itself for q = 1
         self.u_path_before = self.path(w, w.u_new, w.q - 1)

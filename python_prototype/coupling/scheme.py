@@ -6,7 +6,7 @@ from ..assembly.parameters import derive_parameters, set_constants
 from ..contact.contact import ContactState
 from ..scene.input import CouplingScheme
 from ..steps.flow_step import FlowPass, FlowStep
-from ..steps.mechanics_step import MechanicsStep
+from ..steps.mechanics_step import MechanicsStep, SeismicMoments
 from ..steps.monolithic_step import MonolithicStep
 from .fixed_stress import SplitSteps, run_fixed_stress
 from .single_solve import run_single_solve
@@ -30,6 +30,8 @@ class Scheme:
         self.compute_flux = None
         self.fault_flow = lambda t: None  # the conduit faults' cell fields (FlowStep.fault_flow)
         self.fault_volumes = list  # the conduit faults' volumes since the start (FlowStep.fault_volumes)
+        # The faults' seismic moments step by step (MechanicsStep.seismic_moments).
+        self.seismic_moments = SeismicMoments
         self.compute_contact = ContactState
         self.step_control = None  # time.adaptive
         self._steps = []
@@ -97,6 +99,7 @@ class Scheme:
             if flow is not None and flow.fault_aperture:
                 mechanics.load_fault_pressure(flow.fault_aperture, flow.fault_pressure)
             self.u, self.given_pressure = mechanics.u, mechanics.given_pressure
+            self.seismic_moments = mechanics.seismic_moments
             self._take_contact_fields(mechanics)
             self._steps.append(mechanics)
         if scene.coupling and scene.coupling.scheme == CouplingScheme.multirate_two_pass:

@@ -1,7 +1,10 @@
 """summary.json: what a run computed and what it cost, whatever its end
 (docs/user-guide.md, "summary.json"); cpp/output/summary.h."""
+import math
 from dataclasses import dataclass
 from typing import Optional
+
+import numpy as np
 
 from ..scene.input import Acceleration, CouplingScheme, name_of
 from ..solvers.solver import Method, SolverStatistics
@@ -52,6 +55,23 @@ def _contact_json(c):
                                 "slipping": f.slipping, "stuck": f.stuck}
                        for f in c.faults}
     return j
+
+
+def _seismic_moment_json(m, dim):
+    """Per fault the seismic moment of each accepted step
+    (FaultSummary.moment) and their sum; in 3D the moment magnitude of the
+    sum, Mw = (2/3) (log10 M0 - 9.1) (M0 in N m; in 2D M0 is per metre and
+    has none)."""
+    rows = np.reshape(m.steps, (-1, len(m.names) + 1))
+    faults = {}
+    for f, name in enumerate(m.names):
+        total = float(np.sum(rows[:, f + 1]))
+        fault = {"total": total}
+        if dim == 3 and total > 0:
+            fault["magnitude"] = 2.0 / 3.0 * (math.log10(total) - 9.1)
+        fault.update({"times": [float(t) for t in rows[:, 0]], "moments": [float(m) for m in rows[:, f + 1]]})
+        faults[name] = fault
+    return faults
 
 
 def _errors_json(e):
@@ -198,6 +218,9 @@ def run_summary(summary_input, outcome):
         summary["regions"] = _regions_json(i.problem.domain.regions, i.problem.materials)
     if i.scheme.contact_pressure is not None:
         summary["contact"] = _contact_json(i.contact)
+    moments = i.scheme.seismic_moments()
+    if moments.names and moments.steps:
+        summary["seismic_moment"] = _seismic_moment_json(moments, i.problem.domain.dim)
     if i.scheme.fault_volumes():
         # Per conduit fault, its fluid volumes since the start (FaultVolumes).
         summary["fault_volumes"] = {name: {"injected": v.injected, "stored": v.stored, "exchanged": v.exchanged,

@@ -1,12 +1,13 @@
 """The mechanics step: the displacement for a given pressure, with contact
 (cpp/steps/mechanics_step.cpp)."""
+import dataclasses
 import time
 
 import numpy as np
 from dolfinx import fem
 
 from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
-from ..contact.contact_set import make_contact_fields
+from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..assembly.parameters import interpolate
@@ -17,6 +18,14 @@ from ..solvers.solver import Method, Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, update
+
+
+@dataclasses.dataclass
+class SeismicMoments:
+    """The faults' seismic moments step by step (FaultSummary.moment): per
+    accepted step its time, then the moment of each of `names`."""
+    names: list = dataclasses.field(default_factory=list)
+    steps: list = dataclasses.field(default_factory=list)
 
 
 class MechanicsStep(Step):
@@ -57,6 +66,7 @@ class MechanicsStep(Step):
         self.b = fem.Function(V)
         self.fault_load = None  # (FaultAperture, p_f): the conduit faults' pressure on their faces
         self.contact_pressure = self.contact_active = self.contact_boundary = None
+        self.moments = SeismicMoments()
         if scene.has_contact():
             self.attach_contact(domain, F)
 
@@ -88,6 +98,8 @@ class MechanicsStep(Step):
     def attach_contact(self, domain, F):
         """Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.py)."""
         contact_set = locate_contact(self.scene, domain, F, self.V)
+        contact_set.shear_modulus = pair_shear_moduli(contact_set, self.V, F["G"])
+        self.moments.names = [name for name, fault in zip(contact_set.boundaries, contact_set.faults) if fault]
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
         self.system.use_contact(contact_set, np.arange(owned(self.V)))
 
@@ -119,6 +131,29 @@ class MechanicsStep(Step):
 
     def name(self):
         return "mechanics"
+
+    def accept(self, t):
+        """The accepted step's seismic moment, per fault
+        (FaultSummary.moment), joins the run's record."""
+        if not self.system.has_contact():
+            return
+        s = self.contact_state()
+        if s.faults:
+            self.moments.steps += [t] + [f.moment for f in s.faults]
+
+    def arrays(self):
+        """The record of the faults' seismic moments, "seismic_moments" (a
+        checkpoint's)."""
+        return {"seismic_moments": np.array(self.moments.steps)} if self.moments.steps else {}
+
+    def restore_arrays(self, arrays):
+        if "seismic_moments" in arrays:
+            self.moments.steps = [float(v) for v in arrays["seismic_moments"]]
+
+    def seismic_moments(self):
+        """The faults' seismic moments of every accepted step
+        (SeismicMoments)."""
+        return self.moments
 
     def advance(self, t, d):
         """solve(t): the mechanics has no time derivative."""
