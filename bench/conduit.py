@@ -3,7 +3,7 @@
 scene with a transparent fault and with a conduit fault, without and with
 Anderson acceleration.
 
-Phan et al.'s crack (meshes/phan2d.geo, refined once: about 1.5e5
+Phan et al.'s crack (meshes/phan2d.geo, refined once: about 3.3e5
 unknowns; the fault holds 0.3 % of the facets), frictional (mu 0.6,
 cohesion 30 MPa) and closed under 100 MPa, in a rock of 1e-15 m^2 (M =
 1e10 Pa, alpha = 1) started in equilibrium with its load; the left side
