@@ -153,6 +153,7 @@ void MonolithicStep::make_loads(const Domain& domain, const CompiledForms& forms
 void MonolithicStep::attach_contact(const Domain& domain, const CompiledForms& forms)
 {
   ContactSet set = locate_contact(_scene, domain, forms, V);
+  set.shear_modulus = pair_shear_moduli(set, *V, *_problem.materials.coefficients.at("G"));
   const std::int32_t owned_X = owned_size(*_X);
   const std::int32_t owned_V = owned_size(*V);
   std::vector<std::int32_t> displacement;

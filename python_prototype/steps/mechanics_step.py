@@ -135,11 +135,10 @@ class MechanicsStep(Step):
     def accept(self, t):
         """The accepted step's seismic moment, per fault
         (FaultSummary.moment), joins the run's record."""
-        if not self.system.has_contact():
+        if not self.moments.names:  # no fault: nothing to record, no contact state computed
             return
         s = self.contact_state()
-        if s.faults:
-            self.moments.steps += [t] + [f.moment for f in s.faults]
+        self.moments.steps += [t] + [f.moment for f in s.faults]
 
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a

@@ -6,7 +6,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
-from ..contact.contact_set import make_contact_fields
+from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
@@ -108,6 +108,7 @@ class MonolithicStep(Step):
     def attach_contact(self, domain, F):
         """Contact: the bounds sit on DOFs of the displacement block (contact.py)."""
         contact_set = locate_contact(self.scene, domain, F, self.V)
+        contact_set.shear_modulus = pair_shear_moduli(contact_set, self.V, F["G"])
         displacement = self.V_to_X[:owned(self.V)]
         if np.any(displacement >= owned(F["X"])):
             raise RuntimeError("monolithic contact: a displacement DOF owned in V is not owned in the mixed space")
