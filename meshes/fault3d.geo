@@ -15,6 +15,11 @@
 // across the reservoir where the fault crosses it), growing to 200 m over
 // 600 m; 200 m in the far field. About 21k nodes.
 SetFactory("OpenCASCADE");
+If (!Exists(h_fault))  // meshes/injection_fault3d.geo sets coarser sizes, then includes this file
+  h_fault = 25;        // on the fault (m)
+  h_reservoir = 20;    // in the reservoir near the fault (m)
+  h_far = 200;         // in the far field (m)
+EndIf
 W = 1000;                    // half-width of the block (m)
 H = 1000;                    // depth of the block (m)
 zr = -600; zo = -500;        // the reservoir's bottom and top (m)
@@ -49,14 +54,14 @@ Field[1].F = Sprintf(StrCat("Sqrt(Max(Fabs(x * %g - (z + %g) * %g) - %g, 0)^2",
                      Cos(dip), -zc, Sin(dip), width / 2, length / 2, Sin(dip), -zc, Cos(dip));
 Field[2] = Threshold;
 Field[2].InField = 1;
-Field[2].SizeMin = 25;
-Field[2].SizeMax = 200;
+Field[2].SizeMin = h_fault;
+Field[2].SizeMax = h_far;
 Field[2].DistMin = 0;
 Field[2].DistMax = 700;
 // Distance to the reservoir (in z) near the fault.
 Field[3] = Box;
-Field[3].VIn = 20;
-Field[3].VOut = 200;
+Field[3].VIn = h_reservoir;
+Field[3].VOut = h_far;
 Field[3].XMin = -200; Field[3].XMax = 200;
 Field[3].YMin = -W; Field[3].YMax = W;
 Field[3].ZMin = zr; Field[3].ZMax = zo;

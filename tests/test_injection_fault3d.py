@@ -1,0 +1,85 @@
+"""The shipped injection scene (scenes/injection_fault3d.toml, issue 39's
+scene), on the C++ solver: a well injects 50 l/s into a frictional conduit
+fault crossing a layered reservoir in 3D, for 4 hours.
+- Before the injection every pair sticks (slip below 1e-12 of the final
+  largest); from the first step pairs slip, all within 100 m of the well,
+  and the slipping part only grows, as does the part of the fault the
+  pressure has reached (p_f above 0.1 MPa).
+- Coulomb at every output: |t_T| = mu t_N at the slipping pairs and
+  |t_T| <= mu t_N at the stuck ones (to 1e-8).
+- summary.json's seismic moment: each step's between G_reservoir and
+  G_burden times the slip increments' potency on fault.xdmf (sum of
+  |slip increment| times a third of the adjacent triangles' areas), the
+  total their sum and Mw = (2/3)(log10 M0 - 9.1).
+- The fault's volumes: 0.05 m^3/s for 4 hours injected, and injected +
+  exchanged = stored + outflow to 1e-9 of it."""
+import math
+import os
+
+import h5py
+import numpy as np
+from support import ROOT, check, run_track, summary
+
+MU, RATE, END = 0.6, 0.05, 14400.0
+G_BURDEN, G_RESERVOIR = 15.0e9 / (2 * 1.2), 10.0e9 / (2 * 1.2)
+WELL = np.array([0.0, 0.0, -550.0])  # where the well crosses the fault
+
+
+def fault_series(out):
+    """fault.xdmf's nodes, triangles and, per output, its fields."""
+    names = ("pressure", "slip", "slip_increment", "state", "traction", "tangential_traction")
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        x, triangles = f["Mesh/geometry"][:], f["Mesh/topology"][:]
+        series = [{name: f[f"{name}/{i}"][:] for name in names} for i in range(len(f["pressure"]))]
+    return x, triangles, series
+
+
+def check_slip(x, triangles, series):
+    scale = np.linalg.norm(series[-1]["slip"], axis=1).max()
+    stuck = np.linalg.norm(series[0]["slip"], axis=1).max() / scale
+    slipping = [np.flatnonzero(s["state"][:, 0] == 2) for s in series]
+    counts = [len(s) for s in slipping]
+    reach = max(np.linalg.norm(x[s] - WELL, axis=1).max() for s in slipping[1:2])
+    areas = 0.5 * np.linalg.norm(np.cross(x[triangles[:, 1]] - x[triangles[:, 0]],
+                                          x[triangles[:, 2]] - x[triangles[:, 0]]), axis=1)
+    pressurised = [np.sum(areas[s["pressure"][:, 0] > 1.0e5]) for s in series]
+    check(stuck <= 1e-12 and counts[0] == 0 and counts[1] > 0 and reach <= 100.0 and counts == sorted(counts)
+          and counts[-1] > counts[1] and pressurised == sorted(pressurised) and pressurised[-1] > pressurised[1],
+          f"stuck before the injection (slip {stuck:.1e} of the final largest); slipping pairs {counts}, the first "
+          f"within {reach:.0f} m of the well (100 m); the fault's area above 0.1 MPa grows "
+          f"{pressurised[1]:.3g} -> {pressurised[-1]:.3g} m^2")
+    worst_slip = worst_stick = 0.0
+    for s in series:
+        t_N, t_T = s["traction"][:, 0], np.linalg.norm(s["tangential_traction"], axis=1)
+        state = s["state"][:, 0]
+        bound = MU * np.maximum(t_N, 0.0)
+        worst_slip = max([worst_slip] + list(np.abs(t_T - bound)[state == 2] / bound[state == 2]))
+        worst_stick = max([worst_stick] + list((t_T - bound)[state == 1] / np.maximum(bound[state == 1], 1.0)))
+    check(worst_slip <= 1e-8 and worst_stick <= 1e-8, f"Coulomb: |t_T| = mu t_N on the slipping pairs to "
+          f"{worst_slip:.1e}, at most mu t_N on the stuck ones ({worst_stick:+.1e}) (1e-8)")
+    return areas
+
+
+def check_moment(out, x, triangles, series, areas):
+    lumped = np.zeros(len(x))
+    np.add.at(lumped, triangles.ravel(), np.repeat(areas / 3, 3))
+    m = summary(out)["seismic_moment"]["fault"]
+    potency = [np.sum(np.linalg.norm(s["slip_increment"], axis=1) * lumped) for s in series[1:]]
+    within = all(G_RESERVOIR * p * (1 - 1e-12) <= m0 <= G_BURDEN * p * (1 + 1e-12)
+                 for p, m0 in zip(potency, m["moments"]))
+    magnitude = 2 / 3 * (math.log10(m["total"]) - 9.1)
+    check(within and len(m["moments"]) == len(potency) and abs(sum(m["moments"]) - m["total"]) <= 1e-12 * m["total"]
+          and abs(m["magnitude"] - magnitude) <= 1e-12, f"seismic moment per step between G_reservoir and G_burden "
+          f"times fault.xdmf's potency, {m['moments'][0]:.3e} .. {m['moments'][-1]:.3e} N m; total {m['total']:.3e} "
+          f"N m, Mw {m['magnitude']:.2f}")
+
+
+out, _ = run_track("C++", os.path.join(ROOT, "scenes", "injection_fault3d.toml"))
+x, triangles, series = fault_series(out)
+areas = check_slip(x, triangles, series)
+check_moment(out, x, triangles, series, areas)
+v = summary(out)["fault_volumes"]["fault"]
+balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / v["injected"]
+check(abs(v["injected"] - RATE * END) <= 1e-12 * RATE * END and balance <= 1e-9,
+      f"the fault's volumes: {v['injected']:g} m^3 injected, {-v['exchanged']:.6g} into the rock, {v['stored']:.3g} "
+      f"stored, balanced to {balance:.1e} (1e-9)")
