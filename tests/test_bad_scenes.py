@@ -46,6 +46,8 @@ with open(CORRUPT_GEO, "w") as f:
 EMPTY = written("")
 CRACK, CROSSING, DEGENERATE = crack_scenes()
 FLOW_CRACK = flow_crack_scene()
+REACTIVATION = scene("fault_reactivation")
+REACTIVATION_CONDUIT = ("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4")
 CONDUIT = "fault.crack.flow=conduit"
 BOTH = ("check", "run")
 RUN = ("run",)
@@ -288,6 +290,25 @@ CASES = [
      "fault.fault.flow", BOTH),
     ("a conduit fault with BDF2 (not yet)", FLOW_CRACK,
      s(CONDUIT, "fault.crack.residual_aperture=1e-4", 'time.scheme="bdf2"'), "fault.crack.flow", BOTH),
+    ("a closure in a scene without mechanics", FLOW_CRACK,
+     s(CONDUIT, "fault.crack.residual_aperture=1e-4", "fault.crack.closure={ V_m = 1e-4, K_ni = 1e10 }"),
+     "fault.crack.closure", BOTH),
+    ("a closure that is not a table", REACTIVATION, s(*REACTIVATION_CONDUIT, "fault.fault.closure=1e-4"),
+     "fault.fault.closure", BOTH),
+    ("a zero largest closure", REACTIVATION,
+     s(*REACTIVATION_CONDUIT, "fault.fault.closure={ V_m = 0.0, K_ni = 1e10 }"), "fault.fault.closure.V_m", BOTH),
+    ("a closure stiffness that is NaN", REACTIVATION,
+     s(*REACTIVATION_CONDUIT, "fault.fault.closure={ V_m = 1e-4, K_ni = nan }"), "fault.fault.closure.K_ni", BOTH),
+    ("a negative closure stiffness", REACTIVATION,
+     s(*REACTIVATION_CONDUIT, "fault.fault.closure={ V_m = 1e-4, K_ni = -1e10 }"), "fault.fault.closure.K_ni",
+     BOTH),
+    ("a closure without its stiffness", REACTIVATION, s(*REACTIVATION_CONDUIT, "fault.fault.closure={ V_m = 1e-4 }"),
+     "fault.fault.closure.K_ni", BOTH),
+    ("a closure with an unknown key", REACTIVATION,
+     s(*REACTIVATION_CONDUIT, "fault.fault.closure={ V_m = 1e-4, K_ni = 1e10, K = 1.0 }"), "fault.fault.closure.K",
+     BOTH),
+    ("a closure on a fault that is no conduit", REACTIVATION, s("fault.fault.closure={ V_m = 1e-4, K_ni = 1e10 }"),
+     "fault.fault.closure", BOTH),
     ("a foundation normal into the body", DEFAULT, s("boundary.bottom.contact.normal=[0.0, 1.0]"),
      "boundary.bottom.contact.normal", BOTH),
     # a given pore pressure (one-way coupling)

@@ -2,6 +2,7 @@
 
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/assembler.h>
+#include <bit>
 #include <set>
 
 namespace biotcontact
@@ -61,9 +62,12 @@ FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem
   PetscInt row = 0;
   for (const auto& [name, f] : scene.faults)
   {
-    if (f.flow != FaultFlow::conduit or !last)
+    if (f.flow != FaultFlow::conduit)
       continue;
     const FaultCells& cells = domain.faults.at(name).cells;
+    _keys.insert(_keys.end(), cells.keys.begin(), cells.keys.end());
+    if (!last)
+      continue;
     for (std::size_t k = 0; k < cells.size(); ++k, ++row)
     {
       double gap = 0;
@@ -104,6 +108,28 @@ std::vector<double> FaultAperture::opening(la::Vector<double>& u) const
   MPI_Comm_size(_comm, &ranks);
   MPI_Bcast(w.data(), static_cast<int>(w.size()), MPI_DOUBLE, ranks - 1, _comm);
   return w;
+}
+
+std::vector<double> FaultAperture::cell_means(const std::map<std::int64_t, double>& nodal) const
+{
+  std::vector<std::int64_t> mine;
+  for (const auto& [node, value] : nodal)
+    mine.insert(mine.end(), {node, std::bit_cast<std::int64_t>(value)});
+  const std::vector<std::int64_t> all = all_gather(mine, _comm).values;
+  std::map<std::int64_t, double> values;
+  for (std::size_t i = 0; i < all.size(); i += 2)
+    values[all[i]] = std::bit_cast<double>(all[i + 1]);
+  const std::size_t d = _keys.size() / std::max<std::int64_t>(_size, 1);
+  std::vector<double> means(_size, 0.0);
+  for (std::int64_t k = 0; k < _size; ++k)
+  {
+    int n = 0;
+    for (std::size_t i = 0; i < d; ++i)
+      if (const auto found = values.find(_keys[d * k + i]); found != values.end())
+        means[k] += found->second, ++n;
+    means[k] /= std::max(n, 1);
+  }
+  return means;
 }
 
 void FaultAperture::add_load(std::span<const double> p_f, const BCs& bcs, la::Vector<double>& b) const

@@ -55,6 +55,12 @@ public:
   /// The conduit cells' mean openings g0 + J u, every cell on every rank
   /// (collective).
   std::vector<double> opening(dolfinx::la::Vector<double>& u) const;
+  /// Per conduit cell the mean of `nodal` (a value per + node this rank
+  /// knows, by input index; each node on one rank) over the cell's nodes
+  /// that have one, 0 where none has; every cell on every rank
+  /// (collective). Of the fault pairs' contact tractions, the cells'
+  /// effective normal stress s_n.
+  std::vector<double> cell_means(const std::map<std::int64_t, double>& nodal) const;
   /// Adds J^T (|k| p_f) to b but on the Dirichlet rows of `bcs`; `p_f`:
   /// the last rank's pressures, none elsewhere (collective).
   void add_load(std::span<const double> p_f, const BCs& bcs, dolfinx::la::Vector<double>& b) const;
@@ -63,6 +69,7 @@ private:
   Mat _J = nullptr;
   Vec _cells = nullptr;                // on J's rows
   std::vector<double> _gap, _measures; // per cell (the last rank's)
+  std::vector<std::int64_t> _keys;     // the + nodes of every cell, d per cell (every rank)
   std::int64_t _size = 0;
   MPI_Comm _comm;
 };

@@ -38,6 +38,19 @@ double patch_compliance(double size, double modulus, int dim)
   return dim == 2 ? M_PI * (size / 2) / modulus : 16 * std::sqrt(size / M_PI) / (3 * M_PI * modulus);
 }
 
+double closure_aperture(const ClosureSpec& closure, double s_n)
+{
+  // V_m - V_m s/(K_ni V_m + s) written without the cancellation at large s.
+  const double stiffness = closure.K_ni * closure.V_m;
+  return closure.V_m * stiffness / (stiffness + std::max(s_n, 0.0));
+}
+
+double closure_compliance(const ClosureSpec& closure, double s_n)
+{
+  const double stiffness = closure.K_ni * closure.V_m + std::max(s_n, 0.0);
+  return closure.K_ni * closure.V_m * closure.V_m / (stiffness * stiffness);
+}
+
 std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open)
 {
   // Union-find over the links between open cells; the roots numbered after.
@@ -77,10 +90,10 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
       continue;
     const FaultCells& cells = domain.faults.at(name).cells;
     const double resistance = std::isinf(f.normal_permeability) ? 0.0 : _flow.mu_f / (2 * f.normal_permeability);
-    const std::vector<double> w_r(cells.size(), f.residual_aperture);
-    _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture,
+    const std::vector<double> w_r(cells.size(), f.residual_aperture), zero(cells.size(), 0.0);
+    _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture, f.closure,
                          scene.mechanics ? softest_modulus(scene) : 0.0, std::vector<char>(cells.size(), 0),
-                         std::vector<char>(cells.size(), 0), std::vector<double>(cells.size(), 0.0), resistance});
+                         std::vector<char>(cells.size(), 0), zero, zero, resistance});
     std::map<std::vector<std::int64_t>, std::int64_t> index;
     for (std::size_t k = 0; k < cells.size(); ++k)
       index[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = static_cast<std::int64_t>(k);
@@ -159,7 +172,9 @@ void ConduitFaults::set_compliance(Conduit& c) const
     if (patch[k] >= 0)
       size[patch[k]] += c.cells->measures[k];
   for (std::size_t k = 0; k < patch.size(); ++k)
-    c.compliance[k] = patch[k] >= 0 ? patch_compliance(size[patch[k]], c.modulus, _dim) : 0.0;
+    c.compliance[k] = patch[k] >= 0 ? patch_compliance(size[patch[k]], c.modulus, _dim)
+                      : c.closure   ? closure_compliance(*c.closure, c.traction[k])
+                                    : 0.0;
 }
 
 std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) const
@@ -235,24 +250,46 @@ void ConduitFaults::begin_step()
     std::fill(c.open.begin(), c.open.end(), 0);
 }
 
-bool ConduitFaults::set_openings(std::span<const double> now, std::span<const double> start)
+bool ConduitFaults::set_openings(std::span<const double> opening, std::span<const double> traction)
 {
   bool changed = false;
   for (Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.aperture.size(); ++k)
     {
-      const double e = open_fraction * c.residual;
-      const double w_h = c.residual + std::max(now[c.offset + k] - e, 0.0);
-      const char open = now[c.offset + k] > e;
+      const double e = open_fraction * c.residual, w = opening[c.offset + k];
+      if (c.closure and !traction.empty()) // none before the first mechanics solve: the unloaded u = 0
+        c.traction[k] = traction[c.offset + k];
+      const double w_h
+          = c.residual + (c.closure ? closure_aperture(*c.closure, c.traction[k]) : 0.0) + std::max(w - e, 0.0);
+      const char open = w > e;
       changed = changed or w_h != c.aperture[k] or (open or c.open[k]) != (c.open[k] or c.open_before[k]);
       c.aperture[k] = w_h;
       c.open_before[k] = c.open[k];
       c.open[k] = open;
-      c.aperture_start[k] = c.residual + std::max(start[c.offset + k] - e, 0.0);
     }
   for (Conduit& c : _conduits)
+  {
     set_compliance(c);
+    if (!_started)
+      c.aperture_start = c.aperture;
+  }
+  _started = true;
   return changed;
+}
+
+std::vector<double> ConduitFaults::start_apertures() const
+{
+  std::vector<double> w_h;
+  for (const Conduit& c : _conduits)
+    w_h.insert(w_h.end(), c.aperture_start.begin(), c.aperture_start.end());
+  return w_h;
+}
+
+void ConduitFaults::set_start_apertures(std::span<const double> w_h)
+{
+  for (Conduit& c : _conduits)
+    std::copy_n(w_h.begin() + c.offset, c.aperture_start.size(), c.aperture_start.begin());
+  _started = true;
 }
 
 void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std::span<const double> p_iterate,
@@ -375,6 +412,7 @@ void ConduitFaults::add_volumes(std::span<const double> w, std::span<const doubl
     FaultVolumes& v = _conduits[i].volumes;
     v.injected += step[4 * i], v.stored += step[4 * i + 1], v.exchanged += step[4 * i + 2];
     v.outflow += step[4 * i + 3];
+    _conduits[i].aperture_start = _conduits[i].aperture;
   }
 }
 

@@ -8,8 +8,10 @@
 //         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 //
 // with w_k the hydraulic aperture w_h of cell k (the residual aperture of
-// rigid walls; with mechanics, w_r + (w - e)^+ of the mean opening w,
-// fault_aperture.h, e = open_fraction w_r), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
+// rigid walls; with mechanics, w_r + b(s_n) + (w - e)^+ of the mean
+// opening w, fault_aperture.h, e = open_fraction w_r, and b the
+// Barton-Bandis closure at the effective normal stress s_n, 0 without
+// one), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
 // law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
 // between the cells, d its distance to each centroid. The faces' RT0 fluxes
 // z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
@@ -20,10 +22,12 @@
 // fixed-stress term (Girault, Kumar and Wheeler), L_f the mean opening per
 // unit pressure of the open patch the cell belongs to (patch_compliance),
 // in the cells open (w > e) at either of the last two mechanics iterates
-// of the step; 0 in the others, whose opening p_f does not move (L there
-// would slow them to the rate L/(L + S), nearly 1). The cells open at the
-// iterate before keep L: without it a fault that opens at one iterate and
-// closes at the next cycles between the two.
+// of the step; in the other cells the closure's compliance -b'(s_n)
+// (closure_compliance: there s_n falls as p_f rises), or 0 without a
+// closure, where p_f moves nothing (L there would slow them to the rate
+// L/(L + S), nearly 1). The cells open at the iterate before keep the
+// patch's L: without it a fault that opens at one iterate and closes at
+// the next cycles between the two.
 // The operator stays symmetric. The prototype's twin is
 // python_prototype/assembly/fault_flow.py.
 #pragma once
@@ -32,6 +36,7 @@
 #include "domain/domain.h"
 #include "scene/scene.h"
 
+#include <optional>
 #include <petscmat.h>
 #include <span>
 #include <string>
@@ -62,6 +67,17 @@ double softest_modulus(const Scene& scene);
 /// 16 a/(3 pi E') for a penny of radius a (area pi a^2) in 3D; the
 /// fault's fixed-stress L_f of the patch's cells.
 double patch_compliance(double size, double modulus, int dim);
+
+/// Barton-Bandis: the closure's share of a closed fault's hydraulic
+/// aperture at the effective normal stress s_n (>= 0 pressing; 0 below),
+/// V_m - V_m s_n/(K_ni V_m + s_n): V_m at s_n = 0, falling to 0 as s_n
+/// grows.
+double closure_aperture(const ClosureSpec& closure, double s_n);
+
+/// The closure's compliance, minus the derivative of closure_aperture in
+/// s_n, K_ni V_m^2/(K_ni V_m + s_n)^2 (m/Pa): the fault's fixed-stress L_f
+/// of a closed cell, whose s_n falls as much as its p_f rises.
+double closure_compliance(const ClosureSpec& closure, double s_n);
 
 /// The open patches of a fault: per cell the index of the patch of open
 /// cells joined by `links` that holds it, -1 where the cell is closed.
@@ -107,15 +123,24 @@ public:
   /// C: the fault's rows against its own unknowns at step dt (collective;
   /// the entries on the last rank).
   Mat operator_matrix(double dt) const;
-  /// The hydraulic apertures w_h = w_r + (w - e)^+ of the cells' mean
-  /// openings w now (the last mechanics iterate) and at the start of the
-  /// step (FaultAperture::opening; every cell on every rank), and which
-  /// cells are open now (w > e; e = open_fraction w_r); whether w_h or an open cell changed, and with them the
-  /// operator and the faces' resistance.
-  bool set_openings(std::span<const double> now, std::span<const double> start);
+  /// The hydraulic apertures w_h = w_r + b(s_n) + (w - e)^+ of the
+  /// cells' mean openings w (FaultAperture::opening) and effective normal
+  /// stresses s_n (FaultAperture::cell_means of the contact tractions;
+  /// empty without a closure) of the last mechanics iterate, every cell on
+  /// every rank: b the closure's share (closure_aperture, 0 without one),
+  /// e = open_fraction w_r; and which cells are open (w > e). The first
+  /// call of a run also sets the apertures at the step's start. Whether
+  /// w_h or an open cell changed, and with them the operator and the
+  /// faces' resistance.
+  bool set_openings(std::span<const double> opening, std::span<const double> traction);
   /// A step starts: no cell was open at an iterate before (the next
   /// set_openings's).
   void begin_step();
+  /// The hydraulic apertures at the start of the step, every cell (the
+  /// same on every rank): the last accepted step's (add_volumes), which a
+  /// checkpoint keeps and restores (set_start_apertures).
+  std::vector<double> start_apertures() const;
+  void set_start_apertures(std::span<const double> w_h);
   /// The fault's right-hand side at time t into b (its owned entries):
   /// -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on pressure
   /// boundaries, -R(t) share in the cells a well meets (injection
@@ -132,7 +157,8 @@ public:
 
   /// Adds the accepted step to t of length dt to each fault's volumes: `w`
   /// the flow unknowns (this rank's), `p` and `p_old` the fault's pressure
-  /// at t and at the step's start (the last rank's; collective).
+  /// at t and at the step's start (the last rank's; collective). Its
+  /// apertures become the next step's start.
   void add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old, double t,
                    double dt);
   /// Each conduit fault's name and volumes (the same on every rank).
@@ -150,9 +176,11 @@ private:
     std::vector<double> aperture; // w_h per cell (m)
     std::vector<double> aperture_start; // w_h at the start of the step
     double residual;                    // w_r
+    std::optional<ClosureSpec> closure;
     double modulus;                     // E' of the softest rock, 0 without mechanics
     std::vector<char> open, open_before; // per cell: w > e at the last mechanics iterate, at the one before
-    std::vector<double> compliance;     // per cell: L_f of its patch (m/Pa), 0 where no L
+    std::vector<double> compliance;     // per cell: L_f (m/Pa) of its patch or closure, 0 where no L
+    std::vector<double> traction;       // per cell: s_n at the last mechanics iterate (with a closure)
     double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
     FaultVolumes volumes;         // since the run's start
   };
@@ -174,7 +202,8 @@ private:
   /// check_expressions has checked that each meets one).
   void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;
-  /// Each cell's L_f from the patches of the cells open now or before.
+  /// Each cell's L_f: of the patch of the cells open now or before, else
+  /// of its closure.
   void set_compliance(Conduit& c) const;
   /// L_k/dt = L_f |k|/dt in the open cells, 0 in the others.
   std::vector<double> stabilisation(const Conduit& c, double dt) const;
@@ -194,6 +223,7 @@ private:
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
   int _dim = 2;
+  bool _started = false; // whether the start apertures are known
 };
 
 } // namespace biotcontact

@@ -56,7 +56,10 @@ void Scheme::make_split(const Problem& problem)
   {
     _mechanics = std::make_unique<MechanicsStep>(problem, V, p);
     if (_flow and _flow->fault_aperture())
+    {
       _mechanics->load_fault_pressure(*_flow->fault_aperture(), _flow->fault_pressure());
+      _flow->read_fault_traction(_mechanics->fault_traction());
+    }
     u = _mechanics->u;
     MechanicsStep* m = _mechanics.get();
     seismic_moments = [m] { return m->seismic_moments(); };

@@ -759,9 +759,24 @@ void read_boundaries(Section boundaries, Scene& scene)
   boundaries.finish();
 }
 
+/// closure = { V_m = .., K_ni = .. }: the Barton-Bandis closure of a
+/// conduit fault, whose normal stress the mechanics gives.
+ClosureSpec read_closure(Section c)
+{
+  ClosureSpec closure;
+  closure.V_m = c.number("V_m");
+  if (!(closure.V_m > 0 and std::isfinite(closure.V_m)))
+    c.fail("V_m", "must be a finite number > 0 (m, the largest closure)");
+  closure.K_ni = c.number("K_ni");
+  if (!(closure.K_ni > 0 and std::isfinite(closure.K_ni)))
+    c.fail("K_ni", "must be a finite number > 0 (Pa/m, the initial normal stiffness)");
+  c.finish();
+  return closure;
+}
+
 /// A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
-/// fault"): its aperture where closed, w_r > 0, and the permeability across
-/// its faces, k_n > 0 or "inf".
+/// fault"): its aperture where closed, w_r > 0, the permeability across
+/// its faces, k_n > 0 or "inf", and the closure of its aperture.
 void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 {
   if (scene.coupling and scene.coupling->scheme != CouplingScheme::fixed_stress)
@@ -774,11 +789,14 @@ void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
   if (!(f.residual_aperture > 0 and std::isfinite(f.residual_aperture)))
     s.fail("residual_aperture", "must be a finite number > 0 (m)");
   const toml::node* n = s.node("normal_permeability");
-  if (n and n->is_string() and n->value<std::string>() == "inf")
-    return;
-  f.normal_permeability = s.number("normal_permeability", std::numeric_limits<double>::infinity());
+  if (!(n and n->is_string() and n->value<std::string>() == "inf"))
+    f.normal_permeability = s.number("normal_permeability", std::numeric_limits<double>::infinity());
   if (!(f.normal_permeability > 0))
     s.fail("normal_permeability", "must be > 0 (m^2) or \"inf\"");
+  if (s.has("closure") and !scene.mechanics)
+    s.fail("closure", "needs [mechanics]: the closed aperture follows the fault's normal stress");
+  if (s.has("closure"))
+    f.closure = read_closure(s.table("closure", true));
 }
 
 /// fault.NAME: the gap, the fluid pressure in the fault or the pore pressure

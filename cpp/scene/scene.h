@@ -117,6 +117,15 @@ struct MechanicsSpec
 };
 
 /// @brief A fault ([fault.NAME], issue 37): an interior physical group of a
+/// @brief Barton-Bandis closure of a conduit fault's hydraulic aperture
+/// under its effective normal stress s_n (docs/theory.md "Flow in a
+/// fault"): the closed fault's aperture w_r + V_m - V_m s_n/(K_ni V_m + s_n),
+/// V_m the largest closure (m), K_ni the initial normal stiffness (Pa/m).
+struct ClosureSpec
+{
+  double V_m = 0, K_ni = 0;
+};
+
 /// gmsh mesh whose two faces may open and slide. The scene reader reads and
 /// checks it; the split of the mesh along it and the contact of its faces
 /// use it.
@@ -137,6 +146,9 @@ struct FaultSpec
   /// pressure at a face is the fault's).
   double residual_aperture = 0;
   double normal_permeability = std::numeric_limits<double>::infinity();
+  /// flow = "conduit" in a scene with mechanics: the closed aperture's
+  /// Barton-Bandis closure (none: w_r at any stress).
+  std::optional<ClosureSpec> closure;
 };
 
 /// Permeability: a scalar (number or expression evaluated at cell midpoints)

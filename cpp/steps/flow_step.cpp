@@ -62,7 +62,8 @@ void FlowStep::make_conduits(const Domain& domain, const FacetFlux& flux, std::s
 
 void FlowStep::update_apertures()
 {
-  if (_conduits->set_openings(_aperture->opening(*u_iterate->x()), _aperture->opening(*u_window->x())))
+  const std::span<const double> traction = _fault_traction ? *_fault_traction : std::span<const double>();
+  if (_conduits->set_openings(_aperture->opening(*u_iterate->x()), traction))
     append_conduits();
 }
 
@@ -284,7 +285,8 @@ std::map<std::string, std::vector<double>> FlowStep::arrays() const
   int ranks = 1;
   MPI_Comm_size(_W->mesh()->comm(), &ranks);
   MPI_Bcast(p.data(), static_cast<int>(p.size()), MPI_DOUBLE, ranks - 1, _W->mesh()->comm());
-  return {{"fault_pressure", p}, {"fault_volumes", _conduits->volume_values()}};
+  return {{"fault_pressure", p}, {"fault_volumes", _conduits->volume_values()},
+          {"fault_apertures", _conduits->start_apertures()}};
 }
 
 void FlowStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
@@ -294,6 +296,8 @@ void FlowStep::restore_arrays(const std::map<std::string, std::vector<double>>& 
   const std::vector<double>& p = arrays.at("fault_pressure");
   std::copy_n(p.begin(), _fault_pressure.size(), _fault_pressure.begin());
   _conduits->set_volume_values(arrays.at("fault_volumes"));
+  if (const auto found = arrays.find("fault_apertures"); found != arrays.end())
+    _conduits->set_start_apertures(found->second);
 }
 
 std::vector<double> FlowStep::fault_flow(double t) const

@@ -82,7 +82,8 @@ public:
   /// second pass, which every window computes anew: a checkpoint keeps
   /// nothing of it).
   /// The conduit faults' pressure, "fault_pressure" (every rank's copy),
-  /// and their volumes, "fault_volumes" (4 per fault).
+  /// their volumes, "fault_volumes" (4 per fault), and their hydraulic
+  /// apertures at the step's start, "fault_apertures".
   std::map<std::string, std::vector<double>> arrays() const override;
   void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
   std::vector<UnknownsPart> parts() const override
@@ -100,6 +101,9 @@ public:
   /// faults; null otherwise), and that pressure (the last rank's).
   const FaultAperture* fault_aperture() const { return _aperture.get(); }
   const std::vector<double>& fault_pressure() const { return _fault_pressure; }
+  /// The conduit cells' effective normal stress s_n at the last mechanics
+  /// solve (MechanicsStep::fault_traction), which their closure follows.
+  void read_fault_traction(const std::vector<double>& s_n) { _fault_traction = &s_n; }
 
   /// The conduit faults' cell fields at time t on rank 0
   /// (ConduitFaults::cell_values; empty without conduit faults; collective).
@@ -151,7 +155,8 @@ private:
   /// centroids (nothing without conduit faults).
   void make_conduits(const Domain& domain, const FacetFlux& flux, std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
   /// The conduits' hydraulic apertures from the displacement now (u_K) and
-  /// at the step's start (u^n), their rows appended again if they changed.
+  /// the normal stress of their closure, their rows appended again if they
+  /// changed.
   void update_apertures();
   /// The conduit faults' rows at the current dt, into the system.
   void append_conduits();
@@ -175,6 +180,7 @@ private:
   std::unique_ptr<ConduitFaults> _conduits;
   std::unique_ptr<FaultAperture> _aperture;
   std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (the last rank's), and one step before
+  const std::vector<double>* _fault_traction = nullptr;          // s_n per conduit cell (every rank)
   mutable std::vector<double> _unknowns; // unknowns() with conduit faults
 };
 

@@ -24,6 +24,8 @@ MechanicsStep::MechanicsStep(const Problem& problem, std::shared_ptr<const fem::
   const Materials& materials = problem.materials;
   const Constants& constants = problem.constants;
   u = std::make_shared<fem::Function<double>>(_V);
+  for (const auto& [name, f] : scene.faults)
+    _closure = _closure or f.closure.has_value();
   // Dirichlet conditions, one per prescribed component of each boundary.
   _bcs = displacement_bcs(scene, domain, _V, _bc_values);
   _a = make_form(forms.a_elastic, {_V, _V}, materials.coefficients, constants);
@@ -141,6 +143,13 @@ void MechanicsStep::solve(double t)
   la::petsc::Vector x = wrap(*u->x());
   _system->solve(wrap(*_b).vec(), x.vec());
   u->x()->scatter_fwd();
+  if (_closure and _fault_load.aperture)
+  {
+    std::map<std::int64_t, double> traction;
+    for (const PairState& pair : contact_state().pairs)
+      traction[pair.node] = pair.traction;
+    _fault_traction = _fault_load.aperture->cell_means(traction);
+  }
 }
 
 ContactState MechanicsStep::contact_state()
@@ -178,15 +187,20 @@ void MechanicsStep::accept(double t)
 
 std::map<std::string, std::vector<double>> MechanicsStep::arrays() const
 {
-  if (_moments.steps.empty())
-    return {};
-  return {{"seismic_moments", _moments.steps}};
+  std::map<std::string, std::vector<double>> arrays;
+  if (!_moments.steps.empty())
+    arrays["seismic_moments"] = _moments.steps;
+  if (!_fault_traction.empty())
+    arrays["fault_traction"] = _fault_traction;
+  return arrays;
 }
 
 void MechanicsStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
 {
   if (const auto found = arrays.find("seismic_moments"); found != arrays.end())
     _moments.steps = found->second;
+  if (const auto found = arrays.find("fault_traction"); found != arrays.end())
+    _fault_traction = found->second;
 }
 
 } // namespace biotcontact

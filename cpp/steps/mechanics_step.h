@@ -77,12 +77,17 @@ public:
   {
     _fault_load = {&aperture, &p_f};
   }
+  /// The conduit cells' effective normal stress s_n at the last solve: the
+  /// mean contact traction of their pairs (FaultAperture::cell_means; every
+  /// cell on every rank), computed only where a conduit has a closure.
+  const std::vector<double>& fault_traction() const { return _fault_traction; }
 
   /// The accepted step's seismic moment, per fault (FaultSummary::moment),
   /// joins the run's record.
   void accept(double t) override;
   /// The record of the faults' seismic moments, "seismic_moments" (a
-  /// checkpoint's), and its restoration.
+  /// checkpoint's), and the conduit cells' s_n, "fault_traction"; and
+  /// their restoration.
   std::map<std::string, std::vector<double>> arrays() const override;
   void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
   /// The faults' seismic moments of every accepted step: the faults'
@@ -123,6 +128,8 @@ private:
     const std::vector<double>* pressure = nullptr;
   } _fault_load; // the conduit faults' pressure on their faces
   SeismicMoments _moments;
+  bool _closure = false;               // whether a conduit fault's aperture follows its normal stress
+  std::vector<double> _fault_traction; // s_n per conduit cell at the last solve
 };
 
 } // namespace biotcontact

@@ -64,6 +64,8 @@ class FaultAperture:
                                         (d * V.dofmap.index_map.size_local, None)),
                                        nnz=(2 * d * d, 2 * d * d), comm=self.comm)
         self.gap, self.measures, row = [], [], 0
+        # the + nodes of every cell, d per cell (every rank)
+        self.keys = np.concatenate([domain.faults[name].cells.keys for name, _ in conduits]) if conduits else None
         for name, f in conduits if last else []:
             cells = domain.faults[name].cells
             for k in range(len(cells.measures)):
@@ -84,6 +86,19 @@ class FaultAperture:
         self.J.mult(u.vector, self.cells)
         w = self.gap + self.cells.array_r if len(self.gap) else None
         return self.comm.bcast(w, root=self.comm.size - 1)
+
+    def cell_means(self, nodal):
+        """Per conduit cell the mean of `nodal` (a dict: a value per + node
+        this rank knows, by input index; each node on one rank) over the
+        cell's nodes that have one, 0 where none has; every cell on every
+        rank (collective). Of the fault pairs' contact tractions, the cells'
+        effective normal stress s_n."""
+        values = {node: value for rank in self.comm.allgather(nodal) for node, value in rank.items()}
+        means = np.zeros(self.size)
+        for k, keys in enumerate(self.keys.tolist() if self.size else []):
+            known = [values[node] for node in keys if node in values]
+            means[k] = sum(known) / max(len(known), 1)
+        return means
 
     def add_load(self, p_f, bcs, b):
         """Adds J^T (|k| p_f) to the Function b but on the Dirichlet rows of

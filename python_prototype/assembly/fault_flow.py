@@ -8,20 +8,23 @@ rock's unknowns, on the last rank. Per cell k, the mass balance times -1
         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 
 with w_k the hydraulic aperture w_h of cell k (the residual aperture of
-rigid walls; with mechanics, w_r + (w - e)^+ of the mean opening w,
-fault_aperture.py, e = OPEN_FRACTION w_r), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
-law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
-between the cells, d its distance to each centroid. The faces' RT0 fluxes
-z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
-+c_i p_k: the rock's pressure at a face is p_f (the boundary-pressure term
-with p_D = p_f), plus mu_f (w_h/2)/k_n z.n across a finite normal
-permeability k_n. In a coupled split w_k is the last mechanics iterate's
-and p^i the last flow iterate's: L_k = L_f |k| is the fault's fixed-stress
-term (Girault, Kumar and Wheeler), L_f the mean opening per unit pressure
-of the open patch the cell belongs to (patch_compliance), in the cells open
-(w > e) at either of the last two mechanics iterates of the step; 0 in the
-others, whose opening p_f does not move (L there would slow them to the
-rate L/(L + S), nearly 1). The cells open at the iterate before keep L:
+rigid walls; with mechanics, w_r + b(s_n) + (w - e)^+ of the mean opening w,
+fault_aperture.py, e = OPEN_FRACTION w_r, and b the Barton-Bandis closure at
+the effective normal stress s_n, 0 without one), S_k = w_h c_f |k| and the
+two-point transmissibility of the cubic law, T_kl = |e| / (d_k/t_k +
+d_l/t_l), t = w_h^3 / (12 mu_f): the edge e between the cells, d its
+distance to each centroid. The faces' RT0 fluxes z_i enter with their facet
+flux c_i = <w_i.n, 1>, and the rows of z_i get +c_i p_k: the rock's pressure
+at a face is p_f (the boundary-pressure term with p_D = p_f), plus mu_f
+(w_h/2)/k_n z.n across a finite normal permeability k_n. In a coupled split
+w_k is the last mechanics iterate's and p^i the last flow iterate's: L_k =
+L_f |k| is the fault's fixed-stress term (Girault, Kumar and Wheeler), L_f
+the mean opening per unit pressure of the open patch the cell belongs to
+(patch_compliance), in the cells open (w > e) at either of the last two
+mechanics iterates of the step; in the other cells the closure's compliance
+-b'(s_n) (closure_compliance: there s_n falls as p_f rises), or 0 without a
+closure, where p_f moves nothing (L there would slow them to the rate L/(L +
+S), nearly 1). The cells open at the iterate before keep the patch's L:
 without it a fault that opens at one iterate and closes at the next cycles
 between the two. The operator stays symmetric."""
 import dataclasses
@@ -56,10 +59,12 @@ class _Conduit:
     aperture: np.ndarray   # w_h per cell (m)
     aperture_start: np.ndarray  # w_h at the start of the step
     residual: float        # w_r
+    closure: object        # ClosureSpec or None
     modulus: float         # E' of the softest rock, 0 without mechanics
     open: np.ndarray       # per cell: w > e at the last mechanics iterate
     open_before: np.ndarray  # ... at the one before
-    compliance: np.ndarray  # per cell: L_f of its patch (m/Pa), 0 where no L
+    compliance: np.ndarray  # per cell: L_f (m/Pa) of its patch or closure, 0 where no L
+    traction: np.ndarray   # per cell: s_n at the last mechanics iterate (with a closure)
     normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
     volumes: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)  # since the run's start
 
@@ -87,6 +92,24 @@ def patch_compliance(size, modulus, dim):
     16 a/(3 pi E') for a penny of radius a (area pi a^2) in 3D; the fault's
     fixed-stress L_f of the patch's cells."""
     return np.pi * (size / 2) / modulus if dim == 2 else 16 * np.sqrt(size / np.pi) / (3 * np.pi * modulus)
+
+
+def closure_aperture(closure, s_n):
+    """Barton-Bandis: the closure's share of a closed fault's hydraulic
+    aperture at the effective normal stress s_n (>= 0 pressing; 0 below),
+    V_m - V_m s_n/(K_ni V_m + s_n): V_m at s_n = 0, falling to 0 as s_n
+    grows."""
+    # V_m - V_m s/(K_ni V_m + s) written without the cancellation at large s.
+    stiffness = closure.K_ni * closure.V_m
+    return closure.V_m * stiffness / (stiffness + np.maximum(s_n, 0.0))
+
+
+def closure_compliance(closure, s_n):
+    """The closure's compliance, minus the derivative of closure_aperture in
+    s_n, K_ni V_m^2/(K_ni V_m + s_n)^2 (m/Pa): the fault's fixed-stress L_f
+    of a closed cell, whose s_n falls as much as its p_f rises."""
+    stiffness = closure.K_ni * closure.V_m + np.maximum(s_n, 0.0)
+    return closure.K_ni * closure.V_m * closure.V_m / (stiffness * stiffness)
 
 
 def open_patches(links, is_open):
@@ -133,9 +156,9 @@ class ConduitFaults:
             resistance = 0.0 if np.isinf(f.normal_permeability) else self.flow.mu_f / (2 * f.normal_permeability)
             w_r = np.full(len(cells.measures), f.residual_aperture)
             n = len(cells.measures)
-            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture,
+            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture, f.closure,
                                softest_modulus(scene) if scene.mechanics else 0.0, np.zeros(n, dtype=bool),
-                               np.zeros(n, dtype=bool), np.zeros(n), resistance)
+                               np.zeros(n, dtype=bool), np.zeros(n), np.zeros(n), resistance)
             index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
             for _, key, dof, c in fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))):
                 self.faces.append((dof, conduit, index[key], c))
@@ -146,6 +169,7 @@ class ConduitFaults:
         self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
         self.dim = domain.mesh.topology.dim
+        self.started = False  # whether the start apertures are known
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
@@ -195,11 +219,13 @@ class ConduitFaults:
         return conduit.compliance * conduit.cells.measures / dt
 
     def _set_compliance(self, conduit):
-        """Each cell's L_f from the patches of the cells open now or before."""
+        """Each cell's L_f: of the patch of the cells open now or before,
+        else of its closure."""
         patch = open_patches(conduit.cells.links, conduit.open | conduit.open_before)
         size = np.zeros(len(patch))
         np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
-        conduit.compliance = np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), 0.0)
+        closed = closure_compliance(conduit.closure, conduit.traction) if conduit.closure else 0.0
+        conduit.compliance = np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), closed)
 
     def _conductance(self, conduit):
         """t = w_h^3 / (12 mu_f): the cubic law's transmissivity per cell."""
@@ -229,23 +255,43 @@ class ConduitFaults:
         C.assemble()
         return C
 
-    def set_openings(self, now, start):
-        """The hydraulic apertures w_h = w_r + (w - e)^+ of the cells' mean
-        openings w now (the last mechanics iterate) and at the start of the
-        step (FaultAperture.opening; every cell on every rank), and which
-        cells are open now (w > e; e = OPEN_FRACTION w_r); whether w_h or an
-        open cell changed, and with them the operator and the faces'
+    def set_openings(self, opening, traction):
+        """The hydraulic apertures w_h = w_r + b(s_n) + (w - e)^+ of the
+        cells' mean openings w (FaultAperture.opening) and effective normal
+        stresses s_n (FaultAperture.cell_means of the contact tractions; None
+        without a closure) of the last mechanics iterate, every cell on every
+        rank: b the closure's share (closure_aperture, 0 without one), e =
+        OPEN_FRACTION w_r; and which cells are open (w > e). The first call
+        of a run also sets the apertures at the step's start. Whether w_h or
+        an open cell changed, and with them the operator and the faces'
         resistance."""
         changed = False
         for conduit in self.faults:
             o, n, e = conduit.offset, len(conduit.cells.measures), OPEN_FRACTION * conduit.residual
-            w_h, is_open = conduit.residual + np.maximum(now[o:o + n] - e, 0.0), now[o:o + n] > e
+            if conduit.closure and traction is not None and len(traction):  # none before the first solve: u = 0
+                conduit.traction = np.asarray(traction[o:o + n], dtype=float)
+            closed = closure_aperture(conduit.closure, conduit.traction) if conduit.closure else 0.0
+            w_h = conduit.residual + closed + np.maximum(opening[o:o + n] - e, 0.0)
+            is_open = opening[o:o + n] > e
             changed = (changed or not np.array_equal(w_h, conduit.aperture)
                        or not np.array_equal(is_open | conduit.open, conduit.open | conduit.open_before))
             conduit.aperture, conduit.open_before, conduit.open = w_h, conduit.open, is_open
-            conduit.aperture_start = conduit.residual + np.maximum(start[o:o + n] - e, 0.0)
             self._set_compliance(conduit)
+            if not self.started:
+                conduit.aperture_start = conduit.aperture.copy()
+        self.started = True
         return changed
+
+    def start_apertures(self):
+        """The hydraulic apertures at the start of the step, every cell (the
+        same on every rank): the last accepted step's (add_volumes), which a
+        checkpoint keeps and restores (set_start_apertures)."""
+        return np.concatenate([conduit.aperture_start for conduit in self.faults])
+
+    def set_start_apertures(self, w_h):
+        for conduit in self.faults:
+            conduit.aperture_start = np.array(w_h[conduit.offset:conduit.offset + len(conduit.aperture_start)])
+        self.started = True
 
     def begin_step(self):
         """A step starts: no cell was open at an iterate before (the next
@@ -318,7 +364,8 @@ class ConduitFaults:
     def add_volumes(self, w, p, p_old, t, dt):
         """Adds the accepted step to t of length dt to each fault's volumes:
         `w` the flow unknowns (this rank's), `p` and `p_old` the fault's
-        pressure at t and at the step's start (the last rank's; collective)."""
+        pressure at t and at the step's start (the last rank's; collective).
+        Its apertures become the next step's start."""
         # Per fault: injected, stored, exchanged, outflow of the step; the
         # faces on every rank, the rest on the last.
         step = np.zeros((len(self.faults), 4))
@@ -338,6 +385,7 @@ class ConduitFaults:
             v = conduit.volumes
             v.injected, v.stored, v.exchanged, v.outflow = (v.injected + injected, v.stored + stored,
                                                              v.exchanged + exchanged, v.outflow + outflow)
+            conduit.aperture_start = conduit.aperture.copy()
 
     def volumes(self):
         """Each conduit fault's name and volumes (the same on every rank)."""

@@ -98,6 +98,7 @@ class Scheme:
             mechanics = MechanicsStep(problem, self.V, self.p)
             if flow is not None and flow.fault_aperture:
                 mechanics.load_fault_pressure(flow.fault_aperture, flow.fault_pressure)
+                flow.read_fault_traction(mechanics)
             self.u, self.given_pressure = mechanics.u, mechanics.given_pressure
             self.seismic_moments = mechanics.seismic_moments
             self._take_contact_fields(mechanics)

@@ -96,6 +96,16 @@ class MechanicsSpec:
 
 
 @dataclass
+class ClosureSpec:
+    """Barton-Bandis closure of a conduit fault's hydraulic aperture under
+    its effective normal stress s_n (docs/theory.md "Flow in a fault"): the
+    closed fault's aperture w_r + V_m - V_m s_n/(K_ni V_m + s_n), V_m the
+    largest closure (m), K_ni the initial normal stiffness (Pa/m)."""
+    V_m: float = 0.0
+    K_ni: float = 0.0
+
+
+@dataclass
 class FaultSpec:
     """A fault ([fault.NAME], issue 37): an interior physical group of a gmsh
     mesh whose two faces may open and slide. The scene reader reads and
@@ -114,6 +124,9 @@ class FaultSpec:
     # pressure at a face is the fault's)
     residual_aperture: float = 0.0
     normal_permeability: float = math.inf
+    # flow = "conduit" in a scene with mechanics: the closed aperture's
+    # Barton-Bandis closure (None: w_r at any stress)
+    closure: Optional["ClosureSpec"] = None
 
 
 @dataclass
@@ -918,8 +931,8 @@ def _read_fault(s, scene):
 
 def _read_conduit(s, scene, f):
     """A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
-    fault"): its aperture where closed, w_r > 0, and the permeability
-    across its faces, k_n > 0 or "inf"."""
+    fault"): its aperture where closed, w_r > 0, the permeability across
+    its faces, k_n > 0 or "inf", and the closure of its aperture."""
     if scene.coupling and scene.coupling.scheme != CouplingScheme.fixed_stress:
         s.fail("flow", f'"conduit" with coupling.scheme = "{scene.coupling.scheme.value}": only the single-rate '
                "fixed-stress split carries the fault's pressure yet (issue 39)")
@@ -935,6 +948,23 @@ def _read_conduit(s, scene, f):
         f.normal_permeability = s.number("normal_permeability", math.inf)
         if not f.normal_permeability > 0:
             s.fail("normal_permeability", 'must be > 0 (m^2) or "inf"')
+    if s.has("closure") and not scene.mechanics:
+        s.fail("closure", "needs [mechanics]: the closed aperture follows the fault's normal stress")
+    if s.has("closure"):
+        f.closure = _read_closure(s.section("closure", True))
+
+
+def _read_closure(c):
+    """closure = { V_m = .., K_ni = .. }: the Barton-Bandis closure of a
+    conduit fault, whose normal stress the mechanics gives."""
+    closure = ClosureSpec(V_m=c.number("V_m"))
+    if not (closure.V_m > 0 and math.isfinite(closure.V_m)):
+        c.fail("V_m", "must be a finite number > 0 (m, the largest closure)")
+    closure.K_ni = c.number("K_ni")
+    if not (closure.K_ni > 0 and math.isfinite(closure.K_ni)):
+        c.fail("K_ni", "must be a finite number > 0 (Pa/m, the initial normal stiffness)")
+    c.finish()
+    return closure
 
 
 def _read_faults(faults, scene):

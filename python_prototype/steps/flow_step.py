@@ -103,6 +103,7 @@ class FlowStep(Step):
         self.fault_pressure = np.zeros(self.conduits.owned)
         self.fault_pressure_previous = np.zeros(self.conduits.owned)
         self.fault_aperture = None
+        self.fault_traction = None  # s_n per conduit cell (read_fault_traction)
         if not self.conduits:
             return
         self.fault_pressure[:] = self.conduits.initial_pressure(self.scene.flow.initial_pressure)
@@ -110,12 +111,19 @@ class FlowStep(Step):
             self.fault_aperture = FaultAperture(self.scene, domain, V)
         self.append_conduits()
 
+    def read_fault_traction(self, holder):
+        """The conduit cells' effective normal stress s_n at the last
+        mechanics solve (MechanicsStep.fault_traction, read from `holder`
+        when needed), which their closure follows."""
+        self.fault_traction = holder
+
     def update_apertures(self):
         """The conduits' hydraulic apertures from the displacement now (u_K)
-        and at the step's start (u^n), their rows appended again if they
-        changed."""
+        and the normal stress of their closure, their rows appended again if
+        they changed."""
         a = self.fault_aperture
-        if self.conduits.set_openings(a.opening(self.u_iterate), a.opening(self.u_window)):
+        traction = self.fault_traction.fault_traction if self.fault_traction is not None else None
+        if self.conduits.set_openings(a.opening(self.u_iterate), traction):
             self.append_conduits()
 
     def append_conduits(self):
@@ -289,18 +297,22 @@ class FlowStep(Step):
 
     def arrays(self):
         """The conduit faults' pressure, "fault_pressure" (every rank's copy),
-        and their volumes, "fault_volumes" (4 per fault)."""
+        their volumes, "fault_volumes" (4 per fault), and their hydraulic
+        apertures at the step's start, "fault_apertures"."""
         if not self.conduits or self.flow_pass == FlowPass.second:
             return {}
         comm = self.F["W"].mesh.comm
         return {"fault_pressure": np.asarray(comm.bcast(self.fault_pressure, root=comm.size - 1)),
-                "fault_volumes": self.conduits.volume_values()}
+                "fault_volumes": self.conduits.volume_values(),
+                "fault_apertures": self.conduits.start_apertures()}
 
     def restore_arrays(self, arrays):
         if not self.conduits or self.flow_pass == FlowPass.second:
             return
         self.fault_pressure[:] = arrays["fault_pressure"][:len(self.fault_pressure)]
         self.conduits.set_volume_values(arrays["fault_volumes"])
+        if "fault_apertures" in arrays:
+            self.conduits.set_start_apertures(arrays["fault_apertures"])
 
     def fault_flow(self, t):
         """The conduit faults' cell fields at time t on rank 0

@@ -65,6 +65,12 @@ class MechanicsStep(Step):
             self.system.set_near_nullspace(rigid_body_modes(V))
         self.b = fem.Function(V)
         self.fault_load = None  # (FaultAperture, p_f): the conduit faults' pressure on their faces
+        # Whether a conduit fault's aperture follows its normal stress; and
+        # the conduit cells' effective normal stress s_n at the last solve,
+        # the mean contact traction of their pairs (FaultAperture.cell_means;
+        # every cell on every rank), computed only then.
+        self.closure = any(f.closure is not None for f in scene.faults.values())
+        self.fault_traction = np.zeros(0)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         self.moments = SeismicMoments()
         if scene.has_contact():
@@ -128,6 +134,9 @@ class MechanicsStep(Step):
         self.assembly_time += time.perf_counter() - start
         self.system.solve(self.b.vector, self.u.vector)
         self.u.x.scatter_forward()
+        if self.closure and self.fault_load:
+            traction = {pair.node: pair.traction for pair in self.contact_state().pairs}
+            self.fault_traction = self.fault_load[0].cell_means(traction)
 
     def name(self):
         return "mechanics"
@@ -142,12 +151,17 @@ class MechanicsStep(Step):
 
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a
-        checkpoint's)."""
-        return {"seismic_moments": np.array(self.moments.steps)} if self.moments.steps else {}
+        checkpoint's), and the conduit cells' s_n, "fault_traction"."""
+        arrays = {"seismic_moments": np.array(self.moments.steps)} if self.moments.steps else {}
+        if len(self.fault_traction):
+            arrays["fault_traction"] = np.array(self.fault_traction)
+        return arrays
 
     def restore_arrays(self, arrays):
         if "seismic_moments" in arrays:
             self.moments.steps = [float(v) for v in arrays["seismic_moments"]]
+        if "fault_traction" in arrays:
+            self.fault_traction = np.array(arrays["fault_traction"])
 
     def seismic_moments(self):
         """The faults' seismic moments of every accepted step

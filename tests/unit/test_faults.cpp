@@ -638,3 +638,22 @@ TEST(FaultCells, PatchCompliance)
   EXPECT_DOUBLE_EQ(patch_compliance(2.0, 1.0e10, 2), M_PI / 1.0e10);
   EXPECT_DOUBLE_EQ(patch_compliance(M_PI * 4.0, 1.0e10, 3), 32 / (3 * M_PI * 1.0e10));
 }
+
+TEST(FaultCells, BartonBandisClosure)
+{
+  // V_m = 1e-4 m, K_ni = 1e10 Pa/m: K_ni V_m = 1e6 Pa.
+  const ClosureSpec closure{1.0e-4, 1.0e10};
+  EXPECT_DOUBLE_EQ(closure_aperture(closure, 0.0), 1.0e-4);  // unstressed: the largest closure is all there
+  EXPECT_DOUBLE_EQ(closure_aperture(closure, -5.0e5), 1.0e-4); // tension counts as 0
+  EXPECT_DOUBLE_EQ(closure_aperture(closure, 1.0e6), 5.0e-5);  // s_n = K_ni V_m halves it
+  EXPECT_NEAR(closure_aperture(closure, 1.0e12) / (1.0e-4 * 1.0e6 / (1.0e6 + 1.0e12)), 1.0, 1e-14);
+  // K_ni is the initial stiffness: the compliance at s_n = 0 is 1/K_ni; and
+  // everywhere minus the derivative of the aperture (central differences).
+  EXPECT_DOUBLE_EQ(closure_compliance(closure, 0.0), 1.0e-10);
+  for (double s : {1.0e5, 1.0e6, 3.0e7})
+  {
+    const double h = 1e-4 * s;
+    const double slope = (closure_aperture(closure, s - h) - closure_aperture(closure, s + h)) / (2 * h);
+    EXPECT_NEAR(closure_compliance(closure, s) / slope, 1.0, 1e-7) << "s_n = " << s;
+  }
+}

@@ -20,10 +20,11 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.assembly.fault_flow import open_patches, patch_compliance, transmissibilities  # noqa: E402
+from python_prototype.assembly.fault_flow import (closure_aperture, closure_compliance, open_patches,  # noqa: E402
+                                                  patch_compliance, transmissibilities)
 from python_prototype.domain.fault_cells import FaultEdges, fault_cells, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
-from python_prototype.scene.scene import WellSpec  # noqa: E402
+from python_prototype.scene.scene import ClosureSpec, WellSpec  # noqa: E402
 from python_prototype.scene.input import SceneError  # noqa: E402
 
 PREFIX = "scene.toml: fault."
@@ -413,6 +414,23 @@ class Cells(unittest.TestCase):
         # 2a), 16 a/(3 pi E') (a penny of area pi a^2).
         self.assertAlmostEqual(patch_compliance(2.0, 1.0e10, 2) * 1e10, np.pi, places=14)
         self.assertAlmostEqual(patch_compliance(np.pi * 4.0, 1.0e10, 3) * 1e10, 32 / (3 * np.pi), places=14)
+
+    def test_barton_bandis_closure(self):
+        # V_m = 1e-4 m, K_ni = 1e10 Pa/m: K_ni V_m = 1e6 Pa.
+        closure = ClosureSpec(V_m=1.0e-4, K_ni=1.0e10)
+        self.assertEqual(closure_aperture(closure, 0.0), 1.0e-4)  # unstressed: the largest closure is all there
+        self.assertEqual(closure_aperture(closure, -5.0e5), 1.0e-4)  # tension counts as 0
+        self.assertAlmostEqual(closure_aperture(closure, 1.0e6) / 5.0e-5, 1.0, places=14)  # s_n = K_ni V_m halves it
+        self.assertAlmostEqual(closure_aperture(closure, 1.0e12) / (1.0e-4 * 1.0e6 / (1.0e6 + 1.0e12)), 1.0,
+                               places=14)
+        # K_ni is the initial stiffness: the compliance at s_n = 0 is 1/K_ni;
+        # and everywhere minus the derivative of the aperture (central
+        # differences).
+        self.assertAlmostEqual(closure_compliance(closure, 0.0) * 1e10, 1.0, places=14)
+        for s in (1.0e5, 1.0e6, 3.0e7):
+            h = 1e-4 * s
+            slope = (closure_aperture(closure, s - h) - closure_aperture(closure, s + h)) / (2 * h)
+            self.assertAlmostEqual(closure_compliance(closure, s) / slope, 1.0, places=7, msg=f"s_n = {s}")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,161 @@
+"""Barton-Bandis closure of a conduit fault (issue 39; docs/theory.md "Flow
+in a fault"), on the C++ solver and the prototype. A fault crosses a 10 m x
+2 m rock from its left side to its right side (test_conduit_fault.py's
+channel), closed under a vertical compression sigma = 20 MPa; its
+hydraulic aperture follows its effective normal stress s_n = sigma - p_f,
+
+    w_h = w_r + V_m - V_m s_n / (K_ni V_m + s_n),
+
+w_r = 1e-5 m, V_m = 1e-4 m, K_ni = 1e11 Pa/m: 7.7e-5 m where s_n = 5 MPa,
+4.5e-5 m where s_n = 19 MPa. Rock impermeable beside it (1e-25 m^2), its
+ends held at p_in = 15 MPa (left) and p_out = 1 MPa (right).
+- Steady flow (two steps of 1e6 s; the fault's diffusion time is ~1 s):
+  the flux along the fault is one value Q (1e-6), the nonlinear cubic law
+      Q = (1 / (12 mu_f L)) int_{p_out}^{p_in} w_h(sigma - p)^3 dp
+  within 1 %, p_f the profile that law gives, int_{p_f(x)}^{p_in} w_h^3 dp
+  = 12 mu_f Q x, within 1 % of p_in - p_out, and each cell's w_h the
+  closure at sigma - p_f within 1 % (s_n is the mean of the cell's pairs'
+  contact tractions, which weigh p_f over the cells beside each node);
+- transient (the inlet raised at t = 0, eight steps of 0.05 s): the fault's
+  volumes balance, injected + exchanged = stored + outflow, to 1e-10 of the
+  volume that entered, the stored volume holding the closure's opening;
+- the prototype gives the C++ fields and fault pressure to 1e-10;
+- 2 ranks give 1 rank's fault pressure to 1e-10, and the transient run
+  killed after 6 steps and restarted from its checkpoint (step 4: the
+  apertures at the step's start and the contact tractions are in it) ends
+  with the uninterrupted fields and fault pressure to 1e-12 (C++)."""
+import os
+
+import h5py
+import numpy as np
+from support import check, max_difference, killed_and_restarted, run_track, summary, written
+
+SIGMA, P_IN, P_OUT, W_R, V_M, K_NI, MU, L = 20.0e6, 15.0e6, 1.0e6, 1.0e-5, 1.0e-4, 1.0e11, 1.0e-3, 10.0
+GEO = """SetFactory("Built-in");
+L = 10; H = 1; h = 0.25;
+Point(1) = {0, -H, 0, h}; Point(2) = {L, -H, 0, h}; Point(3) = {L, 0, 0, h}; Point(4) = {L, H, 0, h};
+Point(5) = {0, H, 0, h}; Point(6) = {0, 0, 0, h};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6}; Line(6) = {6, 1};
+Line(7) = {6, 3};
+Curve Loop(1) = {1, 2, 3, 4, 5, 6}; Plane Surface(1) = {1};
+Line{7} In Surface{1};
+Physical Curve("bottom") = {1}; Physical Curve("right") = {2, 3}; Physical Curve("top") = {4};
+Physical Curve("left") = {5, 6}; Physical Curve("crack") = {7}; Physical Surface("rock") = {1};
+"""
+SCENE = f"""[mesh]
+type = "gmsh"
+file = "channel.geo"
+dimension = 2
+[mechanics]
+E = 25.0e9
+nu = 0.25
+initial_equilibrium = true
+[flow]
+M = 1.0e10
+c_f = 1.0e-9
+mu_f = {MU}
+permeability = 1.0e-25
+initial_pressure = {P_OUT}
+[coupling]
+alpha = 1.0
+tolerance = 1e-11
+[time]
+end = {{end}}
+dt = {{dt}}
+[boundary.bottom]
+displacement = {{{{ y = 0.0 }}}}
+[boundary.left]
+displacement = {{{{ x = 0.0 }}}}
+pressure = {P_IN}
+[boundary.right]
+pressure = {P_OUT}
+[boundary.top]
+traction = [0.0, {-SIGMA}]
+[fault.crack]
+normal = [0.0, 1.0]
+flow = "conduit"
+residual_aperture = {W_R}
+closure = {{{{ V_m = {V_M}, K_ni = {K_NI} }}}}
+"""
+FIELDS = ["displacement", "pressure", "flux"]
+
+
+def closed_aperture(s_n):
+    """w_h of the closed fault at the effective normal stress s_n."""
+    return W_R + V_M - V_M * s_n / (K_NI * V_M + s_n)
+
+
+def fault_cells(out):
+    """Per output time the fault cells' pressure, hydraulic aperture and
+    flux along the fault (x), the cells ordered by their centroid's x
+    (fault.xdmf orders them by rank); and those x."""
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        x, cells = f["Mesh/geometry"][:], f["Mesh/topology"][:]
+        times = len(f["pressure"])
+        series = [{name: f[f"{name}/{i}"][:][:, 0] for name in ("pressure", "hydraulic_aperture", "flux")}
+                  for i in range(times)]
+    centroid = x[cells].mean(axis=1)[:, 0]
+    order = np.argsort(centroid)
+    return centroid[order], [{k: v[order] for k, v in s.items()} for s in series]
+
+
+def check_steady(track, out):
+    x, series = fault_cells(out)
+    cells = series[-1]
+    p, w_h, q = cells["pressure"], cells["hydraulic_aperture"], cells["flux"]
+    P = np.linspace(P_OUT, P_IN, 200001)
+    g = closed_aperture(SIGMA - P) ** 3
+    below = np.concatenate([[0.0], np.cumsum((g[1:] + g[:-1]) / 2 * np.diff(P))])  # int_{p_out}^{P}
+    Q = below[-1] / (12 * MU * L)
+    exact_p = np.interp(below[-1] - 12 * MU * Q * x, below, P)
+    spread = np.ptp(q) / np.mean(q)
+    check(spread <= 1e-6 and abs(np.mean(q) / Q - 1) <= 0.01,
+          f"{track}: one flux along the fault to {spread:.1e} (1e-6), Q = {np.mean(q):.6e} m^2/s, the cubic law "
+          f"integrated over the closure {Q:.6e} to {np.mean(q) / Q - 1:+.2e} (1 %)")
+    profile = np.abs(p - exact_p).max() / (P_IN - P_OUT)
+    aperture = np.abs(w_h / closed_aperture(SIGMA - p) - 1).max()
+    check(profile <= 0.01 and aperture <= 0.01 and w_h.max() / w_h.min() > 1.5,
+          f"{track}: p_f the closed form's profile to {profile:.2e} of the drop (1 %), w_h the closure at "
+          f"sigma - p_f to {aperture:.2e} (1 %), from {w_h.min():.3e} to {w_h.max():.3e} m")
+
+
+def check_volumes(track, out):
+    v = summary(out)["fault_volumes"]["crack"]
+    entered = abs(v["outflow"]) + abs(v["stored"])
+    balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / entered
+    check(balance <= 1e-10 and v["stored"] > 0, f"{track}: injected + exchanged = stored + outflow to "
+          f"{balance:.1e} (1e-10) of what entered; stored {v['stored']:.3e} m^2, outflow {v['outflow']:.3e} m^2")
+
+
+def fault_pressure_difference(a, b):
+    """The largest difference of two runs' fault pressures over all output
+    times, of p_in."""
+    return max(np.abs(s["pressure"] - t["pressure"]).max() for s, t in zip(fault_cells(a)[1], fault_cells(b)[1])) \
+        / P_IN
+
+
+folder = os.path.dirname(written(GEO, "channel.geo"))
+paths = {}
+for name, end, dt in (("steady", 2.0e6, 1.0e6), ("transient", 0.4, 0.05)):
+    paths[name] = os.path.join(folder, f"{name}.toml")
+    with open(paths[name], "w") as f:
+        f.write(SCENE.format(end=end, dt=dt))
+runs = {}
+for track in ("C++", "prototype"):
+    runs[track, "steady"], _ = run_track(track, paths["steady"])
+    check_steady(track, runs[track, "steady"])
+    runs[track, "transient"], _ = run_track(track, paths["transient"])
+    check_volumes(track, runs[track, "transient"])
+for name in ("steady", "transient"):
+    same = max_difference(runs["C++", name], runs["prototype", name], FIELDS)
+    p_f = fault_pressure_difference(runs["C++", name], runs["prototype", name])
+    check(max(same.values()) <= 1e-10 and p_f <= 1e-10,
+          f"{name}: the prototype gives the C++ fields {same} and fault pressure to {p_f:.1e} (1e-10)")
+one = runs["C++", "transient"]
+two, _ = run_track("C++", paths["transient"], ranks=2)
+p_f = fault_pressure_difference(one, two)
+check(p_f <= 1e-10, f"C++: 2 ranks give 1 rank's fault pressure to {p_f:.1e} (1e-10)")
+restarted, step = killed_and_restarted("C++", paths["transient"], 6)
+fields, p_f = max_difference(one, restarted, FIELDS), fault_pressure_difference(one, restarted)
+check(max(fields.values()) <= 1e-12 and p_f <= 1e-12, f"C++: restarted from step {step}, the uninterrupted fields "
+      f"{fields} and fault pressure to {p_f:.1e} (1e-12)")
