@@ -40,20 +40,9 @@ import os
 
 import h5py
 import numpy as np
-from support import (Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference, run_track,
-                     summary, written)
+from support import (CHANNEL_GEO, Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference,
+                     run_track, summary, written)
 
-GEO = """SetFactory("Built-in");
-L = 10; H = 1; h = 0.25;
-Point(1) = {0, -H, 0, h}; Point(2) = {L, -H, 0, h}; Point(3) = {L, 0, 0, h}; Point(4) = {L, H, 0, h};
-Point(5) = {0, H, 0, h}; Point(6) = {0, 0, 0, h};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6}; Line(6) = {6, 1};
-Line(7) = {6, 3};
-Curve Loop(1) = {1, 2, 3, 4, 5, 6}; Plane Surface(1) = {1};
-Line{7} In Surface{1};
-Physical Curve("bottom") = {1}; Physical Curve("right") = {2, 3}; Physical Curve("top") = {4};
-Physical Curve("left") = {5, 6}; Physical Curve("crack") = {7}; Physical Surface("rock") = {1};
-"""
 SCENE = """[mesh]
 type = "gmsh"
 file = "channel.geo"
@@ -81,7 +70,7 @@ def scene(fault, permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, size=0.25, left
     path = written(SCENE.format(permeability=permeability, c_f=c_f, end=end, dt=dt, fault=fault, left=left)
                    + well)
     with open(os.path.join(os.path.dirname(path), "channel.geo"), "w") as f:
-        f.write(GEO.replace("h = 0.25", f"h = {size}"))
+        f.write(CHANNEL_GEO.replace("h = 0.25", f"h = {size}"))
     return path
 
 
@@ -92,7 +81,7 @@ def cells(out, time=-1):
     return fault_centroids(out)[:, 0], f["pressure"][:, 0], f["flux"], f["exchange"][:, 0]
 
 
-CROSS_GEO = GEO.replace("Point(6) = {0, 0, 0, h};", "Point(6) = {0, 0, 0, h}; Point(7) = {5, -1, 0, h}; "
+CROSS_GEO = CHANNEL_GEO.replace("Point(6) = {0, 0, 0, h};", "Point(6) = {0, 0, 0, h}; Point(7) = {5, -1, 0, h}; "
                         "Point(8) = {5, 1, 0, h};").replace("Line(7) = {6, 3};", "Line(7) = {7, 8};").replace(
     "Line(1) = {1, 2};", "Line(1) = {1, 7}; Line(9) = {7, 2};").replace(
     "Line(4) = {4, 5};", "Line(4) = {4, 8}; Line(10) = {8, 5};").replace(

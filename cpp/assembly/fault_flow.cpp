@@ -292,25 +292,25 @@ void ConduitFaults::set_start_apertures(std::span<const double> w_h)
   _started = true;
 }
 
-void ConduitFaults::load(double t, double dt, std::span<const double> p_old, std::span<const double> p_iterate,
+void ConduitFaults::load(const FineStep& step, std::span<const double> p_old, std::span<const double> p_iterate,
                          std::span<double> b) const
 {
   for (const Conduit& c : _conduits)
   {
     if (!_owned)
       break;
-    const std::vector<double> s = storage(c, dt), L = stabilisation(c, dt);
+    const std::vector<double> s = storage(c, step.dt), L = stabilisation(c, step.dt);
     for (std::size_t k = 0; k < s.size(); ++k)
       b[c.offset + k] = -s[k] * p_old[c.offset + k] - L[k] * p_iterate[c.offset + k]
-                        + c.cells->measures[k] * (c.aperture[k] - c.aperture_start[k]) / dt;
+                        + c.cells->measures[k] * (c.aperture[k] - c.aperture_start[k]) / (step.q * step.dt);
     const auto [held, T_e] = held_ends(c);
-    const std::vector<double> p_D = end_pressures(c, held, t);
+    const std::vector<double> p_D = end_pressures(c, held, step.t);
     for (std::size_t i = 0; i < held.size(); ++i)
       b[c.offset + c.cells->ends.cells[held[i]]] -= T_e[i] * p_D[i];
   }
   for (const Well& w : _wells)
     if (_owned)
-      b[w.row] -= w.share * (*w.rate)(0, 0, 0, t);
+      b[w.row] -= w.share * (*w.rate)(0, 0, 0, step.t);
 }
 
 std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> p, double t) const
@@ -384,8 +384,9 @@ std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::s
 }
 
 void ConduitFaults::add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old,
-                                double t, double dt)
+                                const FineStep& fine)
 {
+  const double t = fine.t, dt = fine.dt;
   // Per fault: injected, stored, exchanged, outflow of the step; the faces
   // on every rank, the rest on the last.
   std::vector<double> step(4 * _conduits.size(), 0.0);
@@ -399,7 +400,7 @@ void ConduitFaults::add_volumes(std::span<const double> w, std::span<const doubl
     const Conduit& c = _conduits[i];
     const std::vector<double>& measures = c.cells->measures;
     for (std::size_t k = 0; k < measures.size(); ++k)
-      step[4 * i + 1] += measures[k] * (c.aperture[k] - c.aperture_start[k])
+      step[4 * i + 1] += measures[k] * (c.aperture[k] - c.aperture_start[k]) / fine.q
                          + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]);
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, t);
@@ -412,7 +413,8 @@ void ConduitFaults::add_volumes(std::span<const double> w, std::span<const doubl
     FaultVolumes& v = _conduits[i].volumes;
     v.injected += step[4 * i], v.stored += step[4 * i + 1], v.exchanged += step[4 * i + 2];
     v.outflow += step[4 * i + 3];
-    _conduits[i].aperture_start = _conduits[i].aperture;
+    if (fine.m == fine.q)
+      _conduits[i].aperture_start = _conduits[i].aperture;
   }
 }
 

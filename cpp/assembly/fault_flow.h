@@ -83,6 +83,17 @@ double closure_compliance(const ClosureSpec& closure, double s_n);
 /// cells joined by `links` that holds it, -1 where the cell is closed.
 std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open);
 
+/// @brief Fine step m (1..q) of a window of q flow steps, ending at t,
+/// of length dt: with the mechanics once per window, each fine step takes
+/// 1/q of the window's change of aperture, as the rock's flow takes
+/// (alpha/q) div(u^n - u_K) (paper eq. 4.17). A step of the single-rate
+/// split is m = q = 1.
+struct FineStep
+{
+  double t = 0, dt = 0;
+  int m = 1, q = 1;
+};
+
 /// @brief A conduit fault's fluid volumes since the run's start (m^3; m^2
 /// per metre of thickness in 2D): injected by its wells, stored (the
 /// volume its opening made and its fluid's compression), exchanged (from
@@ -141,12 +152,12 @@ public:
   /// checkpoint keeps and restores (set_start_apertures).
   std::vector<double> start_apertures() const;
   void set_start_apertures(std::span<const double> w_h);
-  /// The fault's right-hand side at time t into b (its owned entries):
-  /// -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on pressure
-  /// boundaries, -R(t) share in the cells a well meets (injection
-  /// positive), and the volume the cell's opening made since the start of
-  /// the step, |k| (w_h - w_h_start)/dt.
-  void load(double t, double dt, std::span<const double> p_old, std::span<const double> p_iterate,
+  /// The fault's right-hand side of fine step `step` into b (its owned
+  /// entries): -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on
+  /// pressure boundaries, -R(t) share in the cells a well meets (injection
+  /// positive), and the fine step's share of the volume the cell's opening
+  /// made since the start of the window, |k| (w_h - w_h_start)/(q dt).
+  void load(const FineStep& step, std::span<const double> p_old, std::span<const double> p_iterate,
             std::span<double> b) const;
   /// The conduit cells' fields at time t, every fault in turn, on rank 0
   /// (empty elsewhere; collective): per cell pressure, hydraulic aperture,
@@ -155,12 +166,12 @@ public:
   /// the fault's pressure (the last rank's).
   std::vector<double> cell_values(std::span<const double> w, std::span<const double> p, double t) const;
 
-  /// Adds the accepted step to t of length dt to each fault's volumes: `w`
-  /// the flow unknowns (this rank's), `p` and `p_old` the fault's pressure
-  /// at t and at the step's start (the last rank's; collective). Its
-  /// apertures become the next step's start.
-  void add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old, double t,
-                   double dt);
+  /// Adds the accepted fine step `step` to each fault's volumes: `w` the
+  /// flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
+  /// its end and start (the last rank's; collective). After a window's
+  /// last fine step its apertures become the next window's start.
+  void add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old,
+                   const FineStep& step);
   /// Each conduit fault's name and volumes (the same on every rank).
   std::vector<std::pair<std::string, FaultVolumes>> volumes() const;
   /// The volumes as 4 numbers per fault (a checkpoint's), and back.

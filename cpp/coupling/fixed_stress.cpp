@@ -64,7 +64,8 @@ struct Window
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<Array> p_old, p_new, w_new;
   Array u_old, u_new;
-  Array fault_old, fault_new;          // the conduit faults' p_f before and after the flow pass (last rank's)
+  // The conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q, the last rank's).
+  std::vector<Array> fault_old, fault_new;
   std::optional<AndersonAcceleration> anderson;
   long active_set_changes = 0;         // at the last Anderson restart
   double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
@@ -127,6 +128,7 @@ private:
   void set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
                         const Array& u) const;
   void flow_pass(Window& w);
+  Array fault_reference(const Window& w, int m) const;
   void mechanics_pass(Window& w);
   void second_pass_correction(Window& w);
   Increments measure_contraction(const Window& w, int n) const;
@@ -233,7 +235,7 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   w.u_old = _u_K;
   _mechanics.begin_step(); // its u is u_K: the window's start, friction's reference
   _flow.begin_step();      // its conduit faults' pressure is the window's start
-  w.fault_new = _flow.fault_pressure();
+  w.fault_new.assign(q + 1, _flow.fault_pressure());
   assign(*_flow.u_window, _u_K);
   if (_second_pass)
     assign(*_second_pass->u_window, _u_K);
@@ -346,12 +348,26 @@ void FixedStressSplit::flow_pass(Window& w)
     set_time_history(_flow, w, m, w.p_new, w.u_old);
     assign(*_flow.p_iterate, w.p_old[m]);
     assign(*_flow.p_iterate_previous, history_value(d, w.p_old[m - 1], m >= 2 ? w.p_old[m - 2] : _p_before));
+    _flow.set_fine_step(m, w.fault_new[m - 1], fault_reference(w, m));
     _flow.solve(t(w, m));
     w.p_new[m] = values(_flow.pressure->x()->array());
     std::span<const double> z_p = _flow.unknowns();
     w.w_new[m].assign(z_p.begin(), z_p.end());
+    w.fault_new[m] = _flow.fault_pressure();
   }
-  w.fault_new = _flow.fault_pressure();
+}
+
+/// The reference of the conduit faults' fixed-stress term at fine step m,
+/// p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S + L)(p_f^{n+1,m} -
+/// p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ... as the rock's eq. 4.17.
+Array FixedStressSplit::fault_reference(const Window& w, int m) const
+{
+  if (m == 1) // p_f^{n,0} = p_f^{n+1,0}: the window's start
+    return w.fault_old[1];
+  Array reference = difference(w.fault_old[m], w.fault_old[m - 1]);
+  for (std::size_t i = 0; i < reference.size(); ++i)
+    reference[i] += w.fault_new[m - 1][i];
+  return reference;
 }
 
 /// (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq. 4.20-4.22):
@@ -431,11 +447,14 @@ Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
     inc.dp2 += dpn * dpn;
     inc.p2 += pn * pn;
   }
-  std::array<double, 2> fault{0.0, 0.0}; // ||dp_f||^2, ||p_f||^2
-  for (std::size_t i = 0; i < w.fault_new.size(); ++i)
-    fault[0] += std::pow(w.fault_new[i] - w.fault_old[i], 2), fault[1] += std::pow(w.fault_new[i], 2);
+  // ||dp_f||^2 and ||p_f||^2 summed over the fine steps; as p's, their
+  // root mean square over the window.
+  std::array<double, 2> fault{0.0, 0.0};
+  for (int m = 1; m <= w.q; ++m)
+    for (std::size_t i = 0; i < w.fault_new[m].size(); ++i)
+      fault[0] += std::pow(w.fault_new[m][i] - w.fault_old[m][i], 2), fault[1] += std::pow(w.fault_new[m][i], 2);
   MPI_Allreduce(MPI_IN_PLACE, fault.data(), 2, MPI_DOUBLE, MPI_SUM, _V.mesh()->comm());
-  inc.fault_dp = std::sqrt(fault[0]), inc.fault_p = std::sqrt(fault[1]);
+  inc.fault_dp = std::sqrt(fault[0] / w.q), inc.fault_p = std::sqrt(fault[1] / w.q);
   inc.theorem2 = _stabilised ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
   inc.residual = std::sqrt(inc.residual);
   if (_coupling.multirate())
@@ -685,6 +704,7 @@ void FixedStressSplit::accept_window(const Window& w, int n)
   for (int m = 1; m <= w.q; ++m)
   {
     _flow.set_unknowns(w.w_new[m]);
+    _flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m]);
     _flow.accept(t(w, m));
     _observer.flow_state(t(w, m));
   }

@@ -195,12 +195,11 @@ void FlowStep::solve(double t)
     difference(*u_iterate->x(), *u_window->x(), *_du);
     multiply_add(_displacement->mat(), *_du, *_b);
   }
-  if (_aperture)
+  if (_aperture and _fine_step == 1)
     update_apertures();
   if (*_conduits)
   {
-    _conduits->load(t, _constants.at("dt")->value[0], _fault_pressure_previous, _fault_pressure,
-                    _system->appended().b);
+    _conduits->load(fine_step(t), _fault_pressure_previous, _fault_pressure, _system->appended().b);
     _system->appended().x = _fault_pressure;
   }
   assembly_time += assembly.stop();
@@ -314,8 +313,19 @@ void FlowStep::keep_history(const StepState& start) { assign(*p_before, start.p)
 void FlowStep::accept(double t)
 {
   if (*_conduits and _pass == FlowPass::first)
-    _conduits->add_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, t,
-                           _constants.at("dt")->value[0]);
+    _conduits->add_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, fine_step(t));
+}
+
+FineStep FlowStep::fine_step(double t) const
+{
+  return {t, _constants.at("dt")->value[0], _fine_step, static_cast<int>(_constants.at("q")->value[0])};
+}
+
+void FlowStep::set_fine_step(int m, std::span<const double> previous, std::span<const double> iterate)
+{
+  _fine_step = m;
+  _fault_pressure_previous.assign(previous.begin(), previous.end());
+  _fault_pressure.assign(iterate.begin(), iterate.end());
 }
 
 History FlowStep::history() const

@@ -101,6 +101,14 @@ public:
   /// faults; null otherwise), and that pressure (the last rank's).
   const FaultAperture* fault_aperture() const { return _aperture.get(); }
   const std::vector<double>& fault_pressure() const { return _fault_pressure; }
+  /// The next solve (or accept) is fine step m of its window (1 for the
+  /// single-rate split), its conduit faults' p_f^old `previous`, p_f^{n+1,m-1}
+  /// (the last rank's), and `iterate` the reference of their fixed-stress
+  /// term, p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1} (p_f^n when q = 1), the
+  /// fine-step form of the rock's L (p^{n,m} - p^{n,m-1}) (paper eq. 4.17).
+  /// The apertures are read at fine step 1 only: the mechanics iterate is
+  /// the window's.
+  void set_fine_step(int m, std::span<const double> previous, std::span<const double> iterate);
   /// The conduit cells' effective normal stress s_n at the last mechanics
   /// solve (MechanicsStep::fault_traction), which their closure follows.
   void read_fault_traction(const std::vector<double>& s_n) { _fault_traction = &s_n; }
@@ -181,6 +189,9 @@ private:
   std::unique_ptr<FaultAperture> _aperture;
   std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (the last rank's), and one step before
   const std::vector<double>* _fault_traction = nullptr;          // s_n per conduit cell (every rank)
+  int _fine_step = 1; // of the window, set_fine_step
+  /// The fine step of the next solve or accept, ending at t.
+  FineStep fine_step(double t) const;
   mutable std::vector<double> _unknowns; // unknowns() with conduit faults
 };
 

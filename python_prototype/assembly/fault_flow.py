@@ -51,6 +51,18 @@ class FaultVolumes:
 
 
 @dataclasses.dataclass
+class FineStep:
+    """Fine step m (1..q) of a window of q flow steps, ending at t, of length
+    dt: with the mechanics once per window, each fine step takes 1/q of the
+    window's change of aperture, as the rock's flow takes (alpha/q) div(u^n -
+    u_K) (paper eq. 4.17). A step of the single-rate split is m = q = 1."""
+    t: float = 0.0
+    dt: float = 0.0
+    m: int = 1
+    q: int = 1
+
+
+@dataclasses.dataclass
 class _Conduit:
     """One conduit fault's cells and what the flow needs of it."""
     name: str
@@ -299,17 +311,19 @@ class ConduitFaults:
         for conduit in self.faults:
             conduit.open = np.zeros_like(conduit.open)
 
-    def load(self, t, dt, p_old, p_iterate, b):
-        """The fault's right-hand side at time t into b (its owned entries):
-        -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on pressure
-        boundaries, -R(t) share in the cells a well meets (injection
-        positive), and the volume the cell's opening made since the start of
-        the step, |k| (w_h - w_h_start)/dt."""
+    def load(self, step, p_old, p_iterate, b):
+        """The fault's right-hand side of the FineStep `step` into b (its
+        owned entries): -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the
+        ends on pressure boundaries, -R(t) share in the cells a well meets
+        (injection positive), and the fine step's share of the volume the
+        cell's opening made since the start of the window, |k| (w_h -
+        w_h_start)/(q dt)."""
+        t, dt = step.t, step.dt
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
             part = (-self._storage(conduit, dt) * p_old[o:o + n]
                     - self._stabilisation(conduit, dt) * p_iterate[o:o + n]
-                    + cells.measures * (conduit.aperture - conduit.aperture_start) / dt)
+                    + cells.measures * (conduit.aperture - conduit.aperture_start) / (step.q * dt))
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
             b[o:o + n] = part
@@ -361,11 +375,12 @@ class ConduitFaults:
             values[cells, 3:] = self._mean_flux(conduit, p[cells], t)
         return values
 
-    def add_volumes(self, w, p, p_old, t, dt):
-        """Adds the accepted step to t of length dt to each fault's volumes:
-        `w` the flow unknowns (this rank's), `p` and `p_old` the fault's
-        pressure at t and at the step's start (the last rank's; collective).
-        Its apertures become the next step's start."""
+    def add_volumes(self, w, p, p_old, fine):
+        """Adds the accepted FineStep `fine` to each fault's volumes: `w` the
+        flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
+        its end and start (the last rank's; collective). After a window's
+        last fine step its apertures become the next window's start."""
+        t, dt = fine.t, fine.dt
         # Per fault: injected, stored, exchanged, outflow of the step; the
         # faces on every rank, the rest on the last.
         step = np.zeros((len(self.faults), 4))
@@ -376,7 +391,7 @@ class ConduitFaults:
             step[i, 0] += dt * share * float(rate(0, 0, 0, t))
         for i, conduit in enumerate(self.faults if self.owned else []):
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            step[i, 1] = np.sum(cells.measures * (conduit.aperture - conduit.aperture_start)
+            step[i, 1] = np.sum(cells.measures * (conduit.aperture - conduit.aperture_start) / fine.q
                                 + self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_old[o:o + n]))
             held, T_e = self._held_ends(conduit)
             step[i, 3] = dt * np.sum(T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
@@ -385,7 +400,8 @@ class ConduitFaults:
             v = conduit.volumes
             v.injected, v.stored, v.exchanged, v.outflow = (v.injected + injected, v.stored + stored,
                                                              v.exchanged + exchanged, v.outflow + outflow)
-            conduit.aperture_start = conduit.aperture.copy()
+            if fine.m == fine.q:
+                conduit.aperture_start = conduit.aperture.copy()
 
     def volumes(self):
         """Each conduit fault's name and volumes (the same on every rank)."""

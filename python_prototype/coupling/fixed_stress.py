@@ -67,7 +67,7 @@ class _Window:
         self.p_new = [p_K] * (q + 1)
         self.w_new = [None] * (q + 1)
         self.u_old, self.u_new = u_K, None
-        self.fault_old = self.fault_new = None  # the conduit faults' p_f before and after the flow pass
+        self.fault_old = self.fault_new = None  # the conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q)
         self.anderson = None
         self.active_set_changes = 0   # at the last Anderson restart
         self.dsigma_previous, self.dsigma_first = math.nan, 0.0
@@ -178,7 +178,7 @@ class _FixedStressSplit:
         w.derivative = derivative
         self.mechanics.begin_step()  # its u is u_K: the window's start, friction's reference
         self.flow.begin_step()  # its conduit faults' pressure is the window's start
-        w.fault_new = self.flow.fault_pressure.copy()
+        w.fault_new = [self.flow.fault_pressure.copy() for _ in range(q + 1)]
         self.flow.u_window.x.array[:] = self.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.u_K
@@ -250,16 +250,27 @@ class _FixedStressSplit:
             flow.system.set_tolerance(inexact_tolerance(w.increment))
             self.mechanics.system.set_tolerance(inexact_tolerance(w.increment))
         flow.u_iterate.x.array[:] = w.u_old
-        w.fault_old = w.fault_new
+        w.fault_old = list(w.fault_new)  # its arrays are replaced, not changed
         for m in range(1, w.q + 1):
             self.set_time_history(flow, w, m, w.p_new, w.u_old)
             flow.p_iterate.x.array[:] = w.p_old[m]
             flow.p_iterate_previous.x.array[:] = history_value(d, w.p_old[m - 1],
                                                                w.p_old[m - 2] if m >= 2 else self.p_before)
+            flow.set_fine_step(m, w.fault_new[m - 1], self.fault_reference(w, m))
             flow.solve(self.t(w, m))
             w.p_new[m] = flow.pressure.x.array.copy()
             w.w_new[m] = flow.unknowns().copy()
-        w.fault_new = flow.fault_pressure.copy()
+            w.fault_new[m] = flow.fault_pressure.copy()
+
+    @staticmethod
+    def fault_reference(w, m):
+        """The reference of the conduit faults' fixed-stress term at fine
+        step m, p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S +
+        L)(p_f^{n+1,m} - p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ...
+        as the rock's eq. 4.17."""
+        if m == 1:  # p_f^{n,0} = p_f^{n+1,0}: the window's start
+            return w.fault_old[1]
+        return w.fault_old[m] - w.fault_old[m - 1] + w.fault_new[m - 1]
 
     def mechanics_pass(self, w):
         """(b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq.
@@ -314,8 +325,12 @@ class _FixedStressSplit:
             dp_previous = dp
             inc.dp2 += owned_norm(dp, self.Q, self.comm) ** 2
             inc.p2 += owned_norm(w.p_new[m], self.Q, self.comm) ** 2
-        fault = self.comm.allreduce(np.array([np.sum((w.fault_new - w.fault_old) ** 2), np.sum(w.fault_new ** 2)]))
-        inc.fault_dp, inc.fault_p = np.sqrt(fault)
+        # ||dp_f||^2 and ||p_f||^2 summed over the fine steps; as p's, their
+        # root mean square over the window.
+        steps = range(1, q + 1)
+        fault = self.comm.allreduce(np.array([sum(np.sum((w.fault_new[m] - w.fault_old[m]) ** 2) for m in steps),
+                                              sum(np.sum(w.fault_new[m] ** 2) for m in steps)]))
+        inc.fault_dp, inc.fault_p = np.sqrt(fault / q)
         inc.theorem2 = math.sqrt(inc.theorem2) if self.stabilised else math.nan
         inc.residual = math.sqrt(inc.residual)
         if self.coupling.multirate():
@@ -521,6 +536,7 @@ class _FixedStressSplit:
         self.attempts[0] = 0
         for m in range(1, w.q + 1):
             self.flow.set_unknowns(w.w_new[m])
+            self.flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m])
             self.flow.accept(self.t(w, m))
             self.observer.flow_state(self.t(w, m))
         self.state.q_limit = window_limit(w.q, self.coupling.q_max, w.contact_changed)

@@ -17,7 +17,7 @@ from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import facet_flux, fault_flux_ties, flux_bc, update_fluxes
 from ..assembly.fault_aperture import FaultAperture
-from ..assembly.fault_flow import ConduitFaults
+from ..assembly.fault_flow import ConduitFaults, FineStep
 from .system import AppendedUnknowns
 from ..assembly.wells import add_wells, depends_on_time, well_sources
 from ..time.time_scheme import history_value
@@ -104,6 +104,7 @@ class FlowStep(Step):
         self.fault_pressure_previous = np.zeros(self.conduits.owned)
         self.fault_aperture = None
         self.fault_traction = None  # s_n per conduit cell (read_fault_traction)
+        self.fine_step = 1  # of the window (set_fine_step)
         if not self.conduits:
             return
         self.fault_pressure[:] = self.conduits.initial_pressure(self.scene.flow.initial_pressure)
@@ -189,10 +190,10 @@ class FlowStep(Step):
             self.du.x.array[:] = self.u_iterate.x.array - self.u_window.x.array
         for _, A, x in self.operators:
             multiply_add(A, x, self.b)
-        if self.fault_aperture:
+        if self.fault_aperture and self.fine_step == 1:
             self.update_apertures()
         if self.conduits:
-            self.conduits.load(t, float(self.F["dt"].value), self.fault_pressure_previous, self.fault_pressure,
+            self.conduits.load(self._fine_step(t), self.fault_pressure_previous, self.fault_pressure,
                                self.system.appended.b)
         self.assembly_time += time.perf_counter() - start
 
@@ -226,8 +227,24 @@ class FlowStep(Step):
     def accept(self, t):
         """The conduit faults' volumes take the accepted step to t."""
         if self.conduits and self.flow_pass == FlowPass.first:
-            self.conduits.add_volumes(self.w.x.array, self.fault_pressure, self.fault_pressure_previous, t,
-                                      float(self.F["dt"].value))
+            self.conduits.add_volumes(self.w.x.array, self.fault_pressure, self.fault_pressure_previous,
+                                      self._fine_step(t))
+
+    def _fine_step(self, t):
+        """The fine step of the next solve or accept, ending at t."""
+        return FineStep(t, float(self.F["dt"].value), self.fine_step, int(round(float(self.F["q"].value))))
+
+    def set_fine_step(self, m, previous, iterate):
+        """The next solve (or accept) is fine step m of its window (1 for the
+        single-rate split), its conduit faults' p_f^old `previous`,
+        p_f^{n+1,m-1} (the last rank's), and `iterate` the reference of
+        their fixed-stress term, p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}
+        (p_f^n when q = 1), the fine-step form of the rock's L (p^{n,m} -
+        p^{n,m-1}) (paper eq. 4.17). The apertures are read at fine step 1
+        only: the mechanics iterate is the window's."""
+        self.fine_step = m
+        self.fault_pressure_previous[:] = previous
+        self.fault_pressure[:] = iterate
 
     def fault_volumes(self):
         """The conduit faults' volumes since the run's start (every rank;
