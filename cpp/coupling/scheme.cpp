@@ -30,6 +30,7 @@ void Scheme::make_monolithic(const Problem& problem)
   u = m->u;
   p = m->pressure;
   compute_flux = [m](fem::Function<double>& out) { m->flux(out); };
+  seismic_moments = [m] { return m->seismic_moments(); };
   take_contact_fields(*m);
   _drive = [&problem, m](CouplingRun& run) { run_single_solve(problem, *m, run); };
 }

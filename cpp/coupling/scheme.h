@@ -54,8 +54,8 @@ public:
   std::function<void(dolfinx::fem::Function<double>&)> compute_flux;
   /// The conduit faults' cell fields (FlowStep::fault_flow).
   std::function<std::vector<double>(double)> fault_flow = [](double) { return std::vector<double>{}; };
-  /// The faults' seismic moments step by step (MechanicsStep::seismic_moments;
-  /// none without a mechanics step).
+  /// The faults' seismic moments step by step (MechanicsStep's or
+  /// MonolithicStep's seismic_moments; none without mechanics).
   std::function<SeismicMoments()> seismic_moments = [] { return SeismicMoments{}; };
   /// The conduit faults' volumes since the run's start (FlowStep::fault_volumes).
   std::function<std::vector<std::pair<std::string, FaultVolumes>>()> fault_volumes = []

@@ -109,9 +109,7 @@ void MechanicsStep::attach_contact(const Domain& domain, const CompiledForms& fo
 {
   ContactSet set = locate_contact(_scene, domain, forms, _V);
   set.shear_modulus = pair_shear_moduli(set, *_V, *materials.coefficients.at("G"));
-  for (std::size_t b = 0; b < set.boundaries.size(); ++b)
-    if (set.faults[b])
-      _moments.names.push_back(set.boundaries[b]);
+  _moments = moments_of(set);
   std::vector<std::int32_t> owned(owned_size(*_V));
   std::iota(owned.begin(), owned.end(), 0);
   make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
@@ -177,19 +175,14 @@ void MechanicsStep::begin_step()
 
 void MechanicsStep::accept(double t)
 {
-  if (_moments.names.empty()) // no fault: nothing to record, no contact state computed
-    return;
-  const ContactState s = contact_state();
-  _moments.steps.push_back(t);
-  for (const FaultSummary& f : s.faults)
-    _moments.steps.push_back(f.moment);
+  if (!_moments.names.empty()) // no fault: nothing to record, no contact state computed
+    record_moments(_moments, t, contact_state());
 }
 
 std::map<std::string, std::vector<double>> MechanicsStep::arrays() const
 {
   std::map<std::string, std::vector<double>> arrays;
-  if (!_moments.steps.empty())
-    arrays["seismic_moments"] = _moments.steps;
+  keep_moments(_moments, arrays);
   if (!_fault_traction.empty())
     arrays["fault_traction"] = _fault_traction;
   return arrays;
@@ -197,8 +190,7 @@ std::map<std::string, std::vector<double>> MechanicsStep::arrays() const
 
 void MechanicsStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
 {
-  if (const auto found = arrays.find("seismic_moments"); found != arrays.end())
-    _moments.steps = found->second;
+  restore_moments(_moments, arrays);
   if (const auto found = arrays.find("fault_traction"); found != arrays.end())
     _fault_traction = found->second;
 }

@@ -13,6 +13,7 @@
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "assembly/problem.h"
+#include "steps/seismic_moments.h"
 #include "steps/step.h"
 #include "steps/system.h"
 
@@ -23,14 +24,6 @@
 
 namespace biotcontact
 {
-
-/// @brief The faults' seismic moments step by step (FaultSummary::moment):
-/// per accepted step its time, then the moment of each of `names`.
-struct SeismicMoments
-{
-  std::vector<std::string> names;
-  std::vector<double> steps;
-};
 
 /// @brief The mechanics step: quasi-static linear elasticity loaded by the
 /// pore pressure, with contact where the scene has it.

@@ -154,6 +154,7 @@ void MonolithicStep::attach_contact(const Domain& domain, const CompiledForms& f
 {
   ContactSet set = locate_contact(_scene, domain, forms, V);
   set.shear_modulus = pair_shear_moduli(set, *V, *_problem.materials.coefficients.at("G"));
+  _moments = moments_of(set);
   const std::int32_t owned_X = owned_size(*_X);
   const std::int32_t owned_V = owned_size(*V);
   std::vector<std::int32_t> displacement;
@@ -298,6 +299,24 @@ void MonolithicStep::begin_step()
 {
   la::petsc::Vector x = wrap(*_x->x());
   _system->begin_step(x.vec());
+}
+
+void MonolithicStep::accept(double t)
+{
+  if (!_moments.names.empty()) // no fault: nothing to record, no contact state computed
+    record_moments(_moments, t, contact_state());
+}
+
+std::map<std::string, std::vector<double>> MonolithicStep::arrays() const
+{
+  std::map<std::string, std::vector<double>> arrays;
+  keep_moments(_moments, arrays);
+  return arrays;
+}
+
+void MonolithicStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
+{
+  restore_moments(_moments, arrays);
 }
 
 } // namespace biotcontact

@@ -14,6 +14,7 @@
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "assembly/problem.h"
+#include "steps/seismic_moments.h"
 #include "steps/step.h"
 #include "steps/system.h"
 #include "time/time_scheme.h"
@@ -52,6 +53,14 @@ public:
   void keep_history(const StepState& start) override;
   /// BDF2: p_before and u_before.
   History history() const override;
+  /// The accepted step's seismic moment, per fault, joins the run's record.
+  void accept(double t) override;
+  /// The record of the faults' seismic moments, "seismic_moments" (a
+  /// checkpoint's), and its restoration.
+  std::map<std::string, std::vector<double>> arrays() const override;
+  void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
+  /// The faults' seismic moments of every accepted step.
+  const SeismicMoments& seismic_moments() const { return _moments; }
   std::span<const double> pressure_values() const override { return pressure->x()->array(); }
   std::span<const double> displacement_values() const override { return u->x()->array(); }
   bool same_contact_set(const ActiveSet& before) override;
@@ -110,6 +119,7 @@ private:
   std::unique_ptr<System> _system;
   std::unique_ptr<dolfinx::la::Vector<double>> _b;
   std::unique_ptr<Loads> _loads; // body force, tractions, source, boundary pressures, gravity
+  SeismicMoments _moments;
 };
 
 } // namespace biotcontact

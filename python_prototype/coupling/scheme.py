@@ -6,7 +6,8 @@ from ..assembly.parameters import derive_parameters, set_constants
 from ..contact.contact import ContactState
 from ..scene.input import CouplingScheme
 from ..steps.flow_step import FlowPass, FlowStep
-from ..steps.mechanics_step import MechanicsStep, SeismicMoments
+from ..steps.mechanics_step import MechanicsStep
+from ..steps.seismic_moments import SeismicMoments
 from ..steps.monolithic_step import MonolithicStep
 from .fixed_stress import SplitSteps, run_fixed_stress
 from .single_solve import run_single_solve
@@ -80,6 +81,7 @@ class Scheme:
         m = MonolithicStep(problem)
         self._steps = [m]
         self.V, self.u, self.p, self.compute_flux = m.V, m.u, m.pressure, m.flux
+        self.seismic_moments = m.seismic_moments
         self._take_contact_fields(m)
         self._drive = lambda run: run_single_solve(problem, m, run)
 

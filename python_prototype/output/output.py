@@ -32,6 +32,8 @@ def to_json(value, indent=0):
         return str(value)
     if isinstance(value, (float, np.floating)):
         return number(value) if math.isfinite(value) else "null"
+    if isinstance(value, (list, tuple, np.ndarray)):  # on one line, as the C++ writes an array
+        return "[" + ", ".join(to_json(v, indent) for v in value) + "]"
     return '"' + str(value).replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 

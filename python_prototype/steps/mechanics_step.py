@@ -1,6 +1,5 @@
 """The mechanics step: the displacement for a given pressure, with contact
 (cpp/steps/mechanics_step.cpp)."""
-import dataclasses
 import time
 
 import numpy as np
@@ -18,14 +17,7 @@ from ..solvers.solver import Method, Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, update
-
-
-@dataclasses.dataclass
-class SeismicMoments:
-    """The faults' seismic moments step by step (FaultSummary.moment): per
-    accepted step its time, then the moment of each of `names`."""
-    names: list = dataclasses.field(default_factory=list)
-    steps: list = dataclasses.field(default_factory=list)
+from .seismic_moments import SeismicMoments, keep_moments, moments_of, record_moments, restore_moments
 
 
 class MechanicsStep(Step):
@@ -105,7 +97,7 @@ class MechanicsStep(Step):
         """Contact: a bound for each constraint u.nu_F <= g_a of Gamma_3 (contact.py)."""
         contact_set = locate_contact(self.scene, domain, F, self.V)
         contact_set.shear_modulus = pair_shear_moduli(contact_set, self.V, F["G"])
-        self.moments.names = [name for name, fault in zip(contact_set.boundaries, contact_set.faults) if fault]
+        self.moments = moments_of(contact_set)
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
         self.system.use_contact(contact_set, np.arange(owned(self.V)))
 
@@ -144,22 +136,20 @@ class MechanicsStep(Step):
     def accept(self, t):
         """The accepted step's seismic moment, per fault
         (FaultSummary.moment), joins the run's record."""
-        if not self.moments.names:  # no fault: nothing to record, no contact state computed
-            return
-        s = self.contact_state()
-        self.moments.steps += [t] + [f.moment for f in s.faults]
+        if self.moments.names:  # no fault: nothing to record, no contact state computed
+            record_moments(self.moments, t, self.contact_state())
 
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a
         checkpoint's), and the conduit cells' s_n, "fault_traction"."""
-        arrays = {"seismic_moments": np.array(self.moments.steps)} if self.moments.steps else {}
+        arrays = {}
+        keep_moments(self.moments, arrays)
         if len(self.fault_traction):
             arrays["fault_traction"] = np.array(self.fault_traction)
         return arrays
 
     def restore_arrays(self, arrays):
-        if "seismic_moments" in arrays:
-            self.moments.steps = [float(v) for v in arrays["seismic_moments"]]
+        restore_moments(self.moments, arrays)
         if "fault_traction" in arrays:
             self.fault_traction = np.array(arrays["fault_traction"])
 

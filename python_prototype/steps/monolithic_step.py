@@ -17,6 +17,7 @@ from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish
                                        rigid_body_modes)
 from ..solvers.solver import Structure, SystemLayout
 from .mechanics_step import MechanicsStep
+from .seismic_moments import SeismicMoments, keep_moments, moments_of, record_moments, restore_moments
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, facet_flux, fault_flux_ties, flux_bc, update, update_fluxes
@@ -60,6 +61,7 @@ class MonolithicStep(Step):
         self.system.tie(fault_flux_ties(scene, domain, X.sub(1), facet_flux(F, "L_monolithic_pressure", "X")))
         self.b = fem.Function(X)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
+        self.moments = SeismicMoments()
         if scene.has_contact():
             self.attach_contact(domain, F)
 
@@ -109,6 +111,7 @@ class MonolithicStep(Step):
         """Contact: the bounds sit on DOFs of the displacement block (contact.py)."""
         contact_set = locate_contact(self.scene, domain, F, self.V)
         contact_set.shear_modulus = pair_shear_moduli(contact_set, self.V, F["G"])
+        self.moments = moments_of(contact_set)
         displacement = self.V_to_X[:owned(self.V)]
         if np.any(displacement >= owned(F["X"])):
             raise RuntimeError("monolithic contact: a displacement DOF owned in V is not owned in the mixed space")
@@ -189,6 +192,26 @@ class MonolithicStep(Step):
         if self.scene.time_scheme != TimeScheme.bdf2:
             return []
         return [("pressure_before", self.p_before), ("displacement_before", self.u_before)]
+
+    def accept(self, t):
+        """The accepted step's seismic moment, per fault, joins the run's
+        record."""
+        if self.moments.names:  # no fault: nothing to record, no contact state computed
+            record_moments(self.moments, t, self.contact_state())
+
+    def arrays(self):
+        """The record of the faults' seismic moments, "seismic_moments" (a
+        checkpoint's)."""
+        arrays = {}
+        keep_moments(self.moments, arrays)
+        return arrays
+
+    def restore_arrays(self, arrays):
+        restore_moments(self.moments, arrays)
+
+    def seismic_moments(self):
+        """The faults' seismic moments of every accepted step."""
+        return self.moments
 
     def pressure_values(self):
         return self.pressure.x.array
