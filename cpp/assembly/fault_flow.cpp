@@ -171,7 +171,7 @@ void ConduitFaults::set_compliance(Conduit& c) const
   for (std::size_t k = 0; k < patch.size(); ++k)
     if (patch[k] >= 0)
       size[patch[k]] += c.cells->measures[k];
-  for (std::size_t k = 0; k < patch.size(); ++k)
+  for (std::size_t k = 0; k < patch.size() and _stabilised; ++k)
     c.compliance[k] = patch[k] >= 0 ? patch_compliance(size[patch[k]], c.modulus, _dim)
                       : c.closure   ? closure_compliance(*c.closure, c.traction[k])
                                     : 0.0;

@@ -147,6 +147,9 @@ public:
   /// A step starts: no cell was open at an iterate before (the next
   /// set_openings's).
   void begin_step();
+  /// No fixed-stress term from now on (the second pass of
+  /// "multirate-two-pass", which solves without L).
+  void without_stabilisation() { _stabilised = false; }
   /// The hydraulic apertures at the start of the step, every cell (the
   /// same on every rank): the last accepted step's (add_volumes), which a
   /// checkpoint keeps and restores (set_start_apertures).
@@ -234,7 +237,8 @@ private:
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
   int _dim = 2;
-  bool _started = false; // whether the start apertures are known
+  bool _started = false;   // whether the start apertures are known
+  bool _stabilised = true; // whether the cells take L (set_compliance)
 };
 
 } // namespace biotcontact

@@ -129,6 +129,8 @@ private:
                         const Array& u) const;
   void flow_pass(Window& w);
   Array fault_reference(const Window& w, int m) const;
+  /// Whether the flow carries conduit faults' pressures (every rank alike).
+  bool conduits() const { return _flow.fault_aperture() != nullptr; }
   void mechanics_pass(Window& w);
   void second_pass_correction(Window& w);
   Increments measure_contraction(const Window& w, int n) const;
@@ -398,14 +400,18 @@ void FixedStressSplit::second_pass_correction(Window& w)
 {
   FlowStep& second = *_second_pass;
   const int q = w.q;
-  std::vector<Array> p_B(q + 1, _p_K), w_B(q + 1);
+  std::vector<Array> p_B(q + 1, _p_K), w_B(q + 1), fault_B(q + 1, w.fault_new[0]);
   assign(*second.u_iterate, w.u_new);
+  if (conduits())
+    second.take_start_apertures(_flow);
   for (int m = 1; m <= q; ++m)
   {
     set_time_history(second, w, m, p_B, w.u_new);
+    second.set_fine_step(m, fault_B[m - 1], fault_B[m - 1]); // no L: the iterate is only the guess
     second.solve(t(w, m));
     p_B[m] = values(second.pressure->x()->array());
     w_B[m] = values(second.unknowns());
+    fault_B[m] = second.fault_pressure();
   }
   const Array p_end = difference(w.p_new[q], p_B[q]), w_end = difference(w.w_new[q], w_B[q]);
   for (int m = 1; m < q; ++m)
@@ -415,6 +421,9 @@ void FixedStressSplit::second_pass_correction(Window& w)
       w.p_new[m][i] = p_B[m][i] + s * p_end[i];
     for (std::size_t i = 0; i < w_end.size(); ++i)
       w.w_new[m][i] = w_B[m][i] + s * w_end[i];
+    // The conduit faults' pressures are the tail of the mixed states.
+    const std::size_t n = w.w_new[m].size() - w.fault_new[m].size();
+    std::copy(w.w_new[m].begin() + n, w.w_new[m].end(), w.fault_new[m].begin());
   }
 }
 
@@ -515,7 +524,7 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _state.p_size);
   const double du_norm = relative(owned_norm(inc.du, _V), _state.u_size);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const bool conduits = _flow.fault_aperture() != nullptr;
+  const bool conduits = this->conduits();
   const double fault_dp = conduits ? relative(inc.fault_dp, _state.fault_p_size) : nan;
   const double fault_ratio = conduits and n > 0 and w.fault_previous > 0 ? inc.fault_dp / w.fault_previous : nan;
   w.fault_previous = inc.fault_dp;

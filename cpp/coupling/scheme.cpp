@@ -72,6 +72,8 @@ void Scheme::make_split(const Problem& problem)
   {
     _unstabilised = problem.materials.without_stabilisation();
     _second_pass = std::make_unique<FlowStep>(problem.with_materials(_unstabilised), V, FlowPass::second);
+    if (_second_pass->fault_aperture())
+      _second_pass->read_fault_traction(_mechanics->fault_traction());
     _steps.push_back(_second_pass.get());
   }
   if (scene.coupling)

@@ -779,10 +779,9 @@ ClosureSpec read_closure(Section c)
 /// its faces, k_n > 0 or "inf", and the closure of its aperture.
 void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 {
-  if (scene.coupling and scene.coupling->scheme != CouplingScheme::fixed_stress
-      and scene.coupling->scheme != CouplingScheme::multirate)
-    s.fail("flow", "\"conduit\" with coupling.scheme = \"" + std::string(name_of(scene.coupling->scheme))
-                       + "\": only the fixed-stress and multirate splits carry the fault's pressure yet (issue 39)");
+  if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic)
+    s.fail("flow", "\"conduit\" with coupling.scheme = \"monolithic\": only the splits carry the fault's pressure "
+                   "yet (issue 39)");
   if (scene.time_scheme == TimeScheme::bdf2)
     s.fail("flow", "\"conduit\" with time.scheme = \"bdf2\": the fault's storage is backward Euler only yet "
                    "(issue 39)");

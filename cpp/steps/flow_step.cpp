@@ -50,6 +50,8 @@ FlowStep::FlowStep(const Problem& problem, std::shared_ptr<const fem::FunctionSp
 void FlowStep::make_conduits(const Domain& domain, const FacetFlux& flux, std::shared_ptr<const fem::FunctionSpace> V)
 {
   _conduits = std::make_unique<ConduitFaults>(_scene, domain, *_W->sub({0}), flux);
+  if (_pass == FlowPass::second)
+    _conduits->without_stabilisation();
   _fault_pressure.assign(_conduits->owned(), 0.0);
   _fault_pressure_previous.assign(_conduits->owned(), 0.0);
   if (!*_conduits)

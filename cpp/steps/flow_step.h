@@ -112,6 +112,13 @@ public:
   /// The conduit cells' effective normal stress s_n at the last mechanics
   /// solve (MechanicsStep::fault_traction), which their closure follows.
   void read_fault_traction(const std::vector<double>& s_n) { _fault_traction = &s_n; }
+  /// The conduit faults' hydraulic apertures at the window's start are
+  /// `first`'s (the second pass of "multirate-two-pass", which accepts no
+  /// step of its own).
+  void take_start_apertures(const FlowStep& first)
+  {
+    _conduits->set_start_apertures(first._conduits->start_apertures());
+  }
 
   /// The conduit faults' cell fields at time t on rank 0
   /// (ConduitFaults::cell_values; empty without conduit faults; collective).

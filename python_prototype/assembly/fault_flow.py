@@ -182,6 +182,7 @@ class ConduitFaults:
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
         self.dim = domain.mesh.topology.dim
         self.started = False  # whether the start apertures are known
+        self.stabilised = True  # whether the cells take L (_set_compliance)
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
@@ -238,6 +239,8 @@ class ConduitFaults:
         np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
         closed = closure_compliance(conduit.closure, conduit.traction) if conduit.closure else 0.0
         conduit.compliance = np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), closed)
+        if not self.stabilised:
+            conduit.compliance = np.zeros_like(conduit.compliance)
 
     def _conductance(self, conduit):
         """t = w_h^3 / (12 mu_f): the cubic law's transmissivity per cell."""
@@ -293,6 +296,11 @@ class ConduitFaults:
                 conduit.aperture_start = conduit.aperture.copy()
         self.started = True
         return changed
+
+    def without_stabilisation(self):
+        """No fixed-stress term from now on (the second pass of
+        "multirate-two-pass", which solves without L)."""
+        self.stabilised = False
 
     def start_apertures(self):
         """The hydraulic apertures at the start of the step, every cell (the

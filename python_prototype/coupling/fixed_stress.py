@@ -262,6 +262,11 @@ class _FixedStressSplit:
             w.w_new[m] = flow.unknowns().copy()
             w.fault_new[m] = flow.fault_pressure.copy()
 
+    def conduits(self):
+        """Whether the flow carries conduit faults' pressures (every rank
+        alike)."""
+        return self.flow.fault_aperture is not None
+
     @staticmethod
     def fault_reference(w, m):
         """The reference of the conduit faults' fixed-stress term at fine
@@ -293,17 +298,23 @@ class _FixedStressSplit:
         used. At the fixed point p^B = p^A: the fixed point is that of the
         printed scheme."""
         second, q = self.second_pass, w.q
-        p_B, w_B = [self.p_K] * (q + 1), [None] * (q + 1)
+        p_B, w_B, fault_B = [self.p_K] * (q + 1), [None] * (q + 1), [w.fault_new[0]] * (q + 1)
         second.u_iterate.x.array[:] = w.u_new
+        if self.conduits():
+            second.take_start_apertures(self.flow)
         for m in range(1, q + 1):
             self.set_time_history(second, w, m, p_B, w.u_new)
+            second.set_fine_step(m, fault_B[m - 1], fault_B[m - 1])  # no L: the iterate is only the guess
             second.solve(self.t(w, m))
             p_B[m] = second.pressure.x.array.copy()
             w_B[m] = second.unknowns().copy()
+            fault_B[m] = second.fault_pressure.copy()
         p_end, w_end = w.p_new[q] - p_B[q], w.w_new[q] - w_B[q]
         for m in range(1, q):
             w.p_new[m] = p_B[m] + (m / q) * p_end
             w.w_new[m] = w_B[m] + (m / q) * w_end
+            # The conduit faults' pressures are the tail of the mixed states.
+            w.fault_new[m] = w.w_new[m][len(w.w_new[m]) - len(w.fault_new[m]):].copy()
 
     def measure_contraction(self, w, n):
         """The contraction quantities of this iteration's increments, with the
@@ -386,7 +397,7 @@ class _FixedStressSplit:
         state.fault_p_size = max(state.fault_p_size, float(inc.fault_p))
         dp_norm = _relative(math.sqrt(inc.dp2 / w.q), state.p_size)
         du_norm = _relative(owned_norm(inc.du, self.V, self.comm), state.u_size)
-        conduits = self.flow.fault_aperture is not None
+        conduits = self.conduits()
         fault_dp = _relative(float(inc.fault_dp), state.fault_p_size) if conduits else math.nan
         resolved = conduits and n > 0 and w.fault_previous > 0
         fault_ratio = float(inc.fault_dp) / w.fault_previous if resolved else math.nan

@@ -112,6 +112,8 @@ class Scheme:
             set_constants(unstabilised, scene, derive_parameters(scene))
             materials = problem.materials.without_stabilisation(problem.forms, unstabilised)
             second_pass = FlowStep(problem.with_materials(materials, unstabilised), self.V, FlowPass.second)
+            if second_pass.fault_aperture:
+                second_pass.read_fault_traction(mechanics)
             self._steps.append(second_pass)
         if scene.coupling:
             split = SplitSteps(flow, second_pass, mechanics)

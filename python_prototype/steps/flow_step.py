@@ -100,6 +100,8 @@ class FlowStep(Step):
         their openings as a map of the displacement and the load of p_f on
         their faces (fault_aperture: the mechanics takes it)."""
         self.conduits = ConduitFaults(self.scene, domain, self.F["W"].sub(0), flux)
+        if self.flow_pass == FlowPass.second:
+            self.conduits.without_stabilisation()
         self.fault_pressure = np.zeros(self.conduits.owned)
         self.fault_pressure_previous = np.zeros(self.conduits.owned)
         self.fault_aperture = None
@@ -117,6 +119,12 @@ class FlowStep(Step):
         mechanics solve (MechanicsStep.fault_traction, read from `holder`
         when needed), which their closure follows."""
         self.fault_traction = holder
+
+    def take_start_apertures(self, first):
+        """The conduit faults' hydraulic apertures at the window's start are
+        `first`'s (the second pass of "multirate-two-pass", which accepts no
+        step of its own)."""
+        self.conduits.set_start_apertures(first.conduits.start_apertures())
 
     def update_apertures(self):
         """The conduits' hydraulic apertures from the displacement now (u_K)
