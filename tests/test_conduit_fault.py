@@ -40,8 +40,8 @@ import os
 
 import h5py
 import numpy as np
-from support import (CHANNEL_GEO, Fields, check, fault_centroids, fault_fields, killed_and_restarted, max_difference,
-                     run_track, summary, written)
+from support import (BOX_GEO, CHANNEL_GEO, Fields, check, fault_centroids, fault_fields, killed_and_restarted,
+                     max_difference, run_track, summary, written)
 
 SCENE = """[mesh]
 type = "gmsh"
@@ -170,18 +170,6 @@ def check_erfc(out, track):
           f"{', '.join(f'{w:.2%}' for w in worst)} of dp at 0.25, 0.5, 1 ms (1 %)")
 
 
-BOX_GEO = """SetFactory("OpenCASCADE");
-L = 4; B = 1; H = 1;
-Box(1) = {0, 0, -H, L, B, 2 * H};
-Rectangle(10) = {0, 0, 0, L, B};
-BooleanFragments{ Volume{1}; Delete; }{ Surface{10}; Delete; }
-e = 1e-6;
-Physical Surface("crack") = {Surface In BoundingBox{-e, -e, -e, L + e, B + e, e}};
-Physical Surface("left") = {Surface In BoundingBox{-e, -e, -H - e, e, B + e, H + e}};
-Physical Surface("right") = {Surface In BoundingBox{L - e, -e, -H - e, L + e, B + e, H + e}};
-Physical Volume("rock") = {Volume{:}};
-Mesh.CharacteristicLengthMax = 0.25;
-"""
 WELL3D = WELL.replace("position = [5.0, 0.0]", "position = [2.0, 0.5]\nbottom = -0.5\ntop = 0.5")
 
 

@@ -33,7 +33,7 @@ import os
 
 import h5py
 import numpy as np
-from support import CHANNEL_GEO, check, killed_and_restarted, max_difference, run_track, summary, written
+from support import BOX_GEO, CHANNEL_GEO, check, killed_and_restarted, max_difference, run_track, summary, written
 
 SIGMA, P_IN, P_OUT, W_R, V_M, K_NI, MU, L = 20.0e6, 15.0e6, 1.0e6, 1.0e-5, 1.0e-4, 1.0e11, 1.0e-3, 10.0
 SCENE = f"""[mesh]
@@ -72,26 +72,8 @@ residual_aperture = {W_R}
 closure = {{{{ V_m = {V_M}, K_ni = {K_NI} }}}}
 """
 FIELDS = ["displacement", "pressure", "flux"]
-# In 3D: a fault across a 4 m x 1 m x 2 m box, its plane z = 0 the whole
-# cross-section (test_conduit_fault.py's box, with the faces the mechanics
-# holds: rollers below, on the left and on the sides y = 0 and 1, the
-# compression on top).
-BOX_GEO = """SetFactory("OpenCASCADE");
-L = 4; B = 1; H = 1;
-Box(1) = {0, 0, -H, L, B, 2 * H};
-Rectangle(10) = {0, 0, 0, L, B};
-BooleanFragments{ Volume{1}; Delete; }{ Surface{10}; Delete; }
-e = 1e-6;
-Physical Surface("crack") = {Surface In BoundingBox{-e, -e, -e, L + e, B + e, e}};
-Physical Surface("left") = {Surface In BoundingBox{-e, -e, -H - e, e, B + e, H + e}};
-Physical Surface("right") = {Surface In BoundingBox{L - e, -e, -H - e, L + e, B + e, H + e}};
-Physical Surface("bottom") = {Surface In BoundingBox{-e, -e, -H - e, L + e, B + e, -H + e}};
-Physical Surface("top") = {Surface In BoundingBox{-e, -e, H - e, L + e, B + e, H + e}};
-Physical Surface("sides") = {Surface In BoundingBox{-e, -e, -H - e, L + e, e, H + e},
-                             Surface In BoundingBox{-e, B - e, -H - e, L + e, B + e, H + e}};
-Physical Volume("rock") = {Volume{:}};
-Mesh.CharacteristicLengthMax = 0.25;
-"""
+# In 3D: the box of support.BOX_GEO, the mechanics holding it by rollers
+# below, on the left and on the sides y = 0 and 1, the compression on top.
 BOX = (SCENE.format(end=2.0e6, dt=1.0e6).replace('"channel.geo"', '"box.geo"')
        .replace("dimension = 2", "dimension = 3").replace("displacement = { y = 0.0 }", "displacement = { z = 0.0 }")
        .replace("traction = [0.0, -2", "traction = [0.0, 0.0, -2")

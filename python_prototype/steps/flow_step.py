@@ -105,7 +105,7 @@ class FlowStep(Step):
         self.fault_pressure = np.zeros(self.conduits.owned)
         self.fault_pressure_previous = np.zeros(self.conduits.owned)
         self.fault_aperture = None
-        self.fault_traction = None  # s_n per conduit cell (read_fault_traction)
+        self.traction_source = None  # the step whose fault_traction is s_n per conduit cell (read_fault_traction)
         self.fine_step = 1  # of the window (set_fine_step)
         if not self.conduits:
             return
@@ -118,7 +118,7 @@ class FlowStep(Step):
         """The conduit cells' effective normal stress s_n at the last
         mechanics solve (MechanicsStep.fault_traction, read from `holder`
         when needed), which their closure follows."""
-        self.fault_traction = holder
+        self.traction_source = holder
 
     def take_start_apertures(self, first):
         """The conduit faults' hydraulic apertures at the window's start are
@@ -131,7 +131,7 @@ class FlowStep(Step):
         and the normal stress of their closure, their rows appended again if
         they changed."""
         a = self.fault_aperture
-        traction = self.fault_traction.fault_traction if self.fault_traction is not None else None
+        traction = self.traction_source.fault_traction if self.traction_source is not None else None
         if self.conduits.set_openings(a.opening(self.u_iterate), traction):
             self.append_conduits()
 
