@@ -64,6 +64,10 @@ public:
   /// Adds J^T (|k| p_f) to b but on the Dirichlet rows of `bcs`; `p_f`:
   /// the last rank's pressures, none elsewhere (collective).
   void add_load(std::span<const double> p_f, const BCs& bcs, dolfinx::la::Vector<double>& b) const;
+  /// J itself (rows: the conduit cells, on the last rank; columns: V's
+  /// DOFs), and the cells' measures |k| (the last rank's).
+  Mat jump() const { return _J; }
+  const std::vector<double>& measures() const { return _measures; }
 
 private:
   Mat _J = nullptr;

@@ -172,9 +172,23 @@ void ConduitFaults::set_compliance(Conduit& c) const
     if (patch[k] >= 0)
       size[patch[k]] += c.cells->measures[k];
   for (std::size_t k = 0; k < patch.size() and _stabilised; ++k)
-    c.compliance[k] = patch[k] >= 0 ? patch_compliance(size[patch[k]], c.modulus, _dim)
-                      : c.closure   ? closure_compliance(*c.closure, c.traction[k])
-                                    : 0.0;
+    c.compliance[k] = _implicit and c.open[k] ? 0.0
+                      : patch[k] >= 0 and !_implicit ? patch_compliance(size[patch[k]], c.modulus, _dim)
+                      : c.closure                    ? closure_compliance(*c.closure, c.traction[k])
+                                                     : 0.0;
+}
+
+std::vector<double> ConduitFaults::opening_rates(double dt, std::span<const double> p_old,
+                                                 std::span<const double> p_iterate) const
+{
+  std::vector<double> rates;
+  for (const Conduit& c : _conduits)
+    for (std::size_t k = 0; k < c.open.size() and _owned; ++k)
+    {
+      const std::size_t row = c.offset + k;
+      rates.push_back(c.open[k] ? -c.cells->measures[k] / dt * (1 + _flow.c_f * (p_iterate[row] - p_old[row])) : 0.0);
+    }
+  return rates;
 }
 
 std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) const
@@ -253,6 +267,7 @@ void ConduitFaults::begin_step()
 bool ConduitFaults::set_openings(std::span<const double> opening, std::span<const double> traction)
 {
   bool changed = false;
+  double largest = 0, change = 0;
   for (Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.aperture.size(); ++k)
     {
@@ -263,6 +278,8 @@ bool ConduitFaults::set_openings(std::span<const double> opening, std::span<cons
           = c.residual + (c.closure ? closure_aperture(*c.closure, c.traction[k]) : 0.0) + std::max(w - e, 0.0);
       const char open = w > e;
       changed = changed or w_h != c.aperture[k] or (open or c.open[k]) != (c.open[k] or c.open_before[k]);
+      largest = std::max(largest, w_h);
+      change = open != c.open[k] ? INFINITY : std::max(change, std::abs(w_h - c.aperture[k]));
       c.aperture[k] = w_h;
       c.open_before[k] = c.open[k];
       c.open[k] = open;
@@ -274,6 +291,7 @@ bool ConduitFaults::set_openings(std::span<const double> opening, std::span<cons
       c.aperture_start = c.aperture;
   }
   _started = true;
+  _aperture_change = change / largest;
   return changed;
 }
 
@@ -440,4 +458,22 @@ void ConduitFaults::set_volume_values(std::span<const double> values)
     _conduits[i].volumes = {values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]};
 }
 
+
+std::map<std::string, std::vector<double>> ConduitFaults::arrays(std::span<const double> p) const
+{
+  std::vector<double> all(_size);
+  std::copy(p.begin(), p.end(), all.begin());
+  int ranks = 1;
+  MPI_Comm_size(_comm, &ranks);
+  MPI_Bcast(all.data(), static_cast<int>(all.size()), MPI_DOUBLE, ranks - 1, _comm);
+  return {{"fault_pressure", all}, {"fault_volumes", volume_values()}, {"fault_apertures", start_apertures()}};
+}
+
+void ConduitFaults::restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p)
+{
+  std::copy_n(arrays.at("fault_pressure").begin(), p.size(), p.begin());
+  set_volume_values(arrays.at("fault_volumes"));
+  if (const auto found = arrays.find("fault_apertures"); found != arrays.end())
+    set_start_apertures(found->second);
+}
 } // namespace biotcontact

@@ -150,6 +150,21 @@ public:
   /// No fixed-stress term from now on (the second pass of
   /// "multirate-two-pass", which solves without L).
   void without_stabilisation() { _stabilised = false; }
+  /// The open cells' opening is an unknown of the same system (the
+  /// monolithic step, whose rows -(|k|/dt) J u carry it: opening_rates):
+  /// they take no fixed-stress term; closed cells keep their closure's.
+  void with_implicit_openings() { _implicit = true; }
+  /// Per appended row (the last rank's) the factor of the cell's mean
+  /// opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
+  /// p^old)) where the cell was open at the last set_openings (the volume
+  /// it opens, and Newton's term of its fluid's storage c_f w_h (p -
+  /// p^old) in w_h), 0 where closed (there the closure's aperture, explicit
+  /// in load, moves p_f).
+  std::vector<double> opening_rates(double dt, std::span<const double> p_old, std::span<const double> p_iterate) const;
+  /// How far the last set_openings moved the hydraulic apertures: the
+  /// largest change relative to the largest aperture, infinite where a
+  /// cell opened or closed (the monolithic step's aperture iteration).
+  double aperture_change() const { return _aperture_change; }
   /// The hydraulic apertures at the start of the step, every cell (the
   /// same on every rank): the last accepted step's (add_volumes), which a
   /// checkpoint keeps and restores (set_start_apertures).
@@ -180,6 +195,12 @@ public:
   /// The volumes as 4 numbers per fault (a checkpoint's), and back.
   std::vector<double> volume_values() const;
   void set_volume_values(std::span<const double> values);
+  /// What a checkpoint keeps of the faults: their pressure p (the last
+  /// rank's), "fault_pressure" (every cell on every rank), the volumes,
+  /// "fault_volumes", and the start apertures, "fault_apertures"
+  /// (collective); and their restoration into p and the faults.
+  std::map<std::string, std::vector<double>> arrays(std::span<const double> p) const;
+  void restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p);
 
 private:
   struct Conduit
@@ -239,6 +260,8 @@ private:
   int _dim = 2;
   bool _started = false;   // whether the start apertures are known
   bool _stabilised = true; // whether the cells take L (set_compliance)
+  bool _implicit = false;   // whether open cells' openings are unknowns (with_implicit_openings)
+  double _aperture_change = 0;
 };
 
 } // namespace biotcontact

@@ -124,6 +124,21 @@ std::int32_t owned_size(const fem::FunctionSpace& V)
   return V.dofmap()->index_map->size_local() * V.dofmap()->index_map_bs();
 }
 
+Mat placement(const fem::FunctionSpace& V, const std::vector<std::int32_t>& V_to_X, const fem::FunctionSpace& X)
+{
+  const std::int32_t rows = owned_size(V), columns = owned_size(X);
+  const std::int64_t first_row = V.dofmap()->index_map->local_range()[0] * V.dofmap()->index_map_bs();
+  const std::int64_t first_column = X.dofmap()->index_map->local_range()[0];
+  Mat R = nullptr;
+  MatCreateAIJ(V.mesh()->comm(), rows, columns, PETSC_DETERMINE, PETSC_DETERMINE, 1, nullptr, 1, nullptr, &R);
+  for (std::int32_t i = 0; i < rows; ++i)
+    MatSetValue(R, static_cast<PetscInt>(first_row + i), static_cast<PetscInt>(first_column + V_to_X[i]), 1.0,
+                INSERT_VALUES);
+  MatAssemblyBegin(R, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(R, MAT_FINAL_ASSEMBLY);
+  return R;
+}
+
 std::vector<PetscInt> owned_global_dofs(const common::IndexMap& map, const std::vector<std::int32_t>& local)
 {
   const std::int32_t owned = map.size_local();

@@ -96,6 +96,13 @@ std::int32_t owned_size(const dolfinx::fem::FunctionSpace& V);
 std::vector<PetscInt> owned_global_dofs(const dolfinx::common::IndexMap& map,
                                         const std::vector<std::int32_t>& local);
 
+/// The matrix R that places V's DOFs in a mixed space X of which V is a
+/// collapsed part: R(i, V_to_X[i]) = 1 for V's owned DOFs i (global rows
+/// of V, columns of X; X has block size 1 and owns V's owned DOFs). An
+/// operator M on V acts on X as M R.
+Mat placement(const dolfinx::fem::FunctionSpace& V, const std::vector<std::int32_t>& V_to_X,
+              const dolfinx::fem::FunctionSpace& X);
+
 /// Wraps a dolfinx vector (owned part) as a PETSc Vec sharing its memory.
 dolfinx::la::petsc::Vector wrap(dolfinx::la::Vector<double>& x);
 

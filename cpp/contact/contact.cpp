@@ -59,12 +59,15 @@ PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBoo
 }
 
 /// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
-/// by default when the system is solved directly and C is small enough.
-bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs)
+/// by default when the system is solved directly, C is small enough and A
+/// is not `changing`.
+bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs, bool changing)
 {
   // Forming H takes m solves: cheap back-solves of a factorisation, but m
-  // full Krylov solves with an iterative method.
-  const bool fallback = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs;
+  // full Krylov solves with an iterative method, and m more at each change
+  // of A.
+  const bool fallback
+      = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs and !changing;
   PetscBool condensed = fallback ? PETSC_TRUE : PETSC_FALSE;
   if (read_condensed(comm, prefix, condensed, &condensed) != 0)
     throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
@@ -92,7 +95,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
   MPI_Allreduce(&local_dofs, &all_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  const bool condensed = use_condensation(comm, prefix, method, all_dofs);
+  const bool condensed = use_condensation(comm, prefix, method, all_dofs, operators.changing);
   if (condensed)
     condense();
   else
@@ -1025,6 +1028,14 @@ ActiveSet ContactSolver::active_set(Vec x) const
   int local = static_cast<int>(std::count(set.flags.begin(), set.flags.end(), 1));
   MPI_Allreduce(&local, &set.nodes, 1, MPI_INT, MPI_SUM, _comm);
   return set;
+}
+
+std::map<std::int64_t, double> pair_tractions(const ContactState& state)
+{
+  std::map<std::int64_t, double> traction;
+  for (const PairState& pair : state.pairs)
+    traction[pair.node] = pair.traction;
+  return traction;
 }
 
 bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm)

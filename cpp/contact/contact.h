@@ -27,6 +27,7 @@
 #include <array>
 #include <dolfinx/fem/Function.h>
 #include <functional>
+#include <map>
 #include <memory>
 #include <petscsnes.h>
 #include <string>
@@ -99,6 +100,11 @@ struct ContactState
   std::vector<FaultSummary> faults;
 };
 
+/// Each fault pair's contact traction (>= 0 pressing) by its + node: what
+/// a fault's cells average into their effective normal stress
+/// (FaultAperture::cell_means).
+std::map<std::int64_t, double> pair_tractions(const ContactState& state);
+
 /// @brief The contact active set of a displacement: the flag of each
 /// contact DOF this rank owns (on the foundation to round-off) and the
 /// number of active nodes on all ranks. Two sets of one run compare flag
@@ -120,6 +126,11 @@ bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm);
 struct ContactOperators
 {
   Mat A, P;
+  /// Whether A changes between most solves (the monolithic system with
+  /// conduit faults, whose rows follow their apertures): then forming H
+  /// anew each time costs more than it saves, and the full path is the
+  /// default.
+  bool changing = false;
 };
 
 /// @brief What the contact solver constrains: the contact set, where each
@@ -136,8 +147,9 @@ struct ContactUnknowns
 /// The reduced-space Newton method solves, at each step, the system on the
 /// inactive set (the DOFs not held on a bound). It runs in one of two ways:
 ///
-/// - condensed (the default with a direct solver and at most
-///   `max_condensed_dofs` contact DOFs): on the Schur complement H of A on
+/// - condensed (the default with a direct solver, at most
+///   `max_condensed_dofs` contact DOFs and an A that is not
+///   ContactOperators::changing): on the Schur complement H of A on
 ///   the contact DOFs (schur_complement.h). The large matrix is factorised
 ///   once per operator, with the contact DOFs clamped, whatever the active
 ///   set; the Newton steps work on the small dense H (options prefix

@@ -31,6 +31,8 @@ void Scheme::make_monolithic(const Problem& problem)
   p = m->pressure;
   compute_flux = [m](fem::Function<double>& out) { m->flux(out); };
   seismic_moments = [m] { return m->seismic_moments(); };
+  fault_flow = [m](double t) { return m->fault_flow(t); };
+  fault_volumes = [m] { return m->fault_volumes(); };
   take_contact_fields(*m);
   _drive = [&problem, m](CouplingRun& run) { run_single_solve(problem, *m, run); };
 }

@@ -779,9 +779,10 @@ ClosureSpec read_closure(Section c)
 /// its faces, k_n > 0 or "inf", and the closure of its aperture.
 void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 {
-  if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic)
-    s.fail("flow", "\"conduit\" with coupling.scheme = \"monolithic\": only the splits carry the fault's pressure "
-                   "yet (issue 39)");
+  if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic
+      and scene.solver.monolithic == SolverChoice::iterative)
+    s.fail("flow", "\"conduit\" with solver.monolithic = \"iterative\": the monolithic system with the fault's "
+                   "pressure is solved directly (\"direct\" or \"auto\")");
   if (scene.time_scheme == TimeScheme::bdf2)
     s.fail("flow", "\"conduit\" with time.scheme = \"bdf2\": the fault's storage is backward Euler only yet "
                    "(issue 39)");

@@ -281,24 +281,14 @@ std::map<std::string, std::vector<double>> FlowStep::arrays() const
 {
   if (!*_conduits or _pass == FlowPass::second)
     return {};
-  std::vector<double> p(_conduits->size());
-  std::copy(_fault_pressure.begin(), _fault_pressure.end(), p.begin());
-  int ranks = 1;
-  MPI_Comm_size(_W->mesh()->comm(), &ranks);
-  MPI_Bcast(p.data(), static_cast<int>(p.size()), MPI_DOUBLE, ranks - 1, _W->mesh()->comm());
-  return {{"fault_pressure", p}, {"fault_volumes", _conduits->volume_values()},
-          {"fault_apertures", _conduits->start_apertures()}};
+  return _conduits->arrays(_fault_pressure);
 }
 
 void FlowStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
 {
   if (!*_conduits or _pass == FlowPass::second)
     return;
-  const std::vector<double>& p = arrays.at("fault_pressure");
-  std::copy_n(p.begin(), _fault_pressure.size(), _fault_pressure.begin());
-  _conduits->set_volume_values(arrays.at("fault_volumes"));
-  if (const auto found = arrays.find("fault_apertures"); found != arrays.end())
-    _conduits->set_start_apertures(found->second);
+  _conduits->restore_arrays(arrays, _fault_pressure);
 }
 
 std::vector<double> FlowStep::fault_flow(double t) const

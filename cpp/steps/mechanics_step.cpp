@@ -142,12 +142,7 @@ void MechanicsStep::solve(double t)
   _system->solve(wrap(*_b).vec(), x.vec());
   u->x()->scatter_fwd();
   if (_closure and _fault_load.aperture)
-  {
-    std::map<std::int64_t, double> traction;
-    for (const PairState& pair : contact_state().pairs)
-      traction[pair.node] = pair.traction;
-    _fault_traction = _fault_load.aperture->cell_means(traction);
-  }
+    _fault_traction = _fault_load.aperture->cell_means(pair_tractions(contact_state()));
 }
 
 ContactState MechanicsStep::contact_state()

@@ -59,14 +59,21 @@ MonolithicStep::MonolithicStep(const Problem& problem) : _problem(problem), _sce
   // poroelastic Hertz scene): LU with pivoting. The iterative path is a
   // Krylov method preconditioned by the fixed-stress split (solver.h),
   // built from a_monolithic_preconditioner and split along fields().
+  // With conduit faults the system is solved directly (System::append).
+  const bool conduits = std::any_of(scene.faults.begin(), scene.faults.end(),
+                                    [](const auto& f) { return f.second.flow == FaultFlow::conduit; });
   _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs,
-                                     SystemLayout{"monolithic_", Structure::general, fields()}, scene.solver.monolithic,
+                                     SystemLayout{"monolithic_", Structure::general, fields()},
+                                     conduits ? SolverChoice::direct : scene.solver.monolithic,
                                      make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants,
                                                faces.get()));
-  _system->tie(
-      fault_flux_ties(scene, domain, *_X->sub({1}),
-                      facet_flux(forms.L_monolithic_pressure, _X, domain, forms, constants)));
+  const FacetFlux flux = facet_flux(forms.L_monolithic_pressure, _X, domain, forms, constants);
+  _system->tie(fault_flux_ties(scene, domain, *_X->sub({1}), flux));
   _b = std::make_unique<la::Vector<double>>(_X->dofmap()->index_map, _X->dofmap()->index_map_bs());
+  // p_f before the contact: the contact solver takes the appended system.
+  _conduits = std::make_unique<MonolithicConduits>(problem, MixedSpace{*_X, *V, _V_to_X, _bcs, flux});
+  if (*_conduits)
+    _conduits->append(*_system);
   if (scene.has_contact())
     attach_contact(domain, forms);
 }
@@ -228,6 +235,14 @@ void MonolithicStep::solve(double t, const TimeDerivative& d)
 {
   _derivative = d;
   assemble_rhs(t);
+  if (*_conduits)
+    solve_with_conduits(t);
+  else
+    solve_system();
+}
+
+void MonolithicStep::solve_system()
+{
   la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
   _system->solve(b.vec(), x.vec());
   _x->x()->scatter_fwd();
@@ -235,13 +250,51 @@ void MonolithicStep::solve(double t, const TimeDerivative& d)
   extract(*_x, _Q_to_X, *pressure);
 }
 
-void MonolithicStep::time_step_changed() { _system->reassemble(); }
+void MonolithicStep::solve_with_conduits(double t)
+{
+  const int most = _scene.coupling->max_iterations;
+  for (int i = 1;; ++i)
+  {
+    _conduits->load(*_system, *_x->x(), t);
+    solve_system();
+    _fault_traction = fault_normal_stress();
+    if (_conduits->update(*_system, *u->x(), _fault_traction))
+      return;
+    if (i == most)
+      throw SolverError("monolithic: the conduit faults' apertures still move after " + std::to_string(most)
+                        + " iterations (coupling.max_iterations)");
+  }
+}
 
-std::span<const double> MonolithicStep::unknowns() const { return _x->x()->array(); }
+std::vector<double> MonolithicStep::fault_normal_stress()
+{
+  if (!_conduits->has_closure())
+    return {};
+  return _conduits->normal_stress(contact_state());
+}
+
+void MonolithicStep::time_step_changed()
+{
+  _system->reassemble();
+  if (*_conduits)
+    _conduits->append(*_system);
+}
+
+std::span<const double> MonolithicStep::unknowns() const
+{
+  if (!*_conduits)
+    return _x->x()->array();
+  _unknowns.assign(_x->x()->array().begin(), _x->x()->array().end());
+  _unknowns.insert(_unknowns.end(), _conduits->pressure().begin(), _conduits->pressure().end());
+  return _unknowns;
+}
 
 void MonolithicStep::set_unknowns(std::span<const double> x)
 {
-  std::copy(x.begin(), x.end(), _x->x()->mutable_array().begin());
+  const std::size_t n = _x->x()->array().size();
+  if (x.size() > n)
+    std::copy(x.begin() + n, x.end(), _conduits->pressure().begin());
+  std::copy_n(x.begin(), n, _x->x()->mutable_array().begin());
   extract(*_x, _V_to_X, *u);
   extract(*_x, _Q_to_X, *pressure);
 }
@@ -255,21 +308,29 @@ void MonolithicStep::flux(fem::Function<double>& out) const
 
 ActiveSet MonolithicStep::active_contact_set()
 {
-  return _system->has_contact() ? _system->contact().active_set(wrap(*_x->x()).vec()) : ActiveSet{};
+  if (!_system->has_contact())
+    return {};
+  la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
+  return _system->contact().active_set(_system->whole(x.vec(), b.vec()).first);
 }
 
 ContactState MonolithicStep::contact_state()
 {
   if (!_system->has_contact())
     return {};
-  return _system->contact().state(wrap(*_x->x()).vec(), wrap(*_b).vec(), *contact_pressure, *contact_active);
+  la::petsc::Vector x = wrap(*_x->x()), b = wrap(*_b);
+  const auto [X, B] = _system->whole(x.vec(), b.vec());
+  return _system->contact().state(X, B, *contact_pressure, *contact_active);
 }
 
 void MonolithicStep::equilibrate()
 {
   MechanicsStep step(_problem, V, pressure);
+  if (*_conduits) // the conduit faults' pressure on their faces too
+    step.load_fault_pressure(_conduits->aperture(), _conduits->pressure());
   step.solve(0.0);
   set_displacement(step.u->x()->array(), 0.0);
+  _fault_traction = step.fault_traction();
 }
 
 StepState MonolithicStep::state() const
@@ -298,6 +359,8 @@ bool MonolithicStep::same_contact_set(const ActiveSet& before)
 void MonolithicStep::begin_step()
 {
   la::petsc::Vector x = wrap(*_x->x());
+  if (*_conduits)
+    _conduits->begin_step(*_system, *u->x(), _fault_traction);
   _system->begin_step(x.vec());
 }
 
@@ -305,18 +368,38 @@ void MonolithicStep::accept(double t)
 {
   if (!_moments.names.empty()) // no fault: nothing to record, no contact state computed
     record_moments(_moments, t, contact_state());
+  if (*_conduits)
+    _conduits->accept(_x->x()->array(), t);
+}
+
+std::vector<double> MonolithicStep::fault_flow(double t) const
+{
+  return *_conduits ? _conduits->cell_values(_x->x()->array(), t) : std::vector<double>{};
+}
+
+std::vector<std::pair<std::string, FaultVolumes>> MonolithicStep::fault_volumes() const
+{
+  return *_conduits ? _conduits->volumes() : std::vector<std::pair<std::string, FaultVolumes>>{};
 }
 
 std::map<std::string, std::vector<double>> MonolithicStep::arrays() const
 {
   std::map<std::string, std::vector<double>> arrays;
   keep_moments(_moments, arrays);
+  if (*_conduits)
+    _conduits->keep(arrays);
+  if (!_fault_traction.empty())
+    arrays["fault_traction"] = _fault_traction;
   return arrays;
 }
 
 void MonolithicStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
 {
   restore_moments(_moments, arrays);
+  if (*_conduits)
+    _conduits->restore(arrays);
+  if (const auto found = arrays.find("fault_traction"); found != arrays.end())
+    _fault_traction = found->second;
 }
 
 } // namespace biotcontact

@@ -1,7 +1,9 @@
 // The monolithic reference (alg. "Monolithic reference"): each backward-Euler
 // step solves mechanics and flow together, one variational inequality in
 // (u, z, p) on the mixed space P1^d x RT0 x P0, with bounds only on the
-// contact DOFs. It is what the fixed-stress split converges to.
+// contact DOFs. It is what the fixed-stress split converges to. Conduit
+// faults append their pressure p_f (monolithic_conduits.h), and each step
+// iterates on their apertures.
 #pragma once
 
 #include "assembly/boundary_conditions.h"
@@ -14,6 +16,7 @@
 #include "assembly/materials.h"
 #include "assembly/parameters.h"
 #include "assembly/problem.h"
+#include "steps/monolithic_conduits.h"
 #include "steps/seismic_moments.h"
 #include "steps/step.h"
 #include "steps/system.h"
@@ -56,11 +59,16 @@ public:
   /// The accepted step's seismic moment, per fault, joins the run's record.
   void accept(double t) override;
   /// The record of the faults' seismic moments, "seismic_moments" (a
-  /// checkpoint's), and its restoration.
+  /// checkpoint's), the conduit faults' arrays (FlowStep::arrays) and
+  /// their cells' s_n, "fault_traction"; and their restoration.
   std::map<std::string, std::vector<double>> arrays() const override;
   void restore_arrays(const std::map<std::string, std::vector<double>>& arrays) override;
   /// The faults' seismic moments of every accepted step.
   const SeismicMoments& seismic_moments() const { return _moments; }
+  /// The conduit faults' cell fields at t on rank 0 and their volumes
+  /// (FlowStep::fault_flow and fault_volumes; empty without conduits).
+  std::vector<double> fault_flow(double t) const;
+  std::vector<std::pair<std::string, FaultVolumes>> fault_volumes() const;
   std::span<const double> pressure_values() const override { return pressure->x()->array(); }
   std::span<const double> displacement_values() const override { return u->x()->array(); }
   bool same_contact_set(const ActiveSet& before) override;
@@ -82,7 +90,8 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> u_before, p_before; // BDF2's memory; checkpointed
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
-  /// The coupled unknown (u, z, p), ghosts included, for a checkpoint.
+  /// The coupled unknown (u, z, p), ghosts included, then the conduit
+  /// faults' p_f (the last rank's), for a checkpoint.
   std::span<const double> unknowns() const override;
   /// Loads unknowns() back (and u, pressure from it).
   void set_unknowns(std::span<const double> x) override;
@@ -101,6 +110,14 @@ private:
   void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);
   void attach_contact(const Domain& domain, const CompiledForms& forms);
   void assemble_rhs(double t);
+  /// Solves the system at the right-hand side assembled; u, pressure and
+  /// p_f from its solution.
+  void solve_system();
+  /// Iterates on the conduit faults' apertures (monolithic_conduits.h)
+  /// until they settle; throws SolverError after coupling.max_iterations.
+  void solve_with_conduits(double t);
+  /// The conduit cells' s_n now, with a closure (empty otherwise).
+  std::vector<double> fault_normal_stress();
   /// The splits of (u, z, p) for the fixed-stress preconditioner: the flow
   /// (flux and pressure), then the mechanics with its rigid-body modes.
   std::vector<Field> fields() const;
@@ -120,6 +137,9 @@ private:
   std::unique_ptr<dolfinx::la::Vector<double>> _b;
   std::unique_ptr<Loads> _loads; // body force, tractions, source, boundary pressures, gravity
   SeismicMoments _moments;
+  std::unique_ptr<MonolithicConduits> _conduits;
+  std::vector<double> _fault_traction; // s_n per conduit cell at the last solve (with a closure)
+  mutable std::vector<double> _unknowns; // unknowns() with conduit faults
 };
 
 } // namespace biotcontact

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 #include <dolfinx/common/Timer.h>
 
 namespace biotcontact
@@ -67,6 +68,7 @@ System::~System()
   MatDestroy(&_A_appended);
   MatDestroy(&_appended.B);
   MatDestroy(&_appended.C);
+  MatDestroy(&_appended.E);
   VecDestroy(&_b_appended);
   VecDestroy(&_x_appended);
   VecDestroy(&_b_tied);
@@ -103,13 +105,15 @@ Mat System::appended_operator() const
     MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
     MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
   }
-  Mat Bt = nullptr, nest = nullptr, big = nullptr;
-  MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &Bt);
-  std::array<Mat, 4> blocks{a, Bt, _appended.B, _appended.C};
+  Mat E = _appended.E, nest = nullptr, big = nullptr;
+  if (!E)
+    MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &E);
+  std::array<Mat, 4> blocks{a, E, _appended.B, _appended.C};
   MatCreateNest(_comm, 2, nullptr, 2, nullptr, blocks.data(), &nest);
   MatConvert(nest, MATAIJ, MAT_INITIAL_MATRIX, &big);
   MatDestroy(&nest);
-  MatDestroy(&Bt);
+  if (!_appended.E)
+    MatDestroy(&E);
   if (!_appended.diagonal.empty())
     MatDestroy(&a);
   return big;
@@ -118,15 +122,23 @@ Mat System::appended_operator() const
 void System::append(AppendedUnknowns appended)
 {
   const bool first = _A_appended == nullptr;
+  // The fixed-stress preconditioner's matrix has no rows for y.
+  if (_P)
+    throw std::runtime_error(_prefix + ": appended unknowns (conduit faults) need the direct solver "
+                                       "(solver.monolithic = \"direct\")");
   MatDestroy(&_appended.B);
   MatDestroy(&_appended.C);
+  MatDestroy(&_appended.E);
   _appended = std::move(appended);
   Mat big = appended_operator();
   if (!first)
   {
     MatCopy(big, _A_appended, SAME_NONZERO_PATTERN);
     MatDestroy(&big);
-    _linear->operator_changed();
+    if (_contact)
+      _contact->operator_changed();
+    else
+      _linear->operator_changed();
     return;
   }
   _A_appended = big;
@@ -143,27 +155,44 @@ void System::append(AppendedUnknowns appended)
     if (f.name == "pressure")
       for (PetscInt r = 0; r < rows; ++r)
         f.dofs.push_back(start + r);
+  if (_contact)
+    throw std::runtime_error(_prefix + ": unknowns appended after the contact (append before use_contact)");
   _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A_appended, _A_appended, _structure, _fields);
+}
+
+void System::copy_in(Vec x, const std::vector<double>& appended, Vec whole)
+{
+  PetscInt n = 0;
+  VecGetLocalSize(x, &n);
+  const double* from = nullptr;
+  double* to = nullptr;
+  VecGetArrayRead(x, &from);
+  VecGetArray(whole, &to);
+  std::copy_n(from, n, to);
+  std::copy(appended.begin(), appended.end(), to + n);
+  VecRestoreArray(whole, &to);
+  VecRestoreArrayRead(x, &from);
+}
+
+std::pair<Vec, Vec> System::whole(Vec x, Vec b)
+{
+  if (!_A_appended)
+    return {x, b};
+  copy_in(x, _appended.x, _x_appended);
+  copy_in(b, _appended.b, _b_appended);
+  return {_x_appended, _b_appended};
 }
 
 void System::solve_appended(Vec b, Vec x)
 {
   PetscInt n = 0;
   VecGetLocalSize(b, &n);
-  auto copy_in = [n](Vec part, const std::vector<double>& appended, Vec whole)
-  {
-    const double* from = nullptr;
-    double* to = nullptr;
-    VecGetArrayRead(part, &from);
-    VecGetArray(whole, &to);
-    std::copy_n(from, n, to);
-    std::copy(appended.begin(), appended.end(), to + n);
-    VecRestoreArray(whole, &to);
-    VecRestoreArrayRead(part, &from);
-  };
   copy_in(b, _appended.b, _b_appended);
   copy_in(x, _appended.x, _x_appended);
-  _statistics.linear_iterations += _linear->solve(_x_appended, _b_appended);
+  if (_contact)
+    _contact->solve(_b_appended, _x_appended);
+  else
+    _statistics.linear_iterations += _linear->solve(_x_appended, _b_appended);
   const double* from = nullptr;
   double* to = nullptr;
   VecGetArrayRead(_x_appended, &from);
@@ -177,15 +206,18 @@ void System::solve_appended(Vec b, Vec x)
 void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout)
 {
   _linear.reset();
-  _contact = std::make_unique<ContactSolver>(_comm, SystemLayout{_prefix, _structure, _fields}, _method,
-                                             ContactOperators{operator_matrix(), preconditioner_matrix()},
-                                             ContactUnknowns{std::move(set), std::move(displacement_dofs), layout});
+  _contact = std::make_unique<ContactSolver>(
+      _comm, SystemLayout{_prefix, _structure, _fields}, _method,
+      ContactOperators{operator_matrix(), preconditioner_matrix(), _A_appended != nullptr},
+      ContactUnknowns{std::move(set), std::move(displacement_dofs), _x_appended ? _x_appended : layout});
 }
 
 void System::begin_step(Vec x)
 {
+  if (_contact and _A_appended)
+    copy_in(x, _appended.x, _x_appended);
   if (_contact)
-    _contact->set_slip_reference(x);
+    _contact->set_slip_reference(_A_appended ? _x_appended : x);
 }
 
 void System::solve(Vec b, Vec x)
@@ -199,10 +231,10 @@ void System::solve(Vec b, Vec x)
     b = _b_tied;
   }
   Vec y = _tied ? _y_tied : x;
-  if (_contact)
-    _contact->solve(b, y);
-  else if (_A_appended)
+  if (_A_appended)
     solve_appended(b, y);
+  else if (_contact)
+    _contact->solve(b, y);
   else
     _statistics.linear_iterations += _linear->solve(y, b);
   if (_tied)

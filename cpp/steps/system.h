@@ -22,13 +22,17 @@ namespace biotcontact
 
 /// @brief Unknowns y appended after a system's own (the conduit faults'
 /// pressure, assembly/fault_flow.h), all on the last rank:
-///     [[A + D, B^T], [B, C]] [x; y] = [b; b_y],   D a diagonal on A's rows.
+///     [[A + D, E], [B, C]] [x; y] = [b; b_y],   D a diagonal on A's rows,
+/// E = B^T (the flow step's symmetric system) unless given (the
+/// monolithic step's, where y also loads the displacement's rows and B
+/// holds the rate of the faults' opening).
 struct AppendedUnknowns
 {
   Mat B = nullptr, C = nullptr; // destroyed by the System that holds them
   std::vector<std::pair<PetscInt, double>> diagonal; // (global row of A, value) on the rank that owns the row
   std::vector<double> b;        // b_y (this rank's entries), set before each solve
   std::vector<double> x;        // y: the guess of each solve, then its solution
+  Mat E = nullptr;              // A's rows against y; null: B^T (destroyed by the System too)
 };
 
 class System
@@ -63,6 +67,11 @@ public:
   void append(AppendedUnknowns appended);
   AppendedUnknowns& appended() { return _appended; }
 
+  /// The vectors [x; y] and [b; b_y] of the system with appended unknowns
+  /// (x, b themselves without any), y and b_y the appended ones': what the
+  /// contact solver's state and active set read.
+  std::pair<Vec, Vec> whole(Vec x, Vec b);
+
   /// The matrix that is solved: A, A' of the ties, or the system with
   /// appended unknowns.
   Mat operator_matrix() const { return _A_appended ? _A_appended : _A_tied ? _A_tied : _A.mat(); }
@@ -74,7 +83,8 @@ public:
 
   /// Makes every solve the contact problem of `set` (see ContactSolver:
   /// `displacement_dofs` place V's owned DOFs in x); `layout` is a vector
-  /// like x.
+  /// like x. Unknowns appended before are solved with it (their rows
+  /// follow x's on the last rank: V's DOFs keep their places).
   void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout);
 
   /// A time step starts at x: friction's slip increments are measured
@@ -116,8 +126,12 @@ private:
   /// [[A + D, B^T], [B, C]] as one AIJ matrix (A tied, if so): its rows on
   /// each rank are A's, then (last rank) C's.
   Mat appended_operator() const;
-  /// Solves the system with appended unknowns: [b; b_y] in, [x; y] out.
+  /// Solves the system with appended unknowns: [b; b_y] in, [x; y] out
+  /// (by the contact solver if there is one).
   void solve_appended(Vec b, Vec x);
+  /// Copies x then `appended` into `whole`, a vector of the appended
+  /// system.
+  static void copy_in(Vec x, const std::vector<double>& appended, Vec whole);
 
   MPI_Comm _comm;
   std::string _prefix;

@@ -183,6 +183,8 @@ class ConduitFaults:
         self.dim = domain.mesh.topology.dim
         self.started = False  # whether the start apertures are known
         self.stabilised = True  # whether the cells take L (_set_compliance)
+        self.implicit = False  # whether open cells' openings are unknowns (with_implicit_openings)
+        self.aperture_change = 0.0
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
@@ -239,6 +241,8 @@ class ConduitFaults:
         np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
         closed = closure_compliance(conduit.closure, conduit.traction) if conduit.closure else 0.0
         conduit.compliance = np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), closed)
+        if self.implicit:  # the open cells' opening is implicit; closed cells keep their closure's
+            conduit.compliance = np.where(conduit.open, 0.0, closed) * np.ones(len(patch))
         if not self.stabilised:
             conduit.compliance = np.zeros_like(conduit.compliance)
 
@@ -280,7 +284,7 @@ class ConduitFaults:
         of a run also sets the apertures at the step's start. Whether w_h or
         an open cell changed, and with them the operator and the faces'
         resistance."""
-        changed = False
+        changed, largest, change = False, 0.0, 0.0
         for conduit in self.faults:
             o, n, e = conduit.offset, len(conduit.cells.measures), OPEN_FRACTION * conduit.residual
             if conduit.closure and traction is not None and len(traction):  # none before the first solve: u = 0
@@ -290,17 +294,42 @@ class ConduitFaults:
             is_open = opening[o:o + n] > e
             changed = (changed or not np.array_equal(w_h, conduit.aperture)
                        or not np.array_equal(is_open | conduit.open, conduit.open | conduit.open_before))
+            largest = max(largest, w_h.max(initial=0.0))
+            change = (np.inf if np.any(is_open != conduit.open)
+                      else max(change, np.abs(w_h - conduit.aperture).max(initial=0.0)))
             conduit.aperture, conduit.open_before, conduit.open = w_h, conduit.open, is_open
             self._set_compliance(conduit)
             if not self.started:
                 conduit.aperture_start = conduit.aperture.copy()
         self.started = True
+        # how far the apertures moved: the largest change relative to the
+        # largest aperture, infinite where a cell opened or closed
+        self.aperture_change = change / largest
         return changed
 
     def without_stabilisation(self):
         """No fixed-stress term from now on (the second pass of
         "multirate-two-pass", which solves without L)."""
         self.stabilised = False
+
+    def with_implicit_openings(self):
+        """The open cells' opening is an unknown of the same system (the
+        monolithic step, whose rows -(|k|/dt) J u carry it: opening_rates):
+        they take no fixed-stress term; closed cells keep their closure's."""
+        self.implicit = True
+
+    def opening_rates(self, dt, p_old, p_iterate):
+        """Per appended row (the last rank's) the factor of the cell's mean
+        opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
+        p^old)) where the cell was open at the last set_openings (the volume
+        it opens, and Newton's term of its fluid's storage c_f w_h (p - p^old)
+        in w_h), 0 where closed."""
+        if not self.owned:
+            return np.zeros(0)
+        is_open = np.concatenate([conduit.open for conduit in self.faults])
+        measures = np.concatenate([conduit.cells.measures for conduit in self.faults])
+        factor = 1 + self.flow.c_f * (np.asarray(p_iterate) - np.asarray(p_old))
+        return np.where(is_open, -measures / dt * factor, 0.0)
 
     def start_apertures(self):
         """The hydraulic apertures at the start of the step, every cell (the
@@ -422,3 +451,18 @@ class ConduitFaults:
     def set_volume_values(self, values):
         for i, conduit in enumerate(self.faults):
             conduit.volumes = FaultVolumes(*(float(x) for x in values[4 * i:4 * i + 4]))
+
+    def arrays(self, p):
+        """What a checkpoint keeps of the faults: their pressure p (the last
+        rank's), "fault_pressure" (every cell on every rank), the volumes,
+        "fault_volumes", and the start apertures, "fault_apertures"
+        (collective)."""
+        return {"fault_pressure": np.asarray(self.comm.bcast(p, root=self.comm.size - 1)),
+                "fault_volumes": self.volume_values(), "fault_apertures": self.start_apertures()}
+
+    def restore_arrays(self, arrays, p):
+        """The checkpoint's arrays back into p (in place) and the faults."""
+        p[:] = arrays["fault_pressure"][:len(p)]
+        self.set_volume_values(arrays["fault_volumes"])
+        if "fault_apertures" in arrays:
+            self.set_start_apertures(arrays["fault_apertures"])

@@ -115,6 +115,21 @@ def rigid_body_modes(V, position=None):
     return PETSc.NullSpace().createRigidBody(coordinates)
 
 
+def placement(V, V_to_X, X):
+    """The matrix R that places V's DOFs in a mixed space X of which V is a
+    collapsed part: R(i, V_to_X[i]) = 1 for V's owned DOFs i (global rows of
+    V, columns of X; X has block size 1 and owns V's owned DOFs). An
+    operator M on V acts on X as M R."""
+    rows, columns = owned(V), owned(X)
+    first_row = V.dofmap.index_map.local_range[0] * V.dofmap.index_map_bs
+    first_column = X.dofmap.index_map.local_range[0]
+    R = PETSc.Mat().createAIJ(((rows, None), (columns, None)), nnz=(1, 1), comm=V.mesh.comm)
+    for i in range(rows):
+        R.setValue(first_row + i, first_column + int(V_to_X[i]), 1.0)
+    R.assemble()
+    return R
+
+
 def owned_global_dofs(index_map, local):
     """PETSc's global indices of the local DOFs `local` (block size 1) that
     this rank owns, ascending."""

@@ -76,6 +76,13 @@ def _on_foundation(distance, scale):
     return distance <= 1e-9 * scale
 
 
+def pair_tractions(state):
+    """Each fault pair's contact traction (>= 0 pressing) by its + node: what
+    a fault's cells average into their effective normal stress
+    (FaultAperture.cell_means)."""
+    return {pair.node: pair.traction for pair in state.pairs}
+
+
 def same_active_set(a, b, comm):
     """Whether a and b, two active sets on one partition, hold the same nodes
     on every rank (collective)."""
@@ -89,6 +96,11 @@ class ContactOperators:
     preconditioner from."""
     A: PETSc.Mat
     P: PETSc.Mat
+    # Whether A changes between most solves (the monolithic system with
+    # conduit faults, whose rows follow their apertures): then forming H
+    # anew each time costs more than it saves, and the full path is the
+    # default.
+    changing: bool = False
 
 
 @dataclasses.dataclass
@@ -196,11 +208,12 @@ def _read_condensed(comm, prefix, fallback):
     return condensed
 
 
-def _use_condensation(comm, prefix, method, contact_dofs):
+def _use_condensation(comm, prefix, method, contact_dofs, changing):
     """-<prefix>contact_condensed, by default when the system is solved
-    directly and C is small enough (cpp/contact/contact.cpp): forming H takes m
-    solves, cheap back-solves of a factorisation but full Krylov solves."""
-    return _read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs)
+    directly, C is small enough and A is not `changing` (forming H takes m
+    solves, m more at each change of A)."""
+    return _read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs
+                           and not changing)
 
 
 class ContactSolver:
@@ -240,7 +253,8 @@ class ContactSolver:
         self.x_start.set(0.0)
         self._make_change_of_variables()
         self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
-        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM))
+        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM),
+                                       operators.changing)
         if condensed:
             self._condense()
         else:

@@ -82,6 +82,7 @@ class Scheme:
         self._steps = [m]
         self.V, self.u, self.p, self.compute_flux = m.V, m.u, m.pressure, m.flux
         self.seismic_moments = m.seismic_moments
+        self.fault_flow, self.fault_volumes = m.fault_flow, m.fault_volumes
         self._take_contact_fields(m)
         self._drive = lambda run: run_single_solve(problem, m, run)
 

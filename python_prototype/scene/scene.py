@@ -933,9 +933,10 @@ def _read_conduit(s, scene, f):
     """A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
     fault"): its aperture where closed, w_r > 0, the permeability across
     its faces, k_n > 0 or "inf", and the closure of its aperture."""
-    if scene.coupling and scene.coupling.scheme == CouplingScheme.monolithic:
-        s.fail("flow", '"conduit" with coupling.scheme = "monolithic": only the splits carry the fault\'s pressure '
-               "yet (issue 39)")
+    if (scene.coupling and scene.coupling.scheme == CouplingScheme.monolithic
+            and scene.solver.monolithic == SolverChoice.iterative):
+        s.fail("flow", '"conduit" with solver.monolithic = "iterative": the monolithic system with the fault\'s '
+               'pressure is solved directly ("direct" or "auto")')
     if scene.time_scheme == TimeScheme.bdf2:
         s.fail("flow", '"conduit" with time.scheme = "bdf2": the fault\'s storage is backward Euler only yet '
                "(issue 39)")

@@ -326,18 +326,12 @@ class FlowStep(Step):
         apertures at the step's start, "fault_apertures"."""
         if not self.conduits or self.flow_pass == FlowPass.second:
             return {}
-        comm = self.F["W"].mesh.comm
-        return {"fault_pressure": np.asarray(comm.bcast(self.fault_pressure, root=comm.size - 1)),
-                "fault_volumes": self.conduits.volume_values(),
-                "fault_apertures": self.conduits.start_apertures()}
+        return self.conduits.arrays(self.fault_pressure)
 
     def restore_arrays(self, arrays):
         if not self.conduits or self.flow_pass == FlowPass.second:
             return
-        self.fault_pressure[:] = arrays["fault_pressure"][:len(self.fault_pressure)]
-        self.conduits.set_volume_values(arrays["fault_volumes"])
-        if "fault_apertures" in arrays:
-            self.conduits.set_start_apertures(arrays["fault_apertures"])
+        self.conduits.restore_arrays(arrays, self.fault_pressure)
 
     def fault_flow(self, t):
         """The conduit faults' cell fields at time t on rank 0

@@ -5,7 +5,7 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
+from ..contact.contact import ActiveSet, ContactState, locate_contact, pair_tractions, same_active_set
 from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
@@ -127,8 +127,7 @@ class MechanicsStep(Step):
         self.system.solve(self.b.vector, self.u.vector)
         self.u.x.scatter_forward()
         if self.closure and self.fault_load:
-            traction = {pair.node: pair.traction for pair in self.contact_state().pairs}
-            self.fault_traction = self.fault_load[0].cell_means(traction)
+            self.fault_traction = self.fault_load[0].cell_means(pair_tractions(self.contact_state()))
 
     def name(self):
         return "mechanics"

@@ -1,5 +1,6 @@
 """The monolithic step: flux, pressure and displacement solved together
-(cpp/steps/monolithic_step.cpp)."""
+(cpp/steps/monolithic_step.cpp). Conduit faults append their pressure p_f
+(monolithic_conduits.py), and each step iterates on their apertures."""
 import time
 
 import numpy as np
@@ -11,12 +12,13 @@ from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
-from ..scene.input import FaultFlow, TimeScheme
+from ..scene.input import FaultFlow, SolverChoice, TimeScheme
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
                                        rigid_body_modes)
-from ..solvers.solver import Structure, SystemLayout
+from ..solvers.solver import SolverError, Structure, SystemLayout
 from .mechanics_step import MechanicsStep
+from .monolithic_conduits import MixedSpace, MonolithicConduits
 from .seismic_moments import SeismicMoments, keep_moments, moments_of, record_moments, restore_moments
 from .step import Step, StepState
 from .system import System
@@ -56,12 +58,21 @@ class MonolithicStep(Step):
         # Depends on dt only; its pressure block -(S/dt) is often negligible
         # against the coupling: LU with pivoting (cpp/steps/monolithic_step.cpp). The
         # iterative path is preconditioned by the fixed-stress split.
+        # With conduit faults the system is solved directly (System.append).
+        conduits = any(f.flow == FaultFlow.conduit for f in scene.faults.values())
         self.system = System(comm, self.a, self.bcs, SystemLayout("monolithic_", Structure.general, self.fields(X)),
-                             scene.solver.monolithic, F.compile("a_monolithic_preconditioner", faces))
-        self.system.tie(fault_flux_ties(scene, domain, X.sub(1), facet_flux(F, "L_monolithic_pressure", "X")))
+                             SolverChoice.direct if conduits else scene.solver.monolithic,
+                             F.compile("a_monolithic_preconditioner", faces))
+        flux = facet_flux(F, "L_monolithic_pressure", "X")
+        self.system.tie(fault_flux_ties(scene, domain, X.sub(1), flux))
         self.b = fem.Function(X)
         self.contact_pressure = self.contact_active = self.contact_boundary = None
         self.moments = SeismicMoments()
+        # p_f before the contact: the contact solver takes the appended system
+        self.conduits = MonolithicConduits(problem, MixedSpace(X, self.V, self.V_to_X, self.bcs, flux))
+        self.fault_traction = None  # s_n per conduit cell at the last solve (with a closure)
+        if self.conduits:
+            self.conduits.append(self.system)
         if scene.has_contact():
             self.attach_contact(domain, F)
 
@@ -157,10 +168,37 @@ class MonolithicStep(Step):
         and p_before, the state one step before)."""
         self.derivative = derivative
         self.assemble_rhs(t)
+        if self.conduits:
+            self._solve_with_conduits(t)
+        else:
+            self._solve_system()
+
+    def _solve_system(self):
+        """Solves the system at the right-hand side assembled; u, pressure and
+        p_f from its solution."""
         self.system.solve(self.b.vector, self.x.vector)
         self.x.x.scatter_forward()
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
+
+    def _solve_with_conduits(self, t):
+        """Iterates on the conduit faults' apertures (monolithic_conduits.py)
+        until they settle; raises SolverError after coupling.max_iterations."""
+        most = self.scene.coupling.max_iterations
+        for i in range(1, most + 1):
+            self.conduits.load(self.system, self.x.vector, t)
+            self._solve_system()
+            self.fault_traction = self._fault_normal_stress()
+            if self.conduits.update(self.system, self.u, self.fault_traction):
+                return
+        raise SolverError(f"monolithic: the conduit faults' apertures still move after {most} iterations "
+                          "(coupling.max_iterations)")
+
+    def _fault_normal_stress(self):
+        """The conduit cells' s_n now, with a closure (None otherwise)."""
+        if not self.conduits.has_closure():
+            return None
+        return self.conduits.normal_stress(self.contact_state())
 
     def name(self):
         return "monolithic"
@@ -173,10 +211,15 @@ class MonolithicStep(Step):
         mechanics step on its displacement space, loaded by its pressure,
         solved once."""
         step = MechanicsStep(self.problem, self.V, self.pressure)
+        if self.conduits:  # the conduit faults' pressure on their faces too
+            step.load_fault_pressure(self.conduits.aperture, self.conduits.pressure)
         step.solve(0.0)
         self.set_displacement(step.u.x.array, 0.0)
+        self.fault_traction = step.fault_traction
 
     def begin_step(self):
+        if self.conduits:
+            self.conduits.begin_step(self.system, self.u, self.fault_traction)
         self.system.begin_step(self.x.vector)
 
     def state(self):
@@ -198,16 +241,36 @@ class MonolithicStep(Step):
         record."""
         if self.moments.names:  # no fault: nothing to record, no contact state computed
             record_moments(self.moments, t, self.contact_state())
+        if self.conduits:
+            self.conduits.accept(self.x.x.array, t)
+
+    def fault_flow(self, t):
+        """The conduit faults' cell fields at t on rank 0 (FlowStep.fault_flow;
+        None without conduits)."""
+        return self.conduits.cell_values(self.x.x.array, t) if self.conduits else None
+
+    def fault_volumes(self):
+        """The conduit faults' volumes since the run's start (none without)."""
+        return self.conduits.volumes() if self.conduits else []
 
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a
-        checkpoint's)."""
+        checkpoint's), the conduit faults' arrays (FlowStep.arrays) and their
+        cells' s_n, "fault_traction"."""
         arrays = {}
         keep_moments(self.moments, arrays)
+        if self.conduits:
+            self.conduits.keep(arrays)
+        if self.fault_traction is not None and len(self.fault_traction):
+            arrays["fault_traction"] = np.asarray(self.fault_traction)
         return arrays
 
     def restore_arrays(self, arrays):
         restore_moments(self.moments, arrays)
+        if self.conduits:
+            self.conduits.restore(arrays)
+        if "fault_traction" in arrays:
+            self.fault_traction = np.asarray(arrays["fault_traction"])
 
     def seismic_moments(self):
         """The faults' seismic moments of every accepted step."""
@@ -228,14 +291,19 @@ class MonolithicStep(Step):
     def time_step_changed(self):
         """The matrix depends on dt: reassembled after set_time_step changed it."""
         self.system.reassemble()
+        if self.conduits:
+            self.conduits.append(self.system)
 
     def flux(self, out):
         self.z.x.array[:] = self.x.x.array[self.Z_to_X]
         out.interpolate(self.z)
 
     def unknowns(self):
-        """The coupled unknown (u, z, p), ghosts included, for a checkpoint."""
-        return self.x.x.array
+        """The coupled unknown (u, z, p), ghosts included, then the conduit
+        faults' p_f (the last rank's), for a checkpoint."""
+        if not self.conduits:
+            return self.x.x.array
+        return np.concatenate([self.x.x.array, self.conduits.pressure])
 
     def parts(self):
         """The fields within unknowns(), for a checkpoint."""
@@ -244,18 +312,23 @@ class MonolithicStep(Step):
 
     def set_unknowns(self, x):
         """Loads unknowns() back (and u, pressure from it)."""
-        self.x.x.array[:] = x
+        n = len(self.x.x.array)
+        if len(x) > n:
+            self.conduits.pressure = np.array(x[n:])
+        self.x.x.array[:] = x[:n]
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
 
     def active_contact_set(self):
         """Only the contact active set (collective, cheap; empty without contact)."""
-        return self.system.contact.active_set(self.x.vector) if self.system.has_contact() else ActiveSet()
+        if not self.system.has_contact():
+            return ActiveSet()
+        return self.system.contact.active_set(self.system.whole(self.x.vector, self.b.vector)[0])
 
     def contact_state(self):
         if not self.system.has_contact():
             return ContactState()
-        return self.system.contact.state(self.x.vector, self.b.vector, self.contact_pressure,
-                                         self.contact_active)
+        x, b = self.system.whole(self.x.vector, self.b.vector)
+        return self.system.contact.state(x, b, self.contact_pressure, self.contact_active)
 
 

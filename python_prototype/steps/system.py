@@ -19,12 +19,22 @@ from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistic
 class AppendedUnknowns:
     """Unknowns y appended after a system's own (the conduit faults'
     pressure, assembly/fault_flow.py), all on the last rank:
-    [[A + D, B^T], [B, C]] [x; y] = [b; b_y], D a diagonal on A's rows."""
+    [[A + D, E], [B, C]] [x; y] = [b; b_y], D a diagonal on A's rows, E =
+    B^T (the flow step's symmetric system) unless given (the monolithic
+    step's, where y also loads the displacement's rows and B holds the rate
+    of the faults' opening)."""
     B: PETSc.Mat
     C: PETSc.Mat
     diagonal: list           # (global row of A, value) on the rank that owns the row
     b: np.ndarray = None     # b_y (this rank's entries), set before each solve
     x: np.ndarray = None     # y: the guess of each solve, then its solution
+    E: PETSc.Mat = None      # A's rows against y; None: B^T
+
+
+def _copy_in(x, appended, whole):
+    """Copies x then `appended` into `whole`, a vector of the appended system."""
+    n = x.getLocalSize()
+    whole.array[:n], whole.array[n:] = x.array_r, appended
 
 
 class System:
@@ -84,12 +94,17 @@ class System:
         with their new B, C and diagonal: same structure; collective). The
         appended unknowns join the "pressure" field of an iterative solve."""
         first = self.appended is None
+        if self.P is not None:  # the fixed-stress preconditioner's matrix has no rows for y
+            raise RuntimeError(f"{self.prefix}: appended unknowns (conduit faults) need the direct solver "
+                               '(solver.monolithic = "direct")')
         self.appended = appended
         big = self._appended_operator()
         if not first:
             big.copy(self.A_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
-            self.linear.operator_changed()
+            (self.contact or self.linear).operator_changed()
             return
+        if self.contact:
+            raise RuntimeError(f"{self.prefix}: unknowns appended after the contact (append before use_contact)")
         self.A_appended = big
         self.x_appended, self.b_appended = big.createVecs()
         start = self.A.getOwnershipRange()[0] if self.comm.rank < self.comm.size - 1 else self.A.getSize()[0]
@@ -108,9 +123,20 @@ class System:
             for row, value in self.appended.diagonal:
                 a.setValue(row, row, value, addv=True)
             a.assemble()
-        B = self.appended.B
-        nest = PETSc.Mat().createNest([[a, B.transpose(PETSc.Mat())], [B, self.appended.C]], comm=self.comm)
+        B, E = self.appended.B, self.appended.E
+        E = B.transpose(PETSc.Mat()) if E is None else E
+        nest = PETSc.Mat().createNest([[a, E], [B, self.appended.C]], comm=self.comm)
         return nest.convert("aij")
+
+    def whole(self, x, b):
+        """The vectors [x; y] and [b; b_y] of the system with appended
+        unknowns (x, b themselves without any): what the contact solver's
+        state and active set read."""
+        if self.appended is None:
+            return x, b
+        _copy_in(x, self.appended.x, self.x_appended)
+        _copy_in(b, self.appended.b, self.b_appended)
+        return self.x_appended, self.b_appended
 
     def operator_matrix(self):
         """The matrix that is solved: A, A' of the ties, or the system with
@@ -138,11 +164,13 @@ class System:
 
     def use_contact(self, contact_set, displacement_dofs):
         """Every solve becomes the contact problem of `contact_set`
-        (`displacement_dofs` place V's owned DOFs in x)."""
+        (`displacement_dofs` place V's owned DOFs in x). Unknowns appended
+        before are solved with it (their rows follow x's on the last rank:
+        V's DOFs keep their places)."""
         self.linear = None
+        operators = ContactOperators(self.operator_matrix(), self.preconditioner_matrix(), self.appended is not None)
         self.contact = ContactSolver(self.comm, SystemLayout(self.prefix, self.structure, self.fields), self.method,
-                                     ContactOperators(self.operator_matrix(), self.preconditioner_matrix()),
-                                     ContactUnknowns(contact_set, displacement_dofs))
+                                     operators, ContactUnknowns(contact_set, displacement_dofs))
 
     def has_contact(self):
         return self.contact is not None
@@ -150,8 +178,10 @@ class System:
     def begin_step(self, x):
         """A time step starts at x: friction's slip increments are measured
         from it (ContactSolver.set_slip_reference; nothing without contact)."""
+        if self.contact and self.appended is not None:
+            _copy_in(x, self.appended.x, self.x_appended)
         if self.contact:
-            self.contact.set_slip_reference(x)
+            self.contact.set_slip_reference(self.x_appended if self.appended is not None else x)
 
     def solve(self, b, x):
         """Solves with x as the initial guess."""
@@ -162,10 +192,10 @@ class System:
                 self.tied.load(b, self.b_tied)
                 self.tied.guess(x, self.y_tied)
                 b, y = self.b_tied, self.y_tied
-            if self.contact:
-                self.contact.solve(b, y)
-            elif self.appended is not None:
+            if self.appended is not None:
                 self._solve_appended(b, y)
+            elif self.contact:
+                self.contact.solve(b, y)
             else:
                 self._statistics.linear_iterations += self.linear.solve(y, b)
             if self.tied:
@@ -174,11 +204,15 @@ class System:
         self._statistics.solves += 1
 
     def _solve_appended(self, b, x):
-        """Solves the system with appended unknowns: [b; b_y] in, [x; y] out."""
+        """Solves the system with appended unknowns: [b; b_y] in, [x; y] out
+        (by the contact solver if there is one)."""
         n, appended = b.getLocalSize(), self.appended
-        self.b_appended.array[:n], self.b_appended.array[n:] = b.array_r, appended.b
-        self.x_appended.array[:n], self.x_appended.array[n:] = x.array_r, appended.x
-        self._statistics.linear_iterations += self.linear.solve(self.x_appended, self.b_appended)
+        _copy_in(b, appended.b, self.b_appended)
+        _copy_in(x, appended.x, self.x_appended)
+        if self.contact:
+            self.contact.solve(self.b_appended, self.x_appended)
+        else:
+            self._statistics.linear_iterations += self.linear.solve(self.x_appended, self.b_appended)
         x.array[:] = self.x_appended.array_r[:n]
         appended.x[:] = self.x_appended.array_r[n:]
 

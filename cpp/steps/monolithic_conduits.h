@@ -1,0 +1,114 @@
+// The conduit faults' pressure in the monolithic step (docs/theory.md
+// "Flow in a fault", "The monolithic solve with p_f"): p_f, one unknown per
+// fault cell, appended to the coupled system x = (u, z, p),
+//
+//     [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
+//
+//     E = B_z^T - J^T |k|         the faces' pressure p_f (B_z: the exchange
+//                                 with their fluxes, fault_flow.h) and p_f
+//                                 pushing them apart (fault_aperture.h),
+//                                 zero on Dirichlet rows;
+//     B = B_z - (|k|/dt) O J      the exchange, and the rate of the open
+//                                 cells' opening (O: 1 on open cells);
+//     C                           the fault's own rows (fault_flow.h), with
+//                                 no fixed-stress term in open cells.
+//
+// The transmissivity w_h^3/(12 mu_f), which cells are open and a closure's
+// aperture follow the solution: each step iterates on them (Picard). At
+// iterate i, b_f holds the volume with its open cells' opening taken at
+// u^i, |k| (w_h^i - w_h^start)/dt - (|k|/dt) (O J u^i), which the solve
+// moves to u^{i+1}; closed cells keep their closure's fixed-stress term,
+// which vanishes as p_f settles. The iteration stops when the apertures
+// and p_f move by at most the coupling's tolerance. The prototype's twin
+// is python_prototype/steps/monolithic_conduits.py.
+#pragma once
+
+#include "assembly/fault_aperture.h"
+#include "assembly/fault_flow.h"
+#include "assembly/problem.h"
+#include "contact/contact.h"
+#include "steps/system.h"
+
+#include <dolfinx/fem/FunctionSpace.h>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief The monolithic step's mixed space X and where its parts sit: the
+/// displacement space V, its DOFs' places in X, the Dirichlet conditions
+/// on X and the facet flux of X's flux basis functions.
+struct MixedSpace
+{
+  const dolfinx::fem::FunctionSpace& X;
+  const dolfinx::fem::FunctionSpace& V;
+  const std::vector<std::int32_t>& V_to_X;
+  const BCs& bcs;
+  const FacetFlux& flux;
+};
+
+/// @brief The conduit faults of the monolithic step: their rows of the
+/// coupled system and the iteration on their apertures.
+class MonolithicConduits
+{
+public:
+  MonolithicConduits(const Problem& problem, const MixedSpace& space);
+  ~MonolithicConduits();
+  MonolithicConduits(const MonolithicConduits&) = delete;
+  MonolithicConduits& operator=(const MonolithicConduits&) = delete;
+
+  explicit operator bool() const { return bool(_faults); }
+  /// The closure needs the faults' contact tractions after each solve.
+  bool has_closure() const;
+
+  /// Appends the rows at the current apertures and dt to `system` (again
+  /// after a change: the same structure).
+  void append(System& system) const;
+  /// The step starts from x (the coupled unknowns, ghosts updated) and the
+  /// cells' effective normal stress `s_n` (empty before any contact
+  /// solve): p_f now is the step's p_f^old, and the apertures are x's.
+  void begin_step(System& system, dolfinx::la::Vector<double>& x, std::span<const double> s_n);
+  /// b_f of iterate i at time t from x = x^i, and p_f^i as the guess.
+  void load(System& system, dolfinx::la::Vector<double>& x, double t);
+  /// After a solve: p_f from `system`, the apertures from x and s_n, the
+  /// rows appended again if they changed. Whether the iteration has
+  /// converged.
+  bool update(System& system, dolfinx::la::Vector<double>& x, std::span<const double> s_n);
+
+  /// The cells' mean contact traction, s_n (every cell on every rank;
+  /// collective).
+  std::vector<double> normal_stress(const ContactState& state) const;
+
+  /// The cells' openings and the load of p_f on their faces.
+  const FaultAperture& aperture() const { return *_aperture; }
+  /// p_f (the last rank's).
+  std::vector<double>& pressure() { return _pressure; }
+  const std::vector<double>& pressure() const { return _pressure; }
+  /// The accepted step to t: the volumes take it (`x` the coupled unknowns).
+  void accept(std::span<const double> x, double t);
+  /// The faults' cell fields at t on rank 0 (ConduitFaults::cell_values).
+  std::vector<double> cell_values(std::span<const double> x, double t) const;
+  std::vector<std::pair<std::string, FaultVolumes>> volumes() const { return _faults->volumes(); }
+  /// p_f, the volumes and the start apertures as a checkpoint keeps them
+  /// (FlowStep::arrays' names), and back.
+  void keep(std::map<std::string, std::vector<double>>& arrays) const;
+  void restore(const std::map<std::string, std::vector<double>>& arrays);
+
+private:
+  double dt() const;
+
+  const Problem& _problem;
+  std::unique_ptr<ConduitFaults> _faults;
+  std::unique_ptr<FaultAperture> _aperture;
+  Mat _J = nullptr;       // J R: the cells' mean jump of X's displacement
+  Vec _cells = nullptr;   // on J's rows
+  Vec _no_bcs = nullptr;  // like x: 0 on Dirichlet rows, 1 elsewhere
+  PetscInt _rows = 0;     // X's owned DOFs
+  std::vector<double> _pressure, _pressure_old; // p_f, and at the step's start
+};
+
+} // namespace biotcontact

@@ -1,0 +1,162 @@
+"""The conduit faults' pressure in the monolithic step
+(cpp/steps/monolithic_conduits.h; docs/theory.md "Flow in a fault", "The
+monolithic solve with p_f"): p_f, one unknown per fault cell, appended to the
+coupled system x = (u, z, p),
+
+    [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
+
+    E = B_z^T - J^T |k|       the faces' pressure p_f (B_z: the exchange with
+                              their fluxes, fault_flow.py) and p_f pushing
+                              them apart (fault_aperture.py), zero on
+                              Dirichlet rows;
+    B = B_z - (|k|/dt) O J    the exchange, and the rate of the open cells'
+                              opening (O: 1 on open cells);
+    C                         the fault's own rows (fault_flow.py), with no
+                              fixed-stress term in open cells.
+
+The transmissivity, which cells are open and a closure's aperture follow the
+solution: each step iterates on them (Picard). At iterate i, b_f holds the
+volume with its open cells' opening taken at u^i, which the solve moves to
+u^{i+1}; closed cells keep their closure's fixed-stress term, which vanishes
+as p_f settles. The iteration stops when the apertures and p_f move by at
+most the coupling's tolerance."""
+import dataclasses
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from ..assembly.fault_aperture import FaultAperture
+from ..assembly.fault_flow import ConduitFaults, FineStep
+from ..assembly.linear_algebra import owned, placement
+from ..contact.contact import pair_tractions
+from ..scene.input import FaultFlow
+from .system import AppendedUnknowns
+
+
+@dataclasses.dataclass
+class MixedSpace:
+    """The monolithic step's mixed space X and where its parts sit: the
+    displacement space V, its DOFs' places in X, the Dirichlet conditions on
+    X and the facet flux of X's flux basis functions."""
+    X: object
+    V: object
+    V_to_X: object
+    bcs: list
+    flux: object
+
+
+class MonolithicConduits:
+    """The conduit faults of the monolithic step: their rows of the coupled
+    system and the iteration on their apertures."""
+
+    def __init__(self, problem, space):
+        self.problem = problem
+        faults = ConduitFaults(problem.scene, problem.domain, space.X.sub(1), space.flux)
+        self.faults = faults if faults else None
+        if not faults:
+            return
+        faults.with_implicit_openings()
+        self.pressure = faults.initial_pressure(problem.scene.flow.initial_pressure)
+        self.pressure_old = self.pressure.copy()
+        self.aperture = FaultAperture(problem.scene, problem.domain, space.V)
+        R = placement(space.V, space.V_to_X, space.X)
+        self.J = self.aperture.J.matMult(R)
+        self.cells = self.J.createVecLeft()
+        # 0 on the Dirichlet rows, whose equations are x_i = g_i alone
+        ones = fem.Function(space.X)
+        ones.x.array[:] = 1.0
+        fem.set_bc(ones.x.array, space.bcs, scale=0.0)
+        self.rows = owned(space.X)
+        self.no_bcs = self.J.createVecRight()
+        self.no_bcs.array[:] = ones.x.array[:self.rows]
+
+    def __bool__(self):
+        return self.faults is not None
+
+    def has_closure(self):
+        """The closure needs the faults' contact tractions after each solve."""
+        return any(f.flow == FaultFlow.conduit and f.closure for f in self.problem.scene.faults.values())
+
+    def _dt(self):
+        return float(self.problem.forms["dt"].value)
+
+    def append(self, system):
+        """Appends the rows at the current apertures and dt to `system` (again
+        after a change: the same structure)."""
+        B_z = self.faults.exchange(self.rows)
+        measures = self.cells.duplicate()
+        measures.array[:] = -self.aperture.measures  # every cell on the last rank
+        Jt = self.J.transpose(PETSc.Mat())
+        Jt.diagonalScale(None, measures)
+        E = B_z.transpose(PETSc.Mat())  # E = B_z^T - J^T |k|, zero on the Dirichlet rows
+        E.axpy(1.0, Jt, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        E.diagonalScale(self.no_bcs, None)
+        # B = B_z - (|k|/dt) O J: every entry of J kept, zero where closed, so
+        # that the structure stays as cells open and close
+        B = self.J.copy()
+        measures.array[:] = self.faults.opening_rates(self._dt(), self.pressure_old, self.pressure)
+        B.diagonalScale(measures, None)
+        B.axpy(1.0, B_z, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        system.append(AppendedUnknowns(B, self.faults.operator_matrix(self._dt()), self.faults.face_resistance(),
+                                       np.zeros(self.faults.owned), self.pressure.copy(), E))
+
+    def begin_step(self, system, u, s_n):
+        """The step starts from the displacement u (a Function of V) and the
+        cells' effective normal stress `s_n` (None before any contact solve):
+        p_f now is the step's p_f^old, and the apertures are u's."""
+        self.faults.begin_step()
+        self.pressure_old = self.pressure.copy()
+        self.faults.set_openings(self.aperture.opening(u), s_n)
+        self.append(system)
+
+    def load(self, system, x, t):
+        """b_f of iterate i at time t from x = x^i (a vector of X), and p_f^i
+        as the guess."""
+        appended = system.appended
+        self.faults.load(FineStep(t, self._dt(), 1, 1), self.pressure_old, self.pressure, appended.b)
+        # the open cells' volume at u^i, which B's rows move to u^{i+1}
+        self.J.mult(x, self.cells)
+        appended.b[:] += self.faults.opening_rates(self._dt(), self.pressure_old, self.pressure) * self.cells.array_r
+        appended.x[:] = self.pressure
+
+    def update(self, system, u, s_n):
+        """After a solve: p_f from `system`, the apertures from u and s_n, the
+        rows appended again unless converged. Whether the iteration has
+        converged."""
+        before = self.pressure
+        self.pressure = system.appended.x.copy()
+        self.faults.set_openings(self.aperture.opening(u), s_n)
+        moved = [np.abs(self.pressure - before).max(initial=0.0), np.abs(self.pressure).max(initial=0.0)]
+        moved = self.problem.domain.mesh.comm.allreduce(np.array(moved), op=MPI.MAX)
+        tolerance = self.problem.scene.coupling.tolerance
+        converged = self.faults.aperture_change <= tolerance and moved[0] <= tolerance * moved[1]
+        if not converged:  # the next iterate's rows: its apertures, and B's Newton term at its p_f
+            self.append(system)
+        return converged
+
+    def normal_stress(self, state):
+        """The cells' mean contact traction, s_n (every cell on every rank;
+        collective)."""
+        return self.aperture.cell_means(pair_tractions(state))
+
+    def accept(self, x, t):
+        """The accepted step to t: the volumes take it (`x` the coupled
+        unknowns)."""
+        self.faults.add_volumes(x, self.pressure, self.pressure_old, FineStep(t, self._dt(), 1, 1))
+
+    def cell_values(self, x, t):
+        """The faults' cell fields at t on rank 0 (ConduitFaults.cell_values)."""
+        return self.faults.cell_values(x, self.pressure, t)
+
+    def volumes(self):
+        return self.faults.volumes()
+
+    def keep(self, arrays):
+        """p_f, the volumes and the start apertures as a checkpoint keeps them
+        (FlowStep.arrays' names)."""
+        arrays.update(self.faults.arrays(self.pressure))
+
+    def restore(self, arrays):
+        self.faults.restore_arrays(arrays, self.pressure)
