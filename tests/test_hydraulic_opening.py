@@ -174,18 +174,24 @@ def check_split(track, out):
           f"contraction ratios from the third iteration {min(ratios):.3f} to {max(ratios):.3f}")
 
 
-runs = {}
-for track in ("C++", "prototype"):
-    out, _ = run_track(track, written(SCENE))
-    runs[track] = out
-    lengths, cells = fault_cells(out)
-    times, series = openings(out)
-    check_closed(track, lengths, cells, series)
-    check_open(track, lengths, cells, series)
-    check_volume(track, lengths, cells)
-    check_split(track, out)
-fields = max_difference(runs["C++"], runs["prototype"], ["displacement"])
-p_f = max(np.abs(a["pressure"] - b["pressure"]).max() / S
-          for a, b in zip(fault_cells(runs["C++"])[1], fault_cells(runs["prototype"])[1]))
-check(fields["displacement"] <= 1e-10 and p_f <= 1e-10,
-      f"the prototype gives the C++ displacement to {fields['displacement']:.1e} and p_f to {p_f:.1e} of S (1e-10)")
+def main():
+    """Both tracks, each against the closed forms, and the prototype against C++."""
+    runs = {}
+    for track in ("C++", "prototype"):
+        out, _ = run_track(track, written(SCENE))
+        runs[track] = out
+        lengths, cells = fault_cells(out)
+        times, series = openings(out)
+        check_closed(track, lengths, cells, series)
+        check_open(track, lengths, cells, series)
+        check_volume(track, lengths, cells)
+        check_split(track, out)
+    fields = max_difference(runs["C++"], runs["prototype"], ["displacement"])
+    p_f = max(np.abs(a["pressure"] - b["pressure"]).max() / S
+              for a, b in zip(fault_cells(runs["C++"])[1], fault_cells(runs["prototype"])[1]))
+    check(fields["displacement"] <= 1e-10 and p_f <= 1e-10,
+          f"the prototype gives the C++ displacement to {fields['displacement']:.1e} and p_f to {p_f:.1e} of S (1e-10)")
+
+
+if __name__ == "__main__":
+    main()

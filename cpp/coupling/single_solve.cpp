@@ -74,7 +74,7 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
     step.keep_history(start);
     step.accept(t);
     run.observer.flow_state(t);
-    run.observer.mechanics_state(t, k, 1);
+    run.observer.mechanics_state(t, k, step.iterations());
     run.report.windows = k;
     run.report.fine_steps = k;
     if (run.observer.stop())

@@ -255,6 +255,7 @@ void MonolithicStep::solve_with_conduits(double t)
   const int most = _scene.coupling->max_iterations;
   for (int i = 1;; ++i)
   {
+    _iterations = i;
     _conduits->load(*_system, *_x->x(), t);
     solve_system();
     _fault_traction = fault_normal_stress();

@@ -58,6 +58,9 @@ public:
   History history() const override;
   /// The accepted step's seismic moment, per fault, joins the run's record.
   void accept(double t) override;
+  /// The iterations on the conduit faults' apertures of the last step (1
+  /// without conduits).
+  int iterations() const override { return _iterations; }
   /// The record of the faults' seismic moments, "seismic_moments" (a
   /// checkpoint's), the conduit faults' arrays (FlowStep::arrays) and
   /// their cells' s_n, "fault_traction"; and their restoration.
@@ -140,6 +143,7 @@ private:
   std::unique_ptr<MonolithicConduits> _conduits;
   std::vector<double> _fault_traction; // s_n per conduit cell at the last solve (with a closure)
   mutable std::vector<double> _unknowns; // unknowns() with conduit faults
+  int _iterations = 1;                   // of the last solve
 };
 
 } // namespace biotcontact

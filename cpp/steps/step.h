@@ -71,6 +71,9 @@ public:
   /// The step's solution at t (loaded in the step) was accepted: what the
   /// step adds up over the run takes it (a conduit fault's volumes).
   virtual void accept(double) {}
+  /// The solves of the last advance, which the progress line shows: 1, or
+  /// the monolithic step's iterations on its conduit faults' apertures.
+  virtual int iterations() const { return 1; }
 
   /// The unknowns, their fields (for checkpoints) and their restoration.
   virtual std::span<const double> unknowns() const = 0;

@@ -65,7 +65,7 @@ def run_single_solve(problem, step, run):
         step.keep_history(start)
         step.accept(t)
         run.observer.flow_state(t)
-        run.observer.mechanics_state(t, k, 1)
+        run.observer.mechanics_state(t, k, step.iterations())
         run.report.windows = k
         run.report.fine_steps = k
         k += 1

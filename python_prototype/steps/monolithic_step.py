@@ -71,6 +71,7 @@ class MonolithicStep(Step):
         # p_f before the contact: the contact solver takes the appended system
         self.conduits = MonolithicConduits(problem, MixedSpace(X, self.V, self.V_to_X, self.bcs, flux))
         self.fault_traction = None  # s_n per conduit cell at the last solve (with a closure)
+        self._iterations = 1  # of the last solve
         if self.conduits:
             self.conduits.append(self.system)
         if scene.has_contact():
@@ -186,6 +187,7 @@ class MonolithicStep(Step):
         until they settle; raises SolverError after coupling.max_iterations."""
         most = self.scene.coupling.max_iterations
         for i in range(1, most + 1):
+            self._iterations = i
             self.conduits.load(self.system, self.x.vector, t)
             self._solve_system()
             self.fault_traction = self._fault_normal_stress()
@@ -243,6 +245,11 @@ class MonolithicStep(Step):
             record_moments(self.moments, t, self.contact_state())
         if self.conduits:
             self.conduits.accept(self.x.x.array, t)
+
+    def iterations(self):
+        """The iterations on the conduit faults' apertures of the last step
+        (1 without conduits)."""
+        return self._iterations
 
     def fault_flow(self, t):
         """The conduit faults' cell fields at t on rank 0 (FlowStep.fault_flow;

@@ -84,6 +84,11 @@ class Step(abc.ABC):
         """The step's solution at t (loaded in the step) was accepted: what
         the step adds up over the run takes it (a conduit fault's volumes)."""
 
+    def iterations(self):
+        """The solves of the last advance, which the progress line shows: 1,
+        or the monolithic step's iterations on its conduit faults' apertures."""
+        return 1
+
     @abc.abstractmethod
     def unknowns(self):
         """The unknowns (ghosts included)."""

@@ -1,0 +1,102 @@
+"""The monolithic solve with a conduit fault's pressure p_f (issue 39;
+docs/theory.md "The monolithic solve with p_f"), on the C++ solver and the
+prototype: p_f appended to (u, z, p), its load on the faces and the open
+cells' opening in the same system, each step iterating on the apertures
+(transmissivity, open cells, closure) until they move by at most the
+coupling's tolerance. The monolithic solve and the fixed-stress split solve
+the same discrete equations; each split's limit is the monolithic solution.
+- The channel of test_fault_closure.py, closed under 20 MPa with its
+  Barton-Bandis closure, the inlet raised to 15 MPa (eight steps of
+  0.05 s): the monolithic fields and p_f are the split's (both to 1e-11)
+  to 1e-9, the volumes balance to 1e-10 (the closed cells' closure
+  aperture is lagged: its fixed-stress term stabilises the iteration);
+- the hydraulic opening of test_hydraulic_opening.py (gas injected into a
+  closed crack, which opens once p_f exceeds the compression; three steps,
+  closed, then open): the open cells' opening is implicit, and Newton's
+  term of the fluid's storage c_f w_h (p_f - p_f^old) in w_h keeps the
+  iteration from cycling between the closed and the open crack (measured:
+  without it, p_f 5.0 then 2.9 MPa, and again, about S = 3 MPa); the
+  monolithic displacement and p_f are the split's to 1e-8, its injected
+  volume the opening plus the compressed fluid to 1e-8 at every step, in
+  no more solves than the split's iterations;
+- 2 ranks give 1 rank's fields and p_f to 1e-10; a run killed after 6
+  steps and restarted from its checkpoint (step 4) ends with the
+  uninterrupted fields and p_f to 1e-12 (C++);
+- the prototype gives the C++ fields and p_f to 1e-10."""
+import os
+
+import numpy as np
+import test_hydraulic_opening as opening
+from support import CHANNEL_GEO, check, killed_and_restarted, max_difference, run_track, summary, written
+from test_fault_closure import SCENE, fault_pressure_difference
+
+FIELDS = ["displacement", "pressure", "flux"]
+MONOLITHIC = 'coupling.scheme="monolithic"'
+
+
+def check_volumes(label, out):
+    v = summary(out)["fault_volumes"]["crack"]
+    entered = abs(v["outflow"]) + abs(v["stored"]) + abs(v["exchanged"])
+    balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / entered
+    check(balance <= 1e-10, f"{label}: injected + exchanged = stored + outflow to {balance:.1e} (1e-10)")
+
+
+def same_runs(label, a, b, tolerance):
+    fields, p_f = max_difference(a, b, FIELDS), fault_pressure_difference(a, b)
+    check(max(fields.values()) <= tolerance and p_f <= tolerance,
+          f"{label}: the fields {fields} and fault pressure to {p_f:.1e} ({tolerance:.0e})")
+
+
+def solves(out):
+    """The monolithic solves of a run, or the split's coupling iterations."""
+    s = summary(out)
+    return s["monolithic_solves"] or s["coupling_iterations"]
+
+
+def opening_difference(a, b):
+    """The largest difference of two runs of the opening crack: displacement
+    (of its largest), and p_f (of S)."""
+    fields = max_difference(a, b, ["displacement"])
+    p_f = max(np.abs(s["pressure"] - t["pressure"]).max() / opening.S
+              for s, t in zip(opening.fault_cells(a)[1], opening.fault_cells(b)[1]))
+    return fields["displacement"], p_f
+
+
+def check_opening(track):
+    """The opening crack: the monolithic solve against the split."""
+    path = written(opening.SCENE.replace("end = 1.5", "end = 0.75"))
+    split, _ = run_track(track, path)
+    monolithic, _ = run_track(track, path, MONOLITHIC)
+    u, p_f = opening_difference(monolithic, split)
+    counts = solves(monolithic), solves(split)
+    check(u <= 1e-8 and p_f <= 1e-8 and counts[0] <= counts[1],
+          f"{track}: the opening crack, monolithic against the split: displacement to {u:.1e}, p_f to {p_f:.1e} of "
+          f"S (1e-8), in {counts[0]} solves against the split's {counts[1]} iterations (at most)")
+    opening.check_volume(f"{track}: monolithic", *opening.fault_cells(monolithic))
+    return monolithic
+
+
+def main():
+    path = os.path.join(os.path.dirname(written(CHANNEL_GEO, "channel.geo")), "transient.toml")
+    with open(path, "w") as f:
+        f.write(SCENE.format(end=0.4, dt=0.05))
+    runs = {}
+    for track in ("C++", "prototype"):
+        split, _ = run_track(track, path)
+        runs[track] = monolithic = run_track(track, path, MONOLITHIC)[0]
+        same_runs(f"{track}: the closure, monolithic ({solves(monolithic)} solves) against the split "
+                  f"({solves(split)} iterations)", monolithic, split, 1e-9)
+        check_volumes(f"{track}: monolithic, the closure", monolithic)
+        runs[track, "opening"] = check_opening(track)
+    same_runs("the closure: the prototype against C++", runs["prototype"], runs["C++"], 1e-10)
+    u, p_f = opening_difference(runs["prototype", "opening"], runs["C++", "opening"])
+    check(u <= 1e-10 and p_f <= 1e-10,
+          f"the opening crack: the prototype gives the C++ displacement to {u:.1e} and p_f to {p_f:.1e} (1e-10)")
+    two, _ = run_track("C++", path, MONOLITHIC, ranks=2)
+    same_runs("C++: 2 ranks against 1", two, runs["C++"], 1e-10)
+    restarted, step = killed_and_restarted("C++", path, 6, MONOLITHIC)
+    same_runs(f"C++: restarted from step {step}, against the uninterrupted run", restarted, runs["C++"], 1e-12)
+
+
+if __name__ == "__main__":
+    main()
