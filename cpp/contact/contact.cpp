@@ -409,7 +409,13 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
     self->_relative_target = rtol * fnorm;
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
-  else if ((iteration > 0 or self->_J) and fnorm < atol) // a forced first step, but with friction in 3D
+  else if (iteration > 0 and fnorm < atol)
+    *reason = SNES_CONVERGED_FNORM_ABS;
+  // A forced first step, but with friction in 3D, where a start that is
+  // solved is taken as it is (a zero step fails the line search): solved
+  // in every block, whose loads can differ by many orders (N against m^3/s
+  // on the coupled system).
+  else if (iteration == 0 and self->_J and fnorm < std::min(atol, self->_start_tolerance))
     *reason = SNES_CONVERGED_FNORM_ABS;
   else if (iteration > 0 and fnorm < self->_relative_target)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
@@ -844,7 +850,29 @@ void ContactSolver::pose(Vec b, Vec x)
     const double relative = _J ? 1e-12 : 1e-10;
     SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
+    _start_tolerance = relative * smaller_load_norm();
   }
+  else
+    _start_tolerance = PETSC_MAX_REAL;
+}
+
+double ContactSolver::smaller_load_norm() const
+{
+  PetscInt n = 0;
+  VecGetLocalSize(_b_scaled, &n);
+  std::vector<char> displacement(n, _schur ? 1 : 0); // condensed: the contact DOFs only
+  for (std::int32_t i : _displacement_dofs)
+    if (!_schur and i < n)
+      displacement[i] = 1;
+  const double* b = nullptr;
+  std::array<double, 2> sums{0, 0}; // squared: the displacement's rows, the others
+  VecGetArrayRead(_b_scaled, &b);
+  for (PetscInt i = 0; i < n; ++i)
+    sums[displacement[i] ? 0 : 1] += b[i] * b[i];
+  VecRestoreArrayRead(_b_scaled, &b);
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(_b_scaled));
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), 2, MPI_DOUBLE, MPI_SUM, comm);
+  return std::sqrt(sums[1] > 0 ? std::min(sums[0], sums[1]) : sums[0]);
 }
 
 /// Every attempt's steps count, a failed Krylov solve's iterations too

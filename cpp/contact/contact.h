@@ -312,6 +312,11 @@ private:
   bool lag_preconditioner() const { return !_J or _preconditioner_on_P; }
   void set_bounds();
   void pose(Vec b, Vec x);
+  /// The norm of the scaled load's smaller block, the displacement's rows
+  /// or the others' (the flow's, on the coupled system) where both are
+  /// loaded: a start is solved only if each block's residual is that small
+  /// (collective).
+  double smaller_load_norm() const;
   void count_iterations(SNESConvergedReason reason);
   /// Sets the unknown of the VI to the solution with every contact DOF on
   /// its bound.
@@ -382,6 +387,7 @@ private:
   bool _any_used = false;
   bool _set_repeated = false;    // the last step's result keeps the set it used
   PetscReal _relative_target = 0; // rtol times the first residual of a solve
+  PetscReal _start_tolerance = 0; // below it the start is solved (3D friction: no forced step; pose)
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
   ContactSet _set;

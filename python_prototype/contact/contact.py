@@ -284,6 +284,7 @@ class ContactSolver:
         self.scale = 1.0  # SNES works in units of the displacement scale
         self.pending = self.used = None  # active flags of the contact DOFs
         self.set_repeated, self.relative_target = False, 0.0
+        self.start_tolerance = 0.0  # below it the start is solved (3D friction: no forced step; _pose)
         self.nonlinear = False  # 3D friction with a slipping constraint: F is not linear
         self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
         # Called after each Newton step with its number: a long solve's sign
@@ -492,7 +493,12 @@ class ContactSolver:
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
             return reasons.DIVERGED_FNORM_NAN
-        if (iteration > 0 or self.J is not None) and fnorm < atol:  # a forced first step, but with friction in 3D
+        if iteration > 0 and fnorm < atol:
+            return reasons.CONVERGED_FNORM_ABS
+        # a forced first step, but with friction in 3D, where a start that is
+        # solved in every block is taken as it is (a zero step fails the line
+        # search; the blocks' loads can differ by many orders)
+        if iteration == 0 and self.J is not None and fnorm < min(atol, self.start_tolerance):
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target:
             return reasons.CONVERGED_FNORM_RELATIVE
@@ -808,6 +814,24 @@ class ContactSolver:
             # linear): tighter, Newton's last steps are quadratic.
             relative = 1e-12 if self.J is not None else 1e-10
             self.snes.setTolerances(atol=max(relative * self.b_scaled.norm(), 1e-300))
+            self.start_tolerance = relative * self._smaller_load_norm()
+        else:
+            self.start_tolerance = np.inf
+
+    def _smaller_load_norm(self):
+        """The norm of the scaled load's smaller block, the displacement's
+        rows or the others' (the flow's, on the coupled system) where both
+        are loaded: a start is solved only if each block's residual is that
+        small (collective)."""
+        b = self.b_scaled.array_r
+        displacement = np.ones(len(b), dtype=bool)
+        if not self.schur:  # condensed: the contact DOFs only
+            displacement[:] = False
+            ids = self.displacement_dofs[self.displacement_dofs < len(b)]
+            displacement[ids] = True
+        sums = self.b_scaled.getComm().tompi4py().allreduce(
+            np.array([np.sum(b[displacement] ** 2), np.sum(b[~displacement] ** 2)]), op=MPI.SUM)
+        return float(np.sqrt(min(sums) if sums[1] > 0 else sums[0]))
 
     def _count(self, reason):
         """Every attempt's steps count, a failed Krylov solve's iterations
