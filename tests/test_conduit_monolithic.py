@@ -19,6 +19,13 @@ the same discrete equations; each split's limit is the monolithic solution.
   monolithic displacement and p_f are the split's to 1e-8, its injected
   volume the opening plus the compressed fluid to 1e-8 at every step, in
   no more solves than the split's iterations;
+- in 3D with friction (test_fault_closure.py's box, the fault frictional,
+  mu = 0.6, every pair stuck): the contact solver with friction in 3D on
+  the coupled system (a full Newton step, no backtracking search: its
+  merit, the forces' norm in N, is blind to the mass balances' rows in
+  m^3/s, whose step it shrank to nothing; no cap on the step's length, as
+  the pressures run to 1e10 in the solver's units; each balance judged by
+  its own load) gives the split's fields and p_f to 1e-9;
 - 2 ranks give 1 rank's fields and p_f to 1e-10; a run killed after 6
   steps and restarted from its checkpoint (step 4) ends with the
   uninterrupted fields and p_f to 1e-12 (C++);
@@ -27,8 +34,8 @@ import os
 
 import numpy as np
 import test_hydraulic_opening as opening
-from support import CHANNEL_GEO, check, killed_and_restarted, max_difference, run_track, summary, written
-from test_fault_closure import SCENE, fault_pressure_difference
+from support import BOX_GEO, CHANNEL_GEO, check, killed_and_restarted, max_difference, run_track, summary, written
+from test_fault_closure import BOX, SCENE, fault_pressure_difference
 
 FIELDS = ["displacement", "pressure", "flux"]
 MONOLITHIC = 'coupling.scheme="monolithic"'
@@ -76,6 +83,21 @@ def check_opening(track):
     return monolithic
 
 
+def check_friction3d():
+    """The 3D box, its fault frictional: the monolithic solve against the
+    split, on both tracks; the prototype against C++."""
+    path = os.path.join(os.path.dirname(written(BOX_GEO, "box.geo")), "box.toml")
+    with open(path, "w") as f:
+        f.write(BOX.replace('flow = "conduit"', 'flow = "conduit"\nfriction = 0.6'))
+    runs = {}
+    for track in ("C++", "prototype"):
+        split, _ = run_track(track, path)
+        runs[track] = monolithic = run_track(track, path, MONOLITHIC)[0]
+        same_runs(f"{track}: 3D, friction and the closure, monolithic ({solves(monolithic)} solves) against the "
+                  f"split ({solves(split)} iterations)", monolithic, split, 1e-9)
+    same_runs("3D, friction: the prototype against C++", runs["prototype"], runs["C++"], 1e-10)
+
+
 def main():
     path = os.path.join(os.path.dirname(written(CHANNEL_GEO, "channel.geo")), "transient.toml")
     with open(path, "w") as f:
@@ -92,6 +114,7 @@ def main():
     u, p_f = opening_difference(runs["prototype", "opening"], runs["C++", "opening"])
     check(u <= 1e-10 and p_f <= 1e-10,
           f"the opening crack: the prototype gives the C++ displacement to {u:.1e} and p_f to {p_f:.1e} (1e-10)")
+    check_friction3d()
     two, _ = run_track("C++", path, MONOLITHIC, ranks=2)
     same_runs("C++: 2 ranks against 1", two, runs["C++"], 1e-10)
     restarted, step = killed_and_restarted("C++", path, 6, MONOLITHIC)

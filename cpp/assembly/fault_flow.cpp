@@ -477,3 +477,4 @@ void ConduitFaults::restore_arrays(const std::map<std::string, std::vector<doubl
     set_start_apertures(found->second);
 }
 } // namespace biotcontact
+

@@ -78,7 +78,8 @@ bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, P
 ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method method, ContactOperators operators,
                              ContactUnknowns unknowns)
     : _comm(comm), _A(operators.A), _P(operators.P), _fields(system.fields), _structure(system.structure),
-      _prefix(system.prefix), _set(std::move(unknowns.set)), _displacement_dofs(std::move(unknowns.displacement_dofs))
+      _prefix(system.prefix), _set(std::move(unknowns.set)), _displacement_dofs(std::move(unknowns.displacement_dofs)),
+      _balance_rows(std::move(unknowns.balance_rows))
 {
   const std::string& prefix = system.prefix;
   const Vec layout = unknowns.layout;
@@ -267,8 +268,19 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // Newton step is exact on the current active set, and a backtracking
   // search only fails once the residual is at round-off.
   // With friction in 3D the slip forces' directions make full steps
-  // overshoot: a backtracking search.
-  set_default_option(vi_prefix + "snes_linesearch_type", _J ? "bt" : "basic");
+  // overshoot: a backtracking search. But not on the coupled system: the
+  // search's merit ||F||, the forces' (N), is blind to its mass balances'
+  // rows (m^3/s); with the forces at round-off it shrank their step to
+  // nothing (a conduit fault's p_f, test_conduit_monolithic).
+  long balances = static_cast<long>(_balance_rows.size());
+  MPI_Allreduce(MPI_IN_PLACE, &balances, 1, MPI_LONG, MPI_SUM, _comm);
+  const bool backtrack = _J and balances == 0;
+  set_default_option(vi_prefix + "snes_linesearch_type", backtrack ? "bt" : "basic");
+  // No cap on the step's length (PETSc's 1e8): x is in units of the
+  // displacement scale, so the pressures of the coupled system run to 1e10
+  // and more, and a capped step crawls (a conduit fault's p_f moved 0.1 %
+  // of its way per solve).
+  set_default_option(vi_prefix + "snes_linesearch_maxstep", "1e300");
   SNESCreate(_vi_comm, &_snes);
   SNESSetOptionsPrefix(_snes, vi_prefix.c_str());
   SNESSetType(_snes, SNESVINEWTONRSLS);
@@ -279,9 +291,9 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
-  // (Not with friction in 3D: its F is not linear, the residual decides,
-  // and a backtracking search fails on a zero step.)
-  SNESSetForceIteration(_snes, _J ? PETSC_FALSE : PETSC_TRUE);
+  // (Not with the backtracking search of friction in 3D: its F is not
+  // linear, the residual decides, and the search fails on a zero step.)
+  SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE);
   SNESMonitorSet(_snes, &ContactSolver::monitor, this, nullptr);
 }
 std::string ContactSolver::method() const
@@ -406,18 +418,17 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   // at least one step taken (SNESSetForceIteration) ...
   *reason = SNES_CONVERGED_ITERATING;
   if (iteration == 0)
+  {
     self->_relative_target = rtol * fnorm;
+    Vec F = nullptr;
+    PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
+    self->_balance_relative_target = rtol * self->balance_norm(F);
+  }
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
-  else if (iteration > 0 and fnorm < atol)
-    *reason = SNES_CONVERGED_FNORM_ABS;
-  // A forced first step, but with friction in 3D, where a start that is
-  // solved is taken as it is (a zero step fails the line search): solved
-  // in every block, whose loads can differ by many orders (N against m^3/s
-  // on the coupled system).
-  else if (iteration == 0 and self->_J and fnorm < std::min(atol, self->_start_tolerance))
-    *reason = SNES_CONVERGED_FNORM_ABS;
-  else if (iteration > 0 and fnorm < self->_relative_target)
+  else if ((iteration > 0 or self->_J) and fnorm < atol and self->balances_solved(snes, iteration))
+    *reason = SNES_CONVERGED_FNORM_ABS; // a forced first step, but with friction in 3D
+  else if (iteration > 0 and fnorm < self->_relative_target and self->balances_solved(snes, iteration))
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   // ... and the stopping rule of the primal-dual active set method: the
   // step solved F = 0 on the inactive set, and the active set at its result
@@ -850,29 +861,31 @@ void ContactSolver::pose(Vec b, Vec x)
     const double relative = _J ? 1e-12 : 1e-10;
     SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
-    _start_tolerance = relative * smaller_load_norm();
   }
-  else
-    _start_tolerance = PETSC_MAX_REAL;
+  // The mass balances' rows, by their own load.
+  _balance_tolerance = (_J ? 1e-12 : 1e-10) * balance_norm(_b_scaled);
 }
 
-double ContactSolver::smaller_load_norm() const
+double ContactSolver::balance_norm(Vec v) const
 {
-  PetscInt n = 0;
-  VecGetLocalSize(_b_scaled, &n);
-  std::vector<char> displacement(n, _schur ? 1 : 0); // condensed: the contact DOFs only
-  for (std::int32_t i : _displacement_dofs)
-    if (!_schur and i < n)
-      displacement[i] = 1;
-  const double* b = nullptr;
-  std::array<double, 2> sums{0, 0}; // squared: the displacement's rows, the others
-  VecGetArrayRead(_b_scaled, &b);
-  for (PetscInt i = 0; i < n; ++i)
-    sums[displacement[i] ? 0 : 1] += b[i] * b[i];
-  VecRestoreArrayRead(_b_scaled, &b);
-  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(_b_scaled));
-  MPI_Allreduce(MPI_IN_PLACE, sums.data(), 2, MPI_DOUBLE, MPI_SUM, comm);
-  return std::sqrt(sums[1] > 0 ? std::min(sums[0], sums[1]) : sums[0]);
+  if (_schur) // the contact DOFs alone
+    return 0;
+  const double* V = nullptr;
+  double sum = 0;
+  VecGetArrayRead(v, &V);
+  for (std::int32_t i : _balance_rows)
+    sum += V[i] * V[i];
+  VecRestoreArrayRead(v, &V);
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, _comm);
+  return std::sqrt(sum);
+}
+
+bool ContactSolver::balances_solved(SNES snes, PetscInt iteration)
+{
+  Vec F = nullptr;
+  SNESGetFunction(snes, &F, nullptr, nullptr);
+  const double norm = balance_norm(F);
+  return norm <= _balance_tolerance or (iteration > 0 and norm <= _balance_relative_target);
 }
 
 /// Every attempt's steps count, a failed Krylov solve's iterations too

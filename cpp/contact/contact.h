@@ -136,12 +136,16 @@ struct ContactOperators
 /// @brief What the contact solver constrains: the contact set, where each
 /// owned DOF of V sits in the solved vector x (`displacement_dofs`: i itself
 /// for the mechanics system, its place in the mixed space for the
-/// monolithic one), and `layout`, a vector like x.
+/// monolithic one), `layout`, a vector like x, and the rows of x's mass
+/// balances (the rock's pressure rows and the conduit faults' of the
+/// monolithic system, local; none for the mechanics): in m^3/s where the
+/// others are in N, their residual is judged by their own load.
 struct ContactUnknowns
 {
   ContactSet set;
   std::vector<std::int32_t> displacement_dofs;
   Vec layout;
+  std::vector<std::int32_t> balance_rows = {};
 };
 
 /// The reduced-space Newton method solves, at each step, the system on the
@@ -312,11 +316,13 @@ private:
   bool lag_preconditioner() const { return !_J or _preconditioner_on_P; }
   void set_bounds();
   void pose(Vec b, Vec x);
-  /// The norm of the scaled load's smaller block, the displacement's rows
-  /// or the others' (the flow's, on the coupled system) where both are
-  /// loaded: a start is solved only if each block's residual is that small
-  /// (collective).
-  double smaller_load_norm() const;
+  /// The norm of v on the mass balances' rows (none when condensed;
+  /// collective).
+  double balance_norm(Vec v) const;
+  /// Whether the residual F is small on the mass balances' rows: the norm
+  /// F and the load take over the whole system is the forces' (N against
+  /// m^3/s), blind to them (collective).
+  bool balances_solved(SNES snes, PetscInt iteration);
   void count_iterations(SNESConvergedReason reason);
   /// Sets the unknown of the VI to the solution with every contact DOF on
   /// its bound.
@@ -387,11 +393,15 @@ private:
   bool _any_used = false;
   bool _set_repeated = false;    // the last step's result keeps the set it used
   PetscReal _relative_target = 0; // rtol times the first residual of a solve
-  PetscReal _start_tolerance = 0; // below it the start is solved (3D friction: no forced step; pose)
+  // The residual on the mass balances' rows is small below the larger of
+  // these: their load's times the relative tolerance (pose), and rtol
+  // times the solve's first (balances_solved).
+  PetscReal _balance_tolerance = 0, _balance_relative_target = 0;
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
+  std::vector<std::int32_t> _balance_rows; // ContactUnknowns::balance_rows
   Vec _force; // like x: A x - b
 
   // The VI that SNES solves: on (A, b) or on (H, g). Its unknown carries

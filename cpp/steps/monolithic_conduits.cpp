@@ -151,3 +151,4 @@ void MonolithicConduits::restore(const std::map<std::string, std::vector<double>
 }
 
 } // namespace biotcontact
+

@@ -171,7 +171,12 @@ void MonolithicStep::attach_contact(const Domain& domain, const CompiledForms& f
     if (dof >= owned_X)
       throw std::runtime_error("monolithic contact: a displacement DOF owned in V is not owned in the mixed space");
   make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
-  _system->use_contact(std::move(set), std::move(displacement), wrap(*_b).vec());
+  // The pressure rows are the rock's mass balances.
+  std::vector<std::int32_t> balances;
+  for (std::int32_t dof : _Q_to_X)
+    if (dof < owned_X)
+      balances.push_back(dof);
+  _system->use_contact(std::move(set), std::move(displacement), wrap(*_b).vec(), std::move(balances));
 }
 
 MonolithicStep::~MonolithicStep() = default;
@@ -404,3 +409,4 @@ void MonolithicStep::restore_arrays(const std::map<std::string, std::vector<doub
 }
 
 } // namespace biotcontact
+

@@ -203,13 +203,23 @@ void System::solve_appended(Vec b, Vec x)
   VecRestoreArrayRead(_x_appended, &from);
 }
 
-void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout)
+void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout,
+                         std::vector<std::int32_t> balance_rows)
 {
   _linear.reset();
+  if (_A_appended)
+  {
+    PetscInt rows = 0, appended = 0;
+    MatGetLocalSize(_A.mat(), &rows, nullptr);
+    MatGetLocalSize(_appended.C, &appended, nullptr);
+    for (PetscInt r = 0; r < appended; ++r)
+      balance_rows.push_back(static_cast<std::int32_t>(rows + r));
+  }
   _contact = std::make_unique<ContactSolver>(
       _comm, SystemLayout{_prefix, _structure, _fields}, _method,
       ContactOperators{operator_matrix(), preconditioner_matrix(), _A_appended != nullptr},
-      ContactUnknowns{std::move(set), std::move(displacement_dofs), _x_appended ? _x_appended : layout});
+      ContactUnknowns{std::move(set), std::move(displacement_dofs), _x_appended ? _x_appended : layout,
+                      std::move(balance_rows)});
 }
 
 void System::begin_step(Vec x)

@@ -83,9 +83,12 @@ public:
 
   /// Makes every solve the contact problem of `set` (see ContactSolver:
   /// `displacement_dofs` place V's owned DOFs in x); `layout` is a vector
-  /// like x. Unknowns appended before are solved with it (their rows
-  /// follow x's on the last rank: V's DOFs keep their places).
-  void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout);
+  /// like x; `balance_rows` the local rows of x's mass balances
+  /// (ContactUnknowns). Unknowns appended before are solved with it (their
+  /// rows follow x's on the last rank: V's DOFs keep their places), their
+  /// rows among the mass balances.
+  void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout,
+                   std::vector<std::int32_t> balance_rows = {});
 
   /// A time step starts at x: friction's slip increments are measured
   /// from it (ContactSolver::set_slip_reference; nothing without contact).

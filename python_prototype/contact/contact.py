@@ -105,12 +105,16 @@ class ContactOperators:
 
 @dataclasses.dataclass
 class ContactUnknowns:
-    """What the contact solver constrains: the ContactSet, and where each
-    owned DOF of V sits in the solved vector (`displacement_dofs`: i itself
-    for the mechanics system, its place in the mixed space for the
-    monolithic one)."""
+    """What the contact solver constrains: the ContactSet, where each owned
+    DOF of V sits in the solved vector (`displacement_dofs`: i itself for the
+    mechanics system, its place in the mixed space for the monolithic one),
+    and the rows of its mass balances (the rock's pressure rows and the
+    conduit faults' of the monolithic system, local; none for the
+    mechanics): in m^3/s where the others are in N, their residual is
+    judged by their own load."""
     set: object
     displacement_dofs: object
+    balance_rows: object = ()
 
 
 @dataclasses.dataclass
@@ -246,6 +250,7 @@ class ContactSolver:
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.displacement_dofs = np.asarray(unknowns.displacement_dofs, dtype=np.int32)
+        self.balance_rows = np.asarray(unknowns.balance_rows, dtype=np.int32)
         self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
         self.force = A.createVecRight()
         # The start of the step like x, and x' of it (the faults' slip increments).
@@ -284,7 +289,10 @@ class ContactSolver:
         self.scale = 1.0  # SNES works in units of the displacement scale
         self.pending = self.used = None  # active flags of the contact DOFs
         self.set_repeated, self.relative_target = False, 0.0
-        self.start_tolerance = 0.0  # below it the start is solved (3D friction: no forced step; _pose)
+        # the residual on the mass balances' rows is small below the larger of
+        # these: their load's times the relative tolerance (_pose), and rtol
+        # times the solve's first (_balances_solved)
+        self.balance_tolerance, self.balance_relative_target = 0.0, 0.0
         self.nonlinear = False  # 3D friction with a slipping constraint: F is not linear
         self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
         # Called after each Newton step with its number: a long solve's sign
@@ -378,12 +386,20 @@ class ContactSolver:
         # factorisation of it; the iterative path's preconditioner is built
         # from P and the inactive set alone, and is reused there too.
         lag = "-2" if self._lag_preconditioner() else "1"
+        # with friction in 3D a backtracking search, but not on the coupled
+        # system: the search's merit ||F||, the forces' (N), is blind to its
+        # mass balances' rows (m^3/s), whose step it shrank to nothing
+        backtrack = self.J is not None and self.comm.allreduce(len(self.balance_rows), op=MPI.SUM) == 0
         for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active
                               # set; with friction in 3D the slip forces' directions make full
                               # steps overshoot: a backtracking search
-                              ("snes_linesearch_type", "bt" if self.J is not None else "basic")):
+                              ("snes_linesearch_type", "bt" if backtrack else "basic"),
+                              # no cap on the step's length (PETSc's 1e8): x is in units of
+                              # the displacement scale, the coupled system's pressures run to
+                              # 1e10 and more, and a capped step crawls
+                              ("snes_linesearch_maxstep", "1e300")):
             set_default_option(vi_prefix + option, value)
         self.snes = PETSc.SNES().create(self.vi_comm)
         self.snes.setOptionsPrefix(vi_prefix)
@@ -396,11 +412,7 @@ class ContactSolver:
         # At least one Newton step per solve, so the result never lags the
         # load (not with friction in 3D: its F is not linear, the residual
         # decides, and a backtracking search fails on a zero step).
-        force = self.J is None
-        if hasattr(self.snes, "setForceIteration"):
-            self.snes.setForceIteration(force)
-        else:
-            set_default_option(vi_prefix + "snes_force_iteration", "true" if force else "false")
+        self.snes.setForceIteration(not backtrack)
         self.snes.setMonitor(self._monitor)
 
     def method(self):
@@ -490,17 +502,14 @@ class ContactSolver:
         rtol, atol, _, _ = snes.getTolerances()
         if iteration == 0:
             self.relative_target = rtol * fnorm
+            self.balance_relative_target = rtol * self._balance_norm(snes.getFunction()[0])
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
             return reasons.DIVERGED_FNORM_NAN
-        if iteration > 0 and fnorm < atol:
+        # a forced first step, but with friction in 3D
+        if (iteration > 0 or self.J is not None) and fnorm < atol and self._balances_solved(snes, iteration):
             return reasons.CONVERGED_FNORM_ABS
-        # a forced first step, but with friction in 3D, where a start that is
-        # solved in every block is taken as it is (a zero step fails the line
-        # search; the blocks' loads can differ by many orders)
-        if iteration == 0 and self.J is not None and fnorm < min(atol, self.start_tolerance):
-            return reasons.CONVERGED_FNORM_ABS
-        if iteration > 0 and fnorm < self.relative_target:
+        if iteration > 0 and fnorm < self.relative_target and self._balances_solved(snes, iteration):
             return reasons.CONVERGED_FNORM_RELATIVE
         if iteration > 0 and self.set_repeated and not self.nonlinear:
             return reasons.CONVERGED_ITS
@@ -814,24 +823,23 @@ class ContactSolver:
             # linear): tighter, Newton's last steps are quadratic.
             relative = 1e-12 if self.J is not None else 1e-10
             self.snes.setTolerances(atol=max(relative * self.b_scaled.norm(), 1e-300))
-            self.start_tolerance = relative * self._smaller_load_norm()
-        else:
-            self.start_tolerance = np.inf
+        # the mass balances' rows, by their own load
+        self.balance_tolerance = (1e-12 if self.J is not None else 1e-10) * self._balance_norm(self.b_scaled)
 
-    def _smaller_load_norm(self):
-        """The norm of the scaled load's smaller block, the displacement's
-        rows or the others' (the flow's, on the coupled system) where both
-        are loaded: a start is solved only if each block's residual is that
-        small (collective)."""
-        b = self.b_scaled.array_r
-        displacement = np.ones(len(b), dtype=bool)
-        if not self.schur:  # condensed: the contact DOFs only
-            displacement[:] = False
-            ids = self.displacement_dofs[self.displacement_dofs < len(b)]
-            displacement[ids] = True
-        sums = self.b_scaled.getComm().tompi4py().allreduce(
-            np.array([np.sum(b[displacement] ** 2), np.sum(b[~displacement] ** 2)]), op=MPI.SUM)
-        return float(np.sqrt(min(sums) if sums[1] > 0 else sums[0]))
+    def _balance_norm(self, v):
+        """The norm of v on the mass balances' rows (none when condensed;
+        collective)."""
+        if self.schur:  # the contact DOFs alone
+            return 0.0
+        rows = v.array_r[self.balance_rows]
+        return float(np.sqrt(self.comm.allreduce(float(np.sum(rows ** 2)), op=MPI.SUM)))
+
+    def _balances_solved(self, snes, iteration):
+        """Whether the residual is small on the mass balances' rows: the norm
+        F and the load take over the whole system is the forces' (N against
+        m^3/s), blind to them (collective)."""
+        norm = self._balance_norm(snes.getFunction()[0])
+        return norm <= self.balance_tolerance or (iteration > 0 and norm <= self.balance_relative_target)
 
     def _count(self, reason):
         """Every attempt's steps count, a failed Krylov solve's iterations

@@ -128,7 +128,9 @@ class MonolithicStep(Step):
         if np.any(displacement >= owned(F["X"])):
             raise RuntimeError("monolithic contact: a displacement DOF owned in V is not owned in the mixed space")
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
-        self.system.use_contact(contact_set, displacement)
+        # the pressure rows are the rock's mass balances
+        balances = self.Q_to_X[self.Q_to_X < owned(F["X"])]
+        self.system.use_contact(contact_set, displacement, balances)
 
     def fields(self, X):
         """The splits of (u, z, p) for the fixed-stress preconditioner: the
