@@ -83,6 +83,16 @@ def check_opening(track):
     return monolithic
 
 
+def against_split(track, path, label):
+    """The monolithic run of a scene against its split run: the fields and
+    p_f to 1e-9; the monolithic output."""
+    split, _ = run_track(track, path)
+    monolithic, _ = run_track(track, path, MONOLITHIC)
+    same_runs(f"{track}: {label}, monolithic ({solves(monolithic)} solves) against the split ({solves(split)} "
+              "iterations)", monolithic, split, 1e-9)
+    return monolithic
+
+
 def check_friction3d():
     """The 3D box, its fault frictional: the monolithic solve against the
     split, on both tracks; the prototype against C++."""
@@ -91,10 +101,7 @@ def check_friction3d():
         f.write(BOX.replace('flow = "conduit"', 'flow = "conduit"\nfriction = 0.6'))
     runs = {}
     for track in ("C++", "prototype"):
-        split, _ = run_track(track, path)
-        runs[track] = monolithic = run_track(track, path, MONOLITHIC)[0]
-        same_runs(f"{track}: 3D, friction and the closure, monolithic ({solves(monolithic)} solves) against the "
-                  f"split ({solves(split)} iterations)", monolithic, split, 1e-9)
+        runs[track] = against_split(track, path, "3D, friction and the closure")
     same_runs("3D, friction: the prototype against C++", runs["prototype"], runs["C++"], 1e-10)
 
 
@@ -104,11 +111,8 @@ def main():
         f.write(SCENE.format(end=0.4, dt=0.05))
     runs = {}
     for track in ("C++", "prototype"):
-        split, _ = run_track(track, path)
-        runs[track] = monolithic = run_track(track, path, MONOLITHIC)[0]
-        same_runs(f"{track}: the closure, monolithic ({solves(monolithic)} solves) against the split "
-                  f"({solves(split)} iterations)", monolithic, split, 1e-9)
-        check_volumes(f"{track}: monolithic, the closure", monolithic)
+        runs[track] = against_split(track, path, "the closure")
+        check_volumes(f"{track}: monolithic, the closure", runs[track])
         runs[track, "opening"] = check_opening(track)
     same_runs("the closure: the prototype against C++", runs["prototype"], runs["C++"], 1e-10)
     u, p_f = opening_difference(runs["prototype", "opening"], runs["C++", "opening"])

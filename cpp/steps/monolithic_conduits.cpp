@@ -25,21 +25,44 @@ MonolithicConduits::MonolithicConduits(const Problem& problem, const MixedSpace&
   MatMatMult(_aperture->jump(), R, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &_J);
   MatDestroy(&R);
   MatCreateVecs(_J, nullptr, &_cells);
-  // 0 on the Dirichlet rows, whose equations are x_i = g_i alone.
+  _rows = owned_size(space.X);
+  make_load_rows(space);
+}
+
+/// E = B_z^T - J^T |k|, zero on the Dirichlet rows (whose equations are
+/// x_i = g_i alone): neither the faces nor J change with the apertures.
+void MonolithicConduits::make_load_rows(const MixedSpace& space)
+{
   la::Vector<double> ones(space.X.dofmap()->index_map, 1);
   std::fill(ones.mutable_array().begin(), ones.mutable_array().end(), 1.0);
   fem::set_bc(ones.mutable_array(), space.bcs, 0.0);
-  _rows = owned_size(space.X);
-  MatCreateVecs(_J, &_no_bcs, nullptr);
+  Vec no_bcs = nullptr, measures = nullptr;
+  MatCreateVecs(_J, &no_bcs, nullptr);
   la::petsc::Vector from = wrap(ones);
-  VecCopy(from.vec(), _no_bcs);
+  VecCopy(from.vec(), no_bcs);
+  VecDuplicate(_cells, &measures);
+  const std::vector<double>& m = _aperture->measures();
+  for (std::size_t k = 0; k < m.size(); ++k)
+    VecSetValue(measures, static_cast<PetscInt>(k), -m[k], INSERT_VALUES); // every cell on the last rank
+  VecAssemblyBegin(measures);
+  VecAssemblyEnd(measures);
+  Mat B_z = _faults->exchange(_rows), Jt = nullptr;
+  MatTranspose(B_z, MAT_INITIAL_MATRIX, &_E);
+  MatTranspose(_J, MAT_INITIAL_MATRIX, &Jt);
+  MatDiagonalScale(Jt, nullptr, measures);
+  MatAXPY(_E, 1.0, Jt, DIFFERENT_NONZERO_PATTERN);
+  MatDiagonalScale(_E, no_bcs, nullptr);
+  MatDestroy(&Jt);
+  MatDestroy(&B_z);
+  VecDestroy(&measures);
+  VecDestroy(&no_bcs);
 }
 
 MonolithicConduits::~MonolithicConduits()
 {
   MatDestroy(&_J);
+  MatDestroy(&_E);
   VecDestroy(&_cells);
-  VecDestroy(&_no_bcs);
 }
 
 bool MonolithicConduits::has_closure() const
@@ -52,34 +75,22 @@ double MonolithicConduits::dt() const { return _problem.constants.at("dt")->valu
 
 void MonolithicConduits::append(System& system) const
 {
-  Mat B_z = _faults->exchange(_rows);
-  // E = B_z^T - J^T |k|, zero on the Dirichlet rows.
-  Mat E = nullptr, Jt = nullptr;
-  MatTranspose(B_z, MAT_INITIAL_MATRIX, &E);
-  MatTranspose(_J, MAT_INITIAL_MATRIX, &Jt);
-  Vec measures = nullptr;
-  VecDuplicate(_cells, &measures);
-  const std::vector<double>& m = _aperture->measures();
-  for (std::size_t k = 0; k < m.size(); ++k)
-    VecSetValue(measures, static_cast<PetscInt>(k), -m[k], INSERT_VALUES); // every cell on the last rank
-  VecAssemblyBegin(measures);
-  VecAssemblyEnd(measures);
-  MatDiagonalScale(Jt, nullptr, measures);
-  MatAXPY(E, 1.0, Jt, DIFFERENT_NONZERO_PATTERN);
-  MatDiagonalScale(E, _no_bcs, nullptr);
+  Mat B_z = _faults->exchange(_rows), E = nullptr;
+  MatDuplicate(_E, MAT_COPY_VALUES, &E); // the System takes it
   // B = B_z - (|k|/dt) O J: every entry of J kept, zero where closed, so
   // that the structure stays as cells open and close.
   Mat B = nullptr;
   MatDuplicate(_J, MAT_COPY_VALUES, &B);
   const std::vector<double> rates = _faults->opening_rates(dt(), _pressure_old, _pressure);
+  Vec factors = nullptr;
+  VecDuplicate(_cells, &factors);
   double* r = nullptr;
-  VecGetArray(measures, &r);
+  VecGetArray(factors, &r);
   std::copy(rates.begin(), rates.end(), r);
-  VecRestoreArray(measures, &r);
-  MatDiagonalScale(B, measures, nullptr);
+  VecRestoreArray(factors, &r);
+  MatDiagonalScale(B, factors, nullptr);
   MatAXPY(B, 1.0, B_z, DIFFERENT_NONZERO_PATTERN);
-  VecDestroy(&measures);
-  MatDestroy(&Jt);
+  VecDestroy(&factors);
   MatDestroy(&B_z);
   system.append({B, _faults->operator_matrix(dt()), _faults->face_resistance(),
                  std::vector<double>(_faults->owned(), 0.0), _pressure, E});

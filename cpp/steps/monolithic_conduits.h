@@ -100,13 +100,15 @@ public:
 
 private:
   double dt() const;
+  /// E, once (see the file's comment).
+  void make_load_rows(const MixedSpace& space);
 
   const Problem& _problem;
   std::unique_ptr<ConduitFaults> _faults;
   std::unique_ptr<FaultAperture> _aperture;
   Mat _J = nullptr;       // J R: the cells' mean jump of X's displacement
   Vec _cells = nullptr;   // on J's rows
-  Vec _no_bcs = nullptr;  // like x: 0 on Dirichlet rows, 1 elsewhere
+  Mat _E = nullptr;       // B_z^T - J^T |k|, zero on Dirichlet rows: the same at every append
   PetscInt _rows = 0;     // X's owned DOFs
   std::vector<double> _pressure, _pressure_old; // p_f, and at the step's start
 };

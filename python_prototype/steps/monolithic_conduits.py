@@ -64,13 +64,26 @@ class MonolithicConduits:
         R = placement(space.V, space.V_to_X, space.X)
         self.J = self.aperture.J.matMult(R)
         self.cells = self.J.createVecLeft()
-        # 0 on the Dirichlet rows, whose equations are x_i = g_i alone
+        self.rows = owned(space.X)
+        self.E = self._load_rows(space)
+
+    def _load_rows(self, space):
+        """E = B_z^T - J^T |k|, zero on the Dirichlet rows (whose equations are
+        x_i = g_i alone), once: neither the faces nor J change with the
+        apertures."""
         ones = fem.Function(space.X)
         ones.x.array[:] = 1.0
         fem.set_bc(ones.x.array, space.bcs, scale=0.0)
-        self.rows = owned(space.X)
-        self.no_bcs = self.J.createVecRight()
-        self.no_bcs.array[:] = ones.x.array[:self.rows]
+        no_bcs = self.J.createVecRight()
+        no_bcs.array[:] = ones.x.array[:self.rows]
+        measures = self.cells.duplicate()
+        measures.array[:] = -self.aperture.measures  # every cell on the last rank
+        Jt = self.J.transpose(PETSc.Mat())
+        Jt.diagonalScale(None, measures)
+        E = self.faults.exchange(self.rows).transpose(PETSc.Mat())
+        E.axpy(1.0, Jt, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        E.diagonalScale(no_bcs, None)
+        return E
 
     def __bool__(self):
         return self.faults is not None
@@ -86,21 +99,15 @@ class MonolithicConduits:
         """Appends the rows at the current apertures and dt to `system` (again
         after a change: the same structure)."""
         B_z = self.faults.exchange(self.rows)
-        measures = self.cells.duplicate()
-        measures.array[:] = -self.aperture.measures  # every cell on the last rank
-        Jt = self.J.transpose(PETSc.Mat())
-        Jt.diagonalScale(None, measures)
-        E = B_z.transpose(PETSc.Mat())  # E = B_z^T - J^T |k|, zero on the Dirichlet rows
-        E.axpy(1.0, Jt, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-        E.diagonalScale(self.no_bcs, None)
         # B = B_z - (|k|/dt) O J: every entry of J kept, zero where closed, so
         # that the structure stays as cells open and close
         B = self.J.copy()
-        measures.array[:] = self.faults.opening_rates(self._dt(), self.pressure_old, self.pressure)
-        B.diagonalScale(measures, None)
+        factors = self.cells.duplicate()
+        factors.array[:] = self.faults.opening_rates(self._dt(), self.pressure_old, self.pressure)
+        B.diagonalScale(factors, None)
         B.axpy(1.0, B_z, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
         system.append(AppendedUnknowns(B, self.faults.operator_matrix(self._dt()), self.faults.face_resistance(),
-                                       np.zeros(self.faults.owned), self.pressure.copy(), E))
+                                       np.zeros(self.faults.owned), self.pressure.copy(), self.E.copy()))
 
     def begin_step(self, system, u, s_n):
         """The step starts from the displacement u (a Function of V) and the
