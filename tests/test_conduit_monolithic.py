@@ -20,12 +20,16 @@ the same discrete equations; each split's limit is the monolithic solution.
   volume the opening plus the compressed fluid to 1e-8 at every step, in
   no more solves than the split's iterations;
 - in 3D with friction (test_fault_closure.py's box, the fault frictional,
-  mu = 0.6, every pair stuck): the contact solver with friction in 3D on
-  the coupled system (a full Newton step, no backtracking search: its
-  merit, the forces' norm in N, is blind to the mass balances' rows in
-  m^3/s, whose step it shrank to nothing; no cap on the step's length, as
-  the pressures run to 1e10 in the solver's units; each balance judged by
-  its own load) gives the split's fields and p_f to 1e-9;
+  mu = 0.6, every pair stuck; the coupling's tolerance 1e-13): the contact
+  solver with friction in 3D on the coupled system (a full Newton step, no
+  backtracking search: its merit, the forces' norm in N, is blind to the
+  mass balances' rows in m^3/s, whose step it shrank to nothing; no cap on
+  the step's length, as the pressures run to 1e10 in the solver's units;
+  each balance judged by its own load, and one Newton step more once they
+  are met) gives the split's fields and p_f to 1e-9, and the fault's
+  volumes balance to 1e-7 of what entered (measured 1.3e-8; without the
+  step more, 6.9e-6 whatever the coupling's tolerance: a solve that took
+  no step left the apertures where they were, which ended the iteration);
 - 2 ranks give 1 rank's fields and p_f to 1e-10; a run killed after 6
   steps and restarted from its checkpoint (step 4) ends with the
   uninterrupted fields and p_f to 1e-12 (C++);
@@ -41,11 +45,11 @@ FIELDS = ["displacement", "pressure", "flux"]
 MONOLITHIC = 'coupling.scheme="monolithic"'
 
 
-def check_volumes(label, out):
+def check_volumes(label, out, tolerance=1e-10):
     v = summary(out)["fault_volumes"]["crack"]
     entered = abs(v["outflow"]) + abs(v["stored"]) + abs(v["exchanged"])
     balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / entered
-    check(balance <= 1e-10, f"{label}: injected + exchanged = stored + outflow to {balance:.1e} (1e-10)")
+    check(balance <= tolerance, f"{label}: injected + exchanged = stored + outflow to {balance:.1e} ({tolerance:.0e})")
 
 
 def same_runs(label, a, b, tolerance):
@@ -98,10 +102,12 @@ def check_friction3d():
     split, on both tracks; the prototype against C++."""
     path = os.path.join(os.path.dirname(written(BOX_GEO, "box.geo")), "box.toml")
     with open(path, "w") as f:
-        f.write(BOX.replace('flow = "conduit"', 'flow = "conduit"\nfriction = 0.6'))
+        f.write(BOX.replace('flow = "conduit"', 'flow = "conduit"\nfriction = 0.6')
+                .replace("tolerance = 1e-11", "tolerance = 1e-13"))
     runs = {}
     for track in ("C++", "prototype"):
         runs[track] = against_split(track, path, "3D, friction and the closure")
+        check_volumes(f"{track}: 3D, friction, monolithic", runs[track], 1e-7)
     same_runs("3D, friction: the prototype against C++", runs["prototype"], runs["C++"], 1e-10)
 
 

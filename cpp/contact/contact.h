@@ -397,6 +397,8 @@ private:
   // these: their load's times the relative tolerance (pose), and rtol
   // times the solve's first (balances_solved).
   PetscReal _balance_tolerance = 0, _balance_relative_target = 0;
+  bool _refine_balances = false; // friction in 3D on a system with mass balances
+  bool _balances_met = false;    // this solve's balances met their tolerance once
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
   ContactSet _set;
