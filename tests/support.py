@@ -416,22 +416,6 @@ Physical Curve("left") = {5, 6}; Physical Curve("crack") = {7}; Physical Surface
 """
 
 
-# A fault plane across a 4 m x 1 m x 2 m box, its plane z = 0 the whole
-# cross-section (an unstructured gmsh mesh of size 0.25; faces "left",
-# "right", "bottom", "top" and "sides", y = 0 and 1): the 3D channel.
-BOX_GEO = """SetFactory("OpenCASCADE");
-L = 4; B = 1; H = 1;
-Box(1) = {0, 0, -H, L, B, 2 * H};
-Rectangle(10) = {0, 0, 0, L, B};
-BooleanFragments{ Volume{1}; Delete; }{ Surface{10}; Delete; }
-e = 1e-6;
-Physical Surface("crack") = {Surface In BoundingBox{-e, -e, -e, L + e, B + e, e}};
-Physical Surface("left") = {Surface In BoundingBox{-e, -e, -H - e, e, B + e, H + e}};
-Physical Surface("right") = {Surface In BoundingBox{L - e, -e, -H - e, L + e, B + e, H + e}};
-Physical Surface("bottom") = {Surface In BoundingBox{-e, -e, -H - e, L + e, B + e, -H + e}};
-Physical Surface("top") = {Surface In BoundingBox{-e, -e, H - e, L + e, B + e, H + e}};
-Physical Surface("sides") = {Surface In BoundingBox{-e, -e, -H - e, L + e, e, H + e},
-                             Surface In BoundingBox{-e, B - e, -H - e, L + e, B + e, H + e}};
-Physical Volume("rock") = {Volume{:}};
-Mesh.CharacteristicLengthMax = 0.25;
-"""
+# The 3D channel of the conduit fault's tests: meshes/fault_box.geo.
+with open(os.path.join(ROOT, "meshes", "fault_box.geo")) as _box:
+    BOX_GEO = _box.read()
