@@ -477,4 +477,3 @@ void ConduitFaults::restore_arrays(const std::map<std::string, std::vector<doubl
     set_start_apertures(found->second);
 }
 } // namespace biotcontact
-

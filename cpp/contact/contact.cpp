@@ -14,6 +14,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <utility>
 
 namespace biotcontact
 {
@@ -426,11 +427,11 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
     self->_balance_relative_target = rtol * self->balance_norm(F);
     self->_balances_met = false;
   }
-  const bool balances = self->balances_solved(snes, iteration);
+  const bool balances = self->balances_may_stop(self->balances_solved(snes, iteration));
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
   else if ((iteration > 0 or self->_J) and fnorm < atol and balances)
-    *reason = SNES_CONVERGED_FNORM_ABS; // a forced first step, but with friction in 3D
+    *reason = SNES_CONVERGED_FNORM_ABS; // a step taken, or the start with friction in 3D
   else if (iteration > 0 and fnorm < self->_relative_target and balances)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   // ... and the stopping rule of the primal-dual active set method: the
@@ -888,7 +889,11 @@ bool ContactSolver::balances_solved(SNES snes, PetscInt iteration)
   Vec F = nullptr;
   SNESGetFunction(snes, &F, nullptr, nullptr);
   const double norm = balance_norm(F);
-  const bool met = norm <= _balance_tolerance or (iteration > 0 and norm <= _balance_relative_target);
+  return norm <= _balance_tolerance or (iteration > 0 and norm <= _balance_relative_target);
+}
+
+bool ContactSolver::balances_may_stop(bool met)
+{
   // With friction in 3D the residual alone decides the last step, and a
   // balance's tolerance lies far above its round-off where its load holds
   // terms that cancel at the solution (a fault's ends held at p_D: T_e p_D,
@@ -897,9 +902,7 @@ bool ContactSolver::balances_solved(SNES snes, PetscInt iteration)
   // One more Newton step once met takes the balances to round-off.
   if (!met or !_refine_balances)
     return met;
-  const bool refined = _balances_met;
-  _balances_met = true;
-  return refined;
+  return std::exchange(_balances_met, true);
 }
 
 /// Every attempt's steps count, a failed Krylov solve's iterations too

@@ -323,6 +323,10 @@ private:
   /// F and the load take over the whole system is the forces' (N against
   /// m^3/s), blind to them (collective).
   bool balances_solved(SNES snes, PetscInt iteration);
+  /// Whether a solve whose balances are solved (`met`) may stop: with
+  /// friction in 3D on a system with mass balances, only one Newton step
+  /// after they were first met in this solve.
+  bool balances_may_stop(bool met);
   void count_iterations(SNESConvergedReason reason);
   /// Sets the unknown of the VI to the solution with every contact DOF on
   /// its bound.

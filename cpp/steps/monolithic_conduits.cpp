@@ -162,4 +162,3 @@ void MonolithicConduits::restore(const std::map<std::string, std::vector<double>
 }
 
 } // namespace biotcontact
-

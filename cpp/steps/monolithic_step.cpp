@@ -409,4 +409,3 @@ void MonolithicStep::restore_arrays(const std::map<std::string, std::vector<doub
 }
 
 } // namespace biotcontact
-

@@ -509,11 +509,11 @@ class ContactSolver:
             self.relative_target = rtol * fnorm
             self.balance_relative_target = rtol * self._balance_norm(snes.getFunction()[0])
             self.balances_met = False
-        balances = self._balances_solved(snes, iteration)
+        balances = self._balances_may_stop(self._balances_solved(snes, iteration))
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
             return reasons.DIVERGED_FNORM_NAN
-        # a forced first step, but with friction in 3D
+        # a step taken, or the start with friction in 3D
         if (iteration > 0 or self.J is not None) and fnorm < atol and balances:
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target and balances:
@@ -846,12 +846,16 @@ class ContactSolver:
         F and the load take over the whole system is the forces' (N against
         m^3/s), blind to them (collective)."""
         norm = self._balance_norm(snes.getFunction()[0])
-        met = norm <= self.balance_tolerance or (iteration > 0 and norm <= self.balance_relative_target)
-        # with friction in 3D the residual alone decides the last step, and a
-        # balance's tolerance lies far above its round-off where its load
-        # holds terms that cancel at the solution (a fault's ends held at
-        # p_D): one more Newton step once met takes the balances to
-        # round-off (cpp/contact/contact.cpp)
+        return norm <= self.balance_tolerance or (iteration > 0 and norm <= self.balance_relative_target)
+
+    def _balances_may_stop(self, met):
+        """Whether a solve whose balances are solved (`met`) may stop: with
+        friction in 3D on a system with mass balances, only one Newton step
+        after they were first met in this solve. The residual alone decides
+        the last step there, and a balance's tolerance lies far above its
+        round-off where its load holds terms that cancel at the solution (a
+        fault's ends held at p_D): the step more takes the balances to
+        round-off (cpp/contact/contact.cpp)."""
         if not met or not self.refine_balances:
             return met
         refined, self.balances_met = self.balances_met, True
