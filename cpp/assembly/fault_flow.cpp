@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 
 namespace biotcontact
 {
@@ -49,6 +50,16 @@ double closure_compliance(const ClosureSpec& closure, double s_n)
 {
   const double stiffness = closure.K_ni * closure.V_m + std::max(s_n, 0.0);
   return closure.K_ni * closure.V_m * closure.V_m / (stiffness * stiffness);
+}
+
+double volume_imbalance(const StepVolumes& step, const FaultVolumes& total, double rock_flux)
+{
+  const double scale = std::max({std::abs(total.injected), std::abs(total.stored), std::abs(total.exchanged),
+                                 std::abs(total.outflow), step.gross, 1e-6 * step.held,
+                                 1e-8 * step.faces * rock_flux});
+  const FaultVolumes& v = step.net;
+  const double imbalance = std::abs(v.injected + v.exchanged - v.stored - v.outflow);
+  return imbalance == 0 ? 0.0 : imbalance / scale; // NaN or inf when a volume is
 }
 
 std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open)
@@ -401,36 +412,76 @@ std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::s
   return values;
 }
 
-void ConduitFaults::add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old,
-                                const FineStep& fine)
+std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, std::span<const double> p,
+                                                     std::span<const double> p_old, const FineStep& fine) const
 {
   const double t = fine.t, dt = fine.dt;
-  // Per fault: injected, stored, exchanged, outflow of the step; the faces
-  // on every rank, the rest on the last.
-  std::vector<double> step(4 * _conduits.size(), 0.0);
+  // Per fault: injected, stored, exchanged, outflow of the step, gross,
+  // held and faces; the faces on every rank, the rest on the last.
+  std::vector<double> step(7 * _conduits.size(), 0.0);
+  auto add = [&](std::size_t i, int column, double v) { step[7 * i + column] += v, step[7 * i + 4] += std::abs(v); };
   for (const Face& f : _faces)
-    step[4 * f.conduit + 2] += dt * f.flux * w[f.dof - _start];
+  {
+    add(f.conduit, 2, dt * f.flux * w[f.dof - _start]);
+    step[7 * f.conduit + 6] += dt * std::abs(f.flux);
+  }
   for (const Well& well : _wells)
     if (_owned)
-      step[4 * well.conduit] += dt * well.share * (*well.rate)(0, 0, 0, t);
+      add(well.conduit, 0, dt * well.share * (*well.rate)(0, 0, 0, t));
   for (std::size_t i = 0; i < _conduits.size() and _owned; ++i)
   {
     const Conduit& c = _conduits[i];
     const std::vector<double>& measures = c.cells->measures;
     for (std::size_t k = 0; k < measures.size(); ++k)
-      step[4 * i + 1] += measures[k] * (c.aperture[k] - c.aperture_start[k]) / fine.q
-                         + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]);
+    {
+      add(i, 1, measures[k] * (c.aperture[k] - c.aperture_start[k]) / fine.q
+                    + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]));
+      step[7 * i + 5] += measures[k] * c.aperture[k];
+    }
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, t);
     for (std::size_t e = 0; e < held.size(); ++e)
-      step[4 * i + 3] += dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]);
+      add(i, 3, dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]));
   }
   MPI_Allreduce(MPI_IN_PLACE, step.data(), static_cast<int>(step.size()), MPI_DOUBLE, MPI_SUM, _comm);
+  std::vector<StepVolumes> volumes(_conduits.size());
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+  {
+    const double* s = &step[7 * i];
+    volumes[i] = {{s[0], s[1], s[2], s[3]}, s[4], s[5], s[6]};
+  }
+  return volumes;
+}
+
+std::string ConduitFaults::unbalanced(const std::vector<StepVolumes>& step, double rock_flux) const
+{
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+  {
+    const FaultVolumes& s = step[i].net;
+    const FaultVolumes& v = _conduits[i].volumes;
+    const FaultVolumes total{v.injected + s.injected, v.stored + s.stored, v.exchanged + s.exchanged,
+                             v.outflow + s.outflow};
+    const double imbalance = volume_imbalance(step[i], total, rock_flux);
+    if (!(imbalance <= volume_balance_tolerance)) // NaN too
+    {
+      std::ostringstream line;
+      line << "fault." << _conduits[i].name << ": its volumes do not balance: injected + exchanged - stored - outflow = "
+           << s.injected + s.exchanged - s.stored - s.outflow << " in the step (injected " << s.injected
+           << ", exchanged " << s.exchanged << ", stored " << s.stored << ", outflow " << s.outflow << "), "
+           << imbalance << " of the volumes, more than " << volume_balance_tolerance;
+      return line.str();
+    }
+  }
+  return {};
+}
+
+void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const FineStep& fine)
+{
   for (std::size_t i = 0; i < _conduits.size(); ++i)
   {
     FaultVolumes& v = _conduits[i].volumes;
-    v.injected += step[4 * i], v.stored += step[4 * i + 1], v.exchanged += step[4 * i + 2];
-    v.outflow += step[4 * i + 3];
+    const FaultVolumes& s = step[i].net;
+    v.injected += s.injected, v.stored += s.stored, v.exchanged += s.exchanged, v.outflow += s.outflow;
     if (fine.m == fine.q)
       _conduits[i].aperture_start = _conduits[i].aperture;
   }

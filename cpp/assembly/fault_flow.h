@@ -104,6 +104,32 @@ struct FaultVolumes
   double injected = 0, stored = 0, exchanged = 0, outflow = 0;
 };
 
+/// @brief A fault's volumes of one step (net); the sum of the magnitudes
+/// of every face's, well's, cell's and end's term in them (gross); the
+/// fluid it holds at the step's end (held, sum of w_h |k|); and dt sum
+/// |c_i| over its faces (faces: times the rock's largest flux DOF, the
+/// exchange the rock's round-off can make).
+struct StepVolumes
+{
+  FaultVolumes net;
+  double gross = 0, held = 0, faces = 0;
+};
+
+/// How far an accepted step may leave a fault's volumes unbalanced
+/// (volume_imbalance). Converged runs measure up to 6e-6 (the 3D closure
+/// box with its flow solved by the Krylov method, whose tolerance is
+/// relative to a load inflated by the held ends); the wrong answers this
+/// stops, 1e-4 and more (docs/theory.md, "Converged means balanced").
+constexpr double volume_balance_tolerance = 1e-5;
+
+/// The imbalance |injected + exchanged - stored - outflow| of `step`
+/// relative to the largest of `total` (the fault's volumes since the
+/// start, the step included), the step's gross volume, 1e-6 of the fluid
+/// the fault holds and 1e-8 of step.faces times `rock_flux`, the rock's
+/// largest flux DOF (at the tolerance, 1e-11 and 1e-13 of them: round-off):
+/// 0 when nothing moved.
+double volume_imbalance(const StepVolumes& step, const FaultVolumes& total, double rock_flux);
+
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns on
 /// the last rank (a fault holds few facets); the faces' flux DOFs on the
@@ -184,12 +210,20 @@ public:
   /// the fault's pressure (the last rank's).
   std::vector<double> cell_values(std::span<const double> w, std::span<const double> p, double t) const;
 
-  /// Adds the accepted fine step `step` to each fault's volumes: `w` the
-  /// flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
-  /// its end and start (the last rank's; collective). After a window's
-  /// last fine step its apertures become the next window's start.
-  void add_volumes(std::span<const double> w, std::span<const double> p, std::span<const double> p_old,
-                   const FineStep& step);
+  /// Each fault's volumes of fine step `step` (every rank): `w` the flow
+  /// unknowns (this rank's), `p` and `p_old` the fault's pressure at its
+  /// end and start (the last rank's; collective).
+  std::vector<StepVolumes> step_volumes(std::span<const double> w, std::span<const double> p,
+                                        std::span<const double> p_old, const FineStep& step) const;
+  /// The first fault that `step` (step_volumes) leaves unbalanced by more
+  /// than volume_balance_tolerance (volume_imbalance, `rock_flux` the
+  /// rock's largest flux DOF): one line naming it and the imbalance; empty
+  /// when every fault balances.
+  std::string unbalanced(const std::vector<StepVolumes>& step, double rock_flux) const;
+  /// Adds the accepted fine step's volumes (step_volumes) to each fault's.
+  /// After a window's last fine step its apertures become the next
+  /// window's start.
+  void add_volumes(const std::vector<StepVolumes>& volumes, const FineStep& step);
   /// Each conduit fault's name and volumes (the same on every rank).
   std::vector<std::pair<std::string, FaultVolumes>> volumes() const;
   /// The volumes as 4 numbers per fault (a checkpoint's), and back.

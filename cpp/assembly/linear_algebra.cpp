@@ -22,6 +22,15 @@ double owned_norm(std::span<const double> x, const fem::FunctionSpace& V)
   return std::sqrt(global);
 }
 
+double largest_entry(std::span<const double> x, std::span<const std::int32_t> dofs, MPI_Comm comm)
+{
+  double largest = 0;
+  for (std::int32_t i : dofs)
+    largest = std::max(largest, std::abs(x[i]));
+  MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return largest;
+}
+
 std::vector<double> values(std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); }
 
 void assign(fem::Function<double>& f, std::span<const double> x)

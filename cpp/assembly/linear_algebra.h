@@ -31,6 +31,9 @@ struct UnknownsPart
 /// Euclidean norm of the owned part of a DOF array of V (collective).
 double owned_norm(std::span<const double> x, const dolfinx::fem::FunctionSpace& V);
 
+/// The largest |x[i]| over the positions `dofs` on every rank (collective).
+double largest_entry(std::span<const double> x, std::span<const std::int32_t> dofs, MPI_Comm comm);
+
 /// @brief Every rank's values, in rank order, on every rank: `values`, and
 /// `offsets` (size + 1) where each rank's part starts.
 struct Gathered

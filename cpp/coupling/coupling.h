@@ -13,7 +13,8 @@
 namespace biotcontact
 {
 
-/// The split did not converge within coupling.max_iterations.
+/// The split did not converge within coupling.max_iterations, or a step's
+/// converged state fails what it must conserve (Step::unbalanced).
 struct CouplingError : std::runtime_error
 {
   using std::runtime_error::runtime_error;

@@ -141,6 +141,7 @@ private:
   void record_coupled_residual(const Window& w, const Increments& inc);
   void go_back(const Window& w, const std::string& message);
   bool retry(const Window& w, const std::string& cause);
+  bool balance_accepted(const Window& w);
   bool error_accepted(const Window& w);
   bool contact_accepted(const Window& w);
   CouplingError not_converged(const Window& w);
@@ -659,6 +660,29 @@ bool FixedStressSplit::retry(const Window& w, const std::string& cause)
   return true;
 }
 
+/// Whether every fine step of the converged window w conserves what it
+/// must (FlowStep::unbalanced: a conduit fault's volumes); if one does
+/// not, back to the window's start on halved steps (time.retry), or the
+/// run ends with the step and the fault named.
+bool FixedStressSplit::balance_accepted(const Window& w)
+{
+  for (int m = 1; m <= w.q; ++m)
+  {
+    _flow.set_unknowns(w.w_new[m]);
+    _flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m]);
+    const std::string failure = _flow.unbalanced(t(w, m));
+    if (failure.empty())
+      continue;
+    std::ostringstream message;
+    message << "step " << w.K + 1 << " (t = " << t(w, m) << "): " << failure;
+    if (retry(w, message.str()))
+      return false;
+    _report.mean_contraction_ratio = _report.ratios ? _state.ratio_sum / _report.ratios : 0.0;
+    throw CouplingError(message.str());
+  }
+  return true;
+}
+
 /// time.adaptive: whether the converged window's error estimate accepts it
 /// (the control then plans the next steps; a window in which the active
 /// contact set changed is accepted unestimated); if not, back to its start,
@@ -755,7 +779,7 @@ void FixedStressSplit::run()
       _report.mean_contraction_ratio = _report.ratios ? _state.ratio_sum / _report.ratios : 0.0;
       throw not_converged(w);
     }
-    if (outcome != Outcome::converged or !error_accepted(w) or !contact_accepted(w))
+    if (outcome != Outcome::converged or !balance_accepted(w) or !error_accepted(w) or !contact_accepted(w))
     {
       K = w.K - 1; // the same window again, on the shorter steps or with q = 1
       continue;

@@ -3,6 +3,9 @@
 #include "time/step_control.h"
 #include "time/time_scheme.h"
 
+#include <exception>
+#include <sstream>
+
 namespace biotcontact
 {
 
@@ -37,6 +40,23 @@ TimeDerivative begin_step(const Problem& problem, Step& step, const TimeGrid& gr
   return d;
 }
 
+/// time.retry: whether step `failed` is tried again on halved steps (the
+/// grid then has them; the observer says so).
+bool retried(const Problem& problem, const FailedStep& failed, int& attempts, CouplingRun& run)
+{
+  const auto message = retry_step(problem.scene, failed, attempts, run.report.retries, run.grid);
+  if (message)
+    run.observer.retry(*message);
+  return message.has_value();
+}
+
+std::string step_name(int k, double t)
+{
+  std::ostringstream s;
+  s << "step " << k << " (t = " << t << ")";
+  return s.str();
+}
+
 } // namespace
 
 void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
@@ -49,17 +69,26 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
     const StepState start = step.state();
     step.begin_step();
     const ActiveSet active_before = run.control ? step.active_contact_set() : ActiveSet{};
+    std::string failure; // a failed solve, or a solution that conserves too little
+    std::exception_ptr error;
     try
     {
       step.advance(t, d);
+      failure = step.unbalanced(t);
     }
     catch (const SolverError& e)
     {
-      const auto message
-          = retry_step(problem.scene, {k, e.what(), k - 1, 1}, attempts, run.report.retries, run.grid);
-      if (!message)
-        throw;
-      run.observer.retry(*message);
+      failure = e.what();
+      error = std::current_exception();
+    }
+    if (!failure.empty())
+    {
+      if (!retried(problem, {k, failure, k - 1, 1}, attempts, run))
+      {
+        if (error)
+          std::rethrow_exception(error);
+        throw CouplingError(step_name(k, t) + ": " + failure);
+      }
       step.restore(start);
       --k; // the same step again, halved
       continue;

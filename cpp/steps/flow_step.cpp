@@ -305,7 +305,18 @@ void FlowStep::keep_history(const StepState& start) { assign(*p_before, start.p)
 void FlowStep::accept(double t)
 {
   if (*_conduits and _pass == FlowPass::first)
-    _conduits->add_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, fine_step(t));
+    _conduits->add_volumes(
+        _conduits->step_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, fine_step(t)),
+        fine_step(t));
+}
+
+std::string FlowStep::unbalanced(double t) const
+{
+  if (!*_conduits or _pass == FlowPass::second)
+    return {};
+  const std::span<const double> w = _w->x()->array();
+  return _conduits->unbalanced(_conduits->step_volumes(w, _fault_pressure, _fault_pressure_previous, fine_step(t)),
+                               largest_entry(w, _Z_to_W, _W->mesh()->comm()));
 }
 
 FineStep FlowStep::fine_step(double t) const

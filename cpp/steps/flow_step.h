@@ -68,6 +68,9 @@ public:
   void keep_history(const StepState& start) override;
   /// The conduit faults' volumes take the accepted step to t.
   void accept(double t) override;
+  /// A conduit fault whose volumes the step to t would leave unbalanced
+  /// (ConduitFaults::unbalanced), or empty.
+  std::string unbalanced(double t) const override;
   /// BDF2: p_before, u_before, u_path_before (u_before with coupling.q =
   /// "auto" too: the last window's change of u); none for the second pass.
   History history() const override;

@@ -143,7 +143,13 @@ std::vector<double> MonolithicConduits::normal_stress(const ContactState& state)
 
 void MonolithicConduits::accept(std::span<const double> x, double t)
 {
-  _faults->add_volumes(x, _pressure, _pressure_old, {t, dt(), 1, 1});
+  const FineStep step{t, dt(), 1, 1};
+  _faults->add_volumes(_faults->step_volumes(x, _pressure, _pressure_old, step), step);
+}
+
+std::string MonolithicConduits::unbalanced(std::span<const double> x, double t, double rock_flux) const
+{
+  return _faults->unbalanced(_faults->step_volumes(x, _pressure, _pressure_old, {t, dt(), 1, 1}), rock_flux);
 }
 
 std::vector<double> MonolithicConduits::cell_values(std::span<const double> x, double t) const

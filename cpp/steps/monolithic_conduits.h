@@ -90,6 +90,9 @@ public:
   const std::vector<double>& pressure() const { return _pressure; }
   /// The accepted step to t: the volumes take it (`x` the coupled unknowns).
   void accept(std::span<const double> x, double t);
+  /// A fault that the step to t would leave unbalanced, or empty
+  /// (`rock_flux` the rock's largest flux DOF: ConduitFaults::unbalanced).
+  std::string unbalanced(std::span<const double> x, double t, double rock_flux) const;
   /// The faults' cell fields at t on rank 0 (ConduitFaults::cell_values).
   std::vector<double> cell_values(std::span<const double> x, double t) const;
   std::vector<std::pair<std::string, FaultVolumes>> volumes() const { return _faults->volumes(); }

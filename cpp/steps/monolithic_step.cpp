@@ -378,6 +378,14 @@ void MonolithicStep::accept(double t)
     _conduits->accept(_x->x()->array(), t);
 }
 
+std::string MonolithicStep::unbalanced(double t) const
+{
+  if (!*_conduits)
+    return {};
+  const std::span<const double> x = _x->x()->array();
+  return _conduits->unbalanced(x, t, largest_entry(x, _Z_to_X, _Z->mesh()->comm()));
+}
+
 std::vector<double> MonolithicStep::fault_flow(double t) const
 {
   return *_conduits ? _conduits->cell_values(_x->x()->array(), t) : std::vector<double>{};

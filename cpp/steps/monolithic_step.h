@@ -58,6 +58,8 @@ public:
   History history() const override;
   /// The accepted step's seismic moment, per fault, joins the run's record.
   void accept(double t) override;
+  /// A conduit fault the step to t would leave unbalanced, or empty.
+  std::string unbalanced(double t) const override;
   /// The iterations on the conduit faults' apertures of the last step (1
   /// without conduits).
   int iterations() const override { return _iterations; }

@@ -71,6 +71,10 @@ public:
   /// The step's solution at t (loaded in the step) was accepted: what the
   /// step adds up over the run takes it (a conduit fault's volumes).
   virtual void accept(double) {}
+  /// Whether the step's solution at t (loaded in the step) conserves what
+  /// it must to be accepted: one line naming what does not (a conduit
+  /// fault whose volumes do not balance), empty when all does.
+  virtual std::string unbalanced(double) const { return {}; }
   /// The solves of the last advance, which the progress line shows: 1, or
   /// the monolithic step's iterations on its conduit faults' apertures.
   virtual int iterations() const { return 1; }

@@ -51,6 +51,44 @@ class FaultVolumes:
 
 
 @dataclasses.dataclass
+class StepVolumes:
+    """A fault's volumes of one step (net, FaultVolumes); the sum of the
+    magnitudes of every face's, well's, cell's and end's term in them
+    (gross); the fluid it holds at the step's end (held, sum of
+    w_h |k|); and dt sum |c_i| over its faces (faces: times the rock's
+    largest flux DOF, the exchange the rock's round-off can make)."""
+    net: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)
+    gross: float = 0.0
+    held: float = 0.0
+    faces: float = 0.0
+
+
+# How far an accepted step may leave a fault's volumes unbalanced
+# (volume_imbalance). Converged runs measure up to 6e-6 (the 3D closure box
+# with its flow solved by the Krylov method, whose tolerance is relative to
+# a load inflated by the held ends); the wrong answers this stops, 1e-4 and
+# more (docs/theory.md, "Converged means balanced").
+VOLUME_BALANCE_TOLERANCE = 1e-5
+
+
+def volume_imbalance(step, total, rock_flux):
+    """The imbalance |injected + exchanged - stored - outflow| of StepVolumes
+    `step` relative to the largest of `total` (the fault's volumes since
+    the start, the step included), the step's gross volume, 1e-6 of the
+    fluid the fault holds and 1e-8 of step.faces times `rock_flux`, the
+    rock's largest flux DOF (at the tolerance, 1e-11 and 1e-13 of them:
+    round-off): 0 when nothing moved."""
+    scale = max(abs(total.injected), abs(total.stored), abs(total.exchanged), abs(total.outflow), step.gross,
+                1e-6 * step.held, 1e-8 * step.faces * rock_flux)
+    v = step.net
+    imbalance = abs(v.injected + v.exchanged - v.stored - v.outflow)
+    if imbalance == 0:
+        return 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(np.float64(imbalance) / np.float64(scale))  # NaN or inf when a volume is
+
+
+@dataclasses.dataclass
 class FineStep:
     """Fine step m (1..q) of a window of q flow steps, ending at t, of length
     dt: with the mechanics once per window, each fine step takes 1/q of the
@@ -412,31 +450,59 @@ class ConduitFaults:
             values[cells, 3:] = self._mean_flux(conduit, p[cells], t)
         return values
 
-    def add_volumes(self, w, p, p_old, fine):
-        """Adds the accepted FineStep `fine` to each fault's volumes: `w` the
+    def step_volumes(self, w, p, p_old, fine):
+        """Each fault's StepVolumes of FineStep `fine` (every rank): `w` the
         flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
-        its end and start (the last rank's; collective). After a window's
-        last fine step its apertures become the next window's start."""
+        its end and start (the last rank's; collective)."""
         t, dt = fine.t, fine.dt
-        # Per fault: injected, stored, exchanged, outflow of the step; the
-        # faces on every rank, the rest on the last.
-        step = np.zeros((len(self.faults), 4))
+        # Per fault: injected, stored, exchanged, outflow of the step, gross,
+        # held and faces; the faces on every rank, the rest on the last.
+        step = np.zeros((len(self.faults), 7))
+
+        def add(i, column, v):
+            step[i, column] += np.sum(v)
+            step[i, 4] += np.sum(np.abs(v))
         index = {id(conduit): i for i, conduit in enumerate(self.faults)}
         for dof, conduit, _, c in self.faces:
-            step[index[id(conduit)], 2] += dt * c * w[dof - self.start]
+            add(index[id(conduit)], 2, dt * c * w[dof - self.start])
+            step[index[id(conduit)], 6] += dt * abs(c)
         for _, share, rate, i in self.wells if self.owned else []:
-            step[i, 0] += dt * share * float(rate(0, 0, 0, t))
+            add(i, 0, dt * share * float(rate(0, 0, 0, t)))
         for i, conduit in enumerate(self.faults if self.owned else []):
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            step[i, 1] = np.sum(cells.measures * (conduit.aperture - conduit.aperture_start) / fine.q
-                                + self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_old[o:o + n]))
+            add(i, 1, cells.measures * (conduit.aperture - conduit.aperture_start) / fine.q
+                + self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_old[o:o + n]))
+            step[i, 5] = np.sum(cells.measures * conduit.aperture)
             held, T_e = self._held_ends(conduit)
-            step[i, 3] = dt * np.sum(T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
-        step = self.comm.allreduce(step)
-        for conduit, (injected, stored, exchanged, outflow) in zip(self.faults, step):
-            v = conduit.volumes
-            v.injected, v.stored, v.exchanged, v.outflow = (v.injected + injected, v.stored + stored,
-                                                             v.exchanged + exchanged, v.outflow + outflow)
+            add(i, 3, dt * T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
+        return [StepVolumes(FaultVolumes(*(float(x) for x in row[:4])), *(float(x) for x in row[4:]))
+                for row in self.comm.allreduce(step)]
+
+    def unbalanced(self, step, rock_flux):
+        """The first fault that `step` (step_volumes) leaves unbalanced by
+        more than VOLUME_BALANCE_TOLERANCE (volume_imbalance, `rock_flux`
+        the rock's largest flux DOF): one line naming it and the imbalance;
+        empty when every fault balances."""
+        for conduit, volumes in zip(self.faults, step):
+            v, s = conduit.volumes, volumes.net
+            total = FaultVolumes(v.injected + s.injected, v.stored + s.stored, v.exchanged + s.exchanged,
+                                 v.outflow + s.outflow)
+            imbalance = volume_imbalance(volumes, total, rock_flux)
+            if not imbalance <= VOLUME_BALANCE_TOLERANCE:  # NaN too
+                return (f"fault.{conduit.name}: its volumes do not balance: injected + exchanged - stored - outflow = "
+                        f"{s.injected + s.exchanged - s.stored - s.outflow:g} in the step (injected {s.injected:g}, "
+                        f"exchanged {s.exchanged:g}, stored {s.stored:g}, outflow {s.outflow:g}), {imbalance:g} of "
+                        f"the volumes, more than {VOLUME_BALANCE_TOLERANCE:g}")
+        return ""
+
+    def add_volumes(self, step, fine):
+        """Adds the accepted fine step's volumes (step_volumes) to each
+        fault's. After a window's last fine step its apertures become the
+        next window's start."""
+        for conduit, volumes in zip(self.faults, step):
+            v, s = conduit.volumes, volumes.net
+            v.injected, v.stored, v.exchanged, v.outflow = (v.injected + s.injected, v.stored + s.stored,
+                                                             v.exchanged + s.exchanged, v.outflow + s.outflow)
             if fine.m == fine.q:
                 conduit.aperture_start = conduit.aperture.copy()
 

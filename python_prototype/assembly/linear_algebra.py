@@ -85,6 +85,11 @@ def owned_norm(x, V, comm):
     return np.sqrt(comm.allreduce(float(np.dot(x[:n], x[:n])), op=MPI.SUM))
 
 
+def largest_entry(x, dofs, comm):
+    """The largest |x[i]| over the positions `dofs` on every rank (collective)."""
+    return comm.allreduce(float(np.max(np.abs(x[dofs]), initial=0.0)), op=MPI.MAX)
+
+
 def dof_map(space, sub):
     """For every DOF of `space` (unrolled, ghosts too) its DOF in the parent
     of `sub`, a subspace with the same element (cpp collapse() maps)."""

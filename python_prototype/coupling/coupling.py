@@ -10,7 +10,8 @@ from ..time.step_control import AdaptiveReport, AdaptiveState
 
 
 class CouplingError(Exception):
-    """The split did not converge within coupling.max_iterations."""
+    """The split did not converge within coupling.max_iterations, or a
+    step's converged state fails what it must conserve (Step.unbalanced)."""
 
 
 @dataclass

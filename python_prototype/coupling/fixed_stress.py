@@ -505,6 +505,25 @@ class _FixedStressSplit:
         self.go_back(w, message)
         return True
 
+    def balance_accepted(self, w):
+        """Whether every fine step of the converged window w conserves what
+        it must (FlowStep.unbalanced: a conduit fault's volumes); if one
+        does not, back to the window's start on halved steps (time.retry),
+        or the run ends with the step and the fault named."""
+        for m in range(1, w.q + 1):
+            self.flow.set_unknowns(w.w_new[m])
+            self.flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m])
+            failure = self.flow.unbalanced(self.t(w, m))
+            if not failure:
+                continue
+            message = f"step {w.K + 1} (t = {self.t(w, m):g}): {failure}"
+            if self.retry(w, message):
+                return False
+            report = self.report
+            report.mean_contraction_ratio = self.state.ratio_sum / report.ratios if report.ratios else 0.0
+            raise CouplingError(message)
+        return True
+
     def error_accepted(self, w):
         """time.adaptive: whether the converged window's error estimate accepts
         it (the control then plans the next steps; a window in which the
@@ -579,7 +598,8 @@ class _FixedStressSplit:
             if outcome == _Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
                 report.mean_contraction_ratio = self.state.ratio_sum / report.ratios if report.ratios else 0.0
                 raise self.not_converged(w)
-            if outcome != _Outcome.converged or not self.error_accepted(w) or not self.contact_accepted(w):
+            if (outcome != _Outcome.converged or not self.balance_accepted(w) or not self.error_accepted(w)
+                    or not self.contact_accepted(w)):
                 continue  # the same window again, on the shorter steps or with q = 1
             self.accept_window(w, n)
             K, j = K + 1, w.j + w.q

@@ -3,6 +3,7 @@ a single physics (flow only, mechanics only); cpp/coupling/single_solve.cpp.
 It drives any step through the step interface (steps/step.py)."""
 from ..assembly.parameters import set_time_step
 from ..contact.contact import ActiveSet
+from .coupling import CouplingError
 from ..solvers.solver import SolverError
 from ..time.time_grid import FailedStep, retry_step
 from ..time.time_scheme import time_derivative
@@ -38,7 +39,9 @@ def run_single_solve(problem, step, run):
     """Runs the scene from the end of step run.report.windows (0, or a
     restart's) to its end time, one solve of `step` per step of run.grid (a
     CouplingRun, coupling.py). A step whose solve fails is retried with
-    halved steps (time.retry); otherwise the SolverError ends the run. With
+    halved steps (time.retry), and so is one whose solution conserves too
+    little (step.unbalanced); otherwise the SolverError, or a CouplingError
+    naming the step, ends the run. With
     run.control (time.adaptive) a step whose error estimate is too large is
     tried again, shorter, and each accepted one plans the next."""
     attempts = [0]  # retries of the current step (time.retry)
@@ -51,10 +54,13 @@ def run_single_solve(problem, step, run):
         active_before = step.active_contact_set() if run.control else ActiveSet()
         try:
             step.advance(t, d)
+            failure, error = step.unbalanced(t), None  # a solution that conserves too little
         except SolverError as e:
-            message = retry_step(problem.scene, FailedStep(k, str(e), k - 1, 1), attempts, run.report, run.grid)
+            failure, error = str(e), e
+        if failure:
+            message = retry_step(problem.scene, FailedStep(k, failure, k - 1, 1), attempts, run.report, run.grid)
             if message is None:
-                raise
+                raise error if error is not None else CouplingError(f"step {k} (t = {t:g}): {failure}")
             run.observer.retry(message)
             step.restore(start)
             continue  # the same step again, halved

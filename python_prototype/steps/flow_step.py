@@ -10,8 +10,8 @@ from ..solvers.field_split import Field
 from ..scene.input import FaultFlow, TimeScheme
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate
-from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, multiply_add,
-                                       owned_global_dofs, reassemble_operator, UnknownsPart)
+from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, largest_entry,
+                                       multiply_add, owned_global_dofs, reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure, SystemLayout
 from .step import Step, StepState
 from .system import System
@@ -235,8 +235,19 @@ class FlowStep(Step):
     def accept(self, t):
         """The conduit faults' volumes take the accepted step to t."""
         if self.conduits and self.flow_pass == FlowPass.first:
-            self.conduits.add_volumes(self.w.x.array, self.fault_pressure, self.fault_pressure_previous,
-                                      self._fine_step(t))
+            fine = self._fine_step(t)
+            self.conduits.add_volumes(self.conduits.step_volumes(self.w.x.array, self.fault_pressure,
+                                                                 self.fault_pressure_previous, fine), fine)
+
+    def unbalanced(self, t):
+        """A conduit fault whose volumes the step to t would leave
+        unbalanced (ConduitFaults.unbalanced), or empty."""
+        if not self.conduits or self.flow_pass != FlowPass.first:
+            return ""
+        w = self.w.x.array
+        return self.conduits.unbalanced(
+            self.conduits.step_volumes(w, self.fault_pressure, self.fault_pressure_previous, self._fine_step(t)),
+            largest_entry(w, self.Z_to_W, self.Z.mesh.comm))
 
     def _fine_step(self, t):
         """The fine step of the next solve or accept, ending at t."""

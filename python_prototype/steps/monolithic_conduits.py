@@ -151,7 +151,14 @@ class MonolithicConduits:
     def accept(self, x, t):
         """The accepted step to t: the volumes take it (`x` the coupled
         unknowns)."""
-        self.faults.add_volumes(x, self.pressure, self.pressure_old, FineStep(t, self._dt(), 1, 1))
+        step = FineStep(t, self._dt(), 1, 1)
+        self.faults.add_volumes(self.faults.step_volumes(x, self.pressure, self.pressure_old, step), step)
+
+    def unbalanced(self, x, t, rock_flux):
+        """A fault that the step to t would leave unbalanced, or empty
+        (`rock_flux` the rock's largest flux DOF: ConduitFaults.unbalanced)."""
+        return self.faults.unbalanced(self.faults.step_volumes(x, self.pressure, self.pressure_old,
+                                                               FineStep(t, self._dt(), 1, 1)), rock_flux)
 
     def cell_values(self, x, t):
         """The faults' cell fields at t on rank 0 (ConduitFaults.cell_values)."""

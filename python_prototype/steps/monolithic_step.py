@@ -14,8 +14,8 @@ from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
 from ..scene.input import FaultFlow, SolverChoice, TimeScheme
 from ..assembly.parameters import interpolate
-from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, owned, owned_global_dofs,
-                                       rigid_body_modes)
+from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, largest_entry, owned,
+                                       owned_global_dofs, rigid_body_modes)
 from ..solvers.solver import SolverError, Structure, SystemLayout
 from .mechanics_step import MechanicsStep
 from .monolithic_conduits import MixedSpace, MonolithicConduits
@@ -247,6 +247,13 @@ class MonolithicStep(Step):
             record_moments(self.moments, t, self.contact_state())
         if self.conduits:
             self.conduits.accept(self.x.x.array, t)
+
+    def unbalanced(self, t):
+        """A conduit fault the step to t would leave unbalanced, or empty."""
+        if not self.conduits:
+            return ""
+        x = self.x.x.array
+        return self.conduits.unbalanced(x, t, largest_entry(x, self.Z_to_X, self.Z.mesh.comm))
 
     def iterations(self):
         """The iterations on the conduit faults' apertures of the last step

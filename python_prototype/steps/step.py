@@ -84,6 +84,12 @@ class Step(abc.ABC):
         """The step's solution at t (loaded in the step) was accepted: what
         the step adds up over the run takes it (a conduit fault's volumes)."""
 
+    def unbalanced(self, t):
+        """Whether the step's solution at t (loaded in the step) conserves
+        what it must to be accepted: one line naming what does not (a
+        conduit fault whose volumes do not balance), empty when all does."""
+        return ""
+
     def iterations(self):
         """The solves of the last advance, which the progress line shows: 1,
         or the monolithic step's iterations on its conduit faults' apertures."""
