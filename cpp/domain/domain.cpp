@@ -1,6 +1,7 @@
 #include "domain/domain.h"
 
 #include "domain/faults.h"
+#include "domain/pieces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -286,6 +287,7 @@ void split_faults(const Scene& scene, GmshData& data)
     requests.push_back(r);
   }
   const std::vector<SplitFault> split = split_along_faults(mesh, requests, scene.file + ": fault.");
+  refuse_free_pieces(scene, mesh, split);
   std::vector<FaultCells> cells; // before the faces join the facets
   for (const SplitFault& f : split)
     cells.push_back(fault_cells(mesh, f));

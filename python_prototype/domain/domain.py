@@ -22,6 +22,7 @@ from ..scene.input import MeshType, point_text
 from ..scene.scene import SceneError, agree_on_error
 from .fault_cells import FaultCells, fault_cells, well_cells
 from .faults import FaultRequest, InputMesh, split_along_faults
+from .pieces import refuse_free_pieces
 from .regions import locate_regions, regions_of_groups
 
 BOUNDARY_MARKER = 1  # forms/biot.py integrates ds(1)
@@ -250,6 +251,7 @@ def _split_faults(scene, data):
     mesh = InputMesh(d, data.x, data.cells, data.facets, data.facet_group, data.names)
     requests = [FaultRequest(name, tuple(fault.normal) + (0.0,) * (3 - d)) for name, fault in scene.faults.items()]
     split = split_along_faults(mesh, requests, f"{scene.file}: fault.")
+    refuse_free_pieces(scene, mesh, split)
     facets, groups = [mesh.facets], [mesh.facet_group]
     for f in split:
         # A facet whose nodes are all tips stays inside the body (faults.py):
