@@ -11,6 +11,8 @@ where the pore pressure lowers its effective normal stress enough:
   every output time;
 - the split accelerated by Anderson (coupling.acceleration) converges to
   the same solution: equal to the monolithic solve to 1e-9;
+- iterations.csv's Newton steps of each iteration's contact solve add up
+  to summary.json's count;
 - the split's largest contraction ratio is printed against the gamma of
   Theorem 1, which speaks of frictionless contact with a rigid foundation
   (docs/verification.md records it);
@@ -27,7 +29,8 @@ where the pore pressure lowers its effective normal stress enough:
 import os
 
 import numpy as np
-from support import INCLINED_CRACK_GEO as GEO, check, fault_fields, max_difference, run_track, summary, written
+from support import INCLINED_CRACK_GEO as GEO, check, fault_fields, iterations, max_difference, run_track, summary
+from support import written
 from support import scene as scene_file
 
 SCENE = """[mesh]
@@ -94,6 +97,10 @@ for track in ("C++", "prototype"):
           f"solve: {accelerated} (1e-9; {summary(anderson)['coupling_iterations']} coupling iterations against "
           f"{summary(split)['coupling_iterations']})")
     report = summary(split)
+    steps = [int(r["newton_steps"]) for r in iterations(split)]
+    check(sum(steps) == report["solvers"]["mechanics"]["newton_iterations"] and min(steps) >= 1,
+          f"{track}: iterations.csv's newton_steps, median {np.median(steps):g} per coupling iteration, add up to "
+          f"the {report['solvers']['mechanics']['newton_iterations']} Newton steps of summary.json")
     print(f"{track}: largest contraction ratio {report['max_contraction_ratio']:.4f}, mean "
           f"{report['mean_contraction_ratio']:.4f}, gamma {report['gamma']:.4f} (Theorem 1: frictionless, rigid "
           f"foundation)")

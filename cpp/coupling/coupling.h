@@ -67,6 +67,8 @@ struct IterationRecord
   // The conduit faults' p_f increment (relative, as dp_norm) and its ratio
   // to the last iteration's (NaN without conduit faults).
   double fault_dp_norm, fault_ratio;
+  // The Newton steps of the iteration's contact solve (0 without contact).
+  long newton_steps = 0;
 };
 
 /// Called after each converged window: once per fine flow step (with that

@@ -70,6 +70,7 @@ struct Window
   long active_set_changes = 0;         // at the last Anderson restart
   double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
   double fault_previous = std::numeric_limits<double>::quiet_NaN(); // ||dp_f|| of the last iteration
+  long newton_steps = 0; // of the last mechanics pass's contact solve
   double increment = 1;                // max(dp, du) of the last iteration
   std::vector<std::string> log;        // the last iterations, for the error message
 };
@@ -379,7 +380,9 @@ Array FixedStressSplit::fault_reference(const Window& w, int m) const
 /// u^{n+1}; for q = 1 the correction would return p^A_1 itself.
 void FixedStressSplit::mechanics_pass(Window& w)
 {
+  const long before = _mechanics.system().statistics().newton_iterations;
   _mechanics.solve(t(w, w.q));
+  w.newton_steps = _mechanics.system().statistics().newton_iterations - before;
   w.u_new = values(_mechanics.u->x()->array());
   if (_second_pass and w.q > 1)
     second_pass_correction(w);
@@ -531,7 +534,7 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   w.fault_previous = inc.fault_dp;
   w.active = _mechanics.active_contact_set();
   _observer.record({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
-                    w.active.nodes, fault_dp, fault_ratio});
+                    w.active.nodes, fault_dp, fault_ratio, w.newton_steps});
   if (!std::isfinite(inc.p2) or !std::isfinite(_state.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.

@@ -125,7 +125,7 @@ Output::Output(MPI_Comm comm, const std::string& directory,
         error = "--out " + directory + ": cannot write iterations.csv there";
       else if (!resume)
         _csv << "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes,fault_dp_norm,"
-                "fault_ratio\n"
+                "fault_ratio,newton_steps\n"
              << std::flush;
     }
   }
@@ -177,7 +177,7 @@ void Output::iteration(const IterationRecord& r)
     errno = 0;
     _csv << r.step << ',' << number(r.time) << ',' << r.iteration << ',' << v(r.dsigma_norm) << ','
          << v(r.ratio) << ',' << v(r.gamma) << ',' << v(r.dp_norm) << ',' << v(r.du_norm) << ','
-         << r.active_nodes << ',' << v(r.fault_dp_norm) << ',' << v(r.fault_ratio) << '\n'
+         << r.active_nodes << ',' << v(r.fault_dp_norm) << ',' << v(r.fault_ratio) << ',' << r.newton_steps << '\n'
          << std::flush;
     if (!_csv)
       failed = "cannot write " + _directory + "/iterations.csv: " + write_failure_reason(_directory);

@@ -71,6 +71,8 @@ class IterationRecord:
     # to the last iteration's (NaN without conduit faults).
     fault_dp_norm: float = math.nan
     fault_ratio: float = math.nan
+    # The Newton steps of the iteration's contact solve (0 without contact).
+    newton_steps: int = 0
 
 
 @dataclass

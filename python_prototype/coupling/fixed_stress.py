@@ -72,6 +72,7 @@ class _Window:
         self.active_set_changes = 0   # at the last Anderson restart
         self.dsigma_previous, self.dsigma_first = math.nan, 0.0
         self.fault_previous = math.nan  # ||dp_f|| of the last iteration
+        self.newton_steps = 0          # of the last mechanics pass's contact solve
         self.increment = 1.0          # max(dp, du) of the last iteration
         self.log = []                 # the last iterations, for the error message
 
@@ -283,7 +284,9 @@ class _FixedStressSplit:
         the mechanics load. (c) "multirate-two-pass": the fine steps again,
         without L, with u^{n+1}; for q = 1 the correction would return p^A_1
         itself."""
+        before = self.mechanics.system.statistics().newton_iterations
         self.mechanics.solve(self.t(w, w.q))
+        w.newton_steps = self.mechanics.system.statistics().newton_iterations - before
         w.u_new = self.mechanics.u.x.array.copy()
         if self.second_pass and w.q > 1:
             self.second_pass_correction(w)
@@ -410,7 +413,7 @@ class _FixedStressSplit:
         w.active = self.mechanics.active_contact_set()
         self.observer.record(IterationRecord(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio,
                                              self.parameters.gamma, dp_norm, du_norm, w.active.nodes, fault_dp,
-                                             fault_ratio))
+                                             fault_ratio, w.newton_steps))
         w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g}"
                      + (f" dp_f {fault_dp:g};" if conduits else ";"))
         return (max(dp_norm, fault_dp) if conduits else dp_norm), du_norm

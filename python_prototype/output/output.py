@@ -12,7 +12,8 @@ from .progress import is_rank0
 from .time_series import TimeSeries
 from .write_failure import OutputError, agree_on_output_error, write_failure_reason
 
-COLUMNS = "step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes,fault_dp_norm,fault_ratio"
+COLUMNS = ("step,time,iteration,dsigma_norm,ratio,gamma,dp_norm,du_norm,active_nodes,fault_dp_norm,fault_ratio,"
+           "newton_steps")
 
 
 def number(v):
@@ -105,7 +106,7 @@ class Output:
             try:
                 f = [number(x) if math.isfinite(x) else "" for x in (r.fault_dp_norm, r.fault_ratio)]
                 self.csv.write(f"{r.step},{number(r.time)},{r.iteration},{','.join(v)},{r.active_nodes},"
-                               f"{','.join(f)}\n")
+                               f"{','.join(f)},{r.newton_steps}\n")
                 self.csv.flush()
             except OSError as e:
                 failed = self._cannot_write(self.csv.name, e)
