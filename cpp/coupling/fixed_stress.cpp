@@ -669,7 +669,7 @@ bool FixedStressSplit::retry(const Window& w, const std::string& cause)
 /// run ends with the step and the fault named.
 bool FixedStressSplit::balance_accepted(const Window& w)
 {
-  for (int m = 1; m <= w.q; ++m)
+  for (int m = 1; m <= w.q and conduits(); ++m)
   {
     _flow.set_unknowns(w.w_new[m]);
     _flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m]);

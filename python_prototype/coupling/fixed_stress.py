@@ -513,7 +513,7 @@ class _FixedStressSplit:
         it must (FlowStep.unbalanced: a conduit fault's volumes); if one
         does not, back to the window's start on halved steps (time.retry),
         or the run ends with the step and the fault named."""
-        for m in range(1, w.q + 1):
+        for m in range(1, w.q + 1 if self.conduits() else 1):
             self.flow.set_unknowns(w.w_new[m])
             self.flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m])
             failure = self.flow.unbalanced(self.t(w, m))
