@@ -380,9 +380,9 @@ Array FixedStressSplit::fault_reference(const Window& w, int m) const
 /// u^{n+1}; for q = 1 the correction would return p^A_1 itself.
 void FixedStressSplit::mechanics_pass(Window& w)
 {
-  const long before = _mechanics.system().statistics().newton_iterations;
+  const long before = _mechanics.system().newton_steps();
   _mechanics.solve(t(w, w.q));
-  w.newton_steps = _mechanics.system().statistics().newton_iterations - before;
+  w.newton_steps = _mechanics.system().newton_steps() - before;
   w.u_new = values(_mechanics.u->x()->array());
   if (_second_pass and w.q > 1)
     second_pass_correction(w);

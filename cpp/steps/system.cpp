@@ -282,6 +282,8 @@ void System::reassemble()
     _linear->operator_changed();
 }
 
+long System::newton_steps() const { return _contact ? _contact->newton_iterations : 0; }
+
 SolverStatistics System::statistics() const
 {
   SolverStatistics s = _statistics;

@@ -113,6 +113,9 @@ public:
   /// What was done so far (collective only in that every rank reads its log),
   /// counts of an earlier run included (restart).
   SolverStatistics statistics() const;
+  /// The contact solver's Newton steps so far in this run (0 without
+  /// contact): what statistics() counts, without reading the log.
+  long newton_steps() const;
   /// The counts of the run a restart continues.
   void add_earlier(const SolverStatistics& earlier) { _earlier = earlier; }
   /// The solver actually used, e.g. "preonly + cholesky (cholmod)".

@@ -284,9 +284,9 @@ class _FixedStressSplit:
         the mechanics load. (c) "multirate-two-pass": the fine steps again,
         without L, with u^{n+1}; for q = 1 the correction would return p^A_1
         itself."""
-        before = self.mechanics.system.statistics().newton_iterations
+        before = self.mechanics.system.newton_steps()
         self.mechanics.solve(self.t(w, w.q))
-        w.newton_steps = self.mechanics.system.statistics().newton_iterations - before
+        w.newton_steps = self.mechanics.system.newton_steps() - before
         w.u_new = self.mechanics.u.x.array.copy()
         if self.second_pass and w.q > 1:
             self.second_pass_correction(w)

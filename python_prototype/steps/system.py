@@ -251,6 +251,11 @@ class System:
         """The counts of the run a restart continues, added to statistics()."""
         self._earlier = earlier
 
+    def newton_steps(self):
+        """The contact solver's Newton steps so far in this run (0 without
+        contact): what statistics() counts, without reading the log."""
+        return self.contact.newton_iterations if self.has_contact() else 0
+
     def statistics(self):
         """The statistics of all solves so far, the counts of an earlier run
         included (restart)."""
