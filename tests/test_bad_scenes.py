@@ -67,6 +67,8 @@ CASES = [
     ("unknown key", DEFAULT, s("mechanics.Ee=1.0"), "mechanics.Ee", BOTH),
     ("unknown key in a boundary", DEFAULT, s("boundary.top.tracton=[0.0, 1.0]"), "boundary.top.tracton", BOTH),
     ("unknown table", DEFAULT, s("nosuch.key=1"), "nosuch", BOTH),
+    ("misspelt key of a required one", DEFAULT, s("time.adaptive={ tol = 1e-3 }"),
+     "time.adaptive.tolerance: missing (a number is required; the table has tol: misspelt?)", BOTH),
     ("clamp and contact on one boundary", DEFAULT, s("boundary.bottom.clamp=true"), "boundary.bottom.clamp", BOTH),
     ("gmsh refinement out of range", BLOCK, s("mesh.refine=9"), "mesh.refine", BOTH),
     ("--set without =", DEFAULT, s("mechanics"), "--set mechanics", BOTH),

@@ -1,5 +1,7 @@
 #include "scene/section.h"
 
+#include <algorithm>
+
 namespace biotcontact
 {
 
@@ -11,6 +13,45 @@ Section::Section(const toml::table* table, std::string path, const std::string& 
 void Section::fail(const std::string& key, const std::string& message) const
 {
   throw SceneError(_file + ": " + name(key) + ": " + message);
+}
+
+namespace
+{
+
+/// Whether `given` looks like a misspelling of `key`: one begins the other,
+/// or at most 2 letters are changed, added or dropped (Levenshtein).
+bool alike(const std::string& key, const std::string& given)
+{
+  if (given.size() >= 2 and (key.rfind(given, 0) == 0 or given.rfind(key, 0) == 0))
+    return true;
+  std::vector<std::size_t> row(given.size() + 1);
+  for (std::size_t j = 0; j < row.size(); ++j)
+    row[j] = j;
+  for (std::size_t i = 1; i <= key.size(); ++i)
+  {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= given.size(); ++j)
+    {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] == given[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row.back() <= 2;
+}
+
+} // namespace
+
+std::string Section::missing(const std::string& key, const std::string& what) const
+{
+  // A key given but not read so far that looks like it: a misspelling.
+  std::string given;
+  for (const std::string& k : keys())
+    if (_used.count(k) == 0 and alike(key, k))
+      given += (given.empty() ? "" : ", ") + k;
+  return "missing (" + what + " is required" + (given.empty() ? "" : "; the table has " + given + ": misspelt?")
+         + ")";
 }
 
 std::string Section::name(const std::string& key) const { return _path.empty() ? key : _path + "." + key; }
@@ -29,7 +70,7 @@ Section Section::table(const std::string& key, bool required)
   if (!n)
   {
     if (required)
-      fail(key, "missing (a table is required)");
+      fail(key, missing(key, "a table"));
     return Section(nullptr, name(key), _file);
   }
   if (!n->is_table())
@@ -43,7 +84,7 @@ double Section::number(const std::string& key, std::optional<double> fallback)
   if (!n)
   {
     if (!fallback)
-      fail(key, "missing (a number is required)");
+      fail(key, missing(key, "a number"));
     return *fallback;
   }
   if (!n->is_number())
@@ -77,7 +118,7 @@ std::string Section::string(const std::string& key, std::optional<std::string> f
   if (!n)
   {
     if (!fallback)
-      fail(key, "missing (a string is required)");
+      fail(key, missing(key, "a string"));
     return *fallback;
   }
   if (!n->is_string())

@@ -28,6 +28,9 @@ public:
   Section(const toml::table* table, std::string path, const std::string& file);
 
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  /// "missing (WHAT is required)" for `key`, naming the keys the table
+  /// has, not read so far, that look like it (misspelt).
+  std::string missing(const std::string& key, const std::string& what) const;
   /// The dotted name of `key` in this table.
   std::string name(const std::string& key) const;
   bool has(const std::string& key) const;

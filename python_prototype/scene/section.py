@@ -34,6 +34,12 @@ class Section:
     def fail(self, key, message):
         raise SceneError(f"{self.file}: {self.name(key)}: {message}")
 
+    def missing(self, key, what):
+        """"missing (WHAT is required)" for `key`, naming the keys the table
+        has, not read so far, that look like it (misspelt)."""
+        given = ", ".join(k for k in self.keys() if k not in self.used and _alike(key, k))
+        return f"missing ({what} is required" + (f"; the table has {given}: misspelt?" if given else "") + ")"
+
     def name(self, key):
         """The dotted name of `key` in this table."""
         return f"{self.path}.{key}" if self.path else key
@@ -51,7 +57,7 @@ class Section:
         n = self.node(key)
         if n is None:
             if required:
-                self.fail(key, "missing (a table is required)")
+                self.fail(key, self.missing(key, "a table"))
             return Section(None, self.name(key), self.file)
         if not isinstance(n, dict):
             self.fail(key, "must be a table")
@@ -61,7 +67,7 @@ class Section:
         n = self.node(key)
         if n is None:
             if fallback is None:
-                self.fail(key, "missing (a number is required)")
+                self.fail(key, self.missing(key, "a number"))
             return fallback
         if not self.is_number(n):
             self.fail(key, "must be a number")
@@ -87,7 +93,7 @@ class Section:
         n = self.node(key)
         if n is None:
             if fallback is None:
-                self.fail(key, "missing (a string is required)")
+                self.fail(key, self.missing(key, "a string"))
             return fallback
         if not isinstance(n, str):
             self.fail(key, "must be a string")
@@ -142,6 +148,21 @@ class Section:
         for key in self.keys():
             if key not in self.used:
                 self.fail(key, "unknown key")
+
+
+def _alike(key, given):
+    """Whether `given` looks like a misspelling of `key`: one begins the
+    other, or at most 2 letters are changed, added or dropped (Levenshtein)."""
+    if len(given) >= 2 and (key.startswith(given) or given.startswith(key)):
+        return True
+    row = list(range(len(given) + 1))
+    for i in range(1, len(key) + 1):
+        diagonal, row[0] = row[0], i
+        for j in range(1, len(given) + 1):
+            above = row[j]
+            row[j] = min(row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] != given[j - 1]))
+            diagonal = above
+    return row[-1] <= 2
 
 
 def apply_override(root, assignment, file):

@@ -161,7 +161,13 @@ TEST_F(SceneFiles, MissingTableIsRefused)
   std::string text((std::istreambuf_iterator<char>(in)), {});
   text.replace(text.find("[time]"), 6, "[tiem]");
   const std::string file = written(text);
-  EXPECT_EQ(refusal(file), file + ": time: missing (a table is required)");
+  EXPECT_EQ(refusal(file), file + ": time: missing (a table is required; the table has tiem: misspelt?)");
+}
+
+TEST_F(SceneFiles, MisspeltKeyIsNamed)
+{
+  expect_refused({"time.adaptive={ tol = 1e-3 }"}, "time.adaptive.tolerance",
+                 "missing (a number is required; the table has tol: misspelt?)");
 }
 
 TEST_F(SceneFiles, BadFilesAreRefused)

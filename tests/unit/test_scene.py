@@ -111,7 +111,11 @@ class SceneReader(unittest.TestCase):
 
     def test_missing_table_is_refused(self):
         file = written(TEXT.replace("[time]", "[tiem]"))
-        self.assertEqual(refusal(file), f"{file}: time: missing (a table is required)")
+        self.assertEqual(refusal(file), f"{file}: time: missing (a table is required; the table has tiem: misspelt?)")
+
+    def test_misspelt_key_is_named(self):
+        self.expect_refused(["time.adaptive={ tol = 1e-3 }"], "time.adaptive.tolerance",
+                            "missing (a number is required; the table has tol: misspelt?)")
 
     def test_bad_files_are_refused(self):
         folder = tempfile.mkdtemp()
