@@ -53,8 +53,8 @@ void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, 
   const double* x = &context.coordinates[3 * plus->second];
   const double g = face.spec.gap(x, 0.0);
   const std::string key = context.file + ": fault." + face.name;
-  if ((!(g >= 0) or !std::isfinite(g)) and error.empty())
-    error = key + ".gap: must be >= 0, got " + std::to_string(g) + " at " + point_text(x, d);
+  if (const std::string problem = nonnegative_problem(g); !problem.empty() and error.empty())
+    error = key + ".gap: " + problem + " at " + point_text(x, d);
   const std::array<double, 3> nu{-n[0], -n[1], -n[2]};
   std::array<bool, 3> held{false, false, false};
   for (int i = 0; i < d; ++i)

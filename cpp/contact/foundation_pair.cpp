@@ -78,9 +78,8 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
       const double* x = &coords[3 * (dofs[k] / bs)];
       const double g = b.contact->gap(x, 0.0);
       const auto n = unit_normal(*b.contact, x, d);
-      if ((!(g >= 0) or !std::isfinite(g)) and error.empty())
-        error = scene.file + ": boundary." + name + ".contact.gap: must be >= 0, got " + std::to_string(g) + " at "
-                + point_text(x, d);
+      if (const std::string problem = nonnegative_problem(g); !problem.empty() and error.empty())
+        error = scene.file + ": boundary." + name + ".contact.gap: " + problem + " at " + point_text(x, d);
       if (!n and error.empty())
         error = scene.file + ": boundary." + name + ".contact.normal: zero or not finite at " + point_text(x, d);
       if (!n)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -17,6 +18,17 @@ struct SceneError : std::runtime_error
 {
   using std::runtime_error::runtime_error;
 };
+
+/// What is wrong with a value that must be >= 0: "is NaN", "is infinite"
+/// or "must be >= 0, got V"; empty when it is fine.
+inline std::string nonnegative_problem(double v)
+{
+  if (std::isnan(v))
+    return "is NaN";
+  if (std::isinf(v))
+    return "is infinite";
+  return v >= 0 ? std::string() : "must be >= 0, got " + std::to_string(v);
+}
 
 /// A point for a message: "(x, y)" or "(x, y, z)".
 inline std::string point_text(const double* x, int d)

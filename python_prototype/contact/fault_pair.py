@@ -14,7 +14,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..assembly.fault_aperture import FaultNodes, fault_nodes
-from ..scene.input import point_text
+from ..scene.input import nonnegative_problem, point_text
 from .change_of_variables import node_change_of_variables, pair_change_of_variables
 from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
@@ -55,8 +55,9 @@ def _add_pair(c, context, face, k, error):
     first, x = bs * node, context.coordinates[node]
     g = float(face.spec.gap(x[0], x[1], x[2], 0.0))
     key = f"{context.file}: fault.{face.name}"
-    if (not (g >= 0) or not np.isfinite(g)) and not error:
-        error.append(f"{key}.gap: must be >= 0, got {g:f} at {point_text(x, d)}")
+    problem = nonnegative_problem(g)
+    if problem and not error:
+        error.append(f"{key}.gap: {problem} at {point_text(x, d)}")
     held = context.prescribed[first:first + d]
     R = node_change_of_variables([-n], d, held)
     if R is None:

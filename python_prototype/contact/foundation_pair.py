@@ -11,7 +11,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..assembly.linear_algebra import owned
-from ..scene.input import point_text
+from ..scene.input import nonnegative_problem, point_text
 from .change_of_variables import coordinate_axis, node_change_of_variables
 from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
@@ -51,9 +51,9 @@ def _gather_candidates(scene, domain, F, V, c, error):
             x = coords[dof // bs]
             g = float(b.contact.gap(x[0], x[1], x[2], 0.0))
             n = _unit_normal(b.contact, x, d)
-            if (not (g >= 0) or not np.isfinite(g)) and not error:
-                error.append(f"{scene.file}: boundary.{name}.contact.gap: must be >= 0, got {g:f} at "
-                             f"{point_text(x, d)}")
+            problem = nonnegative_problem(g)
+            if problem and not error:
+                error.append(f"{scene.file}: boundary.{name}.contact.gap: {problem} at {point_text(x, d)}")
             if n is None and not error:
                 error.append(f"{scene.file}: boundary.{name}.contact.normal: zero or not finite at {point_text(x, d)}")
             if n is not None:

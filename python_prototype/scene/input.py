@@ -6,10 +6,22 @@ one of a few named values, read into its enum once, when the scene is read
 Each enum's values are the names the scene gives them, in the order the
 messages list them (C++ keeps that list apart, in Choices<E>)."""
 import enum
+import math
 
 
 class SceneError(Exception):
     """Bad input: the message is one line naming the file and the key."""
+
+
+def nonnegative_problem(v):
+    """What is wrong with a value that must be >= 0: "is NaN", "is
+    infinite" or "must be >= 0, got V" (six decimals, as C++'s
+    std::to_string); empty when it is fine."""
+    if math.isnan(v):
+        return "is NaN"
+    if math.isinf(v):
+        return "is infinite"
+    return "" if v >= 0 else f"must be >= 0, got {v:f}"
 
 
 def point_text(x, d):
