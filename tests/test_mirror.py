@@ -101,6 +101,8 @@ DIFFERENCES = {
                                        "dict, CROSSOVER[(dimension, system)]"
            for d in (2, 3) for system in ("mechanics", "flow", "monolithic")},
         "method_name": "C++ only: the name of a Method; Python's enum has it (Method.name)",
+        "check_petsc": "C++ only: throws SolverError for a PETSc error code that a call returned; petsc4py raises "
+                       "PETSc.Error itself",
         "option": "C++ only: a PETSc option's value by prefix and name; petsc4py's "
                   "PETSc.Options().getString(prefix + name, \"\") gives it",
         "factor_package": private("solver.cpp"),

@@ -39,11 +39,6 @@ namespace
 /// What a friction that fails to converge most often means.
 constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
 
-/// Whether a constraint is active: its node lies on the foundation to
-/// round-off, within 1e-9 of the displacement scale (the one test behind the
-/// active set the coupling compares and the contact_active field).
-bool on_foundation(double distance, double scale) { return distance <= 1e-9 * scale; }
-
 /// Reads -<prefix>contact_condensed through PETSc's options database, so
 /// that -help lists it with this run's default.
 PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed)
@@ -73,6 +68,30 @@ bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, P
   if (read_condensed(comm, prefix, condensed, &condensed) != 0)
     throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
   return condensed;
+}
+/// Whether any rank has a frictional constraint (collective).
+bool any_frictional(const ContactSet& set, MPI_Comm comm)
+{
+  int local = std::any_of(set.frictional.begin(), set.frictional.end(), [](char f) { return f != 0; }), any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any;
+}
+
+/// Every rank's constraints on every rank, in rank order (collective): a
+/// record of plain values, gathered as bytes.
+std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<FrictionalConstraint>& mine, MPI_Comm comm)
+{
+  static_assert(std::is_trivially_copyable_v<FrictionalConstraint>);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const int bytes = static_cast<int>(mine.size() * sizeof(FrictionalConstraint));
+  std::vector<int> counts(ranks), starts(ranks + 1, 0);
+  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < ranks; ++r)
+    starts[r + 1] = starts[r] + counts[r];
+  std::vector<FrictionalConstraint> all(starts[ranks] / sizeof(FrictionalConstraint));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), starts.data(), MPI_BYTE, comm);
+  return all;
 }
 } // namespace
 
@@ -104,6 +123,8 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
     pose_on_full_system(layout);
   make_friction();
   const std::string vi_prefix = condensed ? prefix + "contact_" : prefix;
+  if (_J and !condensed)
+    unsymmetric_jacobian_options(prefix);
   _preconditioner_on_P = !condensed and method == Method::iterative;
   create_snes(vi_prefix);
   if (_preconditioner_on_P)
@@ -157,10 +178,12 @@ void ContactSolver::condense()
       _bounded_sign.push_back(all_sign[k]);
     }
   VecCreateSeq(PETSC_COMM_SELF, m, &_x);
-  // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
+  // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD
+  // but for the Jacobian of friction, which is not symmetric.
   const std::string vi_prefix = _prefix + "contact_";
   set_default_option(vi_prefix + "ksp_type", "preonly");
-  set_default_option(vi_prefix + "pc_type", _structure == Structure::spd ? "cholesky" : "lu");
+  const bool symmetric = _structure == Structure::spd and !any_frictional(_set, _comm);
+  set_default_option(vi_prefix + "pc_type", symmetric ? "cholesky" : "lu");
   set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc");
   make_bound_vectors();
 }
@@ -183,42 +206,34 @@ void ContactSolver::make_friction()
 {
   const int d = _set.dim;
   const PetscInt first = _schur ? _schur->offset() : 0;
-  std::vector<std::int64_t> records; // per constraint: 3 positions, then 6 doubles' bits
+  std::vector<FrictionalConstraint> mine;
   PetscInt next = static_cast<PetscInt>(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
   {
-    const ContactLaw& law = _set.laws[_set.boundary[k]];
     if (!_set.frictional[k])
       continue;
-    const PetscInt normal = _schur ? first + static_cast<PetscInt>(k) : _dofs[k];
-    std::array<PetscInt, 2> t{-1, -1};
+    FrictionalConstraint f;
+    f.normal = _schur ? first + static_cast<PetscInt>(k) : _dofs[k];
     for (int r = 1; r < d; ++r, ++next)
-      t[r - 1] = _schur ? first + next : _displacement_dofs[_set.dofs[k] + r];
-    records.insert(records.end(), {normal, t[0], t[1]});
-    for (double v : {static_cast<double>(_set.sign[k]), _set.gap[k], _set.lumped[k], law.friction, law.cohesion,
-                     law.tresca.value_or(-1.0)})
-      records.push_back(std::bit_cast<std::int64_t>(v));
+      f.tangential[r - 1] = _schur ? first + next : _displacement_dofs[_set.dofs[k] + r];
+    f.sign = _set.sign[k], f.gap = _set.gap[k], f.lumped = _set.lumped[k];
+    f.law = _set.laws[_set.boundary[k]];
+    mine.push_back(f);
   }
-  const std::vector<std::int64_t> all = _schur ? all_gather(records, _comm).values : records;
-  auto real = [&](std::size_t i) { return std::bit_cast<double>(all[i]); };
-  for (std::size_t i = 0; i < all.size(); i += 9)
-  {
-    Friction f;
-    f.normal = all[i];
-    f.tangential = {all[i + 1], all[i + 2]};
-    f.sign = real(i + 3), f.gap = real(i + 4), f.lumped = real(i + 5);
-    f.law = {real(i + 6), real(i + 7), real(i + 8) >= 0 ? std::optional<double>(real(i + 8)) : std::nullopt};
-    _friction.push_back(f);
-  }
-  int local = !_friction.empty(), any = 0;
-  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, _comm);
-  if (!any)
+  _friction = _schur ? all_gather_constraints(mine, _comm) : mine;
+  if (!any_frictional(_set, _comm))
     return;
   for (Vec* v : {&_x_reference, &_stiffness, &_work})
     VecDuplicate(_x, v);
   VecSet(_x_reference, 0.0);
-  if (d == 3)
-    MatDuplicate(_K, MAT_COPY_VALUES, &_J);
+  MatDuplicate(_K, MAT_COPY_VALUES, &_J);
+  // Its tangential rows are combinations of the constraint's own rows of K
+  // (friction_jacobian), inside K's pattern where the rows of a node share
+  // it; allowed to grow where they do not.
+  if (!_schur)
+    MatSetOption(_J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
+  MatSetOption(_J, MAT_SPD, PETSC_FALSE);
+  MatSetOption(_J, MAT_SYMMETRIC, PETSC_FALSE);
 }
 
 /// The VI on the full system: only the contact DOFs are bounded.
@@ -257,7 +272,7 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
   _lag_by_default = !lag_given;
   PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
-  // With friction in 3D the Jacobian changes every step: no lag for a
+  // With friction the Jacobian changes every step: no lag for a
   // factorisation of it. The iterative path's preconditioner is built from
   // P and the inactive set alone (inactive_set_preconditioner.h), not from
   // the Jacobian: it is reused across Newton steps there too.
@@ -268,8 +283,8 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // F is linear and its matrix the exact Jacobian: the full semismooth
   // Newton step is exact on the current active set, and a backtracking
   // search only fails once the residual is at round-off.
-  // With friction in 3D the slip forces' directions make full steps
-  // overshoot: a backtracking search. But not on the coupled system: the
+  // With friction F is semismooth, and full steps can overshoot where a
+  // constraint changes state: a backtracking search. But not on the coupled system: the
   // search's merit ||F||, the forces' (N), is blind to its mass balances'
   // rows (m^3/s); with the forces at round-off it shrank their step to
   // nothing (a conduit fault's p_f, test_conduit_monolithic).
@@ -293,7 +308,7 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
-  // (Not with the backtracking search of friction in 3D: its F is not
+  // (Not with the backtracking search of friction: its F is not
   // linear, the residual decides, and the search fails on a zero step.)
   SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE);
   SNESMonitorSet(_snes, &ContactSolver::monitor, this, nullptr);
@@ -421,7 +436,13 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   *reason = SNES_CONVERGED_ITERATING;
   if (iteration == 0)
   {
-    self->_relative_target = rtol * fnorm;
+    // With friction F is not linear, and a start far off (the clamped
+    // start of a body that slides) would make any residual "relative":
+    // relative to the load then, where that is smaller.
+    PetscReal load = fnorm;
+    if (self->_J)
+      PetscCall(VecNorm(self->_b_scaled, NORM_2, &load));
+    self->_relative_target = rtol * std::min(fnorm, load);
     Vec F = nullptr;
     PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
     self->_balance_relative_target = rtol * self->balance_norm(F);
@@ -431,7 +452,7 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
   else if ((iteration > 0 or self->_J) and fnorm < atol and balances)
-    *reason = SNES_CONVERGED_FNORM_ABS; // a step taken, or the start with friction in 3D
+    *reason = SNES_CONVERGED_FNORM_ABS; // a step taken, or the start with friction
   else if (iteration > 0 and fnorm < self->_relative_target and balances)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   // ... and the stopping rule of the primal-dual active set method: the
@@ -443,9 +464,9 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   // in units of the displacement scale on the coupled system) lies above
   // atol, which the test above would never see met. SNES has no reason for
   // it; CONVERGED_ITS stands for "stopped by the method's own rule".
-  // With slip forces along the slip increment (3D) F is not linear: only
-  // the residual says when it is solved.
-  else if (iteration > 0 and self->_set_repeated and !self->_nonlinear)
+  // With friction F is not linear: only the residual says when it is
+  // solved.
+  else if (iteration > 0 and self->_set_repeated and !self->_J)
     *reason = SNES_CONVERGED_ITS;
   return 0;
 }
@@ -465,27 +486,54 @@ ContactSolver::~ContactSolver()
   }
 }
 
-// F(x) = K x - b/s: the gradient of the quadratic energy, in units of s.
+// F(x) = K x - b/s: the gradient of the quadratic energy, in units of s;
+// with friction its frictional constraints' tangential rows carry the
+// return map (friction.h).
 PetscErrorCode ContactSolver::residual(SNES, Vec x, Vec F, void* context)
 {
   auto* self = static_cast<ContactSolver*>(context);
-  MatMult(self->_K, x, F);
-  VecAXPY(F, -1.0, self->_b_scaled);
-  if (!self->_friction.empty())
-    self->add_slip_forces(x, F);
+  PetscCall(MatMult(self->_K, x, F));
+  PetscCall(VecAXPY(F, -1.0, self->_b_scaled));
+  if (self->_J)
+    self->add_friction(x, F);
   return 0;
 }
 
 // The Jacobian is the constant matrix K (A, or H formed once per A); with
-// friction in 3D, K plus the derivative of the slip forces' directions.
+// friction the generalised Jacobian of its rows (friction_jacobian).
 PetscErrorCode ContactSolver::jacobian(SNES, Vec x, Mat, Mat, void* context)
 {
   auto* self = static_cast<ContactSolver*>(context);
   if (!self->_J)
     return 0;
-  MatCopy(self->_K, self->_J, SAME_NONZERO_PATTERN);
-  self->add_slip_jacobian(x, self->_J);
+  PetscCall(MatMult(self->_K, x, self->_work));
+  PetscCall(VecAXPY(self->_work, -1.0, self->_b_scaled));
+  const PetscScalar *X, *R, *start, *c;
+  PetscCall(VecGetArrayRead(x, &X));
+  PetscCall(VecGetArrayRead(self->_work, &R));
+  PetscCall(VecGetArrayRead(self->_x_reference, &start));
+  PetscCall(VecGetArrayRead(self->_stiffness, &c));
+  friction_jacobian(self->_friction, {X, R, start, c, self->_scale, self->_set.dim - 1}, self->_K, self->_J);
+  PetscCall(VecRestoreArrayRead(x, &X));
+  PetscCall(VecRestoreArrayRead(self->_work, &R));
+  PetscCall(VecRestoreArrayRead(self->_x_reference, &start));
+  PetscCall(VecRestoreArrayRead(self->_stiffness, &c));
   return 0;
+}
+
+void ContactSolver::add_friction(Vec x, Vec F) const
+{
+  const PetscScalar *X, *start, *c;
+  PetscScalar* R;
+  check_petsc(VecGetArrayRead(x, &X), "friction: the unknown");
+  check_petsc(VecGetArray(F, &R), "friction: the residual");
+  check_petsc(VecGetArrayRead(_x_reference, &start), "friction: the step's start");
+  check_petsc(VecGetArrayRead(_stiffness, &c), "friction: the stiffness");
+  add_friction_forces(_friction, {X, R, start, c, _scale, _set.dim - 1}, R);
+  VecRestoreArrayRead(x, &X);
+  VecRestoreArray(F, &R);
+  VecRestoreArrayRead(_x_reference, &start);
+  VecRestoreArrayRead(_stiffness, &c);
 }
 
 double ContactSolver::displacement_scale(Vec x) const
@@ -524,10 +572,9 @@ void ContactSolver::solve(Vec b, Vec x)
   _scale = displacement_scale(x_vi);
   set_bounds();
   pose(b_vi, x_vi);
-  if (_x_reference)
-    solve_with_friction();
-  else
-    solve_vi();
+  if (_J) // the stiffness that turns a slip increment into a trial force
+    check_petsc(MatGetDiagonal(_K, _stiffness), "friction: the diagonal of the contact matrix");
+  solve_vi();
   VecScale(_x, _scale);
   if (_schur)
     _schur->extend(b_vi, _x, x_vi);
@@ -549,254 +596,6 @@ void ContactSolver::set_slip_reference(Vec x)
     VecCopy(x_vi, _x_reference);
 }
 
-/// Friction by the primal-dual active-set method (Hueber, Stadler and
-/// Wohlmuth 2008) around the VI: each round solves the VI with every
-/// stuck tangential unknown held at its reference (no slip increment) and
-/// every slipping one loaded by its slip force, then takes from that
-/// solution the trial force theta = t_T + c ds (t_T the tangential contact
-/// force, ds the slip increment, c the diagonal stiffness) of each closed
-/// constraint: stuck when |theta| is within the bound, else slipping with
-/// the bound's force, along theta in 2D, and in 3D along its slip increment
-/// within the VI (the exact disc, slip_force). When no state and
-/// no slip force changes, the round's solution satisfies the law: a stuck
-/// constraint's force is within the bound, a slipping one's is on it and
-/// along its slip increment. The states and forces carry over to the next
-/// solve, whose rounds usually start from the right ones.
-void ContactSolver::solve_with_friction()
-{
-  MatGetDiagonal(_K, _stiffness);
-  for (int round = 1; round <= max_friction_iterations; ++round)
-  {
-    apply_friction();
-    if (!solve_round())
-      continue;
-    ++friction_iterations;
-    if (update_friction())
-      return;
-  }
-  throw SolverError("friction: the stick and slip states did not settle in " + std::to_string(max_friction_iterations)
-                    + " rounds of the active-set iteration" + no_equilibrium);
-}
-
-bool ContactSolver::solve_round()
-{
-  try
-  {
-    solve_vi();
-    return true;
-  }
-  catch (const SolverError&)
-  {
-    if (!_nonlinear)
-      throw;
-  }
-  if (!stick_weakest())
-    throw SolverError("friction: the contact solver did not converge with the slipping pairs of this round"
-                      + std::string(no_equilibrium));
-  return false;
-}
-
-void ContactSolver::apply_friction()
-{
-  PetscScalar *lo, *up;
-  const PetscScalar* ref;
-  VecGetArray(_lower, &lo);
-  VecGetArray(_upper, &up);
-  VecGetArrayRead(_x_reference, &ref);
-  for (const Friction& f : _friction)
-    for (int r = 0; r + 1 < _set.dim; ++r)
-    {
-      const PetscInt t = f.tangential[r];
-      const bool stuck = f.status == PairStatus::stick;
-      lo[t] = stuck ? ref[t] / _scale : PETSC_NINFINITY;
-      up[t] = stuck ? ref[t] / _scale : PETSC_INFINITY;
-    }
-  VecRestoreArray(_lower, &lo);
-  VecRestoreArray(_upper, &up);
-  VecRestoreArrayRead(_x_reference, &ref);
-  int slipping = _set.dim == 3 and std::any_of(_friction.begin(), _friction.end(), [](const Friction& f)
-                                               { return f.status == PairStatus::slip; });
-  if (!_schur)
-    MPI_Allreduce(MPI_IN_PLACE, &slipping, 1, MPI_INT, MPI_MAX, _comm);
-  _nonlinear = slipping;
-}
-
-std::array<double, 2> ContactSolver::slip_force(const Friction& f, const PetscScalar* X, const PetscScalar* ref,
-                                                std::array<double, 2>& increment) const
-{
-  const int tangents = _set.dim - 1;
-  for (int r = 0; r < tangents; ++r)
-    increment[r] = X[f.tangential[r]] * _scale - ref[f.tangential[r]];
-  if (f.status != PairStatus::slip)
-    return {0.0, 0.0};
-  // The friction opposes the slip: K x - b = -force on a slipping unknown.
-  if (tangents == 1)
-    return {f.bound * f.direction[0], f.bound * f.direction[1]};
-  // 3D: along s, regularised, bound s / sqrt(|s|^2 + e^2) with e =
-  // slip_regularisation times the scale: the gradient of the convex
-  // bound sqrt(|s|^2 + e^2), which keeps Newton's equations solvable where
-  // a constraint marked slipping should stick (its |s| then falls to about
-  // e, and the next round sticks it); off by (e/|s|)^2 / 2 where it slips.
-  const double e = slip_regularisation * _scale;
-  const double size = std::sqrt(increment[0] * increment[0] + increment[1] * increment[1] + e * e);
-  return {f.bound * increment[0] / size, f.bound * increment[1] / size};
-}
-
-void ContactSolver::add_slip_forces(Vec x, Vec F) const
-{
-  const PetscScalar *X, *ref;
-  PetscScalar* R;
-  VecGetArrayRead(x, &X);
-  VecGetArrayRead(_x_reference, &ref);
-  VecGetArray(F, &R);
-  std::array<double, 2> increment{0, 0};
-  for (const Friction& f : _friction)
-  {
-    const std::array<double, 2> force = slip_force(f, X, ref, increment);
-    for (int r = 0; r + 1 < _set.dim; ++r)
-      R[f.tangential[r]] += force[r] / _scale;
-  }
-  VecRestoreArrayRead(x, &X);
-  VecRestoreArrayRead(_x_reference, &ref);
-  VecRestoreArray(F, &R);
-}
-
-void ContactSolver::add_slip_jacobian(Vec x, Mat J) const
-{
-  // d(bound s/r)/ds = bound/r (I - s s^T/r^2), r = sqrt(|s|^2 + e^2)
-  // (slip_force): in the units of K (the residual is in units of the
-  // scale, so is x).
-  PetscInt start = 0;
-  MatGetOwnershipRange(J, &start, nullptr);
-  const PetscScalar *X, *ref;
-  VecGetArrayRead(x, &X);
-  VecGetArrayRead(_x_reference, &ref);
-  std::array<double, 2> s{0, 0};
-  for (const Friction& f : _friction)
-  {
-    slip_force(f, X, ref, s);
-    if (f.status != PairStatus::slip)
-      continue;
-    const double e = slip_regularisation * _scale;
-    const double size = std::sqrt(s[0] * s[0] + s[1] * s[1] + e * e);
-    const PetscInt rows[2] = {start + f.tangential[0], start + f.tangential[1]};
-    const double n[2] = {s[0] / size, s[1] / size}, g = f.bound / size;
-    const PetscScalar block[4] = {g * (1 - n[0] * n[0]), -g * n[0] * n[1], -g * n[1] * n[0], g * (1 - n[1] * n[1])};
-    MatSetValues(J, 2, rows, 2, rows, block, ADD_VALUES);
-  }
-  VecRestoreArrayRead(x, &X);
-  VecRestoreArrayRead(_x_reference, &ref);
-  MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY);
-}
-
-bool ContactSolver::stick_weakest()
-{
-  const PetscScalar *X, *ref;
-  VecGetArrayRead(_x, &X);
-  VecGetArrayRead(_x_reference, &ref);
-  std::vector<double> size(_friction.size(), -1.0);
-  double largest = 0;
-  std::array<double, 2> s{0, 0};
-  for (std::size_t k = 0; k < _friction.size(); ++k)
-    if (_friction[k].status == PairStatus::slip)
-    {
-      slip_force(_friction[k], X, ref, s);
-      size[k] = std::hypot(s[0], s[1]);
-      largest = std::max(largest, size[k]);
-    }
-  VecRestoreArrayRead(_x, &X);
-  VecRestoreArrayRead(_x_reference, &ref);
-  if (!_schur)
-    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, _comm);
-  int any = 0;
-  for (std::size_t k = 0; k < _friction.size(); ++k)
-    if (size[k] >= 0 and size[k] <= 1e-2 * largest)
-      _friction[k].status = PairStatus::stick, any = 1;
-  if (!_schur)
-    MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, _comm);
-  return any;
-}
-
-/// The friction forces of the VI's solution: the contact forces R = K x - b
-/// (without the slip forces; in units of the scale) give each constraint
-/// its normal traction, so its bound, and, stuck, the force that holds it.
-bool ContactSolver::update_friction()
-{
-  MatMult(_K, _x, _work);
-  VecAXPY(_work, -1.0, _b_scaled);
-  const PetscScalar *X, *R, *ref, *c;
-  VecGetArrayRead(_x, &X);
-  VecGetArrayRead(_work, &R);
-  VecGetArrayRead(_x_reference, &ref);
-  VecGetArrayRead(_stiffness, &c);
-  const int tangents = _set.dim - 1;
-  std::vector<double> bound(_friction.size());
-  std::vector<std::array<double, 2>> trial(_friction.size(), {0.0, 0.0}), increment = trial;
-  double largest = 0;
-  for (std::size_t k = 0; k < _friction.size(); ++k)
-  {
-    const Friction& f = _friction[k];
-    const bool closed = on_foundation(f.gap - f.sign * X[f.normal] * _scale, _scale);
-    const double normal = -f.sign * R[f.normal] * _scale / f.lumped;
-    bound[k] = closed ? slip_bound(f.law, normal) * f.lumped : -1.0;
-    slip_force(f, X, ref, increment[k]);
-    for (int r = 0; r < tangents; ++r)
-      trial[k][r] = -R[f.tangential[r]] * _scale + c[f.tangential[r]] * increment[k][r];
-    largest = std::max(largest, bound[k]);
-  }
-  VecRestoreArrayRead(_x, &X);
-  VecRestoreArrayRead(_work, &R);
-  VecRestoreArrayRead(_x_reference, &ref);
-  VecRestoreArrayRead(_stiffness, &c);
-  if (!_schur) // on the full system each rank holds its own constraints
-    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, _comm);
-  double change = 0;
-  int changed = 0;
-  for (std::size_t k = 0; k < _friction.size(); ++k)
-  {
-    Friction& f = _friction[k];
-    const std::array<double, 2> before{f.bound * f.direction[0], f.bound * f.direction[1]};
-    const PairStatus status = next_status(f, bound[k], trial[k], increment[k], largest);
-    if (status == PairStatus::slip)
-    {
-      // 2D: the direction stays (a reversal sticks first); 3D: along the
-      // increment, or the trial force for a constraint that starts to slip.
-      const std::array<double, 2>& along = f.status == PairStatus::slip and tangents == 2 ? increment[k] : trial[k];
-      const double size = std::hypot(along[0], along[1]);
-      if (!(f.status == PairStatus::slip and tangents == 1) and size > 0)
-        f.direction = {along[0] / size, along[1] / size};
-    }
-    f.bound = status == PairStatus::slip ? bound[k] : 0.0;
-    for (int r = 0; r < tangents; ++r)
-      change = std::max(change, std::abs(f.bound * f.direction[r] - before[r]));
-    changed = changed or status != f.status;
-    f.status = status;
-  }
-  if (!_schur)
-  {
-    MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, _comm);
-    MPI_Allreduce(MPI_IN_PLACE, &change, 1, MPI_DOUBLE, MPI_MAX, _comm);
-  }
-  return !changed and change <= 1e-10 * largest;
-}
-
-PairStatus ContactSolver::next_status(const Friction& f, double bound, const std::array<double, 2>& trial,
-                                      const std::array<double, 2>& increment, double largest) const
-{
-  if (bound < 0)
-    return PairStatus::open;
-  // A slipping constraint that moved against its slip force would have
-  // friction drive it: it sticks instead (without this rule the force of a
-  // constraint that should stick flips sign every round when c exceeds
-  // twice the stiffness its neighbours leave it).
-  const double work = f.direction[0] * increment[0] + f.direction[1] * increment[1];
-  if (f.status == PairStatus::slip and work <= 0)
-    return PairStatus::stick;
-  // The trial force theta = t_T + c s: within the bound, the constraint sticks.
-  return std::hypot(trial[0], trial[1]) <= bound + status_tolerance * largest ? PairStatus::stick : PairStatus::slip;
-}
-
 void ContactSolver::solve_vi()
 {
   SNESConvergedReason reason = run_snes();
@@ -814,7 +613,7 @@ void ContactSolver::solve_vi()
   }
   if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
-                      + SNESConvergedReasons[reason]);
+                      + SNESConvergedReasons[reason] + (_J ? no_equilibrium : ""));
 }
 
 /// u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a, in
@@ -860,7 +659,7 @@ void ContactSolver::pose(Vec b, Vec x)
   {
     PetscReal bnorm = 0;
     VecNorm(_b_scaled, NORM_2, &bnorm);
-    // With friction in 3D the residual decides the last step (F is not
+    // With friction the residual decides the last step (F is not
     // linear): tighter, Newton's last steps are quadratic.
     const double relative = _J ? 1e-12 : 1e-10;
     SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
@@ -894,7 +693,7 @@ bool ContactSolver::balances_solved(SNES snes, PetscInt iteration)
 
 bool ContactSolver::balances_may_stop(bool met)
 {
-  // With friction in 3D the residual alone decides the last step, and a
+  // With friction the residual alone decides the last step, and a
   // balance's tolerance lies far above its round-off where its load holds
   // terms that cancel at the solution (a fault's ends held at p_D: T_e p_D,
   // 1e-3 m^3/s, against flows of 1e-10 m^3/s), an error that the step

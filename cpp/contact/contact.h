@@ -11,13 +11,14 @@
 // u.nu_F <= g_a of a contact node is a bound on one DOF (T = I, A' = A
 // when every normal is a coordinate axis). PETSc's reduced-space active-set
 // Newton (SNESVINEWTONRSLS) solves it; F is linear, A' its exact Jacobian,
-// formed once per assembly of A. With friction (contact_law.h) the
-// stick/slip states are found by an active-set iteration around it; in 3D a
-// slipping pair's force follows its slip increment, and F is not linear
-// (contact.cpp, solve_with_friction and slip_force).
+// formed once per assembly of A. With friction the tangential rows of the
+// frictional constraints carry the return map on the Coulomb disc
+// (friction.h): F is semismooth, and the same Newton iteration decides
+// open, stick and slip with its generalised Jacobian.
 #pragma once
 
 #include "contact/contact_law.h"
+#include "contact/friction.h"
 #include "contact/contact_set.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "contact/change_of_variables.h"
@@ -194,10 +195,8 @@ public:
   ContactSolver& operator=(const ContactSolver&) = delete;
 
   /// Solves the VI; x holds the initial guess on entry. Throws SolverError.
-  /// With friction, the stick/slip states of the frictional constraints
-  /// are found by an active-set iteration around it (contact.cpp,
-  /// solve_with_friction); their slip increments are measured from the
-  /// slip reference.
+  /// With friction, the slip increments of the frictional constraints are
+  /// measured from the slip reference (friction.h).
   void solve(Vec b, Vec x);
 
   /// A time step (or window) starts at x: the slip increments (friction's,
@@ -209,7 +208,7 @@ public:
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
   /// each Newton step and the Newton tolerance both. F is linear (but with
-  /// friction in 3D), so on an unchanged active set one step with a linear
+  /// friction), so on an unchanged active set one step with a linear
   /// solve to `relative` meets it; a tighter Newton tolerance would only add
   /// steps.
   void set_tolerance(double relative);
@@ -234,8 +233,6 @@ public:
   double schur_time() const { return _schur ? _schur->time : 0; }
 
   long newton_iterations = 0, linear_iterations = 0;
-  /// Rounds of the friction's active-set iteration (each one VI solve).
-  long friction_iterations = 0;
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
   long active_set_changes = 0;
@@ -244,31 +241,7 @@ public:
   /// life (the run's progress line).
   std::function<void(int)> on_newton_step;
 
-  /// Rounds of the friction's active-set iteration before it gives up.
-  static constexpr int max_friction_iterations = 100;
-  /// The regularisation of a 3D slip force's direction, relative to the
-  /// displacement scale (contact.cpp, slip_force).
-  static constexpr double slip_regularisation = 1e-9;
-
 private:
-  /// @brief A frictional constraint in the VI's numbering (replicated on
-  /// every rank when condensed, this rank's own on the full system): the
-  /// positions of its normal and d - 1 tangential unknowns, what its law
-  /// needs, and the state and slip force of the current iterate.
-  struct Friction
-  {
-    PetscInt normal = -1;
-    std::array<PetscInt, 2> tangential{-1, -1};
-    double sign = 1, gap = 0, lumped = 0;
-    ContactLaw law;
-    PairStatus status = PairStatus::stick; // held until a round finds it open or slipping
-    // A slipping constraint's force: its bound (N) along its slip increment
-    // (3D: the increment of the current x; 2D, or an increment too small to
-    // point anywhere: `direction`, a unit vector in the tangential unknowns).
-    double bound = 0;
-    std::array<double, 2> direction{0, 0};
-  };
-
   /// The contact DOFs of the VI: each constraint's, then the tangential
   /// ones of the frictional constraints.
   std::vector<std::int32_t> contact_dofs() const;
@@ -277,42 +250,15 @@ private:
   /// The VI with the current bounds and load; retried from the clamped
   /// state when the first attempt fails; throws when both do.
   void solve_vi();
-  /// The active-set iteration of friction around the VI (contact.cpp).
-  void solve_with_friction();
-  /// One round's VI; when it fails with slipping pairs in 3D, the weakest
-  /// of them stick: false (the round is to be repeated).
-  bool solve_round();
-  /// Bounds of the tangential unknowns from the states: a stuck one held
-  /// at its reference, the others free.
-  void apply_friction();
-  /// The slip force of constraint f at the VI's unknown X (N, along its
-  /// tangential unknowns), and its slip increment there.
-  std::array<double, 2> slip_force(const Friction& f, const PetscScalar* X, const PetscScalar* ref,
-                                   std::array<double, 2>& increment) const;
-  /// F += the slip forces (in units of the scale) at x.
-  void add_slip_forces(Vec x, Vec F) const;
-  /// J += the slip forces' derivative at x (3D: the direction follows the
-  /// slip increment).
-  void add_slip_jacobian(Vec x, Mat J) const;
-  /// After a failed VI with slipping constraints (3D: a constraint that
-  /// should stick has no slip direction to settle on): the ones whose slip
-  /// increment is smallest stick; false when none slips.
-  bool stick_weakest();
-  /// The states and slip forces of the VI's solution; true when neither
-  /// changed (collective).
-  bool update_friction();
-  /// The next state of constraint f from its bound (-1: open), trial force
-  /// and slip increment; `largest` is the largest bound (the tolerance's
-  /// scale).
-  PairStatus next_status(const Friction& f, double bound, const std::array<double, 2>& trial,
-                         const std::array<double, 2>& increment, double largest) const;
+  /// F += the friction forces at x (F holds R on entry).
+  void add_friction(Vec x, Vec F) const;
   void condense();
   void pose_on_full_system(Vec layout);
   void make_bound_vectors();
   void create_snes(const std::string& vi_prefix);
   /// Whether the Newton steps reuse the preconditioner until the inactive
   /// set or the operator changes: always but for a factorisation of the
-  /// Jacobian of friction in 3D, which changes every step.
+  /// Jacobian of friction, which changes every step.
   bool lag_preconditioner() const { return !_J or _preconditioner_on_P; }
   void set_bounds();
   void pose(Vec b, Vec x);
@@ -324,7 +270,7 @@ private:
   /// m^3/s), blind to them (collective).
   bool balances_solved(SNES snes, PetscInt iteration);
   /// Whether a solve whose balances are solved (`met`) may stop: with
-  /// friction in 3D on a system with mass balances, only one Newton step
+  /// friction on a system with mass balances, only one Newton step
   /// after they were first met in this solve.
   bool balances_may_stop(bool met);
   void count_iterations(SNESConvergedReason reason);
@@ -401,7 +347,7 @@ private:
   // these: their load's times the relative tolerance (pose), and rtol
   // times the solve's first (balances_solved).
   PetscReal _balance_tolerance = 0, _balance_relative_target = 0;
-  bool _refine_balances = false; // friction in 3D on a system with mass balances
+  bool _refine_balances = false; // friction on a system with mass balances
   bool _balances_met = false;    // this solve's balances met their tolerance once
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
@@ -428,12 +374,11 @@ private:
   // Friction: its constraints, the start of the step (in the VI's
   // numbering, unscaled), the diagonal of K (the stiffness that turns a slip
   // increment into a trial force) and a work vector.
-  std::vector<Friction> _friction;
+  std::vector<FrictionalConstraint> _friction;
   Vec _x_reference = nullptr, _stiffness = nullptr, _work = nullptr;
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
-  Mat _J = nullptr; // 3D friction: K plus the slip forces' derivative
-  bool _nonlinear = false; // 3D friction with a slipping constraint: F is not linear
+  Mat _J = nullptr; // friction: the generalised Jacobian (friction.h)
 };
 
 } // namespace biotcontact

@@ -20,6 +20,7 @@
 
 #include "scene/scene.h"
 
+#include <array>
 #include <optional>
 
 namespace biotcontact
@@ -63,6 +64,12 @@ struct PairTraction
 /// one that sticks.
 constexpr double status_tolerance = 1e-8;
 
+/// Whether a constraint is closed: its node lies on the foundation (the
+/// faces touch) to round-off, within 1e-9 of the displacement scale (the one
+/// test behind the active set the coupling compares, the contact_active
+/// field and friction's bound).
+inline bool on_foundation(double distance, double scale) { return distance <= 1e-9 * scale; }
+
 /// The law a scene gives a contact boundary or a fault.
 ContactLaw contact_law(const FrictionSpec& friction);
 
@@ -72,6 +79,28 @@ bool frictionless(const ContactLaw& law);
 /// The bound of |t_T|: tresca if given, else cohesion + friction
 /// max(t_N, 0) (a pulling t_N adds no friction).
 double slip_bound(const ContactLaw& law, double normal_traction);
+
+/// d bound / d t_N: the friction coefficient where Coulomb's bound grows
+/// with t_N (t_N > 0), else 0 (Tresca, a pulling t_N).
+double slip_bound_slope(const ContactLaw& law, double normal_traction);
+
+/// @brief The friction force of a constraint: its trial force theta = t_T +
+/// c s projected on the disc |t| <= bound (the return map; theory.md,
+/// "Friction"), with the derivatives the semismooth Newton step needs.
+/// Within the disc (bound > 0) the constraint sticks: force theta, d_trial
+/// the identity; outside it slips: force bound theta/|theta|, d_trial
+/// bound/|theta| (I - n n^T), d_bound n (n = theta/|theta|; 0 for theta = 0).
+struct DiscProjection
+{
+  std::array<double, 2> force{0, 0};
+  std::array<double, 4> d_trial{0, 0, 0, 0}; // row-major, tangents x tangents
+  std::array<double, 2> d_bound{0, 0};
+  bool stick = false;
+};
+
+/// The projection of `trial` (its first `tangents` components: 1 in 2D, 2
+/// in 3D) on the disc of radius `bound` >= 0.
+DiscProjection project_on_disc(double bound, const std::array<double, 2>& trial, int tangents);
 
 /// The state of one constraint: open if it is not closed; closed, stick
 /// when |t_T| < bound - status_tolerance * scale, else slip. A closed

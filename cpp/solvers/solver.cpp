@@ -16,6 +16,28 @@ void set_default_option(const std::string& name, const std::string& value)
     PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
 }
 
+void check_petsc(PetscErrorCode code, const std::string& what)
+{
+  if (code != 0)
+    throw SolverError(what + ": PETSc error " + std::to_string(code));
+}
+
+void unsymmetric_jacobian_options(const std::string& prefix)
+{
+  auto replace = [](const std::string& p, const char* name, const std::string& from, const std::string& to)
+  {
+    if (option(p, name) == from)
+      PetscOptionsSetValue(nullptr, ("-" + p + (name + 1)).c_str(), to.c_str());
+  };
+  replace(prefix, "-ksp_type", "cg", "gmres");
+  for (const std::string& p : {prefix, prefix + "redundant_"})
+    if (option(p, "-pc_type") == "cholesky")
+    {
+      PetscOptionsSetValue(nullptr, ("-" + p + "pc_type").c_str(), "lu");
+      replace(p, "-pc_factor_mat_solver_type", "cholmod", "mumps");
+    }
+}
+
 std::string method_name(Method method) { return method == Method::direct ? "direct" : "iterative"; }
 
 MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_t unknowns, int dimension, int ranks,

@@ -150,6 +150,17 @@ std::string option(const std::string& prefix, const char* name);
 /// Sets a PETSc option unless the user already gave it (command line wins).
 void set_default_option(const std::string& name, const std::string& value);
 
+/// Throws SolverError "<what>: PETSc error <code>" when a PETSc call
+/// failed: main.cpp makes PETSc return its error codes instead of aborting.
+void check_petsc(PetscErrorCode code, const std::string& what);
+
+/// The options of `prefix` for a Jacobian that is not symmetric though the
+/// system's matrix is (friction's, contact/friction.h): CG becomes GMRES,
+/// and a Cholesky factorisation LU by MUMPS (CHOLMOD has no LU), also inside
+/// PCREDUNDANT. These override the defaults and the command line alike:
+/// neither method solves such a system.
+void unsymmetric_jacobian_options(const std::string& prefix);
+
 /// What one system's solver did, read from its PETSc log stage.
 struct SolverStatistics
 {

@@ -9,9 +9,10 @@ l <= x' <= g and F(x') = A' x' - b' complementary to the bounds, in the
 variables x' = T x of change_of_variables.py, where each constraint
 u.nu_F <= g_a is a bound on one DOF (T = I, A' = A when every normal is a
 coordinate axis). PETSc's reduced-space active-set Newton (SNES
-vinewtonrsls) solves it. With friction the stick/slip states are found by an
-active-set iteration around it; in 3D a slipping pair's force follows its
-slip increment, and F is not linear (_solve_with_friction, _slip_force).
+vinewtonrsls) solves it. With friction the tangential rows of the frictional
+constraints carry the return map on the Coulomb disc (friction.py): F is
+semismooth, and the same Newton iteration decides open, stick and slip with
+its generalised Jacobian.
 """
 import dataclasses
 import math
@@ -22,7 +23,8 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
-from .contact_law import STATUS_TOLERANCE, ContactLaw, PairStatus, PairTraction, pair_status, slip_bound
+from .contact_law import STATUS_TOLERANCE, PairStatus, PairTraction, on_foundation, pair_status
+from .friction import FrictionalConstraint, FrictionPoint, add_friction_forces, friction_jacobian
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
@@ -30,7 +32,7 @@ from .schur_complement import SchurComplement
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.options import OptionsError, system_name
 from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStage, Structure,
-                     reason_name, set_default_option, set_relative_tolerance)
+                     reason_name, set_default_option, set_relative_tolerance, unsymmetric_jacobian_options)
 from ..scene.scene import agree_on_error
 
 
@@ -67,13 +69,6 @@ class ActiveSet:
 
 # What a friction that fails to converge most often means.
 NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
-
-
-def _on_foundation(distance, scale):
-    """Whether constraints are active: their nodes lie on the foundation to
-    round-off, within 1e-9 of the displacement scale (the one test behind
-    the active set the coupling compares and the contact_active field)."""
-    return distance <= 1e-9 * scale
 
 
 def pair_tractions(state):
@@ -169,28 +164,12 @@ class ContactState:
         self.faults = []
 
 
-@dataclasses.dataclass
-class _Friction:
-    """A frictional constraint in the VI's numbering (replicated on every
-    rank when condensed, this rank's own on the full system): the positions
-    of its normal and d - 1 tangential unknowns, what its law needs, and the
-    state and slip force of the current iterate (cpp/contact/contact.h,
-    ContactSolver::Friction)."""
-    normal: int = -1
-    tangential: list = dataclasses.field(default_factory=lambda: [-1, -1])
-    sign: float = 1.0
-    gap: float = 0.0
-    lumped: float = 0.0
-    law: ContactLaw = dataclasses.field(default_factory=ContactLaw)
-    status: PairStatus = PairStatus.stick
-    # A slipping constraint's force: its bound (N) along its slip increment
-    # (3D: the increment of the current x; 2D, or an increment too small to
-    # point anywhere: `direction`, a unit vector in the tangential unknowns).
-    bound: float = 0.0
-    direction: list = dataclasses.field(default_factory=lambda: [0.0, 0.0])
-
-
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
+
+
+def _any_frictional(contact_set, comm):
+    """Whether any rank has a frictional constraint (collective)."""
+    return comm.allreduce(bool(np.any(contact_set.frictional)), op=MPI.LOR)
 
 
 def _read_condensed(comm, prefix, fallback):
@@ -236,8 +215,6 @@ class ContactSolver:
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
     stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
-    max_friction_iterations = 100  # rounds of the friction's active-set iteration before it gives up
-    slip_regularisation = 1e-9     # of a 3D slip force's direction, relative to the displacement scale
 
     def __init__(self, comm, system, method, operators, unknowns):
         """`system` the SystemLayout of the system it solves, `operators` its
@@ -266,8 +243,10 @@ class ContactSolver:
             self._pose_on_full_system()
         self._make_friction()
         vi_prefix = prefix + "contact_" if condensed else prefix
+        if self.J is not None and not condensed:
+            unsymmetric_jacobian_options(prefix)
         self.preconditioner_on_P = not condensed and method == Method.iterative
-        # friction in 3D on a system with mass balances: one Newton step
+        # friction on a system with mass balances: one Newton step
         # more once they are met (_balances_solved)
         self.balances_met = False
         self._create_snes(vi_prefix)
@@ -288,7 +267,6 @@ class ContactSolver:
                 raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                    "(vinewtonrsls or vinewtonssls)")
         self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
-        self.friction_iterations = 0  # rounds of the friction's active-set iteration (each one VI solve)
         self.scale = 1.0  # SNES works in units of the displacement scale
         self.pending = self.used = None  # active flags of the contact DOFs
         self.set_repeated, self.relative_target = False, 0.0
@@ -296,7 +274,6 @@ class ContactSolver:
         # these: their load's times the relative tolerance (_pose), and rtol
         # times the solve's first (_balances_solved)
         self.balance_tolerance, self.balance_relative_target = 0.0, 0.0
-        self.nonlinear = False  # 3D friction with a slipping constraint: F is not linear
         self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
         # Called after each Newton step with its number: a long solve's sign
         # of life (the run's progress line).
@@ -321,10 +298,12 @@ class ContactSolver:
         self.bounded_gap = self.schur.gather(gap)[kept]
         self.bounded_sign = self.schur.gather(sign)[kept]
         self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
-        # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD.
+        # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD
+        # but for the Jacobian of friction, which is not symmetric.
         vi_prefix = self.prefix + "contact_"
         set_default_option(vi_prefix + "ksp_type", "preonly")
-        set_default_option(vi_prefix + "pc_type", "cholesky" if self.structure == Structure.spd else "lu")
+        symmetric = self.structure == Structure.spd and not _any_frictional(self.set, self.comm)
+        set_default_option(vi_prefix + "pc_type", "cholesky" if symmetric else "lu")
         set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
         self._make_bound_vectors()
 
@@ -337,34 +316,39 @@ class ContactSolver:
         return np.concatenate([self.dofs, np.array(tangential, dtype=np.int32)])
 
     def _make_friction(self):
-        """The frictional constraints (_Friction) in the VI's numbering, once
-        the VI is posed: on the full system this rank's, at their local
-        positions; condensed, every rank's at their places in H (each rank's
-        contact DOFs from its offset, in _contact_dofs()'s order), gathered
-        to every rank."""
+        """The frictional constraints in the VI's numbering, once the VI is
+        posed: on the full system this rank's, at their local positions;
+        condensed, every rank's at their places in H (each rank's contact
+        DOFs from its offset, in _contact_dofs()'s order), gathered to every
+        rank."""
         c, d = self.set, self.set.dim
         first = self.schur.offset if self.schur else 0
-        records = []
+        mine = []
         following = len(self.dofs)  # the place of the next tangential DOF among this rank's
         for k in range(len(self.dofs)):
-            law = c.laws[c.boundary[k]]
             if not c.frictional[k]:
                 continue
-            normal = first + k if self.schur else self.dofs[k]
-            t = [-1, -1]
+            f = FrictionalConstraint(int(first + k if self.schur else self.dofs[k]), [-1, -1], float(c.sign[k]),
+                                     float(c.gap[k]), float(c.lumped[k]), c.laws[c.boundary[k]])
             for r in range(1, d):
-                t[r - 1] = int(first + following if self.schur else self.displacement_dofs[c.dofs[k] + r])
+                f.tangential[r - 1] = int(first + following if self.schur else self.displacement_dofs[c.dofs[k] + r])
                 following += 1
-            records.append(_Friction(int(normal), t, float(c.sign[k]), float(c.gap[k]), float(c.lumped[k]), law))
-        self.friction = [f for rank in self.comm.allgather(records) for f in rank] if self.schur else records
+            mine.append(f)
+        self.friction = [f for rank in self.comm.allgather(mine) for f in rank] if self.schur else mine
         self.x_reference = self.stiffness = self.work = None
-        self.J = None  # 3D friction: K plus the slip forces' derivative
-        if not self.comm.allreduce(bool(self.friction), op=MPI.LOR):
+        self.J = None  # friction: the generalised Jacobian (friction.py)
+        if not _any_frictional(c, self.comm):
             return
         self.x_reference, self.stiffness, self.work = (self.x.duplicate() for _ in range(3))
         self.x_reference.set(0.0)
-        if d == 3:
-            self.J = self.K.duplicate(copy=True)
+        self.J = self.K.duplicate(copy=True)
+        # its tangential rows are combinations of the constraint's own rows of
+        # K (friction_jacobian), inside K's pattern where the rows of a node
+        # share it; allowed to grow where they do not
+        if not self.schur:
+            self.J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        self.J.setOption(PETSc.Mat.Option.SPD, False)
+        self.J.setOption(PETSc.Mat.Option.SYMMETRIC, False)
 
     def _pose_on_full_system(self):
         """The VI on the full system: only the contact DOFs are bounded."""
@@ -385,11 +369,12 @@ class ContactSolver:
         defaults; the user's -<vi_prefix>snes_* options override them."""
         self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
         self.snes_rtol_given = PETSc.Options().hasName(vi_prefix + "snes_rtol")
-        # With friction in 3D the Jacobian changes every step: no lag for a
+        # With friction the Jacobian changes every step: no lag for a
         # factorisation of it; the iterative path's preconditioner is built
         # from P and the inactive set alone, and is reused there too.
         lag = "-2" if self._lag_preconditioner() else "1"
-        # with friction in 3D a backtracking search, but not on the coupled
+        # with friction (F semismooth: full steps can overshoot where a
+        # constraint changes state) a backtracking search, but not on the coupled
         # system: the search's merit ||F||, the forces' (N), is blind to its
         # mass balances' rows (m^3/s), whose step it shrank to nothing
         balances = self.comm.allreduce(len(self.balance_rows), op=MPI.SUM)
@@ -398,8 +383,7 @@ class ContactSolver:
         for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active
-                              # set; with friction in 3D the slip forces' directions make full
-                              # steps overshoot: a backtracking search
+                              # set; with friction a backtracking search (above)
                               ("snes_linesearch_type", "bt" if backtrack else "basic"),
                               # no cap on the step's length (PETSc's 1e8): x is in units of
                               # the displacement scale, the coupled system's pressures run to
@@ -415,7 +399,7 @@ class ContactSolver:
         self.snes.setVariableBounds(self.lower, self.upper)
         self.snes.setConvergenceTest(self._converged)
         # At least one Newton step per solve, so the result never lags the
-        # load (not with friction in 3D: its F is not linear, the residual
+        # load (not with friction: its F is not linear, the residual
         # decides, and a backtracking search fails on a zero step).
         self.snes.setForceIteration(not backtrack)
         self.snes.setMonitor(self._monitor)
@@ -451,7 +435,7 @@ class ContactSolver:
     def _lag_preconditioner(self):
         """Whether the Newton steps reuse the preconditioner until the inactive
         set or the operator changes: always but for a factorisation of the
-        Jacobian of friction in 3D, which changes every step."""
+        Jacobian of friction, which changes every step."""
         return self.J is None or self.preconditioner_on_P
 
     def _active_contact_dofs(self, x):
@@ -506,37 +490,49 @@ class ContactSolver:
         _, _, fnorm = norms
         rtol, atol, _, _ = snes.getTolerances()
         if iteration == 0:
-            self.relative_target = rtol * fnorm
+            # with friction F is not linear, and a start far off (the clamped
+            # start of a body that slides) would make any residual "relative":
+            # relative to the load then, where that is smaller
+            load = self.b_scaled.norm() if self.J is not None else fnorm
+            self.relative_target = rtol * min(fnorm, load)
             self.balance_relative_target = rtol * self._balance_norm(snes.getFunction()[0])
             self.balances_met = False
         balances = self._balances_may_stop(self._balances_solved(snes, iteration))
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
             return reasons.DIVERGED_FNORM_NAN
-        # a step taken, or the start with friction in 3D
+        # a step taken, or the start with friction
         if (iteration > 0 or self.J is not None) and fnorm < atol and balances:
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target and balances:
             return reasons.CONVERGED_FNORM_RELATIVE
-        if iteration > 0 and self.set_repeated and not self.nonlinear:
+        if iteration > 0 and self.set_repeated and self.J is None:
             return reasons.CONVERGED_ITS
         return reasons.CONVERGED_ITERATING
 
     def _residual(self, snes, x, F):
         """F(x) = K x - b/s: the gradient of the quadratic energy, in units
-        of s; with friction, plus the slip forces."""
+        of s; with friction its frictional constraints' tangential rows carry
+        the return map (friction.py)."""
         self.K.mult(x, F)
         F.axpy(-1.0, self.b_scaled)
-        if self.friction:
-            self._add_slip_forces(x, F)
+        if self.J is not None:
+            with F as R:
+                add_friction_forces(self.friction, self._friction_point(x, R), R)
 
     def _jacobian(self, snes, x, J, P):
         """The constant matrix K (A, or H formed once per A); with friction
-        in 3D, K plus the derivative of the slip forces' directions."""
+        the generalised Jacobian of its rows (friction_jacobian)."""
         if self.J is None:
             return
-        self.K.copy(self.J, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
-        self._add_slip_jacobian(x, self.J)
+        self.K.mult(x, self.work)
+        self.work.axpy(-1.0, self.b_scaled)
+        friction_jacobian(self.friction, self._friction_point(x, self.work.getArray(readonly=True)), self.K, self.J)
+
+    def _friction_point(self, x, R):
+        """Friction at x with the residual R = K x - b (friction.py)."""
+        return FrictionPoint(x.getArray(readonly=True), R, self.x_reference.getArray(readonly=True),
+                             self.stiffness.getArray(readonly=True), self.scale, self.set.dim - 1)
 
     def displacement_scale(self, x):
         """The largest gap or |displacement| (collective)."""
@@ -547,9 +543,8 @@ class ContactSolver:
 
     def solve(self, b, x):
         """Solves the VI; x holds the initial guess on entry. With friction,
-        the stick/slip states of the frictional constraints are found by an
-        active-set iteration around it (_solve_with_friction); their slip
-        increments are measured from the slip reference."""
+        the slip increments of the frictional constraints are measured from
+        the slip reference (friction.py)."""
         self._change_operators()
         b_vi, x_vi = b, self._to_vi(x)
         if self.change:
@@ -564,10 +559,9 @@ class ContactSolver:
         self.scale = self.displacement_scale(x_vi)
         self._set_bounds()
         self._pose(b_vi, x_vi, self.scale)
-        if self.x_reference is not None:
-            self._solve_with_friction()
-        else:
-            self._solve_vi()
+        if self.J is not None:  # the stiffness that turns a slip increment into a trial force
+            self.K.getDiagonal(self.stiffness)
+        self._solve_vi()
         self.x.scale(self.scale)
         if self.schur:
             self.schur.extend(b_vi, self.x.getArray(readonly=True), x_vi)
@@ -590,200 +584,6 @@ class ContactSolver:
         else:
             x_vi.copy(self.x_reference)
 
-    def _solve_with_friction(self):
-        """Friction by the primal-dual active-set method (Hueber, Stadler and
-        Wohlmuth 2008) around the VI: each round solves the VI with every
-        stuck tangential unknown held at its reference (no slip increment)
-        and every slipping one loaded by its slip force, then takes from that
-        solution the trial force theta = t_T + c ds (t_T the tangential
-        contact force, ds the slip increment, c the diagonal stiffness) of
-        each closed constraint: stuck when |theta| is within the bound, else
-        slipping with the bound's force, along theta in 2D, and in 3D along
-        its slip increment within the VI (the exact disc, _slip_force).
-        When no state and no slip force changes, the round's solution
-        satisfies the law: a stuck constraint's force is within the bound, a
-        slipping one's is on it and along its slip increment. The states and
-        forces carry over to the next solve, whose rounds usually start from
-        the right ones."""
-        self.K.getDiagonal(self.stiffness)
-        for _ in range(self.max_friction_iterations):
-            self._apply_friction()
-            if not self._solve_round():
-                continue
-            self.friction_iterations += 1
-            if self._update_friction():
-                return
-        raise SolverError(f"friction: the stick and slip states did not settle in "
-                          f"{self.max_friction_iterations} rounds of the active-set iteration" + NO_EQUILIBRIUM)
-
-    def _solve_round(self):
-        """One round's VI; when it fails with slipping pairs in 3D, the
-        weakest of them stick: False (the round is to be repeated)."""
-        try:
-            self._solve_vi()
-            return True
-        except SolverError:
-            if not self.nonlinear:
-                raise
-        if not self._stick_weakest():
-            raise SolverError("friction: the contact solver did not converge with the slipping pairs of this round"
-                              + NO_EQUILIBRIUM)
-        return False
-
-    def _apply_friction(self):
-        """Bounds of the tangential unknowns from the states: a stuck one held
-        at its reference, the others free; F is not linear (3D) when one
-        slips (collective)."""
-        scale = self.scale
-        reference = self.x_reference.getArray(readonly=True)
-        with self.lower as lo, self.upper as up:
-            for f in self.friction:
-                for r in range(self.set.dim - 1):
-                    t = f.tangential[r]
-                    stuck = f.status == PairStatus.stick
-                    lo[t] = reference[t] / scale if stuck else PETSc.NINFINITY
-                    up[t] = reference[t] / scale if stuck else PETSc.INFINITY
-        slipping = self.set.dim == 3 and any(f.status == PairStatus.slip for f in self.friction)
-        if not self.schur:
-            slipping = self.comm.allreduce(slipping, op=MPI.LOR)
-        self.nonlinear = slipping
-
-    def _slip_force(self, f, X, reference, increment):
-        """The slip force of constraint f at the VI's unknown X (N, along its
-        tangential unknowns); its slip increment there goes into the list
-        `increment` (as the C++ reference parameter)."""
-        tangents = self.set.dim - 1
-        for r in range(tangents):
-            increment[r] = X[f.tangential[r]] * self.scale - reference[f.tangential[r]]
-        if f.status != PairStatus.slip:
-            return [0.0, 0.0]
-        # The friction opposes the slip: K x - b = -force on a slipping unknown.
-        if tangents == 1:
-            return [f.bound * f.direction[0], f.bound * f.direction[1]]
-        # 3D: along s, regularised, bound s / sqrt(|s|^2 + e^2) with e =
-        # slip_regularisation times the scale: the gradient of the convex
-        # bound sqrt(|s|^2 + e^2), which keeps Newton's equations solvable
-        # where a constraint marked slipping should stick (its |s| then falls
-        # to about e, and the next round sticks it); off by (e/|s|)^2 / 2
-        # where it slips.
-        e = self.slip_regularisation * self.scale
-        size = np.sqrt(increment[0] * increment[0] + increment[1] * increment[1] + e * e)
-        return [f.bound * increment[0] / size, f.bound * increment[1] / size]
-
-    def _add_slip_forces(self, x, F):
-        """F += the slip forces (in units of the scale) at x."""
-        X, reference = x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
-        increment = [0.0, 0.0]
-        with F as R:
-            for f in self.friction:
-                force = self._slip_force(f, X, reference, increment)
-                for r in range(self.set.dim - 1):
-                    R[f.tangential[r]] += force[r] / self.scale
-
-    def _add_slip_jacobian(self, x, J):
-        """J += the slip forces' derivative at x (3D: the direction follows
-        the slip increment)."""
-        # d(bound s/r)/ds = bound/r (I - s s^T/r^2), r = sqrt(|s|^2 + e^2)
-        # (_slip_force): in the units of K (the residual is in units of the
-        # scale, so is x).
-        start = J.getOwnershipRange()[0]
-        X, reference = x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
-        s = [0.0, 0.0]
-        for f in self.friction:
-            self._slip_force(f, X, reference, s)
-            if f.status != PairStatus.slip:
-                continue
-            e = self.slip_regularisation * self.scale
-            size = np.sqrt(s[0] * s[0] + s[1] * s[1] + e * e)
-            rows = np.array([start + f.tangential[0], start + f.tangential[1]], dtype=PETSc.IntType)
-            n, g = [s[0] / size, s[1] / size], f.bound / size
-            block = [g * (1 - n[0] * n[0]), -g * n[0] * n[1], -g * n[1] * n[0], g * (1 - n[1] * n[1])]
-            J.setValues(rows, rows, block, addv=PETSc.InsertMode.ADD_VALUES)
-        J.assemble()
-
-    def _stick_weakest(self):
-        """After a failed VI with slipping constraints (3D: a constraint that
-        should stick has no slip direction to settle on): the ones whose slip
-        increment is smallest stick; False when none slips (collective)."""
-        X, reference = self.x.getArray(readonly=True), self.x_reference.getArray(readonly=True)
-        size, largest, s = [-1.0] * len(self.friction), 0.0, [0.0, 0.0]
-        for k, f in enumerate(self.friction):
-            if f.status == PairStatus.slip:
-                self._slip_force(f, X, reference, s)
-                size[k] = np.hypot(s[0], s[1])
-                largest = max(largest, size[k])
-        if not self.schur:
-            largest = self.comm.allreduce(largest, op=MPI.MAX)
-        any_stuck = False
-        for k, f in enumerate(self.friction):
-            if size[k] >= 0 and size[k] <= 1e-2 * largest:
-                f.status, any_stuck = PairStatus.stick, True
-        if not self.schur:
-            any_stuck = self.comm.allreduce(any_stuck, op=MPI.LOR)
-        return any_stuck
-
-    def _update_friction(self):
-        """The states and slip forces of the VI's solution; True when
-        neither changed (collective). The contact forces R = K x - b (without
-        the slip forces; in units of the scale) give each constraint its
-        normal traction, so its bound, and, stuck, the force that holds it."""
-        self.K.mult(self.x, self.work)
-        self.work.axpy(-1.0, self.b_scaled)
-        X, R = self.x.getArray(readonly=True), self.work.getArray(readonly=True)
-        reference, c = self.x_reference.getArray(readonly=True), self.stiffness.getArray(readonly=True)
-        scale, tangents = self.scale, self.set.dim - 1
-        bound, trial, increment, largest = [], [], [], 0.0
-        for f in self.friction:
-            closed = _on_foundation(f.gap - f.sign * X[f.normal] * scale, scale)
-            normal = -f.sign * R[f.normal] * scale / f.lumped
-            bound.append(slip_bound(f.law, normal) * f.lumped if closed else -1.0)
-            trial.append([0.0, 0.0])
-            increment.append([0.0, 0.0])
-            self._slip_force(f, X, reference, increment[-1])
-            for r in range(tangents):
-                trial[-1][r] = -R[f.tangential[r]] * scale + c[f.tangential[r]] * increment[-1][r]
-            largest = max(largest, bound[-1])
-        if not self.schur:  # on the full system each rank holds its own constraints
-            largest = self.comm.allreduce(largest, op=MPI.MAX)
-        change, changed = 0.0, False
-        for f, limit, theta, ds in zip(self.friction, bound, trial, increment):
-            before = [f.bound * f.direction[0], f.bound * f.direction[1]]
-            status = self._next_status(f, limit, theta, ds, largest)
-            if status == PairStatus.slip:
-                # 2D: the direction stays (a reversal sticks first); 3D: along
-                # the increment, or the trial force for a constraint that
-                # starts to slip.
-                along = ds if f.status == PairStatus.slip and tangents == 2 else theta
-                size = np.hypot(along[0], along[1])  # C's hypot, as std::hypot
-                if not (f.status == PairStatus.slip and tangents == 1) and size > 0:
-                    f.direction = [along[0] / size, along[1] / size]
-            f.bound = limit if status == PairStatus.slip else 0.0
-            for r in range(tangents):
-                change = max(change, abs(f.bound * f.direction[r] - before[r]))
-            changed = changed or status != f.status
-            f.status = status
-        if not self.schur:
-            changed = self.comm.allreduce(changed, op=MPI.LOR)
-            change = self.comm.allreduce(change, op=MPI.MAX)
-        return not changed and change <= 1e-10 * largest
-
-    def _next_status(self, f, bound, trial, increment, largest):
-        """The next state of constraint f from its bound (-1: open), trial
-        force and slip increment; `largest` is the largest bound (the
-        tolerance's scale)."""
-        if bound < 0:
-            return PairStatus.open
-        # A slipping constraint that moved against its slip force would have
-        # friction drive it: it sticks instead (without this rule the force of
-        # a constraint that should stick flips sign every round when c exceeds
-        # twice the stiffness its neighbours leave it).
-        work = f.direction[0] * increment[0] + f.direction[1] * increment[1]
-        if f.status == PairStatus.slip and work <= 0:
-            return PairStatus.stick
-        # The trial force theta = t_T + c s: within the bound, the constraint sticks.
-        return PairStatus.stick if np.hypot(trial[0], trial[1]) <= bound + STATUS_TOLERANCE * largest \
-            else PairStatus.slip
-
     def _solve_vi(self):
         """The VI with the current bounds and load; retried from the clamped
         state when the first attempt fails; raises SolverError when both do."""
@@ -800,7 +600,8 @@ class ContactSolver:
             self._count(reason)
         if reason < 0:
             raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
-                              + reason_name(PETSc.SNES.ConvergedReason, reason))
+                              + reason_name(PETSc.SNES.ConvergedReason, reason)
+                              + (NO_EQUILIBRIUM if self.J is not None else ""))
 
     def _set_bounds(self):
         """u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a,
@@ -826,7 +627,7 @@ class ContactSolver:
         self.b_scaled.scale(1.0 / scale)
         self.x.scale(1.0 / scale)
         if not PETSc.Options().hasName(self.snes.getOptionsPrefix() + "snes_atol"):
-            # With friction in 3D the residual decides the last step (F is not
+            # With friction the residual decides the last step (F is not
             # linear): tighter, Newton's last steps are quadratic.
             relative = 1e-12 if self.J is not None else 1e-10
             self.snes.setTolerances(atol=max(relative * self.b_scaled.norm(), 1e-300))
@@ -850,7 +651,7 @@ class ContactSolver:
 
     def _balances_may_stop(self, met):
         """Whether a solve whose balances are solved (`met`) may stop: with
-        friction in 3D on a system with mass balances, only one Newton step
+        friction on a system with mass balances, only one Newton step
         after they were first met in this solve. The residual alone decides
         the last step there, and a balance's tolerance lies far above its
         round-off where its load holds terms that cancel at the solution (a
@@ -962,7 +763,7 @@ class ContactSolver:
     def active_set(self, x):
         """Constraints on the foundation to round-off: the active flag of
         state(), without the contact forces (collective)."""
-        flags = _on_foundation(self.distances(x), self.displacement_scale(x))
+        flags = on_foundation(self.distances(x), self.displacement_scale(x))
         return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
     def state(self, x, b, pressure_out, active_out):
@@ -1005,7 +806,7 @@ class ContactSolver:
         # slipping and stuck, and the moment.
         largest, measure = np.zeros(2 * len(s.faults)), np.zeros(4 * len(s.faults))
         for p, k in zip(s.pairs, constraint):
-            closed = bool(_on_foundation(distance[k], s.gap_scale))
+            closed = bool(on_foundation(distance[k], s.gap_scale))
             p.status = pair_status(c.laws[p.fault], PairTraction(closed, p.traction,
                                                                  math.hypot(*p.tangential_traction), scale))
             f = summary_of[p.fault]
@@ -1053,7 +854,7 @@ class ContactSolver:
     def _summarise(self, s, pressure, distance, pressure_out, active_out):
         """The diagnostics and output fields of the constraints' pressures
         and distances; a node on two foundations shows the larger pressure."""
-        active = _on_foundation(distance, s.gap_scale)
+        active = on_foundation(distance, s.gap_scale)
         pressure_out.x.array[:] = 0.0
         active_out.x.array[:] = 0.0
         out = self.set.output_dofs

@@ -18,6 +18,7 @@ the exact disc |t_T| <= bound in 3D (no polygon). The frictionless law, the
 default-constructed one, has bound 0: a closed pair slides freely."""
 import dataclasses
 import enum
+import math
 from typing import Optional
 
 
@@ -59,6 +60,14 @@ class PairTraction:
 STATUS_TOLERANCE = 1e-8
 
 
+def on_foundation(distance, scale):
+    """Whether a constraint is closed: its node lies on the foundation (the
+    faces touch) to round-off, within 1e-9 of the displacement scale (the
+    one test behind the active set the coupling compares, the
+    contact_active field and friction's bound)."""
+    return distance <= 1e-9 * scale
+
+
 def contact_law(friction):
     """The law a scene gives a contact boundary or a fault (its FrictionSpec)."""
     return ContactLaw(friction.friction, friction.cohesion, friction.tresca)
@@ -75,6 +84,49 @@ def slip_bound(law, normal_traction):
     if law.tresca is not None:
         return law.tresca
     return law.cohesion + law.friction * max(normal_traction, 0.0)
+
+
+def slip_bound_slope(law, normal_traction):
+    """d bound / d t_N: the friction coefficient where Coulomb's bound grows
+    with t_N (t_N > 0), else 0 (Tresca, a pulling t_N)."""
+    return law.friction if law.tresca is None and normal_traction > 0 else 0.0
+
+
+@dataclasses.dataclass
+class DiscProjection:
+    """The friction force of a constraint: its trial force theta = t_T + c s
+    projected on the disc |t| <= bound (the return map; theory.md,
+    "Friction"), with the derivatives the semismooth Newton step needs.
+    Within the disc (bound > 0) the constraint sticks: force theta, d_trial
+    the identity; outside it slips: force bound theta/|theta|, d_trial
+    bound/|theta| (I - n n^T), d_bound n (n = theta/|theta|; 0 for theta = 0)."""
+    force: list = dataclasses.field(default_factory=lambda: [0.0, 0.0])
+    d_trial: list = dataclasses.field(default_factory=lambda: [0.0, 0.0, 0.0, 0.0])  # row-major
+    d_bound: list = dataclasses.field(default_factory=lambda: [0.0, 0.0])
+    stick: bool = False
+
+
+def project_on_disc(bound, trial, tangents):
+    """The projection of `trial` (its first `tangents` components: 1 in 2D,
+    2 in 3D) on the disc of radius `bound` >= 0."""
+    p = DiscProjection()
+    size = math.hypot(trial[0], trial[1] if tangents == 2 else 0.0)
+    # Strictly inside a disc of radius > 0: the bound 0 of an open or
+    # frictionless constraint leaves it free, whatever theta.
+    p.stick = bound > 0 and size <= bound
+    if p.stick:
+        p.force, p.d_trial = [trial[0], trial[1]], [1.0, 0.0, 0.0, 1.0]
+        return p
+    if size == 0:
+        return p
+    n = [trial[0] / size, trial[1] / size if tangents == 2 else 0.0]
+    g = bound / size
+    for r in range(tangents):
+        p.force[r] = bound * n[r]
+        p.d_bound[r] = n[r]
+        for q in range(tangents):
+            p.d_trial[2 * r + q] = g * ((1.0 if r == q else 0.0) - n[r] * n[q])
+    return p
 
 
 def pair_status(law, traction):

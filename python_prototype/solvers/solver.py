@@ -52,6 +52,22 @@ def set_default_option(name, value):
         options.setValue(name, value)
 
 
+def unsymmetric_jacobian_options(prefix):
+    """The options of `prefix` for a Jacobian that is not symmetric though
+    the system's matrix is (friction's, contact/friction.py): CG becomes
+    GMRES, and a Cholesky factorisation LU by MUMPS (CHOLMOD has no LU), also
+    inside PCREDUNDANT. These override the defaults and the command line
+    alike: neither method solves such a system."""
+    options = PETSc.Options()
+    if options.getString(prefix + "ksp_type", "") == "cg":
+        options.setValue(prefix + "ksp_type", "gmres")
+    for p in (prefix, prefix + "redundant_"):
+        if options.getString(p + "pc_type", "") == "cholesky":
+            options.setValue(p + "pc_type", "lu")
+            if options.getString(p + "pc_factor_mat_solver_type", "") == "cholmod":
+                options.setValue(p + "pc_factor_mat_solver_type", "mumps")
+
+
 class Method(enum.Enum):
     """How a system is solved (cpp/solvers/solver.h)."""
     direct = 1     # a sparse factorisation, reused while the matrix is unchanged
