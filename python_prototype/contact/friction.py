@@ -63,8 +63,12 @@ class FrictionTerm:
 def friction_term(f, at):
     """Friction at constraint f."""
     t, s = FrictionTerm(), at.scale
-    t.closed = on_foundation(f.gap - f.sign * at.X[f.normal] * s, s)
     t.normal = -f.sign * at.R[f.normal] * s / f.lumped
+    # closed as the VI decides its active set: on the bound and pressed. A
+    # pair on the bound that its force pulls off is released by the VI's
+    # step; held by the bound of a cohesion or Tresca meanwhile, it would
+    # stick while it opens, and the two decisions would cycle.
+    t.closed = bool(on_foundation(f.gap - f.sign * at.X[f.normal] * s, s)) and t.normal > 0
     if t.closed:
         t.bound = slip_bound(f.law, t.normal) * f.lumped
         t.slope = slip_bound_slope(f.law, t.normal)
