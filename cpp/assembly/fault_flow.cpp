@@ -212,9 +212,11 @@ std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) co
 
 std::vector<double> ConduitFaults::conductance(const Conduit& c) const
 {
-  std::vector<double> t(c.aperture.size());
+  // Before the first mechanics iterate (or without mechanics) w_h itself.
+  const std::vector<double>& w = c.conducting.empty() ? c.aperture : c.conducting;
+  std::vector<double> t(w.size());
   for (std::size_t k = 0; k < t.size(); ++k)
-    t[k] = std::pow(c.aperture[k], 3) / (12 * _flow.mu_f);
+    t[k] = std::pow(w[k], 3) / (12 * _flow.mu_f);
   return t;
 }
 
@@ -272,12 +274,18 @@ Mat ConduitFaults::operator_matrix(double dt) const
 void ConduitFaults::begin_step()
 {
   for (Conduit& c : _conduits)
+  {
     std::fill(c.open.begin(), c.open.end(), 0);
+    if (!c.conducting.empty()) // the step starts from w_h, as a restart does
+      c.conducting = c.aperture;
+  }
+  _relaxing = _lagged = false;
+  _relaxation = 1;
 }
 
 bool ConduitFaults::set_openings(std::span<const double> opening, std::span<const double> traction)
 {
-  bool changed = false;
+  bool changed = false, flipped_back = false;
   double largest = 0, change = 0;
   for (Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.aperture.size(); ++k)
@@ -288,6 +296,7 @@ bool ConduitFaults::set_openings(std::span<const double> opening, std::span<cons
       const double w_h
           = c.residual + (c.closure ? closure_aperture(*c.closure, c.traction[k]) : 0.0) + std::max(w - e, 0.0);
       const char open = w > e;
+      flipped_back = flipped_back or (_lagged and open != c.open[k] and open == c.open_before[k]);
       changed = changed or w_h != c.aperture[k] or (open or c.open[k]) != (c.open[k] or c.open_before[k]);
       largest = std::max(largest, w_h);
       change = open != c.open[k] ? INFINITY : std::max(change, std::abs(w_h - c.aperture[k]));
@@ -302,8 +311,44 @@ bool ConduitFaults::set_openings(std::span<const double> opening, std::span<cons
       c.aperture_start = c.aperture;
   }
   _started = true;
-  _aperture_change = change / largest;
-  return changed;
+  _relaxing = _relaxing or flipped_back;
+  const double moved = relax_conducting();
+  _aperture_change = std::max(change, moved) / largest;
+  return changed or moved > 0;
+}
+
+double ConduitFaults::relax_conducting()
+{
+  // The fixed point conducting = w_h(u(conducting)), r = w_h - conducting
+  // its lag: taken whole (omega = 1) until a cell's open state flips back
+  // (set_openings: the cubic law cycling, an open cell sheds its fluid and
+  // closes, then fills and opens again) or, in the monolithic step, whose
+  // open cells move with p_f in one solve, until the lag shrinks by less
+  // than relaxed_above; from then to the step's end by Aitken's factor,
+  // omega = -omega (r_old . (r - r_old)) / |r - r_old|^2.
+  double dot = 0, norm = 0, lag = 0, lag_old = 0, moved = 0;
+  for (Conduit& c : _conduits)
+  {
+    if (c.conducting.empty())
+      c.conducting = c.aperture, c.lag.assign(c.aperture.size(), 0.0);
+    for (std::size_t k = 0; k < c.aperture.size(); ++k)
+    {
+      const double r = c.aperture[k] - c.conducting[k], d = r - c.lag[k];
+      dot += c.lag[k] * d, norm += d * d, lag += r * r, lag_old += c.lag[k] * c.lag[k];
+    }
+  }
+  _relaxing = _relaxing or (_implicit and _lagged and lag > relaxed_above * relaxed_above * lag_old);
+  if (_relaxing and norm > 0)
+    _relaxation = std::clamp(-_relaxation * dot / norm, 1e-3, 1.0);
+  for (Conduit& c : _conduits)
+    for (std::size_t k = 0; k < c.aperture.size(); ++k)
+    {
+      c.lag[k] = c.aperture[k] - c.conducting[k];
+      c.conducting[k] += _relaxation * c.lag[k];
+      moved = std::max(moved, std::abs(c.lag[k]));
+    }
+  _lagged = true;
+  return moved;
 }
 
 std::vector<double> ConduitFaults::start_apertures() const

@@ -57,6 +57,12 @@ std::vector<double> transmissibilities(std::span<const double> t, const FaultEdg
 /// which it converges at the rate L_f/(L_f + S), nearly 1.
 constexpr double open_fraction = 1e-6;
 
+/// In the monolithic step the conducting apertures of the cubic law follow
+/// w_h whole while the lag between them shrinks by this factor per
+/// iteration, by Aitken's relaxation once it does not (theory.md, "Flow in
+/// a fault").
+constexpr double relaxed_above = 0.9;
+
 /// The smallest plane-strain modulus E' = E/(1 - nu^2) of the scene's
 /// materials (the softest rock).
 double softest_modulus(const Scene& scene);
@@ -237,6 +243,11 @@ public:
   void restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p);
 
 private:
+  /// Moves the apertures of the cubic law toward w_h, by Aitken's factor
+  /// once a cell's open state flipped back in this step (or, monolithic,
+  /// the lag stopped shrinking); returns how far w_h lay from them (the
+  /// lag, m).
+  double relax_conducting();
   struct Conduit
   {
     std::string name;
@@ -252,6 +263,8 @@ private:
     std::vector<double> traction;       // per cell: s_n at the last mechanics iterate (with a closure)
     double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
     FaultVolumes volumes;         // since the run's start
+    std::vector<double> conducting = {}; // the aperture of the cubic law: w_h relaxed (Aitken)
+    std::vector<double> lag = {};        // w_h - conducting at the last set_openings
   };
   struct Face
   {
@@ -296,6 +309,9 @@ private:
   bool _stabilised = true; // whether the cells take L (set_compliance)
   bool _implicit = false;   // whether open cells' openings are unknowns (with_implicit_openings)
   double _aperture_change = 0;
+  double _relaxation = 1;  // Aitken's factor of the conducting apertures
+  bool _lagged = false;    // a lag of this step is known
+  bool _relaxing = false;  // the conducting apertures are relaxed (relax_conducting)
 };
 
 } // namespace biotcontact

@@ -117,6 +117,8 @@ class _Conduit:
     traction: np.ndarray   # per cell: s_n at the last mechanics iterate (with a closure)
     normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
     volumes: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)  # since the run's start
+    conducting: np.ndarray = None  # the aperture of the cubic law: w_h relaxed (Aitken)
+    lag: np.ndarray = None         # w_h - conducting at the last set_openings
 
 
 # Below this fraction of the residual aperture a cell's mean opening is the
@@ -125,6 +127,12 @@ class _Conduit:
 # cell taken for open would take the fixed-stress term L_f, under which it
 # converges at the rate L_f/(L_f + S), nearly 1.
 OPEN_FRACTION = 1e-6
+
+# In the monolithic step the conducting apertures of the cubic law follow
+# w_h whole while the lag between them shrinks by this factor per
+# iteration, by Aitken's relaxation once it does not (theory.md, "Flow in a
+# fault").
+RELAXED_ABOVE = 0.9
 
 
 def softest_modulus(scene):
@@ -223,6 +231,10 @@ class ConduitFaults:
         self.stabilised = True  # whether the cells take L (_set_compliance)
         self.implicit = False  # whether open cells' openings are unknowns (with_implicit_openings)
         self.aperture_change = 0.0
+        # the conducting apertures: a lag of this step known, relaxed
+        # (_relax_conducting), and Aitken's factor
+        self.lagged = self.relaxing = False
+        self.relaxation = 1.0
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
@@ -285,8 +297,11 @@ class ConduitFaults:
             conduit.compliance = np.zeros_like(conduit.compliance)
 
     def _conductance(self, conduit):
-        """t = w_h^3 / (12 mu_f): the cubic law's transmissivity per cell."""
-        return conduit.aperture ** 3 / (12 * self.flow.mu_f)
+        """t = w^3 / (12 mu_f): the cubic law's transmissivity per cell, w the
+        conducting aperture (w_h itself before the first mechanics iterate
+        or without mechanics)."""
+        w = conduit.aperture if conduit.conducting is None else conduit.conducting
+        return w ** 3 / (12 * self.flow.mu_f)
 
     def _held_ends(self, conduit):
         """The ends on pressure boundaries: (indices into the ends, T_e)."""
@@ -322,7 +337,7 @@ class ConduitFaults:
         of a run also sets the apertures at the step's start. Whether w_h or
         an open cell changed, and with them the operator and the faces'
         resistance."""
-        changed, largest, change = False, 0.0, 0.0
+        changed, flipped_back, largest, change = False, False, 0.0, 0.0
         for conduit in self.faults:
             o, n, e = conduit.offset, len(conduit.cells.measures), OPEN_FRACTION * conduit.residual
             if conduit.closure and traction is not None and len(traction):  # none before the first solve: u = 0
@@ -330,6 +345,8 @@ class ConduitFaults:
             closed = closure_aperture(conduit.closure, conduit.traction) if conduit.closure else 0.0
             w_h = conduit.residual + closed + np.maximum(opening[o:o + n] - e, 0.0)
             is_open = opening[o:o + n] > e
+            flipped_back = flipped_back or (self.lagged and bool(np.any((is_open != conduit.open)
+                                                                         & (is_open == conduit.open_before))))
             changed = (changed or not np.array_equal(w_h, conduit.aperture)
                        or not np.array_equal(is_open | conduit.open, conduit.open | conduit.open_before))
             largest = max(largest, w_h.max(initial=0.0))
@@ -340,10 +357,45 @@ class ConduitFaults:
             if not self.started:
                 conduit.aperture_start = conduit.aperture.copy()
         self.started = True
+        self.relaxing = self.relaxing or flipped_back
+        moved = self._relax_conducting()
         # how far the apertures moved: the largest change relative to the
-        # largest aperture, infinite where a cell opened or closed
-        self.aperture_change = change / largest
-        return changed
+        # largest aperture (or the lag of the conducting ones), infinite where
+        # a cell opened or closed
+        self.aperture_change = max(change, moved) / largest
+        return changed or moved > 0
+
+    def _relax_conducting(self):
+        """Moves the apertures of the cubic law toward w_h, by Aitken's factor
+        once a cell's open state flipped back in this step (or, monolithic,
+        the lag stopped shrinking); returns how far w_h lay from them (the
+        lag, m). The fixed point conducting = w_h(u(conducting)), r = w_h -
+        conducting its lag: taken whole (omega = 1) until a cell's open state
+        flips back (set_openings: the cubic law cycling, an open cell sheds
+        its fluid and closes, then fills and opens again) or, in the
+        monolithic step, whose open cells move with p_f in one solve, until
+        the lag shrinks by less than RELAXED_ABOVE; from then to the step's
+        end by Aitken's factor, omega = -omega (r_old . (r - r_old)) /
+        |r - r_old|^2."""
+        dot = norm = lag = lag_old = moved = 0.0
+        for conduit in self.faults:
+            if conduit.conducting is None:
+                conduit.conducting, conduit.lag = conduit.aperture.copy(), np.zeros_like(conduit.aperture)
+            r = conduit.aperture - conduit.conducting
+            d = r - conduit.lag
+            dot += float(conduit.lag @ d)
+            norm += float(d @ d)
+            lag += float(r @ r)
+            lag_old += float(conduit.lag @ conduit.lag)
+        self.relaxing = self.relaxing or (self.implicit and self.lagged and lag > RELAXED_ABOVE ** 2 * lag_old)
+        if self.relaxing and norm > 0:
+            self.relaxation = min(max(-self.relaxation * dot / norm, 1e-3), 1.0)
+        for conduit in self.faults:
+            conduit.lag = conduit.aperture - conduit.conducting
+            conduit.conducting = conduit.conducting + self.relaxation * conduit.lag
+            moved = max(moved, np.abs(conduit.lag).max(initial=0.0))
+        self.lagged = True
+        return moved
 
     def without_stabilisation(self):
         """No fixed-stress term from now on (the second pass of
@@ -385,6 +437,10 @@ class ConduitFaults:
         set_openings's)."""
         for conduit in self.faults:
             conduit.open = np.zeros_like(conduit.open)
+            if conduit.conducting is not None:  # the step starts from w_h, as a restart does
+                conduit.conducting = conduit.aperture.copy()
+        self.lagged = self.relaxing = False  # no lag of this step known yet
+        self.relaxation = 1.0
 
     def load(self, step, p_old, p_iterate, b):
         """The fault's right-hand side of the FineStep `step` into b (its
