@@ -1,5 +1,7 @@
 #include "contact/friction.h"
 
+#include "solvers/solver.h"
+
 #include <cmath>
 #include <map>
 
@@ -50,6 +52,27 @@ void add_friction_forces(const std::vector<FrictionalConstraint>& constraints, c
 
 namespace
 {
+/// The weights of the generalised Jacobian's row r of constraint f: of
+/// K's rows T_q (1 - D_rq), of its row N, and D_rq c on the diagonal.
+struct RowWeights
+{
+  std::array<double, 2> tangential{0, 0}, diagonal{0, 0};
+  double normal = 0;
+};
+
+RowWeights row_weights(const FrictionalConstraint& f, const FrictionTerm& t, int r, int tangents)
+{
+  RowWeights w;
+  for (int q = 0; q < tangents; ++q)
+  {
+    const double d = t.projection.d_trial[2 * r + q];
+    w.tangential[q] = (r == q ? 1.0 : 0.0) - d;
+    w.diagonal[q] = d * t.stiffness;
+  }
+  w.normal = -t.slope * f.sign * t.projection.d_bound[r];
+  return w;
+}
+
 /// Adds `weight` times row `row` of K to `sum` (column -> value).
 void add_row(Mat K, PetscInt row, double weight, std::map<PetscInt, double>& sum)
 {
@@ -68,24 +91,63 @@ std::map<PetscInt, double> jacobian_row(const FrictionalConstraint& f, const Fri
                                         const FrictionPoint& at, Mat K, PetscInt first)
 {
   std::map<PetscInt, double> row;
-  const DiscProjection& p = t.projection;
+  const RowWeights w = row_weights(f, t, r, at.tangents);
   for (int q = 0; q < at.tangents; ++q)
   {
-    const PetscInt i = f.tangential[q];
-    const double d = p.d_trial[2 * r + q];
-    add_row(K, first + i, (r == q ? 1.0 : 0.0) - d, row);
-    row[first + i] += d * t.stiffness;
+    add_row(K, first + f.tangential[q], w.tangential[q], row);
+    row[first + f.tangential[q]] += w.diagonal[q];
   }
-  if (const double w = -t.slope * f.sign * p.d_bound[r]; w != 0)
-    add_row(K, first + f.normal, w, row);
+  if (w.normal != 0)
+    add_row(K, first + f.normal, w.normal, row);
   return row;
+}
+
+/// friction_jacobian on a dense K (the condensed path's H): the rows
+/// combined column by column, in place in J's array.
+void dense_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at, Mat K, Mat J)
+{
+  const PetscScalar* k = nullptr;
+  PetscScalar* j = nullptr;
+  PetscInt m = 0, lk = 0, lj = 0;
+  check_petsc(MatGetSize(K, &m, nullptr), "friction: the dense Jacobian");
+  check_petsc(MatDenseGetLDA(K, &lk), "friction: the dense Jacobian");
+  check_petsc(MatDenseGetLDA(J, &lj), "friction: the dense Jacobian");
+  check_petsc(MatDenseGetArrayRead(K, &k), "friction: the dense Jacobian");
+  check_petsc(MatDenseGetArray(J, &j), "friction: the dense Jacobian");
+  for (const FrictionalConstraint& f : constraints)
+  {
+    const FrictionTerm t = friction_term(f, at);
+    for (int r = 0; r < at.tangents; ++r)
+    {
+      const RowWeights w = row_weights(f, t, r, at.tangents);
+      const PetscInt i = f.tangential[r];
+      for (PetscInt col = 0; col < m; ++col) // column-major: (row, col) at row + col lda
+      {
+        double v = w.normal * k[f.normal + col * lk];
+        for (int q = 0; q < at.tangents; ++q)
+          v += w.tangential[q] * k[f.tangential[q] + col * lk];
+        j[i + col * lj] = v;
+      }
+      for (int q = 0; q < at.tangents; ++q)
+        j[i + f.tangential[q] * lj] += w.diagonal[q];
+    }
+  }
+  MatDenseRestoreArrayRead(K, &k);
+  MatDenseRestoreArray(J, &j);
 }
 } // namespace
 
 void friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at, Mat K,
                        Mat J)
 {
-  MatCopy(K, J, SUBSET_NONZERO_PATTERN);
+  check_petsc(MatCopy(K, J, SUBSET_NONZERO_PATTERN), "friction: the Jacobian");
+  PetscBool dense = PETSC_FALSE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(K), MATSEQDENSE, &dense);
+  if (dense)
+  {
+    dense_jacobian(constraints, at, K, J);
+    return;
+  }
   PetscInt first = 0;
   MatGetOwnershipRange(K, &first, nullptr);
   std::vector<PetscInt> cols;

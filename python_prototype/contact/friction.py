@@ -94,6 +94,22 @@ def add_friction_forces(constraints, at, F):
             F[f.tangential[r]] += t.projection.force[r] / at.scale
 
 
+@dataclasses.dataclass
+class _RowWeights:
+    """The weights of the generalised Jacobian's row r of constraint f: of
+    K's rows T_q (1 - D_rq), of its row N, and D_rq c on the diagonal."""
+    tangential: list
+    diagonal: list
+    normal: float
+
+
+def _row_weights(f, t, r, tangents):
+    d = [t.projection.d_trial[2 * r + q] for q in range(tangents)]
+    return _RowWeights([(1.0 if r == q else 0.0) - d[q] for q in range(tangents)],
+                       [d[q] * t.stiffness for q in range(tangents)],
+                       -t.slope * f.sign * t.projection.d_bound[r])
+
+
 def _add_row(K, row, weight, total):
     """Adds `weight` times row `row` of K to `total` (column -> value)."""
     cols, vals = K.getRow(row)
@@ -104,16 +120,29 @@ def _add_row(K, row, weight, total):
 def _jacobian_row(f, t, r, at, K, first):
     """The generalised Jacobian's row r of constraint f, as column -> value;
     `first` is the global index of this rank's first row."""
-    row, p = defaultdict(float), t.projection
+    row, w = defaultdict(float), _row_weights(f, t, r, at.tangents)
     for q in range(at.tangents):
-        i = f.tangential[q]
-        d = p.d_trial[2 * r + q]
-        _add_row(K, first + i, (1.0 if r == q else 0.0) - d, row)
-        row[first + i] += d * t.stiffness
-    w = -t.slope * f.sign * p.d_bound[r]
-    if w != 0:
-        _add_row(K, first + f.normal, w, row)
+        _add_row(K, first + f.tangential[q], w.tangential[q], row)
+        row[first + f.tangential[q]] += w.diagonal[q]
+    if w.normal != 0:
+        _add_row(K, first + f.normal, w.normal, row)
     return row
+
+
+def _dense_jacobian(constraints, at, K, J):
+    """friction_jacobian on a dense K (the condensed path's H): the rows
+    combined as arrays, in place in J's."""
+    k, j = K.getDenseArray(readonly=True), J.getDenseArray()
+    for f in constraints:
+        t = friction_term(f, at)
+        for r in range(at.tangents):
+            w = _row_weights(f, t, r, at.tangents)
+            i = f.tangential[r]
+            j[i, :] = w.normal * k[f.normal, :] + sum(w.tangential[q] * k[f.tangential[q], :]
+                                                      for q in range(at.tangents))
+            for q in range(at.tangents):
+                j[i, f.tangential[q]] += w.diagonal[q]
+    J.assemble()
 
 
 def friction_jacobian(constraints, at, K, J):
@@ -122,6 +151,9 @@ def friction_jacobian(constraints, at, K, J):
         J_T = (I - D) K_T + c D - slope sign g K_N,
     combinations of the constraint's own rows of K (collective)."""
     K.copy(J, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+    if K.getType() == PETSc.Mat.Type.SEQDENSE:
+        _dense_jacobian(constraints, at, K, J)
+        return
     first = K.getOwnershipRange()[0]
     for f in constraints:
         t = friction_term(f, at)

@@ -64,11 +64,20 @@ void expect_jacobian_is_derivative(int tangents)
   ASSERT_FALSE(friction_term(constraints()[1], at).projection.stick);
   ASSERT_GT(friction_term(constraints()[1], at).bound, 0.0);
   ASSERT_FALSE(friction_term(constraints()[2], at).closed);
-  Mat A = unit::petsc_matrix(K), J = nullptr;
+  // On a sparse K (the full path's) and a dense one (the condensed H).
+  Mat A = unit::petsc_matrix(K), J = nullptr, H = nullptr, G_dense = nullptr;
   MatDuplicate(A, MAT_COPY_VALUES, &J);
   MatSetOption(J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
   friction_jacobian(constraints(), at, A, J);
-  const unit::Dense G = unit::dense(J);
+  MatConvert(A, MATSEQDENSE, MAT_INITIAL_MATRIX, &H);
+  MatDuplicate(H, MAT_COPY_VALUES, &G_dense);
+  friction_jacobian(constraints(), at, H, G_dense);
+  const unit::Dense G = unit::dense(J), G2 = unit::dense(G_dense);
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      EXPECT_NEAR(G2(i, j), G(i, j), 1e-13 * (1 + std::abs(G(i, j)))) << "dense J(" << i << ", " << j << ")";
+  MatDestroy(&H);
+  MatDestroy(&G_dense);
   const std::vector<double> F = residual(K, b, x, tangents);
   for (int j = 0; j < 9; ++j)
   {

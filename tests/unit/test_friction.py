@@ -116,11 +116,16 @@ class FrictionTest(unittest.TestCase):
         self.assertFalse(friction_term(constraints()[1], at).projection.stick)
         self.assertGreater(friction_term(constraints()[1], at).bound, 0.0)
         self.assertFalse(friction_term(constraints()[2], at).closed)
+        # on a sparse K (the full path's) and a dense one (the condensed H)
         A = petsc_matrix(K)
         J = A.duplicate(copy=True)
         J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         friction_jacobian(constraints(), at, A, J)
         G = J.convert("dense").getDenseArray()
+        H = A.convert("dense")
+        G_dense = H.duplicate(copy=True)
+        friction_jacobian(constraints(), at, H, G_dense)
+        self.assertTrue(np.allclose(G_dense.getDenseArray(), G, rtol=1e-13, atol=1e-13))
         F, h = residual(K, b, x, tangents), 1e-7
         for j in range(9):
             # one-sided into the bound for the normals (x_N > 1 stays closed)
