@@ -14,7 +14,7 @@ mechanics step each.
 
 Writes bench/results/friction.csv, one row per run and repetition, and
 prints the medians and the ratio frictional / frictionless, with the
-contact solver's Newton steps and the friction's rounds.
+contact solver's Newton steps.
 """
 import argparse
 import os
