@@ -33,6 +33,27 @@ os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 os.environ.setdefault("OMPI_MCA_pml", "ob1")
 BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
 PHAN_GEO = os.path.join(ROOT, "meshes", "phan2d.geo")  # the crack of Phan et al. (test_phan.py)
+# Phan et al.'s plate (test_phan.py): E = 25 GPa, nu = 0.25, plane strain, the
+# crack of PHAN_GEO, a uniaxial compression of 100 MPa through the top, one
+# step; a scene adds its [fault.crack].
+PHAN_E, PHAN_NU, PHAN_SIGMA = 25.0e9, 0.25, 1.0e8
+PHAN_PLATE = f"""[mesh]
+type = "gmsh"
+file = "{PHAN_GEO}"
+dimension = 2
+[mechanics]
+E = {PHAN_E}
+nu = {PHAN_NU}
+[time]
+end = 1.0
+dt = 1.0
+[boundary.bottom]
+displacement = {{ y = 0.0 }}
+[boundary.left]
+displacement = {{ x = 0.0 }}
+[boundary.top]
+traction = [0.0, {-PHAN_SIGMA}]
+"""
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]  # run with cwd=ROOT
 TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",

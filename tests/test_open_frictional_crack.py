@@ -14,32 +14,17 @@ prototype gives the C++ fields (1e-10)."""
 import math
 
 import numpy as np
-from support import PHAN_GEO, check, fault_fields, max_difference, run_track, written
+from support import (PHAN_E, PHAN_NU, PHAN_PLATE, PHAN_SIGMA, check, fault_fields, max_difference, run_track,
+                     written)
 
-E, NU, SIGMA, B, P = 25.0e9, 0.25, 1.0e8, 1.0, 5.0e7
+E, NU, SIGMA, B, P = PHAN_E, PHAN_NU, PHAN_SIGMA, 1.0, 5.0e7
 PSI, MU = math.radians(20), math.tan(math.radians(30))
 NORMAL = np.array([-math.cos(PSI), math.sin(PSI)])
 ALONG = np.array([math.sin(PSI), math.cos(PSI), 0.0])  # the crack, from its lower tip up
 
 
 def crack(friction):
-    return written(f"""[mesh]
-type = "gmsh"
-file = "{PHAN_GEO}"
-dimension = 2
-[mechanics]
-E = {E}
-nu = {NU}
-[time]
-end = 1.0
-dt = 1.0
-[boundary.bottom]
-displacement = {{ y = 0.0 }}
-[boundary.left]
-displacement = {{ x = 0.0 }}
-[boundary.top]
-traction = [0.0, {-SIGMA}]
-[fault.crack]
+    return written(PHAN_PLATE + f"""[fault.crack]
 friction = {friction!r}
 pressure = {P!r}
 normal = [{NORMAL[0]!r}, {NORMAL[1]!r}]

@@ -26,30 +26,15 @@ import os
 
 import h5py
 import numpy as np
-from support import PHAN_GEO, check, fault_fields, max_difference, run_track, summary, unsplit_difference, written
+from support import (PHAN_E, PHAN_NU, PHAN_PLATE, PHAN_SIGMA, check, fault_fields, max_difference, run_track,
+                     summary, unsplit_difference, written)
 
-E, NU, SIGMA, B = 25.0e9, 0.25, 1.0e8, 1.0
+E, NU, SIGMA, B = PHAN_E, PHAN_NU, PHAN_SIGMA, 1.0
 PSI, THETA = math.radians(20), math.radians(30)
 MU = math.tan(THETA)
 ALONG = np.array([math.sin(PSI), math.cos(PSI), 0.0])   # the crack, from its lower tip up
 NORMAL = np.array([-math.cos(PSI), math.sin(PSI)])
-PLATE = f"""[mesh]
-type = "gmsh"
-file = "{PHAN_GEO}"
-dimension = 2
-[mechanics]
-E = {E}
-nu = {NU}
-[time]
-end = 1.0
-dt = 1.0
-[boundary.bottom]
-displacement = {{ y = 0.0 }}
-[boundary.left]
-displacement = {{ x = 0.0 }}
-[boundary.top]
-traction = [0.0, {-SIGMA}]
-"""
+PLATE = PHAN_PLATE
 
 
 def fault(friction):
