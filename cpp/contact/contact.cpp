@@ -495,7 +495,7 @@ PetscErrorCode ContactSolver::residual(SNES, Vec x, Vec F, void* context)
   PetscCall(MatMult(self->_K, x, F));
   PetscCall(VecAXPY(F, -1.0, self->_b_scaled));
   if (self->_J)
-    self->add_friction(x, F);
+    PetscCall(self->add_friction(x, F));
   return 0;
 }
 
@@ -513,7 +513,7 @@ PetscErrorCode ContactSolver::jacobian(SNES, Vec x, Mat, Mat, void* context)
   PetscCall(VecGetArrayRead(self->_work, &R));
   PetscCall(VecGetArrayRead(self->_x_reference, &start));
   PetscCall(VecGetArrayRead(self->_stiffness, &c));
-  friction_jacobian(self->_friction, {X, R, start, c, self->_scale, self->_set.dim - 1}, self->_K, self->_J);
+  PetscCall(friction_jacobian(self->_friction, {X, R, start, c, self->_scale, self->_set.dim - 1}, self->_K, self->_J));
   PetscCall(VecRestoreArrayRead(x, &X));
   PetscCall(VecRestoreArrayRead(self->_work, &R));
   PetscCall(VecRestoreArrayRead(self->_x_reference, &start));
@@ -521,19 +521,21 @@ PetscErrorCode ContactSolver::jacobian(SNES, Vec x, Mat, Mat, void* context)
   return 0;
 }
 
-void ContactSolver::add_friction(Vec x, Vec F) const
+PetscErrorCode ContactSolver::add_friction(Vec x, Vec F) const
 {
   const PetscScalar *X, *start, *c;
   PetscScalar* R;
-  check_petsc(VecGetArrayRead(x, &X), "friction: the unknown");
-  check_petsc(VecGetArray(F, &R), "friction: the residual");
-  check_petsc(VecGetArrayRead(_x_reference, &start), "friction: the step's start");
-  check_petsc(VecGetArrayRead(_stiffness, &c), "friction: the stiffness");
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(x, &X));
+  PetscCall(VecGetArray(F, &R));
+  PetscCall(VecGetArrayRead(_x_reference, &start));
+  PetscCall(VecGetArrayRead(_stiffness, &c));
   add_friction_forces(_friction, {X, R, start, c, _scale, _set.dim - 1}, R);
-  VecRestoreArrayRead(x, &X);
-  VecRestoreArray(F, &R);
-  VecRestoreArrayRead(_x_reference, &start);
-  VecRestoreArrayRead(_stiffness, &c);
+  PetscCall(VecRestoreArrayRead(x, &X));
+  PetscCall(VecRestoreArray(F, &R));
+  PetscCall(VecRestoreArrayRead(_x_reference, &start));
+  PetscCall(VecRestoreArrayRead(_stiffness, &c));
+  PetscFunctionReturn(0);
 }
 
 double ContactSolver::displacement_scale(Vec x) const

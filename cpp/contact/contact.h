@@ -250,8 +250,9 @@ private:
   /// The VI with the current bounds and load; retried from the clamped
   /// state when the first attempt fails; throws when both do.
   void solve_vi();
-  /// F += the friction forces at x (F holds R on entry).
-  void add_friction(Vec x, Vec F) const;
+  /// F += the friction forces at x (F holds R on entry); a step of the
+  /// residual callback, so it returns PETSc's error code.
+  PetscErrorCode add_friction(Vec x, Vec F) const;
   void condense();
   void pose_on_full_system(Vec layout);
   void make_bound_vectors();

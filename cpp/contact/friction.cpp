@@ -1,7 +1,5 @@
 #include "contact/friction.h"
 
-#include "solvers/solver.h"
-
 #include <cmath>
 #include <map>
 
@@ -74,46 +72,57 @@ RowWeights row_weights(const FrictionalConstraint& f, const FrictionTerm& t, int
 }
 
 /// Adds `weight` times row `row` of K to `sum` (column -> value).
-void add_row(Mat K, PetscInt row, double weight, std::map<PetscInt, double>& sum)
+PetscErrorCode add_row(Mat K, PetscInt row, double weight, std::map<PetscInt, double>& sum)
 {
   PetscInt n = 0;
   const PetscInt* cols = nullptr;
   const PetscScalar* vals = nullptr;
-  MatGetRow(K, row, &n, &cols, &vals);
+  PetscFunctionBeginUser;
+  PetscCall(MatGetRow(K, row, &n, &cols, &vals));
   for (PetscInt j = 0; j < n; ++j)
     sum[cols[j]] += weight * vals[j];
-  MatRestoreRow(K, row, &n, &cols, &vals);
+  PetscCall(MatRestoreRow(K, row, &n, &cols, &vals));
+  PetscFunctionReturn(0);
 }
 
-/// The generalised Jacobian's row r of constraint f, as column -> value;
-/// `first` is the global index of this rank's first row.
-std::map<PetscInt, double> jacobian_row(const FrictionalConstraint& f, const FrictionTerm& t, int r,
-                                        const FrictionPoint& at, Mat K, PetscInt first)
+/// The rows of K this rank owns, from global row `first`.
+struct OwnedRows
 {
-  std::map<PetscInt, double> row;
+  Mat K;
+  PetscInt first;
+};
+
+/// The generalised Jacobian's row r of constraint f, as column -> value.
+PetscErrorCode jacobian_row(const FrictionalConstraint& f, const FrictionTerm& t, int r, const FrictionPoint& at,
+                            OwnedRows K, std::map<PetscInt, double>& row)
+{
+  PetscFunctionBeginUser;
+  row.clear();
   const RowWeights w = row_weights(f, t, r, at.tangents);
   for (int q = 0; q < at.tangents; ++q)
   {
-    add_row(K, first + f.tangential[q], w.tangential[q], row);
-    row[first + f.tangential[q]] += w.diagonal[q];
+    PetscCall(add_row(K.K, K.first + f.tangential[q], w.tangential[q], row));
+    row[K.first + f.tangential[q]] += w.diagonal[q];
   }
   if (w.normal != 0)
-    add_row(K, first + f.normal, w.normal, row);
-  return row;
+    PetscCall(add_row(K.K, K.first + f.normal, w.normal, row));
+  PetscFunctionReturn(0);
 }
 
 /// friction_jacobian on a dense K (the condensed path's H): the rows
 /// combined column by column, in place in J's array.
-void dense_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at, Mat K, Mat J)
+PetscErrorCode dense_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at, Mat K,
+                              Mat J)
 {
   const PetscScalar* k = nullptr;
   PetscScalar* j = nullptr;
   PetscInt m = 0, lk = 0, lj = 0;
-  check_petsc(MatGetSize(K, &m, nullptr), "friction: the dense Jacobian");
-  check_petsc(MatDenseGetLDA(K, &lk), "friction: the dense Jacobian");
-  check_petsc(MatDenseGetLDA(J, &lj), "friction: the dense Jacobian");
-  check_petsc(MatDenseGetArrayRead(K, &k), "friction: the dense Jacobian");
-  check_petsc(MatDenseGetArray(J, &j), "friction: the dense Jacobian");
+  PetscFunctionBeginUser;
+  PetscCall(MatGetSize(K, &m, nullptr));
+  PetscCall(MatDenseGetLDA(K, &lk));
+  PetscCall(MatDenseGetLDA(J, &lj));
+  PetscCall(MatDenseGetArrayRead(K, &k));
+  PetscCall(MatDenseGetArray(J, &j));
   for (const FrictionalConstraint& f : constraints)
   {
     const FrictionTerm t = friction_term(f, at);
@@ -132,24 +141,27 @@ void dense_jacobian(const std::vector<FrictionalConstraint>& constraints, const 
         j[i + f.tangential[q] * lj] += w.diagonal[q];
     }
   }
-  MatDenseRestoreArrayRead(K, &k);
-  MatDenseRestoreArray(J, &j);
+  PetscCall(MatDenseRestoreArrayRead(K, &k));
+  PetscCall(MatDenseRestoreArray(J, &j));
+  PetscFunctionReturn(0);
 }
 } // namespace
 
-void friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at, Mat K,
-                       Mat J)
+PetscErrorCode friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at,
+                                 Mat K, Mat J)
 {
-  check_petsc(MatCopy(K, J, SUBSET_NONZERO_PATTERN), "friction: the Jacobian");
+  PetscFunctionBeginUser;
+  PetscCall(MatCopy(K, J, SUBSET_NONZERO_PATTERN));
   PetscBool dense = PETSC_FALSE;
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(K), MATSEQDENSE, &dense);
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(K), MATSEQDENSE, &dense));
   if (dense)
   {
-    dense_jacobian(constraints, at, K, J);
-    return;
+    PetscCall(dense_jacobian(constraints, at, K, J));
+    PetscFunctionReturn(0);
   }
-  PetscInt first = 0;
-  MatGetOwnershipRange(K, &first, nullptr);
+  OwnedRows rows{K, 0};
+  PetscCall(MatGetOwnershipRange(K, &rows.first, nullptr));
+  std::map<PetscInt, double> row;
   std::vector<PetscInt> cols;
   std::vector<PetscScalar> vals;
   for (const FrictionalConstraint& f : constraints)
@@ -157,16 +169,17 @@ void friction_jacobian(const std::vector<FrictionalConstraint>& constraints, con
     const FrictionTerm t = friction_term(f, at);
     for (int r = 0; r < at.tangents; ++r)
     {
-      const std::map<PetscInt, double> row = jacobian_row(f, t, r, at, K, first);
+      PetscCall(jacobian_row(f, t, r, at, rows, row));
       cols.clear(), vals.clear();
       for (const auto& [c, v] : row)
         cols.push_back(c), vals.push_back(v);
-      const PetscInt i = first + f.tangential[r];
-      MatSetValues(J, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), vals.data(), INSERT_VALUES);
+      const PetscInt i = rows.first + f.tangential[r];
+      PetscCall(MatSetValues(J, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), vals.data(), INSERT_VALUES));
     }
   }
-  MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY);
+  PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
 }
 
 } // namespace biotcontact

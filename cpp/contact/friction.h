@@ -64,8 +64,9 @@ void add_friction_forces(const std::vector<FrictionalConstraint>& constraints, c
 /// J = K but on the tangential rows of the constraints, there the
 /// generalised Jacobian of F_T: with D = dP/dtheta and g = dP/dbound,
 ///     J_T = (I - D) K_T + c D - slope sign g K_N,
-/// combinations of the constraint's own rows of K (collective).
-void friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at, Mat K,
-                       Mat J);
+/// combinations of the constraint's own rows of K (collective). Returns
+/// PETSc's error code: it runs inside SNES's Jacobian callback.
+PetscErrorCode friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at,
+                                 Mat K, Mat J);
 
 } // namespace biotcontact
