@@ -228,8 +228,10 @@ public:
   /// PETSc's PCSetUp events count them).
   long preconditioner_setups() const { return _preconditioner ? _preconditioner->setups : -1; }
   double preconditioner_setup_time() const { return _preconditioner ? _preconditioner->setup_time : 0; }
-  /// Right-hand sides solved and seconds spent forming H (0 when full).
+  /// Right-hand sides solved, partial factorisations and seconds spent
+  /// forming H (0 when full).
   long schur_columns() const { return _schur ? _schur->columns : 0; }
+  long schur_factorizations() const { return _schur ? _schur->factorizations : 0; }
   double schur_time() const { return _schur ? _schur->time : 0; }
 
   long newton_iterations = 0, linear_iterations = 0;

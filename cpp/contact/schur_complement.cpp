@@ -124,6 +124,12 @@ void SchurComplement::assemble()
 
   dolfinx::common::Timer timer("Schur complement");
 
+  if (_whole and factorise_with_schur(solve_matrix()) == 0)
+  {
+    ++factorizations;
+    time += timer.stop();
+    return;
+  }
   // Blocks of right-hand sides: one call into the factorisation each, with
   // the dense blocks (n x block) kept to a few tens of megabytes. Each
   // rank with a whole copy forms its share of the columns.
@@ -137,6 +143,64 @@ void SchurComplement::assemble()
     share_columns();
   columns += _m;
   time += timer.stop();
+}
+
+PetscErrorCode SchurComplement::factorise_with_schur(Mat S)
+{
+  PetscFunctionBeginUser;
+#if defined(PETSC_HAVE_MUMPS)
+  // Only for an SPD A (the mechanics): MUMPS's analysis refuses the
+  // Schur variables of the monolithic system (INFOG(1) = -4).
+  if (_structure != Structure::spd)
+    PetscFunctionReturn(PETSC_ERR_SUP);
+  // MUMPS wants the Schur variables in ascending order: H's row i is the
+  // sorted position order[i] of _rows[i].
+  std::vector<PetscInt> sorted(_rows.begin(), _rows.end()), order(_m);
+  std::sort(sorted.begin(), sorted.end());
+  for (PetscInt i = 0; i < _m; ++i)
+    order[i] = std::lower_bound(sorted.begin(), sorted.end(), _rows[i]) - sorted.begin();
+  Mat F = nullptr, Sc = nullptr;
+  IS schur = nullptr, rows = nullptr, cols = nullptr;
+  MatFactorInfo info;
+  MatFactorSchurStatus status;
+  PetscCall(MatFactorInfoInitialize(&info));
+  PetscCall(MatGetFactor(S, MATSOLVERMUMPS, MAT_FACTOR_CHOLESKY, &F));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, _m, sorted.data(), PETSC_COPY_VALUES, &schur));
+  PetscCall(MatFactorSetSchurIS(F, schur));
+  PetscCall(MatGetOrdering(S, MATORDERINGNATURAL, &rows, &cols));
+  PetscCall(MatCholeskyFactorSymbolic(F, S, rows, &info));
+  PetscCall(MatCholeskyFactorNumeric(F, S, &info));
+  // MUMPS reports a failed analysis or factorisation here, not as an error
+  // code: then the columns are solved as without MUMPS.
+  MatFactorError failed = MAT_FACTOR_NOERROR;
+  PetscCall(MatFactorGetError(F, &failed));
+  if (failed != MAT_FACTOR_NOERROR)
+  {
+    PetscCall(MatDestroy(&F));
+    for (IS* is : {&schur, &rows, &cols})
+      PetscCall(ISDestroy(is));
+    PetscFunctionReturn(PETSC_ERR_LIB);
+  }
+  PetscCall(MatFactorCreateSchurComplement(F, &Sc, &status));
+  const PetscScalar* sc = nullptr;
+  PetscScalar* h = nullptr;
+  PetscInt ls = 0;
+  PetscCall(MatDenseGetLDA(Sc, &ls));
+  PetscCall(MatDenseGetArrayRead(Sc, &sc));
+  PetscCall(MatDenseGetArray(_H, &h)); // column-major, leading dimension m
+  for (PetscInt j = 0; j < _m; ++j)
+    for (PetscInt i = 0; i < _m; ++i)
+      h[i + j * _m] = sc[order[i] + order[j] * ls];
+  PetscCall(MatDenseRestoreArray(_H, &h));
+  PetscCall(MatDenseRestoreArrayRead(Sc, &sc));
+  for (IS* is : {&schur, &rows, &cols})
+    PetscCall(ISDestroy(is));
+  PetscCall(MatDestroy(&Sc));
+  PetscCall(MatDestroy(&F));
+  PetscFunctionReturn(0);
+#else
+  PetscFunctionReturn(PETSC_ERR_SUP);
+#endif
 }
 
 void SchurComplement::share_columns()

@@ -68,9 +68,9 @@ public:
   /// all[offset() + k] = local[k] from every rank, all of size m (collective).
   void gather(const PetscScalar* local, PetscScalar* all) const;
 
-  /// Right-hand sides solved to form H, and the time it took after the
-  /// factorisation (s).
-  long columns = 0;
+  /// Right-hand sides solved to form H, partial factorisations that left
+  /// it, and the time it took after the factorisation of A_C (s).
+  long columns = 0, factorizations = 0;
   double time = 0;
 
 private:
@@ -86,6 +86,12 @@ private:
   /// Values at the contact DOFs of a column solve's vectors, in H's order,
   /// on every rank (all of them, or gathered from each rank's own).
   void contact_values(const PetscScalar* at_contact, PetscScalar* all) const;
+  /// H from a factorisation of S (A, or A gathered) by MUMPS with the
+  /// contact DOFs as its Schur variables: the partial factorisation leaves
+  /// H as its last dense block, at about the cost of factorising A_C, where
+  /// m back-solves cost m / 100 factorisations or more. Returns PETSc's
+  /// error code (PETSC_ERR_SUP without MUMPS): then the columns are solved.
+  PetscErrorCode factorise_with_schur(Mat S);
   /// Each rank's columns of H to every rank.
   void share_columns();
   /// Where a column solve's vectors hold the i-th of `_rows`.

@@ -171,6 +171,7 @@ struct SolverStatistics
   long newton_iterations = 0; // contact (SNES VI) Newton steps
   long active_set_changes = 0;
   long schur_columns = 0;     // right-hand sides solved to form a contact Schur complement
+  long schur_factorizations = 0; // partial factorisations that left one (MUMPS)
   double setup_time = 0;      // s in PCSetUp
   double solve_time = 0;      // s in KSPSolve: the back-solves
   double total_time = 0;      // s in the system's solve, all included
@@ -180,7 +181,7 @@ struct SolverStatistics
 
 /// The counts of SolverStatistics by name: the one list that checkpoints,
 /// restarts and the sum with an earlier run's counts read.
-inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 7> solver_counts{{
+inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 8> solver_counts{{
     {"solves", &SolverStatistics::solves},
     {"setups", &SolverStatistics::setups},
     {"back_solves", &SolverStatistics::back_solves},
@@ -188,6 +189,7 @@ inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 7>
     {"newton_iterations", &SolverStatistics::newton_iterations},
     {"active_set_changes", &SolverStatistics::active_set_changes},
     {"schur_columns", &SolverStatistics::schur_columns},
+    {"schur_factorizations", &SolverStatistics::schur_factorizations},
 }};
 
 /// A PETSc log stage named after a system; pushed while the system solves.

@@ -301,6 +301,7 @@ SolverStatistics System::statistics() const
     s.linear_iterations = _contact->linear_iterations;
     s.active_set_changes = _contact->active_set_changes;
     s.schur_columns = _contact->schur_columns();
+    s.schur_factorizations = _contact->schur_factorizations();
     s.schur_time = _contact->schur_time();
   }
   for (const auto& [name, count] : solver_counts)
