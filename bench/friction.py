@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """What friction costs: the same scene with and without friction, one
-mechanics step each.
+mechanics step each, and the elastic solve of the same mesh without the
+fault (no split, no contact).
 
 - 2D: Phan et al.'s crack (meshes/phan2d.geo, refined once: about 1e5
   unknowns) under a uniaxial compression of 100 MPa, Coulomb mu = tan 30
@@ -43,10 +44,7 @@ displacement = {{ y = 0.0 }}
 displacement = {{ x = 0.0 }}
 [boundary.top]
 traction = [0.0, -1.0e8]
-[fault.crack]
-normal = [-0.9396926207859083, 0.3420201433256687]
-{friction}
-""", 3: """[mesh]
+{fault}""", 3: """[mesh]
 type = "gmsh"
 file = "{work}/sneddon3d_fine.geo"
 dimension = 3
@@ -60,12 +58,13 @@ dt = 1.0
 displacement = {{ x = 0.0, y = 0.0, z = 0.0 }}
 [boundary.top]
 traction = [2.0e7, 0.0, -5.0e7]
-[fault.crack]
-normal = [0.0, 0.0, 1.0]
-{friction}
-"""}
-LAWS = {2: {"frictionless": "", "coulomb": "friction = 0.5773502691896257"},
-        3: {"frictionless": "", "coulomb": "friction = 0.3"}}
+{fault}"""}
+FAULTS = {2: "[fault.crack]\nnormal = [-0.9396926207859083, 0.3420201433256687]\n",
+          3: "[fault.crack]\nnormal = [0.0, 0.0, 1.0]\n"}
+# "elastic": the same mesh without the fault (its crack not split, no
+# contact), the issue's reference for the frictionless step.
+LAWS = {2: {"frictionless": "", "coulomb": "friction = 0.5773502691896257", "elastic": None},
+        3: {"frictionless": "", "coulomb": "friction = 0.3", "elastic": None}}
 
 
 # meshes/sneddon3d.geo's sizes near the disc (its Field[2]) halved: 0.02 m
@@ -84,7 +83,9 @@ def scene(work, dim, law):
         f.write(geo)
     path = os.path.join(work, f"friction{dim}d_{law}.toml")
     with open(path, "w") as f:
-        f.write(SCENES[dim].format(meshes=os.path.join(common.ROOT, "meshes"), work=work, friction=LAWS[dim][law]))
+        law_text = LAWS[dim][law]
+        fault = "" if law_text is None else FAULTS[dim] + law_text + "\n"
+        f.write(SCENES[dim].format(meshes=os.path.join(common.ROOT, "meshes"), work=work, fault=fault))
     return path
 
 
@@ -95,9 +96,10 @@ def row_of(dim, law, repetition, result):
     contact_dofs = int(method.split("condensed on ")[1].split()[0]) if "condensed on" in method else 0
     return {"dim": dim, "law": law, "repetition": repetition, "wall_s": float(s["wall_time_s"]),
             "process_wall_s": result["process_wall_s"], "unknowns": sum(s["dofs"].values()),
-            "contact_dofs": contact_dofs, "newton_iterations": mechanics["newton_iterations"],
+            "contact_dofs": contact_dofs, "newton_iterations": mechanics.get("newton_iterations", 0),
             "mechanics_solve_s": t["solve"], "schur_s": t["schur_complement"], "setup_s": t["setup"],
-            "max_slip": s["contact"]["faults"]["crack"]["max_slip"], "command": result["command"]}
+            "max_slip": s["contact"]["faults"]["crack"]["max_slip"] if "contact" in s else 0.0,
+            "command": result["command"]}
 
 
 def main():
@@ -130,7 +132,9 @@ def main():
         print(f"{dim}D: frictional {m['coulomb']['wall_s']:.2f} s ({m['coulomb']['newton_iterations']:.0f} Newton "
               f"steps), frictionless {m['frictionless']['wall_s']:.2f} s "
               f"({m['frictionless']['newton_iterations']:.0f}): ratio "
-              f"{m['coulomb']['wall_s'] / m['frictionless']['wall_s']:.2f}")
+              f"{m['coulomb']['wall_s'] / m['frictionless']['wall_s']:.2f}; the elastic solve without the fault "
+              f"{m['elastic']['wall_s']:.2f} s: frictionless / elastic "
+              f"{m['frictionless']['wall_s'] / m['elastic']['wall_s']:.2f}")
     return 0
 
 

@@ -36,6 +36,11 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
 
 namespace
 {
+/// The stopping rule of a repeated active set holds where the step has
+/// brought the residual below this fraction of the larger of the solve's
+/// first and the load.
+constexpr double repeated_set_fraction = 1e-3;
+
 /// What a friction that fails to converge most often means.
 constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
 
@@ -443,6 +448,9 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
     if (self->_J)
       PetscCall(VecNorm(self->_b_scaled, NORM_2, &load));
     self->_relative_target = rtol * std::min(fnorm, load);
+    PetscReal b = 0;
+    PetscCall(VecNorm(self->_b_scaled, NORM_2, &b));
+    self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, b);
     Vec F = nullptr;
     PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
     self->_balance_relative_target = rtol * self->balance_norm(F);
@@ -466,8 +474,17 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   // it; CONVERGED_ITS stands for "stopped by the method's own rule".
   // With friction F is not linear: only the residual says when it is
   // solved.
-  else if (iteration > 0 and self->_set_repeated and !self->_J)
+  // A step that left the residual above a fraction of the first one (or of
+  // the load, where the start was close) did not solve F = 0 on its set: a
+  // singular reduced system (a body held by the contact alone, from a start
+  // that presses on nothing) solved by a factorisation that did not see
+  // it. Above both it is refused at once (solve_vi starts again clamped),
+  // else iterated on.
+  else if (iteration > 0 and self->_set_repeated and !self->_J and fnorm <= self->_repeated_set_bound)
     *reason = SNES_CONVERGED_ITS;
+  else if (iteration > 0 and self->_set_repeated and !self->_J
+           and fnorm > self->_repeated_set_bound / repeated_set_fraction)
+    *reason = SNES_DIVERGED_DTOL;
   return 0;
 }
 

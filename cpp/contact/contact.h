@@ -346,6 +346,7 @@ private:
   bool _any_used = false;
   bool _set_repeated = false;    // the last step's result keeps the set it used
   PetscReal _relative_target = 0; // rtol times the first residual of a solve
+  PetscReal _repeated_set_bound = 0; // a fraction of it or of the load (converged)
   // The residual on the mass balances' rows is small below the larger of
   // these: their load's times the relative tolerance (pose), and rtol
   // times the solve's first (balances_solved).

@@ -124,7 +124,7 @@ void SchurComplement::assemble()
 
   dolfinx::common::Timer timer("Schur complement");
 
-  if (_whole and factorise_with_schur(solve_matrix()) == 0)
+  if (_whole and _m >= partial_factorisation_from and factorise_with_schur(solve_matrix()) == 0)
   {
     ++factorizations;
     time += timer.stop();

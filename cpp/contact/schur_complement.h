@@ -39,6 +39,7 @@ namespace biotcontact
 class SchurComplement
 {
 public:
+
   /// `dofs` are the owned contact DOFs of this rank (local indices of a
   /// vector like A's columns); the factorisation of A_C uses the options
   /// with `prefix`, as A's own solver would.
@@ -68,6 +69,12 @@ public:
   /// all[offset() + k] = local[k] from every rank, all of size m (collective).
   void gather(const PetscScalar* local, PetscScalar* all) const;
 
+  /// From this many contact DOFs on, H comes from MUMPS's partial
+  /// factorisation (factorise_with_schur): it costs 2.2 (2D) to 4 (3D)
+  /// factorisations of A, as much as about 250 (2D) to 550 (3D) of the
+  /// back-solves it saves (docs/performance.md, 2026-11-28).
+  PetscInt partial_factorisation_from = 400;
+
   /// Right-hand sides solved to form H, partial factorisations that left
   /// it, and the time it took after the factorisation of A_C (s).
   long columns = 0, factorizations = 0;
@@ -88,9 +95,9 @@ private:
   void contact_values(const PetscScalar* at_contact, PetscScalar* all) const;
   /// H from a factorisation of S (A, or A gathered) by MUMPS with the
   /// contact DOFs as its Schur variables: the partial factorisation leaves
-  /// H as its last dense block, at about the cost of factorising A_C, where
-  /// m back-solves cost m / 100 factorisations or more. Returns PETSc's
-  /// error code (PETSC_ERR_SUP without MUMPS): then the columns are solved.
+  /// H as its last dense block, where m back-solves cost about m / 100
+  /// factorisations. Returns PETSc's error code (PETSC_ERR_SUP without
+  /// MUMPS or for an A that is not SPD): then the columns are solved.
   PetscErrorCode factorise_with_schur(Mat S);
   /// Each rank's columns of H to every rank.
   void share_columns();

@@ -172,6 +172,12 @@ def _any_frictional(contact_set, comm):
     return comm.allreduce(bool(np.any(contact_set.frictional)), op=MPI.LOR)
 
 
+# The stopping rule of a repeated active set holds where the step has brought
+# the residual below this fraction of the larger of the solve's first and the
+# load (_converged).
+REPEATED_SET_FRACTION = 1e-3
+
+
 def _read_condensed(comm, prefix, fallback):
     """-<prefix>contact_condensed, `fallback` when not given; with -help, the
     lines PETSc prints for the option the C++ registers (cpp/contact/contact.cpp,
@@ -269,7 +275,7 @@ class ContactSolver:
         self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
         self.scale = 1.0  # SNES works in units of the displacement scale
         self.pending = self.used = None  # active flags of the contact DOFs
-        self.set_repeated, self.relative_target = False, 0.0
+        self.set_repeated, self.relative_target, self.repeated_set_bound = False, 0.0, 0.0
         # the residual on the mass balances' rows is small below the larger of
         # these: their load's times the relative tolerance (_pose), and rtol
         # times the solve's first (_balances_solved)
@@ -495,6 +501,11 @@ class ContactSolver:
             # relative to the load then, where that is smaller
             load = self.b_scaled.norm() if self.J is not None else fnorm
             self.relative_target = rtol * min(fnorm, load)
+            # a step that left the residual above a fraction of the first (or of
+            # the load, where the start was close) did not solve F = 0 on its
+            # set (a singular reduced system: a body held by the contact alone,
+            # from a start that presses on nothing)
+            self.repeated_set_bound = REPEATED_SET_FRACTION * max(fnorm, self.b_scaled.norm())
             self.balance_relative_target = rtol * self._balance_norm(snes.getFunction()[0])
             self.balances_met = False
         balances = self._balances_may_stop(self._balances_solved(snes, iteration))
@@ -506,8 +517,13 @@ class ContactSolver:
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target and balances:
             return reasons.CONVERGED_FNORM_RELATIVE
-        if iteration > 0 and self.set_repeated and self.J is None:
+        if iteration > 0 and self.set_repeated and self.J is None and fnorm <= self.repeated_set_bound:
             return reasons.CONVERGED_ITS
+        # above both refused at once (_solve_vi starts again clamped), else
+        # iterated on
+        if iteration > 0 and self.set_repeated and self.J is None \
+                and fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
+            return reasons.DIVERGED_DTOL
         return reasons.CONVERGED_ITERATING
 
     def _residual(self, snes, x, F):

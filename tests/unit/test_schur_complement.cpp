@@ -3,7 +3,8 @@
 // H = A_CC - A_CI A_II^{-1} A_IC and g = b_C - A_CI A_II^{-1} b_I as the
 // dense formulas give them, H symmetric positive definite, the condensed
 // problem solved by the full one's x_C, the extension solving the equations
-// of I, and H formed anew from A's current values. The prototype's twin is
+// of I, H formed anew from A's current values, and the same H by MUMPS's
+// partial factorisation (SPD A) and by columns. The prototype's twin is
 // tests/unit/test_schur_complement.py.
 #include "contact/schur_complement.h"
 #include "dense.h"
@@ -159,6 +160,23 @@ TEST_F(Schur, ExtensionSolvesTheInteriorEquations)
     EXPECT_NEAR(Ax[i] - b_values[i], 0.0, round_off() * unit::largest(x_values)) << "equation " << i;
   for (Vec* v : {&b, &y, &x})
     VecDestroy(v);
+}
+
+TEST_F(Schur, PartialFactorisationMatchesTheColumns)
+{
+  // From partial_factorisation_from contact DOFs on (an SPD A on one
+  // rank), H comes from MUMPS's partial factorisation: the same H to
+  // round-off, no right-hand side solved.
+  SchurComplement partial(PETSC_COMM_WORLD, "schur_test_", petsc_A, Structure::spd,
+                          std::vector<std::int32_t>(contact.begin(), contact.end()));
+  partial.partial_factorisation_from = 0;
+  partial.assemble();
+  EXPECT_EQ(partial.factorizations, 1) << "one partial factorisation";
+  EXPECT_EQ(partial.columns, 0);
+  const unit::Dense H = unit::dense(schur->matrix()), G = unit::dense(partial.matrix());
+  for (int i = 0; i < H.n; ++i)
+    for (int j = 0; j < H.n; ++j)
+      EXPECT_NEAR(G(i, j), H(i, j), 10 * round_off()) << "entry " << i << ", " << j;
 }
 
 TEST_F(Schur, ReassemblyFollowsTheValues)
