@@ -444,13 +444,10 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
     // With friction F is not linear, and a start far off (the clamped
     // start of a body that slides) would make any residual "relative":
     // relative to the load then, where that is smaller.
-    PetscReal load = fnorm;
-    if (self->_J)
-      PetscCall(VecNorm(self->_b_scaled, NORM_2, &load));
-    self->_relative_target = rtol * std::min(fnorm, load);
-    PetscReal b = 0;
-    PetscCall(VecNorm(self->_b_scaled, NORM_2, &b));
-    self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, b);
+    PetscReal load = 0;
+    PetscCall(VecNorm(self->_b_scaled, NORM_2, &load));
+    self->_relative_target = rtol * std::min(fnorm, self->_J ? load : fnorm);
+    self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
     Vec F = nullptr;
     PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
     self->_balance_relative_target = rtol * self->balance_norm(F);
@@ -480,11 +477,13 @@ PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal
   // that presses on nothing) solved by a factorisation that did not see
   // it. Above both it is refused at once (solve_vi starts again clamped),
   // else iterated on.
-  else if (iteration > 0 and self->_set_repeated and !self->_J and fnorm <= self->_repeated_set_bound)
-    *reason = SNES_CONVERGED_ITS;
-  else if (iteration > 0 and self->_set_repeated and !self->_J
-           and fnorm > self->_repeated_set_bound / repeated_set_fraction)
-    *reason = SNES_DIVERGED_DTOL;
+  else if (iteration > 0 and self->_set_repeated and !self->_J)
+  {
+    if (fnorm <= self->_repeated_set_bound)
+      *reason = SNES_CONVERGED_ITS;
+    else if (fnorm > self->_repeated_set_bound / repeated_set_fraction)
+      *reason = SNES_DIVERGED_DTOL;
+  }
   return 0;
 }
 

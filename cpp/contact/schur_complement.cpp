@@ -169,6 +169,8 @@ PetscErrorCode SchurComplement::factorise_with_schur(Mat S)
   PetscCall(MatFactorSetSchurIS(F, schur));
   PetscCall(MatGetOrdering(S, MATORDERINGNATURAL, &rows, &cols));
   PetscCall(MatCholeskyFactorSymbolic(F, S, rows, &info));
+  for (IS* is : {&schur, &rows, &cols}) // the factor keeps its own copies
+    PetscCall(ISDestroy(is));
   PetscCall(MatCholeskyFactorNumeric(F, S, &info));
   // MUMPS reports a failed analysis or factorisation here, not as an error
   // code: then the columns are solved as without MUMPS.
@@ -177,8 +179,6 @@ PetscErrorCode SchurComplement::factorise_with_schur(Mat S)
   if (failed != MAT_FACTOR_NOERROR)
   {
     PetscCall(MatDestroy(&F));
-    for (IS* is : {&schur, &rows, &cols})
-      PetscCall(ISDestroy(is));
     PetscFunctionReturn(PETSC_ERR_LIB);
   }
   PetscCall(MatFactorCreateSchurComplement(F, &Sc, &status));
@@ -193,8 +193,6 @@ PetscErrorCode SchurComplement::factorise_with_schur(Mat S)
       h[i + j * _m] = sc[order[i] + order[j] * ls];
   PetscCall(MatDenseRestoreArray(_H, &h));
   PetscCall(MatDenseRestoreArrayRead(Sc, &sc));
-  for (IS* is : {&schur, &rows, &cols})
-    PetscCall(ISDestroy(is));
   PetscCall(MatDestroy(&Sc));
   PetscCall(MatDestroy(&F));
   PetscFunctionReturn(0);

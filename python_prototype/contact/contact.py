@@ -499,13 +499,13 @@ class ContactSolver:
             # with friction F is not linear, and a start far off (the clamped
             # start of a body that slides) would make any residual "relative":
             # relative to the load then, where that is smaller
-            load = self.b_scaled.norm() if self.J is not None else fnorm
-            self.relative_target = rtol * min(fnorm, load)
+            load = self.b_scaled.norm()
+            self.relative_target = rtol * min(fnorm, load if self.J is not None else fnorm)
             # a step that left the residual above a fraction of the first (or of
             # the load, where the start was close) did not solve F = 0 on its
             # set (a singular reduced system: a body held by the contact alone,
             # from a start that presses on nothing)
-            self.repeated_set_bound = REPEATED_SET_FRACTION * max(fnorm, self.b_scaled.norm())
+            self.repeated_set_bound = REPEATED_SET_FRACTION * max(fnorm, load)
             self.balance_relative_target = rtol * self._balance_norm(snes.getFunction()[0])
             self.balances_met = False
         balances = self._balances_may_stop(self._balances_solved(snes, iteration))
@@ -517,13 +517,13 @@ class ContactSolver:
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and fnorm < self.relative_target and balances:
             return reasons.CONVERGED_FNORM_RELATIVE
-        if iteration > 0 and self.set_repeated and self.J is None and fnorm <= self.repeated_set_bound:
-            return reasons.CONVERGED_ITS
-        # above both refused at once (_solve_vi starts again clamped), else
-        # iterated on
-        if iteration > 0 and self.set_repeated and self.J is None \
-                and fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
-            return reasons.DIVERGED_DTOL
+        if iteration > 0 and self.set_repeated and self.J is None:
+            if fnorm <= self.repeated_set_bound:
+                return reasons.CONVERGED_ITS
+            # above both refused at once (_solve_vi starts again clamped),
+            # else iterated on
+            if fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
+                return reasons.DIVERGED_DTOL
         return reasons.CONVERGED_ITERATING
 
     def _residual(self, snes, x, F):
