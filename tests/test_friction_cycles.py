@@ -1,0 +1,211 @@
+"""Load, unload and reload with friction (issue 50, verification 5), on the
+C++ solver and the prototype: the closed-form hysteresis of Cattaneo and
+Mindlin, and of Mindlin and Deresiewicz (docs/verification.md,
+"Cattaneo-Mindlin: partial slip under a cycle"), plane strain.
+
+A square [-1, 1]^2 m cut from side to side by the fault y = 0 (mu = 0.6,
+E = 1 GPa, nu = 0.25 on both sides), its initial gap g0 = x^2/(2R),
+R = 1 m: Hertz's half-space form of two cylinders of radius 2R, so the
+faces touch at x = 0 first. The bottom is clamped, the top pushed down by
+4.5 mm in step 1 (the contact half-width a ~ 0.049 m, 97.5 pair spacings
+of 0.5 mm), then moved sideways by s(t): 0 -> S in 4 steps (loading),
+S -> -S in 8 (unloading), -S -> S in 8 (reloading), S = 3 mm, the
+tangential load reaching Q* = 0.749 mu P. The two blocks are the same
+material, so the normal and the tangential problems uncouple and, for
+a << the blocks, in each step of
+- the loading (and step 1, Q = 0) the pairs with |x| < c stick, c = a
+  sqrt(1 - |Q|/(mu P)), the others slip forward;
+- the unloading from Q_r = Q* (the reloading from Q_r = -Q*) the pairs
+  with |x| < c' stick, c' = a sqrt(1 - |Q_r - Q|/(2 mu P)), the others
+  slip back (forward),
+with P and Q the sums of the pairs' normal and tangential tractions times
+their lumped lengths and a half the closed measure. Asserted at every one
+of the 21 steps: the stuck measure within 3 % of 2c (or 2c'), the
+slipping measure within 3 % of 2a of 2(a - c) (it is the closed measure
+minus the stuck: no pair inside is open), the stuck pairs one interval
+centred to a pair spacing with every closed pair inside it stuck, each
+slipping pair's slip increment along the step's direction; a within 3 %
+of Hertz's sqrt(8 P R (1 - nu^2)/(pi E)) (the contact is Hertzian);
+every step converged (21 steps, no retry, in summary.json), whose stuck,
+slipping and closed measures are those of fault.xdmf's states; the
+prototype equal to the C++ run to 1e-10, with the same states at all
+times.
+
+Measured (2026-11-28, this 2-core machine), the same on both tracks: the
+stuck measure against 2c from -0.12 % to +1.31 % (largest at Q = +-Q*:
+49.5 of 97.5 mm stuck), the slipping one from -0.72 % to +0.11 % of 2a;
+c/a in the loading 1, 0.8974, 0.7846, 0.6615, 0.5077 against 1, 0.8974,
+0.7841, 0.6554, 0.5011 (steps 1-5); c'/a in the unloading 0.9487,
+0.8974, 0.8462, 0.7846, 0.7231, 0.6615, 0.5897, 0.5077 against 0.9498,
+0.8974, 0.8423, 0.7841, 0.7221, 0.6554, 0.5825, 0.5011 (steps 6-13), the
+reloading's (steps 14-21) the same (its closed form to 1e-4); a 0.04875 m, Hertz 0.04899 m (-0.49 %);
+Q*/(mu P) = 0.7489; the prototype equal to C++ to 9.2e-15
+(displacement); runs of 7.0 s (C++) and 13.6 s (prototype), 113 Newton
+steps each, the test 22 s. 3D (Mindlin's spheres) does not fit: a
+contact disc of radius 40 pair spacings holds some 5000 frictional pairs,
+where the penny crack's 241 already make forming H most of a 90 s run
+(docs/theory.md, "Friction")."""
+import math
+import os
+
+import h5py
+import numpy as np
+from support import check, fault_fields, max_difference, run_track, summary, written
+
+E, NU, MU, R = 1.0e9, 0.25, 0.6, 1.0
+PUSH, S = 4.5e-3, 3.0e-3         # the top's displacement down (step 1), the amplitude of its sideways one
+SPACING = 5.0e-4                 # the pairs' spacing near the contact
+LOAD, CYCLE = 4, 8               # steps of the loading, of the unloading, of the reloading
+STEPS = 1 + LOAD + 2 * CYCLE
+TOLERANCE = 0.03
+# The square cut by the fault y = 0 (three lines: the middle one, |x| < 0.07,
+# meshed at SPACING, the mesh growing to 0.1 m away from it).
+GEO = f"""SetFactory("Built-in");
+L = 1; b = 0.07; h = {SPACING!r};
+Point(1) = {{-L, -L, 0}}; Point(2) = {{L, -L, 0}}; Point(3) = {{L, 0, 0}}; Point(4) = {{L, L, 0}};
+Point(5) = {{-L, L, 0}}; Point(6) = {{-L, 0, 0}}; Point(7) = {{-b, 0, 0}}; Point(8) = {{b, 0, 0}};
+Line(1) = {{1, 2}}; Line(2) = {{2, 3}}; Line(3) = {{3, 4}}; Line(4) = {{4, 5}}; Line(5) = {{5, 6}}; Line(6) = {{6, 1}};
+Line(7) = {{6, 7}}; Line(8) = {{7, 8}}; Line(9) = {{8, 3}};
+Curve Loop(1) = {{1, 2, -9, -8, -7, 6}}; Plane Surface(1) = {{1}};
+Curve Loop(2) = {{7, 8, 9, 3, 4, 5}}; Plane Surface(2) = {{2}};
+Physical Curve("bottom") = {{1}}; Physical Curve("top") = {{4}};
+Physical Curve("left") = {{5, 6}}; Physical Curve("right") = {{2, 3}};
+Physical Curve("fault") = {{7, 8, 9}};
+Physical Surface("lower") = {{1}}; Physical Surface("upper") = {{2}};
+Field[1] = Distance; Field[1].CurvesList = {{8}}; Field[1].NumPointsPerCurve = 400;
+Field[2] = Threshold; Field[2].InField = 1; Field[2].SizeMin = h; Field[2].SizeMax = 0.1;
+Field[2].DistMin = 0.01; Field[2].DistMax = 0.8;
+Background Field = 2;
+Mesh.CharacteristicLengthExtendFromBoundary = 0;
+Mesh.CharacteristicLengthFromPoints = 0;
+"""
+TURNS = (1 + LOAD, 1 + LOAD + CYCLE)   # the steps that end the loading and the unloading
+SIDEWAYS = (f"{S!r} * (t <= 1 ? 0 : (t <= {TURNS[0]} ? (t - 1) / {LOAD} : (t <= {TURNS[1]} ? "
+            f"1 - 2 * (t - {TURNS[0]}) / {CYCLE} : -1 + 2 * (t - {TURNS[1]}) / {CYCLE})))")
+SCENE = f"""[scene]
+name = "friction_cycles"
+[mesh]
+type = "gmsh"
+file = "cycles.geo"
+dimension = 2
+[mechanics]
+E = {E!r}
+nu = {NU!r}
+[time]
+end = {float(STEPS)!r}
+dt = 1.0
+[boundary.bottom]
+clamp = true
+[boundary.top]
+displacement = {{ x = "{SIDEWAYS}", y = {-PUSH!r} }}
+[fault.fault]
+friction = {MU!r}
+gap = "x^2/(2*{R!r})"
+normal = [0.0, 1.0]
+"""
+
+
+def cycle_scene():
+    path = written(SCENE)
+    with open(os.path.join(os.path.dirname(path), "cycles.geo"), "w") as f:
+        f.write(GEO)
+    return path
+
+
+def lumped_lengths(out):
+    """Each pair's lumped length: half of each fault segment to each of its
+    two nodes (fault.h5's mesh, the + face)."""
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        x, cells = f["Mesh/geometry"][:], f["Mesh/topology"][:]
+    half = 0.5 * np.linalg.norm(x[cells[:, 1]] - x[cells[:, 0]], axis=1)
+    lumped = np.zeros(len(x))
+    np.add.at(lumped, cells[:, 0], half)
+    np.add.at(lumped, cells[:, 1], half)
+    return lumped
+
+
+def measures(out):
+    """Per output time: P, Q, a, the stuck and slipping measures, and the
+    pairs' x, states and slip increments along x."""
+    x, _, series = fault_fields(out, ("state", "traction", "tangential_traction", "slip_increment"))
+    lumped = lumped_lengths(out)
+    result = []
+    for f in series:
+        state = f["state"][:, 0]
+        result.append({"x": x[:, 0], "state": state, "increment": f["slip_increment"][:, 0],
+                       "P": np.sum(f["traction"][:, 0] * lumped), "Q": np.sum(f["tangential_traction"][:, 0] * lumped),
+                       "a": 0.5 * np.sum(lumped[state > 0]), "stuck": np.sum(lumped[state == 1]),
+                       "slipping": np.sum(lumped[state == 2])})
+    return result
+
+
+def stick_half_width(m, reversal):
+    """Cattaneo-Mindlin's c (reversal None: loading from Q = 0), or Mindlin
+    and Deresiewicz's c' after a reversal at the tangential load `reversal`."""
+    if reversal is None:
+        return m["a"] * math.sqrt(max(1 - abs(m["Q"]) / (MU * m["P"]), 0.0))
+    return m["a"] * math.sqrt(max(1 - abs(reversal - m["Q"]) / (2 * MU * m["P"]), 0.0))
+
+
+def check_step(track, k, m, reversal, direction):
+    """Step k's stuck and slipping measures against the closed form, its
+    stick zone one central interval, its pairs slipping along `direction`."""
+    c, a = stick_half_width(m, reversal), m["a"]
+    error = (m["stuck"] - 2 * c) / max(2 * c, 1e-300)
+    slip_error = (m["slipping"] - 2 * (a - c)) / (2 * a)
+    check(abs(error) <= TOLERANCE and abs(slip_error) <= TOLERANCE,
+          f"{track}: step {k}, Q/(mu P) = {m['Q'] / (MU * m['P']):+.4f}: c/a {m['stuck'] / (2 * a):.4f}, closed form "
+          f"{c / a:.4f} ({100 * error:+.2f} %, 3 %); slipping {m['slipping'] * 1e3:.2f} mm, closed form "
+          f"{2e3 * (a - c):.2f} mm ({100 * slip_error:+.2f} % of 2a, 3 %)")
+    stuck, slipping = m["state"] == 1, m["state"] == 2
+    ends = (m["x"][stuck].min(), m["x"][stuck].max()) if stuck.any() else (np.inf, -np.inf)
+    inside = (m["state"] > 0) & (m["x"] >= ends[0]) & (m["x"] <= ends[1])
+    along = np.all(np.sign(m["increment"][slipping]) == direction)
+    centred = abs(ends[0] + ends[1]) / 2 <= SPACING
+    check(stuck.any() and np.all(stuck[inside]) and centred and along, f"{track}: step {k}: the stuck pairs one "
+          f"interval [{ends[0]:.4f}, {ends[1]:.4f}] m centred to a pair spacing, the {np.count_nonzero(slipping)} "
+          f"slipping pairs slip {'forward' if direction > 0 else 'back'}")
+
+
+def check_hysteresis(track, out):
+    """Every step of the cycle against Cattaneo-Mindlin and
+    Mindlin-Deresiewicz; a against Hertz's."""
+    steps = measures(out)
+    a, P = steps[1]["a"], steps[1]["P"]
+    hertz = math.sqrt(8 * P * R * (1 - NU ** 2) / (math.pi * E))
+    check(abs(a / hertz - 1) <= TOLERANCE and a / SPACING >= 40, f"{track}: a = {a:.5f} m ({a / SPACING:.1f} pair "
+          f"spacings), Hertz {hertz:.5f} m ({100 * (a / hertz - 1):+.2f} %, 3 %)")
+    peak = steps[TURNS[0]]["Q"] / (MU * steps[TURNS[0]]["P"])
+    check(0.5 <= peak < 0.9, f"{track}: partial slip: Q*/(mu P) = {peak:.4f}")
+    for k in range(1, STEPS + 1):
+        reversal = None if k <= TURNS[0] else steps[TURNS[0] if k <= TURNS[1] else TURNS[1]]["Q"]
+        direction = -1 if TURNS[0] < k <= TURNS[1] else 1
+        check_step(track, k, steps[k], reversal, direction)
+    return steps
+
+
+def check_converged(track, out, last):
+    """Every step converged, and summary.json's measures are fault.xdmf's."""
+    s = summary(out)
+    moments = s["seismic_moment"]["fault"]["times"]
+    check(s["converged"] and s["status"] == "completed" and s["steps"] == STEPS and s["retries"] == 0
+          and len(moments) == STEPS, f"{track}: all {STEPS} steps converged, none retried "
+          f"({s['newton_iterations']} Newton steps, {s['wall_time_s']:.1f} s)")
+    fault = s["contact"]["faults"]["fault"]
+    worst = max(abs(fault["stuck"] - last["stuck"]), abs(fault["slipping"] - last["slipping"]),
+                abs(fault["closed"] - 2 * last["a"]))
+    check(worst <= 1e-12 * fault["closed"], f"{track}: summary.json's stuck, slipping and closed measures are "
+          f"fault.xdmf's ({worst:.1e} m)")
+
+
+runs = {}
+for track in ("C++", "prototype"):
+    out, _ = run_track(track, cycle_scene())
+    steps = check_hysteresis(track, out)
+    check_converged(track, out, steps[-1])
+    runs[track] = out
+d = max_difference(runs["C++"], runs["prototype"], ["displacement"])
+states = [np.array_equal(a["state"], b["state"]) for a, b in zip(fault_fields(runs["C++"], ("state",))[2],
+                                                                    fault_fields(runs["prototype"], ("state",))[2])]
+check(d["displacement"] <= 1e-10 and all(states), f"the prototype equals the C++ solver: displacement "
+      f"{d['displacement']:.1e} (1e-10), the same states at all {len(states)} output times")
