@@ -905,25 +905,11 @@ ActiveSet ContactSolver::active_set(Vec x) const
   return set;
 }
 
-std::map<std::int64_t, double> pair_tractions(const ContactState& state)
-{
-  std::map<std::int64_t, double> traction;
-  for (const PairState& pair : state.pairs)
-    traction[pair.node] = pair.traction;
-  return traction;
-}
 
-bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm)
-{
-  int differs = a.flags != b.flags, any = 0;
-  MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, comm);
-  return !any;
-}
 
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,
                                   fem::Function<double>& active_out)
 {
-  ContactState s;
   const std::vector<double> distance = distances(x);
   // Nodal contact force R = A x - b (the residual of the unconstrained
   // equations), in the new variables R' = T^{-T} R: the multiplier of each
@@ -936,166 +922,24 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
     _change->dual(_force, _b_vi);
     force = _b_vi;
   }
-  const PetscScalar* R;
+  Vec x_vi = to_vi(x, _x_vi), start_vi = to_vi(_x_start, _x_start_vi);
+  const PetscScalar *X, *start, *R;
+  VecGetArrayRead(x_vi, &X);
+  VecGetArrayRead(start_vi, &start);
   VecGetArrayRead(force, &R);
   std::vector<double> pressure(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
-  VecRestoreArrayRead(force, &R);
-  s.gap_scale = displacement_scale(x);
-  summarise(s, pressure, distance, pressure_out, active_out);
-  fault_states(s, x, force, distance, pressure);
-  return s;
-}
-
-void ContactSolver::fault_states(ContactState& s, Vec x, Vec force, const std::vector<double>& distance,
-                                 const std::vector<double>& pressure)
-{
-  const int n = static_cast<int>(_set.boundaries.size());
-  std::vector<int> summary_of(n, -1);
-  for (int b = 0; b < n; ++b)
-    if (_set.faults[b])
-    {
-      summary_of[b] = static_cast<int>(s.faults.size());
-      s.faults.push_back({_set.boundaries[b]});
-    }
-  if (s.faults.empty())
-    return;
-  const PetscScalar *X, *start, *R;
-  Vec x_vi = to_vi(x, _x_vi), start_vi = to_vi(_x_start, _x_start_vi);
-  VecGetArrayRead(x_vi, &X);
-  VecGetArrayRead(start_vi, &start);
-  VecGetArrayRead(force, &R);
-  std::vector<std::size_t> constraint; // of each pair
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    if (_set.pair_node[k] >= 0)
-    {
-      s.pairs.push_back(pair_state(k, X, start, R, distance[k], pressure[k]));
-      constraint.push_back(k);
-    }
+  const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(x), X, start, R};
+  ContactState s = contact_state(measured, {pressure_out, active_out}, _comm);
   VecRestoreArrayRead(x_vi, &X);
   VecRestoreArrayRead(start_vi, &start);
   VecRestoreArrayRead(force, &R);
-  const double scale = traction_scale(pressure, s.pairs);
-  // Per fault: the largest opening and slip; the measures closed, slipping
-  // and stuck, and the moment.
-  std::vector<double> largest(2 * s.faults.size(), 0.0), measure(4 * s.faults.size(), 0.0);
-  for (std::size_t j = 0; j < s.pairs.size(); ++j)
-  {
-    PairState& p = s.pairs[j];
-    const std::size_t k = constraint[j];
-    const bool closed = on_foundation(distance[k], s.gap_scale);
-    const auto& t = p.tangential_traction;
-    p.status = pair_status(_set.laws[p.fault], {closed, p.traction, std::hypot(t[0], t[1], t[2]), scale});
-    const int f = summary_of[p.fault];
-    largest[2 * f] = std::max(largest[2 * f], p.opening);
-    largest[2 * f + 1] = std::max(largest[2 * f + 1], std::hypot(p.slip[0], p.slip[1], p.slip[2]));
-    const auto& ds = p.slip_increment;
-    measure[4 * f] += closed ? _set.lumped[k] : 0.0;
-    measure[4 * f + 1] += p.status == PairStatus::slip ? _set.lumped[k] : 0.0;
-    measure[4 * f + 2] += p.status == PairStatus::stick ? _set.lumped[k] : 0.0;
-    measure[4 * f + 3] += _set.shear_modulus[k] * std::hypot(ds[0], ds[1], ds[2]) * _set.lumped[k];
-  }
-  MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX, _comm);
-  MPI_Allreduce(MPI_IN_PLACE, measure.data(), static_cast<int>(measure.size()), MPI_DOUBLE, MPI_SUM, _comm);
-  for (std::size_t f = 0; f < s.faults.size(); ++f)
-  {
-    s.faults[f].max_opening = largest[2 * f];
-    s.faults[f].max_slip = largest[2 * f + 1];
-    s.faults[f].closed = measure[4 * f];
-    s.faults[f].slipping = measure[4 * f + 1];
-    s.faults[f].stuck = measure[4 * f + 2];
-    s.faults[f].moment = measure[4 * f + 3];
-  }
+  return s;
 }
 
-PairState ContactSolver::pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* start,
-                                    const PetscScalar* R, double distance, double pressure) const
-{
-  const int d = _set.dim;
-  const NodeMatrix& frame = _set.pair_frame[k];
-  PairState p{_set.pair_node[k], _set.boundary[k], distance, pressure, {0, 0, 0},
-              {0, 0, 0}, PairStatus::open, {0, 0, 0}};
-  // The + node's tangential rows r = 1..d-1 of x' = T x hold the jump's
-  // tangential components in the pair's frame, w_J = R [u], and those of
-  // R' the contact force on them (change_of_variables.h); R^T takes both
-  // back to the global frame. The force becomes a traction as the normal
-  // one does (state: -sign R'/lumped, sign +1 for a pair): the traction
-  // the + face exerts on the - face, along the slip increment when the
-  // pair slips (contact_law.h).
-  for (int r = 1; r < d; ++r)
-  {
-    const std::int32_t row = _displacement_dofs[_set.dofs[k] + r];
-    for (int i = 0; i < d; ++i)
-    {
-      p.slip[i] += frame[d * r + i] * X[row];
-      p.slip_increment[i] += frame[d * r + i] * (X[row] - start[row]);
-      p.tangential_traction[i] -= frame[d * r + i] * R[row] / _set.lumped[k];
-    }
-  }
-  return p;
-}
 
-double ContactSolver::traction_scale(const std::vector<double>& pressure, const std::vector<PairState>& pairs) const
-{
-  double scale = 0;
-  for (double p : pressure)
-    scale = std::max(scale, std::abs(p));
-  for (const PairState& p : pairs)
-    scale = std::max(scale, std::hypot(p.tangential_traction[0], p.tangential_traction[1], p.tangential_traction[2]));
-  MPI_Allreduce(MPI_IN_PLACE, &scale, 1, MPI_DOUBLE, MPI_MAX, _comm);
-  return scale;
-}
 
-void ContactSolver::summarise(ContactState& s, const std::vector<double>& pressure,
-                              const std::vector<double>& distance, fem::Function<double>& pressure_out,
-                              fem::Function<double>& active_out) const
-{
-  std::span<double> pc = pressure_out.x()->mutable_array();
-  std::span<double> active = active_out.x()->mutable_array();
-  std::fill(pc.begin(), pc.end(), 0.0);
-  std::fill(active.begin(), active.end(), 0.0);
-  // A node on two foundations shows the larger pressure.
-  double pen = -std::numeric_limits<double>::infinity(), comp = 0, force = 0;
-  double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
-  int n_active = 0;
-  std::vector<double> boundary_force(_set.boundaries.size(), 0.0);
-  std::vector<int> boundary_active(_set.boundaries.size(), 0);
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-  {
-    const bool is_active = on_foundation(distance[k], s.gap_scale);
-    n_active += is_active;
-    boundary_force[_set.boundary[k]] += pressure[k] * _set.lumped[k];
-    boundary_active[_set.boundary[k]] += is_active;
-    pen = std::max(pen, -distance[k]);
-    comp = std::max(comp, std::abs(pressure[k] * distance[k]));
-    pmax = std::max(pmax, pressure[k]);
-    pmin = std::min(pmin, pressure[k]);
-    force += pressure[k] * _set.lumped[k];
-    const std::int32_t out = _set.output_dofs[k];
-    const bool same_node = k > 0 and _set.output_dofs[k - 1] == out;
-    pc[out] = same_node ? std::max(pc[out], pressure[k]) : pressure[k];
-    active[out] = (same_node and active[out] > 0) or is_active ? 1.0 : 0.0;
-  }
-  pressure_out.x()->scatter_fwd();
-  active_out.x()->scatter_fwd();
-  const int n_local[2] = {n_active, static_cast<int>(_dofs.size())};
-  int n_global[2];
-  MPI_Allreduce(n_local, n_global, 2, MPI_INT, MPI_SUM, _comm);
-  s.active_nodes = n_global[0];
-  s.contact_nodes = n_global[1];
-  double maxes[4] = {pen, comp, pmax, -pmin}, gmax[4];
-  MPI_Allreduce(maxes, gmax, 4, MPI_DOUBLE, MPI_MAX, _comm);
-  s.max_penetration = gmax[0];
-  s.max_complementarity = gmax[1];
-  s.max_pressure = gmax[2];
-  s.min_pressure = -gmax[3];
-  MPI_Allreduce(&force, &s.total_force, 1, MPI_DOUBLE, MPI_SUM, _comm);
-  const int n = static_cast<int>(_set.boundaries.size());
-  MPI_Allreduce(MPI_IN_PLACE, boundary_force.data(), n, MPI_DOUBLE, MPI_SUM, _comm);
-  MPI_Allreduce(MPI_IN_PLACE, boundary_active.data(), n, MPI_INT, MPI_SUM, _comm);
-  for (int b = 0; b < n; ++b)
-    s.boundaries.emplace_back(_set.boundaries[b], boundary_force[b], boundary_active[b]);
-}
+
 
 } // namespace biotcontact

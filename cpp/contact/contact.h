@@ -20,6 +20,7 @@
 #include "contact/contact_law.h"
 #include "contact/friction.h"
 #include "contact/contact_set.h"
+#include "contact/contact_state.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "contact/change_of_variables.h"
 #include "contact/schur_complement.h"
@@ -44,82 +45,6 @@ namespace biotcontact
 /// first bad input they find (collective).
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
-
-/// @brief A fault pair after a solve: its + node (input index), fault (index
-/// among the contact's boundaries), opening [u].n + g0, contact traction
-/// (normal, >= 0 pressing), slip (the tangential jump, a vector),
-/// tangential traction (a vector: the one the + face exerts on the - face,
-/// along the slip increment when the pair slips) and its state under the
-/// fault's contact law (contact_law.h).
-struct PairState
-{
-  std::int64_t node;
-  int fault;
-  double opening, traction;
-  std::array<double, 3> slip, tangential_traction;
-  PairStatus status;
-  /// The slip since the start of the step (set_slip_reference).
-  std::array<double, 3> slip_increment;
-};
-
-/// @brief What the summary says of a fault: its largest opening and slip,
-/// the measures (lumped lengths in 2D, areas in 3D) of its pairs that are
-/// closed, and of those in the states slip and stick, and the step's
-/// seismic moment.
-struct FaultSummary
-{
-  std::string name;
-  double max_opening = 0, max_slip = 0, closed = 0, slipping = 0, stuck = 0;
-  /// The seismic moment of the slip since the step's start: the sum over
-  /// the pairs of G |slip increment| times their lumped measure (N m; N m
-  /// per metre of thickness in 2D).
-  double moment = 0;
-};
-
-/// The contact state after a solve: the contact force at a node is the
-/// residual of the unconstrained equations there; divided by the lumped
-/// measure it is the contact pressure -sigma_nu >= 0.
-struct ContactState
-{
-  int active_nodes = 0;
-  int contact_nodes = 0;
-  double max_penetration = 0;     // max(u.nu_F - g_a), <= 0 when admissible
-  double max_pressure = 0;        // max contact pressure
-  double min_pressure = 0;        // min contact pressure (>= 0 up to tolerance)
-  double max_complementarity = 0; // max |p_c (u.nu_F - g_a)|
-  double gap_scale = 0;           // max(|g_a|, |u|)
-  double total_force = 0;         // sum of the nodal contact forces along -nu_F
-  /// Per contact boundary: its name, the sum of its nodal contact forces
-  /// along -nu_F (the resultant's magnitude on a flat foundation) and its
-  /// active constraints.
-  std::vector<std::tuple<std::string, double, int>> boundaries;
-  /// This rank's fault pairs (faults.h), each at its + node.
-  std::vector<PairState> pairs;
-  /// Per fault (in the order of the contact's boundaries): its largest
-  /// opening and slip, and its measures in contact, slipping and stuck (a
-  /// length in 2D, an area in 3D), on all ranks.
-  std::vector<FaultSummary> faults;
-};
-
-/// Each fault pair's contact traction (>= 0 pressing) by its + node: what
-/// a fault's cells average into their effective normal stress
-/// (FaultAperture::cell_means).
-std::map<std::int64_t, double> pair_tractions(const ContactState& state);
-
-/// @brief The contact active set of a displacement: the flag of each
-/// contact DOF this rank owns (on the foundation to round-off) and the
-/// number of active nodes on all ranks. Two sets of one run compare flag
-/// by flag (same_active_set): equal counts can hide nodes that open while
-/// as many close elsewhere.
-struct ActiveSet
-{
-  std::vector<std::int8_t> flags; // this rank's contact DOFs
-  int nodes = 0;                  // active nodes on all ranks
-};
-
-/// Whether a and b, two active sets on one partition, hold the same nodes
-/// on every rank (collective over `comm`).
-bool same_active_set(const ActiveSet& a, const ActiveSet& b, MPI_Comm comm);
 
 /// @brief The matrices of the contact problem: A, and P (A, or the
 /// fixed-stress matrix of the coupled system) that the iterative full path
@@ -311,23 +236,6 @@ private:
   Vec to_vi(Vec x, Vec work) const;
   /// The distance g - u.nu_F of each constraint at x (in x's units).
   std::vector<double> distances(Vec x) const;
-  /// The fault pairs' states and summaries from x, the contact forces
-  /// R' = T^{-T}(A x - b) and the constraints' distances and pressures
-  /// (collective).
-  void fault_states(ContactState& s, Vec x, Vec force, const std::vector<double>& distance,
-                    const std::vector<double>& pressure);
-  /// The state of the fault pair of constraint k but its status, from x'
-  /// (X), x' at the start of the step (start) and R' (R).
-  PairState pair_state(std::size_t k, const PetscScalar* X, const PetscScalar* start, const PetscScalar* R,
-                       double distance, double pressure) const;
-  /// The largest contact traction, normal or tangential, of the
-  /// constraints on all ranks: the scale of the states' tolerance
-  /// (collective).
-  double traction_scale(const std::vector<double>& pressure, const std::vector<PairState>& pairs) const;
-  /// The diagnostics and output fields of the constraints' pressures and
-  /// distances (collective).
-  void summarise(ContactState& s, const std::vector<double>& pressure, const std::vector<double>& distance,
-                 dolfinx::fem::Function<double>& pressure_out, dolfinx::fem::Function<double>& active_out) const;
 
   MPI_Comm _comm;
   Mat _A, _P;

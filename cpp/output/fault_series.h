@@ -26,7 +26,7 @@
 #pragma once
 
 #include "assembly/problem.h"
-#include "contact/contact.h"
+#include "contact/contact_state.h"
 
 #include <hdf5.h>
 #include <mpi.h>

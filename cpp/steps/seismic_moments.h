@@ -5,7 +5,7 @@
 // twin is python_prototype/steps/seismic_moments.py.
 #pragma once
 
-#include "contact/contact.h"
+#include "contact/contact_state.h"
 
 #include <map>
 #include <string>

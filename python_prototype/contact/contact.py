@@ -15,7 +15,6 @@ semismooth, and the same Newton iteration decides open, stick and slip with
 its generalised Jacobian.
 """
 import dataclasses
-import math
 
 import numpy as np
 from mpi4py import MPI
@@ -23,7 +22,8 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
-from .contact_law import STATUS_TOLERANCE, PairStatus, PairTraction, on_foundation, pair_status
+from .contact_law import on_foundation
+from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state
 from .friction import FrictionalConstraint, FrictionPoint, add_friction_forces, friction_jacobian
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
@@ -55,33 +55,8 @@ def locate_contact(scene, domain, F, V):
     return c
 
 
-class ActiveSet:
-    """The contact active set of a displacement (cpp/contact/contact.h): the
-    flag of each contact DOF this rank owns and the number of active nodes
-    on all ranks. Two sets of one run compare flag by flag
-    (same_active_set): equal counts can hide nodes that open while as many
-    close elsewhere."""
-
-    def __init__(self, flags=None, nodes=0):
-        self.flags = np.zeros(0, dtype=bool) if flags is None else flags
-        self.nodes = nodes
-
-
 # What a friction that fails to converge most often means.
 NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
-
-
-def pair_tractions(state):
-    """Each fault pair's contact traction (>= 0 pressing) by its + node: what
-    a fault's cells average into their effective normal stress
-    (FaultAperture.cell_means)."""
-    return {pair.node: pair.traction for pair in state.pairs}
-
-
-def same_active_set(a, b, comm):
-    """Whether a and b, two active sets on one partition, hold the same nodes
-    on every rank (collective)."""
-    return not comm.allreduce(not np.array_equal(a.flags, b.flags), op=MPI.LOR)
 
 
 @dataclasses.dataclass
@@ -110,58 +85,6 @@ class ContactUnknowns:
     set: object
     displacement_dofs: object
     balance_rows: object = ()
-
-
-@dataclasses.dataclass
-class PairState:
-    """A fault pair after a solve: its + node (input index), fault (index
-    among the contact's boundaries), opening [u].n + g0, contact traction
-    (normal, >= 0 pressing), slip (the tangential jump, a vector of three
-    components), tangential traction (three components: the one the + face
-    exerts on the - face, along the slip increment when the pair slips) and
-    its state under the fault's contact law (contact_law.py)."""
-    node: int
-    fault: int
-    opening: float
-    traction: float
-    slip: np.ndarray
-    tangential_traction: np.ndarray
-    status: PairStatus = PairStatus.open
-    # The slip since the start of the step (set_slip_reference).
-    slip_increment: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
-
-
-@dataclasses.dataclass
-class FaultSummary:
-    """What the summary says of a fault: its largest opening and slip, the
-    measures (lumped lengths in 2D, areas in 3D) of its pairs that are
-    closed, and of those in the states slip and stick, and the step's
-    seismic moment."""
-    name: str
-    max_opening: float = 0.0
-    max_slip: float = 0.0
-    closed: float = 0.0
-    slipping: float = 0.0
-    # The seismic moment of the slip since the step's start: the sum over the
-    # pairs of G |slip increment| times their lumped measure (N m; N m per
-    # metre of thickness in 2D).
-    moment: float = 0.0
-    stuck: float = 0.0
-
-
-class ContactState:
-    """Contact diagnostics after a solve (cpp/contact/contact.h)."""
-
-    def __init__(self):
-        self.active_nodes = self.contact_nodes = 0
-        self.max_penetration = self.max_pressure = self.min_pressure = 0.0
-        self.max_complementarity = self.gap_scale = self.total_force = 0.0
-        self.boundaries = []  # (name, force along -nu_F, active constraints) per contact boundary
-        self.pairs = []       # this rank's fault pairs (PairState), each at its + node
-        # Per fault (FaultSummary, in the order of the contact's boundaries):
-        # its largest opening and slip, and its measures in contact, slipping
-        # and stuck (a length in 2D, an area in 3D), on all ranks.
-        self.faults = []
 
 
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
@@ -783,9 +706,10 @@ class ContactSolver:
         return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
     def state(self, x, b, pressure_out, active_out):
-        """Contact force R = A x - b, in the new variables R' = T^{-T} R: the
-        multiplier of each constraint; contact pressure -sign R'[dof] / lumped
-        measure; a constraint is active on the foundation to round-off."""
+        """Contact diagnostics of x (collective); fills the output fields.
+        Contact force R = A x - b, in the new variables R' = T^{-T} R: the
+        multiplier of each constraint; contact pressure -sign R'[dof] /
+        lumped measure."""
         distance = self.distances(x)
         self.A.mult(x, self.force)
         self.force.axpy(-1.0, b)
@@ -793,107 +717,13 @@ class ContactSolver:
         if self.change:
             self.change.dual(self.force, self.b_vi)
             force = self.b_vi
-        pressure = -self.set.sign * force.getArray(readonly=True)[self.dofs] / self.set.lumped
-        s = ContactState()
-        s.gap_scale = self.displacement_scale(x)
-        self._summarise(s, pressure, distance, pressure_out, active_out)
-        self._fault_states(s, x, force, distance, pressure)
-        return s
-
-    def _fault_states(self, s, x, force, distance, pressure):
-        """The fault pairs' states and summaries from x, the contact forces
-        R' = T^{-T}(A x - b) and the constraints' distances and pressures
-        (collective)."""
-        c = self.set
-        summary_of = np.cumsum(c.faults) - 1  # of a fault's boundary
-        s.faults = [FaultSummary(name) for name, fault in zip(c.boundaries, c.faults) if fault]
-        if not s.faults:
-            return
-        X, R = self._to_vi(x).getArray(readonly=True), force.getArray(readonly=True)
+        R = force.getArray(readonly=True)
+        pressure = -self.set.sign * R[self.dofs] / self.set.lumped
+        X = self._to_vi(x).getArray(readonly=True)
         start = self.x_start
         if self.change:
             self.change.forward(self.x_start, self.x_start_vi)
             start = self.x_start_vi
-        start = start.getArray(readonly=True)
-        constraint = np.flatnonzero(c.pair_node >= 0)  # of each pair
-        s.pairs = [self._pair_state(k, X, start, R, distance[k], pressure[k]) for k in constraint]
-        scale = self._traction_scale(pressure, s.pairs)
-        # Per fault: the largest opening and slip; the measures closed,
-        # slipping and stuck, and the moment.
-        largest, measure = np.zeros(2 * len(s.faults)), np.zeros(4 * len(s.faults))
-        for p, k in zip(s.pairs, constraint):
-            closed = bool(on_foundation(distance[k], s.gap_scale))
-            p.status = pair_status(c.laws[p.fault], PairTraction(closed, p.traction,
-                                                                 math.hypot(*p.tangential_traction), scale))
-            f = summary_of[p.fault]
-            largest[2 * f] = max(largest[2 * f], p.opening)
-            largest[2 * f + 1] = max(largest[2 * f + 1], math.hypot(*p.slip))
-            measure[4 * f] += c.lumped[k] if closed else 0.0
-            measure[4 * f + 1] += c.lumped[k] if p.status == PairStatus.slip else 0.0
-            measure[4 * f + 2] += c.lumped[k] if p.status == PairStatus.stick else 0.0
-            measure[4 * f + 3] += c.shear_modulus[k] * math.hypot(*p.slip_increment) * c.lumped[k]
-        self.comm.Allreduce(MPI.IN_PLACE, largest, op=MPI.MAX)
-        self.comm.Allreduce(MPI.IN_PLACE, measure, op=MPI.SUM)
-        for f, summary in enumerate(s.faults):
-            summary.max_opening, summary.max_slip = largest[2 * f], largest[2 * f + 1]
-            summary.closed, summary.slipping, summary.stuck, summary.moment = measure[4 * f:4 * f + 4]
-
-    def _pair_state(self, k, X, start, R, distance, pressure):
-        """The state of the fault pair of constraint k but its status, from
-        x' (X), x' at the start of the step (start) and R' (R)."""
-        c, d = self.set, self.set.dim
-        frame = c.pair_frame[k]
-        p = PairState(int(c.pair_node[k]), int(c.boundary[k]), distance, pressure, np.zeros(3), np.zeros(3))
-        # The + node's tangential rows r = 1..d-1 of x' = T x hold the jump's
-        # tangential components in the pair's frame, w_J = R [u], and those
-        # of R' the contact force on them (change_of_variables.py); R^T takes
-        # both back to the global frame. The force becomes a traction as the
-        # normal one does (state: -sign R'/lumped, sign +1 for a pair): the
-        # traction the + face exerts on the - face, along the slip increment
-        # when the pair slips (contact_law.py).
-        for r in range(1, d):
-            row = self.displacement_dofs[c.dofs[k] + r]
-            p.slip[:d] += frame[r, :d] * X[row]
-            p.slip_increment[:d] += frame[r, :d] * (X[row] - start[row])
-            p.tangential_traction[:d] -= frame[r, :d] * R[row] / c.lumped[k]
-        return p
-
-    def _traction_scale(self, pressure, pairs):
-        """The largest contact traction, normal or tangential, of the
-        constraints on all ranks: the scale of the states' tolerance
-        (collective)."""
-        scale = np.abs(pressure).max(initial=0.0)
-        for p in pairs:
-            scale = max(scale, math.hypot(*p.tangential_traction))
-        return self.comm.allreduce(scale, op=MPI.MAX)
-
-    def _summarise(self, s, pressure, distance, pressure_out, active_out):
-        """The diagnostics and output fields of the constraints' pressures
-        and distances; a node on two foundations shows the larger pressure."""
-        active = on_foundation(distance, s.gap_scale)
-        pressure_out.x.array[:] = 0.0
-        active_out.x.array[:] = 0.0
-        out = self.set.output_dofs
-        pressure_out.x.array[out] = pressure
-        np.maximum.at(pressure_out.x.array, out, pressure)
-        np.maximum.at(active_out.x.array, out, active * 1.0)
-        pressure_out.x.scatter_forward()
-        active_out.x.scatter_forward()
-        s.active_nodes = self.comm.allreduce(int(active.sum()), op=MPI.SUM)
-        s.contact_nodes = self.comm.allreduce(len(self.dofs), op=MPI.SUM)
-        s.max_penetration = self.comm.allreduce((-distance).max(initial=-np.inf), op=MPI.MAX)
-        s.max_complementarity = self.comm.allreduce(np.abs(pressure * distance).max(initial=0.0), op=MPI.MAX)
-        s.max_pressure = self.comm.allreduce(pressure.max(initial=-np.inf), op=MPI.MAX)
-        s.min_pressure = self.comm.allreduce(pressure.min(initial=np.inf), op=MPI.MIN)
-        force = 0.0  # sum of the nodal contact forces along -nu_F, summed in order as the C++
-        for p_k, lumped in zip(pressure, self.set.lumped):
-            force += p_k * lumped
-        s.total_force = self.comm.allreduce(force, op=MPI.SUM)
-        s.boundaries = []  # (name, sum of nodal contact forces along -nu_F, active constraints)
-        for b, name in enumerate(self.set.boundaries):
-            mine = self.set.boundary == b
-            local = 0.0
-            for p_k, lumped in zip(pressure[mine], self.set.lumped[mine]):
-                local += p_k * lumped
-            s.boundaries.append((name, self.comm.allreduce(local, op=MPI.SUM),
-                                 self.comm.allreduce(int(active[mine].sum()), op=MPI.SUM)))
+        measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,
+                                      self.displacement_scale(x), X, start.getArray(readonly=True), R)
+        return contact_state(measured, ContactFields(pressure_out, active_out), self.comm)

@@ -14,7 +14,7 @@ import numpy as np
 from ..assembly.materials import split_advice
 from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
-from ..contact.contact import ActiveSet, same_active_set
+from ..contact.contact_state import ActiveSet, same_active_set
 from .coupling import CouplingError, IterationRecord
 from ..diagnostics.diagnostics import ContractionNorm
 from ..time.window_control import window_limit, window_steps

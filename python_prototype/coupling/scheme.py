@@ -3,7 +3,7 @@ the physics it has) and the loop that drives them, the fixed-stress split
 or one solve per step, chosen once from the scene (cpp/coupling/scheme.h)."""
 from ..assembly.forms import Forms
 from ..assembly.parameters import derive_parameters, set_constants
-from ..contact.contact import ContactState
+from ..contact.contact_state import ContactState
 from ..scene.input import CouplingScheme
 from ..steps.flow_step import FlowPass, FlowStep
 from ..steps.mechanics_step import MechanicsStep

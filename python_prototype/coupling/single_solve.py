@@ -2,7 +2,7 @@
 a single physics (flow only, mechanics only); cpp/coupling/single_solve.cpp.
 It drives any step through the step interface (steps/step.py)."""
 from ..assembly.parameters import set_time_step
-from ..contact.contact import ActiveSet
+from ..contact.contact_state import ActiveSet
 from .coupling import CouplingError
 from ..solvers.solver import SolverError
 from ..time.time_grid import FailedStep, retry_step

@@ -3,7 +3,7 @@ from them (cell-averaged flux, volumetric stress sigma_v, contact);
 cpp/output/fields.h."""
 from dolfinx import fem
 
-from ..contact.contact import ContactState
+from ..contact.contact_state import ContactState
 from ..diagnostics.diagnostics import volumetric_stress
 from .fault_series import FaultSeries
 

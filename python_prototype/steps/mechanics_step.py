@@ -5,7 +5,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactState, locate_contact, pair_tractions, same_active_set
+from ..contact.contact import locate_contact
+from ..contact.contact_state import ActiveSet, ContactState, pair_tractions, same_active_set
 from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force

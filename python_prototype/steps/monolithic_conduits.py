@@ -30,7 +30,7 @@ from petsc4py import PETSc
 from ..assembly.fault_aperture import FaultAperture
 from ..assembly.fault_flow import ConduitFaults, FineStep
 from ..assembly.linear_algebra import owned, placement
-from ..contact.contact import pair_tractions
+from ..contact.contact_state import pair_tractions
 from ..scene.input import FaultFlow
 from .system import AppendedUnknowns
 

@@ -6,7 +6,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import ActiveSet, ContactState, locate_contact, same_active_set
+from ..contact.contact import locate_contact
+from ..contact.contact_state import ActiveSet, ContactState, same_active_set
 from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads

@@ -8,7 +8,7 @@ from typing import Optional
 
 import numpy as np
 
-from ..contact.contact import ActiveSet
+from ..contact.contact_state import ActiveSet
 
 # The functions of a step that a checkpoint keeps besides its unknowns (the
 # time scheme's memory): (checkpoint name, Function) pairs.
