@@ -36,11 +36,6 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
 
 namespace
 {
-/// The stopping rule of a repeated active set holds where the step has
-/// brought the residual below this fraction of the larger of the solve's
-/// first and the load.
-constexpr double repeated_set_fraction = 1e-3;
-
 /// What a friction that fails to converge most often means.
 constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
 
@@ -104,7 +99,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
                              ContactUnknowns unknowns)
     : _comm(comm), _A(operators.A), _P(operators.P), _fields(system.fields), _structure(system.structure),
       _prefix(system.prefix), _set(std::move(unknowns.set)), _displacement_dofs(std::move(unknowns.displacement_dofs)),
-      _balance_rows(std::move(unknowns.balance_rows))
+      _separate_rows(std::move(unknowns.separate_rows))
 {
   const std::string& prefix = system.prefix;
   const Vec layout = unknowns.layout;
@@ -137,7 +132,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
     _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _P_vi, _fields, prefix);
     KSP ksp;
     SNESGetKSP(_snes, &ksp);
-    KSPMonitorSet(ksp, &ContactSolver::stagnation, this, nullptr);
+    _convergence->watch(ksp);
     set_tolerance(iterative_tolerance);
   }
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
@@ -289,14 +284,16 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   // Newton step is exact on the current active set, and a backtracking
   // search only fails once the residual is at round-off.
   // With friction F is semismooth, and full steps can overshoot where a
-  // constraint changes state: a backtracking search. But not on the coupled system: the
-  // search's merit ||F||, the forces' (N), is blind to its mass balances'
-  // rows (m^3/s); with the forces at round-off it shrank their step to
-  // nothing (a conduit fault's p_f, test_conduit_monolithic).
-  long balances = static_cast<long>(_balance_rows.size());
-  MPI_Allreduce(MPI_IN_PLACE, &balances, 1, MPI_LONG, MPI_SUM, _comm);
-  _refine_balances = _J and balances > 0;
-  const bool backtrack = _J and balances == 0;
+  // constraint changes state: a backtracking search. But not with separate
+  // rows: the search's merit ||F||, the forces' (N), is blind to them (the
+  // coupled system's mass balances, m^3/s); with the forces at round-off
+  // it shrank their step to nothing (a conduit fault's p_f,
+  // test_conduit_monolithic).
+  // Condensed, the VI's unknown is the contact DOFs alone.
+  _convergence = std::make_unique<ContactConvergence>(
+      _vi_comm, VIBounds{_lower, _upper, _bounded},
+      _schur ? std::vector<std::int32_t>{} : std::move(_separate_rows));
+  const bool backtrack = _J and !_convergence->has_separate_rows();
   set_default_option(vi_prefix + "snes_linesearch_type", backtrack ? "bt" : "basic");
   // No cap on the step's length (PETSc's 1e8): x is in units of the
   // displacement scale, so the pressures of the coupled system run to 1e10
@@ -309,14 +306,13 @@ void ContactSolver::create_snes(const std::string& vi_prefix)
   SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
   SNESSetJacobian(_snes, _J ? _J : _K, _J ? _J : _K, &ContactSolver::jacobian, this);
   SNESVISetVariableBounds(_snes, _lower, _upper);
-  SNESSetConvergenceTest(_snes, &ContactSolver::converged, this, nullptr);
+  _convergence->attach(_snes, _b_scaled, _J != nullptr);
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave x as it was).
   // (Not with the backtracking search of friction: its F is not
   // linear, the residual decides, and the search fails on a zero step.)
   SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE);
-  SNESMonitorSet(_snes, &ContactSolver::monitor, this, nullptr);
 }
 std::string ContactSolver::method() const
 {
@@ -344,148 +340,9 @@ void ContactSolver::set_tolerance(double relative)
     SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
 }
 
-std::vector<char> ContactSolver::active_contact_dofs(Vec x, bool* clipped) const
-{
-  // PETSc's rule (SNESVIGetActiveSetIS): a DOF is active when it lies on a
-  // bound to 1e-8 and F pushes it against that bound. A DOF on a bound
-  // that F does not push was put there by the projection after a step that
-  // left it free (`clipped`): that step did not solve its equation.
-  Vec F = nullptr;
-  SNESGetFunction(_snes, &F, nullptr, nullptr);
-  const PetscScalar *X, *R, *lo, *up;
-  VecGetArrayRead(x, &X);
-  VecGetArrayRead(F, &R);
-  VecGetArrayRead(_lower, &lo);
-  VecGetArrayRead(_upper, &up);
-  std::vector<char> active(_bounded.size());
-  for (std::size_t k = 0; k < _bounded.size(); ++k)
-  {
-    const std::int32_t i = _bounded[k];
-    const bool on_lower = X[i] <= lo[i] + 1e-8, on_upper = X[i] >= up[i] - 1e-8;
-    active[k] = (on_lower and R[i] > 0) or (on_upper and R[i] < 0);
-    if (clipped)
-      *clipped = *clipped or ((on_lower or on_upper) and !active[k]);
-  }
-  VecRestoreArrayRead(x, &X);
-  VecRestoreArrayRead(F, &R);
-  VecRestoreArrayRead(_lower, &lo);
-  VecRestoreArrayRead(_upper, &up);
-  return active;
-}
 
-PetscErrorCode ContactSolver::monitor(SNES snes, PetscInt iteration, PetscReal, void* context)
-{
-  auto* self = static_cast<ContactSolver*>(context);
-  if (iteration > 0)
-  {
-    // The set recorded before this step was the one the step used.
-    int changed = self->_any_used and self->_pending != self->_used, any = 0;
-    MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
-    self->active_set_changes += any;
-    self->_used = self->_pending;
-    self->_any_used = true;
-  }
-  Vec x = nullptr;
-  SNESGetSolution(snes, &x);
-  bool clipped = false;
-  self->_pending = self->active_contact_dofs(x, &clipped);
-  if (iteration > 0)
-  {
-    int differs = self->_pending != self->_used or clipped, any = 0;
-    MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, self->_vi_comm);
-    self->_set_repeated = !any;
-    if (self->on_newton_step)
-      self->on_newton_step(static_cast<int>(iteration));
-  }
-  return 0;
-}
 
-PetscErrorCode ContactSolver::stagnation(KSP ksp, PetscInt iteration, PetscReal rnorm, void* context)
-{
-  // A Newton step whose reduced system is singular (a body held in the
-  // normal direction by one or two active nodes, see solve), or whose
-  // right-hand side is round-off (the forced first step of a solve that
-  // starts converged), makes the Krylov method stagnate. A converging step
-  // takes tens of iterations (docs/performance.md); one that has not
-  // reduced its residual by 1% over the last `stagnation_window` is stopped
-  // (its iteration limit lowered to now: DIVERGED_ITS), and the solve
-  // restarts from the clamped state. The limit is restored at the next
-  // solve.
-  auto* self = static_cast<ContactSolver*>(context);
-  if (iteration == 0)
-  {
-    self->_residuals.clear();
-    if (self->_lowered_from > 0)
-      PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, self->_lowered_from));
-    self->_lowered_from = 0;
-  }
-  self->_residuals.push_back(rnorm);
-  if (iteration >= stagnation_window and rnorm > 0.99 * self->_residuals[iteration - stagnation_window])
-  {
-    PetscReal rtol, atol, dtol;
-    PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &self->_lowered_from));
-    PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, iteration));
-  }
-  return 0;
-}
 
-PetscErrorCode ContactSolver::converged(SNES snes, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
-                                        SNESConvergedReason* reason, void* context)
-{
-  auto* self = static_cast<ContactSolver*>(context);
-  PetscReal atol = 0, rtol = 0, stol = 0;
-  PetscInt max_it = 0, max_f = 0;
-  PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &max_it, &max_f));
-  // PETSc's test for the VI methods (vi.c, SNESConvergedDefault_VI), with
-  // at least one step taken (SNESSetForceIteration) ...
-  *reason = SNES_CONVERGED_ITERATING;
-  if (iteration == 0)
-  {
-    // With friction F is not linear, and a start far off (the clamped
-    // start of a body that slides) would make any residual "relative":
-    // relative to the load then, where that is smaller.
-    PetscReal load = 0;
-    PetscCall(VecNorm(self->_b_scaled, NORM_2, &load));
-    self->_relative_target = rtol * std::min(fnorm, self->_J ? load : fnorm);
-    self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
-    Vec F = nullptr;
-    PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
-    self->_balance_relative_target = rtol * self->balance_norm(F);
-    self->_balances_met = false;
-  }
-  const bool balances = self->balances_may_stop(self->balances_solved(snes, iteration));
-  if (PetscIsInfOrNanReal(fnorm))
-    *reason = SNES_DIVERGED_FNORM_NAN;
-  else if ((iteration > 0 or self->_J) and fnorm < atol and balances)
-    *reason = SNES_CONVERGED_FNORM_ABS; // a step taken, or the start with friction
-  else if (iteration > 0 and fnorm < self->_relative_target and balances)
-    *reason = SNES_CONVERGED_FNORM_RELATIVE;
-  // ... and the stopping rule of the primal-dual active set method: the
-  // step solved F = 0 on the inactive set, and the active set at its result
-  // is the one it used, so no DOF crosses its bound and every contact force
-  // pushes the right way: x solves the VI (to the linear solver's
-  // tolerance). F is linear, so this is the solution on that set even where
-  // the residual's round-off (A x and b of very different sizes, pressures
-  // in units of the displacement scale on the coupled system) lies above
-  // atol, which the test above would never see met. SNES has no reason for
-  // it; CONVERGED_ITS stands for "stopped by the method's own rule".
-  // With friction F is not linear: only the residual says when it is
-  // solved.
-  // A step that left the residual above a fraction of the first one (or of
-  // the load, where the start was close) did not solve F = 0 on its set: a
-  // singular reduced system (a body held by the contact alone, from a start
-  // that presses on nothing) solved by a factorisation that did not see
-  // it. Above both it is refused at once (solve_vi starts again clamped),
-  // else iterated on.
-  else if (iteration > 0 and self->_set_repeated and !self->_J)
-  {
-    if (fnorm <= self->_repeated_set_bound)
-      *reason = SNES_CONVERGED_ITS;
-    else if (fnorm > self->_repeated_set_bound / repeated_set_fraction)
-      *reason = SNES_DIVERGED_DTOL;
-  }
-  return 0;
-}
 
 ContactSolver::~ContactSolver()
 {
@@ -683,44 +540,11 @@ void ContactSolver::pose(Vec b, Vec x)
     SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                       PETSC_DEFAULT);
   }
-  // The mass balances' rows, by their own load.
-  _balance_tolerance = (_J ? 1e-12 : 1e-10) * balance_norm(_b_scaled);
+  _convergence->pose();
 }
 
-double ContactSolver::balance_norm(Vec v) const
-{
-  if (_schur) // the contact DOFs alone
-    return 0;
-  const double* V = nullptr;
-  double sum = 0;
-  VecGetArrayRead(v, &V);
-  for (std::int32_t i : _balance_rows)
-    sum += V[i] * V[i];
-  VecRestoreArrayRead(v, &V);
-  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, _comm);
-  return std::sqrt(sum);
-}
 
-bool ContactSolver::balances_solved(SNES snes, PetscInt iteration)
-{
-  Vec F = nullptr;
-  SNESGetFunction(snes, &F, nullptr, nullptr);
-  const double norm = balance_norm(F);
-  return norm <= _balance_tolerance or (iteration > 0 and norm <= _balance_relative_target);
-}
 
-bool ContactSolver::balances_may_stop(bool met)
-{
-  // With friction the residual alone decides the last step, and a
-  // balance's tolerance lies far above its round-off where its load holds
-  // terms that cancel at the solution (a fault's ends held at p_D: T_e p_D,
-  // 1e-3 m^3/s, against flows of 1e-10 m^3/s), an error that the step
-  // length turns into volume (1e-9 m^3 per step of 1e6 s on the 3D box).
-  // One more Newton step once met takes the balances to round-off.
-  if (!met or !_refine_balances)
-    return met;
-  return std::exchange(_balances_met, true);
-}
 
 /// Every attempt's steps count, a failed Krylov solve's iterations too
 /// (SNES leaves them out of its own count): they cost their time.

@@ -21,6 +21,7 @@
 #include "contact/friction.h"
 #include "contact/contact_set.h"
 #include "contact/contact_state.h"
+#include "contact/convergence.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "contact/change_of_variables.h"
 #include "contact/schur_complement.h"
@@ -62,16 +63,15 @@ struct ContactOperators
 /// @brief What the contact solver constrains: the contact set, where each
 /// owned DOF of V sits in the solved vector x (`displacement_dofs`: i itself
 /// for the mechanics system, its place in the mixed space for the
-/// monolithic one), `layout`, a vector like x, and the rows of x's mass
-/// balances (the rock's pressure rows and the conduit faults' of the
-/// monolithic system, local; none for the mechanics): in m^3/s where the
-/// others are in N, their residual is judged by their own load.
+/// monolithic one), `layout`, a vector like x, and x's separate rows
+/// (local): rows in other units than the forces, whose residual is judged
+/// by their own load (convergence.h).
 struct ContactUnknowns
 {
   ContactSet set;
   std::vector<std::int32_t> displacement_dofs;
   Vec layout;
-  std::vector<std::int32_t> balance_rows = {};
+  std::vector<std::int32_t> separate_rows = {};
 };
 
 /// The reduced-space Newton method solves, at each step, the system on the
@@ -101,10 +101,6 @@ public:
   /// to form, m^3/3 flops per active-set change) costs more than
   /// refactorising the sparse inactive-set matrix.
   static constexpr PetscInt max_condensed_dofs = 2000;
-  /// A Krylov solve of a Newton step on the iterative full path that
-  /// reduces its residual by less than 1% over this many iterations has
-  /// stagnated (contact.cpp, stagnation).
-  static constexpr PetscInt stagnation_window = 50;
 
   /// `displacement_dofs[i]` is the position of V's owned DOF i in the
   /// solved vector (i itself for the mechanics system, its place in the
@@ -162,11 +158,11 @@ public:
   long newton_iterations = 0, linear_iterations = 0;
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
-  long active_set_changes = 0;
+  long active_set_changes() const { return _convergence->active_set_changes; }
 
-  /// Called after each Newton step with its number: a long solve's sign of
-  /// life (the run's progress line).
-  std::function<void(int)> on_newton_step;
+  /// `told` is called after each Newton step with its number: a long
+  /// solve's sign of life (the run's progress line).
+  void on_newton_step(std::function<void(int)> told) { _convergence->on_newton_step = std::move(told); }
 
 private:
   /// The contact DOFs of the VI: each constraint's, then the tangential
@@ -190,17 +186,6 @@ private:
   bool lag_preconditioner() const { return !_J or _preconditioner_on_P; }
   void set_bounds();
   void pose(Vec b, Vec x);
-  /// The norm of v on the mass balances' rows (none when condensed;
-  /// collective).
-  double balance_norm(Vec v) const;
-  /// Whether the residual F is small on the mass balances' rows: the norm
-  /// F and the load take over the whole system is the forces' (N against
-  /// m^3/s), blind to them (collective).
-  bool balances_solved(SNES snes, PetscInt iteration);
-  /// Whether a solve whose balances are solved (`met`) may stop: with
-  /// friction on a system with mass balances, only one Newton step
-  /// after they were first met in this solve.
-  bool balances_may_stop(bool met);
   void count_iterations(SNESConvergedReason reason);
   /// Sets the unknown of the VI to the solution with every contact DOF on
   /// its bound.
@@ -211,18 +196,6 @@ private:
   SNESConvergedReason run_snes();
   static PetscErrorCode residual(SNES, Vec x, Vec F, void* context);
   static PetscErrorCode jacobian(SNES, Vec, Mat, Mat, void*);
-  /// Called before each Newton step (and after the last): records the
-  /// active set the next step will use, by PETSc's own rule
-  /// (SNESVIGetActiveSetIS), and counts changes.
-  static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
-  /// PETSc's convergence test of the VI methods, and stop when a step kept
-  /// its active set (the solution on that set: see contact.cpp). A PETSc
-  /// callback: its 7 parameters are SNESSetConvergenceTest's.
-  static PetscErrorCode converged(SNES, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
-                                  SNESConvergedReason* reason, void* context);
-  /// KSP monitor of the Newton steps (iterative full path): stops a Krylov
-  /// solve that stagnates.
-  static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
   std::vector<char> active_contact_dofs(Vec x, bool* clipped = nullptr) const;
   /// The change of variables of the inclined and curved foundations, made
   /// when any node needs one (collective), and the operators it makes.
@@ -250,22 +223,9 @@ private:
   bool _lag_by_default = false;
   bool _preconditioner_on_P = false; // the iterative full path: built from P, not from the Jacobian
   PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
-  std::vector<char> _pending, _used; // active flags of the contact DOFs
-  bool _any_used = false;
-  bool _set_repeated = false;    // the last step's result keeps the set it used
-  PetscReal _relative_target = 0; // rtol times the first residual of a solve
-  PetscReal _repeated_set_bound = 0; // a fraction of it or of the load (converged)
-  // The residual on the mass balances' rows is small below the larger of
-  // these: their load's times the relative tolerance (pose), and rtol
-  // times the solve's first (balances_solved).
-  PetscReal _balance_tolerance = 0, _balance_relative_target = 0;
-  bool _refine_balances = false; // friction on a system with mass balances
-  bool _balances_met = false;    // this solve's balances met their tolerance once
-  std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
-  PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
-  std::vector<std::int32_t> _balance_rows; // ContactUnknowns::balance_rows
+  std::vector<std::int32_t> _separate_rows; // ContactUnknowns::separate_rows, until the VI is posed
   Vec _force; // like x: A x - b
 
   // The VI that SNES solves: on (A, b) or on (H, g). Its unknown carries
@@ -283,6 +243,7 @@ private:
   double _scale = 1; // SNES works in units of the displacement scale
   SNES _snes;
   std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
+  std::unique_ptr<ContactConvergence> _convergence;
   // Friction: its constraints, the start of the step (in the VI's
   // numbering, unscaled), the diagonal of K (the stiffness that turns a slip
   // increment into a trial force) and a work vector.

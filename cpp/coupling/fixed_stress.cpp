@@ -37,7 +37,7 @@ double relative(double increment, double size) { return size > 0 ? increment / s
 /// Changes of the contact active set so far (0 without contact).
 long contact_changes(MechanicsStep& mechanics)
 {
-  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes : 0;
+  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes() : 0;
 }
 
 } // namespace

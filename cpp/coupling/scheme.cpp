@@ -113,7 +113,7 @@ void Scheme::on_newton_step(const std::function<void(const std::string&, int)>& 
 {
   for (Step* step : _steps)
     if (step->system().has_contact())
-      step->system().contact().on_newton_step = [told, name = step->name()](int iteration) { told(name, iteration); };
+      step->system().contact().on_newton_step([told, name = step->name()](int iteration) { told(name, iteration); });
 }
 
 History Scheme::history() const

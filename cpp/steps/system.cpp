@@ -299,7 +299,7 @@ SolverStatistics System::statistics() const
   {
     s.newton_iterations = _contact->newton_iterations;
     s.linear_iterations = _contact->linear_iterations;
-    s.active_set_changes = _contact->active_set_changes;
+    s.active_set_changes = _contact->active_set_changes();
     s.schur_columns = _contact->schur_columns();
     s.schur_factorizations = _contact->schur_factorizations();
     s.schur_time = _contact->schur_time();

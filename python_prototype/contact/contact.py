@@ -24,6 +24,7 @@ from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state
+from .convergence import ContactConvergence, VIBounds
 from .friction import FrictionalConstraint, FrictionPoint, add_friction_forces, friction_jacobian
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
@@ -78,13 +79,11 @@ class ContactUnknowns:
     """What the contact solver constrains: the ContactSet, where each owned
     DOF of V sits in the solved vector (`displacement_dofs`: i itself for the
     mechanics system, its place in the mixed space for the monolithic one),
-    and the rows of its mass balances (the rock's pressure rows and the
-    conduit faults' of the monolithic system, local; none for the
-    mechanics): in m^3/s where the others are in N, their residual is
-    judged by their own load."""
+    and its separate rows (local): rows in other units than the forces,
+    whose residual is judged by their own load (convergence.py)."""
     set: object
     displacement_dofs: object
-    balance_rows: object = ()
+    separate_rows: object = ()
 
 
 _help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
@@ -94,11 +93,6 @@ def _any_frictional(contact_set, comm):
     """Whether any rank has a frictional constraint (collective)."""
     return comm.allreduce(bool(np.any(contact_set.frictional)), op=MPI.LOR)
 
-
-# The stopping rule of a repeated active set holds where the step has brought
-# the residual below this fraction of the larger of the solve's first and the
-# load (_converged).
-REPEATED_SET_FRACTION = 1e-3
 
 
 def _read_condensed(comm, prefix, fallback):
@@ -143,7 +137,6 @@ class ContactSolver:
     the same; operator_changed re-arms it after a reassembly)."""
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
-    stagnation_window = 50  # Krylov iterations without 1% progress that count as stagnation
 
     def __init__(self, comm, system, method, operators, unknowns):
         """`system` the SystemLayout of the system it solves, `operators` its
@@ -156,7 +149,7 @@ class ContactSolver:
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.displacement_dofs = np.asarray(unknowns.displacement_dofs, dtype=np.int32)
-        self.balance_rows = np.asarray(unknowns.balance_rows, dtype=np.int32)
+        self.separate_rows = np.asarray(unknowns.separate_rows, dtype=np.int32)
         self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
         self.force = A.createVecRight()
         # The start of the step like x, and x' of it (the faults' slip increments).
@@ -175,12 +168,9 @@ class ContactSolver:
         if self.J is not None and not condensed:
             unsymmetric_jacobian_options(prefix)
         self.preconditioner_on_P = not condensed and method == Method.iterative
-        # friction on a system with mass balances: one Newton step
-        # more once they are met (_balances_solved)
-        self.balances_met = False
         self._create_snes(vi_prefix)
         if self.preconditioner_on_P:
-            self.snes.getKSP().setMonitor(self._stagnation)
+            self.convergence.watch(self.snes.getKSP())
             self.preconditioner = InactiveSetPreconditioner(self.snes, self.P_vi, self.fields, prefix)
             self.set_tolerance(ITERATIVE_TOLERANCE)
         try:
@@ -195,18 +185,8 @@ class ContactSolver:
             if given and given not in ("vinewtonrsls", "vinewtonssls"):
                 raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                    "(vinewtonrsls or vinewtonssls)")
-        self.newton_iterations = self.linear_iterations = self.active_set_changes = 0
+        self.newton_iterations = self.linear_iterations = 0
         self.scale = 1.0  # SNES works in units of the displacement scale
-        self.pending = self.used = None  # active flags of the contact DOFs
-        self.set_repeated, self.relative_target, self.repeated_set_bound = False, 0.0, 0.0
-        # the residual on the mass balances' rows is small below the larger of
-        # these: their load's times the relative tolerance (_pose), and rtol
-        # times the solve's first (_balances_solved)
-        self.balance_tolerance, self.balance_relative_target = 0.0, 0.0
-        self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (stagnation)
-        # Called after each Newton step with its number: a long solve's sign
-        # of life (the run's progress line).
-        self.on_newton_step = None
 
     def _condense(self):
         """The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
@@ -303,12 +283,14 @@ class ContactSolver:
         # from P and the inactive set alone, and is reused there too.
         lag = "-2" if self._lag_preconditioner() else "1"
         # with friction (F semismooth: full steps can overshoot where a
-        # constraint changes state) a backtracking search, but not on the coupled
-        # system: the search's merit ||F||, the forces' (N), is blind to its
-        # mass balances' rows (m^3/s), whose step it shrank to nothing
-        balances = self.comm.allreduce(len(self.balance_rows), op=MPI.SUM)
-        self.refine_balances = self.J is not None and balances > 0
-        backtrack = self.J is not None and balances == 0
+        # constraint changes state) a backtracking search, but not with
+        # separate rows: the search's merit ||F||, the forces' (N), is blind
+        # to them (the coupled system's mass balances, m^3/s), whose step it
+        # shrank to nothing; condensed, the VI's unknown is the contact DOFs
+        # alone
+        self.convergence = ContactConvergence(self.vi_mpi_comm, VIBounds(self.lower, self.upper, self.bounded),
+                                              () if self.schur else self.separate_rows)
+        backtrack = self.J is not None and not self.convergence.has_separate_rows()
         for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active
@@ -326,12 +308,11 @@ class ContactSolver:
         J = self.J if self.J is not None else self.K
         self.snes.setJacobian(self._jacobian, J, J)
         self.snes.setVariableBounds(self.lower, self.upper)
-        self.snes.setConvergenceTest(self._converged)
+        self.convergence.attach(self.snes, self.b_scaled, self.J is not None)
         # At least one Newton step per solve, so the result never lags the
         # load (not with friction: its F is not linear, the residual
         # decides, and a backtracking search fails on a zero step).
         self.snes.setForceIteration(not backtrack)
-        self.snes.setMonitor(self._monitor)
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
@@ -366,88 +347,6 @@ class ContactSolver:
         set or the operator changes: always but for a factorisation of the
         Jacobian of friction, which changes every step."""
         return self.J is None or self.preconditioner_on_P
-
-    def _active_contact_dofs(self, x):
-        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed
-        against it; and whether a DOF lies on a bound that F does not push
-        (clipped): the projection put it there after a step that left it
-        free, so that step did not solve its equation."""
-        X, F = x.getArray(readonly=True), self.snes.getFunction()[0].getArray(readonly=True)
-        lo, up = self.lower.getArray(readonly=True), self.upper.getArray(readonly=True)
-        i = self.bounded
-        on_lower, on_upper = X[i] <= lo[i] + 1e-8, X[i] >= up[i] - 1e-8
-        active = (on_lower & (F[i] > 0)) | (on_upper & (F[i] < 0))
-        return active, bool(np.any((on_lower | on_upper) & ~active))
-
-    def _monitor(self, snes, iteration, norm):
-        """Before each Newton step (and after the last): the set the next step uses."""
-        if iteration > 0:
-            changed = self.used is not None and not np.array_equal(self.pending, self.used)
-            self.active_set_changes += int(self.vi_mpi_comm.allreduce(int(changed), op=MPI.MAX))
-            self.used = self.pending
-        self.pending, clipped = self._active_contact_dofs(snes.getSolution())
-        if iteration > 0:
-            differs = not np.array_equal(self.pending, self.used) or clipped
-            self.set_repeated = not self.vi_mpi_comm.allreduce(int(differs), op=MPI.MAX)
-            if self.on_newton_step is not None:
-                self.on_newton_step(iteration)
-
-    def _stagnation(self, ksp, iteration, rnorm):
-        """A Newton step's Krylov solve that reduces its residual by less than
-        1% over the last stagnation_window iterations (a singular reduced
-        system, a round-off right-hand side) is stopped: its iteration limit
-        is lowered to now (DIVERGED_ITS) and restored at the next solve;
-        the contact solve restarts from the clamped state (cpp/contact/contact.cpp)."""
-        if iteration == 0:
-            self.residuals = []
-            if self.lowered_from:
-                ksp.setTolerances(max_it=self.lowered_from)
-            self.lowered_from = 0
-        self.residuals.append(rnorm)
-        w = self.stagnation_window
-        if iteration >= w and rnorm > 0.99 * self.residuals[iteration - w]:
-            self.lowered_from = ksp.getTolerances()[3]
-            ksp.setTolerances(max_it=iteration)
-
-    def _converged(self, snes, iteration, norms):
-        """PETSc's test of the VI methods after at least one step, and the
-        stopping rule of the primal-dual active set method: the step kept its
-        active set, so x solves the VI even where the residual's round-off
-        lies above atol (cpp/contact/contact.cpp). With slip forces along the
-        slip increment (3D) F is not linear: only the residual says when it
-        is solved."""
-        _, _, fnorm = norms
-        rtol, atol, _, _ = snes.getTolerances()
-        if iteration == 0:
-            # with friction F is not linear, and a start far off (the clamped
-            # start of a body that slides) would make any residual "relative":
-            # relative to the load then, where that is smaller
-            load = self.b_scaled.norm()
-            self.relative_target = rtol * min(fnorm, load if self.J is not None else fnorm)
-            # a step that left the residual above a fraction of the first (or of
-            # the load, where the start was close) did not solve F = 0 on its
-            # set (a singular reduced system: a body held by the contact alone,
-            # from a start that presses on nothing)
-            self.repeated_set_bound = REPEATED_SET_FRACTION * max(fnorm, load)
-            self.balance_relative_target = rtol * self._balance_norm(snes.getFunction()[0])
-            self.balances_met = False
-        balances = self._balances_may_stop(self._balances_solved(snes, iteration))
-        reasons = PETSc.SNES.ConvergedReason
-        if not np.isfinite(fnorm):
-            return reasons.DIVERGED_FNORM_NAN
-        # a step taken, or the start with friction
-        if (iteration > 0 or self.J is not None) and fnorm < atol and balances:
-            return reasons.CONVERGED_FNORM_ABS
-        if iteration > 0 and fnorm < self.relative_target and balances:
-            return reasons.CONVERGED_FNORM_RELATIVE
-        if iteration > 0 and self.set_repeated and self.J is None:
-            if fnorm <= self.repeated_set_bound:
-                return reasons.CONVERGED_ITS
-            # above both refused at once (_solve_vi starts again clamped),
-            # else iterated on
-            if fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
-                return reasons.DIVERGED_DTOL
-        return reasons.CONVERGED_ITERATING
 
     def _residual(self, snes, x, F):
         """F(x) = K x - b/s: the gradient of the quadratic energy, in units
@@ -570,36 +469,7 @@ class ContactSolver:
             # linear): tighter, Newton's last steps are quadratic.
             relative = 1e-12 if self.J is not None else 1e-10
             self.snes.setTolerances(atol=max(relative * self.b_scaled.norm(), 1e-300))
-        # the mass balances' rows, by their own load
-        self.balance_tolerance = (1e-12 if self.J is not None else 1e-10) * self._balance_norm(self.b_scaled)
-
-    def _balance_norm(self, v):
-        """The norm of v on the mass balances' rows (none when condensed;
-        collective)."""
-        if self.schur:  # the contact DOFs alone
-            return 0.0
-        rows = v.array_r[self.balance_rows]
-        return float(np.sqrt(self.comm.allreduce(float(np.sum(rows ** 2)), op=MPI.SUM)))
-
-    def _balances_solved(self, snes, iteration):
-        """Whether the residual is small on the mass balances' rows: the norm
-        F and the load take over the whole system is the forces' (N against
-        m^3/s), blind to them (collective)."""
-        norm = self._balance_norm(snes.getFunction()[0])
-        return norm <= self.balance_tolerance or (iteration > 0 and norm <= self.balance_relative_target)
-
-    def _balances_may_stop(self, met):
-        """Whether a solve whose balances are solved (`met`) may stop: with
-        friction on a system with mass balances, only one Newton step
-        after they were first met in this solve. The residual alone decides
-        the last step there, and a balance's tolerance lies far above its
-        round-off where its load holds terms that cancel at the solution (a
-        fault's ends held at p_D): the step more takes the balances to
-        round-off (cpp/contact/contact.cpp)."""
-        if not met or not self.refine_balances:
-            return met
-        refined, self.balances_met = self.balances_met, True
-        return refined
+        self.convergence.pose()
 
     def _count(self, reason):
         """Every attempt's steps count, a failed Krylov solve's iterations
@@ -727,3 +597,14 @@ class ContactSolver:
         measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,
                                       self.displacement_scale(x), X, start.getArray(readonly=True), R)
         return contact_state(measured, ContactFields(pressure_out, active_out), self.comm)
+
+    @property
+    def active_set_changes(self):
+        """Newton steps whose inactive set differed from the previous step's
+        (across solves): each may cost one factorisation."""
+        return self.convergence.active_set_changes
+
+    def on_newton_step(self, told):
+        """`told` is called after each Newton step with its number: a long
+        solve's sign of life (the run's progress line)."""
+        self.convergence.on_newton_step = told

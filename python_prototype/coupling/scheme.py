@@ -60,8 +60,7 @@ class Scheme:
         """`told(system, iteration)` after each Newton step of a contact solve."""
         for step in self._steps:
             if step.system.has_contact():
-                step.system.contact.on_newton_step = \
-                    lambda iteration, name=step.name(): told(name, iteration)
+                step.system.contact.on_newton_step(lambda iteration, name=step.name(): told(name, iteration))
 
     def steps(self):
         """The steps, in the order of summary.json."""

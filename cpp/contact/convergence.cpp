@@ -1,0 +1,210 @@
+#include "contact/convergence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace biotcontact
+{
+
+ContactConvergence::ContactConvergence(MPI_Comm comm, VIBounds bounds, std::vector<std::int32_t> separate_rows)
+    : _comm(comm), _bounds(bounds), _separate_rows(std::move(separate_rows))
+{
+  long rows = static_cast<long>(_separate_rows.size());
+  MPI_Allreduce(MPI_IN_PLACE, &rows, 1, MPI_LONG, MPI_SUM, _comm);
+  _any_separate = rows > 0;
+}
+
+void ContactConvergence::attach(SNES snes, Vec load, bool friction)
+{
+  _snes = snes, _load = load, _friction = friction;
+  SNESSetConvergenceTest(snes, &ContactConvergence::converged, this, nullptr);
+  SNESMonitorSet(snes, &ContactConvergence::monitor, this, nullptr);
+}
+
+void ContactConvergence::watch(KSP ksp) { KSPMonitorSet(ksp, &ContactConvergence::stagnation, this, nullptr); }
+
+void ContactConvergence::pose()
+{
+  // With friction the residual decides the last step (F is not linear):
+  // tighter, as the forces' absolute tolerance (ContactSolver::pose).
+  _separate_tolerance = (_friction ? 1e-12 : 1e-10) * separate_norm(_load);
+}
+
+std::vector<char> ContactConvergence::active_contact_dofs(Vec x, bool* clipped) const
+{
+  // PETSc's rule (SNESVIGetActiveSetIS): a DOF is active when it lies on a
+  // bound to 1e-8 and F pushes it against that bound. A DOF on a bound
+  // that F does not push was put there by the projection after a step that
+  // left it free (`clipped`): that step did not solve its equation.
+  Vec F = nullptr;
+  SNESGetFunction(_snes, &F, nullptr, nullptr);
+  const PetscScalar *X, *R, *lo, *up;
+  VecGetArrayRead(x, &X);
+  VecGetArrayRead(F, &R);
+  VecGetArrayRead(_bounds.lower, &lo);
+  VecGetArrayRead(_bounds.upper, &up);
+  std::vector<char> active(_bounds.bounded.size());
+  for (std::size_t k = 0; k < _bounds.bounded.size(); ++k)
+  {
+    const std::int32_t i = _bounds.bounded[k];
+    const bool on_lower = X[i] <= lo[i] + 1e-8, on_upper = X[i] >= up[i] - 1e-8;
+    active[k] = (on_lower and R[i] > 0) or (on_upper and R[i] < 0);
+    if (clipped)
+      *clipped = *clipped or ((on_lower or on_upper) and !active[k]);
+  }
+  VecRestoreArrayRead(x, &X);
+  VecRestoreArrayRead(F, &R);
+  VecRestoreArrayRead(_bounds.lower, &lo);
+  VecRestoreArrayRead(_bounds.upper, &up);
+  return active;
+}
+
+PetscErrorCode ContactConvergence::monitor(SNES snes, PetscInt iteration, PetscReal, void* context)
+{
+  auto* self = static_cast<ContactConvergence*>(context);
+  if (iteration > 0)
+  {
+    // The set recorded before this step was the one the step used.
+    int changed = self->_any_used and self->_pending != self->_used, any = 0;
+    MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, self->_comm);
+    self->active_set_changes += any;
+    self->_used = self->_pending;
+    self->_any_used = true;
+  }
+  Vec x = nullptr;
+  PetscCall(SNESGetSolution(snes, &x));
+  bool clipped = false;
+  self->_pending = self->active_contact_dofs(x, &clipped);
+  if (iteration > 0)
+  {
+    int differs = self->_pending != self->_used or clipped, any = 0;
+    MPI_Allreduce(&differs, &any, 1, MPI_INT, MPI_MAX, self->_comm);
+    self->_set_repeated = !any;
+    if (self->on_newton_step)
+      self->on_newton_step(static_cast<int>(iteration));
+  }
+  return 0;
+}
+
+PetscErrorCode ContactConvergence::stagnation(KSP ksp, PetscInt iteration, PetscReal rnorm, void* context)
+{
+  // A Newton step whose reduced system is singular (a body held in the
+  // normal direction by one or two active nodes, see ContactSolver::solve),
+  // or whose right-hand side is round-off (the forced first step of a solve
+  // that starts converged), makes the Krylov method stagnate. A converging
+  // step takes tens of iterations (docs/performance.md); one that has not
+  // reduced its residual by 1% over the last `stagnation_window` is stopped
+  // (its iteration limit lowered to now: DIVERGED_ITS), and the solve
+  // restarts from the clamped state. The limit is restored at the next
+  // solve.
+  auto* self = static_cast<ContactConvergence*>(context);
+  if (iteration == 0)
+  {
+    self->_residuals.clear();
+    if (self->_lowered_from > 0)
+      PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, self->_lowered_from));
+    self->_lowered_from = 0;
+  }
+  self->_residuals.push_back(rnorm);
+  if (iteration >= stagnation_window and rnorm > 0.99 * self->_residuals[iteration - stagnation_window])
+  {
+    PetscReal rtol, atol, dtol;
+    PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &self->_lowered_from));
+    PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, iteration));
+  }
+  return 0;
+}
+
+PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
+                                             SNESConvergedReason* reason, void* context)
+{
+  auto* self = static_cast<ContactConvergence*>(context);
+  PetscReal atol = 0, rtol = 0, stol = 0;
+  PetscInt max_it = 0, max_f = 0;
+  PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &max_it, &max_f));
+  // PETSc's test for the VI methods (vi.c, SNESConvergedDefault_VI), with
+  // at least one step taken (SNESSetForceIteration) ...
+  *reason = SNES_CONVERGED_ITERATING;
+  if (iteration == 0)
+  {
+    // With friction F is not linear, and a start far off (the clamped
+    // start of a body that slides) would make any residual "relative":
+    // relative to the load then, where that is smaller.
+    PetscReal load = 0;
+    PetscCall(VecNorm(self->_load, NORM_2, &load));
+    self->_relative_target = rtol * std::min(fnorm, self->_friction ? load : fnorm);
+    self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
+    Vec F = nullptr;
+    PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
+    self->_separate_relative_target = rtol * self->separate_norm(F);
+    self->_separate_met = false;
+  }
+  const bool separate = self->separate_may_stop(self->separate_solved(iteration));
+  if (PetscIsInfOrNanReal(fnorm))
+    *reason = SNES_DIVERGED_FNORM_NAN;
+  else if ((iteration > 0 or self->_friction) and fnorm < atol and separate)
+    *reason = SNES_CONVERGED_FNORM_ABS; // a step taken, or the start with friction
+  else if (iteration > 0 and fnorm < self->_relative_target and separate)
+    *reason = SNES_CONVERGED_FNORM_RELATIVE;
+  // ... and the stopping rule of the primal-dual active set method: the
+  // step solved F = 0 on the inactive set, and the active set at its result
+  // is the one it used, so no DOF crosses its bound and every contact force
+  // pushes the right way: x solves the VI (to the linear solver's
+  // tolerance). F is linear, so this is the solution on that set even where
+  // the residual's round-off (A x and b of very different sizes, pressures
+  // in units of the displacement scale on the coupled system) lies above
+  // atol, which the test above would never see met. SNES has no reason for
+  // it; CONVERGED_ITS stands for "stopped by the method's own rule".
+  // With friction F is not linear: only the residual says when it is
+  // solved.
+  // A step that left the residual above a fraction of the first one (or of
+  // the load, where the start was close) did not solve F = 0 on its set: a
+  // singular reduced system (a body held by the contact alone, from a start
+  // that presses on nothing) solved by a factorisation that did not see
+  // it. Above both it is refused at once (the solver starts again
+  // clamped), else iterated on.
+  else if (iteration > 0 and self->_set_repeated and !self->_friction)
+  {
+    if (fnorm <= self->_repeated_set_bound)
+      *reason = SNES_CONVERGED_ITS;
+    else if (fnorm > self->_repeated_set_bound / repeated_set_fraction)
+      *reason = SNES_DIVERGED_DTOL;
+  }
+  return 0;
+}
+
+double ContactConvergence::separate_norm(Vec v) const
+{
+  const double* V = nullptr;
+  double sum = 0;
+  VecGetArrayRead(v, &V);
+  for (std::int32_t i : _separate_rows)
+    sum += V[i] * V[i];
+  VecRestoreArrayRead(v, &V);
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, _comm);
+  return std::sqrt(sum);
+}
+
+bool ContactConvergence::separate_solved(PetscInt iteration)
+{
+  Vec F = nullptr;
+  SNESGetFunction(_snes, &F, nullptr, nullptr);
+  const double norm = separate_norm(F);
+  return norm <= _separate_tolerance or (iteration > 0 and norm <= _separate_relative_target);
+}
+
+bool ContactConvergence::separate_may_stop(bool met)
+{
+  // With friction the residual alone decides the last step, and a separate
+  // row's tolerance lies far above its round-off where its load holds terms
+  // that cancel at the solution (a fault's ends held at p_D: T_e p_D, 1e-3
+  // m^3/s, against flows of 1e-10 m^3/s), an error that the step length
+  // turns into volume (1e-9 m^3 per step of 1e6 s on the 3D box). One more
+  // Newton step once met takes them to round-off.
+  if (!met or !(_friction and _any_separate))
+    return met;
+  return std::exchange(_separate_met, true);
+}
+
+} // namespace biotcontact

@@ -1,0 +1,107 @@
+// The stopping rules of the contact VI's Newton iteration (SNES
+// vinewtonrsls): PETSc's residual test, the primal-dual active set rule
+// "the step kept its active set", a separate test for rows in other units
+// than the forces, and the Krylov stagnation of a singular reduced system.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <mpi.h>
+#include <petscsnes.h>
+#include <span>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// The stopping rule of a repeated active set holds where the step has
+/// brought the residual below this fraction of the larger of the solve's
+/// first and the load.
+constexpr double repeated_set_fraction = 1e-3;
+
+/// @brief The bounds of a VI's unknown: its lower and upper bound vectors,
+/// and the positions (local, in its numbering) that carry a bound.
+struct VIBounds
+{
+  Vec lower, upper;
+  std::span<const std::int32_t> bounded;
+};
+
+/// @brief When a Newton iteration of the contact VI F(x) = K x - b (+ the
+/// friction forces) complementary to the bounds has converged, as SNES's
+/// monitor, convergence test and (iterative) Krylov monitor.
+///
+/// The residual's norm is the forces' (N). Rows in other units (the mass
+/// balances of the monolithic system, m^3/s) are blind to it: they are the
+/// `separate_rows`, whose residual is judged against their own load.
+class ContactConvergence
+{
+public:
+  /// A Krylov solve of a Newton step that reduces its residual by less
+  /// than 1% over this many iterations has stagnated (stagnation).
+  static constexpr PetscInt stagnation_window = 50;
+
+  /// `comm` is the VI's; `separate_rows` local rows of its unknown.
+  ContactConvergence(MPI_Comm comm, VIBounds bounds, std::vector<std::int32_t> separate_rows);
+
+  /// Whether any rank has separate rows (collective, at construction).
+  bool has_separate_rows() const { return _any_separate; }
+
+  /// Tests `snes`'s steps, with `load` the VI's b (as posed); `friction`:
+  /// F is not linear.
+  void attach(SNES snes, Vec load, bool friction);
+  /// Stops a Krylov solve of a Newton step that stagnates.
+  void watch(KSP ksp);
+  /// The load has been posed: the separate rows' tolerance from it.
+  void pose();
+
+  /// The bounded DOFs that are active at x by PETSc's rule
+  /// (SNESVIGetActiveSetIS); `clipped` tells of a DOF on a bound that F
+  /// does not push.
+  std::vector<char> active_contact_dofs(Vec x, bool* clipped = nullptr) const;
+
+  /// Newton steps whose inactive set differed from the previous step's
+  /// (across solves): each may cost one factorisation.
+  long active_set_changes = 0;
+  /// Called after each Newton step with its number.
+  std::function<void(int)> on_newton_step;
+
+private:
+  /// The norm of v on the separate rows (collective).
+  double separate_norm(Vec v) const;
+  /// Whether the residual is small on the separate rows (collective).
+  bool separate_solved(PetscInt iteration);
+  /// Whether a solve whose separate rows are solved (`met`) may stop.
+  bool separate_may_stop(bool met);
+  /// Before each Newton step (and after the last): records the active set
+  /// the next step will use, and counts changes.
+  static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
+  /// PETSc's convergence test of the VI methods and the active set rule
+  /// (convergence.cpp). A PETSc callback: its 7 parameters are
+  /// SNESSetConvergenceTest's.
+  static PetscErrorCode converged(SNES, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
+                                  SNESConvergedReason* reason, void* context);
+  static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
+
+  MPI_Comm _comm;
+  VIBounds _bounds;
+  std::vector<std::int32_t> _separate_rows;
+  bool _any_separate = false;
+  SNES _snes = nullptr;
+  Vec _load = nullptr;
+  bool _friction = false;
+  std::vector<char> _pending, _used; // active flags of the bounded DOFs
+  bool _any_used = false;
+  bool _set_repeated = false;        // the last step's result keeps the set it used
+  PetscReal _relative_target = 0;    // rtol times the first residual of a solve
+  PetscReal _repeated_set_bound = 0; // a fraction of it or of the load (converged)
+  // The residual on the separate rows is small below the larger of these:
+  // their load's times the relative tolerance (pose), and rtol times the
+  // solve's first.
+  PetscReal _separate_tolerance = 0, _separate_relative_target = 0;
+  bool _separate_met = false; // this solve's separate rows met their tolerance once
+  std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
+  PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
+};
+
+} // namespace biotcontact

@@ -1,0 +1,184 @@
+"""The stopping rules of the contact VI's Newton iteration (SNES
+vinewtonrsls; cpp/contact/convergence.h): PETSc's residual test, the
+primal-dual active set rule "the step kept its active set", a separate test
+for rows in other units than the forces, and the Krylov stagnation of a
+singular reduced system."""
+import dataclasses
+
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+# The stopping rule of a repeated active set holds where the step has brought
+# the residual below this fraction of the larger of the solve's first and
+# the load.
+REPEATED_SET_FRACTION = 1e-3
+
+
+@dataclasses.dataclass
+class VIBounds:
+    """The bounds of a VI's unknown: its lower and upper bound vectors, and
+    the positions (local, in its numbering) that carry a bound."""
+    lower: PETSc.Vec
+    upper: PETSc.Vec
+    bounded: np.ndarray
+
+
+class ContactConvergence:
+    """When a Newton iteration of the contact VI F(x) = K x - b (+ the
+    friction forces) complementary to the bounds has converged, as SNES's
+    monitor, convergence test and (iterative) Krylov monitor.
+
+    The residual's norm is the forces' (N). Rows in other units (the mass
+    balances of the monolithic system, m^3/s) are blind to it: they are the
+    `separate_rows`, whose residual is judged against their own load."""
+    # A Krylov solve of a Newton step that reduces its residual by less than
+    # 1% over this many iterations has stagnated (_stagnation).
+    stagnation_window = 50
+
+    def __init__(self, comm, bounds, separate_rows):
+        """`comm` is the VI's (an mpi4py communicator); `separate_rows` local
+        rows of its unknown."""
+        self.comm, self.bounds = comm, bounds
+        self.separate_rows = np.asarray(separate_rows, dtype=np.int32)
+        self.any_separate = comm.allreduce(len(self.separate_rows), op=MPI.SUM) > 0
+        self.snes = self.load = None
+        self.friction = False
+        self.pending = self.used = None  # active flags of the bounded DOFs
+        self.set_repeated, self.relative_target, self.repeated_set_bound = False, 0.0, 0.0
+        # the residual on the separate rows is small below the larger of
+        # these: their load's times the relative tolerance (pose), and rtol
+        # times the solve's first
+        self.separate_tolerance, self.separate_relative_target = 0.0, 0.0
+        self.separate_met = False  # this solve's separate rows met their tolerance once
+        self.residuals, self.lowered_from = [], 0  # of the current Krylov solve (_stagnation)
+        # Newton steps whose inactive set differed from the previous step's
+        # (across solves): each may cost one factorisation.
+        self.active_set_changes = 0
+        self.on_newton_step = None  # called after each Newton step with its number
+
+    def has_separate_rows(self):
+        """Whether any rank has separate rows (collective, at construction)."""
+        return self.any_separate
+
+    def attach(self, snes, load, friction):
+        """Tests `snes`'s steps, with `load` the VI's b (as posed);
+        `friction`: F is not linear."""
+        self.snes, self.load, self.friction = snes, load, friction
+        snes.setConvergenceTest(self._converged)
+        snes.setMonitor(self._monitor)
+
+    def watch(self, ksp):
+        """Stops a Krylov solve of a Newton step that stagnates."""
+        ksp.setMonitor(self._stagnation)
+
+    def pose(self):
+        """The load has been posed: the separate rows' tolerance from it
+        (with friction tighter, as the forces' absolute tolerance)."""
+        self.separate_tolerance = (1e-12 if self.friction else 1e-10) * self._separate_norm(self.load)
+
+    def active_contact_dofs(self, x):
+        """PETSc's rule (SNESVIGetActiveSetIS): on a bound to 1e-8, pushed
+        against it; and whether a DOF lies on a bound that F does not push
+        (clipped): the projection put it there after a step that left it
+        free, so that step did not solve its equation."""
+        X, F = x.getArray(readonly=True), self.snes.getFunction()[0].getArray(readonly=True)
+        lo, up = self.bounds.lower.getArray(readonly=True), self.bounds.upper.getArray(readonly=True)
+        i = self.bounds.bounded
+        on_lower, on_upper = X[i] <= lo[i] + 1e-8, X[i] >= up[i] - 1e-8
+        active = (on_lower & (F[i] > 0)) | (on_upper & (F[i] < 0))
+        return active, bool(np.any((on_lower | on_upper) & ~active))
+
+    def _monitor(self, snes, iteration, norm):
+        """Before each Newton step (and after the last): the set the next step uses."""
+        if iteration > 0:
+            changed = self.used is not None and not np.array_equal(self.pending, self.used)
+            self.active_set_changes += int(self.comm.allreduce(int(changed), op=MPI.MAX))
+            self.used = self.pending
+        self.pending, clipped = self.active_contact_dofs(snes.getSolution())
+        if iteration > 0:
+            differs = not np.array_equal(self.pending, self.used) or clipped
+            self.set_repeated = not self.comm.allreduce(int(differs), op=MPI.MAX)
+            if self.on_newton_step is not None:
+                self.on_newton_step(iteration)
+
+    def _stagnation(self, ksp, iteration, rnorm):
+        """A Newton step's Krylov solve that reduces its residual by less than
+        1% over the last stagnation_window iterations (a singular reduced
+        system, a round-off right-hand side) is stopped: its iteration limit
+        is lowered to now (DIVERGED_ITS) and restored at the next solve;
+        the contact solve restarts from the clamped state (cpp/contact/convergence.cpp)."""
+        if iteration == 0:
+            self.residuals = []
+            if self.lowered_from:
+                ksp.setTolerances(max_it=self.lowered_from)
+            self.lowered_from = 0
+        self.residuals.append(rnorm)
+        w = self.stagnation_window
+        if iteration >= w and rnorm > 0.99 * self.residuals[iteration - w]:
+            self.lowered_from = ksp.getTolerances()[3]
+            ksp.setTolerances(max_it=iteration)
+
+    def _start(self, snes, fnorm, rtol):
+        """A solve's first residual sets its relative targets."""
+        # with friction F is not linear, and a start far off (the clamped
+        # start of a body that slides) would make any residual "relative":
+        # relative to the load then, where that is smaller
+        load = self.load.norm()
+        self.relative_target = rtol * min(fnorm, load if self.friction else fnorm)
+        # a step that left the residual above a fraction of the first (or of
+        # the load, where the start was close) did not solve F = 0 on its
+        # set (a singular reduced system: a body held by the contact alone,
+        # from a start that presses on nothing)
+        self.repeated_set_bound = REPEATED_SET_FRACTION * max(fnorm, load)
+        self.separate_relative_target = rtol * self._separate_norm(snes.getFunction()[0])
+        self.separate_met = False
+
+    def _converged(self, snes, iteration, norms):
+        """PETSc's test of the VI methods after at least one step, and the
+        stopping rule of the primal-dual active set method: the step kept its
+        active set, so x solves the VI even where the residual's round-off
+        lies above atol (cpp/contact/convergence.cpp). With friction F is
+        not linear: only the residual says when it is solved."""
+        _, _, fnorm = norms
+        rtol, atol, _, _ = snes.getTolerances()
+        if iteration == 0:
+            self._start(snes, fnorm, rtol)
+        separate = self._separate_may_stop(self._separate_solved(iteration))
+        reasons = PETSc.SNES.ConvergedReason
+        if not np.isfinite(fnorm):
+            return reasons.DIVERGED_FNORM_NAN
+        # a step taken, or the start with friction
+        if (iteration > 0 or self.friction) and fnorm < atol and separate:
+            return reasons.CONVERGED_FNORM_ABS
+        if iteration > 0 and fnorm < self.relative_target and separate:
+            return reasons.CONVERGED_FNORM_RELATIVE
+        if iteration > 0 and self.set_repeated and not self.friction:
+            if fnorm <= self.repeated_set_bound:
+                return reasons.CONVERGED_ITS
+            # above both refused at once (the solver starts again clamped),
+            # else iterated on
+            if fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
+                return reasons.DIVERGED_DTOL
+        return reasons.CONVERGED_ITERATING
+
+    def _separate_norm(self, v):
+        """The norm of v on the separate rows (collective)."""
+        rows = v.array_r[self.separate_rows]
+        return float(np.sqrt(self.comm.allreduce(float(np.sum(rows ** 2)), op=MPI.SUM)))
+
+    def _separate_solved(self, iteration):
+        """Whether the residual is small on the separate rows (collective)."""
+        norm = self._separate_norm(self.snes.getFunction()[0])
+        return norm <= self.separate_tolerance or (iteration > 0 and norm <= self.separate_relative_target)
+
+    def _separate_may_stop(self, met):
+        """Whether a solve whose separate rows are solved (`met`) may stop:
+        with friction and separate rows, only one Newton step after they
+        were first met in this solve (a separate row's tolerance lies far
+        above its round-off where its load holds terms that cancel at the
+        solution; cpp/contact/convergence.cpp)."""
+        if not met or not (self.friction and self.any_separate):
+            return met
+        was, self.separate_met = self.separate_met, True
+        return was
