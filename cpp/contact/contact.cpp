@@ -36,9 +36,6 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
 
 namespace
 {
-/// What a friction that fails to converge most often means.
-constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
-
 /// Reads -<prefix>contact_condensed through PETSc's options database, so
 /// that -help lists it with this run's default.
 PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed)
@@ -98,8 +95,7 @@ std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<Frict
 ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method method, ContactOperators operators,
                              ContactUnknowns unknowns)
     : _comm(comm), _A(operators.A), _P(operators.P), _fields(system.fields), _structure(system.structure),
-      _prefix(system.prefix), _set(std::move(unknowns.set)), _displacement_dofs(std::move(unknowns.displacement_dofs)),
-      _separate_rows(std::move(unknowns.separate_rows))
+      _prefix(system.prefix), _set(std::move(unknowns.set)), _displacement_dofs(std::move(unknowns.displacement_dofs))
 {
   const std::string& prefix = system.prefix;
   const Vec layout = unknowns.layout;
@@ -116,28 +112,21 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
   MPI_Allreduce(&local_dofs, &all_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  const bool condensed = use_condensation(comm, prefix, method, all_dofs, operators.changing);
-  if (condensed)
-    condense();
-  else
-    pose_on_full_system(layout);
-  make_friction();
-  const std::string vi_prefix = condensed ? prefix + "contact_" : prefix;
-  if (_J and !condensed)
-    unsymmetric_jacobian_options(prefix);
-  _preconditioner_on_P = !condensed and method == Method::iterative;
-  create_snes(vi_prefix);
-  if (_preconditioner_on_P)
+  if (use_condensation(comm, prefix, method, all_dofs, operators.changing))
   {
-    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _P_vi, _fields, prefix);
-    KSP ksp;
-    SNESGetKSP(_snes, &ksp);
-    _convergence->watch(ksp);
-    set_tolerance(iterative_tolerance);
+    VIProblem problem = condense();
+    Vec y = problem.layout; // the VI keeps a duplicate
+    add_friction(problem);
+    _vi = std::make_unique<VariationalInequality>(std::move(problem), std::nullopt);
+    VecDestroy(&y);
   }
-  if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
-    throw OptionsError("the PETSc options of " + system_name(prefix)
-                       + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
+  else
+  {
+    VIProblem problem = pose_on_full_system(layout, std::move(unknowns.separate_rows));
+    add_friction(problem);
+    _vi = std::make_unique<VariationalInequality>(std::move(problem),
+                                                  WholeSystem{comm, _A_vi, _P_vi, {prefix, _structure, _fields}, method});
+  }
   // Only the VI methods take bounds; any other would ignore the contact.
   // Asked of both prefixes, so that a type given for the path not taken
   // is not ignored silently either.
@@ -152,14 +141,14 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
 /// The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
 /// (schur_complement.h): every unknown of the small dense problem is bounded.
-void ContactSolver::condense()
+VIProblem ContactSolver::condense()
 {
   const std::vector<std::int32_t> dofs = contact_dofs();
   _schur = std::make_unique<SchurComplement>(_comm, _prefix, _A_vi, _structure, dofs);
-  _vi_stage = std::make_unique<SolverStage>(_prefix + "contact");
-  _vi_comm = PETSC_COMM_SELF;
-  _K = _schur->matrix();
   const PetscInt m = _schur->size();
+  // Every rank solves the same small problem.
+  VIProblem p{PETSC_COMM_SELF, _prefix + "contact_", _prefix + "contact", _prefix, _schur->matrix(), nullptr};
+  VecCreateSeq(PETSC_COMM_SELF, m, &p.layout);
   // Each rank's constraints come first among its contact DOFs, its
   // tangential ones (friction) after them: the bounded DOFs of H are the
   // constraints'.
@@ -173,19 +162,17 @@ void ContactSolver::condense()
   for (PetscInt k = 0; k < m; ++k)
     if (all_bounded[k] > 0)
     {
-      _bounded.push_back(static_cast<std::int32_t>(k));
-      _bounded_gap.push_back(all_gap[k]);
-      _bounded_sign.push_back(all_sign[k]);
+      p.bounded.push_back(static_cast<std::int32_t>(k));
+      p.gap.push_back(all_gap[k]);
+      p.sign.push_back(all_sign[k]);
     }
-  VecCreateSeq(PETSC_COMM_SELF, m, &_x);
   // H is small and dense: LAPACK's factorisation, Cholesky when A is SPD
   // but for the Jacobian of friction, which is not symmetric.
-  const std::string vi_prefix = _prefix + "contact_";
-  set_default_option(vi_prefix + "ksp_type", "preonly");
+  set_default_option(p.prefix + "ksp_type", "preonly");
   const bool symmetric = _structure == Structure::spd and !any_frictional(_set, _comm);
-  set_default_option(vi_prefix + "pc_type", symmetric ? "cholesky" : "lu");
-  set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc");
-  make_bound_vectors();
+  set_default_option(p.prefix + "pc_type", symmetric ? "cholesky" : "lu");
+  set_default_option(p.prefix + "pc_factor_mat_solver_type", "petsc");
+  return p;
 }
 
 std::vector<std::int32_t> ContactSolver::contact_dofs() const
@@ -202,7 +189,7 @@ std::vector<std::int32_t> ContactSolver::contact_dofs() const
 /// this rank's, at their local positions; condensed, every rank's at their
 /// places in H (each rank's contact DOFs from offset(), contact_dofs()'s
 /// order), gathered to every rank.
-void ContactSolver::make_friction()
+void ContactSolver::add_friction(VIProblem& problem) const
 {
   const int d = _set.dim;
   const PetscInt first = _schur ? _schur->offset() : 0;
@@ -220,125 +207,36 @@ void ContactSolver::make_friction()
     f.law = _set.laws[_set.boundary[k]];
     mine.push_back(f);
   }
-  _friction = _schur ? all_gather_constraints(mine, _comm) : mine;
-  if (!any_frictional(_set, _comm))
-    return;
-  for (Vec* v : {&_x_reference, &_stiffness, &_work})
-    VecDuplicate(_x, v);
-  VecSet(_x_reference, 0.0);
-  MatDuplicate(_K, MAT_COPY_VALUES, &_J);
-  // Its tangential rows are combinations of the constraint's own rows of K
-  // (friction_jacobian), inside K's pattern where the rows of a node share
-  // it; allowed to grow where they do not.
-  if (!_schur)
-    MatSetOption(_J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
-  MatSetOption(_J, MAT_SPD, PETSC_FALSE);
-  MatSetOption(_J, MAT_SYMMETRIC, PETSC_FALSE);
+  problem.friction = _schur ? all_gather_constraints(mine, _comm) : mine;
+  problem.tangents = d - 1;
+  problem.frictional = any_frictional(_set, _comm);
 }
 
 /// The VI on the full system: only the contact DOFs are bounded.
-void ContactSolver::pose_on_full_system(Vec layout)
+VIProblem ContactSolver::pose_on_full_system(Vec layout, std::vector<std::int32_t> separate_rows) const
 {
-  _vi_comm = _comm;
-  _K = _A_vi;
-  _bounded = _dofs;
-  _bounded_gap = _set.gap;
-  _bounded_sign.assign(_set.sign.begin(), _set.sign.end());
-  VecDuplicate(layout, &_x);
-  make_bound_vectors();
+  VIProblem p{_comm, _prefix, "", _prefix, _A_vi, layout, _dofs, _set.gap, {}};
+  p.sign.assign(_set.sign.begin(), _set.sign.end());
+  p.separate_rows = std::move(separate_rows);
+  return p;
 }
 
-/// The residual and the bounds, unbounded until solve() sets the contact ones.
-void ContactSolver::make_bound_vectors()
-{
-  VecDuplicate(_x, &_residual);
-  VecDuplicate(_x, &_lower);
-  VecDuplicate(_x, &_upper);
-  VecDuplicate(_x, &_b_scaled);
-  VecSet(_lower, PETSC_NINFINITY);
-  VecSet(_upper, PETSC_INFINITY);
-}
 
-/// The semismooth Newton VI solver (SNES vinewtonrsls) and its defaults;
-/// the user's -<vi_prefix>snes_* options override them.
-void ContactSolver::create_snes(const std::string& vi_prefix)
-{
-  // Jacobian evaluations cost nothing (the matrix is constant); the
-  // factorisation is built at the first Newton step and then reused ("-2":
-  // rebuild once, then lag forever) until the inactive set changes, when
-  // SNES VI resets the preconditioner itself (PETSc 3.18 virs.c,
-  // SNESVIResetPCandKSP).
-  PetscBool lag_given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
-  _lag_by_default = !lag_given;
-  PetscOptionsHasName(nullptr, vi_prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
-  // With friction the Jacobian changes every step: no lag for a
-  // factorisation of it. The iterative path's preconditioner is built from
-  // P and the inactive set alone (inactive_set_preconditioner.h), not from
-  // the Jacobian: it is reused across Newton steps there too.
-  set_default_option(vi_prefix + "snes_lag_preconditioner", lag_preconditioner() ? "-2" : "1");
-  set_default_option(vi_prefix + "snes_rtol", "1e-10");
-  set_default_option(vi_prefix + "snes_stol", "1e-12");
-  set_default_option(vi_prefix + "snes_max_it", "100");
-  // F is linear and its matrix the exact Jacobian: the full semismooth
-  // Newton step is exact on the current active set, and a backtracking
-  // search only fails once the residual is at round-off.
-  // With friction F is semismooth, and full steps can overshoot where a
-  // constraint changes state: a backtracking search. But not with separate
-  // rows: the search's merit ||F||, the forces' (N), is blind to them (the
-  // coupled system's mass balances, m^3/s); with the forces at round-off
-  // it shrank their step to nothing (a conduit fault's p_f,
-  // test_conduit_monolithic).
-  // Condensed, the VI's unknown is the contact DOFs alone.
-  _convergence = std::make_unique<ContactConvergence>(
-      _vi_comm, VIBounds{_lower, _upper, _bounded},
-      _schur ? std::vector<std::int32_t>{} : std::move(_separate_rows));
-  const bool backtrack = _J and !_convergence->has_separate_rows();
-  set_default_option(vi_prefix + "snes_linesearch_type", backtrack ? "bt" : "basic");
-  // No cap on the step's length (PETSc's 1e8): x is in units of the
-  // displacement scale, so the pressures of the coupled system run to 1e10
-  // and more, and a capped step crawls (a conduit fault's p_f moved 0.1 %
-  // of its way per solve).
-  set_default_option(vi_prefix + "snes_linesearch_maxstep", "1e300");
-  SNESCreate(_vi_comm, &_snes);
-  SNESSetOptionsPrefix(_snes, vi_prefix.c_str());
-  SNESSetType(_snes, SNESVINEWTONRSLS);
-  SNESSetFunction(_snes, _residual, &ContactSolver::residual, this);
-  SNESSetJacobian(_snes, _J ? _J : _K, _J ? _J : _K, &ContactSolver::jacobian, this);
-  SNESVISetVariableBounds(_snes, _lower, _upper);
-  _convergence->attach(_snes, _b_scaled, _J != nullptr);
-  // At least one Newton step per solve: a step is an exact solve on the
-  // active set, so the result never lags behind the load (a residual
-  // already below the tolerance would otherwise leave x as it was).
-  // (Not with the backtracking search of friction: its F is not
-  // linear, the residual decides, and the search fails on a zero step.)
-  SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE);
-}
 std::string ContactSolver::method() const
 {
   return _schur ? "condensed on " + std::to_string(_schur->size()) + " contact DOFs" : "full";
 }
 
+void ContactSolver::set_tolerance(double relative) { _vi->set_tolerance(relative); }
+
 void ContactSolver::operator_changed()
 {
-  // H is formed again at the next solve; re-arm "rebuild once, then reuse"
-  // (the lag is -1 after the first build).
+  // H and A' are formed again at the next solve.
   _schur_current = false;
   _change_current = false;
-  if (_lag_by_default and lag_preconditioner())
-    SNESSetLagPreconditioner(_snes, -2);
+  _vi->operator_changed();
 }
 
-void ContactSolver::set_tolerance(double relative)
-{
-  if (!_preconditioner)
-    return;
-  KSP ksp;
-  SNESGetKSP(_snes, &ksp);
-  set_relative_tolerance(ksp, _prefix, relative);
-  if (!_snes_rtol_given)
-    SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
-}
 
 
 
@@ -346,11 +244,8 @@ void ContactSolver::set_tolerance(double relative)
 
 ContactSolver::~ContactSolver()
 {
-  SNESDestroy(&_snes);
-  for (Vec* v : {&_x, &_residual, &_lower, &_upper, &_b_scaled, &_force, &_x_vi, &_b_vi, &_x_reference, &_stiffness,
-                 &_work, &_x_start, &_x_start_vi})
+  for (Vec* v : {&_force, &_x_vi, &_b_vi, &_x_start, &_x_start_vi})
     VecDestroy(v);
-  MatDestroy(&_J);
   if (_change)
   {
     if (_P_vi != _A_vi)
@@ -359,57 +254,8 @@ ContactSolver::~ContactSolver()
   }
 }
 
-// F(x) = K x - b/s: the gradient of the quadratic energy, in units of s;
-// with friction its frictional constraints' tangential rows carry the
-// return map (friction.h).
-PetscErrorCode ContactSolver::residual(SNES, Vec x, Vec F, void* context)
-{
-  auto* self = static_cast<ContactSolver*>(context);
-  PetscCall(MatMult(self->_K, x, F));
-  PetscCall(VecAXPY(F, -1.0, self->_b_scaled));
-  if (self->_J)
-    PetscCall(self->add_friction(x, F));
-  return 0;
-}
 
-// The Jacobian is the constant matrix K (A, or H formed once per A); with
-// friction the generalised Jacobian of its rows (friction_jacobian).
-PetscErrorCode ContactSolver::jacobian(SNES, Vec x, Mat, Mat, void* context)
-{
-  auto* self = static_cast<ContactSolver*>(context);
-  if (!self->_J)
-    return 0;
-  PetscCall(MatMult(self->_K, x, self->_work));
-  PetscCall(VecAXPY(self->_work, -1.0, self->_b_scaled));
-  const PetscScalar *X, *R, *start, *c;
-  PetscCall(VecGetArrayRead(x, &X));
-  PetscCall(VecGetArrayRead(self->_work, &R));
-  PetscCall(VecGetArrayRead(self->_x_reference, &start));
-  PetscCall(VecGetArrayRead(self->_stiffness, &c));
-  PetscCall(friction_jacobian(self->_friction, {X, R, start, c, self->_scale, self->_set.dim - 1}, self->_K, self->_J));
-  PetscCall(VecRestoreArrayRead(x, &X));
-  PetscCall(VecRestoreArrayRead(self->_work, &R));
-  PetscCall(VecRestoreArrayRead(self->_x_reference, &start));
-  PetscCall(VecRestoreArrayRead(self->_stiffness, &c));
-  return 0;
-}
 
-PetscErrorCode ContactSolver::add_friction(Vec x, Vec F) const
-{
-  const PetscScalar *X, *start, *c;
-  PetscScalar* R;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(x, &X));
-  PetscCall(VecGetArray(F, &R));
-  PetscCall(VecGetArrayRead(_x_reference, &start));
-  PetscCall(VecGetArrayRead(_stiffness, &c));
-  add_friction_forces(_friction, {X, R, start, c, _scale, _set.dim - 1}, R);
-  PetscCall(VecRestoreArrayRead(x, &X));
-  PetscCall(VecRestoreArray(F, &R));
-  PetscCall(VecRestoreArrayRead(_x_reference, &start));
-  PetscCall(VecRestoreArrayRead(_stiffness, &c));
-  PetscFunctionReturn(0);
-}
 
 double ContactSolver::displacement_scale(Vec x) const
 {
@@ -441,20 +287,24 @@ void ContactSolver::solve(Vec b, Vec x)
     _schur->assemble();
     _schur_current = true;
   }
-  // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
-  // works on x / s with s the displacement scale (largest gap or |x|); the
-  // residual K (x/s) - b/s has the same Jacobian K.
-  _scale = displacement_scale(x_vi);
-  set_bounds();
-  pose(b_vi, x_vi);
-  if (_J) // the stiffness that turns a slip increment into a trial force
-    check_petsc(MatGetDiagonal(_K, _stiffness), "friction: the diagonal of the contact matrix");
-  solve_vi();
-  VecScale(_x, _scale);
+  // The VI's load and start: on C alone when condensed, (H, g) with y = x_C
+  // (schur_complement.h).
   if (_schur)
-    _schur->extend(b_vi, _x, x_vi);
+  {
+    _schur->condensed_load(b_vi, _vi->load());
+    _schur->restrict_to_contact(x_vi, _vi->unknown());
+  }
   else
-    VecCopy(_x, x_vi);
+  {
+    VecCopy(b_vi, _vi->load());
+    VecCopy(x_vi, _vi->unknown());
+  }
+  // In units of the displacement scale (the largest gap or |x|).
+  _vi->solve(displacement_scale(x_vi));
+  if (_schur)
+    _schur->extend(b_vi, _vi->unknown(), x_vi);
+  else
+    VecCopy(_vi->unknown(), x_vi);
   if (_change)
     _change->backward(x_vi, x);
 }
@@ -462,170 +312,24 @@ void ContactSolver::solve(Vec b, Vec x)
 void ContactSolver::set_slip_reference(Vec x)
 {
   VecCopy(x, _x_start);
-  if (!_x_reference)
+  Vec reference = _vi->slip_reference();
+  if (!reference)
     return;
   Vec x_vi = to_vi(x, _x_vi);
   if (_schur)
-    _schur->restrict_to_contact(x_vi, _x_reference);
+    _schur->restrict_to_contact(x_vi, reference);
   else
-    VecCopy(x_vi, _x_reference);
-}
-
-void ContactSolver::solve_vi()
-{
-  SNESConvergedReason reason = run_snes();
-  count_iterations(reason);
-  if (reason < 0)
-  {
-    // A body held in the normal direction by the foundation alone is
-    // semi-coercive: from a start where no contact DOF pushes on its bound
-    // the reduced system is singular. Start again from the state with every
-    // contact node on the foundation; there the contact forces say which
-    // nodes to release.
-    clamped_start();
-    reason = run_snes();
-    count_iterations(reason);
-  }
-  if (reason < 0)
-    throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
-                      + SNESConvergedReasons[reason] + (_J ? no_equilibrium : ""));
-}
-
-/// u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a, in
-/// units of the displacement scale.
-void ContactSolver::set_bounds()
-{
-  PetscScalar *lo, *up;
-  VecGetArray(_lower, &lo);
-  VecGetArray(_upper, &up);
-  for (std::size_t k = 0; k < _bounded.size(); ++k)
-  {
-    if (_bounded_sign[k] > 0)
-      up[_bounded[k]] = _bounded_gap[k] / _scale;
-    else
-      lo[_bounded[k]] = -_bounded_gap[k] / _scale;
-  }
-  VecRestoreArray(_lower, &lo);
-  VecRestoreArray(_upper, &up);
-}
-
-/// The scaled load and start of the VI (on C alone when condensed: (H, g)
-/// with y = x_C, schur_complement.h), and its absolute tolerance relative
-/// to the load unless -snes_atol is given: scale-free.
-void ContactSolver::pose(Vec b, Vec x)
-{
-  if (_schur)
-  {
-    _schur->condensed_load(b, _b_scaled);
-    _schur->restrict_to_contact(x, _x);
-  }
-  else
-  {
-    VecCopy(b, _b_scaled);
-    VecCopy(x, _x);
-  }
-  VecScale(_b_scaled, 1.0 / _scale);
-  VecScale(_x, 1.0 / _scale);
-  const char* prefix = nullptr;
-  SNESGetOptionsPrefix(_snes, &prefix);
-  PetscBool atol_given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, prefix, "-snes_atol", &atol_given);
-  if (!atol_given)
-  {
-    PetscReal bnorm = 0;
-    VecNorm(_b_scaled, NORM_2, &bnorm);
-    // With friction the residual decides the last step (F is not
-    // linear): tighter, Newton's last steps are quadratic.
-    const double relative = _J ? 1e-12 : 1e-10;
-    SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
-                      PETSC_DEFAULT);
-  }
-  _convergence->pose();
+    VecCopy(x_vi, reference);
 }
 
 
 
 
-/// Every attempt's steps count, a failed Krylov solve's iterations too
-/// (SNES leaves them out of its own count): they cost their time.
-void ContactSolver::count_iterations(SNESConvergedReason reason)
-{
-  PetscInt its = 0, lits = 0, failed = 0;
-  SNESGetIterationNumber(_snes, &its);
-  SNESGetLinearSolveIterations(_snes, &lits);
-  if (reason == SNES_DIVERGED_LINEAR_SOLVE)
-  {
-    KSP ksp;
-    SNESGetKSP(_snes, &ksp);
-    KSPGetIterationNumber(ksp, &failed);
-  }
-  newton_iterations += its;
-  linear_iterations += lits + failed;
-}
 
-SNESConvergedReason ContactSolver::run_snes()
-{
-  std::optional<SolverStage::Guard> stage;
-  if (_vi_stage)
-    stage.emplace(*_vi_stage);
-  if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _x); ierr != 0)
-    throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
-  SNESConvergedReason reason;
-  SNESGetConvergedReason(_snes, &reason);
-  return reason;
-}
 
-void ContactSolver::clamped_start()
-{
-  // Every contact DOF on its bound; the other DOFs (none when condensed)
-  // solve their equations: A x = b/s with the contact rows and columns
-  // eliminated and the known values moved to the right-hand side.
-  PetscInt start = 0;
-  VecGetOwnershipRange(_x, &start, nullptr);
-  std::vector<PetscInt> rows;
-  const PetscScalar *lo, *up;
-  VecGetArrayRead(_lower, &lo);
-  VecGetArrayRead(_upper, &up);
-  PetscScalar* x;
-  VecGetArray(_x, &x);
-  for (std::size_t k = 0; k < _bounded.size(); ++k)
-  {
-    const std::int32_t dof = _bounded[k];
-    rows.push_back(start + dof);
-    x[dof] = _bounded_sign[k] > 0 ? up[dof] : lo[dof];
-  }
-  VecRestoreArray(_x, &x);
-  VecRestoreArrayRead(_lower, &lo);
-  VecRestoreArrayRead(_upper, &up);
-  if (_schur)
-    return;
-  // A (and the preconditioning matrix P, when it is another) with the
-  // contact rows and columns made identity rows.
-  auto clamped_copy = [&](Mat M, Vec rhs)
-  {
-    Mat C;
-    MatDuplicate(M, MAT_COPY_VALUES, &C);
-    MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
-    MatGetNearNullSpace(M, &modes);
-    if (modes)
-      MatSetNearNullSpace(C, modes);
-    MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, rhs ? _x : nullptr, rhs);
-    return C;
-  };
-  Vec rhs;
-  VecDuplicate(_b_scaled, &rhs);
-  VecCopy(_b_scaled, rhs);
-  Mat A = clamped_copy(_A_vi, rhs);
-  Mat P = _P_vi == _A_vi ? A : clamped_copy(_P_vi, nullptr);
-  {
-    LinearSolver clamped(_comm, _prefix, A, P, _structure, _fields);
-    clamped.solve(_x, rhs);
-  }
-  if (P != A)
-    MatDestroy(&P);
-  MatDestroy(&A);
-  VecDestroy(&rhs);
-}
+
+
+
 
 void ContactSolver::make_change_of_variables(Vec layout)
 {

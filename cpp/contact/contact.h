@@ -1,30 +1,20 @@
 // Signorini contact against rigid foundations of any normal nu_F and
 // between a fault's faces (alg. "Mechanics with frictionless Signorini
-// contact"; friction: contact_law.h).
-//
-// The energy is quadratic, so with A the matrix of the (mechanics or
-// monolithic) system and b its load vector the variational inequality is the
-// bound-constrained problem
-//     find x' with l <= x' <= g and F(x') = A' x' - b' complementary to the
-//     bounds,
-// in the variables x' = T x of change_of_variables.h, where each constraint
-// u.nu_F <= g_a of a contact node is a bound on one DOF (T = I, A' = A
-// when every normal is a coordinate axis). PETSc's reduced-space active-set
-// Newton (SNESVINEWTONRSLS) solves it; F is linear, A' its exact Jacobian,
-// formed once per assembly of A. With friction the tangential rows of the
-// frictional constraints carry the return map on the Coulomb disc
-// (friction.h): F is semismooth, and the same Newton iteration decides
-// open, stick and slip with its generalised Jacobian.
+// contact"; friction: contact_law.h). The energy is quadratic: with A the
+// matrix of the (mechanics or monolithic) system and b its load, each
+// constraint u.nu_F <= g_a is a bound on one DOF of x' = T x
+// (change_of_variables.h), and the contact is the variational inequality
+// of variational_inequality.h on (A' = T^-T A T^-1, b' = T^-T b), or on the
+// Schur complement of its contact DOFs (schur_complement.h).
 #pragma once
 
 #include "contact/contact_law.h"
 #include "contact/friction.h"
 #include "contact/contact_set.h"
 #include "contact/contact_state.h"
-#include "contact/convergence.h"
-#include "solvers/inactive_set_preconditioner.h"
 #include "contact/change_of_variables.h"
 #include "contact/schur_complement.h"
+#include "contact/variational_inequality.h"
 #include "solvers/solver.h"
 
 #include <array>
@@ -147,56 +137,38 @@ public:
   std::string method() const;
   /// Preconditioner set-ups of the iterative full path (-1 otherwise: then
   /// PETSc's PCSetUp events count them).
-  long preconditioner_setups() const { return _preconditioner ? _preconditioner->setups : -1; }
-  double preconditioner_setup_time() const { return _preconditioner ? _preconditioner->setup_time : 0; }
+  long preconditioner_setups() const { return _vi->preconditioner_setups(); }
+  double preconditioner_setup_time() const { return _vi->preconditioner_setup_time(); }
   /// Right-hand sides solved, partial factorisations and seconds spent
   /// forming H (0 when full).
   long schur_columns() const { return _schur ? _schur->columns : 0; }
   long schur_factorizations() const { return _schur ? _schur->factorizations : 0; }
   double schur_time() const { return _schur ? _schur->time : 0; }
 
-  long newton_iterations = 0, linear_iterations = 0;
+  /// Newton steps and Krylov iterations (1 per back-solve when direct).
+  long newton_iterations() const { return _vi->newton_iterations; }
+  long linear_iterations() const { return _vi->linear_iterations; }
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
-  long active_set_changes() const { return _convergence->active_set_changes; }
+  long active_set_changes() const { return _vi->convergence().active_set_changes; }
 
   /// `told` is called after each Newton step with its number: a long
   /// solve's sign of life (the run's progress line).
-  void on_newton_step(std::function<void(int)> told) { _convergence->on_newton_step = std::move(told); }
+  void on_newton_step(std::function<void(int)> told) { _vi->convergence().on_newton_step = std::move(told); }
 
 private:
   /// The contact DOFs of the VI: each constraint's, then the tangential
   /// ones of the frictional constraints.
   std::vector<std::int32_t> contact_dofs() const;
+  /// The VI on the Schur complement of the contact DOFs (and a new vector
+  /// like its unknown, the caller's to destroy).
+  VIProblem condense();
+  /// The VI on the whole system.
+  VIProblem pose_on_full_system(Vec layout, std::vector<std::int32_t> separate_rows) const;
   /// The frictional constraints, once the VI is posed.
-  void make_friction();
-  /// The VI with the current bounds and load; retried from the clamped
-  /// state when the first attempt fails; throws when both do.
-  void solve_vi();
-  /// F += the friction forces at x (F holds R on entry); a step of the
-  /// residual callback, so it returns PETSc's error code.
-  PetscErrorCode add_friction(Vec x, Vec F) const;
-  void condense();
-  void pose_on_full_system(Vec layout);
-  void make_bound_vectors();
-  void create_snes(const std::string& vi_prefix);
-  /// Whether the Newton steps reuse the preconditioner until the inactive
-  /// set or the operator changes: always but for a factorisation of the
-  /// Jacobian of friction, which changes every step.
-  bool lag_preconditioner() const { return !_J or _preconditioner_on_P; }
-  void set_bounds();
-  void pose(Vec b, Vec x);
-  void count_iterations(SNESConvergedReason reason);
-  /// Sets the unknown of the VI to the solution with every contact DOF on
-  /// its bound.
-  void clamped_start();
+  void add_friction(VIProblem& problem) const;
   /// The largest gap or displacement (collective): SNES works in its units.
   double displacement_scale(Vec x) const;
-  /// Runs SNESSolve on the unknown of the VI; throws on a PETSc error.
-  SNESConvergedReason run_snes();
-  static PetscErrorCode residual(SNES, Vec x, Vec F, void* context);
-  static PetscErrorCode jacobian(SNES, Vec, Mat, Mat, void*);
-  std::vector<char> active_contact_dofs(Vec x, bool* clipped = nullptr) const;
   /// The change of variables of the inclined and curved foundations, made
   /// when any node needs one (collective), and the operators it makes.
   void make_change_of_variables(Vec layout);
@@ -220,38 +192,15 @@ private:
   std::vector<Field> _fields;
   Structure _structure;
   std::string _prefix;
-  bool _lag_by_default = false;
-  bool _preconditioner_on_P = false; // the iterative full path: built from P, not from the Jacobian
-  PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
   ContactSet _set;
   std::vector<std::int32_t> _dofs, _displacement_dofs;
-  std::vector<std::int32_t> _separate_rows; // ContactUnknowns::separate_rows, until the VI is posed
   Vec _force; // like x: A x - b
-
-  // The VI that SNES solves: on (A, b) or on (H, g). Its unknown carries
-  // bounds at `_bounded` (the contact DOFs in its numbering) with gaps
-  // `_bounded_gap`; it lives on `_vi_comm` (PETSC_COMM_SELF when condensed:
-  // every rank solves the same small problem).
+  // The VI: on (A', b') or, condensed, on (H, g) of the Schur complement.
   std::unique_ptr<SchurComplement> _schur;
   bool _schur_current = false;
-  std::unique_ptr<SolverStage> _vi_stage;
-  MPI_Comm _vi_comm;
-  Mat _K;
-  std::vector<std::int32_t> _bounded;
-  std::vector<double> _bounded_gap, _bounded_sign;
-  Vec _lower, _upper, _x, _residual, _b_scaled;
-  double _scale = 1; // SNES works in units of the displacement scale
-  SNES _snes;
-  std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
-  std::unique_ptr<ContactConvergence> _convergence;
-  // Friction: its constraints, the start of the step (in the VI's
-  // numbering, unscaled), the diagonal of K (the stiffness that turns a slip
-  // increment into a trial force) and a work vector.
-  std::vector<FrictionalConstraint> _friction;
-  Vec _x_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+  std::unique_ptr<VariationalInequality> _vi;
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
-  Mat _J = nullptr; // friction: the generalised Jacobian (friction.h)
 };
 
 } // namespace biotcontact

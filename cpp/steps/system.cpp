@@ -282,7 +282,7 @@ void System::reassemble()
     _linear->operator_changed();
 }
 
-long System::newton_steps() const { return _contact ? _contact->newton_iterations : 0; }
+long System::newton_steps() const { return _contact ? _contact->newton_iterations() : 0; }
 
 SolverStatistics System::statistics() const
 {
@@ -297,8 +297,8 @@ SolverStatistics System::statistics() const
     s.setups = _contact->preconditioner_setups(), s.setup_time = _contact->preconditioner_setup_time();
   if (_contact)
   {
-    s.newton_iterations = _contact->newton_iterations;
-    s.linear_iterations = _contact->linear_iterations;
+    s.newton_iterations = _contact->newton_iterations();
+    s.linear_iterations = _contact->linear_iterations();
     s.active_set_changes = _contact->active_set_changes();
     s.schur_columns = _contact->schur_columns();
     s.schur_factorizations = _contact->schur_factorizations();

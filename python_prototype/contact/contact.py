@@ -1,18 +1,12 @@
 """Signorini contact against rigid foundations of any normal nu_F and
 between a fault's faces (alg. "Mechanics with frictionless Signorini
 contact"; friction: contact_law.py; cpp/contact/contact.h), for the
-mechanics and the monolithic systems alike.
-
-The energy is quadratic, so with A the system matrix and b its load vector
-the variational inequality is the bound-constrained problem: find x' with
-l <= x' <= g and F(x') = A' x' - b' complementary to the bounds, in the
-variables x' = T x of change_of_variables.py, where each constraint
-u.nu_F <= g_a is a bound on one DOF (T = I, A' = A when every normal is a
-coordinate axis). PETSc's reduced-space active-set Newton (SNES
-vinewtonrsls) solves it. With friction the tangential rows of the frictional
-constraints carry the return map on the Coulomb disc (friction.py): F is
-semismooth, and the same Newton iteration decides open, stick and slip with
-its generalised Jacobian.
+mechanics and the monolithic systems alike. The energy is quadratic: with
+A the system matrix and b its load, each constraint u.nu_F <= g_a is a
+bound on one DOF of x' = T x (change_of_variables.py), and the contact is
+the variational inequality of variational_inequality.py on
+(A' = T^-T A T^-1, b' = T^-T b), or on the Schur complement of its contact
+DOFs (schur_complement.py).
 """
 import dataclasses
 
@@ -20,20 +14,17 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..assembly.linear_algebra import set_lag_preconditioner
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state
-from .convergence import ContactConvergence, VIBounds
-from .friction import FrictionalConstraint, FrictionPoint, add_friction_forces, friction_jacobian
+from .friction import FrictionalConstraint
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
 from .schur_complement import SchurComplement
-from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
-from ..solvers.options import OptionsError, system_name
-from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStage, Structure,
-                     reason_name, set_default_option, set_relative_tolerance, unsymmetric_jacobian_options)
+from .variational_inequality import VariationalInequality, VIProblem, WholeSystem
+from ..solvers.options import OptionsError
+from ..solvers.solver import Method, SolverStage, Structure, SystemLayout, set_default_option
 from ..scene.scene import agree_on_error
 
 
@@ -149,35 +140,22 @@ class ContactSolver:
         if structure == Structure.spd:  # carries over to the inactive-set submatrices
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.displacement_dofs = np.asarray(unknowns.displacement_dofs, dtype=np.int32)
-        self.separate_rows = np.asarray(unknowns.separate_rows, dtype=np.int32)
         self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
         self.force = A.createVecRight()
         # The start of the step like x, and x' of it (the faults' slip increments).
         self.x_start, self.x_start_vi = A.createVecRight(), A.createVecRight()
         self.x_start.set(0.0)
         self._make_change_of_variables()
-        self.schur, self.schur_current, self.vi_stage, self.preconditioner = None, False, None, None
+        self.schur, self.schur_current = None, False
         condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM),
                                        operators.changing)
         if condensed:
-            self._condense()
+            problem, whole = self._condense(), None
         else:
-            self._pose_on_full_system()
-        self._make_friction()
-        vi_prefix = prefix + "contact_" if condensed else prefix
-        if self.J is not None and not condensed:
-            unsymmetric_jacobian_options(prefix)
-        self.preconditioner_on_P = not condensed and method == Method.iterative
-        self._create_snes(vi_prefix)
-        if self.preconditioner_on_P:
-            self.convergence.watch(self.snes.getKSP())
-            self.preconditioner = InactiveSetPreconditioner(self.snes, self.P_vi, self.fields, prefix)
-            self.set_tolerance(ITERATIVE_TOLERANCE)
-        try:
-            self.snes.setFromOptions()
-        except PETSc.Error as e:
-            raise OptionsError(f"the PETSc options of {system_name(prefix)} contact solver do not make a solver "
-                               f"(PETSc error {e.ierr})") from None
+            problem = self._pose_on_full_system(unknowns.separate_rows)
+            whole = WholeSystem(comm, self.A_vi, self.P_vi, SystemLayout(prefix, structure, self.fields), method)
+        self._add_friction(problem)
+        self.vi = VariationalInequality(problem, whole)
         # Only the VI methods take bounds; asked of both prefixes, so that a
         # type given for the path not taken is not ignored silently either.
         for p in (prefix, prefix + "contact_"):
@@ -185,17 +163,13 @@ class ContactSolver:
             if given and given not in ("vinewtonrsls", "vinewtonssls"):
                 raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                    "(vinewtonrsls or vinewtonssls)")
-        self.newton_iterations = self.linear_iterations = 0
-        self.scale = 1.0  # SNES works in units of the displacement scale
 
     def _condense(self):
-        """The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
-        (schur_complement.py): every unknown of the small dense problem is
-        bounded but the tangential ones of friction."""
+        """The VIProblem on the Schur complement H = C A^-1 C^T of the
+        contact DOFs (schur_complement.py): every unknown of the small dense
+        problem is bounded but the tangential ones of friction."""
         dofs = self._contact_dofs()
         self.schur = SchurComplement(self.comm, self.prefix, self.A_vi, self.structure, dofs)
-        self.vi_stage = SolverStage(self.prefix + "contact")
-        self.vi_comm, self.vi_mpi_comm, self.K = PETSc.COMM_SELF, MPI.COMM_SELF, self.schur.H
         # Each rank's constraints come first among its contact DOFs, its
         # tangential ones (friction) after them: the bounded DOFs of H are the
         # constraints'.
@@ -203,10 +177,6 @@ class ContactSolver:
         n = len(self.dofs)
         bounded[:n], gap[:n], sign[:n] = 1.0, self.set.gap, self.set.sign
         kept = np.flatnonzero(self.schur.gather(bounded) > 0)
-        self.bounded = kept.astype(np.int32)
-        self.bounded_gap = self.schur.gather(gap)[kept]
-        self.bounded_sign = self.schur.gather(sign)[kept]
-        self.x = PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF)
         # H is small and dense: LAPACK's factorisation, Cholesky when A is SPD
         # but for the Jacobian of friction, which is not symmetric.
         vi_prefix = self.prefix + "contact_"
@@ -214,7 +184,10 @@ class ContactSolver:
         symmetric = self.structure == Structure.spd and not _any_frictional(self.set, self.comm)
         set_default_option(vi_prefix + "pc_type", "cholesky" if symmetric else "lu")
         set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
-        self._make_bound_vectors()
+        # every rank solves the same small problem
+        return VIProblem(PETSc.COMM_SELF, MPI.COMM_SELF, vi_prefix, SolverStage(self.prefix + "contact"), self.prefix,
+                         self.schur.H, PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF),
+                         kept.astype(np.int32), self.schur.gather(gap)[kept], self.schur.gather(sign)[kept])
 
     def _contact_dofs(self):
         """The contact DOFs of the VI: each constraint's, then the tangential
@@ -224,12 +197,11 @@ class ContactSolver:
                       if c.frictional[k] for r in range(1, c.dim)]
         return np.concatenate([self.dofs, np.array(tangential, dtype=np.int32)])
 
-    def _make_friction(self):
-        """The frictional constraints in the VI's numbering, once the VI is
-        posed: on the full system this rank's, at their local positions;
-        condensed, every rank's at their places in H (each rank's contact
-        DOFs from its offset, in _contact_dofs()'s order), gathered to every
-        rank."""
+    def _add_friction(self, problem):
+        """The frictional constraints in the VI's numbering: on the full
+        system this rank's, at their local positions; condensed, every rank's
+        at their places in H (each rank's contact DOFs from its offset, in
+        _contact_dofs()'s order), gathered to every rank."""
         c, d = self.set, self.set.dim
         first = self.schur.offset if self.schur else 0
         mine = []
@@ -243,76 +215,13 @@ class ContactSolver:
                 f.tangential[r - 1] = int(first + following if self.schur else self.displacement_dofs[c.dofs[k] + r])
                 following += 1
             mine.append(f)
-        self.friction = [f for rank in self.comm.allgather(mine) for f in rank] if self.schur else mine
-        self.x_reference = self.stiffness = self.work = None
-        self.J = None  # friction: the generalised Jacobian (friction.py)
-        if not _any_frictional(c, self.comm):
-            return
-        self.x_reference, self.stiffness, self.work = (self.x.duplicate() for _ in range(3))
-        self.x_reference.set(0.0)
-        self.J = self.K.duplicate(copy=True)
-        # its tangential rows are combinations of the constraint's own rows of
-        # K (friction_jacobian), inside K's pattern where the rows of a node
-        # share it; allowed to grow where they do not
-        if not self.schur:
-            self.J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        self.J.setOption(PETSc.Mat.Option.SPD, False)
-        self.J.setOption(PETSc.Mat.Option.SYMMETRIC, False)
+        problem.friction = [f for rank in self.comm.allgather(mine) for f in rank] if self.schur else mine
+        problem.tangents, problem.frictional = d - 1, _any_frictional(c, self.comm)
 
-    def _pose_on_full_system(self):
-        """The VI on the full system: only the contact DOFs are bounded."""
-        self.vi_comm, self.vi_mpi_comm, self.K = self.comm, self.comm, self.A_vi
-        self.bounded, self.bounded_gap, self.bounded_sign = self.dofs, self.set.gap, self.set.sign
-        self.x = self.A.createVecRight()
-        self._make_bound_vectors()
-
-    def _make_bound_vectors(self):
-        """The residual and the bounds, unbounded until solve() sets the
-        contact ones."""
-        self.residual, self.lower, self.upper, self.b_scaled = (self.x.duplicate() for _ in range(4))
-        self.lower.set(PETSc.NINFINITY)
-        self.upper.set(PETSc.INFINITY)
-
-    def _create_snes(self, vi_prefix):
-        """The semismooth Newton VI solver (SNES vinewtonrsls) and its
-        defaults; the user's -<vi_prefix>snes_* options override them."""
-        self.lag_by_default = not PETSc.Options().hasName(vi_prefix + "snes_lag_preconditioner")
-        self.snes_rtol_given = PETSc.Options().hasName(vi_prefix + "snes_rtol")
-        # With friction the Jacobian changes every step: no lag for a
-        # factorisation of it; the iterative path's preconditioner is built
-        # from P and the inactive set alone, and is reused there too.
-        lag = "-2" if self._lag_preconditioner() else "1"
-        # with friction (F semismooth: full steps can overshoot where a
-        # constraint changes state) a backtracking search, but not with
-        # separate rows: the search's merit ||F||, the forces' (N), is blind
-        # to them (the coupled system's mass balances, m^3/s), whose step it
-        # shrank to nothing; condensed, the VI's unknown is the contact DOFs
-        # alone
-        self.convergence = ContactConvergence(self.vi_mpi_comm, VIBounds(self.lower, self.upper, self.bounded),
-                                              () if self.schur else self.separate_rows)
-        backtrack = self.J is not None and not self.convergence.has_separate_rows()
-        for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
-                              ("snes_stol", "1e-12"), ("snes_max_it", "100"),
-                              # F is linear, K exact: the full step is exact on the active
-                              # set; with friction a backtracking search (above)
-                              ("snes_linesearch_type", "bt" if backtrack else "basic"),
-                              # no cap on the step's length (PETSc's 1e8): x is in units of
-                              # the displacement scale, the coupled system's pressures run to
-                              # 1e10 and more, and a capped step crawls
-                              ("snes_linesearch_maxstep", "1e300")):
-            set_default_option(vi_prefix + option, value)
-        self.snes = PETSc.SNES().create(self.vi_comm)
-        self.snes.setOptionsPrefix(vi_prefix)
-        self.snes.setType("vinewtonrsls")
-        self.snes.setFunction(self._residual, self.residual)
-        J = self.J if self.J is not None else self.K
-        self.snes.setJacobian(self._jacobian, J, J)
-        self.snes.setVariableBounds(self.lower, self.upper)
-        self.convergence.attach(self.snes, self.b_scaled, self.J is not None)
-        # At least one Newton step per solve, so the result never lags the
-        # load (not with friction: its F is not linear, the residual
-        # decides, and a backtracking search fails on a zero step).
-        self.snes.setForceIteration(not backtrack)
+    def _pose_on_full_system(self, separate_rows):
+        """The VIProblem on the whole system: only the contact DOFs are bounded."""
+        return VIProblem(self.comm, self.comm, self.prefix, None, self.prefix, self.A_vi, self.A.createVecRight(),
+                         self.dofs, self.set.gap, self.set.sign, separate_rows=separate_rows)
 
     def method(self):
         return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
@@ -320,15 +229,11 @@ class ContactSolver:
     def set_tolerance(self, relative):
         """Solves to `relative` (iterative full path): the Krylov tolerance of
         each Newton step and the Newton tolerance (cpp/contact/contact.h says why)."""
-        if not self.preconditioner:
-            return
-        set_relative_tolerance(self.snes.getKSP(), self.prefix, relative)
-        if not self.snes_rtol_given:
-            self.snes.setTolerances(rtol=relative)
+        self.vi.set_tolerance(relative)
 
     def preconditioner_setups(self):
         """Set-ups of the iterative full path's preconditioner (None otherwise)."""
-        return (self.preconditioner.setups, self.preconditioner.setup_time) if self.preconditioner else None
+        return self.vi.preconditioner_setups()
 
     def schur_columns(self):
         return self.schur.columns if self.schur else 0
@@ -337,40 +242,9 @@ class ContactSolver:
         return self.schur.time if self.schur else 0.0
 
     def operator_changed(self):
-        """A was reassembled: H is formed again, "rebuild once, then reuse" re-armed."""
+        """A was reassembled: H and A' are formed again at the next solve."""
         self.schur_current = self.change_current = False
-        if self.lag_by_default and self._lag_preconditioner():
-            set_lag_preconditioner(self.snes, -2)
-
-    def _lag_preconditioner(self):
-        """Whether the Newton steps reuse the preconditioner until the inactive
-        set or the operator changes: always but for a factorisation of the
-        Jacobian of friction, which changes every step."""
-        return self.J is None or self.preconditioner_on_P
-
-    def _residual(self, snes, x, F):
-        """F(x) = K x - b/s: the gradient of the quadratic energy, in units
-        of s; with friction its frictional constraints' tangential rows carry
-        the return map (friction.py)."""
-        self.K.mult(x, F)
-        F.axpy(-1.0, self.b_scaled)
-        if self.J is not None:
-            with F as R:
-                add_friction_forces(self.friction, self._friction_point(x, R), R)
-
-    def _jacobian(self, snes, x, J, P):
-        """The constant matrix K (A, or H formed once per A); with friction
-        the generalised Jacobian of its rows (friction_jacobian)."""
-        if self.J is None:
-            return
-        self.K.mult(x, self.work)
-        self.work.axpy(-1.0, self.b_scaled)
-        friction_jacobian(self.friction, self._friction_point(x, self.work.getArray(readonly=True)), self.K, self.J)
-
-    def _friction_point(self, x, R):
-        """Friction at x with the residual R = K x - b (friction.py)."""
-        return FrictionPoint(x.getArray(readonly=True), R, self.x_reference.getArray(readonly=True),
-                             self.stiffness.getArray(readonly=True), self.scale, self.set.dim - 1)
+        self.vi.operator_changed()
 
     def displacement_scale(self, x):
         """The largest gap or |displacement| (collective)."""
@@ -391,20 +265,23 @@ class ContactSolver:
         if self.schur and not self.schur_current:
             self.schur.assemble()
             self.schur_current = True
-        # SNESVI decides "on the bound" with an absolute tolerance (1e-8), so
-        # it works on x / s with s the displacement scale (largest gap or
-        # |x|); the residual K (x/s) - b/s has the same Jacobian K.
-        self.scale = self.displacement_scale(x_vi)
-        self._set_bounds()
-        self._pose(b_vi, x_vi, self.scale)
-        if self.J is not None:  # the stiffness that turns a slip increment into a trial force
-            self.K.getDiagonal(self.stiffness)
-        self._solve_vi()
-        self.x.scale(self.scale)
+        # The VI's load and start: on C alone when condensed, (H, g) with
+        # y = x_C (schur_complement.py).
+        load, y = self.vi.load(), self.vi.unknown()
         if self.schur:
-            self.schur.extend(b_vi, self.x.getArray(readonly=True), x_vi)
+            with load as g:
+                g[:] = self.schur.condensed_load(b_vi)
+            with y as Y:
+                Y[:] = self.schur.restrict_to_contact(x_vi)
         else:
-            self.x.copy(x_vi)
+            b_vi.copy(load)
+            x_vi.copy(y)
+        # in units of the displacement scale (the largest gap or |x|)
+        self.vi.solve(self.displacement_scale(x_vi))
+        if self.schur:
+            self.schur.extend(b_vi, y.getArray(readonly=True), x_vi)
+        else:
+            y.copy(x_vi)
         if self.change:
             self.change.backward(x_vi, x)
 
@@ -413,104 +290,15 @@ class ContactSolver:
         (friction's, and those fault.xdmf writes) are measured from it
         (collective)."""
         x.copy(self.x_start)
-        if self.x_reference is None:
+        reference = self.vi.slip_reference()
+        if reference is None:
             return
         x_vi = self._to_vi(x)
         if self.schur:
-            with self.x_reference as reference:
-                reference[:] = self.schur.restrict_to_contact(x_vi)
+            with reference as r:
+                r[:] = self.schur.restrict_to_contact(x_vi)
         else:
-            x_vi.copy(self.x_reference)
-
-    def _solve_vi(self):
-        """The VI with the current bounds and load; retried from the clamped
-        state when the first attempt fails; raises SolverError when both do."""
-        reason = self._snes_solve()
-        self._count(reason)
-        if reason < 0:
-            # A body held in the normal direction by the foundation alone is
-            # semi-coercive: from a start where no contact DOF pushes on its
-            # bound the reduced system is singular. Start again with every
-            # contact node on the foundation; the contact forces there say
-            # which nodes to release.
-            self.clamped_start()
-            reason = self._snes_solve()
-            self._count(reason)
-        if reason < 0:
-            raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
-                              + reason_name(PETSc.SNES.ConvergedReason, reason)
-                              + (NO_EQUILIBRIUM if self.J is not None else ""))
-
-    def _set_bounds(self):
-        """u.nu_F = sign x'[dof] <= g_a: x'[dof] <= g_a or x'[dof] >= -g_a,
-        in units of the displacement scale."""
-        upper, lower = self.bounded_sign > 0, self.bounded_sign < 0
-        with self.upper as up:
-            up[self.bounded[upper]] = self.bounded_gap[upper] / self.scale
-        with self.lower as lo:
-            lo[self.bounded[lower]] = -self.bounded_gap[lower] / self.scale
-
-    def _pose(self, b, x, scale):
-        """The scaled load and start of the VI (on C alone when condensed:
-        (H, g) with y = x_C), its absolute tolerance relative to the load
-        unless -snes_atol is given: scale-free."""
-        if self.schur:
-            with self.b_scaled as g:
-                g[:] = self.schur.condensed_load(b)
-            with self.x as y:
-                y[:] = self.schur.restrict_to_contact(x)
-        else:
-            b.copy(self.b_scaled)
-            x.copy(self.x)
-        self.b_scaled.scale(1.0 / scale)
-        self.x.scale(1.0 / scale)
-        if not PETSc.Options().hasName(self.snes.getOptionsPrefix() + "snes_atol"):
-            # With friction the residual decides the last step (F is not
-            # linear): tighter, Newton's last steps are quadratic.
-            relative = 1e-12 if self.J is not None else 1e-10
-            self.snes.setTolerances(atol=max(relative * self.b_scaled.norm(), 1e-300))
-        self.convergence.pose()
-
-    def _count(self, reason):
-        """Every attempt's steps count, a failed Krylov solve's iterations
-        too (SNES leaves them out of its own count)."""
-        failed = self.snes.getKSP().getIterationNumber() \
-            if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else 0
-        self.newton_iterations += self.snes.getIterationNumber()
-        self.linear_iterations += self.snes.getLinearSolveIterations() + failed
-
-    def _snes_solve(self):
-        try:
-            if self.vi_stage:
-                with self.vi_stage:
-                    self.snes.solve(None, self.x)
-            else:
-                self.snes.solve(None, self.x)
-        except PETSc.Error as e:
-            raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: PETSc error {e.ierr}") from None
-        return self.snes.getConvergedReason()
-
-    def clamped_start(self):
-        """Every contact DOF on its bound; the other DOFs (none when
-        condensed) solve A x = b/s with the contact rows and columns
-        eliminated and the known values moved to the right-hand side."""
-        up, lo = self.upper.getArray(readonly=True), self.lower.getArray(readonly=True)
-        with self.x as x:
-            x[self.bounded] = np.where(self.bounded_sign > 0, up[self.bounded], lo[self.bounded])
-        if self.schur:
-            return
-        rows = (self.x.getOwnershipRange()[0] + self.bounded).astype(PETSc.IntType)
-        def clamped_copy(M, rhs=None):
-            C = M.duplicate(copy=True)
-            modes = M.getNearNullSpace()  # for AMG: the duplicate does not keep it
-            if modes is not None and modes.handle:
-                C.setNearNullSpace(modes)
-            C.zeroRowsColumns(rows, 1.0, self.x if rhs is not None else None, rhs)
-            return C
-        rhs = self.b_scaled.copy()
-        A = clamped_copy(self.A_vi, rhs)
-        P = A if self.P_vi is self.A_vi else clamped_copy(self.P_vi)
-        LinearSolver(self.comm, self.prefix, A, P, self.structure, self.fields).solve(self.x, rhs)
+            x_vi.copy(reference)
 
     def _make_change_of_variables(self):
         """The change of variables of the inclined and curved foundations,
@@ -599,12 +387,21 @@ class ContactSolver:
         return contact_state(measured, ContactFields(pressure_out, active_out), self.comm)
 
     @property
+    def newton_iterations(self):
+        return self.vi.newton_iterations
+
+    @property
+    def linear_iterations(self):
+        """Krylov iterations (1 per back-solve when direct)."""
+        return self.vi.linear_iterations
+
+    @property
     def active_set_changes(self):
         """Newton steps whose inactive set differed from the previous step's
         (across solves): each may cost one factorisation."""
-        return self.convergence.active_set_changes
+        return self.vi.convergence.active_set_changes
 
     def on_newton_step(self, told):
         """`told` is called after each Newton step with its number: a long
         solve's sign of life (the run's progress line)."""
-        self.convergence.on_newton_step = told
+        self.vi.convergence.on_newton_step = told

@@ -1,0 +1,357 @@
+#include "contact/variational_inequality.h"
+
+#include "solvers/options.h"
+
+#include <algorithm>
+
+namespace biotcontact
+{
+namespace
+{
+/// What a friction that fails to converge most often means.
+constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
+} // namespace
+
+VariationalInequality::VariationalInequality(VIProblem problem, const std::optional<WholeSystem>& whole)
+    : _p(std::move(problem)), _whole(whole)
+{
+  VecDuplicate(_p.layout, &_y);
+  for (Vec* v : {&_b, &_residual, &_lower, &_upper})
+    VecDuplicate(_y, v);
+  // Unbounded until solve() sets the contact bounds.
+  VecSet(_lower, PETSC_NINFINITY);
+  VecSet(_upper, PETSC_INFINITY);
+  if (!_p.stage.empty())
+    _stage = std::make_unique<SolverStage>(_p.stage);
+  if (_p.frictional)
+    make_friction_operators();
+  if (_J and _whole)
+    unsymmetric_jacobian_options(_p.prefix);
+  // Condensed, the VI's unknown is the contact DOFs alone: no separate rows.
+  _convergence = std::make_unique<ContactConvergence>(_p.comm, VIBounds{_lower, _upper, _p.bounded},
+                                                      std::move(_p.separate_rows));
+  create_snes();
+  set_from_options();
+}
+
+VariationalInequality::~VariationalInequality()
+{
+  SNESDestroy(&_snes);
+  for (Vec* v : {&_y, &_b, &_residual, &_lower, &_upper, &_y_reference, &_stiffness, &_work})
+    VecDestroy(v);
+  MatDestroy(&_J);
+}
+
+/// The Jacobian of friction and its vectors (on every rank of the VI: the
+/// duplicates are collective).
+void VariationalInequality::make_friction_operators()
+{
+  for (Vec* v : {&_y_reference, &_stiffness, &_work})
+    VecDuplicate(_y, v);
+  VecSet(_y_reference, 0.0);
+  MatDuplicate(_p.K, MAT_COPY_VALUES, &_J);
+  // Its tangential rows are combinations of the constraint's own rows of K
+  // (friction_jacobian), inside K's pattern where the rows of a node share
+  // it; allowed to grow where they do not.
+  if (_whole)
+    MatSetOption(_J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
+  MatSetOption(_J, MAT_SPD, PETSC_FALSE);
+  MatSetOption(_J, MAT_SYMMETRIC, PETSC_FALSE);
+}
+
+/// The semismooth Newton VI solver (SNES vinewtonrsls) and its defaults;
+/// the user's -<prefix>snes_* options override them.
+void VariationalInequality::create_snes()
+{
+  const std::string& prefix = _p.prefix;
+  // Jacobian evaluations cost nothing (the matrix is constant); the
+  // factorisation is built at the first Newton step and then reused ("-2":
+  // rebuild once, then lag forever) until the inactive set changes, when
+  // SNES VI resets the preconditioner itself (PETSc 3.18 virs.c,
+  // SNESVIResetPCandKSP).
+  PetscBool lag_given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
+  _lag_by_default = !lag_given;
+  PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
+  // With friction the Jacobian changes every step: no lag for a
+  // factorisation of it. The iterative path's preconditioner is built from
+  // P and the inactive set alone (inactive_set_preconditioner.h), not from
+  // the Jacobian: it is reused across Newton steps there too.
+  const bool iterative = _whole and _whole->method == Method::iterative;
+  set_default_option(prefix + "snes_lag_preconditioner", !_J or iterative ? "-2" : "1");
+  set_default_option(prefix + "snes_rtol", "1e-10");
+  set_default_option(prefix + "snes_stol", "1e-12");
+  set_default_option(prefix + "snes_max_it", "100");
+  // F is linear and its matrix the exact Jacobian: the full semismooth
+  // Newton step is exact on the current active set, and a backtracking
+  // search only fails once the residual is at round-off.
+  // With friction F is semismooth, and full steps can overshoot where a
+  // constraint changes state: a backtracking search. But not with separate
+  // rows: the search's merit ||F||, the forces' (N), is blind to them (the
+  // coupled system's mass balances, m^3/s); with the forces at round-off
+  // it shrank their step to nothing (a conduit fault's p_f,
+  // test_conduit_monolithic).
+  const bool backtrack = _J and !_convergence->has_separate_rows();
+  set_default_option(prefix + "snes_linesearch_type", backtrack ? "bt" : "basic");
+  // No cap on the step's length (PETSc's 1e8): y is in units of the
+  // displacement scale, so the pressures of the coupled system run to 1e10
+  // and more, and a capped step crawls (a conduit fault's p_f moved 0.1 %
+  // of its way per solve).
+  set_default_option(prefix + "snes_linesearch_maxstep", "1e300");
+  SNESCreate(_p.comm, &_snes);
+  SNESSetOptionsPrefix(_snes, prefix.c_str());
+  SNESSetType(_snes, SNESVINEWTONRSLS);
+  SNESSetFunction(_snes, _residual, &VariationalInequality::residual, this);
+  Mat J = _J ? _J : _p.K;
+  SNESSetJacobian(_snes, J, J, &VariationalInequality::jacobian, this);
+  SNESVISetVariableBounds(_snes, _lower, _upper);
+  _convergence->attach(_snes, _b, _J != nullptr);
+  // At least one Newton step per solve: a step is an exact solve on the
+  // active set, so the result never lags behind the load (a residual
+  // already below the tolerance would otherwise leave y as it was).
+  // (Not with the backtracking search of friction: its F is not
+  // linear, the residual decides, and the search fails on a zero step.)
+  SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE);
+}
+
+void VariationalInequality::set_from_options()
+{
+  if (_whole and _whole->method == Method::iterative)
+  {
+    _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _whole->P, _whole->layout.fields,
+                                                                  _whole->layout.prefix);
+    KSP ksp;
+    SNESGetKSP(_snes, &ksp);
+    _convergence->watch(ksp);
+    set_tolerance(iterative_tolerance);
+  }
+  if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
+    throw OptionsError("the PETSc options of " + system_name(_p.system_prefix)
+                       + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
+}
+
+void VariationalInequality::operator_changed()
+{
+  // Re-arm "rebuild once, then reuse" (the lag is -1 after the first build).
+  if (_lag_by_default and lag_preconditioner())
+    SNESSetLagPreconditioner(_snes, -2);
+}
+
+void VariationalInequality::set_tolerance(double relative)
+{
+  if (!_preconditioner)
+    return;
+  KSP ksp;
+  SNESGetKSP(_snes, &ksp);
+  set_relative_tolerance(ksp, _whole->layout.prefix, relative);
+  if (!_snes_rtol_given)
+    SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
+}
+
+void VariationalInequality::solve(double scale)
+{
+  // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
+  // works on y / s; the residual K (y/s) - b/s has the same Jacobian K.
+  _scale = scale;
+  VecScale(_b, 1.0 / scale);
+  VecScale(_y, 1.0 / scale);
+  set_bounds(scale);
+  set_tolerances();
+  if (_J) // the stiffness that turns a slip increment into a trial force
+    check_petsc(MatGetDiagonal(_p.K, _stiffness), "friction: the diagonal of the contact matrix");
+  SNESConvergedReason reason = run_snes();
+  count_iterations(reason);
+  if (reason < 0)
+  {
+    // A body held in the normal direction by the foundation alone is
+    // semi-coercive: from a start where no contact DOF pushes on its bound
+    // the reduced system is singular. Start again from the state with every
+    // contact node on the foundation; there the contact forces say which
+    // nodes to release.
+    clamped_start();
+    reason = run_snes();
+    count_iterations(reason);
+  }
+  if (reason < 0)
+    throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
+                      + SNESConvergedReasons[reason] + (_J ? no_equilibrium : ""));
+  VecScale(_y, scale);
+}
+
+/// sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of the
+/// scale.
+void VariationalInequality::set_bounds(double scale)
+{
+  PetscScalar *lo, *up;
+  VecGetArray(_lower, &lo);
+  VecGetArray(_upper, &up);
+  for (std::size_t k = 0; k < _p.bounded.size(); ++k)
+  {
+    if (_p.sign[k] > 0)
+      up[_p.bounded[k]] = _p.gap[k] / scale;
+    else
+      lo[_p.bounded[k]] = -_p.gap[k] / scale;
+  }
+  VecRestoreArray(_lower, &lo);
+  VecRestoreArray(_upper, &up);
+}
+
+/// The absolute tolerance relative to the load unless -snes_atol is given:
+/// scale-free; and the separate rows' by their own load.
+void VariationalInequality::set_tolerances()
+{
+  PetscBool atol_given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, _p.prefix.c_str(), "-snes_atol", &atol_given);
+  if (!atol_given)
+  {
+    PetscReal bnorm = 0;
+    VecNorm(_b, NORM_2, &bnorm);
+    // With friction the residual decides the last step (F is not
+    // linear): tighter, Newton's last steps are quadratic.
+    const double relative = _J ? 1e-12 : 1e-10;
+    SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
+                      PETSC_DEFAULT);
+  }
+  _convergence->pose();
+}
+
+/// Every attempt's steps count, a failed Krylov solve's iterations too
+/// (SNES leaves them out of its own count): they cost their time.
+void VariationalInequality::count_iterations(SNESConvergedReason reason)
+{
+  PetscInt its = 0, lits = 0, failed = 0;
+  SNESGetIterationNumber(_snes, &its);
+  SNESGetLinearSolveIterations(_snes, &lits);
+  if (reason == SNES_DIVERGED_LINEAR_SOLVE)
+  {
+    KSP ksp;
+    SNESGetKSP(_snes, &ksp);
+    KSPGetIterationNumber(ksp, &failed);
+  }
+  newton_iterations += its;
+  linear_iterations += lits + failed;
+}
+
+SNESConvergedReason VariationalInequality::run_snes()
+{
+  std::optional<SolverStage::Guard> stage;
+  if (_stage)
+    stage.emplace(*_stage);
+  if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _y); ierr != 0)
+    throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
+  SNESConvergedReason reason;
+  SNESGetConvergedReason(_snes, &reason);
+  return reason;
+}
+
+void VariationalInequality::clamped_start()
+{
+  // Every bounded DOF on its bound; the other DOFs (none when condensed)
+  // solve their equations: A y = b/s with the bounded rows and columns
+  // eliminated and the known values moved to the right-hand side.
+  PetscInt start = 0;
+  VecGetOwnershipRange(_y, &start, nullptr);
+  std::vector<PetscInt> rows;
+  const PetscScalar *lo, *up;
+  VecGetArrayRead(_lower, &lo);
+  VecGetArrayRead(_upper, &up);
+  PetscScalar* y;
+  VecGetArray(_y, &y);
+  for (std::size_t k = 0; k < _p.bounded.size(); ++k)
+  {
+    const std::int32_t dof = _p.bounded[k];
+    rows.push_back(start + dof);
+    y[dof] = _p.sign[k] > 0 ? up[dof] : lo[dof];
+  }
+  VecRestoreArray(_y, &y);
+  VecRestoreArrayRead(_lower, &lo);
+  VecRestoreArrayRead(_upper, &up);
+  if (_whole)
+    solve_clamped(rows);
+}
+
+void VariationalInequality::solve_clamped(const std::vector<PetscInt>& rows)
+{
+  // A (and the preconditioning matrix P, when it is another) with the
+  // bounded rows and columns made identity rows.
+  auto clamped_copy = [&](Mat M, Vec rhs)
+  {
+    Mat C;
+    MatDuplicate(M, MAT_COPY_VALUES, &C);
+    MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
+    MatGetNearNullSpace(M, &modes);
+    if (modes)
+      MatSetNearNullSpace(C, modes);
+    MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, rhs ? _y : nullptr, rhs);
+    return C;
+  };
+  Vec rhs;
+  VecDuplicate(_b, &rhs);
+  VecCopy(_b, rhs);
+  const WholeSystem& w = *_whole;
+  Mat A = clamped_copy(w.A, rhs);
+  Mat P = w.P == w.A ? A : clamped_copy(w.P, nullptr);
+  {
+    LinearSolver clamped(w.comm, w.layout.prefix, A, P, w.layout.structure, w.layout.fields);
+    clamped.solve(_y, rhs);
+  }
+  if (P != A)
+    MatDestroy(&P);
+  MatDestroy(&A);
+  VecDestroy(&rhs);
+}
+
+// F(y) = K y - b/s: the gradient of the quadratic energy, in units of s;
+// with friction its frictional constraints' tangential rows carry the
+// return map (friction.h).
+PetscErrorCode VariationalInequality::residual(SNES, Vec y, Vec F, void* context)
+{
+  auto* self = static_cast<VariationalInequality*>(context);
+  PetscCall(MatMult(self->_p.K, y, F));
+  PetscCall(VecAXPY(F, -1.0, self->_b));
+  if (self->_J)
+    PetscCall(self->add_friction(y, F));
+  return 0;
+}
+
+// The Jacobian is the constant matrix K (A, or H formed once per A); with
+// friction the generalised Jacobian of its rows (friction_jacobian).
+PetscErrorCode VariationalInequality::jacobian(SNES, Vec y, Mat, Mat, void* context)
+{
+  auto* self = static_cast<VariationalInequality*>(context);
+  if (!self->_J)
+    return 0;
+  PetscCall(MatMult(self->_p.K, y, self->_work));
+  PetscCall(VecAXPY(self->_work, -1.0, self->_b));
+  const PetscScalar *Y, *R, *start, *c;
+  PetscCall(VecGetArrayRead(y, &Y));
+  PetscCall(VecGetArrayRead(self->_work, &R));
+  PetscCall(VecGetArrayRead(self->_y_reference, &start));
+  PetscCall(VecGetArrayRead(self->_stiffness, &c));
+  PetscCall(friction_jacobian(self->_p.friction, {Y, R, start, c, self->_scale, self->_p.tangents}, self->_p.K,
+                              self->_J));
+  PetscCall(VecRestoreArrayRead(y, &Y));
+  PetscCall(VecRestoreArrayRead(self->_work, &R));
+  PetscCall(VecRestoreArrayRead(self->_y_reference, &start));
+  PetscCall(VecRestoreArrayRead(self->_stiffness, &c));
+  return 0;
+}
+
+PetscErrorCode VariationalInequality::add_friction(Vec y, Vec F) const
+{
+  const PetscScalar *Y, *start, *c;
+  PetscScalar* R;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(y, &Y));
+  PetscCall(VecGetArray(F, &R));
+  PetscCall(VecGetArrayRead(_y_reference, &start));
+  PetscCall(VecGetArrayRead(_stiffness, &c));
+  add_friction_forces(_p.friction, {Y, R, start, c, _scale, _p.tangents}, R);
+  PetscCall(VecRestoreArrayRead(y, &Y));
+  PetscCall(VecRestoreArray(F, &R));
+  PetscCall(VecRestoreArrayRead(_y_reference, &start));
+  PetscCall(VecRestoreArrayRead(_stiffness, &c));
+  PetscFunctionReturn(0);
+}
+
+} // namespace biotcontact

@@ -1,0 +1,135 @@
+// The bound-constrained problem the contact poses (contact.h) and its
+// solver: find y with l <= y <= u and F(y) = K y - b complementary to the
+// bounds, the frictional constraints' tangential rows of F carrying the
+// return map on the Coulomb disc (friction.h). PETSc's reduced-space
+// active-set Newton (SNESVINEWTONRSLS) solves it, with the stopping rules
+// of convergence.h. Without friction F is linear and K its exact Jacobian.
+#pragma once
+
+#include "contact/convergence.h"
+#include "contact/friction.h"
+#include "solvers/inactive_set_preconditioner.h"
+#include "solvers/solver.h"
+
+#include <memory>
+#include <optional>
+#include <petscsnes.h>
+#include <string>
+#include <vector>
+
+namespace biotcontact
+{
+
+/// @brief A VI as the contact poses it: its communicator (the system's, or
+/// PETSC_COMM_SELF when every rank solves the same small problem), options
+/// prefix and log stage (none when empty), the prefix of the system it
+/// comes from (its messages), its matrix K and a vector like y; the
+/// bounded positions of y (local) with their gaps and signs,
+/// sign y <= gap; the frictional constraints in y's numbering, their
+/// tangents each (d - 1) and whether any rank has one; and y's separate
+/// rows (convergence.h).
+struct VIProblem
+{
+  MPI_Comm comm;
+  std::string prefix, stage, system_prefix;
+  Mat K;
+  Vec layout;
+  std::vector<std::int32_t> bounded;
+  std::vector<double> gap, sign;
+  std::vector<FrictionalConstraint> friction;
+  int tangents = 0;
+  bool frictional = false;
+  std::vector<std::int32_t> separate_rows;
+};
+
+/// @brief The whole system a VI is posed on (y = x, K = A): its matrices,
+/// fields and method. The clamped start solves it with the contact DOFs
+/// eliminated; the iterative method preconditions the Newton steps from P
+/// split along the fields (inactive_set_preconditioner.h).
+struct WholeSystem
+{
+  MPI_Comm comm;
+  Mat A, P;
+  SystemLayout layout;
+  Method method;
+};
+
+/// @brief The solver of a VIProblem (SNES vinewtonrsls), options-driven.
+class VariationalInequality
+{
+public:
+  /// `whole` when the VI is posed on the whole system (nullptr when it is
+  /// on a condensed one). Throws OptionsError for options that make no VI
+  /// solver.
+  VariationalInequality(VIProblem problem, const std::optional<WholeSystem>& whole);
+  ~VariationalInequality();
+  VariationalInequality(const VariationalInequality&) = delete;
+  VariationalInequality& operator=(const VariationalInequality&) = delete;
+
+  /// The load b and the unknown y (the start on entry to solve, the
+  /// solution after), in the caller's units.
+  Vec load() const { return _b; }
+  Vec unknown() const { return _y; }
+  /// The start of the step in y's numbering: friction's slip increments are
+  /// measured from it (nullptr without friction).
+  Vec slip_reference() const { return _y_reference; }
+
+  /// Solves in units of `scale` (SNES decides "on a bound" with an absolute
+  /// tolerance of 1e-8); retried from the clamped state when the first
+  /// attempt fails. Throws SolverError when both do.
+  void solve(double scale);
+
+  /// K was reassembled: the next Newton step factorises anew.
+  void operator_changed();
+  /// Solves to `relative` (iterative): the Krylov and the Newton tolerance.
+  void set_tolerance(double relative);
+
+  ContactConvergence& convergence() { return *_convergence; }
+  const ContactConvergence& convergence() const { return *_convergence; }
+  /// Preconditioner set-ups and their seconds (iterative; -1 otherwise).
+  long preconditioner_setups() const { return _preconditioner ? _preconditioner->setups : -1; }
+  double preconditioner_setup_time() const { return _preconditioner ? _preconditioner->setup_time : 0; }
+
+  long newton_iterations = 0, linear_iterations = 0;
+
+private:
+  void make_friction_operators();
+  void create_snes();
+  /// The preconditioner of the iterative method, then the user's options.
+  void set_from_options();
+  /// Whether the Newton steps reuse the preconditioner until the inactive
+  /// set or the operator changes: always but for a factorisation of the
+  /// Jacobian of friction, which changes every step.
+  bool lag_preconditioner() const { return !_J or _preconditioner; }
+  void set_bounds(double scale);
+  /// The absolute tolerances from the (scaled) load.
+  void set_tolerances();
+  SNESConvergedReason run_snes();
+  void count_iterations(SNESConvergedReason reason);
+  void clamped_start();
+  /// The clamped start's solve of the whole system, the bounded rows
+  /// `rows` (global) eliminated.
+  void solve_clamped(const std::vector<PetscInt>& rows);
+  static PetscErrorCode residual(SNES, Vec y, Vec F, void* context);
+  static PetscErrorCode jacobian(SNES, Vec y, Mat, Mat, void* context);
+  /// F += the friction forces at y (F holds K y - b on entry).
+  PetscErrorCode add_friction(Vec y, Vec F) const;
+
+  VIProblem _p;
+  std::optional<WholeSystem> _whole;
+  double _scale = 1;
+  Vec _y = nullptr, _b = nullptr, _residual = nullptr, _lower = nullptr, _upper = nullptr;
+  SNES _snes = nullptr;
+  std::unique_ptr<SolverStage> _stage;
+  std::unique_ptr<ContactConvergence> _convergence;
+  std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
+  bool _lag_by_default = false;
+  PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
+  // Friction: the generalised Jacobian (friction.h), the start of the step
+  // (unscaled), the diagonal of K (the stiffness that turns a slip
+  // increment into a trial force) and a work vector.
+  Mat _J = nullptr;
+  Vec _y_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+};
+
+} // namespace biotcontact

@@ -1,0 +1,302 @@
+"""The bound-constrained problem the contact poses (contact.py) and its
+solver (cpp/contact/variational_inequality.h): find y with l <= y <= u and
+F(y) = K y - b complementary to the bounds, the frictional constraints'
+tangential rows of F carrying the return map on the Coulomb disc
+(friction.py). PETSc's reduced-space active-set Newton (SNES vinewtonrsls)
+solves it, with the stopping rules of convergence.py. Without friction F is
+linear and K its exact Jacobian."""
+import dataclasses
+
+import numpy as np
+from petsc4py import PETSc
+
+from ..assembly.linear_algebra import set_lag_preconditioner
+from .convergence import ContactConvergence, VIBounds
+from .friction import FrictionPoint, add_friction_forces, friction_jacobian
+from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
+from ..solvers.options import OptionsError, system_name
+from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, reason_name,
+                              set_default_option, set_relative_tolerance, unsymmetric_jacobian_options)
+
+# What a friction that fails to converge most often means.
+NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
+
+
+@dataclasses.dataclass
+class VIProblem:
+    """A VI as the contact poses it: its communicators (PETSc's and mpi4py's:
+    the system's, or COMM_SELF when every rank solves the same small
+    problem), options prefix and log stage (a SolverStage, or None), the
+    prefix of the system it comes from (its messages), its matrix K and a
+    vector like y; the bounded positions of y (local) with their gaps and
+    signs, sign y <= gap; the frictional constraints in y's numbering, their
+    tangents each (d - 1) and whether any rank has one; and y's separate rows
+    (convergence.py)."""
+    comm: object
+    mpi_comm: object
+    prefix: str
+    stage: object
+    system_prefix: str
+    K: PETSc.Mat
+    layout: PETSc.Vec
+    bounded: np.ndarray
+    gap: np.ndarray
+    sign: np.ndarray
+    friction: list = dataclasses.field(default_factory=list)
+    tangents: int = 0
+    frictional: bool = False
+    separate_rows: object = ()
+
+
+@dataclasses.dataclass
+class WholeSystem:
+    """The whole system a VI is posed on (y = x, K = A): its matrices, fields
+    and method. The clamped start solves it with the contact DOFs
+    eliminated; the iterative method preconditions the Newton steps from P
+    split along the fields (inactive_set_preconditioner.py)."""
+    comm: object
+    A: PETSc.Mat
+    P: PETSc.Mat
+    layout: object
+    method: Method
+
+
+class VariationalInequality:
+    """The solver of a VIProblem (SNES vinewtonrsls), options-driven."""
+
+    def __init__(self, problem, whole):
+        """`whole` when the VI is posed on the whole system (None when it is
+        on a condensed one). Raises OptionsError for options that make no VI
+        solver."""
+        self.p, self.whole = problem, whole
+        self.y = problem.layout.duplicate()
+        self.b, self.residual, self.lower, self.upper = (self.y.duplicate() for _ in range(4))
+        # unbounded until solve() sets the contact bounds
+        self.lower.set(PETSc.NINFINITY)
+        self.upper.set(PETSc.INFINITY)
+        self.scale = 1.0
+        self.newton_iterations = self.linear_iterations = 0
+        self.J = self.y_reference = self.stiffness = self.work = self.preconditioner = None
+        if problem.frictional:
+            self._make_friction_operators()
+        if self.J is not None and whole is not None:
+            unsymmetric_jacobian_options(problem.prefix)
+        # condensed, the VI's unknown is the contact DOFs alone: no separate rows
+        self.convergence = ContactConvergence(problem.mpi_comm, VIBounds(self.lower, self.upper, problem.bounded),
+                                              problem.separate_rows)
+        self._create_snes()
+        self._set_from_options()
+
+    def load(self):
+        """The load b, in the caller's units."""
+        return self.b
+
+    def unknown(self):
+        """The unknown y (the start on entry to solve, the solution after)."""
+        return self.y
+
+    def slip_reference(self):
+        """The start of the step in y's numbering: friction's slip increments
+        are measured from it (None without friction)."""
+        return self.y_reference
+
+    def _make_friction_operators(self):
+        """The Jacobian of friction and its vectors."""
+        self.y_reference, self.stiffness, self.work = (self.y.duplicate() for _ in range(3))
+        self.y_reference.set(0.0)
+        self.J = self.p.K.duplicate(copy=True)
+        # its tangential rows are combinations of the constraint's own rows of
+        # K (friction_jacobian), inside K's pattern where the rows of a node
+        # share it; allowed to grow where they do not
+        if self.whole is not None:
+            self.J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        self.J.setOption(PETSc.Mat.Option.SPD, False)
+        self.J.setOption(PETSc.Mat.Option.SYMMETRIC, False)
+
+    def _create_snes(self):
+        """The semismooth Newton VI solver (SNES vinewtonrsls) and its
+        defaults; the user's -<prefix>snes_* options override them."""
+        prefix = self.p.prefix
+        self.lag_by_default = not PETSc.Options().hasName(prefix + "snes_lag_preconditioner")
+        self.snes_rtol_given = PETSc.Options().hasName(prefix + "snes_rtol")
+        # With friction the Jacobian changes every step: no lag for a
+        # factorisation of it; the iterative path's preconditioner is built
+        # from P and the inactive set alone, and is reused there too.
+        iterative = self.whole is not None and self.whole.method == Method.iterative
+        lag = "-2" if self.J is None or iterative else "1"
+        # with friction (F semismooth: full steps can overshoot where a
+        # constraint changes state) a backtracking search, but not with
+        # separate rows: the search's merit ||F||, the forces' (N), is blind
+        # to them (the coupled system's mass balances, m^3/s), whose step it
+        # shrank to nothing
+        backtrack = self.J is not None and not self.convergence.has_separate_rows()
+        for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
+                              ("snes_stol", "1e-12"), ("snes_max_it", "100"),
+                              # F is linear, K exact: the full step is exact on the active
+                              # set; with friction a backtracking search (above)
+                              ("snes_linesearch_type", "bt" if backtrack else "basic"),
+                              # no cap on the step's length (PETSc's 1e8): y is in units of
+                              # the displacement scale, the coupled system's pressures run to
+                              # 1e10 and more, and a capped step crawls
+                              ("snes_linesearch_maxstep", "1e300")):
+            set_default_option(prefix + option, value)
+        self.snes = PETSc.SNES().create(self.p.comm)
+        self.snes.setOptionsPrefix(prefix)
+        self.snes.setType("vinewtonrsls")
+        self.snes.setFunction(self._residual, self.residual)
+        J = self.J if self.J is not None else self.p.K
+        self.snes.setJacobian(self._jacobian, J, J)
+        self.snes.setVariableBounds(self.lower, self.upper)
+        self.convergence.attach(self.snes, self.b, self.J is not None)
+        # At least one Newton step per solve, so the result never lags the
+        # load (not with friction: its F is not linear, the residual
+        # decides, and a backtracking search fails on a zero step).
+        self.snes.setForceIteration(not backtrack)
+
+    def _set_from_options(self):
+        """The preconditioner of the iterative method, then the user's options."""
+        if self.whole is not None and self.whole.method == Method.iterative:
+            self.convergence.watch(self.snes.getKSP())
+            self.preconditioner = InactiveSetPreconditioner(self.snes, self.whole.P, self.whole.layout.fields,
+                                                            self.whole.layout.prefix)
+            self.set_tolerance(ITERATIVE_TOLERANCE)
+        try:
+            self.snes.setFromOptions()
+        except PETSc.Error as e:
+            raise OptionsError(f"the PETSc options of {system_name(self.p.system_prefix)} contact solver do not "
+                               f"make a solver (PETSc error {e.ierr})") from None
+
+    def operator_changed(self):
+        """K was reassembled: "rebuild once, then reuse" re-armed."""
+        if self.lag_by_default and (self.J is None or self.preconditioner is not None):
+            set_lag_preconditioner(self.snes, -2)
+
+    def set_tolerance(self, relative):
+        """Solves to `relative` (iterative): the Krylov and the Newton tolerance."""
+        if not self.preconditioner:
+            return
+        set_relative_tolerance(self.snes.getKSP(), self.whole.layout.prefix, relative)
+        if not self.snes_rtol_given:
+            self.snes.setTolerances(rtol=relative)
+
+    def preconditioner_setups(self):
+        """Set-ups of the iterative preconditioner and their seconds (None otherwise)."""
+        return (self.preconditioner.setups, self.preconditioner.setup_time) if self.preconditioner else None
+
+    def solve(self, scale):
+        """Solves in units of `scale` (SNES decides "on a bound" with an
+        absolute tolerance of 1e-8; the residual K (y/s) - b/s has the same
+        Jacobian K); retried from the clamped state when the first attempt
+        fails. Raises SolverError when both do."""
+        self.scale = scale
+        self.b.scale(1.0 / scale)
+        self.y.scale(1.0 / scale)
+        self._set_bounds()
+        self._set_tolerances()
+        if self.J is not None:  # the stiffness that turns a slip increment into a trial force
+            self.p.K.getDiagonal(self.stiffness)
+        reason = self._snes_solve()
+        self._count(reason)
+        if reason < 0:
+            # A body held in the normal direction by the foundation alone is
+            # semi-coercive: from a start where no contact DOF pushes on its
+            # bound the reduced system is singular. Start again with every
+            # contact node on the foundation; the contact forces there say
+            # which nodes to release.
+            self._clamped_start()
+            reason = self._snes_solve()
+            self._count(reason)
+        if reason < 0:
+            raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
+                              + reason_name(PETSc.SNES.ConvergedReason, reason)
+                              + (NO_EQUILIBRIUM if self.J is not None else ""))
+        self.y.scale(scale)
+
+    def _set_bounds(self):
+        """sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of
+        the scale."""
+        p = self.p
+        upper, lower = p.sign > 0, p.sign < 0
+        with self.upper as up:
+            up[p.bounded[upper]] = p.gap[upper] / self.scale
+        with self.lower as lo:
+            lo[p.bounded[lower]] = -p.gap[lower] / self.scale
+
+    def _set_tolerances(self):
+        """The absolute tolerance relative to the load unless -snes_atol is
+        given: scale-free; and the separate rows' by their own load."""
+        if not PETSc.Options().hasName(self.p.prefix + "snes_atol"):
+            # With friction the residual decides the last step (F is not
+            # linear): tighter, Newton's last steps are quadratic.
+            relative = 1e-12 if self.J is not None else 1e-10
+            self.snes.setTolerances(atol=max(relative * self.b.norm(), 1e-300))
+        self.convergence.pose()
+
+    def _count(self, reason):
+        """Every attempt's steps count, a failed Krylov solve's iterations
+        too (SNES leaves them out of its own count)."""
+        failed = self.snes.getKSP().getIterationNumber() \
+            if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else 0
+        self.newton_iterations += self.snes.getIterationNumber()
+        self.linear_iterations += self.snes.getLinearSolveIterations() + failed
+
+    def _snes_solve(self):
+        try:
+            if self.p.stage:
+                with self.p.stage:
+                    self.snes.solve(None, self.y)
+            else:
+                self.snes.solve(None, self.y)
+        except PETSc.Error as e:
+            raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: PETSc error {e.ierr}") from None
+        return self.snes.getConvergedReason()
+
+    def _clamped_start(self):
+        """Every bounded DOF on its bound; the other DOFs (none when
+        condensed) solve A y = b/s with the bounded rows and columns
+        eliminated and the known values moved to the right-hand side."""
+        p = self.p
+        up, lo = self.upper.getArray(readonly=True), self.lower.getArray(readonly=True)
+        with self.y as y:
+            y[p.bounded] = np.where(p.sign > 0, up[p.bounded], lo[p.bounded])
+        if self.whole is None:
+            return
+        rows = (self.y.getOwnershipRange()[0] + p.bounded).astype(PETSc.IntType)
+
+        def clamped_copy(M, rhs=None):
+            C = M.duplicate(copy=True)
+            modes = M.getNearNullSpace()  # for AMG: the duplicate does not keep it
+            if modes is not None and modes.handle:
+                C.setNearNullSpace(modes)
+            C.zeroRowsColumns(rows, 1.0, self.y if rhs is not None else None, rhs)
+            return C
+        rhs = self.b.copy()
+        w = self.whole
+        A = clamped_copy(w.A, rhs)
+        P = A if w.P is w.A else clamped_copy(w.P)
+        LinearSolver(w.comm, w.layout.prefix, A, P, w.layout.structure, w.layout.fields).solve(self.y, rhs)
+
+    def _residual(self, snes, y, F):
+        """F(y) = K y - b/s: the gradient of the quadratic energy, in units
+        of s; with friction its frictional constraints' tangential rows carry
+        the return map (friction.py)."""
+        self.p.K.mult(y, F)
+        F.axpy(-1.0, self.b)
+        if self.J is not None:
+            with F as R:
+                add_friction_forces(self.p.friction, self._friction_point(y, R), R)
+
+    def _jacobian(self, snes, y, J, P):
+        """The constant matrix K (A, or H formed once per A); with friction
+        the generalised Jacobian of its rows (friction_jacobian)."""
+        if self.J is None:
+            return
+        self.p.K.mult(y, self.work)
+        self.work.axpy(-1.0, self.b)
+        friction_jacobian(self.p.friction, self._friction_point(y, self.work.getArray(readonly=True)), self.p.K,
+                          self.J)
+
+    def _friction_point(self, y, R):
+        """Friction at y with the residual R = K y - b (friction.py)."""
+        return FrictionPoint(y.getArray(readonly=True), R, self.y_reference.getArray(readonly=True),
+                             self.stiffness.getArray(readonly=True), self.scale, self.p.tangents)
