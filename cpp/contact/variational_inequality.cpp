@@ -27,6 +27,10 @@ VariationalInequality::VariationalInequality(VIProblem problem, const std::optio
     make_friction_operators();
   if (_J and _whole)
     unsymmetric_jacobian_options(_p.prefix);
+  // A reduced system that CHOLMOD finds singular is answered by the clamped
+  // start (run_snes): no warning on the terminal.
+  if (_whole)
+    set_default_option(_p.prefix + "mat_cholmod_print", "0");
   // Condensed, the VI's unknown is the contact DOFs alone: no separate rows.
   _convergence = std::make_unique<ContactConvergence>(_p.comm, VIBounds{_lower, _upper, _p.bounded},
                                                       std::move(_p.separate_rows));
@@ -238,7 +242,15 @@ SNESConvergedReason VariationalInequality::run_snes()
   if (_stage)
     stage.emplace(*_stage);
   if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _y); ierr != 0)
+  {
+    // A zero pivot in the factorisation of a Newton step's reduced system:
+    // the system is singular (a body that the contact alone holds, from a
+    // start that presses on nothing), a failed step as DIVERGED_DTOL is
+    // (convergence.cpp), which the clamped start answers.
+    if (ierr == PETSC_ERR_MAT_LU_ZRPVT or ierr == PETSC_ERR_MAT_CH_ZRPVT)
+      return SNES_DIVERGED_LINEAR_SOLVE;
     throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
+  }
   SNESConvergedReason reason;
   SNESGetConvergedReason(_snes, &reason);
   return reason;

@@ -18,6 +18,10 @@ from ..solvers.options import OptionsError, system_name
 from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, reason_name,
                               set_default_option, set_relative_tolerance, unsymmetric_jacobian_options)
 
+# PETSc's error codes of a zero pivot (PETSC_ERR_MAT_LU_ZRPVT,
+# PETSC_ERR_MAT_CH_ZRPVT), which petsc4py does not name.
+_ZERO_PIVOTS = (71, 81)
+
 # What a friction that fails to converge most often means.
 NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
 
@@ -81,6 +85,10 @@ class VariationalInequality:
             self._make_friction_operators()
         if self.J is not None and whole is not None:
             unsymmetric_jacobian_options(problem.prefix)
+        # a reduced system that CHOLMOD finds singular is answered by the
+        # clamped start (_snes_solve): no warning on the terminal
+        if whole is not None:
+            set_default_option(problem.prefix + "mat_cholmod_print", "0")
         # condensed, the VI's unknown is the contact DOFs alone: no separate rows
         self.convergence = ContactConvergence(problem.mpi_comm, VIBounds(self.lower, self.upper, problem.bounded),
                                               problem.separate_rows)
@@ -248,6 +256,12 @@ class VariationalInequality:
             else:
                 self.snes.solve(None, self.y)
         except PETSc.Error as e:
+            # a zero pivot in the factorisation of a Newton step's reduced
+            # system: the system is singular (a body that the contact alone
+            # holds, from a start that presses on nothing), a failed step as
+            # DIVERGED_DTOL is (convergence.py), which the clamped start answers
+            if e.ierr in _ZERO_PIVOTS:
+                return PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
             raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: PETSc error {e.ierr}") from None
         return self.snes.getConvergedReason()
 
