@@ -49,6 +49,10 @@ public:
     {
       output_failed(e);
     }
+    catch (const SolverError& e) // the initial equilibrium (start_or_restore)
+    {
+      _end.failure = e.what();
+    }
     write_summary();
     return exit_status();
   }
@@ -145,9 +149,16 @@ void Simulation::start_or_restore()
                   + std::to_string(_end.completed_time));
     return;
   }
-  if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
-    for (Step* step : _scheme->steps())
-      step->equilibrate();
+  try
+  {
+    if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
+      for (Step* step : _scheme->steps())
+        step->equilibrate();
+  }
+  catch (const SolverError& e)
+  {
+    throw SolverError("the initial equilibrium (t = 0): " + std::string(e.what()));
+  }
   _fields->write_flow(0.0);
   if (_scheme->u)
     _fields->write_mechanics(0.0);

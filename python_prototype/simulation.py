@@ -56,6 +56,8 @@ class Simulation:
                 self.time_loop()
             except OutputError as e:
                 self.stop_at_output_failure(e)
+            except SolverError as e:  # the initial equilibrium (start_or_restore)
+                self.end.failure = str(e)
             self.write_summary()
         finally:
             self.close_output()
@@ -122,9 +124,12 @@ class Simulation:
             self.progress.say(f"restarted from the checkpoint at step {self.end.completed_steps}, "
                               f"t = {self.end.completed_time:f}")
             return
-        if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
-            for step in s.steps():
-                step.equilibrate()
+        try:
+            if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
+                for step in s.steps():
+                    step.equilibrate()
+        except SolverError as e:
+            raise SolverError(f"the initial equilibrium (t = 0): {e}") from None
         self.fields.write_flow(0.0)
         if s.u is not None:
             self.fields.write_mechanics(0.0)

@@ -133,6 +133,47 @@ def crack_scenes():
     return crack, crossing, degenerate
 
 
+FOUNDATION_FAULT_GEO = """SetFactory("Built-in");
+h = 0.05;
+Point(1) = {0, 0, 0, h}; Point(2) = {0.5, 0, 0, h}; Point(3) = {1, 0, 0, h};
+Point(4) = {1, 1, 0, h}; Point(5) = {0, 1, 0, h}; Point(6) = {0.5, 0.6, 0, h};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 1}; Line(6) = {2, 6};
+Curve Loop(1) = {1, 2, 3, 4, 5}; Plane Surface(1) = {1};
+Curve{6} In Surface{1};
+Physical Curve("bottom") = {1, 2}; Physical Curve("right") = {3}; Physical Curve("top") = {4};
+Physical Curve("left") = {5}; Physical Curve("fault") = {6}; Physical Surface("rock") = {1};
+"""
+
+
+def foundation_fault_scene():
+    """The catalogues' fault that reaches a contact boundary: a unit square
+    on a rigid foundation (bottom), a vertical fault from (0.5, 0) to a tip
+    at (0.5, 0.6), mechanics only."""
+    path = written("""[mesh]
+type = "gmsh"
+file = "fault.geo"
+dimension = 2
+[mechanics]
+E = 1.0e9
+nu = 0.3
+[time]
+end = 1.0
+dt = 0.5
+[boundary.left]
+displacement = { x = 0.0 }
+[boundary.top]
+traction = [2.0e5, "-1e6*t"]
+[boundary.bottom]
+contact = { gap = 0.0, normal = [0.0, -1.0] }
+[fault.fault]
+normal = [1.0, 0.0]
+friction = 0.6
+""")
+    with open(os.path.join(os.path.dirname(path), "fault.geo"), "w") as f:
+        f.write(FOUNDATION_FAULT_GEO)
+    return path
+
+
 def flow_crack_scene():
     """The catalogues' crack (meshes/sneddon2d.geo) in a flow scene (rigid
     walls), the fault transparent: where conduit faults are refused."""

@@ -5,7 +5,7 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, flow_crack_scene, scene
+from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, flow_crack_scene, foundation_fault_scene, scene
 
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
@@ -129,6 +129,7 @@ for label, command, path, overrides, key in (
         ("a fault group on the outer boundary", "check", CRACK, ["fault.top.gap=0.0"], "fault.top"),
         ("faults that cross", "check", CROSSING, [], "fault.crack"),
         ("a negative fault gap", "run", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
+        ("a fault that reaches a contact boundary", "run", foundation_fault_scene(), [], "fault.fault"),
         ("a fault pressure that is NaN", "check", CRACK, ["fault.crack.pressure='sqrt(x - 10)'"],
          "fault.crack.pressure"),
         ("a degenerate cell", "check", DEGENERATE, [], "degenerate.geo"),

@@ -29,15 +29,27 @@ struct FaultFace
 };
 
 /// @brief What every pair's constraint reads: the scene file (for
-/// messages), the coordinates of V's nodes, its prescribed DOFs and where
-/// the fault nodes are.
+/// messages), the coordinates of V's nodes, its prescribed DOFs, where the
+/// fault nodes are, and the nodes (local) that a foundation's constraint
+/// holds.
 struct PairContext
 {
   const std::string& file;
   std::vector<double> coordinates;
   std::vector<char> prescribed;
   FaultNodes nodes;
+  std::set<std::int32_t> on_foundation;
 };
+
+/// The local nodes of this rank's foundation constraints (those in c so far).
+std::set<std::int32_t> foundation_nodes(const ContactSet& c)
+{
+  std::set<std::int32_t> nodes;
+  for (std::size_t k = 0; k < c.dofs.size(); ++k)
+    if (c.pair_node[k] < 0)
+      nodes.insert(c.dofs[k] / c.dim);
+  return nodes;
+}
 
 /// The constraint of one node pair, if this rank owns its + node.
 void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, std::size_t k, std::string& error)
@@ -55,6 +67,11 @@ void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, 
   const std::string key = context.file + ": fault." + face.name;
   if (const std::string problem = nonnegative_problem(g); !problem.empty() and error.empty())
     error = key + ".gap: " + problem + " at " + point_text(x, d);
+  // The pair's change of variables (jump, - face) would leave the + node's
+  // foundation constraint no DOF of its own.
+  if (context.on_foundation.count(plus->second) and error.empty())
+    error = key + ": at " + point_text(x, d)
+            + " it reaches a contact boundary, where a fault is not supported yet (end it inside the body)";
   const std::array<double, 3> nu{-n[0], -n[1], -n[2]};
   std::array<bool, 3> held{false, false, false};
   for (int i = 0; i < d; ++i)
@@ -92,7 +109,7 @@ void add_fault_pairs(const Scene& scene, const Domain& domain, const CompiledFor
   if (domain.faults.empty())
     return;
   const PairContext context{scene.file, V->tabulate_dof_coordinates(false), prescribed_dofs(scene, domain, *V),
-                            fault_nodes(domain, *V)};
+                            fault_nodes(domain, *V), foundation_nodes(c)};
   const int d = domain.dim();
   const std::int32_t owned = d * V->dofmap()->index_map->size_local();
   for (const auto& [name, fault] : domain.faults)

@@ -36,12 +36,18 @@ class _FaultFace:
 @dataclasses.dataclass
 class _PairContext:
     """What every pair's constraint reads: the scene file (for messages), the
-    coordinates of V's nodes, its prescribed DOFs and where the fault nodes
-    are."""
+    coordinates of V's nodes, its prescribed DOFs, where the fault nodes
+    are, and the nodes (local) that a foundation's constraint holds."""
     file: str
     coordinates: np.ndarray
     prescribed: np.ndarray
     nodes: FaultNodes
+    on_foundation: set
+
+
+def _foundation_nodes(c):
+    """The local nodes of this rank's foundation constraints (those in c so far)."""
+    return {int(dof) // c.dim for dof, node in zip(c.dofs, c.pair_node) if node < 0}
 
 
 def _add_pair(c, context, face, k, error):
@@ -58,6 +64,11 @@ def _add_pair(c, context, face, k, error):
     problem = nonnegative_problem(g)
     if problem and not error:
         error.append(f"{key}.gap: {problem} at {point_text(x, d)}")
+    # the pair's change of variables (jump, - face) would leave the + node's
+    # foundation constraint no DOF of its own
+    if node in context.on_foundation and not error:
+        error.append(f"{key}: at {point_text(x, d)} it reaches a contact boundary, where a fault is not supported "
+                     "yet (end it inside the body)")
     held = context.prescribed[first:first + d]
     R = node_change_of_variables([-n], d, held)
     if R is None:
@@ -89,7 +100,7 @@ def add_fault_pairs(scene, domain, F, V, c, error):
     if not domain.faults:
         return
     context = _PairContext(scene.file, V.tabulate_dof_coordinates(), prescribed_dofs(scene, domain, V),
-                           fault_nodes(domain, V))
+                           fault_nodes(domain, V), _foundation_nodes(c))
     d = domain.dim
     n_owned = d * V.dofmap.index_map.size_local
     for name, fault in domain.faults.items():
