@@ -1,6 +1,7 @@
 """Bad input to the Python prototype gets the C++ solver's one-line error
 (same key named, same text) and exit status 2; a split that does not
 converge gets the same error and exit status 3 in both."""
+import json
 import os
 import subprocess
 import tempfile
@@ -171,6 +172,19 @@ check(ps == cs == 3, f"non-convergence: exit status 3 (C++ {cs}, prototype {ps})
 strip = [e.rsplit(" (log:", 1)[0] for e in (ce, pe)]
 check(strip[0] == strip[1] and "did not converge in 3 iterations" in pe,
       f"non-convergence: the same message: {pe[:120]!r}")
+
+# A solver that fails before step 1 (the initial equilibrium): exit 3, one
+# line, and summary.json written all the same (issue 50: every exit 3).
+for exe, name in (([BINARY], "C++"), (PROTOTYPE, "prototype")):
+    out = tempfile.mkdtemp()
+    p = subprocess.run(exe + ["run", scene("fault_reactivation"), "--out", out, "--set", "solver.mechanics=iterative",
+                              "-mechanics_ksp_max_it", "1"], capture_output=True, text=True, env=ENV, timeout=300)
+    lines = p.stderr.strip().splitlines()
+    written = os.path.exists(os.path.join(out, "summary.json"))
+    status = json.load(open(os.path.join(out, "summary.json")))["status"] if written else None
+    check(p.returncode == 3 and len(lines) == 1 and "initial equilibrium" in lines[0] and status == "failed",
+          f"{name}: the initial equilibrium fails: exit {p.returncode} (3), one line naming it, summary.json "
+          f"status {status!r} ('failed'): {p.stderr.strip()[:160]!r}")
 
 (cs, ce), (ps, pe) = both("run", DEFAULT, [], ["-flow_ksp_type", "gmres", "-flow_pc_type", "none",
                                                "-flow_ksp_max_it", "1"])
