@@ -155,10 +155,10 @@ void ContactSolver::make_condensed_vi()
 
 void ContactSolver::condense_now()
 {
-  // The ski-rental rule: the full path has paid about what forming H costs
-  // (two factorisations of A, schur_complement.h); each later active-set
-  // change would cost it a factorisation more, the condensed path a small
-  // dense one.
+  // The ski-rental rule: the full path has paid at least what forming H
+  // costs (about two factorisations of A, schur_complement.h); each later
+  // solve would cost it a factorisation or more, the condensed path two
+  // back-solves.
   _retired = {newton_iterations(), linear_iterations(), active_set_changes()};
   std::function<void(int)> told = std::move(_vi->convergence().on_newton_step);
   _vi.reset();
@@ -302,10 +302,11 @@ double ContactSolver::displacement_scale(Vec x) const
 
 void ContactSolver::solve(Vec b, Vec x)
 {
-  // The full path's factorisations: its first, and one per change of its
-  // inactive set.
-  if (_condense_later and 1 + active_set_changes() >= condense_after)
+  // Each solve on the full path factorises at least once; counted by
+  // solves, the rule is the same on a restart (continue_after).
+  if (_condense_later and _solves >= condense_after)
     condense_now();
+  ++_solves;
   change_operators();
   Vec b_vi = b;
   if (_change)

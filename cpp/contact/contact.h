@@ -103,10 +103,11 @@ public:
   /// refactorising the sparse inactive-set matrix.
   static constexpr PetscInt max_condensed_dofs = 2000;
   /// Frictionless, the default starts on the full path and condenses
-  /// before a solve once the full path has factorised this many times: H
-  /// costs about two factorisations of A (the ski-rental rule: never much
-  /// more than twice the cheaper path's factorisations; a single solve, as
-  /// a pressurised crack's, stays on the full path).
+  /// before a solve once the full path has solved this many times, each
+  /// solve at least one factorisation: H costs about two factorisations of
+  /// A (the ski-rental rule: never much more than twice the cheaper path's
+  /// factorisations; a single solve, as a pressurised crack's, stays on the
+  /// full path).
   static constexpr long condense_after = 3;
 
   /// `displacement_dofs[i]` is the position of V's owned DOF i in the
@@ -133,6 +134,10 @@ public:
 
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
+
+  /// A restart continues a run that had solved `solves` times: the path is
+  /// the one that run took from there on (condense_after).
+  void continue_after(long solves) { _solves = solves; }
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
   /// each Newton step and the Newton tolerance both. F is linear (but with
@@ -220,6 +225,7 @@ private:
   bool _schur_current = false;
   std::unique_ptr<VariationalInequality> _vi;
   bool _condense_later = false; // ContactPath::full_then_condensed, not yet condensed
+  long _solves = 0;             // of the run (continue_after)
   std::array<long, 3> _retired{0, 0, 0}; // the counts of a VI replaced (condense_now)
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;

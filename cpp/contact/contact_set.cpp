@@ -61,21 +61,25 @@ la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& for
 std::vector<double> pair_shear_moduli(const ContactSet& set, const fem::FunctionSpace& V,
                                       const fem::Function<double>& G)
 {
+  // Per node, the sum of G and the count of its cells, each cell counted
+  // on the rank that owns it and summed onto the node's owner: the same
+  // mean on any partition (a node on a layer interface has cells of both).
   const fem::DofMap& nodes = *V.dofmap();
   const fem::DofMap& cells_G = *G.function_space()->dofmap();
   const auto cell_map = V.mesh()->topology().index_map(V.mesh()->topology().dim());
-  const std::int32_t cells = cell_map->size_local() + cell_map->num_ghosts();
-  const std::int32_t node_count = nodes.index_map->size_local() + nodes.index_map->num_ghosts();
-  std::vector<std::int32_t> cell_of(node_count, -1);
-  for (std::int32_t c = 0; c < cells; ++c)
-    for (std::int32_t node : nodes.cell_dofs(c))
-      cell_of[node] = c;
+  la::Vector<double> sum(nodes.index_map, 1), count(nodes.index_map, 1);
+  std::span<double> s = sum.mutable_array(), n = count.mutable_array();
   std::span<const double> g = G.x()->array();
+  for (std::int32_t c = 0; c < cell_map->size_local(); ++c)
+    for (std::int32_t node : nodes.cell_dofs(c))
+      s[node] += g[cells_G.cell_dofs(c)[0]], n[node] += 1;
+  sum.scatter_rev(std::plus<double>());
+  count.scatter_rev(std::plus<double>());
   const int bs = nodes.bs();
   std::vector<double> moduli(set.dofs.size(), 0.0);
   for (std::size_t k = 0; k < set.dofs.size(); ++k)
-    if (set.pair_node[k] >= 0)
-      moduli[k] = g[cells_G.cell_dofs(cell_of[set.dofs[k] / bs])[0]];
+    if (set.pair_node[k] >= 0) // its + node, owned here
+      moduli[k] = s[set.dofs[k] / bs] / n[set.dofs[k] / bs];
   return moduli;
 }
 

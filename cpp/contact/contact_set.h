@@ -88,8 +88,9 @@ dolfinx::la::Vector<double> lumped_measure(const Domain& domain, const CompiledF
                                            std::vector<std::int32_t> facets);
 
 /// The shear modulus of each constraint of `set`: at a fault pair, the
-/// value of the DG0 coefficient G in a cell of its + node (all its cells
-/// lie on the + side of the split); 0 at a foundation's constraint.
+/// mean of the DG0 coefficient G over the cells of its + node (all of them
+/// on the + side of the split; a node on a layer interface has cells of
+/// both layers); 0 at a foundation's constraint (collective).
 std::vector<double> pair_shear_moduli(const ContactSet& set, const dolfinx::fem::FunctionSpace& V,
                                       const dolfinx::fem::Function<double>& G);
 

@@ -148,9 +148,10 @@ class ContactSolver:
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
     # Frictionless, the default starts on the full path and condenses before
-    # a solve once the full path has factorised this many times: H costs
-    # about two factorisations of A (the ski-rental rule; a single solve, as
-    # a pressurised crack's, stays on the full path).
+    # a solve once the full path has solved this many times, each solve at
+    # least one factorisation: H costs about two factorisations of A (the
+    # ski-rental rule; a single solve, as a pressurised crack's, stays on the
+    # full path).
     condense_after = 3
 
     def __init__(self, comm, system, method, operators, unknowns):
@@ -172,6 +173,7 @@ class ContactSolver:
         self._make_change_of_variables()
         self.schur, self.schur_current = None, False
         self.retired = (0, 0, 0)  # the counts of a VI replaced (_condense_now)
+        self.solves = 0  # of the run (continue_after)
         path = _contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM),
                              (operators.changing, _any_frictional(self.set, comm)))
         self.condense_later = path == ContactPath.full_then_condensed  # not yet condensed
@@ -195,11 +197,16 @@ class ContactSolver:
         self._add_friction(problem)
         self.vi = VariationalInequality(problem, None)
 
+    def continue_after(self, solves):
+        """A restart continues a run that had solved `solves` times: the path
+        is the one that run took from there on (condense_after)."""
+        self.solves = solves
+
     def _condense_now(self):
         """The full path's VI replaced by the condensed one, its counts kept:
-        the ski-rental rule (the full path has paid about what forming H
-        costs, two factorisations of A; each later active-set change would
-        cost it a factorisation more, the condensed path a small dense one)."""
+        the ski-rental rule (the full path has paid at least what forming H
+        costs, about two factorisations of A; each later solve would cost it
+        a factorisation or more, the condensed path two back-solves)."""
         self.retired = (self.newton_iterations, self.linear_iterations, self.active_set_changes)
         told = self.vi.convergence.on_newton_step
         self._make_condensed_vi()
@@ -299,10 +306,11 @@ class ContactSolver:
         """Solves the VI; x holds the initial guess on entry. With friction,
         the slip increments of the frictional constraints are measured from
         the slip reference (friction.py)."""
-        # the full path's factorisations: its first, and one per change of
-        # its inactive set
-        if self.condense_later and 1 + self.active_set_changes >= self.condense_after:
+        # each solve on the full path factorises at least once; counted by
+        # solves, the rule is the same on a restart (continue_after)
+        if self.condense_later and self.solves >= self.condense_after:
             self._condense_now()
+        self.solves += 1
         self._change_operators()
         b_vi, x_vi = b, self._to_vi(x)
         if self.change:

@@ -5,7 +5,7 @@ change of variables, its gap, normal and lumped measure, and the blocks of
 that change, and the contact law of each contact boundary
 (cpp/contact/contact_set.h)."""
 import numpy as np
-from dolfinx import fem
+from dolfinx import fem, la
 
 from ..assembly.linear_algebra import accumulate_ghosts, add_vector
 
@@ -73,18 +73,27 @@ def lumped_measure(domain, F, V, facets):
 
 def pair_shear_moduli(contact_set, V, G):
     """The shear modulus of each constraint of `contact_set`: at a fault
-    pair, the value of the DG0 coefficient G in a cell of its + node (all
-    its cells lie on the + side of the split); 0 at a foundation's
-    constraint."""
+    pair, the mean of the DG0 coefficient G over the cells of its + node
+    (all of them on the + side of the split; a node on a layer interface has
+    cells of both layers); 0 at a foundation's constraint (collective)."""
+    # Per node, the sum of G and the count of its cells, each cell counted on
+    # the rank that owns it and summed onto the node's owner: the same mean
+    # on any partition.
     cells = V.mesh.topology.index_map(V.mesh.topology.dim)
     nodes = V.dofmap.index_map
-    cell_of = np.full(nodes.size_local + nodes.num_ghosts, -1)
-    for c in range(cells.size_local + cells.num_ghosts):
-        cell_of[V.dofmap.cell_dofs(c)] = c
-    g, bs = G.x.array, V.dofmap.index_map_bs
+    total, count = la.vector(nodes, 1), la.vector(nodes, 1)
+    g = G.x.array
+    for c in range(cells.size_local):
+        node = V.dofmap.cell_dofs(c)
+        np.add.at(total.array, node, g[G.function_space.dofmap.cell_dofs(c)[0]])
+        np.add.at(count.array, node, 1.0)
+    total.scatter_reverse(la.ScatterMode.add)
+    count.scatter_reverse(la.ScatterMode.add)
+    bs = V.dofmap.index_map_bs
     moduli = np.zeros(len(contact_set.dofs))
-    for k in np.flatnonzero(np.asarray(contact_set.pair_node) >= 0):
-        moduli[k] = g[G.function_space.dofmap.cell_dofs(cell_of[contact_set.dofs[k] // bs])[0]]
+    for k in np.flatnonzero(np.asarray(contact_set.pair_node) >= 0):  # its + node, owned here
+        node = contact_set.dofs[k] // bs
+        moduli[k] = total.array[node] / count.array[node]
     return moduli
 
 
