@@ -2,7 +2,8 @@
 """Is `auto`'s contact path the faster one? Each case on the condensed path
 (`-<prefix>contact_condensed true`), the full one (`false`) and the default:
 Sneddon's pressurised crack (scenes/sneddon.toml, one solve) at three
-refinements, and the shipped fault and foundation scenes (many solves).
+refinements, and the shipped fault and foundation scenes and the default
+scene (many solves).
 
     /usr/bin/python3 bench/contact_path.py [--cases sneddon0,...] [--repeat 3]
         [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
@@ -27,7 +28,7 @@ CASES = {"sneddon0": ("scenes/sneddon.toml", ["mesh.refine=0"]),
          "fault_depletion": ("scenes/fault_depletion.toml", []),
          "injection_fault3d": ("scenes/injection_fault3d.toml", []),
          "fault3d": ("scenes/fault3d.toml", []), "fracture": ("scenes/fracture.toml", []),
-         "hertz": ("scenes/hertz.toml", [])}
+         "hertz": ("scenes/hertz.toml", []), "default": ("scenes/default.toml", [])}
 PATHS = {"condensed": ["-mechanics_contact_condensed", "true"], "full": ["-mechanics_contact_condensed", "false"],
          "default": []}
 COLUMNS = ["case", "path", "repetition", "wall_s", "process_wall_s", "unknowns", "method", "solves",

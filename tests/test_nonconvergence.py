@@ -35,17 +35,15 @@ check(s["steps"] == 5 and len(times) == 6 and abs(times[-1] - 1.0) < 1e-12,
 # time.retry: a failure that a smaller step cures. With the load ramped in
 # (contact starts gradually), the contact VI's Newton steps per solve grow
 # with the contact nodes that change in one step; capped at 8, step 2
-# (t = 0.2 -> 0.4) fails at dt = 0.2 and passes at dt = 0.05. The cap names
-# the condensed path's prefix, so the condensed path is asked for (without
-# friction the default starts on the full one).
+# (t = 0.2 -> 0.4) fails at dt = 0.2 and passes at dt = 0.05.
 import subprocess  # noqa: E402
 
 from support import MPI_ENV, ROOT, check_signorini  # noqa: E402
 
 RAMP = ["--set", "mesh.cells=[160,16]", "--set", "time.end=1",
         "--set", "boundary.top.traction=[0.0, '-1e3*min(t/2,1)']"]
-for scheme, cap in (("fixed-stress", ["-mechanics_contact_condensed", "true", "-mechanics_contact_snes_max_it", "8"]),
-                    ("monolithic", ["-monolithic_contact_condensed", "true", "-monolithic_contact_snes_max_it", "6"])):
+for scheme, cap in (("fixed-stress", ["-mechanics_contact_snes_max_it", "8"]),
+                    ("monolithic", ["-monolithic_contact_snes_max_it", "6"])):
     case = RAMP + ["--set", f"coupling.scheme={scheme}"] + cap
     out, p = run(scene("default"), *case, expect=3)
     check("step 2 (t = 0.4)" in p.stderr and len(p.stderr.strip().splitlines()) == 1,

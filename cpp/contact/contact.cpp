@@ -37,42 +37,34 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
 namespace
 {
 /// Reads -<prefix>contact_condensed through PETSc's options database, so
-/// that -help lists it with this run's default; `given` says whether the
-/// user set it.
-PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool* condensed, PetscBool* given)
+/// that -help lists it with this run's default.
+PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed)
 {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Contact solver (biotcontact)", nullptr);
-  const std::string text = "pose the contact VI on the Schur complement of the contact DOFs, or on the whole "
-                           "system (default with a direct solver and at most "
+  const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
+                           "direct solver and at most "
                            + std::to_string(ContactSolver::max_condensed_dofs)
-                           + " contact DOFs: condensed with friction; without, whole until it has factorised "
-                           + std::to_string(ContactSolver::condense_after) + " times, then condensed)";
-  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", *condensed, condensed, given));
+                           + " contact DOFs), else on the whole system";
+  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, nullptr));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
 
-/// The path of the VI: -<prefix>contact_condensed if given; by default,
-/// when the system is solved directly, C is small enough and A is not
-/// `changing`, condensed with friction (the full path would factorise its
-/// Jacobian at every Newton step) and else full until condensing pays;
-/// otherwise full.
-ContactPath contact_path(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs,
-                         std::array<bool, 2> changing_frictional)
+/// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
+/// by default when the system is solved directly, C is small enough and A
+/// is not `changing`.
+bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs, bool changing)
 {
   // Forming H takes m solves: cheap back-solves of a factorisation, but m
   // full Krylov solves with an iterative method, and m more at each change
   // of A.
-  const auto [changing, frictional] = changing_frictional;
-  const bool condensable
+  const bool fallback
       = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs and !changing;
-  PetscBool condensed = condensable ? PETSC_TRUE : PETSC_FALSE, given = PETSC_FALSE;
-  if (read_condensed(comm, prefix, &condensed, &given) != 0)
+  PetscBool condensed = fallback ? PETSC_TRUE : PETSC_FALSE;
+  if (read_condensed(comm, prefix, condensed, &condensed) != 0)
     throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
-  if (given or !condensable)
-    return condensed ? ContactPath::condensed : ContactPath::full;
-  return frictional ? ContactPath::condensed : ContactPath::full_then_condensed;
+  return condensed;
 }
 /// Whether any rank has a frictional constraint (collective).
 bool any_frictional(const ContactSet& set, MPI_Comm comm)
@@ -82,22 +74,6 @@ bool any_frictional(const ContactSet& set, MPI_Comm comm)
   return any;
 }
 
-/// Every rank's constraints on every rank, in rank order (collective): a
-/// record of plain values, gathered as bytes.
-std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<FrictionalConstraint>& mine, MPI_Comm comm)
-{
-  static_assert(std::is_trivially_copyable_v<FrictionalConstraint>);
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  const int bytes = static_cast<int>(mine.size() * sizeof(FrictionalConstraint));
-  std::vector<int> counts(ranks), starts(ranks + 1, 0);
-  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 0; r < ranks; ++r)
-    starts[r + 1] = starts[r] + counts[r];
-  std::vector<FrictionalConstraint> all(starts[ranks] / sizeof(FrictionalConstraint));
-  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), starts.data(), MPI_BYTE, comm);
-  return all;
-}
 } // namespace
 
 ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method method, ContactOperators operators,
@@ -120,17 +96,20 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
   MPI_Allreduce(&local_dofs, &all_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  const ContactPath path
-      = contact_path(comm, prefix, method, all_dofs, {operators.changing, any_frictional(_set, comm)});
-  if (path == ContactPath::condensed)
-    make_condensed_vi();
+  if (use_condensation(comm, prefix, method, all_dofs, operators.changing))
+  {
+    VIProblem problem = condense();
+    Vec y = problem.layout; // the VI keeps a duplicate
+    add_friction(problem);
+    _vi = std::make_unique<VariationalInequality>(std::move(problem), std::nullopt);
+    VecDestroy(&y);
+  }
   else
   {
     VIProblem problem = pose_on_full_system(layout, std::move(unknowns.separate_rows));
     add_friction(problem);
     _vi = std::make_unique<VariationalInequality>(std::move(problem),
                                                   WholeSystem{comm, _A_vi, _P_vi, {prefix, _structure, _fields}, method});
-    _condense_later = path == ContactPath::full_then_condensed;
   }
   // Only the VI methods take bounds; any other would ignore the contact.
   // Asked of both prefixes, so that a type given for the path not taken
@@ -142,29 +121,6 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
       throw OptionsError("-" + p + "snes_type " + type
                          + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
   }
-}
-
-void ContactSolver::make_condensed_vi()
-{
-  VIProblem problem = condense();
-  Vec y = problem.layout; // the VI keeps a duplicate
-  add_friction(problem);
-  _vi = std::make_unique<VariationalInequality>(std::move(problem), std::nullopt);
-  VecDestroy(&y);
-}
-
-void ContactSolver::condense_now()
-{
-  // The ski-rental rule: the full path has paid at least what forming H
-  // costs (about two factorisations of A, schur_complement.h); each later
-  // solve would cost it a factorisation or more, the condensed path two
-  // back-solves.
-  _retired = {newton_iterations(), linear_iterations(), active_set_changes()};
-  std::function<void(int)> told = std::move(_vi->convergence().on_newton_step);
-  _vi.reset();
-  make_condensed_vi();
-  _vi->convergence().on_newton_step = std::move(told);
-  _condense_later = false;
 }
 
 /// The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
@@ -302,11 +258,6 @@ double ContactSolver::displacement_scale(Vec x) const
 
 void ContactSolver::solve(Vec b, Vec x)
 {
-  // Each solve on the full path factorises at least once; counted by
-  // solves, the rule is the same on a restart (continue_after).
-  if (_condense_later and _solves >= condense_after)
-    condense_now();
-  ++_solves;
   change_operators();
   Vec b_vi = b;
   if (_change)

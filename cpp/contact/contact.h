@@ -64,23 +64,12 @@ struct ContactUnknowns
   std::vector<std::int32_t> separate_rows = {};
 };
 
-/// The path of the contact VI (ContactSolver): on the Schur complement of
-/// the contact DOFs, on the whole system, or on the whole system until
-/// condensing pays (ContactSolver::condense_after).
-enum class ContactPath
-{
-  condensed,
-  full,
-  full_then_condensed
-};
-
 /// The reduced-space Newton method solves, at each step, the system on the
 /// inactive set (the DOFs not held on a bound). It runs in one of two ways:
 ///
-/// - condensed (with a direct solver, at most `max_condensed_dofs` contact
-///   DOFs and an A that is not ContactOperators::changing: the default with
-///   friction, and without once the full path has factorised
-///   `condense_after` times): on the Schur complement H of A on
+/// - condensed (the default with a direct solver, at most
+///   `max_condensed_dofs` contact DOFs and an A that is not
+///   ContactOperators::changing): on the Schur complement H of A on
 ///   the contact DOFs (schur_complement.h). The large matrix is factorised
 ///   once per operator, with the contact DOFs clamped, whatever the active
 ///   set; the Newton steps work on the small dense H (options prefix
@@ -102,13 +91,6 @@ public:
   /// to form, m^3/3 flops per active-set change) costs more than
   /// refactorising the sparse inactive-set matrix.
   static constexpr PetscInt max_condensed_dofs = 2000;
-  /// Frictionless, the default starts on the full path and condenses
-  /// before a solve once the full path has solved this many times, each
-  /// solve at least one factorisation: H costs about two factorisations of
-  /// A (the ski-rental rule: never much more than twice the cheaper path's
-  /// factorisations; a single solve, as a pressurised crack's, stays on the
-  /// full path).
-  static constexpr long condense_after = 3;
 
   /// `displacement_dofs[i]` is the position of V's owned DOF i in the
   /// solved vector (i itself for the mechanics system, its place in the
@@ -134,10 +116,6 @@ public:
 
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
-
-  /// A restart continues a run that had solved `solves` times: the path is
-  /// the one that run took from there on (condense_after).
-  void continue_after(long solves) { _solves = solves; }
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
   /// each Newton step and the Newton tolerance both. F is linear (but with
@@ -168,11 +146,11 @@ public:
   double schur_time() const { return _schur ? _schur->time : 0; }
 
   /// Newton steps and Krylov iterations (1 per back-solve when direct).
-  long newton_iterations() const { return _retired[0] + _vi->newton_iterations; }
-  long linear_iterations() const { return _retired[1] + _vi->linear_iterations; }
+  long newton_iterations() const { return _vi->newton_iterations; }
+  long linear_iterations() const { return _vi->linear_iterations; }
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
-  long active_set_changes() const { return _retired[2] + _vi->convergence().active_set_changes; }
+  long active_set_changes() const { return _vi->convergence().active_set_changes; }
 
   /// `told` is called after each Newton step with its number: a long
   /// solve's sign of life (the run's progress line).
@@ -185,9 +163,6 @@ private:
   /// The VI on the Schur complement of the contact DOFs (and a new vector
   /// like its unknown, the caller's to destroy).
   VIProblem condense();
-  void make_condensed_vi();
-  /// The full path's VI replaced by the condensed one, its counts kept.
-  void condense_now();
   /// The VI on the whole system.
   VIProblem pose_on_full_system(Vec layout, std::vector<std::int32_t> separate_rows) const;
   /// The frictional constraints, once the VI is posed.
@@ -224,9 +199,6 @@ private:
   std::unique_ptr<SchurComplement> _schur;
   bool _schur_current = false;
   std::unique_ptr<VariationalInequality> _vi;
-  bool _condense_later = false; // ContactPath::full_then_condensed, not yet condensed
-  long _solves = 0;             // of the run (continue_after)
-  std::array<long, 3> _retired{0, 0, 0}; // the counts of a VI replaced (condense_now)
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
 };

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <type_traits>
 
 namespace biotcontact
 {
@@ -180,6 +181,21 @@ PetscErrorCode friction_jacobian(const std::vector<FrictionalConstraint>& constr
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
+}
+
+std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<FrictionalConstraint>& mine, MPI_Comm comm)
+{
+  static_assert(std::is_trivially_copyable_v<FrictionalConstraint>);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const int bytes = static_cast<int>(mine.size() * sizeof(FrictionalConstraint));
+  std::vector<int> counts(ranks), starts(ranks + 1, 0);
+  MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < ranks; ++r)
+    starts[r + 1] = starts[r] + counts[r];
+  std::vector<FrictionalConstraint> all(starts[ranks] / sizeof(FrictionalConstraint));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), starts.data(), MPI_BYTE, comm);
+  return all;
 }
 
 } // namespace biotcontact

@@ -13,6 +13,7 @@
 #include "contact/contact_law.h"
 
 #include <array>
+#include <mpi.h>
 #include <petscmat.h>
 #include <vector>
 
@@ -68,5 +69,10 @@ void add_friction_forces(const std::vector<FrictionalConstraint>& constraints, c
 /// PETSc's error code: it runs inside SNES's Jacobian callback.
 PetscErrorCode friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at,
                                  Mat K, Mat J);
+
+/// Every rank's constraints on every rank, in rank order (collective): a
+/// record of plain values, gathered as bytes.
+std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<FrictionalConstraint>& mine,
+                                                         MPI_Comm comm);
 
 } // namespace biotcontact

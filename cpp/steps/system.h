@@ -117,12 +117,7 @@ public:
   /// contact): what statistics() counts, without reading the log.
   long newton_steps() const;
   /// The counts of the run a restart continues.
-  void add_earlier(const SolverStatistics& earlier)
-  {
-    _earlier = earlier;
-    if (_contact)
-      _contact->continue_after(earlier.solves);
-  }
+  void add_earlier(const SolverStatistics& earlier) { _earlier = earlier; }
   /// The solver actually used, e.g. "preonly + cholesky (cholmod)".
   std::string description() const;
   /// Direct or iterative, as decided from the scene and the options.

@@ -9,7 +9,6 @@ the variational inequality of variational_inequality.py on
 DOFs (schur_complement.py).
 """
 import dataclasses
-import enum
 
 import numpy as np
 from mpi4py import MPI
@@ -18,7 +17,7 @@ from petsc4py import PETSc
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state
-from .friction import FrictionalConstraint
+from .friction import FrictionalConstraint, all_gather_constraints
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
 from .foundation_pair import add_foundation_pairs
@@ -87,20 +86,10 @@ def _any_frictional(contact_set, comm):
 
 
 
-class ContactPath(enum.Enum):
-    """The path of the contact VI (ContactSolver): on the Schur complement of
-    the contact DOFs, on the whole system, or on the whole system until
-    condensing pays (ContactSolver.condense_after)."""
-    condensed = 0
-    full = 1
-    full_then_condensed = 2
-
-
 def _read_condensed(comm, prefix, fallback):
-    """(-<prefix>contact_condensed, `fallback` when not given; whether it is
-    given); with -help, the lines PETSc prints for the option the C++
-    registers (cpp/contact/contact.cpp, read_condensed), which petsc4py 3.18
-    cannot register."""
+    """-<prefix>contact_condensed, `fallback` when not given; with -help, the
+    lines PETSc prints for the option the C++ registers (cpp/contact/contact.cpp,
+    read_condensed), which petsc4py 3.18 cannot register."""
     options = PETSc.Options()
     try:
         condensed = options.getBool(prefix + "contact_condensed", fallback)
@@ -108,28 +97,20 @@ def _read_condensed(comm, prefix, fallback):
         raise OptionsError(f"-{prefix}contact_condensed: not a boolean (true or false)") from None
     if options.hasName("help") and prefix not in _help_printed:
         _help_printed.add(prefix)
-        text = ("pose the contact VI on the Schur complement of the contact DOFs, or on the whole system (default "
-                f"with a direct solver and at most {ContactSolver.max_condensed_dofs} contact DOFs: condensed with "
-                f"friction; without, whole until it has factorised {ContactSolver.condense_after} times, then "
-                "condensed)")
+        text = ("pose the contact VI on the Schur complement of the contact DOFs (default with a direct solver and "
+                f"at most {ContactSolver.max_condensed_dofs} contact DOFs), else on the whole system")
         PETSc.Sys.Print(f"----------------------------------------\nContact solver (biotcontact):\n"
                         f"  -{prefix}contact_condensed: <{str(fallback).upper()} : {str(condensed).upper()}> {text} "
                         "(docs/user-guide.md)", comm=comm)
-    return condensed, options.hasName(prefix + "contact_condensed")
+    return condensed
 
 
-def _contact_path(comm, prefix, method, contact_dofs, changing_frictional):
-    """-<prefix>contact_condensed if given; by default, when the system is
-    solved directly, C is small enough and A is not changing (forming H
-    takes m solves, m more at each change of A), condensed with friction
-    (the full path would factorise its Jacobian at every Newton step) and
-    else full until condensing pays; otherwise full."""
-    changing, frictional = changing_frictional
-    condensable = method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs and not changing
-    condensed, given = _read_condensed(comm, prefix, condensable)
-    if given or not condensable:
-        return ContactPath.condensed if condensed else ContactPath.full
-    return ContactPath.condensed if frictional else ContactPath.full_then_condensed
+def _use_condensation(comm, prefix, method, contact_dofs, changing):
+    """-<prefix>contact_condensed, by default when the system is solved
+    directly, C is small enough and A is not `changing` (forming H takes m
+    solves, m more at each change of A)."""
+    return _read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs
+                           and not changing)
 
 
 class ContactSolver:
@@ -147,12 +128,6 @@ class ContactSolver:
     the same; operator_changed re-arms it after a reassembly)."""
 
     max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
-    # Frictionless, the default starts on the full path and condenses before
-    # a solve once the full path has solved this many times, each solve at
-    # least one factorisation: H costs about two factorisations of A (the
-    # ski-rental rule; a single solve, as a pressurised crack's, stays on the
-    # full path).
-    condense_after = 3
 
     def __init__(self, comm, system, method, operators, unknowns):
         """`system` the SystemLayout of the system it solves, `operators` its
@@ -172,18 +147,15 @@ class ContactSolver:
         self.x_start.set(0.0)
         self._make_change_of_variables()
         self.schur, self.schur_current = None, False
-        self.retired = (0, 0, 0)  # the counts of a VI replaced (_condense_now)
-        self.solves = 0  # of the run (continue_after)
-        path = _contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM),
-                             (operators.changing, _any_frictional(self.set, comm)))
-        self.condense_later = path == ContactPath.full_then_condensed  # not yet condensed
-        if path == ContactPath.condensed:
-            self._make_condensed_vi()
+        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM),
+                                       operators.changing)
+        if condensed:
+            problem, whole = self._condense(), None
         else:
             problem = self._pose_on_full_system(unknowns.separate_rows)
-            self._add_friction(problem)
-            self.vi = VariationalInequality(problem, WholeSystem(comm, self.A_vi, self.P_vi,
-                                                                 SystemLayout(prefix, structure, self.fields), method))
+            whole = WholeSystem(comm, self.A_vi, self.P_vi, SystemLayout(prefix, structure, self.fields), method)
+        self._add_friction(problem)
+        self.vi = VariationalInequality(problem, whole)
         # Only the VI methods take bounds; asked of both prefixes, so that a
         # type given for the path not taken is not ignored silently either.
         for p in (prefix, prefix + "contact_"):
@@ -191,27 +163,6 @@ class ContactSolver:
             if given and given not in ("vinewtonrsls", "vinewtonssls"):
                 raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                    "(vinewtonrsls or vinewtonssls)")
-
-    def _make_condensed_vi(self):
-        problem = self._condense()
-        self._add_friction(problem)
-        self.vi = VariationalInequality(problem, None)
-
-    def continue_after(self, solves):
-        """A restart continues a run that had solved `solves` times: the path
-        is the one that run took from there on (condense_after)."""
-        self.solves = solves
-
-    def _condense_now(self):
-        """The full path's VI replaced by the condensed one, its counts kept:
-        the ski-rental rule (the full path has paid at least what forming H
-        costs, about two factorisations of A; each later solve would cost it
-        a factorisation or more, the condensed path two back-solves)."""
-        self.retired = (self.newton_iterations, self.linear_iterations, self.active_set_changes)
-        told = self.vi.convergence.on_newton_step
-        self._make_condensed_vi()
-        self.vi.convergence.on_newton_step = told
-        self.condense_later = False
 
     def _condense(self):
         """The VIProblem on the Schur complement H = C A^-1 C^T of the
@@ -264,7 +215,7 @@ class ContactSolver:
                 f.tangential[r - 1] = int(first + following if self.schur else self.displacement_dofs[c.dofs[k] + r])
                 following += 1
             mine.append(f)
-        problem.friction = [f for rank in self.comm.allgather(mine) for f in rank] if self.schur else mine
+        problem.friction = all_gather_constraints(mine, self.comm) if self.schur else mine
         problem.tangents, problem.frictional = d - 1, _any_frictional(c, self.comm)
 
     def _pose_on_full_system(self, separate_rows):
@@ -306,11 +257,6 @@ class ContactSolver:
         """Solves the VI; x holds the initial guess on entry. With friction,
         the slip increments of the frictional constraints are measured from
         the slip reference (friction.py)."""
-        # each solve on the full path factorises at least once; counted by
-        # solves, the rule is the same on a restart (continue_after)
-        if self.condense_later and self.solves >= self.condense_after:
-            self._condense_now()
-        self.solves += 1
         self._change_operators()
         b_vi, x_vi = b, self._to_vi(x)
         if self.change:
@@ -442,18 +388,18 @@ class ContactSolver:
 
     @property
     def newton_iterations(self):
-        return self.retired[0] + self.vi.newton_iterations
+        return self.vi.newton_iterations
 
     @property
     def linear_iterations(self):
         """Krylov iterations (1 per back-solve when direct)."""
-        return self.retired[1] + self.vi.linear_iterations
+        return self.vi.linear_iterations
 
     @property
     def active_set_changes(self):
         """Newton steps whose inactive set differed from the previous step's
         (across solves): each may cost one factorisation."""
-        return self.retired[2] + self.vi.convergence.active_set_changes
+        return self.vi.convergence.active_set_changes
 
     def on_newton_step(self, told):
         """`told` is called after each Newton step with its number: a long

@@ -163,3 +163,8 @@ def friction_jacobian(constraints, at, K, J):
             J.setValues([first + f.tangential[r]], cols, [row[c] for c in cols],
                         addv=PETSc.InsertMode.INSERT_VALUES)
     J.assemble()
+
+
+def all_gather_constraints(mine, comm):
+    """Every rank's constraints on every rank, in rank order (collective)."""
+    return [f for rank in comm.allgather(mine) for f in rank]

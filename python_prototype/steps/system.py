@@ -250,8 +250,6 @@ class System:
     def add_earlier(self, earlier):
         """The counts of the run a restart continues, added to statistics()."""
         self._earlier = earlier
-        if self.has_contact():
-            self.contact.continue_after(earlier.solves)
 
     def newton_steps(self):
         """The contact solver's Newton steps so far in this run (0 without
