@@ -6,6 +6,7 @@
 // Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
 // coupling did not converge (what was finished is written), 1 anything else.
 #include "assembly/materials.h"
+#include "contact/contact.h"
 #include "domain/domain.h"
 #include "output/interruption.h"
 #include "output/write_failure.h"
@@ -127,6 +128,8 @@ int check_scene(const biotcontact::Scene& scene, const Arguments& args, int rank
 {
   const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
   biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
+  if (scene.mechanics)
+    biotcontact::check_contact(scene, domain);
   const std::string warning = biotcontact::gamma_warning(scene, biotcontact::largest_gamma_of(scene, domain.regions));
   if (rank == 0 and !warning.empty())
     std::printf("warning: %s\n", warning.c_str());

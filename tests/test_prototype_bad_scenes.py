@@ -121,7 +121,7 @@ for label, path, overrides, key in (
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")
 
 # The faults' bad inputs of the split mesh and the flow: the catalogue's
-# scenes; a negative gap is found where the pairs are made, in a run.
+# scenes; the pairs are made by `check` too (a negative gap, a fault on a foundation).
 CRACK, CROSSING, DEGENERATE = crack_scenes()
 FLOW_CRACK = flow_crack_scene()
 for label, command, path, overrides, key in (
@@ -129,8 +129,8 @@ for label, command, path, overrides, key in (
         ("a fault group of the wrong dimension", "check", CRACK, ["fault.rock.gap=0.0"], "fault.rock"),
         ("a fault group on the outer boundary", "check", CRACK, ["fault.top.gap=0.0"], "fault.top"),
         ("faults that cross", "check", CROSSING, [], "fault.crack"),
-        ("a negative fault gap", "run", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
-        ("a fault that reaches a contact boundary", "run", foundation_fault_scene(), [], "fault.fault"),
+        ("a negative fault gap", "check", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
+        ("a fault that reaches a contact boundary", "check", foundation_fault_scene(), [], "fault.fault"),
         ("a fault pressure that is NaN", "check", CRACK, ["fault.crack.pressure='sqrt(x - 10)'"],
          "fault.crack.pressure"),
         ("a degenerate cell", "check", DEGENERATE, [], "degenerate.geo"),

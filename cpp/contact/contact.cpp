@@ -10,6 +10,7 @@
 #include <cmath>
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
+#include <dolfinx/fem/utils.h>
 #include <limits>
 #include <map>
 #include <optional>
@@ -32,6 +33,13 @@ ContactSet locate_contact(const Scene& scene, const Domain& domain, const Compil
   add_fault_pairs(scene, domain, forms, V, c, error);
   agree_on_error(error, domain.mesh->comm());
   return c;
+}
+
+void check_contact(const Scene& scene, const Domain& domain)
+{
+  const CompiledForms& forms = compiled_forms(domain.mesh->topology().cell_type());
+  auto V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "v_0", domain.mesh));
+  locate_contact(scene, domain, forms, V);
 }
 
 namespace

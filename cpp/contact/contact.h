@@ -37,6 +37,11 @@ namespace biotcontact
 ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
                           std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
 
+/// `check`'s look at the contact: the pairs made as a run makes them (a
+/// fault's gap and normal, where it meets a foundation) in the scene's
+/// displacement space; throws SceneError as locate_contact (collective).
+void check_contact(const Scene& scene, const Domain& domain);
+
 /// @brief The matrices of the contact problem: A, and P (A, or the
 /// fixed-stress matrix of the coupled system) that the iterative full path
 /// builds its preconditioner from.

@@ -14,6 +14,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from ..assembly.forms import Forms
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state
@@ -49,6 +50,14 @@ def locate_contact(scene, domain, F, V):
 
 # What a friction that fails to converge most often means.
 NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
+
+
+def check_contact(scene, domain):
+    """`check`'s look at the contact: the pairs made as a run makes them (a
+    fault's gap and normal, where it meets a foundation) in the scene's
+    displacement space; raises SceneError as locate_contact (collective)."""
+    F = Forms(domain.mesh)
+    locate_contact(scene, domain, F, F["V"])
 
 
 @dataclasses.dataclass
