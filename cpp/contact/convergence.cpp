@@ -1,5 +1,7 @@
 #include "contact/convergence.h"
 
+#include "solvers/solver.h"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -18,11 +20,14 @@ ContactConvergence::ContactConvergence(MPI_Comm comm, VIBounds bounds, std::vect
 void ContactConvergence::attach(SNES snes, Vec load, bool friction)
 {
   _snes = snes, _load = load, _friction = friction;
-  SNESSetConvergenceTest(snes, &ContactConvergence::converged, this, nullptr);
-  SNESMonitorSet(snes, &ContactConvergence::monitor, this, nullptr);
+  check_petsc(SNESSetConvergenceTest(snes, &ContactConvergence::converged, this, nullptr), "contact solver: SNESSetConvergenceTest");
+  check_petsc(SNESMonitorSet(snes, &ContactConvergence::monitor, this, nullptr), "contact solver: SNESMonitorSet");
 }
 
-void ContactConvergence::watch(KSP ksp) { KSPMonitorSet(ksp, &ContactConvergence::stagnation, this, nullptr); }
+void ContactConvergence::watch(KSP ksp)
+{
+  check_petsc(KSPMonitorSet(ksp, &ContactConvergence::stagnation, this, nullptr), "contact solver: KSPMonitorSet");
+}
 
 void ContactConvergence::pose()
 {

@@ -15,12 +15,12 @@ constexpr const char* no_equilibrium = " (a body that friction cannot hold has n
 VariationalInequality::VariationalInequality(VIProblem problem, const std::optional<WholeSystem>& whole)
     : _p(std::move(problem)), _whole(whole)
 {
-  VecDuplicate(_p.layout, &_y);
+  check_petsc(VecDuplicate(_p.layout, &_y), "contact solver: VecDuplicate");
   for (Vec* v : {&_b, &_residual, &_lower, &_upper})
-    VecDuplicate(_y, v);
+    check_petsc(VecDuplicate(_y, v), "contact solver: VecDuplicate");
   // Unbounded until solve() sets the contact bounds.
-  VecSet(_lower, PETSC_NINFINITY);
-  VecSet(_upper, PETSC_INFINITY);
+  check_petsc(VecSet(_lower, PETSC_NINFINITY), "contact solver: VecSet");
+  check_petsc(VecSet(_upper, PETSC_INFINITY), "contact solver: VecSet");
   if (!_p.stage.empty())
     _stage = std::make_unique<SolverStage>(_p.stage);
   if (_p.frictional)
@@ -40,10 +40,10 @@ VariationalInequality::VariationalInequality(VIProblem problem, const std::optio
 
 VariationalInequality::~VariationalInequality()
 {
-  SNESDestroy(&_snes);
+  check_petsc(SNESDestroy(&_snes), "contact solver: SNESDestroy");
   for (Vec* v : {&_y, &_b, &_residual, &_lower, &_upper, &_y_reference, &_stiffness, &_work})
-    VecDestroy(v);
-  MatDestroy(&_J);
+    check_petsc(VecDestroy(v), "contact solver: VecDestroy");
+  check_petsc(MatDestroy(&_J), "contact solver: MatDestroy");
 }
 
 /// The Jacobian of friction and its vectors (on every rank of the VI: the
@@ -51,16 +51,16 @@ VariationalInequality::~VariationalInequality()
 void VariationalInequality::make_friction_operators()
 {
   for (Vec* v : {&_y_reference, &_stiffness, &_work})
-    VecDuplicate(_y, v);
-  VecSet(_y_reference, 0.0);
-  MatDuplicate(_p.K, MAT_COPY_VALUES, &_J);
+    check_petsc(VecDuplicate(_y, v), "contact solver: VecDuplicate");
+  check_petsc(VecSet(_y_reference, 0.0), "contact solver: VecSet");
+  check_petsc(MatDuplicate(_p.K, MAT_COPY_VALUES, &_J), "contact solver: MatDuplicate");
   // Its tangential rows are combinations of the constraint's own rows of K
   // (friction_jacobian), inside K's pattern where the rows of a node share
   // it; allowed to grow where they do not.
   if (_whole)
-    MatSetOption(_J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
-  MatSetOption(_J, MAT_SPD, PETSC_FALSE);
-  MatSetOption(_J, MAT_SYMMETRIC, PETSC_FALSE);
+    check_petsc(MatSetOption(_J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "contact solver: MatSetOption");
+  check_petsc(MatSetOption(_J, MAT_SPD, PETSC_FALSE), "contact solver: MatSetOption");
+  check_petsc(MatSetOption(_J, MAT_SYMMETRIC, PETSC_FALSE), "contact solver: MatSetOption");
 }
 
 /// The semismooth Newton VI solver (SNES vinewtonrsls) and its defaults;
@@ -74,9 +74,9 @@ void VariationalInequality::create_snes()
   // SNES VI resets the preconditioner itself (PETSc 3.18 virs.c,
   // SNESVIResetPCandKSP).
   PetscBool lag_given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_lag_preconditioner", &lag_given);
+  check_petsc(PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_lag_preconditioner", &lag_given), "contact solver: PetscOptionsHasName");
   _lag_by_default = !lag_given;
-  PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_rtol", &_snes_rtol_given);
+  check_petsc(PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_rtol", &_snes_rtol_given), "contact solver: PetscOptionsHasName");
   // With friction the Jacobian changes every step: no lag for a
   // factorisation of it. The iterative path's preconditioner is built from
   // P and the inactive set alone (inactive_set_preconditioner.h), not from
@@ -102,20 +102,20 @@ void VariationalInequality::create_snes()
   // and more, and a capped step crawls (a conduit fault's p_f moved 0.1 %
   // of its way per solve).
   set_default_option(prefix + "snes_linesearch_maxstep", "1e300");
-  SNESCreate(_p.comm, &_snes);
-  SNESSetOptionsPrefix(_snes, prefix.c_str());
-  SNESSetType(_snes, SNESVINEWTONRSLS);
-  SNESSetFunction(_snes, _residual, &VariationalInequality::residual, this);
+  check_petsc(SNESCreate(_p.comm, &_snes), "contact solver: SNESCreate");
+  check_petsc(SNESSetOptionsPrefix(_snes, prefix.c_str()), "contact solver: SNESSetOptionsPrefix");
+  check_petsc(SNESSetType(_snes, SNESVINEWTONRSLS), "contact solver: SNESSetType");
+  check_petsc(SNESSetFunction(_snes, _residual, &VariationalInequality::residual, this), "contact solver: SNESSetFunction");
   Mat J = _J ? _J : _p.K;
-  SNESSetJacobian(_snes, J, J, &VariationalInequality::jacobian, this);
-  SNESVISetVariableBounds(_snes, _lower, _upper);
+  check_petsc(SNESSetJacobian(_snes, J, J, &VariationalInequality::jacobian, this), "contact solver: SNESSetJacobian");
+  check_petsc(SNESVISetVariableBounds(_snes, _lower, _upper), "contact solver: SNESVISetVariableBounds");
   _convergence->attach(_snes, _b, _J != nullptr);
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave y as it was).
   // (Not with the backtracking search of friction: its F is not
   // linear, the residual decides, and the search fails on a zero step.)
-  SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE);
+  check_petsc(SNESSetForceIteration(_snes, backtrack ? PETSC_FALSE : PETSC_TRUE), "contact solver: SNESSetForceIteration");
 }
 
 void VariationalInequality::set_from_options()
@@ -125,7 +125,7 @@ void VariationalInequality::set_from_options()
     _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _whole->P, _whole->layout.fields,
                                                                   _whole->layout.prefix);
     KSP ksp;
-    SNESGetKSP(_snes, &ksp);
+    check_petsc(SNESGetKSP(_snes, &ksp), "contact solver: SNESGetKSP");
     _convergence->watch(ksp);
     set_tolerance(iterative_tolerance);
   }
@@ -138,7 +138,7 @@ void VariationalInequality::operator_changed()
 {
   // Re-arm "rebuild once, then reuse" (the lag is -1 after the first build).
   if (_lag_by_default and lag_preconditioner())
-    SNESSetLagPreconditioner(_snes, -2);
+    check_petsc(SNESSetLagPreconditioner(_snes, -2), "contact solver: SNESSetLagPreconditioner");
 }
 
 void VariationalInequality::set_tolerance(double relative)
@@ -146,10 +146,10 @@ void VariationalInequality::set_tolerance(double relative)
   if (!_preconditioner)
     return;
   KSP ksp;
-  SNESGetKSP(_snes, &ksp);
+  check_petsc(SNESGetKSP(_snes, &ksp), "contact solver: SNESGetKSP");
   set_relative_tolerance(ksp, _whole->layout.prefix, relative);
   if (!_snes_rtol_given)
-    SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
+    check_petsc(SNESSetTolerances(_snes, PETSC_DEFAULT, relative, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT), "contact solver: SNESSetTolerances");
 }
 
 void VariationalInequality::solve(double scale)
@@ -157,8 +157,8 @@ void VariationalInequality::solve(double scale)
   // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
   // works on y / s; the residual K (y/s) - b/s has the same Jacobian K.
   _scale = scale;
-  VecScale(_b, 1.0 / scale);
-  VecScale(_y, 1.0 / scale);
+  check_petsc(VecScale(_b, 1.0 / scale), "contact solver: VecScale");
+  check_petsc(VecScale(_y, 1.0 / scale), "contact solver: VecScale");
   set_bounds(scale);
   set_tolerances();
   if (_J) // the stiffness that turns a slip increment into a trial force
@@ -179,7 +179,7 @@ void VariationalInequality::solve(double scale)
   if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
                       + SNESConvergedReasons[reason] + (_J ? no_equilibrium : ""));
-  VecScale(_y, scale);
+  check_petsc(VecScale(_y, scale), "contact solver: VecScale");
 }
 
 /// sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of the
@@ -187,8 +187,8 @@ void VariationalInequality::solve(double scale)
 void VariationalInequality::set_bounds(double scale)
 {
   PetscScalar *lo, *up;
-  VecGetArray(_lower, &lo);
-  VecGetArray(_upper, &up);
+  check_petsc(VecGetArray(_lower, &lo), "contact solver: VecGetArray");
+  check_petsc(VecGetArray(_upper, &up), "contact solver: VecGetArray");
   for (std::size_t k = 0; k < _p.bounded.size(); ++k)
   {
     if (_p.sign[k] > 0)
@@ -196,8 +196,8 @@ void VariationalInequality::set_bounds(double scale)
     else
       lo[_p.bounded[k]] = -_p.gap[k] / scale;
   }
-  VecRestoreArray(_lower, &lo);
-  VecRestoreArray(_upper, &up);
+  check_petsc(VecRestoreArray(_lower, &lo), "contact solver: VecRestoreArray");
+  check_petsc(VecRestoreArray(_upper, &up), "contact solver: VecRestoreArray");
 }
 
 /// The absolute tolerance relative to the load unless -snes_atol is given:
@@ -205,16 +205,16 @@ void VariationalInequality::set_bounds(double scale)
 void VariationalInequality::set_tolerances()
 {
   PetscBool atol_given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, _p.prefix.c_str(), "-snes_atol", &atol_given);
+  check_petsc(PetscOptionsHasName(nullptr, _p.prefix.c_str(), "-snes_atol", &atol_given), "contact solver: PetscOptionsHasName");
   if (!atol_given)
   {
     PetscReal bnorm = 0;
-    VecNorm(_b, NORM_2, &bnorm);
+    check_petsc(VecNorm(_b, NORM_2, &bnorm), "contact solver: VecNorm");
     // With friction the residual decides the last step (F is not
     // linear): tighter, Newton's last steps are quadratic.
     const double relative = _J ? 1e-12 : 1e-10;
-    SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
-                      PETSC_DEFAULT);
+    check_petsc(SNESSetTolerances(_snes, std::max(relative * bnorm, 1e-300), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
+                      PETSC_DEFAULT), "contact solver: SNESSetTolerances");
   }
   _convergence->pose();
 }
@@ -224,13 +224,13 @@ void VariationalInequality::set_tolerances()
 void VariationalInequality::count_iterations(SNESConvergedReason reason)
 {
   PetscInt its = 0, lits = 0, failed = 0;
-  SNESGetIterationNumber(_snes, &its);
-  SNESGetLinearSolveIterations(_snes, &lits);
+  check_petsc(SNESGetIterationNumber(_snes, &its), "contact solver: SNESGetIterationNumber");
+  check_petsc(SNESGetLinearSolveIterations(_snes, &lits), "contact solver: SNESGetLinearSolveIterations");
   if (reason == SNES_DIVERGED_LINEAR_SOLVE)
   {
     KSP ksp;
-    SNESGetKSP(_snes, &ksp);
-    KSPGetIterationNumber(ksp, &failed);
+    check_petsc(SNESGetKSP(_snes, &ksp), "contact solver: SNESGetKSP");
+    check_petsc(KSPGetIterationNumber(ksp, &failed), "contact solver: KSPGetIterationNumber");
   }
   newton_iterations += its;
   linear_iterations += lits + failed;
@@ -252,7 +252,7 @@ SNESConvergedReason VariationalInequality::run_snes()
     throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
   }
   SNESConvergedReason reason;
-  SNESGetConvergedReason(_snes, &reason);
+  check_petsc(SNESGetConvergedReason(_snes, &reason), "contact solver: SNESGetConvergedReason");
   return reason;
 }
 
@@ -262,22 +262,22 @@ void VariationalInequality::clamped_start()
   // solve their equations: A y = b/s with the bounded rows and columns
   // eliminated and the known values moved to the right-hand side.
   PetscInt start = 0;
-  VecGetOwnershipRange(_y, &start, nullptr);
+  check_petsc(VecGetOwnershipRange(_y, &start, nullptr), "contact solver: VecGetOwnershipRange");
   std::vector<PetscInt> rows;
   const PetscScalar *lo, *up;
-  VecGetArrayRead(_lower, &lo);
-  VecGetArrayRead(_upper, &up);
+  check_petsc(VecGetArrayRead(_lower, &lo), "contact solver: VecGetArrayRead");
+  check_petsc(VecGetArrayRead(_upper, &up), "contact solver: VecGetArrayRead");
   PetscScalar* y;
-  VecGetArray(_y, &y);
+  check_petsc(VecGetArray(_y, &y), "contact solver: VecGetArray");
   for (std::size_t k = 0; k < _p.bounded.size(); ++k)
   {
     const std::int32_t dof = _p.bounded[k];
     rows.push_back(start + dof);
     y[dof] = _p.sign[k] > 0 ? up[dof] : lo[dof];
   }
-  VecRestoreArray(_y, &y);
-  VecRestoreArrayRead(_lower, &lo);
-  VecRestoreArrayRead(_upper, &up);
+  check_petsc(VecRestoreArray(_y, &y), "contact solver: VecRestoreArray");
+  check_petsc(VecRestoreArrayRead(_lower, &lo), "contact solver: VecRestoreArrayRead");
+  check_petsc(VecRestoreArrayRead(_upper, &up), "contact solver: VecRestoreArrayRead");
   if (_whole)
     solve_clamped(rows);
 }
@@ -289,17 +289,17 @@ void VariationalInequality::solve_clamped(const std::vector<PetscInt>& rows)
   auto clamped_copy = [&](Mat M, Vec rhs)
   {
     Mat C;
-    MatDuplicate(M, MAT_COPY_VALUES, &C);
+    check_petsc(MatDuplicate(M, MAT_COPY_VALUES, &C), "contact solver: MatDuplicate");
     MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
-    MatGetNearNullSpace(M, &modes);
+    check_petsc(MatGetNearNullSpace(M, &modes), "contact solver: MatGetNearNullSpace");
     if (modes)
-      MatSetNearNullSpace(C, modes);
-    MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, rhs ? _y : nullptr, rhs);
+      check_petsc(MatSetNearNullSpace(C, modes), "contact solver: MatSetNearNullSpace");
+    check_petsc(MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, rhs ? _y : nullptr, rhs), "contact solver: MatZeroRowsColumns");
     return C;
   };
   Vec rhs;
-  VecDuplicate(_b, &rhs);
-  VecCopy(_b, rhs);
+  check_petsc(VecDuplicate(_b, &rhs), "contact solver: VecDuplicate");
+  check_petsc(VecCopy(_b, rhs), "contact solver: VecCopy");
   const WholeSystem& w = *_whole;
   Mat A = clamped_copy(w.A, rhs);
   Mat P = w.P == w.A ? A : clamped_copy(w.P, nullptr);
@@ -308,9 +308,9 @@ void VariationalInequality::solve_clamped(const std::vector<PetscInt>& rows)
     clamped.solve(_y, rhs);
   }
   if (P != A)
-    MatDestroy(&P);
-  MatDestroy(&A);
-  VecDestroy(&rhs);
+    check_petsc(MatDestroy(&P), "contact solver: MatDestroy");
+  check_petsc(MatDestroy(&A), "contact solver: MatDestroy");
+  check_petsc(VecDestroy(&rhs), "contact solver: VecDestroy");
 }
 
 // F(y) = K y - b/s: the gradient of the quadratic energy, in units of s;
