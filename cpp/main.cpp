@@ -6,6 +6,7 @@
 // Exit status: 0 success, 2 bad input (scene, options), 3 a solver or the
 // coupling did not converge (what was finished is written), 1 anything else.
 #include "assembly/materials.h"
+#include "assembly/petsc_error.h"
 #include "contact/contact.h"
 #include "domain/domain.h"
 #include "output/interruption.h"
@@ -111,13 +112,15 @@ void initialize(std::vector<char*> petsc, char* argv[])
   int petsc_argc = static_cast<int>(petsc.size());
   petsc.push_back(nullptr); // MPI_Init reads argv up to its terminator
   char** petsc_args = petsc.data();
-  PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr);
+  biotcontact::check_petsc(PetscInitialize(&petsc_argc, &petsc_args, nullptr, nullptr),
+                           "starting PETSc: PetscInitialize");
   // Errors are reported by our messages, never by PETSc stack traces.
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  biotcontact::check_petsc(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr),
+                           "starting PETSc: PetscPushErrorHandler");
   biotcontact::install_interruption_handlers();
   // The solver statistics of summary.json are read from PETSc's event log
   // (solver.h); -log_view prints the same log by system.
-  PetscLogDefaultBegin();
+  biotcontact::check_petsc(PetscLogDefaultBegin(), "starting PETSc: PetscLogDefaultBegin");
   dolfinx::init_logging(1, argv);
   loguru::g_stderr_verbosity = loguru::Verbosity_WARNING;
 }
@@ -201,10 +204,19 @@ int main(int argc, char* argv[])
                 PETSC_VERSION_MAJOR, PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR);
     return 0;
   }
-  initialize(args.petsc, argv);
+  try
+  {
+    initialize(args.petsc, argv);
+  }
+  catch (const biotcontact::SolverError& e) // before any rank is known: every rank says it
+  {
+    std::fprintf(stderr, "biotcontact: error: %s\n", e.what());
+    return 1;
+  }
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   const int status = execute(args, rank);
-  PetscFinalize();
+  // The outputs and the exit status are final by now: a failed clean-up is only reported.
+  biotcontact::warn_petsc(PetscFinalize(), "finishing PETSc: PetscFinalize");
   return status;
 }

@@ -133,6 +133,19 @@ def crack_scenes():
     return crack, crossing, degenerate
 
 
+def fault_group_scenes():
+    """The catalogues' faults drawn wrong in gmsh, in crossing.geo's square:
+    a crack whose curve is not embedded in the surface, and one curve given
+    to two faults' physical groups."""
+    loose = written(CRACK_TEXT.replace(CRACK_GEO, "loose.geo"))
+    with open(os.path.join(os.path.dirname(loose), "loose.geo"), "w") as f:
+        f.write(CROSSING_GEO.replace("Curve{5, 6, 7, 8} In Surface{1};\n", ""))
+    shared = written(CRACK_TEXT.replace(CRACK_GEO, "shared.geo") + "[fault.other]\nnormal = [0.0, 1.0]\n")
+    with open(os.path.join(os.path.dirname(shared), "shared.geo"), "w") as f:
+        f.write(CROSSING_GEO.replace('Physical Curve("other") = {7, 8};', 'Physical Curve("other") = {5};'))
+    return loose, shared
+
+
 FOUNDATION_FAULT_GEO = """SetFactory("Built-in");
 h = 0.05;
 Point(1) = {0, 0, 0, h}; Point(2) = {0.5, 0, 0, h}; Point(3) = {1, 0, 0, h};

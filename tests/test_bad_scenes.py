@@ -10,7 +10,8 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, flow_crack_scene, foundation_fault_scene, scene
+from support import (BINARY, MPI_ENV, ROOT, check, crack_scenes, fault_group_scenes, flow_crack_scene,
+                     foundation_fault_scene, scene)
 
 DEFAULT = scene("default")
 with open(DEFAULT) as f:
@@ -45,9 +46,11 @@ with open(CORRUPT_GEO, "w") as f:
     f.write("Point(1) = {0, 0, 0\n")
 EMPTY = written("")
 CRACK, CROSSING, DEGENERATE = crack_scenes()
+LOOSE, SHARED = fault_group_scenes()
 FLOW_CRACK = flow_crack_scene()
 REACTIVATION = scene("fault_reactivation")
-REACTIVATION_CONDUIT = ("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4")
+REACTIVATION_CONDUIT = ("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4",
+                        "fault.fault.pore_pressure_load=false")
 CONDUIT = "fault.crack.flow=conduit"
 BOTH = ("check", "run")
 RUN = ("run",)
@@ -246,6 +249,13 @@ CASES = [
     ("a fault group of the wrong dimension", CRACK, s("fault.rock.gap=0.0"), "fault.rock", BOTH),
     ("a fault group on the outer boundary", CRACK, s("fault.top.gap=0.0"), "fault.top", BOTH),
     ("faults that cross", CROSSING, [], "fault.crack", BOTH),
+    # issue 51: the real cause named
+    ("a fault curve not embedded in the surface", LOOSE, [], "Curve{..} In Surface{..}", BOTH),
+    ("one curve in two faults' groups", SHARED, [], "the physical groups crack and other share", BOTH),
+    ("a fault array of the mesh's other dimension", CRACK, s("fault.crack.normal=[0.0, 1.0, 0.0]"),
+     "one per axis (mesh.dimension = 2)", BOTH),
+    ("E an expression of x", DEFAULT, s("mechanics.E='1e9*(1 + x)'"), "mechanics.E", BOTH),
+    ("E an expression that is NaN", DEFAULT, s("mechanics.E='sqrt(-1)'"), "mechanics.E: \"sqrt(-1)\" gives NaN", BOTH),
     ("a negative fault gap", CRACK, s("fault.crack.gap=-1e-3"), "fault.crack.gap", BOTH),
     # issue 50: the condensed path failed with PETSc error 81, the full one
     # counted the foundation's force wrong at the fault's end
@@ -277,6 +287,11 @@ CASES = [
      "fault.crack.normal_permeability", BOTH),
     ("a residual aperture on a fault that is no conduit", FLOW_CRACK, s("fault.crack.residual_aperture=1e-4"),
      "fault.crack.residual_aperture", BOTH),
+    ("a conduit fault with a pressure", FLOW_CRACK, s(CONDUIT, "fault.crack.residual_aperture=1e-4",
+                                                       "fault.crack.pressure=1e6"), "fault.crack.pressure", BOTH),
+    ("a conduit fault loaded by the pore pressure", FLOW_CRACK,
+     s(CONDUIT, "fault.crack.residual_aperture=1e-4", "fault.crack.pore_pressure_load=true"),
+     "fault.crack.pore_pressure_load", BOTH),
     ("a conduit fault without [flow]", CRACK, s(CONDUIT, "fault.crack.residual_aperture=1e-4"), "fault.crack.flow",
      BOTH),
     ("a well on a fault that does not exist", FLOW_CRACK,
@@ -288,8 +303,7 @@ CASES = [
      s(CONDUIT, "fault.crack.residual_aperture=1e-4", "well.inj.position=[0.0, 5.0]", "well.inj.rate=1e-6",
        "well.inj.fault=crack"), "well.inj.position", BOTH),
     ("a conduit fault with the iterative monolithic solve", scene("fault_reactivation"),
-     s("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", 'coupling.scheme="monolithic"',
-       'solver.monolithic="iterative"'),
+     s(*REACTIVATION_CONDUIT, 'coupling.scheme="monolithic"', 'solver.monolithic="iterative"'),
      "fault.fault.flow", BOTH),
     ("a conduit fault with BDF2 (not yet)", FLOW_CRACK,
      s(CONDUIT, "fault.crack.residual_aperture=1e-4", 'time.scheme="bdf2"'), "fault.crack.flow", BOTH),

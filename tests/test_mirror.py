@@ -44,7 +44,10 @@ import sys
 from support import ROOT, check
 
 # Modules with no twin, and why.
-CPP_ONLY = {}
+CPP_ONLY = {
+    "assembly/petsc_error": "checks the error codes PETSc's C calls return (SolverError, check_petsc, warn_petsc); "
+                            "petsc4py raises PETSc.Error itself",
+}
 PROTOTYPE_ONLY = {
     "output/compare": "compares the two tracks' outputs; C++ has nothing to compare with",
 }
@@ -101,8 +104,8 @@ DIFFERENCES = {
                                        "dict, CROSSOVER[(dimension, system)]"
            for d in (2, 3) for system in ("mechanics", "flow", "monolithic")},
         "method_name": "C++ only: the name of a Method; Python's enum has it (Method.name)",
-        "check_petsc": "C++ only: throws SolverError for a PETSc error code that a call returned; petsc4py raises "
-                       "PETSc.Error itself",
+        "SolverError": "Python only: C++ declares it in assembly/petsc_error.h (no Python twin), with check_petsc, "
+                       "which throws it for a failed PETSc call in any layer; the prototype raises it from here",
         "option": "C++ only: a PETSc option's value by prefix and name; petsc4py's "
                   "PETSc.Options().getString(prefix + name, \"\") gives it",
         "factor_package": private("solver.cpp"),

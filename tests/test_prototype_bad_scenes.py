@@ -6,7 +6,8 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, ROOT, check, crack_scenes, flow_crack_scene, foundation_fault_scene, scene
+from support import (BINARY, MPI_ENV, ROOT, check, crack_scenes, fault_group_scenes, flow_crack_scene,
+                     foundation_fault_scene, scene)
 
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
@@ -123,12 +124,25 @@ for label, path, overrides, key in (
 # The faults' bad inputs of the split mesh and the flow: the catalogue's
 # scenes; the pairs are made by `check` too (a negative gap, a fault on a foundation).
 CRACK, CROSSING, DEGENERATE = crack_scenes()
+LOOSE, SHARED = fault_group_scenes()
 FLOW_CRACK = flow_crack_scene()
 for label, command, path, overrides, key in (
         ("a fault group that does not exist", "check", CRACK, ["fault.nowhere.gap=0.0"], "fault.nowhere"),
         ("a fault group of the wrong dimension", "check", CRACK, ["fault.rock.gap=0.0"], "fault.rock"),
         ("a fault group on the outer boundary", "check", CRACK, ["fault.top.gap=0.0"], "fault.top"),
         ("faults that cross", "check", CROSSING, [], "fault.crack"),
+        ("a fault curve not embedded in the surface", "check", LOOSE, [], "Curve{..} In Surface{..}"),
+        ("one curve in two faults' groups", "check", SHARED, [], "the physical groups crack and other share"),
+        ("a fault array of the mesh's other dimension", "check", CRACK, ["fault.crack.normal=[0.0, 1.0, 0.0]"],
+         "one per axis (mesh.dimension = 2)"),
+        ("E an expression of x", "check", CRACK, ["mechanics.E='1e9*(1 + x)'"], "mechanics.E"),
+        ("E an expression that is NaN", "check", CRACK, ["mechanics.E='sqrt(-1)'"], "gives NaN"),
+        ("a conduit fault with a pressure", "check", FLOW_CRACK,
+         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "fault.crack.pressure=1e6"],
+         "fault.crack.pressure"),
+        ("a conduit fault loaded by the pore pressure", "check", FLOW_CRACK,
+         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "fault.crack.pore_pressure_load=true"],
+         "fault.crack.pore_pressure_load"),
         ("a negative fault gap", "check", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
         ("a fault that reaches a contact boundary", "check", foundation_fault_scene(), [], "fault.fault"),
         ("a fault pressure that is NaN", "check", CRACK, ["fault.crack.pressure='sqrt(x - 10)'"],
@@ -148,14 +162,14 @@ for label, command, path, overrides, key in (
          ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "fault.crack.normal_permeability=-1.0"],
          "fault.crack.normal_permeability"),
         ("a zero largest closure", "check", scene("fault_reactivation"),
-         ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4",
+         ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", "fault.fault.pore_pressure_load=false",
           "fault.fault.closure={ V_m = 0.0, K_ni = 1e10 }"], "fault.fault.closure.V_m"),
         ("a well off its fault", "check", FLOW_CRACK,
          ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "well.inj.position=[0.0, 5.0]",
           "well.inj.rate=1e-6", "well.inj.fault=crack"], "well.inj.position"),
         ("a conduit fault with the iterative monolithic solve", "check", scene("fault_reactivation"),
-         ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", 'coupling.scheme="monolithic"',
-          'solver.monolithic="iterative"'],
+         ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", "fault.fault.pore_pressure_load=false",
+          'coupling.scheme="monolithic"', 'solver.monolithic="iterative"'],
          "fault.fault.flow"),
         ("a conduit fault with BDF2", "check", FLOW_CRACK,
          ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", 'time.scheme="bdf2"'],

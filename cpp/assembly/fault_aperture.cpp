@@ -1,5 +1,7 @@
 #include "assembly/fault_aperture.h"
 
+#include "assembly/petsc_error.h"
+
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/assembler.h>
 #include <bit>
@@ -57,8 +59,9 @@ FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem
       _size += static_cast<std::int64_t>(domain.faults.at(name).cells.size());
   const FaultNodes nodes = fault_nodes(domain, V);
   const auto columns = static_cast<PetscInt>(d * V.dofmap()->index_map->size_local());
-  MatCreateAIJ(_comm, last ? static_cast<PetscInt>(_size) : 0, columns, PETSC_DETERMINE, PETSC_DETERMINE, 2 * d * d,
-               nullptr, 2 * d * d, nullptr, &_J);
+  check_petsc(MatCreateAIJ(_comm, last ? static_cast<PetscInt>(_size) : 0, columns, PETSC_DETERMINE, PETSC_DETERMINE,
+                           2 * d * d, nullptr, 2 * d * d, nullptr, &_J),
+              "the fault apertures: MatCreateAIJ of J");
   PetscInt row = 0;
   for (const auto& [name, f] : scene.faults)
   {
@@ -76,34 +79,35 @@ FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem
         gap += f.gap(cells.vertices[d * k + i].data(), 0.0) / d;
         for (const auto& [node, sign] : {std::pair{cells.keys[d * k + i], 1.0}, {cells.twins[d * k + i], -1.0}})
           for (int j = 0; j < d; ++j)
-            MatSetValue(_J, row, static_cast<PetscInt>(d * nodes.global.at(node) + j), sign * cells.normals[k][j] / d,
-                        ADD_VALUES);
+            check_petsc(MatSetValue(_J, row, static_cast<PetscInt>(d * nodes.global.at(node) + j),
+                                    sign * cells.normals[k][j] / d, ADD_VALUES),
+                        "the fault apertures: MatSetValue of J");
       }
       _gap.push_back(gap);
       _measures.push_back(cells.measures[k]);
     }
   }
-  MatAssemblyBegin(_J, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(_J, MAT_FINAL_ASSEMBLY);
-  MatCreateVecs(_J, nullptr, &_cells);
+  check_petsc(MatAssemblyBegin(_J, MAT_FINAL_ASSEMBLY), "the fault apertures: MatAssemblyBegin of J");
+  check_petsc(MatAssemblyEnd(_J, MAT_FINAL_ASSEMBLY), "the fault apertures: MatAssemblyEnd of J");
+  check_petsc(MatCreateVecs(_J, nullptr, &_cells), "the fault apertures: MatCreateVecs of J");
 }
 
 FaultAperture::~FaultAperture()
 {
-  MatDestroy(&_J);
-  VecDestroy(&_cells);
+  warn_petsc(MatDestroy(&_J), "the fault apertures: MatDestroy of J");
+  warn_petsc(VecDestroy(&_cells), "the fault apertures: VecDestroy");
 }
 
 std::vector<double> FaultAperture::opening(la::Vector<double>& u) const
 {
   la::petsc::Vector x = wrap(u);
-  MatMult(_J, x.vec(), _cells);
+  check_petsc(MatMult(_J, x.vec(), _cells), "the fault apertures' opening: MatMult");
   std::vector<double> w(_size);
   const PetscScalar* W;
-  VecGetArrayRead(_cells, &W);
+  check_petsc(VecGetArrayRead(_cells, &W), "the fault apertures' opening: VecGetArrayRead");
   for (std::size_t k = 0; k < _gap.size(); ++k)
     w[k] = _gap[k] + W[k];
-  VecRestoreArrayRead(_cells, &W);
+  check_petsc(VecRestoreArrayRead(_cells, &W), "the fault apertures' opening: VecRestoreArrayRead");
   int ranks = 1;
   MPI_Comm_size(_comm, &ranks);
   MPI_Bcast(w.data(), static_cast<int>(w.size()), MPI_DOUBLE, ranks - 1, _comm);
@@ -135,13 +139,13 @@ std::vector<double> FaultAperture::cell_means(const std::map<std::int64_t, doubl
 void FaultAperture::add_load(std::span<const double> p_f, const BCs& bcs, la::Vector<double>& b) const
 {
   PetscScalar* P;
-  VecGetArray(_cells, &P);
+  check_petsc(VecGetArray(_cells, &P), "the fault pressure's load: VecGetArray");
   for (std::size_t k = 0; k < _measures.size(); ++k)
     P[k] = _measures[k] * p_f[k];
-  VecRestoreArray(_cells, &P);
+  check_petsc(VecRestoreArray(_cells, &P), "the fault pressure's load: VecRestoreArray");
   la::Vector<double> load(b.map(), b.bs());
   la::petsc::Vector l = wrap(load);
-  MatMultTranspose(_J, _cells, l.vec());
+  check_petsc(MatMultTranspose(_J, _cells, l.vec()), "the fault pressure's load: MatMultTranspose");
   fem::set_bc(load.mutable_array(), bcs, 0.0);
   std::span<double> B = b.mutable_array();
   const std::span<const double> L = load.array();

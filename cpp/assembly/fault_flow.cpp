@@ -1,5 +1,7 @@
 #include "assembly/fault_flow.h"
 
+#include "assembly/petsc_error.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -144,13 +146,16 @@ std::vector<double> ConduitFaults::initial_pressure(const Expression& p0) const
 Mat ConduitFaults::exchange(PetscInt flow_rows) const
 {
   Mat B = nullptr;
-  MatCreateAIJ(_comm, _owned, flow_rows, PETSC_DETERMINE, PETSC_DETERMINE, 2, nullptr, 2, nullptr, &B);
-  MatSetOption(B, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
+  check_petsc(MatCreateAIJ(_comm, _owned, flow_rows, PETSC_DETERMINE, PETSC_DETERMINE, 2, nullptr, 2, nullptr, &B),
+              "the conduit faults' exchange matrix: MatCreateAIJ");
+  check_petsc(MatSetOption(B, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE),
+              "the conduit faults' exchange matrix: MatSetOption");
   for (const Face& f : _faces)
-    MatSetValue(B, static_cast<PetscInt>(_conduits[f.conduit].offset + f.cell), static_cast<PetscInt>(f.dof),
-                f.flux, INSERT_VALUES);
-  MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY);
+    check_petsc(MatSetValue(B, static_cast<PetscInt>(_conduits[f.conduit].offset + f.cell),
+                            static_cast<PetscInt>(f.dof), f.flux, INSERT_VALUES),
+                "the conduit faults' exchange matrix: MatSetValue");
+  check_petsc(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY), "the conduit faults' exchange matrix: MatAssemblyBegin");
+  check_petsc(MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY), "the conduit faults' exchange matrix: MatAssemblyEnd");
   return B;
 }
 
@@ -242,7 +247,8 @@ std::vector<double> ConduitFaults::end_pressures(const Conduit& c, const std::ve
 Mat ConduitFaults::operator_matrix(double dt) const
 {
   Mat C = nullptr;
-  MatCreateAIJ(_comm, _owned, _owned, PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 0, nullptr, &C);
+  check_petsc(MatCreateAIJ(_comm, _owned, _owned, PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 0, nullptr, &C),
+              "the conduit faults' matrix: MatCreateAIJ");
   for (const Conduit& c : _conduits)
   {
     if (!_owned)
@@ -258,16 +264,18 @@ Mat ConduitFaults::operator_matrix(double dt) const
       const std::array<PetscInt, 2> kl{o + static_cast<PetscInt>(c.cells->links.cells[2 * e]),
                                        o + static_cast<PetscInt>(c.cells->links.cells[2 * e + 1])};
       const std::array<double, 4> values{-T[e], T[e], T[e], -T[e]};
-      MatSetValues(C, 2, kl.data(), 2, kl.data(), values.data(), ADD_VALUES);
+      check_petsc(MatSetValues(C, 2, kl.data(), 2, kl.data(), values.data(), ADD_VALUES),
+                  "the conduit faults' matrix: MatSetValues");
     }
     const auto [held, T_e] = held_ends(c);
     for (std::size_t i = 0; i < held.size(); ++i)
       diagonal[c.cells->ends.cells[held[i]]] -= T_e[i];
     for (std::size_t k = 0; k < diagonal.size(); ++k)
-      MatSetValue(C, o + static_cast<PetscInt>(k), o + static_cast<PetscInt>(k), diagonal[k], ADD_VALUES);
+      check_petsc(MatSetValue(C, o + static_cast<PetscInt>(k), o + static_cast<PetscInt>(k), diagonal[k], ADD_VALUES),
+                  "the conduit faults' matrix: MatSetValue");
   }
-  MatAssemblyBegin(C, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(C, MAT_FINAL_ASSEMBLY);
+  check_petsc(MatAssemblyBegin(C, MAT_FINAL_ASSEMBLY), "the conduit faults' matrix: MatAssemblyBegin");
+  check_petsc(MatAssemblyEnd(C, MAT_FINAL_ASSEMBLY), "the conduit faults' matrix: MatAssemblyEnd");
   return C;
 }
 

@@ -1,5 +1,7 @@
 #include "assembly/linear_algebra.h"
 
+#include "assembly/petsc_error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -50,8 +52,8 @@ void reassemble_matrix(Mat A, const fem::Form<double>& a, const BCs& bcs)
   // The operator, then 1 on the diagonal of the Dirichlet rows.
   reassemble_operator(A, a, bcs);
   fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES), *a.function_spaces()[0], bcs);
-  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+  check_petsc(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "assembling a matrix: MatAssemblyBegin");
+  check_petsc(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "assembling a matrix: MatAssemblyEnd");
 }
 
 la::petsc::Matrix assemble_operator(const fem::Form<double>& a, const BCs& bcs)
@@ -63,10 +65,10 @@ la::petsc::Matrix assemble_operator(const fem::Form<double>& a, const BCs& bcs)
 
 void reassemble_operator(Mat A, const fem::Form<double>& a, const BCs& bcs)
 {
-  MatZeroEntries(A);
+  check_petsc(MatZeroEntries(A), "assembling an operator: MatZeroEntries");
   fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), a, bcs);
-  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+  check_petsc(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "assembling an operator: MatAssemblyBegin");
+  check_petsc(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "assembling an operator: MatAssemblyEnd");
 }
 
 void difference(const la::Vector<double>& a, const la::Vector<double>& b, la::Vector<double>& d)
@@ -79,7 +81,7 @@ void multiply_add(Mat A, const la::Vector<double>& x, la::Vector<double>& y)
 {
   // MatMult only reads x: the wrap of a const vector is safe.
   la::petsc::Vector xv = wrap(const_cast<la::Vector<double>&>(x)), yv = wrap(y);
-  MatMultAdd(A, xv.vec(), yv.vec(), yv.vec());
+  check_petsc(MatMultAdd(A, xv.vec(), yv.vec(), yv.vec()), "y += A x: MatMultAdd");
 }
 
 void add_vector(la::Vector<double>& b, const fem::Form<double>& L)
@@ -109,10 +111,11 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std
   const std::int32_t nodes = V.dofmap()->index_map->size_local();
   const std::vector<double> x = V.tabulate_dof_coordinates(false); // 3 per node
   Vec coordinates;
-  VecCreateMPI(V.mesh()->comm(), d * nodes, PETSC_DETERMINE, &coordinates);
-  VecSetBlockSize(coordinates, d);
+  check_petsc(VecCreateMPI(V.mesh()->comm(), d * nodes, PETSC_DETERMINE, &coordinates),
+              "the rigid-body modes: VecCreateMPI");
+  check_petsc(VecSetBlockSize(coordinates, d), "the rigid-body modes: VecSetBlockSize");
   PetscScalar* c;
-  VecGetArray(coordinates, &c);
+  check_petsc(VecGetArray(coordinates, &c), "the rigid-body modes: VecGetArray");
   for (std::int32_t i = 0; i < nodes; ++i)
     for (int k = 0; k < d; ++k)
     {
@@ -121,10 +124,10 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std
         throw std::logic_error("rigid_body_modes: the numbering splits the components of a node");
       c[at] = x[3 * i + k];
     }
-  VecRestoreArray(coordinates, &c);
+  check_petsc(VecRestoreArray(coordinates, &c), "the rigid-body modes: VecRestoreArray");
   MatNullSpace modes;
-  MatNullSpaceCreateRigidBody(coordinates, &modes);
-  VecDestroy(&coordinates);
+  check_petsc(MatNullSpaceCreateRigidBody(coordinates, &modes), "the rigid-body modes: MatNullSpaceCreateRigidBody");
+  check_petsc(VecDestroy(&coordinates), "the rigid-body modes: VecDestroy");
   return modes;
 }
 
@@ -139,12 +142,15 @@ Mat placement(const fem::FunctionSpace& V, const std::vector<std::int32_t>& V_to
   const std::int64_t first_row = V.dofmap()->index_map->local_range()[0] * V.dofmap()->index_map_bs();
   const std::int64_t first_column = X.dofmap()->index_map->local_range()[0];
   Mat R = nullptr;
-  MatCreateAIJ(V.mesh()->comm(), rows, columns, PETSC_DETERMINE, PETSC_DETERMINE, 1, nullptr, 1, nullptr, &R);
+  check_petsc(
+      MatCreateAIJ(V.mesh()->comm(), rows, columns, PETSC_DETERMINE, PETSC_DETERMINE, 1, nullptr, 1, nullptr, &R),
+      "the placement matrix: MatCreateAIJ");
   for (std::int32_t i = 0; i < rows; ++i)
-    MatSetValue(R, static_cast<PetscInt>(first_row + i), static_cast<PetscInt>(first_column + V_to_X[i]), 1.0,
-                INSERT_VALUES);
-  MatAssemblyBegin(R, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(R, MAT_FINAL_ASSEMBLY);
+    check_petsc(MatSetValue(R, static_cast<PetscInt>(first_row + i), static_cast<PetscInt>(first_column + V_to_X[i]),
+                            1.0, INSERT_VALUES),
+                "the placement matrix: MatSetValue");
+  check_petsc(MatAssemblyBegin(R, MAT_FINAL_ASSEMBLY), "the placement matrix: MatAssemblyBegin");
+  check_petsc(MatAssemblyEnd(R, MAT_FINAL_ASSEMBLY), "the placement matrix: MatAssemblyEnd");
   return R;
 }
 

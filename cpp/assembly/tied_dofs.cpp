@@ -1,5 +1,7 @@
 #include "assembly/tied_dofs.h"
 
+#include "assembly/petsc_error.h"
+
 #include <mpi.h>
 
 namespace biotcontact
@@ -9,49 +11,55 @@ TiedDofs::TiedDofs(Mat A, const std::vector<Tie>& ties)
 {
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
   PetscInt m = 0, n = 0, start = 0, end = 0;
-  MatGetLocalSize(A, &m, &n);
-  MatGetOwnershipRange(A, &start, &end);
+  check_petsc(MatGetLocalSize(A, &m, &n), "the tied DOFs: MatGetLocalSize");
+  check_petsc(MatGetOwnershipRange(A, &start, &end), "the tied DOFs: MatGetOwnershipRange");
   // Row j of P holds 1 at j and s at i (i possibly off this rank).
-  MatCreateAIJ(comm, m, n, PETSC_DETERMINE, PETSC_DETERMINE, 2, nullptr, 1, nullptr, &_P);
+  check_petsc(MatCreateAIJ(comm, m, n, PETSC_DETERMINE, PETSC_DETERMINE, 2, nullptr, 1, nullptr, &_P),
+              "the tied DOFs: MatCreateAIJ of P");
   for (PetscInt r = start; r < end; ++r)
-    MatSetValue(_P, r, r, 1.0, INSERT_VALUES);
+    check_petsc(MatSetValue(_P, r, r, 1.0, INSERT_VALUES), "the tied DOFs: MatSetValue of P");
   for (const Tie& t : ties)
   {
-    MatSetValue(_P, t.j, t.i, t.s, INSERT_VALUES);
+    check_petsc(MatSetValue(_P, t.j, t.i, t.s, INSERT_VALUES), "the tied DOFs: MatSetValue of P");
     _j.push_back(t.j);
   }
-  MatAssemblyBegin(_P, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(_P, MAT_FINAL_ASSEMBLY);
+  check_petsc(MatAssemblyBegin(_P, MAT_FINAL_ASSEMBLY), "the tied DOFs: MatAssemblyBegin of P");
+  check_petsc(MatAssemblyEnd(_P, MAT_FINAL_ASSEMBLY), "the tied DOFs: MatAssemblyEnd of P");
   PetscInt local = static_cast<PetscInt>(_j.size());
   MPI_Allreduce(&local, &_size, 1, MPIU_INT, MPI_SUM, comm);
 }
 
-TiedDofs::~TiedDofs() { MatDestroy(&_P); }
+TiedDofs::~TiedDofs() { warn_petsc(MatDestroy(&_P), "the tied DOFs: MatDestroy of P"); }
 
 void TiedDofs::reduce(Mat A, Mat* At) const
 {
-  MatPtAP(A, _P, *At ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, At);
-  MatZeroRowsColumns(*At, static_cast<PetscInt>(_j.size()), _j.data(), 1.0, nullptr, nullptr);
+  check_petsc(MatPtAP(A, _P, *At ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, At),
+              "the tied DOFs: MatPtAP");
+  check_petsc(MatZeroRowsColumns(*At, static_cast<PetscInt>(_j.size()), _j.data(), 1.0, nullptr, nullptr),
+              "the tied DOFs: MatZeroRowsColumns");
 }
 
 void TiedDofs::load(Vec b, Vec bt) const
 {
-  MatMultTranspose(_P, b, bt);
+  check_petsc(MatMultTranspose(_P, b, bt), "the tied DOFs' load: MatMultTranspose");
   for (PetscInt j : _j)
-    VecSetValue(bt, j, 0.0, INSERT_VALUES);
-  VecAssemblyBegin(bt);
-  VecAssemblyEnd(bt);
+    check_petsc(VecSetValue(bt, j, 0.0, INSERT_VALUES), "the tied DOFs' load: VecSetValue");
+  check_petsc(VecAssemblyBegin(bt), "the tied DOFs' load: VecAssemblyBegin");
+  check_petsc(VecAssemblyEnd(bt), "the tied DOFs' load: VecAssemblyEnd");
 }
 
 void TiedDofs::guess(Vec x, Vec y) const
 {
-  VecCopy(x, y);
+  check_petsc(VecCopy(x, y), "the tied DOFs' guess: VecCopy");
   for (PetscInt j : _j)
-    VecSetValue(y, j, 0.0, INSERT_VALUES);
-  VecAssemblyBegin(y);
-  VecAssemblyEnd(y);
+    check_petsc(VecSetValue(y, j, 0.0, INSERT_VALUES), "the tied DOFs' guess: VecSetValue");
+  check_petsc(VecAssemblyBegin(y), "the tied DOFs' guess: VecAssemblyBegin");
+  check_petsc(VecAssemblyEnd(y), "the tied DOFs' guess: VecAssemblyEnd");
 }
 
-void TiedDofs::expand(Vec y, Vec x) const { MatMult(_P, y, x); }
+void TiedDofs::expand(Vec y, Vec x) const
+{
+  check_petsc(MatMult(_P, y, x), "the tied DOFs' expansion x = P y: MatMult");
+}
 
 } // namespace biotcontact

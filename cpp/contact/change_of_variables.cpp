@@ -1,5 +1,7 @@
 #include "contact/change_of_variables.h"
 
+#include "solvers/solver.h"
+
 #include <algorithm>
 #include <cmath>
 #include <mpi.h>
@@ -9,6 +11,13 @@ namespace biotcontact
 
 namespace
 {
+/// check_petsc for the change of variables' calls; `what` names the call.
+void check(PetscErrorCode code, const char* what)
+{
+  if (code != 0)
+    check_petsc(code, std::string("the change of variables: ") + what);
+}
+
 double dot(const double* a, const double* b, int d)
 {
   double s = 0;
@@ -173,30 +182,30 @@ namespace
 Mat block_diagonal(Mat A, const std::vector<ChangeOfVariables::Block>& blocks, bool inverted)
 {
   PetscInt m = 0, n = 0, M = 0, N = 0, start = 0, bs = 1;
-  MatGetLocalSize(A, &m, &n);
-  MatGetSize(A, &M, &N);
-  MatGetOwnershipRange(A, &start, nullptr);
-  MatGetBlockSize(A, &bs);
+  check(MatGetLocalSize(A, &m, &n), "MatGetLocalSize of A");
+  check(MatGetSize(A, &M, &N), "MatGetSize of A");
+  check(MatGetOwnershipRange(A, &start, nullptr), "MatGetOwnershipRange of A");
+  check(MatGetBlockSize(A, &bs), "MatGetBlockSize of A");
   const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
   PetscInt width = 1;
   for (const auto& block : blocks)
     width = std::max(width, static_cast<PetscInt>(block.dofs.size()));
   MPI_Allreduce(MPI_IN_PLACE, &width, 1, MPIU_INT, MPI_MAX, comm);
   Mat T;
-  MatCreateAIJ(comm, m, n, M, N, width, nullptr, width, nullptr, &T);
-  MatSetBlockSize(T, bs);
+  check(MatCreateAIJ(comm, m, n, M, N, width, nullptr, width, nullptr, &T), "MatCreateAIJ of T");
+  check(MatSetBlockSize(T, bs), "MatSetBlockSize of T");
   for (PetscInt i = 0; i < m; ++i)
-    MatSetValue(T, start + i, start + i, 1.0, ADD_VALUES);
+    check(MatSetValue(T, start + i, start + i, 1.0, ADD_VALUES), "MatSetValue of T");
   for (const auto& block : blocks)
   {
     const int k = static_cast<int>(block.dofs.size());
     std::vector<double> B = inverted ? inverse(block.T, k) : block.T;
     for (int i = 0; i < k; ++i)
       B[k * i + i] -= 1;
-    MatSetValues(T, k, block.dofs.data(), k, block.dofs.data(), B.data(), ADD_VALUES);
+    check(MatSetValues(T, k, block.dofs.data(), k, block.dofs.data(), B.data(), ADD_VALUES), "MatSetValues of T");
   }
-  MatAssemblyBegin(T, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(T, MAT_FINAL_ASSEMBLY);
+  check(MatAssemblyBegin(T, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin of T");
+  check(MatAssemblyEnd(T, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd of T");
   return T;
 }
 } // namespace
@@ -208,28 +217,31 @@ ChangeOfVariables::ChangeOfVariables(Mat A, const std::vector<Block>& blocks, bo
 
 ChangeOfVariables::~ChangeOfVariables()
 {
-  MatDestroy(&_T);
-  MatDestroy(&_T_inverse);
+  warn_petsc(MatDestroy(&_T), "the change of variables: MatDestroy of T");
+  warn_petsc(MatDestroy(&_T_inverse), "the change of variables: MatDestroy of T^-1");
 }
 
-void ChangeOfVariables::forward(Vec x, Vec y) const { MatMult(_T, x, y); }
+void ChangeOfVariables::forward(Vec x, Vec y) const { check(MatMult(_T, x, y), "MatMult of T"); }
 
-void ChangeOfVariables::backward(Vec y, Vec x) const { MatMult(_T_inverse, y, x); }
+void ChangeOfVariables::backward(Vec y, Vec x) const { check(MatMult(_T_inverse, y, x), "MatMult of T^-1"); }
 
-void ChangeOfVariables::dual(Vec f, Vec g) const { MatMultTranspose(_T_inverse, f, g); }
+void ChangeOfVariables::dual(Vec f, Vec g) const
+{
+  check(MatMultTranspose(_T_inverse, f, g), "MatMultTranspose of T^-1");
+}
 
 void ChangeOfVariables::congruence(Mat A, Mat* At) const
 {
-  MatPtAP(A, _T_inverse, *At ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, At);
+  check(MatPtAP(A, _T_inverse, *At ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, At), "MatPtAP of A");
   if (_spd)
-    MatSetOption(*At, MAT_SPD, PETSC_TRUE);
+    check(MatSetOption(*At, MAT_SPD, PETSC_TRUE), "MatSetOption MAT_SPD of A'");
   MatNullSpace modes = nullptr;
-  MatGetNearNullSpace(A, &modes);
+  check(MatGetNearNullSpace(A, &modes), "MatGetNearNullSpace of A");
   if (modes)
   {
     MatNullSpace t = transformed(modes);
-    MatSetNearNullSpace(*At, t);
-    MatNullSpaceDestroy(&t);
+    check(MatSetNearNullSpace(*At, t), "MatSetNearNullSpace of A'");
+    check(MatNullSpaceDestroy(&t), "MatNullSpaceDestroy");
   }
 }
 
@@ -238,27 +250,27 @@ void ChangeOfVariables::congruence(Mat A, Mat* At) const
 void ChangeOfVariables::forward_field(Vec v, Vec t, const std::vector<PetscInt>& dofs, Vec layout) const
 {
   Vec whole, changed;
-  VecDuplicate(layout, &whole);
-  VecDuplicate(layout, &changed);
+  check(VecDuplicate(layout, &whole), "VecDuplicate of the layout");
+  check(VecDuplicate(layout, &changed), "VecDuplicate of the layout");
   PetscInt start = 0;
-  VecGetOwnershipRange(layout, &start, nullptr);
+  check(VecGetOwnershipRange(layout, &start, nullptr), "VecGetOwnershipRange of the layout");
   const PetscScalar* in;
   PetscScalar *w, *out;
-  VecGetArrayRead(v, &in);
-  VecGetArray(whole, &w);
+  check(VecGetArrayRead(v, &in), "VecGetArrayRead of a field's vector");
+  check(VecGetArray(whole, &w), "VecGetArray of a whole vector");
   for (std::size_t i = 0; i < dofs.size(); ++i)
     w[dofs[i] - start] = in[i];
-  VecRestoreArray(whole, &w);
-  VecRestoreArrayRead(v, &in);
+  check(VecRestoreArray(whole, &w), "VecRestoreArray of a whole vector");
+  check(VecRestoreArrayRead(v, &in), "VecRestoreArrayRead of a field's vector");
   forward(whole, changed);
-  VecGetArrayRead(changed, &in);
-  VecGetArray(t, &out);
+  check(VecGetArrayRead(changed, &in), "VecGetArrayRead of a changed vector");
+  check(VecGetArray(t, &out), "VecGetArray of a field's vector");
   for (std::size_t i = 0; i < dofs.size(); ++i)
     out[i] = in[dofs[i] - start];
-  VecRestoreArray(t, &out);
-  VecRestoreArrayRead(changed, &in);
-  VecDestroy(&whole);
-  VecDestroy(&changed);
+  check(VecRestoreArray(t, &out), "VecRestoreArray of a field's vector");
+  check(VecRestoreArrayRead(changed, &in), "VecRestoreArrayRead of a changed vector");
+  check(VecDestroy(&whole), "VecDestroy of a whole vector");
+  check(VecDestroy(&changed), "VecDestroy of a changed vector");
 }
 
 MatNullSpace ChangeOfVariables::transformed(MatNullSpace modes, const std::vector<PetscInt>* dofs, Vec layout) const
@@ -266,13 +278,13 @@ MatNullSpace ChangeOfVariables::transformed(MatNullSpace modes, const std::vecto
   PetscBool has_constant = PETSC_FALSE;
   PetscInt n = 0;
   const Vec* vectors = nullptr;
-  MatNullSpaceGetVecs(modes, &has_constant, &n, &vectors);
+  check(MatNullSpaceGetVecs(modes, &has_constant, &n, &vectors), "MatNullSpaceGetVecs of the near-nullspace");
   // T v, orthonormalised again (PETSc asks it of a null space; a node on
   // two foundations has a T that is not orthogonal).
   std::vector<Vec> t(n);
   for (PetscInt k = 0; k < n; ++k)
   {
-    VecDuplicate(vectors[k], &t[k]);
+    check(VecDuplicate(vectors[k], &t[k]), "VecDuplicate of a near-nullspace vector");
     if (dofs)
       forward_field(vectors[k], t[k], *dofs, layout);
     else
@@ -280,15 +292,16 @@ MatNullSpace ChangeOfVariables::transformed(MatNullSpace modes, const std::vecto
     for (PetscInt j = 0; j < k; ++j)
     {
       PetscScalar c = 0;
-      VecDot(t[k], t[j], &c);
-      VecAXPY(t[k], -c, t[j]);
+      check(VecDot(t[k], t[j], &c), "VecDot of near-nullspace vectors");
+      check(VecAXPY(t[k], -c, t[j]), "VecAXPY of near-nullspace vectors");
     }
-    VecNormalize(t[k], nullptr);
+    check(VecNormalize(t[k], nullptr), "VecNormalize of a near-nullspace vector");
   }
   MatNullSpace space;
-  MatNullSpaceCreate(PetscObjectComm(reinterpret_cast<PetscObject>(modes)), has_constant, n, t.data(), &space);
+  check(MatNullSpaceCreate(PetscObjectComm(reinterpret_cast<PetscObject>(modes)), has_constant, n, t.data(), &space),
+        "MatNullSpaceCreate of the transformed near-nullspace");
   for (Vec& v : t)
-    VecDestroy(&v);
+    check(VecDestroy(&v), "VecDestroy of a near-nullspace vector");
   return space;
 }
 

@@ -95,11 +95,11 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
     _dofs.push_back(_displacement_dofs.at(dof));
   // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
   if (_structure == Structure::spd)
-    MatSetOption(_A, MAT_SPD, PETSC_TRUE);
-  VecDuplicate(layout, &_force);
-  VecDuplicate(layout, &_x_start);
-  VecDuplicate(layout, &_x_start_vi);
-  VecSet(_x_start, 0.0);
+    check_petsc(MatSetOption(_A, MAT_SPD, PETSC_TRUE), "contact solver: MatSetOption MAT_SPD of A");
+  check_petsc(VecDuplicate(layout, &_force), "contact solver: VecDuplicate of the layout");
+  check_petsc(VecDuplicate(layout, &_x_start), "contact solver: VecDuplicate of the layout");
+  check_petsc(VecDuplicate(layout, &_x_start_vi), "contact solver: VecDuplicate of the layout");
+  check_petsc(VecSet(_x_start, 0.0), "contact solver: VecSet of the step's start");
   make_change_of_variables(layout);
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
@@ -110,7 +110,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
     Vec y = problem.layout; // the VI keeps a duplicate
     add_friction(problem);
     _vi = std::make_unique<VariationalInequality>(std::move(problem), std::nullopt);
-    VecDestroy(&y);
+    check_petsc(VecDestroy(&y), "contact solver: VecDestroy of the condensed layout");
   }
   else
   {
@@ -140,7 +140,7 @@ VIProblem ContactSolver::condense()
   const PetscInt m = _schur->size();
   // Every rank solves the same small problem.
   VIProblem p{PETSC_COMM_SELF, _prefix + "contact_", _prefix + "contact", _prefix, _schur->matrix(), nullptr};
-  VecCreateSeq(PETSC_COMM_SELF, m, &p.layout);
+  check_petsc(VecCreateSeq(PETSC_COMM_SELF, m, &p.layout), "contact solver: VecCreateSeq of the condensed layout");
   // Each rank's constraints come first among its contact DOFs, its
   // tangential ones (friction) after them: the bounded DOFs of H are the
   // constraints'.
@@ -237,12 +237,12 @@ void ContactSolver::operator_changed()
 ContactSolver::~ContactSolver()
 {
   for (Vec* v : {&_force, &_x_vi, &_b_vi, &_x_start, &_x_start_vi})
-    VecDestroy(v);
+    warn_petsc(VecDestroy(v), "contact solver: VecDestroy");
   if (_change)
   {
     if (_P_vi != _A_vi)
-      MatDestroy(&_P_vi);
-    MatDestroy(&_A_vi);
+      warn_petsc(MatDestroy(&_P_vi), "contact solver: MatDestroy of P'");
+    warn_petsc(MatDestroy(&_A_vi), "contact solver: MatDestroy of A'");
   }
 }
 
@@ -255,10 +255,10 @@ double ContactSolver::displacement_scale(Vec x) const
   for (double g : _set.gap)
     local = std::max(local, g);
   const PetscScalar* X;
-  VecGetArrayRead(x, &X);
+  check_petsc(VecGetArrayRead(x, &X), "contact solver: VecGetArrayRead of x");
   for (std::int32_t dof : _displacement_dofs)
     local = std::max(local, std::abs(X[dof]));
-  VecRestoreArrayRead(x, &X);
+  check_petsc(VecRestoreArrayRead(x, &X), "contact solver: VecRestoreArrayRead of x");
   double global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, _comm);
   return global > 0 ? global : 1.0;
@@ -288,22 +288,22 @@ void ContactSolver::solve(Vec b, Vec x)
   }
   else
   {
-    VecCopy(b_vi, _vi->load());
-    VecCopy(x_vi, _vi->unknown());
+    check_petsc(VecCopy(b_vi, _vi->load()), "contact solver: VecCopy of the load");
+    check_petsc(VecCopy(x_vi, _vi->unknown()), "contact solver: VecCopy of the VI's start");
   }
   // In units of the displacement scale (the largest gap or |x|).
   _vi->solve(displacement_scale(x_vi));
   if (_schur)
     _schur->extend(b_vi, _vi->unknown(), x_vi);
   else
-    VecCopy(_vi->unknown(), x_vi);
+    check_petsc(VecCopy(_vi->unknown(), x_vi), "contact solver: VecCopy of the solution");
   if (_change)
     _change->backward(x_vi, x);
 }
 
 void ContactSolver::set_slip_reference(Vec x)
 {
-  VecCopy(x, _x_start);
+  check_petsc(VecCopy(x, _x_start), "contact solver: VecCopy of the step's start");
   Vec reference = _vi->slip_reference();
   if (!reference)
     return;
@@ -311,7 +311,7 @@ void ContactSolver::set_slip_reference(Vec x)
   if (_schur)
     _schur->restrict_to_contact(x_vi, reference);
   else
-    VecCopy(x_vi, reference);
+    check_petsc(VecCopy(x_vi, reference), "contact solver: VecCopy of the slip reference");
 }
 
 
@@ -355,8 +355,8 @@ void ContactSolver::make_change_of_variables(Vec layout)
   else
     _P_vi = _A_vi;
   _change_current = true;
-  VecDuplicate(layout, &_x_vi);
-  VecDuplicate(layout, &_b_vi);
+  check_petsc(VecDuplicate(layout, &_x_vi), "contact solver: VecDuplicate of the layout");
+  check_petsc(VecDuplicate(layout, &_b_vi), "contact solver: VecDuplicate of the layout");
   // The rigid-body modes of a field (the displacement of the coupled
   // system) change with its DOFs.
   for (Field& f : _fields)
@@ -370,7 +370,7 @@ std::vector<PetscInt> ContactSolver::solved_positions(const std::vector<std::int
   // owned by another rank, so every request goes to every rank (they are
   // the few DOFs of the transformed nodes).
   PetscInt start = 0;
-  VecGetOwnershipRange(layout, &start, nullptr);
+  check_petsc(VecGetOwnershipRange(layout, &start, nullptr), "contact solver: VecGetOwnershipRange of the layout");
   const auto owned = static_cast<std::int64_t>(_displacement_dofs.size());
   const Gathered requests = all_gather(dofs, _comm);
   const std::vector<std::int64_t>& all = requests.values;
@@ -406,11 +406,11 @@ std::vector<double> ContactSolver::distances(Vec x) const
 {
   const PetscScalar* X;
   Vec x_vi = to_vi(x, _x_vi);
-  VecGetArrayRead(x_vi, &X);
+  check_petsc(VecGetArrayRead(x_vi, &X), "contact solver: VecGetArrayRead of x");
   std::vector<double> distance(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     distance[k] = _set.gap[k] - _set.sign[k] * X[_dofs[k]];
-  VecRestoreArrayRead(x_vi, &X);
+  check_petsc(VecRestoreArrayRead(x_vi, &X), "contact solver: VecRestoreArrayRead of x");
   return distance;
 }
 
@@ -434,8 +434,8 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   // Nodal contact force R = A x - b (the residual of the unconstrained
   // equations), in the new variables R' = T^{-T} R: the multiplier of each
   // constraint; the contact pressure is -R'[dof] sign / lumped measure.
-  MatMult(_A, x, _force);
-  VecAXPY(_force, -1.0, b);
+  check_petsc(MatMult(_A, x, _force), "contact solver: MatMult of A for the contact force");
+  check_petsc(VecAXPY(_force, -1.0, b), "contact solver: VecAXPY of the contact force");
   Vec force = _force;
   if (_change)
   {
@@ -444,17 +444,17 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   }
   Vec x_vi = to_vi(x, _x_vi), start_vi = to_vi(_x_start, _x_start_vi);
   const PetscScalar *X, *start, *R;
-  VecGetArrayRead(x_vi, &X);
-  VecGetArrayRead(start_vi, &start);
-  VecGetArrayRead(force, &R);
+  check_petsc(VecGetArrayRead(x_vi, &X), "contact solver: VecGetArrayRead of x");
+  check_petsc(VecGetArrayRead(start_vi, &start), "contact solver: VecGetArrayRead of the step's start");
+  check_petsc(VecGetArrayRead(force, &R), "contact solver: VecGetArrayRead of the contact force");
   std::vector<double> pressure(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
   const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(x), X, start, R};
   ContactState s = contact_state(measured, {pressure_out, active_out}, _comm);
-  VecRestoreArrayRead(x_vi, &X);
-  VecRestoreArrayRead(start_vi, &start);
-  VecRestoreArrayRead(force, &R);
+  check_petsc(VecRestoreArrayRead(x_vi, &X), "contact solver: VecRestoreArrayRead of x");
+  check_petsc(VecRestoreArrayRead(start_vi, &start), "contact solver: VecRestoreArrayRead of the step's start");
+  check_petsc(VecRestoreArrayRead(force, &R), "contact solver: VecRestoreArrayRead of the contact force");
   return s;
 }
 

@@ -20,7 +20,8 @@ ContactConvergence::ContactConvergence(MPI_Comm comm, VIBounds bounds, std::vect
 void ContactConvergence::attach(SNES snes, Vec load, bool friction)
 {
   _snes = snes, _load = load, _friction = friction;
-  check_petsc(SNESSetConvergenceTest(snes, &ContactConvergence::converged, this, nullptr), "contact solver: SNESSetConvergenceTest");
+  check_petsc(SNESSetConvergenceTest(snes, &ContactConvergence::converged, this, nullptr),
+              "contact solver: SNESSetConvergenceTest");
   check_petsc(SNESMonitorSet(snes, &ContactConvergence::monitor, this, nullptr), "contact solver: SNESMonitorSet");
 }
 
@@ -33,36 +34,38 @@ void ContactConvergence::pose()
 {
   // With friction the residual decides the last step (F is not linear):
   // tighter, as the forces' absolute tolerance (ContactSolver::pose).
-  _separate_tolerance = (_friction ? 1e-12 : 1e-10) * separate_norm(_load);
+  double load = 0;
+  check_petsc(separate_norm(_load, &load), "contact solver: the load of the separate rows");
+  _separate_tolerance = (_friction ? 1e-12 : 1e-10) * load;
 }
 
-std::vector<char> ContactConvergence::active_contact_dofs(Vec x, bool* clipped) const
+PetscErrorCode ContactConvergence::active_contact_dofs(Vec x, std::vector<char>* active, bool* clipped) const
 {
   // PETSc's rule (SNESVIGetActiveSetIS): a DOF is active when it lies on a
   // bound to 1e-8 and F pushes it against that bound. A DOF on a bound
   // that F does not push was put there by the projection after a step that
   // left it free (`clipped`): that step did not solve its equation.
   Vec F = nullptr;
-  SNESGetFunction(_snes, &F, nullptr, nullptr);
+  PetscCall(SNESGetFunction(_snes, &F, nullptr, nullptr));
   const PetscScalar *X, *R, *lo, *up;
-  VecGetArrayRead(x, &X);
-  VecGetArrayRead(F, &R);
-  VecGetArrayRead(_bounds.lower, &lo);
-  VecGetArrayRead(_bounds.upper, &up);
-  std::vector<char> active(_bounds.bounded.size());
+  PetscCall(VecGetArrayRead(x, &X));
+  PetscCall(VecGetArrayRead(F, &R));
+  PetscCall(VecGetArrayRead(_bounds.lower, &lo));
+  PetscCall(VecGetArrayRead(_bounds.upper, &up));
+  active->assign(_bounds.bounded.size(), 0);
   for (std::size_t k = 0; k < _bounds.bounded.size(); ++k)
   {
     const std::int32_t i = _bounds.bounded[k];
     const bool on_lower = X[i] <= lo[i] + 1e-8, on_upper = X[i] >= up[i] - 1e-8;
-    active[k] = (on_lower and R[i] > 0) or (on_upper and R[i] < 0);
+    (*active)[k] = (on_lower and R[i] > 0) or (on_upper and R[i] < 0);
     if (clipped)
-      *clipped = *clipped or ((on_lower or on_upper) and !active[k]);
+      *clipped = *clipped or ((on_lower or on_upper) and !(*active)[k]);
   }
-  VecRestoreArrayRead(x, &X);
-  VecRestoreArrayRead(F, &R);
-  VecRestoreArrayRead(_bounds.lower, &lo);
-  VecRestoreArrayRead(_bounds.upper, &up);
-  return active;
+  PetscCall(VecRestoreArrayRead(x, &X));
+  PetscCall(VecRestoreArrayRead(F, &R));
+  PetscCall(VecRestoreArrayRead(_bounds.lower, &lo));
+  PetscCall(VecRestoreArrayRead(_bounds.upper, &up));
+  return 0;
 }
 
 PetscErrorCode ContactConvergence::monitor(SNES snes, PetscInt iteration, PetscReal, void* context)
@@ -80,7 +83,7 @@ PetscErrorCode ContactConvergence::monitor(SNES snes, PetscInt iteration, PetscR
   Vec x = nullptr;
   PetscCall(SNESGetSolution(snes, &x));
   bool clipped = false;
-  self->_pending = self->active_contact_dofs(x, &clipped);
+  PetscCall(self->active_contact_dofs(x, &self->_pending, &clipped));
   if (iteration > 0)
   {
     int differs = self->_pending != self->_used or clipped, any = 0;
@@ -142,10 +145,14 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
     self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
     Vec F = nullptr;
     PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
-    self->_separate_relative_target = rtol * self->separate_norm(F);
+    double norm = 0;
+    PetscCall(self->separate_norm(F, &norm));
+    self->_separate_relative_target = rtol * norm;
     self->_separate_met = false;
   }
-  const bool separate = self->separate_may_stop(self->separate_solved(iteration));
+  bool solved = false;
+  PetscCall(self->separate_solved(iteration, &solved));
+  const bool separate = self->separate_may_stop(solved);
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
   else if ((iteration > 0 or self->_friction) and fnorm < atol and separate)
@@ -179,24 +186,27 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
   return 0;
 }
 
-double ContactConvergence::separate_norm(Vec v) const
+PetscErrorCode ContactConvergence::separate_norm(Vec v, double* norm) const
 {
   const double* V = nullptr;
   double sum = 0;
-  VecGetArrayRead(v, &V);
+  PetscCall(VecGetArrayRead(v, &V));
   for (std::int32_t i : _separate_rows)
     sum += V[i] * V[i];
-  VecRestoreArrayRead(v, &V);
+  PetscCall(VecRestoreArrayRead(v, &V));
   MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, _comm);
-  return std::sqrt(sum);
+  *norm = std::sqrt(sum);
+  return 0;
 }
 
-bool ContactConvergence::separate_solved(PetscInt iteration)
+PetscErrorCode ContactConvergence::separate_solved(PetscInt iteration, bool* solved)
 {
   Vec F = nullptr;
-  SNESGetFunction(_snes, &F, nullptr, nullptr);
-  const double norm = separate_norm(F);
-  return norm <= _separate_tolerance or (iteration > 0 and norm <= _separate_relative_target);
+  PetscCall(SNESGetFunction(_snes, &F, nullptr, nullptr));
+  double norm = 0;
+  PetscCall(separate_norm(F, &norm));
+  *solved = norm <= _separate_tolerance or (iteration > 0 and norm <= _separate_relative_target);
+  return 0;
 }
 
 bool ContactConvergence::separate_may_stop(bool met)

@@ -56,9 +56,10 @@ public:
   void pose();
 
   /// The bounded DOFs that are active at x by PETSc's rule
-  /// (SNESVIGetActiveSetIS); `clipped` tells of a DOF on a bound that F
-  /// does not push.
-  std::vector<char> active_contact_dofs(Vec x, bool* clipped = nullptr) const;
+  /// (SNESVIGetActiveSetIS), into `active`; `clipped` tells of a DOF on a
+  /// bound that F does not push. Returns PETSc's error code: it runs inside
+  /// SNES's monitor.
+  PetscErrorCode active_contact_dofs(Vec x, std::vector<char>* active, bool* clipped = nullptr) const;
 
   /// Newton steps whose inactive set differed from the previous step's
   /// (across solves): each may cost one factorisation.
@@ -67,10 +68,11 @@ public:
   std::function<void(int)> on_newton_step;
 
 private:
-  /// The norm of v on the separate rows (collective).
-  double separate_norm(Vec v) const;
-  /// Whether the residual is small on the separate rows (collective).
-  bool separate_solved(PetscInt iteration);
+  /// The norm of v on the separate rows, into `norm` (collective).
+  PetscErrorCode separate_norm(Vec v, double* norm) const;
+  /// Whether the residual is small on the separate rows, into `solved`
+  /// (collective; from the convergence test).
+  PetscErrorCode separate_solved(PetscInt iteration, bool* solved);
   /// Whether a solve whose separate rows are solved (`met`) may stop.
   bool separate_may_stop(bool met);
   /// Before each Newton step (and after the last): records the active set

@@ -6,6 +6,16 @@
 namespace biotcontact
 {
 
+namespace
+{
+/// check_petsc for the Schur complement's calls; `what` names the call.
+void check(PetscErrorCode code, const char* what)
+{
+  if (code != 0)
+    check_petsc(code, std::string("the Schur complement: ") + what);
+}
+} // namespace
+
 SchurComplement::SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,
                                  std::vector<std::int32_t> dofs)
     : _comm(comm), _prefix(prefix), _A(A), _structure(structure), _dofs(std::move(dofs))
@@ -20,7 +30,7 @@ SchurComplement::SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A
     _displacements[r] = sum;
   _offset = _displacements[_rank];
   _m = _displacements.back() + _counts.back();
-  MatGetOwnershipRange(A, &_first_row, nullptr);
+  check(MatGetOwnershipRange(A, &_first_row, nullptr), "MatGetOwnershipRange of A");
   _whole = _ranks == 1 or option(prefix, "-pc_type") == "redundant";
   std::vector<PetscInt> own(_dofs.size());
   std::transform(_dofs.begin(), _dofs.end(), own.begin(), [&](std::int32_t d) { return _first_row + d; });
@@ -32,24 +42,24 @@ SchurComplement::SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A
   }
   else
     _rows = own;
-  MatCreateVecs(A, &_v, &_w);
+  check(MatCreateVecs(A, &_v, &_w), "MatCreateVecs of A");
   if (_whole and _ranks > 1)
   {
-    VecScatterCreateToAll(_w, &_to_all, &_b_whole);
-    VecDuplicate(_b_whole, &_x_whole);
+    check(VecScatterCreateToAll(_w, &_to_all, &_b_whole), "VecScatterCreateToAll");
+    check(VecDuplicate(_b_whole, &_x_whole), "VecDuplicate of the whole right-hand side");
   }
-  MatCreateSeqDense(PETSC_COMM_SELF, _m, _m, nullptr, &_H);
+  check(MatCreateSeqDense(PETSC_COMM_SELF, _m, _m, nullptr, &_H), "MatCreateSeqDense of H");
 }
 
 SchurComplement::~SchurComplement()
 {
   _solver.reset();
-  MatDestroy(&_clamped);
-  MatDestroy(&_A_whole);
-  MatDestroy(&_H);
-  VecScatterDestroy(&_to_all);
+  warn_petsc(MatDestroy(&_clamped), "the Schur complement: MatDestroy of A_C");
+  warn_petsc(MatDestroy(&_A_whole), "the Schur complement: MatDestroy of A gathered");
+  warn_petsc(MatDestroy(&_H), "the Schur complement: MatDestroy of H");
+  warn_petsc(VecScatterDestroy(&_to_all), "the Schur complement: VecScatterDestroy");
   for (Vec* v : {&_v, &_w, &_b_whole, &_x_whole})
-    VecDestroy(v);
+    warn_petsc(VecDestroy(v), "the Schur complement: VecDestroy");
 }
 
 void SchurComplement::gather(const PetscScalar* local, PetscScalar* all) const
@@ -80,8 +90,9 @@ void SchurComplement::gather_whole()
 {
   if (!_whole or _ranks == 1)
     return;
-  MatDestroy(&_A_whole);
-  MatCreateRedundantMatrix(_A, _ranks, PETSC_COMM_SELF, MAT_INITIAL_MATRIX, &_A_whole);
+  check(MatDestroy(&_A_whole), "MatDestroy of A gathered");
+  check(MatCreateRedundantMatrix(_A, _ranks, PETSC_COMM_SELF, MAT_INITIAL_MATRIX, &_A_whole),
+        "MatCreateRedundantMatrix of A");
 }
 
 void SchurComplement::solve(Vec x, Vec b)
@@ -93,18 +104,18 @@ void SchurComplement::solve(Vec x, Vec b)
   }
   // The whole right-hand side to every rank, the whole solution on each;
   // each rank keeps its own part (as PCREDUNDANT does).
-  VecScatterBegin(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD);
+  check(VecScatterBegin(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin to every rank");
+  check(VecScatterEnd(_to_all, b, _b_whole, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd to every rank");
   _solver->solve(_x_whole, _b_whole);
   PetscInt lo = 0, hi = 0;
-  VecGetOwnershipRange(x, &lo, &hi);
+  check(VecGetOwnershipRange(x, &lo, &hi), "VecGetOwnershipRange of x");
   const PetscScalar* all;
   PetscScalar* own;
-  VecGetArrayRead(_x_whole, &all);
-  VecGetArray(x, &own);
+  check(VecGetArrayRead(_x_whole, &all), "VecGetArrayRead of the whole solution");
+  check(VecGetArray(x, &own), "VecGetArray of x");
   std::copy(all + lo, all + hi, own);
-  VecRestoreArray(x, &own);
-  VecRestoreArrayRead(_x_whole, &all);
+  check(VecRestoreArray(x, &own), "VecRestoreArray of x");
+  check(VecRestoreArrayRead(_x_whole, &all), "VecRestoreArrayRead of the whole solution");
 }
 
 void SchurComplement::assemble()
@@ -113,10 +124,11 @@ void SchurComplement::assemble()
   // factorisation is the system's one (the same options, the same log
   // stage), on each rank's whole copy when the system's is (PCREDUNDANT).
   _solver.reset();
-  MatDestroy(&_clamped);
+  check(MatDestroy(&_clamped), "MatDestroy of A_C");
   gather_whole();
-  MatDuplicate(solve_matrix(), MAT_COPY_VALUES, &_clamped);
-  MatZeroRowsColumns(_clamped, static_cast<PetscInt>(_rows.size()), _rows.data(), 1.0, nullptr, nullptr);
+  check(MatDuplicate(solve_matrix(), MAT_COPY_VALUES, &_clamped), "MatDuplicate of A");
+  check(MatZeroRowsColumns(_clamped, static_cast<PetscInt>(_rows.size()), _rows.data(), 1.0, nullptr, nullptr),
+        "MatZeroRowsColumns of A_C");
   const std::string prefix = _A_whole ? _prefix + "redundant_" : _prefix;
   _solver = std::make_unique<LinearSolver>(PetscObjectComm(reinterpret_cast<PetscObject>(_clamped)), prefix,
                                            _clamped, _clamped, _structure);
@@ -134,7 +146,7 @@ void SchurComplement::assemble()
   // the dense blocks (n x block) kept to a few tens of megabytes. Each
   // rank with a whole copy forms its share of the columns.
   PetscInt n = 0;
-  MatGetSize(_A, &n, nullptr);
+  check(MatGetSize(_A, &n, nullptr), "MatGetSize of A");
   const PetscInt block = std::clamp<PetscInt>(static_cast<PetscInt>(4e6 / std::max<PetscInt>(n, 1)), 1, 64);
   const PetscInt begin = _whole ? _m * _rank / _ranks : 0, end = _whole ? _m * (_rank + 1) / _ranks : _m;
   for (PetscInt first = begin; first < end; first += block)
@@ -212,9 +224,9 @@ void SchurComplement::share_columns()
     counts[r] = static_cast<int>(_m * (_m * (r + 1) / _ranks)) - displacements[r];
   }
   PetscScalar* h = nullptr;
-  MatDenseGetArray(_H, &h);
+  check(MatDenseGetArray(_H, &h), "MatDenseGetArray of H");
   MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, h, counts.data(), displacements.data(), MPIU_SCALAR, _comm);
-  MatDenseRestoreArray(_H, &h);
+  check(MatDenseRestoreArray(_H, &h), "MatDenseRestoreArray of H");
 }
 
 void SchurComplement::form_columns(PetscInt first, PetscInt count)
@@ -224,39 +236,40 @@ void SchurComplement::form_columns(PetscInt first, PetscInt count)
   // I with the other contact DOFs held at zero.
   Mat S = solve_matrix();
   PetscInt n_local = 0;
-  MatGetLocalSize(S, &n_local, nullptr);
+  check(MatGetLocalSize(S, &n_local, nullptr), "MatGetLocalSize of A");
   Mat E, R, X, AE;
-  MatCreateDense(PetscObjectComm(reinterpret_cast<PetscObject>(S)), n_local, PETSC_DECIDE, PETSC_DETERMINE, count,
-                 nullptr, &E);
+  check(MatCreateDense(PetscObjectComm(reinterpret_cast<PetscObject>(S)), n_local, PETSC_DECIDE, PETSC_DETERMINE,
+                       count, nullptr, &E),
+        "MatCreateDense of the unit columns");
   for (std::size_t i = 0; i < _rows.size(); ++i)
     if (const PetscInt j = column_of(i); j >= first and j < first + count)
-      MatSetValue(E, _rows[i], j - first, 1.0, INSERT_VALUES);
-  MatAssemblyBegin(E, MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(E, MAT_FINAL_ASSEMBLY);
+      check(MatSetValue(E, _rows[i], j - first, 1.0, INSERT_VALUES), "MatSetValue of the unit columns");
+  check(MatAssemblyBegin(E, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin of the unit columns");
+  check(MatAssemblyEnd(E, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd of the unit columns");
 
   // R = (A e_j) with the rows of C zeroed; X = A_C^{-1} R vanishes on C.
-  MatMatMult(S, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &R);
+  check(MatMatMult(S, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &R), "MatMatMult of A and the unit columns");
   {
     PetscScalar* r = nullptr;
     PetscInt lda = 0;
-    MatDenseGetLDA(R, &lda);
-    MatDenseGetArray(R, &r);
+    check(MatDenseGetLDA(R, &lda), "MatDenseGetLDA of the right-hand sides");
+    check(MatDenseGetArray(R, &r), "MatDenseGetArray of the right-hand sides");
     for (PetscInt c = 0; c < count; ++c)
       for (std::size_t i = 0; i < _rows.size(); ++i)
         r[local_index(i) + c * lda] = 0;
-    MatDenseRestoreArray(R, &r);
+    check(MatDenseRestoreArray(R, &r), "MatDenseRestoreArray of the right-hand sides");
   }
-  MatDuplicate(R, MAT_DO_NOT_COPY_VALUES, &X);
+  check(MatDuplicate(R, MAT_DO_NOT_COPY_VALUES, &X), "MatDuplicate of the right-hand sides");
   _solver->solve(X, R);
-  MatAXPY(E, -1.0, X, SAME_NONZERO_PATTERN);
-  MatMatMult(S, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &AE);
+  check(MatAXPY(E, -1.0, X, SAME_NONZERO_PATTERN), "MatAXPY of the extended columns");
+  check(MatMatMult(S, E, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &AE), "MatMatMult of A and the extended columns");
 
   const PetscScalar* ae = nullptr;
   PetscInt lda = 0;
-  MatDenseGetLDA(AE, &lda);
-  MatDenseGetArrayRead(AE, &ae);
+  check(MatDenseGetLDA(AE, &lda), "MatDenseGetLDA of A E");
+  check(MatDenseGetArrayRead(AE, &ae), "MatDenseGetArrayRead of A E");
   PetscScalar* h = nullptr;
-  MatDenseGetArray(_H, &h); // column-major, leading dimension m
+  check(MatDenseGetArray(_H, &h), "MatDenseGetArray of H"); // column-major, leading dimension m
   std::vector<PetscScalar> at_contact(_rows.size());
   for (PetscInt c = 0; c < count; ++c)
   {
@@ -264,50 +277,50 @@ void SchurComplement::form_columns(PetscInt first, PetscInt count)
       at_contact[i] = ae[local_index(i) + c * lda];
     contact_values(at_contact.data(), h + (first + c) * _m);
   }
-  MatDenseRestoreArray(_H, &h);
-  MatDenseRestoreArrayRead(AE, &ae);
+  check(MatDenseRestoreArray(_H, &h), "MatDenseRestoreArray of H");
+  check(MatDenseRestoreArrayRead(AE, &ae), "MatDenseRestoreArrayRead of A E");
   for (Mat* M : {&E, &R, &X, &AE})
-    MatDestroy(M);
+    check(MatDestroy(M), "MatDestroy of a block of columns");
 }
 
 void SchurComplement::condensed_load(Vec b, Vec g)
 {
   // v = A_C^{-1} b with b_C zeroed solves the equations of I with x_C = 0;
   // then g = b_C - (A v)_C.
-  VecCopy(b, _w);
+  check(VecCopy(b, _w), "VecCopy of the load");
   PetscScalar* w = nullptr;
-  VecGetArray(_w, &w);
+  check(VecGetArray(_w, &w), "VecGetArray of the load");
   for (std::int32_t d : _dofs)
     w[d] = 0;
-  VecRestoreArray(_w, &w);
+  check(VecRestoreArray(_w, &w), "VecRestoreArray of the load");
   solve(_v, _w);
-  MatMult(_A, _v, _w);
+  check(MatMult(_A, _v, _w), "MatMult of A");
   const PetscScalar *B, *Av;
-  VecGetArrayRead(b, &B);
-  VecGetArrayRead(_w, &Av);
+  check(VecGetArrayRead(b, &B), "VecGetArrayRead of the load");
+  check(VecGetArrayRead(_w, &Av), "VecGetArrayRead of A v");
   std::vector<PetscScalar> local(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     local[k] = B[_dofs[k]] - Av[_dofs[k]];
-  VecRestoreArrayRead(b, &B);
-  VecRestoreArrayRead(_w, &Av);
+  check(VecRestoreArrayRead(b, &B), "VecRestoreArrayRead of the load");
+  check(VecRestoreArrayRead(_w, &Av), "VecRestoreArrayRead of A v");
   PetscScalar* G = nullptr;
-  VecGetArray(g, &G);
+  check(VecGetArray(g, &G), "VecGetArray of the condensed load");
   gather(local.data(), G);
-  VecRestoreArray(g, &G);
+  check(VecRestoreArray(g, &G), "VecRestoreArray of the condensed load");
 }
 
 void SchurComplement::restrict_to_contact(Vec x, Vec y)
 {
   const PetscScalar* X;
-  VecGetArrayRead(x, &X);
+  check(VecGetArrayRead(x, &X), "VecGetArrayRead of x");
   std::vector<PetscScalar> local(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     local[k] = X[_dofs[k]];
-  VecRestoreArrayRead(x, &X);
+  check(VecRestoreArrayRead(x, &X), "VecRestoreArrayRead of x");
   PetscScalar* Y = nullptr;
-  VecGetArray(y, &Y);
+  check(VecGetArray(y, &Y), "VecGetArray of x_C");
   gather(local.data(), Y);
-  VecRestoreArray(y, &Y);
+  check(VecRestoreArray(y, &Y), "VecRestoreArray of x_C");
 }
 
 void SchurComplement::extend(Vec b, Vec y, Vec x)
@@ -315,21 +328,21 @@ void SchurComplement::extend(Vec b, Vec y, Vec x)
   // A_C x = r with r = b - A y (y embedded by zeros) and r_C = y: the rows
   // of C give x_C = y, those of I give A_II x_I = b_I - A_IC y.
   const PetscScalar* Y;
-  VecGetArrayRead(y, &Y);
+  check(VecGetArrayRead(y, &Y), "VecGetArrayRead of y");
   PetscScalar* v = nullptr;
-  VecSet(_v, 0);
-  VecGetArray(_v, &v);
+  check(VecSet(_v, 0), "VecSet of y embedded");
+  check(VecGetArray(_v, &v), "VecGetArray of y embedded");
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     v[_dofs[k]] = Y[_offset + k];
-  VecRestoreArray(_v, &v);
-  MatMult(_A, _v, _w);
-  VecAYPX(_w, -1.0, b);
+  check(VecRestoreArray(_v, &v), "VecRestoreArray of y embedded");
+  check(MatMult(_A, _v, _w), "MatMult of A");
+  check(VecAYPX(_w, -1.0, b), "VecAYPX of the load");
   PetscScalar* w = nullptr;
-  VecGetArray(_w, &w);
+  check(VecGetArray(_w, &w), "VecGetArray of the right-hand side");
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     w[_dofs[k]] = Y[_offset + k];
-  VecRestoreArray(_w, &w);
-  VecRestoreArrayRead(y, &Y);
+  check(VecRestoreArray(_w, &w), "VecRestoreArray of the right-hand side");
+  check(VecRestoreArrayRead(y, &Y), "VecRestoreArrayRead of y");
   solve(x, _w);
 }
 

@@ -131,7 +131,7 @@ void VariationalInequality::set_from_options()
   }
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(_p.system_prefix)
-                       + " contact solver do not make a solver (PETSc error " + std::to_string(ierr) + ")");
+                       + " contact solver do not make a solver: " + petsc_error_text(ierr));
 }
 
 void VariationalInequality::operator_changed()
@@ -249,7 +249,7 @@ SNESConvergedReason VariationalInequality::run_snes()
     // (convergence.cpp), which the clamped start answers.
     if (ierr == PETSC_ERR_MAT_LU_ZRPVT or ierr == PETSC_ERR_MAT_CH_ZRPVT)
       return SNES_DIVERGED_LINEAR_SOLVE;
-    throw SolverError("the contact solver (SNES vinewtonrsls) failed: PETSc error " + std::to_string(ierr));
+    throw SolverError("the contact solver (SNES vinewtonrsls) failed: " + petsc_error_text(ierr));
   }
   SNESConvergedReason reason;
   check_petsc(SNESGetConvergedReason(_snes, &reason), "contact solver: SNESGetConvergedReason");

@@ -193,8 +193,11 @@ OrientedFault orient_fault(const InputMesh& mesh, const Topology& t, const Fault
       throw SceneError(key + ": the group " + request.name + " lies on the outer boundary" + at
                        + " (a fault is inside the body)");
     if (cells.size() != 2)
-      throw SceneError(key + ": the group " + request.name + " has a facet that is no face of the mesh's cells"
-                       + at);
+    {
+      const std::string embed = d == 2 ? "Curve{..} In Surface{..}" : "Surface{..} In Volume{..}";
+      throw SceneError(key + ": the group " + request.name + " is not in the mesh's cells (its facets are no faces "
+                       + "of them): embed it (gmsh: " + embed + ")");
+    }
     std::array<double, 3> n = facet_normal(mesh, nodes);
     const double along = dot(n, hint);
     if (std::abs(along) < 1e-12)
@@ -224,6 +227,25 @@ FaultNodes fault_nodes(const InputMesh& mesh, const std::vector<OrientedFault>& 
       for (int i = 0; i < mesh.dim; ++i)
         nodes[mesh.facets[faults[f].facets[k] * mesh.dim + i]].emplace_back(f, k);
   return nodes;
+}
+
+/// Refuses a facet in two faults' groups: one curve (3D: surface) given
+/// to two physical groups, which the split could not give two faults.
+void refuse_shared_facets(const InputMesh& mesh, const std::vector<OrientedFault>& oriented,
+                          const std::vector<FaultRequest>& faults, const std::string& key_prefix)
+{
+  std::map<FacetKey, std::size_t> fault_of;
+  for (std::size_t f = 0; f < oriented.size(); ++f)
+    for (std::size_t facet : oriented[f].facets)
+    {
+      const std::int64_t* nodes = &mesh.facets[facet * mesh.dim];
+      const auto [it, added] = fault_of.emplace(facet_key(nodes, mesh.dim), f);
+      if (!added and it->second != f)
+        throw SceneError(key_prefix + faults[it->second].name + ": the physical groups " + faults[it->second].name
+                         + " and " + faults[f].name + " share the facet at "
+                         + point_text(mean_point(mesh, nodes, mesh.dim), mesh.dim) + ": a "
+                         + (mesh.dim == 2 ? "curve" : "surface") + " belongs to one fault's group only");
+    }
 }
 
 /// Refuses a node on two faults (they cross, or one ends on the other),
@@ -435,6 +457,7 @@ std::vector<SplitFault> split_along_faults(InputMesh& mesh, const std::vector<Fa
     oriented.push_back(orient_fault(mesh, topology, request, key_prefix + request.name));
     split.push_back({request.name, {}, {}, oriented.back().normals, {}, {}});
   }
+  refuse_shared_facets(mesh, oriented, faults, key_prefix);
   const FaultNodes nodes = fault_nodes(mesh, oriented);
   refuse_shared_nodes(mesh, nodes, faults, key_prefix);
   split_nodes(mesh, topology, oriented, nodes, key_prefix, split);

@@ -1,5 +1,7 @@
 #include "output/interruption.h"
 
+#include "assembly/petsc_error.h"
+
 #include <csignal>
 #include <petscsys.h>
 
@@ -16,7 +18,7 @@ extern "C" void record(int signal) { received = signal; }
 void install_interruption_handlers()
 {
   // PETSc's default handler prints a stack trace and aborts on SIGTERM.
-  PetscPopSignalHandler();
+  check_petsc(PetscPopSignalHandler(), "the interruption handlers: PetscPopSignalHandler");
   struct sigaction action = {};
   action.sa_handler = record;
   sigemptyset(&action.sa_mask);

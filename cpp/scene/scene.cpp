@@ -820,7 +820,16 @@ FaultSpec read_fault(Section s, const Scene& scene)
   if (f.flow == FaultFlow::pressure and !f.pressure)
     s.fail("pressure", "missing (flow = \"pressure\" holds the fault at this pressure)");
   if (f.flow == FaultFlow::conduit)
+  {
+    // A conduit's faces carry its own fluid pressure p_f: any other pressure
+    // on them would be a second, contradictory one.
+    if (f.pressure)
+      s.fail("pressure", "not with flow = \"conduit\": the fault's own fluid pressure p_f pushes on its faces");
+    if (f.pore_pressure_load)
+      s.fail("pore_pressure_load", "not with flow = \"conduit\": the fault's own fluid pressure p_f pushes on "
+                                   "its faces, not the rock's");
     read_conduit(s, scene, f);
+  }
   const std::size_t d = scene.mesh.dimension;
   f.normal = std::vector<double>(d, 0.0);
   f.normal.back() = 1.0;
@@ -973,6 +982,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   Section top(&root, "", file);
   read_meta(top, scene);
   scene.mesh = read_mesh(top.table("mesh", true), file);
+  top.set_axes(scene.mesh.dimension);
   read_physics(top, scene);
   read_time(top, scene);
   read_output(top.table("output", false), scene);

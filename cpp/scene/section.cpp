@@ -1,6 +1,7 @@
 #include "scene/section.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace biotcontact
 {
@@ -71,11 +72,15 @@ Section Section::table(const std::string& key, bool required)
   {
     if (required)
       fail(key, missing(key, "a table"));
-    return Section(nullptr, name(key), _file);
+    Section absent(nullptr, name(key), _file);
+    absent._axes = _axes;
+    return absent;
   }
   if (!n->is_table())
     fail(key, "must be a table");
-  return Section(n->as_table(), name(key), _file);
+  Section child(n->as_table(), name(key), _file);
+  child._axes = _axes;
+  return child;
 }
 
 double Section::number(const std::string& key, std::optional<double> fallback)
@@ -87,9 +92,36 @@ double Section::number(const std::string& key, std::optional<double> fallback)
       fail(key, missing(key, "a number"));
     return *fallback;
   }
-  if (!n->is_number())
-    fail(key, "must be a number");
-  return n->value<double>().value();
+  return constant(*n, key, "must be a number");
+}
+
+std::string Section::array_of(std::size_t size, const std::string& what) const
+{
+  const std::string text = "must be an array of " + std::to_string(size) + " " + what;
+  return size == _axes ? text + ", one per axis (mesh.dimension = " + std::to_string(_axes) + ")" : text;
+}
+
+double Section::constant(const toml::node& n, const std::string& key, const std::string& wanted) const
+{
+  if (n.is_number())
+    return n.value<double>().value();
+  if (!n.is_string())
+    fail(key, wanted);
+  Expression e;
+  try
+  {
+    e = Expression(n.value<std::string>().value());
+  }
+  catch (const std::invalid_argument& error)
+  {
+    fail(key, wanted + " or a constant expression: " + error.what());
+  }
+  if (e.depends_on_space() or e.depends_on_time())
+    fail(key, "\"" + e.text() + "\": one value is wanted here, an expression without x, y, z or t");
+  const double value = e(0.0, 0.0, 0.0, 0.0);
+  if (!std::isfinite(value))
+    fail(key, "\"" + e.text() + "\" gives " + (std::isnan(value) ? "NaN" : "an infinite value"));
+  return value;
 }
 
 int Section::integer(const std::string& key, int fallback)
@@ -156,7 +188,7 @@ std::vector<Expression> Section::expression_vector(const std::string& key, std::
 {
   const toml::node* n = node(key);
   if (!n or !n->is_array() or n->as_array()->size() != size)
-    fail(key, "must be an array of " + std::to_string(size) + " numbers or expressions");
+    fail(key, array_of(size, "numbers or expressions"));
   std::vector<Expression> v;
   for (std::size_t i = 0; i < size; ++i)
     v.push_back(expression(n->as_array()->get(i), key));
@@ -167,13 +199,11 @@ std::vector<double> Section::number_vector(const std::string& key, std::size_t s
 {
   const toml::node* n = node(key);
   if (!n or !n->is_array() or (size > 0 and n->as_array()->size() != size))
-    fail(key, size > 0 ? "must be an array of " + std::to_string(size) + " numbers" : "must be an array of numbers");
+    fail(key, size > 0 ? array_of(size, "numbers") : "must be an array of numbers");
   std::vector<double> v;
   for (const toml::node& e : *n->as_array())
   {
-    if (!e.is_number())
-      fail(key, "must be an array of numbers");
-    v.push_back(e.value<double>().value());
+    v.push_back(constant(e, key, "must be an array of numbers"));
   }
   return v;
 }

@@ -37,7 +37,12 @@ public:
   /// The node of `key` (null when absent), marked as read.
   const toml::node* node(const std::string& key);
 
+  /// Tables read from this one on know the mesh's axes (mesh.dimension):
+  /// an array of that many values, refused, names it as the cause.
+  void set_axes(std::size_t dimension) { _axes = dimension; }
   Section table(const std::string& key, bool required);
+  /// A number, or an expression string without x, y, z and t (one value,
+  /// as "2*pi" or "1e9"; docs/user-guide.md, "Expressions").
   double number(const std::string& key, std::optional<double> fallback = std::nullopt);
   int integer(const std::string& key, int fallback);
   bool boolean(const std::string& key, bool fallback);
@@ -62,17 +67,26 @@ public:
   Expression expression(const toml::node* n, const std::string& key) const;
   std::optional<Expression> expression(const std::string& key);
   std::vector<Expression> expression_vector(const std::string& key, std::size_t size);
-  /// An array of `size` numbers (any length when size = 0).
+  /// An array of `size` numbers or constant expressions (any length when
+  /// size = 0).
   std::vector<double> number_vector(const std::string& key, std::size_t size);
   std::vector<std::string> keys() const;
   /// Refuses keys that were never read.
   void finish() const;
 
 private:
+  /// "must be an array of `size` WHAT", naming mesh.dimension when there
+  /// is one value per axis.
+  std::string array_of(std::size_t size, const std::string& what) const;
+  /// The value of a number or a constant expression (number's rules);
+  /// `wanted` says what else `key` must be.
+  double constant(const toml::node& n, const std::string& key, const std::string& wanted) const;
+
   const toml::table* _table;
   std::string _path;
   const std::string& _file;
   std::set<std::string> _used;
+  std::size_t _axes = 0;
 };
 
 /// Applies one "a.b.c=value" override; the value is read as TOML, and taken

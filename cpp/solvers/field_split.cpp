@@ -1,5 +1,6 @@
 #include "solvers/field_split.h"
 
+#include "assembly/petsc_error.h"
 #include "solvers/options.h"
 
 #include <algorithm>
@@ -14,7 +15,7 @@ bool is_coupled(const std::vector<Field>& fields)
 
 std::shared_ptr<std::remove_pointer_t<MatNullSpace>> own(MatNullSpace space)
 {
-  return {space, [](MatNullSpace s) { MatNullSpaceDestroy(&s); }};
+  return {space, [](MatNullSpace s) { warn_petsc(MatNullSpaceDestroy(&s), "a near-nullspace: MatNullSpaceDestroy"); }};
 }
 
 Field part_of(const Field& whole, const std::string& name, const std::vector<PetscInt>& dofs, MPI_Comm comm)
@@ -44,8 +45,17 @@ namespace
 bool is_field_split(PC pc)
 {
   PetscBool split = PETSC_FALSE;
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &split);
+  check_petsc(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &split),
+              "a preconditioner: PetscObjectTypeCompare");
   return split;
+}
+
+/// check_petsc with "<the system> field split: <call>", the text built only
+/// when the call failed.
+void check_split(PetscErrorCode code, const std::string& prefix, const char* call)
+{
+  if (code != 0)
+    check_petsc(code, system_name(prefix) + " field split: " + call);
 }
 } // namespace
 
@@ -56,28 +66,30 @@ void set_fields(PC pc, const std::vector<Field>& fields, const std::string& pref
   if (fields.empty())
     throw OptionsError("-" + prefix + "pc_type fieldsplit: " + system_name(prefix) + " system has no fields to split");
   IS given = nullptr;
-  PCFieldSplitGetIS(pc, fields.front().name.c_str(), &given);
+  check_split(PCFieldSplitGetIS(pc, fields.front().name.c_str(), &given), prefix, "PCFieldSplitGetIS");
   if (given)
     return; // already split (a preconditioner set up again)
   const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(pc));
   for (const Field& f : fields)
   {
     IS is;
-    ISCreateGeneral(comm, static_cast<PetscInt>(f.dofs.size()), f.dofs.data(), PETSC_COPY_VALUES, &is);
+    check_split(ISCreateGeneral(comm, static_cast<PetscInt>(f.dofs.size()), f.dofs.data(), PETSC_COPY_VALUES, &is),
+                prefix, "ISCreateGeneral");
     // The block of the field inherits the index set's block size (MatCreateSubMatrix),
     // and PCFieldSplit gives it the near-nullspace composed here.
-    ISSetBlockSize(is, f.block_size);
+    check_split(ISSetBlockSize(is, f.block_size), prefix, "ISSetBlockSize");
     if (f.near_nullspace)
-      PetscObjectCompose(reinterpret_cast<PetscObject>(is), "nearnullspace",
-                         reinterpret_cast<PetscObject>(f.near_nullspace.get()));
-    PCFieldSplitSetIS(pc, f.name.c_str(), is);
-    ISDestroy(&is);
+      check_split(PetscObjectCompose(reinterpret_cast<PetscObject>(is), "nearnullspace",
+                                     reinterpret_cast<PetscObject>(f.near_nullspace.get())),
+                  prefix, "PetscObjectCompose of a near-nullspace");
+    check_split(PCFieldSplitSetIS(pc, f.name.c_str(), is), prefix, "PCFieldSplitSetIS");
+    check_split(ISDestroy(&is), prefix, "ISDestroy");
   }
   if (!is_coupled(fields))
     return;
   KSP* sub = nullptr;
   PetscInt n = 0;
-  PCFieldSplitGetSubKSP(pc, &n, &sub);
+  check_split(PCFieldSplitGetSubKSP(pc, &n, &sub), prefix, "PCFieldSplitGetSubKSP");
   for (PetscInt i = 0; i < n; ++i)
   {
     if (fields[i].fields.empty())
@@ -86,13 +98,16 @@ void set_fields(PC pc, const std::vector<Field>& fields, const std::string& pref
     // <prefix>fieldsplit_<name>_: its type is read now, so that its own
     // splits are in place before the outer set-up.
     const char* sub_prefix = nullptr;
-    KSPGetOptionsPrefix(sub[i], &sub_prefix);
-    KSPSetFromOptions(sub[i]);
+    check_split(KSPGetOptionsPrefix(sub[i], &sub_prefix), prefix, "KSPGetOptionsPrefix of a field");
+    // Bad input, as in LinearSolver's constructor: the field's own options make no solver.
+    if (const PetscErrorCode ierr = KSPSetFromOptions(sub[i]); ierr != 0)
+      throw OptionsError("the PETSc options of " + system_name(sub_prefix ? sub_prefix : prefix)
+                         + " solver do not make a solver: " + petsc_error_text(ierr));
     PC sub_pc;
-    KSPGetPC(sub[i], &sub_pc);
+    check_split(KSPGetPC(sub[i], &sub_pc), prefix, "KSPGetPC of a field");
     set_fields(sub_pc, fields[i].fields, sub_prefix ? sub_prefix : prefix);
   }
-  PetscFree(sub);
+  check_split(PetscFree(sub), prefix, "PetscFree of the fields' solvers");
 }
 
 } // namespace biotcontact

@@ -9,45 +9,52 @@ InactiveSetPreconditioner::InactiveSetPreconditioner(SNES snes, Mat P, const std
                                                      const std::string& prefix)
     : _snes(snes), _P(P)
 {
+  auto check = [&prefix](PetscErrorCode code, const char* call)
+  {
+    if (code != 0)
+      check_petsc(code, "the inactive-set preconditioner of " + system_name(prefix) + ": " + call);
+  };
   KSP ksp;
-  SNESGetKSP(snes, &ksp);
+  check(SNESGetKSP(snes, &ksp), "SNESGetKSP");
   PC pc;
-  KSPGetPC(ksp, &pc);
+  check(KSPGetPC(ksp, &pc), "KSPGetPC");
   // Its own prefix: SNES VI resets the reduced KSP from the options at every
   // change of the inactive set, and -<prefix>pc_type names the inner
   // preconditioner.
-  PCSetOptionsPrefix(pc, (prefix + "inactive_").c_str());
+  check(PCSetOptionsPrefix(pc, (prefix + "inactive_").c_str()), "PCSetOptionsPrefix");
   set_default_option(prefix + "inactive_pc_type", "shell");
-  PCSetType(pc, PCSHELL);
-  PCShellSetContext(pc, this);
-  PCShellSetSetUp(pc, &InactiveSetPreconditioner::set_up);
-  PCShellSetApply(pc, &InactiveSetPreconditioner::apply);
-  PCShellSetName(pc, "the system's preconditioner on P with the active DOFs held (inactive_set_preconditioner.h)");
+  check(PCSetType(pc, PCSHELL), "PCSetType");
+  check(PCShellSetContext(pc, this), "PCShellSetContext");
+  check(PCShellSetSetUp(pc, &InactiveSetPreconditioner::set_up), "PCShellSetSetUp");
+  check(PCShellSetApply(pc, &InactiveSetPreconditioner::apply), "PCShellSetApply");
+  check(PCShellSetName(pc, "the system's preconditioner on P with the active DOFs held "
+                           "(inactive_set_preconditioner.h)"),
+        "PCShellSetName");
 
   // The inner preconditioner on P_D: P's block size and near-nullspace come
   // with the duplicate, its fields with set_fields; GAMG (of the mechanics,
   // or of the displacement field of the coupled system) reuses its
   // prolongators across active sets by default (solver.cpp).
-  MatDuplicate(P, MAT_COPY_VALUES, &_P_D);
+  check(MatDuplicate(P, MAT_COPY_VALUES, &_P_D), "MatDuplicate of P");
   MatNullSpace modes = nullptr;
-  MatGetNearNullSpace(P, &modes);
+  check(MatGetNearNullSpace(P, &modes), "MatGetNearNullSpace of P");
   if (modes)
-    MatSetNearNullSpace(_P_D, modes);
-  PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(P)), &_inner);
-  PCSetOptionsPrefix(_inner, prefix.c_str());
-  PCSetOperators(_inner, _P_D, _P_D);
-  PCSetFromOptions(_inner);
+    check(MatSetNearNullSpace(_P_D, modes), "MatSetNearNullSpace");
+  check(PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(P)), &_inner), "PCCreate");
+  check(PCSetOptionsPrefix(_inner, prefix.c_str()), "PCSetOptionsPrefix of the inner PC");
+  check(PCSetOperators(_inner, _P_D, _P_D), "PCSetOperators");
+  check(PCSetFromOptions(_inner), "PCSetFromOptions of the inner PC");
   set_fields(_inner, fields, prefix);
-  MatCreateVecs(P, &_r_full, &_y_full);
+  check(MatCreateVecs(P, &_r_full, &_y_full), "MatCreateVecs");
 }
 
 InactiveSetPreconditioner::~InactiveSetPreconditioner()
 {
-  PCDestroy(&_inner);
-  MatDestroy(&_P_D);
-  ISDestroy(&_inactive);
-  VecDestroy(&_r_full);
-  VecDestroy(&_y_full);
+  warn_petsc(PCDestroy(&_inner), "the inactive-set preconditioner: PCDestroy");
+  warn_petsc(MatDestroy(&_P_D), "the inactive-set preconditioner: MatDestroy");
+  warn_petsc(ISDestroy(&_inactive), "the inactive-set preconditioner: ISDestroy");
+  warn_petsc(VecDestroy(&_r_full), "the inactive-set preconditioner: VecDestroy");
+  warn_petsc(VecDestroy(&_y_full), "the inactive-set preconditioner: VecDestroy");
 }
 
 PetscErrorCode InactiveSetPreconditioner::set_up(PC pc)

@@ -11,15 +11,11 @@ namespace biotcontact
 void set_default_option(const std::string& name, const std::string& value)
 {
   PetscBool given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given);
-  if (!given)
-    PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
-}
-
-void check_petsc(PetscErrorCode code, const std::string& what)
-{
-  if (code != 0)
-    throw SolverError(what + ": PETSc error " + std::to_string(code));
+  PetscErrorCode ierr = PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given);
+  if (ierr == 0 and !given)
+    ierr = PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
+  if (ierr != 0) // the message is built only on failure: this runs for every default
+    check_petsc(ierr, "the default -" + name + " " + value);
 }
 
 void unsymmetric_jacobian_options(const std::string& prefix)
@@ -27,13 +23,15 @@ void unsymmetric_jacobian_options(const std::string& prefix)
   auto replace = [](const std::string& p, const char* name, const std::string& from, const std::string& to)
   {
     if (option(p, name) == from)
-      PetscOptionsSetValue(nullptr, ("-" + p + (name + 1)).c_str(), to.c_str());
+      check_petsc(PetscOptionsSetValue(nullptr, ("-" + p + (name + 1)).c_str(), to.c_str()),
+                  "the options of an unsymmetric Jacobian: PetscOptionsSetValue");
   };
   replace(prefix, "-ksp_type", "cg", "gmres");
   for (const std::string& p : {prefix, prefix + "redundant_"})
     if (option(p, "-pc_type") == "cholesky")
     {
-      PetscOptionsSetValue(nullptr, ("-" + p + "pc_type").c_str(), "lu");
+      check_petsc(PetscOptionsSetValue(nullptr, ("-" + p + "pc_type").c_str(), "lu"),
+                  "the options of an unsymmetric Jacobian: PetscOptionsSetValue");
       replace(p, "-pc_factor_mat_solver_type", "cholmod", "mumps");
     }
 }
@@ -63,12 +61,23 @@ MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_
 std::string option(const std::string& prefix, const char* name)
 {
   char value[64] = "";
-  PetscOptionsGetString(nullptr, prefix.c_str(), name, value, sizeof value, nullptr);
+  // The message is built only on failure: options are read often.
+  if (const PetscErrorCode ierr = PetscOptionsGetString(nullptr, prefix.c_str(), name, value, sizeof value, nullptr);
+      ierr != 0)
+    check_petsc(ierr, "the option -" + prefix + (name + 1));
   return value;
 }
 
 namespace
 {
+/// check_petsc with "<the system> solver: <call>", the text built only when
+/// the call failed (some calls run once per back-solve or column).
+void check_solver(PetscErrorCode code, const std::string& prefix, const char* call)
+{
+  if (code != 0)
+    check_petsc(code, system_name(prefix) + " solver: " + call);
+}
+
 bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky" or pc == "redundant"; }
 
 /// The one-rank factorisation of each structure, as measured on the
@@ -86,14 +95,15 @@ std::string one_rank_package(Structure structure)
 PC factor_pc(KSP ksp)
 {
   PC pc;
-  KSPGetPC(ksp, &pc);
+  check_petsc(KSPGetPC(ksp, &pc), "a factorisation: KSPGetPC");
   PetscBool redundant = PETSC_FALSE;
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCREDUNDANT, &redundant);
+  check_petsc(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCREDUNDANT, &redundant),
+              "a factorisation: PetscObjectTypeCompare");
   if (redundant)
   {
     KSP inner;
-    PCRedundantGetKSP(pc, &inner);
-    KSPGetPC(inner, &pc);
+    check_petsc(PCRedundantGetKSP(pc, &inner), "a factorisation: PCRedundantGetKSP");
+    check_petsc(KSPGetPC(inner, &pc), "a factorisation: KSPGetPC of PCREDUNDANT's solver");
   }
   return pc;
 }
@@ -102,7 +112,7 @@ PC factor_pc(KSP ksp)
 std::string factor_package(KSP ksp)
 {
   MatSolverType package = nullptr;
-  PCFactorGetMatSolverType(factor_pc(ksp), &package);
+  check_petsc(PCFactorGetMatSolverType(factor_pc(ksp), &package), "a factorisation: PCFactorGetMatSolverType");
   return package ? package : "";
 }
 
@@ -243,9 +253,10 @@ MethodChoice set_solver_defaults(const std::string& prefix, Structure structure,
 void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance)
 {
   PetscBool given = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, prefix.c_str(), "-ksp_rtol", &given);
+  check_solver(PetscOptionsHasName(nullptr, prefix.c_str(), "-ksp_rtol", &given), prefix, "PetscOptionsHasName");
   if (!given)
-    KSPSetTolerances(ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
+    check_solver(KSPSetTolerances(ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT), prefix,
+                 "KSPSetTolerances");
 }
 
 SolverStage::SolverStage(const std::string& name)
@@ -255,7 +266,7 @@ SolverStage::SolverStage(const std::string& name)
   auto it = stages.find(name);
   if (it == stages.end())
   {
-    PetscLogStageRegister(name.c_str(), &_stage);
+    check_petsc(PetscLogStageRegister(name.c_str(), &_stage), "the log stage " + name + ": PetscLogStageRegister");
     stages[name] = _stage;
   }
   else
@@ -269,7 +280,7 @@ void SolverStage::read(SolverStatistics& s) const
     PetscLogEvent id = 0;
     PetscEventPerfInfo perf{};
     if (PetscLogEventGetId(event, &id) == 0)
-      PetscLogEventGetPerfInfo(_stage, id, &perf);
+      check_petsc(PetscLogEventGetPerfInfo(_stage, id, &perf), "a solver's log stage: PetscLogEventGetPerfInfo");
     return perf;
   };
   const PetscEventPerfInfo setup = info("PCSetUp"), solve = info("KSPSolve");
@@ -284,30 +295,31 @@ LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat 
     : _prefix(prefix)
 {
   if (structure == Structure::spd)
-    MatSetOption(A, MAT_SPD, PETSC_TRUE);
-  KSPCreate(comm, &_ksp);
-  KSPSetOptionsPrefix(_ksp, prefix.c_str());
-  KSPSetOperators(_ksp, A, P);
+    check_solver(MatSetOption(A, MAT_SPD, PETSC_TRUE), prefix, "MatSetOption MAT_SPD");
+  check_solver(KSPCreate(comm, &_ksp), prefix, "KSPCreate");
+  check_solver(KSPSetOptionsPrefix(_ksp, prefix.c_str()), prefix, "KSPSetOptionsPrefix");
+  check_solver(KSPSetOperators(_ksp, A, P), prefix, "KSPSetOperators");
   PetscErrorCode ierr = KSPSetFromOptions(_ksp);
   PC pc;
-  KSPGetPC(_ksp, &pc);
+  check_solver(KSPGetPC(_ksp, &pc), prefix, "KSPGetPC");
   if (ierr == 0)
     set_fields(pc, fields, prefix);
   // A Krylov method starts from x, the previous iterate (preonly refuses a
   // nonzero guess).
   PetscBool preonly = PETSC_TRUE;
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly);
+  check_solver(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly), prefix,
+               "PetscObjectTypeCompare");
   if (ierr == 0 and !preonly)
   {
     ierr = KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE);
     set_relative_tolerance(_ksp, prefix, iterative_tolerance);
   }
   if (ierr != 0)
-    throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver (PETSc error "
-                       + std::to_string(ierr) + ")");
+    throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver: "
+                       + petsc_error_text(ierr));
 }
 
-LinearSolver::~LinearSolver() { KSPDestroy(&_ksp); }
+LinearSolver::~LinearSolver() { warn_petsc(KSPDestroy(&_ksp), "a linear solver: KSPDestroy"); }
 
 int LinearSolver::solve(Vec x, Vec b)
 {
@@ -332,15 +344,15 @@ void LinearSolver::solve(Mat X, Mat B)
   // the Schur complement's columns, measured on 2 ranks at [160,16]): one
   // column at a time.
   PetscInt columns = 0;
-  MatGetSize(B, nullptr, &columns);
+  check_solver(MatGetSize(B, nullptr, &columns), _prefix, "MatGetSize of the right-hand sides");
   for (PetscInt j = 0; j < columns; ++j)
   {
     Vec b, x;
-    MatDenseGetColumnVecRead(B, j, &b);
-    MatDenseGetColumnVecWrite(X, j, &x);
+    check_solver(MatDenseGetColumnVecRead(B, j, &b), _prefix, "MatDenseGetColumnVecRead");
+    check_solver(MatDenseGetColumnVecWrite(X, j, &x), _prefix, "MatDenseGetColumnVecWrite");
     run([&] { return KSPSolve(_ksp, b, x); });
-    MatDenseRestoreColumnVecWrite(X, j, &x);
-    MatDenseRestoreColumnVecRead(B, j, &b);
+    check_solver(MatDenseRestoreColumnVecWrite(X, j, &x), _prefix, "MatDenseRestoreColumnVecWrite");
+    check_solver(MatDenseRestoreColumnVecRead(B, j, &b), _prefix, "MatDenseRestoreColumnVecRead");
   }
 }
 
@@ -360,7 +372,7 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
   if (ierr == 0)
     ierr = solve();
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  KSPGetConvergedReason(_ksp, &reason);
+  check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
   if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and factor_package(_ksp) == MATSOLVERPETSC)
   {
     // A quasi-definite matrix whose negative block is at round-off against
@@ -370,34 +382,37 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
     // are several; its solve phase costs a tenth of MUMPS's on the fracture
     // scene's flow system, 1.4e4 unknowns.)
     const char* at = nullptr;
-    PCGetOptionsPrefix(factor_pc(_ksp), &at);
+    check_solver(PCGetOptionsPrefix(factor_pc(_ksp), &at), _prefix, "PCGetOptionsPrefix");
     const std::string factor = at ? at : _prefix;
-    PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_solver_type").c_str(), MATSOLVERUMFPACK);
+    check_solver(PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_solver_type").c_str(), MATSOLVERUMFPACK),
+                 _prefix, "PetscOptionsSetValue");
     // The PC keeps the nested-dissection ordering of the first attempt
     // unless told otherwise; given one, UMFPACK uses it instead of its own
     // (6x slower solves here).
-    PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL);
+    check_solver(
+        PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL),
+        _prefix, "PetscOptionsSetValue");
     Mat A, P; // owned by the system: they outlive the reset
-    KSPGetOperators(_ksp, &A, &P);
-    KSPReset(_ksp);
+    check_solver(KSPGetOperators(_ksp, &A, &P), _prefix, "KSPGetOperators");
+    check_solver(KSPReset(_ksp), _prefix, "KSPReset");
     // PCREDUNDANT keeps its inner solver's failure past a reset.
     PC pc;
-    KSPGetPC(_ksp, &pc);
-    PCSetFailedReason(pc, PC_NOERROR);
-    PCSetFailedReason(factor_pc(_ksp), PC_NOERROR);
-    KSPSetOperators(_ksp, A, P);
-    KSPSetFromOptions(_ksp);
+    check_solver(KSPGetPC(_ksp, &pc), _prefix, "KSPGetPC");
+    check_solver(PCSetFailedReason(pc, PC_NOERROR), _prefix, "PCSetFailedReason");
+    check_solver(PCSetFailedReason(factor_pc(_ksp), PC_NOERROR), _prefix, "PCSetFailedReason");
+    check_solver(KSPSetOperators(_ksp, A, P), _prefix, "KSPSetOperators");
+    check_solver(KSPSetFromOptions(_ksp), _prefix, "KSPSetFromOptions");
     ierr = KSPSetUp(_ksp);
     if (ierr == 0)
       ierr = solve();
-    KSPGetConvergedReason(_ksp, &reason);
+    check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
   }
   if (ierr != 0)
-    throw SolverError(system_name(_prefix) + " linear solver failed: PETSc error " + std::to_string(ierr));
+    throw SolverError(system_name(_prefix) + " linear solver failed: " + petsc_error_text(ierr));
   if (reason < 0)
     throw SolverError(system_name(_prefix) + " linear solver failed: " + KSPConvergedReasons[reason]);
   PetscInt its = 0;
-  KSPGetIterationNumber(_ksp, &its);
+  check_solver(KSPGetIterationNumber(_ksp, &its), _prefix, "KSPGetIterationNumber");
   return static_cast<int>(its);
 }
 

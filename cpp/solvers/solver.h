@@ -9,6 +9,7 @@
 // numbers stage by stage.
 #pragma once
 
+#include "assembly/petsc_error.h"
 #include "scene/scene.h"
 #include "solvers/field_split.h"
 #include "solvers/options.h"
@@ -25,12 +26,6 @@
 
 namespace biotcontact
 {
-
-/// A solver that did not converge: the run stops with this message.
-struct SolverError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
 
 /// What the factorisation may assume of a matrix.
 enum class Structure
@@ -150,10 +145,6 @@ std::string option(const std::string& prefix, const char* name);
 /// Sets a PETSc option unless the user already gave it (command line wins).
 void set_default_option(const std::string& name, const std::string& value);
 
-/// Throws SolverError "<what>: PETSc error <code>" when a PETSc call
-/// failed: main.cpp makes PETSc return its error codes instead of aborting.
-void check_petsc(PetscErrorCode code, const std::string& what);
-
 /// The options of `prefix` for a Jacobian that is not symmetric though the
 /// system's matrix is (friction's, contact/friction.h): CG becomes GMRES,
 /// and a Cholesky factorisation LU by MUMPS (CHOLMOD has no LU), also inside
@@ -203,8 +194,11 @@ public:
   /// Pushes the stage for the lifetime of the guard.
   struct Guard
   {
-    explicit Guard(const SolverStage& s) { PetscLogStagePush(s._stage); }
-    ~Guard() { PetscLogStagePop(); }
+    explicit Guard(const SolverStage& s)
+    {
+      check_petsc(PetscLogStagePush(s._stage), "a solver's log stage: PetscLogStagePush");
+    }
+    ~Guard() { warn_petsc(PetscLogStagePop(), "a solver's log stage: PetscLogStagePop"); }
   };
 
 private:

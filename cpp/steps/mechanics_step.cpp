@@ -58,7 +58,7 @@ MechanicsStep::MechanicsStep(const Problem& problem, std::shared_ptr<const fem::
   {
     MatNullSpace modes = rigid_body_modes(*_V);
     _system->set_near_nullspace(modes);
-    MatNullSpaceDestroy(&modes);
+    check_petsc(MatNullSpaceDestroy(&modes), "the mechanics: MatNullSpaceDestroy of the rigid-body modes");
   }
   _b = std::make_unique<la::Vector<double>>(_V->dofmap()->index_map, _V->dofmap()->index_map_bs());
   if (scene.has_contact())

@@ -11,6 +11,17 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
+namespace
+{
+/// check_petsc with "the conduit faults: <call>", the text built only when
+/// the call failed (VecSetValue runs once per fault cell).
+void check_conduits(PetscErrorCode code, const char* call)
+{
+  if (code != 0)
+    check_petsc(code, std::string("the conduit faults: ") + call);
+}
+} // namespace
+
 MonolithicConduits::MonolithicConduits(const Problem& problem, const MixedSpace& space) : _problem(problem)
 {
   auto faults = std::make_unique<ConduitFaults>(problem.scene, problem.domain, *space.X.sub({1}), space.flux);
@@ -22,9 +33,9 @@ MonolithicConduits::MonolithicConduits(const Problem& problem, const MixedSpace&
   _pressure_old = _pressure;
   _aperture = std::make_unique<FaultAperture>(problem.scene, problem.domain, space.V);
   Mat R = placement(space.V, space.V_to_X, space.X);
-  MatMatMult(_aperture->jump(), R, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &_J);
-  MatDestroy(&R);
-  MatCreateVecs(_J, nullptr, &_cells);
+  check_conduits(MatMatMult(_aperture->jump(), R, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &_J), "MatMatMult of J and R");
+  check_conduits(MatDestroy(&R), "MatDestroy of R");
+  check_conduits(MatCreateVecs(_J, nullptr, &_cells), "MatCreateVecs of J");
   _rows = owned_size(space.X);
   make_load_rows(space);
 }
@@ -37,32 +48,32 @@ void MonolithicConduits::make_load_rows(const MixedSpace& space)
   std::fill(ones.mutable_array().begin(), ones.mutable_array().end(), 1.0);
   fem::set_bc(ones.mutable_array(), space.bcs, 0.0);
   Vec no_bcs = nullptr, measures = nullptr;
-  MatCreateVecs(_J, &no_bcs, nullptr);
+  check_conduits(MatCreateVecs(_J, &no_bcs, nullptr), "MatCreateVecs of J");
   la::petsc::Vector from = wrap(ones);
-  VecCopy(from.vec(), no_bcs);
-  VecDuplicate(_cells, &measures);
+  check_conduits(VecCopy(from.vec(), no_bcs), "VecCopy");
+  check_conduits(VecDuplicate(_cells, &measures), "VecDuplicate");
   const std::vector<double>& m = _aperture->measures();
-  for (std::size_t k = 0; k < m.size(); ++k)
-    VecSetValue(measures, static_cast<PetscInt>(k), -m[k], INSERT_VALUES); // every cell on the last rank
-  VecAssemblyBegin(measures);
-  VecAssemblyEnd(measures);
+  for (std::size_t k = 0; k < m.size(); ++k) // every cell on the last rank
+    check_conduits(VecSetValue(measures, static_cast<PetscInt>(k), -m[k], INSERT_VALUES), "VecSetValue");
+  check_conduits(VecAssemblyBegin(measures), "VecAssemblyBegin");
+  check_conduits(VecAssemblyEnd(measures), "VecAssemblyEnd");
   Mat B_z = _faults->exchange(_rows), Jt = nullptr;
-  MatTranspose(B_z, MAT_INITIAL_MATRIX, &_E);
-  MatTranspose(_J, MAT_INITIAL_MATRIX, &Jt);
-  MatDiagonalScale(Jt, nullptr, measures);
-  MatAXPY(_E, 1.0, Jt, DIFFERENT_NONZERO_PATTERN);
-  MatDiagonalScale(_E, no_bcs, nullptr);
-  MatDestroy(&Jt);
-  MatDestroy(&B_z);
-  VecDestroy(&measures);
-  VecDestroy(&no_bcs);
+  check_conduits(MatTranspose(B_z, MAT_INITIAL_MATRIX, &_E), "MatTranspose of B_z");
+  check_conduits(MatTranspose(_J, MAT_INITIAL_MATRIX, &Jt), "MatTranspose of J");
+  check_conduits(MatDiagonalScale(Jt, nullptr, measures), "MatDiagonalScale of J^T");
+  check_conduits(MatAXPY(_E, 1.0, Jt, DIFFERENT_NONZERO_PATTERN), "MatAXPY of E");
+  check_conduits(MatDiagonalScale(_E, no_bcs, nullptr), "MatDiagonalScale of E");
+  check_conduits(MatDestroy(&Jt), "MatDestroy of J^T");
+  check_conduits(MatDestroy(&B_z), "MatDestroy of B_z");
+  check_conduits(VecDestroy(&measures), "VecDestroy");
+  check_conduits(VecDestroy(&no_bcs), "VecDestroy");
 }
 
 MonolithicConduits::~MonolithicConduits()
 {
-  MatDestroy(&_J);
-  MatDestroy(&_E);
-  VecDestroy(&_cells);
+  warn_petsc(MatDestroy(&_J), "the conduit faults: MatDestroy");
+  warn_petsc(MatDestroy(&_E), "the conduit faults: MatDestroy");
+  warn_petsc(VecDestroy(&_cells), "the conduit faults: VecDestroy");
 }
 
 bool MonolithicConduits::has_closure() const
@@ -76,22 +87,22 @@ double MonolithicConduits::dt() const { return _problem.constants.at("dt")->valu
 void MonolithicConduits::append(System& system) const
 {
   Mat B_z = _faults->exchange(_rows), E = nullptr;
-  MatDuplicate(_E, MAT_COPY_VALUES, &E); // the System takes it
+  check_conduits(MatDuplicate(_E, MAT_COPY_VALUES, &E), "MatDuplicate of E"); // the System takes it
   // B = B_z - (|k|/dt) O J: every entry of J kept, zero where closed, so
   // that the structure stays as cells open and close.
   Mat B = nullptr;
-  MatDuplicate(_J, MAT_COPY_VALUES, &B);
+  check_conduits(MatDuplicate(_J, MAT_COPY_VALUES, &B), "MatDuplicate of J");
   const std::vector<double> rates = _faults->opening_rates(dt(), _pressure_old, _pressure);
   Vec factors = nullptr;
-  VecDuplicate(_cells, &factors);
+  check_conduits(VecDuplicate(_cells, &factors), "VecDuplicate");
   double* r = nullptr;
-  VecGetArray(factors, &r);
+  check_conduits(VecGetArray(factors, &r), "VecGetArray");
   std::copy(rates.begin(), rates.end(), r);
-  VecRestoreArray(factors, &r);
-  MatDiagonalScale(B, factors, nullptr);
-  MatAXPY(B, 1.0, B_z, DIFFERENT_NONZERO_PATTERN);
-  VecDestroy(&factors);
-  MatDestroy(&B_z);
+  check_conduits(VecRestoreArray(factors, &r), "VecRestoreArray");
+  check_conduits(MatDiagonalScale(B, factors, nullptr), "MatDiagonalScale of B");
+  check_conduits(MatAXPY(B, 1.0, B_z, DIFFERENT_NONZERO_PATTERN), "MatAXPY of B");
+  check_conduits(VecDestroy(&factors), "VecDestroy");
+  check_conduits(MatDestroy(&B_z), "MatDestroy of B_z");
   system.append({B, _faults->operator_matrix(dt()), _faults->face_resistance(),
                  std::vector<double>(_faults->owned(), 0.0), _pressure, E});
 }
@@ -110,13 +121,13 @@ void MonolithicConduits::load(System& system, la::Vector<double>& x, double t)
   _faults->load({t, dt(), 1, 1}, _pressure_old, _pressure, appended.b);
   // The open cells' volume at u^i, which B's rows move to u^{i+1}.
   la::petsc::Vector X = wrap(x);
-  MatMult(_J, X.vec(), _cells);
+  check_conduits(MatMult(_J, X.vec(), _cells), "MatMult by J");
   const std::vector<double> rates = _faults->opening_rates(dt(), _pressure_old, _pressure);
   const double* Ju = nullptr;
-  VecGetArrayRead(_cells, &Ju);
+  check_conduits(VecGetArrayRead(_cells, &Ju), "VecGetArrayRead");
   for (std::size_t k = 0; k < rates.size(); ++k)
     appended.b[k] += rates[k] * Ju[k];
-  VecRestoreArrayRead(_cells, &Ju);
+  check_conduits(VecRestoreArrayRead(_cells, &Ju), "VecRestoreArrayRead");
   appended.x = _pressure;
 }
 

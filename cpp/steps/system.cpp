@@ -18,6 +18,14 @@ la::petsc::Matrix timed_assembly(const fem::Form<double>& a, const BCs& bcs, dou
   time += timer.stop();
   return A;
 }
+
+/// check_petsc with "<the system> system: <call>", the text built only when
+/// the call failed (MatSetValue runs once per appended diagonal entry).
+void check_system(PetscErrorCode code, const std::string& prefix, const char* call)
+{
+  if (code != 0)
+    check_petsc(code, system_name(prefix) + " system: " + call);
+}
 } // namespace
 
 System::System(MPI_Comm comm, std::shared_ptr<const fem::Form<double>> a, BCs bcs, const SystemLayout& layout,
@@ -47,32 +55,26 @@ System::System(MPI_Comm comm, std::shared_ptr<const fem::Form<double>> a, BCs bc
 std::int64_t System::unknowns() const
 {
   PetscInt n = 0;
-  MatGetSize(_A.mat(), &n, nullptr);
+  check_system(MatGetSize(_A.mat(), &n, nullptr), _prefix, "MatGetSize");
   return n;
 }
 
 void System::set_near_nullspace(MatNullSpace modes)
 {
   // The modes are the displacement's; the ties hold flux DOFs only.
-  MatSetNearNullSpace(_A.mat(), modes);
+  check_system(MatSetNearNullSpace(_A.mat(), modes), _prefix, "MatSetNearNullSpace");
   if (_A_tied)
-    MatSetNearNullSpace(_A_tied, modes);
+    check_system(MatSetNearNullSpace(_A_tied, modes), _prefix, "MatSetNearNullSpace of the tied matrix");
 }
 
 System::~System()
 {
   _contact.reset();
   _linear.reset();
-  MatDestroy(&_A_tied);
-  MatDestroy(&_P_tied);
-  MatDestroy(&_A_appended);
-  MatDestroy(&_appended.B);
-  MatDestroy(&_appended.C);
-  MatDestroy(&_appended.E);
-  VecDestroy(&_b_appended);
-  VecDestroy(&_x_appended);
-  VecDestroy(&_b_tied);
-  VecDestroy(&_y_tied);
+  for (Mat* m : {&_A_tied, &_P_tied, &_A_appended, &_appended.B, &_appended.C, &_appended.E})
+    warn_petsc(MatDestroy(m), "a system: MatDestroy");
+  for (Vec* v : {&_b_appended, &_x_appended, &_b_tied, &_y_tied})
+    warn_petsc(VecDestroy(v), "a system: VecDestroy");
 }
 
 void System::tie(const std::vector<Tie>& ties)
@@ -86,10 +88,10 @@ void System::tie(const std::vector<Tie>& ties)
   if (_P)
     _tied->reduce(_P->mat(), &_P_tied);
   MatNullSpace modes = nullptr;
-  MatGetNearNullSpace(_A.mat(), &modes);
+  check_system(MatGetNearNullSpace(_A.mat(), &modes), _prefix, "MatGetNearNullSpace");
   if (modes)
-    MatSetNearNullSpace(_A_tied, modes);
-  MatCreateVecs(_A_tied, &_y_tied, &_b_tied);
+    check_system(MatSetNearNullSpace(_A_tied, modes), _prefix, "MatSetNearNullSpace of the tied matrix");
+  check_system(MatCreateVecs(_A_tied, &_y_tied, &_b_tied), _prefix, "MatCreateVecs of the tied matrix");
   _linear = std::make_unique<LinearSolver>(_comm, _prefix, operator_matrix(), preconditioner_matrix(), _structure,
                                            _fields);
 }
@@ -99,23 +101,23 @@ Mat System::appended_operator() const
   Mat a = _A_tied ? _A_tied : _A.mat();
   if (!_appended.diagonal.empty())
   {
-    MatDuplicate(a, MAT_COPY_VALUES, &a);
+    check_system(MatDuplicate(a, MAT_COPY_VALUES, &a), _prefix, "MatDuplicate of A");
     for (const auto& [row, value] : _appended.diagonal)
-      MatSetValue(a, row, row, value, ADD_VALUES);
-    MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY);
-    MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY);
+      check_system(MatSetValue(a, row, row, value, ADD_VALUES), _prefix, "MatSetValue of the appended diagonal");
+    check_system(MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY), _prefix, "MatAssemblyBegin of A + D");
+    check_system(MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY), _prefix, "MatAssemblyEnd of A + D");
   }
   Mat E = _appended.E, nest = nullptr, big = nullptr;
   if (!E)
-    MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &E);
+    check_system(MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &E), _prefix, "MatTranspose of B");
   std::array<Mat, 4> blocks{a, E, _appended.B, _appended.C};
-  MatCreateNest(_comm, 2, nullptr, 2, nullptr, blocks.data(), &nest);
-  MatConvert(nest, MATAIJ, MAT_INITIAL_MATRIX, &big);
-  MatDestroy(&nest);
+  check_system(MatCreateNest(_comm, 2, nullptr, 2, nullptr, blocks.data(), &nest), _prefix, "MatCreateNest");
+  check_system(MatConvert(nest, MATAIJ, MAT_INITIAL_MATRIX, &big), _prefix, "MatConvert of the appended system");
+  check_system(MatDestroy(&nest), _prefix, "MatDestroy");
   if (!_appended.E)
-    MatDestroy(&E);
+    check_system(MatDestroy(&E), _prefix, "MatDestroy of B^T");
   if (!_appended.diagonal.empty())
-    MatDestroy(&a);
+    check_system(MatDestroy(&a), _prefix, "MatDestroy of A + D");
   return big;
 }
 
@@ -126,15 +128,14 @@ void System::append(AppendedUnknowns appended)
   if (_P)
     throw std::runtime_error(_prefix + ": appended unknowns (conduit faults) need the direct solver "
                                        "(solver.monolithic = \"direct\")");
-  MatDestroy(&_appended.B);
-  MatDestroy(&_appended.C);
-  MatDestroy(&_appended.E);
+  for (Mat* m : {&_appended.B, &_appended.C, &_appended.E})
+    check_system(MatDestroy(m), _prefix, "MatDestroy of the appended blocks");
   _appended = std::move(appended);
   Mat big = appended_operator();
   if (!first)
   {
-    MatCopy(big, _A_appended, SAME_NONZERO_PATTERN);
-    MatDestroy(&big);
+    check_system(MatCopy(big, _A_appended, SAME_NONZERO_PATTERN), _prefix, "MatCopy of the appended system");
+    check_system(MatDestroy(&big), _prefix, "MatDestroy");
     if (_contact)
       _contact->operator_changed();
     else
@@ -142,15 +143,15 @@ void System::append(AppendedUnknowns appended)
     return;
   }
   _A_appended = big;
-  MatCreateVecs(big, &_x_appended, &_b_appended);
+  check_system(MatCreateVecs(big, &_x_appended, &_b_appended), _prefix, "MatCreateVecs of the appended system");
   int rank = 0, ranks = 1;
   MPI_Comm_rank(_comm, &rank);
   MPI_Comm_size(_comm, &ranks);
   PetscInt start = 0, rows = 0;
-  MatGetOwnershipRange(_A.mat(), &start, nullptr);
-  MatGetLocalSize(_appended.C, &rows, nullptr);
+  check_system(MatGetOwnershipRange(_A.mat(), &start, nullptr), _prefix, "MatGetOwnershipRange");
+  check_system(MatGetLocalSize(_appended.C, &rows, nullptr), _prefix, "MatGetLocalSize of C");
   if (rank == ranks - 1)
-    MatGetSize(_A.mat(), &start, nullptr);
+    check_system(MatGetSize(_A.mat(), &start, nullptr), _prefix, "MatGetSize");
   for (Field& f : _fields)
     if (f.name == "pressure")
       for (PetscInt r = 0; r < rows; ++r)
@@ -163,15 +164,15 @@ void System::append(AppendedUnknowns appended)
 void System::copy_in(Vec x, const std::vector<double>& appended, Vec whole)
 {
   PetscInt n = 0;
-  VecGetLocalSize(x, &n);
+  check_petsc(VecGetLocalSize(x, &n), "the appended unknowns: VecGetLocalSize");
   const double* from = nullptr;
   double* to = nullptr;
-  VecGetArrayRead(x, &from);
-  VecGetArray(whole, &to);
+  check_petsc(VecGetArrayRead(x, &from), "the appended unknowns: VecGetArrayRead");
+  check_petsc(VecGetArray(whole, &to), "the appended unknowns: VecGetArray");
   std::copy_n(from, n, to);
   std::copy(appended.begin(), appended.end(), to + n);
-  VecRestoreArray(whole, &to);
-  VecRestoreArrayRead(x, &from);
+  check_petsc(VecRestoreArray(whole, &to), "the appended unknowns: VecRestoreArray");
+  check_petsc(VecRestoreArrayRead(x, &from), "the appended unknowns: VecRestoreArrayRead");
 }
 
 std::pair<Vec, Vec> System::whole(Vec x, Vec b)
@@ -186,7 +187,7 @@ std::pair<Vec, Vec> System::whole(Vec x, Vec b)
 void System::solve_appended(Vec b, Vec x)
 {
   PetscInt n = 0;
-  VecGetLocalSize(b, &n);
+  check_system(VecGetLocalSize(b, &n), _prefix, "VecGetLocalSize");
   copy_in(b, _appended.b, _b_appended);
   copy_in(x, _appended.x, _x_appended);
   if (_contact)
@@ -195,12 +196,12 @@ void System::solve_appended(Vec b, Vec x)
     _statistics.linear_iterations += _linear->solve(_x_appended, _b_appended);
   const double* from = nullptr;
   double* to = nullptr;
-  VecGetArrayRead(_x_appended, &from);
-  VecGetArray(x, &to);
+  check_system(VecGetArrayRead(_x_appended, &from), _prefix, "VecGetArrayRead of [x; y]");
+  check_system(VecGetArray(x, &to), _prefix, "VecGetArray of x");
   std::copy_n(from, n, to);
   std::copy(from + n, from + n + _appended.x.size(), _appended.x.begin());
-  VecRestoreArray(x, &to);
-  VecRestoreArrayRead(_x_appended, &from);
+  check_system(VecRestoreArray(x, &to), _prefix, "VecRestoreArray of x");
+  check_system(VecRestoreArrayRead(_x_appended, &from), _prefix, "VecRestoreArrayRead of [x; y]");
 }
 
 void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout,
@@ -210,8 +211,8 @@ void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_
   if (_A_appended)
   {
     PetscInt rows = 0, appended = 0;
-    MatGetLocalSize(_A.mat(), &rows, nullptr);
-    MatGetLocalSize(_appended.C, &appended, nullptr);
+    check_system(MatGetLocalSize(_A.mat(), &rows, nullptr), _prefix, "MatGetLocalSize");
+    check_system(MatGetLocalSize(_appended.C, &appended, nullptr), _prefix, "MatGetLocalSize of C");
     for (PetscInt r = 0; r < appended; ++r)
       balance_rows.push_back(static_cast<std::int32_t>(rows + r));
   }

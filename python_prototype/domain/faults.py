@@ -158,7 +158,9 @@ def _orient_fault(mesh, topology, request, key):
             raise SceneError(f"{key}: the group {request.name} lies on the outer boundary{at} "
                              "(a fault is inside the body)")
         if len(cells) != 2:
-            raise SceneError(f"{key}: the group {request.name} has a facet that is no face of the mesh's cells{at}")
+            embed = "Curve{..} In Surface{..}" if d == 2 else "Surface{..} In Volume{..}"
+            raise SceneError(f"{key}: the group {request.name} is not in the mesh's cells (its facets are no faces "
+                             f"of them): embed it (gmsh: {embed})")
         n = _facet_normal(mesh, nodes)
         along = _dot(n, hint)
         if abs(along) < 1e-12:
@@ -184,6 +186,21 @@ def _fault_nodes(mesh, faults):
             for v in mesh.facets[facet].tolist():
                 nodes.setdefault(v, []).append((f, k))
     return dict(sorted(nodes.items()))
+
+
+def _refuse_shared_facets(mesh, oriented, faults, key_prefix):
+    """Refuses a facet in two faults' groups: one curve (3D: surface) given
+    to two physical groups, which the split could not give two faults."""
+    fault_of = {}
+    for f, fault in enumerate(oriented):
+        for facet in fault.facets:
+            nodes = mesh.facets[facet].tolist()
+            first = fault_of.setdefault(_facet_key(nodes), f)
+            if first != f:
+                at = _point_text(_mean_point(mesh, nodes), mesh.dim)
+                raise SceneError(f"{key_prefix}{faults[first].name}: the physical groups {faults[first].name} and "
+                                 f"{faults[f].name} share the facet at {at}: a "
+                                 f"{'curve' if mesh.dim == 2 else 'surface'} belongs to one fault's group only")
 
 
 def _refuse_shared_nodes(mesh, nodes, faults, key_prefix):
@@ -330,6 +347,7 @@ def split_along_faults(mesh, faults, key_prefix):
     topology = _Topology(mesh)
     oriented = [_orient_fault(mesh, topology, request, key_prefix + request.name) for request in faults]
     split = [SplitFault(request.name, [], [], fault.normals, [], []) for request, fault in zip(faults, oriented)]
+    _refuse_shared_facets(mesh, oriented, faults, key_prefix)
     nodes = _fault_nodes(mesh, oriented)
     _refuse_shared_nodes(mesh, nodes, faults, key_prefix)
     _split_nodes(mesh, topology, oriented, nodes, key_prefix, split)

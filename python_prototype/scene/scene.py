@@ -604,6 +604,7 @@ def read_scene(file, overrides=()):
     top = Section(root, "", file)
     _read_meta(top, scene)
     scene.mesh = _read_mesh(top.section("mesh", True), file)
+    top.set_axes(scene.mesh.dimension)
     _read_physics(top, scene)
     _read_time(top, scene)
     _read_output(top.section("output", False), scene)
@@ -918,6 +919,13 @@ def _read_fault(s, scene):
     if f.flow == FaultFlow.pressure and f.pressure is None:
         s.fail("pressure", 'missing (flow = "pressure" holds the fault at this pressure)')
     if f.flow == FaultFlow.conduit:
+        # A conduit's faces carry its own fluid pressure p_f: any other
+        # pressure on them would be a second, contradictory one.
+        if f.pressure is not None:
+            s.fail("pressure", 'not with flow = "conduit": the fault\'s own fluid pressure p_f pushes on its faces')
+        if f.pore_pressure_load:
+            s.fail("pore_pressure_load", 'not with flow = "conduit": the fault\'s own fluid pressure p_f pushes on '
+                   "its faces, not the rock's")
         _read_conduit(s, scene, f)
     d = scene.mesh.dimension
     f.normal = s.number_vector("normal", d) if s.has("normal") else [0.0] * (d - 1) + [1.0]

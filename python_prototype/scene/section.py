@@ -5,6 +5,7 @@ keys, which values) is scene.py's; this file knows none of it.
 
 Tables are read in sorted key order, as toml++ (a sorted map) does, so the
 first unknown key named is the same on both tracks."""
+import math
 import tomllib
 
 from .expression import Expression, ExpressionError
@@ -20,6 +21,13 @@ class Section:
 
     def __init__(self, table, path, file):
         self.table, self.path, self.file, self.used = table, path, file, set()
+        self.axes = 0  # set_axes
+
+    def set_axes(self, dimension):
+        """Tables read from this one on know the mesh's axes
+        (mesh.dimension): an array of that many values, refused, names it
+        as the cause."""
+        self.axes = dimension
 
     @staticmethod
     def is_number(value):
@@ -55,13 +63,19 @@ class Section:
     def section(self, key, required):
         """The table `key` (C++'s Section::table; `table` is this one's dict here)."""
         n = self.node(key)
-        if n is None:
-            if required:
-                self.fail(key, self.missing(key, "a table"))
-            return Section(None, self.name(key), self.file)
-        if not isinstance(n, dict):
+        if n is None and required:
+            self.fail(key, self.missing(key, "a table"))
+        if n is not None and not isinstance(n, dict):
             self.fail(key, "must be a table")
-        return Section(n, self.name(key), self.file)
+        child = Section(n, self.name(key), self.file)
+        child.axes = self.axes
+        return child
+
+    def _array_of(self, size, what):
+        """"must be an array of `size` WHAT", naming mesh.dimension when
+        there is one value per axis."""
+        text = f"must be an array of {size} {what}"
+        return text + f", one per axis (mesh.dimension = {self.axes})" if size == self.axes else text
 
     def number(self, key, fallback=None):
         n = self.node(key)
@@ -69,9 +83,25 @@ class Section:
             if fallback is None:
                 self.fail(key, self.missing(key, "a number"))
             return fallback
-        if not self.is_number(n):
-            self.fail(key, "must be a number")
-        return float(n)
+        return self._constant(n, key, "must be a number")
+
+    def _constant(self, n, key, wanted):
+        """A number, or an expression string without x, y, z and t (C++'s
+        Section::constant); `wanted` says what else `key` must be."""
+        if self.is_number(n):
+            return float(n)
+        if not isinstance(n, str):
+            self.fail(key, wanted)
+        try:
+            e = Expression(n)
+        except ExpressionError as error:
+            self.fail(key, f"{wanted} or a constant expression: {error}")
+        if e.depends_on_space or e.depends_on_time:
+            self.fail(key, f'"{e.text}": one value is wanted here, an expression without x, y, z or t')
+        value = e(0.0, 0.0, 0.0, 0.0)
+        if not math.isfinite(value):
+            self.fail(key, f'"{e.text}" gives ' + ("NaN" if math.isnan(value) else "an infinite value"))
+        return float(value)
 
     def integer(self, key, fallback):
         n = self.node(key)
@@ -128,17 +158,16 @@ class Section:
     def expression_vector(self, key, size):
         n = self.node(key)
         if not isinstance(n, list) or len(n) != size:
-            self.fail(key, f"must be an array of {size} numbers or expressions")
+            self.fail(key, self._array_of(size, "numbers or expressions"))
         return [self.to_expression(e, key) for e in n]
 
     def number_vector(self, key, size):
-        """An array of `size` numbers (any length when size = 0)."""
+        """An array of `size` numbers or constant expressions (any length
+        when size = 0)."""
         n = self.node(key)
         if not isinstance(n, list) or (size > 0 and len(n) != size):
-            self.fail(key, f"must be an array of {size} numbers" if size > 0 else "must be an array of numbers")
-        if not all(self.is_number(e) for e in n):
-            self.fail(key, "must be an array of numbers")
-        return [float(e) for e in n]
+            self.fail(key, self._array_of(size, "numbers") if size > 0 else "must be an array of numbers")
+        return [self._constant(e, key, "must be an array of numbers") for e in n]
 
     def keys(self):
         return sorted(self.table) if self.table is not None else []

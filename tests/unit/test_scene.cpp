@@ -101,6 +101,14 @@ TEST(SceneReader, ReadsTheDefaultScene)
   EXPECT_EQ(refusal(default_scene, {"time.dt=0.4"}), "") << "another whole number of steps";
 }
 
+TEST(SceneReader, ReadsConstantExpressionsWhereANumberIsWanted)
+{
+  const Scene s = read_scene(default_scene, {"mechanics.E='2 * 5e8'", "mesh.upper=['5 * 2', '1']"});
+  EXPECT_DOUBLE_EQ(s.mechanics->G, 1e9 / 2.4) << "E = \"2 * 5e8\" is E = 1e9";
+  EXPECT_EQ(s.mesh.upper, (std::vector<double>{10.0, 1.0}));
+  expect_refused({"mechanics.E='1e9 * t'"}, "mechanics.E", "one value is wanted here");
+}
+
 TEST(SceneReader, UnknownKeysAreRefused)
 {
   expect_refused({"mechanics.Ee=1.0"}, "mechanics.Ee", "unknown key");

@@ -70,6 +70,12 @@ class SceneReader(unittest.TestCase):
         self.assertEqual(c.normal[1](0, 0, 0, 0), -1.0)
         self.assertEqual(refusal(DEFAULT, ["time.dt=0.4"]), "", "another whole number of steps")
 
+    def test_reads_constant_expressions_where_a_number_is_wanted(self):
+        s = read_scene(DEFAULT, ["mechanics.E='2 * 5e8'", "mesh.upper=['5 * 2', '1']"])
+        self.assertAlmostEqual(s.mechanics.G, 1e9 / 2.4, delta=4 * math.ulp(s.mechanics.G), msg='E = "2 * 5e8"')
+        self.assertEqual(list(s.mesh.upper), [10.0, 1.0])
+        self.expect_refused(["mechanics.E='1e9 * t'"], "mechanics.E", "one value is wanted here")
+
     def test_unknown_keys_are_refused(self):
         self.expect_refused(["mechanics.Ee=1.0"], "mechanics.Ee", "unknown key")
         self.expect_refused(["boundary.top.tracton=[0.0, 1.0]"], "boundary.top.tracton", "unknown key")

@@ -1,0 +1,35 @@
+// PETSc's error codes, checked: main.cpp makes PETSc return its codes
+// instead of aborting, so every call's code goes through check_petsc,
+// PetscCall (in PETSc's callbacks) or warn_petsc (tests/test_petsc_checked.py).
+// Here, in the lowest layer that calls PETSc, so that every layer may use them.
+#pragma once
+
+#include <petscsys.h>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace biotcontact
+{
+
+/// A solver that did not converge, or a PETSc call that failed
+/// (check_petsc): the run stops with this message.
+struct SolverError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// PETSc's own words for the error a call just returned, e.g. "Unknown PC
+/// type: nonsense (PETSc error 86)": the first message of the failing
+/// call's chain, which PETSc keeps though main.cpp's handler prints nothing.
+std::string petsc_error_text(PetscErrorCode code);
+
+/// Throws SolverError "<what>: <petsc_error_text>" when a PETSc call failed.
+/// A string literal as `what` costs nothing when the call succeeded.
+void check_petsc(PetscErrorCode code, std::string_view what);
+
+/// For destructors, which cannot throw: one warning line on stderr when a
+/// PETSc call failed (a release that failed leaks, it corrupts nothing).
+void warn_petsc(PetscErrorCode code, const char* what) noexcept;
+
+} // namespace biotcontact
