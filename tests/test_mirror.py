@@ -97,7 +97,12 @@ DIFFERENCES = {
         "own": "C++ only: gives a MatNullSpace a shared_ptr whose deleter calls MatNullSpaceDestroy; petsc4py's "
                "objects free themselves",
     },
+    "scene/section": {
+        "Names": "C++ only: the type of the names' map; Python passes a dict",
+    },
     "solvers/solver": {
+        "petsc_error_text": "Python only: PETSc's words for a petsc4py error; C++'s twin, for an error code, is in "
+                            "assembly/petsc_error (C++ only)",
         "MethodChoice": "C++ only: the (method, reason) pair choose_method and set_solver_defaults return; "
                         "Python returns a tuple",
         **{f"crossover_{d}d_{system}": "C++ only: to align (issue 36): Python keeps the six crossovers in one "

@@ -15,10 +15,20 @@ iterative = summary(run(scene("terzaghi"), "-flow_pc_type", "ilu", "-flow_ksp_rt
 check(iterative["linear_iterations"]["flow"] > iterative["flow_solves"], "the flow system was solved by GMRES + ILU")
 check(abs(iterative["errors"]["pressure_rel_l2"] - direct["errors"]["pressure_rel_l2"]) <= 1e-6,
       "GMRES + ILU gives the direct solve's error against the closed form")
-p = subprocess.run([BINARY, "run", scene("terzaghi"), "--out", tempfile.mkdtemp(), "-flow_pc_type", "lu",
-                    "-flow_pc_factor_mat_solver_type", "nosuch"], capture_output=True, text=True)
-check(p.returncode in (2, 3) and p.stderr.count("\n") == 1 and "flow" in p.stderr and "PETSC ERROR" not in p.stderr,
-      f"an unknown factorisation package is refused in one line: {p.stderr.strip()!r}")
+# A PETSc call that fails while running (the factorisation package is
+# looked up at the first solve): one line with PETSc's reason, exit 3, and
+# summary.json saying so (issue 51), on both tracks.
+for track, command in TRACKS.items():
+    out = tempfile.mkdtemp()
+    p = subprocess.run([*command, "run", scene("terzaghi"), "--out", out, "-flow_pc_type", "lu",
+                        "-flow_pc_factor_mat_solver_type", "nosuch"], capture_output=True, text=True, cwd=ROOT)
+    reason = "Could not locate solver type nosuch"
+    check(p.returncode == 3 and p.stderr.count("\n") == 1 and "flow linear solver failed" in p.stderr
+          and reason in p.stderr and "PETSC ERROR" not in p.stderr,
+          f"{track}: a PETSc call failing at the first solve is one line with PETSc's reason: {p.stderr.strip()!r}")
+    failed = summary(out)
+    check(failed["status"] == "failed" and reason in failed["failure"],
+          f"{track}: summary.json says failed, with the reason: {failed['failure']!r}")
 
 # SuperLU_DIST for the condensed contact problem: on 2 ranks the Schur
 # complement's 161 columns come in blocks of 64 and a last, narrower one,

@@ -14,7 +14,7 @@ The pairs are found from the output mesh alone (support.fault_pairs)."""
 import math
 
 import numpy as np
-from support import Fields, check, fault_pairs, max_difference, run_track, written
+from support import Fields, check, fault_pairs, max_difference, run_track, scene, written
 
 E, NU, P, A, S = 1.0e10, 0.25, 1.0e6, 1.0, 3.0e6
 ANGLE = math.radians(30)
@@ -101,3 +101,27 @@ for case, names in (("", ["displacement"]), (" closed", ["displacement", "contac
     differences = max_difference(runs["C++" + case], runs["prototype" + case], names)
     check(max(differences.values()) <= 1e-10,
           f"prototype = C++ ({case.strip() or 'open'} crack): {differences} (limit 1e-10)")
+
+# The infinite plane's displacement on the boundary of a square of 2
+# half-lengths (scenes/sneddon_near.toml, its boundary values written once
+# with [expressions]): the opening is Sneddon's as in the square of 100,
+# while the same small square clamped closes the crack (issue 51, item 5).
+NEAR = scene("sneddon_near")
+for track in ("C++", "prototype"):
+    out, _ = run_track(track, NEAR)
+    runs[track + " near"] = out
+    s, opening, _ = jumps(out)
+    exact = sneddon(s)
+    centre, inner = np.argmin(np.abs(s)), np.abs(s) <= 0.8 * A
+    l2 = np.linalg.norm(opening[inner] - exact[inner]) / np.linalg.norm(exact[inner])
+    check(abs(opening[centre] - exact[centre]) <= 0.02 * exact[centre] and l2 <= 0.03,
+          f"near boundary ({track}): opening {opening[centre]:.6e} at the centre vs Sneddon {exact[centre]:.6e} "
+          f"({(opening[centre] - exact[centre]) / exact[centre]:+.2%}), l2 {l2:.2%} (limits 2 %, 3 %)")
+clamped, _ = run_track("C++", NEAR, *(f"boundary.{side}.displacement={{ x = 0.0, y = 0.0 }}"
+                                      for side in ("left", "right", "bottom", "top")))
+s, opening, _ = jumps(clamped)
+centre = np.argmin(np.abs(s))
+shortfall = 1 - opening[centre] / sneddon(s)[centre]
+check(shortfall >= 0.1, f"the same square clamped opens {shortfall:.0%} less at the centre: the boundary values matter")
+difference = max_difference(runs["C++ near"], runs["prototype near"], ["displacement"])["displacement"]
+check(difference <= 1e-10, f"prototype = C++ (near boundary): {difference:.1e} (limit 1e-10)")

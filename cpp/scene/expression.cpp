@@ -25,7 +25,9 @@ Expression::Expression(double value) : _value(value)
   _text = s.str();
 }
 
-Expression::Expression(const std::string& text) : _text(text)
+Expression::Expression(const std::string& text) : Expression(text, text) {}
+
+Expression::Expression(const std::string& text, const std::string& shown) : _text(shown)
 {
   auto p = std::make_shared<Parser>();
   try
@@ -47,7 +49,7 @@ Expression::Expression(const std::string& text) : _text(text)
   }
   catch (const mu::Parser::exception_type& e)
   {
-    throw std::invalid_argument("cannot parse expression \"" + text + "\": " + e.GetMsg());
+    throw std::invalid_argument("cannot parse expression \"" + shown + "\": " + e.GetMsg());
   }
   if (!_depends_on_time and !_depends_on_space)
     _value = p->parser.Eval();

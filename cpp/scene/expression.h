@@ -17,6 +17,9 @@ public:
   explicit Expression(double value = 0.0);
   /// Parses `text`; throws std::invalid_argument with muparser's message.
   explicit Expression(const std::string& text);
+  /// Parses `text`, the scene's `shown` with its names substituted
+  /// (section.h, substitute_names); text() and messages show `shown`.
+  Expression(const std::string& text, const std::string& shown);
   /// A value computed by the program itself (e.g. a closed form imposed on
   /// a boundary); `text` describes it.
   Expression(std::function<double(double, double, double, double)> f, const std::string& text);

@@ -433,6 +433,72 @@ toml::table parse_scene(const std::string& file, const std::vector<std::string>&
   return root;
 }
 
+/// The identifiers an expression already knows (expression.cpp: muparser's
+/// variables, constants and functions), which no name may take.
+const std::set<std::string> reserved_identifiers
+    = {"x",    "y",     "z",     "t",    "pi",    "_pi",   "_e",    "sin",  "cos",  "tan",  "asin",
+       "acos", "atan",  "sinh",  "cosh", "tanh",  "asinh", "acosh", "atanh", "exp", "log",  "ln",
+       "log2", "log10", "sqrt",  "abs",  "sign",  "rint",  "min",   "max",   "sum", "avg"};
+
+/// The text of `name` with the names it uses substituted, resolving them
+/// first (depth first); `path` holds the names being resolved, so that a
+/// cycle is refused naming it.
+const std::string& resolve_name(const std::string& name, const Names& given, Names& resolved,
+                                std::vector<std::string>& path, const Section& s)
+{
+  if (auto it = resolved.find(name); it != resolved.end())
+    return it->second;
+  if (std::find(path.begin(), path.end(), name) != path.end())
+  {
+    std::string cycle;
+    for (auto it = std::find(path.begin(), path.end(), name); it != path.end(); ++it)
+      cycle += *it + " -> ";
+    s.fail(path.front(), "the names refer to one another in a cycle (" + cycle + name + ")");
+  }
+  path.push_back(name);
+  for (const std::string& used : identifiers(given.at(name)))
+    if (given.count(used))
+      resolve_name(used, given, resolved, path, s);
+  path.pop_back();
+  return resolved[name] = substitute_names(given.at(name), resolved);
+}
+
+/// [expressions]: names for numbers and expressions of x, y, z, t, each
+/// usable in every expression of the scene and in the other names' (in
+/// any order, without a cycle); each is parsed as every expression is.
+std::shared_ptr<const Names> read_names(Section s)
+{
+  Names given, resolved;
+  for (const std::string& name : s.keys())
+  {
+    if (identifiers(name) != std::vector<std::string>{name} or reserved_identifiers.count(name))
+      s.fail(name, "not a name: a letter or _ then letters, digits or _, none of x, y, z, t, pi and the "
+                   "functions of an expression");
+    const toml::node* n = s.node(name);
+    if (n->is_number())
+      given[name] = Expression(n->value<double>().value()).text();
+    else if (n->is_string())
+      given[name] = n->value<std::string>().value();
+    else
+      s.fail(name, "must be a number or an expression string");
+  }
+  std::vector<std::string> path;
+  for (const auto& [name, text] : given)
+  {
+    resolve_name(name, given, resolved, path, s);
+    try
+    {
+      Expression(resolved.at(name), text);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      s.fail(name, e.what());
+    }
+  }
+  s.finish();
+  return std::make_shared<const Names>(std::move(resolved));
+}
+
 /// [scene]: the name (the file's stem by default) and description.
 void read_meta(Section& top, Scene& scene)
 {
@@ -708,12 +774,12 @@ void read_regions(Section regions, const toml::table& root, Scene& scene)
     if (scene.mechanics)
     {
       const toml::table merged = region_physics(root, "mechanics", table, mechanics_keys);
-      r.mechanics = read_mechanics(Section(&merged, regions.name(name), scene.file), d);
+      r.mechanics = read_mechanics(regions.derived(&merged, name), d);
     }
     if (scene.flow)
     {
       const toml::table merged = region_physics(root, "flow", table, flow_keys);
-      r.flow = read_flow(Section(&merged, regions.name(name), scene.file), d);
+      r.flow = read_flow(regions.derived(&merged, name), d);
     }
     if (scene.coupling)
     {
@@ -980,6 +1046,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   Scene scene;
   scene.file = file;
   Section top(&root, "", file);
+  top.set_names(read_names(top.table("expressions", false)));
   read_meta(top, scene);
   scene.mesh = read_mesh(top.table("mesh", true), file);
   top.set_axes(scene.mesh.dimension);

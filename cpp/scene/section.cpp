@@ -1,6 +1,7 @@
 #include "scene/section.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace biotcontact
@@ -72,15 +73,68 @@ Section Section::table(const std::string& key, bool required)
   {
     if (required)
       fail(key, missing(key, "a table"));
-    Section absent(nullptr, name(key), _file);
-    absent._axes = _axes;
-    return absent;
+    return derived(nullptr, key);
   }
   if (!n->is_table())
     fail(key, "must be a table");
-  Section child(n->as_table(), name(key), _file);
+  return derived(n->as_table(), key);
+}
+
+Section Section::derived(const toml::table* table, const std::string& key) const
+{
+  Section child(table, name(key), _file);
   child._axes = _axes;
+  child._names = _names;
   return child;
+}
+
+Expression Section::parse(const std::string& text) const
+{
+  return _names ? Expression(substitute_names(text, *_names), text) : Expression(text);
+}
+
+namespace
+{
+bool word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) or c == '_'; }
+
+/// The end of the identifier that starts at i, or i if none does: a letter
+/// or _ not inside a word or a number (the e of 1e9, 1.e9).
+std::size_t identifier_end(const std::string& text, std::size_t i)
+{
+  if (!(std::isalpha(static_cast<unsigned char>(text[i])) or text[i] == '_')
+      or (i > 0 and (word_char(text[i - 1]) or text[i - 1] == '.')))
+    return i;
+  std::size_t end = i + 1;
+  while (end < text.size() and word_char(text[end]))
+    ++end;
+  return end;
+}
+} // namespace
+
+std::vector<std::string> identifiers(const std::string& text)
+{
+  std::vector<std::string> found;
+  for (std::size_t i = 0; i < text.size();)
+  {
+    const std::size_t end = identifier_end(text, i);
+    if (end > i and std::find(found.begin(), found.end(), text.substr(i, end - i)) == found.end())
+      found.push_back(text.substr(i, end - i));
+    i = std::max(end, i + 1);
+  }
+  return found;
+}
+
+std::string substitute_names(const std::string& text, const Names& names)
+{
+  std::string out;
+  for (std::size_t i = 0; i < text.size();)
+  {
+    const std::size_t end = std::max(identifier_end(text, i), i + 1);
+    const auto it = names.find(text.substr(i, end - i));
+    out += it != names.end() ? "(" + it->second + ")" : text.substr(i, end - i);
+    i = end;
+  }
+  return out;
 }
 
 double Section::number(const std::string& key, std::optional<double> fallback)
@@ -110,7 +164,7 @@ double Section::constant(const toml::node& n, const std::string& key, const std:
   Expression e;
   try
   {
-    e = Expression(n.value<std::string>().value());
+    e = parse(n.value<std::string>().value());
   }
   catch (const std::invalid_argument& error)
   {
@@ -166,7 +220,7 @@ Expression Section::expression(const toml::node* n, const std::string& key) cons
   {
     try
     {
-      return Expression(n->value<std::string>().value());
+      return parse(n->value<std::string>().value());
     }
     catch (const std::invalid_argument& e)
     {

@@ -7,6 +7,8 @@
 #include "scene/expression.h"
 #include "scene/input.h"
 
+#include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -16,6 +18,18 @@
 
 namespace biotcontact
 {
+
+/// @brief The scene's named expressions ([expressions], docs/user-guide.md,
+/// "Expressions"): each name with its text, the names that text uses
+/// already substituted.
+using Names = std::map<std::string, std::string>;
+
+/// The identifiers of an expression's text (names, variables, functions),
+/// in order, each once; a letter inside a number (the e of 1e9) is none.
+std::vector<std::string> identifiers(const std::string& text);
+
+/// `text` with every name of `names` it uses replaced by "(its text)".
+std::string substitute_names(const std::string& text, const Names& names);
 
 /// @brief One TOML table of a scene, read key by key. Every key read is
 /// marked, so that `finish` can refuse the keys nobody asked for (typos).
@@ -40,6 +54,12 @@ public:
   /// Tables read from this one on know the mesh's axes (mesh.dimension):
   /// an array of that many values, refused, names it as the cause.
   void set_axes(std::size_t dimension) { _axes = dimension; }
+  /// Expressions read from this table, and the tables read from it, on
+  /// may use `names`.
+  void set_names(std::shared_ptr<const Names> names) { _names = std::move(names); }
+  /// A section over `table` (one the scene's reader merged) named as this
+  /// one's `key`, knowing the axes and names this one knows.
+  Section derived(const toml::table* table, const std::string& key) const;
   Section table(const std::string& key, bool required);
   /// A number, or an expression string without x, y, z and t (one value,
   /// as "2*pi" or "1e9"; docs/user-guide.md, "Expressions").
@@ -81,12 +101,16 @@ private:
   /// The value of a number or a constant expression (number's rules);
   /// `wanted` says what else `key` must be.
   double constant(const toml::node& n, const std::string& key, const std::string& wanted) const;
+  /// The expression of a scene text, its names substituted; throws
+  /// std::invalid_argument as Expression does.
+  Expression parse(const std::string& text) const;
 
   const toml::table* _table;
   std::string _path;
   const std::string& _file;
   std::set<std::string> _used;
   std::size_t _axes = 0;
+  std::shared_ptr<const Names> _names;
 };
 
 /// Applies one "a.b.c=value" override; the value is read as TOML, and taken

@@ -15,7 +15,7 @@ from .convergence import ContactConvergence, VIBounds
 from .friction import FrictionPoint, add_friction_forces, friction_jacobian
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.options import OptionsError, system_name
-from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, reason_name,
+from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, petsc_error_text, reason_name,
                               set_default_option, set_relative_tolerance, unsymmetric_jacobian_options)
 
 # PETSc's error codes of a zero pivot (PETSC_ERR_MAT_LU_ZRPVT,
@@ -172,7 +172,7 @@ class VariationalInequality:
             self.snes.setFromOptions()
         except PETSc.Error as e:
             raise OptionsError(f"the PETSc options of {system_name(self.p.system_prefix)} contact solver do not "
-                               f"make a solver (PETSc error {e.ierr})") from None
+                               f"make a solver: {petsc_error_text(e)}") from None
 
     def operator_changed(self):
         """K was reassembled: "rebuild once, then reuse" re-armed."""
@@ -262,7 +262,7 @@ class VariationalInequality:
             # DIVERGED_DTOL is (convergence.py), which the clamped start answers
             if e.ierr in _ZERO_PIVOTS:
                 return PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
-            raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: PETSc error {e.ierr}") from None
+            raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: {petsc_error_text(e)}") from None
         return self.snes.getConvergedReason()
 
     def _clamped_start(self):

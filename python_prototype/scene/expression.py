@@ -202,16 +202,18 @@ def _variables(tree):
 
 
 class Expression:
-    """A number, or a parsed expression; `text` is what the scene said."""
+    """A number, or a parsed expression; `text` is what the scene said
+    (`shown`: the scene's text when `value` is it with its names
+    substituted, section.py's substitute_names)."""
 
-    def __init__(self, value):
+    def __init__(self, value, shown=None):
         self._function = None
         if isinstance(value, str):
-            self.text = value
+            self.text = value if shown is None else shown
             try:
                 self._tree = _Parser(value).parse()
             except ExpressionError as e:
-                raise ExpressionError(f'cannot parse expression "{value}": {e}') from None
+                raise ExpressionError(f'cannot parse expression "{self.text}": {e}') from None
             used = _variables(self._tree)
             self.depends_on_time = "t" in used
             self.depends_on_space = bool(used - {"t"})

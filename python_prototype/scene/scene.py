@@ -16,10 +16,10 @@ from typing import Optional
 
 from mpi4py import MPI
 
-from .expression import Expression
+from .expression import CONSTANTS, FUNCTIONS, VARIABLES, Expression, ExpressionError
 from .input import (Acceleration, CouplingScheme, FaultFlow, LChoice, MeshType, ReferenceSolution, SceneError,
                     SolverChoice, TimeScheme, name_of)
-from .section import Section, apply_override
+from .section import Section, apply_override, identifiers, substitute_names
 
 MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
 
@@ -602,6 +602,7 @@ def read_scene(file, overrides=()):
     root = _parse_scene(file, overrides)
     scene = Scene(file=file)
     top = Section(root, "", file)
+    top.set_names(_read_names(top.section("expressions", False)))
     _read_meta(top, scene)
     scene.mesh = _read_mesh(top.section("mesh", True), file)
     top.set_axes(scene.mesh.dimension)
@@ -633,6 +634,55 @@ def _parse_scene(file, overrides):
     for o in overrides:
         apply_override(root, o, file)
     return root
+
+
+# The identifiers an expression already knows (expression.py: variables,
+# constants and functions), which no name may take.
+_RESERVED = set(VARIABLES) | set(CONSTANTS) | set(FUNCTIONS)
+
+
+def _resolve_name(name, given, resolved, path, s):
+    """The text of `name` with the names it uses substituted, resolving them
+    first (depth first); `path` holds the names being resolved, so that a
+    cycle is refused naming it (C++'s resolve_name)."""
+    if name in resolved:
+        return resolved[name]
+    if name in path:
+        cycle = " -> ".join(path[path.index(name):] + [name])
+        s.fail(path[0], f"the names refer to one another in a cycle ({cycle})")
+    path.append(name)
+    for used in identifiers(given[name]):
+        if used in given:
+            _resolve_name(used, given, resolved, path, s)
+    path.pop()
+    resolved[name] = substitute_names(given[name], resolved)
+    return resolved[name]
+
+
+def _read_names(s):
+    """[expressions]: names for numbers and expressions of x, y, z, t, each
+    usable in every expression of the scene and in the other names' (in any
+    order, without a cycle); each is parsed as every expression is."""
+    given, resolved = {}, {}
+    for name in s.keys():
+        if identifiers(name) != [name] or name in _RESERVED:
+            s.fail(name, "not a name: a letter or _ then letters, digits or _, none of x, y, z, t, pi and the "
+                   "functions of an expression")
+        n = s.node(name)
+        if s.is_number(n):
+            given[name] = Expression(float(n)).text
+        elif isinstance(n, str):
+            given[name] = n
+        else:
+            s.fail(name, "must be a number or an expression string")
+    for name, text in sorted(given.items()):
+        _resolve_name(name, given, resolved, [], s)
+        try:
+            Expression(resolved[name], text)
+        except ExpressionError as e:
+            s.fail(name, str(e))
+    s.finish()
+    return resolved
 
 
 def _read_meta(top, scene):
@@ -884,10 +934,10 @@ def _read_regions(regions, root, scene):
             s.fail("where", "missing (on a built-in mesh a region is the cells whose midpoint satisfies where)")
         if scene.mechanics:
             merged = _region_physics(root, "mechanics", s.table, _MECHANICS_KEYS)
-            r.mechanics = _read_mechanics(Section(merged, regions.name(name), scene.file), d)
+            r.mechanics = _read_mechanics(regions.derived(merged, name), d)
         if scene.flow:
             merged = _region_physics(root, "flow", s.table, _FLOW_KEYS)
-            r.flow = _read_flow(Section(merged, regions.name(name), scene.file), d)
+            r.flow = _read_flow(regions.derived(merged, name), d)
         if scene.coupling:
             r.alpha = s.number("alpha", scene.coupling.alpha)
             if not (0 <= r.alpha <= 1):

@@ -12,6 +12,41 @@ from .expression import Expression, ExpressionError
 from .input import SceneError, name_of
 
 
+def _identifier_end(text, i):
+    """The end of the identifier that starts at i, or i if none does: a
+    letter or _ not inside a word or a number (the e of 1e9, 1.e9)."""
+    if not (text[i].isalpha() or text[i] == "_") or (i > 0 and (text[i - 1].isalnum() or text[i - 1] in "_.")):
+        return i
+    end = i + 1
+    while end < len(text) and (text[end].isalnum() or text[end] == "_"):
+        end += 1
+    return end
+
+
+def identifiers(text):
+    """The identifiers of an expression's text (names, variables,
+    functions), in order, each once; a letter inside a number (the e of
+    1e9) is none."""
+    found, i = [], 0
+    while i < len(text):
+        end = _identifier_end(text, i)
+        if end > i and text[i:end] not in found:
+            found.append(text[i:end])
+        i = max(end, i + 1)
+    return found
+
+
+def substitute_names(text, names):
+    """`text` with every name of `names` it uses replaced by "(its text)"."""
+    out, i = [], 0
+    while i < len(text):
+        end = max(_identifier_end(text, i), i + 1)
+        word = text[i:end]
+        out.append(f"({names[word]})" if word in names else word)
+        i = end
+    return "".join(out)
+
+
 class Section:
     """One TOML table of a scene (a dict, or None for an absent optional
     table: then every key is absent; `path` its dotted name, "" for the
@@ -22,12 +57,31 @@ class Section:
     def __init__(self, table, path, file):
         self.table, self.path, self.file, self.used = table, path, file, set()
         self.axes = 0  # set_axes
+        self.names = None  # set_names
 
     def set_axes(self, dimension):
         """Tables read from this one on know the mesh's axes
         (mesh.dimension): an array of that many values, refused, names it
         as the cause."""
         self.axes = dimension
+
+    def set_names(self, names):
+        """Expressions read from this table, and the tables read from it, on
+        may use `names` (a dict: each name's text, the names it uses
+        substituted)."""
+        self.names = names
+
+    def derived(self, table, key):
+        """A section over `table` (one the scene's reader merged) named as
+        this one's `key`, knowing the axes and names this one knows."""
+        child = Section(table, self.name(key), self.file)
+        child.axes, child.names = self.axes, self.names
+        return child
+
+    def parse(self, text):
+        """The expression of a scene text, its names substituted; raises
+        ExpressionError as Expression does."""
+        return Expression(substitute_names(text, self.names), text) if self.names else Expression(text)
 
     @staticmethod
     def is_number(value):
@@ -67,9 +121,7 @@ class Section:
             self.fail(key, self.missing(key, "a table"))
         if n is not None and not isinstance(n, dict):
             self.fail(key, "must be a table")
-        child = Section(n, self.name(key), self.file)
-        child.axes = self.axes
-        return child
+        return self.derived(n, key)
 
     def _array_of(self, size, what):
         """"must be an array of `size` WHAT", naming mesh.dimension when
@@ -93,7 +145,7 @@ class Section:
         if not isinstance(n, str):
             self.fail(key, wanted)
         try:
-            e = Expression(n)
+            e = self.parse(n)
         except ExpressionError as error:
             self.fail(key, f"{wanted} or a constant expression: {error}")
         if e.depends_on_space or e.depends_on_time:
@@ -146,7 +198,7 @@ class Section:
             return Expression(float(n))
         if isinstance(n, str):
             try:
-                return Expression(n)
+                return self.parse(n)
             except ExpressionError as e:
                 self.fail(key, str(e))
         self.fail(key, "must be a number or an expression string")

@@ -4,6 +4,7 @@ size), sets the defaults of each, says when a factorisation may be reused
 and counts set-ups and solves per system, from PETSc's event log of the
 system's own log stage."""
 import enum
+import re
 import time
 from dataclasses import dataclass
 
@@ -94,6 +95,15 @@ def choose_method(choice, structure, unknowns, dimension, ranks, coupled=False):
     method = Method.direct if unknowns < crossover else Method.iterative
     return method, (f"auto: {unknowns} {'<' if method == Method.direct else '>='} {crossover} unknowns, the "
                     f"{dimension}D crossover of {one_rank} on one rank divided by {ranks} rank(s)")
+
+
+def petsc_error_text(error):
+    """PETSc's own words for a PETSc.Error, e.g. "Unable to find requested
+    PC type nonsense (PETSc error 86)": the failing call's first message,
+    the last line of petsc4py's traceback (cpp/assembly/petsc_error.h)."""
+    lines = [line for line in str(error).splitlines()[1:] if line.strip()]
+    words = re.sub(r"^\[\d+\] ", "", lines[-1]).rstrip(". ") if lines else ""
+    return f"{words} (PETSc error {error.ierr})" if words else f"PETSc error {error.ierr}"
 
 
 FACTORISATIONS = ("lu", "cholesky", "redundant")
@@ -284,8 +294,8 @@ class LinearSolver:
                 self.ksp.setInitialGuessNonzero(True)
                 set_relative_tolerance(self.ksp, prefix, ITERATIVE_TOLERANCE)
         except PETSc.Error as e:  # e.g. -flow_pc_type ilu with a factorisation package
-            raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver "
-                               f"(PETSc error {e.ierr}; see -{prefix}pc_factor_mat_solver_type)") from None
+            raise OptionsError(f"the PETSc options of {system_name(prefix)} solver do not make a solver: "
+                               f"{petsc_error_text(e)}") from None
 
     def set_tolerance(self, relative):
         """The relative tolerance of the next solves (a Krylov method only)."""
@@ -307,7 +317,7 @@ class LinearSolver:
             solve()
             return None
         except PETSc.Error as e:
-            return e.ierr
+            return e
 
     def solve(self, x, b):
         return self.run(lambda: self.ksp.solve(b, x))
@@ -333,9 +343,9 @@ class LinearSolver:
         self.run(solve)
 
     def run(self, solve):
-        ierr = self._run(solve)
+        error = self._run(solve)
         reason = self.ksp.getConvergedReason()
-        if (ierr or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
+        if (error or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
                 and factor_package(self.ksp) == "petsc":
             # A quasi-definite matrix with a negative block at round-off can
             # still meet a tiny pivot: factorise once more with UMFPACK, which
@@ -355,10 +365,10 @@ class LinearSolver:
             self.ksp.setOptionsPrefix(self.prefix)
             self.ksp.setOperators(A, P)
             self.ksp.setFromOptions()
-            ierr = self._run(solve)
+            error = self._run(solve)
             reason = self.ksp.getConvergedReason()
-        if ierr:
-            raise SolverError(f"{system_name(self.prefix)} linear solver failed: PETSc error {ierr}")
+        if error:
+            raise SolverError(f"{system_name(self.prefix)} linear solver failed: {petsc_error_text(error)}")
         if reason < 0:
             raise SolverError(f"{system_name(self.prefix)} linear solver failed: "
                               f"{reason_name(PETSc.KSP.ConvergedReason, reason)}")

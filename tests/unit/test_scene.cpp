@@ -8,6 +8,7 @@
 // scene, a fault's defaults and a given pore pressure are read. tests/test_bad_scenes.py runs the full catalogue
 // through the binary. The prototype's twin is tests/unit/test_scene.py.
 #include "scene/scene.h"
+#include "scene/section.h"
 
 #include <filesystem>
 #include <fstream>
@@ -107,6 +108,23 @@ TEST(SceneReader, ReadsConstantExpressionsWhereANumberIsWanted)
   EXPECT_DOUBLE_EQ(s.mechanics->G, 1e9 / 2.4) << "E = \"2 * 5e8\" is E = 1e9";
   EXPECT_EQ(s.mesh.upper, (std::vector<double>{10.0, 1.0}));
   expect_refused({"mechanics.E='1e9 * t'"}, "mechanics.E", "one value is wanted here");
+}
+
+TEST(SceneReader, NamedExpressionsAreSubstituted)
+{
+  EXPECT_EQ(identifiers("2.5e-3*x + sin(a1) - 1e9*b_2"), (std::vector<std::string>{"x", "sin", "a1", "b_2"}));
+  EXPECT_EQ(substitute_names("a*ab + a", {{"a", "1+x"}}), "(1+x)*ab + (1+x)");
+  // Names in any order, one using another, where a number or an expression is wanted.
+  const Scene s = read_scene(default_scene, {"expressions.young='2*half'", "expressions.half=5e8",
+                                             "mechanics.E='young'", "boundary.top.traction=[0.0, '-half*(1 + y)']"});
+  EXPECT_DOUBLE_EQ(s.mechanics->G, 1e9 / 2.4) << "E = young = 2 half = 1e9";
+  const Expression& traction = s.boundaries.at("top").traction.at(1);
+  EXPECT_DOUBLE_EQ(traction(0.0, 1.0, 0.0, 0.0), -1e9);
+  EXPECT_EQ(traction.text(), "-half*(1 + y)") << "messages show the scene's text";
+  expect_refused({"expressions.a='b'", "expressions.b='a + 1'"}, "expressions.a", "cycle (a -> b -> a)");
+  expect_refused({"expressions.sin=1.0"}, "expressions.sin", "not a name");
+  expect_refused({"expressions.a='1 +'"}, "expressions.a", "cannot parse");
+  expect_refused({"expressions.a=[1.0]"}, "expressions.a", "must be a number or an expression string");
 }
 
 TEST(SceneReader, UnknownKeysAreRefused)

@@ -19,6 +19,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402  (the repository on sys.path, a scratch temporary folder)
 from python_prototype.scene.input import FaultFlow  # noqa: E402
 from python_prototype.scene.scene import SceneError, read_scene  # noqa: E402
+from python_prototype.scene.section import identifiers, substitute_names  # noqa: E402
 
 DEFAULT = support.scene("default")
 # A gmsh scene without flow (faults need gmsh), and a coupled one.
@@ -80,6 +81,21 @@ class SceneReader(unittest.TestCase):
         self.expect_refused(["mechanics.Ee=1.0"], "mechanics.Ee", "unknown key")
         self.expect_refused(["boundary.top.tracton=[0.0, 1.0]"], "boundary.top.tracton", "unknown key")
         self.expect_refused(["nosuch.key=1"], "nosuch", "unknown key")
+
+    def test_named_expressions_are_substituted(self):
+        self.assertEqual(identifiers("2.5e-3*x + sin(a1) - 1e9*b_2"), ["x", "sin", "a1", "b_2"])
+        self.assertEqual(substitute_names("a*ab + a", {"a": "1+x"}), "(1+x)*ab + (1+x)")
+        # Names in any order, one using another, where a number or an expression is wanted.
+        s = read_scene(DEFAULT, ["expressions.young='2*half'", "expressions.half=5e8", "mechanics.E='young'",
+                                 "boundary.top.traction=[0.0, '-half*(1 + y)']"])
+        self.assertAlmostEqual(s.mechanics.G, 1e9 / 2.4, delta=4 * math.ulp(s.mechanics.G), msg="E = 2 half = 1e9")
+        traction = s.boundaries["top"].traction[1]
+        self.assertEqual(traction(0.0, 1.0, 0.0, 0.0), -1e9)
+        self.assertEqual(traction.text, "-half*(1 + y)", "messages show the scene's text")
+        self.expect_refused(["expressions.a='b'", "expressions.b='a + 1'"], "expressions.a", "cycle (a -> b -> a)")
+        self.expect_refused(["expressions.sin=1.0"], "expressions.sin", "not a name")
+        self.expect_refused(["expressions.a='1 +'"], "expressions.a", "cannot parse")
+        self.expect_refused(["expressions.a=[1.0]"], "expressions.a", "must be a number or an expression string")
 
     def test_wrong_types_are_refused(self):
         self.expect_refused(["mechanics.E='abc'"], "mechanics.E", "must be a number")
