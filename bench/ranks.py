@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """More ranks: every case of the size sweep (2D default scene) and of the
 3D scaling (the contact block) with the default solvers, on 1 and on 2 MPI
-ranks, one after the other, so that the speed-up is measured in one run.
+ranks, one after the other, so that the speed-up is measured in one run;
+with --dims faults, the shipped fault scenes as they are.
 
-    /usr/bin/python3 bench/ranks.py [--dims 2,3] [--ranks 1,2] [--variants paper,monolithic]
+    /usr/bin/python3 bench/ranks.py [--dims 2,3,faults] [--ranks 1,2] [--variants paper,monolithic]
         [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--repeat 3] [--binary build/biotcontact]
         [--out-dir bench/results] [-- PETSc options]
 
@@ -12,7 +13,9 @@ the scene's 48 steps to t = 9.6, variants `paper` (single rate) and
 `monolithic` by default (`kdr` and `multirate4` of bench/size_sweep.py take
 the split's solver paths, with other iteration counts); 3D:
 scenes/block3d_box.toml, cells [16,8,4] .. [72,36,18] (1.2e4 to 1.0e6
-unknowns), two time steps (time.end = 0.4). No XDMF output; `auto` picks
+unknowns), two time steps (time.end = 0.4); faults: the scenes of
+FAULT_SCENES, every step (issue 51: 2 ranks never slower than 1 with
+faults). No XDMF output; `auto` picks
 each system's solver, as a user's run does. The rank runs of a case
 alternate (1, 2, 1, 2, ...), so that a drift of the machine's speed falls
 on both. Per run: wall time, coupling iterations, the time of each phase
@@ -31,6 +34,7 @@ import size_sweep  # noqa: E402
 
 NAME = "ranks"
 SCENES = {2: "scenes/default.toml", 3: "scenes/block3d_box.toml"}
+FAULT_SCENES = ("fault_reactivation", "fault_depletion", "sneddon", "sneddon_near", "fault3d", "injection_fault3d")
 CELLS = {2: [(80, 8), (160, 16), (320, 32), (640, 64)], 3: scaling.CELLS[3] + [scaling.LARGEST[3]]}
 SETS = {2: ["output.xdmf=false"], 3: scaling.SETS}
 SYSTEMS = ("flow", "mechanics", "monolithic")
@@ -75,7 +79,7 @@ def described(row):
 def parser():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     common.add_arguments(p, NAME)
-    p.add_argument("--dims", default="2,3", help="comma-separated dimensions (default 2,3)")
+    p.add_argument("--dims", default="2,3", help="comma-separated dimensions, or faults (default 2,3)")
     p.add_argument("--ranks", default="1,2", help="comma-separated MPI rank counts (default 1,2)")
     p.add_argument("--variants", default="paper,monolithic",
                    help=f"2D variants, a subset of {','.join(size_sweep.VARIANTS)} (default paper,monolithic)")
@@ -85,19 +89,25 @@ def parser():
 
 
 def cases(args):
-    """(dimension, variant, cells, sets) of every case, smallest first."""
+    """(dimension, variant, cells, scene, sets) of every case, smallest
+    first; the fault scenes' variant is the scene's name."""
     variants = common.parse_variants(args.variants, size_sweep.VARIANTS)
     cells = {2: common.parse_cells(args.cells2) if args.cells2 else CELLS[2],
              3: common.parse_cells(args.cells3) if args.cells3 else CELLS[3]}
     result = []
-    for dimension in [int(d) for d in args.dims.split(",")]:
-        if dimension not in SCENES:
-            raise common.BenchError("--dims takes 2 and 3")
+    for dims in args.dims.split(","):
+        if dims == "faults":
+            result += [("faults", name, (), f"scenes/{name}.toml", ["output.xdmf=false"] + args.sets)
+                       for name in FAULT_SCENES]
+            continue
+        if dims not in ("2", "3"):
+            raise common.BenchError("--dims takes 2, 3 and faults")
+        dimension = int(dims)
         for mesh in cells[dimension]:
             for variant in (variants if dimension == 2 else ["auto"]):
                 extra = size_sweep.VARIANTS[variant] if dimension == 2 else []
-                result.append((dimension, variant, mesh, [f"mesh.cells={common.cells_text(mesh)}"] + extra
-                               + SETS[dimension] + args.sets))
+                result.append((dimension, variant, mesh, SCENES[dimension], [f"mesh.cells={common.cells_text(mesh)}"]
+                               + extra + SETS[dimension] + args.sets))
     return result
 
 
@@ -108,17 +118,17 @@ def main():
         raise common.BenchError("--ranks takes positive integers")
     os.environ.update(scaling.MPI_ENV)
     header = common.machine_header(args.binary)
-    header["scenes"] = " ".join(SCENES.values())
+    header["scenes"] = " ".join(list(SCENES.values()) + [f"scenes/{name}.toml" for name in FAULT_SCENES])
     header["petsc_options"] = " ".join(petsc)
     header["solvers"] = "the defaults (solver.flow = solver.mechanics = auto)"
     common.print_header(header)
     recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
-        for dimension, variant, mesh, sets in cases(args):
-            scene = os.path.join(common.ROOT, SCENES[dimension])
+        for dimension, variant, mesh, path, sets in cases(args):
+            scene = os.path.join(common.ROOT, path)
             for repetition in range(1, args.repeat + 1):
                 for n in ranks:
-                    label = f"{dimension}d-{variant}-{'x'.join(map(str, mesh))}-{n}-r{repetition}"
+                    label = f"{dimension}-{variant}-{'x'.join(map(str, mesh))}-{n}-r{repetition}"
                     row = row_from_run(dimension, variant, mesh, n, repetition,
                                        common.run_case(common.on_ranks(args.binary, n), scene, sets, petsc,
                                                        work.run(label)))
