@@ -6,10 +6,8 @@ specification. Same scenes, forms (../forms/biot.py), schemes and outputs.
     /usr/bin/python3 -m python_prototype check SCENE.toml [--set ...]
     /usr/bin/python3 -m python_prototype compare DIR_A DIR_B [--tolerance 1e-8]
 
-Reading order, the layers of the data flow (as in cpp/, docs/layout.md):
-scene/ -> domain/ -> assembly/ (forms, parameters, boundary conditions,
-loads) -> solvers/ -> contact/ -> steps/ (system, flow, mechanics,
-monolithic) -> diagnostics/ -> coupling/ (fixed_stress, single_solve) ->
-output/ -> simulation.py (the story of a run); output/compare.py checks two
-runs against each other.
+Reading order, the layers of the data flow (as in cpp/; what each module
+holds: docs/layout.md, "Folder by folder"): scene/ -> domain/ -> assembly/
+-> solvers/ -> contact/ -> steps/ -> diagnostics/ -> coupling/ -> output/
+-> simulation.py (the story of a run); output/compare.py compares two runs.
 """

@@ -7,12 +7,8 @@
 //
 // n_k the cell's normal into the + side, i- the twin of node i+ on the -
 // face (the node itself at a tip, where the opening is 0). The fluid
-// pressure p_f pushes both faces apart; its work on the displacement is
-// sum_k p_k |k| w_k, so its load is the adjoint b += J^T (|k| p_f): for P1
-// on a flat face each node takes |k|/d of the face's p_f n, the integral
-// forms/biot.py's L_face_pressure takes of a given pressure. The rows are
-// the conduit cells in ConduitFaults' numbering (fault by fault), on the
-// last rank. The prototype's twin is python_prototype/assembly/fault_aperture.py.
+// pressure's load is the adjoint b += J^T (|k| p_f) (FaultAperture::add_load).
+// The prototype's twin is python_prototype/assembly/fault_aperture.py.
 #pragma once
 
 #include "assembly/linear_algebra.h"
@@ -42,7 +38,9 @@ struct FaultNodes
 FaultNodes fault_nodes(const Domain& domain, const dolfinx::fem::FunctionSpace& V);
 
 /// @brief The mean opening w = g0 + J u of each conduit fault cell, and the
-/// load J^T (|k| p_f) of the faults' fluid pressure.
+/// load J^T (|k| p_f) of the faults' fluid pressure. The rows of J are the
+/// conduit cells in ConduitFaults' numbering (fault by fault), on the last
+/// rank.
 class FaultAperture
 {
 public:
@@ -62,7 +60,11 @@ public:
   /// effective normal stress s_n.
   std::vector<double> cell_means(const std::map<std::int64_t, double>& nodal) const;
   /// Adds J^T (|k| p_f) to b but on the Dirichlet rows of `bcs`; `p_f`:
-  /// the last rank's pressures, none elsewhere (collective).
+  /// the last rank's pressures, none elsewhere (collective). The fluid
+  /// pressure p_f pushes both faces apart; its work on the displacement is
+  /// sum_k p_k |k| w_k, so its load is the adjoint of J: for P1 on a flat
+  /// face each node takes |k|/d of the face's p_f n, the integral
+  /// forms/biot.py's L_face_pressure takes of a given pressure.
   void add_load(std::span<const double> p_f, const BCs& bcs, dolfinx::la::Vector<double>& b) const;
   /// J itself (rows: the conduit cells, on the last rank; columns: V's
   /// DOFs), and the cells' measures |k| (the last rank's).

@@ -1,35 +1,15 @@
 // The flow inside "conduit" faults (docs/theory.md "Flow in a fault"): the
 // fault's pressure p_f, one unknown per fault cell (domain/fault_cells.h),
 // appended to the flow system after the rock's unknowns, on the last rank.
-// Per cell k, the mass balance times -1 (as forms/biot.py writes the
-// rock's),
+// Per cell k, the mass balance times -1 (as forms/biot.py writes the rock's),
 //
 //     sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
 //         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 //
-// with w_k the hydraulic aperture w_h of cell k (the residual aperture of
-// rigid walls; with mechanics, w_r + b(s_n) + (w - e)^+ of the mean
-// opening w, fault_aperture.h, e = open_fraction w_r, and b the
-// Barton-Bandis closure at the effective normal stress s_n, 0 without
-// one), S_k = w_h c_f |k| and the two-point transmissibility of the cubic
-// law, T_kl = |e| / (d_k/t_k + d_l/t_l), t = w_h^3 / (12 mu_f): the edge e
-// between the cells, d its distance to each centroid. The faces' RT0 fluxes
-// z_i enter with their facet flux c_i = <w_i.n, 1>, and the rows of z_i get
-// +c_i p_k: the rock's pressure at a face is p_f (the boundary-pressure
-// term with p_D = p_f), plus mu_f (w_h/2)/k_n z.n across a finite normal
-// permeability k_n. In a coupled split w_k is the last mechanics iterate's
-// and p^i the last flow iterate's: L_k = L_f |k| is the fault's
-// fixed-stress term (Girault, Kumar and Wheeler), L_f the mean opening per
-// unit pressure of the open patch the cell belongs to (patch_compliance),
-// in the cells open (w > e) at either of the last two mechanics iterates
-// of the step; in the other cells the closure's compliance -b'(s_n)
-// (closure_compliance: there s_n falls as p_f rises), or 0 without a
-// closure, where p_f moves nothing (L there would slow them to the rate
-// L/(L + S), nearly 1). The cells open at the iterate before keep the
-// patch's L: without it a fault that opens at one iterate and closes at
-// the next cycles between the two.
-// The operator stays symmetric. The prototype's twin is
-// python_prototype/assembly/fault_flow.py.
+// w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
+// cubic law's two-point transmissibility, c_i the faces' facet fluxes, L_k =
+// L_f |k| the fixed-stress term (set_compliance). The operator stays
+// symmetric. The prototype's twin is python_prototype/assembly/fault_flow.py.
 #pragma once
 
 #include "assembly/boundary_conditions.h"
@@ -47,7 +27,9 @@ namespace biotcontact
 {
 
 /// The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
-/// FaultEdges `edges` (t: per cell).
+/// FaultEdges `edges` (t: per cell, the cubic law's w_h^3 / (12 mu_f)): |e|
+/// the measure of the edge between the cells, d_k its distance to each
+/// centroid.
 std::vector<double> transmissibilities(std::span<const double> t, const FaultEdges& edges);
 
 /// Below this fraction of the residual aperture a cell's mean opening is the
@@ -158,7 +140,11 @@ public:
   /// rank's entries).
   std::vector<double> initial_pressure(const Expression& p0) const;
   /// B: the fault's rows against the flow unknowns, c_i at each face DOF
-  /// (`flow_rows`: the flow system's local size; collective).
+  /// (`flow_rows`: the flow system's local size; collective). The faces'
+  /// RT0 fluxes z_i enter with their facet flux c_i = <w_i.n, 1>, and the
+  /// rows of z_i get +c_i p_k: the rock's pressure at a face is p_f (the
+  /// boundary-pressure term with p_D = p_f), plus mu_f (w_h/2)/k_n z.n
+  /// across a finite normal permeability k_n (face_resistance).
   Mat exchange(PetscInt flow_rows) const;
   /// The rows of the face DOFs across a finite normal permeability: (dof,
   /// mu_f (w_h/2)/k_n <w_i.n, w_i.n>) with w_i.n = c_i/|face|.
@@ -171,7 +157,8 @@ public:
   /// stresses s_n (FaultAperture::cell_means of the contact tractions;
   /// empty without a closure) of the last mechanics iterate, every cell on
   /// every rank: b the closure's share (closure_aperture, 0 without one),
-  /// e = open_fraction w_r; and which cells are open (w > e). The first
+  /// e = open_fraction w_r (rigid walls, without mechanics, keep the residual
+  /// aperture w_r); and which cells are open (w > e). The first
   /// call of a run also sets the apertures at the step's start. Whether
   /// w_h or an open cell changed, and with them the operator and the
   /// faces' resistance.
@@ -206,7 +193,9 @@ public:
   /// entries): -(S/dt) p_old - (L/dt) p_iterate - T_e p_D at the ends on
   /// pressure boundaries, -R(t) share in the cells a well meets (injection
   /// positive), and the fine step's share of the volume the cell's opening
-  /// made since the start of the window, |k| (w_h - w_h_start)/(q dt).
+  /// made since the start of the window, |k| (w_h - w_h_start)/(q dt). In a
+  /// coupled split p_iterate is the last flow iterate's p^i, and w_h the
+  /// last mechanics iterate's.
   void load(const FineStep& step, std::span<const double> p_old, std::span<const double> p_iterate,
             std::span<double> b) const;
   /// The conduit cells' fields at time t, every fault in turn, on rank 0
@@ -284,8 +273,14 @@ private:
   /// check_expressions has checked that each meets one).
   void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;
-  /// Each cell's L_f: of the patch of the cells open now or before, else
-  /// of its closure.
+  /// Each cell's L_f, with L_k = L_f |k| the fault's fixed-stress term
+  /// (Girault, Kumar and Wheeler): in the cells open (w > e) at either of
+  /// the last two mechanics iterates of the step, the mean opening per unit
+  /// pressure of the open patch the cell belongs to (patch_compliance); in
+  /// the other cells the closure's compliance -b'(s_n) (closure_compliance:
+  /// there s_n falls as p_f rises), or 0 without a closure, where p_f moves
+  /// nothing. Why not L in every cell, and why the cells open at the iterate
+  /// before keep the patch's L: docs/theory.md, "Flow in a fault".
   void set_compliance(Conduit& c) const;
   /// L_k/dt = L_f |k|/dt in the open cells, 0 in the others.
   std::vector<double> stabilisation(const Conduit& c, double dt) const;

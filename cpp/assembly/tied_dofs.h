@@ -8,9 +8,7 @@
 //                  b' = P^T b with b'_j = 0,
 // and x = P y (the null-space method). A' is symmetric when A is. Each j is
 // tied once and is no i: the ties are disjoint. The constraint's multiplier
-// mu_k, with A x - b + C^T mu = 0, is -(A x - b)_j: the RT0 flux ties of a
-// transparent fault (boundary_conditions.h) make it the fault's pressure
-// trace times the facet flux of the j basis function.
+// mu_k, with A x - b + C^T mu = 0, is -(A x - b)_j (for a fault: Tie).
 #pragma once
 
 #include <petscmat.h>
@@ -20,7 +18,9 @@ namespace biotcontact
 {
 
 /// @brief One tie x_j = s x_i, by global indices (i and j may be owned by
-/// two ranks).
+/// two ranks). The RT0 flux ties of a transparent fault
+/// (boundary_conditions.h) make its multiplier -(A x - b)_j the fault's
+/// pressure trace times the facet flux of the j basis function.
 struct Tie
 {
   PetscInt i, j;

@@ -1,32 +1,15 @@
-// The change of variables that turns each Signorini constraint into a bound.
-//
-// At a contact node with displacement u (d components) the constraints
-//     nu_j . u <= g_j,   j = 1..m (m foundations touch the node, m <= d),
-// are bounds on the new variables w = T u when the first m rows of the
-// d x d matrix T are the normals nu_j: w_j <= g_j. The remaining rows
-// complete the normals to a basis, orthonormally (Gram-Schmidt of the
-// coordinate axes), so with one foundation T is a rotation into (normal,
-// tangential) components, and with two the rows are the two normals and
-// the tangent they share (T is then not orthogonal, but invertible).
-//
-// At a node pair of a fault, (u+, u-) on its two faces, the constraint is
-// on the jump: nu . (u+ - u-) <= g with nu = -n (n the fault's normal,
-// pointing into the + side; theory.md, "Faults"). The 2d x 2d block
-//     [w_J]   [R  -R ] [u+]        [u+]   [R^T/2  I] [w_J]
-//     [w_M] = [I/2 I/2] [u-],       [u-] = [-R^T/2 I] [w_M],
-// with R the rotation whose first row is nu, makes the jump in (normal,
-// tangential) components w_J (in u+'s rows) and the mean w_M (in u-'s
-// rows) the new variables: the constraint is the bound w_J0 <= g.
-//
-// For the whole system x' = T x, T block-diagonal (the blocks at the
-// transformed nodes and pairs, the identity elsewhere), and A x = b becomes
-//     A' x' = b',   A' = T^{-T} A T^{-1},   b' = T^{-T} b,
-// the same energy in the new variables: A' is symmetric (SPD) when A is,
-// and its residual F' = A' x' - b' = T^{-T} F holds, in the row of a
-// constraint, its multiplier: F = T^T F' = sum_j F'_j (row j of T). Nodes
-// whose normals are coordinate axes need no change (their bound is on u_i
-// itself); when every node is such and there is no fault, T is the
-// identity and never formed.
+// The change of variables that turns each Signorini constraint into a bound
+// (derived in docs/theory.md, "Constraints as bounds: the change of
+// variables" and "Faults"). At a contact node the constraints nu_j . u <= g_j
+// (m foundations touch the node, m <= d) are bounds w_j <= g_j on w = T u,
+// the first m rows of the d x d matrix T the normals nu_j, the rest
+// completing them to a basis (node_change_of_variables). At a fault's node
+// pair (u+, u-) a 2d x 2d block makes the jump and the mean the new variables
+// (pair_change_of_variables). For the system x' = T x, T block-diagonal, and
+// A x = b becomes A' x' = b', A' = T^{-T} A T^{-1}, b' = T^{-T} b: the same
+// energy, and its residual F' = T^{-T} F holds, in the row of a constraint,
+// its multiplier. Nodes whose normals are coordinate axes need no change; when
+// every node is such and there is no fault, T is the identity and never formed.
 #pragma once
 
 #include <array>
@@ -42,13 +25,16 @@ namespace biotcontact
 using NodeMatrix = std::array<double, 9>;
 
 /// T_node for the unit normals of the foundations at one node: their rows
-/// first, completed orthonormally. `prescribed[i]` says the node's
-/// displacement component i is prescribed (a Dirichlet condition): the
-/// change must keep that component (every normal perpendicular to it), or
-/// the node must be prescribed entirely. Returns nothing when the normals
-/// are not independent (a normal within 1e-8 of the span of the ones
-/// before it) or the
-/// change would mix a prescribed component with a free one.
+/// first, completed to a basis orthonormally (Gram-Schmidt of the
+/// coordinate axes), so with one foundation T_node is a rotation into
+/// (normal, tangential) components, and with two the rows are the two
+/// normals and the tangent they share (T_node is then not orthogonal, but
+/// invertible). `prescribed[i]` says the node's displacement component i
+/// is prescribed (a Dirichlet condition): the change must keep that
+/// component (every normal perpendicular to it), or the node must be
+/// prescribed entirely. Returns nothing when the normals are not
+/// independent (a normal within 1e-8 of the span of the ones before it) or
+/// the change would mix a prescribed component with a free one.
 std::optional<NodeMatrix> node_change_of_variables(const std::vector<std::array<double, 3>>& normals, int d,
                                                    const std::array<bool, 3>& prescribed);
 
@@ -61,15 +47,23 @@ std::vector<double> node_block(const NodeMatrix& T, int d);
 
 /// The 2d x 2d block of a fault's node pair for the rotation R (T_node of
 /// the constraint normal nu): rows [R, -R] (the jump) and [I/2, I/2] (the
-/// mean), columns (u+, u-).
+/// mean), columns (u+, u-). The constraint is on the jump, nu . (u+ - u-)
+/// <= g with nu = -n (n the fault's normal, pointing into the + side), and
+///     [w_J]   [R  -R ] [u+]        [u+]   [R^T/2  I] [w_J]
+///     [w_M] = [I/2 I/2] [u-],       [u-] = [-R^T/2 I] [w_M]
+/// makes the jump in (normal, tangential) components w_J (in u+'s rows)
+/// and the mean w_M (in u-'s rows) the new variables: the constraint is
+/// the bound w_J0 <= g.
 std::vector<double> pair_change_of_variables(const NodeMatrix& R, int d);
 
 /// The axis of a unit normal that is a coordinate axis (to round-off
-/// 1e-14), with its sign; nothing otherwise.
+/// 1e-14), with its sign; nothing otherwise. A node whose normals are all
+/// coordinate axes needs no change: its bound is on u_i itself.
 std::optional<std::pair<int, int>> coordinate_axis(const std::array<double, 3>& normal, int d);
 
 /// @brief The block-diagonal change of variables x' = T x of a system
-/// (vectors like A's columns), and the operators it makes.
+/// (vectors like A's columns; the blocks at the transformed nodes and
+/// pairs, the identity elsewhere), and the operators it makes.
 class ChangeOfVariables
 {
 public:
@@ -93,10 +87,13 @@ public:
   void forward(Vec x, Vec y) const;
   /// x = T^{-1} y.
   void backward(Vec y, Vec x) const;
-  /// g = T^{-T} f: a load or a residual in the new variables.
+  /// g = T^{-T} f: a load or a residual in the new variables. A residual
+  /// F' = T^{-T} F holds, in the row of a constraint, its multiplier:
+  /// F = T^T F' = sum_j F'_j (row j of T).
   void dual(Vec f, Vec g) const;
-  /// A' = T^{-T} A T^{-1} (collective); reuses A''s structure when *At is
-  /// already made. A's near-nullspace, transformed, carries over.
+  /// A' = T^{-T} A T^{-1} (collective), the same energy in the new
+  /// variables: symmetric (SPD) when A is. Reuses A''s structure when *At
+  /// is already made. A's near-nullspace, transformed, carries over.
   void congruence(Mat A, Mat* At) const;
   /// The vectors T v of a near-nullspace (rigid-body modes for AMG),
   /// orthonormalised. Its vectors are like A's columns, or, given `dofs`,

@@ -1,17 +1,10 @@
 // The contact law of a pair (theory.md, "Faults", "The contact law"): what
 // the traction across a closed pair may be, and the state it leaves the
-// pair in. The pairs (foundation_pair.h, fault_pair.h) say which nodes face
-// which; the VI solver (contact.h) knows no physics; the law is the physics
-// between them.
+// pair in (open, stick or slip: PairStatus). The pairs (foundation_pair.h,
+// fault_pair.h) say which nodes face which; the VI solver (contact.h) knows
+// no physics; the law is the physics between them.
 //
-// With g the pair's gap (the distance to the foundation; the opening
-// [u].n + g0 of a fault pair), t_N >= 0 its normal traction (pressing) and
-// t_T its tangential traction (a vector in the face, along the slip
-// increment when the pair slips), a pair is in one of three states:
-//     open:   g > 0, no traction (t_N = 0, t_T = 0);
-//     stick:  g = 0, |t_T| < bound, no slip increment;
-//     slip:   g = 0, |t_T| = bound, the slip increment along t_T,
-// with the bound of the tangential traction (slip_bound)
+// The bound of the tangential traction t_T (slip_bound) is
 //     bound = tresca                           (Tresca, when given),
 //     bound = cohesion + friction max(t_N, 0)  (Coulomb otherwise),
 // the exact disc |t_T| <= bound in 3D (no polygon). The frictionless law,
@@ -27,7 +20,13 @@ namespace biotcontact
 {
 
 /// The state of one constraint of a pair, with the values fault.xdmf's
-/// `state` writes.
+/// `state` writes. With g the pair's gap (the distance to the foundation;
+/// the opening [u].n + g0 of a fault pair), t_N >= 0 its normal traction
+/// (pressing) and t_T its tangential traction (a vector in the face, along
+/// the slip increment when the pair slips), a pair is
+///     open:   g > 0, no traction (t_N = 0, t_T = 0);
+///     stick:  g = 0, |t_T| < bound, no slip increment;
+///     slip:   g = 0, |t_T| = bound, the slip increment along t_T.
 enum class PairStatus
 {
   open = 0,

@@ -1,4 +1,5 @@
-// Static condensation of A x = b onto the contact DOFs C.
+// Static condensation of A x = b onto the contact DOFs C (docs/theory.md,
+// "Solvers"; how H is formed and shared: SchurComplement).
 //
 // Only the contact DOFs carry bounds, so the variational inequality of
 // contact.h can be posed on C alone. With I the other DOFs,
@@ -9,21 +10,6 @@
 // the Schur complement H (m x m, m = number of contact DOFs) and the
 // condensed load g. The bound-constrained problem on (H, g) has the same
 // solution y = x_C as the one on (A, b), and the same active sets.
-//
-// A_II^{-1} is applied through one factorisation of A_C, the matrix A with
-// the rows and columns of C replaced by identity rows (C clamped): it is
-// valid for every inactive set, so the large matrix is factorised once per
-// operator, never per active-set change. H is formed once per operator from
-// m back-solves (in blocks of right-hand sides) and kept dense and
-// replicated on every rank; each solve then costs two back-solves of A_C
-// (one for g, one to extend y to x) and a VI on the small dense H.
-//
-// When each rank holds a copy of the factorisation (one rank, or
-// PCREDUNDANT on several, solver.h), A and A_C are gathered whole on every
-// rank and factorised there with the options of the factorisation
-// (<prefix>redundant_ on several ranks); each rank then forms its share of
-// H's columns, m / ranks of them, and the ranks exchange them. Otherwise
-// (MUMPS across the ranks) every column is one distributed back-solve.
 #pragma once
 
 #include "solvers/solver.h"
@@ -36,6 +22,25 @@
 namespace biotcontact
 {
 
+/// @brief The Schur complement H of A on the contact DOFs, and the solves
+/// around it.
+///
+/// A_II^{-1} is applied through one factorisation of A_C, the matrix A with
+/// the rows and columns of C replaced by identity rows (C clamped): it is
+/// valid for every inactive set, so the large matrix is factorised once per
+/// operator, never per active-set change. H is formed once per operator from
+/// m back-solves (in blocks of right-hand sides; or, from
+/// partial_factorisation_from contact DOFs on, by MUMPS's partial
+/// factorisation: factorise_with_schur) and kept dense and replicated on
+/// every rank; each solve then costs two back-solves of A_C (one for g, one
+/// to extend y to x) and a VI on the small dense H.
+///
+/// When each rank holds a copy of the factorisation (one rank, or
+/// PCREDUNDANT on several, solver.h), A and A_C are gathered whole on every
+/// rank and factorised there with the options of the factorisation
+/// (<prefix>redundant_ on several ranks); each rank then forms its share of
+/// H's columns, m / ranks of them, and the ranks exchange them. Otherwise
+/// (MUMPS across the ranks) every column is one distributed back-solve.
 class SchurComplement
 {
 public:

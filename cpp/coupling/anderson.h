@@ -5,15 +5,11 @@
 // window, x = (p^1, ..., p^q, u): the flow pass reads the pressures of the
 // previous iterate and u, the mechanics returns the new u. G contracts at
 // rate gamma in the norm of Theorems 1 and 2. Anderson's method (type II,
-// Walker and Ni 2011) keeps the last m residuals f_j = G(x_j) - x_j and
-// takes
+// Walker and Ni 2011) keeps the last m residuals f_j = G(x_j) - x_j, takes
 //     x^{n+1} = G(x_n) - sum_j c_j (G(x_j) - G(x_{j-1})),
 //     c = argmin || f_n - sum_j c_j (f_j - f_{j-1}) ||,
-// the combination of the last m map values whose linearised residual is
-// smallest. Its fixed points are G's: at convergence f = 0 and x = G(x), so
-// the converged state is the split's. The norm weights each block by the
-// inverse of its size (the scales of the stopping test), so pressures in Pa
-// and displacements in m count alike.
+// the combination of the last m map values with the smallest linearised
+// residual, and has G's fixed points, so the converged state is the split's.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +27,9 @@ using State = std::vector<std::vector<double>>;
 class AndersonAcceleration
 {
 public:
-  /// `depth` m >= 1 differences; per block its owned entries and weight.
+  /// `depth` m >= 1 differences; per block its owned entries and weight
+  /// (the inverse of the block's size, the scale of the stopping test, so
+  /// that pressures in Pa and displacements in m count alike).
   AndersonAcceleration(MPI_Comm comm, int depth, std::vector<std::int32_t> owned, std::vector<double> weights);
 
   /// Forgets the history: the map changed (a new contact active set makes

@@ -8,14 +8,7 @@
 // run may be restarted on any partition and any number of ranks. A restart
 // needs the same scene (compared by its fingerprint: the file's text and the
 // --set overrides) and a mesh that holds every stored name; otherwise it is
-// refused in one line.
-//
-// Layout of DIR/checkpoint: state.bin (rank 0: the step, the time, the
-// counters, the time grid, the output position, the number of value files)
-// and values.<step>.<rank>.bin (each rank's owned unknowns with their
-// names). A checkpoint replaces the previous one when its state.bin is
-// renamed into place, after every value file is complete; the files of
-// other steps are removed after that.
+// refused in one line. The files and how one replaces the last: write_checkpoint.
 #pragma once
 
 #include "assembly/linear_algebra.h"
@@ -104,7 +97,12 @@ std::string mesh_difference(const std::vector<double>& stored, const std::vector
 
 /// Writes the checkpoint of a run into `directory` (collective); throws
 /// OutputError on every rank when a file could not be written, leaving the
-/// previous checkpoint as it was.
+/// previous checkpoint as it was. Layout of DIR/checkpoint: state.bin (rank
+/// 0: the step, the time, the counters, the time grid, the output position,
+/// the number of value files) and values.<step>.<rank>.bin (each rank's
+/// owned unknowns with their names). A checkpoint replaces the previous one
+/// when its state.bin is renamed into place, after every value file is
+/// complete; the files of other steps are removed after that.
 void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint,
                       const Checkpoint& checkpoint);
 

@@ -8,12 +8,8 @@
 // - vectors padded to three components (what ParaView's warp filter takes).
 // A field not written at a time (the mechanics at a fine multirate time)
 // repeats its last written state: the attribute points at the same HDF5
-// dataset, so every grid has every array.
-//
-// Each write is complete on disk when it returns: the dataset is written
-// and the HDF5 file flushed, then the XML is rewritten from the start of
-// the current time's grid on, so that at any moment solution.xdmf lists
-// exactly the data that solution.h5 holds.
+// dataset, so every grid has every array. Each write is complete on disk
+// when it returns (TimeSeries::write).
 #pragma once
 
 #include <dolfinx/fem/Function.h>
@@ -71,6 +67,10 @@ public:
   TimeSeries& operator=(const TimeSeries&) = delete;
 
   /// Adds the values of f (P1 or cell-wise constant) at time t (collective).
+  /// Complete on disk when it returns: the dataset is written and the HDF5
+  /// file flushed, then the XML is rewritten from the start of the current
+  /// time's grid on, so that at any moment solution.xdmf lists exactly the
+  /// data that solution.h5 holds.
   void write(const dolfinx::fem::Function<double>& f, double t);
 
   /// Where the series stands, for a checkpoint (this rank's view).

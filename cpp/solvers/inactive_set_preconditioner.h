@@ -3,27 +3,13 @@
 // mechanics, the fixed-stress sweep for the coupled system.
 //
 // Each step of the reduced-space method solves A_II dx_I = -F_I on the
-// inactive set I (every DOF not held on its bound). PETSc extracts A_II with
-// MatCreateSubMatrix, which keeps neither the block size nor the
-// near-nullspace of A, so AMG applied to it aggregates scalar DOFs with the
-// constant vector and loses the rigid-body modes that make it scale for
-// elasticity; nor does it keep the field splits of a mixed system. Instead,
-// with J the active DOFs and P the matrix the preconditioner is built from
-// (A itself, or the fixed-stress matrix of the coupled system), it works on
-//     P_D = [ P_II  0 ]
-//           [ 0     I ]   (P with the rows and columns of J made identity),
-// the matrix of the same problem with the active DOFs held like Dirichlet
-// DOFs. P_D keeps P's numbering, block size, near-nullspace and fields, and
-// (P_D)^-1 restricted to I is exactly P_II^-1, so with B the inner
-// preconditioner of P_D (the system's own: -<prefix>pc_type)
-//     B_I^-1 r_I = R_I B(P_D)^-1 R_I^T r_I
-// is that preconditioner applied to the inactive-set system: for the
-// mechanics AMG with node aggregates and the rigid-body coarse spaces.
-// It is set up when PETSc sets the reduced KSP up, which SNES VI does only
-// when the inactive set changes (the lagged preconditioner, contact.cpp);
-// P_D is rebuilt in place (same nonzero pattern) and GAMG keeps its
-// prolongators by default (-<prefix>pc_gamg_reuse_interpolation), so a
-// change of the active set costs a Galerkin product, not a new hierarchy.
+// inactive set I (every DOF not held on its bound). With J the active DOFs
+// and P the matrix the preconditioner is built from (A itself, or the
+// fixed-stress matrix of the coupled system), it works on P_D, P with the
+// rows and columns of J made identity, whose inverse restricted to I is
+// exactly P_II^-1: with B the inner preconditioner of P_D (-<prefix>pc_type)
+//     B_I^-1 r_I = R_I B(P_D)^-1 R_I^T r_I.
+// Why not A_II itself, and when it is set up: InactiveSetPreconditioner.
 #pragma once
 
 #include "solvers/field_split.h"
@@ -36,6 +22,28 @@
 namespace biotcontact
 {
 
+/// @brief The system's own preconditioner applied to the inactive-set
+/// system through P_D.
+///
+/// PETSc extracts A_II with MatCreateSubMatrix, which keeps neither the
+/// block size nor the near-nullspace of A, so AMG applied to it aggregates
+/// scalar DOFs with the constant vector and loses the rigid-body modes that
+/// make it scale for elasticity; nor does it keep the field splits of a
+/// mixed system. Instead it works on
+///     P_D = [ P_II  0 ]
+///           [ 0     I ]   (P with the rows and columns of J made identity),
+/// the matrix of the same problem with the active DOFs held like Dirichlet
+/// DOFs. P_D keeps P's numbering, block size, near-nullspace and fields, and
+/// (P_D)^-1 restricted to I is exactly P_II^-1, so with B the inner
+/// preconditioner of P_D (the system's own: -<prefix>pc_type) B_I is that
+/// preconditioner applied to the inactive-set system: for the mechanics AMG
+/// with node aggregates and the rigid-body coarse spaces.
+///
+/// It is set up when PETSc sets the reduced KSP up, which SNES VI does only
+/// when the inactive set changes (the lagged preconditioner, contact.cpp);
+/// P_D is rebuilt in place (same nonzero pattern) and GAMG keeps its
+/// prolongators by default (-<prefix>pc_gamg_reuse_interpolation), so a
+/// change of the active set costs a Galerkin product, not a new hierarchy.
 class InactiveSetPreconditioner
 {
 public:

@@ -1,26 +1,15 @@
 // The conduit faults' pressure in the monolithic step (docs/theory.md
-// "Flow in a fault", "The monolithic solve with p_f"): p_f, one unknown per
+// "Flow in a fault", "The monolithic solve with p_f"; the prototype's twin
+// is python_prototype/steps/monolithic_conduits.py): p_f, one unknown per
 // fault cell, appended to the coupled system x = (u, z, p),
-//
 //     [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
-//
-//     E = B_z^T - J^T |k|         the faces' pressure p_f (B_z: the exchange
-//                                 with their fluxes, fault_flow.h) and p_f
-//                                 pushing them apart (fault_aperture.h),
-//                                 zero on Dirichlet rows;
-//     B = B_z - (|k|/dt) O J      the exchange, and the rate of the open
-//                                 cells' opening (O: 1 on open cells);
-//     C                           the fault's own rows (fault_flow.h), with
-//                                 no fixed-stress term in open cells.
-//
-// The transmissivity w_h^3/(12 mu_f), which cells are open and a closure's
-// aperture follow the solution: each step iterates on them (Picard). At
-// iterate i, b_f holds the volume with its open cells' opening taken at
-// u^i, |k| (w_h^i - w_h^start)/dt - (|k|/dt) (O J u^i), which the solve
-// moves to u^{i+1}; closed cells keep their closure's fixed-stress term,
-// which vanishes as p_f settles. The iteration stops when the apertures
-// and p_f move by at most the coupling's tolerance. The prototype's twin
-// is python_prototype/steps/monolithic_conduits.py.
+//     E = B_z^T - J^T |k|      the faces' pressure p_f (B_z: the exchange with
+//                              their fluxes, fault_flow.h) and p_f pushing them
+//                              apart (fault_aperture.h), zero on Dirichlet rows;
+//     B = B_z - (|k|/dt) O J   the exchange, and the rate of the open cells'
+//                              opening (O: 1 on open cells);
+//     C                        the fault's own rows (fault_flow.h), with no
+//                              fixed-stress term in open cells.
 #pragma once
 
 #include "assembly/fault_aperture.h"
@@ -53,6 +42,14 @@ struct MixedSpace
 
 /// @brief The conduit faults of the monolithic step: their rows of the
 /// coupled system and the iteration on their apertures.
+///
+/// The transmissivity w_h^3/(12 mu_f), which cells are open and a closure's
+/// aperture follow the solution: each step iterates on them (Picard). At
+/// iterate i, b_f holds the volume with its open cells' opening taken at
+/// u^i, |k| (w_h^i - w_h^start)/dt - (|k|/dt) (O J u^i), which the solve
+/// moves to u^{i+1}; closed cells keep their closure's fixed-stress term,
+/// which vanishes as p_f settles. The iteration stops when the apertures
+/// and p_f move by at most the coupling's tolerance.
 class MonolithicConduits
 {
 public:

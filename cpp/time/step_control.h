@@ -1,46 +1,15 @@
 // time.adaptive: the time step chosen from a local error estimate
-// (docs/theory.md "Adaptive steps").
+// (docs/theory.md "Adaptive steps" derives it and measures the choices).
 //
 // After a step from t_{n-1} to t_n = t_{n-1} + h (solution y_n, for the
-// pressure and for the displacement) the local error is estimated by
-// Milne's device: y_n minus the polynomial P through the last accepted
-// states is a known multiple of the leading error term, so
-//   backward Euler: LTE = h / (2h + h1) (y_n - P),  P linear through
-//                   y_{n-1}, y_{n-2} (error h (h + h1) y''/2, the step's h^2 y''/2);
-//   BDF2:           LTE = E / (E + C) (y_n - P),    P quadratic through
-//                   y_{n-1}, y_{n-2}, y_{n-3}, E = h^3 (1 + w) / (6 w c0),
-//                   C = h (h + h1)(h + h1 + h2) / 6, w = h / h1,
-// h1, h2 the steps before. The error is controlled per unit step, relative
-// to the time reached and to the field's largest norm so far:
+// pressure and for the displacement) Milne's device estimates the local
+// error LTE from y_n minus the polynomial P through the last accepted states
+// (StepControl::estimate), per unit step, relative to the time reached and
+// to the field's largest norm so far:
 //   est = max over fields ||LTE|| / ||y||_max * (t_n / h) / tolerance.
-// Per unit step, est ~ h^p (p = 1 backward Euler, 2 BDF2), so the error the
-// steps add up to moves with the tolerance and BDF2's step count grows as
-// tolerance^(-1/2); relative to t_n because a load switched on at t = 0+
-// gives a solution whose time scale at t is about t (a pressure boundary
-// layer of width sqrt(c t)): an error made early is forgotten by the time
-// the solution has changed, and scaling by time.end instead took eight times
-// the steps for a similar error at the output times (docs/theory.md).
-// A step with est <= 1 is accepted; the next step comes from Gustafsson's
-// PI controller steering est to the set point 1/2,
-//   h' = h b (1/2 / est)^(0.7/p) (est_before / (1/2))^(0.4/p),
-// (b = 1.1, the factor within [0.2, 2], not above 1 after a rejection),
-// kept at h when the factor lies in [1, b]: the matrices are not rebuilt
-// for a small gain, and the set point is where the controller keeps the
-// step. A step with est > 1 is tried again with h (1/2 / est)^(1/p) (at
-// least h/5). At dt_min a step is accepted whatever its estimate (counted
-// as forced), so that the run never stalls. Steps land on every output
-// time (time_grid.h, plan_steps).
-// The predictor does not reach back across a break in smoothness: not to
-// t = 0 (loads switched on at t = 0+ make the state there the one before a
-// jump, the undrained response), nor across a step in which the contact
-// active set changed (a node that closes puts a kink into u(t);
-// the estimate there measures the kink, not the scheme's error, and cut the
-// steps of the fracture scene to a tenth while the error stayed far below
-// the tolerance). Such a step is accepted as it is and counted
-// (contact_breaks); after a break, as at the start, the steps keep their
-// length until order + 1 states lie beyond it (two for backward Euler,
-// three for BDF2). The states and the controller's memory are kept in
-// checkpoints: a restart continues the same steps.
+// A step with est <= 1 is accepted and Gustafsson's PI controller steers est
+// to 1/2; one above is tried again, shorter (StepControl::judge). The
+// predictor does not reach back across t = 0 or a change of the contact set.
 #pragma once
 
 #include "scene/scene.h"
@@ -67,7 +36,8 @@ struct AdaptiveReport
   long contact_breaks = 0;
 };
 
-/// @brief The PI controller's memory (checkpointed): the last accepted
+/// @brief The PI controller's memory (checkpointed, as are the states of
+/// history(): a restart continues the same steps): the last accepted
 /// step's estimate, the largest norms of pressure and displacement so far,
 /// and the accepted states since t = 0 or the last contact break (the
 /// predictor's reach).
@@ -100,9 +70,25 @@ public:
 
   /// Judges `step` on `grid`: accepted, it is remembered and the steps
   /// after t_k are planned again; rejected, the steps from t_{k-1} on are,
-  /// shorter, and the message says so. A step that is not smooth (the
-  /// active contact set changed in it) is accepted as it is and the
-  /// predictor restarts after it.
+  /// shorter, and the message says so. A step with est <= 1 is accepted;
+  /// the next step comes from Gustafsson's PI controller steering est to
+  /// the set point 1/2,
+  ///   h' = h b (1/2 / est)^(0.7/p) (est_before / (1/2))^(0.4/p),
+  /// (b = 1.1, the factor within [0.2, 2], not above 1 after a rejection),
+  /// kept at h when the factor lies in [1, b]: the matrices are not rebuilt
+  /// for a small gain, and the set point is where the controller keeps the
+  /// step. A step with est > 1 is tried again with h (1/2 / est)^(1/p) (at
+  /// least h/5). At dt_min a step is accepted whatever its estimate
+  /// (counted as forced), so that the run never stalls. Steps land on every
+  /// output time (time_grid.h, plan_steps).
+  /// A step that is not smooth (the active contact set changed in it: a
+  /// node that closes puts a kink into u(t), which the estimate would
+  /// measure instead of the scheme's error) is accepted as it is, counted
+  /// (contact_breaks), and the predictor restarts after it; after a break,
+  /// as at the start (t = 0, where loads switched on at t = 0+ make the
+  /// state the one before a jump, the undrained response), the steps keep
+  /// their length until order + 1 states lie beyond it (two for backward
+  /// Euler, three for BDF2).
   bool judge(const StepSolution& step, TimeGrid& grid, AdaptiveReport& report, AdaptiveState& state,
              std::string& message);
 
@@ -110,6 +96,14 @@ public:
   std::vector<std::pair<std::string, dolfinx::fem::Function<double>*>> history() const;
 
 private:
+  /// est of `step` (the header's formula). Milne's device: y_n minus the
+  /// polynomial P through the last accepted states is a known multiple of
+  /// the leading error term, so, with h1, h2 the steps before,
+  ///   backward Euler: LTE = h / (2h + h1) (y_n - P),  P linear through
+  ///                   y_{n-1}, y_{n-2} (error h (h + h1) y''/2, the step's h^2 y''/2);
+  ///   BDF2:           LTE = E / (E + C) (y_n - P),    P quadratic through
+  ///                   y_{n-1}, y_{n-2}, y_{n-3}, E = h^3 (1 + w) / (6 w c0),
+  ///                   C = h (h + h1)(h + h1 + h2) / 6, w = h / h1.
   double estimate(const TimeGrid& grid, const StepSolution& step, AdaptiveState& state) const;
   void remember(std::span<const double> p, std::span<const double> u);
 

@@ -6,12 +6,8 @@ k (a facet of the fault, d nodes), the mean of the nodes' openings g0 + [u].n:
     w_k = g0_k + (J u)_k,   (J u)_k = (1/d) sum_i n_k . (u(i+) - u(i-)),
 
 n_k the cell's normal into the + side, i- the twin of node i+ on the - face
-(the node itself at a tip, where the opening is 0). The fluid pressure p_f
-pushes both faces apart; its work on the displacement is sum_k p_k |k| w_k,
-so its load is the adjoint b += J^T (|k| p_f): for P1 on a flat face each
-node takes |k|/d of the face's p_f n, the integral forms/biot.py's
-L_face_pressure takes of a given pressure. The rows are the conduit cells in
-ConduitFaults' numbering (fault by fault), on the last rank."""
+(the node itself at a tip, where the opening is 0). The fluid pressure's
+load is the adjoint b += J^T (|k| p_f) (FaultAperture.add_load)."""
 import dataclasses
 
 import numpy as np
@@ -50,7 +46,9 @@ def fault_nodes(domain, V):
 
 class FaultAperture:
     """The mean opening w = g0 + J u of each conduit fault cell, and the
-    load J^T (|k| p_f) of the faults' fluid pressure."""
+    load J^T (|k| p_f) of the faults' fluid pressure. The rows of J are the
+    conduit cells in ConduitFaults' numbering (fault by fault), on the last
+    rank."""
 
     def __init__(self, scene, domain, V):
         """V: the P1 displacement space."""
@@ -102,7 +100,11 @@ class FaultAperture:
 
     def add_load(self, p_f, bcs, b):
         """Adds J^T (|k| p_f) to the Function b but on the Dirichlet rows of
-        `bcs`; `p_f`: the last rank's pressures, none elsewhere (collective)."""
+        `bcs`; `p_f`: the last rank's pressures, none elsewhere (collective).
+        The fluid pressure p_f pushes both faces apart; its work on the
+        displacement is sum_k p_k |k| w_k, so its load is the adjoint of J:
+        for P1 on a flat face each node takes |k|/d of the face's p_f n, the
+        integral forms/biot.py's L_face_pressure takes of a given pressure."""
         self.cells.array[:] = self.measures * np.asarray(p_f)[:len(self.measures)]
         load = fem.Function(b.function_space)
         self.J.multTranspose(self.cells, load.vector)

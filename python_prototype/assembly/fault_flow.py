@@ -1,4 +1,4 @@
-"""The flow inside "conduit" faults (cpp/assembly/fault_flow.cpp,
+"""The flow inside "conduit" faults (cpp/assembly/fault_flow.h,
 docs/theory.md "Flow in a fault"): the fault's pressure p_f, one unknown per
 fault cell (domain/fault_cells.py), appended to the flow system after the
 rock's unknowns, on the last rank. Per cell k, the mass balance times -1
@@ -7,26 +7,9 @@ rock's unknowns, on the last rank. Per cell k, the mass balance times -1
     sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 
-with w_k the hydraulic aperture w_h of cell k (the residual aperture of
-rigid walls; with mechanics, w_r + b(s_n) + (w - e)^+ of the mean opening w,
-fault_aperture.py, e = OPEN_FRACTION w_r, and b the Barton-Bandis closure at
-the effective normal stress s_n, 0 without one), S_k = w_h c_f |k| and the
-two-point transmissibility of the cubic law, T_kl = |e| / (d_k/t_k +
-d_l/t_l), t = w_h^3 / (12 mu_f): the edge e between the cells, d its
-distance to each centroid. The faces' RT0 fluxes z_i enter with their facet
-flux c_i = <w_i.n, 1>, and the rows of z_i get +c_i p_k: the rock's pressure
-at a face is p_f (the boundary-pressure term with p_D = p_f), plus mu_f
-(w_h/2)/k_n z.n across a finite normal permeability k_n. In a coupled split
-w_k is the last mechanics iterate's and p^i the last flow iterate's: L_k =
-L_f |k| is the fault's fixed-stress term (Girault, Kumar and Wheeler), L_f
-the mean opening per unit pressure of the open patch the cell belongs to
-(patch_compliance), in the cells open (w > e) at either of the last two
-mechanics iterates of the step; in the other cells the closure's compliance
--b'(s_n) (closure_compliance: there s_n falls as p_f rises), or 0 without a
-closure, where p_f moves nothing (L there would slow them to the rate L/(L +
-S), nearly 1). The cells open at the iterate before keep the patch's L:
-without it a fault that opens at one iterate and closes at the next cycles
-between the two. The operator stays symmetric."""
+w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
+cubic law's two-point transmissibility, c_i the faces' facet fluxes, L_k =
+L_f |k| the fixed-stress term (_set_compliance). The operator stays symmetric."""
 import dataclasses
 
 import numpy as np
@@ -191,7 +174,9 @@ def open_patches(links, is_open):
 
 def transmissibilities(t, edges):
     """The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
-    FaultEdges `edges` (t: per cell)."""
+    FaultEdges `edges` (t: per cell, the cubic law's w_h^3 / (12 mu_f)): |e|
+    the measure of the edge between the cells, d_k its distance to each
+    centroid."""
     return edges.measures / np.sum(edges.distances / t[edges.cells], axis=1)
 
 
@@ -259,7 +244,12 @@ class ConduitFaults:
 
     def exchange(self, flow_rows):
         """B: the fault's rows against the flow unknowns, c_i at each face
-        DOF (`flow_rows`: the flow system's local size; collective)."""
+        DOF (`flow_rows`: the flow system's local size; collective). The
+        faces' RT0 fluxes z_i enter with their facet flux c_i = <w_i.n, 1>,
+        and the rows of z_i get +c_i p_k: the rock's pressure at a face is
+        p_f (the boundary-pressure term with p_D = p_f), plus mu_f
+        (w_h/2)/k_n z.n across a finite normal permeability k_n
+        (face_resistance)."""
         B = PETSc.Mat().createAIJ(((self.owned, None), (flow_rows, None)), comm=self.comm)
         B.setPreallocationNNZ((2, 2))
         B.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
@@ -284,8 +274,15 @@ class ConduitFaults:
         return conduit.compliance * conduit.cells.measures / dt
 
     def _set_compliance(self, conduit):
-        """Each cell's L_f: of the patch of the cells open now or before,
-        else of its closure."""
+        """Each cell's L_f, with L_k = L_f |k| the fault's fixed-stress term
+        (Girault, Kumar and Wheeler): in the cells open (w > e) at either of
+        the last two mechanics iterates of the step, the mean opening per
+        unit pressure of the open patch the cell belongs to
+        (patch_compliance); in the other cells the closure's compliance
+        -b'(s_n) (closure_compliance: there s_n falls as p_f rises), or 0
+        without a closure, where p_f moves nothing. Why not L in every cell,
+        and why the cells open at the iterate before keep the patch's L:
+        docs/theory.md, "Flow in a fault"."""
         patch = open_patches(conduit.cells.links, conduit.open | conduit.open_before)
         size = np.zeros(len(patch))
         np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
@@ -333,7 +330,8 @@ class ConduitFaults:
         stresses s_n (FaultAperture.cell_means of the contact tractions; None
         without a closure) of the last mechanics iterate, every cell on every
         rank: b the closure's share (closure_aperture, 0 without one), e =
-        OPEN_FRACTION w_r; and which cells are open (w > e). The first call
+        OPEN_FRACTION w_r (rigid walls, without mechanics, keep the residual
+        aperture w_r); and which cells are open (w > e). The first call
         of a run also sets the apertures at the step's start. Whether w_h or
         an open cell changed, and with them the operator and the faces'
         resistance."""
@@ -448,7 +446,8 @@ class ConduitFaults:
         ends on pressure boundaries, -R(t) share in the cells a well meets
         (injection positive), and the fine step's share of the volume the
         cell's opening made since the start of the window, |k| (w_h -
-        w_h_start)/(q dt)."""
+        w_h_start)/(q dt). In a coupled split p_iterate is the last flow
+        iterate's p^i, and w_h the last mechanics iterate's."""
         t, dt = step.t, step.dt
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)

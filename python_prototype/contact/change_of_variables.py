@@ -1,17 +1,15 @@
 """The change of variables that turns each Signorini constraint into a bound
-(cpp/contact/change_of_variables.h says it in full).
-
-At a contact node the constraints nu_j . u <= g_j (m foundations, m <= d)
-are bounds w_j <= g_j on w = T u, the first m rows of T the normals, the
-rest completing them orthonormally (Gram-Schmidt of the coordinate axes).
-At a fault's node pair (u+, u-) the 2d x 2d block [[R, -R], [I/2, I/2]]
-makes the jump R (u+ - u-) (in u+'s rows) and the mean (in u-'s) the new
-variables, R's first row the constraint normal nu = -n. For the system, x' = T x with T block-diagonal, and A x = b becomes
-A' x' = b' with A' = T^{-T} A T^{-1}, b' = T^{-T} b; the residual
-F' = T^{-T} F holds each constraint's multiplier. Nodes whose normals are
-coordinate axes need no change; when every node is such and there is no
-fault, T is never formed.
-"""
+(cpp/contact/change_of_variables.h; docs/theory.md, "Constraints as
+bounds: the change of variables", "Faults"). At a contact node the
+constraints nu_j . u <= g_j (m foundations, m <= d) are bounds w_j <= g_j
+on w = T u, the first m rows of T the normals, the rest completing them
+orthonormally (Gram-Schmidt of the coordinate axes). At a fault's node
+pair (u+, u-) the block [[R, -R], [I/2, I/2]], R's first row nu = -n,
+makes the jump (in u+'s rows) and the mean (in u-'s) the new variables.
+For the system x' = T x, T block-diagonal, A x = b becomes A' x' = b',
+A' = T^{-T} A T^{-1}, b' = T^{-T} b, and the residual F' = T^{-T} F holds
+each constraint's multiplier. Nodes whose normals are coordinate axes need
+no change; when every node is such and there is no fault, T is never formed."""
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc

@@ -1,20 +1,12 @@
 """Static condensation of A x = b onto the contact DOFs C
-(cpp/contact/schur_complement.h).
+(cpp/contact/schur_complement.h; docs/theory.md, "Solvers").
 
 With I the other DOFs, x_I = A_II^{-1} (b_I - A_IC y) for x_C = y, and the
 residual on C of that x is H y - g with the Schur complement
 H = A_CC - A_CI A_II^{-1} A_IC and the condensed load
 g = b_C - A_CI A_II^{-1} b_I: the bound-constrained problem on (H, g) has the
-solution y = x_C of the one on (A, b). A_II^{-1} is applied through one
-factorisation of A_C (the contact rows and columns made identity), valid for
-every inactive set; H is formed once per operator from m back-solves and kept
-dense on every rank.
-
-When each rank holds a copy of the factorisation (one rank, or PCREDUNDANT on
-several), A and A_C are gathered whole on every rank and factorised there with
-the factorisation's options (<prefix>redundant_ on several ranks); each rank
-forms its share of H's columns (m / ranks) and the ranks exchange them.
-Otherwise (MUMPS across the ranks) every column is a distributed back-solve."""
+solution y = x_C of the one on (A, b). How H is formed and shared:
+SchurComplement."""
 import time
 
 import numpy as np
@@ -25,6 +17,19 @@ from ..solvers.solver import LinearSolver
 
 
 class SchurComplement:
+    """The Schur complement H of A on the contact DOFs, and the solves
+    around it. A_II^{-1} is applied through one factorisation of A_C (the
+    contact rows and columns made identity), valid for every inactive set;
+    H is formed once per operator from m back-solves and kept dense on every
+    rank.
+
+    When each rank holds a copy of the factorisation (one rank, or
+    PCREDUNDANT on several), A and A_C are gathered whole on every rank and
+    factorised there with the factorisation's options (<prefix>redundant_ on
+    several ranks); each rank forms its share of H's columns (m / ranks) and
+    the ranks exchange them. Otherwise (MUMPS across the ranks) every column
+    is a distributed back-solve."""
+
     def __init__(self, comm, prefix, A, structure, dofs):
         self.comm, self.prefix, self.A, self.structure = comm, prefix, A, structure
         self.dofs = np.asarray(dofs, dtype=np.int32)

@@ -7,14 +7,8 @@ The state does not depend on the partition: every unknown is stored under a
 name taken from the mesh's input numbering (keyed_values), so a run may be
 restarted on any partition and any number of ranks. A restart needs the same
 scene (its fingerprint: the file's text and the --set overrides) and a mesh
-that holds every stored name; otherwise it is refused in one line.
-
-Layout of DIR/checkpoint (the C++ solver writes .bin files of its own
-format): state.npz (rank 0: the step, the time, the counters, the time grid,
-the output position, the number of value files) and values.<step>.<rank>.npz
-(each rank's owned unknowns with their names). A checkpoint replaces the
-previous one when its state.npz is renamed into place, after every value
-file is complete; the value files of other steps go after that."""
+that holds every stored name; otherwise it is refused in one line. The files
+and how one replaces the last: write_checkpoint."""
 import glob
 import io
 import os
@@ -206,7 +200,14 @@ def _write_state(directory, fingerprint, ranks, c):
 
 def write_checkpoint(comm, directory, fingerprint, c):
     """Writes the checkpoint (collective); raises OutputError on every rank
-    when a file could not be written, leaving the previous checkpoint."""
+    when a file could not be written, leaving the previous checkpoint.
+    Layout of DIR/checkpoint (the C++ solver writes .bin files of its own
+    format): state.npz (rank 0: the step, the time, the counters, the time
+    grid, the output position, the number of value files) and
+    values.<step>.<rank>.npz (each rank's owned unknowns with their names).
+    A checkpoint replaces the previous one when its state.npz is renamed
+    into place, after every value file is complete; the value files of other
+    steps go after that."""
     if comm.rank == 0:
         os.makedirs(os.path.join(directory, "checkpoint"), exist_ok=True)
     comm.Barrier()

@@ -1,29 +1,14 @@
 """fault.xdmf (+ fault.h5): the faults' fields on their + faces at every
 output time, for ParaView and meshio (cpp/output/fault_series.h). One grid
 per time on the faces' mesh (segments in 2D, triangles in 3D; the nodes of
-the + faces, a tip being one node of both faces), node data:
-- opening: [u].n + g0 (0 at the tips, where the faces meet);
-- slip: the tangential jump [u] - ([u].n) n, a vector (three components);
-- traction: the contact traction, >= 0, zero where the fault is open;
-- slip_increment: its change since the start of the step (the one a
-  friction law decides on), a vector;
-- tangential_traction: the tangential contact traction, a vector (three
-  components; along the slip increment where the pair slips; on a
-  frictionless fault the solve's error: round-off with a factorisation);
-- state: the pair's state (contact_law.py): 0 open, 1 stick, 2 slip; 1 at
-  the tips, where the faces are one node and neither open nor slide;
-- pressure (cell data): the fluid pressure in the fault, p_f of a conduit
-  fault, fault.NAME.pressure at the cell's centroid, 0 for a fault loaded
-  by the pore pressure beside it, which solution.xdmf holds.
-With a conduit fault, cell data also (0 on other faults):
-- hydraulic_aperture: w_h, the aperture of the cubic law;
-- exchange: the rock's volume rate per area into the fault;
-- flux: the mean flux along the fault (volume rate per length, a vector).
-A scene without mechanics has only the cell data.
-Rank 0 writes it with h5py, from the pairs each rank gathers to it (a fault
-holds few nodes of the mesh): the same XML text and datasets as the C++.
-Each write is complete on disk when it returns, as solution.xdmf's; a
-restart keeps the times up to its checkpoint's."""
+the + faces, a tip being one node of both faces): with mechanics the node
+data opening, slip, slip_increment, traction, tangential_traction and
+state; the cell data pressure, and with a conduit fault hydraulic_aperture,
+exchange and flux (FaultSeries says what each holds). Rank 0 writes it with
+h5py, from the pairs each rank gathers to it (a fault holds few nodes of the
+mesh): the same XML text and datasets as the C++. Each write is complete on
+disk when it returns, as solution.xdmf's; a restart keeps the times up to
+its checkpoint's."""
 import os
 import re
 
@@ -56,7 +41,26 @@ def _write_rows(h5, name, values, width):
 
 
 class FaultSeries:
-    """fault.xdmf and fault.h5 of a run with faults (rank 0 holds the files)."""
+    """fault.xdmf and fault.h5 of a run with faults (rank 0 holds the files).
+    Node data:
+    - opening: [u].n + g0 (0 at the tips, where the faces meet);
+    - slip: the tangential jump [u] - ([u].n) n, a vector (three components);
+    - traction: the contact traction, >= 0, zero where the fault is open;
+    - slip_increment: its change since the start of the step (the one a
+      friction law decides on), a vector;
+    - tangential_traction: the tangential contact traction, a vector (three
+      components; along the slip increment where the pair slips; on a
+      frictionless fault the solve's error: round-off with a factorisation);
+    - state: the pair's state (contact_law.py): 0 open, 1 stick, 2 slip; 1 at
+      the tips, where the faces are one node and neither open nor slide;
+    - pressure (cell data): the fluid pressure in the fault, p_f of a conduit
+      fault, fault.NAME.pressure at the cell's centroid, 0 for a fault loaded
+      by the pore pressure beside it, which solution.xdmf holds.
+    With a conduit fault, cell data also (0 on other faults):
+    - hydraulic_aperture: w_h, the aperture of the cubic law;
+    - exchange: the rock's volume rate per area into the fault;
+    - flux: the mean flux along the fault (volume rate per length, a vector).
+    A scene without mechanics has only the cell data."""
 
     def __init__(self, comm, directory, problem, resume_time=None):
         """Creates directory/fault.xdmf and .h5 with the faces' mesh; or, after

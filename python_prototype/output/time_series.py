@@ -1,19 +1,15 @@
-"""The XDMF time series of a run (cpp/output/time_series.h): one temporal collection
-whose every output time is one grid on the one mesh (geometry and topology
-written once), every field an attribute in 64-bit precision: P1 fields as
-node data, cell-wise constant fields as cell data, vectors padded to three
-components. A field not written at a time repeats its last written state
-(the attribute points at the same dataset). Each write is on disk when it
-returns: the HDF5 file is flushed, then the XML is rewritten from the start
-of the current time's grid.
+"""The XDMF time series of a run (cpp/output/time_series.h): one temporal
+collection whose every output time is one grid on the one mesh (geometry
+and topology written once), every field an attribute in 64-bit precision:
+P1 fields as node data, cell-wise constant fields as cell data, vectors
+padded to three components. A field not written at a time repeats its last
+written state (the attribute points at the same dataset). Each write is on
+disk when it returns (TimeSeries.write).
 
 Rows are in the mesh's input order (nodes by input index, cells by input
-cell index), so the files do not depend on the partition. A write that
-fails (a full disk) raises OutputError and takes the incomplete time out of
-the XML again, which then lists exactly the completed times.
-
-The prototype gathers every field to rank 0, which writes both files with
-serial h5py; `read_time_series` reads either solver's output."""
+cell index), so the files do not depend on the partition. The prototype
+gathers every field to rank 0, which writes both files with serial h5py;
+`read_time_series` reads either solver's output."""
 import os
 import xml.etree.ElementTree as ET
 
@@ -149,7 +145,11 @@ class TimeSeries:
             "        </Geometry>\n")
 
     def write(self, f, t):
-        """Adds the values of f (P1 or cell-wise constant) at time t (collective)."""
+        """Adds the values of f (P1 or cell-wise constant) at time t (collective).
+        On disk when it returns: the HDF5 file is flushed, then the XML is
+        rewritten from the start of the current time's grid. A write that
+        fails (a full disk) raises OutputError and takes the incomplete time
+        out of the XML again, which then lists exactly the completed times."""
         V = f.function_space
         mesh = V.mesh
         bs = V.dofmap.index_map_bs

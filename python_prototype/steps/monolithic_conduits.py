@@ -2,24 +2,14 @@
 (cpp/steps/monolithic_conduits.h; docs/theory.md "Flow in a fault", "The
 monolithic solve with p_f"): p_f, one unknown per fault cell, appended to the
 coupled system x = (u, z, p),
-
     [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
-
-    E = B_z^T - J^T |k|       the faces' pressure p_f (B_z: the exchange with
-                              their fluxes, fault_flow.py) and p_f pushing
-                              them apart (fault_aperture.py), zero on
-                              Dirichlet rows;
-    B = B_z - (|k|/dt) O J    the exchange, and the rate of the open cells'
-                              opening (O: 1 on open cells);
-    C                         the fault's own rows (fault_flow.py), with no
-                              fixed-stress term in open cells.
-
-The transmissivity, which cells are open and a closure's aperture follow the
-solution: each step iterates on them (Picard). At iterate i, b_f holds the
-volume with its open cells' opening taken at u^i, which the solve moves to
-u^{i+1}; closed cells keep their closure's fixed-stress term, which vanishes
-as p_f settles. The iteration stops when the apertures and p_f move by at
-most the coupling's tolerance."""
+    E = B_z^T - J^T |k|      the faces' pressure p_f (B_z: the exchange with
+                             their fluxes, fault_flow.py) and p_f pushing them
+                             apart (fault_aperture.py), zero on Dirichlet rows;
+    B = B_z - (|k|/dt) O J   the exchange, and the rate of the open cells'
+                             opening (O: 1 on open cells);
+    C                        the fault's own rows (fault_flow.py), with no
+                             fixed-stress term in open cells."""
 import dataclasses
 
 import numpy as np
@@ -49,7 +39,14 @@ class MixedSpace:
 
 class MonolithicConduits:
     """The conduit faults of the monolithic step: their rows of the coupled
-    system and the iteration on their apertures."""
+    system and the iteration on their apertures.
+
+    The transmissivity, which cells are open and a closure's aperture follow
+    the solution: each step iterates on them (Picard). At iterate i, b_f
+    holds the volume with its open cells' opening taken at u^i, which the
+    solve moves to u^{i+1}; closed cells keep their closure's fixed-stress
+    term, which vanishes as p_f settles. The iteration stops when the
+    apertures and p_f move by at most the coupling's tolerance."""
 
     def __init__(self, problem, space):
         self.problem = problem
