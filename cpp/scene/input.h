@@ -1,7 +1,7 @@
 // What every module shares about a scene's input: bad input raises
 // SceneError, one line naming the file and the key; a choice is one of a
 // few named values, read into its enum once, when the scene is read
-// (scene.h the schema, section.h the reader).
+// (schema.h the schema, section.h the reader).
 #pragma once
 
 #include <array>

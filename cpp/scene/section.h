@@ -1,7 +1,7 @@
 // The generic reader of a scene's TOML: one table read key by key, with
 // every refusal one line naming the file and the key; `--set` overrides
 // applied to the parsed tree. The scene's schema (which keys, which
-// values) is scene.h's; this file knows none of it.
+// values) is schema.h's and its readers'; this file knows none of it.
 #pragma once
 
 #include "scene/expression.h"

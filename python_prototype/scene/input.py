@@ -1,7 +1,7 @@
 """What every module shares about a scene's input (cpp/scene/input.h): bad
 input raises SceneError, one line naming the file and the key; a choice is
 one of a few named values, read into its enum once, when the scene is read
-(scene.py the schema, section.py the reader).
+(schema.py the schema, section.py the reader).
 
 Each enum's values are the names the scene gives them, in the order the
 messages list them (C++ keeps that list apart, in Choices<E>)."""

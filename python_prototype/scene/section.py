@@ -1,7 +1,7 @@
 """The generic reader of a scene's TOML (cpp/scene/section.h): one table read
 key by key, with every refusal one line naming the file and the key;
 `--set` overrides applied to the parsed tree. The scene's schema (which
-keys, which values) is scene.py's; this file knows none of it.
+keys, which values) is schema.py's and its readers'; this file knows none of it.
 
 Tables are read in sorted key order, as toml++ (a sorted map) does, so the
 first unknown key named is the same on both tracks."""
