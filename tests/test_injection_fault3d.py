@@ -87,7 +87,10 @@ balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / v["
 check(abs(v["injected"] - RATE * END) <= 1e-12 * RATE * END and balance <= 1e-9,
       f"the fault's volumes: {v['injected']:g} m^3 injected, {-v['exchanged']:.6g} into the rock, {v['stored']:.3g} "
       f"stored, balanced to {balance:.1e} (1e-9)")
-two, _ = run_track("C++", os.path.join(ROOT, "scenes", "injection_fault3d.toml"), ranks=2)
+# The first three steps on 2 ranks (a pair's G once depended on the
+# partition: up to 3.8 % from the first step on), to keep the suite's time.
+two, _ = run_track("C++", os.path.join(ROOT, "scenes", "injection_fault3d.toml"), "time.end=5400.0", ranks=2)
 m1, m2 = summary(out)["seismic_moment"]["fault"]["moments"], summary(two)["seismic_moment"]["fault"]["moments"]
 worst = max(abs(a - b) / a for a, b in zip(m1, m2))
-check(len(m1) == len(m2) and worst <= 1e-8, f"2 ranks: the same seismic moment per step to {worst:.1e} (1e-8)")
+check(len(m2) == 3 and worst <= 1e-8, f"2 ranks: the same seismic moment in each of the first 3 steps to {worst:.1e} "
+      "(1e-8)")
