@@ -131,6 +131,7 @@ int check_scene(const biotcontact::Scene& scene, const Arguments& args, int rank
 {
   const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
   biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
+  biotcontact::check_materials(scene, domain);
   if (scene.mechanics)
     biotcontact::check_contact(scene, domain);
   const std::string warning = biotcontact::gamma_warning(scene, biotcontact::largest_gamma_of(scene, domain.regions));

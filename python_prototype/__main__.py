@@ -107,7 +107,7 @@ def main(argv):
     # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
-    from .assembly.materials import gamma_warning, largest_gamma_of
+    from .assembly.materials import check_materials, gamma_warning, largest_gamma_of
     from .contact.contact import check_contact
     from .domain.domain import check_expressions, create_domain
     from .output.interruption import install_interruption_handlers
@@ -137,6 +137,7 @@ def main(argv):
         if command == "check":
             domain = create_domain(scene, comm)  # a gmsh file's boundary names are known once read
             check_expressions(scene, domain, comm)
+            check_materials(scene, domain)
             if scene.mechanics:
                 check_contact(scene, domain)
             warning = gamma_warning(scene, largest_gamma_of(scene, domain.regions))

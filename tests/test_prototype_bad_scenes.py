@@ -50,7 +50,7 @@ CASES = [
     ("two regions that claim one cell", ["region.a.where='x < 6'", "region.b.where='x > 4'"], "region.b"),
     ("a region that holds no cell", ["region.r.where='x > 100'"], "region.r"),
     ("an unknown region key", ["region.r.where='x > 5'", "region.r.mu_f=1e-3"], "region.r.mu_f"),
-    ("a region permeability zero evaluated", ["region.r.where='x > 5'", "region.r.permeability='1e-13*(x-7)'"],
+    ("a region permeability zero at some cells", ["region.r.where='x > 5'", "region.r.permeability='1e-13*(x-7)'"],
      "region.r.permeability"),
     ("NaN initial pressure", ["flow.initial_pressure='log(x-100)'"], "flow.initial_pressure"),
     ("3e9 steps", ["time.end=3e9", "time.dt=1"], "time.dt"),

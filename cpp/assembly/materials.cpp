@@ -162,6 +162,11 @@ Materials make_materials(const Scene& scene, const Domain& domain, const Compile
   return m;
 }
 
+void check_materials(const Scene& scene, const Domain& domain)
+{
+  make_materials(scene, domain, compiled_forms(domain.mesh->topology().cell_type()));
+}
+
 namespace
 {
 /// Each cell's body force at time t: its material's, zero where none is given.

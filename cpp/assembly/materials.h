@@ -104,4 +104,8 @@ std::string gamma_warning(const Scene& scene, const GammaPeak& peak);
 /// not positive (collective).
 Materials make_materials(const Scene& scene, const Domain& domain, const CompiledForms& forms);
 
+/// What make_materials refuses, for `check`: the permeabilities evaluated
+/// cell by cell as a run evaluates them (collective; throws SceneError).
+void check_materials(const Scene& scene, const Domain& domain);
+
 } // namespace biotcontact

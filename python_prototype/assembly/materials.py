@@ -185,6 +185,14 @@ def make_materials(scene, domain, F):
     return Materials(top, regions, cells)
 
 
+def check_materials(scene, domain):
+    """What make_materials refuses, for `check`: the permeabilities evaluated
+    cell by cell as a run evaluates them (collective; raises SceneError)."""
+    if scene.flow:
+        R = fem.Function(fem.TensorFunctionSpace(domain.mesh, ("DG", 0)))
+        agree_on_error(_set_resistivity(R, scene, domain.regions, domain.dim), domain.mesh.comm)
+
+
 def on(F, name, Q):
     """The values of coefficient `name` in the DOF order of the DG0 space Q."""
     f = fem.Function(Q)
