@@ -7,7 +7,8 @@ mu_f = 1e-3 Pa s.
   fault), pressures 2 MPa and 1 MPa at the ends: the fault's pressure is
   linear and its flux w^3 (p_in - p_out) / (12 mu_f L) in every cell, to
   1e-10; the rock beside it takes no flow (exchange below 1e-10 of the
-  flux per metre);
+  flux per metre); with the fault's own `permeability` k_f the flux is
+  k_f w (p_in - p_out) / (mu_f L) (issue 52);
 - a well injecting Q = 1e-6 m^2/s into the fault's middle, both ends at
   1 MPa: p_f is the tent 1 MPa + (Q/2) (L/2 - |x - L/2|) / t, t = w^3 /
   (12 mu_f), at every cell to 1e-10, and Q/2 leaves through each end (the
@@ -64,6 +65,7 @@ pressure = 1.0e6
 """
 CONDUIT = 'flow = "conduit"\nresidual_aperture = {w}'
 W, MU, C_F, L, DP = 1.0e-4, 1.0e-3, 1.0e-9, 10.0, 1.0e6
+K_F = 1.0e-6  # a fault's own permeability (m^2), 1200 times the cubic law's w^2 / 12
 
 
 def scene(fault, permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, size=0.25, left=2.0e6, well=""):
@@ -109,16 +111,18 @@ def check_normal_permeability(track):
           f"1.5 MPa to {middle:.1e} (1e-10)")
 
 
-def check_cubic_law(out, track):
+def check_linear_flow(out, track, law="the cubic law", transmissivity=W ** 3 / 12):
+    """The fault's pressure linear and its flux transmissivity dp / (mu_f L)
+    in every cell, none into the rock."""
     x, p, q, exchange = cells(out)
     linear = np.max(np.abs(p - (2.0e6 - DP * x / L))) / DP
-    check(linear <= 1e-10, f"{track}: the fault's pressure is linear to {linear:.1e} (1e-10)")
-    cubic = W ** 3 * DP / (12 * MU * L)
-    error = max(np.max(np.abs(q[:, 0] - cubic)), np.max(np.abs(q[:, 1:]))) / cubic
-    check(error <= 1e-10, f"{track}: flux {q[0, 0]:.6e} m^2/s in every cell, the cubic law's {cubic:.6e}: "
+    check(linear <= 1e-10, f"{track}, {law}: the fault's pressure is linear to {linear:.1e} (1e-10)")
+    exact = transmissivity * DP / (MU * L)
+    error = max(np.max(np.abs(q[:, 0] - exact)), np.max(np.abs(q[:, 1:]))) / exact
+    check(error <= 1e-10, f"{track}: flux {q[0, 0]:.6e} m^2/s in every cell, {law}'s {exact:.6e}: "
           f"{error:.1e} (1e-10)")
-    leak = np.max(np.abs(exchange)) * L / cubic
-    check(leak <= 1e-10, f"{track}: the rock takes {leak:.1e} of the flux (1e-10)")
+    leak = np.max(np.abs(exchange)) * L / exact
+    check(leak <= 1e-10, f"{track}, {law}: the rock takes {leak:.1e} of the flux (1e-10)")
 
 
 WELL = """[well.inj]
@@ -202,7 +206,9 @@ runs, box = {}, {}
 for track in ("C++", "prototype"):
     box[track] = check_3d(track)
     steady, _ = run_track(track, scene(CONDUIT.format(w=W)))
-    check_cubic_law(steady, track)
+    check_linear_flow(steady, track)
+    own, _ = run_track(track, scene(CONDUIT.format(w=W) + f"\npermeability = {K_F}"))
+    check_linear_flow(own, track, f"the fault's own permeability {K_F:g} m^2", K_F * W)
     well, _ = run_track(track, scene(CONDUIT.format(w=W), left=1.0e6, well=WELL))
     check_well(well, track)
     two, _ = run_track(track, scene(CONDUIT.format(w=W)), ranks=2)

@@ -106,7 +106,7 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
     const std::vector<double> w_r(cells.size(), f.residual_aperture), zero(cells.size(), 0.0);
     _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture, f.closure,
                          scene.mechanics ? softest_modulus(scene) : 0.0, std::vector<char>(cells.size(), 0),
-                         std::vector<char>(cells.size(), 0), zero, zero, resistance});
+                         std::vector<char>(cells.size(), 0), zero, zero, resistance, f.permeability});
     std::map<std::vector<std::int64_t>, std::int64_t> index;
     for (std::size_t k = 0; k < cells.size(); ++k)
       index[{cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)}] = static_cast<std::int64_t>(k);
@@ -221,7 +221,7 @@ std::vector<double> ConduitFaults::conductance(const Conduit& c) const
   const std::vector<double>& w = c.conducting.empty() ? c.aperture : c.conducting;
   std::vector<double> t(w.size());
   for (std::size_t k = 0; k < t.size(); ++k)
-    t[k] = std::pow(w[k], 3) / (12 * _flow.mu_f);
+    t[k] = c.permeability > 0 ? c.permeability * w[k] / _flow.mu_f : std::pow(w[k], 3) / (12 * _flow.mu_f);
   return t;
 }
 

@@ -251,6 +251,7 @@ private:
     std::vector<double> compliance;     // per cell: L_f (m/Pa) of its patch or closure, 0 where no L
     std::vector<double> traction;       // per cell: s_n at the last mechanics iterate (with a closure)
     double normal_resistance;     // mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+    double permeability;          // k_f (m^2): the transmissivity k_f w_h; 0: the cubic law's w_h^3 / 12
     FaultVolumes volumes;         // since the run's start
     std::vector<double> conducting = {}; // the aperture of the cubic law: w_h relaxed (Aitken)
     std::vector<double> lag = {};        // w_h - conducting at the last set_openings
@@ -284,6 +285,8 @@ private:
   void set_compliance(Conduit& c) const;
   /// L_k/dt = L_f |k|/dt in the open cells, 0 in the others.
   std::vector<double> stabilisation(const Conduit& c, double dt) const;
+  /// t per cell: k_f w / mu_f with the fault's own permeability, else the
+  /// cubic law's w^3 / (12 mu_f); w the conducting aperture.
   std::vector<double> conductance(const Conduit& c) const;
   /// The ends on pressure boundaries: (indices into the ends, T_e).
   std::pair<std::vector<std::size_t>, std::vector<double>> held_ends(const Conduit& c) const;

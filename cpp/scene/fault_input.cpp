@@ -152,7 +152,8 @@ ClosureSpec read_closure(Section c)
 
 /// A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
 /// fault"): its aperture where closed, w_r > 0, the permeability across
-/// its faces, k_n > 0 or "inf", and the closure of its aperture.
+/// its faces, k_n > 0 or "inf", its own tangential permeability k_f > 0
+/// (else the cubic law), and the closure of its aperture.
 void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 {
   if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic
@@ -170,6 +171,10 @@ void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
     f.normal_permeability = s.number("normal_permeability", std::numeric_limits<double>::infinity());
   if (!(f.normal_permeability > 0))
     s.fail("normal_permeability", "must be > 0 (m^2) or \"inf\"");
+  f.permeability = s.number("permeability", 0.0);
+  if (s.has("permeability") and !(f.permeability > 0 and std::isfinite(f.permeability)))
+    s.fail("permeability", "must be a finite number > 0 (m^2, the fault's own; without it the cubic law's "
+                           "w_h^2 / 12)");
   if (s.has("closure") and !scene.mechanics)
     s.fail("closure", "needs [mechanics]: the closed aperture follows the fault's normal stress");
   if (s.has("closure"))
@@ -206,6 +211,10 @@ FaultSpec read_fault(Section s, const Scene& scene)
                                    "its faces, not the rock's");
     read_conduit(s, scene, f);
   }
+  else if (s.has("permeability") or s.has("normal_permeability"))
+    s.fail(s.has("permeability") ? "permeability" : "normal_permeability",
+           "only a conduit fault (flow = \"conduit\") has one; this fault is \"" + std::string(name_of(f.flow))
+               + "\"");
   const std::size_t d = scene.mesh.dimension;
   f.normal = std::vector<double>(d, 0.0);
   f.normal.back() = 1.0;

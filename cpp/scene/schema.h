@@ -132,6 +132,9 @@ struct FaultSpec
   /// pressure at a face is the fault's).
   double residual_aperture = 0;
   double normal_permeability = std::numeric_limits<double>::infinity();
+  /// flow = "conduit": the fault's own tangential permeability k_f (m^2),
+  /// its transmissivity k_f w_h; 0: the cubic law's, w_h^3 / 12.
+  double permeability = 0;
   /// flow = "conduit" in a scene with mechanics: the closed aperture's
   /// Barton-Bandis closure (none: w_r at any stress).
   std::optional<ClosureSpec> closure;

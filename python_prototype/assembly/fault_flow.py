@@ -99,6 +99,7 @@ class _Conduit:
     compliance: np.ndarray  # per cell: L_f (m/Pa) of its patch or closure, 0 where no L
     traction: np.ndarray   # per cell: s_n at the last mechanics iterate (with a closure)
     normal_resistance: float  # mu_f / (2 k_n): times w_h, the face's resistance (0 for k_n = inf)
+    permeability: float    # k_f (m^2): the transmissivity k_f w_h; 0: the cubic law's w_h^3 / 12
     volumes: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)  # since the run's start
     conducting: np.ndarray = None  # the aperture of the cubic law: w_h relaxed (Aitken)
     lag: np.ndarray = None         # w_h - conducting at the last set_openings
@@ -201,7 +202,7 @@ class ConduitFaults:
             n = len(cells.measures)
             conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture, f.closure,
                                softest_modulus(scene) if scene.mechanics else 0.0, np.zeros(n, dtype=bool),
-                               np.zeros(n, dtype=bool), np.zeros(n), np.zeros(n), resistance)
+                               np.zeros(n, dtype=bool), np.zeros(n), np.zeros(n), resistance, f.permeability)
             index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
             for _, key, dof, c in fault_face_rows(domain, Z, name, flux(domain.fault_faces(name))):
                 self.faces.append((dof, conduit, index[key], c))
@@ -294,10 +295,12 @@ class ConduitFaults:
             conduit.compliance = np.zeros_like(conduit.compliance)
 
     def _conductance(self, conduit):
-        """t = w^3 / (12 mu_f): the cubic law's transmissivity per cell, w the
-        conducting aperture (w_h itself before the first mechanics iterate
-        or without mechanics)."""
+        """t per cell: k_f w / mu_f with the fault's own permeability, else the
+        cubic law's w^3 / (12 mu_f); w the conducting aperture (w_h itself
+        before the first mechanics iterate or without mechanics)."""
         w = conduit.aperture if conduit.conducting is None else conduit.conducting
+        if conduit.permeability > 0:
+            return conduit.permeability * w / self.flow.mu_f
         return w ** 3 / (12 * self.flow.mu_f)
 
     def _held_ends(self, conduit):

@@ -174,6 +174,9 @@ def _read_fault(s, scene):
             s.fail("pore_pressure_load", 'not with flow = "conduit": the fault\'s own fluid pressure p_f pushes on '
                    "its faces, not the rock's")
         _read_conduit(s, scene, f)
+    elif s.has("permeability") or s.has("normal_permeability"):
+        s.fail("permeability" if s.has("permeability") else "normal_permeability",
+               f'only a conduit fault (flow = "conduit") has one; this fault is "{name_of(f.flow)}"')
     d = scene.mesh.dimension
     f.normal = s.number_vector("normal", d) if s.has("normal") else [0.0] * (d - 1) + [1.0]
     length = sum(n * n for n in f.normal)
@@ -187,7 +190,8 @@ def _read_fault(s, scene):
 def _read_conduit(s, scene, f):
     """A conduit fault's hydraulic keys (docs/user-guide.md, "Flow in a
     fault"): its aperture where closed, w_r > 0, the permeability across
-    its faces, k_n > 0 or "inf", and the closure of its aperture."""
+    its faces, k_n > 0 or "inf", its own tangential permeability k_f > 0
+    (else the cubic law), and the closure of its aperture."""
     if (scene.coupling and scene.coupling.scheme == CouplingScheme.monolithic
             and scene.solver.monolithic == SolverChoice.iterative):
         s.fail("flow", '"conduit" with solver.monolithic = "iterative": the monolithic system with the fault\'s '
@@ -204,6 +208,10 @@ def _read_conduit(s, scene, f):
         f.normal_permeability = s.number("normal_permeability", math.inf)
         if not f.normal_permeability > 0:
             s.fail("normal_permeability", 'must be > 0 (m^2) or "inf"')
+    f.permeability = s.number("permeability", 0.0)
+    if s.has("permeability") and not (f.permeability > 0 and math.isfinite(f.permeability)):
+        s.fail("permeability", "must be a finite number > 0 (m^2, the fault's own; without it the cubic law's "
+               "w_h^2 / 12)")
     if s.has("closure") and not scene.mechanics:
         s.fail("closure", "needs [mechanics]: the closed aperture follows the fault's normal stress")
     if s.has("closure"):

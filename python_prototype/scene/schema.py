@@ -102,6 +102,9 @@ class FaultSpec:
     # pressure at a face is the fault's)
     residual_aperture: float = 0.0
     normal_permeability: float = math.inf
+    # flow = "conduit": the fault's own tangential permeability k_f (m^2), its
+    # transmissivity k_f w_h; 0: the cubic law's, w_h^3 / 12
+    permeability: float = 0.0
     # flow = "conduit" in a scene with mechanics: the closed aperture's
     # Barton-Bandis closure (None: w_r at any stress)
     closure: Optional["ClosureSpec"] = None
