@@ -74,3 +74,31 @@ check(np.all(np.bincount(owner, minlength=len(fields.cells)) == 4)
       "run reference: each coarse cell averages exactly its 4 fine cells, whose areas sum to its own")
 itself = study_tool.errors(fine, study_tool.RunReference(fine, "itself"))
 check(max(max(v) for v in itself.values()) <= 1e-14, f"run reference: a run against itself has no error {itself}")
+
+# A fault study (reference = "sneddon"): the crack's opening against
+# Sneddon's ellipse falls under refinement, and the report gives its
+# observed order.
+sneddon = os.path.join(tempfile.mkdtemp(), "crack.toml")
+with open(os.path.join(ROOT, "studies", "sneddon.toml")) as f:
+    text = f.read()
+with open(sneddon, "w") as f:
+    f.write(text[:text.index("[[levels]]")] + """[[levels]]
+h = 1.0
+overrides = ["mesh.refine=0"]
+[[levels]]
+h = 0.5
+overrides = ["mesh.refine=1"]
+[[variants]]
+label = "default path"
+overrides = []
+""")
+crack = tempfile.mkdtemp()
+p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "study.py"), sneddon, "--out", crack,
+                    "--binary", BINARY], capture_output=True, text=True)
+with open(os.path.join(crack, "results.csv")) as f:
+    errs = [float(r["opening_error_final"]) for r in csv.DictReader(f)]
+with open(os.path.join(crack, "report.md")) as f:
+    report = f.read()
+check(p.returncode == 0 and 0 < errs[1] < errs[0] < 0.01 and "| default path | 0 -> 1 |" in report,
+      f"a Sneddon study: the opening's error falls under refinement {errs}, the report gives its order "
+      f"({p.stderr[-300:]!r})")

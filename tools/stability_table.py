@@ -1,17 +1,18 @@
 #!/usr/bin/python3
 """The stiff and extreme cases of issue 5, run with the fixed-stress split
-(single rate and multirate) and the monolithic solver; writes
-docs/stability.md. Also imported by tests/test_stability.py, which runs the
-same cases (the same overrides) and asserts what theory and physics
-guarantee.
+(single rate and multirate) and the monolithic solver, and those of a fault
+(issue 53: scenes/fault_reactivation.toml varied); writes docs/stability.md.
+Also imported by tests/test_stability.py, which runs the first table's
+cases (the same overrides) and asserts what theory and physics guarantee.
 
-    /usr/bin/python3 tools/stability_table.py [--binary build/biotcontact]
+    /usr/bin/python3 tools/stability_table.py [--binary build/biotcontact] [--faults-only]
 """
 import argparse
 import datetime
 import json
 import os
 import platform
+import re
 import subprocess
 import sys
 import tempfile
@@ -54,6 +55,47 @@ SCHEMES = [("fixed-stress", ["coupling.scheme=fixed-stress"]),
            ("multirate q=4", ["coupling.scheme=multirate", "coupling.q=4"]),
            ("multirate q=64", ["coupling.scheme=multirate", "coupling.q=64", "time.end=12.8"]),
            ("monolithic", ["coupling.scheme=monolithic"])]
+
+
+# The fault cases: scenes/fault_reactivation.toml (a frictional fault, mu
+# 0.6, loaded by the pore pressure beside it; a well injects beside it for
+# 30 days), varied. CONDUIT makes the fault a conduit with its own p_f.
+# A case's third entry, where the run fails, is the remedy tried next.
+FAULT = "scenes/fault_reactivation.toml"
+CONDUIT = ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", "fault.fault.pore_pressure_load=false"]
+SPLIT = ["coupling.scheme=fixed-stress", "coupling.acceleration=anderson"]  # the remedy where monolithic fails
+ALONG = "(0.5 * x + 0.8660254 * y)"     # the distance along the fault from its centre
+ACROSS = "(-0.8660254 * x + 0.5 * y)"   # the distance across it, > 0 on its + side
+FAULT_CASES = [
+    ("fault reference (fault_reactivation)", [], []),
+    ("nearly incompressible rock: nu = 0.4999", ["mechanics.nu=0.4999"], []),
+    ("rock E 1e6 times stiffer on the fault's + side", [f"region.stiff.where='{ACROSS} > 0'", "region.stiff.E=2e16"],
+     []),
+    ("soft fault zone: E = 1e5 Pa within 20 m of the fault",
+     [f"region.zone.where='abs({ACROSS}) < 20 && abs({ALONG}) < 620'", "region.zone.E=1e5"], []),
+    ("soft fault zone: E = 1e8 Pa within 20 m of the fault",
+     [f"region.zone.where='abs({ACROSS}) < 20 && abs({ALONG}) < 620'", "region.zone.E=1e8"], []),
+    ("frictionless fault", ["fault.fault.friction=0.0"], []),
+    ("friction 0.01", ["fault.fault.friction=0.01"], []),
+    ("friction 1", ["fault.fault.friction=1.0"], []),
+    ("friction 10", ["fault.fault.friction=10.0"], []),
+    ("cohesion 1e6 Pa (friction 0.6)", ["fault.fault.cohesion=1e6"], []),
+    ("cohesion 1e9 Pa (friction 0.6)", ["fault.fault.cohesion=1e9"], []),
+    ("cohesion only: 3e7 Pa, friction 0", ["fault.fault.friction=0.0", "fault.fault.cohesion=3e7"], []),
+    ("dt = 1e-6 s (10 steps)", ["time.dt=1e-6", "time.end=1e-5"], ["coupling.scheme=monolithic"]),
+    ("dt = 1e9 s (5 steps)", ["time.dt=1e9", "time.end=5e9"], []),
+    ("conduit fault, w_r = 1e-4 m", CONDUIT, []),
+    ("conduit fault, w_r = 1e-9 m", CONDUIT + ["fault.fault.residual_aperture=1e-9"], SPLIT),
+    ("conduit fault, w_r = 1e-1 m", CONDUIT + ["fault.fault.residual_aperture=1e-1"], SPLIT),
+    ("conduit fault, k_n = 1e-30 m^2", CONDUIT + ["fault.fault.normal_permeability=1e-30"], []),
+    ("conduit fault, k_n = 1e-20 m^2", CONDUIT + ["fault.fault.normal_permeability=1e-20"], []),
+    ("conduit fault, its own k_f = 1e-6 m^2", CONDUIT + ["fault.fault.permeability=1e-6"], []),
+]
+WELL_RATE = 1.0e-3  # m^2/s, the scene's well.injector.rate
+FAULT_SCHEMES = [("fixed-stress", ["coupling.scheme=fixed-stress"]),
+                 ("fixed-stress, Anderson", ["coupling.scheme=fixed-stress", "coupling.acceleration=anderson"]),
+                 ("multirate q=5", ["coupling.scheme=multirate", "coupling.q=5"]),
+                 ("monolithic", ["coupling.scheme=monolithic"])]
 
 
 def schemes_for(scene):
@@ -117,10 +159,79 @@ def row(label, scheme, r, p_scale):
             f"| {r.get('active_changes_within_step', 0)} | {s['wall_time_s']:.1f} |")
 
 
+FAULT_HEADER = """## Faults
+
+`scenes/fault_reactivation.toml` (a frictional fault, mu 0.6, loaded by
+the pore pressure beside it, a well injecting beside it for 30 days)
+varied, with each scheme (the overrides in the script). The fault's state
+at the end is the length closed, stuck and slipping (m of the 1190 m
+fault); a conduit fault's volume imbalance is |injected + exchanged -
+stored - outflow| over the volume the well injected. A failed run gives
+its one line (exit 2: refused; exit 3: the run stopped, its finished steps
+kept); where a remedy is listed, the row after it is the run with it.
+
+"""
+
+
+def fault_volume_imbalance(s):
+    """The conduit fault's |injected + exchanged - stored - outflow| over the
+    volume the scene's well injected by the end (its rate times the time),
+    or None without a conduit."""
+    v = s.get("fault_volumes", {}).get("fault")
+    if v is None:
+        return None
+    return abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / (WELL_RATE * s["last_completed_time"])
+
+
+def fault_row(label, scheme, r):
+    """One fault case's row: how it ended, its iterations, the fault's state
+    at the end and, with a conduit, its volume balance."""
+    if "summary" not in r or r["summary"]["status"] != "completed":
+        reason = r["stderr"].splitlines()[-1] if r["stderr"] else "no summary"
+        reason = re.sub(r" \(log: [^)]*\)", "", reason)  # the run's temporary directory
+        return f"| {label} | {scheme} | exit {r['exit']}: {reason.removeprefix('biotcontact: error: ')} |||||"
+    s = r["summary"]
+    steps = max(s["steps"], 1)
+    iters = "-" if s["scheme"] == "monolithic" else \
+        f"{s['coupling_iterations'] / steps:.1f} / {s['max_iterations_per_step']}"
+    f = s["contact"]["faults"]["fault"]
+    state = f"{f['closed']:.0f} / {f['stuck']:.0f} / {f['slipping']:.0f}"
+    balance = fault_volume_imbalance(s)
+    balance = "-" if balance is None else f"{balance:.1e}"
+    return (f"| {label} | {scheme} | exit {r['exit']}, converged: {'yes' if s['converged'] else 'NO'} | {iters} "
+            f"| {state} | {f['max_slip']:.3e} / {f['max_opening']:.3e} | {balance} | {s['wall_time_s']:.1f} |")
+
+
+def fault_table(binary):
+    lines = ["| case | scheme | end | iterations per step (mean / max) | fault closed / stuck / slipping (m, end) "
+             "| max slip / opening (m) | conduit's volume imbalance / well's volume | wall s |",
+             "|---|---|---|---|---|---|---|---|"]
+    for label, overrides, remedy in FAULT_CASES:
+        failed = False
+        for scheme, scheme_overrides in FAULT_SCHEMES:
+            r = run_case(binary, FAULT, overrides, scheme_overrides)
+            failed = failed or r["exit"] != 0
+            lines.append(fault_row(label, scheme, r))
+            print(lines[-1], flush=True)
+        if failed and remedy:
+            lines.append(fault_row(label, "remedy: " + ", ".join(remedy), run_case(binary, FAULT, overrides, remedy)))
+            print(lines[-1], flush=True)
+    return lines
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--binary", default=os.path.join(ROOT, "build", "biotcontact"))
+    parser.add_argument("--faults-only", action="store_true",
+                        help="run the fault cases only and rewrite only their section of docs/stability.md")
     args = parser.parse_args()
+    path = os.path.join(ROOT, "docs", "stability.md")
+    if args.faults_only:
+        with open(path) as f:
+            text = f.read()
+        with open(path, "w") as f:
+            f.write(text[:text.index("## Faults")] + FAULT_HEADER + "\n".join(fault_table(args.binary)) + "\n")
+        return
     lines = ["| case | scheme | iterations per step (mean / max) | max ratio / gamma | converged "
              "| pressure range (/p0 for Terzaghi, Pa otherwise) | active nodes (end) "
              "| steps whose active set changed within the loop | wall s |",
@@ -137,8 +248,9 @@ def main():
             "script. Terzaghi cases run to t = 0.2 unless stated; their pressure range is divided by the "
             "undrained pressure p0, so the physical range is 0 .. 1 (negative values are the known "
             "early-time undershoot of P1-RT0-P0). Ratios are Theorem 1's (single rate) or Theorem 2's "
-            "(multirate), resolved ones only.\n\n" + "\n".join(lines) + "\n")
-    with open(os.path.join(ROOT, "docs", "stability.md"), "w") as f:
+            "(multirate), resolved ones only.\n\n" + "\n".join(lines) + "\n\n" + FAULT_HEADER
+            + "\n".join(fault_table(args.binary)) + "\n")
+    with open(path, "w") as f:
         f.write(text)
 
 

@@ -13,9 +13,13 @@ monolithic run on the finest level (`reference = "monolithic"`, computed
 once and cached; its cell averages over each coarse cell), at every output
 time of the run: relative l2 errors of pressure (cell-area weighted),
 displacement (nodal) and flux (cell-area weighted), at the final time and
-the maximum over time. Finished runs are kept under DIR/runs and reused when
-the study is started again; --replot redraws the plots from DIR/results.csv
-without running anything.
+the maximum over time. A fault study (`reference = "sneddon"`, `metric =
+"opening"`) measures instead the crack's opening [u].n along it against
+Sneddon's ellipse (relative l2, the tips' ends excluded). A variant's
+override that starts with "-" is a PETSc option ("-mechanics_contact_condensed
+false"). Finished runs are kept under DIR/runs and reused when the study is
+started again; --replot redraws the plots from DIR/results.csv without
+running anything.
 """
 import argparse
 import csv
@@ -30,6 +34,7 @@ import sys
 import time
 import tomllib
 
+import h5py
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -42,7 +47,7 @@ COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "
            "flow_solves", "mechanics_solves", "monolithic_solves", "wall_time_s", "time_flow_s",
            "time_mechanics_s", "time_monolithic_s", "time_assembly_s", "time_output_s",
            "pressure_error_final", "pressure_error_max", "displacement_error_final", "displacement_error_max",
-           "flux_error_final", "flux_error_max", "pressure_space_error_final", "pressure_time_error_final",
+           "flux_error_final", "flux_error_max", "opening_error_final", "opening_error_max", "pressure_space_error_final", "pressure_time_error_final",
            "gamma", "reference", "cached"]
 
 
@@ -61,8 +66,11 @@ def read_study(path):
     for key in ("name", "scene", "reference", "levels", "variants"):
         if key not in study:
             raise StudyError(f"{path}: {key}: missing")
-    if study["reference"] not in ("closed-form", "monolithic"):
-        raise StudyError(f"{path}: reference: must be \"closed-form\" or \"monolithic\"")
+    if study["reference"] not in ("closed-form", "monolithic", "sneddon"):
+        raise StudyError(f"{path}: reference: must be \"closed-form\", \"monolithic\" or \"sneddon\"")
+    if study["reference"] == "sneddon" and "sneddon" not in study:
+        raise StudyError(f"{path}: sneddon: missing (the crack: a, E, nu, p, centre, direction)")
+    study.setdefault("metric", "opening" if study["reference"] == "sneddon" else "pressure")
     return study
 
 
@@ -71,7 +79,7 @@ def run(binary, scene, overrides, directory):
     command is there already; returns (summary, cached)."""
     command = [binary, "run", os.path.join(ROOT, scene), "--out", directory]
     for o in overrides:
-        command += ["--set", o]
+        command += o.split() if o.startswith("-") else ["--set", o]
     stamp = os.path.join(directory, "command.json")
     summary = os.path.join(directory, "summary.json")
     if os.path.exists(stamp) and os.path.exists(summary):
@@ -206,9 +214,44 @@ def containing_cells(fields, points, candidates=12):
     return owner
 
 
+class SneddonReference:
+    """Sneddon's pressurised crack in the infinite plane: the opening [u].n
+    at the + face's nodes against 4 (1 - nu^2) p / E sqrt(a^2 - s^2), s the
+    distance along the crack from its centre; relative l2 weighted by the
+    length each node stands for, over |s| <= (1 - tips) a."""
+
+    def __init__(self, crack):
+        self.crack = crack
+        c = crack
+        self.description = (f"Sneddon's opening, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, p = {c['p']:g} Pa "
+                            f"(docs/verification.md)")
+        self.sampling = (f"Sneddon's opening at the crack's nodes, the tips' {c.get('tips', 0.1):.0%} of a at each "
+                         "end excluded")
+
+    def errors(self, directory):
+        c = self.crack
+        with h5py.File(os.path.join(directory, "fault.h5")) as f:
+            x = f["Mesh/geometry"][:]
+            last = max(int(k) for k in f["opening"].keys())
+            opening = f[f"opening/{last}"][:].reshape(-1)
+        direction = np.array(c["direction"], dtype=float)
+        s = (x[:, :len(direction)] - np.array(c["centre"], dtype=float)) @ (direction / np.linalg.norm(direction))
+        order = np.argsort(s)
+        s, opening = s[order], opening[order]
+        length = np.gradient(s) if len(s) > 1 else np.ones(1)  # half the two neighbouring segments
+        inner = np.abs(s) <= (1 - c.get("tips", 0.1)) * c["a"]
+        exact = 4 * (1 - c["nu"] ** 2) * c["p"] / c["E"] * np.sqrt(np.maximum(c["a"] ** 2 - s ** 2, 0.0))
+        e = relative((opening - exact)[inner], exact[inner], np.abs(length[inner]))
+        nan = (float("nan"), float("nan"))
+        return {"opening": (e, e), "pressure": nan, "displacement": nan, "flux": nan}
+
+
 def errors(directory, reference):
     """Relative errors of pressure, displacement and flux at every output
-    time the reference has: (final, max over time) of each."""
+    time the reference has: (final, max over time) of each; a fault
+    reference's own errors instead."""
+    if hasattr(reference, "errors"):
+        return reference.errors(directory)
     fields = Fields(directory)
     areas = cell_areas(fields)
     result = {name: [] for name in ("pressure", "displacement", "flux")}
@@ -434,6 +477,11 @@ def plot_contraction(rows, path, title):
 def plots(rows, out, study):
     """Draws the study's plots into `out`; returns {file: title} of those drawn."""
     name, files = study["name"], {}
+    if study["metric"] != "pressure":  # a fault study: its error against run time only
+        metric = study["metric"]
+        by_family(rows, "wall_time_s", f"{metric}_error_final", "wall time [s]", f"relative {metric} error",
+                  os.path.join(out, "error_vs_time.png"), f"{name}: {metric} error against run time")
+        return {"error_vs_time.png": f"{name}: {metric} error against run time"}
     rows_work = [dict(r, work=int(r["flow_solves"]) + int(r["mechanics_solves"]) + int(r["monolithic_solves"]))
                  for r in rows]
     pressure = "relative pressure error (final time)"
@@ -456,17 +504,18 @@ def plots(rows, out, study):
     return files
 
 
-def fastest(rows):
+def fastest(rows, metric="pressure"):
     """For each error level (1, 2 and 5 times the decades the runs span), the
-    fastest run whose final pressure error is below it."""
-    errs = sorted({float(r["pressure_error_final"]) for r in rows if float(r["pressure_error_final"]) > 0})
+    fastest run whose final error of `metric` is below it."""
+    column = f"{metric}_error_final"
+    errs = sorted({float(r[column]) for r in rows if float(r[column]) > 0})
     if not errs:
         return []
     lines = []
     for exponent in range(math.floor(math.log10(errs[0])), math.ceil(math.log10(errs[-1])) + 1):
         for mantissa in (1, 2, 5):
             level = mantissa * 10.0 ** exponent
-            ok = [r for r in rows if 0 < float(r["pressure_error_final"]) <= level]
+            ok = [r for r in rows if 0 < float(r[column]) <= level]
             if ok and level <= 2 * errs[-1]:
                 best = min(ok, key=lambda r: float(r["wall_time_s"]))
                 lines.append((level, best))
@@ -479,6 +528,8 @@ def make_reference(study, out, binary):
     scene, levels = study["scene"], study["levels"]
     if study["reference"] == "closed-form":
         return ClosedFormReference(scene)
+    if study["reference"] == "sneddon":
+        return SneddonReference(study["sneddon"])
     overrides = levels[-1]["overrides"] + study.get("reference_overrides", []) + ["coupling.scheme=monolithic"]
     directory = run_directory(out, scene, overrides)
     _, cached = run(binary, scene, overrides, directory)
@@ -502,7 +553,9 @@ def result_row(study, level, variant, s, e, cached, directory):
             "time_assembly_s": timings["assembly"], "time_output_s": timings["output"],
             "pressure_error_final": e["pressure"][0], "pressure_error_max": e["pressure"][1],
             "displacement_error_final": e["displacement"][0], "displacement_error_max": e["displacement"][1],
-            "flux_error_final": e["flux"][0], "flux_error_max": e["flux"][1], "gamma": s["gamma"],
+            "flux_error_final": e["flux"][0], "flux_error_max": e["flux"][1],
+            "opening_error_final": e.get("opening", (math.nan,))[0],
+            "opening_error_max": e.get("opening", (math.nan, math.nan))[1], "gamma": s["gamma"],
             "reference": study["reference"], "cached": cached, "directory": directory}
 
 
@@ -534,7 +587,7 @@ def run_all(study, out, binary, reference):
         computed = sum(1 for r in rows if not r["cached"])
         eta = done_time / computed * (total - i - 1) if computed else 0.0
         print(f"[{i + 1}/{total}] {variant['label']}, level {level}: {'cached' if cached else f'{spent:.1f} s'}, "
-              f"pressure error {e['pressure'][0]:.3e}; about {eta:.0f} s left", flush=True)
+              f"{study['metric']} error {e[study['metric']][0]:.3e}; about {eta:.0f} s left", flush=True)
     return rows
 
 
@@ -584,9 +637,35 @@ def split_table(study, rows):
     return lines + [""]
 
 
+def observed_orders(study, rows):
+    """The report's table of observed orders between successive levels, per
+    variant: of the error against h, and of the cost (wall time) against
+    the unknowns (none where the levels give no h)."""
+    metric = study["metric"]
+    if not all("h" in level for level in study["levels"]):
+        return []
+    lines = [f"## Observed orders ({metric} error against h, wall time against unknowns)", "",
+             "| variant | levels | h | error | order of the error | unknowns | wall s | order of the cost |",
+             "|---|---|---|---|---|---|---|---|"]
+    for variant in study["variants"]:
+        own = sorted((r for r in rows if r["variant"] == variant["label"]), key=lambda r: int(r["level"]))
+        for a, b in zip(own, own[1:]):
+            ea, eb = float(a[f"{metric}_error_final"]), float(b[f"{metric}_error_final"])
+            ha, hb = float(a["h"]), float(b["h"])
+            order = math.log(ea / eb) / math.log(ha / hb) if ea > 0 and eb > 0 else float("nan")
+            cost = math.log(float(b["wall_time_s"]) / float(a["wall_time_s"])) / math.log(int(b["dofs"]) / int(a["dofs"]))
+            lines.append(f"| {variant['label']} | {a['level']} -> {b['level']} | {hb:g} | {eb:.2e} | {order:.2f} "
+                         f"| {b['dofs']} | {float(b['wall_time_s']):.2f} | {cost:.2f} |")
+    return lines + [""]
+
+
 def write_report(args, study, reference, rows, files, started):
     """DIR/report.md: how the study was run, the fastest run for each error level, the plots and every run."""
     version = subprocess.run([args.binary, "--version"], capture_output=True, text=True).stdout.strip()
+    metric = study["metric"]
+    sampling = (f"- errors: relative l2 over the cells (pressure, flux; cell-area weighted) and nodes "
+                f"(displacement) against {reference.sampling}, at every output time; 'final' at the end time, "
+                "'max' over time") if metric == "pressure" else f"- error: relative l2 against {reference.sampling}"
     lines = [f"# Study: {study['name']}", "", study.get("description", ""), "",
              f"- command: `/usr/bin/python3 tools/study.py {args.study} --out {args.out}`",
              f"- machine: {platform.node()}, {os.cpu_count()} cores, {platform.platform()}",
@@ -594,18 +673,23 @@ def write_report(args, study, reference, rows, files, started):
              f"- scene: `{study['scene']}`; reference: {reference.description}",
              f"- {len(rows)} runs taking {sum(float(r['wall_time_s']) for r in rows):.0f} s of solver wall time "
              f"({time.time() - started:.0f} s for this invocation, finished runs reused)",
-             f"- errors: relative l2 over the cells (pressure, flux; cell-area weighted) and nodes "
-             f"(displacement) against {reference.sampling}, at every output time; 'final' at the end time, "
-             "'max' over time", "",
-             "## Fastest run for each error level (final-time relative pressure error)", "",
+             sampling, "", f"## Fastest run for each error level (final-time relative {metric} error)", "",
              "| error <= | fastest variant | level | wall time s | coupling iterations | mechanics solves |",
              "|---|---|---|---|---|---|"]
-    for level, r in sorted(fastest(rows), key=lambda lr: -lr[0]):
+    for level, r in sorted(fastest(rows, metric), key=lambda lr: -lr[0]):
         lines.append(f"| {level:.0e} | {r['variant']} | {r['level']} | {float(r['wall_time_s']):.2f} "
                      f"| {r['coupling_iterations']} | {int(r['mechanics_solves']) + int(r['monolithic_solves'])} |")
-    lines += [""] + split_table(study, rows) + ["## Plots", ""]
+    lines += [""] + observed_orders(study, rows) + split_table(study, rows) + ["## Plots", ""]
     for name, title in files.items():
         lines += [f"![{title}]({name})", ""]
+    if metric != "pressure":
+        lines += ["## Runs", "", f"| variant | level | dofs | wall s | mechanics solves | {metric} error |",
+                  "|---|---|---|---|---|---|"]
+        lines += [f"| {r['variant']} | {r['level']} | {r['dofs']} | {float(r['wall_time_s']):.2f} "
+                  f"| {r['mechanics_solves']} | {float(r[f'{metric}_error_final']):.3e} |" for r in rows]
+        with open(os.path.join(args.out, "report.md"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        return
     lines += ["## Runs", "", "| variant | level | dt | dofs | wall s | iterations | flow solves | mechanics solves "
               "| p error (final / max) | u error (final / max) | z error (final / max) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
