@@ -9,6 +9,7 @@
 #include "assembly/petsc_error.h"
 #include "contact/contact.h"
 #include "domain/domain.h"
+#include "domain/mesh_checks.h"
 #include "output/interruption.h"
 #include "output/write_failure.h"
 #include "scene/scene.h"

@@ -5,6 +5,7 @@
 #include "diagnostics/description.h"
 #include "diagnostics/reference_errors.h"
 #include "domain/domain.h"
+#include "domain/mesh_checks.h"
 #include "output/checkpoint.h"
 #include "output/directory_lock.h"
 #include "output/fields.h"

@@ -63,19 +63,6 @@ std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh);
 std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene,
                                                                                  const Domain& domain);
 
-/// @brief A planar boundary: its outward unit normal and its measure (a
-/// length in 2D, an area in 3D), the same on every rank.
-struct PlanarBoundary
-{
-  std::array<double, 3> normal{};
-  double measure = 0;
-};
-
-/// The outward normal and the measure of the boundary `name`; throws
-/// SceneError naming `key` when its facets do not lie in one plane (a flux
-/// or rate boundary; collective).
-PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key);
-
 /// @brief Where a well injects: the owned cells it lies in and the share of
 /// its rate each takes (a point on a shared edge or vertex is split equally
 /// among its cells; a segment by its length in each cell).
@@ -96,12 +83,5 @@ WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string
 /// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
 /// and locates its named boundaries; throws SceneError for unknown names.
 Domain create_domain(const Scene& scene, MPI_Comm comm);
-
-/// Evaluates every expression of the scene where it is used (boundary
-/// values at the nodes of their boundary, volume terms at the cell
-/// midpoints) at the first and the last time, before any solve: a value
-/// that is NaN or inf is refused with SceneError naming its key, the same
-/// on every rank (collective).
-void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm);
 
 } // namespace biotcontact
