@@ -229,7 +229,7 @@ DIFFERENCES = {
         "share_fault_cells": "C++ only: rank 0's cells broadcast field by field; Python's domain.py broadcasts them "
                              "with the faults' pairs (comm.bcast of any object)",
     },
-    "domain/domain": {
+    "domain/wells": {
         "WellCells": "C++ only: the (cells, shares) pair locate_well returns; Python returns a tuple",
     },
 }

@@ -63,23 +63,6 @@ std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh);
 std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene,
                                                                                  const Domain& domain);
 
-/// @brief Where a well injects: the owned cells it lies in and the share of
-/// its rate each takes (a point on a shared edge or vertex is split equally
-/// among its cells; a segment by its length in each cell).
-struct WellCells
-{
-  std::vector<std::int32_t> cells;
-  std::vector<double> shares;
-};
-
-/// Where well `w` is, in words: "(x, y)", and in 3D " from z = bottom to
-/// top".
-std::string well_place(const WellSpec& w, int d);
-
-/// The cells of well `w`; throws SceneError naming `key` when it is not in
-/// the mesh, or its segment leaves it (collective).
-WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string& key);
-
 /// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
 /// and locates its named boundaries; throws SceneError for unknown names.
 Domain create_domain(const Scene& scene, MPI_Comm comm);

@@ -1,6 +1,8 @@
 // The scene checked against its mesh (domain/mesh_checks.h).
 #include "domain/mesh_checks.h"
 
+#include "domain/wells.h"
+
 #include <cmath>
 #include <numeric>
 #include <sstream>

@@ -10,8 +10,8 @@ from dolfinx import mesh as dmesh
 from dolfinx.cpp.mesh import entities_to_geometry
 
 from ..scene.scene import SceneError, agree_on_error
-from .domain import locate_well, well_place
 from .fault_cells import well_cells
+from .wells import locate_well, well_place
 
 
 def check_expressions(scene, domain, comm):
