@@ -8,7 +8,7 @@
 #include "assembly/materials.h"
 #include "assembly/petsc_error.h"
 #include "contact/contact.h"
-#include "domain/domain.h"
+#include "domain/create_domain.h"
 #include "domain/mesh_checks.h"
 #include "output/interruption.h"
 #include "output/write_failure.h"

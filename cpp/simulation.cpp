@@ -4,7 +4,7 @@
 #include "diagnostics/closed_form.h"
 #include "diagnostics/description.h"
 #include "diagnostics/reference_errors.h"
-#include "domain/domain.h"
+#include "domain/create_domain.h"
 #include "domain/mesh_checks.h"
 #include "output/checkpoint.h"
 #include "output/directory_lock.h"

@@ -1,4 +1,8 @@
-// Scene -> mesh and named boundaries.
+// The domain of a run: its mesh, the facets of its named boundaries, its
+// faults after the split and the material region of each cell, as
+// domain/create_domain.h builds it from a scene; the facet markers the
+// forms integrate on, and the input index of each vertex. The prototype's
+// twin is python_prototype/domain/domain.py.
 #pragma once
 
 #include "domain/fault_cells.h"
@@ -62,9 +66,5 @@ std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh);
 /// the face term of the pressure load; null when the scene has none.
 std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene,
                                                                                  const Domain& domain);
-
-/// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
-/// and locates its named boundaries; throws SceneError for unknown names.
-Domain create_domain(const Scene& scene, MPI_Comm comm);
 
 } // namespace biotcontact
