@@ -109,7 +109,8 @@ def main(argv):
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
     from .assembly.materials import check_materials, gamma_warning, largest_gamma_of
     from .contact.contact import check_contact
-    from .domain.domain import check_expressions, create_domain
+    from .domain.create_domain import create_domain
+    from .domain.mesh_checks import check_expressions
     from .output.interruption import install_interruption_handlers
     from .scene.scene import SceneError, read_scene
     from .simulation import run

@@ -13,7 +13,8 @@ from .coupling.scheme import Scheme
 from .diagnostics.closed_form import with_mandel_plate
 from .diagnostics.description import Description, describe
 from .diagnostics.reference_errors import reference_errors
-from .domain.domain import check_expressions, create_domain
+from .domain.create_domain import create_domain
+from .domain.mesh_checks import check_expressions
 from .output.checkpoint import RunState, capture_checkpoint, read_checkpoint, restore_checkpoint, write_checkpoint
 from .output.directory_lock import DirectoryLock
 from .output.fields import OutputFields

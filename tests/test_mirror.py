@@ -226,10 +226,10 @@ DIFFERENCES = {
     },
     "domain/fault_cells": {
         "WellOnFault": "C++ only: well_cells' result (cells and shares) as a struct; Python returns the two arrays",
-        "share_fault_cells": "C++ only: rank 0's cells broadcast field by field; Python's domain.py broadcasts them "
+        "share_fault_cells": "C++ only: rank 0's cells broadcast field by field; Python's gmsh_mesh.py broadcasts them "
                              "with the faults' pairs (comm.bcast of any object)",
     },
-    "domain/domain": {
+    "domain/wells": {
         "WellCells": "C++ only: the (cells, shares) pair locate_well returns; Python returns a tuple",
     },
 }

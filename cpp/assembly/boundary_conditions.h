@@ -5,6 +5,7 @@
 #pragma once
 
 #include "domain/domain.h"
+#include "domain/mesh_checks.h"
 #include "assembly/forms.h"
 #include "assembly/linear_algebra.h"
 #include "assembly/tied_dofs.h"

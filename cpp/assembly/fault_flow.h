@@ -270,7 +270,7 @@ private:
     const Expression* rate;
     std::size_t conduit; // index into _conduits
   };
-  /// The wells into the fault `fault`, per cell each meets (domain.h's
+  /// The wells into the fault `fault`, per cell each meets (mesh_checks.h's
   /// check_expressions has checked that each meets one).
   void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;

@@ -1,5 +1,7 @@
 #include "assembly/wells.h"
 
+#include "domain/wells.h"
+
 #include <dolfinx/fem/DofMap.h>
 
 namespace biotcontact

@@ -1,4 +1,8 @@
-// Scene -> mesh and named boundaries.
+// The domain of a run: its mesh, the facets of its named boundaries, its
+// faults after the split and the material region of each cell, as
+// domain/create_domain.h builds it from a scene; the facet markers the
+// forms integrate on, and the input index of each vertex. The prototype's
+// twin is python_prototype/domain/domain.py.
 #pragma once
 
 #include "domain/fault_cells.h"
@@ -62,46 +66,5 @@ std::vector<std::int64_t> vertex_input_indices(const dolfinx::mesh::Mesh& mesh);
 /// the face term of the pressure load; null when the scene has none.
 std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> pore_pressure_faces(const Scene& scene,
                                                                                  const Domain& domain);
-
-/// @brief A planar boundary: its outward unit normal and its measure (a
-/// length in 2D, an area in 3D), the same on every rank.
-struct PlanarBoundary
-{
-  std::array<double, 3> normal{};
-  double measure = 0;
-};
-
-/// The outward normal and the measure of the boundary `name`; throws
-/// SceneError naming `key` when its facets do not lie in one plane (a flux
-/// or rate boundary; collective).
-PlanarBoundary planar_boundary(const Domain& domain, const std::string& name, const std::string& key);
-
-/// @brief Where a well injects: the owned cells it lies in and the share of
-/// its rate each takes (a point on a shared edge or vertex is split equally
-/// among its cells; a segment by its length in each cell).
-struct WellCells
-{
-  std::vector<std::int32_t> cells;
-  std::vector<double> shares;
-};
-
-/// Where well `w` is, in words: "(x, y)", and in 3D " from z = bottom to
-/// top".
-std::string well_place(const WellSpec& w, int d);
-
-/// The cells of well `w`; throws SceneError naming `key` when it is not in
-/// the mesh, or its segment leaves it (collective).
-WellCells locate_well(const Domain& domain, const WellSpec& w, const std::string& key);
-
-/// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
-/// and locates its named boundaries; throws SceneError for unknown names.
-Domain create_domain(const Scene& scene, MPI_Comm comm);
-
-/// Evaluates every expression of the scene where it is used (boundary
-/// values at the nodes of their boundary, volume terms at the cell
-/// midpoints) at the first and the last time, before any solve: a value
-/// that is NaN or inf is refused with SceneError naming its key, the same
-/// on every rank (collective).
-void check_expressions(const Scene& scene, const Domain& domain, MPI_Comm comm);
 
 } // namespace biotcontact

@@ -19,7 +19,7 @@ namespace biotcontact
 {
 
 /// @brief The input mesh as read on rank 0 (the arrays of a gmsh file that
-/// read_gmsh hands to dolfinx).
+/// read_gmsh (domain/gmsh_mesh.h) hands to dolfinx).
 struct InputMesh
 {
   int dim = 2;

@@ -5,7 +5,8 @@ pressure is given) (cpp/assembly/boundary_conditions.cpp)."""
 import numpy as np
 from dolfinx import fem, mesh as dmesh
 
-from ..domain.domain import planar_boundary, vertex_input_indices
+from ..domain.domain import vertex_input_indices
+from ..domain.mesh_checks import planar_boundary
 from .linear_algebra import accumulate_ghosts, add_vector
 from .tied_dofs import Tie
 from ..scene.input import FaultFlow

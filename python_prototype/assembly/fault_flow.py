@@ -224,7 +224,7 @@ class ConduitFaults:
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
-        meets (domain.py has checked that each meets one)."""
+        meets (mesh_checks.py has checked that each meets one)."""
         for name, w in sorted(scene.wells.items()):  # the order of the C++ std::map
             if w.fault != fault:
                 continue

@@ -3,7 +3,7 @@ that contain them, added to the flow's right-hand side
 (cpp/assembly/wells.cpp)."""
 import numpy as np
 
-from ..domain.domain import locate_well
+from ..domain.wells import locate_well
 
 
 class WellSource:

@@ -17,7 +17,7 @@ from ..scene.input import SceneError
 @dataclasses.dataclass
 class InputMesh:
     """The input mesh as read on rank 0 (the arrays of a gmsh file that
-    _read_gmsh hands to dolfinx)."""
+    read_gmsh (gmsh_mesh.py) hands to dolfinx)."""
     dim: int
     x: np.ndarray            # (nodes, dim) coordinates
     cells: np.ndarray        # (cells, dim+1) node indices
