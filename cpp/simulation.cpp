@@ -145,7 +145,7 @@ void Simulation::start_or_restore()
     _end.saved = _end.completed_steps = _resumed->steps;
     _end.completed_time = _resumed->time;
     if (_scheme->u)
-      _fields->contact = _scheme->compute_contact();
+      _fields->contact = _scheme->contact_state();
     _progress.say("restarted from the checkpoint at step " + std::to_string(_end.completed_steps) + ", t = "
                   + std::to_string(_end.completed_time));
     return;
@@ -199,7 +199,7 @@ WindowObserver Simulation::observer()
     if (_scheme->u and _scene.is_output_time(t))
       _fields->write_mechanics(t);
     else if (_scheme->u)
-      _fields->contact = _scheme->compute_contact();
+      _fields->contact = _scheme->contact_state();
     _end.completed_steps = step;
     _end.completed_time = t;
     _progress.step(step, planned_steps(), t, iterations, _fields->contact.active_nodes);
@@ -237,7 +237,7 @@ void Simulation::time_loop()
     _end.failure = step_being_computed() + ": " + e.what();
     _report.windows = _end.completed_steps;
   }
-  _fields->contact = _scheme->compute_contact();
+  _fields->contact = _scheme->contact_state();
 }
 
 /// The mechanics steps (windows) of the run, for the progress: with

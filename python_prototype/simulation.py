@@ -121,7 +121,7 @@ class Simulation:
             self.end.saved = self.end.completed_steps = self.resumed.steps
             self.end.completed_time = self.resumed.time
             if s.u is not None:
-                self.fields.contact = s.compute_contact()
+                self.fields.contact = s.contact_state()
             self.progress.say(f"restarted from the checkpoint at step {self.end.completed_steps}, "
                               f"t = {self.end.completed_time:f}")
             return
@@ -169,7 +169,7 @@ class Simulation:
             if self.scheme.u is not None and self.scene.is_output_time(t):
                 self.fields.write_mechanics(t)
             elif self.scheme.u is not None:
-                self.fields.contact = self.scheme.compute_contact()
+                self.fields.contact = self.scheme.contact_state()
             self.end.completed_steps, self.end.completed_time = step, t
             self.progress.step(step, self.planned_steps(), t, iterations,
                                self.fields.contact.active_nodes)
@@ -195,7 +195,7 @@ class Simulation:
         except SolverError as e:
             self.end.failure = f"{self.step_being_computed()}: {e}"
             self.report.windows = self.end.completed_steps
-        self.fields.contact = self.scheme.compute_contact()
+        self.fields.contact = self.scheme.contact_state()
 
     def planned_steps(self):
         """The mechanics steps (windows) of the run, for the progress: with

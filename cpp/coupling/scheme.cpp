@@ -9,7 +9,7 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
-Scheme::Scheme(const Problem& problem)
+Scheme::Scheme(const Problem& problem) : _problem(problem)
 {
   const Scene& scene = problem.scene;
   if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic)
@@ -29,12 +29,7 @@ void Scheme::make_monolithic(const Problem& problem)
   V = m->V;
   u = m->u;
   p = m->pressure;
-  compute_flux = [m](fem::Function<double>& out) { m->flux(out); };
-  seismic_moments = [m] { return m->seismic_moments(); };
-  fault_flow = [m](double t) { return m->fault_flow(t); };
-  fault_volumes = [m] { return m->fault_volumes(); };
   take_contact_fields(*m);
-  _drive = [&problem, m](CouplingRun& run) { run_single_solve(problem, *m, run); };
 }
 
 /// The flow step and the mechanics step of the split, or the one a single
@@ -49,11 +44,7 @@ void Scheme::make_split(const Problem& problem)
   {
     _flow = std::make_unique<FlowStep>(problem, scene.coupling ? V : nullptr);
     p = _flow->pressure;
-    FlowStep* f = _flow.get();
-    compute_flux = [f](fem::Function<double>& out) { f->flux(out); };
-    fault_flow = [f](double t) { return f->fault_flow(t); };
-    fault_volumes = [f] { return f->fault_volumes(); };
-    _steps.push_back(f);
+    _steps.push_back(_flow.get());
   }
   if (scene.mechanics)
   {
@@ -64,8 +55,6 @@ void Scheme::make_split(const Problem& problem)
       _flow->read_fault_traction(_mechanics->fault_traction());
     }
     u = _mechanics->u;
-    MechanicsStep* m = _mechanics.get();
-    seismic_moments = [m] { return m->seismic_moments(); };
     given_pressure = _mechanics->given_pressure;
     take_contact_fields(*_mechanics);
     _steps.push_back(_mechanics.get());
@@ -78,16 +67,6 @@ void Scheme::make_split(const Problem& problem)
       _second_pass->read_fault_traction(_mechanics->fault_traction());
     _steps.push_back(_second_pass.get());
   }
-  if (scene.coupling)
-  {
-    const SplitSteps split{*_flow, _second_pass.get(), *_mechanics};
-    _drive = [&problem, split](CouplingRun& run) { run_fixed_stress(problem, split, run); };
-  }
-  else
-  {
-    Step* one = _steps.front();
-    _drive = [&problem, one](CouplingRun& run) { run_single_solve(problem, *one, run); };
-  }
 }
 
 /// The contact fields of a step that has them.
@@ -99,7 +78,58 @@ void Scheme::take_contact_fields(S& step)
   contact_pressure = step.contact_pressure;
   contact_active = step.contact_active;
   contact_boundary = step.contact_boundary;
-  compute_contact = [&step] { return step.contact_state(); };
+}
+
+void Scheme::run(CouplingRun& run)
+{
+  if (_problem.scene.coupling and !_monolithic)
+    run_fixed_stress(_problem, SplitSteps{*_flow, _second_pass.get(), *_mechanics}, run);
+  else
+    run_single_solve(_problem, *_steps.front(), run);
+}
+
+void Scheme::flux(fem::Function<double>& out) const
+{
+  if (_monolithic)
+    _monolithic->flux(out);
+  else if (_flow)
+    _flow->flux(out);
+}
+
+std::vector<double> Scheme::fault_flow(double t) const
+{
+  if (_monolithic)
+    return _monolithic->fault_flow(t);
+  if (_flow)
+    return _flow->fault_flow(t);
+  return {};
+}
+
+SeismicMoments Scheme::seismic_moments() const
+{
+  if (_monolithic)
+    return _monolithic->seismic_moments();
+  if (_mechanics)
+    return _mechanics->seismic_moments();
+  return {};
+}
+
+std::vector<std::pair<std::string, FaultVolumes>> Scheme::fault_volumes() const
+{
+  if (_monolithic)
+    return _monolithic->fault_volumes();
+  if (_flow)
+    return _flow->fault_volumes();
+  return {};
+}
+
+ContactState Scheme::contact_state()
+{
+  if (_monolithic and _monolithic->has_contact())
+    return _monolithic->contact_state();
+  if (_mechanics and _mechanics->has_contact())
+    return _mechanics->contact_state();
+  return {};
 }
 
 void Scheme::start(ControllerState& state)

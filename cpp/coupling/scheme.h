@@ -30,9 +30,11 @@ public:
   Scheme(const Scheme&) = delete;
   Scheme& operator=(const Scheme&) = delete;
 
-  /// Drives the steps from the end of run.report.windows to the end time
-  /// (coupling/fixed_stress.h or coupling/single_solve.h).
-  void run(CouplingRun& run) { _drive(run); }
+  /// Drives the steps from the end of run.report.windows to the end time:
+  /// the split's flow and mechanics steps (coupling/fixed_stress.h), or one
+  /// solve per step of the one step, monolithic or a single physics'
+  /// (coupling/single_solve.h).
+  void run(CouplingRun& run);
 
   /// time.adaptive's scales from the state at t = 0 (nothing without it).
   void start(ControllerState& state);
@@ -51,17 +53,28 @@ public:
   /// The pore pressure mechanics.pore_pressure gives (one-way coupling),
   /// null otherwise: sigma_v's pressure where there is no flow.
   std::shared_ptr<const dolfinx::fem::Function<double>> given_pressure;
-  std::function<void(dolfinx::fem::Function<double>&)> compute_flux;
-  /// The conduit faults' cell fields (FlowStep::fault_flow).
-  std::function<std::vector<double>(double)> fault_flow = [](double) { return std::vector<double>{}; };
+  std::unique_ptr<StepControl> step_control; // time.adaptive
+
+  // What output and diagnostics read, asked of the step that owns it: the
+  // monolithic step, else the split's (or a single physics') flow or
+  // mechanics step.
+
+  /// The flux into `out` (FlowStep::flux or MonolithicStep::flux; nothing
+  /// without flow).
+  void flux(dolfinx::fem::Function<double>& out) const;
+  /// The conduit faults' cell fields at t (FlowStep::fault_flow or
+  /// MonolithicStep::fault_flow; empty without flow).
+  std::vector<double> fault_flow(double t) const;
   /// The faults' seismic moments step by step (MechanicsStep's or
   /// MonolithicStep's seismic_moments; none without mechanics).
-  std::function<SeismicMoments()> seismic_moments = [] { return SeismicMoments{}; };
-  /// The conduit faults' volumes since the run's start (FlowStep::fault_volumes).
-  std::function<std::vector<std::pair<std::string, FaultVolumes>>()> fault_volumes = []
-  { return std::vector<std::pair<std::string, FaultVolumes>>{}; };
-  std::function<ContactState()> compute_contact = [] { return ContactState{}; };
-  std::unique_ptr<StepControl> step_control; // time.adaptive
+  SeismicMoments seismic_moments() const;
+  /// The conduit faults' volumes since the run's start
+  /// (FlowStep::fault_volumes or MonolithicStep::fault_volumes; none without
+  /// flow).
+  std::vector<std::pair<std::string, FaultVolumes>> fault_volumes() const;
+  /// The contact's state (MechanicsStep::contact_state or
+  /// MonolithicStep::contact_state; empty when the step has no contact).
+  ContactState contact_state();
 
 private:
   void make_monolithic(const Problem& problem);
@@ -69,12 +82,12 @@ private:
   template <class S>
   void take_contact_fields(S& step);
 
+  const Problem& _problem;
   Materials _unstabilised; // the second pass's: L = 0
   std::unique_ptr<FlowStep> _flow, _second_pass;
   std::unique_ptr<MechanicsStep> _mechanics;
   std::unique_ptr<MonolithicStep> _monolithic;
   std::vector<Step*> _steps;
-  std::function<void(CouplingRun&)> _drive;
 };
 
 } // namespace biotcontact

@@ -45,7 +45,7 @@ void OutputFields::write_flow(double t)
   if (!_scheme.p)
     return;
   _output.write(*_scheme.p, t);
-  _scheme.compute_flux(*_flux);
+  _scheme.flux(*_flux);
   _output.write(*_flux, t);
   _fault_flow = _scheme.fault_flow(t);
   if (_faults and !_scheme.u) // else with the mechanics' fields
@@ -54,7 +54,7 @@ void OutputFields::write_flow(double t)
 
 void OutputFields::write_mechanics(double t)
 {
-  contact = _scheme.compute_contact();
+  contact = _scheme.contact_state();
   const std::shared_ptr<const fem::Function<double>> p
       = _scheme.p ? _scheme.p : _scheme.given_pressure ? _scheme.given_pressure : _zero_pressure;
   volumetric_stress(_problem.forms, _problem.constants, _problem.materials, _scheme.u, p, *_sigma_v);

@@ -28,14 +28,10 @@ class Scheme:
         # The pore pressure mechanics.pore_pressure gives (one-way coupling),
         # None otherwise: sigma_v's pressure where there is no flow.
         self.given_pressure = None
-        self.compute_flux = None
-        self.fault_flow = lambda t: None  # the conduit faults' cell fields (FlowStep.fault_flow)
-        self.fault_volumes = list  # the conduit faults' volumes since the start (FlowStep.fault_volumes)
-        # The faults' seismic moments step by step (MechanicsStep.seismic_moments).
-        self.seismic_moments = SeismicMoments
-        self.compute_contact = ContactState
         self.step_control = None  # time.adaptive
+        self._problem = problem
         self._steps = []
+        self._flow = self._second_pass = self._mechanics = self._monolithic = None
         scene = problem.scene
         if scene.coupling and scene.coupling.scheme == CouplingScheme.monolithic:
             self._make_monolithic(problem)
@@ -46,8 +42,62 @@ class Scheme:
 
     def run(self, run):
         """Drives the steps from the end of run.report.windows to the end
-        time (a CouplingRun; fixed_stress.py or single_solve.py)."""
-        self._drive(run)
+        time (a CouplingRun): the split's flow and mechanics steps
+        (fixed_stress.py), or one solve per step of the one step, monolithic
+        or a single physics' (single_solve.py)."""
+        if self._problem.scene.coupling and self._monolithic is None:
+            run_fixed_stress(self._problem, SplitSteps(self._flow, self._second_pass, self._mechanics), run)
+        else:
+            run_single_solve(self._problem, self._steps[0], run)
+
+    # What output and diagnostics read, asked of the step that owns it: the
+    # monolithic step, else the split's (or a single physics') flow or
+    # mechanics step.
+
+    def flux(self, out):
+        """The flux into `out` (FlowStep.flux or MonolithicStep.flux; nothing
+        without flow)."""
+        if self._monolithic is not None:
+            self._monolithic.flux(out)
+        elif self._flow is not None:
+            self._flow.flux(out)
+
+    def fault_flow(self, t):
+        """The conduit faults' cell fields at t (FlowStep.fault_flow or
+        MonolithicStep.fault_flow; None without flow)."""
+        if self._monolithic is not None:
+            return self._monolithic.fault_flow(t)
+        if self._flow is not None:
+            return self._flow.fault_flow(t)
+        return None
+
+    def seismic_moments(self):
+        """The faults' seismic moments step by step (MechanicsStep's or
+        MonolithicStep's seismic_moments; none without mechanics)."""
+        if self._monolithic is not None:
+            return self._monolithic.seismic_moments()
+        if self._mechanics is not None:
+            return self._mechanics.seismic_moments()
+        return SeismicMoments()
+
+    def fault_volumes(self):
+        """The conduit faults' volumes since the run's start
+        (FlowStep.fault_volumes or MonolithicStep.fault_volumes; none without
+        flow)."""
+        if self._monolithic is not None:
+            return self._monolithic.fault_volumes()
+        if self._flow is not None:
+            return self._flow.fault_volumes()
+        return []
+
+    def contact_state(self):
+        """The contact's state (MechanicsStep.contact_state or
+        MonolithicStep.contact_state; empty when the step has no contact)."""
+        if self._monolithic is not None and self._monolithic.has_contact():
+            return self._monolithic.contact_state()
+        if self._mechanics is not None and self._mechanics.has_contact():
+            return self._mechanics.contact_state()
+        return ContactState()
 
     def start(self, state):
         """time.adaptive's scales from the state at t = 0, into the
@@ -77,13 +127,10 @@ class Scheme:
 
     def _make_monolithic(self, problem):
         """u, z and p in one system."""
-        m = MonolithicStep(problem)
+        m = self._monolithic = MonolithicStep(problem)
         self._steps = [m]
-        self.V, self.u, self.p, self.compute_flux = m.V, m.u, m.pressure, m.flux
-        self.seismic_moments = m.seismic_moments
-        self.fault_flow, self.fault_volumes = m.fault_flow, m.fault_volumes
+        self.V, self.u, self.p = m.V, m.u, m.pressure
         self._take_contact_fields(m)
-        self._drive = lambda run: run_single_solve(problem, m, run)
 
     def _make_split(self, problem):
         """The flow step and the mechanics step of the split, or the one a
@@ -93,8 +140,7 @@ class Scheme:
             self.V = problem.forms["V"]
         if scene.flow:
             flow = FlowStep(problem, self.V if scene.coupling else None)
-            self.p, self.compute_flux, self.fault_flow = flow.pressure, flow.flux, flow.fault_flow
-            self.fault_volumes = flow.fault_volumes
+            self.p = flow.pressure
             self._steps.append(flow)
         if scene.mechanics:
             mechanics = MechanicsStep(problem, self.V, self.p)
@@ -102,7 +148,6 @@ class Scheme:
                 mechanics.load_fault_pressure(flow.fault_aperture, flow.fault_pressure)
                 flow.read_fault_traction(mechanics)
             self.u, self.given_pressure = mechanics.u, mechanics.given_pressure
-            self.seismic_moments = mechanics.seismic_moments
             self._take_contact_fields(mechanics)
             self._steps.append(mechanics)
         if scene.coupling and scene.coupling.scheme == CouplingScheme.multirate_two_pass:
@@ -115,12 +160,7 @@ class Scheme:
             if second_pass.fault_aperture:
                 second_pass.read_fault_traction(mechanics)
             self._steps.append(second_pass)
-        if scene.coupling:
-            split = SplitSteps(flow, second_pass, mechanics)
-            self._drive = lambda run: run_fixed_stress(problem, split, run)
-        else:
-            one = self._steps[0]
-            self._drive = lambda run: run_single_solve(problem, one, run)
+        self._flow, self._second_pass, self._mechanics = flow, second_pass, mechanics
 
     def _take_contact_fields(self, step):
         """The contact fields of a step that has them."""
@@ -128,4 +168,3 @@ class Scheme:
             return
         self.contact_pressure, self.contact_active = step.contact_pressure, step.contact_active
         self.contact_boundary = step.contact_boundary
-        self.compute_contact = step.contact_state

@@ -38,7 +38,7 @@ class OutputFields:
         if s.p is None:
             return
         self._output.write(s.p, t)
-        s.compute_flux(self._flux)
+        s.flux(self._flux)
         self._output.write(self._flux, t)
         self._fault_flow = s.fault_flow(t)
         if self._faults is not None and s.u is None:  # else with the mechanics' fields
@@ -48,7 +48,7 @@ class OutputFields:
         """The displacement, sigma_v and the contact fields; also updates
         `contact`."""
         s = self._scheme
-        self.contact = s.compute_contact()
+        self.contact = s.contact_state()
         volumetric_stress(self._F, self._L_sigma_v, s.u, s.p if s.p is not None else s.given_pressure,
                           self._sigma_v)
         self._output.write(s.u, t)
