@@ -127,7 +127,9 @@ void check_cells(const Scene& scene, const GmshData& data)
                                         / 6;
     if (measure < 1e-10 * std::pow(longest, d))
       throw SceneError(scene.mesh.file + ": a cell of zero " + (d == 2 ? "area" : "volume") + " at "
-                       + point_text(&data.x[d * nodes[0]], d) + ": the mesh is degenerate there (check its sizes)");
+                       + point_text(&data.x[d * nodes[0]], d)
+                       + ": the mesh is degenerate there (check its sizes; at a crack's tip gmsh 4.8's "
+                         "Mesh.RandomFactor = 1e-12 or another Mesh.Algorithm avoids it)");
   }
 }
 

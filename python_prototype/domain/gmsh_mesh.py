@@ -142,7 +142,8 @@ def _check_cells(scene, data):
     if len(bad):
         at = point_text(data.x[data.cells[bad[0], 0]], d)
         raise SceneError(f"{scene.mesh.file}: a cell of zero {'area' if d == 2 else 'volume'} at {at}: "
-                         "the mesh is degenerate there (check its sizes)")
+                         "the mesh is degenerate there (check its sizes; at a crack's tip gmsh 4.8's "
+                         "Mesh.RandomFactor = 1e-12 or another Mesh.Algorithm avoids it)")
 
 
 def _pair_normals(split, d):
