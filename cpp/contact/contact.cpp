@@ -45,34 +45,53 @@ void check_contact(const Scene& scene, const Domain& domain)
 namespace
 {
 /// Reads -<prefix>contact_condensed through PETSc's options database, so
-/// that -help lists it with this run's default.
-PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed)
+/// that -help lists it with this run's default; `given` says whether the
+/// user set it.
+PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed,
+                              PetscBool* given)
 {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Contact solver (biotcontact)", nullptr);
   const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
                            "direct solver and at most "
                            + std::to_string(ContactSolver::max_condensed_dofs)
-                           + " contact DOFs), else on the whole system";
-  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, nullptr));
+                           + " contact DOFs, after one full Newton step that did not converge when the run "
+                             "solves the contact once), else on the whole system";
+  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, given));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
 
-/// Whether the VI is posed on the Schur complement: -<prefix>contact_condensed,
-/// by default when the system is solved directly, C is small enough and A
-/// is not `changing`.
-bool use_condensation(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs, bool changing)
+/// @brief Where the contact VI is posed: on the Schur complement of the
+/// contact DOFs, on the whole system, or on the whole system for one
+/// Newton step and, if that did not solve it, condensed.
+enum class ContactPath
+{
+  condensed,
+  full,
+  full_then_condensed
+};
+
+/// -<prefix>contact_condensed, by default condensed when the system is
+/// solved directly, C is small enough and A is not `changing`. A run that
+/// solves the contact once pays the Schur complement for one solve: there
+/// the whole system's first Newton step (one factorisation) comes first,
+/// and it is all a solve whose active set is right at once costs; else
+/// the condensed path follows, at most one factorisation later.
+ContactPath contact_path(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs,
+                         const ContactOperators& operators)
 {
   // Forming H takes m solves: cheap back-solves of a factorisation, but m
   // full Krylov solves with an iterative method, and m more at each change
   // of A.
-  const bool fallback
-      = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs and !changing;
-  PetscBool condensed = fallback ? PETSC_TRUE : PETSC_FALSE;
-  if (read_condensed(comm, prefix, condensed, &condensed) != 0)
+  const bool fallback = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs
+                        and !operators.changing;
+  PetscBool condensed = fallback ? PETSC_TRUE : PETSC_FALSE, given = PETSC_FALSE;
+  if (read_condensed(comm, prefix, condensed, &condensed, &given) != 0)
     throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
-  return condensed;
+  if (!condensed)
+    return ContactPath::full;
+  return operators.once and !given ? ContactPath::full_then_condensed : ContactPath::condensed;
 }
 /// Whether any rank has a frictional constraint (collective).
 bool any_frictional(const ContactSet& set, MPI_Comm comm)
@@ -104,20 +123,16 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
   MPI_Allreduce(&local_dofs, &all_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  if (use_condensation(comm, prefix, method, all_dofs, operators.changing))
-  {
-    VIProblem problem = condense();
-    Vec y = problem.layout; // the VI keeps a duplicate
-    add_friction(problem);
-    _vi = std::make_unique<VariationalInequality>(std::move(problem), std::nullopt);
-    check_petsc(VecDestroy(&y), "contact solver: VecDestroy of the condensed layout");
-  }
+  const ContactPath path = contact_path(comm, prefix, method, all_dofs, operators);
+  if (path == ContactPath::condensed)
+    _vi = condensed_vi();
   else
   {
     VIProblem problem = pose_on_full_system(layout, std::move(unknowns.separate_rows));
     add_friction(problem);
     _vi = std::make_unique<VariationalInequality>(std::move(problem),
                                                   WholeSystem{comm, _A_vi, _P_vi, {prefix, _structure, _fields}, method});
+    _then_condensed = path == ContactPath::full_then_condensed;
   }
   // Only the VI methods take bounds; any other would ignore the contact.
   // Asked of both prefixes, so that a type given for the path not taken
@@ -129,6 +144,32 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
       throw OptionsError("-" + p + "snes_type " + type
                          + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
   }
+}
+
+std::unique_ptr<VariationalInequality> ContactSolver::condensed_vi()
+{
+  VIProblem problem = condense();
+  Vec y = problem.layout; // the VI keeps a duplicate
+  add_friction(problem);
+  auto vi = std::make_unique<VariationalInequality>(std::move(problem), std::nullopt);
+  check_petsc(VecDestroy(&y), "contact solver: VecDestroy of the condensed layout");
+  return vi;
+}
+
+void ContactSolver::switch_to_condensed()
+{
+  std::unique_ptr<VariationalInequality> vi = condensed_vi();
+  // The run's counts and its progress line go on.
+  vi->newton_iterations = _vi->newton_iterations;
+  vi->linear_iterations = _vi->linear_iterations;
+  vi->convergence().active_set_changes = _vi->convergence().active_set_changes;
+  vi->convergence().on_newton_step = std::move(_vi->convergence().on_newton_step);
+  _vi = std::move(vi);
+  _then_condensed = false;
+  _switched = true;
+  // Friction's slip increments are measured from the step's start.
+  if (Vec reference = _vi->slip_reference())
+    _schur->restrict_to_contact(to_vi(_x_start, _x_start_vi), reference);
 }
 
 /// The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
@@ -213,10 +254,12 @@ VIProblem ContactSolver::pose_on_full_system(Vec layout, std::vector<std::int32_
   return p;
 }
 
-
 std::string ContactSolver::method() const
 {
-  return _schur ? "condensed on " + std::to_string(_schur->size()) + " contact DOFs" : "full";
+  if (!_schur)
+    return "full";
+  return "condensed on " + std::to_string(_schur->size()) + " contact DOFs"
+         + (_switched ? ", after one full Newton step" : "");
 }
 
 void ContactSolver::set_tolerance(double relative) { _vi->set_tolerance(relative); }
@@ -229,11 +272,6 @@ void ContactSolver::operator_changed()
   _vi->operator_changed();
 }
 
-
-
-
-
-
 ContactSolver::~ContactSolver()
 {
   for (Vec* v : {&_force, &_x_vi, &_b_vi, &_x_start, &_x_start_vi})
@@ -245,9 +283,6 @@ ContactSolver::~ContactSolver()
     warn_petsc(MatDestroy(&_A_vi), "contact solver: MatDestroy of A'");
   }
 }
-
-
-
 
 double ContactSolver::displacement_scale(Vec x) const
 {
@@ -274,6 +309,18 @@ void ContactSolver::solve(Vec b, Vec x)
     b_vi = _b_vi;
   }
   Vec x_vi = to_vi(x, _x_vi);
+  if (!_then_condensed or !solve_vi(b_vi, x_vi, 1))
+  {
+    if (_then_condensed)
+      switch_to_condensed();
+    solve_vi(b_vi, x_vi, 0);
+  }
+  if (_change)
+    _change->backward(x_vi, x);
+}
+
+bool ContactSolver::solve_vi(Vec b_vi, Vec x_vi, int newton_steps)
+{
   if (_schur and !_schur_current)
   {
     _schur->assemble();
@@ -292,13 +339,16 @@ void ContactSolver::solve(Vec b, Vec x)
     check_petsc(VecCopy(x_vi, _vi->unknown()), "contact solver: VecCopy of the VI's start");
   }
   // In units of the displacement scale (the largest gap or |x|).
-  _vi->solve(displacement_scale(x_vi));
+  const double scale = displacement_scale(x_vi);
+  if (newton_steps == 0)
+    _vi->solve(scale);
+  else if (!_vi->try_solve(scale, newton_steps))
+    return false;
   if (_schur)
     _schur->extend(b_vi, _vi->unknown(), x_vi);
   else
     check_petsc(VecCopy(_vi->unknown(), x_vi), "contact solver: VecCopy of the solution");
-  if (_change)
-    _change->backward(x_vi, x);
+  return true;
 }
 
 void ContactSolver::set_slip_reference(Vec x)
@@ -313,15 +363,6 @@ void ContactSolver::set_slip_reference(Vec x)
   else
     check_petsc(VecCopy(x_vi, reference), "contact solver: VecCopy of the slip reference");
 }
-
-
-
-
-
-
-
-
-
 
 void ContactSolver::make_change_of_variables(Vec layout)
 {
@@ -425,8 +466,6 @@ ActiveSet ContactSolver::active_set(Vec x) const
   return set;
 }
 
-
-
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,
                                   fem::Function<double>& active_out)
 {
@@ -457,9 +496,5 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   check_petsc(VecRestoreArrayRead(force, &R), "contact solver: VecRestoreArrayRead of the contact force");
   return s;
 }
-
-
-
-
 
 } // namespace biotcontact

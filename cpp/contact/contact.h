@@ -53,6 +53,10 @@ struct ContactOperators
   /// anew each time costs more than it saves, and the full path is the
   /// default.
   bool changing = false;
+  /// Whether the run solves the contact once (one step of the mechanics
+  /// alone): then by default the whole system's first Newton step is tried
+  /// before the condensed path (contact.cpp, contact_path).
+  bool once = false;
 };
 
 /// @brief What the contact solver constrains: the contact set, where each
@@ -86,6 +90,12 @@ struct ContactUnknowns
 ///   inactive_set_preconditioner.h) is valid for as long as the inactive
 ///   set is: it is redone only when the set changes (PETSc resets the
 ///   preconditioner then) or when A is reassembled (operator_changed).
+///
+/// A run that solves the contact once (ContactOperators::once) starts on the
+/// full path for one Newton step, and goes on condensed if that step did
+/// not solve the VI: a solve whose active set is right at once costs one
+/// factorisation, where the condensed path costs three to five (A's, and
+/// the partial one that forms H).
 ///
 /// Either way each solve starts from the previous solution, whose inactive
 /// set is usually the one of the new solution.
@@ -168,6 +178,15 @@ private:
   /// The VI on the Schur complement of the contact DOFs (and a new vector
   /// like its unknown, the caller's to destroy).
   VIProblem condense();
+  /// The condensed VI, friction added.
+  std::unique_ptr<VariationalInequality> condensed_vi();
+  /// The full path's trial did not converge: the VI is posed condensed from
+  /// now on, the counts carried over.
+  void switch_to_condensed();
+  /// Solves the VI for x' (in place) from the load b': at most
+  /// `newton_steps` of one attempt (0: as many as it takes, throwing
+  /// SolverError if it fails); whether it converged.
+  bool solve_vi(Vec b_vi, Vec x_vi, int newton_steps);
   /// The VI on the whole system.
   VIProblem pose_on_full_system(Vec layout, std::vector<std::int32_t> separate_rows) const;
   /// The frictional constraints, once the VI is posed.
@@ -204,6 +223,9 @@ private:
   std::unique_ptr<SchurComplement> _schur;
   bool _schur_current = false;
   std::unique_ptr<VariationalInequality> _vi;
+  // On the whole system until its first Newton step fails to solve the VI
+  // (ContactOperators::once).
+  bool _then_condensed = false, _switched = false;
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
 };

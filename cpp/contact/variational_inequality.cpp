@@ -154,17 +154,7 @@ void VariationalInequality::set_tolerance(double relative)
 
 void VariationalInequality::solve(double scale)
 {
-  // SNESVI decides "on the bound" with an absolute tolerance (1e-8), so it
-  // works on y / s; the residual K (y/s) - b/s has the same Jacobian K.
-  _scale = scale;
-  check_petsc(VecScale(_b, 1.0 / scale), "contact solver: VecScale");
-  check_petsc(VecScale(_y, 1.0 / scale), "contact solver: VecScale");
-  set_bounds(scale);
-  set_tolerances();
-  if (_J) // the stiffness that turns a slip increment into a trial force
-    check_petsc(MatGetDiagonal(_p.K, _stiffness), "friction: the diagonal of the contact matrix");
-  SNESConvergedReason reason = run_snes();
-  count_iterations(reason);
+  SNESConvergedReason reason = first_attempt(scale);
   if (reason < 0)
   {
     // A body held in the normal direction by the foundation alone is
@@ -180,6 +170,39 @@ void VariationalInequality::solve(double scale)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
                       + SNESConvergedReasons[reason] + (_J ? no_equilibrium : ""));
   check_petsc(VecScale(_y, scale), "contact solver: VecScale");
+}
+
+bool VariationalInequality::try_solve(double scale, int newton_steps)
+{
+  PetscInt max_it = 0, max_f = 0;
+  PetscReal atol = 0, rtol = 0, stol = 0;
+  check_petsc(SNESGetTolerances(_snes, &atol, &rtol, &stol, &max_it, &max_f), "contact solver: SNESGetTolerances");
+  check_petsc(SNESSetTolerances(_snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, newton_steps, PETSC_DEFAULT),
+              "contact solver: SNESSetTolerances");
+  const SNESConvergedReason reason = first_attempt(scale);
+  check_petsc(SNESSetTolerances(_snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, max_it, PETSC_DEFAULT),
+              "contact solver: SNESSetTolerances");
+  if (reason < 0)
+    return false;
+  check_petsc(VecScale(_y, scale), "contact solver: VecScale");
+  return true;
+}
+
+/// One SNES solve from y, in units of `scale` (SNESVI decides "on the
+/// bound" with an absolute tolerance, 1e-8, so it works on y / s; the
+/// residual K (y/s) - b/s has the same Jacobian K).
+SNESConvergedReason VariationalInequality::first_attempt(double scale)
+{
+  _scale = scale;
+  check_petsc(VecScale(_b, 1.0 / scale), "contact solver: VecScale");
+  check_petsc(VecScale(_y, 1.0 / scale), "contact solver: VecScale");
+  set_bounds(scale);
+  set_tolerances();
+  if (_J) // the stiffness that turns a slip increment into a trial force
+    check_petsc(MatGetDiagonal(_p.K, _stiffness), "friction: the diagonal of the contact matrix");
+  const SNESConvergedReason reason = run_snes();
+  count_iterations(reason);
+  return reason;
 }
 
 /// sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of the

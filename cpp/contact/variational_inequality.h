@@ -78,6 +78,10 @@ public:
   /// tolerance of 1e-8); retried from the clamped state when the first
   /// attempt fails. Throws SolverError when both do.
   void solve(double scale);
+  /// One attempt of at most `newton_steps` Newton steps, no clamped
+  /// restart: whether it converged (y is then the solution; else y and
+  /// the load are spent).
+  bool try_solve(double scale, int newton_steps);
 
   /// K was reassembled: the next Newton step factorises anew.
   void operator_changed();
@@ -104,6 +108,7 @@ private:
   void set_bounds(double scale);
   /// The absolute tolerances from the (scaled) load.
   void set_tolerances();
+  SNESConvergedReason first_attempt(double scale);
   SNESConvergedReason run_snes();
   void count_iterations(SNESConvergedReason reason);
   void clamped_start();

@@ -113,7 +113,9 @@ void MechanicsStep::attach_contact(const Domain& domain, const CompiledForms& fo
   std::vector<std::int32_t> owned(owned_size(*_V));
   std::iota(owned.begin(), owned.end(), 0);
   make_contact_fields(set, contact_pressure, contact_active, contact_boundary);
-  _system->use_contact(std::move(set), std::move(owned), wrap(*_b).vec());
+  // The mechanics alone over one step solves the contact once.
+  const bool once = !_scene.flow and !_scene.adaptive and _scene.num_steps() == 1;
+  _system->use_contact(std::move(set), std::move(owned), wrap(*_b).vec(), {}, once);
 }
 
 MechanicsStep::~MechanicsStep() = default;

@@ -205,7 +205,7 @@ void System::solve_appended(Vec b, Vec x)
 }
 
 void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout,
-                         std::vector<std::int32_t> balance_rows)
+                         std::vector<std::int32_t> balance_rows, bool once)
 {
   _linear.reset();
   if (_A_appended)
@@ -218,7 +218,7 @@ void System::use_contact(ContactSet set, std::vector<std::int32_t> displacement_
   }
   _contact = std::make_unique<ContactSolver>(
       _comm, SystemLayout{_prefix, _structure, _fields}, _method,
-      ContactOperators{operator_matrix(), preconditioner_matrix(), _A_appended != nullptr},
+      ContactOperators{operator_matrix(), preconditioner_matrix(), _A_appended != nullptr, once},
       ContactUnknowns{std::move(set), std::move(displacement_dofs), _x_appended ? _x_appended : layout,
                       std::move(balance_rows)});
 }

@@ -86,9 +86,10 @@ public:
   /// like x; `balance_rows` the local rows of x's mass balances
   /// (ContactUnknowns). Unknowns appended before are solved with it (their
   /// rows follow x's on the last rank: V's DOFs keep their places), their
-  /// rows among the mass balances.
+  /// rows among the mass balances. `once`: the run solves it once
+  /// (ContactOperators::once).
   void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout,
-                   std::vector<std::int32_t> balance_rows = {});
+                   std::vector<std::int32_t> balance_rows = {}, bool once = false);
 
   /// A time step starts at x: friction's slip increments are measured
   /// from it (ContactSolver::set_slip_reference; nothing without contact).

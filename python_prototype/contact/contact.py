@@ -9,6 +9,7 @@ the variational inequality of variational_inequality.py on
 DOFs (schur_complement.py).
 """
 import dataclasses
+import enum
 
 import numpy as np
 from mpi4py import MPI
@@ -72,6 +73,10 @@ class ContactOperators:
     # anew each time costs more than it saves, and the full path is the
     # default.
     changing: bool = False
+    # Whether the run solves the contact once (one step of the mechanics
+    # alone): then by default the whole system's first Newton step is tried
+    # before the condensed path (contact_path).
+    once: bool = False
 
 
 @dataclasses.dataclass
@@ -96,9 +101,10 @@ def _any_frictional(contact_set, comm):
 
 
 def _read_condensed(comm, prefix, fallback):
-    """-<prefix>contact_condensed, `fallback` when not given; with -help, the
-    lines PETSc prints for the option the C++ registers (cpp/contact/contact.cpp,
-    read_condensed), which petsc4py 3.18 cannot register."""
+    """-<prefix>contact_condensed, `fallback` when not given, and whether it
+    was given; with -help, the lines PETSc prints for the option the C++
+    registers (cpp/contact/contact.cpp, read_condensed), which petsc4py 3.18
+    cannot register."""
     options = PETSc.Options()
     try:
         condensed = options.getBool(prefix + "contact_condensed", fallback)
@@ -107,19 +113,37 @@ def _read_condensed(comm, prefix, fallback):
     if options.hasName("help") and prefix not in _help_printed:
         _help_printed.add(prefix)
         text = ("pose the contact VI on the Schur complement of the contact DOFs (default with a direct solver and "
-                f"at most {ContactSolver.max_condensed_dofs} contact DOFs), else on the whole system")
+                f"at most {ContactSolver.max_condensed_dofs} contact DOFs, after one full Newton step that did not "
+                "converge when the run solves the contact once), else on the whole system")
         PETSc.Sys.Print(f"----------------------------------------\nContact solver (biotcontact):\n"
                         f"  -{prefix}contact_condensed: <{str(fallback).upper()} : {str(condensed).upper()}> {text} "
                         "(docs/user-guide.md)", comm=comm)
-    return condensed
+    return condensed, options.hasName(prefix + "contact_condensed")
 
 
-def _use_condensation(comm, prefix, method, contact_dofs, changing):
-    """-<prefix>contact_condensed, by default when the system is solved
-    directly, C is small enough and A is not `changing` (forming H takes m
-    solves, m more at each change of A)."""
-    return _read_condensed(comm, prefix, method == Method.direct and contact_dofs <= ContactSolver.max_condensed_dofs
-                           and not changing)
+class ContactPath(enum.Enum):
+    """Where the contact VI is posed: on the Schur complement of the contact
+    DOFs, on the whole system, or on the whole system for one Newton step
+    and, if that did not solve it, condensed."""
+    condensed = 0
+    full = 1
+    full_then_condensed = 2
+
+
+def contact_path(comm, prefix, method, contact_dofs, operators):
+    """-<prefix>contact_condensed, by default condensed when the system is
+    solved directly, C is small enough and A is not `changing` (forming H
+    takes m solves, m more at each change of A). A run that solves the
+    contact once pays the Schur complement for one solve: there the whole
+    system's first Newton step (one factorisation) comes first, and it is
+    all a solve whose active set is right at once costs; else the condensed
+    path follows, at most one factorisation later."""
+    condensed, given = _read_condensed(comm, prefix, method == Method.direct
+                                       and contact_dofs <= ContactSolver.max_condensed_dofs
+                                       and not operators.changing)
+    if not condensed:
+        return ContactPath.full
+    return ContactPath.full_then_condensed if operators.once and not given else ContactPath.condensed
 
 
 class ContactSolver:
@@ -156,15 +180,17 @@ class ContactSolver:
         self.x_start.set(0.0)
         self._make_change_of_variables()
         self.schur, self.schur_current = None, False
-        condensed = _use_condensation(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM),
-                                       operators.changing)
-        if condensed:
-            problem, whole = self._condense(), None
+        path = contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM), operators)
+        # On the whole system until its first Newton step fails to solve the
+        # VI (ContactOperators.once).
+        self.then_condensed, self.switched = path == ContactPath.full_then_condensed, False
+        if path == ContactPath.condensed:
+            self.vi = self._condensed_vi()
         else:
             problem = self._pose_on_full_system(unknowns.separate_rows)
-            whole = WholeSystem(comm, self.A_vi, self.P_vi, SystemLayout(prefix, structure, self.fields), method)
-        self._add_friction(problem)
-        self.vi = VariationalInequality(problem, whole)
+            self._add_friction(problem)
+            self.vi = VariationalInequality(problem, WholeSystem(comm, self.A_vi, self.P_vi,
+                                                                 SystemLayout(prefix, structure, self.fields), method))
         # Only the VI methods take bounds; asked of both prefixes, so that a
         # type given for the path not taken is not ignored silently either.
         for p in (prefix, prefix + "contact_"):
@@ -172,6 +198,27 @@ class ContactSolver:
             if given and given not in ("vinewtonrsls", "vinewtonssls"):
                 raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                    "(vinewtonrsls or vinewtonssls)")
+
+    def _condensed_vi(self):
+        """The condensed VI, friction added."""
+        problem = self._condense()
+        self._add_friction(problem)
+        return VariationalInequality(problem, None)
+
+    def _switch_to_condensed(self):
+        """The full path's trial did not converge: the VI is posed condensed
+        from now on, the counts carried over."""
+        vi = self._condensed_vi()
+        # the run's counts and its progress line go on
+        vi.newton_iterations, vi.linear_iterations = self.vi.newton_iterations, self.vi.linear_iterations
+        vi.convergence.active_set_changes = self.vi.convergence.active_set_changes
+        vi.convergence.on_newton_step = self.vi.convergence.on_newton_step
+        self.vi, self.then_condensed, self.switched = vi, False, True
+        # friction's slip increments are measured from the step's start
+        reference = self.vi.slip_reference()
+        if reference is not None:
+            with reference as r:
+                r[:] = self.schur.restrict_to_contact(self._start_vi())
 
     def _condense(self):
         """The VIProblem on the Schur complement H = C A^-1 C^T of the
@@ -233,7 +280,10 @@ class ContactSolver:
                          self.dofs, self.set.gap, self.set.sign, separate_rows=separate_rows)
 
     def method(self):
-        return f"condensed on {self.schur.size()} contact DOFs" if self.schur else "full"
+        if not self.schur:
+            return "full"
+        return f"condensed on {self.schur.size()} contact DOFs" + (", after one full Newton step" if self.switched
+                                                                    else "")
 
     def set_tolerance(self, relative):
         """Solves to `relative` (iterative full path): the Krylov tolerance of
@@ -271,6 +321,17 @@ class ContactSolver:
         if self.change:
             self.change.dual(b, self.b_vi)
             b_vi = self.b_vi
+        if not self.then_condensed or not self._solve_vi(b_vi, x_vi, 1):
+            if self.then_condensed:
+                self._switch_to_condensed()
+            self._solve_vi(b_vi, x_vi, 0)
+        if self.change:
+            self.change.backward(x_vi, x)
+
+    def _solve_vi(self, b_vi, x_vi, newton_steps):
+        """Solves the VI for x' (in place) from the load b': at most
+        `newton_steps` of one attempt (0: as many as it takes, raising
+        SolverError if it fails); whether it converged."""
         if self.schur and not self.schur_current:
             self.schur.assemble()
             self.schur_current = True
@@ -286,13 +347,16 @@ class ContactSolver:
             b_vi.copy(load)
             x_vi.copy(y)
         # in units of the displacement scale (the largest gap or |x|)
-        self.vi.solve(self.displacement_scale(x_vi))
+        scale = self.displacement_scale(x_vi)
+        if newton_steps == 0:
+            self.vi.solve(scale)
+        elif not self.vi.try_solve(scale, newton_steps):
+            return False
         if self.schur:
             self.schur.extend(b_vi, y.getArray(readonly=True), x_vi)
         else:
             y.copy(x_vi)
-        if self.change:
-            self.change.backward(x_vi, x)
+        return True
 
     def set_slip_reference(self, x):
         """A time step (or window) starts at x: the slip increments
@@ -362,6 +426,13 @@ class ContactSolver:
         self.change.forward(x, self.x_vi)
         return self.x_vi
 
+    def _start_vi(self):
+        """x' of the step's start (in its own work vector)."""
+        if not self.change:
+            return self.x_start
+        self.change.forward(self.x_start, self.x_start_vi)
+        return self.x_start_vi
+
     def distances(self, x):
         """The distance g - u.nu_F of each constraint at x."""
         return self.set.gap - self.set.sign * self._to_vi(x).getArray(readonly=True)[self.dofs]
@@ -387,12 +458,8 @@ class ContactSolver:
         R = force.getArray(readonly=True)
         pressure = -self.set.sign * R[self.dofs] / self.set.lumped
         X = self._to_vi(x).getArray(readonly=True)
-        start = self.x_start
-        if self.change:
-            self.change.forward(self.x_start, self.x_start_vi)
-            start = self.x_start_vi
         measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,
-                                      self.displacement_scale(x), X, start.getArray(readonly=True), R)
+                                      self.displacement_scale(x), X, self._start_vi().getArray(readonly=True), R)
         return contact_state(measured, ContactFields(pressure_out, active_out), self.comm)
 
     @property

@@ -196,15 +196,7 @@ class VariationalInequality:
         absolute tolerance of 1e-8; the residual K (y/s) - b/s has the same
         Jacobian K); retried from the clamped state when the first attempt
         fails. Raises SolverError when both do."""
-        self.scale = scale
-        self.b.scale(1.0 / scale)
-        self.y.scale(1.0 / scale)
-        self._set_bounds()
-        self._set_tolerances()
-        if self.J is not None:  # the stiffness that turns a slip increment into a trial force
-            self.p.K.getDiagonal(self.stiffness)
-        reason = self._snes_solve()
-        self._count(reason)
+        reason = self._first_attempt(scale)
         if reason < 0:
             # A body held in the normal direction by the foundation alone is
             # semi-coercive: from a start where no contact DOF pushes on its
@@ -219,6 +211,32 @@ class VariationalInequality:
                               + reason_name(PETSc.SNES.ConvergedReason, reason)
                               + (NO_EQUILIBRIUM if self.J is not None else ""))
         self.y.scale(scale)
+
+    def try_solve(self, scale, newton_steps):
+        """One attempt of at most `newton_steps` Newton steps, no clamped
+        restart: whether it converged (y is then the solution; else y and the
+        load are spent)."""
+        max_it = self.snes.getTolerances()[3]
+        self.snes.setTolerances(max_it=newton_steps)
+        reason = self._first_attempt(scale)
+        self.snes.setTolerances(max_it=max_it)
+        if reason < 0:
+            return False
+        self.y.scale(scale)
+        return True
+
+    def _first_attempt(self, scale):
+        """One SNES solve from y, in units of `scale`."""
+        self.scale = scale
+        self.b.scale(1.0 / scale)
+        self.y.scale(1.0 / scale)
+        self._set_bounds()
+        self._set_tolerances()
+        if self.J is not None:  # the stiffness that turns a slip increment into a trial force
+            self.p.K.getDiagonal(self.stiffness)
+        reason = self._snes_solve()
+        self._count(reason)
+        return reason
 
     def _set_bounds(self):
         """sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of

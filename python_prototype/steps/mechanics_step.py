@@ -100,7 +100,9 @@ class MechanicsStep(Step):
         contact_set.shear_modulus = pair_shear_moduli(contact_set, self.V, F["G"])
         self.moments = moments_of(contact_set)
         self.contact_pressure, self.contact_active, self.contact_boundary = make_contact_fields(contact_set)
-        self.system.use_contact(contact_set, np.arange(owned(self.V)))
+        # the mechanics alone over one step solves the contact once
+        once = self.scene.flow is None and not self.scene.adaptive and self.scene.num_steps() == 1
+        self.system.use_contact(contact_set, np.arange(owned(self.V)), (), once)
 
     def assemble_rhs(self, t):
         """The loads change with t only; the pressure load changes every

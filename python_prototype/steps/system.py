@@ -162,18 +162,20 @@ class System:
         if self.A_tied is not None:
             self.A_tied.setNearNullSpace(modes)
 
-    def use_contact(self, contact_set, displacement_dofs, balance_rows=()):
+    def use_contact(self, contact_set, displacement_dofs, balance_rows=(), once=False):
         """Every solve becomes the contact problem of `contact_set`
         (`displacement_dofs` place V's owned DOFs in x; `balance_rows` the
         local rows of x's mass balances, ContactUnknowns). Unknowns appended
         before are solved with it (their rows follow x's on the last rank:
-        V's DOFs keep their places), their rows among the mass balances."""
+        V's DOFs keep their places), their rows among the mass balances.
+        `once`: the run solves it once (ContactOperators.once)."""
         self.linear = None
         if self.appended is not None:
             rows = self.A.getLocalSize()[0]
             balance_rows = np.concatenate([np.asarray(balance_rows, dtype=np.int32),
                                            rows + np.arange(self.appended.C.getLocalSize()[0], dtype=np.int32)])
-        operators = ContactOperators(self.operator_matrix(), self.preconditioner_matrix(), self.appended is not None)
+        operators = ContactOperators(self.operator_matrix(), self.preconditioner_matrix(), self.appended is not None,
+                                     once)
         self.contact = ContactSolver(self.comm, SystemLayout(self.prefix, self.structure, self.fields), self.method,
                                      operators, ContactUnknowns(contact_set, displacement_dofs, balance_rows))
 
