@@ -4,7 +4,7 @@ and the prototype:
 - Sneddon's pressurised crack (scenes/sneddon.toml, the mechanics alone,
   one step): its active set is right at once, and the whole system's first
   Newton step solves it: the default stays on the full path (one Newton
-  step) and gives the condensed path's displacement to 1e-10;
+  step) and gives the condensed path's displacement to 1e-12;
 - the Hertz contact (scenes/hertz.toml): its first full Newton step does
   not find the contact zone, and the default goes on condensed from the
   same start: the condensed path's fields to 1e-13, with one Newton step
