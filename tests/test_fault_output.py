@@ -18,7 +18,10 @@ the same fault.xdmf text and fault.h5 datasets (1e-10; the round-off
 tangential traction relative to the traction). A run killed after a
 periodic checkpoint and continued with --restart ends with the
 uninterrupted run's fault.xdmf (the same text, values to 1e-12), the times
-it wrote after the checkpoint written again."""
+it wrote after the checkpoint written again. With two cracks (zeta given
+first, alpha second), fault.xdmf's cell field `fault` is 0 on each of
+alpha's segments and 1 on each of zeta's (the alphabetical order of the
+summary), the same on both tracks."""
 import os
 import re
 import signal
@@ -28,7 +31,7 @@ import tempfile
 import h5py
 import meshio
 import numpy as np
-from support import MPI_ENV, ROOT, TRACKS, Fields, check, fault_pairs, run_track, scene, summary
+from support import MPI_ENV, ROOT, TRACKS, Fields, check, fault_pairs, run_track, scene, summary, written
 
 SCENE = scene("fault_depletion")
 
@@ -149,6 +152,61 @@ def xml(out):
     with open(os.path.join(out, "fault.xdmf")) as f:
         return f.read()
 
+
+# Two cracks in a clamped square under compression: zeta at y = 0.3, alpha
+# at y = 0.7.
+TWO_CRACKS_GEO = """SetFactory("Built-in");
+Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {1, 1, 0}; Point(4) = {0, 1, 0};
+Point(5) = {0.2, 0.3, 0}; Point(6) = {0.6, 0.3, 0}; Point(7) = {0.4, 0.7, 0}; Point(8) = {0.8, 0.7, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1}; Line(5) = {5, 6}; Line(6) = {7, 8};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve{5, 6} In Surface{1};
+Physical Curve("bottom") = {1}; Physical Curve("top") = {3};
+Physical Curve("zeta") = {5}; Physical Curve("alpha") = {6}; Physical Surface("rock") = {1};
+Mesh.CharacteristicLengthMax = 0.05;
+"""
+TWO_CRACKS = """[mesh]
+type = "gmsh"
+file = "two_cracks.geo"
+dimension = 2
+[mechanics]
+E = 1.0e10
+nu = 0.25
+[time]
+end = 1.0
+dt = 1.0
+[boundary.bottom]
+displacement = { x = 0.0, y = 0.0 }
+[boundary.top]
+displacement = { x = 0.0, y = -1.0e-4 }
+[fault.zeta]
+normal = [0.0, 1.0]
+[fault.alpha]
+normal = [0.0, 1.0]
+"""
+
+
+def check_fault_ids(track):
+    """fault.xdmf's `fault` field of the two cracks: each cell's fault by
+    its height, in the alphabetical order of the names."""
+    path = written(TWO_CRACKS)
+    with open(os.path.join(os.path.dirname(path), "two_cracks.geo"), "w") as f:
+        f.write(TWO_CRACKS_GEO)
+    out, _ = run_track(track, path)
+    times, points, cells, data = fault_series(out)
+    with meshio.xdmf.TimeSeriesReader(os.path.join(out, "fault.xdmf")) as reader:
+        reader.read_points_cells()
+        ids = [np.ravel(reader.read_data(k)[2]["fault"][0]) for k in range(len(times))]
+    y = points[cells[0].data].mean(axis=1)[:, 1]
+    expected = np.where(np.isclose(y, 0.7), 0.0, np.where(np.isclose(y, 0.3), 1.0, -1.0))
+    check(all(np.array_equal(i, expected) for i in ids) and (expected == 0).sum() > 0 and (expected == 1).sum() > 0,
+          f"{track}: two cracks: fault.xdmf's fault id is 0 on alpha's {(expected == 0).sum()} segments and 1 on "
+          f"zeta's {(expected == 1).sum()} at every time")
+    return out
+
+
+ids = [check_fault_ids(track) for track in TRACKS]
+check(xml(ids[0]) == xml(ids[1]), "two cracks: prototype = C++: the same fault.xdmf text")
 
 runs = {}
 for track in TRACKS:

@@ -71,6 +71,8 @@ FaultSeries::FaultSeries(MPI_Comm comm, const std::string& directory, const Prob
       if (t <= *resume_time)
         _times.push_back(t);
     _h5 = io::HDF5Interface::open_file(MPI_COMM_SELF, _h5_path, "a", false);
+    if (!io::HDF5Interface::has_dataset(_h5, "/Mesh/fault")) // a run that an older version began
+      write_fault_ids();
     write_xml();
     return;
   }
@@ -78,8 +80,14 @@ FaultSeries::FaultSeries(MPI_Comm comm, const std::string& directory, const Prob
   write_rows(_h5, "/Mesh/geometry", _x, 3);
   const auto rows = static_cast<std::int64_t>(_facets.size() / _dim);
   io::HDF5Interface::write_dataset(_h5, "/Mesh/topology", _facets.data(), {0, rows}, {rows, _dim}, false, false);
+  write_fault_ids();
   io::HDF5Interface::flush_file(_h5);
   write_xml();
+}
+
+void FaultSeries::write_fault_ids() const
+{
+  write_rows(_h5, "/Mesh/fault", std::vector<double>(_facet_fault.begin(), _facet_fault.end()), 1);
 }
 
 FaultSeries::~FaultSeries()
@@ -255,6 +263,7 @@ void FaultSeries::write(const ContactState& contact, std::span<const double> cel
 std::vector<std::pair<std::string, std::string>> FaultSeries::attributes() const
 {
   std::vector<std::pair<std::string, std::string>> a;
+  a.emplace_back("fault", "Cell");
   if (_scene.mechanics)
     for (const char* name : {"opening", "slip", "slip_increment", "traction", "tangential_traction", "state"})
       a.emplace_back(name, "Node");
@@ -291,9 +300,11 @@ void FaultSeries::write_xml() const
       const bool vector = name == "slip" or name == "slip_increment" or name == "tangential_traction"
                           or name == "flux";
       const std::size_t rows = center == "Node" ? n : cells;
+      // The fault ids do not change: one dataset for every time.
+      const std::string dataset = name == "fault" ? "/Mesh/fault" : "/" + name + "/" + std::to_string(k);
       xml << "    <Attribute Name=\"" << name << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
           << "\" Center=\"" << center << "\">"
-          << item("/" + name + "/" + std::to_string(k), std::to_string(rows) + (vector ? " 3" : " 1"), "Float")
+          << item(dataset, std::to_string(rows) + (vector ? " 3" : " 1"), "Float")
           << "</Attribute>\n";
     }
     xml << "   </Grid>\n";

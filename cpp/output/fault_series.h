@@ -3,7 +3,7 @@
 // mesh (segments in 2D, triangles in 3D; the nodes of the + faces, a tip
 // being one node of both faces): with mechanics the node data opening,
 // slip, slip_increment, traction, tangential_traction and state; the cell
-// data pressure, and with a conduit fault hydraulic_aperture, exchange and
+// data fault (its index) and pressure, and with a conduit fault hydraulic_aperture, exchange and
 // flux (FaultSeries says what each holds). Rank 0 writes it, from the pairs
 // each rank gathers to it (a fault holds few nodes of the mesh). Each write
 // is complete on disk when it returns, as solution.xdmf's; a restart keeps
@@ -34,6 +34,9 @@ namespace biotcontact
 ///   frictionless fault the solve's error: round-off with a factorisation);
 /// - state: the pair's state (contact_law.h): 0 open, 1 stick, 2 slip; 1 at
 ///   the tips, where the faces are one node and neither open nor slide;
+/// - fault (cell data): the index of the cell's fault among the scene's
+///   faults in the alphabetical order of their names (as summary.json lists
+///   them), 0, 1, ...: one field for a network, to colour or threshold by;
 /// - pressure (cell data): the fluid pressure in the fault, p_f of a conduit
 ///   fault, fault.NAME.pressure at the cell's centroid, 0 for a fault loaded
 ///   by the pore pressure beside it, which solution.xdmf holds.
@@ -69,6 +72,8 @@ private:
   /// Per facet of the faces' mesh (`all_facets`: fault, then d input
   /// indices each), its row in the conduit cells' fields, -1 on other faults.
   void conduit_rows(const Problem& problem, const std::vector<std::int64_t>& all_facets);
+  /// /Mesh/fault: each cell's fault (rank 0).
+  void write_fault_ids() const;
   /// The node data at time t (with mechanics).
   std::vector<Field> node_fields(const ContactState& contact) const;
   /// The cell data at time t: pressure, and with conduits their fields.

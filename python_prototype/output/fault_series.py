@@ -3,7 +3,7 @@ output time, for ParaView and meshio (cpp/output/fault_series.h). One grid
 per time on the faces' mesh (segments in 2D, triangles in 3D; the nodes of
 the + faces, a tip being one node of both faces): with mechanics the node
 data opening, slip, slip_increment, traction, tangential_traction and
-state; the cell data pressure, and with a conduit fault hydraulic_aperture,
+state; the cell data fault (its index) and pressure, and with a conduit fault hydraulic_aperture,
 exchange and flux (FaultSeries says what each holds). Rank 0 writes it with
 h5py, from the pairs each rank gathers to it (a fault holds few nodes of the
 mesh): the same XML text and datasets as the C++. Each write is complete on
@@ -53,6 +53,9 @@ class FaultSeries:
       frictionless fault the solve's error: round-off with a factorisation);
     - state: the pair's state (contact_law.py): 0 open, 1 stick, 2 slip; 1 at
       the tips, where the faces are one node and neither open nor slide;
+    - fault (cell data): the index of the cell's fault among the scene's
+      faults in the alphabetical order of their names (as summary.json lists
+      them), 0, 1, ...: one field for a network, to colour or threshold by;
     - pressure (cell data): the fluid pressure in the fault, p_f of a conduit
       fault, fault.NAME.pressure at the cell's centroid, 0 for a fault loaded
       by the pore pressure beside it, which solution.xdmf holds.
@@ -69,7 +72,7 @@ class FaultSeries:
         self._xdmf = os.path.join(directory, "fault.xdmf")
         self._h5_path = os.path.join(directory, "fault.h5")
         self._dim = problem.domain.dim
-        self._fault_names = list(self._scene.faults)
+        self._fault_names = sorted(self._scene.faults)  # as the C++'s std::map orders them
         # Rank 0: the faces' nodes (input indices, ascending), their
         # coordinates and fault, the facets (d node positions each) and the
         # times written.
@@ -81,13 +84,20 @@ class FaultSeries:
         if resume_time is not None:
             self._times = [t for t in _listed_times(self._xdmf) if t <= resume_time]
             self._h5 = h5py.File(self._h5_path, "a")
+            if "/Mesh/fault" not in self._h5:  # a run that an older version began
+                self._write_fault_ids()
             self._write_xml()
             return
         self._h5 = h5py.File(self._h5_path, "w")
         _write_rows(self._h5, "/Mesh/geometry", self._x, 3)
         _write_rows(self._h5, "/Mesh/topology", self._facets, self._dim)
+        self._write_fault_ids()
         self._h5.flush()
         self._write_xml()
+
+    def _write_fault_ids(self):
+        """/Mesh/fault: each cell's fault (rank 0)."""
+        _write_rows(self._h5, "/Mesh/fault", np.asarray(self._facet_fault, dtype=np.float64), 1)
 
     def close(self):
         """Closes fault.h5 (every write is on disk already)."""
@@ -189,7 +199,8 @@ class FaultSeries:
         """The fields of each time: (name, "Node" or "Cell")."""
         nodes = ["opening", "slip", "slip_increment", "traction", "tangential_traction", "state"]
         cells = ["pressure"] + (["hydraulic_aperture", "exchange", "flux"] if self._conduits else [])
-        return [(name, "Node") for name in (nodes if self._scene.mechanics else [])] + [(c, "Cell") for c in cells]
+        return ([("fault", "Cell")] + [(name, "Node") for name in (nodes if self._scene.mechanics else [])]
+                + [(c, "Cell") for c in cells])
 
     def _write_xml(self):
         """The whole XML, every time written (rank 0)."""
@@ -210,8 +221,10 @@ class FaultSeries:
             for name, center in self._attributes():
                 vector = name in ("slip", "slip_increment", "tangential_traction", "flux")
                 rows = n if center == "Node" else cells
+                # the fault ids do not change: one dataset for every time
+                dataset = "/Mesh/fault" if name == "fault" else f"/{name}/{k}"
                 xml += (f'    <Attribute Name="{name}" AttributeType="{"Vector" if vector else "Scalar"}" '
-                        f'Center="{center}">{item(f"/{name}/{k}", f"{rows} 3" if vector else f"{rows} 1", "Float")}'
+                        f'Center="{center}">{item(dataset, f"{rows} 3" if vector else f"{rows} 1", "Float")}'
                         "</Attribute>\n")
             xml += "   </Grid>\n"
         xml += "  </Grid>\n </Domain>\n</Xdmf>\n"
