@@ -121,7 +121,7 @@ def _read_condensed(comm, prefix, fallback):
     return condensed, options.hasName(prefix + "contact_condensed")
 
 
-class ContactPath(enum.Enum):
+class _ContactPath(enum.Enum):
     """Where the contact VI is posed: on the Schur complement of the contact
     DOFs, on the whole system, or on the whole system for one Newton step
     and, if that did not solve it, condensed."""
@@ -130,7 +130,7 @@ class ContactPath(enum.Enum):
     full_then_condensed = 2
 
 
-def contact_path(comm, prefix, method, contact_dofs, operators):
+def _contact_path(comm, prefix, method, contact_dofs, operators):
     """-<prefix>contact_condensed, by default condensed when the system is
     solved directly, C is small enough and A is not `changing` (forming H
     takes m solves, m more at each change of A). A run that solves the
@@ -142,8 +142,8 @@ def contact_path(comm, prefix, method, contact_dofs, operators):
                                        and contact_dofs <= ContactSolver.max_condensed_dofs
                                        and not operators.changing)
     if not condensed:
-        return ContactPath.full
-    return ContactPath.full_then_condensed if operators.once and not given else ContactPath.condensed
+        return _ContactPath.full
+    return _ContactPath.full_then_condensed if operators.once and not given else _ContactPath.condensed
 
 
 class ContactSolver:
@@ -180,11 +180,11 @@ class ContactSolver:
         self.x_start.set(0.0)
         self._make_change_of_variables()
         self.schur, self.schur_current = None, False
-        path = contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM), operators)
+        path = _contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM), operators)
         # On the whole system until its first Newton step fails to solve the
         # VI (ContactOperators.once).
-        self.then_condensed, self.switched = path == ContactPath.full_then_condensed, False
-        if path == ContactPath.condensed:
+        self.then_condensed, self.switched = path == _ContactPath.full_then_condensed, False
+        if path == _ContactPath.condensed:
             self.vi = self._condensed_vi()
         else:
             problem = self._pose_on_full_system(unknowns.separate_rows)
