@@ -264,6 +264,15 @@ CASES = [
     ("E an expression of x", DEFAULT, s("mechanics.E='1e9*(1 + x)'"), "mechanics.E", BOTH),
     ("E an expression that is NaN", DEFAULT, s("mechanics.E='sqrt(-1)'"), "mechanics.E: \"sqrt(-1)\" gives NaN", BOTH),
     ("a negative fault gap", CRACK, s("fault.crack.gap=-1e-3"), "fault.crack.gap", BOTH),
+    # Tips graded by the project (issue 53, item 3)
+    ("a negative tip size", CRACK, s("fault.crack.tip_size=-0.01"), "fault.crack.tip_size", BOTH),
+    ("a tip grading without a tip size", CRACK, s("fault.crack.tip_grading=0.3"), "fault.crack.tip_grading", BOTH),
+    ("a zero tip grading", CRACK, s("fault.crack.tip_size=0.01", "fault.crack.tip_grading=0.0"),
+     "fault.crack.tip_grading", BOTH),
+    ("a tip size on a .msh mesh", CRACK, s(f"mesh.file={CORRUPT_MSH}", "fault.crack.tip_size=0.01"),
+     "fault.crack.tip_size: needs a .geo", BOTH),
+    ("a tip size on a .geo with size fields of its own", CRACK, s("fault.crack.tip_size=0.01"),
+     "fault.crack.tip_size: ", BOTH),
     # issue 50: the condensed path failed with PETSc error 81, the full one
     # counted the foundation's force wrong at the fault's end
     ("a fault that reaches a contact boundary", foundation_fault_scene(), [], "fault.fault", BOTH),

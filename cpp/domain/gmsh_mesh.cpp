@@ -4,6 +4,7 @@
 
 #include "domain/faults.h"
 #include "domain/pieces.h"
+#include "domain/tip_grading.h"
 
 #include <algorithm>
 #include <cmath>
@@ -247,7 +248,10 @@ GmshData read_gmsh_file(const Scene& scene)
   {
     gmsh::open(file);
     if (std::filesystem::path(file).extension() == ".geo")
+    {
+      grade_toward_tips(scene);
       gmsh::model::mesh::generate(d);
+    }
     for (int i = 0; i < refine; ++i)
       gmsh::model::mesh::refine();
     std::vector<std::size_t> tags;

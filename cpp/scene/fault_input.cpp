@@ -1,5 +1,7 @@
 #include "scene/fault_input.h"
 
+#include <filesystem>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -182,6 +184,27 @@ void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 }
 
 /// fault.NAME: the gap, the fluid pressure in the fault or the pore pressure
+/// fault.NAME.tip_size and tip_grading: the mesh graded toward the fault's
+/// tips by gmsh, which meshes a .geo only.
+void read_tips(Section& s, const Scene& scene, FaultSpec& f)
+{
+  if (!s.has("tip_size"))
+  {
+    if (s.has("tip_grading"))
+      s.fail("tip_grading", "needs tip_size (the mesh size at the tips)");
+    return;
+  }
+  f.tip_size = s.number("tip_size");
+  if (!(f.tip_size > 0 and std::isfinite(f.tip_size)))
+    s.fail("tip_size", "must be a finite number > 0 (m)");
+  f.tip_grading = s.number("tip_grading", f.tip_grading);
+  if (!(f.tip_grading > 0 and std::isfinite(f.tip_grading)))
+    s.fail("tip_grading", "must be a finite number > 0 (the size's growth per metre away from the tips)");
+  if (std::filesystem::path(scene.mesh.file).extension() != ".geo")
+    s.fail("tip_size", "needs a .geo mesh file, which gmsh meshes here (" + scene.mesh.file
+                           + " is meshed already: grade its tips in gmsh)");
+}
+
 /// beside it, what the fault is to the flow, and the normal's hint.
 FaultSpec read_fault(Section s, const Scene& scene)
 {
@@ -224,6 +247,7 @@ FaultSpec read_fault(Section s, const Scene& scene)
   if (!(length > 0 and std::isfinite(length)))
     s.fail("normal", "must be a non-zero finite vector");
   f.friction = read_friction(s);
+  read_tips(s, scene, f);
   s.finish();
   return f;
 }

@@ -138,6 +138,10 @@ struct FaultSpec
   /// flow = "conduit" in a scene with mechanics: the closed aperture's
   /// Barton-Bandis closure (none: w_r at any stress).
   std::optional<ClosureSpec> closure;
+  /// The mesh size at the fault's tips (its edges inside the body, m; 0:
+  /// the mesh as drawn) and its growth per metre away from them: gmsh
+  /// meshes a .geo with at most tip_size + tip_grading * distance.
+  double tip_size = 0, tip_grading = 0.5;
 };
 
 /// Permeability: a scalar (number or expression evaluated at cell midpoints)

@@ -19,6 +19,7 @@ from .fault_cells import fault_cells
 from .faults import FaultRequest, InputMesh, split_along_faults
 from .pieces import refuse_free_pieces
 from .regions import locate_regions, regions_of_groups
+from .tip_grading import grade_toward_tips
 
 
 def _cell_groups(gmsh, d, element_tags):
@@ -80,6 +81,7 @@ def _read_gmsh_file(scene):
     try:
         gmsh.open(file)
         if os.path.splitext(file)[1] == ".geo":
+            grade_toward_tips(gmsh, scene)
             gmsh.model.mesh.generate(d)
         for _ in range(refine):
             gmsh.model.mesh.refine()

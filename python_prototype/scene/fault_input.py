@@ -3,6 +3,7 @@ the boundaries' conditions [boundary.NAME] (with a contact's foundation and
 friction), the faults [fault.NAME] and the wells [well.NAME]. Mirrors
 cpp/scene/fault_input.cpp key by key."""
 import math
+import os
 
 from .expression import Expression
 from .input import CouplingScheme, FaultFlow, MeshType, SolverChoice, TimeScheme, name_of
@@ -183,8 +184,27 @@ def _read_fault(s, scene):
     if not (length > 0 and math.isfinite(length)):
         s.fail("normal", "must be a non-zero finite vector")
     f.friction = _read_friction(s)
+    _read_tips(s, scene, f)
     s.finish()
     return f
+
+
+def _read_tips(s, scene, f):
+    """fault.NAME.tip_size and tip_grading: the mesh graded toward the
+    fault's tips by gmsh, which meshes a .geo only."""
+    if not s.has("tip_size"):
+        if s.has("tip_grading"):
+            s.fail("tip_grading", "needs tip_size (the mesh size at the tips)")
+        return
+    f.tip_size = s.number("tip_size")
+    if not (f.tip_size > 0 and math.isfinite(f.tip_size)):
+        s.fail("tip_size", "must be a finite number > 0 (m)")
+    f.tip_grading = s.number("tip_grading", f.tip_grading)
+    if not (f.tip_grading > 0 and math.isfinite(f.tip_grading)):
+        s.fail("tip_grading", "must be a finite number > 0 (the size's growth per metre away from the tips)")
+    if os.path.splitext(scene.mesh.file)[1] != ".geo":
+        s.fail("tip_size", f"needs a .geo mesh file, which gmsh meshes here ({scene.mesh.file} is meshed already: "
+               "grade its tips in gmsh)")
 
 
 def _read_conduit(s, scene, f):

@@ -108,6 +108,11 @@ class FaultSpec:
     # flow = "conduit" in a scene with mechanics: the closed aperture's
     # Barton-Bandis closure (None: w_r at any stress)
     closure: Optional["ClosureSpec"] = None
+    # The mesh size at the fault's tips (its edges inside the body, m; 0: the
+    # mesh as drawn) and its growth per metre away from them: gmsh meshes a
+    # .geo with at most tip_size + tip_grading * distance.
+    tip_size: float = 0.0
+    tip_grading: float = 0.5
 
 
 @dataclass
