@@ -10,6 +10,8 @@ without fault.crack.tip_size = 2 mm (tip_grading 0.3):
   uniform mesh converges at first order (below 1.2);
 - the prototype meshes the same graded mesh and gives the C++ opening to
   1e-10;
+- 3D: a disc crack's rim is its tip curve: its nodes at most 1.5 tip_size
+  apart (C++);
 - a crack that reaches the outer boundary at both ends has no tip to grade:
   refused in one line (exit 2) on both tracks."""
 import math
@@ -82,6 +84,46 @@ check(errors["graded", 0] * 5 <= errors["uniform", 0],
 check(order["graded"] >= 1.5 and order["uniform"] < 1.2,
       f"observed order from refine 0 to 1: {order['graded']:.2f} graded (at least 1.5), {order['uniform']:.2f} "
       f"uniform (below 1.2); errors {errors['graded', 1]:.2e} and {errors['uniform', 1]:.2e} at refine 1")
+
+# 3D: a disc crack of radius 1 m in a box of 4 m (OpenCASCADE fragments), its
+# rim the tip curve: the C++ run's rim nodes at most 1.5 tip_size apart.
+DISC_GEO = """SetFactory("OpenCASCADE");
+Box(1) = {-2, -2, -2, 4, 4, 4};
+Disk(100) = {0, 0, 0, 1};
+BooleanFragments{ Volume{1}; Delete; }{ Surface{100}; Delete; }
+Physical Surface("crack") = {100}; Physical Surface("bottom") = {105}; Physical Surface("top") = {103};
+Physical Volume("rock") = {1};
+Mesh.CharacteristicLengthMax = 0.5;
+"""
+DISC = """[mesh]
+type = "gmsh"
+file = "disc.geo"
+dimension = 3
+[mechanics]
+E = 1.0e10
+nu = 0.25
+[time]
+end = 1.0
+dt = 1.0
+[boundary.bottom]
+displacement = { x = 0.0, y = 0.0, z = 0.0 }
+[boundary.top]
+displacement = { x = 0.0, y = 0.0, z = 0.0 }
+[fault.crack]
+pressure = "1.0e6"
+normal = [0.0, 0.0, 1.0]
+tip_size = 0.1
+"""
+path = written(DISC)
+with open(os.path.join(os.path.dirname(path), "disc.geo"), "w") as f:
+    f.write(DISC_GEO)
+out, _ = run_track("C++", path)
+fields = Fields(out)
+x, cells = fields.nodes, fields.topology
+rim = np.flatnonzero((np.abs(np.linalg.norm(x[:, :2], axis=1) - 1.0) < 1e-6) & (np.abs(x[:, 2]) < 1e-9))
+spacing = 2 * math.pi / max(len(rim), 1)
+check(spacing <= 1.5 * 0.1, f"3D: the disc's rim holds {len(rim)} nodes, {spacing:.3f} m apart (at most 1.5 "
+      "tip_size = 0.15; the mesh's 0.5 elsewhere)")
 
 # A crack from side to side: no tip inside the body.
 THROUGH_GEO = """SetFactory("Built-in");
