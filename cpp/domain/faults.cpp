@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace biotcontact
@@ -248,19 +249,6 @@ void refuse_shared_facets(const InputMesh& mesh, const std::vector<OrientedFault
     }
 }
 
-/// Refuses a node on two faults (they cross, or one ends on the other),
-/// which would need a node split three or four ways.
-void refuse_shared_nodes(const InputMesh& mesh, const FaultNodes& nodes, const std::vector<FaultRequest>& faults,
-                         const std::string& key_prefix)
-{
-  for (const auto& [v, through] : nodes)
-    for (const auto& [f, k] : through)
-      if (f != through.front().first)
-        throw SceneError(key_prefix + faults[through.front().first].name + ": meets fault " + faults[f].name
-                         + " at " + point_text(mean_point(mesh, &v, 1), mesh.dim)
-                         + ": faults that cross or end on one another are not supported yet");
-}
-
 /// The facets of all faults, sorted.
 std::vector<FacetKey> fault_keys(const InputMesh& mesh, const std::vector<OrientedFault>& faults)
 {
@@ -339,28 +327,23 @@ int component_of(const NodeStar& star, std::int64_t cell)
   return star.component[std::lower_bound(star.cells.begin(), star.cells.end(), cell) - star.cells.begin()];
 }
 
-/// The component of a doubled node v's star that holds the + cells of the
-/// fault's facets through v (`through`); refuses a star the fault cuts in
-/// more than two, and + and - cells in one component (the hint's side of
-/// the fault flips at v).
-int plus_component(const InputMesh& mesh, const NodeStar& star, const OrientedFault& fault,
-                   const std::vector<std::pair<std::size_t, std::size_t>>& through, std::int64_t v,
-                   const std::string& key)
+/// Refuses + and - cells of the fault's facets through a split node v
+/// (`facets`) in one component of its star: the hint's side of the fault
+/// flips at v.
+void check_sides(const InputMesh& mesh, const NodeStar& star, const OrientedFault& fault,
+                 const std::vector<std::size_t>& facets, std::int64_t v, const std::string& key)
 {
-  const std::string at = " at " + point_text(mean_point(mesh, &v, 1), mesh.dim);
-  if (star.count > 2)
-    throw SceneError(key + ": the fault branches or crosses itself" + at + " (" + std::to_string(star.count)
-                     + " pieces meet there): faults that cross or end on one another are not supported yet");
-  std::array<bool, 2> plus{false, false}, minus{false, false};
-  for (const auto& [f, k] : through)
+  std::set<int> plus, minus;
+  for (std::size_t k : facets)
   {
-    plus[component_of(star, fault.plus_cells[k])] = true;
-    minus[component_of(star, fault.minus_cells[k])] = true;
+    plus.insert(component_of(star, fault.plus_cells[k]));
+    minus.insert(component_of(star, fault.minus_cells[k]));
   }
-  if ((plus[0] and minus[0]) or (plus[1] and minus[1]))
-    throw SceneError(key + ": the normal hint orients the fault inconsistently" + at
-                     + " (the fault turns past the hint there: give a hint that crosses all of it the same way)");
-  return plus[0] ? 0 : 1;
+  for (int c : plus)
+    if (minus.count(c))
+      throw SceneError(key + ": the normal hint orients the fault inconsistently at "
+                       + point_text(mean_point(mesh, &v, 1), mesh.dim)
+                       + " (the fault turns past the hint there: give a hint that crosses all of it the same way)");
 }
 
 /// Appends a copy of node v to x and returns its index.
@@ -376,29 +359,100 @@ std::int64_t append_node(InputMesh& mesh, std::int64_t v)
   return index;
 }
 
-/// Each fault node (in increasing order) stays shared where the fault's
-/// cells around it hold together (a tip), or is doubled: its + side's cells
-/// take a new node.
+/// @brief The split of the fault nodes, one node at a time: the input mesh
+/// (renumbered in place), its topology, the oriented faults and their
+/// facets, and the faults' results so far.
+class Splitter
+{
+public:
+  Splitter(InputMesh& mesh, const Topology& t, const std::vector<OrientedFault>& faults,
+           const std::string& key_prefix, std::vector<SplitFault>& split)
+      : _mesh(mesh), _t(t), _faults(faults), _key_prefix(key_prefix), _split(split), _keys(fault_keys(mesh, faults))
+  {
+  }
+
+  /// Node v gets one node per component of its star (the cells around it
+  /// that the faults leave connected); each fault's facets through v pair
+  /// the nodes of their + and - cells' components (a tip where they are one).
+  void split_node(std::int64_t v, const std::vector<std::pair<std::size_t, std::size_t>>& through)
+  {
+    const NodeStar star = star_of(_t, v, _keys);
+    std::map<std::size_t, std::vector<std::size_t>> by_fault; // request order: ascending
+    for (const auto& [f, k] : through)
+      by_fault[f].push_back(k);
+    if (star.count > 2 and by_fault.size() == 1)
+      throw SceneError(_key_prefix + _split[through.front().first].name + ": the fault branches or crosses itself at "
+                       + point_text(mean_point(_mesh, &v, 1), _mesh.dim) + " (" + std::to_string(star.count)
+                       + " pieces meet there): give each branch a fault (a physical group) of its own");
+    std::vector<std::int64_t> node_of{v};
+    if (star.count > 1)
+    {
+      for (const auto& [f, facets] : by_fault)
+        check_sides(_mesh, star, _faults[f], facets, v, _key_prefix + _split[f].name);
+      const auto& [f0, k0] = through.front();
+      node_of = copies(star, _faults[f0].minus_cells[k0], v);
+    }
+    for (std::size_t i = 0; i < star.cells.size(); ++i)
+      _mesh.cells[star.cells[i] * (_t.d + 1) + local_index(_t, star.cells[i], v)] = node_of[star.component[i]];
+    for (const auto& [f, facets] : by_fault)
+      add_pairs(star, node_of, {f, facets}, v, by_fault);
+  }
+
+private:
+  /// The node of each component of v's star: v itself for the component of
+  /// the cell `first` (with one fault, its - side), a new node at v's point
+  /// for each other, in the order of the components.
+  std::vector<std::int64_t> copies(const NodeStar& star, std::int64_t first, std::int64_t v)
+  {
+    const int keep = component_of(star, first);
+    std::vector<std::int64_t> node_of;
+    for (int c = 0; c < star.count; ++c)
+      node_of.push_back(c == keep ? v : append_node(_mesh, v));
+    return node_of;
+  }
+
+  /// Fault f's pairs at v (its facets' + and - nodes where they differ), or
+  /// v as its tip; the other faults through v as the ones it meets.
+  void add_pairs(const NodeStar& star, const std::vector<std::int64_t>& node_of,
+                 const std::pair<std::size_t, const std::vector<std::size_t>&>& fault, std::int64_t v,
+                 const std::map<std::size_t, std::vector<std::size_t>>& by_fault)
+  {
+    const auto& [f, facets] = fault;
+    SplitFault& result = _split[f];
+    const std::size_t before = result.pairs.size();
+    for (std::size_t k : facets)
+    {
+      const std::pair<std::int64_t, std::int64_t> pair{node_of[component_of(star, _faults[f].plus_cells[k])],
+                                                       node_of[component_of(star, _faults[f].minus_cells[k])]};
+      if (pair.first != pair.second
+          and std::find(result.pairs.begin() + before, result.pairs.end(), pair) == result.pairs.end())
+        result.pairs.push_back(pair);
+    }
+    if (result.pairs.size() == before)
+      result.tips.push_back(v);
+    for (const auto& [g, unused] : by_fault)
+      if (g != f)
+        result.meets.emplace_back(v, g);
+  }
+
+  InputMesh& _mesh;
+  const Topology& _t;
+  const std::vector<OrientedFault>& _faults;
+  const std::string& _key_prefix;
+  std::vector<SplitFault>& _split;
+  const std::vector<FacetKey> _keys;
+};
+
+/// Each fault node (in increasing order) stays shared where the faults'
+/// cells around it hold together (a tip), or gets one node per piece of its
+/// star (two on one fault: its + side's cells take a new node; three or
+/// four where faults cross or end on one another).
 void split_nodes(InputMesh& mesh, const Topology& t, const std::vector<OrientedFault>& faults,
                  const FaultNodes& nodes, const std::string& key_prefix, std::vector<SplitFault>& split)
 {
-  const std::vector<FacetKey> keys = fault_keys(mesh, faults);
+  Splitter splitter(mesh, t, faults, key_prefix, split);
   for (const auto& [v, through] : nodes)
-  {
-    const std::size_t f = through.front().first;
-    const NodeStar star = star_of(t, v, keys);
-    if (star.count == 1)
-    {
-      split[f].tips.push_back(v);
-      continue;
-    }
-    const int plus = plus_component(mesh, star, faults[f], through, v, key_prefix + split[f].name);
-    const std::int64_t doubled = append_node(mesh, v);
-    for (std::size_t i = 0; i < star.cells.size(); ++i)
-      if (star.component[i] == plus)
-        mesh.cells[star.cells[i] * (t.d + 1) + local_index(t, star.cells[i], v)] = doubled;
-    split[f].pairs.emplace_back(doubled, v);
-  }
+    splitter.split_node(v, through);
 }
 
 /// Appends the input facet through `nodes` as cell `cell` numbers it after
@@ -455,11 +509,10 @@ std::vector<SplitFault> split_along_faults(InputMesh& mesh, const std::vector<Fa
   for (const FaultRequest& request : faults)
   {
     oriented.push_back(orient_fault(mesh, topology, request, key_prefix + request.name));
-    split.push_back({request.name, {}, {}, oriented.back().normals, {}, {}});
+    split.push_back({request.name, {}, {}, oriented.back().normals, {}, {}, {}});
   }
   refuse_shared_facets(mesh, oriented, faults, key_prefix);
   const FaultNodes nodes = fault_nodes(mesh, oriented);
-  refuse_shared_nodes(mesh, nodes, faults, key_prefix);
   split_nodes(mesh, topology, oriented, nodes, key_prefix, split);
   std::vector<bool> on_fault(mesh.facet_group.size(), false);
   for (std::size_t f = 0; f < oriented.size(); ++f)

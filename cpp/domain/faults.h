@@ -1,12 +1,11 @@
 // Faults: an input simplex mesh split along interior facet groups, on rank 0
-// before dolfinx distributes it. Each fault node whose cells the fault
-// separates is doubled (the + side gets a new node at the same point), so
-// the fault's two faces become faces of the mesh that the contact can pair;
-// the fault's edges inside the body (its tips) stay shared. A fault facet
-// whose nodes are all tips (a fault of one facet in 2D, a triangle with
-// every node on a patch's rim in 3D) therefore stays shared too: its two
-// faces are the same nodes. The prototype's twin is
-// python_prototype/domain/faults.py.
+// before dolfinx distributes it. Each fault node gets one node per piece of
+// the cells around it that the faults separate (two on one fault, the +
+// side's a new node at the same point; three or four where faults cross or
+// end on one another), so the faces become faces of the mesh that the
+// contact can pair; a fault's edges inside the body (its tips) stay shared,
+// and so does a facet whose nodes are all tips: its two faces are the same
+// nodes. The prototype's twin is python_prototype/domain/faults.py.
 #pragma once
 
 #include <array>
@@ -48,22 +47,26 @@ struct SplitFault
   std::vector<std::int64_t> plus_facets, minus_facets;
   // per fault facet, the unit normal oriented by the hint, into the + side
   std::vector<std::array<double, 3>> normals;
-  // per doubled node: (its index on the + side, its index on the - side),
-  // in increasing order of the - side's (the input) index
+  // per node pair: (its index on the + side, its index on the - side), in
+  // increasing order of the input node they come from
   std::vector<std::pair<std::int64_t, std::int64_t>> pairs;
   // the fault nodes kept shared (the fault's edges inside the body), sorted
   std::vector<std::int64_t> tips;
+  // (input node, the other fault's index) where this fault crosses, ends on
+  // or is ended on by another, in increasing node order
+  std::vector<std::pair<std::int64_t, std::size_t>> meets;
 };
 
 /// Splits `mesh` in place along each requested fault and returns the faults
-/// in request order. A doubled node's + side is appended to x (in increasing
-/// order of its input index) and the + side's cells and boundary facets are
-/// renumbered; the faults' facets leave facets and facet_group (names keeps
-/// its entries). Throws SceneError, one line "KEY_PREFIXNAME: ..." (e.g.
-/// key_prefix "scene.toml: fault."), for a group that is missing, empty or
-/// on the outer boundary, a hint parallel to the fault, a hint that orients
-/// the fault inconsistently, and faults that cross, branch or end on one
-/// another.
+/// in request order. A split node's new copies (one on one fault, two or
+/// three where faults cross or end on one another) are appended to x (in
+/// increasing order of the input index) and the cells and boundary facets
+/// of their pieces are renumbered; the faults' facets leave facets and
+/// facet_group (names keeps its entries). Throws SceneError, one line
+/// "KEY_PREFIXNAME: ..." (e.g. key_prefix "scene.toml: fault."), for a group
+/// that is missing, empty or on the outer boundary, a hint parallel to the
+/// fault, a hint that orients the fault inconsistently, a facet in two
+/// faults' groups, and one fault that branches or crosses itself.
 std::vector<SplitFault> split_along_faults(InputMesh& mesh, const std::vector<FaultRequest>& faults,
                                            const std::string& key_prefix);
 

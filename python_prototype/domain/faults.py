@@ -1,11 +1,12 @@
 """Faults: an input simplex mesh split along interior facet groups, on rank 0
-before dolfinx distributes it (cpp/domain/faults.cpp). Each fault node whose
-cells the fault separates is doubled (the + side gets a new node at the same
-point), so the fault's two faces become faces of the mesh that the contact
-can pair; the fault's edges inside the body (its tips) stay shared. A fault
-facet whose nodes are all tips (a fault of one facet in 2D, a triangle with
-every node on a patch's rim in 3D) therefore stays shared too: its two faces
-are the same nodes."""
+before dolfinx distributes it (cpp/domain/faults.cpp). Each fault node gets
+one node per piece of the cells around it that the faults separate (two on
+one fault, the + side's a new node at the same point; three or four where
+faults cross or end on one another), so the faults' faces become faces of
+the mesh that the contact can pair; the fault's edges inside the body (its
+tips) stay shared. A fault facet whose nodes are all tips (a fault of one
+facet in 2D, a triangle with every node on a patch's rim in 3D) stays shared
+too: its two faces are the same nodes."""
 import dataclasses
 import math
 
@@ -48,6 +49,9 @@ class SplitFault:
     # in increasing order of the - side's (the input) index
     pairs: np.ndarray
     tips: np.ndarray  # the fault nodes kept shared (the fault's edges inside the body), sorted
+    # (intersections, 2): (input node, the other fault's index) where this fault
+    # crosses, ends on or is ended on by another, in increasing node order
+    meets: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
 
 def _facet_key(nodes):
@@ -203,17 +207,6 @@ def _refuse_shared_facets(mesh, oriented, faults, key_prefix):
                                  f"{'curve' if mesh.dim == 2 else 'surface'} belongs to one fault's group only")
 
 
-def _refuse_shared_nodes(mesh, nodes, faults, key_prefix):
-    """Refuses a node on two faults (they cross, or one ends on the other),
-    which would need a node split three or four ways."""
-    for v, through in nodes.items():
-        for f, _ in through:
-            if f != through[0][0]:
-                raise SceneError(f"{key_prefix}{faults[through[0][0]].name}: meets fault {faults[f].name} at "
-                                 f"{_point_text(_mean_point(mesh, [v]), mesh.dim)}: faults that cross or end on "
-                                 "one another are not supported yet")
-
-
 def _fault_keys(mesh, faults):
     """The facets of all faults."""
     return {_facet_key(mesh.facets[f]) for fault in faults for f in fault.facets}
@@ -260,46 +253,82 @@ def _neighbours(topology, cell, v, keys):
     return found
 
 
-def _plus_component(mesh, star, fault, through, v, key):
-    """The component of a doubled node v's star that holds the + cells of the
-    fault's facets through v (`through`); refuses a star the fault cuts in
-    more than two, and + and - cells in one component (the hint's side of the
-    fault flips at v)."""
-    at = " at " + _point_text(_mean_point(mesh, [v]), mesh.dim)
-    if star.count > 2:
-        raise SceneError(f"{key}: the fault branches or crosses itself{at} ({star.count} pieces meet there): "
-                         "faults that cross or end on one another are not supported yet")
-    plus, minus = [False, False], [False, False]
-    for _, k in through:
-        plus[star.component_of(fault.plus_cells[k])] = True
-        minus[star.component_of(fault.minus_cells[k])] = True
-    if (plus[0] and minus[0]) or (plus[1] and minus[1]):
-        raise SceneError(f"{key}: the normal hint orients the fault inconsistently{at} (the fault turns past the "
-                         "hint there: give a hint that crosses all of it the same way)")
-    return 0 if plus[0] else 1
+def _check_sides(mesh, star, fault, facets, v, key):
+    """Refuses + and - cells of the fault's facets through a split node v
+    (`facets`) in one component of its star: the hint's side of the fault
+    flips at v."""
+    plus = {star.component_of(fault.plus_cells[k]) for k in facets}
+    minus = {star.component_of(fault.minus_cells[k]) for k in facets}
+    if plus & minus:
+        raise SceneError(f"{key}: the normal hint orients the fault inconsistently at "
+                         f"{_point_text(_mean_point(mesh, [v]), mesh.dim)} (the fault turns past the hint there: "
+                         "give a hint that crosses all of it the same way)")
+
+
+class _Splitter:
+    """The split of the fault nodes, one node at a time: the input mesh
+    (renumbered in place), its topology, the oriented faults and their
+    facets, the faults' results so far and the nodes added."""
+
+    def __init__(self, mesh, topology, faults, key_prefix, split):
+        self.mesh, self.topology, self.faults, self.key_prefix, self.split = mesh, topology, faults, key_prefix, split
+        self.keys, self.added = _fault_keys(mesh, faults), []
+
+    def copies(self, star, first, v):
+        """The node of each component of v's star: v itself for the
+        component of the cell `first` (with one fault, its - side), a new
+        node at v's point for each other, in the order of the components."""
+        keep, node_of = star.component_of(first), []
+        for c in range(star.count):
+            node_of.append(v if c == keep else len(self.mesh.x) + len(self.added))
+            if c != keep:
+                self.added.append(self.mesh.x[v])
+        return node_of
+
+    def split_node(self, v, through):
+        """Node v gets one node per component of its star (the cells around
+        it that the faults leave connected); each fault's facets through v
+        pair the nodes of their + and - cells' components (a tip where they
+        are one)."""
+        mesh, faults, split = self.mesh, self.faults, self.split
+        star = _NodeStar(self.topology, v, self.keys)
+        by_fault = {}
+        for f, k in through:
+            by_fault.setdefault(f, []).append(k)
+        if star.count > 2 and len(by_fault) == 1:
+            raise SceneError(f"{self.key_prefix}{split[through[0][0]].name}: the fault branches or crosses itself at "
+                             f"{_point_text(_mean_point(mesh, [v]), mesh.dim)} ({star.count} pieces meet there): "
+                             "give each branch a fault (a physical group) of its own")
+        node_of = [v]
+        if star.count > 1:
+            for f, facets in by_fault.items():
+                _check_sides(mesh, star, faults[f], facets, v, self.key_prefix + split[f].name)
+            node_of = self.copies(star, faults[through[0][0]].minus_cells[through[0][1]], v)
+        for cell, component in zip(star.cells, star.component):
+            mesh.cells[cell, self.topology.local_index(cell, v)] = node_of[component]
+        for f, facets in by_fault.items():
+            pairs = []
+            for k in facets:
+                pair = (node_of[star.component_of(faults[f].plus_cells[k])],
+                        node_of[star.component_of(faults[f].minus_cells[k])])
+                if pair[0] != pair[1] and pair not in pairs:
+                    pairs.append(pair)
+            split[f].pairs += pairs
+            if not pairs:
+                split[f].tips.append(v)
+            split[f].meets += [(v, g) for g in by_fault if g != f]
 
 
 def _split_nodes(mesh, topology, faults, nodes, key_prefix, split):
-    """Each fault node (in increasing order) stays shared where the fault's
-    cells around it hold together (a tip), or is doubled: its + side's cells
-    take a new node."""
-    keys = _fault_keys(mesh, faults)
-    added = []
+    """Each fault node (in increasing order) stays shared where the faults'
+    cells around it hold together (a tip), or gets one node per piece of
+    its star (two on one fault: its + side's cells take a new node; three
+    or four where faults cross or end on one another)."""
+    splitter = _Splitter(mesh, topology, faults, key_prefix, split)
     for v, through in nodes.items():
-        f = through[0][0]
-        star = _NodeStar(topology, v, keys)
-        if star.count == 1:
-            split[f].tips.append(v)
-            continue
-        plus = _plus_component(mesh, star, faults[f], through, v, key_prefix + split[f].name)
-        doubled = len(mesh.x) + len(added)
-        added.append(mesh.x[v])
-        for cell, component in zip(star.cells, star.component):
-            if component == plus:
-                mesh.cells[cell, topology.local_index(cell, v)] = doubled
-        split[f].pairs.append((doubled, v))
-    if added:
-        mesh.x = np.vstack([mesh.x, added])
+        splitter.split_node(v, through)
+    if splitter.added:
+        mesh.x = np.vstack([mesh.x, splitter.added])
 
 
 def _face(mesh, topology, cell, nodes):
@@ -333,23 +362,23 @@ def _renumber_facets(mesh, topology, on_fault):
 
 def split_along_faults(mesh, faults, key_prefix):
     """Splits `mesh` in place along each requested fault and returns the
-    faults (SplitFault) in request order. A doubled node's + side is appended
-    to x (in increasing order of its input index) and the + side's cells and
-    boundary facets are renumbered; the faults' facets leave facets and
-    facet_group (names keeps its entries). Raises SceneError, one line
-    "KEY_PREFIXNAME: ..." (e.g. key_prefix "scene.toml: fault."), for a group
-    that is missing, empty or on the outer boundary, a hint parallel to the
-    fault, a hint that orients the fault inconsistently, and faults that
-    cross, branch or end on one another."""
+    faults (SplitFault) in request order. A split node's new copies (one on
+    one fault, two or three where faults cross or end on one another) are
+    appended to x (in increasing order of the input index) and the cells and
+    boundary facets of their pieces are renumbered; the faults' facets leave
+    facets and facet_group (names keeps its entries). Raises SceneError, one
+    line "KEY_PREFIXNAME: ..." (e.g. key_prefix "scene.toml: fault."), for a
+    group that is missing, empty or on the outer boundary, a hint parallel to
+    the fault, a hint that orients the fault inconsistently, a facet in two
+    faults' groups, and one fault that branches or crosses itself."""
     mesh.x = np.array(mesh.x, dtype=np.float64).reshape(-1, mesh.dim)
     mesh.cells = np.array(mesh.cells, dtype=np.int64).reshape(-1, mesh.dim + 1)
     mesh.facets = np.array(mesh.facets, dtype=np.int64).reshape(-1, mesh.dim)
     topology = _Topology(mesh)
     oriented = [_orient_fault(mesh, topology, request, key_prefix + request.name) for request in faults]
-    split = [SplitFault(request.name, [], [], fault.normals, [], []) for request, fault in zip(faults, oriented)]
+    split = [SplitFault(request.name, [], [], fault.normals, [], [], []) for request, fault in zip(faults, oriented)]
     _refuse_shared_facets(mesh, oriented, faults, key_prefix)
     nodes = _fault_nodes(mesh, oriented)
-    _refuse_shared_nodes(mesh, nodes, faults, key_prefix)
     _split_nodes(mesh, topology, oriented, nodes, key_prefix, split)
     on_fault = np.zeros(len(mesh.facet_group), dtype=bool)
     for fault, result in zip(oriented, split):
@@ -360,5 +389,6 @@ def split_along_faults(mesh, faults, key_prefix):
     return [SplitFault(s.name, np.array(s.plus_facets, dtype=np.int64).reshape(-1, d),
                        np.array(s.minus_facets, dtype=np.int64).reshape(-1, d),
                        np.array(s.normals, dtype=np.float64).reshape(-1, 3),
-                       np.array(s.pairs, dtype=np.int64).reshape(-1, 2), np.array(s.tips, dtype=np.int64))
+                       np.array(s.pairs, dtype=np.int64).reshape(-1, 2), np.array(s.tips, dtype=np.int64),
+                       np.array(s.meets, dtype=np.int64).reshape(-1, 2))
             for s in split]

@@ -1,16 +1,14 @@
 // Unit tests of the split along faults (cpp/domain/faults.h), on the same
 // handmade meshes with the same expected arrays as the prototype's twin
-// tests/unit/test_faults.py: a fault with both ends inside keeps its ends
-// shared (tips) and doubles the nodes between; a fault from the outer
-// boundary doubles the boundary node and renumbers the boundary facet on
-// its + side; a fault across the body cuts it in two; in 3D an interior
-// square patch keeps its rim; bad faults are refused in one line naming
-// the key. Then gmsh meshes with an embedded curve: area kept, the fault's
-// two faces at the same points and each a face of one cell. Last, the
-// cells of a fault's own flow (domain/fault_cells.h) on the fault across
-// the square: four unit cells, three links and two ends on the outer
-// boundary at half a cell from the centroids; the cells a well meets; and
-// the two-point transmissibility (assembly/fault_flow.h).
+// tests/unit/test_faults.py: tips kept shared; a fault from the outer
+// boundary splits its node there; a fault across the body cuts it in two;
+// in 3D a patch keeps its rim; bad faults refused in one line naming the
+// key; faults that cross (X) or end on one another (T) give their meeting
+// node one node per piece around it. Then gmsh meshes with an embedded
+// curve: area kept, the two faces at the same points, each a face of one
+// cell. Last, the cells of a fault's own flow (domain/fault_cells.h) on the
+// fault across the square: cells, links and ends; the cells a well meets;
+// and the two-point transmissibility (assembly/fault_flow.h).
 #include "assembly/fault_flow.h"
 #include "domain/fault_cells.h"
 #include "domain/faults.h"
@@ -419,20 +417,59 @@ TEST(FaultRefusals, AMissingOrEmptyGroup)
             "scene.toml: fault.main: the mesh has no group main (its facet groups: bottom, right, top, left)");
 }
 
-TEST(FaultRefusals, CrossingFaults)
-{
-  const InputMesh mesh = square({{"h", segment({{1, 2}, {2, 2}, {3, 2}})}, {"v", segment({{2, 1}, {2, 2}, {2, 3}})}});
-  EXPECT_EQ(refused(mesh, {{"h", {0, 1, 0}}, {"v", {1, 0, 0}}}),
-            "scene.toml: fault.h: meets fault v at (2, 2): faults that cross or end on one another are not "
-            "supported yet");
-}
-
 TEST(FaultRefusals, ABranchingFault)
 {
   const InputMesh mesh = square({{"t", joined(segment({{1, 2}, {2, 2}, {3, 2}}), segment({{2, 2}, {2, 3}}))}});
   EXPECT_EQ(refused(mesh, {{"t", {1, 1, 0}}}),
-            "scene.toml: fault.t: the fault branches or crosses itself at (2, 2) (3 pieces meet there): faults "
-            "that cross or end on one another are not supported yet");
+            "scene.toml: fault.t: the fault branches or crosses itself at (2, 2) (3 pieces meet there): give "
+            "each branch a fault (a physical group) of its own");
+}
+
+// Faults that cross (X) or end on one another (T) in the square: the node
+// where they meet, (2, 2) = 12, gets one node per piece around it, 12 kept
+// by the piece below the first fault's first facet, the others new (25, 26,
+// 27) in the order of their first cells; each fault pairs, facet by facet,
+// the nodes of its + and - pieces.
+TEST(FaultIntersections, CrossingFaults)
+{
+  InputMesh mesh = square({{"h", segment({{1, 2}, {2, 2}, {3, 2}})}, {"v", segment({{2, 1}, {2, 2}, {2, 3}})}});
+  const std::vector<SplitFault> faults = split(mesh, {{"h", {0, 1, 0}}, {"v", {1, 0, 0}}});
+  ASSERT_EQ(faults.size(), 2u);
+  const SplitFault &h = faults[0], &v = faults[1];
+  EXPECT_EQ(mesh.x.size(), 28u * 2);
+  EXPECT_EQ(std::vector<double>(mesh.x.begin() + 50, mesh.x.end()), (std::vector<double>{2, 2, 2, 2, 2, 2}));
+  // pieces SW (cells 10, 11: keeps 12), SE (13: 25), NW (18: 26), NE (20, 21: 27)
+  EXPECT_EQ(cells_with(mesh, {12}), (std::vector<std::int64_t>{10, 11}));
+  EXPECT_EQ(cells_with(mesh, {25}), (std::vector<std::int64_t>{13}));
+  EXPECT_EQ(cells_with(mesh, {26}), (std::vector<std::int64_t>{18}));
+  EXPECT_EQ(cells_with(mesh, {27}), (std::vector<std::int64_t>{20, 21}));
+  EXPECT_EQ(flat(h.pairs), (std::vector<std::int64_t>{26, 12, 27, 25}));
+  EXPECT_EQ(flat(v.pairs), (std::vector<std::int64_t>{25, 12, 27, 26}));
+  EXPECT_EQ(h.tips, (std::vector<std::int64_t>{11, 13}));
+  EXPECT_EQ(v.tips, (std::vector<std::int64_t>{7, 17}));
+  using Meets = std::vector<std::pair<std::int64_t, std::size_t>>;
+  EXPECT_EQ(h.meets, (Meets{{12, 1}}));
+  EXPECT_EQ(v.meets, (Meets{{12, 0}}));
+  EXPECT_EQ(pieces(mesh), 1); // the tips hold the pieces together
+}
+
+TEST(FaultIntersections, AFaultEndingOnAnother)
+{
+  InputMesh mesh = square({{"h", segment({{1, 2}, {2, 2}, {3, 2}})}, {"s", segment({{2, 2}, {2, 3}})}});
+  const std::vector<SplitFault> faults = split(mesh, {{"h", {0, 1, 0}}, {"s", {1, 0, 0}}});
+  ASSERT_EQ(faults.size(), 2u);
+  const SplitFault &h = faults[0], &t = faults[1];
+  EXPECT_EQ(mesh.x.size(), 27u * 2);
+  // pieces below h (cells 10, 11, 13: keeps 12), NW (18: 25), NE (20, 21: 26)
+  EXPECT_EQ(cells_with(mesh, {12}), (std::vector<std::int64_t>{10, 11, 13}));
+  EXPECT_EQ(cells_with(mesh, {25}), (std::vector<std::int64_t>{18}));
+  EXPECT_EQ(cells_with(mesh, {26}), (std::vector<std::int64_t>{20, 21}));
+  EXPECT_EQ(flat(h.pairs), (std::vector<std::int64_t>{25, 12, 26, 12}));
+  EXPECT_EQ(flat(t.pairs), (std::vector<std::int64_t>{26, 25}));
+  EXPECT_EQ(t.tips, (std::vector<std::int64_t>{17}));
+  using Meets = std::vector<std::pair<std::int64_t, std::size_t>>;
+  EXPECT_EQ(h.meets, (Meets{{12, 1}}));
+  EXPECT_EQ(t.meets, (Meets{{12, 0}}));
 }
 
 TEST(FaultRefusals, AHintParallelToTheFault)

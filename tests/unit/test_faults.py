@@ -5,7 +5,9 @@ ends inside keeps its ends shared (tips) and doubles the nodes between; a
 fault from the outer boundary doubles the boundary node and renumbers the
 boundary facet on its + side; a fault across the body cuts it in two; in 3D
 an interior square patch keeps its rim; bad faults are refused in one line
-naming the key. Then gmsh meshes with an embedded curve: area kept, the
+naming the key; faults that cross (X) or end on one another (T) give the
+node where they meet one node per piece around it. Then gmsh meshes with an
+embedded curve: area kept, the
 fault's two faces at the same points and each a face of one cell. Last,
 the cells of a fault's own flow (domain/fault_cells.py) on the fault
 across the square: four unit cells, three links and two ends on the
@@ -253,17 +255,11 @@ class Refusals(unittest.TestCase):
                          "scene.toml: fault.main: the mesh has no group main (its facet groups: bottom, right, "
                          "top, left)")
 
-    def test_crossing_faults(self):
-        mesh = square({"h": segment((1, 2), (2, 2), (3, 2)), "v": segment((2, 1), (2, 2), (2, 3))})
-        self.assertEqual(self.refused(mesh, [FaultRequest("h", (0.0, 1.0, 0.0)), FaultRequest("v", (1.0, 0.0, 0.0))]),
-                         "scene.toml: fault.h: meets fault v at (2, 2): faults that cross or end on one another "
-                         "are not supported yet")
-
     def test_a_branching_fault(self):
         mesh = square({"t": segment((1, 2), (2, 2), (3, 2)) + segment((2, 2), (2, 3))})
         self.assertEqual(self.refused(mesh, [FaultRequest("t", (1.0, 1.0, 0.0))]),
                          "scene.toml: fault.t: the fault branches or crosses itself at (2, 2) (3 pieces meet "
-                         "there): faults that cross or end on one another are not supported yet")
+                         "there): give each branch a fault (a physical group) of its own")
 
     def test_a_hint_parallel_to_the_fault(self):
         mesh = square({"h": segment((1, 2), (2, 2), (3, 2))})
@@ -282,6 +278,43 @@ class Refusals(unittest.TestCase):
         [fault] = split_along_faults(mesh, [FaultRequest("l", (1.0, -1.0, 0.0))], PREFIX)
         np.testing.assert_array_equal(fault.pairs, [[25, 12]])
         np.testing.assert_array_equal(fault.tips, [11, 17])
+
+
+class Intersections(unittest.TestCase):
+    """Faults that cross (X) or end on one another (T) in the square: the
+    node where they meet, (2, 2) = 12, gets one node per piece around it,
+    12 kept by the piece below the first fault's first facet, the others
+    new (25, 26, 27) in the order of their first cells; each fault pairs,
+    facet by facet, the nodes of its + and - pieces."""
+
+    def test_crossing_faults(self):
+        mesh = square({"h": segment((1, 2), (2, 2), (3, 2)), "v": segment((2, 1), (2, 2), (2, 3))})
+        h, v = split_along_faults(mesh, [FaultRequest("h", (0.0, 1.0, 0.0)), FaultRequest("v", (1.0, 0.0, 0.0))],
+                                  PREFIX)
+        self.assertEqual(len(mesh.x), 28)
+        np.testing.assert_array_equal(mesh.x[25:], [[2, 2]] * 3)
+        # pieces SW (cells 10, 11: keeps 12), SE (13: 25), NW (18: 26), NE (20, 21: 27)
+        self.assertEqual([cells_with(mesh, [n]) for n in (12, 25, 26, 27)], [[10, 11], [13], [18], [20, 21]])
+        np.testing.assert_array_equal(h.pairs, [[26, 12], [27, 25]])
+        np.testing.assert_array_equal(v.pairs, [[25, 12], [27, 26]])
+        np.testing.assert_array_equal(h.tips, [node(1, 2), node(3, 2)])
+        np.testing.assert_array_equal(v.tips, [node(2, 1), node(2, 3)])
+        np.testing.assert_array_equal(h.meets, [[12, 1]])
+        np.testing.assert_array_equal(v.meets, [[12, 0]])
+        self.assertEqual(pieces(mesh), 1)  # the tips hold the pieces together
+
+    def test_a_fault_ending_on_another(self):
+        mesh = square({"h": segment((1, 2), (2, 2), (3, 2)), "s": segment((2, 2), (2, 3))})
+        h, t = split_along_faults(mesh, [FaultRequest("h", (0.0, 1.0, 0.0)), FaultRequest("s", (1.0, 0.0, 0.0))],
+                                  PREFIX)
+        self.assertEqual(len(mesh.x), 27)
+        # pieces below h (cells 10, 11, 13: keeps 12), NW (18: 25), NE (20, 21: 26)
+        self.assertEqual([cells_with(mesh, [n]) for n in (12, 25, 26)], [[10, 11, 13], [18], [20, 21]])
+        np.testing.assert_array_equal(h.pairs, [[25, 12], [26, 12]])
+        np.testing.assert_array_equal(t.pairs, [[26, 25]])
+        np.testing.assert_array_equal(t.tips, [node(2, 3)])
+        np.testing.assert_array_equal(h.meets, [[12, 1]])
+        np.testing.assert_array_equal(t.meets, [[12, 0]])
 
 
 # The rectangle [0, 4] x [0, 2] with a segment embedded: inside, from (1, 0.8)
