@@ -31,7 +31,7 @@ import tempfile
 import h5py
 import meshio
 import numpy as np
-from support import MPI_ENV, ROOT, TRACKS, Fields, check, fault_pairs, run_track, scene, summary, written
+from support import MPI_ENV, ROOT, TRACKS, Fields, check, fault_pairs, gmsh_scene, run_track, scene, summary
 
 SCENE = scene("fault_depletion")
 
@@ -165,17 +165,7 @@ Physical Curve("bottom") = {1}; Physical Curve("top") = {3};
 Physical Curve("zeta") = {5}; Physical Curve("alpha") = {6}; Physical Surface("rock") = {1};
 Mesh.CharacteristicLengthMax = 0.05;
 """
-TWO_CRACKS = """[mesh]
-type = "gmsh"
-file = "two_cracks.geo"
-dimension = 2
-[mechanics]
-E = 1.0e10
-nu = 0.25
-[time]
-end = 1.0
-dt = 1.0
-[boundary.bottom]
+TWO_CRACKS = """[boundary.bottom]
 displacement = { x = 0.0, y = 0.0 }
 [boundary.top]
 displacement = { x = 0.0, y = -1.0e-4 }
@@ -189,10 +179,7 @@ normal = [0.0, 1.0]
 def check_fault_ids(track):
     """fault.xdmf's `fault` field of the two cracks: each cell's fault by
     its height, in the alphabetical order of the names."""
-    path = written(TWO_CRACKS)
-    with open(os.path.join(os.path.dirname(path), "two_cracks.geo"), "w") as f:
-        f.write(TWO_CRACKS_GEO)
-    out, _ = run_track(track, path)
+    out, _ = run_track(track, gmsh_scene(TWO_CRACKS_GEO, TWO_CRACKS))
     times, points, cells, data = fault_series(out)
     with meshio.xdmf.TimeSeriesReader(os.path.join(out, "fault.xdmf")) as reader:
         reader.read_points_cells()

@@ -19,7 +19,7 @@ import os
 
 import h5py
 import numpy as np
-from support import Fields, check, run_track, scene, written
+from support import Fields, check, gmsh_scene, run_track, scene
 
 E, NU, P, A = 1.0e10, 0.25, 1.0e6, 1.0
 DIRECTION = np.array([math.cos(math.pi / 6), math.sin(math.pi / 6)])
@@ -95,17 +95,7 @@ Physical Surface("crack") = {100}; Physical Surface("bottom") = {105}; Physical 
 Physical Volume("rock") = {1};
 Mesh.CharacteristicLengthMax = 0.5;
 """
-DISC = """[mesh]
-type = "gmsh"
-file = "disc.geo"
-dimension = 3
-[mechanics]
-E = 1.0e10
-nu = 0.25
-[time]
-end = 1.0
-dt = 1.0
-[boundary.bottom]
+DISC = """[boundary.bottom]
 displacement = { x = 0.0, y = 0.0, z = 0.0 }
 [boundary.top]
 displacement = { x = 0.0, y = 0.0, z = 0.0 }
@@ -114,10 +104,7 @@ pressure = "1.0e6"
 normal = [0.0, 0.0, 1.0]
 tip_size = 0.1
 """
-path = written(DISC)
-with open(os.path.join(os.path.dirname(path), "disc.geo"), "w") as f:
-    f.write(DISC_GEO)
-out, _ = run_track("C++", path)
+out, _ = run_track("C++", gmsh_scene(DISC_GEO, DISC, dimension=3))
 fields = Fields(out)
 x, cells = fields.nodes, fields.topology
 rim = np.flatnonzero((np.abs(np.linalg.norm(x[:, :2], axis=1) - 1.0) < 1e-6) & (np.abs(x[:, 2]) < 1e-9))
@@ -136,17 +123,7 @@ Curve{7} In Surface{1};
 Physical Curve("bottom") = {1}; Physical Curve("top") = {4}; Physical Curve("cut") = {7};
 Physical Surface("rock") = {1};
 """
-THROUGH = """[mesh]
-type = "gmsh"
-file = "through.geo"
-dimension = 2
-[mechanics]
-E = 1.0e10
-nu = 0.25
-[time]
-end = 1.0
-dt = 1.0
-[boundary.bottom]
+THROUGH = """[boundary.bottom]
 displacement = { x = 0.0, y = 0.0 }
 [boundary.top]
 displacement = { x = 0.0, y = -1.0e-4 }
@@ -154,9 +131,7 @@ displacement = { x = 0.0, y = -1.0e-4 }
 normal = [0.0, 1.0]
 tip_size = 0.01
 """
-path = written(THROUGH)
-with open(os.path.join(os.path.dirname(path), "through.geo"), "w") as f:
-    f.write(THROUGH_GEO)
+path = gmsh_scene(THROUGH_GEO, THROUGH)
 for track in ("C++", "prototype"):
     out, p = run_track(track, path, expect=2)
     lines = p.stderr.strip().splitlines()
