@@ -85,12 +85,12 @@ def written(text, name="scene.toml"):
     return path
 
 
-def gmsh_scene(geo, text, dimension=2):
-    """A scene of one step of linear elasticity (E = 1e10 Pa, nu = 0.25) on
-    the gmsh .geo text `geo` (written beside it as mesh.geo), then `text`
-    (its boundaries and faults), in a new temporary folder."""
+def gmsh_scene(geo, text, dimension=2, end=1.0):
+    """A scene of linear elasticity (E = 1e10 Pa, nu = 0.25), steps of 1 s
+    to `end`, on the gmsh .geo text `geo` (written beside it as mesh.geo),
+    then `text` (its boundaries and faults), in a new temporary folder."""
     path = written(f'[mesh]\ntype = "gmsh"\nfile = "mesh.geo"\ndimension = {dimension}\n'
-                   "[mechanics]\nE = 1.0e10\nnu = 0.25\n[time]\nend = 1.0\ndt = 1.0\n" + text)
+                   f"[mechanics]\nE = 1.0e10\nnu = 0.25\n[time]\nend = {end!r}\ndt = 1.0\n" + text)
     with open(os.path.join(os.path.dirname(path), "mesh.geo"), "w") as f:
         f.write(geo)
     return path
