@@ -1,5 +1,7 @@
 #include "domain/faults.h"
 
+#include "domain/mesh_topology.h"
+
 #include "scene/input.h"
 
 #include <algorithm>
@@ -12,84 +14,6 @@ namespace biotcontact
 {
 namespace
 {
-
-/// A facet by its sorted nodes (the third is -1 in 2D): the same facet seen
-/// from either of its cells or from a group has one key.
-using FacetKey = std::array<std::int64_t, 3>;
-
-FacetKey facet_key(const std::int64_t* nodes, int d)
-{
-  FacetKey key{-1, -1, -1};
-  std::copy_n(nodes, d, key.begin());
-  // Two or three values sorted by exchanges: std::sort over part of the
-  // array makes GCC 12 warn of out-of-bounds accesses (-Warray-bounds).
-  if (key[0] > key[1])
-    std::swap(key[0], key[1]);
-  if (d == 3 and key[1] > key[2])
-    std::swap(key[1], key[2]);
-  if (key[0] > key[1])
-    std::swap(key[0], key[1]);
-  return key;
-}
-
-/// @brief The input mesh's topology before the split: its cells as read
-/// (every look-up uses the input numbering while the split renumbers the
-/// mesh's cells), the cells of each facet and the cells of each node.
-struct Topology
-{
-  int d = 2;
-  std::vector<std::int64_t> cells;
-  std::vector<std::pair<FacetKey, std::int64_t>> facet_cells; // sorted: a facet's cells ascending
-  std::vector<std::int64_t> node_offsets, node_cells;         // each node's cells ascending
-};
-
-Topology topology_of(const InputMesh& mesh)
-{
-  const int d = mesh.dim;
-  Topology t{d, mesh.cells, {}, {}, {}};
-  const auto num_cells = static_cast<std::int64_t>(mesh.cells.size()) / (d + 1);
-  t.node_offsets.assign(mesh.x.size() / d + 1, 0);
-  for (std::int64_t c = 0; c < num_cells; ++c)
-  {
-    const std::int64_t* cell = &mesh.cells[c * (d + 1)];
-    for (int j = 0; j <= d; ++j)
-    {
-      // The facet opposite node j.
-      std::array<std::int64_t, 3> facet{-1, -1, -1};
-      std::copy_if(cell, cell + d + 1, facet.begin(), [&](std::int64_t v) { return v != cell[j]; });
-      t.facet_cells.emplace_back(facet_key(facet.data(), d), c);
-      ++t.node_offsets[cell[j] + 1];
-    }
-  }
-  std::sort(t.facet_cells.begin(), t.facet_cells.end());
-  for (std::size_t v = 1; v < t.node_offsets.size(); ++v)
-    t.node_offsets[v] += t.node_offsets[v - 1];
-  t.node_cells.resize(mesh.cells.size());
-  std::vector<std::int64_t> next(t.node_offsets.begin(), t.node_offsets.end() - 1);
-  for (std::size_t i = 0; i < mesh.cells.size(); ++i)
-    t.node_cells[next[mesh.cells[i]]++] = static_cast<std::int64_t>(i) / (d + 1);
-  return t;
-}
-
-/// The cells that have the facet `key` (ascending): two inside the body,
-/// one on the outer boundary.
-std::vector<std::int64_t> cells_of(const Topology& t, const FacetKey& key)
-{
-  const auto [first, last] = std::equal_range(t.facet_cells.begin(), t.facet_cells.end(),
-                                              std::pair<FacetKey, std::int64_t>{key, 0},
-                                              [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<std::int64_t> cells;
-  for (auto it = first; it != last; ++it)
-    cells.push_back(it->second);
-  return cells;
-}
-
-/// The position of `node` in the input cell `cell`.
-int local_index(const Topology& t, std::int64_t cell, std::int64_t node)
-{
-  const std::int64_t* nodes = &t.cells[cell * (t.d + 1)];
-  return static_cast<int>(std::find(nodes, nodes + t.d + 1, node) - nodes);
-}
 
 /// The mean of `count` nodes' coordinates (a node, a facet's midpoint, a
 /// cell's centroid), z = 0 in 2D.
@@ -161,7 +85,7 @@ std::int32_t group_index(const InputMesh& mesh, const std::string& name, const s
 
 /// How far cell `cell`'s centroid lies from the facet through `nodes`,
 /// along n: the + cell is the one on the side n points into.
-double side(const InputMesh& mesh, const Topology& t, std::int64_t cell, const std::int64_t* nodes,
+double side(const InputMesh& mesh, const InputTopology& t, std::int64_t cell, const std::int64_t* nodes,
             const std::array<double, 3>& n)
 {
   const std::array<double, 3> centroid = mean_point(mesh, &t.cells[cell * (t.d + 1)], t.d + 1);
@@ -172,7 +96,7 @@ double side(const InputMesh& mesh, const Topology& t, std::int64_t cell, const s
 /// The facets of the group `request.name`, each between two cells, with
 /// its normal oriented by the hint (scaled to unit length, so that the
 /// parallel test does not depend on its length) and its + and - cells.
-OrientedFault orient_fault(const InputMesh& mesh, const Topology& t, const FaultRequest& request,
+OrientedFault orient_fault(const InputMesh& mesh, const InputTopology& t, const FaultRequest& request,
                            const std::string& key)
 {
   const int d = mesh.dim;
@@ -271,7 +195,7 @@ struct NodeStar
 };
 
 /// The cells that share with `cell` a facet through node v on no fault.
-std::vector<std::int64_t> neighbours(const Topology& t, std::int64_t cell, std::int64_t v,
+std::vector<std::int64_t> neighbours(const InputTopology& t, std::int64_t cell, std::int64_t v,
                                      const std::vector<FacetKey>& keys)
 {
   const std::int64_t* nodes = &t.cells[cell * (t.d + 1)];
@@ -292,7 +216,7 @@ std::vector<std::int64_t> neighbours(const Topology& t, std::int64_t cell, std::
   return found;
 }
 
-NodeStar star_of(const Topology& t, std::int64_t v, const std::vector<FacetKey>& keys)
+NodeStar star_of(const InputTopology& t, std::int64_t v, const std::vector<FacetKey>& keys)
 {
   NodeStar star;
   star.cells.assign(t.node_cells.begin() + t.node_offsets[v], t.node_cells.begin() + t.node_offsets[v + 1]);
@@ -365,7 +289,7 @@ std::int64_t append_node(InputMesh& mesh, std::int64_t v)
 class Splitter
 {
 public:
-  Splitter(InputMesh& mesh, const Topology& t, const std::vector<OrientedFault>& faults,
+  Splitter(InputMesh& mesh, const InputTopology& t, const std::vector<OrientedFault>& faults,
            const std::string& key_prefix, std::vector<SplitFault>& split)
       : _mesh(mesh), _t(t), _faults(faults), _key_prefix(key_prefix), _split(split), _keys(fault_keys(mesh, faults))
   {
@@ -436,7 +360,7 @@ private:
   }
 
   InputMesh& _mesh;
-  const Topology& _t;
+  const InputTopology& _t;
   const std::vector<OrientedFault>& _faults;
   const std::string& _key_prefix;
   std::vector<SplitFault>& _split;
@@ -447,7 +371,7 @@ private:
 /// cells around it hold together (a tip), or gets one node per piece of its
 /// star (two on one fault: its + side's cells take a new node; three or
 /// four where faults cross or end on one another).
-void split_nodes(InputMesh& mesh, const Topology& t, const std::vector<OrientedFault>& faults,
+void split_nodes(InputMesh& mesh, const InputTopology& t, const std::vector<OrientedFault>& faults,
                  const FaultNodes& nodes, const std::string& key_prefix, std::vector<SplitFault>& split)
 {
   Splitter splitter(mesh, t, faults, key_prefix, split);
@@ -457,7 +381,7 @@ void split_nodes(InputMesh& mesh, const Topology& t, const std::vector<OrientedF
 
 /// Appends the input facet through `nodes` as cell `cell` numbers it after
 /// the split.
-void append_face(const InputMesh& mesh, const Topology& t, std::int64_t cell, const std::int64_t* nodes,
+void append_face(const InputMesh& mesh, const InputTopology& t, std::int64_t cell, const std::int64_t* nodes,
                  std::vector<std::int64_t>& faces)
 {
   for (int i = 0; i < t.d; ++i)
@@ -465,7 +389,7 @@ void append_face(const InputMesh& mesh, const Topology& t, std::int64_t cell, co
 }
 
 /// A fault's two faces after the split, from its + and - cells.
-void fault_faces(const InputMesh& mesh, const Topology& t, const OrientedFault& fault, SplitFault& split)
+void fault_faces(const InputMesh& mesh, const InputTopology& t, const OrientedFault& fault, SplitFault& split)
 {
   for (std::size_t k = 0; k < fault.facets.size(); ++k)
   {
@@ -478,7 +402,7 @@ void fault_faces(const InputMesh& mesh, const Topology& t, const OrientedFault& 
 /// Keeps the facets of no fault, each as its (first) cell numbers it after
 /// the split: where a fault reaches the outer boundary, the boundary
 /// splits with it. A facet that is no face of a cell is kept as it is.
-void renumber_facets(InputMesh& mesh, const Topology& t, const std::vector<bool>& on_fault)
+void renumber_facets(InputMesh& mesh, const InputTopology& t, const std::vector<bool>& on_fault)
 {
   std::vector<std::int64_t> facets;
   std::vector<std::int32_t> groups;
@@ -503,7 +427,7 @@ void renumber_facets(InputMesh& mesh, const Topology& t, const std::vector<bool>
 std::vector<SplitFault> split_along_faults(InputMesh& mesh, const std::vector<FaultRequest>& faults,
                                            const std::string& key_prefix)
 {
-  const Topology topology = topology_of(mesh);
+  const InputTopology topology = topology_of(mesh.dim, mesh.cells, mesh.x.size() / mesh.dim);
   std::vector<OrientedFault> oriented;
   std::vector<SplitFault> split;
   for (const FaultRequest& request : faults)

@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..scene.input import SceneError
+from .mesh_topology import cells_of, facet_key, local_index, topology_of
 
 
 @dataclasses.dataclass
@@ -52,38 +53,6 @@ class SplitFault:
     # (intersections, 2): (input node, the other fault's index) where this fault
     # crosses, ends on or is ended on by another, in increasing node order
     meets: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
-
-
-def _facet_key(nodes):
-    """A facet by its sorted nodes: the same facet seen from either of its
-    cells or from a group has one key."""
-    return tuple(sorted(int(v) for v in nodes))
-
-
-class _Topology:
-    """The input mesh's topology before the split: its cells as read (every
-    look-up uses the input numbering while the split renumbers the mesh's
-    cells), the cells of each facet and the cells of each node (ascending)."""
-
-    def __init__(self, mesh):
-        self.d = mesh.dim
-        self.cells = np.array(mesh.cells, dtype=np.int64)
-        self.facet_cells = {}
-        self.node_cells = [[] for _ in range(len(mesh.x))]
-        for c, cell in enumerate(self.cells.tolist()):
-            for j, v in enumerate(cell):
-                # The facet opposite node j.
-                self.facet_cells.setdefault(_facet_key(cell[:j] + cell[j + 1:]), []).append(c)
-                self.node_cells[v].append(c)
-
-    def cells_of(self, key):
-        """The cells that have the facet `key` (ascending): two inside the
-        body, one on the outer boundary."""
-        return self.facet_cells.get(key, [])
-
-    def local_index(self, cell, node):
-        """The position of `node` in the input cell `cell`."""
-        return int(np.flatnonzero(self.cells[cell] == node)[0])
 
 
 def _mean_point(mesh, nodes):
@@ -156,7 +125,7 @@ def _orient_fault(mesh, topology, request, key):
     fault = _OrientedFault()
     for f in np.flatnonzero(np.asarray(mesh.facet_group) == group).tolist():
         nodes = mesh.facets[f].tolist()
-        cells = topology.cells_of(_facet_key(nodes))
+        cells = cells_of(topology, facet_key(nodes))
         at = " at " + _point_text(_mean_point(mesh, nodes), d)
         if len(cells) == 1:
             raise SceneError(f"{key}: the group {request.name} lies on the outer boundary{at} "
@@ -199,7 +168,7 @@ def _refuse_shared_facets(mesh, oriented, faults, key_prefix):
     for f, fault in enumerate(oriented):
         for facet in fault.facets:
             nodes = mesh.facets[facet].tolist()
-            first = fault_of.setdefault(_facet_key(nodes), f)
+            first = fault_of.setdefault(facet_key(nodes), f)
             if first != f:
                 at = _point_text(_mean_point(mesh, nodes), mesh.dim)
                 raise SceneError(f"{key_prefix}{faults[first].name}: the physical groups {faults[first].name} and "
@@ -209,7 +178,7 @@ def _refuse_shared_facets(mesh, oriented, faults, key_prefix):
 
 def _fault_keys(mesh, faults):
     """The facets of all faults."""
-    return {_facet_key(mesh.facets[f]) for fault in faults for f in fault.facets}
+    return {facet_key(mesh.facets[f]) for fault in faults for f in fault.facets}
 
 
 class _NodeStar:
@@ -246,10 +215,10 @@ def _neighbours(topology, cell, v, keys):
     for j, u in enumerate(nodes):
         if u == v:
             continue
-        key = _facet_key(nodes[:j] + nodes[j + 1:])
+        key = facet_key(nodes[:j] + nodes[j + 1:])
         if key in keys:
             continue
-        found += [other for other in topology.cells_of(key) if other != cell]
+        found += [other for other in cells_of(topology, key) if other != cell]
     return found
 
 
@@ -305,7 +274,7 @@ class _Splitter:
                 _check_sides(mesh, star, faults[f], facets, v, self.key_prefix + split[f].name)
             node_of = self.copies(star, faults[through[0][0]].minus_cells[through[0][1]], v)
         for cell, component in zip(star.cells, star.component):
-            mesh.cells[cell, self.topology.local_index(cell, v)] = node_of[component]
+            mesh.cells[cell, local_index(self.topology, cell, v)] = node_of[component]
         for f, facets in by_fault.items():
             pairs = []
             for k in facets:
@@ -333,7 +302,7 @@ def _split_nodes(mesh, topology, faults, nodes, key_prefix, split):
 
 def _face(mesh, topology, cell, nodes):
     """The input facet through `nodes` as cell `cell` numbers it after the split."""
-    return [int(mesh.cells[cell, topology.local_index(cell, v)]) for v in nodes]
+    return [int(mesh.cells[cell, local_index(topology, cell, v)]) for v in nodes]
 
 
 def _fault_faces(mesh, topology, fault, split):
@@ -353,7 +322,7 @@ def _renumber_facets(mesh, topology, on_fault):
         if on_fault[f]:
             continue
         nodes = mesh.facets[f].tolist()
-        cells = topology.cells_of(_facet_key(nodes))
+        cells = cells_of(topology, facet_key(nodes))
         facets.append(_face(mesh, topology, cells[0], nodes) if cells else nodes)
         groups.append(group)
     mesh.facets = np.array(facets, dtype=np.int64).reshape(-1, mesh.dim)
@@ -374,7 +343,7 @@ def split_along_faults(mesh, faults, key_prefix):
     mesh.x = np.array(mesh.x, dtype=np.float64).reshape(-1, mesh.dim)
     mesh.cells = np.array(mesh.cells, dtype=np.int64).reshape(-1, mesh.dim + 1)
     mesh.facets = np.array(mesh.facets, dtype=np.int64).reshape(-1, mesh.dim)
-    topology = _Topology(mesh)
+    topology = topology_of(mesh.dim, mesh.cells, len(mesh.x))
     oriented = [_orient_fault(mesh, topology, request, key_prefix + request.name) for request in faults]
     split = [SplitFault(request.name, [], [], fault.normals, [], [], []) for request, fault in zip(faults, oriented)]
     _refuse_shared_facets(mesh, oriented, faults, key_prefix)
