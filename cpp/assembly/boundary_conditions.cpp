@@ -133,9 +133,16 @@ std::vector<FaceRow> fault_face_rows(const Domain& domain, const dolfinx::fem::F
   const int d = domain.dim();
   mesh.topology_mutable().create_connectivity(d - 1, 0);
   const Fault& fault = domain.faults.at(name);
-  std::map<std::int64_t, std::int64_t> twin;
-  for (const auto& [plus, minus] : fault.pairs)
-    twin[minus] = plus;
+  // Each - face's nodes (sorted) to its + face's: by facet, as a - node may
+  // face two + nodes where another fault ends on this one.
+  std::map<std::vector<std::int64_t>, std::vector<std::int64_t>> plus_face;
+  const FaultCells& cells = fault.cells;
+  for (std::size_t k = 0; k < cells.size(); ++k)
+  {
+    std::vector<std::int64_t> minus(cells.twins.begin() + d * k, cells.twins.begin() + d * (k + 1));
+    std::sort(minus.begin(), minus.end());
+    plus_face[minus] = {cells.keys.begin() + d * k, cells.keys.begin() + d * (k + 1)};
+  }
   const std::vector<std::int64_t> input = vertex_input_indices(mesh);
   auto f_to_v = mesh.topology().connectivity(d - 1, 0), f_to_c = mesh.topology().connectivity(d - 1, d);
   auto c_to_f = mesh.topology().connectivity(d, d - 1);
@@ -153,8 +160,10 @@ std::vector<FaceRow> fault_face_rows(const Domain& domain, const dolfinx::fem::F
         continue;
       FaceRow row{side, {}, map.local_range()[0] + dof, flux[dof]};
       for (std::int32_t v : f_to_v->links(facet))
-        row.key.push_back(twin.count(input[v]) ? twin[input[v]] : input[v]);
+        row.key.push_back(input[v]);
       std::sort(row.key.begin(), row.key.end());
+      if (side == 1)
+        row.key = plus_face.at(row.key);
       rows.push_back(std::move(row));
     }
   return rows;

@@ -81,9 +81,9 @@ FacetFlux facet_flux(const ufcx_form* L_pressure, std::shared_ptr<const dolfinx:
                      const Domain& domain, const CompiledForms& forms, const Constants& constants);
 
 /// @brief One face of a fault facet as the flow sees it: its side (0: +,
-/// 1: -), its vertices' input indices (a - node replaced by its + twin,
-/// sorted: the two faces of a facet share them, and they are the fault
-/// cell's key, domain/fault_cells.h), its RT0 DOF's global index and its
+/// 1: -), its + face's vertices' input indices (sorted: the two faces of
+/// a facet share them, and they are the fault cell's key,
+/// domain/fault_cells.h), its RT0 DOF's global index and its
 /// facet flux c = <w.n, 1>.
 struct FaceRow
 {

@@ -57,10 +57,10 @@ double closure_compliance(const ClosureSpec& closure, double s_n)
 double volume_imbalance(const StepVolumes& step, const FaultVolumes& total, double rock_flux)
 {
   const double scale = std::max({std::abs(total.injected), std::abs(total.stored), std::abs(total.exchanged),
-                                 std::abs(total.outflow), step.gross, 1e-6 * step.held,
+                                 std::abs(total.outflow), std::abs(total.intersections), step.gross, 1e-6 * step.held,
                                  1e-8 * step.faces * rock_flux});
   const FaultVolumes& v = step.net;
-  const double imbalance = std::abs(v.injected + v.exchanged - v.stored - v.outflow);
+  const double imbalance = std::abs(v.injected + v.exchanged + v.intersections - v.stored - v.outflow);
   return imbalance == 0 ? 0.0 : imbalance / scale; // NaN or inf when a volume is
 }
 
@@ -115,6 +115,13 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
     locate_wells(scene, name, cells, _size);
     _size += static_cast<std::int64_t>(cells.size());
   }
+  std::vector<const FaultCells*> cells;
+  for (const Conduit& c : _conduits)
+    cells.push_back(c.cells);
+  FaultNetwork network = fault_network(cells);
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+    _conduits[i].links = std::move(network.links[i]);
+  _junctions = std::move(network.junctions);
   _start = Z.dofmap()->index_map->local_range()[0];
   int rank = 0, ranks = 1;
   MPI_Comm_rank(_comm, &rank);
@@ -225,6 +232,29 @@ std::vector<double> ConduitFaults::conductance(const Conduit& c) const
   return t;
 }
 
+std::vector<ConduitFaults::JunctionLink> ConduitFaults::junction_links() const
+{
+  // The intersection's pressure p_j, eliminated from sum_i h_i (p_i - p_j) =
+  // 0 with h_i = t_i |e| / d_i, leaves between each two members the
+  // transmissibility h_a h_b / sum_i h_i (a star-delta transform: exact).
+  std::vector<std::vector<double>> t;
+  for (const Conduit& c : _conduits)
+    t.push_back(conductance(c));
+  std::vector<JunctionLink> links;
+  for (const FaultJunction& j : _junctions)
+  {
+    std::vector<double> h;
+    for (std::size_t i = 0; i < j.cells.size(); ++i)
+      h.push_back(t[j.faults[i]][j.cells[i]] * j.measure / j.distances[i]);
+    const double sum = std::accumulate(h.begin(), h.end(), 0.0);
+    for (std::size_t a = 0; a < h.size(); ++a)
+      for (std::size_t b = a + 1; b < h.size(); ++b)
+        links.push_back({{_conduits[j.faults[a]].offset + j.cells[a], _conduits[j.faults[b]].offset + j.cells[b]},
+                         {j.faults[a], j.faults[b]}, h[a] * h[b] / sum, &j.point});
+  }
+  return links;
+}
+
 std::pair<std::vector<std::size_t>, std::vector<double>> ConduitFaults::held_ends(const Conduit& c) const
 {
   const std::vector<double> T = transmissibilities(conductance(c), c.cells->ends);
@@ -258,11 +288,11 @@ Mat ConduitFaults::operator_matrix(double dt) const
     const std::vector<double> L = stabilisation(c, dt);
     std::transform(diagonal.begin(), diagonal.end(), L.begin(), diagonal.begin(),
                    [](double s, double l) { return -s - l; });
-    const std::vector<double> T = transmissibilities(conductance(c), c.cells->links);
+    const std::vector<double> T = transmissibilities(conductance(c), c.links);
     for (std::size_t e = 0; e < T.size(); ++e)
     {
-      const std::array<PetscInt, 2> kl{o + static_cast<PetscInt>(c.cells->links.cells[2 * e]),
-                                       o + static_cast<PetscInt>(c.cells->links.cells[2 * e + 1])};
+      const std::array<PetscInt, 2> kl{o + static_cast<PetscInt>(c.links.cells[2 * e]),
+                                       o + static_cast<PetscInt>(c.links.cells[2 * e + 1])};
       const std::array<double, 4> values{-T[e], T[e], T[e], -T[e]};
       check_petsc(MatSetValues(C, 2, kl.data(), 2, kl.data(), values.data(), ADD_VALUES),
                   "the conduit faults' matrix: MatSetValues");
@@ -273,6 +303,13 @@ Mat ConduitFaults::operator_matrix(double dt) const
     for (std::size_t k = 0; k < diagonal.size(); ++k)
       check_petsc(MatSetValue(C, o + static_cast<PetscInt>(k), o + static_cast<PetscInt>(k), diagonal[k], ADD_VALUES),
                   "the conduit faults' matrix: MatSetValue");
+  }
+  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
+  {
+    const std::array<PetscInt, 2> kl{static_cast<PetscInt>(j.rows[0]), static_cast<PetscInt>(j.rows[1])};
+    const std::array<double, 4> values{-j.T, j.T, j.T, -j.T};
+    check_petsc(MatSetValues(C, 2, kl.data(), 2, kl.data(), values.data(), ADD_VALUES),
+                "the conduit faults' matrix: MatSetValues");
   }
   check_petsc(MatAssemblyBegin(C, MAT_FINAL_ASSEMBLY), "the conduit faults' matrix: MatAssemblyBegin");
   check_petsc(MatAssemblyEnd(C, MAT_FINAL_ASSEMBLY), "the conduit faults' matrix: MatAssemblyEnd");
@@ -395,22 +432,31 @@ void ConduitFaults::load(const FineStep& step, std::span<const double> p_old, st
       b[w.row] -= w.share * (*w.rate)(0, 0, 0, step.t);
 }
 
-std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> p, double t) const
+std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> pressure, double t) const
 {
   const FaultCells& cells = *c.cells;
+  const std::span<const double> p = pressure.subspan(c.offset, cells.size());
   std::vector<double> q(3 * cells.size(), 0.0);
   auto add = [&](std::int64_t k, double F, const std::array<double, 3>& m)
   {
     for (int i = 0; i < 3; ++i)
       q[3 * k + i] += F * (m[i] - cells.centroids[k][i]);
   };
-  const std::vector<double> T = transmissibilities(conductance(c), cells.links);
+  const std::vector<double> T = transmissibilities(conductance(c), c.links);
   for (std::size_t e = 0; e < T.size(); ++e)
   {
-    const std::int64_t k = cells.links.cells[2 * e], l = cells.links.cells[2 * e + 1];
+    const std::int64_t k = c.links.cells[2 * e], l = c.links.cells[2 * e + 1];
     const double F = T[e] * (p[k] - p[l]);
-    add(k, F, cells.links.points[e]);
-    add(l, -F, cells.links.points[e]);
+    add(k, F, c.links.points[e]);
+    add(l, -F, c.links.points[e]);
+  }
+  const auto self = static_cast<std::size_t>(&c - _conduits.data());
+  for (const JunctionLink& j : junction_links())
+  {
+    const double F = j.T * (pressure[j.rows[0]] - pressure[j.rows[1]]);
+    for (int side = 0; side < 2; ++side)
+      if (j.conduits[side] == self)
+        add(j.rows[side] - c.offset, side == 0 ? F : -F, *j.point);
   }
   const auto [held, T_e] = held_ends(c);
   const std::vector<double> p_D = end_pressures(c, held, t);
@@ -454,7 +500,7 @@ std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::s
   for (const Conduit& c : _conduits)
   {
     const std::span<const double> p_c(pressure.data() + c.offset, c.cells->size());
-    const std::vector<double> q = mean_flux(c, p_c, t);
+    const std::vector<double> q = mean_flux(c, pressure, t);
     for (std::size_t k = 0; k < c.cells->size(); ++k)
     {
       double* row = &values[6 * (c.offset + k)];
@@ -471,12 +517,13 @@ std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, 
   const double t = fine.t, dt = fine.dt;
   // Per fault: injected, stored, exchanged, outflow of the step, gross,
   // held and faces; the faces on every rank, the rest on the last.
-  std::vector<double> step(7 * _conduits.size(), 0.0);
-  auto add = [&](std::size_t i, int column, double v) { step[7 * i + column] += v, step[7 * i + 4] += std::abs(v); };
+  // The intersections in the 8th column.
+  std::vector<double> step(8 * _conduits.size(), 0.0);
+  auto add = [&](std::size_t i, int column, double v) { step[8 * i + column] += v, step[8 * i + 4] += std::abs(v); };
   for (const Face& f : _faces)
   {
     add(f.conduit, 2, dt * f.flux * w[f.dof - _start]);
-    step[7 * f.conduit + 6] += dt * std::abs(f.flux);
+    step[8 * f.conduit + 6] += dt * std::abs(f.flux);
   }
   for (const Well& well : _wells)
     if (_owned)
@@ -489,19 +536,26 @@ std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, 
     {
       add(i, 1, measures[k] * (c.aperture[k] - c.aperture_start[k]) / fine.q
                     + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]));
-      step[7 * i + 5] += measures[k] * c.aperture[k];
+      step[8 * i + 5] += measures[k] * c.aperture[k];
     }
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, t);
     for (std::size_t e = 0; e < held.size(); ++e)
       add(i, 3, dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]));
   }
+  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
+    if (j.conduits[0] != j.conduits[1]) // from the first member's fault into the second's
+    {
+      const double V = dt * j.T * (p[j.rows[0]] - p[j.rows[1]]);
+      add(j.conduits[0], 7, -V);
+      add(j.conduits[1], 7, V);
+    }
   MPI_Allreduce(MPI_IN_PLACE, step.data(), static_cast<int>(step.size()), MPI_DOUBLE, MPI_SUM, _comm);
   std::vector<StepVolumes> volumes(_conduits.size());
   for (std::size_t i = 0; i < _conduits.size(); ++i)
   {
-    const double* s = &step[7 * i];
-    volumes[i] = {{s[0], s[1], s[2], s[3]}, s[4], s[5], s[6]};
+    const double* s = &step[8 * i];
+    volumes[i] = {{s[0], s[1], s[2], s[3], s[7]}, s[4], s[5], s[6]};
   }
   return volumes;
 }
@@ -513,15 +567,20 @@ std::string ConduitFaults::unbalanced(const std::vector<StepVolumes>& step, doub
     const FaultVolumes& s = step[i].net;
     const FaultVolumes& v = _conduits[i].volumes;
     const FaultVolumes total{v.injected + s.injected, v.stored + s.stored, v.exchanged + s.exchanged,
-                             v.outflow + s.outflow};
+                             v.outflow + s.outflow, v.intersections + s.intersections};
     const double imbalance = volume_imbalance(step[i], total, rock_flux);
     if (!(imbalance <= volume_balance_tolerance)) // NaN too
     {
       std::ostringstream line;
-      line << "fault." << _conduits[i].name << ": its volumes do not balance: injected + exchanged - stored - outflow = "
-           << s.injected + s.exchanged - s.stored - s.outflow << " in the step (injected " << s.injected
-           << ", exchanged " << s.exchanged << ", stored " << s.stored << ", outflow " << s.outflow << "), "
-           << imbalance << " of the volumes, more than " << volume_balance_tolerance;
+      const bool network = !_junctions.empty();
+      line << "fault." << _conduits[i].name << ": its volumes do not balance: injected + exchanged"
+           << (network ? " + intersections" : "") << " - stored - outflow = "
+           << s.injected + s.exchanged + s.intersections - s.stored - s.outflow << " in the step (injected "
+           << s.injected << ", exchanged " << s.exchanged;
+      if (network)
+        line << ", intersections " << s.intersections;
+      line << ", stored " << s.stored << ", outflow " << s.outflow << "), " << imbalance
+           << " of the volumes, more than " << volume_balance_tolerance;
       return line.str();
     }
   }
@@ -535,6 +594,7 @@ void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const Fine
     FaultVolumes& v = _conduits[i].volumes;
     const FaultVolumes& s = step[i].net;
     v.injected += s.injected, v.stored += s.stored, v.exchanged += s.exchanged, v.outflow += s.outflow;
+    v.intersections += s.intersections;
     if (fine.m == fine.q)
       _conduits[i].aperture_start = _conduits[i].aperture;
   }
@@ -552,14 +612,18 @@ std::vector<double> ConduitFaults::volume_values() const
 {
   std::vector<double> values;
   for (const Conduit& c : _conduits)
-    values.insert(values.end(), {c.volumes.injected, c.volumes.stored, c.volumes.exchanged, c.volumes.outflow});
+    values.insert(values.end(), {c.volumes.injected, c.volumes.stored, c.volumes.exchanged, c.volumes.outflow,
+                                 c.volumes.intersections});
   return values;
 }
 
 void ConduitFaults::set_volume_values(std::span<const double> values)
 {
+  // Five per fault (four in the checkpoints before the intersections).
+  const std::size_t n = _conduits.empty() ? 5 : values.size() / _conduits.size();
   for (std::size_t i = 0; i < _conduits.size(); ++i)
-    _conduits[i].volumes = {values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]};
+    _conduits[i].volumes = {values[n * i], values[n * i + 1], values[n * i + 2], values[n * i + 3],
+                            n > 4 ? values[n * i + 4] : 0.0};
 }
 
 

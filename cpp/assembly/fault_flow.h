@@ -85,11 +85,12 @@ struct FineStep
 /// @brief A conduit fault's fluid volumes since the run's start (m^3; m^2
 /// per metre of thickness in 2D): injected by its wells, stored (the
 /// volume its opening made and its fluid's compression), exchanged (from
-/// the rock through its faces) and out of its ends on pressure boundaries.
-/// Step by step, injected + exchanged = stored + outflow.
+/// the rock through its faces), out of its ends on pressure boundaries and
+/// in from the other conduit faults where they meet (intersections). Step by
+/// step, injected + exchanged + intersections = stored + outflow.
 struct FaultVolumes
 {
-  double injected = 0, stored = 0, exchanged = 0, outflow = 0;
+  double injected = 0, stored = 0, exchanged = 0, outflow = 0, intersections = 0;
 };
 
 /// @brief A fault's volumes of one step (net); the sum of the magnitudes
@@ -255,6 +256,7 @@ private:
     FaultVolumes volumes;         // since the run's start
     std::vector<double> conducting = {}; // the aperture of the cubic law: w_h relaxed (Aitken)
     std::vector<double> lag = {};        // w_h - conducting at the last set_openings
+    FaultEdges links = FaultEdges(2);    // the cells' links but those at junctions (fault_network)
   };
   struct Face
   {
@@ -288,6 +290,16 @@ private:
   /// t per cell: k_f w / mu_f with the fault's own permeability, else the
   /// cubic law's w^3 / (12 mu_f); w the conducting aperture.
   std::vector<double> conductance(const Conduit& c) const;
+  /// @brief Two members of a junction and the transmissibility between them.
+  struct JunctionLink
+  {
+    std::array<std::int64_t, 2> rows;     // among the appended unknowns
+    std::array<std::size_t, 2> conduits; // indices into _conduits
+    double T;
+    const std::array<double, 3>* point;  // the junction's
+  };
+  /// Every junction's links, the intersection's pressure eliminated.
+  std::vector<JunctionLink> junction_links() const;
   /// The ends on pressure boundaries: (indices into the ends, T_e).
   std::pair<std::vector<std::size_t>, std::vector<double>> held_ends(const Conduit& c) const;
   std::vector<double> end_pressures(const Conduit& c, const std::vector<std::size_t>& held, double t) const;
@@ -300,6 +312,7 @@ private:
   std::vector<Conduit> _conduits;
   std::vector<Face> _faces;
   std::vector<Well> _wells;
+  std::vector<FaultJunction> _junctions; // where the conduits meet (fault_network)
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
   int _dim = 2;

@@ -122,8 +122,47 @@ FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split)
       add_edge(fault.ends, cells, measure, middle, fault);
       fault.end_groups.push_back(boundary.at(edge));
     }
+    else if (cells.size() == 1)
+      add_edge(fault.inner, cells, measure, middle, fault);
   }
   return fault;
+}
+
+FaultNetwork fault_network(const std::vector<const FaultCells*>& faults)
+{
+  struct Edge
+  {
+    std::size_t fault;
+    const FaultEdges* edges;
+    std::size_t index;
+  };
+  std::map<Point, std::vector<Edge>> at; // the edges at each midpoint
+  for (std::size_t f = 0; f < faults.size(); ++f)
+    for (const FaultEdges* edges : {&faults[f]->links, &faults[f]->inner})
+      for (std::size_t e = 0; e < edges->size(); ++e)
+        at[edges->points[e]].push_back({f, edges, e});
+  FaultNetwork network;
+  for (std::size_t f = 0; f < faults.size(); ++f)
+  {
+    const FaultEdges& links = faults[f]->links;
+    FaultEdges& kept = network.links.emplace_back(2);
+    for (std::size_t e = 0; e < links.size(); ++e)
+      if (at.at(links.points[e]).size() == 1) // in the order of the fault's links: the same sums as alone
+        add_edge(kept, {links.cells[2 * e], links.cells[2 * e + 1]}, links.measures[e], links.points[e], *faults[f]);
+  }
+  for (const auto& [point, edges] : at)
+  {
+    if (edges.size() == 1)
+      continue;
+    FaultJunction& j = network.junctions.emplace_back(FaultJunction{point, edges[0].edges->measures[edges[0].index]});
+    for (const Edge& g : edges)
+      for (int i = 0; i < g.edges->width; ++i)
+      {
+        const std::size_t k = g.edges->width * g.index + i;
+        j.faults.push_back(g.fault), j.cells.push_back(g.edges->cells[k]), j.distances.push_back(g.edges->distances[k]);
+      }
+  }
+  return network;
 }
 
 namespace
@@ -204,6 +243,7 @@ void share_fault_cells(FaultCells& cells, MPI_Comm comm)
   share(cells.vertices, MPI_DOUBLE, 3, comm);
   share_edges(cells.links, comm);
   share_edges(cells.ends, comm);
+  share_edges(cells.inner, comm);
   std::string groups;
   for (const std::string& g : cells.end_groups)
     groups += g + "\n";

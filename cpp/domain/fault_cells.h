@@ -50,9 +50,39 @@ struct FaultCells
   std::vector<std::array<double, 3>> vertices; // d per cell: the + face's nodes, in the order of keys
   FaultEdges links{2}, ends{1};
   std::vector<std::string> end_groups;
+  // one-cell edges inside the body: a tip, or an edge where the split
+  // separated the fault's cells at another fault (fault_network)
+  FaultEdges inner{1};
 
   std::size_t size() const { return measures.size(); }
 };
+
+/// @brief Where faults' cells meet at one edge other than as one fault's
+/// link: where faults cross or one ends on another (an intersection in the
+/// fault network). Its members are every cell with an edge there.
+struct FaultJunction
+{
+  std::array<double, 3> point;     // the edge's midpoint
+  double measure;                  // the edge's length in 3D, 1 in 2D
+  std::vector<std::size_t> faults; // per member: its fault (an index into the faults given)
+  std::vector<std::int64_t> cells; // per member: its cell in that fault
+  std::vector<double> distances;   // per member: from its centroid to the point
+};
+
+/// @brief A network of faults: each fault's links but those at junctions,
+/// and the junctions.
+struct FaultNetwork
+{
+  std::vector<FaultEdges> links; // per fault
+  std::vector<FaultJunction> junctions;
+};
+
+/// The network of `faults`, the faults whose cells exchange fluid: a point
+/// where more than one of their edges (links and inner edges, matched by
+/// their midpoints, which the split's copies of a node reproduce exactly)
+/// meet is a junction of all their cells, and its links leave the faults'
+/// links (docs/theory.md, "Flow in a fault network").
+FaultNetwork fault_network(const std::vector<const FaultCells*>& faults);
 
 /// The cells of the fault `split` in the split mesh `mesh`.
 FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split);

@@ -186,11 +186,14 @@ std::vector<std::array<double, 3>> pair_normals(const SplitFault& split, int d)
   return normals;
 }
 
-/// Refuses faults that cross or end on one another: the split gives each
-/// piece around the intersection its node, but the contact and the flow
-/// there are not posed yet (a node + in two pairs).
+/// Refuses faults that cross or end on one another in a scene with
+/// mechanics: the split gives each piece around the intersection its node,
+/// and the flow meets there (fault_network), but the contact is not posed
+/// yet (a node in two pairs).
 void refuse_intersections(const Scene& scene, const InputMesh& mesh, const std::vector<SplitFault>& split)
 {
+  if (!scene.mechanics)
+    return;
   std::vector<std::array<std::int64_t, 3>> meets; // (node, fault, other)
   for (std::size_t f = 0; f < split.size(); ++f)
     for (const auto& [v, g] : split[f].meets)
@@ -200,8 +203,8 @@ void refuse_intersections(const Scene& scene, const InputMesh& mesh, const std::
   const auto [v, f, g] = *std::min_element(meets.begin(), meets.end());
   throw SceneError(scene.file + ": fault." + split[f].name + ": meets fault " + split[g].name + " at "
                    + point_text(&mesh.x[mesh.dim * v], mesh.dim)
-                   + ": the mesh is split there, but the contact and the flow where faults cross or end on one "
-                     "another are not supported yet");
+                   + ": the mesh is split there, but the contact where faults cross or end on one another is not "
+                     "supported yet (without [mechanics] the flow through the network is)");
 }
 
 /// Splits the mesh along the scene's faults (domain/faults.h): their faces

@@ -280,7 +280,8 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
                            .set("injected", v.injected)
                            .set("stored", v.stored)
                            .set("exchanged", v.exchanged)
-                           .set("outflow", v.outflow));
+                           .set("outflow", v.outflow)
+                           .set("intersections", v.intersections));
     summary.set("fault_volumes", faults);
   }
   if (in.errors)

@@ -118,14 +118,17 @@ def facet_flux(F, L_pressure, space):
 
 def fault_face_rows(domain, Z, name, flux):
     """Per face of the fault `name` on this rank whose RT0 DOF it owns: its
-    side (0: +, 1: -), its vertices' input indices (a - node replaced by
-    its + twin, sorted: the two faces of a facet share them, and they are
-    the fault cell's key, domain/fault_cells.py), the DOF's global index
-    and its facet flux c = <w.n, 1>."""
+    side (0: +, 1: -), its + face's vertices' input indices (sorted: the two
+    faces of a facet share them, and they are the fault cell's key,
+    domain/fault_cells.py), the DOF's global index and its facet flux
+    c = <w.n, 1>."""
     mesh, d = domain.mesh, domain.dim
     mesh.topology.create_connectivity(d - 1, 0)
     fault = domain.faults[name]
-    twin = {int(minus): int(plus) for plus, minus in fault.pairs}
+    # each - face's nodes (sorted) to its + face's: by facet, as a - node may
+    # face two + nodes where another fault ends on this one
+    cells = fault.cells
+    plus_face = {tuple(sorted(minus)): tuple(plus) for plus, minus in zip(cells.keys.tolist(), cells.twins.tolist())}
     inputs = vertex_input_indices(mesh)
     f_to_v, f_to_c = mesh.topology.connectivity(d - 1, 0), mesh.topology.connectivity(d - 1, d)
     c_to_f = mesh.topology.connectivity(d, d - 1)
@@ -138,7 +141,9 @@ def fault_face_rows(domain, Z, name, flux):
             dof = Z.dofmap.cell_dofs(cell)[layout.entity_dofs(d - 1, local)[0]]
             if dof >= index_map.size_local:
                 continue
-            key = tuple(sorted(twin.get(int(inputs[v]), int(inputs[v])) for v in f_to_v.links(facet)))
+            key = tuple(sorted(int(inputs[v]) for v in f_to_v.links(facet)))
+            if side == 1:
+                key = plus_face[key]
             rows.append((side, key, index_map.local_range[0] + int(dof), float(flux[dof])))
     return rows
 

@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 from petsc4py import PETSc
 
-from ..domain.fault_cells import well_cells
+from ..domain.fault_cells import fault_network, well_cells
 from ..scene.input import FaultFlow
 from .boundary_conditions import fault_face_rows
 
@@ -25,12 +25,14 @@ class FaultVolumes:
     """A conduit fault's fluid volumes since the run's start (m^3; m^2 per
     metre of thickness in 2D): injected by its wells, stored (the volume its
     opening made and its fluid's compression), exchanged (from the rock
-    through its faces) and out of its ends on pressure boundaries. Step by
-    step, injected + exchanged = stored + outflow."""
+    through its faces), out of its ends on pressure boundaries and in from the
+    other conduit faults where they meet (intersections). Step by step,
+    injected + exchanged + intersections = stored + outflow."""
     injected: float = 0.0
     stored: float = 0.0
     exchanged: float = 0.0
     outflow: float = 0.0
+    intersections: float = 0.0
 
 
 @dataclasses.dataclass
@@ -61,10 +63,11 @@ def volume_imbalance(step, total, rock_flux):
     fluid the fault holds and 1e-8 of step.faces times `rock_flux`, the
     rock's largest flux DOF (at the tolerance, 1e-11 and 1e-13 of them:
     round-off): 0 when nothing moved."""
-    scale = max(abs(total.injected), abs(total.stored), abs(total.exchanged), abs(total.outflow), step.gross,
+    scale = max(abs(total.injected), abs(total.stored), abs(total.exchanged), abs(total.outflow),
+                abs(total.intersections), step.gross,
                 1e-6 * step.held, 1e-8 * step.faces * rock_flux)
     v = step.net
-    imbalance = abs(v.injected + v.exchanged - v.stored - v.outflow)
+    imbalance = abs(v.injected + v.exchanged + v.intersections - v.stored - v.outflow)
     if imbalance == 0:
         return 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -103,6 +106,7 @@ class _Conduit:
     volumes: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)  # since the run's start
     conducting: np.ndarray = None  # the aperture of the cubic law: w_h relaxed (Aitken)
     lag: np.ndarray = None         # w_h - conducting at the last set_openings
+    links: object = None           # FaultEdges: the cells' links but those at junctions (fault_network)
 
 
 # Below this fraction of the residual aperture a cell's mean opening is the
@@ -209,6 +213,10 @@ class ConduitFaults:
             self.faults.append(conduit)
             self._locate_wells(scene, name, cells, count)
             count += len(cells.measures)
+        network = fault_network([conduit.cells for conduit in self.faults])
+        for conduit, links in zip(self.faults, network.links):
+            conduit.links = links
+        self.junctions = network.junctions  # where the conduits meet
         self.size = count
         self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
@@ -303,6 +311,24 @@ class ConduitFaults:
             return conduit.permeability * w / self.flow.mu_f
         return w ** 3 / (12 * self.flow.mu_f)
 
+    def _junction_links(self):
+        """Every junction's links, the intersection's pressure eliminated:
+        ((row a, row b), (conduit a, conduit b), T_ab, the junction's point).
+        p_j eliminated from sum_i h_i (p_i - p_j) = 0 with h_i = t_i |e| / d_i
+        leaves between each two members h_a h_b / sum_i h_i (a star-delta
+        transform: exact)."""
+        t = [self._conductance(conduit) for conduit in self.faults]
+        links = []
+        for j in self.junctions:
+            h = [t[f][k] * j.measure / d for f, k, d in zip(j.faults, j.cells, j.distances)]
+            total = sum(h)
+            for a in range(len(h)):
+                for b in range(a + 1, len(h)):
+                    fa, fb = j.faults[a], j.faults[b]
+                    links.append(((self.faults[fa].offset + j.cells[a], self.faults[fb].offset + j.cells[b]),
+                                  (fa, fb), h[a] * h[b] / total, j.point))
+        return links
+
     def _held_ends(self, conduit):
         """The ends on pressure boundaries: (indices into the ends, T_e)."""
         cells = conduit.cells
@@ -317,13 +343,15 @@ class ConduitFaults:
         for conduit in self.faults if self.owned else []:
             cells, t, o = conduit.cells, self._conductance(conduit), conduit.offset
             diagonal = -self._storage(conduit, dt) - self._stabilisation(conduit, dt)
-            T = transmissibilities(t, cells.links)
-            for (k, l), T_kl in zip(cells.links.cells.tolist(), T):
+            T = transmissibilities(t, conduit.links)
+            for (k, l), T_kl in zip(conduit.links.cells.tolist(), T):
                 C.setValues([o + k, o + l], [o + k, o + l], [[-T_kl, T_kl], [T_kl, -T_kl]], addv=True)
             held, T_e = self._held_ends(conduit)
             np.subtract.at(diagonal, cells.ends.cells[held, 0], T_e)
             for k, value in enumerate(diagonal):
                 C.setValue(o + k, o + k, value, addv=True)
+        for (a, b), _, T_ab, _ in self._junction_links() if self.owned else []:
+            C.setValues([a, b], [a, b], [[-T_ab, T_ab], [T_ab, -T_ab]], addv=True)
         C.assemble()
         return C
 
@@ -469,13 +497,15 @@ class ConduitFaults:
         return np.array([float(self.pressure_boundaries[cells.end_groups[e]](*cells.ends.points[e], t))
                          for e in held])
 
-    def _mean_flux(self, conduit, p, t):
+    def _mean_flux(self, conduit, pressure, t):
         """Per cell the mean cubic-law flux, sum_e F_e (m_e - x_k) / |k|,
         with F_e the two-point flux out of the cell through its edge e (the
-        mean of the lowest-order Raviart-Thomas field of those fluxes)."""
+        mean of the lowest-order Raviart-Thomas field of those fluxes);
+        `pressure` every conduit's."""
         cells, c = conduit.cells, self._conductance(conduit)
+        p = pressure[conduit.offset:conduit.offset + len(cells.measures)]
         q = np.zeros((len(cells.measures), 3))
-        links = cells.links
+        links = conduit.links
         F = transmissibilities(c, links) * (p[links.cells[:, 0]] - p[links.cells[:, 1]])
         for side, sign in ((0, 1.0), (1, -1.0)):
             k = links.cells[:, side]
@@ -484,6 +514,13 @@ class ConduitFaults:
         k = cells.ends.cells[held, 0]
         F_e = T_e * (p[k] - self._end_pressures(conduit, held, t))
         np.add.at(q, k, F_e[:, None] * (cells.ends.points[held] - cells.centroids[k]))
+        self_index = self.faults.index(conduit)
+        for rows, faults, T_ab, point in self._junction_links():
+            F = T_ab * (pressure[rows[0]] - pressure[rows[1]])
+            for side, sign in ((0, 1.0), (1, -1.0)):
+                if faults[side] == self_index:
+                    k = rows[side] - conduit.offset
+                    q[k] += sign * F * (point - cells.centroids[k])
         return q / cells.measures[:, None]
 
     def cell_values(self, w, p, t):
@@ -505,7 +542,7 @@ class ConduitFaults:
             cells = slice(conduit.offset, conduit.offset + len(conduit.cells.measures))
             values[cells, 0], values[cells, 1] = p[cells], conduit.aperture
             values[cells, 2] /= conduit.cells.measures
-            values[cells, 3:] = self._mean_flux(conduit, p[cells], t)
+            values[cells, 3:] = self._mean_flux(conduit, p, t)
         return values
 
     def step_volumes(self, w, p, p_old, fine):
@@ -515,7 +552,8 @@ class ConduitFaults:
         t, dt = fine.t, fine.dt
         # Per fault: injected, stored, exchanged, outflow of the step, gross,
         # held and faces; the faces on every rank, the rest on the last.
-        step = np.zeros((len(self.faults), 7))
+        # The intersections in the 8th column.
+        step = np.zeros((len(self.faults), 8))
 
         def add(i, column, v):
             step[i, column] += np.sum(v)
@@ -533,7 +571,12 @@ class ConduitFaults:
             step[i, 5] = np.sum(cells.measures * conduit.aperture)
             held, T_e = self._held_ends(conduit)
             add(i, 3, dt * T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
-        return [StepVolumes(FaultVolumes(*(float(x) for x in row[:4])), *(float(x) for x in row[4:]))
+        for (a, b), (fa, fb), T_ab, _ in self._junction_links() if self.owned else []:
+            if fa != fb:  # from the first member's fault into the second's
+                V = dt * T_ab * (p[a] - p[b])
+                add(fa, 7, -V)
+                add(fb, 7, V)
+        return [StepVolumes(FaultVolumes(*(float(x) for x in row[[0, 1, 2, 3, 7]])), *(float(x) for x in row[4:7]))
                 for row in self.comm.allreduce(step)]
 
     def unbalanced(self, step, rock_flux):
@@ -544,13 +587,16 @@ class ConduitFaults:
         for conduit, volumes in zip(self.faults, step):
             v, s = conduit.volumes, volumes.net
             total = FaultVolumes(v.injected + s.injected, v.stored + s.stored, v.exchanged + s.exchanged,
-                                 v.outflow + s.outflow)
+                                 v.outflow + s.outflow, v.intersections + s.intersections)
             imbalance = volume_imbalance(volumes, total, rock_flux)
             if not imbalance <= VOLUME_BALANCE_TOLERANCE:  # NaN too
-                return (f"fault.{conduit.name}: its volumes do not balance: injected + exchanged - stored - outflow = "
-                        f"{s.injected + s.exchanged - s.stored - s.outflow:g} in the step (injected {s.injected:g}, "
-                        f"exchanged {s.exchanged:g}, stored {s.stored:g}, outflow {s.outflow:g}), {imbalance:g} of "
-                        f"the volumes, more than {VOLUME_BALANCE_TOLERANCE:g}")
+                network = bool(self.junctions)
+                return (f"fault.{conduit.name}: its volumes do not balance: injected + exchanged"
+                        f"{' + intersections' if network else ''} - stored - outflow = "
+                        f"{s.injected + s.exchanged + s.intersections - s.stored - s.outflow:g} in the step (injected "
+                        f"{s.injected:g}, exchanged {s.exchanged:g}"
+                        f"{f', intersections {s.intersections:g}' if network else ''}, stored {s.stored:g}, outflow "
+                        f"{s.outflow:g}), {imbalance:g} of the volumes, more than {VOLUME_BALANCE_TOLERANCE:g}")
         return ""
 
     def add_volumes(self, step, fine):
@@ -561,6 +607,7 @@ class ConduitFaults:
             v, s = conduit.volumes, volumes.net
             v.injected, v.stored, v.exchanged, v.outflow = (v.injected + s.injected, v.stored + s.stored,
                                                              v.exchanged + s.exchanged, v.outflow + s.outflow)
+            v.intersections += s.intersections
             if fine.m == fine.q:
                 conduit.aperture_start = conduit.aperture.copy()
 
@@ -569,12 +616,14 @@ class ConduitFaults:
         return [(conduit.name, conduit.volumes) for conduit in self.faults]
 
     def volume_values(self):
-        """The volumes as 4 numbers per fault (a checkpoint's)."""
-        return np.array([[v.injected, v.stored, v.exchanged, v.outflow] for _, v in self.volumes()]).ravel()
+        """The volumes as 5 numbers per fault (a checkpoint's)."""
+        return np.array([[v.injected, v.stored, v.exchanged, v.outflow, v.intersections]
+                         for _, v in self.volumes()]).ravel()
 
     def set_volume_values(self, values):
+        n = len(values) // len(self.faults) if self.faults else 5  # 4 in the checkpoints before the intersections
         for i, conduit in enumerate(self.faults):
-            conduit.volumes = FaultVolumes(*(float(x) for x in values[4 * i:4 * i + 4]))
+            conduit.volumes = FaultVolumes(*(float(x) for x in values[n * i:n * i + n]))
 
     def arrays(self, p):
         """What a checkpoint keeps of the faults: their pressure p (the last

@@ -45,6 +45,60 @@ class FaultCells:
     links: FaultEdges
     ends: FaultEdges
     end_groups: list
+    # one-cell edges inside the body: a tip, or an edge where the split
+    # separated the fault's cells at another fault (fault_network)
+    inner: FaultEdges
+
+
+@dataclasses.dataclass
+class FaultJunction:
+    """Where faults' cells meet at one edge other than as one fault's link:
+    where faults cross or one ends on another (an intersection in the fault
+    network). Its members are every cell with an edge there."""
+    point: np.ndarray  # the edge's midpoint (3,)
+    measure: float     # the edge's length in 3D, 1 in 2D
+    faults: list       # per member: its fault (an index into the faults given)
+    cells: list        # per member: its cell in that fault
+    distances: list    # per member: from its centroid to the point
+
+
+@dataclasses.dataclass
+class FaultNetwork:
+    """A network of faults: each fault's links but those at junctions, and
+    the junctions."""
+    links: list      # FaultEdges per fault
+    junctions: list  # FaultJunction
+
+
+def fault_network(faults):
+    """The network of `faults` (FaultCells), the faults whose cells
+    exchange fluid: a point where more than one of their edges (links and
+    inner edges, matched by their midpoints, which the split's copies of a
+    node reproduce exactly) meet is a junction of all their cells, and its
+    links leave the faults' links (docs/theory.md, "Flow in a fault
+    network")."""
+    at = {}  # the edges (fault, edges, index) at each midpoint
+    for f, cells in enumerate(faults):
+        for edges in (cells.links, cells.inner):
+            for e, point in enumerate(edges.points.tolist()):
+                at.setdefault(tuple(point), []).append((f, edges, e))
+    links = []
+    for cells in faults:  # in the order of the fault's links: the same sums as alone
+        kept = [len(at[tuple(point)]) == 1 for point in cells.links.points.tolist()]
+        l = cells.links
+        links.append(FaultEdges(l.cells[kept].reshape(-1, 2), l.measures[kept], l.distances[kept].reshape(-1, 2),
+                                l.points[kept].reshape(-1, 3)))
+    junctions = []
+    for point, edges in sorted(at.items()):
+        if len(edges) == 1:
+            continue
+        j = FaultJunction(np.array(point), float(edges[0][1].measures[edges[0][2]]), [], [], [])
+        for f, e, index in edges:
+            j.faults += [f] * e.cells.shape[1]
+            j.cells += e.cells[index].tolist()
+            j.distances += e.distances[index].tolist()
+        junctions.append(j)
+    return FaultNetwork(links, junctions)
 
 
 def _edge_geometry(x, nodes):
@@ -87,7 +141,7 @@ def fault_cells(mesh, split):
         for edge in itertools.combinations(key, d - 1):
             edges.setdefault(edge, []).append(c)
     boundary = _boundary_groups(mesh)
-    links, ends, groups = [], [], []
+    links, ends, groups, inner = [], [], [], []
     for edge, cells in sorted(edges.items()):
         measure, middle = _edge_geometry(x, edge)
         row = (cells, measure, [float(np.linalg.norm(middle - geometry[c][1])) for c in cells], middle)
@@ -96,9 +150,11 @@ def fault_cells(mesh, split):
         elif len(cells) == 1 and edge in boundary:
             ends.append(row)
             groups.append(boundary[edge])
+        elif len(cells) == 1:
+            inner.append(row)
     return FaultCells(keys, twins, np.asarray(split.normals)[opened].reshape(-1, 3), np.array([g[0] for g in geometry]),
                       np.array([g[1] for g in geometry]).reshape(-1, 3), x[keys].reshape(-1, d, 3),
-                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups)
+                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups, FaultEdges.of(inner, 1))
 
 
 def _on_segments(vertices, point):

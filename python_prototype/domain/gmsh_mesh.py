@@ -167,15 +167,19 @@ def _pair_normals(split, d):
 
 
 def _refuse_intersections(scene, mesh, split):
-    """Refuses faults that cross or end on one another: the split gives each
-    piece around the intersection its node, but the contact and the flow
-    there are not posed yet (a node + in two pairs)."""
+    """Refuses faults that cross or end on one another in a scene with
+    mechanics: the split gives each piece around the intersection its node,
+    and the flow meets there (fault_network), but the contact is not posed
+    yet (a node in two pairs)."""
+    if scene.mechanics is None:
+        return
     meets = sorted((int(v), f, int(g)) for f, s in enumerate(split) for v, g in s.meets)
     if meets:
         v, f, g = meets[0]
         raise SceneError(f"{scene.file}: fault.{split[f].name}: meets fault {split[g].name} at "
-                         f"{point_text(mesh.x[v], mesh.dim)}: the mesh is split there, but the contact and the flow "
-                         "where faults cross or end on one another are not supported yet")
+                         f"{point_text(mesh.x[v], mesh.dim)}: the mesh is split there, but the contact where faults "
+                         "cross or end on one another is not supported yet (without [mechanics] the flow through the "
+                         "network is)")
 
 
 def _split_faults(scene, data):

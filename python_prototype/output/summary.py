@@ -224,7 +224,8 @@ def run_summary(summary_input, outcome):
     if i.scheme.fault_volumes():
         # Per conduit fault, its fluid volumes since the start (FaultVolumes).
         summary["fault_volumes"] = {name: {"injected": v.injected, "stored": v.stored, "exchanged": v.exchanged,
-                                           "outflow": v.outflow} for name, v in i.scheme.fault_volumes()}
+                                           "outflow": v.outflow, "intersections": v.intersections}
+                                    for name, v in i.scheme.fault_volumes()}
     if i.errors is not None:
         summary["errors"] = _errors_json(i.errors)
     if outcome.failure:
