@@ -22,12 +22,16 @@ one step: the faults' steady flow.
   plane x = 1 as one physical group or as the two groups the other plane
   cuts it into (a junction of two cells per edge instead of a link) gives
   the same fault pressure to 1e-12.
-- The prototype gives the C++ fault pressures to 1e-10."""
+- The prototype gives the C++ fault pressures to 1e-10.
+- The 2D network with storage (c_f = 1e-9 1/Pa, 40 steps of 0.25 ms from
+  1 MPa, C++): 2 ranks give 1 rank's fault pressure and volumes to 1e-12,
+  and the run killed halfway and restarted from its checkpoint ends with
+  the uninterrupted run's (the intersections' volumes in the checkpoint)."""
 import os
 
 import h5py
 import numpy as np
-from support import check, fault_centroids, run_track, summary, written
+from support import check, fault_centroids, killed_and_restarted, run_track, summary, written
 
 MU = 1.0e-3
 APERTURES = {"a": 1.0e-4, "b": 2.0e-4, "c": 1.5e-4}
@@ -125,7 +129,8 @@ def check_kirchhoff(track):
         + conduit("c", APERTURES["c"], "[1.0, 0.0]")
     boundaries = "".join(f"[boundary.{b}]\npressure = {p}\n"
                          for b, p in (("left", 3e6), ("right", 1e6), ("top", 2e6), ("bottom", 0.5e6)))
-    out, _ = run_track(track, scene(NETWORK_GEO, 2, boundaries + faults))
+    out_scene = scene(NETWORK_GEO, 2, boundaries + faults)
+    out, _ = run_track(track, out_scene)
     x, ids, p = fault_pressure(out)
     p_t, p_x, profiles = resistor_network()
     exact = np.array([profiles[i](*c[:2]) for i, c in zip(ids, x)])
@@ -134,7 +139,26 @@ def check_kirchhoff(track):
           f"{track}: Kirchhoff, the T at {p_t / 1e6:.6f} MPa and the X at {p_x / 1e6:.6f} MPa; every cell of the "
           f"three faults ({len(p)}) on the resistor network's profile to {error:.1e} (1e-10)")
     check_volumes(out, track, "2D")
+    if track == "C++":
+        check_ranks_and_restart(out_scene)
     return out
+
+
+def check_ranks_and_restart(scene_file):
+    transient = ("flow.c_f=1.0e-9", "time.end=0.01", "time.dt=2.5e-4")
+    one, _ = run_track("C++", scene_file, *transient)
+    two, _ = run_track("C++", scene_file, *transient, ranks=2)
+    restarted, step = killed_and_restarted("C++", scene_file, 20, *transient)
+    def by_centroid(out):
+        x, _, p = fault_pressure(out)
+        return p[np.lexsort(x.T)]
+    p = by_centroid(one)
+    for label, other in (("2 ranks", two), (f"restarted at step {step}", restarted)):
+        d = np.abs(by_centroid(other) - p).max() / np.abs(p).max()
+        a, b = summary(one)["fault_volumes"], summary(other)["fault_volumes"]
+        volumes = max(abs(a[f][k] - b[f][k]) for f in a for k in a[f]) / max(abs(v) for f in a for v in a[f].values())
+        check(d <= 1e-12 and volumes <= 1e-12 and step < 40, f"C++, the transient network, {label}: the same fault "
+              f"pressure ({d:.1e}) and volumes, intersections included ({volumes:.1e}) (1e-12)")
 
 
 def check_crossing_planes(track):

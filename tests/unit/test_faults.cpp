@@ -4,11 +4,11 @@
 // boundary splits its node there; a fault across the body cuts it in two;
 // in 3D a patch keeps its rim; bad faults refused in one line naming the
 // key; faults that cross (X) or end on one another (T) give their meeting
-// node one node per piece around it. Then gmsh meshes with an embedded
-// curve: area kept, the two faces at the same points, each a face of one
-// cell. Last, the cells of a fault's own flow (domain/fault_cells.h) on the
-// fault across the square: cells, links and ends; the cells a well meets;
-// and the two-point transmissibility (assembly/fault_flow.h).
+// node one node per piece around it, and their cells one junction there.
+// Then gmsh meshes with an embedded curve: area kept, the two faces at the
+// same points, each a face of one cell. Last, the cells of a fault's own
+// flow (domain/fault_cells.h) on the fault across the square: cells, links
+// and ends; the cells a well meets; the two-point transmissibility.
 #include "assembly/fault_flow.h"
 #include "domain/fault_cells.h"
 #include "domain/faults.h"
@@ -470,6 +470,50 @@ TEST(FaultIntersections, AFaultEndingOnAnother)
   using Meets = std::vector<std::pair<std::int64_t, std::size_t>>;
   EXPECT_EQ(h.meets, (Meets{{12, 1}}));
   EXPECT_EQ(t.meets, (Meets{{12, 0}}));
+}
+
+// The network of the faults' cells (domain/fault_cells.h, fault_network):
+// where faults meet, the cells with an edge there are one junction's
+// members, and a link of one fault there joins the junction.
+TEST(FaultNetwork, CrossingFaultsMeetAtOneJunctionOfFourCells)
+{
+  InputMesh mesh = square({{"h", segment({{1, 2}, {2, 2}, {3, 2}})}, {"v", segment({{2, 1}, {2, 2}, {2, 3}})}});
+  const std::vector<SplitFault> faults = split(mesh, {{"h", {0, 1, 0}}, {"v", {1, 0, 0}}});
+  const FaultCells h = fault_cells(mesh, faults[0]), v = fault_cells(mesh, faults[1]);
+  EXPECT_EQ(h.links.size() + v.links.size(), 0u); // the crossing separates each fault's two cells
+  EXPECT_EQ(h.inner.size(), 4u);                  // two tips, two edges at the crossing
+  const FaultNetwork network = fault_network({&h, &v});
+  ASSERT_EQ(network.junctions.size(), 1u); // the tips meet nothing
+  const FaultJunction& j = network.junctions[0];
+  EXPECT_EQ(j.point, (std::array<double, 3>{2, 2, 0}));
+  EXPECT_EQ(j.measure, 1.0);
+  EXPECT_EQ(j.faults, (std::vector<std::size_t>{0, 0, 1, 1}));
+  EXPECT_EQ(j.cells, (std::vector<std::int64_t>{0, 1, 0, 1}));
+  EXPECT_EQ(j.distances, std::vector<double>(4, 0.5));
+}
+
+TEST(FaultNetwork, ALinkAtAJunctionJoinsIt)
+{
+  // A T: s ends on h from above. With h's + side above, the stem separates
+  // h's cells (two inner edges at (2, 2)); with it below they keep their
+  // link there, which leaves h's links for the junction.
+  for (double side : {1.0, -1.0})
+  {
+    InputMesh mesh = square({{"h", segment({{1, 2}, {2, 2}, {3, 2}})}, {"s", segment({{2, 2}, {2, 3}})}});
+    const std::vector<SplitFault> faults = split(mesh, {{"h", {0, side, 0}}, {"s", {1, 0, 0}}});
+    const FaultCells h = fault_cells(mesh, faults[0]), s = fault_cells(mesh, faults[1]);
+    EXPECT_EQ(h.links.size(), side > 0 ? 0u : 1u);
+    const FaultNetwork network = fault_network({&h, &s});
+    EXPECT_EQ(network.links[0].size() + network.links[1].size(), 0u);
+    ASSERT_EQ(network.junctions.size(), 1u);
+    EXPECT_EQ(network.junctions[0].faults, (std::vector<std::size_t>{0, 0, 1}));
+    EXPECT_EQ(network.junctions[0].cells, (std::vector<std::int64_t>{0, 1, 0}));
+    // h alone (s no conduit) keeps its link, or its two cells meet at a
+    // junction of two where s separates them: one conduit through s
+    const FaultNetwork alone = fault_network({&h});
+    EXPECT_EQ(alone.links[0].cells, h.links.cells);
+    EXPECT_EQ(alone.junctions.size(), side > 0 ? 1u : 0u);
+  }
 }
 
 TEST(FaultRefusals, AHintParallelToTheFault)

@@ -1,18 +1,15 @@
 """Unit tests of the prototype's split along faults
 (python_prototype/domain/faults.py), the twins of tests/unit/test_faults.cpp,
-on the same handmade meshes with the same expected arrays: a fault with both
-ends inside keeps its ends shared (tips) and doubles the nodes between; a
-fault from the outer boundary doubles the boundary node and renumbers the
-boundary facet on its + side; a fault across the body cuts it in two; in 3D
-an interior square patch keeps its rim; bad faults are refused in one line
-naming the key; faults that cross (X) or end on one another (T) give the
-node where they meet one node per piece around it. Then gmsh meshes with an
-embedded curve: area kept, the
-fault's two faces at the same points and each a face of one cell. Last,
-the cells of a fault's own flow (domain/fault_cells.py) on the fault
-across the square: four unit cells, three links and two ends on the
-outer boundary at half a cell from the centroids; the cells a well meets;
-and the two-point transmissibility (assembly/fault_flow.py)."""
+on the same handmade meshes with the same expected arrays: tips kept shared;
+a fault from the outer boundary splits its node there; a fault across the
+body cuts it in two; in 3D a patch keeps its rim; bad faults refused in one
+line naming the key; faults that cross (X) or end on one another (T) give
+their meeting node one node per piece around it, and their cells one
+junction there. Then gmsh meshes with an embedded curve: area kept, the two
+faces at the same points, each a face of one cell. Last, the cells of a
+fault's own flow (domain/fault_cells.py) on the fault across the square:
+cells, links and ends; the cells a well meets; and the two-point
+transmissibility (assembly/fault_flow.py)."""
 import os
 import sys
 import tempfile
@@ -24,7 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.assembly.fault_flow import (closure_aperture, closure_compliance, open_patches,  # noqa: E402
                                                   patch_compliance, transmissibilities)
-from python_prototype.domain.fault_cells import FaultEdges, fault_cells, well_cells  # noqa: E402
+from python_prototype.domain.fault_cells import FaultEdges, fault_cells, fault_network, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
 from python_prototype.scene.scene import ClosureSpec, WellSpec  # noqa: E402
 from python_prototype.scene.input import SceneError  # noqa: E402
@@ -315,6 +312,43 @@ class Intersections(unittest.TestCase):
         np.testing.assert_array_equal(t.tips, [node(2, 3)])
         np.testing.assert_array_equal(h.meets, [[12, 1]])
         np.testing.assert_array_equal(t.meets, [[12, 0]])
+
+
+class Network(unittest.TestCase):
+    """The network of the faults' cells (domain/fault_cells.py,
+    fault_network): where faults meet, the cells with an edge there are one
+    junction's members, and a link of one fault there joins the junction."""
+
+    def test_crossing_faults_meet_at_one_junction_of_four_cells(self):
+        mesh = square({"h": segment((1, 2), (2, 2), (3, 2)), "v": segment((2, 1), (2, 2), (2, 3))})
+        h, v = (fault_cells(mesh, f) for f in split_along_faults(
+            mesh, [FaultRequest("h", (0.0, 1.0, 0.0)), FaultRequest("v", (1.0, 0.0, 0.0))], PREFIX))
+        self.assertEqual(len(h.links.measures) + len(v.links.measures), 0)  # the crossing separates each fault's cells
+        self.assertEqual(len(h.inner.measures), 4)  # two tips, two edges at the crossing
+        network = fault_network([h, v])
+        self.assertEqual(len(network.junctions), 1)  # the tips meet nothing
+        j = network.junctions[0]
+        np.testing.assert_array_equal(j.point, [2, 2, 0])
+        self.assertEqual((j.measure, j.faults, j.cells, j.distances), (1.0, [0, 0, 1, 1], [0, 1, 0, 1], [0.5] * 4))
+
+    def test_a_link_at_a_junction_joins_it(self):
+        # A T: s ends on h from above. With h's + side above, the stem
+        # separates h's cells (two inner edges at (2, 2)); with it below they
+        # keep their link there, which leaves h's links for the junction.
+        for side in (1.0, -1.0):
+            mesh = square({"h": segment((1, 2), (2, 2), (3, 2)), "s": segment((2, 2), (2, 3))})
+            h, s = (fault_cells(mesh, f) for f in split_along_faults(
+                mesh, [FaultRequest("h", (0.0, side, 0.0)), FaultRequest("s", (1.0, 0.0, 0.0))], PREFIX))
+            self.assertEqual(len(h.links.measures), 0 if side > 0 else 1)
+            network = fault_network([h, s])
+            self.assertEqual(len(network.links[0].measures) + len(network.links[1].measures), 0)
+            self.assertEqual(len(network.junctions), 1)
+            self.assertEqual((network.junctions[0].faults, network.junctions[0].cells), ([0, 0, 1], [0, 1, 0]))
+            # h alone (s no conduit) keeps its link, or its two cells meet at
+            # a junction of two where s separates them: one conduit through s
+            alone = fault_network([h])
+            np.testing.assert_array_equal(alone.links[0].cells, h.links.cells)
+            self.assertEqual(len(alone.junctions), 1 if side > 0 else 0)
 
 
 # The rectangle [0, 4] x [0, 2] with a segment embedded: inside, from (1, 0.8)
