@@ -268,3 +268,18 @@ class Fields:
 
     def sorted_values(self, name, t):
         return self.sorted(name, t)[0]
+
+    def along(self, name, t, a, b, n=400):
+        """A cell field of a 2D run at n points of the segment from a to b,
+        s = (k + 1/2)/n of the way (the ends excluded): (s, values), each
+        value the mean of the cells holding the point (two on an edge)."""
+        values = np.asarray(self.at(name, t)).reshape(len(self.topology), -1)[:, 0]
+        v = self.nodes[self.topology][:, :, :2]
+        inverse = np.linalg.inv(np.stack([v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]], axis=2))
+        s = (np.arange(n) + 0.5) / n
+        found = []
+        for x in np.asarray(a) + s[:, None] * (np.asarray(b) - np.asarray(a)):
+            lam = np.einsum("cij,cj->ci", inverse, x - v[:, 0])
+            inside = (lam >= -1e-12).all(axis=1) & (lam.sum(axis=1) <= 1 + 1e-12)
+            found.append(values[inside].mean())
+        return s, np.array(found)
