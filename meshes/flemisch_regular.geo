@@ -1,9 +1,9 @@
-// The regular fracture network of Flemisch et al. (2018), their second 2D
-// benchmark: six fractures in the unit square (docs/verification.md, "The
-// regular fracture network"): x = 0.5 and y = 0.5 across it, x = 0.75 and
-// y = 0.75 from those to the sides, x = 0.625 and y = 0.625 between them.
-// The built-in kernel needs the points where fractures meet: each fracture
-// is a chain of lines through them, one physical group per fracture.
+// The regular fracture network of Flemisch et al. (2018), one of their 2D
+// benchmarks (docs/verification.md, "The fracture networks of Flemisch et
+// al."): six fractures in the unit square, x = 0.5 and y = 0.5 across it,
+// x = 0.75 and y = 0.75 from those to the sides, x = 0.625 and y = 0.625
+// between them. The built-in kernel needs the points where fractures meet:
+// each fracture is a chain of lines through them, one physical group each.
 SetFactory("Built-in");
 h = 0.1;                  // halved by mesh.refine
 Point(1) = {0, 0, 0, h}; Point(2) = {1, 0, 0, h}; Point(3) = {1, 1, 0, h}; Point(4) = {0, 1, 0, h};

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <numeric>
+#include <set>
 #include <sstream>
 
 namespace biotcontact
@@ -235,17 +236,24 @@ std::vector<double> ConduitFaults::conductance(const Conduit& c) const
 std::vector<ConduitFaults::JunctionLink> ConduitFaults::junction_links() const
 {
   // The intersection's pressure p_j, eliminated from sum_i h_i (p_i - p_j) =
-  // 0 with h_i = t_i |e| / d_i, leaves between each two members the
-  // transmissibility h_a h_b / sum_i h_i (a star-delta transform: exact).
+  // 0, leaves between each two members the transmissibility h_a h_b / sum_i
+  // h_i (a star-delta transform: exact). Member i reaches the intersection
+  // through half its cell and the intersection's own resistance r_j, the
+  // mean of mu_f / (2 k_n) over the faults that meet there (their normal
+  // permeabilities' harmonic mean): 1/h_i = (d_i / t_i + r_j) / |e|.
   std::vector<std::vector<double>> t;
   for (const Conduit& c : _conduits)
     t.push_back(conductance(c));
   std::vector<JunctionLink> links;
   for (const FaultJunction& j : _junctions)
   {
+    std::set<std::size_t> faults(j.faults.begin(), j.faults.end());
+    double r = 0;
+    for (std::size_t f : faults)
+      r += _conduits[f].normal_resistance / static_cast<double>(faults.size());
     std::vector<double> h;
     for (std::size_t i = 0; i < j.cells.size(); ++i)
-      h.push_back(t[j.faults[i]][j.cells[i]] * j.measure / j.distances[i]);
+      h.push_back(j.measure / (j.distances[i] / t[j.faults[i]][j.cells[i]] + r));
     const double sum = std::accumulate(h.begin(), h.end(), 0.0);
     for (std::size_t a = 0; a < h.size(); ++a)
       for (std::size_t b = a + 1; b < h.size(); ++b)

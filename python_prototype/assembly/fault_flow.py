@@ -314,13 +314,20 @@ class ConduitFaults:
     def _junction_links(self):
         """Every junction's links, the intersection's pressure eliminated:
         ((row a, row b), (conduit a, conduit b), T_ab, the junction's point).
-        p_j eliminated from sum_i h_i (p_i - p_j) = 0 with h_i = t_i |e| / d_i
-        leaves between each two members h_a h_b / sum_i h_i (a star-delta
-        transform: exact)."""
+        p_j eliminated from sum_i h_i (p_i - p_j) = 0 leaves between each two
+        members h_a h_b / sum_i h_i (a star-delta transform: exact). Member i
+        reaches the intersection through half its cell and the
+        intersection's own resistance r_j, the mean of mu_f / (2 k_n) over
+        the faults that meet there (their normal permeabilities' harmonic
+        mean): 1/h_i = (d_i / t_i + r_j) / |e|."""
         t = [self._conductance(conduit) for conduit in self.faults]
         links = []
         for j in self.junctions:
-            h = [t[f][k] * j.measure / d for f, k, d in zip(j.faults, j.cells, j.distances)]
+            faults = sorted(set(j.faults))
+            r = 0.0
+            for f in faults:
+                r += self.faults[f].normal_resistance / len(faults)
+            h = [j.measure / (d / t[f][k] + r) for f, k, d in zip(j.faults, j.cells, j.distances)]
             total = sum(h)
             for a in range(len(h)):
                 for b in range(a + 1, len(h)):
