@@ -26,6 +26,12 @@ one step: the faults' steady flow.
   cuts it into (a junction of two cells per edge instead of a link) gives
   the same fault pressure to 1e-12.
 - The prototype gives the C++ fault pressures to 1e-10.
+- The shipped scene scenes/network2d.toml (C++): a well into f09 of 22
+  fractures, 5 sealing; after ten days the fluid has spread through the
+  intersections to the conduits f09 meets (f02, f16) and on (f05, f18):
+  each more than 2 MPa above the initial pressure, f09 the highest, while
+  the conduits it does not reach stay within 0.5 MPa of it; each conduit
+  balances with its intersections to 1e-8 of the volume injected.
 - The 2D network with storage (c_f = 1e-9 1/Pa, 40 steps of 0.25 ms from
   1 MPa, C++): 2 ranks give 1 rank's fault pressure and volumes to 1e-12,
   and the run killed halfway and restarted from its checkpoint ends with
@@ -34,7 +40,7 @@ import os
 
 import h5py
 import numpy as np
-from support import check, fault_centroids, killed_and_restarted, run_track, summary, written
+from support import check, fault_centroids, killed_and_restarted, run_track, scene as shipped, summary, written
 
 MU = 1.0e-3
 APERTURES = {"a": 1.0e-4, "b": 2.0e-4, "c": 1.5e-4}
@@ -222,3 +228,26 @@ for k, label in enumerate(("2D network", "3D crossing planes", "2D network with 
     (_, _, a), (_, _, b) = fault_pressure(runs["C++"][k]), fault_pressure(runs["prototype"][k])
     d = np.abs(a - b).max() / np.abs(a).max()
     check(d <= 1e-10, f"{label}: the prototype's fault pressure the C++'s to {d:.1e} (1e-10)")
+
+
+def check_shipped_network():
+    out, _ = run_track("C++", shipped("network2d"))
+    volumes = summary(out)["fault_volumes"]
+    injected = volumes["f09"]["injected"]
+    worst = max(abs(v["injected"] + v["exchanged"] + v["intersections"] - v["stored"] - v["outflow"])
+                for v in volumes.values()) / injected
+    total = abs(sum(v["intersections"] for v in volumes.values())) / injected
+    _, ids, p = fault_pressure(out)
+    names = sorted(f"f{i:02d}" for i in range(1, 23))  # fault.xdmf's fault ids: alphabetical over every fault
+    rise = {name: (p[ids == k].max() - 1.0e7) / 1e6 for k, name in enumerate(names) if name in volumes}
+    reached = ["f09", "f02", "f16", "f05", "f18"]
+    others = max(rise[name] for name in rise if name not in reached)
+    check(len(volumes) == 17 and abs(injected - 2.0e-5 * 864000.0) <= 1e-12 * injected and worst <= 1e-8
+          and total <= 1e-12 and min(rise[name] for name in reached) > 2.0 and max(rise, key=rise.get) == "f09"
+          and others < 0.5, f"network2d: {len(volumes)} conduits, {injected:g} m^2 injected into f09, each balanced "
+          f"to {worst:.1e} (1e-8), the intersections summing to {total:.1e}; the pressure rises "
+          f"{', '.join(f'{n} {rise[n]:.2f}' for n in reached)} MPa along the fractures f09 meets, at most "
+          f"{others:.2f} MPa in the others")
+
+
+check_shipped_network()
