@@ -24,7 +24,7 @@ one step: the faults' steady flow.
   cross-section), pressures on the four sides: balanced the same way; the
   plane x = 1 as one physical group or as the two groups the other plane
   cuts it into (a junction of two cells per edge instead of a link) gives
-  the same fault pressure to 1e-12.
+  the same fault pressure to 1e-12 (C++).
 - The prototype gives the C++ fault pressures to 1e-10.
 - The shipped scene scenes/network2d.toml (C++): a well into f09 of 22
   fractures, 5 sealing; after ten days the fluid has spread through the
@@ -206,6 +206,8 @@ def check_crossing_planes(track):
     out, _ = run_track(track, scene(CROSS_GEO + PLANE_A + PLANE_B, 3, boundaries + conduit(
         "a", 1.0e-4, "[1.0, 0.0, 0.0]") + conduit("b", 2.0e-4, "[0.0, 1.0, 0.0]")))
     check_volumes(out, track, "3D crossing planes")
+    if track != "C++":
+        return out
     whole, _ = run_track(track, scene(CROSS_GEO + PLANE_A, 3, boundaries + conduit(
         "a", 1.0e-4, "[1.0, 0.0, 0.0]")))
     halves, _ = run_track(track, scene(CROSS_GEO + PLANE_A_HALVES, 3, boundaries + conduit(

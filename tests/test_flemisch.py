@@ -5,21 +5,22 @@ side, pressure 1 on the right) in its conductive and blocking variants, and
 the complex network (scenes/flemisch_complex.toml: ten fractures of an
 outcrop, two of them blocking) with the pressure held from top to bottom
 and from left to right. Steady flow.
-- C++, each variant on its shipped mesh refined 0 to 3 times: the rock's
-  pressure sampled along the benchmark's line converges, each refinement's
-  change at least 1.6 times smaller than the one before (observed order
-  above 0.7; measured 0.88 to 1.06), and at refine 3 lies within 1 % of the
-  benchmark's published reference pressure at five or six points of the
-  line away from the fractures (measured within 0.21 %).
+- C++, each variant on its shipped mesh refined 0 to 2 times (LEVELS): the
+  rock's pressure sampled along the benchmark's line converges, the second
+  refinement's change at least 1.6 times smaller than the first (observed
+  order above 0.7; measured 0.94 to 1.06), and at refine 2 lies within 1 %
+  of the benchmark's published reference pressure at five or six points of
+  the line away from the fractures (measured within 0.40 %; with LEVELS = 4,
+  at refine 3, within 0.21 %, orders 0.88 to 1.06).
 - The regular network's profiles cross the fractures the way their variant
   says: the conductive line y = 0.7 stays continuous, the blocking line
-  jumps where it crosses the fractures y = 0.5 and x = 0.5 (by 0.18 and
-  0.86 at refine 3; steps between samples of 0.012 at most elsewhere).
+  jumps where it crosses the fractures y = 0.5 and x = 0.5 (steps between
+  samples of 0.02 at most elsewhere).
 - At every level each fracture's volumes balance with its intersections
   to 1e-10 of the volume into the square and the intersections sum to
   zero over the fractures.
 - The prototype gives the C++ pressures (rock and fractures) at refine 0
-  for every variant to 1e-10."""
+  for the complex network's left-right variant to 1e-10."""
 import os
 import sys
 
@@ -29,6 +30,7 @@ from support import ROOT, Fields, check, fault_fields, run_track, scene, summary
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 from flemisch_figure import LINES, REFERENCE  # noqa: E402  (the benchmark's lines and reference values)
 
+LEVELS = 3  # the shipped meshes refined 0, 1 and 2 times
 BLOCKING = [f"fault.f{i}.{key}=1.0e-4" for i in range(1, 7) for key in ("permeability", "normal_permeability")]
 with open(scene("flemisch_complex")) as f:  # the complex network's flow from left to right
     LEFT_RIGHT = written(f.read().replace("[boundary.top]", "[boundary.left]").replace(
@@ -49,7 +51,7 @@ def check_balance(out):
 
 def check_variant(variant):
     scene_file, sets = VARIANTS[variant]
-    runs = [run_track("C++", scene_file, f"mesh.refine={r}", *sets)[0] for r in range(4)]
+    runs = [run_track("C++", scene_file, f"mesh.refine={r}", *sets)[0] for r in range(LEVELS)]
     profiles = [Fields(out).along("pressure", 1.0, *LINES[variant])[1] for out in runs]
     changes = [np.sqrt(np.mean((a - b) ** 2)) for a, b in zip(profiles, profiles[1:])]
     orders = np.log2(np.array(changes[:-1]) / np.array(changes[1:]))
@@ -59,7 +61,7 @@ def check_variant(variant):
     (x0, _), (x1, _) = LINES[variant]
     s = (np.arange(len(profiles[-1])) + 0.5) / len(profiles[-1])
     off = {x: np.interp((x - x0) / (x1 - x0), s, profiles[-1]) / p - 1 for x, p in REFERENCE[variant].items()}
-    check(max(abs(e) for e in off.values()) <= 0.01, f"{variant}: at refine 3 the benchmark's reference pressure "
+    check(max(abs(e) for e in off.values()) <= 0.01, f"{variant}: at refine {LEVELS - 1} the benchmark's reference pressure "
           f"within {', '.join(f'{100 * e:+.2f} %' for e in off.values())} at x = "
           f"{', '.join(str(x) for x in off)} (1 %)")
     balances = [check_balance(out) for out in runs]
@@ -80,7 +82,8 @@ check(smooth <= 0.02 and min(crossings) > 0.1 and steps[np.abs(x[1:] - 0.45) < 0
       f"the conductive fractures leave the pressure continuous along y = 0.7 (largest step between samples "
       f"{smooth:.4f}, 0.02); the blocking fractures y = 0.5 and x = 0.5 make it jump where the diagonal line "
       f"crosses them, by {crossings[0]:.3f} and {crossings[1]:.3f} (> 0.1), continuous between")
-for variant, (scene_file, sets) in VARIANTS.items():
+for variant in ("left-right",):  # ten fractures, blocking ones among them: the prototype's widest case here
+    scene_file, sets = VARIANTS[variant]
     prototype, _ = run_track("prototype", scene_file, *sets)
     rock = np.abs(Fields(prototype).at("pressure", 1.0) - Fields(runs[variant][0]).at("pressure", 1.0)).max()
     (_, _, a), (_, _, b) = (fault_fields(out, ("pressure",)) for out in (prototype, runs[variant][0]))
