@@ -7,9 +7,9 @@
 //         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
 //
 // w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
-// cubic law's two-point transmissibility, c_i the faces' facet fluxes, L_k =
-// L_f |k| the fixed-stress term (set_compliance). The operator stays
-// symmetric. The prototype's twin is python_prototype/assembly/fault_flow.py.
+// two-point transmissibility (to other faults' cells at intersections too),
+// c_i the faces' facet fluxes, L_k = L_f |k| the fixed-stress term. The
+// operator stays symmetric. Twin: python_prototype/assembly/fault_flow.py.
 #pragma once
 
 #include "assembly/boundary_conditions.h"
