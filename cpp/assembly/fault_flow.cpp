@@ -440,7 +440,8 @@ void ConduitFaults::load(const FineStep& step, std::span<const double> p_old, st
       b[w.row] -= w.share * (*w.rate)(0, 0, 0, step.t);
 }
 
-std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> pressure, double t) const
+std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const double> pressure,
+                                             const std::vector<JunctionLink>& links, double t) const
 {
   const FaultCells& cells = *c.cells;
   const std::span<const double> p = pressure.subspan(c.offset, cells.size());
@@ -459,7 +460,7 @@ std::vector<double> ConduitFaults::mean_flux(const Conduit& c, std::span<const d
     add(l, -F, c.links.points[e]);
   }
   const auto self = static_cast<std::size_t>(&c - _conduits.data());
-  for (const JunctionLink& j : junction_links())
+  for (const JunctionLink& j : links)
   {
     const double F = j.T * (pressure[j.rows[0]] - pressure[j.rows[1]]);
     for (int side = 0; side < 2; ++side)
@@ -505,10 +506,11 @@ std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::s
     else
       pressure[all.values[r + 1]] = v;
   }
+  const std::vector<JunctionLink> links = junction_links();
   for (const Conduit& c : _conduits)
   {
     const std::span<const double> p_c(pressure.data() + c.offset, c.cells->size());
-    const std::vector<double> q = mean_flux(c, pressure, t);
+    const std::vector<double> q = mean_flux(c, pressure, links, t);
     for (std::size_t k = 0; k < c.cells->size(); ++k)
     {
       double* row = &values[6 * (c.offset + k)];

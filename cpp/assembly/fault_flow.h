@@ -303,8 +303,10 @@ private:
   /// The ends on pressure boundaries: (indices into the ends, T_e).
   std::pair<std::vector<std::size_t>, std::vector<double>> held_ends(const Conduit& c) const;
   std::vector<double> end_pressures(const Conduit& c, const std::vector<std::size_t>& held, double t) const;
-  /// Per cell the mean cubic-law flux, sum_e F_e (m_e - x_k) / |k| (3 each).
-  std::vector<double> mean_flux(const Conduit& c, std::span<const double> p, double t) const;
+  /// Per cell the mean cubic-law flux, sum_e F_e (m_e - x_k) / |k| (3 each);
+  /// `p` every conduit's pressure, `links` the junctions' (junction_links).
+  std::vector<double> mean_flux(const Conduit& c, std::span<const double> p, const std::vector<JunctionLink>& links,
+                                double t) const;
 
   MPI_Comm _comm;
   const FlowSpec& _flow;

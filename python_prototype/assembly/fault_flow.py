@@ -504,11 +504,12 @@ class ConduitFaults:
         return np.array([float(self.pressure_boundaries[cells.end_groups[e]](*cells.ends.points[e], t))
                          for e in held])
 
-    def _mean_flux(self, conduit, pressure, t):
+    def _mean_flux(self, conduit, pressure, junction_links, t):
         """Per cell the mean cubic-law flux, sum_e F_e (m_e - x_k) / |k|,
         with F_e the two-point flux out of the cell through its edge e (the
         mean of the lowest-order Raviart-Thomas field of those fluxes);
-        `pressure` every conduit's."""
+        `pressure` every conduit's, `junction_links` the junctions' links
+        (_junction_links)."""
         cells, c = conduit.cells, self._conductance(conduit)
         p = pressure[conduit.offset:conduit.offset + len(cells.measures)]
         q = np.zeros((len(cells.measures), 3))
@@ -522,7 +523,7 @@ class ConduitFaults:
         F_e = T_e * (p[k] - self._end_pressures(conduit, held, t))
         np.add.at(q, k, F_e[:, None] * (cells.ends.points[held] - cells.centroids[k]))
         self_index = self.faults.index(conduit)
-        for rows, faults, T_ab, point in self._junction_links():
+        for rows, faults, T_ab, point in junction_links:
             F = T_ab * (pressure[rows[0]] - pressure[rows[1]])
             for side, sign in ((0, 1.0), (1, -1.0)):
                 if faults[side] == self_index:
@@ -545,11 +546,12 @@ class ConduitFaults:
         for rows in parts:
             for row, value in rows:
                 values[row, 2] += value
+        junction_links = self._junction_links()
         for conduit in self.faults:
             cells = slice(conduit.offset, conduit.offset + len(conduit.cells.measures))
             values[cells, 0], values[cells, 1] = p[cells], conduit.aperture
             values[cells, 2] /= conduit.cells.measures
-            values[cells, 3:] = self._mean_flux(conduit, p, t)
+            values[cells, 3:] = self._mean_flux(conduit, p, junction_links, t)
         return values
 
     def step_volumes(self, w, p, p_old, fine):
