@@ -45,6 +45,8 @@ from support import ROOT, check
 
 # Modules with no twin, and why.
 CPP_ONLY = {
+    "domain/gmsh_api": "gmsh's C++ functions over a libgmsh opened on the first call; the prototype imports its gmsh "
+                       "module where it first reads a mesh (domain/gmsh_mesh), the same deferral",
     "assembly/petsc_error": "checks the error codes PETSc's C calls return (SolverError, check_petsc, warn_petsc); "
                             "petsc4py raises PETSc.Error itself",
 }

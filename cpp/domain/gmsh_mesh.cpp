@@ -3,6 +3,7 @@
 #include "domain/gmsh_mesh.h"
 
 #include "domain/faults.h"
+#include "domain/gmsh_api.h"
 #include "domain/pieces.h"
 #include "domain/tip_grading.h"
 
@@ -13,7 +14,6 @@
 #include <dolfinx/mesh/utils.h>
 #include <filesystem>
 #include <functional>
-#include <gmsh.h>
 
 namespace biotcontact
 {
@@ -277,8 +277,8 @@ GmshData read_gmsh_file(const Scene& scene)
     for (int i = 0; i < refine; ++i)
       gmsh::model::mesh::refine();
     std::vector<std::size_t> tags;
-    std::vector<double> coords, parametric;
-    gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, false, false);
+    std::vector<double> coords;
+    gmsh::model::mesh::getNodes(tags, coords);
     std::map<std::size_t, std::int64_t> index;
     for (std::size_t i = 0; i < tags.size(); ++i)
     {

@@ -1,7 +1,8 @@
 #include "domain/tip_grading.h"
 
+#include "domain/gmsh_api.h"
+
 #include <algorithm>
-#include <gmsh.h>
 #include <optional>
 #include <set>
 #include <sstream>

@@ -12,13 +12,13 @@
 #include "assembly/fault_flow.h"
 #include "domain/fault_cells.h"
 #include "domain/faults.h"
+#include "domain/gmsh_api.h"
 #include "scene/input.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <gmsh.h>
 #include <gtest/gtest.h>
 #include <map>
 #include <set>
@@ -578,8 +578,8 @@ InputMesh gmsh_mesh(const char* geo)
   std::filesystem::remove(file);
   gmsh::model::mesh::generate(2);
   std::vector<std::size_t> tags, element_tags, node_tags;
-  std::vector<double> coords, parametric;
-  gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, false, false);
+  std::vector<double> coords;
+  gmsh::model::mesh::getNodes(tags, coords);
   std::map<std::size_t, std::int64_t> index;
   for (std::size_t i = 0; i < tags.size(); ++i)
     index[tags[i]] = -1;
