@@ -270,12 +270,13 @@ class Fields:
         return self.sorted(name, t)[0]
 
     def along(self, name, t, a, b, n=400):
-        """A cell field of a 2D run at n points of the segment from a to b,
-        s = (k + 1/2)/n of the way (the ends excluded): (s, values), each
-        value the mean of the cells holding the point (two on an edge)."""
+        """A cell field at n points of the segment from a to b, s = (k +
+        1/2)/n of the way (the ends excluded): (s, values), each value the
+        mean of the cells holding the point (several on a face or edge)."""
         values = np.asarray(self.at(name, t)).reshape(len(self.topology), -1)[:, 0]
-        v = self.nodes[self.topology][:, :, :2]
-        inverse = np.linalg.inv(np.stack([v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]], axis=2))
+        d = self.topology.shape[1] - 1
+        v = self.nodes[self.topology][:, :, :d]
+        inverse = np.linalg.inv(np.stack([v[:, i + 1] - v[:, 0] for i in range(d)], axis=2))
         s = (np.arange(n) + 0.5) / n
         found = []
         for x in np.asarray(a) + s[:, None] * (np.asarray(b) - np.asarray(a)):
