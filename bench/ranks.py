@@ -5,7 +5,7 @@ ranks, one after the other, so that the speed-up is measured in one run;
 with --dims faults, the shipped fault scenes as they are.
 
     /usr/bin/python3 bench/ranks.py [--dims 2,3,faults] [--ranks 1,2] [--variants paper,monolithic]
-        [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--repeat 3] [--binary build/biotcontact]
+        [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--scenes a,b] [--repeat 3] [--binary build/biotcontact]
         [--out-dir bench/results] [-- PETSc options]
 
 2D: scenes/default.toml, cells [80,8] .. [640,64] (9.4e3 to 5.8e5 unknowns),
@@ -34,7 +34,8 @@ import size_sweep  # noqa: E402
 
 NAME = "ranks"
 SCENES = {2: "scenes/default.toml", 3: "scenes/block3d_box.toml"}
-FAULT_SCENES = ("fault_reactivation", "fault_depletion", "sneddon", "sneddon_near", "fault3d", "injection_fault3d")
+FAULT_SCENES = ("fault_reactivation", "fault_depletion", "sneddon", "sneddon_near", "fault3d", "injection_fault3d",
+                "flemisch_regular", "flemisch_complex", "network2d", "berre_regular")
 CELLS = {2: [(80, 8), (160, 16), (320, 32), (640, 64)], 3: scaling.CELLS[3] + [scaling.LARGEST[3]]}
 SETS = {2: ["output.xdmf=false"], 3: scaling.SETS}
 SYSTEMS = ("flow", "mechanics", "monolithic")
@@ -85,6 +86,7 @@ def parser():
                    help=f"2D variants, a subset of {','.join(size_sweep.VARIANTS)} (default paper,monolithic)")
     p.add_argument("--cells2", help="2D meshes instead of the default list")
     p.add_argument("--cells3", help="3D meshes instead of the default list")
+    p.add_argument("--scenes", help="comma-separated fault scenes instead of all of FAULT_SCENES")
     return p
 
 
@@ -97,8 +99,11 @@ def cases(args):
     result = []
     for dims in args.dims.split(","):
         if dims == "faults":
+            names = args.scenes.split(",") if args.scenes else FAULT_SCENES
+            if not set(names) <= set(FAULT_SCENES):
+                raise common.BenchError(f"--scenes takes some of {', '.join(FAULT_SCENES)}")
             result += [("faults", name, (), f"scenes/{name}.toml", ["output.xdmf=false"] + args.sets)
-                       for name in FAULT_SCENES]
+                       for name in names]
             continue
         if dims not in ("2", "3"):
             raise common.BenchError("--dims takes 2, 3 and faults")
