@@ -14,7 +14,9 @@ one step: the faults' steady flow.
   elimination exact). The same with finite normal permeabilities on b
   and c (2e-13, 1e-13 m^2): each intersection's own resistance, the mean
   of mu_f / (2 k_n) over the faults meeting there, in series at each
-  segment's end (the T moves from 2.054 to 2.083 MPa).
+  segment's end (the T moves from 2.054 to 2.083 MPa). The summary's
+  rate through each intersection (`intersections`, "a & c" the T, "a & b"
+  the X) is the resistor network's, the inflows of its segments, to 1e-10.
 - Each fault's volumes balance with what crosses its intersections
   (injected + exchanged + intersections = stored + outflow) to 1e-10
   (measured 5.9e-14 in 2D, 1.6e-11 in 3D: the direct solve's round-off
@@ -33,7 +35,8 @@ one step: the faults' steady flow.
   the conduits it does not reach stay within 0.5 MPa of it; each conduit
   balances with its intersections to 1e-8 of the volume injected.
 - The 2D network with storage (c_f = 1e-9 1/Pa, 40 steps of 0.25 ms from
-  1 MPa, C++): 2 ranks give 1 rank's fault pressure and volumes to 1e-12,
+  1 MPa, C++): 2 ranks give 1 rank's fault pressure, volumes and rates
+  through the intersections to 1e-12,
   and the run killed halfway and restarted from its checkpoint ends with
   the uninterrupted run's (the intersections' volumes in the checkpoint)."""
 import os
@@ -134,6 +137,9 @@ def resistor_network(normal_permeability):
                 else:
                     rhs[free.index(here)] += g * HELD[there]
     p = dict(HELD, **dict(zip(free, np.linalg.solve(A, rhs))))
+    # What passes through each intersection: the inflows of its segments.
+    through = {j: sum(max(g * (p[n if m == j else m] - p[j]), 0.0) for g, (_, m, n, _, _) in zip(conductance, SEGMENTS)
+                      if j in (m, n)) for j in free}
     pieces = {0: ([], []), 1: ([], []), 2: ([], [])}  # per fault: coordinates and pressures at the segments' ends
     for g, (f, m, n, a, b) in zip(conductance, SEGMENTS):
         F = g * (p[m] - p[n])
@@ -145,7 +151,7 @@ def resistor_network(normal_permeability):
         s = x if f == 0 else y
         k = min(range(0, len(coordinates), 2), key=lambda k: 0 if coordinates[k] <= s <= coordinates[k + 1] else 1)
         return np.interp(s, coordinates[k:k + 2], values[k:k + 2])
-    return p["T"], p["X"], profile
+    return p["T"], p["X"], profile, through
 
 
 def check_volumes(out, track, label):
@@ -170,13 +176,20 @@ def check_kirchhoff(track, normal_permeability):
     out_scene = scene(NETWORK_GEO, 2, boundaries + faults)
     out, _ = run_track(track, out_scene)
     x, ids, p = fault_pressure(out)
-    p_t, p_x, profile = resistor_network(normal_permeability)
+    p_t, p_x, profile, through = resistor_network(normal_permeability)
     exact = np.array([profile(i, *c[:2]) for i, c in zip(ids, x)])
     error = np.abs(p - exact).max() / 3e6
     label = "k_n = inf" if not normal_permeability else f"k_n {normal_permeability}"
     check(error <= 1e-10 and sorted(set(ids.tolist())) == [0, 1, 2],
           f"{track}: Kirchhoff ({label}), the T at {p_t / 1e6:.6f} MPa and the X at {p_x / 1e6:.6f} MPa; every cell "
           f"of the three faults ({len(p)}) on the resistor network's profile to {error:.1e} (1e-10)")
+    rates = summary(out)["intersections"]
+    off = {j: rates[" & ".join(MEETING[j])]["rate"] / through[j] - 1 for j in MEETING}
+    check(sorted(rates) == ["a & b", "a & c"] and all(r["junctions"] == 1 for r in rates.values())
+          and max(abs(e) for e in off.values()) <= 1e-10,
+          f"{track}: Kirchhoff ({label}), the summary's rate through the T and the X, "
+          f"{rates['a & c']['rate']:.6e} and {rates['a & b']['rate']:.6e} m^2/s, the resistor network's to "
+          f"{max(abs(e) for e in off.values()):.1e} (1e-10)")
     check_volumes(out, track, f"2D, {label}")
     if track == "C++" and not normal_permeability:
         check_ranks_and_restart(out_scene)
@@ -196,8 +209,11 @@ def check_ranks_and_restart(scene_file):
         d = np.abs(by_centroid(other) - p).max() / np.abs(p).max()
         a, b = summary(one)["fault_volumes"], summary(other)["fault_volumes"]
         volumes = max(abs(a[f][k] - b[f][k]) for f in a for k in a[f]) / max(abs(v) for f in a for v in a[f].values())
-        check(d <= 1e-12 and volumes <= 1e-12 and step < 40, f"C++, the transient network, {label}: the same fault "
-              f"pressure ({d:.1e}) and volumes, intersections included ({volumes:.1e}) (1e-12)")
+        a, b = summary(one)["intersections"], summary(other)["intersections"]
+        rates = max(abs(a[j]["rate"] / b[j]["rate"] - 1) for j in a) if sorted(a) == sorted(b) else np.inf
+        check(d <= 1e-12 and volumes <= 1e-12 and rates <= 1e-12 and step < 40, f"C++, the transient network, "
+              f"{label}: the same fault pressure ({d:.1e}), volumes, intersections included ({volumes:.1e}), and "
+              f"rates through the intersections ({rates:.1e}) (1e-12)")
 
 
 def check_crossing_planes(track):

@@ -247,6 +247,7 @@ std::vector<ConduitFaults::JunctionLink> ConduitFaults::junction_links() const
   std::vector<JunctionLink> links;
   for (const FaultJunction& j : _junctions)
   {
+    const auto index = static_cast<std::size_t>(&j - _junctions.data());
     std::set<std::size_t> faults(j.faults.begin(), j.faults.end());
     double r = 0;
     for (std::size_t f : faults)
@@ -258,7 +259,7 @@ std::vector<ConduitFaults::JunctionLink> ConduitFaults::junction_links() const
     for (std::size_t a = 0; a < h.size(); ++a)
       for (std::size_t b = a + 1; b < h.size(); ++b)
         links.push_back({{_conduits[j.faults[a]].offset + j.cells[a], _conduits[j.faults[b]].offset + j.cells[b]},
-                         {j.faults[a], j.faults[b]}, h[a] * h[b] / sum, &j.point});
+                         {j.faults[a], j.faults[b]}, h[a] * h[b] / sum, &j.point, index});
   }
   return links;
 }
@@ -608,6 +609,44 @@ void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const Fine
     if (fine.m == fine.q)
       _conduits[i].aperture_start = _conduits[i].aperture;
   }
+}
+
+void ConduitFaults::set_intersection_rates(std::span<const double> p)
+{
+  // Each member's net flow into the junction, sum_b T_ab (p_a - p_b) over
+  // its links there; the positive ones summed are what passes through.
+  _through.assign(_junctions.size(), 0.0);
+  if (_junctions.empty()) // the same on every rank
+    return;
+  std::map<std::pair<std::size_t, std::int64_t>, double> into; // (junction, row)
+  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
+  {
+    const double q = j.T * (p[j.rows[0]] - p[j.rows[1]]);
+    into[{j.junction, j.rows[0]}] += q;
+    into[{j.junction, j.rows[1]}] -= q;
+  }
+  for (const auto& [key, q] : into)
+    _through[key.first] += std::max(q, 0.0);
+  MPI_Allreduce(MPI_IN_PLACE, _through.data(), static_cast<int>(_through.size()), MPI_DOUBLE, MPI_SUM, _comm);
+}
+
+std::vector<IntersectionRate> ConduitFaults::intersection_rates() const
+{
+  std::map<std::vector<std::string>, IntersectionRate> by_faults;
+  for (std::size_t j = 0; j < _junctions.size(); ++j)
+  {
+    std::vector<std::string> names;
+    for (std::size_t f : std::set<std::size_t>(_junctions[j].faults.begin(), _junctions[j].faults.end()))
+      names.push_back(_conduits[f].name);
+    IntersectionRate& r = by_faults[names];
+    r.faults = names;
+    r.junctions += 1;
+    r.rate += j < _through.size() ? _through[j] : 0.0;
+  }
+  std::vector<IntersectionRate> rates;
+  for (const auto& [names, r] : by_faults)
+    rates.push_back(r);
+  return rates;
 }
 
 std::vector<std::pair<std::string, FaultVolumes>> ConduitFaults::volumes() const

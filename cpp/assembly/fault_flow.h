@@ -104,6 +104,19 @@ struct StepVolumes
   double gross = 0, held = 0, faces = 0;
 };
 
+/// @brief Where a set of conduit faults meets (their junctions of
+/// fault_network: a point in 2D, a line's edges in 3D): the faults, in the
+/// scene's order, the number of junctions and the volume rate through them
+/// at the last accepted step's end (m^3/s; m^2/s per metre of thickness in
+/// 2D), at each junction the sum of its members' flows into it (which the
+/// flows out of it equal).
+struct IntersectionRate
+{
+  std::vector<std::string> faults;
+  std::size_t junctions = 0;
+  double rate = 0;
+};
+
 /// How far an accepted step may leave a fault's volumes unbalanced
 /// (volume_imbalance). Converged runs measure up to 6e-6 (the 3D closure
 /// box with its flow solved by the Krylov method, whose tolerance is
@@ -220,6 +233,12 @@ public:
   /// After a window's last fine step its apertures become the next
   /// window's start.
   void add_volumes(const std::vector<StepVolumes>& volumes, const FineStep& step);
+  /// Sets each intersection's rate from `p`, the faults' pressure at an
+  /// accepted step's end (the last rank's; collective).
+  void set_intersection_rates(std::span<const double> p);
+  /// The rates by set of faults that meet, in the order of their names
+  /// (the same on every rank).
+  std::vector<IntersectionRate> intersection_rates() const;
   /// Each conduit fault's name and volumes (the same on every rank).
   std::vector<std::pair<std::string, FaultVolumes>> volumes() const;
   /// The volumes as 4 numbers per fault (a checkpoint's), and back.
@@ -297,6 +316,7 @@ private:
     std::array<std::size_t, 2> conduits; // indices into _conduits
     double T;
     const std::array<double, 3>* point;  // the junction's
+    std::size_t junction;                // index into _junctions
   };
   /// Every junction's links, the intersection's pressure eliminated.
   std::vector<JunctionLink> junction_links() const;
@@ -315,6 +335,7 @@ private:
   std::vector<Face> _faces;
   std::vector<Well> _wells;
   std::vector<FaultJunction> _junctions; // where the conduits meet (fault_network)
+  std::vector<double> _through;          // per junction: its rate (set_intersection_rates)
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
   int _dim = 2;

@@ -123,6 +123,15 @@ std::vector<std::pair<std::string, FaultVolumes>> Scheme::fault_volumes() const
   return {};
 }
 
+std::vector<IntersectionRate> Scheme::fault_intersections() const
+{
+  if (_monolithic)
+    return _monolithic->fault_intersections();
+  if (_flow)
+    return _flow->fault_intersections();
+  return {};
+}
+
 ContactState Scheme::contact_state()
 {
   if (_monolithic and _monolithic->has_contact())

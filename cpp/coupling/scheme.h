@@ -72,6 +72,9 @@ public:
   /// (FlowStep::fault_volumes or MonolithicStep::fault_volumes; none without
   /// flow).
   std::vector<std::pair<std::string, FaultVolumes>> fault_volumes() const;
+  /// Where the conduit faults meet, and the rates through (FlowStep's or
+  /// MonolithicStep's fault_intersections; none without conduit faults).
+  std::vector<IntersectionRate> fault_intersections() const;
   /// The contact's state (MechanicsStep::contact_state or
   /// MonolithicStep::contact_state; empty when the step has no contact).
   ContactState contact_state();

@@ -284,6 +284,20 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
                            .set("intersections", v.intersections));
     summary.set("fault_volumes", faults);
   }
+  if (const auto intersections = in.scheme.fault_intersections(); !intersections.empty())
+  {
+    // Per set of conduit faults that meet ("a & b"): the volume rate
+    // through their junctions at the last step's end.
+    Json meets;
+    for (const IntersectionRate& r : intersections)
+    {
+      std::string key;
+      for (const std::string& name : r.faults)
+        key += (key.empty() ? "" : " & ") + name;
+      meets.set(key, Json().set("junctions", static_cast<long>(r.junctions)).set("rate", r.rate));
+    }
+    summary.set("intersections", meets);
+  }
   if (in.errors)
     summary.set("errors", errors_json(*in.errors));
   if (!outcome.failure.empty())

@@ -305,9 +305,12 @@ void FlowStep::keep_history(const StepState& start) { assign(*p_before, start.p)
 void FlowStep::accept(double t)
 {
   if (*_conduits and _pass == FlowPass::first)
+  {
     _conduits->add_volumes(
         _conduits->step_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, fine_step(t)),
         fine_step(t));
+    _conduits->set_intersection_rates(_fault_pressure);
+  }
 }
 
 std::string FlowStep::unbalanced(double t) const

@@ -129,6 +129,8 @@ public:
   /// The conduit faults' volumes since the run's start (every rank; none
   /// without conduit faults).
   std::vector<std::pair<std::string, FaultVolumes>> fault_volumes() const { return _conduits->volumes(); }
+  /// Where the conduit faults meet, and the rates through (every rank).
+  std::vector<IntersectionRate> fault_intersections() const { return _conduits->intersection_rates(); }
 
   /// Keeps the loads of the last `times` solve times (q for a multirate
   /// window, whose iterations revisit its fine times; 1 by default).

@@ -156,6 +156,7 @@ void MonolithicConduits::accept(std::span<const double> x, double t)
 {
   const FineStep step{t, dt(), 1, 1};
   _faults->add_volumes(_faults->step_volumes(x, _pressure, _pressure_old, step), step);
+  _faults->set_intersection_rates(_pressure);
 }
 
 std::string MonolithicConduits::unbalanced(std::span<const double> x, double t, double rock_flux) const

@@ -93,6 +93,7 @@ public:
   /// The faults' cell fields at t on rank 0 (ConduitFaults::cell_values).
   std::vector<double> cell_values(std::span<const double> x, double t) const;
   std::vector<std::pair<std::string, FaultVolumes>> volumes() const { return _faults->volumes(); }
+  std::vector<IntersectionRate> intersection_rates() const { return _faults->intersection_rates(); }
   /// p_f, the volumes and the start apertures as a checkpoint keeps them
   /// (FlowStep::arrays' names), and back.
   void keep(std::map<std::string, std::vector<double>>& arrays) const;

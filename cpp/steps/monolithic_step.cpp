@@ -396,6 +396,11 @@ std::vector<std::pair<std::string, FaultVolumes>> MonolithicStep::fault_volumes(
   return *_conduits ? _conduits->volumes() : std::vector<std::pair<std::string, FaultVolumes>>{};
 }
 
+std::vector<IntersectionRate> MonolithicStep::fault_intersections() const
+{
+  return *_conduits ? _conduits->intersection_rates() : std::vector<IntersectionRate>{};
+}
+
 std::map<std::string, std::vector<double>> MonolithicStep::arrays() const
 {
   std::map<std::string, std::vector<double>> arrays;

@@ -74,6 +74,8 @@ public:
   /// (FlowStep::fault_flow and fault_volumes; empty without conduits).
   std::vector<double> fault_flow(double t) const;
   std::vector<std::pair<std::string, FaultVolumes>> fault_volumes() const;
+  /// Where the conduit faults meet, and the rates through (FlowStep's).
+  std::vector<IntersectionRate> fault_intersections() const;
   std::span<const double> pressure_values() const override { return pressure->x()->array(); }
   std::span<const double> displacement_values() const override { return u->x()->array(); }
   bool same_contact_set(const ActiveSet& before) override;

@@ -10,6 +10,7 @@ rock's unknowns, on the last rank. Per cell k, the mass balance times -1
 w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
 cubic law's two-point transmissibility, c_i the faces' facet fluxes, L_k =
 L_f |k| the fixed-stress term (_set_compliance). The operator stays symmetric."""
+import collections
 import dataclasses
 
 import numpy as np
@@ -18,6 +19,19 @@ from petsc4py import PETSc
 from ..domain.fault_cells import fault_network, well_cells
 from ..scene.input import FaultFlow
 from .boundary_conditions import fault_face_rows
+
+
+@dataclasses.dataclass
+class IntersectionRate:
+    """Where a set of conduit faults meets (their junctions of
+    fault_network: a point in 2D, a line's edges in 3D): the faults, in the
+    scene's order, the number of junctions and the volume rate through them
+    at the last accepted step's end (m^3/s; m^2/s per metre of thickness in
+    2D), at each junction the sum of its members' flows into it (which the
+    flows out of it equal)."""
+    faults: list
+    junctions: int = 0
+    rate: float = 0.0
 
 
 @dataclasses.dataclass
@@ -217,6 +231,7 @@ class ConduitFaults:
         for conduit, links in zip(self.faults, network.links):
             conduit.links = links
         self.junctions = network.junctions  # where the conduits meet
+        self._through = np.zeros(len(self.junctions))  # per junction: its rate (set_intersection_rates)
         self.size = count
         self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
@@ -313,7 +328,8 @@ class ConduitFaults:
 
     def _junction_links(self):
         """Every junction's links, the intersection's pressure eliminated:
-        ((row a, row b), (conduit a, conduit b), T_ab, the junction's point).
+        ((row a, row b), (conduit a, conduit b), T_ab, the junction's point,
+        its index in self.junctions).
         p_j eliminated from sum_i h_i (p_i - p_j) = 0 leaves between each two
         members h_a h_b / sum_i h_i (a star-delta transform: exact). Member i
         reaches the intersection through half its cell and the
@@ -322,7 +338,7 @@ class ConduitFaults:
         mean): 1/h_i = (d_i / t_i + r_j) / |e|."""
         t = [self._conductance(conduit) for conduit in self.faults]
         links = []
-        for j in self.junctions:
+        for index, j in enumerate(self.junctions):
             faults = sorted(set(j.faults))
             r = 0.0
             for f in faults:
@@ -333,7 +349,7 @@ class ConduitFaults:
                 for b in range(a + 1, len(h)):
                     fa, fb = j.faults[a], j.faults[b]
                     links.append(((self.faults[fa].offset + j.cells[a], self.faults[fb].offset + j.cells[b]),
-                                  (fa, fb), h[a] * h[b] / total, j.point))
+                                  (fa, fb), h[a] * h[b] / total, j.point, index))
         return links
 
     def _held_ends(self, conduit):
@@ -357,7 +373,7 @@ class ConduitFaults:
             np.subtract.at(diagonal, cells.ends.cells[held, 0], T_e)
             for k, value in enumerate(diagonal):
                 C.setValue(o + k, o + k, value, addv=True)
-        for (a, b), _, T_ab, _ in self._junction_links() if self.owned else []:
+        for (a, b), _, T_ab, _, _ in self._junction_links() if self.owned else []:
             C.setValues([a, b], [a, b], [[-T_ab, T_ab], [T_ab, -T_ab]], addv=True)
         C.assemble()
         return C
@@ -523,7 +539,7 @@ class ConduitFaults:
         F_e = T_e * (p[k] - self._end_pressures(conduit, held, t))
         np.add.at(q, k, F_e[:, None] * (cells.ends.points[held] - cells.centroids[k]))
         self_index = self.faults.index(conduit)
-        for rows, faults, T_ab, point in junction_links:
+        for rows, faults, T_ab, point, _ in junction_links:
             F = T_ab * (pressure[rows[0]] - pressure[rows[1]])
             for side, sign in ((0, 1.0), (1, -1.0)):
                 if faults[side] == self_index:
@@ -580,7 +596,7 @@ class ConduitFaults:
             step[i, 5] = np.sum(cells.measures * conduit.aperture)
             held, T_e = self._held_ends(conduit)
             add(i, 3, dt * T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
-        for (a, b), (fa, fb), T_ab, _ in self._junction_links() if self.owned else []:
+        for (a, b), (fa, fb), T_ab, _, _ in self._junction_links() if self.owned else []:
             if fa != fb:  # from the first member's fault into the second's
                 V = dt * T_ab * (p[a] - p[b])
                 add(fa, 7, -V)
@@ -619,6 +635,34 @@ class ConduitFaults:
             v.intersections += s.intersections
             if fine.m == fine.q:
                 conduit.aperture_start = conduit.aperture.copy()
+
+    def set_intersection_rates(self, p):
+        """Sets each intersection's rate from `p`, the faults' pressure at an
+        accepted step's end (the last rank's; collective): each member's net
+        flow into the junction, sum_b T_ab (p_a - p_b) over its links there;
+        the positive ones summed are what passes through."""
+        if not self.junctions:  # the same on every rank
+            return
+        into = collections.defaultdict(float)  # (junction, row)
+        for (a, b), _, T_ab, _, j in self._junction_links() if self.owned else []:
+            q = T_ab * (p[a] - p[b])
+            into[j, a] += q
+            into[j, b] -= q
+        through = np.zeros(len(self.junctions))
+        for (j, _), q in into.items():
+            through[j] += max(q, 0.0)
+        self._through = self.comm.allreduce(through)
+
+    def intersection_rates(self):
+        """The rates by set of faults that meet, in the order of their names
+        (the same on every rank)."""
+        by_faults = {}
+        for j, junction in enumerate(self.junctions):
+            names = tuple(self.faults[f].name for f in sorted(set(junction.faults)))
+            r = by_faults.setdefault(names, IntersectionRate(list(names)))
+            r.junctions += 1
+            r.rate += float(self._through[j])
+        return [by_faults[names] for names in sorted(by_faults)]
 
     def volumes(self):
         """Each conduit fault's name and volumes (the same on every rank)."""

@@ -90,6 +90,16 @@ class Scheme:
             return self._flow.fault_volumes()
         return []
 
+    def fault_intersections(self):
+        """Where the conduit faults meet, and the rates through
+        (FlowStep.fault_intersections or MonolithicStep.fault_intersections;
+        none without conduit faults)."""
+        if self._monolithic is not None:
+            return self._monolithic.fault_intersections()
+        if self._flow is not None:
+            return self._flow.fault_intersections()
+        return []
+
     def contact_state(self):
         """The contact's state (MechanicsStep.contact_state or
         MonolithicStep.contact_state; empty when the step has no contact)."""

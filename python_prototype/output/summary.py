@@ -226,6 +226,11 @@ def run_summary(summary_input, outcome):
         summary["fault_volumes"] = {name: {"injected": v.injected, "stored": v.stored, "exchanged": v.exchanged,
                                            "outflow": v.outflow, "intersections": v.intersections}
                                     for name, v in i.scheme.fault_volumes()}
+    if i.scheme.fault_intersections():
+        # Per set of conduit faults that meet ("a & b"): the volume rate
+        # through their junctions at the last step's end.
+        summary["intersections"] = {" & ".join(r.faults): {"junctions": r.junctions, "rate": r.rate}
+                                    for r in i.scheme.fault_intersections()}
     if i.errors is not None:
         summary["errors"] = _errors_json(i.errors)
     if outcome.failure:

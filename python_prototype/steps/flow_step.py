@@ -238,6 +238,7 @@ class FlowStep(Step):
             fine = self._fine_step(t)
             self.conduits.add_volumes(self.conduits.step_volumes(self.w.x.array, self.fault_pressure,
                                                                  self.fault_pressure_previous, fine), fine)
+            self.conduits.set_intersection_rates(self.fault_pressure)
 
     def unbalanced(self, t):
         """A conduit fault whose volumes the step to t would leave
@@ -269,6 +270,10 @@ class FlowStep(Step):
         """The conduit faults' volumes since the run's start (every rank;
         none without conduit faults)."""
         return self.conduits.volumes()
+
+    def fault_intersections(self):
+        """Where the conduit faults meet, and the rates through (every rank)."""
+        return self.conduits.intersection_rates()
 
     def history(self):
         """BDF2: p_before, u_before, u_path_before (u_before with coupling.q =

@@ -150,6 +150,7 @@ class MonolithicConduits:
         unknowns)."""
         step = FineStep(t, self._dt(), 1, 1)
         self.faults.add_volumes(self.faults.step_volumes(x, self.pressure, self.pressure_old, step), step)
+        self.faults.set_intersection_rates(self.pressure)
 
     def unbalanced(self, x, t, rock_flux):
         """A fault that the step to t would leave unbalanced, or empty
@@ -163,6 +164,9 @@ class MonolithicConduits:
 
     def volumes(self):
         return self.faults.volumes()
+
+    def intersection_rates(self):
+        return self.faults.intersection_rates()
 
     def keep(self, arrays):
         """p_f, the volumes and the start apertures as a checkpoint keeps them

@@ -270,6 +270,10 @@ class MonolithicStep(Step):
         """The conduit faults' volumes since the run's start (none without)."""
         return self.conduits.volumes() if self.conduits else []
 
+    def fault_intersections(self):
+        """Where the conduit faults meet, and the rates through (FlowStep's)."""
+        return self.conduits.intersection_rates() if self.conduits else []
+
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a
         checkpoint's), the conduit faults' arrays (FlowStep.arrays) and their
