@@ -214,6 +214,35 @@ Json seismic_moment_json(const SeismicMoments& m, int dim)
   return faults;
 }
 
+/// Per conduit fault, its fluid volumes since the start (FaultVolumes).
+Json fault_volumes_json(const std::vector<std::pair<std::string, FaultVolumes>>& volumes)
+{
+  Json faults;
+  for (const auto& [name, v] : volumes)
+    faults.set(name, Json()
+                         .set("injected", v.injected)
+                         .set("stored", v.stored)
+                         .set("exchanged", v.exchanged)
+                         .set("outflow", v.outflow)
+                         .set("intersections", v.intersections));
+  return faults;
+}
+
+/// Per set of conduit faults that meet ("a & b"): its junctions and the
+/// volume rate through them at the last step's end (IntersectionRate).
+Json intersections_json(const std::vector<IntersectionRate>& intersections)
+{
+  Json meets;
+  for (const IntersectionRate& r : intersections)
+  {
+    std::string key;
+    for (const std::string& name : r.faults)
+      key += (key.empty() ? "" : " & ") + name;
+    meets.set(key, Json().set("junctions", static_cast<long>(r.junctions)).set("rate", r.rate));
+  }
+  return meets;
+}
+
 } // namespace
 
 Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
@@ -272,32 +301,9 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
   if (const SeismicMoments m = in.scheme.seismic_moments(); !m.names.empty() and !m.steps.empty())
     summary.set("seismic_moment", seismic_moment_json(m, in.problem.domain.dim()));
   if (const auto volumes = in.scheme.fault_volumes(); !volumes.empty())
-  {
-    // Per conduit fault, its fluid volumes since the start (FaultVolumes).
-    Json faults;
-    for (const auto& [name, v] : volumes)
-      faults.set(name, Json()
-                           .set("injected", v.injected)
-                           .set("stored", v.stored)
-                           .set("exchanged", v.exchanged)
-                           .set("outflow", v.outflow)
-                           .set("intersections", v.intersections));
-    summary.set("fault_volumes", faults);
-  }
+    summary.set("fault_volumes", fault_volumes_json(volumes));
   if (const auto intersections = in.scheme.fault_intersections(); !intersections.empty())
-  {
-    // Per set of conduit faults that meet ("a & b"): the volume rate
-    // through their junctions at the last step's end.
-    Json meets;
-    for (const IntersectionRate& r : intersections)
-    {
-      std::string key;
-      for (const std::string& name : r.faults)
-        key += (key.empty() ? "" : " & ") + name;
-      meets.set(key, Json().set("junctions", static_cast<long>(r.junctions)).set("rate", r.rate));
-    }
-    summary.set("intersections", meets);
-  }
+    summary.set("intersections", intersections_json(intersections));
   if (in.errors)
     summary.set("errors", errors_json(*in.errors));
   if (!outcome.failure.empty())
