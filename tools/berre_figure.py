@@ -61,18 +61,14 @@ def main():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from flemisch_figure import draw_profile  # the panel of the 2D benchmarks' figure
     figure, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, variant in zip(axes, REFERENCE):
         runs = getattr(args, variant)
         for run in runs:
             print(f"{variant} {run}: {difference(run, variant):.4f} from the reference")
-        s, p = profile(runs[-1])
-        ax.plot(s, p, label="biotcontact")
-        ax.plot(S, REFERENCE[variant], "o", label="reference (published)")
-        ax.set_title(f"Berre et al. Case 2, {variant}: (0, 0, 0) to (1, 1, 1)", fontsize=10)
-        ax.set_xlabel("arc length")
-        ax.set_ylabel("pressure")
-        ax.legend()
+        draw_profile(ax, profile(runs[-1]), (S, REFERENCE[variant]),
+                     f"Berre et al. Case 2, {variant}: (0, 0, 0) to (1, 1, 1)", "arc length")
     figure.tight_layout()
     figure.savefig(args.out, dpi=100)
     print(f"wrote {args.out}")

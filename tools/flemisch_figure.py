@@ -35,6 +35,17 @@ REFERENCE = {"conductive": {0.2: 1.3332, 0.4: 1.2024, 0.5: 1.1364, 0.7: 1.0955, 
              "left-right": {0.2: 3.4609, 0.4: 2.6622, 0.5: 2.5569, 0.7: 1.5470, 0.9: 1.2890}}
 
 
+def draw_profile(ax, computed, reference, title, xlabel):
+    """One panel: the computed profile (s, p) against the reference points
+    (s, p)."""
+    ax.plot(*computed, label="biotcontact")
+    ax.plot(*reference, "o", label="reference (published)")
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("pressure")
+    ax.legend()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     for variant in LINES:
@@ -47,13 +58,9 @@ def main():
         (x0, _), (x1, _) = LINES[variant]
         fields = Fields(run)
         s, p = fields.along("pressure", fields.times("pressure")[-1], *LINES[variant], n=2000)
-        ax.plot(x0 + s * (x1 - x0), p, label="biotcontact")
-        ax.plot(list(REFERENCE[variant]), list(REFERENCE[variant].values()), "o", label="reference (published)")
         network = "regular" if variant in ("conductive", "blocking") else "complex"
-        ax.set_title(f"{network}, {variant}: from {LINES[variant][0]} to {LINES[variant][1]}", fontsize=10)
-        ax.set_xlabel("x")
-        ax.set_ylabel("pressure")
-        ax.legend()
+        draw_profile(ax, (x0 + s * (x1 - x0), p), (list(REFERENCE[variant]), list(REFERENCE[variant].values())),
+                     f"{network}, {variant}: from {LINES[variant][0]} to {LINES[variant][1]}", "x")
     figure.tight_layout()
     figure.savefig(args.out, dpi=100)
     print(f"wrote {args.out}")
