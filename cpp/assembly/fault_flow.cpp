@@ -123,6 +123,7 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
   for (std::size_t i = 0; i < _conduits.size(); ++i)
     _conduits[i].links = std::move(network.links[i]);
   _junctions = std::move(network.junctions);
+  _through.assign(_junctions.size(), 0.0);
   _start = Z.dofmap()->index_map->local_range()[0];
   int rank = 0, ranks = 1;
   MPI_Comm_rank(_comm, &rank);
@@ -641,7 +642,7 @@ std::vector<IntersectionRate> ConduitFaults::intersection_rates() const
     IntersectionRate& r = by_faults[names];
     r.faults = names;
     r.junctions += 1;
-    r.rate += j < _through.size() ? _through[j] : 0.0;
+    r.rate += _through[j];
   }
   std::vector<IntersectionRate> rates;
   for (const auto& [names, r] : by_faults)
