@@ -218,6 +218,31 @@ pressure = 1.0e6
 """)
 
 
+class PrototypeWorker:
+    """The prototype's command line run in one long-lived process
+    (tests/prototype_worker.py), for tests that run it on dozens of bad
+    inputs; a command line with PETSc options gets a process of its own."""
+
+    def __init__(self):
+        self.process = None
+
+    def run(self, argv, cwd=ROOT):
+        """(exit status, standard error) of `python3 -m python_prototype ARGV`."""
+        if any(a.startswith("-") and not a.startswith("--") for a in argv):
+            p = subprocess.run(PROTOTYPE + argv, capture_output=True, text=True, env=MPI_ENV, cwd=cwd, timeout=300)
+            return p.returncode, p.stderr
+        if self.process is None or self.process.poll() is not None:
+            self.process = subprocess.Popen(["/usr/bin/python3", os.path.join(ROOT, "tests", "prototype_worker.py")],
+                                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=MPI_ENV)
+        self.process.stdin.write(json.dumps({"argv": argv, "cwd": cwd}) + "\n")
+        self.process.stdin.flush()
+        answer = self.process.stdout.readline()
+        if not answer:  # the worker died (an abort or a crash of the prototype): say so as the status
+            return -1, f"the prototype's process ended on {argv} with status {self.process.wait()}"
+        answer = json.loads(answer)
+        return answer["status"], answer["stderr"]
+
+
 def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     """Runs a scene on one track ("C++" or "prototype") with --set values
     and PETSc `options`, on `ranks` MPI ranks, checking its exit status;

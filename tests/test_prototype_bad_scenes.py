@@ -6,24 +6,24 @@ import os
 import subprocess
 import tempfile
 
-from support import (BINARY, MPI_ENV, ROOT, check, crack_scenes, fault_group_scenes, flow_crack_scene,
+from support import (BINARY, MPI_ENV, ROOT, PrototypeWorker, check, crack_scenes, fault_group_scenes, flow_crack_scene,
                      foundation_fault_scene, scene)
 
 PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
 DEFAULT = scene("default")
+WORKER = PrototypeWorker()
 
 
 def both(command, path, overrides, extra=()):
-    """(exit status, stderr) of the C++ solver and of the prototype."""
-    results = []
-    for exe in ([BINARY], PROTOTYPE):
-        args = exe + [command, path] + [a for o in overrides for a in ("--set", o)] + list(extra)
-        if command == "run" and "--out" not in extra:
-            args += ["--out", tempfile.mkdtemp()]
-        p = subprocess.run(args, capture_output=True, text=True, env=ENV, timeout=300)
-        results.append((p.returncode, p.stderr.strip()))
-    return results
+    """(exit status, stderr) of the C++ solver and of the prototype (its
+    command line run in one process for all cases: PrototypeWorker)."""
+    args = [command, path] + [a for o in overrides for a in ("--set", o)] + list(extra)
+    if command == "run" and "--out" not in extra:
+        args += ["--out", tempfile.mkdtemp()]
+    p = subprocess.run([BINARY] + args, capture_output=True, text=True, env=ENV, timeout=300)
+    status, stderr = WORKER.run(args)
+    return [(p.returncode, p.stderr.strip()), (status, stderr.strip())]
 
 
 CASES = [
