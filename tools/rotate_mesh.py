@@ -28,10 +28,11 @@ def rotation(angle, d, axis=(0.0, 0.0, 1.0)):
     return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
 
 
-def mesh(geo, d, out, clscale=1.0):
-    """Meshes a gmsh geometry into `out` (msh 2.2)."""
-    subprocess.run(["gmsh", f"-{d}", geo, "-format", "msh22", "-clscale", str(clscale), "-o", out],
-                   check=True, capture_output=True)
+def mesh(geo, d, out, clscale=1.0, algorithm=None):
+    """Meshes a gmsh geometry into `out` (msh 2.2), with gmsh's `-algo
+    algorithm` if given ("hxt": gmsh 4.8's parallel tetrahedra)."""
+    subprocess.run(["gmsh", f"-{d}", geo, "-format", "msh22", "-clscale", str(clscale), "-o", out]
+                   + (["-algo", algorithm] if algorithm else []), check=True, capture_output=True)
 
 
 def rotate_msh(source, out, R):
