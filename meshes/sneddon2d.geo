@@ -19,6 +19,9 @@ EndIf
 If (!Exists(theta))
   theta = Pi / 6; // inclination of the crack to the x axis
 EndIf
+If (!Exists(scale)) // meshes/phan2d_coarse.geo: the sizes near the crack times scale
+  scale = 1;
+EndIf
 Point(1) = {-L, -L, 0};
 Point(2) = {L, -L, 0};
 Point(3) = {L, L, 0};
@@ -44,7 +47,7 @@ Field[1].CurvesList = {5};
 Field[1].NumPointsPerCurve = 1000; // 2 mm apart: the distance is exact to well below the finest cell
 Field[2] = Threshold;
 Field[2].InField = 1;
-Field[2].SizeMin = 0.01;
+Field[2].SizeMin = 0.01 * scale;
 Field[2].SizeMax = 5;
 Field[2].DistMin = 0.02;
 Field[2].DistMax = 50;
@@ -52,7 +55,7 @@ Field[3] = Distance;
 Field[3].PointsList = {5, 6};
 Field[4] = Threshold;
 Field[4].InField = 3;
-Field[4].SizeMin = 0.004;
+Field[4].SizeMin = 0.004 * scale;
 Field[4].SizeMax = 5;
 Field[4].DistMin = 0.02;
 Field[4].DistMax = 50;

@@ -13,9 +13,10 @@ monolithic run on the finest level (`reference = "monolithic"`, computed
 once and cached; its cell averages over each coarse cell), at every output
 time of the run: relative l2 errors of pressure (cell-area weighted),
 displacement (nodal) and flux (cell-area weighted), at the final time and
-the maximum over time. A fault study (`reference = "sneddon"`, `metric =
-"opening"`) measures instead the crack's opening [u].n along it against
-Sneddon's ellipse (relative l2, the tips' ends excluded). A variant's
+the maximum over time. A crack study measures instead the jump along the
+crack against a closed form (relative l2, the tips' ends excluded): the
+opening against Sneddon's ellipse (`reference = "sneddon"`) or the slip
+against Phan et al.'s (`reference = "phan"`). A variant's
 override that starts with "-" is a PETSc option ("-mechanics_contact_condensed
 false"). Finished runs are kept under DIR/runs and reused when the study is
 started again; --replot redraws the plots from DIR/results.csv without
@@ -47,7 +48,8 @@ COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "
            "flow_solves", "mechanics_solves", "monolithic_solves", "wall_time_s", "time_flow_s",
            "time_mechanics_s", "time_monolithic_s", "time_assembly_s", "time_output_s",
            "pressure_error_final", "pressure_error_max", "displacement_error_final", "displacement_error_max",
-           "flux_error_final", "flux_error_max", "opening_error_final", "opening_error_max", "pressure_space_error_final", "pressure_time_error_final",
+           "flux_error_final", "flux_error_max", "opening_error_final", "opening_error_max", "slip_error_final",
+           "slip_error_max", "moment_error_final", "pressure_space_error_final", "pressure_time_error_final",
            "gamma", "reference", "cached"]
 
 
@@ -66,11 +68,12 @@ def read_study(path):
     for key in ("name", "scene", "reference", "levels", "variants"):
         if key not in study:
             raise StudyError(f"{path}: {key}: missing")
-    if study["reference"] not in ("closed-form", "monolithic", "sneddon"):
-        raise StudyError(f"{path}: reference: must be \"closed-form\", \"monolithic\" or \"sneddon\"")
-    if study["reference"] == "sneddon" and "sneddon" not in study:
-        raise StudyError(f"{path}: sneddon: missing (the crack: a, E, nu, p, centre, direction)")
-    study.setdefault("metric", "opening" if study["reference"] == "sneddon" else "pressure")
+    if study["reference"] not in ("closed-form", "monolithic", *CRACKS):
+        raise StudyError(f"{path}: reference: must be \"closed-form\", \"monolithic\", \"sneddon\" or \"phan\"")
+    crack = CRACKS.get(study["reference"])
+    if crack and study["reference"] not in study:
+        raise StudyError(f"{path}: {study['reference']}: missing (the crack: {crack[2]})")
+    study.setdefault("metric", crack[0] if crack else "pressure")
     return study
 
 
@@ -170,7 +173,7 @@ class RunReference:
     def _maps_for(self, fields):
         key = (len(fields.nodes), len(fields.cells))
         if key not in self._maps:
-            _, nodes = cKDTree(self.fine.nodes).query(fields.nodes)
+            _, nodes = cKDTree(sided_nodes(self.fine)).query(sided_nodes(fields))
             owner = containing_cells(fields, self.fine.cells)
             weights = np.bincount(owner, self.fine_areas, len(fields.cells))
             self._maps[key] = nodes, owner, weights
@@ -190,6 +193,27 @@ class RunReference:
         return {"pressure": self._averages(values(self.fine, "pressure", tf), owner, weights),
                 "displacement": values(self.fine, "displacement", tf)[nodes],
                 "flux": self._averages(values(self.fine, "flux", tf), owner, weights)}
+
+
+def sided_nodes(fields):
+    """The nodes moved a little toward the midpoint of the cells around them:
+    a fault's two copies of a node (one per face, at the same point) part
+    toward their own sides, so a coarse node is matched with the fine copy
+    on its side. The corners of a cell split uniformly are scaled copies of
+    it, so a node's direction is the same on every level; the move, 1e-3 of
+    the shortest such distance, keeps every other match as it was."""
+    d = fields.topology.shape[1] - 1
+    x = fields.nodes[:, :d]
+    count = np.bincount(fields.topology.ravel(), minlength=len(x))
+    star = np.stack([np.bincount(fields.topology.ravel(), np.repeat(fields.cells[:, i], d + 1), len(x))
+                     for i in range(d)], axis=1) / np.maximum(count, 1)[:, None]
+    towards = star - x
+    length = np.linalg.norm(towards, axis=1)
+    used = length > 0
+    step = 1e-3 * length[used].min()
+    moved = x.copy()
+    moved[used] += step * towards[used] / length[used][:, None]
+    return moved
 
 
 def containing_cells(fields, points, candidates=12):
@@ -214,36 +238,69 @@ def containing_cells(fields, points, candidates=12):
     return owner
 
 
-class SneddonReference:
-    """Sneddon's pressurised crack in the infinite plane: the opening [u].n
-    at the + face's nodes against 4 (1 - nu^2) p / E sqrt(a^2 - s^2), s the
-    distance along the crack from its centre; relative l2 weighted by the
-    length each node stands for, over |s| <= (1 - tips) a."""
+class CrackReference:
+    """A straight crack in the infinite plane whose jump has the elliptic
+    profile amplitude sqrt(a^2 - s^2), s the distance along the crack from
+    its centre: the fault.h5 field `field` (its norm per node) at the +
+    face's nodes against it; relative l2 weighted by the length each node
+    stands for, over |s| <= (1 - tips) a."""
 
-    def __init__(self, crack):
-        self.crack = crack
-        c = crack
-        self.description = (f"Sneddon's opening, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, p = {c['p']:g} Pa "
-                            f"(docs/verification.md)")
-        self.sampling = (f"Sneddon's opening at the crack's nodes, the tips' {c.get('tips', 0.1):.0%} of a at each "
-                         "end excluded")
+    def __init__(self, crack, metric, field, amplitude, description, moment=None):
+        self.crack, self.metric, self.field, self.amplitude = crack, metric, field, amplitude
+        self.moment = moment  # the closed form's seismic moment (N m/m), where the slip is measured
+        self.description = description
+        self.sampling = (f"the closed-form {metric} at the crack's nodes, the tips' {crack.get('tips', 0.1):.0%} of a "
+                         "at each end excluded")
 
     def errors(self, directory):
         c = self.crack
         with h5py.File(os.path.join(directory, "fault.h5")) as f:
             x = f["Mesh/geometry"][:]
-            last = max(int(k) for k in f["opening"].keys())
-            opening = f[f"opening/{last}"][:].reshape(-1)
+            last = max(int(k) for k in f[self.field].keys())
+            jump = f[f"{self.field}/{last}"][:]
+        jump = np.linalg.norm(jump.reshape(len(x), -1), axis=1)
         direction = np.array(c["direction"], dtype=float)
         s = (x[:, :len(direction)] - np.array(c["centre"], dtype=float)) @ (direction / np.linalg.norm(direction))
         order = np.argsort(s)
-        s, opening = s[order], opening[order]
+        s, jump = s[order], jump[order]
         length = np.gradient(s) if len(s) > 1 else np.ones(1)  # half the two neighbouring segments
         inner = np.abs(s) <= (1 - c.get("tips", 0.1)) * c["a"]
-        exact = 4 * (1 - c["nu"] ** 2) * c["p"] / c["E"] * np.sqrt(np.maximum(c["a"] ** 2 - s ** 2, 0.0))
-        e = relative((opening - exact)[inner], exact[inner], np.abs(length[inner]))
+        exact = self.amplitude * np.sqrt(np.maximum(c["a"] ** 2 - s ** 2, 0.0))
+        e = relative((jump - exact)[inner], exact[inner], np.abs(length[inner]))
         nan = (float("nan"), float("nan"))
-        return {"opening": (e, e), "pressure": nan, "displacement": nan, "flux": nan}
+        result = {self.metric: (e, e), "pressure": nan, "displacement": nan, "flux": nan, "moment": nan}
+        if self.moment:
+            with open(os.path.join(directory, "summary.json")) as f:
+                total = json.load(f)["seismic_moment"][c.get("fault", "crack")]["total"]
+            result["moment"] = (abs(total / self.moment - 1),) * 2
+        return result
+
+
+def sneddon_reference(c):
+    """Sneddon's pressurised crack: the opening, 4 (1 - nu^2) p / E sqrt(a^2 - s^2)."""
+    return CrackReference(c, "opening", "opening", 4 * (1 - c["nu"] ** 2) * c["p"] / c["E"],
+                          f"Sneddon's opening, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, p = {c['p']:g} Pa "
+                          "(docs/verification.md)")
+
+
+def phan_reference(c):
+    """Phan et al.'s closed crack under a uniaxial compression sigma at psi to
+    its axis, Coulomb friction angle theta: the slip, 4 (1 - nu^2) / E sigma
+    sin(psi) (cos(psi) - sin(psi) tan(theta)) sqrt(a^2 - s^2)."""
+    psi, theta = math.radians(c["psi"]), math.radians(c["theta"])
+    amplitude = 4 * (1 - c["nu"] ** 2) / c["E"] * c["sigma"] * math.sin(psi) * (math.cos(psi) - math.sin(psi)
+                                                                                 * math.tan(theta))
+    G = c["E"] / (2 * (1 + c["nu"]))
+    return CrackReference(c, "slip", "slip", amplitude,
+                          f"Phan et al.'s frictional slip, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, "
+                          f"sigma = {c['sigma']:g} Pa, psi = {c['psi']} deg, theta = {c['theta']} deg "
+                          "(docs/verification.md); the seismic moment against G times the slip's integral, "
+                          "G amplitude pi a^2 / 2", moment=G * amplitude * math.pi * c["a"] ** 2 / 2)
+
+
+# The crack references: (metric, constructor, the keys of their table in the study file).
+CRACKS = {"sneddon": ("opening", sneddon_reference, "a, E, nu, p, centre, direction"),
+          "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction")}
 
 
 def errors(directory, reference):
@@ -528,8 +585,8 @@ def make_reference(study, out, binary):
     scene, levels = study["scene"], study["levels"]
     if study["reference"] == "closed-form":
         return ClosedFormReference(scene)
-    if study["reference"] == "sneddon":
-        return SneddonReference(study["sneddon"])
+    if study["reference"] in CRACKS:
+        return CRACKS[study["reference"]][1](study[study["reference"]])
     overrides = levels[-1]["overrides"] + study.get("reference_overrides", []) + ["coupling.scheme=monolithic"]
     directory = run_directory(out, scene, overrides)
     _, cached = run(binary, scene, overrides, directory)
@@ -555,7 +612,10 @@ def result_row(study, level, variant, s, e, cached, directory):
             "displacement_error_final": e["displacement"][0], "displacement_error_max": e["displacement"][1],
             "flux_error_final": e["flux"][0], "flux_error_max": e["flux"][1],
             "opening_error_final": e.get("opening", (math.nan,))[0],
-            "opening_error_max": e.get("opening", (math.nan, math.nan))[1], "gamma": s["gamma"],
+            "opening_error_max": e.get("opening", (math.nan, math.nan))[1],
+            "slip_error_final": e.get("slip", (math.nan,))[0], "slip_error_max": e.get("slip", (math.nan, math.nan))[1],
+            "moment_error_final": e.get("moment", (math.nan,))[0],
+            "gamma": s["gamma"],
             "reference": study["reference"], "cached": cached, "directory": directory}
 
 
@@ -683,10 +743,12 @@ def write_report(args, study, reference, rows, files, started):
     for name, title in files.items():
         lines += [f"![{title}]({name})", ""]
     if metric != "pressure":
-        lines += ["## Runs", "", f"| variant | level | dofs | wall s | mechanics solves | {metric} error |",
-                  "|---|---|---|---|---|---|"]
+        moment = any(math.isfinite(float(r["moment_error_final"])) for r in rows)
+        lines += ["## Runs", "", f"| variant | level | dofs | wall s | mechanics solves | {metric} error |"
+                  + (" seismic moment's error |" if moment else ""), "|---|---|---|---|---|---|" + ("---|" if moment else "")]
         lines += [f"| {r['variant']} | {r['level']} | {r['dofs']} | {float(r['wall_time_s']):.2f} "
-                  f"| {r['mechanics_solves']} | {float(r[f'{metric}_error_final']):.3e} |" for r in rows]
+                  f"| {r['mechanics_solves']} | {float(r[f'{metric}_error_final']):.3e} |"
+                  + (f" {float(r['moment_error_final']):.3e} |" if moment else "") for r in rows]
         with open(os.path.join(args.out, "report.md"), "w") as f:
             f.write("\n".join(lines) + "\n")
         return
