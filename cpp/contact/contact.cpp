@@ -55,8 +55,8 @@ PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBoo
   const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
                            "direct solver and at most "
                            + std::to_string(ContactSolver::max_condensed_dofs)
-                           + " contact DOFs, after one full Newton step that did not converge when the run "
-                             "solves the contact once), else on the whole system";
+                           + " contact DOFs, after one full Newton step, two with friction, that did not "
+                             "converge when the run solves the contact once), else on the whole system";
   PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, given));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
@@ -130,6 +130,10 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
   {
     VIProblem problem = pose_on_full_system(layout, std::move(unknowns.separate_rows));
     add_friction(problem);
+    // Friction's stick and slip settle in a second Newton step (Phan's
+    // crack: two full steps, where condensing after one added the Schur
+    // complement to them; docs/schemes.md, "Faults").
+    _full_steps = problem.frictional ? 2 : 1;
     _vi = std::make_unique<VariationalInequality>(std::move(problem),
                                                   WholeSystem{comm, _A_vi, _P_vi, {prefix, _structure, _fields}, method});
     _then_condensed = path == ContactPath::full_then_condensed;
@@ -259,7 +263,7 @@ std::string ContactSolver::method() const
   if (!_schur)
     return "full";
   return "condensed on " + std::to_string(_schur->size()) + " contact DOFs"
-         + (_switched ? ", after one full Newton step" : "");
+         + (!_switched ? "" : _full_steps == 1 ? ", after one full Newton step" : ", after two full Newton steps");
 }
 
 void ContactSolver::set_tolerance(double relative) { _vi->set_tolerance(relative); }
@@ -309,7 +313,7 @@ void ContactSolver::solve(Vec b, Vec x)
     b_vi = _b_vi;
   }
   Vec x_vi = to_vi(x, _x_vi);
-  if (!_then_condensed or !solve_vi(b_vi, x_vi, 1))
+  if (!_then_condensed or !solve_vi(b_vi, x_vi, _full_steps))
   {
     if (_then_condensed)
       switch_to_condensed();

@@ -223,9 +223,10 @@ private:
   std::unique_ptr<SchurComplement> _schur;
   bool _schur_current = false;
   std::unique_ptr<VariationalInequality> _vi;
-  // On the whole system until its first Newton step fails to solve the VI
-  // (ContactOperators::once).
+  // On the whole system until its first Newton step, or first two with
+  // friction, fail to solve the VI (ContactOperators::once).
   bool _then_condensed = false, _switched = false;
+  int _full_steps = 1;
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
 };

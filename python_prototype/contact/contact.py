@@ -113,8 +113,8 @@ def _read_condensed(comm, prefix, fallback):
     if options.hasName("help") and prefix not in _help_printed:
         _help_printed.add(prefix)
         text = ("pose the contact VI on the Schur complement of the contact DOFs (default with a direct solver and "
-                f"at most {ContactSolver.max_condensed_dofs} contact DOFs, after one full Newton step that did not "
-                "converge when the run solves the contact once), else on the whole system")
+                f"at most {ContactSolver.max_condensed_dofs} contact DOFs, after one full Newton step, two with "
+                "friction, that did not converge when the run solves the contact once), else on the whole system")
         PETSc.Sys.Print(f"----------------------------------------\nContact solver (biotcontact):\n"
                         f"  -{prefix}contact_condensed: <{str(fallback).upper()} : {str(condensed).upper()}> {text} "
                         "(docs/user-guide.md)", comm=comm)
@@ -181,14 +181,19 @@ class ContactSolver:
         self._make_change_of_variables()
         self.schur, self.schur_current = None, False
         path = _contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM), operators)
-        # On the whole system until its first Newton step fails to solve the
-        # VI (ContactOperators.once).
+        # On the whole system until its first Newton step, or first two with
+        # friction, fail to solve the VI (ContactOperators.once).
         self.then_condensed, self.switched = path == _ContactPath.full_then_condensed, False
+        self.full_steps = 1
         if path == _ContactPath.condensed:
             self.vi = self._condensed_vi()
         else:
             problem = self._pose_on_full_system(unknowns.separate_rows)
             self._add_friction(problem)
+            # Friction's stick and slip settle in a second Newton step (Phan's
+            # crack: two full steps, where condensing after one added the
+            # Schur complement to them; docs/schemes.md, "Faults").
+            self.full_steps = 2 if problem.frictional else 1
             self.vi = VariationalInequality(problem, WholeSystem(comm, self.A_vi, self.P_vi,
                                                                  SystemLayout(prefix, structure, self.fields), method))
         # Only the VI methods take bounds; asked of both prefixes, so that a
@@ -282,8 +287,8 @@ class ContactSolver:
     def method(self):
         if not self.schur:
             return "full"
-        return f"condensed on {self.schur.size()} contact DOFs" + (", after one full Newton step" if self.switched
-                                                                    else "")
+        after = ", after one full Newton step" if self.full_steps == 1 else ", after two full Newton steps"
+        return f"condensed on {self.schur.size()} contact DOFs" + (after if self.switched else "")
 
     def set_tolerance(self, relative):
         """Solves to `relative` (iterative full path): the Krylov tolerance of
@@ -321,7 +326,7 @@ class ContactSolver:
         if self.change:
             self.change.dual(b, self.b_vi)
             b_vi = self.b_vi
-        if not self.then_condensed or not self._solve_vi(b_vi, x_vi, 1):
+        if not self.then_condensed or not self._solve_vi(b_vi, x_vi, self.full_steps):
             if self.then_condensed:
                 self._switch_to_condensed()
             self._solve_vi(b_vi, x_vi, 0)
