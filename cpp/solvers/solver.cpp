@@ -373,40 +373,18 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
     ierr = solve();
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
-  if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and factor_package(_ksp) == MATSOLVERPETSC)
-  {
-    // A quasi-definite matrix whose negative block is at round-off against
-    // the rest (tiny S + L) can still meet a tiny pivot without pivoting:
-    // factorise it once more with UMFPACK, which pivots. (PETSc's LU runs on
-    // one rank only, and so does UMFPACK, each rank on its copy when there
-    // are several; its solve phase costs a tenth of MUMPS's on the fracture
-    // scene's flow system, 1.4e4 unknowns.)
-    const char* at = nullptr;
-    check_solver(PCGetOptionsPrefix(factor_pc(_ksp), &at), _prefix, "PCGetOptionsPrefix");
-    const std::string factor = at ? at : _prefix;
-    check_solver(PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_solver_type").c_str(), MATSOLVERUMFPACK),
-                 _prefix, "PetscOptionsSetValue");
-    // The PC keeps the nested-dissection ordering of the first attempt
-    // unless told otherwise; given one, UMFPACK uses it instead of its own
-    // (6x slower solves here).
-    check_solver(
-        PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL),
-        _prefix, "PetscOptionsSetValue");
-    Mat A, P; // owned by the system: they outlive the reset
-    check_solver(KSPGetOperators(_ksp, &A, &P), _prefix, "KSPGetOperators");
-    check_solver(KSPReset(_ksp), _prefix, "KSPReset");
-    // PCREDUNDANT keeps its inner solver's failure past a reset.
-    PC pc;
-    check_solver(KSPGetPC(_ksp, &pc), _prefix, "KSPGetPC");
-    check_solver(PCSetFailedReason(pc, PC_NOERROR), _prefix, "PCSetFailedReason");
-    check_solver(PCSetFailedReason(factor_pc(_ksp), PC_NOERROR), _prefix, "PCSetFailedReason");
-    check_solver(KSPSetOperators(_ksp, A, P), _prefix, "KSPSetOperators");
-    check_solver(KSPSetFromOptions(_ksp), _prefix, "KSPSetFromOptions");
-    ierr = KSPSetUp(_ksp);
-    if (ierr == 0)
-      ierr = solve();
-    check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
-  }
+  // A quasi-definite matrix whose negative block is at round-off against
+  // the rest (tiny S + L) can still meet a tiny pivot without pivoting:
+  // factorise it once more with UMFPACK, which pivots (one rank, as PETSc's
+  // LU, each rank on its copy when there are several; its solve phase costs
+  // a tenth of MUMPS's on the fracture scene's flow system, 1.4e4
+  // unknowns); and where UMFPACK fails too (out of memory: its 32-bit
+  // workspace, the flow system of fault_reactivation refined three times,
+  // 7.6e5 unknowns), with MUMPS.
+  using Retry = std::pair<const char*, const char*>; // a failed package, the next one
+  for (const auto& [failed, next] : {Retry{MATSOLVERPETSC, MATSOLVERUMFPACK}, Retry{MATSOLVERUMFPACK, MATSOLVERMUMPS}})
+    if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and factor_package(_ksp) == failed)
+      ierr = refactorise(next, solve, reason);
   if (ierr != 0)
     throw SolverError(system_name(_prefix) + " linear solver failed: " + petsc_error_text(ierr));
   if (reason < 0)
@@ -414,6 +392,37 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
   PetscInt its = 0;
   check_solver(KSPGetIterationNumber(_ksp, &its), _prefix, "KSPGetIterationNumber");
   return static_cast<int>(its);
+}
+
+PetscErrorCode LinearSolver::refactorise(const char* package, const std::function<PetscErrorCode()>& solve,
+                                         KSPConvergedReason& reason)
+{
+  const char* at = nullptr;
+  check_solver(PCGetOptionsPrefix(factor_pc(_ksp), &at), _prefix, "PCGetOptionsPrefix");
+  const std::string factor = at ? at : _prefix;
+  check_solver(PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_solver_type").c_str(), package), _prefix,
+               "PetscOptionsSetValue");
+  // The PC keeps the nested-dissection ordering of the first attempt
+  // unless told otherwise; given one, UMFPACK uses it instead of its own
+  // (6x slower solves here).
+  check_solver(
+      PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL),
+      _prefix, "PetscOptionsSetValue");
+  Mat A, P; // owned by the system: they outlive the reset
+  check_solver(KSPGetOperators(_ksp, &A, &P), _prefix, "KSPGetOperators");
+  check_solver(KSPReset(_ksp), _prefix, "KSPReset");
+  // PCREDUNDANT keeps its inner solver's failure past a reset.
+  PC pc;
+  check_solver(KSPGetPC(_ksp, &pc), _prefix, "KSPGetPC");
+  check_solver(PCSetFailedReason(pc, PC_NOERROR), _prefix, "PCSetFailedReason");
+  check_solver(PCSetFailedReason(factor_pc(_ksp), PC_NOERROR), _prefix, "PCSetFailedReason");
+  check_solver(KSPSetOperators(_ksp, A, P), _prefix, "KSPSetOperators");
+  check_solver(KSPSetFromOptions(_ksp), _prefix, "KSPSetFromOptions");
+  PetscErrorCode ierr = KSPSetUp(_ksp);
+  if (ierr == 0)
+    ierr = solve();
+  check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
+  return ierr;
 }
 
 } // namespace biotcontact

@@ -243,6 +243,9 @@ public:
 private:
   /// Sets up (factorises if needed) and runs `solve`; checks the result.
   int run(const std::function<PetscErrorCode()>& solve);
+  /// Factorises the operator again with `package` and runs `solve`.
+  PetscErrorCode refactorise(const char* package, const std::function<PetscErrorCode()>& solve,
+                             KSPConvergedReason& reason);
   KSP _ksp;
   std::string _prefix;
   bool _operator_changed = true; // the next solve sets up

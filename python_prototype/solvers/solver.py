@@ -344,32 +344,38 @@ class LinearSolver:
 
     def run(self, solve):
         error = self._run(solve)
-        reason = self.ksp.getConvergedReason()
-        if (error or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
-                and factor_package(self.ksp) == "petsc":
-            # A quasi-definite matrix with a negative block at round-off can
-            # still meet a tiny pivot: factorise once more with UMFPACK, which
-            # pivots (one rank, as PETSc's LU, each rank on its copy when
-            # there are several; cpp/solvers/solver.cpp).
-            factor = factor_prefix(self.ksp)
-            options = PETSc.Options()
-            options.setValue(factor + "pc_factor_mat_solver_type", "umfpack")
-            # its own ordering, not the nested dissection the PC kept
-            options.setValue(factor + "pc_factor_mat_ordering_type", "external")
-            A, P = self.ksp.getOperators()
-            comm = self.ksp.getComm()
-            # A new KSP where C++ resets it and clears the failure that
-            # PCREDUNDANT keeps past a reset (petsc4py 3.18 cannot clear it).
-            self.ksp.destroy()
-            self.ksp = PETSc.KSP().create(comm)
-            self.ksp.setOptionsPrefix(self.prefix)
-            self.ksp.setOperators(A, P)
-            self.ksp.setFromOptions()
-            error = self._run(solve)
+        # A quasi-definite matrix with a negative block at round-off can
+        # still meet a tiny pivot: factorise once more with UMFPACK, which
+        # pivots (one rank, as PETSc's LU, each rank on its copy when there
+        # are several), and where UMFPACK fails too (out of memory: its
+        # 32-bit workspace), with MUMPS (cpp/solvers/solver.cpp).
+        for failed, following in (("petsc", "umfpack"), ("umfpack", "mumps")):
             reason = self.ksp.getConvergedReason()
+            if (error or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
+                    and factor_package(self.ksp) == failed:
+                error = self._refactorise(following, solve)
+        reason = self.ksp.getConvergedReason()
         if error:
             raise SolverError(f"{system_name(self.prefix)} linear solver failed: {petsc_error_text(error)}")
         if reason < 0:
             raise SolverError(f"{system_name(self.prefix)} linear solver failed: "
                               f"{reason_name(PETSc.KSP.ConvergedReason, reason)}")
         return self.ksp.getIterationNumber()
+
+    def _refactorise(self, package, solve):
+        """Factorises the operator again with `package` and runs `solve`."""
+        factor = factor_prefix(self.ksp)
+        options = PETSc.Options()
+        options.setValue(factor + "pc_factor_mat_solver_type", package)
+        # its own ordering, not the nested dissection the PC kept
+        options.setValue(factor + "pc_factor_mat_ordering_type", "external")
+        A, P = self.ksp.getOperators()
+        comm = self.ksp.getComm()
+        # A new KSP where C++ resets it and clears the failure that
+        # PCREDUNDANT keeps past a reset (petsc4py 3.18 cannot clear it).
+        self.ksp.destroy()
+        self.ksp = PETSc.KSP().create(comm)
+        self.ksp.setOptionsPrefix(self.prefix)
+        self.ksp.setOperators(A, P)
+        self.ksp.setFromOptions()
+        return self._run(solve)
