@@ -92,8 +92,9 @@ def run(binary, scene, overrides, directory):
                 with open(summary) as g:
                     return json.load(g), True
     p = subprocess.run(command, capture_output=True, text=True)
-    if not os.path.exists(summary):
-        raise StudyError(f"run failed: {' '.join(command)}: {p.stderr.strip()}")
+    if p.returncode != 0 or not os.path.exists(summary):
+        # A failed run writes its summary too (status "failed"): never an error measured on it.
+        raise StudyError(f"run failed (exit {p.returncode}): {' '.join(command)}: {p.stderr.strip()}")
     with open(stamp, "w") as f:
         json.dump(command[2:], f)
     with open(summary) as f:
