@@ -9,8 +9,13 @@ and the prototype:
   not find the contact zone, and the default goes on condensed from the
   same start: the condensed path's fields to 1e-13, with one Newton step
   more than the condensed path alone;
+- Phan's frictional crack (scenes/phan.toml on meshes/phan2d_coarse.geo):
+  friction's stick and slip settle in a second Newton step, which the
+  default takes on the full path before it would condense: two full Newton
+  steps, the condensed path's slip to 1e-10 (condensing after one step paid
+  the Schur complement on top of them: docs/schemes.md, "Faults");
 - an explicit -mechanics_contact_condensed true keeps the condensed path."""
-from support import check, max_difference, run_track, scene, summary
+from support import check, fault_fields, max_difference, run_track, scene, summary
 
 CONDENSED = ("-mechanics_contact_condensed", "true")
 
@@ -39,3 +44,14 @@ for track in ("C++", "prototype"):
           f"{s['newton_iterations']} Newton steps, condensed alone {c['newton_iterations']})")
     d = max(max_difference(default, condensed, ["displacement", "contact_pressure"]).values())
     check(d <= 1e-13, f"hertz ({track}): the same fields as the condensed path to {d:.1e} (1e-13)")
+
+    phan = ("mesh.file=phan2d_coarse.geo",)
+    default, _ = run_track(track, scene("phan"), *phan)
+    condensed, _ = run_track(track, scene("phan"), *phan, options=CONDENSED)
+    s = mechanics(default)
+    check(s["method"].startswith("SNES vinewtonrsls (full)") and s["newton_iterations"] == 2,
+          f"phan ({track}): the default solves friction on the full path ({s['method']}, "
+          f"{s['newton_iterations']} Newton steps)")
+    slips = [fault_fields(out, ("slip",))[2][-1]["slip"] for out in (default, condensed)]
+    d = abs(slips[0] - slips[1]).max() / abs(slips[1]).max()
+    check(d <= 1e-10, f"phan ({track}): the condensed path's slip to {d:.1e} (1e-10)")
