@@ -63,8 +63,8 @@ PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBoo
 }
 
 /// @brief Where the contact VI is posed: on the Schur complement of the
-/// contact DOFs, on the whole system, or on the whole system for one
-/// Newton step and, if that did not solve it, condensed.
+/// contact DOFs, on the whole system, or on the whole system for one Newton
+/// step (two with friction) and, if that did not solve it, condensed.
 enum class ContactPath
 {
   condensed,
@@ -74,10 +74,9 @@ enum class ContactPath
 
 /// -<prefix>contact_condensed, by default condensed when the system is
 /// solved directly, C is small enough and A is not `changing`. A run that
-/// solves the contact once pays the Schur complement for one solve: there
-/// the whole system's first Newton step (one factorisation) comes first,
-/// and it is all a solve whose active set is right at once costs; else
-/// the condensed path follows, at most one factorisation later.
+/// solves the contact once would pay the Schur complement for one solve:
+/// there the whole system's first Newton steps come first, all a solve
+/// whose active set they find costs; else the condensed path follows.
 ContactPath contact_path(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs,
                          const ContactOperators& operators)
 {
@@ -130,10 +129,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
   {
     VIProblem problem = pose_on_full_system(layout, std::move(unknowns.separate_rows));
     add_friction(problem);
-    // Friction's stick and slip settle in a second Newton step (Phan's
-    // crack: two full steps, where condensing after one added the Schur
-    // complement to them; docs/schemes.md, "Faults").
-    _full_steps = problem.frictional ? 2 : 1;
+    _full_steps = problem.frictional ? 2 : 1; // stick and slip settle in a second step (docs/schemes.md, "Faults")
     _vi = std::make_unique<VariationalInequality>(std::move(problem),
                                                   WholeSystem{comm, _A_vi, _P_vi, {prefix, _structure, _fields}, method});
     _then_condensed = path == ContactPath::full_then_condensed;

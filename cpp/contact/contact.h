@@ -54,8 +54,8 @@ struct ContactOperators
   /// default.
   bool changing = false;
   /// Whether the run solves the contact once (one step of the mechanics
-  /// alone): then by default the whole system's first Newton step is tried
-  /// before the condensed path (contact.cpp, contact_path).
+  /// alone): then by default the whole system's first Newton step (two
+  /// with friction) is tried before the condensed path (contact.cpp).
   bool once = false;
 };
 

@@ -74,8 +74,8 @@ class ContactOperators:
     # default.
     changing: bool = False
     # Whether the run solves the contact once (one step of the mechanics
-    # alone): then by default the whole system's first Newton step is tried
-    # before the condensed path (contact_path).
+    # alone): then by default the whole system's first Newton step (two
+    # with friction) is tried before the condensed path (contact_path).
     once: bool = False
 
 
@@ -124,7 +124,7 @@ def _read_condensed(comm, prefix, fallback):
 class _ContactPath(enum.Enum):
     """Where the contact VI is posed: on the Schur complement of the contact
     DOFs, on the whole system, or on the whole system for one Newton step
-    and, if that did not solve it, condensed."""
+    (two with friction) and, if that did not solve it, condensed."""
     condensed = 0
     full = 1
     full_then_condensed = 2
@@ -134,10 +134,9 @@ def _contact_path(comm, prefix, method, contact_dofs, operators):
     """-<prefix>contact_condensed, by default condensed when the system is
     solved directly, C is small enough and A is not `changing` (forming H
     takes m solves, m more at each change of A). A run that solves the
-    contact once pays the Schur complement for one solve: there the whole
-    system's first Newton step (one factorisation) comes first, and it is
-    all a solve whose active set is right at once costs; else the condensed
-    path follows, at most one factorisation later."""
+    contact once would pay the Schur complement for one solve: there the
+    whole system's first Newton steps come first, all a solve whose active
+    set they find costs; else the condensed path follows."""
     condensed, given = _read_condensed(comm, prefix, method == Method.direct
                                        and contact_dofs <= ContactSolver.max_condensed_dofs
                                        and not operators.changing)
