@@ -28,7 +28,12 @@
 SetFactory("Built-in");
 a = 75;     // the two reservoirs face each other across the fault on |y| <= a (m)
 b = 150;    // and each reaches |y| = b on its own side (m)
-W = 8000;   // half-width and half-height of the domain (m)
+If (!Exists(W))      // half-width and half-height of the domain (m)
+  W = 8000;
+EndIf
+If (!Exists(scale))  // meshes/fault_depletion_coarse.geo: every size times scale
+  scale = 1;
+EndIf
 F = 1000;   // the fault's tips at y = -F and F (m)
 Point(1) = {-W, -W, 0};   Point(2) = {W, -W, 0};
 Point(3) = {W, W, 0};     Point(4) = {-W, W, 0};
@@ -78,8 +83,8 @@ Field[1] = Distance;
 Field[1].PointsList = {10, 11, 12, 13};
 Field[2] = Threshold;
 Field[2].InField = 1;
-Field[2].SizeMin = 1;
-Field[2].SizeMax = 400;
+Field[2].SizeMin = 1 * scale;
+Field[2].SizeMax = 400 * scale;
 Field[2].DistMin = 1;
 Field[2].DistMax = 4000;
 Field[3] = Distance;
@@ -87,8 +92,8 @@ Field[3].CurvesList = {2, 3, 4};
 Field[3].NumPointsPerCurve = 300;
 Field[4] = Threshold;
 Field[4].InField = 3;
-Field[4].SizeMin = 4;
-Field[4].SizeMax = 400;
+Field[4].SizeMin = 4 * scale;
+Field[4].SizeMax = 400 * scale;
 Field[4].DistMin = 0;
 Field[4].DistMax = 1980;
 Field[5] = Distance;
@@ -96,8 +101,8 @@ Field[5].CurvesList = {6, 7, 8, 9};
 Field[5].NumPointsPerCurve = 400;
 Field[6] = Threshold;
 Field[6].InField = 5;
-Field[6].SizeMin = 25;
-Field[6].SizeMax = 400;
+Field[6].SizeMin = 25 * scale;
+Field[6].SizeMax = 400 * scale;
 Field[6].DistMin = 0;
 Field[6].DistMax = 1500;
 Field[7] = Min;

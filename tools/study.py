@@ -17,7 +17,8 @@ displacement (nodal) and flux (cell-area weighted), at the final time and
 the maximum over time. A crack study measures instead the jump along the
 crack against a closed form (relative l2, the tips' ends excluded): the
 opening against Sneddon's ellipse (`reference = "sneddon"`) or the slip
-against Phan et al.'s (`reference = "phan"`). A variant's
+against Phan et al.'s (`reference = "phan"`) or Jansen and Meulenbroek's
+trapezoid (`reference = "jansen_meulenbroek"`). A variant's
 override that starts with "-" is a PETSc option ("-mechanics_contact_condensed
 false"). Finished runs are kept under DIR/runs and reused when the study is
 started again; --replot redraws the plots from DIR/results.csv without
@@ -42,7 +43,8 @@ from scipy.spatial import cKDTree
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
-from python_prototype.diagnostics.closed_form import Terzaghi  # noqa: E402
+from python_prototype.diagnostics.closed_form import (DisplacedFault, Terzaghi,  # noqa: E402
+                                                      jansen_meulenbroek_slip)
 from python_prototype.output.time_series import Fields  # noqa: E402
 
 COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "coupling_iterations",
@@ -70,7 +72,8 @@ def read_study(path):
         if key not in study:
             raise StudyError(f"{path}: {key}: missing")
     if study["reference"] not in ("closed-form", "monolithic", *CRACKS):
-        raise StudyError(f"{path}: reference: must be \"closed-form\", \"monolithic\", \"sneddon\" or \"phan\"")
+        raise StudyError(f"{path}: reference: must be one of \"closed-form\", \"monolithic\", "
+                         + ", ".join(f'"{name}"' for name in CRACKS))
     crack = CRACKS.get(study["reference"])
     if crack and study["reference"] not in study:
         raise StudyError(f"{path}: {study['reference']}: missing (the crack: {crack[2]})")
@@ -241,18 +244,18 @@ def containing_cells(fields, points, candidates=12):
 
 
 class CrackReference:
-    """A straight crack in the infinite plane whose jump has the elliptic
-    profile amplitude sqrt(a^2 - s^2), s the distance along the crack from
-    its centre: the fault.h5 field `field` (its norm per node) at the +
-    face's nodes against it; relative l2 weighted by the length each node
-    stands for, over |s| <= (1 - tips) a."""
+    """A straight fault's jump against a closed-form profile along it: the
+    fault.h5 field `field` (its norm per node) at the + face's nodes against
+    `profile(s)`, s the distance along the fault from its centre; relative
+    l2 weighted by the length each node stands for, over |s| <= (1 - tips) a."""
 
-    def __init__(self, crack, metric, field, amplitude, description, moment=None):
-        self.crack, self.metric, self.field, self.amplitude = crack, metric, field, amplitude
+    def __init__(self, crack, metric, field, profile, description, moment=None):
+        self.crack, self.metric, self.field, self.profile = crack, metric, field, profile
         self.moment = moment  # the closed form's seismic moment (N m/m), where the slip is measured
         self.description = description
-        self.sampling = (f"the closed-form {metric} at the crack's nodes, the tips' {crack.get('tips', 0.1):.0%} of a "
-                         "at each end excluded")
+        tips = crack.get("tips", 0.1)
+        self.sampling = (f"the closed-form {metric} at the fault's nodes" +
+                         (f", the tips' {tips:.0%} of a at each end excluded" if tips else ""))
 
     def errors(self, directory):
         c = self.crack
@@ -267,7 +270,7 @@ class CrackReference:
         s, jump = s[order], jump[order]
         length = np.gradient(s) if len(s) > 1 else np.ones(1)  # half the two neighbouring segments
         inner = np.abs(s) <= (1 - c.get("tips", 0.1)) * c["a"]
-        exact = self.amplitude * np.sqrt(np.maximum(c["a"] ** 2 - s ** 2, 0.0))
+        exact = self.profile(s)
         e = relative((jump - exact)[inner], exact[inner], np.abs(length[inner]))
         nan = (float("nan"), float("nan"))
         result = {self.metric: (e, e), "pressure": nan, "displacement": nan, "flux": nan, "moment": nan}
@@ -278,9 +281,15 @@ class CrackReference:
         return result
 
 
+def elliptic(amplitude, a):
+    """The jump of a straight crack of half-length a in the infinite plane
+    under a uniform load: amplitude sqrt(a^2 - s^2)."""
+    return lambda s: amplitude * np.sqrt(np.maximum(a ** 2 - s ** 2, 0.0))
+
+
 def sneddon_reference(c):
     """Sneddon's pressurised crack: the opening, 4 (1 - nu^2) p / E sqrt(a^2 - s^2)."""
-    return CrackReference(c, "opening", "opening", 4 * (1 - c["nu"] ** 2) * c["p"] / c["E"],
+    return CrackReference(c, "opening", "opening", elliptic(4 * (1 - c["nu"] ** 2) * c["p"] / c["E"], c["a"]),
                           f"Sneddon's opening, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, p = {c['p']:g} Pa "
                           "(docs/verification.md)")
 
@@ -293,16 +302,31 @@ def phan_reference(c):
     amplitude = 4 * (1 - c["nu"] ** 2) / c["E"] * c["sigma"] * math.sin(psi) * (math.cos(psi) - math.sin(psi)
                                                                                  * math.tan(theta))
     G = c["E"] / (2 * (1 + c["nu"]))
-    return CrackReference(c, "slip", "slip", amplitude,
+    return CrackReference(c, "slip", "slip", elliptic(amplitude, c["a"]),
                           f"Phan et al.'s frictional slip, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, "
                           f"sigma = {c['sigma']:g} Pa, psi = {c['psi']} deg, theta = {c['theta']} deg "
                           "(docs/verification.md); the seismic moment against G times the slip's integral, "
                           "G amplitude pi a^2 / 2", moment=G * amplitude * math.pi * c["a"] ** 2 / 2)
 
 
+def jansen_meulenbroek_reference(c):
+    """Jansen and Meulenbroek's displaced fault: a depleted reservoir offset
+    by a frictionless fault (reservoir_a, reservoir_b: its a and b), whose
+    slip is the trapezoid of closed_form.jansen_meulenbroek_slip, measured
+    along the whole fault (a its half-length; tips = 0)."""
+    fault = DisplacedFault(c["reservoir_a"], c["reservoir_b"])
+    return CrackReference(c, "slip", "slip",
+                          lambda s: np.abs(jansen_meulenbroek_slip(s, fault, c["E"], c["nu"], c["alpha"], c["dp"])),
+                          f"Jansen and Meulenbroek's slip of a displaced fault, reservoir a = {fault.a} m, "
+                          f"b = {fault.b} m, E = {c['E']:g} Pa, nu = {c['nu']}, alpha = {c['alpha']}, "
+                          f"dp = {c['dp']:g} Pa (docs/verification.md)")
+
+
 # The crack references: (metric, constructor, the keys of their table in the study file).
 CRACKS = {"sneddon": ("opening", sneddon_reference, "a, E, nu, p, centre, direction"),
-          "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction")}
+          "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction"),
+          "jansen_meulenbroek": ("slip", jansen_meulenbroek_reference,
+                                 "a, reservoir_a, reservoir_b, E, nu, alpha, dp, centre, direction, tips = 0")}
 
 
 def errors(directory, reference):
