@@ -514,20 +514,11 @@ Mesh.CharacteristicLengthMax = 0.2;
 """
 
 
-# A fault across a 10 m x 2 m rock from its left side to its right side, the
-# line y = 0 (an unstructured gmsh mesh of size h = 0.25; sides "left",
-# "right", "bottom", "top"): the channel of the conduit fault's tests.
-CHANNEL_GEO = """SetFactory("Built-in");
-L = 10; H = 1; h = 0.25;
-Point(1) = {0, -H, 0, h}; Point(2) = {L, -H, 0, h}; Point(3) = {L, 0, 0, h}; Point(4) = {L, H, 0, h};
-Point(5) = {0, H, 0, h}; Point(6) = {0, 0, 0, h};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6}; Line(6) = {6, 1};
-Line(7) = {6, 3};
-Curve Loop(1) = {1, 2, 3, 4, 5, 6}; Plane Surface(1) = {1};
-Line{7} In Surface{1};
-Physical Curve("bottom") = {1}; Physical Curve("right") = {2, 3}; Physical Curve("top") = {4};
-Physical Curve("left") = {5, 6}; Physical Curve("crack") = {7}; Physical Surface("rock") = {1};
-"""
+# A fault across a 10 m x 2 m rock from its left side to its right side
+# (cells of h = 0.25): the channel of the conduit fault's tests,
+# meshes/channel2d.geo.
+with open(os.path.join(ROOT, "meshes", "channel2d.geo")) as _channel:
+    CHANNEL_GEO = _channel.read()
 
 
 # The 3D channel of the conduit fault's tests: meshes/fault_box.geo.

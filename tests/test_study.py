@@ -75,14 +75,29 @@ check(np.all(np.bincount(owner, minlength=len(fields.cells)) == 4)
 itself = study_tool.errors(fine, study_tool.RunReference(fine, "itself"))
 check(max(max(v) for v in itself.values()) <= 1e-14, f"run reference: a run against itself has no error {itself}")
 
-# A fault study (reference = "sneddon"): the crack's opening against
-# Sneddon's ellipse falls under refinement, and the report gives its
-# observed order.
-sneddon = os.path.join(tempfile.mkdtemp(), "crack.toml")
-with open(os.path.join(ROOT, "studies", "sneddon.toml")) as f:
-    text = f.read()
-with open(sneddon, "w") as f:
-    f.write(text[:text.index("[[levels]]")] + """[[levels]]
+def shipped_study(name, levels_and_variants, column):
+    """studies/NAME.toml with its own levels and variants replaced: the
+    `column` of results.csv per run and report.md."""
+    path = os.path.join(tempfile.mkdtemp(), f"{name}.toml")
+    with open(os.path.join(ROOT, "studies", f"{name}.toml")) as f:
+        text = f.read()
+    with open(path, "w") as f:
+        f.write(text[:text.index("[[levels]]")] + levels_and_variants)
+    directory = tempfile.mkdtemp()
+    p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "study.py"), path, "--out", directory,
+                        "--binary", BINARY], capture_output=True, text=True)
+    check(p.returncode == 0, f"studies/{name}.toml, two levels, ran ({p.stderr[-300:]!r})")
+    with open(os.path.join(directory, "results.csv")) as f:
+        rows = list(csv.DictReader(f))
+    with open(os.path.join(directory, "report.md")) as f:
+        return [float(r[column]) for r in rows], rows, f.read()
+
+
+# The fault studies: the crack's opening against Sneddon's ellipse, the
+# displaced fault's slip against Jansen and Meulenbroek's trapezoid and the
+# conduit's pressure against the erfc fall under refinement, and the report
+# gives the observed order.
+errs, _, report = shipped_study("sneddon", """[[levels]]
 h = 1.0
 overrides = ["mesh.refine=0"]
 [[levels]]
@@ -91,14 +106,35 @@ overrides = ["mesh.refine=1"]
 [[variants]]
 label = "default path"
 overrides = []
-""")
-crack = tempfile.mkdtemp()
-p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "study.py"), sneddon, "--out", crack,
-                    "--binary", BINARY], capture_output=True, text=True)
-with open(os.path.join(crack, "results.csv")) as f:
-    errs = [float(r["opening_error_final"]) for r in csv.DictReader(f)]
-with open(os.path.join(crack, "report.md")) as f:
-    report = f.read()
-check(p.returncode == 0 and 0 < errs[1] < errs[0] < 0.01 and "| default path | 0 -> 1 |" in report,
-      f"a Sneddon study: the opening's error falls under refinement {errs}, the report gives its order "
-      f"({p.stderr[-300:]!r})")
+""", "opening_error_final")
+check(0 < errs[1] < errs[0] < 0.01 and "| default path | 0 -> 1 |" in report,
+      f"a Sneddon study: the opening's error falls under refinement {errs}, the report gives its order")
+errs, _, report = shipped_study("jansen_meulenbroek", """[[levels]]
+h = 32.0
+overrides = ["mesh.file=fault_depletion_coarse.geo", "mesh.refine=0"]
+[[levels]]
+h = 16.0
+overrides = ["mesh.file=fault_depletion_coarse.geo", "mesh.refine=1"]
+[[variants]]
+label = "full path"
+overrides = ["-mechanics_contact_condensed false"]
+""", "slip_error_final")
+check(0 < errs[1] < errs[0] / 2 ** 1.5 and errs[0] < 0.1 and "| full path | 0 -> 1 |" in report,
+      f"a Jansen-Meulenbroek study: the slip's error {errs} falls at an order above 1.5")
+errs, rows, report = shipped_study("conduit_transient", """[[levels]]
+h = 0.25
+dt = 5.0e-5
+overrides = ["mesh.refine=0"]
+[[levels]]
+h = 0.125
+dt = 1.25e-5
+overrides = ["mesh.refine=1"]
+[[variants]]
+label = "dt ~ h^2"
+overrides = ["time.dt={dt}"]
+""", "fault_pressure_error_final")
+largest = [float(r["fault_pressure_error_max"]) for r in rows]
+check(0 < errs[1] < errs[0] / 2 ** 1.9 and errs[0] < 0.02 and all(m > e for m, e in zip(largest, errs))
+      and "| dt ~ h^2 | 0 -> 1 |" in report,
+      f"a conduit transient study: the fault pressure's error {errs} falls at an order above 1.9 with dt ~ h^2, "
+      f"its maximum over time {largest} above the final one")

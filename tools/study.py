@@ -32,6 +32,7 @@ import json
 import math
 import os
 import platform
+import re
 import subprocess
 import sys
 import time
@@ -52,7 +53,7 @@ COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "
            "time_mechanics_s", "time_monolithic_s", "time_assembly_s", "time_output_s",
            "pressure_error_final", "pressure_error_max", "displacement_error_final", "displacement_error_max",
            "flux_error_final", "flux_error_max", "opening_error_final", "opening_error_max", "slip_error_final",
-           "slip_error_max", "moment_error_final", "pressure_space_error_final", "pressure_time_error_final",
+           "slip_error_max", "moment_error_final", "fault_pressure_error_final", "fault_pressure_error_max", "pressure_space_error_final", "pressure_time_error_final",
            "gamma", "reference", "cached"]
 
 
@@ -71,13 +72,13 @@ def read_study(path):
     for key in ("name", "scene", "reference", "levels", "variants"):
         if key not in study:
             raise StudyError(f"{path}: {key}: missing")
-    if study["reference"] not in ("closed-form", "monolithic", *CRACKS):
+    if study["reference"] not in ("closed-form", "monolithic", *FAULT_REFERENCES):
         raise StudyError(f"{path}: reference: must be one of \"closed-form\", \"monolithic\", "
-                         + ", ".join(f'"{name}"' for name in CRACKS))
-    crack = CRACKS.get(study["reference"])
-    if crack and study["reference"] not in study:
-        raise StudyError(f"{path}: {study['reference']}: missing (the crack: {crack[2]})")
-    study.setdefault("metric", crack[0] if crack else "pressure")
+                         + ", ".join(f'"{name}"' for name in FAULT_REFERENCES))
+    fault = FAULT_REFERENCES.get(study["reference"])
+    if fault and study["reference"] not in study:
+        raise StudyError(f"{path}: {study['reference']}: missing (its table: {fault[2]})")
+    study.setdefault("metric", fault[0] if fault else "pressure")
     return study
 
 
@@ -322,11 +323,50 @@ def jansen_meulenbroek_reference(c):
                           f"dp = {c['dp']:g} Pa (docs/verification.md)")
 
 
-# The crack references: (metric, constructor, the keys of their table in the study file).
-CRACKS = {"sneddon": ("opening", sneddon_reference, "a, E, nu, p, centre, direction"),
-          "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction"),
-          "jansen_meulenbroek": ("slip", jansen_meulenbroek_reference,
-                                 "a, reservoir_a, reservoir_b, E, nu, alpha, dp, centre, direction, tips = 0")}
+class ConduitReference:
+    """The cubic law's transient along a conduit fault from an inlet held at
+    p0 + dp: fault.h5's pressure per cell at each output time against
+    p0 + dp erfc(s / (2 sqrt(D t))), D = w^2 / (12 mu_f c_f), s the distance
+    of the cell's midpoint from the inlet along the fault; relative l2 of
+    p_f - exact against exact - p0, weighted by the cells' lengths; (final,
+    max over the output times)."""
+
+    def __init__(self, c):
+        self.c = c
+        self.D = c["w"] ** 2 / (12 * c["mu_f"] * c["c_f"])
+        self.description = (f"the cubic law's erfc, w = {c['w']:g} m, mu_f = {c['mu_f']:g} Pa s, c_f = {c['c_f']:g} "
+                            f"1/Pa (D = {self.D:.4g} m^2/s), p0 = {c['p0']:g} Pa, dp = {c['dp']:g} Pa "
+                            "(docs/verification.md)")
+        self.sampling = "the closed-form fault pressure at the fault cells' midpoints, every output time after 0"
+
+    def errors(self, directory):
+        c = self.c
+        with open(os.path.join(directory, "fault.xdmf")) as f:
+            times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', f.read())]
+        with h5py.File(os.path.join(directory, "fault.h5")) as f:
+            x = f["Mesh/geometry"][:][f["Mesh/topology"][:]]
+            pressures = [f[f"pressure/{i}"][:, 0] for i in range(len(times))]
+        direction = np.array(c["direction"], dtype=float)
+        ends = (x[..., :len(direction)] - np.array(c["inlet"], dtype=float)) @ (direction / np.linalg.norm(direction))
+        s, length = ends.mean(axis=1), np.abs(ends[:, 1] - ends[:, 0])
+        history = []
+        for t, p in zip(times, pressures):
+            if t > 0:
+                rise = c["dp"] * np.array([math.erfc(v / (2 * math.sqrt(self.D * t))) for v in s])
+                history.append(relative(p - c["p0"] - rise, rise, length))
+        nan = (float("nan"), float("nan"))
+        return {"fault_pressure": (history[-1], max(history)), "pressure": nan, "displacement": nan, "flux": nan}
+
+
+# The fault references' metrics, and per reference (metric, constructor,
+# the keys of its table in the study file).
+FAULT_METRICS = ("opening", "slip", "fault_pressure")
+FAULT_REFERENCES = {
+    "sneddon": ("opening", sneddon_reference, "a, E, nu, p, centre, direction"),
+    "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction"),
+    "jansen_meulenbroek": ("slip", jansen_meulenbroek_reference,
+                           "a, reservoir_a, reservoir_b, E, nu, alpha, dp, centre, direction, tips = 0"),
+    "conduit_erfc": ("fault_pressure", ConduitReference, "w, mu_f, c_f, p0, dp, inlet, direction")}
 
 
 def errors(directory, reference):
@@ -611,8 +651,8 @@ def make_reference(study, out, binary):
     scene, levels = study["scene"], study["levels"]
     if study["reference"] == "closed-form":
         return ClosedFormReference(scene)
-    if study["reference"] in CRACKS:
-        return CRACKS[study["reference"]][1](study[study["reference"]])
+    if study["reference"] in FAULT_REFERENCES:
+        return FAULT_REFERENCES[study["reference"]][1](study[study["reference"]])
     # `reference_scheme`: where a monolithic run of the finer level costs too
     # much, a split converged far below the runs' errors (its limit is the
     # monolithic solution).
@@ -642,9 +682,8 @@ def result_row(study, level, variant, s, e, cached, directory):
             "pressure_error_final": e["pressure"][0], "pressure_error_max": e["pressure"][1],
             "displacement_error_final": e["displacement"][0], "displacement_error_max": e["displacement"][1],
             "flux_error_final": e["flux"][0], "flux_error_max": e["flux"][1],
-            "opening_error_final": e.get("opening", (math.nan,))[0],
-            "opening_error_max": e.get("opening", (math.nan, math.nan))[1],
-            "slip_error_final": e.get("slip", (math.nan,))[0], "slip_error_max": e.get("slip", (math.nan, math.nan))[1],
+            **{f"{m}_error_{when}": e.get(m, (math.nan, math.nan))[i] for m in FAULT_METRICS
+               for i, when in enumerate(("final", "max"))},
             "moment_error_final": e.get("moment", (math.nan,))[0],
             "gamma": s["gamma"],
             "reference": study["reference"], "cached": cached, "directory": directory}
@@ -663,23 +702,35 @@ def run_all(study, out, binary, reference):
     """Runs every variant on every level (reusing finished runs), printing
     progress and the time left; returns the rows of results.csv."""
     scene, levels, variants = study["scene"], study["levels"], study["variants"]
-    rows, done_time = [], 0.0
-    total = len(levels) * len(variants)
-    for i, (level, variant) in enumerate([(lv, v) for lv in range(len(levels)) for v in variants]):
+    rows, spent_by_level = [], [[] for _ in levels]
+    runs = [(lv, v) for lv in range(len(levels)) for v in variants]
+    for i, (level, variant) in enumerate(runs):
         overrides = levels[level]["overrides"] + variant_overrides(variant, levels[level])
         directory = run_directory(out, scene, overrides)
         t0 = time.time()
         s, cached = run(binary, scene, overrides, directory)
         spent = time.time() - t0
         if not cached:
-            done_time += spent
+            spent_by_level[level].append(spent)
         e = errors(directory, reference)
         rows.append(result_row(study, level, variant, s, e, cached, directory))
-        computed = sum(1 for r in rows if not r["cached"])
-        eta = done_time / computed * (total - i - 1) if computed else 0.0
-        print(f"[{i + 1}/{total}] {variant['label']}, level {level}: {'cached' if cached else f'{spent:.1f} s'}, "
+        eta = time_left(spent_by_level, [lv for lv, _ in runs[i + 1:]])
+        print(f"[{i + 1}/{len(runs)}] {variant['label']}, level {level}: {'cached' if cached else f'{spent:.1f} s'}, "
               f"{study['metric']} error {e[study['metric']][0]:.3e}; about {eta:.0f} s left", flush=True)
     return rows
+
+
+def time_left(spent_by_level, remaining):
+    """The seconds the remaining runs (their levels) should take: a run costs
+    the mean of the last level run so far, times the growth from its level
+    to the next (the ratio of the last two levels' means, else 4) per level
+    further on."""
+    means = [sum(t) / len(t) for t in spent_by_level if t]
+    last = max((lv for lv, t in enumerate(spent_by_level) if t), default=None)
+    if last is None:
+        return 0.0
+    growth = max(means[-1] / means[-2], 1.0) if len(means) > 1 else 4.0
+    return sum(means[-1] * growth ** max(lv - last, 0) for lv in remaining)
 
 
 def level_dt(level):
