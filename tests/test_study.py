@@ -93,10 +93,10 @@ def shipped_study(name, levels_and_variants, column):
         return [float(r[column]) for r in rows], rows, f.read()
 
 
-# The fault studies: the crack's opening against Sneddon's ellipse, the
-# displaced fault's slip against Jansen and Meulenbroek's trapezoid and the
-# conduit's pressure against the erfc fall under refinement, and the report
-# gives the observed order.
+# The fault studies: the crack's opening against Sneddon's (2D and the
+# penny in 3D), the displaced fault's slip against Jansen and Meulenbroek's
+# trapezoid and the conduit's pressure against the erfc fall under
+# refinement, and the report gives the observed order.
 errs, _, report = shipped_study("sneddon", """[[levels]]
 h = 1.0
 overrides = ["mesh.refine=0"]
@@ -138,3 +138,15 @@ check(0 < errs[1] < errs[0] / 2 ** 1.9 and errs[0] < 0.02 and all(m > e for m, e
       and "| dt ~ h^2 | 0 -> 1 |" in report,
       f"a conduit transient study: the fault pressure's error {errs} falls at an order above 1.9 with dt ~ h^2, "
       f"its maximum over time {largest} above the final one")
+errs, _, report = shipped_study("penny", """[[levels]]
+h = 0.16
+overrides = ["fault.crack.tip_size=0.16"]
+[[levels]]
+h = 0.08
+overrides = ["fault.crack.tip_size=0.08"]
+[[variants]]
+label = "grading 0.4"
+overrides = ["fault.crack.tip_grading=0.4"]
+""", "opening_error_final")
+check(0 < errs[1] < errs[0] / 1.3 and errs[0] < 0.3 and "| grading 0.4 | 0 -> 1 |" in report,
+      f"a penny study: the opening's error {errs} falls as the rim's cells halve")

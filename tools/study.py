@@ -323,6 +323,40 @@ def jansen_meulenbroek_reference(c):
                           f"dp = {c['dp']:g} Pa (docs/verification.md)")
 
 
+class PennyReference:
+    """Sneddon's penny-shaped crack of radius a in the plane through `centre`
+    normal to `normal`: fault.h5's opening at the + face's nodes against
+    8 (1 - nu^2) p / (pi E) sqrt(a^2 - r^2), r the distance from the centre
+    in the crack's plane; relative l2 weighted by the area each node stands
+    for (a third of its triangles'), over r <= (1 - tips) a."""
+
+    def __init__(self, c):
+        self.c = c
+        self.amplitude = 8 * (1 - c["nu"] ** 2) * c["p"] / (math.pi * c["E"])
+        self.description = (f"Sneddon's penny-shaped crack, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, "
+                            f"p = {c['p']:g} Pa (docs/verification.md)")
+        self.sampling = (f"the closed-form opening at the crack's nodes, its rim's {c.get('tips', 0.1):.0%} of a "
+                         "excluded")
+
+    def errors(self, directory):
+        c = self.c
+        with h5py.File(os.path.join(directory, "fault.h5")) as f:
+            x, triangles = f["Mesh/geometry"][:], f["Mesh/topology"][:]
+            last = max(int(k) for k in f["opening"].keys())
+            opening = f[f"opening/{last}"][:].ravel()
+        v = x[triangles]
+        area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
+        weight = np.bincount(triangles.ravel(), np.repeat(area / 3, 3), len(x))
+        n = np.array(c["normal"], dtype=float)
+        d = x - np.array(c["centre"], dtype=float)
+        r = np.linalg.norm(d - np.outer(d @ n, n) / (n @ n), axis=1)
+        exact = self.amplitude * np.sqrt(np.maximum(c["a"] ** 2 - r ** 2, 0.0))
+        inner = r <= (1 - c.get("tips", 0.1)) * c["a"]
+        e = relative((np.abs(opening) - exact)[inner], exact[inner], weight[inner])
+        nan = (float("nan"), float("nan"))
+        return {"opening": (e, e), "pressure": nan, "displacement": nan, "flux": nan}
+
+
 class ConduitReference:
     """The cubic law's transient along a conduit fault from an inlet held at
     p0 + dp: fault.h5's pressure per cell at each output time against
@@ -366,6 +400,7 @@ FAULT_REFERENCES = {
     "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction"),
     "jansen_meulenbroek": ("slip", jansen_meulenbroek_reference,
                            "a, reservoir_a, reservoir_b, E, nu, alpha, dp, centre, direction, tips = 0"),
+    "penny": ("opening", PennyReference, "a, E, nu, p, centre, normal"),
     "conduit_erfc": ("fault_pressure", ConduitReference, "w, mu_f, c_f, p0, dp, inlet, direction")}
 
 
