@@ -25,6 +25,7 @@ started again; --replot redraws the plots from DIR/results.csv without
 running anything.
 """
 import argparse
+import collections
 import csv
 import datetime
 import hashlib
@@ -541,9 +542,15 @@ def draw(ax, points, **style):
         ax.loglog(*zip(*points), **style)
 
 
-def by_family(rows, x, y, xlabel, ylabel, path, title):
-    """y against x on log-log axes, one panel per family, each with the
-    monolithic reference and the Pareto front of all runs (in x and y)."""
+# What a plot draws: the columns on its axes and their labels.
+PlotAxes = collections.namedtuple("PlotAxes", "x y xlabel ylabel")
+
+
+def by_family(rows, axes_of, path, title):
+    """y against x (`axes_of`: PlotAxes) on log-log axes, one panel per
+    family, each with the monolithic reference and the Pareto front of all
+    runs (in x and y)."""
+    x, y, xlabel, ylabel = axes_of
     plt = pyplot()
     look, reference = styles(rows), reference_variant(rows)
     # A study of the reference alone still gets its panel.
@@ -637,7 +644,7 @@ def plots(rows, out, study):
     name, files = study["name"], {}
     if study["metric"] != "pressure":  # a fault study: its error against run time only
         metric = study["metric"]
-        by_family(rows, "wall_time_s", f"{metric}_error_final", "wall time [s]", f"relative {metric} error",
+        by_family(rows, PlotAxes("wall_time_s", f"{metric}_error_final", "wall time [s]", f"relative {metric} error"),
                   os.path.join(out, "error_vs_time.png"), f"{name}: {metric} error against run time")
         return {"error_vs_time.png": f"{name}: {metric} error against run time"}
     rows_work = [dict(r, work=int(r["flow_solves"]) + int(r["mechanics_solves"]) + int(r["monolithic_solves"]))
@@ -650,7 +657,7 @@ def plots(rows, out, study):
              "relative displacement error (final time)", "displacement error against run time"),
             ("work_vs_error.png", rows_work, "work", "pressure_error_final", "flow + mechanics (+ monolithic) solves",
              pressure, "work against error")):
-        by_family(data, x, y, xlabel, ylabel, os.path.join(out, file), f"{name}: {title}")
+        by_family(data, PlotAxes(x, y, xlabel, ylabel), os.path.join(out, file), f"{name}: {title}")
         files[file] = f"{name}: {title}"
     plot_iterations(rows, os.path.join(out, "iterations_vs_gamma.png"), f"{name}: iterations per step against gamma")
     files["iterations_vs_gamma.png"] = "iterations per step against gamma"
@@ -700,8 +707,13 @@ def make_reference(study, out, binary):
     return RunReference(directory, "run on the finest level with (" + ", ".join(overrides) + ")")
 
 
-def result_row(study, level, variant, s, e, cached, directory):
-    """A row of results.csv (and the run's directory) from a run's summary `s` and errors `e`."""
+# A finished run: its summary.json, its errors, whether it was reused and where it is.
+RunOutcome = collections.namedtuple("RunOutcome", "summary errors cached directory")
+
+
+def result_row(study, level, variant, outcome):
+    """A row of results.csv (and the run's directory) from a run's outcome."""
+    s, e, cached, directory = outcome
     timings = s["timings"]
 
     def system_time(name):
@@ -748,7 +760,7 @@ def run_all(study, out, binary, reference):
         if not cached:
             spent_by_level[level].append(spent)
         e = errors(directory, reference)
-        rows.append(result_row(study, level, variant, s, e, cached, directory))
+        rows.append(result_row(study, level, variant, RunOutcome(s, e, cached, directory)))
         eta = time_left(spent_by_level, [lv for lv, _ in runs[i + 1:]])
         print(f"[{i + 1}/{len(runs)}] {variant['label']}, level {level}: {'cached' if cached else f'{spent:.1f} s'}, "
               f"{study['metric']} error {e[study['metric']][0]:.3e}; about {eta:.0f} s left", flush=True)
