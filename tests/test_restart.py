@@ -68,7 +68,7 @@ CASES = [("single rate", BINARY, ["--set", "mesh.cells=[80,8]"], signal.SIGTERM)
          ("multirate", BINARY, ["--set", "coupling.scheme=multirate", "--set", "coupling.q=4"], signal.SIGTERM),
          ("two-pass multirate", BINARY, ["--set", "coupling.scheme=multirate-two-pass", "--set", "coupling.q=4"],
           signal.SIGTERM),
-         ("monolithic", BINARY, ["--set", "coupling.scheme=monolithic", "--set", "mesh.cells=[160,16]"],
+         ("monolithic", BINARY, ["--set", "coupling.scheme=monolithic", "--set", "mesh.cells=[80,8]"],
           signal.SIGTERM),
          ("prototype, single rate", "prototype", [], signal.SIGTERM),
          # BDF2 reads the state one step before the restart's: the checkpoint keeps it.

@@ -43,7 +43,7 @@ class Output:
         """Creates the files; or, given the position() of an earlier run of
         the same scene, goes on in its files, dropping what came after it."""
         self.comm, self._directory, self.time = comm, directory, 0.0
-        self.csv = None
+        self.csv, self.failed = None, False
         # Rank 0 makes the directory; every rank learns whether it could.
         error = ""
         if is_rank0(comm):
@@ -72,6 +72,15 @@ class Output:
             failed = str(e)
         agree_on_output_error(failed, comm)
 
+    def _agree(self, failed):
+        """agree_on_output_error, remembering a failure: the files are then
+        closed without the writes a full disk refused (close)."""
+        try:
+            agree_on_output_error(failed, self.comm)
+        except OutputError:
+            self.failed = True
+            raise
+
     def position(self):
         """Where the files stand, for a checkpoint (this rank's view)."""
         return f"{self.csv.tell() if self.csv else 0}\n" + (self.xdmf.position() if self.xdmf else "")
@@ -95,7 +104,7 @@ class Output:
             self.xdmf.write(f, t)
         except OutputError as e:
             failed = str(e)
-        agree_on_output_error(failed, self.comm)
+        self._agree(failed)
         self.time += time.perf_counter() - start
 
     def iteration(self, r):
@@ -110,7 +119,7 @@ class Output:
                 self.csv.flush()
             except OSError as e:
                 failed = self._cannot_write(self.csv.name, e)
-        agree_on_output_error(failed, self.comm)
+        self._agree(failed)
 
     def summary(self, summary):
         """Written beside and renamed: a full disk leaves the old one or
@@ -126,10 +135,16 @@ class Output:
                 failed = self._cannot_write(path, e)
                 if os.path.exists(path + ".new"):
                     os.remove(path + ".new")
-        agree_on_output_error(failed, self.comm)
+        self._agree(failed)
 
     def close(self):
         if self.xdmf is not None:
+            # After any failed write the disk may be full: closing the HDF5
+            # file would write metadata that cannot fit (TimeSeries.close).
+            self.xdmf.failed = self.xdmf.failed or self.failed
             self.xdmf.close()
         if self.csv is not None:
-            self.csv.close()
+            try:
+                self.csv.close()
+            except OSError:
+                pass  # every row is flushed as written: what close could not flush was a failed write, reported
