@@ -46,7 +46,7 @@ from scipy.spatial import cKDTree
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 from python_prototype.diagnostics.closed_form import (DisplacedFault, Terzaghi,  # noqa: E402
-                                                      jansen_meulenbroek_slip)
+                                                      jansen_meulenbroek_slip, penny_opening, sneddon_opening)
 from python_prototype.output.time_series import Fields  # noqa: E402
 
 COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "coupling_iterations",
@@ -54,7 +54,8 @@ COLUMNS = ["variant", "scheme", "q", "L", "level", "h", "dt", "dofs", "steps", "
            "time_mechanics_s", "time_monolithic_s", "time_assembly_s", "time_output_s",
            "pressure_error_final", "pressure_error_max", "displacement_error_final", "displacement_error_max",
            "flux_error_final", "flux_error_max", "opening_error_final", "opening_error_max", "slip_error_final",
-           "slip_error_max", "moment_error_final", "fault_pressure_error_final", "fault_pressure_error_max", "pressure_space_error_final", "pressure_time_error_final",
+           "slip_error_max", "moment_error_final", "fault_pressure_error_final", "fault_pressure_error_max",
+           "pressure_space_error_final", "pressure_time_error_final",
            "gamma", "reference", "cached"]
 
 
@@ -285,13 +286,13 @@ class CrackReference:
 
 def elliptic(amplitude, a):
     """The jump of a straight crack of half-length a in the infinite plane
-    under a uniform load: amplitude sqrt(a^2 - s^2)."""
+    under a uniform shear: amplitude sqrt(a^2 - s^2) (Phan's slip)."""
     return lambda s: amplitude * np.sqrt(np.maximum(a ** 2 - s ** 2, 0.0))
 
 
 def sneddon_reference(c):
     """Sneddon's pressurised crack: the opening, 4 (1 - nu^2) p / E sqrt(a^2 - s^2)."""
-    return CrackReference(c, "opening", "opening", elliptic(4 * (1 - c["nu"] ** 2) * c["p"] / c["E"], c["a"]),
+    return CrackReference(c, "opening", "opening", lambda s: sneddon_opening(c["p"], c["E"], c["nu"], c["a"], s),
                           f"Sneddon's opening, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, p = {c['p']:g} Pa "
                           "(docs/verification.md)")
 
@@ -333,7 +334,6 @@ class PennyReference:
 
     def __init__(self, c):
         self.c = c
-        self.amplitude = 8 * (1 - c["nu"] ** 2) * c["p"] / (math.pi * c["E"])
         self.description = (f"Sneddon's penny-shaped crack, a = {c['a']} m, E = {c['E']:g} Pa, nu = {c['nu']}, "
                             f"p = {c['p']:g} Pa (docs/verification.md)")
         self.sampling = (f"the closed-form opening at the crack's nodes, its rim's {c.get('tips', 0.1):.0%} of a "
@@ -351,7 +351,7 @@ class PennyReference:
         n = np.array(c["normal"], dtype=float)
         d = x - np.array(c["centre"], dtype=float)
         r = np.linalg.norm(d - np.outer(d @ n, n) / (n @ n), axis=1)
-        exact = self.amplitude * np.sqrt(np.maximum(c["a"] ** 2 - r ** 2, 0.0))
+        exact = penny_opening(c["p"], c["E"], c["nu"], c["a"], r)
         inner = r <= (1 - c.get("tips", 0.1)) * c["a"]
         e = relative((np.abs(opening) - exact)[inner], exact[inner], weight[inner])
         nan = (float("nan"), float("nan"))
