@@ -176,6 +176,61 @@ std::vector<double> pair_change_of_variables(const NodeMatrix& R, int d)
 
 namespace
 {
+/// v less its parts along the rows of Q (orthonormal, n wide), normalised
+/// and appended to Q; false when nothing (to 1e-8 of |v|) is left.
+bool append_orthonormal(std::vector<double> v, std::vector<double>& Q, int n)
+{
+  const double norm = std::sqrt(dot(v.data(), v.data(), n));
+  for (std::size_t r = 0; r < Q.size() / n; ++r)
+  {
+    const double c = dot(v.data(), &Q[n * r], n);
+    for (int i = 0; i < n; ++i)
+      v[i] -= c * Q[n * r + i];
+  }
+  const double length = std::sqrt(dot(v.data(), v.data(), n));
+  if (length < 1e-8 * norm)
+    return false;
+  for (int i = 0; i < n; ++i)
+    Q.push_back(v[i] / length);
+  return true;
+}
+} // namespace
+
+std::optional<std::vector<double>> junction_change_of_variables(const std::vector<JunctionPair>& pairs, int m,
+                                                                int d)
+{
+  const int n = m * d;
+  std::vector<double> B(n * n, 0.0), Q; // Q: an orthonormal basis of the rows so far
+  std::vector<char> taken(n, 0);
+  for (const JunctionPair& p : pairs)
+  {
+    const int row = d * p.plus + p.row;
+    std::vector<double> v(n, 0.0);
+    for (int i = 0; i < d; ++i)
+      v[d * p.plus + i] = p.normal[i], v[d * p.minus + i] = -p.normal[i];
+    if (taken[row] or !append_orthonormal(v, Q, n))
+      return std::nullopt;
+    std::copy(v.begin(), v.end(), &B[n * row]);
+    taken[row] = 1;
+  }
+  // Each free row: the first unit vector (its own, then the others) that
+  // adds a direction, less its parts along the rows so far.
+  for (int row = 0; row < n; ++row)
+    for (int k = 0; !taken[row] and k < n; ++k)
+    {
+      std::vector<double> e(n, 0.0);
+      e[(row + k) % n] = 1;
+      if (append_orthonormal(e, Q, n))
+      {
+        std::copy(Q.end() - n, Q.end(), &B[n * row]);
+        taken[row] = 1;
+      }
+    }
+  return B;
+}
+
+namespace
+{
 /// The identity with the blocks (T's or their inverses) in place: every
 /// rank adds 1 on its diagonal, each block's rank adds B - I on its rows,
 /// which another rank may own (collective).

@@ -56,6 +56,28 @@ std::vector<double> node_block(const NodeMatrix& T, int d);
 /// the bound w_J0 <= g.
 std::vector<double> pair_change_of_variables(const NodeMatrix& R, int d);
 
+/// @brief A fault pair at a junction (where faults cross or end on one
+/// another), as the junction's block sees it: the positions of its + and -
+/// nodes among the block's nodes, the row of its + node that carries its
+/// constraint (0..d-1), and the constraint's normal nu = -n.
+struct JunctionPair
+{
+  int plus = 0, minus = 0, row = 0;
+  std::array<double, 3> normal{0, 0, 0};
+};
+
+/// The block of T at a junction (its m nodes, the pieces around it, d DOFs
+/// each in node order): row d plus + row of each pair is its constraint
+/// nu . (u+ - u-), so each is a bound on an unknown of its own; the other
+/// rows complete them to a basis, orthonormal and orthogonal to the
+/// constraints (Gram-Schmidt of the unit vectors). Around a junction the
+/// jumps of its pairs sum to zero, so they cannot all be unknowns as at a
+/// lone pair; their normal components are independent wherever the faces
+/// bounding each piece are not all parallel. Returns nothing when they are
+/// not (to 1e-8).
+std::optional<std::vector<double>> junction_change_of_variables(const std::vector<JunctionPair>& pairs, int m,
+                                                                int d);
+
 /// The axis of a unit normal that is a coordinate axis (to round-off
 /// 1e-14), with its sign; nothing otherwise. A node whose normals are all
 /// coordinate axes needs no change: its bound is on u_i itself.

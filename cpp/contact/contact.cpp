@@ -466,6 +466,15 @@ ActiveSet ContactSolver::active_set(Vec x) const
   return set;
 }
 
+std::vector<std::array<double, 3>> ContactSolver::physical_jumps(Vec x) const
+{
+  const PetscScalar* u;
+  check_petsc(VecGetArrayRead(x, &u), "contact solver: VecGetArrayRead of u");
+  std::vector<std::array<double, 3>> jumps = junction_jumps(_set, _displacement_dofs, u, _comm);
+  check_petsc(VecRestoreArrayRead(x, &u), "contact solver: VecRestoreArrayRead of u");
+  return jumps;
+}
+
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,
                                   fem::Function<double>& active_out)
 {
@@ -489,7 +498,9 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   std::vector<double> pressure(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
-  const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(x), X, start, R};
+  const std::vector<std::array<double, 3>> jump = physical_jumps(x), jump_start = physical_jumps(_x_start);
+  const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(x),
+                                    X, start, R, jump, jump_start};
   ContactState s = contact_state(measured, {pressure_out, active_out}, _comm);
   check_petsc(VecRestoreArrayRead(x_vi, &X), "contact solver: VecRestoreArrayRead of x");
   check_petsc(VecRestoreArrayRead(start_vi, &start), "contact solver: VecRestoreArrayRead of the step's start");

@@ -48,6 +48,14 @@ struct ContactSet
   /// tangents friction acts along).
   std::vector<std::int64_t> pair_node;
   std::vector<NodeMatrix> pair_frame;
+  /// Per constraint of a fault pair where faults cross or end on one
+  /// another (fault_pair.h, junctions): the global nodes of V of its + and
+  /// - nodes; (-1, -1) elsewhere. Its row of x' is its normal jump alone
+  /// (junction_change_of_variables), so its slip is measured on u
+  /// (junction_jumps), and it is frictionless. `all_junction_nodes`: the
+  /// global nodes of every junction, on every rank.
+  std::vector<std::array<std::int64_t, 2>> junction_nodes;
+  std::vector<std::int64_t> all_junction_nodes;
   /// Per constraint: whether friction acts on it (its law holds something
   /// and no displacement component of its node is prescribed); then rows
   /// 1..d-1 of its change of variables, at dofs[k] + 1.., are its tangents.

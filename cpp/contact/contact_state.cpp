@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace biotcontact
 {
@@ -24,6 +25,17 @@ PairState pair_state(const ContactMeasurement& m, std::size_t k)
   // one does (-sign R'/lumped, sign +1 for a pair): the traction the + face
   // exerts on the - face, along the slip increment when the pair slips
   // (contact_law.h).
+  if (set.junction_nodes[k][0] >= 0) // frictionless; the jump in u (junction_jumps)
+  {
+    for (int r = 1; r < d; ++r)
+      for (int i = 0; i < d; ++i)
+        for (int j = 0; j < d; ++j)
+        {
+          p.slip[i] += frame[d * r + i] * frame[d * r + j] * m.jump[k][j];
+          p.slip_increment[i] += frame[d * r + i] * frame[d * r + j] * (m.jump[k][j] - m.jump_start[k][j]);
+        }
+    return p;
+  }
   for (int r = 1; r < d; ++r)
   {
     const std::int32_t row = m.displacement_dofs[set.dofs[k] + r];
@@ -37,6 +49,35 @@ PairState pair_state(const ContactMeasurement& m, std::size_t k)
   return p;
 }
 
+} // namespace
+
+std::vector<std::array<double, 3>> junction_jumps(const ContactSet& set, std::span<const std::int32_t> displacement_dofs,
+                                                  const PetscScalar* u, MPI_Comm comm)
+{
+  if (set.all_junction_nodes.empty()) // on every rank alike
+    return {};
+  // Each junction node's u from the rank that owns it, summed over the ranks.
+  const int d = set.dim;
+  const auto owned = static_cast<std::int64_t>(displacement_dofs.size());
+  std::vector<double> values(d * set.all_junction_nodes.size(), 0.0);
+  for (std::size_t v = 0; v < set.all_junction_nodes.size(); ++v)
+    if (const std::int64_t first = d * set.all_junction_nodes[v] - set.dof_offset; first >= 0 and first < owned)
+      for (int i = 0; i < d; ++i)
+        values[d * v + i] = u[displacement_dofs[first + i]];
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, comm);
+  std::map<std::int64_t, std::size_t> position;
+  for (std::size_t v = 0; v < set.all_junction_nodes.size(); ++v)
+    position.emplace(set.all_junction_nodes[v], v);
+  std::vector<std::array<double, 3>> jumps(set.dofs.size(), {0, 0, 0});
+  for (std::size_t k = 0; k < set.dofs.size(); ++k)
+    if (const auto [plus, minus] = set.junction_nodes[k]; plus >= 0)
+      for (int i = 0; i < d; ++i)
+        jumps[k][i] = values[d * position.at(plus) + i] - values[d * position.at(minus) + i];
+  return jumps;
+}
+
+namespace
+{
 /// The largest contact traction, normal or tangential, of the constraints
 /// on all ranks: the scale of the states' tolerance (collective).
 double traction_scale(std::span<const double> pressure, const std::vector<PairState>& pairs, MPI_Comm comm)
@@ -120,13 +161,16 @@ void fill_fields(const ContactMeasurement& m, double gap_scale, ContactFields ou
   std::span<double> active = out.active.x()->mutable_array();
   std::fill(pc.begin(), pc.end(), 0.0);
   std::fill(active.begin(), active.end(), 0.0);
+  // A node of several constraints (two foundations, two faults' pairs where
+  // they meet) shows the largest pressure, active where any is.
+  std::vector<char> seen(pc.size(), 0);
   for (std::size_t k = 0; k < m.set.dofs.size(); ++k)
   {
     const std::int32_t node = m.set.output_dofs[k];
-    const bool same_node = k > 0 and m.set.output_dofs[k - 1] == node;
-    pc[node] = same_node ? std::max(pc[node], m.pressure[k]) : m.pressure[k];
+    pc[node] = seen[node] ? std::max(pc[node], m.pressure[k]) : m.pressure[k];
     const bool is_active = on_foundation(m.distance[k], gap_scale);
-    active[node] = (same_node and active[node] > 0) or is_active ? 1.0 : 0.0;
+    active[node] = (seen[node] and active[node] > 0) or is_active ? 1.0 : 0.0;
+    seen[node] = 1;
   }
   out.pressure.x()->scatter_fwd();
   out.active.x()->scatter_fwd();

@@ -90,7 +90,17 @@ struct ContactMeasurement
   std::span<const double> distance, pressure;
   double gap_scale;
   const PetscScalar *x, *start, *force;
+  /// Per constraint at a junction, its jump [u] = u+ - u- at the solution
+  /// and at the step's start (junction_jumps); empty without junctions.
+  std::span<const std::array<double, 3>> jump, jump_start;
 };
+
+/// Per constraint of `set` at a junction of faults, the jump u+ - u- of its
+/// pair in u, the array of a vector whose owned DOFs of V sit at
+/// `displacement_dofs` (a junction's pieces may be owned by several ranks;
+/// collective); zeros elsewhere, nothing when no rank has a junction.
+std::vector<std::array<double, 3>> junction_jumps(const ContactSet& set, std::span<const std::int32_t> displacement_dofs,
+                                                  const PetscScalar* u, MPI_Comm comm);
 
 /// @brief The output fields of the contact: each contact node's pressure,
 /// and 1 where it is on its foundation.

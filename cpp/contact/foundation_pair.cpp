@@ -206,6 +206,7 @@ void add_node(ContactSet& c, const ContactNode& node, const std::vector<char>& p
     c.normal.push_back(merged[j].normal);
     c.boundary.push_back(merged[j].boundary);
     c.pair_node.push_back(-1);
+    c.junction_nodes.push_back({-1, -1});
     c.pair_frame.push_back(T.value_or(NodeMatrix{}));
     c.frictional.push_back(frictional);
     c.output_dofs.push_back(merged[j].output_dof);

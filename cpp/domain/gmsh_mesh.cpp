@@ -186,25 +186,28 @@ std::vector<std::array<double, 3>> pair_normals(const SplitFault& split, int d)
   return normals;
 }
 
-/// Refuses faults that cross or end on one another in a scene with
-/// mechanics: the split gives each piece around the intersection its node,
-/// and the flow meets there (fault_network), but the contact is not posed
-/// yet (a node in two pairs).
+/// Refuses conduit faults that cross or end on one another in a scene
+/// with mechanics: the contact is posed where faults meet
+/// (contact/fault_pair.h) and so is the flow through the network
+/// (fault_network), but not yet the two together (a conduit's effective
+/// stress at a node on the + side of two pairs).
 void refuse_intersections(const Scene& scene, const InputMesh& mesh, const std::vector<SplitFault>& split)
 {
   if (!scene.mechanics)
     return;
+  const auto conduit = [&](std::size_t f) { return scene.faults.at(split[f].name).flow == FaultFlow::conduit; };
   std::vector<std::array<std::int64_t, 3>> meets; // (node, fault, other)
   for (std::size_t f = 0; f < split.size(); ++f)
     for (const auto& [v, g] : split[f].meets)
-      meets.push_back({v, static_cast<std::int64_t>(f), static_cast<std::int64_t>(g)});
+      if (conduit(f) or conduit(g))
+        meets.push_back({v, static_cast<std::int64_t>(f), static_cast<std::int64_t>(g)});
   if (meets.empty())
     return;
   const auto [v, f, g] = *std::min_element(meets.begin(), meets.end());
   throw SceneError(scene.file + ": fault." + split[f].name + ": meets fault " + split[g].name + " at "
                    + point_text(&mesh.x[mesh.dim * v], mesh.dim)
-                   + ": the mesh is split there, but the contact where faults cross or end on one another is not "
-                     "supported yet (without [mechanics] the flow through the network is)");
+                   + ": conduit faults that cross or end on one another are not supported yet in a scene with "
+                     "mechanics (without [mechanics] the flow through the network is; with it, their contact is)");
 }
 
 /// Splits the mesh along the scene's faults (domain/faults.h): their faces

@@ -10,6 +10,8 @@ For the system x' = T x, T block-diagonal, A x = b becomes A' x' = b',
 A' = T^{-T} A T^{-1}, b' = T^{-T} b, and the residual F' = T^{-T} F holds
 each constraint's multiplier. Nodes whose normals are coordinate axes need
 no change; when every node is such and there is no fault, T is never formed."""
+import dataclasses
+
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -72,6 +74,61 @@ def pair_change_of_variables(R, d):
     R = np.asarray(R)[:d, :d]
     half = 0.5 * np.eye(d)
     return np.block([[R, -R], [half, half]])
+
+
+@dataclasses.dataclass
+class JunctionPair:
+    """A fault pair at a junction (where faults cross or end on one
+    another), as the junction's block sees it: the positions of its + and -
+    nodes among the block's nodes, the row of its + node that carries its
+    constraint (0..d-1), and the constraint's normal nu = -n."""
+    plus: int
+    minus: int
+    row: int
+    normal: np.ndarray
+
+
+def _append_orthonormal(v, Q):
+    """v less its parts along the rows of Q (orthonormal), normalised and
+    appended to Q; False when nothing (to 1e-8 of |v|) is left."""
+    norm = np.linalg.norm(v)
+    for q in Q:
+        v = v - (v @ q) * q
+    length = np.linalg.norm(v)
+    if length < 1e-8 * norm:
+        return False
+    Q.append(v / length)
+    return True
+
+
+def junction_change_of_variables(pairs, m, d):
+    """The block of T at a junction (its m nodes, the pieces around it, d
+    DOFs each in node order): row d plus + row of each pair is its
+    constraint nu . (u+ - u-), so each is a bound on an unknown of its own;
+    the other rows complete them to a basis, orthonormal and orthogonal to
+    the constraints (Gram-Schmidt of the unit vectors). Around a junction
+    the jumps of its pairs sum to zero, so they cannot all be unknowns as
+    at a lone pair; their normal components are independent wherever the
+    faces bounding each piece are not all parallel. None when they are not
+    (to 1e-8)."""
+    n = m * d
+    B, Q, taken = np.zeros((n, n)), [], np.zeros(n, dtype=bool)
+    for p in pairs:
+        row = d * p.plus + p.row
+        v = np.zeros(n)
+        v[d * p.plus:d * p.plus + d], v[d * p.minus:d * p.minus + d] = p.normal[:d], -np.asarray(p.normal[:d])
+        if taken[row] or not _append_orthonormal(v, Q):
+            return None
+        B[row], taken[row] = v, True
+    # Each free row: the first unit vector (its own, then the others) that
+    # adds a direction, less its parts along the rows so far.
+    for row in range(n):
+        for k in range(n):
+            if taken[row]:
+                break
+            if _append_orthonormal(np.eye(n)[(row + k) % n], Q):
+                B[row], taken[row] = Q[-1], True
+    return B
 
 
 def _block_diagonal(A, blocks, inverted):

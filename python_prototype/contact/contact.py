@@ -18,7 +18,7 @@ from petsc4py import PETSc
 from ..assembly.forms import Forms
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
-from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state
+from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
 from .contact_set import ContactSet
 from .fault_pair import add_fault_pairs
@@ -45,6 +45,8 @@ def locate_contact(scene, domain, F, V):
     c.output_dofs = np.array(c.output_dofs, dtype=np.int32)
     c.boundary = np.array(c.boundary, dtype=np.int32)
     c.pair_node = np.array(c.pair_node, dtype=np.int64)
+    c.junction_nodes = np.array(c.junction_nodes, dtype=np.int64).reshape(-1, 2)
+    c.all_junction_nodes = np.array(c.all_junction_nodes, dtype=np.int64)
     c.frictional = np.array(c.frictional, dtype=bool)
     return c
 
@@ -462,8 +464,11 @@ class ContactSolver:
         R = force.getArray(readonly=True)
         pressure = -self.set.sign * R[self.dofs] / self.set.lumped
         X = self._to_vi(x).getArray(readonly=True)
+        jumps = [junction_jumps(self.set, self.displacement_dofs, v.getArray(readonly=True), self.comm)
+                 for v in (x, self.x_start)]
         measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,
-                                      self.displacement_scale(x), X, self._start_vi().getArray(readonly=True), R)
+                                      self.displacement_scale(x), X, self._start_vi().getArray(readonly=True), R,
+                                      *jumps)
         return contact_state(measured, ContactFields(pressure_out, active_out), self.comm)
 
     @property

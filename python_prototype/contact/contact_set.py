@@ -32,7 +32,12 @@ class ContactSet:
     prescribed; then rows 1..d-1 of its change of variables, at dofs[k] +
     1.., are its tangents); `shear_modulus`, the rock's G at a fault pair's
     + node (0 for a foundation's), whose product with the slip is the
-    seismic moment (pair_shear_moduli). `faults` flags the entries of `boundaries`
+    seismic moment (pair_shear_moduli); `junction_nodes`, at a fault pair
+    where faults cross or end on one another (fault_pair.py), the global
+    nodes of V of its + and - nodes, (-1, -1) elsewhere: its row of x' is
+    its normal jump alone (junction_change_of_variables), so its slip is
+    measured on u (junction_jumps), and it is frictionless;
+    `all_junction_nodes`, every junction's nodes, on every rank. `faults` flags the entries of `boundaries`
     that are faults, `laws` holds the contact law of each (contact_law.py;
     frictionless until the scene gives friction). `blocks` lists the blocks
     of the change of variables as (the global unrolled DOFs of V they mix,
@@ -46,6 +51,7 @@ class ContactSet:
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
         self.boundary, self.boundaries, self.faults, self.laws = [], [], [], []
         self.pair_node, self.pair_frame, self.frictional = [], [], []
+        self.junction_nodes, self.all_junction_nodes = [], []
         self.shear_modulus = np.zeros(0)
         self.blocks = []
 

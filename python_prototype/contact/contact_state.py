@@ -81,6 +81,33 @@ class ContactMeasurement:
     x: np.ndarray
     start: np.ndarray
     force: np.ndarray
+    # per constraint at a junction, its jump [u] = u+ - u- at the solution
+    # and at the step's start (junction_jumps); None without junctions
+    jump: np.ndarray = None
+    jump_start: np.ndarray = None
+
+
+def junction_jumps(c, displacement_dofs, u, comm):
+    """Per constraint of the ContactSet c at a junction of faults, the jump
+    u+ - u- of its pair in u, the array of a vector whose owned DOFs of V
+    sit at `displacement_dofs` (a junction's pieces may be owned by several
+    ranks; collective); zeros elsewhere, None when no rank has a junction."""
+    if len(c.all_junction_nodes) == 0:  # on every rank alike
+        return None
+    # Each junction node's u from the rank that owns it, summed over the ranks.
+    d = c.dim
+    values = np.zeros((len(c.all_junction_nodes), d))
+    first = d * c.all_junction_nodes - c.dof_offset
+    mine = np.flatnonzero((first >= 0) & (first < len(displacement_dofs)))
+    for i in range(d):
+        values[mine, i] = u[displacement_dofs[first[mine] + i]]
+    values = comm.allreduce(values, op=MPI.SUM)
+    position = {int(v): k for k, v in enumerate(c.all_junction_nodes)}
+    jumps = np.zeros((len(c.dofs), 3))
+    for k in np.flatnonzero(c.junction_nodes[:, 0] >= 0):
+        plus, minus = c.junction_nodes[k]
+        jumps[k, :d] = values[position[int(plus)]] - values[position[int(minus)]]
+    return jumps
 
 
 @dataclasses.dataclass
@@ -140,6 +167,11 @@ def _pair_state(m, k):
     # one does (-sign R'/lumped, sign +1 for a pair): the traction the + face
     # exerts on the - face, along the slip increment when the pair slips
     # (contact_law.py).
+    if c.junction_nodes[k, 0] >= 0:  # frictionless; the jump in u (junction_jumps)
+        for r in range(1, d):
+            p.slip[:d] += frame[r, :d] * (frame[r, :d] @ m.jump[k, :d])
+            p.slip_increment[:d] += frame[r, :d] * (frame[r, :d] @ (m.jump[k, :d] - m.jump_start[k, :d]))
+        return p
     for r in range(1, d):
         row = m.displacement_dofs[c.dofs[k] + r]
         p.slip[:d] += frame[r, :d] * m.x[row]

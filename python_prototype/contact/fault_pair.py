@@ -15,7 +15,8 @@ from dolfinx import fem
 
 from ..assembly.fault_aperture import FaultNodes, fault_nodes
 from ..scene.input import nonnegative_problem, point_text
-from .change_of_variables import node_change_of_variables, pair_change_of_variables
+from .change_of_variables import (JunctionPair, junction_change_of_variables, node_change_of_variables,
+                                  pair_change_of_variables)
 from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
 
@@ -34,20 +35,132 @@ class _FaultFace:
 
 
 @dataclasses.dataclass
+class _Junctions:
+    """Where faults cross or end on one another: each junction's nodes
+    (input indices, one per piece around it, sorted) and its pairs (fault,
+    pair index), and of each pair at a junction its junction and the row
+    of its + node that carries its constraint."""
+    nodes: list
+    pairs: list
+    of_pair: dict  # (fault, pair) -> (junction, row)
+
+
+def _root(parent, v):
+    """The representative of node v in a union-find forest."""
+    while parent[v] != v:
+        parent[v] = parent[parent[v]]
+        v = parent[v]
+    return v
+
+
+def _fault_junctions(domain):
+    """The junctions of the faults: the pieces of the graph whose edges are
+    the node pairs of every fault that hold more than one pair (a lone pair
+    is its two nodes). Each pair takes the next free row of its + node, in
+    the faults' order."""
+    parent = {}
+    for name in sorted(domain.faults):
+        for plus, minus in domain.faults[name].pairs.tolist():
+            parent.setdefault(plus, plus), parent.setdefault(minus, minus)
+            parent[_root(parent, plus)] = _root(parent, minus)
+    by_root = {}
+    for name in sorted(domain.faults):
+        for k, (plus, _) in enumerate(domain.faults[name].pairs.tolist()):
+            by_root.setdefault(_root(parent, plus), []).append((name, k))
+    j, rows = _Junctions([], [], {}), {}
+    for r in sorted(by_root):
+        pairs = by_root[r]
+        if len(pairs) < 2:
+            continue
+        nodes = set()
+        for name, k in pairs:
+            plus, minus = domain.faults[name].pairs[k].tolist()
+            nodes |= {plus, minus}
+            j.of_pair[(name, k)] = (len(j.nodes), rows.get(plus, 0))
+            rows[plus] = rows.get(plus, 0) + 1
+        j.nodes.append(sorted(nodes))
+        j.pairs.append(pairs)
+    return j
+
+
+def _junction_pairs(domain, j, i):
+    """The pairs of junction i as its block sees them."""
+    around = j.nodes[i]
+    return [JunctionPair(around.index(int(domain.faults[name].pairs[k][0])),
+                         around.index(int(domain.faults[name].pairs[k][1])), j.of_pair[(name, k)][1],
+                         -np.asarray(domain.faults[name].normals[k])) for name, k in j.pairs[i]]
+
+
+def _junction_problem(domain, j, i):
+    """What makes junction i impossible to pose ("" when nothing does): a
+    piece on the + side of more than d of its pairs, or constraints that
+    are not independent (faces meeting parallel)."""
+    pairs, d = _junction_pairs(domain, j, i), domain.dim
+    if any(p.row >= d for p in pairs):
+        return (f"a piece between the faults is on the + side of more than {d} of their faces (orient them by "
+                "their normals so that no piece is)")
+    if junction_change_of_variables(pairs, len(j.nodes[i]), d) is None:
+        return "the faults' faces there are parallel, so their contact constraints are not independent"
+    return ""
+
+
+def _add_junction_block(c, domain, nodes, j, i):
+    """The block of T at junction i, in V's numbering (its problems found)."""
+    d = c.dim
+    B = junction_change_of_variables(_junction_pairs(domain, j, i), len(j.nodes[i]), d)
+    dofs = [d * nodes.global_[v] + r for v in j.nodes[i] for r in range(d)]
+    c.blocks.append((np.array(dofs, dtype=np.int64), B))
+
+
+@dataclasses.dataclass
 class _PairContext:
     """What every pair's constraint reads: the scene file (for messages), the
-    coordinates of V's nodes, its prescribed DOFs, where the fault nodes
-    are, and the nodes (local) that a foundation's constraint holds."""
+    domain, the coordinates of V's nodes, its prescribed DOFs, where the
+    fault nodes are, the nodes (local) that a foundation's constraint
+    holds, and the faults' junctions."""
     file: str
+    domain: object
     coordinates: np.ndarray
     prescribed: np.ndarray
     nodes: FaultNodes
     on_foundation: set
+    junctions: _Junctions
 
 
 def _foundation_nodes(c):
     """The local nodes of this rank's foundation constraints (those in c so far)."""
     return {int(dof) // c.dim for dof, node in zip(c.dofs, c.pair_node) if node < 0}
+
+
+def _push_constraint(c, face, k, first, gap_frame, frictional):
+    """Appends constraint k of `face` to c: its row `first` (of the + node),
+    gap and frame R, and whether friction acts on it."""
+    node = first - first % c.dim
+    c.dofs.append(first)
+    c.sign.append(1)
+    c.gap.append(gap_frame[0])
+    c.lumped.append(face.lumped[node])
+    c.normal.append(face.fault.normals[k])
+    c.boundary.append(face.boundary)
+    c.pair_node.append(int(face.fault.pairs[k][0]))
+    c.pair_frame.append(gap_frame[1])
+    c.frictional.append(frictional)
+    c.output_dofs.append(face.output_dof[node])
+    c.junction_nodes.append((-1, -1))
+
+
+def _add_junction_pair(c, context, face, k, gap_frame):
+    """The constraint of pair k where it meets other faults' pairs: the next
+    free row of its + node (_fault_junctions), frictionless, its slip
+    measured on u; the first pair of its junction brings the junction's
+    block."""
+    junction, row = context.junctions.of_pair[(face.name, k)]
+    plus, minus = face.fault.pairs[k].tolist()
+    first = c.dim * context.nodes.local[plus]
+    if context.junctions.pairs[junction][0] == (face.name, k):
+        _add_junction_block(c, context.domain, context.nodes, context.junctions, junction)
+    _push_constraint(c, face, k, first + row, gap_frame, False)
+    c.junction_nodes[-1] = (context.nodes.global_[plus], context.nodes.global_[minus])
 
 
 def _add_pair(c, context, face, k, error):
@@ -76,19 +189,37 @@ def _add_pair(c, context, face, k, error):
             error.append(f"{key}.normal: at {point_text(x, d)} the fault is not perpendicular to a prescribed "
                          "displacement component of the node")
         return
+    if (face.name, k) in context.junctions.of_pair:
+        if not error:
+            _add_junction_pair(c, context, face, k, (g, R))
+        return
     dofs = [bs * context.nodes.global_[p] + i for p in (plus, minus) for i in range(d)]
     c.blocks.append((np.array(dofs, dtype=np.int64), pair_change_of_variables(R, d)))
-    c.dofs.append(first)
-    c.sign.append(1)
-    c.gap.append(g)
-    c.lumped.append(face.lumped[first])
-    c.normal.append(n)
-    c.boundary.append(face.boundary)
-    c.pair_node.append(plus)
-    c.pair_frame.append(R)
     # A pair with a prescribed component is held there: frictionless.
-    c.frictional.append(not frictionless(c.laws[face.boundary]) and not any(held))
-    c.output_dofs.append(face.output_dof[first])
+    _push_constraint(c, face, k, first, (g, R), not frictionless(c.laws[face.boundary]) and not any(held))
+
+
+def _junctions_problem(context):
+    """The first problem of the junctions on this rank: one that cannot be
+    posed (_junction_problem), or a prescribed displacement at a node of
+    one, which its block would mix with the free ones."""
+    j, d = context.junctions, context.domain.dim
+    for i, around in enumerate(j.nodes):
+        for v in around:
+            node = context.nodes.local.get(v)
+            if node is None:
+                continue
+            fault = j.pairs[i][0][0]
+            other = next(name for name, _ in j.pairs[i] if name != fault)
+            where = (f"{context.file}: fault.{fault}: at {point_text(context.coordinates[node], d)} it meets "
+                     f"fault {other}: ")
+            problem = _junction_problem(context.domain, j, i)
+            if problem:
+                return where + problem
+            if context.prescribed[d * node:d * node + d].any():
+                return (where + "a displacement is prescribed there, which the contact where faults meet does "
+                        "not support yet (end the faults inside the body)")
+    return ""
 
 
 def add_fault_pairs(scene, domain, F, V, c, error):
@@ -99,9 +230,13 @@ def add_fault_pairs(scene, domain, F, V, c, error):
     (collective)."""
     if not domain.faults:
         return
-    context = _PairContext(scene.file, V.tabulate_dof_coordinates(), prescribed_dofs(scene, domain, V),
-                           fault_nodes(domain, V), _foundation_nodes(c))
+    context = _PairContext(scene.file, domain, V.tabulate_dof_coordinates(), prescribed_dofs(scene, domain, V),
+                           fault_nodes(domain, V), _foundation_nodes(c), _fault_junctions(domain))
     d = domain.dim
+    problem = _junctions_problem(context)
+    if problem and not error:
+        error.append(problem)
+    c.all_junction_nodes = [context.nodes.global_[v] for around in context.junctions.nodes for v in around]
     n_owned = d * V.dofmap.index_map.size_local
     for name, fault in domain.faults.items():
         face = _FaultFace(name, fault, len(c.boundaries), scene.faults[name],

@@ -128,6 +128,7 @@ def _add_node(c, node, prescribed, file, error):
         c.normal.append(m["normal"])
         c.boundary.append(m["boundary"])
         c.pair_node.append(-1)
+        c.junction_nodes.append((-1, -1))
         c.pair_frame.append(T)
         c.frictional.append(frictional)
         c.output_dofs.append(m["output_dof"])

@@ -12,7 +12,7 @@ import ufl
 from dolfinx import io, mesh as dmesh
 from dolfinx.cpp.graph import AdjacencyList_int32
 
-from ..scene.input import point_text
+from ..scene.input import FaultFlow, point_text
 from ..scene.scene import SceneError
 from .domain import Domain, Fault
 from .fault_cells import fault_cells
@@ -167,19 +167,23 @@ def _pair_normals(split, d):
 
 
 def _refuse_intersections(scene, mesh, split):
-    """Refuses faults that cross or end on one another in a scene with
-    mechanics: the split gives each piece around the intersection its node,
-    and the flow meets there (fault_network), but the contact is not posed
-    yet (a node in two pairs)."""
+    """Refuses conduit faults that cross or end on one another in a scene
+    with mechanics: the contact is posed where faults meet
+    (contact/fault_pair.py) and so is the flow through the network
+    (fault_network), but not yet the two together (a conduit's effective
+    stress at a node on the + side of two pairs)."""
     if scene.mechanics is None:
         return
-    meets = sorted((int(v), f, int(g)) for f, s in enumerate(split) for v, g in s.meets)
+
+    def conduit(f):
+        return scene.faults[split[f].name].flow == FaultFlow.conduit
+    meets = sorted((int(v), f, int(g)) for f, s in enumerate(split) for v, g in s.meets if conduit(f) or conduit(g))
     if meets:
         v, f, g = meets[0]
         raise SceneError(f"{scene.file}: fault.{split[f].name}: meets fault {split[g].name} at "
-                         f"{point_text(mesh.x[v], mesh.dim)}: the mesh is split there, but the contact where faults "
-                         "cross or end on one another is not supported yet (without [mechanics] the flow through the "
-                         "network is)")
+                         f"{point_text(mesh.x[v], mesh.dim)}: conduit faults that cross or end on one another are "
+                         "not supported yet in a scene with mechanics (without [mechanics] the flow through the "
+                         "network is; with it, their contact is)")
 
 
 def _split_faults(scene, data):
