@@ -147,17 +147,34 @@ def crack_scenes():
     return crack, crossing, degenerate
 
 
+PINNED_GEO = """SetFactory("Built-in");
+Point(1) = {-2, -2, 0}; Point(2) = {2, -2, 0}; Point(3) = {2, 2, 0}; Point(4) = {-2, 2, 0};
+Point(5) = {-2, 0, 0}; Point(6) = {1, 0.5, 0}; Point(7) = {1, -0.5, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 1};
+Line(6) = {5, 6}; Line(7) = {5, 7};
+Curve Loop(1) = {1, 2, 3, 4, 5}; Plane Surface(1) = {1};
+Curve{6, 7} In Surface{1};
+Physical Curve("left") = {4, 5}; Physical Curve("crack") = {6}; Physical Curve("other") = {7};
+Physical Surface("rock") = {1};
+Mesh.CharacteristicLengthMax = 0.25;
+"""
+
+
 def fault_group_scenes():
     """The catalogues' faults drawn wrong in gmsh, in crossing.geo's square:
-    a crack whose curve is not embedded in the surface, and one curve given
-    to two faults' physical groups."""
+    a crack whose curve is not embedded in the surface, one curve given to
+    two faults' physical groups, and two faults that meet on the clamped
+    side."""
     loose = written(CRACK_TEXT.replace(CRACK_GEO, "loose.geo"))
     with open(os.path.join(os.path.dirname(loose), "loose.geo"), "w") as f:
         f.write(CROSSING_GEO.replace("Curve{5, 6, 7, 8} In Surface{1};\n", ""))
     shared = written(CRACK_TEXT.replace(CRACK_GEO, "shared.geo") + "[fault.other]\nnormal = [0.0, 1.0]\n")
     with open(os.path.join(os.path.dirname(shared), "shared.geo"), "w") as f:
         f.write(CROSSING_GEO.replace('Physical Curve("other") = {7, 8};', 'Physical Curve("other") = {5};'))
-    return loose, shared
+    pinned = written(CRACK_TEXT.replace(CRACK_GEO, "pinned.geo") + "[fault.other]\nnormal = [0.0, 1.0]\n")
+    with open(os.path.join(os.path.dirname(pinned), "pinned.geo"), "w") as f:
+        f.write(PINNED_GEO)
+    return loose, shared, pinned
 
 
 FOUNDATION_FAULT_GEO = """SetFactory("Built-in");

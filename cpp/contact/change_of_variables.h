@@ -5,11 +5,11 @@
 // the first m rows of the d x d matrix T the normals nu_j, the rest
 // completing them to a basis (node_change_of_variables). At a fault's node
 // pair (u+, u-) a 2d x 2d block makes the jump and the mean the new variables
-// (pair_change_of_variables). For the system x' = T x, T block-diagonal, and
+// (pair_change_of_variables), where faults meet one block each pair's normal
+// jump (junction_change_of_variables). For x' = T x, T block-diagonal,
 // A x = b becomes A' x' = b', A' = T^{-T} A T^{-1}, b' = T^{-T} b: the same
-// energy, and its residual F' = T^{-T} F holds, in the row of a constraint,
-// its multiplier. Nodes whose normals are coordinate axes need no change; when
-// every node is such and there is no fault, T is the identity and never formed.
+// energy; its residual F' = T^{-T} F holds, in a constraint's row, its
+// multiplier. Without a fault or a normal off the axes T is never formed.
 #pragma once
 
 #include <array>

@@ -96,6 +96,11 @@ FaultSeries::~FaultSeries()
     H5Fclose(_h5);
 }
 
+std::int64_t FaultSeries::node_key(std::int64_t node, std::int64_t fault) const
+{
+  return node * static_cast<std::int64_t>(_fault_names.size()) + fault;
+}
+
 /// The + faces' owned facets of every rank on rank 0: their nodes by input
 /// index (numbered in ascending order there), coordinates and fault.
 void FaultSeries::gather_surface(const Problem& problem)
@@ -127,10 +132,11 @@ void FaultSeries::gather_surface(const Problem& problem)
       }
   const std::vector<std::int64_t> all_facets = gather_to_root(facets, MPI_INT64_T, _comm);
   const std::vector<double> all_x = gather_to_root(x, MPI_DOUBLE, _comm);
+  // A node of two faults' faces (where they meet) is a node of each.
   std::map<std::int64_t, std::size_t> position;
   for (std::size_t k = 0; k < all_facets.size(); k += d + 1)
     for (int i = 0; i < d; ++i)
-      position.emplace(all_facets[k + 1 + i], 0);
+      position.emplace(node_key(all_facets[k + 1 + i], all_facets[k]), 0);
   std::size_t next = 0;
   for (auto& [node, p] : position)
   {
@@ -144,7 +150,7 @@ void FaultSeries::gather_surface(const Problem& problem)
     _facet_fault.push_back(static_cast<int>(all_facets[k]));
     for (int i = 0; i < d; ++i)
     {
-      const std::size_t p = position[all_facets[k + 1 + i]];
+      const std::size_t p = position[node_key(all_facets[k + 1 + i], all_facets[k])];
       _facets.push_back(static_cast<std::int64_t>(p));
       _fault[p] = static_cast<int>(all_facets[k]);
       std::copy_n(&all_x[3 * (d * j + i)], 3, &_x[3 * p]);
@@ -184,7 +190,9 @@ std::vector<FaultSeries::Field> FaultSeries::node_fields(const ContactState& con
   std::vector<double> values;
   for (const PairState& p : contact.pairs)
   {
-    nodes.push_back(p.node);
+    const std::string& fault = std::get<0>(contact.boundaries[p.fault]);
+    nodes.push_back(node_key(p.node, std::lower_bound(_fault_names.begin(), _fault_names.end(), fault)
+                                         - _fault_names.begin()));
     values.insert(values.end(), {p.opening, p.traction, static_cast<double>(p.status)});
     values.insert(values.end(), p.slip.begin(), p.slip.end());
     values.insert(values.end(), p.tangential_traction.begin(), p.tangential_traction.end());

@@ -81,12 +81,15 @@ private:
   /// The fields of each time: (name, "Node" or "Cell").
   std::vector<std::pair<std::string, std::string>> attributes() const;
   void write_xml() const;
+  /// The key of a faces' node in _nodes: its input index and its fault's
+  /// position in _fault_names (where faults meet, a node is on several).
+  std::int64_t node_key(std::int64_t node, std::int64_t fault) const;
 
   MPI_Comm _comm;
   int _rank = 0;
   std::string _xdmf, _h5_path;
   const Scene& _scene;
-  // Rank 0: the faces' nodes (input indices, ascending), their coordinates
+  // Rank 0: the faces' nodes (node_key, ascending), their coordinates
   // and fault, the facets (d node positions each) and the times written.
   std::vector<std::int64_t> _nodes;
   std::vector<double> _x;

@@ -2,14 +2,14 @@
 (cpp/contact/change_of_variables.h; docs/theory.md, "Constraints as
 bounds: the change of variables", "Faults"). At a contact node the
 constraints nu_j . u <= g_j (m foundations, m <= d) are bounds w_j <= g_j
-on w = T u, the first m rows of T the normals, the rest completing them
-orthonormally (Gram-Schmidt of the coordinate axes). At a fault's node
-pair (u+, u-) the block [[R, -R], [I/2, I/2]], R's first row nu = -n,
-makes the jump (in u+'s rows) and the mean (in u-'s) the new variables.
-For the system x' = T x, T block-diagonal, A x = b becomes A' x' = b',
-A' = T^{-T} A T^{-1}, b' = T^{-T} b, and the residual F' = T^{-T} F holds
-each constraint's multiplier. Nodes whose normals are coordinate axes need
-no change; when every node is such and there is no fault, T is never formed."""
+on w = T u, T's first m rows the normals, completed orthonormally. At a
+fault's node pair (u+, u-) the block [[R, -R], [I/2, I/2]], R's first row
+nu = -n, makes the jump (in u+'s rows) and the mean (in u-'s) the new
+variables; where faults meet one block makes each pair's normal jump one
+(junction_change_of_variables). For x' = T x, T block-diagonal, A x = b
+becomes A' x' = b', A' = T^{-T} A T^{-1}, b' = T^{-T} b, and the residual
+F' = T^{-T} F holds each constraint's multiplier. Without a fault or a
+normal off the axes T is never formed."""
 import dataclasses
 
 import numpy as np

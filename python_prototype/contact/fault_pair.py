@@ -1,13 +1,14 @@
 """The contact pair of a fault: each node on its + face against its twin on
 the - face (theory.md, "Faults"; cpp/contact/fault_pair.h). With n the
 fault's unit normal into the + side and g0 its initial aperture, the faces
-may open but not overlap:
-    [u].n + g0 >= 0,   [u] = u+ - u-,
-a Signorini constraint on the jump, nu.[u] <= g0 with nu = -n. The change of
-variables of the pair (change_of_variables.py, pair_change_of_variables)
-makes nu.[u] one unknown, in the + node's first row, bounded by g0; the VI
-solver then treats it as it treats a node on a rigid foundation, and its
-multiplier is the contact traction on the faces."""
+may open but not overlap: [u].n + g0 >= 0, [u] = u+ - u-, a Signorini
+constraint on the jump, nu.[u] <= g0 with nu = -n. The change of variables
+of the pair (change_of_variables.py, pair_change_of_variables) makes nu.[u]
+one unknown, in the + node's first row, bounded by g0; the VI solver treats
+it as a node on a rigid foundation, its multiplier the contact traction on
+the faces. Where faults cross or end on one another (a junction) the pairs
+there share one block, each pair's nu.[u] in a row of its + node
+(junction_change_of_variables)."""
 import dataclasses
 
 import numpy as np
@@ -226,7 +227,8 @@ def add_fault_pairs(scene, domain, F, V, c, error):
     """Adds the constraints of every fault pair whose + node this rank owns
     to the ContactSet c, with the pair's block of the change of variables;
     the first bad input (a gap below 0, a normal that mixes a prescribed
-    displacement component) goes into the list `error`, naming its key
+    displacement component, a junction that cannot be posed or is held by
+    a prescribed displacement) goes into the list `error`, naming its key
     (collective)."""
     if not domain.faults:
         return

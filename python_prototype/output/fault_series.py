@@ -73,7 +73,7 @@ class FaultSeries:
         self._h5_path = os.path.join(directory, "fault.h5")
         self._dim = problem.domain.dim
         self._fault_names = sorted(self._scene.faults)  # as the C++'s std::map orders them
-        # Rank 0: the faces' nodes (input indices, ascending), their
+        # Rank 0: the faces' nodes (_node_key, ascending), their
         # coordinates and fault, the facets (d node positions each) and the
         # times written.
         self._nodes = self._x = self._fault = self._facets = None
@@ -126,14 +126,22 @@ class FaultSeries:
         all_x = _gather_to_root(np.concatenate(x), self._comm)
         if self._comm.rank != 0:
             return
-        self._nodes = np.unique(all_facets[:, 1:])
-        self._facets = np.searchsorted(self._nodes, all_facets[:, 1:]).astype(np.int64)
+        # A node of two faults' faces (where they meet) is a node of each.
+        keys = self._node_key(all_facets[:, 1:], all_facets[:, :1])
+        self._nodes = np.unique(keys)
+        self._facets = np.searchsorted(self._nodes, keys).astype(np.int64)
         self._x = np.empty((len(self._nodes), 3))
         self._fault = np.empty(len(self._nodes), dtype=np.int64)
         self._x[self._facets.reshape(-1)] = all_x
         self._fault[self._facets] = all_facets[:, :1]
         self._facet_fault = all_facets[:, 0]
         self._conduit_row = self._conduit_rows(problem, all_facets[:, 1:])
+
+    def _node_key(self, node, fault):
+        """The key of a faces' node in _nodes: its input index and its
+        fault's position in _fault_names (where faults meet, a node is on
+        several)."""
+        return node * len(self._fault_names) + fault
 
     def _conduit_rows(self, problem, keys):
         """Per facet of the faces' mesh (its sorted input indices `keys`), its
@@ -170,7 +178,8 @@ class FaultSeries:
         """Adds the state of the faults at time t (collective): the contact
         state `contact`, and the conduit faults' `cells`
         (ConduitFaults.cell_values, rank 0's; None without conduits)."""
-        nodes = np.array([p.node for p in contact.pairs], dtype=np.int64)
+        nodes = np.array([self._node_key(p.node, self._fault_names.index(contact.boundaries[p.fault][0]))
+                          for p in contact.pairs], dtype=np.int64)
         # Per pair: opening, traction, state, slip (3), tangential traction
         # (3), slip increment (3).
         values = np.array([[p.opening, p.traction, float(p.status), *p.slip, *p.tangential_traction,

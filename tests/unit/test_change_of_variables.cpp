@@ -238,6 +238,74 @@ namespace
 /// A system of 6 nodes in 2D (12 DOFs) with two transformed nodes and a
 /// fault's node pair: node 0 on a foundation inclined at 30 degrees, node 2
 /// on two foundations, nodes 3 (+) and 5 (-) the two faces of a fault
+namespace
+{
+/// An X junction in 2D: pieces 0 and 1 above fault A (normal nA into
+/// them), 2 and 3 below; B (normal nB) has 1 and 3 on its + side. Its four
+/// pairs: A's arms (+0, -2), (+1, -3), B's arms (+1, -0), (+3, -2), piece 1
+/// on the + side of two (rows 0 and 1).
+std::vector<JunctionPair> x_junction()
+{
+  const std::array<double, 3> nA = normalised(-std::sin(pi / 6), std::cos(pi / 6), 0);
+  const std::array<double, 3> nB = normalised(std::cos(pi / 9), std::sin(pi / 9), 0);
+  const auto nu = [](const std::array<double, 3>& n) { return std::array<double, 3>{-n[0], -n[1], -n[2]}; };
+  return {{0, 2, 0, nu(nA)}, {1, 3, 0, nu(nA)}, {1, 0, 1, nu(nB)}, {3, 2, 0, nu(nB)}};
+}
+} // namespace
+
+TEST(ChangeOfVariables, JunctionRowsAreTheNormalJumps)
+{
+  // Each pair's row of w = B u is nu . (u+ - u-); the other rows are
+  // orthonormal and orthogonal to those; B is invertible.
+  const int d = 2, m = 4, n = m * d;
+  const std::vector<JunctionPair> pairs = x_junction();
+  const std::vector<double> B = junction_change_of_variables(pairs, m, d).value();
+  const std::vector<double> u{1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3};
+  std::vector<char> constraint(n, 0);
+  for (const JunctionPair& p : pairs)
+  {
+    const int row = d * p.plus + p.row;
+    constraint[row] = 1;
+    double w = 0, expected = 0;
+    for (int c = 0; c < n; ++c)
+      w += B[n * row + c] * u[c];
+    for (int i = 0; i < d; ++i)
+      expected += p.normal[i] * (u[d * p.plus + i] - u[d * p.minus + i]);
+    EXPECT_NEAR(w, expected, 1e-18) << "row " << row;
+  }
+  for (int r = 0; r < n; ++r)
+    for (int s = 0; s < n; ++s)
+    {
+      if (constraint[r] and constraint[s])
+        continue;
+      double dot = 0;
+      for (int c = 0; c < n; ++c)
+        dot += B[n * r + c] * B[n * s + c];
+      EXPECT_NEAR(dot, r == s ? 1.0 : 0.0, 1e-14) << "rows " << r << ", " << s;
+    }
+  const std::vector<double> B_inverse = inverse(B, n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c)
+    {
+      double e = 0;
+      for (int k = 0; k < n; ++k)
+        e += B_inverse[n * r + k] * B[n * k + c];
+      EXPECT_NEAR(e, r == c ? 1.0 : 0.0, 1e-12);
+    }
+}
+
+TEST(ChangeOfVariables, JunctionOfDependentConstraintsIsRefused)
+{
+  // The same constraint twice (in another row), or two pairs in one row.
+  std::vector<JunctionPair> pairs = x_junction();
+  pairs.push_back(pairs[0]);
+  pairs.back().plus = 0, pairs.back().row = 1;
+  EXPECT_FALSE(junction_change_of_variables(pairs, 4, 2));
+  pairs = x_junction();
+  pairs[2].row = 0;
+  EXPECT_FALSE(junction_change_of_variables(pairs, 4, 2));
+}
+
 /// inclined at 60 degrees.
 struct ChangeOfVariablesSystem : testing::Test
 {

@@ -16,7 +16,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.contact.change_of_variables import (  # noqa: E402
-    ChangeOfVariables, coordinate_axis, node_change_of_variables, pair_change_of_variables)
+    ChangeOfVariables, JunctionPair, coordinate_axis, junction_change_of_variables, node_change_of_variables,
+    pair_change_of_variables)
 from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
 
 FREE = [False, False, False]
@@ -135,6 +136,43 @@ class NodeChangeOfVariables(unittest.TestCase):
         self.assertAlmostEqual((B @ u)[0], np.dot(nu, jump), delta=1e-18, msg="the bounded jump is nu.[u]")
         I = np.eye(d)
         np.testing.assert_allclose(np.linalg.inv(B), np.block([[R.T / 2, I], [-R.T / 2, I]]), rtol=0, atol=1e-15)
+
+
+def x_junction():
+    """An X junction in 2D: pieces 0 and 1 above fault A (normal nA into
+    them), 2 and 3 below; B (normal nB) has 1 and 3 on its + side. Its four
+    pairs: A's arms (+0, -2), (+1, -3), B's arms (+1, -0), (+3, -2), piece
+    1 on the + side of two (rows 0 and 1)."""
+    nA = -np.array(normalised(-math.sin(math.pi / 6), math.cos(math.pi / 6), 0))
+    nB = -np.array(normalised(math.cos(math.pi / 9), math.sin(math.pi / 9), 0))
+    return [JunctionPair(0, 2, 0, nA), JunctionPair(1, 3, 0, nA), JunctionPair(1, 0, 1, nB),
+            JunctionPair(3, 2, 0, nB)]
+
+
+class JunctionChangeOfVariables(unittest.TestCase):
+    def test_junction_rows_are_the_normal_jumps(self):
+        # Each pair's row of w = B u is nu . (u+ - u-); the other rows are
+        # orthonormal and orthogonal to those; B is invertible.
+        d, m = 2, 4
+        pairs = x_junction()
+        B = junction_change_of_variables(pairs, m, d)
+        u = np.array([1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3])
+        rows = [d * p.plus + p.row for p in pairs]
+        for p, row in zip(pairs, rows):
+            jump = u[d * p.plus:d * p.plus + d] - u[d * p.minus:d * p.minus + d]
+            self.assertAlmostEqual((B @ u)[row], np.dot(p.normal[:d], jump), delta=1e-18, msg=f"row {row}")
+        free = [r for r in range(m * d) if r not in rows]
+        np.testing.assert_allclose(B[free] @ B.T, np.eye(m * d)[free], rtol=0, atol=1e-14)
+        np.testing.assert_allclose(np.linalg.inv(B) @ B, np.eye(m * d), rtol=0, atol=1e-12)
+
+    def test_junction_of_dependent_constraints_is_refused(self):
+        # The same constraint twice (in another row), or two pairs in one row.
+        pairs = x_junction()
+        pairs.append(JunctionPair(0, 2, 1, pairs[0].normal))
+        self.assertIsNone(junction_change_of_variables(pairs, 4, 2))
+        pairs = x_junction()
+        pairs[2].row = 0
+        self.assertIsNone(junction_change_of_variables(pairs, 4, 2))
 
 
 class ChangeOfVariablesSystem(unittest.TestCase):
