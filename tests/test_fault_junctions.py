@@ -23,7 +23,7 @@ three pairs).
 import os
 
 import numpy as np
-from support import check, fault_fields, killed_and_restarted, max_difference, run_track, summary, written
+from support import check, fault_fields, gmsh_scene, killed_and_restarted, max_difference, run_track, summary, written
 
 GEO = """SetFactory("Built-in");
 h = {h};
@@ -38,17 +38,6 @@ Curve{{5, 6, 7, 8, 9, 10}} In Surface{{1}};
 Physical Curve("bottom") = {{1}}; Physical Curve("right") = {{2}}; Physical Curve("top") = {{3}};
 Physical Curve("left") = {{4}}; Physical Curve("crack") = {{5, 6, 7}}; Physical Curve("other") = {{8, 9}};
 Physical Curve("branch") = {{10}}; Physical Surface("rock") = {{1}};
-"""
-MECHANICS = """[mesh]
-type = "gmsh"
-file = "mesh.geo"
-dimension = 2
-[mechanics]
-E = 1.0e10
-nu = 0.25
-[time]
-end = 1.0
-dt = 1.0
 """
 FAULTS = """[fault.crack]
 normal = [0.0, 1.0]
@@ -106,10 +95,10 @@ CROSSING, T = np.array([0.0, 0.0]), np.array([0.5, 0.0])
 TIPS = np.array([[-1.0, 0.0], [1.0, 0.0], [0.0, -1.0], [0.0, 1.0], [0.5, 0.8]])
 
 
-def scene(text, h=0.1):
-    path = written(text)
+def coupled_scene():
+    path = written(COUPLED + FAULTS.format(law="friction = 0.6\npore_pressure_load = true"))
     with open(os.path.join(os.path.dirname(path), "mesh.geo"), "w") as f:
-        f.write(GEO.format(h=h))
+        f.write(GEO.format(h=0.1))
     return path
 
 
@@ -119,7 +108,7 @@ def at(points, where):
 
 def check_hydrostatic(track):
     """Every pair's traction is the 1 MPa of the load, at the X and the T too."""
-    out, _ = run_track(track, scene(MECHANICS + FAULTS.format(law="friction = 0.6") + HYDROSTATIC))
+    out, _ = run_track(track, gmsh_scene(GEO.format(h=0.1), FAULTS.format(law="friction = 0.6") + HYDROSTATIC))
     points, _, series = fault_fields(out, ("traction", "opening", "slip"))
     last = series[-1]
     paired = ~np.any([at(points, tip) for tip in TIPS], axis=0)  # a tip is one node: no pair
@@ -136,7 +125,7 @@ def check_pressurised(track):
     refinement."""
     measured = []
     for h in (0.2, 0.1, 0.05):
-        out, _ = run_track(track, scene(MECHANICS + FAULTS.format(law='pressure = "1.0e6"') + CLAMPED, h))
+        out, _ = run_track(track, gmsh_scene(GEO.format(h=h), FAULTS.format(law='pressure = "1.0e6"') + CLAMPED))
         points, _, series = fault_fields(out, ("opening",))
         opening = series[-1]["opening"][:, 0]
         measured.append((opening[at(points, CROSSING)].mean(), summary(out)["contact"]["faults"]["crack"]))
@@ -155,7 +144,7 @@ def slip_states(out):
 
 def check_coupled(track):
     """The T slipping under shear: split = monolithic, 2 ranks = 1, restart."""
-    path = scene(COUPLED + FAULTS.format(law="friction = 0.6\npore_pressure_load = true"))
+    path = coupled_scene()
     split, _ = run_track(track, path)
     states = slip_states(split)
     check(max(np.count_nonzero(s == 2) for s in states) > 0 and max(np.count_nonzero(s == 1) for s in states) > 0,
