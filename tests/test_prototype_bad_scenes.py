@@ -134,7 +134,7 @@ for label, command, path, overrides, key in (
          ["fault.other.flow=conduit", "fault.other.residual_aperture=1e-4", "flow.M=2e10", "flow.mu_f=1e-3",
           "flow.permeability=1e-14", "flow.initial_pressure=0.0", "coupling.alpha=0.8", "coupling.L=paper",
           "coupling.scheme=fixed-stress"], "fault.crack: meets fault other"),
-        ("faults that meet where a displacement is prescribed", "check", PINNED, [], "a displacement is prescribed there"),
+        ("faults that meet where a displacement is prescribed", "check", PINNED, [], "is not perpendicular to the faults"),
         ("a fault curve not embedded in the surface", "check", LOOSE, [], "Curve{..} In Surface{..}"),
         ("one curve in two faults' groups", "check", SHARED, [], "the physical groups crack and other share"),
         ("a fault array of the mesh's other dimension", "check", CRACK, ["fault.crack.normal=[0.0, 1.0, 0.0]"],

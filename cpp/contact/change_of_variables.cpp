@@ -197,17 +197,27 @@ bool append_orthonormal(std::vector<double> v, std::vector<double>& Q, int n)
 } // namespace
 
 std::optional<std::vector<double>> junction_change_of_variables(const std::vector<JunctionPair>& pairs, int m,
-                                                                int d)
+                                                                int d, const std::vector<char>& prescribed)
 {
   const int n = m * d;
   std::vector<double> B(n * n, 0.0), Q; // Q: an orthonormal basis of the rows so far
-  std::vector<char> taken(n, 0);
+  std::vector<char> taken(prescribed.begin(), prescribed.end());
+  for (int j = 0; j < n; ++j)
+    if (prescribed[j])
+    {
+      std::vector<double> e(n, 0.0);
+      e[j] = B[n * j + j] = 1;
+      append_orthonormal(e, Q, n);
+    }
   for (const JunctionPair& p : pairs)
   {
     const int row = d * p.plus + p.row;
     std::vector<double> v(n, 0.0);
     for (int i = 0; i < d; ++i)
       v[d * p.plus + i] = p.normal[i], v[d * p.minus + i] = -p.normal[i];
+    for (int j = 0; j < n; ++j)
+      if (prescribed[j] and std::abs(v[j]) > 1e-12)
+        return std::nullopt;
     if (taken[row] or !append_orthonormal(v, Q, n))
       return std::nullopt;
     std::copy(v.begin(), v.end(), &B[n * row]);

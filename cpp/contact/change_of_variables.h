@@ -68,15 +68,17 @@ struct JunctionPair
 
 /// The block of T at a junction (its m nodes, the pieces around it, d DOFs
 /// each in node order): row d plus + row of each pair is its constraint
-/// nu . (u+ - u-), so each is a bound on an unknown of its own; the other
-/// rows complete them to a basis, orthonormal and orthogonal to the
-/// constraints (Gram-Schmidt of the unit vectors). Around a junction the
-/// jumps of its pairs sum to zero, so they cannot all be unknowns as at a
-/// lone pair; their normal components are independent wherever the faces
+/// nu . (u+ - u-), so each is a bound on an unknown of its own; the row of
+/// each `prescribed` DOF is its unit vector (the DOF stays its own unknown);
+/// the other rows complete them to a basis, orthonormal and orthogonal to
+/// the rows before (Gram-Schmidt of the unit vectors). Around a junction
+/// the jumps of its pairs sum to zero, so they cannot all be unknowns as at
+/// a lone pair; their normal components are independent wherever the faces
 /// bounding each piece are not all parallel. Returns nothing when they are
-/// not (to 1e-8).
+/// not (to 1e-8), or a constraint sits in a prescribed row or reaches a
+/// prescribed DOF.
 std::optional<std::vector<double>> junction_change_of_variables(const std::vector<JunctionPair>& pairs, int m,
-                                                                int d);
+                                                                int d, const std::vector<char>& prescribed);
 
 /// The axis of a unit normal that is a coordinate axis (to round-off
 /// 1e-14), with its sign; nothing otherwise. A node whose normals are all

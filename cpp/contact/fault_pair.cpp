@@ -2,6 +2,7 @@
 
 #include "assembly/fault_aperture.h"
 #include "assembly/linear_algebra.h"
+#include "contact/junction.h"
 
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
@@ -28,107 +29,6 @@ struct FaultFace
   la::Vector<double> lumped;
   std::map<std::int32_t, std::int32_t> output_dof; // first DOF in V -> node in c.output_space
 };
-
-/// @brief Where faults cross or end on one another: each junction's nodes
-/// (input indices, one per piece around it, sorted) and its pairs (fault,
-/// pair index), and of each pair at a junction its junction and the row of
-/// its + node that carries its constraint.
-struct Junctions
-{
-  std::vector<std::vector<std::int64_t>> nodes;
-  std::vector<std::vector<std::pair<std::string, std::size_t>>> pairs;
-  std::map<std::pair<std::string, std::size_t>, std::pair<std::size_t, int>> of_pair; // -> (junction, row)
-};
-
-/// The representative of node v in a union-find forest.
-std::int64_t root(std::map<std::int64_t, std::int64_t>& parent, std::int64_t v)
-{
-  while (parent.at(v) != v)
-    v = parent[v] = parent.at(parent.at(v));
-  return v;
-}
-
-/// The junctions of the faults: the pieces of the graph whose edges are
-/// the node pairs of every fault that hold more than one pair (a lone
-/// pair is its two nodes). Each pair takes the next free row of its +
-/// node, in the faults' order.
-Junctions fault_junctions(const Domain& domain)
-{
-  std::map<std::int64_t, std::int64_t> parent;
-  for (const auto& [name, fault] : domain.faults)
-    for (const auto& pair : fault.pairs)
-    {
-      for (const std::int64_t v : pair)
-        parent.emplace(v, v);
-      parent[root(parent, pair[0])] = root(parent, pair[1]);
-    }
-  std::map<std::int64_t, std::vector<std::pair<std::string, std::size_t>>> by_root;
-  for (const auto& [name, fault] : domain.faults)
-    for (std::size_t k = 0; k < fault.pairs.size(); ++k)
-      by_root[root(parent, fault.pairs[k][0])].emplace_back(name, k);
-  Junctions j;
-  std::map<std::int64_t, int> rows; // + node -> rows taken
-  for (const auto& [r, pairs] : by_root)
-  {
-    if (pairs.size() < 2)
-      continue;
-    std::set<std::int64_t> nodes;
-    for (const auto& [name, k] : pairs)
-    {
-      const auto& pair = domain.faults.at(name).pairs[k];
-      nodes.insert(pair.begin(), pair.end());
-      j.of_pair[{name, k}] = {j.nodes.size(), rows[pair[0]]++};
-    }
-    j.nodes.emplace_back(nodes.begin(), nodes.end());
-    j.pairs.push_back(pairs);
-  }
-  return j;
-}
-
-/// The pairs of junction i as its block sees them.
-std::vector<JunctionPair> junction_pairs(const Domain& domain, const Junctions& j, std::size_t i)
-{
-  const std::vector<std::int64_t>& around = j.nodes[i];
-  const auto position = [&](std::int64_t v)
-  { return static_cast<int>(std::lower_bound(around.begin(), around.end(), v) - around.begin()); };
-  std::vector<JunctionPair> pairs;
-  for (const auto& [name, k] : j.pairs[i])
-  {
-    const Fault& fault = domain.faults.at(name);
-    const std::array<double, 3>& n = fault.normals[k];
-    pairs.push_back({position(fault.pairs[k][0]), position(fault.pairs[k][1]), j.of_pair.at({name, k}).second,
-                     {-n[0], -n[1], -n[2]}});
-  }
-  return pairs;
-}
-
-/// What makes junction i impossible to pose (empty when nothing does): a
-/// piece on the + side of more than d of its pairs, or constraints that
-/// are not independent (faces meeting parallel).
-std::string junction_problem(const Domain& domain, const Junctions& j, std::size_t i)
-{
-  const std::vector<JunctionPair> pairs = junction_pairs(domain, j, i);
-  const int d = domain.dim();
-  for (const JunctionPair& p : pairs)
-    if (p.row >= d)
-      return "a piece between the faults is on the + side of more than " + std::to_string(d)
-             + " of their faces (orient them by their normals so that no piece is)";
-  if (!junction_change_of_variables(pairs, static_cast<int>(j.nodes[i].size()), d))
-    return "the faults' faces there are parallel, so their contact constraints are not independent";
-  return {};
-}
-
-/// The block of T at junction i, in V's numbering (its problems found).
-void add_junction_block(ContactSet& c, const Domain& domain, const FaultNodes& nodes, const Junctions& j,
-                        std::size_t i)
-{
-  const std::vector<JunctionPair> pairs = junction_pairs(domain, j, i);
-  ContactBlock block{{}, *junction_change_of_variables(pairs, static_cast<int>(j.nodes[i].size()), c.dim)};
-  for (const std::int64_t v : j.nodes[i])
-    for (int d = 0; d < c.dim; ++d)
-      block.dofs.push_back(c.dim * nodes.global.at(v) + d);
-  c.blocks.push_back(std::move(block));
-}
 
 /// @brief What every pair's constraint reads: the scene file (for
 /// messages), the coordinates of V's nodes, its prescribed DOFs, where the
@@ -184,7 +84,7 @@ void add_junction_pair(ContactSet& c, const PairContext& context, const FaultFac
   const auto [junction, row] = context.junctions.of_pair.at({face.name, k});
   const std::int32_t first = c.dim * context.nodes.local.at(face.fault.pairs[k][0]);
   if (context.junctions.pairs[junction].front() == std::make_pair(face.name, k))
-    add_junction_block(c, context.domain, context.nodes, context.junctions, junction);
+    c.blocks.push_back(junction_block(context.domain, context.nodes, context.junctions, junction));
   push_constraint(c, face, k, first + row, gap_frame, false);
   c.junction_nodes.back() = {context.nodes.global.at(face.fault.pairs[k][0]),
                              context.nodes.global.at(face.fault.pairs[k][1])};
@@ -239,31 +139,24 @@ void add_pair(ContactSet& c, const PairContext& context, const FaultFace& face, 
                   !frictionless(c.laws[face.boundary]) and !held[0] and !held[1] and !held[2]);
 }
 
-/// The first problem of the junctions on this rank: one that cannot be
-/// posed (junction_problem), or a prescribed displacement at a node of
-/// one, which its block would mix with the free ones.
+/// The first problem of the junctions at a node this rank holds
+/// (junction_problem), naming two of the faults and the point.
 std::string junctions_problem(const PairContext& context)
 {
   const Junctions& j = context.junctions;
-  const int d = context.domain.dim();
   for (std::size_t i = 0; i < j.nodes.size(); ++i)
-    for (const std::int64_t v : j.nodes[i])
-    {
-      const auto node = context.nodes.local.find(v);
-      if (node == context.nodes.local.end())
-        continue;
-      const std::string& fault = j.pairs[i].front().first;
-      const auto other = std::find_if(j.pairs[i].begin(), j.pairs[i].end(), [&](const auto& p) { return p.first != fault; });
-      const std::string where = context.file + ": fault." + fault + ": at "
-                                + point_text(&context.coordinates[3 * node->second], d) + " it meets fault "
-                                + other->first + ": ";
-      if (const std::string problem = junction_problem(context.domain, j, i); !problem.empty())
-        return where + problem;
-      for (int r = 0; r < d; ++r)
-        if (context.prescribed[d * node->second + r])
-          return where + "a displacement is prescribed there, which the contact where faults meet does not "
-                         "support yet (end the faults inside the body)";
-    }
+  {
+    const std::string problem = junction_problem(context.domain, j, i);
+    const auto node = std::find_if(j.nodes[i].begin(), j.nodes[i].end(),
+                                   [&](std::int64_t v) { return context.nodes.local.count(v) > 0; });
+    if (problem.empty() or node == j.nodes[i].end())
+      continue;
+    const std::string& fault = j.pairs[i].front().first;
+    const auto other = std::find_if(j.pairs[i].begin(), j.pairs[i].end(), [&](const auto& p) { return p.first != fault; });
+    return context.file + ": fault." + fault + ": at "
+           + point_text(&context.coordinates[3 * context.nodes.local.at(*node)], context.domain.dim())
+           + " it meets fault " + other->first + ": " + problem;
+  }
   return {};
 }
 } // namespace
@@ -273,9 +166,16 @@ void add_fault_pairs(const Scene& scene, const Domain& domain, const CompiledFor
 {
   if (domain.faults.empty())
     return;
-  const PairContext context{scene.file,         domain,
-                            V->tabulate_dof_coordinates(false), prescribed_dofs(scene, domain, *V),
-                            fault_nodes(domain, *V), foundation_nodes(c), fault_junctions(domain)};
+  FaultNodes nodes = fault_nodes(domain, *V);
+  std::vector<char> prescribed = prescribed_dofs(scene, domain, *V);
+  Junctions junctions = fault_junctions(domain, nodes, prescribed);
+  const PairContext context{scene.file,
+                            domain,
+                            V->tabulate_dof_coordinates(false),
+                            std::move(prescribed),
+                            std::move(nodes),
+                            foundation_nodes(c),
+                            std::move(junctions)};
   const int d = domain.dim();
   if (const std::string problem = junctions_problem(context); !problem.empty() and error.empty())
     error = problem;

@@ -101,23 +101,29 @@ def _append_orthonormal(v, Q):
     return True
 
 
-def junction_change_of_variables(pairs, m, d):
+def junction_change_of_variables(pairs, m, d, prescribed):
     """The block of T at a junction (its m nodes, the pieces around it, d
     DOFs each in node order): row d plus + row of each pair is its
     constraint nu . (u+ - u-), so each is a bound on an unknown of its own;
-    the other rows complete them to a basis, orthonormal and orthogonal to
-    the constraints (Gram-Schmidt of the unit vectors). Around a junction
-    the jumps of its pairs sum to zero, so they cannot all be unknowns as
-    at a lone pair; their normal components are independent wherever the
-    faces bounding each piece are not all parallel. None when they are not
-    (to 1e-8)."""
+    the row of each `prescribed` DOF is its unit vector (the DOF stays its
+    own unknown); the other rows complete them to a basis, orthonormal and
+    orthogonal to the rows before (Gram-Schmidt of the unit vectors).
+    Around a junction the jumps of its pairs sum to zero, so they cannot all
+    be unknowns as at a lone pair; their normal components are independent
+    wherever the faces bounding each piece are not all parallel. None when
+    they are not (to 1e-8), or a constraint sits in a prescribed row or
+    reaches a prescribed DOF."""
     n = m * d
-    B, Q, taken = np.zeros((n, n)), [], np.zeros(n, dtype=bool)
+    prescribed = np.asarray(prescribed, dtype=bool)
+    B, Q, taken = np.zeros((n, n)), [], prescribed.copy()
+    for j in np.flatnonzero(prescribed):
+        B[j, j] = 1.0
+        _append_orthonormal(np.eye(n)[j], Q)
     for p in pairs:
         row = d * p.plus + p.row
         v = np.zeros(n)
         v[d * p.plus:d * p.plus + d], v[d * p.minus:d * p.minus + d] = p.normal[:d], -np.asarray(p.normal[:d])
-        if taken[row] or not _append_orthonormal(v, Q):
+        if np.any(np.abs(v[prescribed]) > 1e-12) or taken[row] or not _append_orthonormal(v, Q):
             return None
         B[row], taken[row] = v, True
     # Each free row: the first unit vector (its own, then the others) that

@@ -101,7 +101,7 @@ def junction_jumps(c, displacement_dofs, u, comm):
     mine = np.flatnonzero((first >= 0) & (first < len(displacement_dofs)))
     for i in range(d):
         values[mine, i] = u[displacement_dofs[first[mine] + i]]
-    values = comm.allreduce(values, op=MPI.SUM)
+    comm.Allreduce(MPI.IN_PLACE, values, op=MPI.SUM)
     position = {int(v): k for k, v in enumerate(c.all_junction_nodes)}
     jumps = np.zeros((len(c.dofs), 3))
     for k in np.flatnonzero(c.junction_nodes[:, 0] >= 0):

@@ -16,10 +16,10 @@ from dolfinx import fem
 
 from ..assembly.fault_aperture import FaultNodes, fault_nodes
 from ..scene.input import nonnegative_problem, point_text
-from .change_of_variables import (JunctionPair, junction_change_of_variables, node_change_of_variables,
-                                  pair_change_of_variables)
+from .change_of_variables import node_change_of_variables, pair_change_of_variables
 from .contact_law import contact_law, frictionless
 from .contact_set import lumped_measure, prescribed_dofs
+from .junction import Junctions, fault_junctions, junction_block, junction_problem
 
 
 @dataclasses.dataclass
@@ -36,84 +36,6 @@ class _FaultFace:
 
 
 @dataclasses.dataclass
-class _Junctions:
-    """Where faults cross or end on one another: each junction's nodes
-    (input indices, one per piece around it, sorted) and its pairs (fault,
-    pair index), and of each pair at a junction its junction and the row
-    of its + node that carries its constraint."""
-    nodes: list
-    pairs: list
-    of_pair: dict  # (fault, pair) -> (junction, row)
-
-
-def _root(parent, v):
-    """The representative of node v in a union-find forest."""
-    while parent[v] != v:
-        parent[v] = parent[parent[v]]
-        v = parent[v]
-    return v
-
-
-def _fault_junctions(domain):
-    """The junctions of the faults: the pieces of the graph whose edges are
-    the node pairs of every fault that hold more than one pair (a lone pair
-    is its two nodes). Each pair takes the next free row of its + node, in
-    the faults' order."""
-    parent = {}
-    for name in sorted(domain.faults):
-        for plus, minus in domain.faults[name].pairs.tolist():
-            parent.setdefault(plus, plus), parent.setdefault(minus, minus)
-            parent[_root(parent, plus)] = _root(parent, minus)
-    by_root = {}
-    for name in sorted(domain.faults):
-        for k, (plus, _) in enumerate(domain.faults[name].pairs.tolist()):
-            by_root.setdefault(_root(parent, plus), []).append((name, k))
-    j, rows = _Junctions([], [], {}), {}
-    for r in sorted(by_root):
-        pairs = by_root[r]
-        if len(pairs) < 2:
-            continue
-        nodes = set()
-        for name, k in pairs:
-            plus, minus = domain.faults[name].pairs[k].tolist()
-            nodes |= {plus, minus}
-            j.of_pair[(name, k)] = (len(j.nodes), rows.get(plus, 0))
-            rows[plus] = rows.get(plus, 0) + 1
-        j.nodes.append(sorted(nodes))
-        j.pairs.append(pairs)
-    return j
-
-
-def _junction_pairs(domain, j, i):
-    """The pairs of junction i as its block sees them."""
-    around = j.nodes[i]
-    return [JunctionPair(around.index(int(domain.faults[name].pairs[k][0])),
-                         around.index(int(domain.faults[name].pairs[k][1])), j.of_pair[(name, k)][1],
-                         -np.asarray(domain.faults[name].normals[k])) for name, k in j.pairs[i]]
-
-
-def _junction_problem(domain, j, i):
-    """What makes junction i impossible to pose ("" when nothing does): a
-    piece on the + side of more than d of its pairs, or constraints that
-    are not independent (faces meeting parallel)."""
-    pairs, d = _junction_pairs(domain, j, i), domain.dim
-    if any(p.row >= d for p in pairs):
-        return (f"a piece between the faults is on the + side of more than {d} of their faces (orient them by "
-                "their normals so that no piece is)")
-    if junction_change_of_variables(pairs, len(j.nodes[i]), d) is None:
-        return "the faults' faces there are parallel, so their contact constraints are not independent"
-    return ""
-
-
-def _add_junction_block(c, domain, nodes, j, i):
-    """The block of T at junction i, in V's numbering (its problems found)."""
-    d = c.dim
-    B = junction_change_of_variables(_junction_pairs(domain, j, i), len(j.nodes[i]), d)
-    dofs = [d * nodes.global_[v] + r for v in j.nodes[i] for r in range(d)]
-    c.blocks.append((np.array(dofs, dtype=np.int64), B))
-
-
-@dataclasses.dataclass
 class _PairContext:
     """What every pair's constraint reads: the scene file (for messages), the
     domain, the coordinates of V's nodes, its prescribed DOFs, where the
@@ -125,7 +47,7 @@ class _PairContext:
     prescribed: np.ndarray
     nodes: FaultNodes
     on_foundation: set
-    junctions: _Junctions
+    junctions: Junctions
 
 
 def _foundation_nodes(c):
@@ -159,7 +81,7 @@ def _add_junction_pair(c, context, face, k, gap_frame):
     plus, minus = face.fault.pairs[k].tolist()
     first = c.dim * context.nodes.local[plus]
     if context.junctions.pairs[junction][0] == (face.name, k):
-        _add_junction_block(c, context.domain, context.nodes, context.junctions, junction)
+        c.blocks.append(junction_block(context.domain, context.nodes, context.junctions, junction))
     _push_constraint(c, face, k, first + row, gap_frame, False)
     c.junction_nodes[-1] = (context.nodes.global_[plus], context.nodes.global_[minus])
 
@@ -201,25 +123,19 @@ def _add_pair(c, context, face, k, error):
 
 
 def _junctions_problem(context):
-    """The first problem of the junctions on this rank: one that cannot be
-    posed (_junction_problem), or a prescribed displacement at a node of
-    one, which its block would mix with the free ones."""
-    j, d = context.junctions, context.domain.dim
+    """The first problem of the junctions at a node this rank holds
+    (junction_problem), naming two of the faults and the point."""
+    j = context.junctions
     for i, around in enumerate(j.nodes):
-        for v in around:
-            node = context.nodes.local.get(v)
-            if node is None:
-                continue
-            fault = j.pairs[i][0][0]
-            other = next(name for name, _ in j.pairs[i] if name != fault)
-            where = (f"{context.file}: fault.{fault}: at {point_text(context.coordinates[node], d)} it meets "
-                     f"fault {other}: ")
-            problem = _junction_problem(context.domain, j, i)
-            if problem:
-                return where + problem
-            if context.prescribed[d * node:d * node + d].any():
-                return (where + "a displacement is prescribed there, which the contact where faults meet does "
-                        "not support yet (end the faults inside the body)")
+        problem = junction_problem(context.domain, j, i)
+        held = [v for v in around if v in context.nodes.local]
+        if not problem or not held:
+            continue
+        fault = j.pairs[i][0][0]
+        other = next(name for name, _ in j.pairs[i] if name != fault)
+        x = context.coordinates[context.nodes.local[held[0]]]
+        return (f"{context.file}: fault.{fault}: at {point_text(x, context.domain.dim)} it meets fault {other}: "
+                f"{problem}")
     return ""
 
 
@@ -232,8 +148,9 @@ def add_fault_pairs(scene, domain, F, V, c, error):
     (collective)."""
     if not domain.faults:
         return
-    context = _PairContext(scene.file, domain, V.tabulate_dof_coordinates(), prescribed_dofs(scene, domain, V),
-                           fault_nodes(domain, V), _foundation_nodes(c), _fault_junctions(domain))
+    nodes, prescribed = fault_nodes(domain, V), prescribed_dofs(scene, domain, V)
+    context = _PairContext(scene.file, domain, V.tabulate_dof_coordinates(), prescribed, nodes,
+                           _foundation_nodes(c), fault_junctions(domain, nodes, prescribed))
     d = domain.dim
     problem = _junctions_problem(context)
     if problem and not error:

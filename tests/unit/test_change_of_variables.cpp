@@ -262,7 +262,7 @@ TEST(ChangeOfVariables, JunctionRowsAreTheNormalJumps)
   // orthonormal and orthogonal to those; B is invertible.
   const int d = 2, m = 4, n = m * d;
   const std::vector<JunctionPair> pairs = x_junction();
-  const std::vector<double> B = junction_change_of_variables(pairs, m, d).value();
+  const std::vector<double> B = junction_change_of_variables(pairs, m, d, std::vector<char>(n, 0)).value();
   const std::vector<double> u{1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3};
   std::vector<char> constraint(n, 0);
   for (const JunctionPair& p : pairs)
@@ -295,10 +295,30 @@ TEST(ChangeOfVariables, JunctionOfDependentConstraintsIsRefused)
   std::vector<JunctionPair> pairs = x_junction();
   pairs.push_back(pairs[0]);
   pairs.back().plus = 0, pairs.back().row = 1;
-  EXPECT_FALSE(junction_change_of_variables(pairs, 4, 2));
+  const std::vector<char> none(8, 0);
+  EXPECT_FALSE(junction_change_of_variables(pairs, 4, 2, none));
   pairs = x_junction();
   pairs[2].row = 0;
-  EXPECT_FALSE(junction_change_of_variables(pairs, 4, 2));
+  EXPECT_FALSE(junction_change_of_variables(pairs, 4, 2, none));
+}
+
+TEST(ChangeOfVariables, JunctionKeepsPrescribedComponents)
+{
+  // Two vertical planes crossing in 3D (the X of x_junction in the x-y
+  // plane) on a boundary whose z is held: each node's z row is its unit
+  // vector, and no other row reaches a z DOF, so the Dirichlet rows stay
+  // their own; holding an x as well (along a normal) is refused.
+  const int d = 3, m = 4, n = m * d;
+  std::vector<char> held(n, 0);
+  for (int v = 0; v < m; ++v)
+    held[d * v + 2] = 1;
+  const std::vector<double> B = junction_change_of_variables(x_junction(), m, d, held).value();
+  for (int r = 0; r < n; ++r)
+    for (int v = 0; v < m; ++v)
+      EXPECT_EQ(B[n * r + d * v + 2], r == d * v + 2 ? 1.0 : 0.0) << "row " << r << ", node " << v;
+  expect_identity(inverse(B, n), B, n, 1e-12);
+  held[0] = 1;
+  EXPECT_FALSE(junction_change_of_variables(x_junction(), m, d, held));
 }
 
 /// inclined at 60 degrees.

@@ -155,7 +155,7 @@ class JunctionChangeOfVariables(unittest.TestCase):
         # orthonormal and orthogonal to those; B is invertible.
         d, m = 2, 4
         pairs = x_junction()
-        B = junction_change_of_variables(pairs, m, d)
+        B = junction_change_of_variables(pairs, m, d, np.zeros(m * d, dtype=bool))
         u = np.array([1e-3, -2e-3, 0.5e-3, 0.7e-3, -1e-3, 3e-3, 2e-3, -0.4e-3])
         rows = [d * p.plus + p.row for p in pairs]
         for p, row in zip(pairs, rows):
@@ -169,10 +169,25 @@ class JunctionChangeOfVariables(unittest.TestCase):
         # The same constraint twice (in another row), or two pairs in one row.
         pairs = x_junction()
         pairs.append(JunctionPair(0, 2, 1, pairs[0].normal))
-        self.assertIsNone(junction_change_of_variables(pairs, 4, 2))
+        none = np.zeros(8, dtype=bool)
+        self.assertIsNone(junction_change_of_variables(pairs, 4, 2, none))
         pairs = x_junction()
         pairs[2].row = 0
-        self.assertIsNone(junction_change_of_variables(pairs, 4, 2))
+        self.assertIsNone(junction_change_of_variables(pairs, 4, 2, none))
+
+    def test_junction_keeps_prescribed_components(self):
+        # Two vertical planes crossing in 3D (the X of x_junction in the x-y
+        # plane) on a boundary whose z is held: each node's z row is its unit
+        # vector, and no other row reaches a z DOF, so the Dirichlet rows stay
+        # their own; holding an x as well (along a normal) is refused.
+        d, m = 3, 4
+        held = np.zeros(m * d, dtype=bool)
+        held[2::d] = True
+        B = junction_change_of_variables(x_junction(), m, d, held)
+        np.testing.assert_array_equal(B[:, 2::d], np.eye(m * d)[:, 2::d])
+        np.testing.assert_allclose(np.linalg.inv(B) @ B, np.eye(m * d), rtol=0, atol=1e-12)
+        held[0] = True
+        self.assertIsNone(junction_change_of_variables(x_junction(), m, d, held))
 
 
 class ChangeOfVariablesSystem(unittest.TestCase):
