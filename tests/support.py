@@ -129,22 +129,18 @@ Mesh.CharacteristicLengthMax = 0.25;
 def crack_scenes():
     """The bad-input catalogues' faulted scenes (test_bad_scenes.py and its
     prototype twin), paths of new files: a crack in a gmsh mesh
-    (meshes/sneddon2d.geo), mechanics only; two cracks that cross, in a
-    small square; and the crack with tip cells of 0.0025 m, where gmsh makes
-    one of zero area. The first is meshed 8 times coarser near the crack
+    (meshes/sneddon2d.geo), mechanics only, and the crack with tip cells
+    of 0.0025 m, where gmsh makes one of zero area. The first is meshed 8 times coarser near the crack
     (its sizes' `scale`): 0.3 s a launch instead of 1 s, for the dozens of
     bad inputs given to it."""
     coarse = written(f'scale = 8;\nInclude "{CRACK_GEO}";\n', "coarse.geo")
     crack = written(CRACK_TEXT.replace(CRACK_GEO, coarse))
-    crossing = written(CRACK_TEXT.replace(CRACK_GEO, "crossing.geo") + "[fault.other]\nnormal = [1.0, 0.0]\n")
-    with open(os.path.join(os.path.dirname(crossing), "crossing.geo"), "w") as f:
-        f.write(CROSSING_GEO)
     degenerate = written(CRACK_TEXT.replace(CRACK_GEO, "degenerate.geo"))
     with open(CRACK_GEO) as f:
         geo = f.read().replace("Field[4].SizeMin = 0.004 * scale;", "Field[4].SizeMin = 0.0025;")
     with open(os.path.join(os.path.dirname(degenerate), "degenerate.geo"), "w") as f:
         f.write(geo)
-    return crack, crossing, degenerate
+    return crack, degenerate
 
 
 PINNED_GEO = """SetFactory("Built-in");

@@ -45,13 +45,9 @@ CORRUPT_GEO = CORRUPT_MSH.replace(".msh", ".geo")
 with open(CORRUPT_GEO, "w") as f:
     f.write("Point(1) = {0, 0, 0\n")
 EMPTY = written("")
-CRACK, CROSSING, DEGENERATE = crack_scenes()
+CRACK, DEGENERATE = crack_scenes()
 LOOSE, SHARED, PINNED = fault_group_scenes()
 FLOW_CRACK = flow_crack_scene()
-# CROSSING's second fault a conduit, in a coupled scene.
-CONDUIT_CROSSING = ("fault.other.flow=conduit", "fault.other.residual_aperture=1e-4", "flow.M=2e10", "flow.mu_f=1e-3",
-                    "flow.permeability=1e-14", "flow.initial_pressure=0.0", "coupling.alpha=0.8", "coupling.L=paper",
-                    "coupling.scheme=fixed-stress")
 REACTIVATION = scene("fault_reactivation")
 REACTIVATION_CONDUIT = ("fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4",
                         "fault.fault.pore_pressure_load=false")
@@ -252,8 +248,6 @@ CASES = [
     ("a fault group that does not exist", CRACK, s("fault.nowhere.gap=0.0"), "fault.nowhere", BOTH),
     ("a fault group of the wrong dimension", CRACK, s("fault.rock.gap=0.0"), "fault.rock", BOTH),
     ("a fault group on the outer boundary", CRACK, s("fault.top.gap=0.0"), "fault.top", BOTH),
-    ("conduit faults that cross, with mechanics", CROSSING, s(*CONDUIT_CROSSING), "fault.crack: meets fault other",
-     BOTH),
     ("faults that meet where a displacement is prescribed", PINNED, [], "is not perpendicular to the faults", BOTH),
     # issue 51: the real cause named
     ("a fault curve not embedded in the surface", LOOSE, [], "Curve{..} In Surface{..}", BOTH),

@@ -32,6 +32,7 @@ import os
 
 import numpy as np
 from support import check, fault_fields, gmsh_scene, killed_and_restarted, max_difference, run_track, summary, written
+from test_fault_closure import fault_pressure_difference
 
 GEO = """SetFactory("Built-in");
 h = {h};
@@ -136,6 +137,41 @@ traction = [0.0, -1.0e6, 0.0]
 [boundary.top]
 traction = [0.0, 0.0, -1.0e6]
 """
+# The three faults conduits of a gas (test_hydraulic_opening.py's), a well
+# into the crack, the rock impermeable and decoupled, under 3 MPa.
+CONDUITS = """[mesh]
+type = "gmsh"
+file = "mesh.geo"
+dimension = 2
+[mechanics]
+E = 1.0e10
+nu = 0.25
+[flow]
+M = 1.0e10
+c_f = 1.0e-7
+mu_f = 1.0e-5
+permeability = 1.0e-25
+initial_pressure = 0.0
+[coupling]
+alpha = 0.0
+tolerance = 1e-10
+max_iterations = 50
+[time]
+end = 1.0
+dt = 0.25
+[boundary.left]
+displacement = { x = 0.0 }
+[boundary.bottom]
+displacement = { y = 0.0 }
+[boundary.right]
+traction = [-3.0e6, 0.0]
+[boundary.top]
+traction = [0.0, -3.0e6]
+[well.inj]
+fault = "crack"
+position = [-0.5, 0.0]
+rate = 2.0e-4
+""" + FAULTS.format(law='flow = "conduit"\nresidual_aperture = 1.0e-4')
 FIELDS = ["displacement", "pressure", "flux"]
 CROSSING, T = np.array([0.0, 0.0]), np.array([0.5, 0.0])
 TIPS = np.array([[-1.0, 0.0], [1.0, 0.0], [0.0, -1.0], [0.0, 1.0], [0.5, 0.8]])
@@ -200,6 +236,41 @@ def check_pressurised(track):
           f"{orders[1]:.2f} (at least 0.5)")
 
 
+def balance(out):
+    """The largest imbalance of a fault's volumes with what crosses its
+    intersections, of the volume injected."""
+    volumes = summary(out)["fault_volumes"]
+    return max(abs(v["injected"] + v["exchanged"] + v["intersections"] - v["stored"] - v["outflow"])
+               for v in volumes.values()) / volumes["crack"]["injected"]
+
+
+def check_conduits(track):
+    """Conduits meeting under mechanics: closed, the split = the monolithic
+    solve; opening, the monolithic solve; volumes balanced throughout."""
+    path = written(CONDUITS)
+    with open(os.path.join(os.path.dirname(path), "mesh.geo"), "w") as f:
+        f.write(GEO.format(h=0.1))
+    closed = [run_track(track, path, "time.end=0.5", *scheme)[0] for scheme in ((), ("coupling.scheme=monolithic",))]
+    rates = {name: r["rate"] for name, r in summary(closed[0])["intersections"].items()}
+    fields, p_f = max_difference(*closed, FIELDS), fault_pressure_difference(*closed)
+    check(max(fields.values()) <= 1e-8 and p_f <= 1e-8 and max(map(balance, closed)) <= 1e-10
+          and min(rates.values()) > 0,
+          f"{track}: the closed network, the split against the monolithic solve: {fields}, p_f to {p_f:.1e} (1e-8); "
+          f"volumes balanced to {max(map(balance, closed)):.1e} (1e-10), the fluid through the X and the T "
+          f"({rates} m^2/s)")
+    opened, _ = run_track(track, path, "coupling.scheme=monolithic")
+    faults = summary(opened)["contact"]["faults"]
+    widest = {name: f["max_opening"] for name, f in faults.items()}
+    check(all(f["closed"] == 0 for f in faults.values()) and min(widest.values()) > 0 and balance(opened) <= 1e-10,
+          f"{track}: the network opened by the gas (monolithic): every fault open, largest openings {widest} m, "
+          f"volumes balanced to {balance(opened):.1e} (1e-10)")
+    _, p = run_track(track, path, expect=3)
+    check(p.stderr.count("\n") == 1 and "monolithic" in p.stderr,
+          f"{track}: the split cycles as the network opens (a finding) and says so in one line, naming the "
+          f"monolithic solve: {p.stderr.strip()[:120]!r}")
+    return opened
+
+
 def slip_states(out):
     return [f["state"][:, 0] for f in fault_fields(out, ("state",))[2]]
 
@@ -232,5 +303,9 @@ for track in ("C++", "prototype"):
     check_crossing_planes(track)
     check_pressurised(track)
     runs[track] = check_coupled(track)
+    runs[track, "conduits"] = check_conduits(track)
 tracks = max_difference(runs["C++"], runs["prototype"], FIELDS)
 check(max(tracks.values()) <= 1e-10, f"the prototype equals the C++ solver: {tracks} (1e-10)")
+conduits = fault_pressure_difference(runs["C++", "conduits"], runs["prototype", "conduits"])
+check(conduits <= 1e-10, f"the opened network: the prototype's fault pressure is the C++ one's to {conduits:.1e} "
+      "(1e-10)")

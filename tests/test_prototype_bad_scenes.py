@@ -123,17 +123,13 @@ for label, path, overrides, key in (
 
 # The faults' bad inputs of the split mesh and the flow: the catalogue's
 # scenes; the pairs are made by `check` too (a negative gap, a fault on a foundation).
-CRACK, CROSSING, DEGENERATE = crack_scenes()
+CRACK, DEGENERATE = crack_scenes()
 LOOSE, SHARED, PINNED = fault_group_scenes()
 FLOW_CRACK = flow_crack_scene()
 for label, command, path, overrides, key in (
         ("a fault group that does not exist", "check", CRACK, ["fault.nowhere.gap=0.0"], "fault.nowhere"),
         ("a fault group of the wrong dimension", "check", CRACK, ["fault.rock.gap=0.0"], "fault.rock"),
         ("a fault group on the outer boundary", "check", CRACK, ["fault.top.gap=0.0"], "fault.top"),
-        ("conduit faults that cross, with mechanics", "check", CROSSING,
-         ["fault.other.flow=conduit", "fault.other.residual_aperture=1e-4", "flow.M=2e10", "flow.mu_f=1e-3",
-          "flow.permeability=1e-14", "flow.initial_pressure=0.0", "coupling.alpha=0.8", "coupling.L=paper",
-          "coupling.scheme=fixed-stress"], "fault.crack: meets fault other"),
         ("faults that meet where a displacement is prescribed", "check", PINNED, [], "is not perpendicular to the faults"),
         ("a fault curve not embedded in the surface", "check", LOOSE, [], "Curve{..} In Surface{..}"),
         ("one curve in two faults' groups", "check", SHARED, [], "the physical groups crack and other share"),

@@ -65,10 +65,13 @@ FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem
   PetscInt row = 0;
   for (const auto& [name, f] : scene.faults)
   {
+    const auto index = static_cast<std::int64_t>(_fault_index.size());
+    _fault_index[name] = index;
     if (f.flow != FaultFlow::conduit)
       continue;
     const FaultCells& cells = domain.faults.at(name).cells;
     _keys.insert(_keys.end(), cells.keys.begin(), cells.keys.end());
+    _fault.insert(_fault.end(), cells.size(), index);
     if (!last)
       continue;
     for (std::size_t k = 0; k < cells.size(); ++k, ++row)
@@ -114,22 +117,22 @@ std::vector<double> FaultAperture::opening(la::Vector<double>& u) const
   return w;
 }
 
-std::vector<double> FaultAperture::cell_means(const std::map<std::int64_t, double>& nodal) const
+std::vector<double> FaultAperture::cell_means(const std::map<std::pair<std::string, std::int64_t>, double>& nodal) const
 {
-  std::vector<std::int64_t> mine;
-  for (const auto& [node, value] : nodal)
-    mine.insert(mine.end(), {node, std::bit_cast<std::int64_t>(value)});
+  std::vector<std::int64_t> mine; // (fault, node, value's bits)
+  for (const auto& [key, value] : nodal)
+    mine.insert(mine.end(), {_fault_index.at(key.first), key.second, std::bit_cast<std::int64_t>(value)});
   const std::vector<std::int64_t> all = all_gather(mine, _comm).values;
-  std::map<std::int64_t, double> values;
-  for (std::size_t i = 0; i < all.size(); i += 2)
-    values[all[i]] = std::bit_cast<double>(all[i + 1]);
+  std::map<std::pair<std::int64_t, std::int64_t>, double> values;
+  for (std::size_t i = 0; i < all.size(); i += 3)
+    values[{all[i], all[i + 1]}] = std::bit_cast<double>(all[i + 2]);
   const std::size_t d = _keys.size() / std::max<std::int64_t>(_size, 1);
   std::vector<double> means(_size, 0.0);
   for (std::int64_t k = 0; k < _size; ++k)
   {
     int n = 0;
     for (std::size_t i = 0; i < d; ++i)
-      if (const auto found = values.find(_keys[d * k + i]); found != values.end())
+      if (const auto found = values.find({_fault[k], _keys[d * k + i]}); found != values.end())
         means[k] += found->second, ++n;
     means[k] /= std::max(n, 1);
   }

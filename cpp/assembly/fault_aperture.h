@@ -20,6 +20,7 @@
 #include <map>
 #include <petscmat.h>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace biotcontact
@@ -53,12 +54,12 @@ public:
   /// The conduit cells' mean openings g0 + J u, every cell on every rank
   /// (collective).
   std::vector<double> opening(dolfinx::la::Vector<double>& u) const;
-  /// Per conduit cell the mean of `nodal` (a value per + node this rank
-  /// knows, by input index; each node on one rank) over the cell's nodes
-  /// that have one, 0 where none has; every cell on every rank
-  /// (collective). Of the fault pairs' contact tractions, the cells'
-  /// effective normal stress s_n.
-  std::vector<double> cell_means(const std::map<std::int64_t, double>& nodal) const;
+  /// Per conduit cell the mean of `nodal` (a value per fault and + node
+  /// this rank knows, by the fault's name and the node's input index; each
+  /// on one rank) over the cell's nodes that have one on its fault, 0 where
+  /// none has; every cell on every rank (collective). Of the fault pairs'
+  /// contact tractions, the cells' effective normal stress s_n.
+  std::vector<double> cell_means(const std::map<std::pair<std::string, std::int64_t>, double>& nodal) const;
   /// Adds J^T (|k| p_f) to b but on the Dirichlet rows of `bcs`; `p_f`:
   /// the last rank's pressures, none elsewhere (collective). The fluid
   /// pressure p_f pushes both faces apart; its work on the displacement is
@@ -76,6 +77,8 @@ private:
   Vec _cells = nullptr;                // on J's rows
   std::vector<double> _gap, _measures; // per cell (the last rank's)
   std::vector<std::int64_t> _keys;     // the + nodes of every cell, d per cell (every rank)
+  std::vector<std::int64_t> _fault;    // every cell's fault, its position in the scene's faults (every rank)
+  std::map<std::string, std::int64_t> _fault_index; // the scene's faults' positions, by name
   std::int64_t _size = 0;
   MPI_Comm _comm;
 };

@@ -228,11 +228,11 @@ ContactState contact_state(const ContactMeasurement& m, ContactFields out, MPI_C
   return s;
 }
 
-std::map<std::int64_t, double> pair_tractions(const ContactState& state)
+std::map<std::pair<std::string, std::int64_t>, double> pair_tractions(const ContactState& state)
 {
-  std::map<std::int64_t, double> traction;
+  std::map<std::pair<std::string, std::int64_t>, double> traction;
   for (const PairState& pair : state.pairs)
-    traction[pair.node] = pair.traction;
+    traction[{std::get<0>(state.boundaries[pair.fault]), pair.node}] = pair.traction;
   return traction;
 }
 

@@ -113,10 +113,11 @@ struct ContactFields
 /// The contact state of a measurement; fills the output fields (collective).
 ContactState contact_state(const ContactMeasurement& m, ContactFields out, MPI_Comm comm);
 
-/// Each fault pair's contact traction (>= 0 pressing) by its + node: what
-/// a fault's cells average into their effective normal stress
+/// Each fault pair's contact traction (>= 0 pressing) by its fault's name
+/// and + node (where faults meet, a node is the + node of several): what a
+/// fault's cells average into their effective normal stress
 /// (FaultAperture::cell_means).
-std::map<std::int64_t, double> pair_tractions(const ContactState& state);
+std::map<std::pair<std::string, std::int64_t>, double> pair_tractions(const ContactState& state);
 
 /// @brief The contact active set of a displacement: the flag of each
 /// contact DOF this rank owns (on the foundation to round-off) and the

@@ -186,30 +186,6 @@ std::vector<std::array<double, 3>> pair_normals(const SplitFault& split, int d)
   return normals;
 }
 
-/// Refuses conduit faults that cross or end on one another in a scene
-/// with mechanics: the contact is posed where faults meet
-/// (contact/fault_pair.h) and so is the flow through the network
-/// (fault_network), but not yet the two together (a conduit's effective
-/// stress at a node on the + side of two pairs).
-void refuse_intersections(const Scene& scene, const InputMesh& mesh, const std::vector<SplitFault>& split)
-{
-  if (!scene.mechanics)
-    return;
-  const auto conduit = [&](std::size_t f) { return scene.faults.at(split[f].name).flow == FaultFlow::conduit; };
-  std::vector<std::array<std::int64_t, 3>> meets; // (node, fault, other)
-  for (std::size_t f = 0; f < split.size(); ++f)
-    for (const auto& [v, g] : split[f].meets)
-      if (conduit(f) or conduit(g))
-        meets.push_back({v, static_cast<std::int64_t>(f), static_cast<std::int64_t>(g)});
-  if (meets.empty())
-    return;
-  const auto [v, f, g] = *std::min_element(meets.begin(), meets.end());
-  throw SceneError(scene.file + ": fault." + split[f].name + ": meets fault " + split[g].name + " at "
-                   + point_text(&mesh.x[mesh.dim * v], mesh.dim)
-                   + ": conduit faults that cross or end on one another are not supported yet in a scene with "
-                     "mechanics (without [mechanics] the flow through the network is; with it, their contact is)");
-}
-
 /// Splits the mesh along the scene's faults (domain/faults.h): their faces
 /// become the last facet groups, + and - of each fault in turn.
 void split_faults(const Scene& scene, GmshData& data)
@@ -227,7 +203,6 @@ void split_faults(const Scene& scene, GmshData& data)
     requests.push_back(r);
   }
   const std::vector<SplitFault> split = split_along_faults(mesh, requests, scene.file + ": fault.");
-  refuse_intersections(scene, mesh, split);
   refuse_free_pieces(scene, mesh, split);
   std::vector<FaultCells> cells; // before the faces join the facets
   for (const SplitFault& f : split)

@@ -64,6 +64,8 @@ class FaultAperture:
         self.gap, self.measures, row = [], [], 0
         # the + nodes of every cell, d per cell (every rank)
         self.keys = np.concatenate([domain.faults[name].cells.keys for name, _ in conduits]) if conduits else None
+        # every cell's fault (every rank)
+        self.fault = [name for name, _ in conduits for _ in range(len(domain.faults[name].cells.measures))]
         for name, f in conduits if last else []:
             cells = domain.faults[name].cells
             for k in range(len(cells.measures)):
@@ -86,15 +88,16 @@ class FaultAperture:
         return self.comm.bcast(w, root=self.comm.size - 1)
 
     def cell_means(self, nodal):
-        """Per conduit cell the mean of `nodal` (a dict: a value per + node
-        this rank knows, by input index; each node on one rank) over the
-        cell's nodes that have one, 0 where none has; every cell on every
-        rank (collective). Of the fault pairs' contact tractions, the cells'
-        effective normal stress s_n."""
-        values = {node: value for rank in self.comm.allgather(nodal) for node, value in rank.items()}
+        """Per conduit cell the mean of `nodal` (a dict: a value per fault and
+        + node this rank knows, by the fault's name and the node's input
+        index; each on one rank) over the cell's nodes that have one on its
+        fault, 0 where none has; every cell on every rank (collective). Of
+        the fault pairs' contact tractions, the cells' effective normal
+        stress s_n."""
+        values = {key: value for rank in self.comm.allgather(nodal) for key, value in rank.items()}
         means = np.zeros(self.size)
         for k, keys in enumerate(self.keys.tolist() if self.size else []):
-            known = [values[node] for node in keys if node in values]
+            known = [values[(self.fault[k], node)] for node in keys if (self.fault[k], node) in values]
             means[k] = sum(known) / max(len(known), 1)
         return means
 

@@ -130,10 +130,11 @@ def contact_state(m, out, comm):
 
 
 def pair_tractions(state):
-    """Each fault pair's contact traction (>= 0 pressing) by its + node: what
-    a fault's cells average into their effective normal stress
+    """Each fault pair's contact traction (>= 0 pressing) by its fault's name
+    and + node (where faults meet, a node is the + node of several): what a
+    fault's cells average into their effective normal stress
     (FaultAperture.cell_means)."""
-    return {pair.node: pair.traction for pair in state.pairs}
+    return {(state.boundaries[pair.fault][0], pair.node): pair.traction for pair in state.pairs}
 
 
 class ActiveSet:

@@ -351,7 +351,8 @@ class _FixedStressSplit:
             inc.dsigma = inc.theorem2
         else:
             inc.dsigma = contraction("theorem1", inc.du, w.p_new[1] - w.p_old[1])
-        inc.ratio = inc.dsigma / w.dsigma_previous if n > 0 else math.nan
+        with np.errstate(divide="ignore", invalid="ignore"):  # inf or nan after a zero, as in C++
+            inc.ratio = np.float64(inc.dsigma) / w.dsigma_previous if n > 0 else math.nan
         return inc
 
     def hold_against_gamma(self, w, inc, n):

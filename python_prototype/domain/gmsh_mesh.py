@@ -12,7 +12,7 @@ import ufl
 from dolfinx import io, mesh as dmesh
 from dolfinx.cpp.graph import AdjacencyList_int32
 
-from ..scene.input import FaultFlow, point_text
+from ..scene.input import point_text
 from ..scene.scene import SceneError
 from .domain import Domain, Fault
 from .fault_cells import fault_cells
@@ -166,26 +166,6 @@ def _pair_normals(split, d):
     return normals
 
 
-def _refuse_intersections(scene, mesh, split):
-    """Refuses conduit faults that cross or end on one another in a scene
-    with mechanics: the contact is posed where faults meet
-    (contact/fault_pair.py) and so is the flow through the network
-    (fault_network), but not yet the two together (a conduit's effective
-    stress at a node on the + side of two pairs)."""
-    if scene.mechanics is None:
-        return
-
-    def conduit(f):
-        return scene.faults[split[f].name].flow == FaultFlow.conduit
-    meets = sorted((int(v), f, int(g)) for f, s in enumerate(split) for v, g in s.meets if conduit(f) or conduit(g))
-    if meets:
-        v, f, g = meets[0]
-        raise SceneError(f"{scene.file}: fault.{split[f].name}: meets fault {split[g].name} at "
-                         f"{point_text(mesh.x[v], mesh.dim)}: conduit faults that cross or end on one another are "
-                         "not supported yet in a scene with mechanics (without [mechanics] the flow through the "
-                         "network is; with it, their contact is)")
-
-
 def _split_faults(scene, data):
     """Splits the mesh along the scene's faults (faults.py): their faces
     become the last facet groups, + and - of each fault in turn."""
@@ -195,7 +175,6 @@ def _split_faults(scene, data):
     mesh = InputMesh(d, data.x, data.cells, data.facets, data.facet_group, data.names)
     requests = [FaultRequest(name, tuple(fault.normal) + (0.0,) * (3 - d)) for name, fault in scene.faults.items()]
     split = split_along_faults(mesh, requests, f"{scene.file}: fault.")
-    _refuse_intersections(scene, mesh, split)
     refuse_free_pieces(scene, mesh, split)
     facets, groups = [mesh.facets], [mesh.facet_group]
     for f in split:
