@@ -35,6 +35,9 @@ out = bench("size_sweep.py", "--cells", "[20,2]", "--set", "time.end=0.8", *comm
 check("commit:" in out and "$ " in out and "--set output.xdmf=false" in out,
       "size_sweep prints the header and the commands it runs")
 out = bench("mandel.py", "--cells", "[20,2]", *common_options)
+out = bench("builds.py", "--before", BINARY, "--scenes", "default", "--set", "time.end=0.8",
+            *common_options)
+check("| default |" in out, "bench/builds.py prints the table of two builds")
 out = bench("prototype.py", "--cells", "[20,2]", "--set", "time.end=0.8", *common_options)
 check("python_prototype compare" in out, "prototype.py prints the compare command")
 out = bench("scaling.py", "--cells2", "[20,2]", "--cells3", "[4,2,2]", *common_options)
