@@ -126,6 +126,28 @@ Mesh.CharacteristicLengthMax = 0.25;
 """
 
 
+# Two planes across a 2 x 2 x 1 box, x = 1 (PLANE_A) and y = 1 (PLANE_B),
+# crossing along x = y = 1 (OpenCASCADE's fragments; each side a group;
+# test_fault_network.py, test_fault_junctions.py).
+CROSS_GEO = """SetFactory("OpenCASCADE");
+Mesh.CharacteristicLengthMax = 0.25;
+Box(1) = {0, 0, 0, 2, 2, 1};
+Rectangle(10) = {1, 0, 0, 1, 2}; Rotate {{0, 1, 0}, {1, 0, 0}, -Pi/2} { Surface{10}; }
+Rectangle(11) = {0, 1, 0, 2, 1}; Rotate {{1, 0, 0}, {0, 1, 0}, Pi/2} { Surface{11}; }
+BooleanFragments{ Volume{1}; Delete; }{ Surface{10, 11}; Delete; }
+e = 1e-6;
+Physical Volume("rock") = Volume{:};
+Physical Surface("left") = Surface In BoundingBox{-e, -e, -e, e, 2 + e, 1 + e};
+Physical Surface("right") = Surface In BoundingBox{2 - e, -e, -e, 2 + e, 2 + e, 1 + e};
+Physical Surface("front") = Surface In BoundingBox{-e, -e, -e, 2 + e, e, 1 + e};
+Physical Surface("back") = Surface In BoundingBox{-e, 2 - e, -e, 2 + e, 2 + e, 1 + e};
+Physical Surface("bottom") = Surface In BoundingBox{-e, -e, -e, 2 + e, 2 + e, e};
+Physical Surface("top") = Surface In BoundingBox{-e, -e, 1 - e, 2 + e, 2 + e, 1 + e};
+"""
+PLANE_A = 'Physical Surface("a") = Surface In BoundingBox{1 - e, -e, -e, 1 + e, 2 + e, 1 + e};\n'
+PLANE_B = 'Physical Surface("b") = Surface In BoundingBox{-e, 1 - e, -e, 2 + e, 1 + e, 1 + e};\n'
+
+
 def crack_scenes():
     """The bad-input catalogues' faulted scenes (test_bad_scenes.py and its
     prototype twin), paths of new files: a crack in a gmsh mesh

@@ -31,7 +31,8 @@ three pairs).
 import os
 
 import numpy as np
-from support import check, fault_fields, gmsh_scene, killed_and_restarted, max_difference, run_track, summary, written
+from support import (CROSS_GEO, PLANE_A, PLANE_B, check, fault_fields, gmsh_scene, killed_and_restarted, max_difference,
+                     run_track, summary, written)
 from test_fault_closure import fault_pressure_difference
 
 GEO = """SetFactory("Built-in");
@@ -99,25 +100,9 @@ displacement = { x = 0.0, y = 0.0 }
 [boundary.top]
 traction = ["-3.0e6 * t", -1.0e7]
 """
-# 3D: planes x = 1 and y = 1 across a 2 x 2 x 1 box, crossing along the
-# line x = y = 1 from the bottom (z held there) to the top.
-BOX = """SetFactory("OpenCASCADE");
-Mesh.CharacteristicLengthMax = 0.25;
-Box(1) = {0, 0, 0, 2, 2, 1};
-Rectangle(10) = {1, 0, 0, 1, 2}; Rotate {{0, 1, 0}, {1, 0, 0}, -Pi/2} { Surface{10}; }
-Rectangle(11) = {0, 1, 0, 2, 1}; Rotate {{1, 0, 0}, {0, 1, 0}, Pi/2} { Surface{11}; }
-BooleanFragments{ Volume{1}; Delete; }{ Surface{10, 11}; Delete; }
-e = 1e-6;
-Physical Volume("rock") = Volume{:};
-Physical Surface("left") = Surface In BoundingBox{-e, -e, -e, e, 2 + e, 1 + e};
-Physical Surface("right") = Surface In BoundingBox{2 - e, -e, -e, 2 + e, 2 + e, 1 + e};
-Physical Surface("front") = Surface In BoundingBox{-e, -e, -e, 2 + e, e, 1 + e};
-Physical Surface("back") = Surface In BoundingBox{-e, 2 - e, -e, 2 + e, 2 + e, 1 + e};
-Physical Surface("bottom") = Surface In BoundingBox{-e, -e, -e, 2 + e, 2 + e, e};
-Physical Surface("top") = Surface In BoundingBox{-e, -e, 1 - e, 2 + e, 2 + e, 1 + e};
-Physical Surface("a") = Surface In BoundingBox{1 - e, -e, -e, 1 + e, 2 + e, 1 + e};
-Physical Surface("b") = Surface In BoundingBox{-e, 1 - e, -e, 2 + e, 1 + e, 1 + e};
-"""
+# 3D: support's planes x = 1 and y = 1 across a 2 x 2 x 1 box, crossing along
+# the line x = y = 1 from the bottom (z held there) to the top.
+BOX = CROSS_GEO + PLANE_A + PLANE_B
 BOX_HYDROSTATIC = """[fault.a]
 normal = [1.0, 0.0, 0.0]
 friction = 0.6
@@ -198,8 +183,8 @@ def check_hydrostatic(track):
     check(np.count_nonzero(at(points, CROSSING)) == 4 and np.count_nonzero(at(points, T)) == 3,
           f"{track}: four pairs at the X, three at the T")
     check(error <= 1e-10 and np.abs(last["opening"]).max() <= 1e-14 and np.abs(last["slip"]).max() <= 1e-14,
-          f"{track}: every one of {np.count_nonzero(paired)} pairs, at the X and the T too, carries the 1 MPa of the load "
-          f"(largest relative error {error:.1e}, 1e-10), closed and not slipping")
+          f"{track}: every one of {np.count_nonzero(paired)} pairs, at the X and the T too, carries the 1 MPa of the "
+          f"load (largest relative error {error:.1e}, 1e-10), closed and not slipping")
 
 
 def check_crossing_planes(track):

@@ -43,7 +43,9 @@ import os
 
 import h5py
 import numpy as np
-from support import check, fault_centroids, killed_and_restarted, run_track, scene as shipped, summary, written
+from support import (CROSS_GEO, PLANE_A, PLANE_B, check, fault_centroids, killed_and_restarted, run_track, summary,
+                     written)
+from support import scene as shipped
 
 MU = 1.0e-3
 APERTURES = {"a": 1.0e-4, "b": 2.0e-4, "c": 1.5e-4}
@@ -62,25 +64,8 @@ Physical Curve("bottom") = {1, 2}; Physical Curve("right") = {3, 4}; Physical Cu
 Physical Curve("left") = {8, 9}; Physical Curve("a") = {10, 11, 12}; Physical Curve("b") = {13, 14};
 Physical Curve("c") = {15}; Physical Surface("rock") = {1};
 """
-CROSS_GEO = """SetFactory("OpenCASCADE");
-Mesh.CharacteristicLengthMax = 0.25;
-Box(1) = {0, 0, 0, 2, 2, 1};
-Rectangle(10) = {1, 0, 0, 1, 2}; Rotate {{0, 1, 0}, {1, 0, 0}, -Pi/2} { Surface{10}; }
-Rectangle(11) = {0, 1, 0, 2, 1}; Rotate {{1, 0, 0}, {0, 1, 0}, Pi/2} { Surface{11}; }
-BooleanFragments{ Volume{1}; Delete; }{ Surface{10, 11}; Delete; }
-e = 1e-6;
-Physical Volume("rock") = Volume{:};
-Physical Surface("left") = Surface In BoundingBox{-e, -e, -e, e, 2 + e, 1 + e};
-Physical Surface("right") = Surface In BoundingBox{2 - e, -e, -e, 2 + e, 2 + e, 1 + e};
-Physical Surface("front") = Surface In BoundingBox{-e, -e, -e, 2 + e, e, 1 + e};
-Physical Surface("back") = Surface In BoundingBox{-e, 2 - e, -e, 2 + e, 2 + e, 1 + e};
-Physical Surface("bottom") = Surface In BoundingBox{-e, -e, -e, 2 + e, 2 + e, e};
-Physical Surface("top") = Surface In BoundingBox{-e, -e, 1 - e, 2 + e, 2 + e, 1 + e};
-"""
-PLANE_A = 'Physical Surface("a") = Surface In BoundingBox{1 - e, -e, -e, 1 + e, 2 + e, 1 + e};\n'
 PLANE_A_HALVES = ('Physical Surface("a1") = Surface In BoundingBox{1 - e, -e, -e, 1 + e, 1 + e, 1 + e};\n'
                   'Physical Surface("a2") = Surface In BoundingBox{1 - e, 1 - e, -e, 1 + e, 2 + e, 1 + e};\n')
-PLANE_B = 'Physical Surface("b") = Surface In BoundingBox{-e, 1 - e, -e, 2 + e, 1 + e, 1 + e};\n'
 FLOW = """[flow]
 mu_f = 1.0e-3
 permeability = 1.0e-25
