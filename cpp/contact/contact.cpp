@@ -6,15 +6,11 @@
 #include "assembly/linear_algebra.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <dolfinx/fem/utils.h>
-#include <limits>
-#include <map>
 #include <optional>
-#include <set>
 #include <utility>
 
 namespace biotcontact
@@ -466,15 +462,6 @@ ActiveSet ContactSolver::active_set(Vec x) const
   return set;
 }
 
-std::vector<std::array<double, 3>> ContactSolver::physical_jumps(Vec x) const
-{
-  const PetscScalar* u;
-  check_petsc(VecGetArrayRead(x, &u), "contact solver: VecGetArrayRead of u");
-  std::vector<std::array<double, 3>> jumps = junction_jumps(_set, _displacement_dofs, u, _comm);
-  check_petsc(VecRestoreArrayRead(x, &u), "contact solver: VecRestoreArrayRead of u");
-  return jumps;
-}
-
 ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_out,
                                   fem::Function<double>& active_out)
 {
@@ -498,7 +485,8 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   std::vector<double> pressure(_dofs.size());
   for (std::size_t k = 0; k < _dofs.size(); ++k)
     pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
-  const std::vector<std::array<double, 3>> jump = physical_jumps(x), jump_start = physical_jumps(_x_start);
+  const auto jump = junction_jumps(_set, _displacement_dofs, x, _comm);
+  const auto jump_start = junction_jumps(_set, _displacement_dofs, _x_start, _comm);
   const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(x),
                                     X, start, R, jump, jump_start};
   ContactState s = contact_state(measured, {pressure_out, active_out}, _comm);

@@ -205,8 +205,6 @@ private:
   Vec to_vi(Vec x, Vec work) const;
   /// The distance g - u.nu_F of each constraint at x (in x's units).
   std::vector<double> distances(Vec x) const;
-  /// Per constraint at a junction its pair's jump in x (junction_jumps).
-  std::vector<std::array<double, 3>> physical_jumps(Vec x) const;
 
   MPI_Comm _comm;
   Mat _A, _P;

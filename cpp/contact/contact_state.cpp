@@ -1,5 +1,7 @@
 #include "contact/contact_state.h"
 
+#include "assembly/petsc_error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -52,7 +54,7 @@ PairState pair_state(const ContactMeasurement& m, std::size_t k)
 } // namespace
 
 std::vector<std::array<double, 3>> junction_jumps(const ContactSet& set, std::span<const std::int32_t> displacement_dofs,
-                                                  const PetscScalar* u, MPI_Comm comm)
+                                                  Vec x, MPI_Comm comm)
 {
   if (set.all_junction_nodes.empty()) // on every rank alike
     return {};
@@ -60,10 +62,13 @@ std::vector<std::array<double, 3>> junction_jumps(const ContactSet& set, std::sp
   const int d = set.dim;
   const auto owned = static_cast<std::int64_t>(displacement_dofs.size());
   std::vector<double> values(d * set.all_junction_nodes.size(), 0.0);
+  const PetscScalar* u;
+  check_petsc(VecGetArrayRead(x, &u), "contact state: VecGetArrayRead of u");
   for (std::size_t v = 0; v < set.all_junction_nodes.size(); ++v)
     if (const std::int64_t first = d * set.all_junction_nodes[v] - set.dof_offset; first >= 0 and first < owned)
       for (int i = 0; i < d; ++i)
         values[d * v + i] = u[displacement_dofs[first + i]];
+  check_petsc(VecRestoreArrayRead(x, &u), "contact state: VecRestoreArrayRead of u");
   MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, comm);
   std::map<std::int64_t, std::size_t> position;
   for (std::size_t v = 0; v < set.all_junction_nodes.size(); ++v)

@@ -13,6 +13,7 @@
 #include <map>
 #include <mpi.h>
 #include <petscsys.h>
+#include <petscvec.h>
 #include <span>
 #include <string>
 #include <tuple>
@@ -96,11 +97,11 @@ struct ContactMeasurement
 };
 
 /// Per constraint of `set` at a junction of faults, the jump u+ - u- of its
-/// pair in u, the array of a vector whose owned DOFs of V sit at
-/// `displacement_dofs` (a junction's pieces may be owned by several ranks;
-/// collective); zeros elsewhere, nothing when no rank has a junction.
+/// pair in u, a vector whose owned DOFs of V sit at `displacement_dofs` (a
+/// junction's pieces may be owned by several ranks; collective); zeros
+/// elsewhere, nothing when no rank has a junction.
 std::vector<std::array<double, 3>> junction_jumps(const ContactSet& set, std::span<const std::int32_t> displacement_dofs,
-                                                  const PetscScalar* u, MPI_Comm comm);
+                                                  Vec u, MPI_Comm comm);
 
 /// @brief The output fields of the contact: each contact node's pressure,
 /// and 1 where it is on its foundation.

@@ -464,8 +464,7 @@ class ContactSolver:
         R = force.getArray(readonly=True)
         pressure = -self.set.sign * R[self.dofs] / self.set.lumped
         X = self._to_vi(x).getArray(readonly=True)
-        jumps = [junction_jumps(self.set, self.displacement_dofs, v.getArray(readonly=True), self.comm)
-                 for v in (x, self.x_start)]
+        jumps = [junction_jumps(self.set, self.displacement_dofs, v, self.comm) for v in (x, self.x_start)]
         measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,
                                       self.displacement_scale(x), X, self._start_vi().getArray(readonly=True), R,
                                       *jumps)

@@ -87,13 +87,14 @@ class ContactMeasurement:
     jump_start: np.ndarray = None
 
 
-def junction_jumps(c, displacement_dofs, u, comm):
+def junction_jumps(c, displacement_dofs, x, comm):
     """Per constraint of the ContactSet c at a junction of faults, the jump
-    u+ - u- of its pair in u, the array of a vector whose owned DOFs of V
-    sit at `displacement_dofs` (a junction's pieces may be owned by several
-    ranks; collective); zeros elsewhere, None when no rank has a junction."""
+    u+ - u- of its pair in u, a vector whose owned DOFs of V sit at
+    `displacement_dofs` (a junction's pieces may be owned by several ranks;
+    collective); zeros elsewhere, None when no rank has a junction."""
     if len(c.all_junction_nodes) == 0:  # on every rank alike
         return None
+    u = x.getArray(readonly=True)
     # Each junction node's u from the rank that owns it, summed over the ranks.
     d = c.dim
     values = np.zeros((len(c.all_junction_nodes), d))
