@@ -14,6 +14,8 @@ if not __package__:  # run as a path, `python3 /path/to/python_prototype run ...
     importlib.import_module("python_prototype")  # the parent of the relative imports below
     __package__ = "python_prototype"
 
+from .output.progress import RUN_OUTPUT_FAILED  # noqa: E402
+
 USAGE = """usage:
   python3 -m python_prototype run SCENE.toml [--out DIR | --restart DIR] [--set key.path=value ...] [PETSc options]
   python3 -m python_prototype check SCENE.toml [--set key.path=value ...]
@@ -160,4 +162,12 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    status = main(sys.argv[1:])
+    if status == RUN_OUTPUT_FAILED:
+        # The HDF5 file stays as its last flush left it: the interpreter's
+        # teardown would close it, writing metadata the full disk cannot hold
+        # (h5py then crashes). Everything finished is flushed already.
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    sys.exit(status)

@@ -18,6 +18,7 @@ import numpy as np
 from ..contact.contact_law import PairStatus
 from ..scene.input import FaultFlow
 from ..domain.domain import vertex_input_indices
+from .write_failure import write_dataset
 
 
 def _gather_to_root(values, comm):
@@ -35,9 +36,7 @@ def _listed_times(xdmf):
 
 def _write_rows(h5, name, values, width):
     """Writes `values` (rows x width) as the dataset `name`, replacing it."""
-    if name in h5:
-        del h5[name]
-    h5.create_dataset(name, data=np.reshape(values, (-1, width)))
+    write_dataset(h5, name, np.reshape(values, (-1, width)))
 
 
 class FaultSeries:
@@ -200,7 +199,6 @@ class FaultSeries:
                        ("slip_increment", increment, 3), ("tangential_traction", tangential, 3), ("state", state, 1)]
         for name, data, width in (node_fields if self._scene.mechanics else []) + self._cell_fields(cells, t):
             _write_rows(self._h5, f"/{name}/{index}", data, width)
-        self._h5.flush()
         self._times.append(t)
         self._write_xml()
 

@@ -16,7 +16,7 @@ import xml.etree.ElementTree as ET
 import h5py
 import numpy as np
 
-from .write_failure import OutputError, agree_on_output_error, write_failure_reason
+from .write_failure import OutputError, agree_on_output_error, write_dataset, write_failure_reason
 
 TAIL = "    </Grid>\n  </Domain>\n</Xdmf>\n"
 HEAD = ('<?xml version="1.0"?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
@@ -94,10 +94,7 @@ class TimeSeries:
         if self.comm.rank != 0:
             return
         try:
-            if path in self.h5:  # a resumed run writes again what its first run wrote after the checkpoint
-                del self.h5[path]
-            self.h5.create_dataset(path, data=data)
-            self.h5.flush()
+            write_dataset(self.h5, path, data)
         except (OSError, RuntimeError) as e:
             self.failed = True
             self._end_before(t)

@@ -42,3 +42,23 @@ def agree_on_output_error(failed, comm):
     owner = comm.allreduce(comm.rank if failed else comm.size, op=MPI.MIN)
     if owner < comm.size:
         raise OutputError(comm.bcast(failed, root=owner))
+
+
+# Datasets whose file the disk refused, kept open until the process ends
+# (os._exit: __main__.py): h5py closes a dropped handle and reports a close
+# the disk refused on stderr only, after the fact.
+_REFUSED = []
+
+
+def write_dataset(h5, path, data):
+    """Writes `data` as the dataset `path` of the h5py file `h5`, replacing
+    it, and flushes the file while the dataset's handle is open, so that a
+    full disk raises here (RuntimeError or OSError)."""
+    if path in h5:  # a resumed run writes again what its first run wrote after the checkpoint
+        del h5[path]
+    dataset = h5.create_dataset(path, data=data)
+    try:
+        h5.flush()
+    except (OSError, RuntimeError):
+        _REFUSED.append(dataset)
+        raise
