@@ -126,7 +126,7 @@ def continues_the_run(track, label, whole, stopped_on, restarted_on, options, st
 
 # The default scene, refined and shortened (the signal stops a run after its
 # first step however fast it is: stopped_run).
-SMALL = ["--set", "mesh.cells=[80,8]", "--set", "time.end=4.8"]
+SMALL = ["--set", "mesh.cells=[80,8]", "--set", "time.end=2.4"]
 CASES = [("split with contact", SMALL), ("monolithic", ["--set", "coupling.scheme=monolithic"] + SMALL)]
 for track, rank_changes in [("C++", [(2, 2), (2, 1), (1, 2)]), ("prototype", [(2, 1), (1, 2)])]:
     for label, extra in CASES:
