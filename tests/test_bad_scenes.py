@@ -416,7 +416,7 @@ for label, path, arguments, key, commands in CASES:
             p = subprocess.run(args, capture_output=True, text=True, timeout=120, env=MPI_ENV)
             ours = [line for line in p.stderr.strip().splitlines() if line.startswith("biotcontact")]
             where = f"{label} ({command}{', 2 ranks' if ranks > 1 else ''})"
-            check(p.returncode == 2, f"{where}: exit status {p.returncode} == 2")
+            check(p.returncode == 2, f"{where}: exit status {p.returncode} == 2 ({p.stderr.strip()[-300:]!r})")
             check(len(ours) == 1 and ours[0].startswith("biotcontact: error:") and key in ours[0]
                   and (ranks > 1 or len(p.stderr.strip().splitlines()) == 1),
                   f"{where}: one line naming {key!r}: {p.stderr.strip()!r}")

@@ -29,11 +29,16 @@ one step: the faults' steady flow.
   the same fault pressure to 1e-12 (C++).
 - The prototype gives the C++ fault pressures to 1e-10.
 - The shipped scene scenes/network2d.toml (C++): a well into f09 of 22
-  fractures, 5 sealing; after ten days the fluid has spread through the
-  intersections to the conduits f09 meets (f02, f16) and on (f05, f18):
-  each more than 2 MPa above the initial pressure, f09 the highest, while
-  the conduits it does not reach stay within 0.5 MPa of it; each conduit
-  balances with its intersections to 1e-8 of the volume injected.
+  frictional fractures, 5 sealing, in poroelastic rock under the in-situ
+  stress; after ten days the fluid has spread through the intersections
+  to the conduits f09 meets (f02, f16) and on (f05, f18): each more than
+  2 MPa above the initial pressure, f09 the highest, while the conduits it
+  does not reach stay within 0.5 MPa of it; each conduit balances with its
+  intersections to 1e-8 of the volume injected. Every step converged; at
+  every pair and output time the faces do not overlap, the traction is
+  compressive and within the Coulomb disc (|tau| <= 0.6 sigma_n); pairs
+  slip as the stress is applied, and the injection makes the largest slip
+  grow.
 - The 2D network with storage (c_f = 1e-9 1/Pa, 40 steps of 0.25 ms from
   1 MPa, C++): 2 ranks give 1 rank's fault pressure, volumes and rates
   through the intersections to 1e-12,
@@ -251,6 +256,30 @@ def check_shipped_network():
           f"to {worst:.1e} (1e-8), the intersections summing to {total:.1e}; the pressure rises "
           f"{', '.join(f'{n} {rise[n]:.2f}' for n in reached)} MPa along the fractures f09 meets, at most "
           f"{others:.2f} MPa in the others")
+    check_shipped_contact(out)
+
+
+def check_shipped_contact(out):
+    """network2d's contact: the Coulomb law at every pair and output time,
+    slip from the in-situ stress on, growing with the injection."""
+    s = summary(out)
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        times = sorted(f["traction"], key=int)
+        sigma = np.array([f[f"traction/{t}"][:, 0] for t in times])
+        tau = np.array([np.linalg.norm(f[f"tangential_traction/{t}"][:], axis=1) for t in times])
+        opening = np.array([f[f"opening/{t}"][:, 0] for t in times])
+        slip = np.array([np.linalg.norm(f[f"slip/{t}"][:], axis=1) for t in times])
+        state = np.array([f[f"state/{t}"][:, 0] for t in times])
+    scale = sigma.max()
+    excess = np.max(tau - 0.6 * sigma) / scale
+    check(s["converged"] and s["status"] == "completed" and opening.min() >= -1e-12 and sigma.min() >= 0.0
+          and excess <= 1e-8, f"network2d: converged; the faces apart or touching (opening >= {opening.min():.1e} m), "
+          f"the traction compressive and within the Coulomb disc (|tau| - 0.6 sigma_n <= {excess:.1e} of the largest "
+          "sigma_n)")
+    slipping = (state == 2).sum(axis=1)
+    check(slipping[0] > 0 and slipping[-1] > 0 and slip[-1].max() > slip[0].max(),
+          f"network2d: {slipping[0]} pairs slip under the in-situ stress, {slipping[-1]} after ten days of "
+          f"injection; the largest slip {slip[0].max():.4f} -> {slip[-1].max():.4f} m")
 
 
 check_shipped_network()
