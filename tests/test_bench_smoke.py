@@ -38,6 +38,8 @@ out = bench("mandel.py", "--cells", "[20,2]", *common_options)
 out = bench("builds.py", "--before", BINARY, "--scenes", "default", "--set", "time.end=0.8",
             *common_options)
 check("| default |" in out, "bench/builds.py prints the table of two builds")
+out = bench("network.py", "--faults", "4", "--ranks", "1", "--set", "time.end=86400.0", *common_options)
+check("ratio" in out, "bench/network.py runs a network and its single fracture and prints their ratio")
 out = bench("prototype.py", "--cells", "[20,2]", "--set", "time.end=0.8", *common_options)
 check("python_prototype compare" in out, "prototype.py prints the compare command")
 out = bench("scaling.py", "--cells2", "[20,2]", "--cells3", "[4,2,2]", *common_options)
@@ -54,6 +56,7 @@ expected = {
                     "mechanics_factorizations", "monolithic_factorizations", "active_set_changes",
                     "mechanics_back_solves", "peak_rss_mb", "solve_phase_ms_per_iteration",
                     "iteration_to_solve_ratio"}, 4),
+    "network": ({"case", "ranks", "repetition", "wall_s", "step_s", "unknowns", "faults", "steps"}, 2),
     "mandel": ({"variant", "cells", "dt", "repetition", "wall_s", "pressure_error", "unknowns"}, 2),
     "prototype": ({"cells", "repetition", "cpp_wall_s", "py_wall_s", "cpp_process_wall_s", "py_process_wall_s",
                    "wall_ratio", "agree", "max_relative_difference"}, 1),
