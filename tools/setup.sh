@@ -10,12 +10,7 @@ packages=(
   libtomlplusplus-dev libmuparser-dev libgtest-dev
   gmsh python3-gmsh libgmsh-dev
   python3-numpy python3-h5py python3-matplotlib python3-meshio python3-scipy
-  libopenblas0-serial
 )
-# OpenBLAS replaces Debian's reference BLAS and LAPACK (update-alternatives
-# picks it on install) under the direct solvers' dense kernels and the
-# condensed contact path: 1.2-1.6x on the fault scenes (docs/performance.md).
-# Serial: the MPI ranks and ctest -j2 already fill the cores.
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
