@@ -4,8 +4,6 @@ displacements, foundations and faults leave free to move has no unique
 displacement, and a solve would move it without bound (a block held only
 by a frictionless fault slid 4e10 m). Twin of cpp/domain/pieces.cpp."""
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from ..scene.input import point_text
 from ..scene.scene import SceneError
@@ -14,6 +12,10 @@ from ..scene.scene import SceneError
 def mesh_pieces(mesh):
     """The piece of every node of `mesh` (cells joined by their shared
     nodes), numbered 0, 1, ... in the order of their first cell."""
+    # Imported here: scipy's sparse graphs take 0.1 s to import, which only
+    # a mesh split along faults needs (the prototype's start-up).
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
     nodes, cells = len(mesh.x), np.asarray(mesh.cells)
     first = np.repeat(cells[:, 0], cells.shape[1] - 1)
     graph = coo_matrix((np.ones(first.size), (first, cells[:, 1:].ravel())), shape=(nodes, nodes))
