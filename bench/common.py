@@ -350,6 +350,17 @@ class Recorder:
         print(f"wrote {self.path} ({len(self.rows)} rows, {self.header[self.elapsed_key]} s)")
 
 
+def start_recorder(args, petsc, name, columns, scene):
+    """The machine header of a benchmark of `scene` (what it runs), with the
+    fixed --set values and PETSc options, printed; its Recorder."""
+    header = machine_header(args.binary)
+    header["scene"] = scene
+    header["fixed_sets"] = " ".join(args.sets)
+    header["petsc_options"] = " ".join(petsc)
+    print_header(header)
+    return Recorder(args.out_dir, name, columns, header, args.update)
+
+
 class WorkDir:
     """The directory runs write to: the given one, or a temporary one removed
     on exit unless keep."""

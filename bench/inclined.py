@@ -54,12 +54,9 @@ def main():
     p.add_argument("--paths", default=",".join(PATHS), help=f"comma-separated subset of {','.join(PATHS)}")
     args, petsc = common.parse_arguments(p)
     paths = common.parse_variants(args.paths, PATHS)
-    header = common.machine_header(args.binary)
-    header["scene"] = f"scenes/default.toml on meshes/cantilever.geo (clscale {args.clscale:g}), axis and rotated 30 deg"
-    header["fixed_sets"] = " ".join(args.sets)
-    header["petsc_options"] = " ".join(petsc)
-    common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
+    recorder = common.start_recorder(
+        args, petsc, NAME, COLUMNS,
+        f"scenes/default.toml on meshes/cantilever.geo (clscale {args.clscale:g}), axis and rotated 30 deg")
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         files = scenes(work.path, args.clscale)
         for path in paths:

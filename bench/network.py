@@ -124,12 +124,8 @@ def main():
     p.add_argument("--ranks", default="1,2", help="comma-separated rank counts")
     args, petsc = common.parse_arguments(p)
     ranks = [int(r) for r in args.ranks.split(",")]
-    header = common.machine_header(args.binary)
-    header["scene"] = f"bench/network.py: {args.faults} fractures (seed {args.seed}) against one"
-    header["fixed_sets"] = " ".join(args.sets)
-    header["petsc_options"] = " ".join(petsc)
-    common.print_header(header)
-    recorder = common.Recorder(args.out_dir, NAME, COLUMNS, header, args.update)
+    recorder = common.start_recorder(args, petsc, NAME, COLUMNS,
+                                     f"bench/network.py: {args.faults} fractures (seed {args.seed}) against one")
     with common.WorkDir(args.work_dir, args.keep_runs) as work:
         paths = scenes(work, args, petsc)
         for repetition in range(1, args.repeat + 1):
