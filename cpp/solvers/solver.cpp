@@ -279,8 +279,8 @@ void SolverStage::read(SolverStatistics& s) const
   {
     PetscLogEvent id = 0;
     PetscEventPerfInfo perf{};
-    if (PetscLogEventGetId(event, &id) == 0)
-      check_petsc(PetscLogEventGetPerfInfo(_stage, id, &perf), "a solver's log stage: PetscLogEventGetPerfInfo");
+    check_petsc(PetscLogEventGetId(event, &id), std::string("a solver's log stage: PetscLogEventGetId ") + event);
+    check_petsc(PetscLogEventGetPerfInfo(_stage, id, &perf), "a solver's log stage: PetscLogEventGetPerfInfo");
     return perf;
   };
   const PetscEventPerfInfo setup = info("PCSetUp"), solve = info("KSPSolve");
@@ -323,7 +323,10 @@ LinearSolver::~LinearSolver() { warn_petsc(KSPDestroy(&_ksp), "a linear solver: 
 
 int LinearSolver::solve(Vec x, Vec b)
 {
-  return run([&] { return KSPSolve(_ksp, b, x); });
+  run([&] { return KSPSolve(_ksp, b, x); });
+  PetscInt its = 0;
+  check_solver(KSPGetIterationNumber(_ksp, &its), _prefix, "KSPGetIterationNumber");
+  return static_cast<int>(its);
 }
 
 void LinearSolver::set_up()
@@ -356,7 +359,7 @@ void LinearSolver::solve(Mat X, Mat B)
   }
 }
 
-int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
+void LinearSolver::run(const std::function<PetscErrorCode()>& solve)
 {
   // Set-up first, so that the log keeps factorisation (PCSetUp) and
   // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
@@ -389,9 +392,6 @@ int LinearSolver::run(const std::function<PetscErrorCode()>& solve)
     throw SolverError(system_name(_prefix) + " linear solver failed: " + petsc_error_text(ierr));
   if (reason < 0)
     throw SolverError(system_name(_prefix) + " linear solver failed: " + KSPConvergedReasons[reason]);
-  PetscInt its = 0;
-  check_solver(KSPGetIterationNumber(_ksp, &its), _prefix, "KSPGetIterationNumber");
-  return static_cast<int>(its);
 }
 
 PetscErrorCode LinearSolver::refactorise(const char* package, const std::function<PetscErrorCode()>& solve,

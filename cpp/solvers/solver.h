@@ -241,8 +241,9 @@ public:
   double setup_time = 0;
 
 private:
-  /// Sets up (factorises if needed) and runs `solve`; checks the result.
-  int run(const std::function<PetscErrorCode()>& solve);
+  /// Sets up (factorises if needed) and runs `solve`; throws SolverError
+  /// when either fails or the solve diverged.
+  void run(const std::function<PetscErrorCode()>& solve);
   /// Factorises the operator again with `package` and runs `solve`.
   PetscErrorCode refactorise(const char* package, const std::function<PetscErrorCode()>& solve,
                              KSPConvergedReason& reason);
