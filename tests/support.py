@@ -85,6 +85,20 @@ def written(text, name="scene.toml"):
     return path
 
 
+def compressed(p):
+    """The sides of a rectangle on rollers (left, bottom), pressed by p
+    (Pa) on the right and the top."""
+    return (f"[boundary.left]\ndisplacement = {{ x = 0.0 }}\n[boundary.bottom]\ndisplacement = {{ y = 0.0 }}\n"
+            f"[boundary.right]\ntraction = [{-p!r}, 0.0]\n[boundary.top]\ntraction = [0.0, {-p!r}]\n")
+
+
+def gas_in_rigid_rock(c_f):
+    """[flow] and [coupling] of a gas (compressibility c_f, 1/Pa) in conduit
+    faults through impermeable rock that it does not load (alpha = 0)."""
+    return (f"[flow]\nM = 1.0e10\nc_f = {c_f!r}\nmu_f = 1.0e-5\npermeability = 1.0e-25\ninitial_pressure = 0.0\n"
+            "[coupling]\nalpha = 0.0\ntolerance = 1e-10\nmax_iterations = 50\n")
+
+
 def gmsh_scene(geo, text, dimension=2, end=1.0):
     """A scene of linear elasticity (E = 1e10 Pa, nu = 0.25), steps of 1 s
     to `end`, on the gmsh .geo text `geo` (written beside it as mesh.geo),

@@ -31,8 +31,8 @@ three pairs).
 import os
 
 import numpy as np
-from support import (CROSS_GEO, PLANE_A, PLANE_B, check, fault_fields, gmsh_scene, killed_and_restarted, max_difference,
-                     run_track, summary, written)
+from support import (CROSS_GEO, PLANE_A, PLANE_B, check, compressed, fault_fields, gas_in_rigid_rock, gmsh_scene,
+                     killed_and_restarted, max_difference, run_track, summary, written)
 from test_fault_closure import fault_pressure_difference
 
 GEO = """SetFactory("Built-in");
@@ -59,15 +59,7 @@ normal = [1.0, 0.0]
 normal = [1.0, 0.0]
 {law}
 """
-HYDROSTATIC = """[boundary.left]
-displacement = { x = 0.0 }
-[boundary.bottom]
-displacement = { y = 0.0 }
-[boundary.right]
-traction = [-1.0e6, 0.0]
-[boundary.top]
-traction = [0.0, -1.0e6]
-"""
+HYDROSTATIC = compressed(1.0e6)
 CLAMPED = "".join(f"[boundary.{side}]\ndisplacement = {{ x = 0.0, y = 0.0 }}\n"
                   for side in ("left", "bottom", "right", "top"))
 COUPLED = """[mesh]
@@ -131,28 +123,10 @@ dimension = 2
 [mechanics]
 E = 1.0e10
 nu = 0.25
-[flow]
-M = 1.0e10
-c_f = 1.0e-7
-mu_f = 1.0e-5
-permeability = 1.0e-25
-initial_pressure = 0.0
-[coupling]
-alpha = 0.0
-tolerance = 1e-10
-max_iterations = 50
 [time]
 end = 1.0
 dt = 0.25
-[boundary.left]
-displacement = { x = 0.0 }
-[boundary.bottom]
-displacement = { y = 0.0 }
-[boundary.right]
-traction = [-3.0e6, 0.0]
-[boundary.top]
-traction = [0.0, -3.0e6]
-[well.inj]
+""" + gas_in_rigid_rock(1.0e-7) + compressed(3.0e6) + """[well.inj]
 fault = "crack"
 position = [-0.5, 0.0]
 rate = 2.0e-4

@@ -26,7 +26,8 @@ import os
 
 import h5py
 import numpy as np
-from support import CRACK_GEO, Fields, check, fault_pairs, iterations, max_difference, run_track, written
+from support import (CRACK_GEO, Fields, check, compressed, fault_pairs, gas_in_rigid_rock, iterations,
+                     max_difference, run_track, written)
 
 E, NU, S, A = 1.0e10, 0.25, 3.0e6, 1.0
 E_PRIME = E / (1 - NU ** 2)
@@ -41,28 +42,10 @@ dimension = 2
 [mechanics]
 E = {E}
 nu = {NU}
-[flow]
-M = 1.0e10
-c_f = {C_F}
-mu_f = 1.0e-5
-permeability = 1.0e-25
-initial_pressure = 0.0
-[coupling]
-alpha = 0.0
-tolerance = 1e-10
-max_iterations = 50
 [time]
 end = 1.5
 dt = {DT}
-[boundary.left]
-displacement = {{ x = 0.0 }}
-[boundary.bottom]
-displacement = {{ y = 0.0 }}
-[boundary.right]
-traction = [{-S}, 0.0]
-[boundary.top]
-traction = [0.0, {-S}]
-[fault.crack]
+""" + gas_in_rigid_rock(C_F) + compressed(S) + f"""[fault.crack]
 normal = [{NORMAL[0]!r}, {NORMAL[1]!r}]
 flow = "conduit"
 residual_aperture = {W_R}
