@@ -2,9 +2,11 @@
 prototype: a disc of radius a = 1 m in the plane z = 0 of a cube of 50 radii
 (meshes/sneddon3d.geo), split along it, both faces under the fluid pressure
 p of fault.crack, the cube's faces clamped. The total opening [u].n at the
-centre is within 5 % of 8 (1 - nu^2) p / (pi E) a, and the prototype gives
-the C++ displacement to 1e-10. The pairs are found from the output mesh
-alone (support.fault_pairs). The geometry is meshed once for both tracks,
+centre is within 5 % of 8 (1 - nu^2) p / (pi E) a (C++); on the same
+geometry meshed 1.5x coarser (-6.5 %, within 10 %) the prototype gives the
+C++ displacement to 1e-10 (it takes 2.5x the C++ time on the fine mesh,
+24 s). The pairs are found from the output mesh
+alone (support.fault_pairs). Each mesh is made once for the runs on it,
 by gmsh's HXT algorithm: 1.8 s and about 44,400 nodes, where its default
 Delaunay takes 25 s (21 of them evaluating the .geo's MathEval sizes) for
 56,952. HXT's mesh differs a little from run to run (44,280-44,439 nodes,
@@ -20,6 +22,8 @@ from tools.rotate_mesh import mesh
 E, NU, P, A = 1.0e10, 0.25, 1.0e6, 1.0
 MESH = os.path.join(tempfile.mkdtemp(prefix="penny-"), "sneddon3d.msh")
 mesh(os.path.join(ROOT, "meshes", "sneddon3d.geo"), 3, MESH, algorithm="hxt")
+COARSE = os.path.join(os.path.dirname(MESH), "sneddon3d_coarse.msh")
+mesh(os.path.join(ROOT, "meshes", "sneddon3d.geo"), 3, COARSE, clscale=1.5, algorithm="hxt")
 CLAMPED = "".join(f"[boundary.{side}]\ndisplacement = {{ x = 0.0, y = 0.0, z = 0.0 }}\n"
                   for side in ("left", "right", "front", "back", "bottom", "top"))
 PENNY = f"""[scene]
@@ -38,10 +42,10 @@ dt = 1.0
 pressure = "{P}"
 """ + CLAMPED
 
-runs = {}
-for track in ("C++", "prototype"):
-    out, _ = run_track(track, written(PENNY))
-    runs[track] = out
+def opening_at_centre(track, mesh_file, limit):
+    """Runs the penny on `mesh_file` and checks the opening at the centre
+    within `limit` of Sneddon's; returns the output directory."""
+    out, _ = run_track(track, written(PENNY.replace(MESH, mesh_file)))
     fields = Fields(out)
     t = fields.times("displacement")[-1]
     u = fields.at("displacement", t)
@@ -50,10 +54,14 @@ for track in ("C++", "prototype"):
     opening = u[plus, 2] - u[minus, 2]
     centre = np.argmin(r)
     exact = 8 * (1 - NU ** 2) * P / (math.pi * E) * math.sqrt(A ** 2 - r[centre] ** 2)
-    check(abs(opening[centre] - exact) <= 0.05 * exact,
+    check(abs(opening[centre] - exact) <= limit * exact,
           f"{track}: opening {opening[centre]:.6e} at r = {r[centre]:.4f} vs {exact:.6e} "
-          f"({(opening[centre] - exact) / exact:+.2%}; {len(plus)} pairs)")
+          f"({(opening[centre] - exact) / exact:+.2%}, limit {limit:.0%}; {len(plus)} pairs)")
     check(opening.min() >= 0, f"{track}: no overlap (smallest opening {opening.min():.2e})")
+    return out
 
+
+opening_at_centre("C++", MESH, 0.05)
+runs = {track: opening_at_centre(track, COARSE, 0.10) for track in ("C++", "prototype")}
 differences = max_difference(runs["C++"], runs["prototype"], ["displacement"])
-check(max(differences.values()) <= 1e-10, f"prototype = C++: {differences} (limit 1e-10)")
+check(max(differences.values()) <= 1e-10, f"prototype = C++ on the coarse mesh: {differences} (limit 1e-10)")
