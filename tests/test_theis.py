@@ -14,8 +14,9 @@ solution with that storage (the uniaxial storage of the one-dimensional
 consolidation theory; docs/verification.md, "Theis"). Its limits: G -> inf
 or alpha -> 0 give S back.
 
-Checked on both tracks, flow alone and coupled with the monolithic solve
-(the prototype's to t = 100 s), and with the split (C++, to t = 100 s):
+Checked on both tracks, flow alone (to t = 400 s) and coupled with the
+monolithic solve (to t = 100 s: 100 back-solves of its 79,564 unknowns),
+and with the split (C++, to t = 100 s):
 the pressure at the cell centres within 10 % of radius of 5, 10 and 20 m,
 at t = 100 and 400 s, within 2 % of the closed form (the front is then at about 20 and 40 m; the formation
 is 2000 m wide). The error falls with the mesh size (1.4 % at 20 m and
@@ -111,9 +112,9 @@ for track in TRACKS:
     against_theis(track, "flow alone", scene(False), S, (100.0, 400.0))
 # The prototype's coupled run to t = 100 s only (400 steps took it 41 s of
 # the suite's time): the C++ one goes on to 400 s.
-against_theis("C++", COUPLED + ", monolithic", scene(True), UNIAXIAL, (100.0, 400.0), "coupling.scheme=monolithic")
-against_theis("prototype", COUPLED + ", monolithic", scene(True), UNIAXIAL, (100.0,), "coupling.scheme=monolithic",
-              "time.end=100.0")
+for track in TRACKS:
+    against_theis(track, COUPLED + ", monolithic", scene(True), UNIAXIAL, (100.0,), "coupling.scheme=monolithic",
+                  "time.end=100.0")
 # The split to t = 100 s on the C++ track (test_wells shows the prototype's
 # split equal to the C++ one with a well).
 against_theis("C++", COUPLED + ", fixed-stress split", scene(True), UNIAXIAL, (100.0,), "time.end=100.0")
