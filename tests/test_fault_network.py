@@ -43,13 +43,20 @@ one step: the faults' steady flow.
   1 MPa, C++): 2 ranks give 1 rank's fault pressure, volumes and rates
   through the intersections to 1e-12,
   and the run killed halfway and restarted from its checkpoint ends with
-  the uninterrupted run's (the intersections' volumes in the checkpoint)."""
+  the uninterrupted run's (the intersections' volumes in the checkpoint).
+- The shipped scenes/network3d.toml, whose f2 has edges that cross f1 (a
+  fracture's tip line across another, split by the other alone): both
+  tracks pass `check`; two steps (C++) converge, f1 and f2 balance with
+  their X to 1e-8 of the injected, fluid crosses into f2, every pair is
+  apart or touching and within the Coulomb disc, and more pairs slip
+  after the injection than under the in-situ stress alone."""
 import os
+import subprocess
 
 import h5py
 import numpy as np
-from support import (CROSS_GEO, PLANE_A, PLANE_B, check, fault_centroids, killed_and_restarted, run_track, summary,
-                     written)
+from support import (CROSS_GEO, MPI_ENV, PLANE_A, PLANE_B, ROOT, TRACKS, check, fault_centroids, killed_and_restarted,
+                     run_track, summary, written)
 from support import scene as shipped
 
 MU = 1.0e-3
@@ -283,3 +290,33 @@ def check_shipped_contact(out):
 
 
 check_shipped_network()
+
+
+def check_shipped_network3d():
+    """network3d (two of its steps): f2's edges cross f1 (a tip line across
+    a fault), which both tracks split; the injection into f1 reaches f2
+    through the X and makes more of f1 slip."""
+    for track in TRACKS:
+        p = subprocess.run(TRACKS[track] + ["check", shipped("network3d")], capture_output=True, text=True,
+                           cwd=ROOT, env=MPI_ENV)
+        check(p.returncode == 0, f"{track}: network3d passes check, f2's edges across f1 ({p.stderr.strip()!r})")
+    out, _ = run_track("C++", shipped("network3d"), "time.end=3600.0")
+    s, volumes = summary(out), summary(out)["fault_volumes"]
+    worst = max(abs(v["injected"] + v["exchanged"] + v["intersections"] - v["stored"] - v["outflow"])
+                for v in volumes.values()) / volumes["f1"]["injected"]
+    check(sorted(volumes) == ["f1", "f2"] and worst <= 1e-8 and volumes["f2"]["intersections"] > 0
+          and s["converged"], f"network3d: converged; f1 and f2 balanced to {worst:.1e} (1e-8), "
+          f"{volumes['f2']['intersections']:.3g} m^3 into f2 through the X")
+    with h5py.File(os.path.join(out, "fault.h5")) as f:
+        sigma = np.array([f[f"traction/{t}"][:, 0] for t in ("0", "2")])
+        tau = np.array([np.linalg.norm(f[f"tangential_traction/{t}"][:], axis=1) for t in ("0", "2")])
+        opening = np.array([f[f"opening/{t}"][:, 0] for t in ("0", "2")])
+        slipping = [int((f[f"state/{t}"][:, 0] == 2).sum()) for t in ("0", "2")]
+    excess = np.max(tau - 0.6 * sigma) / sigma.max()
+    check(opening.min() >= -1e-12 and sigma.min() >= 0.0 and excess <= 1e-8 and 0 < slipping[0] < slipping[1],
+          f"network3d: faces apart or touching (opening >= {opening.min():.1e} m), tractions compressive and in "
+          f"the Coulomb disc (excess {excess:.1e}); {slipping[0]} pairs slip under the in-situ stress, "
+          f"{slipping[1]} after an hour of injection")
+
+
+check_shipped_network3d()

@@ -253,16 +253,22 @@ int component_of(const NodeStar& star, std::int64_t cell)
 
 /// Refuses + and - cells of the fault's facets through a split node v
 /// (`facets`) in one component of its star: the hint's side of the fault
-/// flips at v.
+/// flips at v. Where each facet's two cells hold together, v is on the
+/// fault's edge (a tip line that crosses another fault, in 3D), which
+/// another fault split: nothing to check.
 void check_sides(const InputMesh& mesh, const NodeStar& star, const OrientedFault& fault,
                  const std::vector<std::size_t>& facets, std::int64_t v, const std::string& key)
 {
   std::set<int> plus, minus;
+  bool separates = false;
   for (std::size_t k : facets)
   {
     plus.insert(component_of(star, fault.plus_cells[k]));
     minus.insert(component_of(star, fault.minus_cells[k]));
+    separates = separates or component_of(star, fault.plus_cells[k]) != component_of(star, fault.minus_cells[k]);
   }
+  if (!separates)
+    return;
   for (int c : plus)
     if (minus.count(c))
       throw SceneError(key + ": the normal hint orients the fault inconsistently at "

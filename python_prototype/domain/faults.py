@@ -225,10 +225,14 @@ def _neighbours(topology, cell, v, keys):
 def _check_sides(mesh, star, fault, facets, v, key):
     """Refuses + and - cells of the fault's facets through a split node v
     (`facets`) in one component of its star: the hint's side of the fault
-    flips at v."""
+    flips at v. Where each facet's two cells hold together, v is on the
+    fault's edge (a tip line that crosses another fault, in 3D), which
+    another fault split: nothing to check."""
     plus = {star.component_of(fault.plus_cells[k]) for k in facets}
     minus = {star.component_of(fault.minus_cells[k]) for k in facets}
-    if plus & minus:
+    separates = any(star.component_of(fault.plus_cells[k]) != star.component_of(fault.minus_cells[k])
+                    for k in facets)
+    if separates and plus & minus:
         raise SceneError(f"{key}: the normal hint orients the fault inconsistently at "
                          f"{_point_text(_mean_point(mesh, [v]), mesh.dim)} (the fault turns past the hint there: "
                          "give a hint that crosses all of it the same way)")
