@@ -60,6 +60,12 @@ MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CO
                OMPI_MCA_rmaps_base_oversubscribe="1")
 
 
+def mpirun(ranks):
+    """The command that starts `ranks` ranks: mpirun once no other test's
+    mpirun runs (tests/mpirun_alone.py)."""
+    return ["/usr/bin/python3", "-S", os.path.join(ROOT, "tests", "mpirun_alone.py"), "-n", str(ranks)]
+
+
 def scene(name):
     return os.path.join(ROOT, "scenes", name + ".toml")
 
@@ -69,7 +75,7 @@ def run(scene_file, *extra, ranks=1, expect=0, out=None):
     out = out or tempfile.mkdtemp(prefix="biotcontact-test-")
     cmd = [BINARY, "run", scene_file, "--out", out, *extra]
     if ranks > 1:
-        cmd = ["mpirun", "-n", str(ranks)] + cmd
+        cmd = mpirun(ranks) + cmd
     p = subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV, timeout=900)
     if expect is not None and p.returncode != expect:
         sys.exit(f"FAIL: {' '.join(cmd)} exited {p.returncode}, expected {expect}\n"
@@ -300,8 +306,7 @@ def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     and PETSc `options`, on `ranks` MPI ranks, checking its exit status;
     returns (output directory, completed process)."""
     out = tempfile.mkdtemp(prefix="run-")
-    mpirun = ["mpirun", "-n", str(ranks)] if ranks > 1 else []
-    p = subprocess.run([*mpirun, *TRACKS[track], "run", scene_file, "--out", out,
+    p = subprocess.run([*(mpirun(ranks) if ranks > 1 else []), *TRACKS[track], "run", scene_file, "--out", out,
                         *[a for s in sets for a in ("--set", s)], *options],
                        capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
     check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} {' '.join(sets)} exits {expect} "

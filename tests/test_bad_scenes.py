@@ -11,7 +11,7 @@ import subprocess
 import tempfile
 
 from support import (BINARY, MPI_ENV, ROOT, check, crack_scenes, fault_group_scenes, flow_crack_scene,
-                     foundation_fault_scene, scene)
+                     foundation_fault_scene, mpirun, scene)
 
 DEFAULT = scene("default")
 with open(DEFAULT) as f:
@@ -412,7 +412,7 @@ for label, path, arguments, key, commands in CASES:
             if command == "run" and "--out" not in arguments:
                 args += ["--out", out]
             if ranks > 1:
-                args = ["mpirun", "-n", str(ranks)] + args
+                args = mpirun(ranks) + args
             p = subprocess.run(args, capture_output=True, text=True, timeout=120, env=MPI_ENV)
             ours = [line for line in p.stderr.strip().splitlines() if line.startswith("biotcontact")]
             where = f"{label} ({command}{', 2 ranks' if ranks > 1 else ''})"

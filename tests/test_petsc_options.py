@@ -8,7 +8,7 @@ condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve).
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, run, run_track, scene, summary
+from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, mpirun, run, run_track, scene, summary
 
 direct = summary(run(scene("terzaghi"))[0])
 iterative = summary(run(scene("terzaghi"), "-flow_pc_type", "ilu", "-flow_ksp_rtol", "1e-12")[0])
@@ -41,7 +41,7 @@ default, _ = run(scene("default"), *SUPERLU)
 for track, command in (("C++", [BINARY]), ("prototype", PROTOTYPE)):
     for ranks in (1, 2):
         out = tempfile.mkdtemp()
-        p = subprocess.run(["mpirun", "-n", str(ranks), *command, "run", scene("default"), "--out", out, *SUPERLU,
+        p = subprocess.run([*mpirun(ranks), *command, "run", scene("default"), "--out", out, *SUPERLU,
                             "-mechanics_pc_factor_mat_solver_type", "superlu_dist"],
                            capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=300)
         c = subprocess.run(PROTOTYPE + ["compare", default, out], capture_output=True, text=True, cwd=ROOT)

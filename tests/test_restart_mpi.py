@@ -19,7 +19,7 @@ import sys
 import tempfile
 import time
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, scene
+from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, mpirun, scene
 
 sys.path.insert(0, ROOT)
 from python_prototype.output.compare import compare  # noqa: E402
@@ -32,7 +32,7 @@ TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 
 def command(track, ranks, scene_file, *arguments):
     cmd = [*TRACKS[track], "run", scene_file, *arguments]
-    return ["mpirun", "-n", str(ranks)] + cmd if ranks > 1 else cmd
+    return mpirun(ranks) + cmd if ranks > 1 else cmd
 
 
 def execute(track, ranks, scene_file, *arguments):
