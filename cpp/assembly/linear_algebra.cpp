@@ -98,9 +98,41 @@ void finish_rhs(la::Vector<double>& b, std::shared_ptr<const fem::Form<double>> 
     fem::set_bc(b.mutable_array(), bcs);
 }
 
+namespace
+{
+/// PETSc duplicates a communicator for its objects and frees the duplicate
+/// with the last object on it: a Vec made and destroyed each coupling
+/// iteration would duplicate `comm` each time (a collective set-up, a third
+/// of a small run's time). One reference is kept for the life of `comm`,
+/// marked by an attribute of our own so that it is taken once.
+void keep_petsc_comm(MPI_Comm comm)
+{
+  static int kept = MPI_KEYVAL_INVALID;
+  if (kept == MPI_KEYVAL_INVALID)
+    MPI_Comm_create_keyval(MPI_COMM_NULL_COPY_FN, MPI_COMM_NULL_DELETE_FN, &kept, nullptr);
+  int found = 0;
+  void* value = nullptr;
+  MPI_Comm_get_attr(comm, kept, &value, &found);
+  if (found)
+    return;
+  MPI_Comm inner;
+  check_petsc(PetscCommDuplicate(comm, &inner, nullptr), "wrapping a vector: PetscCommDuplicate");
+  MPI_Comm_set_attr(comm, kept, nullptr);
+}
+} // namespace
+
 la::petsc::Vector wrap(la::Vector<double>& x)
 {
-  return la::petsc::Vector(la::petsc::create_vector_wrap(x), false);
+  // Owned entries only: no ghost scatter to build (the products, norms and
+  // solves on a wrap never read ghosts).
+  const common::IndexMap& map = *x.map();
+  const int bs = x.bs();
+  keep_petsc_comm(map.comm());
+  Vec v;
+  check_petsc(VecCreateMPIWithArray(map.comm(), bs, bs * map.size_local(), bs * map.size_global(),
+                                    x.mutable_array().data(), &v),
+              "wrapping a vector: VecCreateMPIWithArray");
+  return la::petsc::Vector(v, false);
 }
 
 MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std::int32_t>& position)
