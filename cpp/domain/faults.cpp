@@ -342,7 +342,8 @@ private:
   }
 
   /// Fault f's pairs at v (its facets' + and - nodes where they differ), or
-  /// v as its tip; the other faults through v as the ones it meets.
+  /// v as its tip (each copy of v on f where other faults split v: a rim
+  /// crossing another fault); the other faults through v as the ones it meets.
   void add_pairs(const NodeStar& star, const std::vector<std::int64_t>& node_of,
                  const std::pair<std::size_t, const std::vector<std::size_t>&>& fault, std::int64_t v,
                  const std::map<std::size_t, std::vector<std::size_t>>& by_fault)
@@ -358,8 +359,14 @@ private:
           and std::find(result.pairs.begin() + before, result.pairs.end(), pair) == result.pairs.end())
         result.pairs.push_back(pair);
     }
+    const std::size_t tips = result.tips.size();
     if (result.pairs.size() == before)
-      result.tips.push_back(v);
+      for (std::size_t k : facets)
+      {
+        const std::int64_t tip = node_of[component_of(star, _faults[f].plus_cells[k])];
+        if (std::find(result.tips.begin() + tips, result.tips.end(), tip) == result.tips.end())
+          result.tips.push_back(tip);
+      }
     for (const auto& [g, unused] : by_fault)
       if (g != f)
         result.meets.emplace_back(v, g);
@@ -450,6 +457,7 @@ std::vector<SplitFault> split_along_faults(InputMesh& mesh, const std::vector<Fa
     fault_faces(mesh, topology, oriented[f], split[f]);
     for (std::size_t facet : oriented[f].facets)
       on_fault[facet] = true;
+    std::sort(split[f].tips.begin(), split[f].tips.end()); // a tip's copies come after the input's nodes
   }
   renumber_facets(mesh, topology, on_fault);
   return split;

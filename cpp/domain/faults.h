@@ -50,7 +50,8 @@ struct SplitFault
   // per node pair: (its index on the + side, its index on the - side), in
   // increasing order of the input node they come from
   std::vector<std::pair<std::int64_t, std::int64_t>> pairs;
-  // the fault nodes kept shared (the fault's edges inside the body), sorted
+  // the fault nodes kept shared (the fault's edges inside the body; where
+  // another fault splits such a node, each copy on this fault), sorted
   std::vector<std::int64_t> tips;
   // (input node, the other fault's index) where this fault crosses, ends on
   // or is ended on by another, in increasing node order

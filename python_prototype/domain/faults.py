@@ -49,7 +49,8 @@ class SplitFault:
     # (doubled nodes, 2): (its index on the + side, its index on the - side),
     # in increasing order of the - side's (the input) index
     pairs: np.ndarray
-    tips: np.ndarray  # the fault nodes kept shared (the fault's edges inside the body), sorted
+    tips: np.ndarray  # the fault nodes kept shared (the fault's edges inside the body; each copy of one
+    #                   another fault splits), sorted
     # (intersections, 2): (input node, the other fault's index) where this fault
     # crosses, ends on or is ended on by another, in increasing node order
     meets: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
@@ -287,8 +288,8 @@ class _Splitter:
                 if pair[0] != pair[1] and pair not in pairs:
                     pairs.append(pair)
             split[f].pairs += pairs
-            if not pairs:
-                split[f].tips.append(v)
+            if not pairs:  # a tip: each copy of v on f (a rim crossing another fault)
+                split[f].tips += sorted({node_of[star.component_of(faults[f].plus_cells[k])] for k in facets})
             split[f].meets += [(v, g) for g in by_fault if g != f]
 
 
@@ -362,6 +363,6 @@ def split_along_faults(mesh, faults, key_prefix):
     return [SplitFault(s.name, np.array(s.plus_facets, dtype=np.int64).reshape(-1, d),
                        np.array(s.minus_facets, dtype=np.int64).reshape(-1, d),
                        np.array(s.normals, dtype=np.float64).reshape(-1, 3),
-                       np.array(s.pairs, dtype=np.int64).reshape(-1, 2), np.array(s.tips, dtype=np.int64),
+                       np.array(s.pairs, dtype=np.int64).reshape(-1, 2), np.array(sorted(s.tips), dtype=np.int64),
                        np.array(s.meets, dtype=np.int64).reshape(-1, 2))
             for s in split]

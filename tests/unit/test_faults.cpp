@@ -121,6 +121,21 @@ Facets patch(int lo, int hi)
   return facets;
 }
 
+/// The triangles of the plane x = 2 over [lo, hi]^2 in (y, z), two per
+/// square, as the box's tetrahedra have them.
+Facets wall(int lo, int hi)
+{
+  Facets facets;
+  for (int k = lo; k < hi; ++k)
+    for (int j = lo; j < hi; ++j)
+    {
+      const std::int64_t v = node(2, j, k);
+      facets.push_back({v, v + node(0, 1), v + node(0, 1, 1)});
+      facets.push_back({v, v + node(0, 0, 1), v + node(0, 1, 1)});
+    }
+  return facets;
+}
+
 /// The facets of a polyline through the square's nodes (i, j).
 Facets segment(const std::vector<std::pair<int, int>>& points)
 {
@@ -475,6 +490,32 @@ TEST(FaultIntersections, AFaultEndingOnAnother)
 // The network of the faults' cells (domain/fault_cells.h, fault_network):
 // where faults meet, the cells with an edge there are one junction's
 // members, and a link of one fault there joins the junction.
+// In 3D a fault's rim may cross another fault: the wall x = 2 over
+// [1, 3]^2 in (y, z) crosses the plane z = 2 that cuts the box, and its rim
+// edges y = 1 and y = 3 cross the plane at (2, 1, 2) and (2, 3, 2). There
+// the wall's sides stay joined on each side of the plane (two copies, the
+// plane's); the wall's centre (2, 2, 2) gets one copy per sector (4).
+TEST(FaultIntersections, ARimCrossingAnotherFault)
+{
+  InputMesh mesh = box({{"plane", patch(0, 4)}, {"wall", wall(1, 3)}});
+  const std::vector<SplitFault> faults = split(mesh, {{"plane", {0, 0, 1}}, {"wall", {1, 0, 0}}});
+  ASSERT_EQ(faults.size(), 2u);
+  EXPECT_EQ(mesh.x.size(), (125u + 25u + 2u) * 3);
+  EXPECT_EQ(pieces(mesh), 2);
+  EXPECT_NEAR(volume(mesh), 64.0, 1e-12);
+  const SplitFault& w = faults[1];
+  EXPECT_EQ(w.pairs.size(), 2u); // (2, 2, 2) above and below the plane
+  EXPECT_EQ(w.tips.size(), 8u + 2u); // the rim, and the plane's copies where it crosses
+  EXPECT_TRUE(std::is_sorted(w.tips.begin(), w.tips.end()));
+  std::set<std::array<double, 3>> rim;
+  for (std::int64_t v : w.tips)
+    rim.insert(point(mesh, v));
+  EXPECT_EQ(rim, (std::set<std::array<double, 3>>{
+                     {2, 1, 1}, {2, 2, 1}, {2, 3, 1}, {2, 1, 2}, {2, 3, 2}, {2, 1, 3}, {2, 2, 3}, {2, 3, 3}}));
+  for (const SplitFault& f : faults)
+    check_split(mesh, f);
+}
+
 TEST(FaultNetwork, CrossingFaultsMeetAtOneJunctionOfFourCells)
 {
   InputMesh mesh = square({{"h", segment({{1, 2}, {2, 2}, {3, 2}})}, {"v", segment({{2, 1}, {2, 2}, {2, 3}})}});

@@ -81,6 +81,17 @@ def patch(lo, hi):
     return facets
 
 
+def wall(lo, hi):
+    """The triangles of the plane x = 2 over [lo, hi]^2 in (y, z), two per
+    square, as the box's tetrahedra have them."""
+    facets = []
+    for k in range(lo, hi):
+        for j in range(lo, hi):
+            v = node(2, j, k)
+            facets += [(v, v + node(0, 1), v + node(0, 1, 1)), (v, v + node(0, 0, 1), v + node(0, 1, 1))]
+    return facets
+
+
 def input_mesh(d, x, cells, groups):
     facets, group = [], []
     for g, name in enumerate(groups):
@@ -312,6 +323,26 @@ class Intersections(unittest.TestCase):
         np.testing.assert_array_equal(t.tips, [node(2, 3)])
         np.testing.assert_array_equal(h.meets, [[12, 1]])
         np.testing.assert_array_equal(t.meets, [[12, 0]])
+
+    def test_a_rim_crossing_another_fault(self):
+        # In 3D a fault's rim may cross another fault: the wall x = 2 over
+        # [1, 3]^2 in (y, z) crosses the plane z = 2 that cuts the box, and
+        # its rim edges y = 1 and y = 3 cross the plane at (2, 1, 2) and
+        # (2, 3, 2). There the wall's sides stay joined on each side of the
+        # plane (two copies, the plane's); the wall's centre (2, 2, 2) gets
+        # one copy per sector (4).
+        mesh = box({"plane": patch(0, 4), "wall": wall(1, 3)})
+        faults = split_along_faults(mesh, [FaultRequest("plane", (0.0, 0.0, 1.0)),
+                                           FaultRequest("wall", (1.0, 0.0, 0.0))], PREFIX)
+        self.assertEqual(len(mesh.x), 125 + 25 + 2)
+        self.assertEqual(pieces(mesh), 2)
+        self.assertAlmostEqual(volume(mesh), 64.0, delta=1e-12)
+        self.assertEqual(len(faults[1].pairs), 2)  # (2, 2, 2) above and below the plane
+        self.assertEqual(len(faults[1].tips), 8 + 2)  # the rim, and the plane's copies where it crosses
+        self.assertEqual({tuple(mesh.x[v]) for v in faults[1].tips},
+                         {(2, 1, 1), (2, 2, 1), (2, 3, 1), (2, 1, 2), (2, 3, 2), (2, 1, 3), (2, 2, 3), (2, 3, 3)})
+        for fault in faults:
+            check_split(self, mesh, fault)
 
 
 class Network(unittest.TestCase):
