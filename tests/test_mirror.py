@@ -133,6 +133,11 @@ DIFFERENCES = {
         "FacetFlux": "C++ only: the type of facet_flux's result, a function of the facets; Python's closures "
                      "need no type",
     },
+    "assembly/fault_flow_volumes": {
+        "ConduitVolumes": "Python only: the volume bookkeeping of ConduitFaults as its base class, whose methods "
+                          "read the faults' cells, faces, wells and junctions; in C++ those members of "
+                          "ConduitFaults are defined in fault_flow_volumes.cpp",
+    },
     "assembly/forms": {
         "CompiledForms": "C++ only: the forms of forms/biot.py compiled by FFCx at build time, for one cell "
                          "type; the prototype compiles them at run time (Forms, dolfinx's JIT)",
@@ -183,7 +188,7 @@ DIFFERENCES = {
         "set_constants": "Python only: sets the values of the Constants biot.build created (in Forms); C++ "
                          "creates its own with make_constants",
     },
-    "output/checkpoint": {
+    "output/keyed_values": {
         "KeyedValues": "C++ only: a field's keys (`width` per entry) and values in flat vectors; Python returns "
                        "(keys, values) as two numpy arrays, the keys' width their second dimension",
     },

@@ -13,6 +13,8 @@
 #pragma once
 
 #include "assembly/boundary_conditions.h"
+#include "assembly/fault_compliance.h"
+#include "assembly/fault_volumes.h"
 #include "domain/domain.h"
 #include "scene/scene.h"
 
@@ -45,32 +47,6 @@ constexpr double open_fraction = 1e-6;
 /// a fault").
 constexpr double relaxed_above = 0.9;
 
-/// The smallest plane-strain modulus E' = E/(1 - nu^2) of the scene's
-/// materials (the softest rock).
-double softest_modulus(const Scene& scene);
-
-/// The mean opening per unit pressure of an open patch of measure `size`
-/// (its length in 2D, its area in 3D) in an infinite body of plane-strain
-/// modulus E': Sneddon's pi a/E' for a 2D crack of half-length a = size/2,
-/// 16 a/(3 pi E') for a penny of radius a (area pi a^2) in 3D; the
-/// fault's fixed-stress L_f of the patch's cells.
-double patch_compliance(double size, double modulus, int dim);
-
-/// Barton-Bandis: the closure's share of a closed fault's hydraulic
-/// aperture at the effective normal stress s_n (>= 0 pressing; 0 below),
-/// V_m - V_m s_n/(K_ni V_m + s_n): V_m at s_n = 0, falling to 0 as s_n
-/// grows.
-double closure_aperture(const ClosureSpec& closure, double s_n);
-
-/// The closure's compliance, minus the derivative of closure_aperture in
-/// s_n, K_ni V_m^2/(K_ni V_m + s_n)^2 (m/Pa): the fault's fixed-stress L_f
-/// of a closed cell, whose s_n falls as much as its p_f rises.
-double closure_compliance(const ClosureSpec& closure, double s_n);
-
-/// The open patches of a fault: per cell the index of the patch of open
-/// cells joined by `links` that holds it, -1 where the cell is closed.
-std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open);
-
 /// @brief Fine step m (1..q) of a window of q flow steps, ending at t,
 /// of length dt: with the mechanics once per window, each fine step takes
 /// 1/q of the window's change of aperture, as the rock's flow takes
@@ -81,56 +57,6 @@ struct FineStep
   double t = 0, dt = 0;
   int m = 1, q = 1;
 };
-
-/// @brief A conduit fault's fluid volumes since the run's start (m^3; m^2
-/// per metre of thickness in 2D): injected by its wells, stored (the
-/// volume its opening made and its fluid's compression), exchanged (from
-/// the rock through its faces), out of its ends on pressure boundaries and
-/// in from the other conduit faults where they meet (intersections). Step by
-/// step, injected + exchanged + intersections = stored + outflow.
-struct FaultVolumes
-{
-  double injected = 0, stored = 0, exchanged = 0, outflow = 0, intersections = 0;
-};
-
-/// @brief A fault's volumes of one step (net); the sum of the magnitudes
-/// of every face's, well's, cell's and end's term in them (gross); the
-/// fluid it holds at the step's end (held, sum of w_h |k|); and dt sum
-/// |c_i| over its faces (faces: times the rock's largest flux DOF, the
-/// exchange the rock's round-off can make).
-struct StepVolumes
-{
-  FaultVolumes net;
-  double gross = 0, held = 0, faces = 0;
-};
-
-/// @brief Where a set of conduit faults meets (their junctions of
-/// fault_network: a point in 2D, a line's edges in 3D): the faults, in the
-/// scene's order, the number of junctions and the volume rate through them
-/// at the last accepted step's end (m^3/s; m^2/s per metre of thickness in
-/// 2D), at each junction the sum of its members' flows into it (which the
-/// flows out of it equal).
-struct IntersectionRate
-{
-  std::vector<std::string> faults;
-  std::size_t junctions = 0;
-  double rate = 0;
-};
-
-/// How far an accepted step may leave a fault's volumes unbalanced
-/// (volume_imbalance). Converged runs measure up to 6e-6 (the 3D closure
-/// box with its flow solved by the Krylov method, whose tolerance is
-/// relative to a load inflated by the held ends); the wrong answers this
-/// stops, 1e-4 and more (docs/theory.md, "Converged means balanced").
-constexpr double volume_balance_tolerance = 1e-5;
-
-/// The imbalance |injected + exchanged - stored - outflow| of `step`
-/// relative to the largest of `total` (the fault's volumes since the
-/// start, the step included), the step's gross volume, 1e-6 of the fluid
-/// the fault holds and 1e-8 of step.faces times `rock_flux`, the rock's
-/// largest flux DOF (at the tolerance, 1e-11 and 1e-13 of them: round-off):
-/// 0 when nothing moved.
-double volume_imbalance(const StepVolumes& step, const FaultVolumes& total, double rock_flux);
 
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns on

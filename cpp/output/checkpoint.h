@@ -4,15 +4,15 @@
 // in the same files and ends as the uninterrupted run would.
 //
 // The state does not depend on the partition: every unknown is stored under
-// a name taken from the mesh's input numbering (see KeyedValues), so that a
+// a name taken from the mesh's input numbering (output/keyed_values.h), so that a
 // run may be restarted on any partition and any number of ranks. A restart
 // needs the same scene (compared by its fingerprint: the file's text and the
 // --set overrides) and a mesh that holds every stored name; otherwise it is
 // refused in one line. The files and how one replaces the last: write_checkpoint.
 #pragma once
 
-#include "assembly/linear_algebra.h"
 #include "coupling/scheme.h"
+#include "output/keyed_values.h"
 
 #include <cstdint>
 #include <dolfinx/mesh/Mesh.h>
@@ -24,23 +24,6 @@
 
 namespace biotcontact
 {
-
-/// @brief The owned entries of one field, each under a name that no
-/// partition changes.
-///
-/// A DOF is named by the mesh entity it sits on, written as the input
-/// indices of the entity's vertices in ascending order (a vertex: its input
-/// index times the block size plus the component; a facet: its d vertices;
-/// a cell: its input cell index). A flux DOF is the flux through its facet
-/// along the normal of that vertex order; dolfinx orients a facet by the
-/// partition's global vertex numbering, so the value is turned by the
-/// parity of the permutation between the two orders.
-struct KeyedValues
-{
-  int width = 1;                  // int64 per name
-  std::vector<std::int64_t> keys; // width per entry
-  std::vector<double> values;
-};
 
 struct Checkpoint
 {
@@ -74,26 +57,6 @@ Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const
 /// the layout before names (flow, mechanics, monolithic, second pass), are
 /// both read.
 void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory);
-
-/// The owned entries of `part` in `unknowns` with their names.
-KeyedValues keyed_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part,
-                         std::span<const double> unknowns);
-
-/// Sets the local entries (owned and ghost) of `part` in `unknowns` from the
-/// stored `values` of every rank; returns how many owned ones were not found.
-std::int64_t restore_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part, const KeyedValues& values,
-                            std::span<double> unknowns);
-
-/// A partition-independent signature of the mesh: its global numbers of
-/// nodes and cells and a weighted sum of the node coordinates by input
-/// index. A checkpoint keeps it, so that a mesh whose nodes moved or whose
-/// size changed under the same scene text is refused (collective).
-std::vector<double> mesh_signature(const dolfinx::mesh::Mesh& mesh);
-
-/// How the mesh of signature `current` differs from the `stored` one, in
-/// words; empty when they are the same (counts equal, the sums to
-/// round-off: ranks add in another order).
-std::string mesh_difference(const std::vector<double>& stored, const std::vector<double>& current);
 
 /// Writes the checkpoint of a run into `directory` (collective); throws
 /// OutputError on every rank when a file could not be written, leaving the

@@ -10,7 +10,6 @@ rock's unknowns, on the last rank. Per cell k, the mass balance times -1
 w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
 cubic law's two-point transmissibility, c_i the faces' facet fluxes, L_k =
 L_f |k| the fixed-stress term (_set_compliance). The operator stays symmetric."""
-import collections
 import dataclasses
 
 import numpy as np
@@ -19,73 +18,9 @@ from petsc4py import PETSc
 from ..domain.fault_cells import fault_network, well_cells
 from ..scene.input import FaultFlow
 from .boundary_conditions import fault_face_rows
-
-
-@dataclasses.dataclass
-class IntersectionRate:
-    """Where a set of conduit faults meets (their junctions of
-    fault_network: a point in 2D, a line's edges in 3D): the faults, in the
-    scene's order, the number of junctions and the volume rate through them
-    at the last accepted step's end (m^3/s; m^2/s per metre of thickness in
-    2D), at each junction the sum of its members' flows into it (which the
-    flows out of it equal)."""
-    faults: list
-    junctions: int = 0
-    rate: float = 0.0
-
-
-@dataclasses.dataclass
-class FaultVolumes:
-    """A conduit fault's fluid volumes since the run's start (m^3; m^2 per
-    metre of thickness in 2D): injected by its wells, stored (the volume its
-    opening made and its fluid's compression), exchanged (from the rock
-    through its faces), out of its ends on pressure boundaries and in from the
-    other conduit faults where they meet (intersections). Step by step,
-    injected + exchanged + intersections = stored + outflow."""
-    injected: float = 0.0
-    stored: float = 0.0
-    exchanged: float = 0.0
-    outflow: float = 0.0
-    intersections: float = 0.0
-
-
-@dataclasses.dataclass
-class StepVolumes:
-    """A fault's volumes of one step (net, FaultVolumes); the sum of the
-    magnitudes of every face's, well's, cell's and end's term in them
-    (gross); the fluid it holds at the step's end (held, sum of
-    w_h |k|); and dt sum |c_i| over its faces (faces: times the rock's
-    largest flux DOF, the exchange the rock's round-off can make)."""
-    net: FaultVolumes = dataclasses.field(default_factory=FaultVolumes)
-    gross: float = 0.0
-    held: float = 0.0
-    faces: float = 0.0
-
-
-# How far an accepted step may leave a fault's volumes unbalanced
-# (volume_imbalance). Converged runs measure up to 6e-6 (the 3D closure box
-# with its flow solved by the Krylov method, whose tolerance is relative to
-# a load inflated by the held ends); the wrong answers this stops, 1e-4 and
-# more (docs/theory.md, "Converged means balanced").
-VOLUME_BALANCE_TOLERANCE = 1e-5
-
-
-def volume_imbalance(step, total, rock_flux):
-    """The imbalance |injected + exchanged - stored - outflow| of StepVolumes
-    `step` relative to the largest of `total` (the fault's volumes since
-    the start, the step included), the step's gross volume, 1e-6 of the
-    fluid the fault holds and 1e-8 of step.faces times `rock_flux`, the
-    rock's largest flux DOF (at the tolerance, 1e-11 and 1e-13 of them:
-    round-off): 0 when nothing moved."""
-    scale = max(abs(total.injected), abs(total.stored), abs(total.exchanged), abs(total.outflow),
-                abs(total.intersections), step.gross,
-                1e-6 * step.held, 1e-8 * step.faces * rock_flux)
-    v = step.net
-    imbalance = abs(v.injected + v.exchanged + v.intersections - v.stored - v.outflow)
-    if imbalance == 0:
-        return 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return float(np.float64(imbalance) / np.float64(scale))  # NaN or inf when a volume is
+from .fault_compliance import closure_aperture, closure_compliance, open_patches, patch_compliance, softest_modulus
+from .fault_flow_volumes import ConduitVolumes
+from .fault_volumes import FaultVolumes
 
 
 @dataclasses.dataclass
@@ -137,60 +72,6 @@ OPEN_FRACTION = 1e-6
 RELAXED_ABOVE = 0.9
 
 
-def softest_modulus(scene):
-    """The smallest plane-strain modulus E' = E/(1 - nu^2) of the scene's
-    materials (the softest rock)."""
-    def modulus(m):  # E' = 4 G (lambda + G)/(lambda + 2 G)
-        return 4 * m.G * (m.lmbda + m.G) / (m.lmbda + 2 * m.G)
-    return min([modulus(scene.mechanics)] + [modulus(r.mechanics) for r in scene.regions.values() if r.mechanics])
-
-
-def patch_compliance(size, modulus, dim):
-    """The mean opening per unit pressure of an open patch of measure `size`
-    (its length in 2D, its area in 3D) in an infinite body of plane-strain
-    modulus E': Sneddon's pi a/E' for a 2D crack of half-length a = size/2,
-    16 a/(3 pi E') for a penny of radius a (area pi a^2) in 3D; the fault's
-    fixed-stress L_f of the patch's cells."""
-    return np.pi * (size / 2) / modulus if dim == 2 else 16 * np.sqrt(size / np.pi) / (3 * np.pi * modulus)
-
-
-def closure_aperture(closure, s_n):
-    """Barton-Bandis: the closure's share of a closed fault's hydraulic
-    aperture at the effective normal stress s_n (>= 0 pressing; 0 below),
-    V_m - V_m s_n/(K_ni V_m + s_n): V_m at s_n = 0, falling to 0 as s_n
-    grows."""
-    # V_m - V_m s/(K_ni V_m + s) written without the cancellation at large s.
-    stiffness = closure.K_ni * closure.V_m
-    return closure.V_m * stiffness / (stiffness + np.maximum(s_n, 0.0))
-
-
-def closure_compliance(closure, s_n):
-    """The closure's compliance, minus the derivative of closure_aperture in
-    s_n, K_ni V_m^2/(K_ni V_m + s_n)^2 (m/Pa): the fault's fixed-stress L_f
-    of a closed cell, whose s_n falls as much as its p_f rises."""
-    stiffness = closure.K_ni * closure.V_m + np.maximum(s_n, 0.0)
-    return closure.K_ni * closure.V_m * closure.V_m / (stiffness * stiffness)
-
-
-def open_patches(links, is_open):
-    """The open patches of a fault: per cell the index of the patch of open
-    cells joined by `links` that holds it, -1 where the cell is closed."""
-    parent = np.arange(len(is_open))
-
-    def root(k):
-        while parent[k] != k:
-            parent[k] = parent[parent[k]]
-            k = parent[k]
-        return k
-    for k, l in links.cells.tolist():
-        if is_open[k] and is_open[l]:
-            parent[root(k)] = root(l)
-    patch, number = np.full(len(is_open), -1), {}
-    for k in np.flatnonzero(is_open):
-        patch[k] = number.setdefault(root(k), len(number))
-    return patch
-
-
 def transmissibilities(t, edges):
     """The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
     FaultEdges `edges` (t: per cell, the cubic law's w_h^3 / (12 mu_f)): |e|
@@ -199,7 +80,7 @@ def transmissibilities(t, edges):
     return edges.measures / np.sum(edges.distances / t[edges.cells], axis=1)
 
 
-class ConduitFaults:
+class ConduitFaults(ConduitVolumes):
     """The conduit faults of a scene: their cells, numbered fault by fault
     in the scene's order, appended after the flow system's unknowns on the
     last rank (a fault holds few facets); the faces' flux DOFs on the ranks
@@ -569,114 +450,6 @@ class ConduitFaults:
             values[cells, 2] /= conduit.cells.measures
             values[cells, 3:] = self._mean_flux(conduit, p, junction_links, t)
         return values
-
-    def step_volumes(self, w, p, p_old, fine):
-        """Each fault's StepVolumes of FineStep `fine` (every rank): `w` the
-        flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
-        its end and start (the last rank's; collective)."""
-        t, dt = fine.t, fine.dt
-        # Per fault: injected, stored, exchanged, outflow of the step, gross,
-        # held and faces; the faces on every rank, the rest on the last.
-        # The intersections in the 8th column.
-        step = np.zeros((len(self.faults), 8))
-
-        def add(i, column, v):
-            step[i, column] += np.sum(v)
-            step[i, 4] += np.sum(np.abs(v))
-        index = {id(conduit): i for i, conduit in enumerate(self.faults)}
-        for dof, conduit, _, c in self.faces:
-            add(index[id(conduit)], 2, dt * c * w[dof - self.start])
-            step[index[id(conduit)], 6] += dt * abs(c)
-        for _, share, rate, i in self.wells if self.owned else []:
-            add(i, 0, dt * share * float(rate(0, 0, 0, t)))
-        for i, conduit in enumerate(self.faults if self.owned else []):
-            cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            add(i, 1, cells.measures * (conduit.aperture - conduit.aperture_start) / fine.q
-                + self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_old[o:o + n]))
-            step[i, 5] = np.sum(cells.measures * conduit.aperture)
-            held, T_e = self._held_ends(conduit)
-            add(i, 3, dt * T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
-        for (a, b), (fa, fb), T_ab, _, _ in self._junction_links() if self.owned else []:
-            if fa != fb:  # from the first member's fault into the second's
-                V = dt * T_ab * (p[a] - p[b])
-                add(fa, 7, -V)
-                add(fb, 7, V)
-        return [StepVolumes(FaultVolumes(*(float(x) for x in row[[0, 1, 2, 3, 7]])), *(float(x) for x in row[4:7]))
-                for row in self.comm.allreduce(step)]
-
-    def unbalanced(self, step, rock_flux):
-        """The first fault that `step` (step_volumes) leaves unbalanced by
-        more than VOLUME_BALANCE_TOLERANCE (volume_imbalance, `rock_flux`
-        the rock's largest flux DOF): one line naming it and the imbalance;
-        empty when every fault balances."""
-        for conduit, volumes in zip(self.faults, step):
-            v, s = conduit.volumes, volumes.net
-            total = FaultVolumes(v.injected + s.injected, v.stored + s.stored, v.exchanged + s.exchanged,
-                                 v.outflow + s.outflow, v.intersections + s.intersections)
-            imbalance = volume_imbalance(volumes, total, rock_flux)
-            if not imbalance <= VOLUME_BALANCE_TOLERANCE:  # NaN too
-                network = bool(self.junctions)
-                return (f"fault.{conduit.name}: its volumes do not balance: injected + exchanged"
-                        f"{' + intersections' if network else ''} - stored - outflow = "
-                        f"{s.injected + s.exchanged + s.intersections - s.stored - s.outflow:g} in the step (injected "
-                        f"{s.injected:g}, exchanged {s.exchanged:g}"
-                        f"{f', intersections {s.intersections:g}' if network else ''}, stored {s.stored:g}, outflow "
-                        f"{s.outflow:g}), {imbalance:g} of the volumes, more than {VOLUME_BALANCE_TOLERANCE:g}")
-        return ""
-
-    def add_volumes(self, step, fine):
-        """Adds the accepted fine step's volumes (step_volumes) to each
-        fault's. After a window's last fine step its apertures become the
-        next window's start."""
-        for conduit, volumes in zip(self.faults, step):
-            v, s = conduit.volumes, volumes.net
-            v.injected, v.stored, v.exchanged, v.outflow = (v.injected + s.injected, v.stored + s.stored,
-                                                             v.exchanged + s.exchanged, v.outflow + s.outflow)
-            v.intersections += s.intersections
-            if fine.m == fine.q:
-                conduit.aperture_start = conduit.aperture.copy()
-
-    def set_intersection_rates(self, p):
-        """Sets each intersection's rate from `p`, the faults' pressure at an
-        accepted step's end (the last rank's; collective): each member's net
-        flow into the junction, sum_b T_ab (p_a - p_b) over its links there;
-        the positive ones summed are what passes through."""
-        if not self.junctions:  # the same on every rank
-            return
-        into = collections.defaultdict(float)  # (junction, row)
-        for (a, b), _, T_ab, _, j in self._junction_links() if self.owned else []:
-            q = T_ab * (p[a] - p[b])
-            into[j, a] += q
-            into[j, b] -= q
-        through = np.zeros(len(self.junctions))
-        for (j, _), q in into.items():
-            through[j] += max(q, 0.0)
-        self._through = self.comm.allreduce(through)
-
-    def intersection_rates(self):
-        """The rates by set of faults that meet, in the order of their names
-        (the same on every rank)."""
-        by_faults = {}
-        for j, junction in enumerate(self.junctions):
-            names = tuple(self.faults[f].name for f in sorted(set(junction.faults)))
-            r = by_faults.setdefault(names, IntersectionRate(list(names)))
-            r.junctions += 1
-            r.rate += float(self._through[j])
-        return [by_faults[names] for names in sorted(by_faults)]
-
-    def volumes(self):
-        """Each conduit fault's name and volumes (the same on every rank)."""
-        return [(conduit.name, conduit.volumes) for conduit in self.faults]
-
-    def volume_values(self):
-        """The volumes as 5 numbers per fault (a checkpoint's)."""
-        return np.array([[v.injected, v.stored, v.exchanged, v.outflow, v.intersections]
-                         for _, v in self.volumes()]).ravel()
-
-    def set_volume_values(self, values):
-        n = len(values) // len(self.faults) if self.faults else 5  # 4 in the checkpoints before the intersections
-        for i, conduit in enumerate(self.faults):
-            conduit.volumes = FaultVolumes(*(float(x) for x in values[n * i:n * i + n]))
 
     def arrays(self, p):
         """What a checkpoint keeps of the faults: their pressure p (the last

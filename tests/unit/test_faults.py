@@ -19,8 +19,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.assembly.fault_flow import (closure_aperture, closure_compliance, open_patches,  # noqa: E402
-                                                  patch_compliance, transmissibilities)
+from python_prototype.assembly.fault_compliance import (closure_aperture, closure_compliance,  # noqa: E402
+                                                        open_patches, patch_compliance)
+from python_prototype.assembly.fault_flow import transmissibilities  # noqa: E402
 from python_prototype.domain.fault_cells import FaultEdges, fault_cells, fault_network, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
 from python_prototype.scene.scene import ClosureSpec, WellSpec  # noqa: E402

@@ -1,0 +1,169 @@
+// The volume bookkeeping of the conduit faults (ConduitFaults, fault_flow.h):
+// each step's volumes of each fault, their balance, their sums since the
+// start and the rates through the intersections (fault_volumes.h). Twin:
+// python_prototype/assembly/fault_flow_volumes.py.
+#include "assembly/fault_flow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace biotcontact
+{
+
+std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, std::span<const double> p,
+                                                     std::span<const double> p_old, const FineStep& fine) const
+{
+  const double t = fine.t, dt = fine.dt;
+  // Per fault: injected, stored, exchanged, outflow of the step, gross,
+  // held and faces; the faces on every rank, the rest on the last.
+  // The intersections in the 8th column.
+  std::vector<double> step(8 * _conduits.size(), 0.0);
+  auto add = [&](std::size_t i, int column, double v) { step[8 * i + column] += v, step[8 * i + 4] += std::abs(v); };
+  for (const Face& f : _faces)
+  {
+    add(f.conduit, 2, dt * f.flux * w[f.dof - _start]);
+    step[8 * f.conduit + 6] += dt * std::abs(f.flux);
+  }
+  for (const Well& well : _wells)
+    if (_owned)
+      add(well.conduit, 0, dt * well.share * (*well.rate)(0, 0, 0, t));
+  for (std::size_t i = 0; i < _conduits.size() and _owned; ++i)
+  {
+    const Conduit& c = _conduits[i];
+    const std::vector<double>& measures = c.cells->measures;
+    for (std::size_t k = 0; k < measures.size(); ++k)
+    {
+      add(i, 1, measures[k] * (c.aperture[k] - c.aperture_start[k]) / fine.q
+                    + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]));
+      step[8 * i + 5] += measures[k] * c.aperture[k];
+    }
+    const auto [held, T_e] = held_ends(c);
+    const std::vector<double> p_D = end_pressures(c, held, t);
+    for (std::size_t e = 0; e < held.size(); ++e)
+      add(i, 3, dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]));
+  }
+  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
+    if (j.conduits[0] != j.conduits[1]) // from the first member's fault into the second's
+    {
+      const double V = dt * j.T * (p[j.rows[0]] - p[j.rows[1]]);
+      add(j.conduits[0], 7, -V);
+      add(j.conduits[1], 7, V);
+    }
+  MPI_Allreduce(MPI_IN_PLACE, step.data(), static_cast<int>(step.size()), MPI_DOUBLE, MPI_SUM, _comm);
+  std::vector<StepVolumes> volumes(_conduits.size());
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+  {
+    const double* s = &step[8 * i];
+    volumes[i] = {{s[0], s[1], s[2], s[3], s[7]}, s[4], s[5], s[6]};
+  }
+  return volumes;
+}
+
+std::string ConduitFaults::unbalanced(const std::vector<StepVolumes>& step, double rock_flux) const
+{
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+  {
+    const FaultVolumes& s = step[i].net;
+    const FaultVolumes& v = _conduits[i].volumes;
+    const FaultVolumes total{v.injected + s.injected, v.stored + s.stored, v.exchanged + s.exchanged,
+                             v.outflow + s.outflow, v.intersections + s.intersections};
+    const double imbalance = volume_imbalance(step[i], total, rock_flux);
+    if (!(imbalance <= volume_balance_tolerance)) // NaN too
+    {
+      std::ostringstream line;
+      const bool network = !_junctions.empty();
+      line << "fault." << _conduits[i].name << ": its volumes do not balance: injected + exchanged"
+           << (network ? " + intersections" : "") << " - stored - outflow = "
+           << s.injected + s.exchanged + s.intersections - s.stored - s.outflow << " in the step (injected "
+           << s.injected << ", exchanged " << s.exchanged;
+      if (network)
+        line << ", intersections " << s.intersections;
+      line << ", stored " << s.stored << ", outflow " << s.outflow << "), " << imbalance
+           << " of the volumes, more than " << volume_balance_tolerance;
+      return line.str();
+    }
+  }
+  return {};
+}
+
+void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const FineStep& fine)
+{
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+  {
+    FaultVolumes& v = _conduits[i].volumes;
+    const FaultVolumes& s = step[i].net;
+    v.injected += s.injected, v.stored += s.stored, v.exchanged += s.exchanged, v.outflow += s.outflow;
+    v.intersections += s.intersections;
+    if (fine.m == fine.q)
+      _conduits[i].aperture_start = _conduits[i].aperture;
+  }
+}
+
+void ConduitFaults::set_intersection_rates(std::span<const double> p)
+{
+  // Each member's net flow into the junction, sum_b T_ab (p_a - p_b) over
+  // its links there; the positive ones summed are what passes through.
+  _through.assign(_junctions.size(), 0.0);
+  if (_junctions.empty()) // the same on every rank
+    return;
+  std::map<std::pair<std::size_t, std::int64_t>, double> into; // (junction, row)
+  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
+  {
+    const double q = j.T * (p[j.rows[0]] - p[j.rows[1]]);
+    into[{j.junction, j.rows[0]}] += q;
+    into[{j.junction, j.rows[1]}] -= q;
+  }
+  for (const auto& [key, q] : into)
+    _through[key.first] += std::max(q, 0.0);
+  MPI_Allreduce(MPI_IN_PLACE, _through.data(), static_cast<int>(_through.size()), MPI_DOUBLE, MPI_SUM, _comm);
+}
+
+std::vector<IntersectionRate> ConduitFaults::intersection_rates() const
+{
+  std::map<std::vector<std::string>, IntersectionRate> by_faults;
+  for (std::size_t j = 0; j < _junctions.size(); ++j)
+  {
+    std::vector<std::string> names;
+    for (std::size_t f : std::set<std::size_t>(_junctions[j].faults.begin(), _junctions[j].faults.end()))
+      names.push_back(_conduits[f].name);
+    IntersectionRate& r = by_faults[names];
+    r.faults = names;
+    r.junctions += 1;
+    r.rate += _through[j];
+  }
+  std::vector<IntersectionRate> rates;
+  for (const auto& [names, r] : by_faults)
+    rates.push_back(r);
+  return rates;
+}
+
+std::vector<std::pair<std::string, FaultVolumes>> ConduitFaults::volumes() const
+{
+  std::vector<std::pair<std::string, FaultVolumes>> v;
+  for (const Conduit& c : _conduits)
+    v.emplace_back(c.name, c.volumes);
+  return v;
+}
+
+std::vector<double> ConduitFaults::volume_values() const
+{
+  std::vector<double> values;
+  for (const Conduit& c : _conduits)
+    values.insert(values.end(), {c.volumes.injected, c.volumes.stored, c.volumes.exchanged, c.volumes.outflow,
+                                 c.volumes.intersections});
+  return values;
+}
+
+void ConduitFaults::set_volume_values(std::span<const double> values)
+{
+  // Five per fault (four in the checkpoints before the intersections).
+  const std::size_t n = _conduits.empty() ? 5 : values.size() / _conduits.size();
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
+    _conduits[i].volumes = {values[n * i], values[n * i + 1], values[n * i + 2], values[n * i + 3],
+                            n > 4 ? values[n * i + 4] : 0.0};
+}
+
+} // namespace biotcontact
