@@ -77,6 +77,13 @@ void difference(const la::Vector<double>& a, const la::Vector<double>& b, la::Ve
                  std::minus<double>());
 }
 
+std::vector<double> difference(std::span<const double> a, std::span<const double> b)
+{
+  std::vector<double> d(a.size());
+  std::transform(a.begin(), a.end(), b.begin(), d.begin(), std::minus<double>());
+  return d;
+}
+
 void multiply_add(Mat A, const la::Vector<double>& x, la::Vector<double>& y)
 {
   // MatMult only reads x: the wrap of a const vector is safe.

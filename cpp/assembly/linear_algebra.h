@@ -72,6 +72,9 @@ void reassemble_operator(Mat A, const dolfinx::fem::Form<double>& a, const BCs& 
 void difference(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<double>& b,
                 dolfinx::la::Vector<double>& d);
 
+/// a - b, entry by entry, as a new array.
+std::vector<double> difference(std::span<const double> a, std::span<const double> b);
+
 /// y += A x on the owned parts of dolfinx vectors (collective).
 void multiply_add(Mat A, const dolfinx::la::Vector<double>& x, dolfinx::la::Vector<double>& y);
 

@@ -1,46 +1,18 @@
 #include "coupling/fixed_stress.h"
 
 #include "coupling/anderson.h"
+#include "coupling/contraction.h"
+#include "coupling/two_pass.h"
+#include "coupling/window.h"
 #include "time/window_control.h"
-#include "time/time_scheme.h"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <optional>
 #include <sstream>
 
 namespace biotcontact
 {
 using namespace dolfinx;
-
-namespace
-{
-using Array = std::vector<double>;
-
-Array difference(const Array& a, const Array& b)
-{
-  Array d(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i)
-    d[i] = a[i] - b[i];
-  return d;
-}
-
-/// Ratios measured below this fraction of a window's first ||delta sigma||
-/// are at round-off level (see the loop).
-constexpr double resolved_fraction = 1e-6;
-constexpr double round_off_fraction = 1e-9;
-
-/// increment / size, or the increment itself while size = 0.
-double relative(double increment, double size) { return size > 0 ? increment / size : increment; }
-
-/// Changes of the contact active set so far (0 without contact).
-long contact_changes(MechanicsStep& mechanics)
-{
-  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes() : 0;
-}
-
-} // namespace
 
 double inexact_tolerance(double previous_increment)
 {
@@ -49,43 +21,13 @@ double inexact_tolerance(double previous_increment)
 
 namespace
 {
+using Array = std::vector<double>;
 
-/// One window's iterates: p^{n,m} and p^{n+1,m} (m = 0..q; m = 0 is p_K),
-/// u^n and u^{n+1}, the mixed states (z, p)^{n+1,m}, and what the
-/// contraction measure and the error message carry from one iteration to
-/// the next.
-struct Window
+/// Changes of the contact active set so far (0 without contact).
+long contact_changes(MechanicsStep& mechanics)
 {
-  int K = 0;                           // the window [t_K, t_{K+1}]
-  int j = 0, q = 1;                    // its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
-  ActiveSet active;                    // contact active set of u^{n+1} (the last iteration's)
-  bool contact_changed = false;        // converged active != the set at t_K
-  TimeDerivative derivative;           // of every fine step (time_scheme.h)
-  std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
-  std::vector<Array> p_old, p_new, w_new;
-  Array u_old, u_new;
-  // The conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q, the last rank's).
-  std::vector<Array> fault_old, fault_new;
-  std::optional<AndersonAcceleration> anderson;
-  long active_set_changes = 0;         // at the last Anderson restart
-  double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
-  double fault_previous = std::numeric_limits<double>::quiet_NaN(); // ||dp_f|| of the last iteration
-  long newton_steps = 0; // of the last mechanics pass's contact solve
-  double increment = 1;                // max(dp, du) of the last iteration
-  std::vector<std::string> log;        // the last iterations, for the error message
-};
-
-/// What one coupling iteration measured on its increments.
-struct Increments
-{
-  Array du;
-  double dsigma = 0;   // ||delta sigma|| of Theorem 1 (q = 1) or 2 (multirate)
-  double theorem2 = 0; // Theorem 2's quantity (NaN without L)
-  double residual = 0; // L times it, cell by cell (ContractionNorm::Quantity::coupled_residual)
-  double ratio = 0;    // dsigma / the previous iteration's (NaN at n = 0)
-  double dp2 = 0, p2 = 0;
-  double fault_dp = 0, fault_p = 0; // ||dp_f|| and ||p_f|| (l2 over the conduit cells; 0 without)
-};
+  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes() : 0;
+}
 
 /// The fixed-stress split as a sequence of windows, each iterated to
 /// convergence in the stages of paper section 4: flow pass (eq. 4.17-4.19),
@@ -96,13 +38,11 @@ class FixedStressSplit
 public:
   FixedStressSplit(const Problem& problem, const SplitSteps& steps, CouplingRun& run)
       : _scene(problem.scene), _coupling(*problem.scene.coupling), _parameters(problem.parameters),
-        _constants(problem.constants), _stabilised(problem.materials.max_L > 0), _flow(steps.flow),
-        _second_pass(steps.second_pass), _mechanics(steps.mechanics),
-        _contraction(problem.forms, problem.materials, problem.parameters.q, steps.mechanics.space(),
-                     steps.flow.pressure_space()),
-        _observer(run.observer), _report(run.report), _state(run.state), _grid(run.grid), _control(run.control),
-        _V(*steps.mechanics.space()), _Q(*steps.flow.pressure_space()),
-        _accelerated(_coupling.acceleration == Acceleration::anderson),
+        _constants(problem.constants), _flow(steps.flow), _second_pass(steps.second_pass),
+        _mechanics(steps.mechanics), _measure(problem, run, steps.mechanics.space(), steps.flow.pressure_space()),
+        _history(problem.scene.time_scheme, run.grid), _observer(run.observer), _report(run.report),
+        _state(run.state), _grid(run.grid), _control(run.control), _V(*steps.mechanics.space()),
+        _Q(*steps.flow.pressure_space()), _accelerated(_coupling.acceleration == Acceleration::anderson),
         _advice(split_advice(problem.materials.gamma_peak(), _coupling.acceleration))
   {
   }
@@ -117,29 +57,20 @@ private:
     retried
   };
 
-  /// Fine time m of window w (t_K + m dt for a constant step).
-  double t(const Window& w, int m) const { return _grid.t[w.j + m]; }
+  double t(const Window& w, int m) const { return _history.t(w, m); }
   void start();
   int window_steps(int j) const;
   Window begin_window(int K, int j, int q);
   Outcome iterate_window(Window& w, int& n);
   bool iteration(Window& w, int n);
-  TimeDerivative window_derivative(int j, int q) const;
-  Array path(const Window& w, const Array& u, int m) const;
-  void set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
-                        const Array& u) const;
   void flow_pass(Window& w);
   Array fault_reference(const Window& w, int m) const;
   /// Whether the flow carries conduit faults' pressures (every rank alike).
   bool conduits() const { return _flow.fault_aperture() != nullptr; }
   void mechanics_pass(Window& w);
-  void second_pass_correction(Window& w);
-  Increments measure_contraction(const Window& w, int n) const;
-  void hold_against_gamma(Window& w, const Increments& inc, int n);
   std::pair<double, double> stopping_test(Window& w, const Increments& inc, int n);
   double stopping_tolerance(const Window& w) const;
   void next_iterate(Window& w);
-  void record_coupled_residual(const Window& w, const Increments& inc);
   void go_back(const Window& w, const std::string& message);
   bool retry(const Window& w, const std::string& cause);
   bool balance_accepted(const Window& w);
@@ -152,11 +83,11 @@ private:
   const CouplingSpec& _coupling;
   const Parameters& _parameters;
   const Constants& _constants;
-  const bool _stabilised; // L > 0 in some cell: Theorem 2's quantity is measured
   FlowStep& _flow;
   FlowStep* _second_pass;
   MechanicsStep& _mechanics;
-  mutable ContractionNorm _contraction; // its work vectors change as it measures
+  ContractionMeasure _measure;
+  WindowHistory _history; // p_K, u_K and the time scheme's values before t_K
   const WindowObserver& _observer;
   CouplingReport& _report;
   ControllerState& _state;
@@ -166,11 +97,6 @@ private:
   const fem::FunctionSpace& _Q;
   const bool _accelerated;
   const std::string _advice; // gamma and what converges instead, for not_converged
-  Array _p_K, _u_K; // the converged state at t_K
-  // For BDF2: the pressure one fine step and the displacement one window
-  // before t_K, and the displacement path's value one fine step before t_K.
-  Array _p_before, _u_before, _u_path_before;
-  int _j_before = 0;  // the previous window's first fine step (t_{K-1})
   int _attempts = 0; // retries of the current window (time.retry)
   ActiveSet _active_K; // contact active set at t_K
 };
@@ -184,17 +110,12 @@ void FixedStressSplit::start()
   _flow.keep_loads(q_max);
   if (_second_pass)
     _second_pass->keep_loads(q_max);
-  _p_K = values(_flow.pressure->x()->array());
-  _u_K = values(_mechanics.u->x()->array());
-  _p_before = values(_flow.p_before->x()->array()); // restored by a restart
-  _u_before = values(_flow.u_before->x()->array());
-  _u_path_before = values(_flow.u_path_before->x()->array());
-  _j_before = static_cast<int>(_report.fine_steps) - _state.window_q;
+  _history.start(_flow, _mechanics.u->x()->array(), static_cast<int>(_report.fine_steps) - _state.window_q);
   _active_K = _mechanics.active_contact_set();
   if (_report.windows == 0)
   {
-    _state.p_size = owned_norm(_p_K, _Q);
-    _state.u_size = owned_norm(_u_K, _V);
+    _state.p_size = owned_norm(_history.p_K, _Q);
+    _state.u_size = owned_norm(_history.u_K, _V);
   }
 }
 
@@ -207,8 +128,8 @@ int FixedStressSplit::window_steps(int j) const
     return _coupling.q;
   double rate = 0;
   if (_report.windows > 0)
-    rate = relative(owned_norm(difference(_u_K, _u_before), _V), _state.u_size)
-           / (_grid.t[j] - _grid.t[_j_before]);
+    rate = relative(owned_norm(difference(_history.u_K, _history.u_before), _V), _state.u_size)
+           / (_grid.t[j] - _grid.t[_history.j_before]);
   return biotcontact::window_steps(_grid, j, _state.q_limit, rate, _coupling.q_tolerance, _scene.stops());
 }
 
@@ -219,11 +140,11 @@ int FixedStressSplit::window_steps(int j) const
 Window FixedStressSplit::begin_window(int K, int j, int q)
 {
   Window w;
-  w.derivative = window_derivative(j, q);
+  w.derivative = _history.derivative(j, q);
   const bool q_changed = set_window_steps(_constants, q);
   const bool dt_changed = set_time_step(_constants, w.derivative.effective_step(_grid.dt[j]));
   if (q_changed)
-    _contraction.set_window_steps(q);
+    _measure.set_window_steps(q);
   for (FlowStep* flow : {&_flow, _second_pass})
     if (flow and dt_changed)
       flow->time_step_changed(); // all its operators, with the new q too
@@ -233,16 +154,16 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   w.j = j;
   w.q = q;
   w.w_K.assign(_flow.unknowns().begin(), _flow.unknowns().end());
-  w.p_old.assign(q + 1, _p_K);
-  w.p_new.assign(q + 1, _p_K);
+  w.p_old.assign(q + 1, _history.p_K);
+  w.p_new.assign(q + 1, _history.p_K);
   w.w_new.resize(q + 1);
-  w.u_old = _u_K;
+  w.u_old = _history.u_K;
   _mechanics.begin_step(); // its u is u_K: the window's start, friction's reference
   _flow.begin_step();      // its conduit faults' pressure is the window's start
   w.fault_new.assign(q + 1, _flow.fault_pressure());
-  assign(*_flow.u_window, _u_K);
+  assign(*_flow.u_window, _history.u_K);
   if (_second_pass)
-    assign(*_second_pass->u_window, _u_K);
+    assign(*_second_pass->u_window, _history.u_K);
   w.active_set_changes = contact_changes(_mechanics);
   if (_accelerated)
   {
@@ -257,85 +178,11 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   return w;
 }
 
-/// The time derivative of window K's fine steps: time.scheme's, from the
-/// steps before (time_scheme.h). With q > 1 every fine step of a window
-/// shares one matrix, so BDF2 needs the step before the window to equal the
-/// window's fine step (w = 1); the first window, and one whose fine step
-/// a retry halved, take backward Euler, which keeps the global error second
-/// order (a bounded number of first-order steps, each O(dt^2)).
-TimeDerivative FixedStressSplit::window_derivative(int j, int q) const
-{
-  const double dt = _grid.dt[j], previous = j > 0 ? _grid.dt[j - 1] : 0.0;
-  if (q > 1 and previous != dt)
-    return {};
-  return time_derivative(_scene.time_scheme, dt, previous);
-}
-
-/// The displacement of window w at its fine time m (m = 0..q) along the
-/// window's path from u_K to u = u(t_{K+1}). Backward Euler: the paper's
-/// straight line. BDF2: the quadratic through u_{K-1}, u_K, u
-///   Q(t_K + s) = u_K + s D1 + s (s - H) D2,  D1 = (u - u_K)/H,
-///   D2 = ((u - u_K)/H - (u_K - u_{K-1})/H1) / (H + H1),
-/// H and H1 the window's and the previous window's lengths: the straight
-/// line (D2 = 0) makes the flow's displacement term first order in H
-/// whatever the time scheme, the quadratic keeps it second order. The
-/// first window has no u_{K-1}, and u_0 may be the state before a load
-/// applied at t = 0+: there u takes its end value at the first fine step
-/// (the undrained response at once; the straight line would spread a jump
-/// over the window and drain too little, an O(H) error), and with q > 1 the
-/// second window, whose u_{K-1} is u_0, keeps the straight line
-/// (docs/theory.md, "Time schemes").
-Array FixedStressSplit::path(const Window& w, const Array& u, int m) const
-{
-  const bool bdf2 = _scene.time_scheme == TimeScheme::bdf2;
-  if (bdf2 and w.K == 0)
-    return m == 0 ? _u_K : u;
-  const double H = t(w, w.q) - t(w, 0), s = t(w, m) - t(w, 0);
-  const bool quadratic = bdf2 and (w.q == 1 or w.K > 1);
-  const double H1 = quadratic ? t(w, 0) - _grid.t[_j_before] : 1.0;
-  Array Q(u.size());
-  for (std::size_t i = 0; i < u.size(); ++i)
-  {
-    const double D1 = (u[i] - _u_K[i]) / H;
-    const double D2 = quadratic ? (D1 - (_u_K[i] - _u_before[i]) / H1) / (H + H1) : 0.0;
-    Q[i] = _u_K[i] + s * D1 + s * (s - H) * D2;
-  }
-  return Q;
-}
-
-/// The time history of fine step m of `flow` from the pressures p[0..m-1]
-/// (p[0] = p_K) and the window's displacement u. Backward Euler: p[m-1] and
-/// u_K (the paper's scheme). BDF2 differentiates the fluid content
-/// S p + alpha div u at the fine times with the window's derivative (BDF2,
-/// or backward Euler where it starts), p from its fine steps and u along
-/// the window's path:
-///   p* = (c1 p[m-1] - c2 p[m-2]) / c0,
-///   alpha div(u - u_window) / (q dt / c0)
-///     = alpha div (c0 Q(t_m) - c1 Q(t_{m-1}) + c2 Q(t_{m-2})) / dt,
-/// i.e. u_window = u - q (Q(t_m) - Q*), where the values one fine step
-/// before t_K (p[-1], Q(t_{-1})) are those of the previous window.
-void FixedStressSplit::set_time_history(FlowStep& flow, const Window& w, int m, const std::vector<Array>& p,
-                                        const Array& u) const
-{
-  if (_scene.time_scheme != TimeScheme::bdf2)
-  {
-    assign(*flow.p_previous, p[m - 1]);
-    return;
-  }
-  const TimeDerivative& d = w.derivative;
-  assign(*flow.p_previous, history_value(d, p[m - 1], m >= 2 ? p[m - 2] : _p_before));
-  const Array Q = path(w, u, m);
-  const Array Q_star = history_value(d, path(w, u, m - 1), m >= 2 ? path(w, u, m - 2) : _u_path_before);
-  std::span<double> window = flow.u_window->x()->mutable_array();
-  for (std::size_t i = 0; i < Q.size(); ++i)
-    window[i] = u[i] - w.q * (Q[i] - Q_star[i]);
-}
-
 /// (a) q flow steps with u^n lagged (eq. 4.17-4.19):
 ///   ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
 ///     = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
 ///       - ((alpha/q) div(u^n - u_K)/dt, th)
-/// (with BDF2, dt / c0 and the history values of set_time_history in place
+/// (with BDF2, dt / c0 and the history values of WindowHistory in place
 /// of dt, p^{n+1,m-1}, p^{n,m-1} and u_K).
 void FixedStressSplit::flow_pass(Window& w)
 {
@@ -346,12 +193,11 @@ void FixedStressSplit::flow_pass(Window& w)
   }
   assign(*_flow.u_iterate, w.u_old);
   w.fault_old = w.fault_new;
-  const TimeDerivative& d = w.derivative;
   for (int m = 1; m <= w.q; ++m)
   {
-    set_time_history(_flow, w, m, w.p_new, w.u_old);
+    _history.set_time_history(_flow, w, m, w.p_new, w.u_old);
     assign(*_flow.p_iterate, w.p_old[m]);
-    assign(*_flow.p_iterate_previous, history_value(d, w.p_old[m - 1], m >= 2 ? w.p_old[m - 2] : _p_before));
+    assign(*_flow.p_iterate_previous, _history.previous(w, w.p_old, m));
     _flow.set_fine_step(m, w.fault_new[m - 1], fault_reference(w, m));
     _flow.solve(t(w, m));
     w.p_new[m] = values(_flow.pressure->x()->array());
@@ -385,168 +231,32 @@ void FixedStressSplit::mechanics_pass(Window& w)
   w.newton_steps = _mechanics.system().newton_steps() - before;
   w.u_new = values(_mechanics.u->x()->array());
   if (_second_pass and w.q > 1)
-    second_pass_correction(w);
+    second_pass_correction(*_second_pass, _flow, w, _history);
 }
 
-/// The second pass of "multirate-two-pass" (docs/multirate-two-pass.md). The printed
-/// multirate scheme damps the fine-step pressure modes that sum to zero
-/// over the window only by L/(S+L) ~ gamma per iteration: the mechanics
-/// sees p^q alone. Here the fine steps are recomputed without L, from p_K
-/// and with the new displacement u^{n+1}:
-///   (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
-///     = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
-/// so they hold no error of their own, only that of u^{n+1}; the window end
-/// keeps the first pass's value p^A_q (the one the mechanics used) through
-///   p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q),   m = 1..q,
-/// the same linear correction applied to the mixed states (z, p). At the
-/// fixed point p^B = p^A: the fixed point is that of the printed scheme.
-void FixedStressSplit::second_pass_correction(Window& w)
-{
-  FlowStep& second = *_second_pass;
-  const int q = w.q;
-  std::vector<Array> p_B(q + 1, _p_K), w_B(q + 1), fault_B(q + 1, w.fault_new[0]);
-  assign(*second.u_iterate, w.u_new);
-  if (conduits())
-    second.take_start_apertures(_flow);
-  for (int m = 1; m <= q; ++m)
-  {
-    set_time_history(second, w, m, p_B, w.u_new);
-    second.set_fine_step(m, fault_B[m - 1], fault_B[m - 1]); // no L: the iterate is only the guess
-    second.solve(t(w, m));
-    p_B[m] = values(second.pressure->x()->array());
-    w_B[m] = values(second.unknowns());
-    fault_B[m] = second.fault_pressure();
-  }
-  const Array p_end = difference(w.p_new[q], p_B[q]), w_end = difference(w.w_new[q], w_B[q]);
-  for (int m = 1; m < q; ++m)
-  {
-    const double s = static_cast<double>(m) / q;
-    for (std::size_t i = 0; i < p_end.size(); ++i)
-      w.p_new[m][i] = p_B[m][i] + s * p_end[i];
-    for (std::size_t i = 0; i < w_end.size(); ++i)
-      w.w_new[m][i] = w_B[m][i] + s * w_end[i];
-    // The conduit faults' pressures are the tail of the mixed states.
-    const std::size_t n = w.w_new[m].size() - w.fault_new[m].size();
-    std::copy(w.w_new[m].begin() + n, w.w_new[m].end(), w.fault_new[m].begin());
-  }
-}
-
-/// The contraction quantities of this iteration's increments, with the
-/// coefficients of each cell's material: Theorem 1,
-///   delta sigma_v^{n+1} = lambda div(du) - alpha dp,
-/// for the single-rate split, Theorem 2,
-///   delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
-/// (summed over m in l2) for the multirate ones.
-Increments FixedStressSplit::measure_contraction(const Window& w, int n) const
-{
-  using Quantity = ContractionNorm::Quantity;
-  Increments inc;
-  inc.du = difference(w.u_new, w.u_old);
-  Array dp_previous(_p_K.size(), 0.0);
-  for (int m = 1; m <= w.q; ++m)
-  {
-    const Array dp = difference(w.p_new[m], w.p_old[m]);
-    if (_stabilised)
-    {
-      const Array change = difference(dp, dp_previous);
-      const double t2 = m == 1 ? _contraction(Quantity::theorem2, inc.du, change)
-                               : _contraction(Quantity::theorem2, change); // the same du
-      const double r = _contraction(Quantity::coupled_residual, change);
-      inc.theorem2 += t2 * t2;
-      inc.residual += r * r;
-    }
-    dp_previous = dp;
-    const double dpn = owned_norm(dp, _Q), pn = owned_norm(w.p_new[m], _Q);
-    inc.dp2 += dpn * dpn;
-    inc.p2 += pn * pn;
-  }
-  // ||dp_f||^2 and ||p_f||^2 summed over the fine steps; as p's, their
-  // root mean square over the window.
-  std::array<double, 2> fault{0.0, 0.0};
-  for (int m = 1; m <= w.q; ++m)
-    for (std::size_t i = 0; i < w.fault_new[m].size(); ++i)
-      fault[0] += std::pow(w.fault_new[m][i] - w.fault_old[m][i], 2), fault[1] += std::pow(w.fault_new[m][i], 2);
-  MPI_Allreduce(MPI_IN_PLACE, fault.data(), 2, MPI_DOUBLE, MPI_SUM, _V.mesh()->comm());
-  inc.fault_dp = std::sqrt(fault[0] / w.q), inc.fault_p = std::sqrt(fault[1] / w.q);
-  inc.theorem2 = _stabilised ? std::sqrt(inc.theorem2) : std::numeric_limits<double>::quiet_NaN();
-  inc.residual = std::sqrt(inc.residual);
-  if (_coupling.multirate())
-    inc.dsigma = inc.theorem2;
-  else
-    inc.dsigma = _contraction(Quantity::theorem1, inc.du, difference(w.p_new[1], w.p_old[1]));
-  inc.ratio = n > 0 ? inc.dsigma / w.dsigma_previous : std::numeric_limits<double>::quiet_NaN();
-  return inc;
-}
-
-/// A ratio is held against gamma from the second one on, while the
-/// increments are resolved:
-/// - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0, and
-///   u^0 = u_K is no mechanics solution at this step's loads, which the
-///   proof of Theorem 1 needs for both iterates it subtracts;
-/// - once ||delta sigma|| has fallen six orders below the window's first
-///   one, or below 1e-9 of the norm of the quantity itself, it is made of the
-///   round-off of the solves (the displacement carries ~1e-11 relative
-///   round-off, amplified by div).
-/// The other ratios are logged and counted as unresolved. With acceleration
-/// the iterates are no longer x^{n+1} = G(x^n): ratios are logged only.
-void FixedStressSplit::hold_against_gamma(Window& w, const Increments& inc, int n)
-{
-  const double ratio = inc.ratio;
-  if (n == 0)
-    w.dsigma_first = inc.dsigma;
-  using Quantity = ContractionNorm::Quantity;
-  const double size = _coupling.multirate() ? _contraction(Quantity::theorem2, w.u_new, w.p_new[w.q])
-                                            : _contraction(Quantity::theorem1, w.u_new, w.p_new[1]);
-  const bool resolved = !_accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
-                        and inc.dsigma >= round_off_fraction * size;
-  if (n > 0 and !resolved)
-    ++_report.unresolved_ratios;
-  if (resolved and std::isfinite(ratio))
-  {
-    _report.max_contraction_ratio = std::max(_report.max_contraction_ratio, ratio);
-    _state.ratio_sum += ratio;
-    ++_report.ratios;
-    if (ratio > _parameters.gamma)
-      ++_report.bound_violations;
-  }
-  w.dsigma_previous = inc.dsigma;
-}
-
-/// The stopping test's increments (dp, du), logged: l2 norms of the p (root
-/// mean square over the window's fine steps) and u increments relative to
-/// the largest p and u of the run so far (relative
-/// to the current iterate alone, a field decaying to zero, e.g. p at steady
-/// state, would be judged by its round-off). Never on a stale state. With
-/// conduit faults dp is the larger of the rock's and the faults' p_f
-/// increment (relative to the largest p_f so far), both logged, with the
-/// faults' contraction ratio ||dp_f^{n+1}|| / ||dp_f^n||.
+/// The stopping test's increments (ContractionMeasure::stopping_increments),
+/// logged; never on a stale state. With conduit faults dp is the larger of
+/// the rock's and the faults' p_f increment, both logged, with the faults'
+/// contraction ratio.
 std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Increments& inc, int n)
 {
-  _state.p_size = std::max(_state.p_size, std::sqrt(inc.p2 / w.q));
-  _state.u_size = std::max(_state.u_size, owned_norm(w.u_new, _V));
-  _state.fault_p_size = std::max(_state.fault_p_size, inc.fault_p);
-  const double dp_norm = relative(std::sqrt(inc.dp2 / w.q), _state.p_size);
-  const double du_norm = relative(owned_norm(inc.du, _V), _state.u_size);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const bool conduits = this->conduits();
-  const double fault_dp = conduits ? relative(inc.fault_dp, _state.fault_p_size) : nan;
-  const double fault_ratio = conduits and n > 0 and w.fault_previous > 0 ? inc.fault_dp / w.fault_previous : nan;
-  w.fault_previous = inc.fault_dp;
+  const StoppingIncrements s = _measure.stopping_increments(w, inc, n, conduits);
   w.active = _mechanics.active_contact_set();
-  _observer.record({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, dp_norm, du_norm,
-                    w.active.nodes, fault_dp, fault_ratio, w.newton_steps});
+  _observer.record({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, s.dp, s.du,
+                    w.active.nodes, s.fault_dp, s.fault_ratio, w.newton_steps});
   if (!std::isfinite(inc.p2) or !std::isfinite(_state.u_size))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.
     throw SolverError("non-finite values (NaN or inf) in the "
                       + std::string(std::isfinite(inc.p2) ? "displacement" : "pressure"));
   std::ostringstream entry;
-  entry << " " << n + 1 << ": dp " << dp_norm << " du " << du_norm << " dsigma " << inc.dsigma;
+  entry << " " << n + 1 << ": dp " << s.dp << " du " << s.du << " dsigma " << inc.dsigma;
   if (conduits)
-    entry << " dp_f " << fault_dp;
+    entry << " dp_f " << s.fault_dp;
   entry << ";";
   w.log.push_back(entry.str());
-  return {conduits ? std::max(dp_norm, fault_dp) : dp_norm, du_norm};
+  return {conduits ? std::max(s.dp, s.fault_dp) : s.dp, s.du};
 }
 
 /// The iterate the next flow pass reads: the map value (p^{n+1}, u^{n+1}),
@@ -574,25 +284,13 @@ void FixedStressSplit::next_iterate(Window& w)
   w.u_old = x.back();
 }
 
-/// Coupled residual of an accepted state: the flow equations with u^{n+1}
-/// in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
-/// = L delta sigma^{n+1,m}; relative to the fluid content change.
-void FixedStressSplit::record_coupled_residual(const Window& w, const Increments& inc)
-{
-  if (!_stabilised)
-    return;
-  const double change = _contraction(ContractionNorm::Quantity::fluid_content, difference(w.u_new, _u_K),
-                                     difference(w.p_new[w.q], _p_K));
-  _report.max_coupled_residual = std::max(_report.max_coupled_residual, change > 0 ? inc.residual / change : 0.0);
-}
-
 /// One coupling iteration n of window w; true when it converged.
 bool FixedStressSplit::iteration(Window& w, int n)
 {
   flow_pass(w);
   mechanics_pass(w);
-  const Increments inc = measure_contraction(w, n);
-  hold_against_gamma(w, inc, n);
+  const Increments inc = _measure.measure(w, n);
+  _measure.hold_against_gamma(w, inc, n);
   const auto [dp_norm, du_norm] = stopping_test(w, inc, n);
   next_iterate(w);
   if (_observer.iteration)
@@ -602,7 +300,7 @@ bool FixedStressSplit::iteration(Window& w, int n)
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
   {
-    record_coupled_residual(w, inc);
+    _measure.record_coupled_residual(w, inc, _history);
     // Compared once per window, on the converged iterate (one collective).
     w.contact_changed = !same_active_set(w.active, _active_K, _V.mesh()->comm());
   }
@@ -647,7 +345,7 @@ FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
 void FixedStressSplit::go_back(const Window& w, const std::string& message)
 {
   _flow.set_unknowns(w.w_K);
-  assign(*_mechanics.u, _u_K);
+  assign(*_mechanics.u, _history.u_K);
   if (_observer.retry)
     _observer.retry(message);
 }
@@ -752,15 +450,7 @@ void FixedStressSplit::accept_window(const Window& w, int n)
   _report.max_window_q = std::max(_report.max_window_q, w.q);
   _mechanics.accept(t(w, w.q));
   _observer.mechanics_state(t(w, w.q), w.K + 1, n + 1);
-  _p_before = w.p_new[w.q - 1]; // p_K itself for q = 1
-  _u_path_before = path(w, w.u_new, w.q - 1);
-  _u_before = _u_K;
-  _j_before = w.j;
-  assign(*_flow.p_before, _p_before);
-  assign(*_flow.u_before, _u_before);
-  assign(*_flow.u_path_before, _u_path_before);
-  _p_K = w.p_new[w.q];
-  _u_K = w.u_new;
+  _history.accept(w, _flow);
 }
 
 void FixedStressSplit::run()

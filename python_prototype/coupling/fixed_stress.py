@@ -9,28 +9,22 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
-import numpy as np
-
 from ..assembly.materials import split_advice
 from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
 from ..contact.contact_state import ActiveSet, same_active_set
+from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
-from ..diagnostics.diagnostics import ContractionNorm
+from .two_pass import second_pass_correction
+from .window import Window, WindowHistory
 from ..time.window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
-from ..scene.input import Acceleration, TimeScheme
+from ..scene.input import Acceleration
 from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.flow_step import FlowStep
 from ..steps.mechanics_step import MechanicsStep
 from ..time.time_grid import FailedStep, retry_step
-from ..time.time_scheme import TimeDerivative, history_value, time_derivative
 from ..time.step_control import StepSolution
-
-# Ratios measured below this fraction of a window's first ||delta sigma||
-# are at round-off level (see hold_against_gamma).
-RESOLVED_FRACTION = 1e-6
-ROUND_OFF_FRACTION = 1e-9
 
 
 def inexact_tolerance(previous_increment):
@@ -40,54 +34,9 @@ def inexact_tolerance(previous_increment):
     return min(max(1e-2 * previous_increment, ITERATIVE_TOLERANCE), 1e-4)
 
 
-def _relative(increment, size):
-    """increment / size, or the increment itself while size = 0."""
-    return increment / size if size > 0 else increment
-
-
 def _contact_changes(mechanics):
     """Changes of the contact active set so far (0 without contact)."""
     return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
-
-
-class _Window:
-    """One window's iterates: p^{n,m} and p^{n+1,m} (m = 0..q; m = 0 is p_K),
-    u^n and u^{n+1}, the mixed states (z, p)^{n+1,m}, and what the
-    contraction measure and the error message carry from one iteration to
-    the next."""
-
-    def __init__(self, K, j, q, w_K, p_K, u_K):
-        self.K = K                    # the window [t_K, t_{K+1}]
-        self.j, self.q = j, q         # its first fine step and its fine steps: t_K = t_j, t_{K+1} = t_{j+q}
-        self.active = ActiveSet()     # contact active set of u^{n+1} (the last iteration's)
-        self.contact_changed = False  # converged active != the set at t_K
-        self.derivative = TimeDerivative()  # of every fine step (time_scheme.py)
-        self.w_K = w_K                # flow state (z, p) at t_K, for a retry
-        self.p_old = [p_K] * (q + 1)
-        self.p_new = [p_K] * (q + 1)
-        self.w_new = [None] * (q + 1)
-        self.u_old, self.u_new = u_K, None
-        self.fault_old = self.fault_new = None  # the conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q)
-        self.anderson = None
-        self.active_set_changes = 0   # at the last Anderson restart
-        self.dsigma_previous, self.dsigma_first = math.nan, 0.0
-        self.fault_previous = math.nan  # ||dp_f|| of the last iteration
-        self.newton_steps = 0          # of the last mechanics pass's contact solve
-        self.increment = 1.0          # max(dp, du) of the last iteration
-        self.log = []                 # the last iterations, for the error message
-
-
-class _Increments:
-    """What one coupling iteration measured on its increments."""
-
-    def __init__(self):
-        self.du = None
-        self.dsigma = 0.0    # ||delta sigma|| of Theorem 1 (q = 1) or 2 (multirate)
-        self.theorem2 = 0.0  # Theorem 2's quantity (NaN without L)
-        self.residual = 0.0  # L times it, cell by cell ("coupled_residual")
-        self.ratio = 0.0     # dsigma / the previous iteration's (NaN at n = 0)
-        self.dp2 = self.p2 = 0.0
-        self.fault_dp = self.fault_p = 0.0  # ||dp_f|| and ||p_f|| (l2 over the conduit cells; 0 without)
 
 
 class _Outcome(enum.Enum):
@@ -104,27 +53,21 @@ class _FixedStressSplit:
 
     def __init__(self, problem, steps, run):
         self.scene, self.coupling, self.parameters = problem.scene, problem.scene.coupling, problem.parameters
-        self.stabilised = problem.materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
         self.flow, self.second_pass, self.mechanics = steps.flow, steps.second_pass, steps.mechanics
         self.comm = problem.domain.mesh.comm
-        self.contraction = ContractionNorm(problem.forms, problem.parameters.q, self.comm)
+        self.measure = ContractionMeasure(problem, run, steps.mechanics.V, steps.flow.Q)
+        self.history = WindowHistory(problem.scene.time_scheme, run.grid)  # p_K, u_K and the values before t_K
         self.observer, self.report, self.state = run.observer, run.report, run.state
         self.grid = run.grid
         self.control = run.control  # time.adaptive (q = 1), or None
         self.V, self.Q = steps.mechanics.V, steps.flow.Q
         self.accelerated = self.coupling.acceleration == Acceleration.anderson
         self.advice = split_advice(problem.materials.gamma_peak(), self.coupling.acceleration)  # for not_converged
-        self.p_K = self.u_K = None  # the converged state at t_K
-        # For BDF2: the pressure one fine step and the displacement one window
-        # before t_K, and the displacement path's value one fine step before t_K.
-        self.p_before = self.u_before = self.u_path_before = None
-        self.j_before = 0           # the previous window's first fine step (t_{K-1})
         self.attempts = [0]         # retries of the current window (time.retry)
         self.active_K = ActiveSet()  # contact active set at t_K
 
     def t(self, w, m):
-        """Fine time m of window w (t_K + m dt for a constant step)."""
-        return self.grid.t[w.j + m]
+        return self.history.t(w, m)
 
     def start(self):
         """The converged state at the start (t = 0 or the restart's window)
@@ -135,16 +78,11 @@ class _FixedStressSplit:
         for step in (self.flow, self.second_pass):
             if step:
                 step.keep_loads(q_max)
-        self.p_K = self.flow.pressure.x.array.copy()
-        self.u_K = self.mechanics.u.x.array.copy()
-        self.p_before = self.flow.p_before.x.array.copy()  # restored by a restart
-        self.u_before = self.flow.u_before.x.array.copy()
-        self.u_path_before = self.flow.u_path_before.x.array.copy()
-        self.j_before = self.report.fine_steps - self.state.window_q
+        self.history.start(self.flow, self.mechanics.u.x.array, self.report.fine_steps - self.state.window_q)
         self.active_K = self.mechanics.active_contact_set()
         if self.report.windows == 0:
-            self.state.p_size = owned_norm(self.p_K, self.Q, self.comm)
-            self.state.u_size = owned_norm(self.u_K, self.V, self.comm)
+            self.state.p_size = owned_norm(self.history.p_K, self.Q, self.comm)
+            self.state.u_size = owned_norm(self.history.u_K, self.V, self.comm)
 
     def window_steps(self, j):
         """The fine steps of the window that starts at fine step j:
@@ -155,8 +93,9 @@ class _FixedStressSplit:
             return self.coupling.q
         rate = 0.0
         if self.report.windows > 0:
-            rate = (_relative(owned_norm(self.u_K - self.u_before, self.V, self.comm), self.state.u_size)
-                    / (self.grid.t[j] - self.grid.t[self.j_before]))
+            h = self.history
+            rate = (relative(owned_norm(h.u_K - h.u_before, self.V, self.comm), self.state.u_size)
+                    / (self.grid.t[j] - self.grid.t[h.j_before]))
         return window_steps(self.grid, j, self.state.q_limit, rate, self.coupling.q_tolerance, self.scene.stops())
 
     def begin_window(self, K, j, q):
@@ -165,7 +104,7 @@ class _FixedStressSplit:
         "anderson" the Anderson state (p^1, ..., p^q, u), weighted by the
         scales of the stopping test (anderson.py)."""
         state = self.state
-        derivative = self.window_derivative(j, q)
+        derivative = self.history.derivative(j, q)
         dt = derivative.effective_step(self.grid.dt[j])
         for flow in (self.flow, self.second_pass):
             if flow:
@@ -174,15 +113,15 @@ class _FixedStressSplit:
                     flow.time_step_changed()  # all its operators, with the new q too
                 elif q_changed:
                     flow.window_steps_changed()
-        self.contraction.set_window_steps(q)
-        w = _Window(K, j, q, self.flow.unknowns().copy(), self.p_K, self.u_K)
+        self.measure.set_window_steps(q)
+        w = Window(K, j, q, self.flow.unknowns().copy(), self.history.p_K, self.history.u_K)
         w.derivative = derivative
         self.mechanics.begin_step()  # its u is u_K: the window's start, friction's reference
         self.flow.begin_step()  # its conduit faults' pressure is the window's start
         w.fault_new = [self.flow.fault_pressure.copy() for _ in range(q + 1)]
-        self.flow.u_window.x.array[:] = self.u_K
+        self.flow.u_window.x.array[:] = self.history.u_K
         if self.second_pass:
-            self.second_pass.u_window.x.array[:] = self.u_K
+            self.second_pass.u_window.x.array[:] = self.history.u_K
         w.active_set_changes = _contact_changes(self.mechanics)
         if self.accelerated:
             # p_size is a fine step's: the window's q pressures weigh as one field.
@@ -193,70 +132,22 @@ class _FixedStressSplit:
                                               + [1 / state.u_size if state.u_size > 0 else 1.0])
         return w
 
-    def window_derivative(self, j, q):
-        """The time derivative of window K's fine steps
-        (cpp/coupling/fixed_stress.cpp): with q > 1 the fine steps share one
-        matrix, so BDF2 needs the step before the window to equal the
-        window's fine step; otherwise (the first window, a halved one)
-        backward Euler, which keeps the global error second order."""
-        dt, previous = self.grid.dt[j], self.grid.dt[j - 1] if j > 0 else 0.0
-        if q > 1 and previous != dt:
-            return TimeDerivative()
-        return time_derivative(self.scene.time_scheme, dt, previous)
-
-    def path(self, w, u, m):
-        """The displacement of window w at its fine time m along the window's
-        path from u_K to u (cpp/coupling/fixed_stress.cpp): backward Euler,
-        the paper's straight line; BDF2, the quadratic through u_{K-1}, u_K, u
-          Q(t_K + s) = u_K + s D1 + s (s - H) D2,  D1 = (u - u_K)/H,
-          D2 = ((u - u_K)/H - (u_K - u_{K-1})/H1) / (H + H1),
-        but in the first window u takes its end value at the first fine step
-        and, with q > 1, the second window keeps the straight line."""
-        bdf2 = self.scene.time_scheme == TimeScheme.bdf2
-        if bdf2 and w.K == 0:
-            return self.u_K if m == 0 else u
-        H, s = self.t(w, w.q) - self.t(w, 0), self.t(w, m) - self.t(w, 0)
-        D1 = (u - self.u_K) / H
-        if not (bdf2 and (w.q == 1 or w.K > 1)):
-            return self.u_K + s * D1
-        H1 = self.t(w, 0) - self.grid.t[self.j_before]
-        D2 = (D1 - (self.u_K - self.u_before) / H1) / (H + H1)
-        return self.u_K + s * D1 + s * (s - H) * D2
-
-    def set_time_history(self, flow, w, m, p, u):
-        """The time history of fine step m of `flow` from p[0..m-1] and the
-        window's displacement u: backward Euler reads p[m-1] and u_K (the
-        paper's scheme); BDF2 differentiates the fluid content at the fine
-        times with the window's derivative, p from its fine steps and u along
-        the window's path:
-          p* = (c1 p[m-1] - c2 p[m-2]) / c0,  u_window = u - q (Q(t_m) - Q*),
-        the values one fine step before t_K being the previous window's."""
-        if self.scene.time_scheme != TimeScheme.bdf2:
-            flow.p_previous.x.array[:] = p[m - 1]
-            return
-        d = w.derivative
-        flow.p_previous.x.array[:] = history_value(d, p[m - 1], p[m - 2] if m >= 2 else self.p_before)
-        Q_star = history_value(d, self.path(w, u, m - 1),
-                               self.path(w, u, m - 2) if m >= 2 else self.u_path_before)
-        flow.u_window.x.array[:] = u - w.q * (self.path(w, u, m) - Q_star)
-
     def flow_pass(self, w):
         """(a) q flow steps with u^n lagged (eq. 4.17-4.19):
           ((S+L)(p^{n+1,m} - p^{n+1,m-1})/dt, th) + (div z^{n+1,m}, th)
             = (Q(t_m), th) + (L (p^{n,m} - p^{n,m-1})/dt, th)
               - ((alpha/q) div(u^n - u_K)/dt, th)
-        (with BDF2, dt / c0 and the history values of set_time_history)."""
-        flow, d = self.flow, w.derivative
+        (with BDF2, dt / c0 and the history values of WindowHistory)."""
+        flow = self.flow
         if self.scene.solver.inexact_coupling:
             flow.system.set_tolerance(inexact_tolerance(w.increment))
             self.mechanics.system.set_tolerance(inexact_tolerance(w.increment))
         flow.u_iterate.x.array[:] = w.u_old
         w.fault_old = list(w.fault_new)  # its arrays are replaced, not changed
         for m in range(1, w.q + 1):
-            self.set_time_history(flow, w, m, w.p_new, w.u_old)
+            self.history.set_time_history(flow, w, m, w.p_new, w.u_old)
             flow.p_iterate.x.array[:] = w.p_old[m]
-            flow.p_iterate_previous.x.array[:] = history_value(d, w.p_old[m - 1],
-                                                               w.p_old[m - 2] if m >= 2 else self.p_before)
+            flow.p_iterate_previous.x.array[:] = self.history.previous(w, w.p_old, m)
             flow.set_fine_step(m, w.fault_new[m - 1], self.fault_reference(w, m))
             flow.solve(self.t(w, m))
             w.p_new[m] = flow.pressure.x.array.copy()
@@ -289,135 +180,27 @@ class _FixedStressSplit:
         w.newton_steps = self.mechanics.system.newton_steps() - before
         w.u_new = self.mechanics.u.x.array.copy()
         if self.second_pass and w.q > 1:
-            self.second_pass_correction(w)
-
-    def second_pass_correction(self, w):
-        """The second pass of "multirate-two-pass" (docs/multirate-two-pass.md):
-        the fine steps again without L, from p_K and with u^{n+1},
-          (S (p^B_m - p^B_{m-1})/dt, th) + (div z^B_m, th)
-            = (Q(t_m), th) - ((alpha/q) div(u^{n+1} - u_K)/dt, th),
-        then p^{n+1,m} = p^B_m + (m/q)(p^A_q - p^B_q) (and the same for the
-        mixed states): the window end keeps p^A_q, the pressure the mechanics
-        used. At the fixed point p^B = p^A: the fixed point is that of the
-        printed scheme."""
-        second, q = self.second_pass, w.q
-        p_B, w_B, fault_B = [self.p_K] * (q + 1), [None] * (q + 1), [w.fault_new[0]] * (q + 1)
-        second.u_iterate.x.array[:] = w.u_new
-        if self.conduits():
-            second.take_start_apertures(self.flow)
-        for m in range(1, q + 1):
-            self.set_time_history(second, w, m, p_B, w.u_new)
-            second.set_fine_step(m, fault_B[m - 1], fault_B[m - 1])  # no L: the iterate is only the guess
-            second.solve(self.t(w, m))
-            p_B[m] = second.pressure.x.array.copy()
-            w_B[m] = second.unknowns().copy()
-            fault_B[m] = second.fault_pressure.copy()
-        p_end, w_end = w.p_new[q] - p_B[q], w.w_new[q] - w_B[q]
-        for m in range(1, q):
-            w.p_new[m] = p_B[m] + (m / q) * p_end
-            w.w_new[m] = w_B[m] + (m / q) * w_end
-            # The conduit faults' pressures are the tail of the mixed states.
-            w.fault_new[m] = w.w_new[m][len(w.w_new[m]) - len(w.fault_new[m]):].copy()
-
-    def measure_contraction(self, w, n):
-        """The contraction quantities of this iteration's increments, with the
-        coefficients of each cell's material: Theorem 1,
-          delta sigma_v^{n+1} = lambda div(du) - alpha dp,
-        for the single-rate split, Theorem 2,
-          delta sigma^{n+1,m} = (dp^m - dp^{m-1}) - alpha/(qL) div du,
-        (summed over m in l2) for the multirate ones."""
-        q, contraction = w.q, self.contraction
-        inc = _Increments()
-        inc.du = w.u_new - w.u_old
-        dp_previous = np.zeros_like(self.p_K)
-        for m in range(1, q + 1):
-            dp = w.p_new[m] - w.p_old[m]
-            if self.stabilised:
-                change = dp - dp_previous
-                inc.theorem2 += contraction("theorem2", inc.du if m == 1 else None, change) ** 2  # the same du
-                inc.residual += contraction("coupled_residual", None, change) ** 2
-            dp_previous = dp
-            inc.dp2 += owned_norm(dp, self.Q, self.comm) ** 2
-            inc.p2 += owned_norm(w.p_new[m], self.Q, self.comm) ** 2
-        # ||dp_f||^2 and ||p_f||^2 summed over the fine steps; as p's, their
-        # root mean square over the window.
-        steps = range(1, q + 1)
-        fault = self.comm.allreduce(np.array([sum(np.sum((w.fault_new[m] - w.fault_old[m]) ** 2) for m in steps),
-                                              sum(np.sum(w.fault_new[m] ** 2) for m in steps)]))
-        inc.fault_dp, inc.fault_p = np.sqrt(fault / q)
-        inc.theorem2 = math.sqrt(inc.theorem2) if self.stabilised else math.nan
-        inc.residual = math.sqrt(inc.residual)
-        if self.coupling.multirate():
-            inc.dsigma = inc.theorem2
-        else:
-            inc.dsigma = contraction("theorem1", inc.du, w.p_new[1] - w.p_old[1])
-        with np.errstate(divide="ignore", invalid="ignore"):  # inf or nan after a zero, as in C++
-            inc.ratio = np.float64(inc.dsigma) / w.dsigma_previous if n > 0 else math.nan
-        return inc
-
-    def hold_against_gamma(self, w, inc, n):
-        """A ratio is held against gamma from the second one on, while the
-        increments are resolved:
-        - the first ratio compares with delta sigma^1 = sigma^1 - sigma^0, and
-          u^0 = u_K is no mechanics solution at this step's loads, which the
-          proof of Theorem 1 needs for both iterates it subtracts;
-        - once ||delta sigma|| has fallen six orders below the window's first
-          one, or below 1e-9 of the norm of the quantity itself, it is made of
-          the round-off of the solves.
-        The other ratios are logged and counted as unresolved. With
-        acceleration the iterates are no longer x^{n+1} = G(x^n): ratios are
-        logged only."""
-        parameters, q, report, ratio = self.parameters, w.q, self.report, inc.ratio
-        if n == 0:
-            w.dsigma_first = inc.dsigma
-        if self.coupling.multirate():
-            size = self.contraction("theorem2", w.u_new, w.p_new[q]) if self.stabilised else math.nan
-        else:
-            size = self.contraction("theorem1", w.u_new, w.p_new[1])
-        resolved = (not self.accelerated and n > 1 and inc.dsigma >= RESOLVED_FRACTION * w.dsigma_first
-                    and inc.dsigma >= ROUND_OFF_FRACTION * size)
-        if n > 0 and not resolved:
-            report.unresolved_ratios += 1
-        if resolved and math.isfinite(ratio):
-            report.max_contraction_ratio = max(report.max_contraction_ratio, ratio)
-            self.state.ratio_sum += ratio
-            report.ratios += 1
-            report.bound_violations += int(ratio > parameters.gamma)
-        w.dsigma_previous = inc.dsigma
+            second_pass_correction(self.second_pass, self.flow, w, self.history)
 
     def stopping_test(self, w, inc, n):
-        """The stopping test's increments (dp, du), logged: l2 norms of the p
-        (root mean square over the window's fine steps) and u increments
-        relative to the largest p and u of the run so far
-        (relative to the current iterate alone, a field decaying to zero, e.g.
-        p at steady state, would be judged by its round-off). Never on a
-        stale state. With conduit faults dp is the larger of the rock's and
-        the faults' p_f increment (relative to the largest p_f so far), both
-        logged, with the faults' contraction ratio ||dp_f^{n+1}|| /
-        ||dp_f^n||."""
-        state = self.state
-        state.p_size = max(state.p_size, math.sqrt(inc.p2 / w.q))
-        state.u_size = max(state.u_size, owned_norm(w.u_new, self.V, self.comm))
-        state.fault_p_size = max(state.fault_p_size, float(inc.fault_p))
-        dp_norm = _relative(math.sqrt(inc.dp2 / w.q), state.p_size)
-        du_norm = _relative(owned_norm(inc.du, self.V, self.comm), state.u_size)
+        """The stopping test's increments (ContractionMeasure's
+        stopping_increments), logged; never on a stale state. With conduit
+        faults dp is the larger of the rock's and the faults' p_f increment,
+        both logged, with the faults' contraction ratio."""
         conduits = self.conduits()
-        fault_dp = _relative(float(inc.fault_dp), state.fault_p_size) if conduits else math.nan
-        resolved = conduits and n > 0 and w.fault_previous > 0
-        fault_ratio = float(inc.fault_dp) / w.fault_previous if resolved else math.nan
-        w.fault_previous = float(inc.fault_dp)
-        if not math.isfinite(inc.p2) or not math.isfinite(state.u_size):
+        s = self.measure.stopping_increments(w, inc, n, conduits)
+        if not math.isfinite(inc.p2) or not math.isfinite(self.state.u_size):
             # The iterates hold NaN or inf (a load or coefficient that is not
             # finite): no further iteration can recover.
             raise SolverError("non-finite values (NaN or inf) in the "
                               f"{'displacement' if math.isfinite(inc.p2) else 'pressure'}")
         w.active = self.mechanics.active_contact_set()
         self.observer.record(IterationRecord(w.K + 1, self.t(w, w.q), n + 1, inc.dsigma, inc.ratio,
-                                             self.parameters.gamma, dp_norm, du_norm, w.active.nodes, fault_dp,
-                                             fault_ratio, w.newton_steps))
-        w.log.append(f" {n + 1}: dp {dp_norm:g} du {du_norm:g} dsigma {inc.dsigma:g}"
-                     + (f" dp_f {fault_dp:g};" if conduits else ";"))
-        return (max(dp_norm, fault_dp) if conduits else dp_norm), du_norm
+                                             self.parameters.gamma, s.dp, s.du, w.active.nodes, s.fault_dp,
+                                             s.fault_ratio, w.newton_steps))
+        w.log.append(f" {n + 1}: dp {s.dp:g} du {s.du:g} dsigma {inc.dsigma:g}"
+                     + (f" dp_f {s.fault_dp:g};" if conduits else ";"))
+        return (max(s.dp, s.fault_dp) if conduits else s.dp), s.du
 
     def next_iterate(self, w):
         """The iterate the next flow pass reads: the map value (p^{n+1},
@@ -436,22 +219,12 @@ class _FixedStressSplit:
         w.p_old = [w.p_old[0]] + x[:w.q]
         w.u_old = x[w.q]
 
-    def record_coupled_residual(self, w, inc):
-        """Coupled residual of an accepted state: the flow equations with
-        u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
-        = L delta sigma^{n+1,m}; relative to the fluid content change."""
-        if not self.stabilised:
-            return
-        change = self.contraction("fluid_content", w.u_new - self.u_K, w.p_new[w.q] - self.p_K)
-        self.report.max_coupled_residual = max(self.report.max_coupled_residual,
-                                               inc.residual / change if change > 0 else 0.0)
-
     def iteration(self, w, n):
         """One coupling iteration n of window w; True when it converged."""
         self.flow_pass(w)
         self.mechanics_pass(w)
-        inc = self.measure_contraction(w, n)
-        self.hold_against_gamma(w, inc, n)
+        inc = self.measure.measure(w, n)
+        self.measure.hold_against_gamma(w, inc, n)
         dp_norm, du_norm = self.stopping_test(w, inc, n)
         self.next_iterate(w)
         if self.observer.iteration:
@@ -460,7 +233,7 @@ class _FixedStressSplit:
         tolerance = self.stopping_tolerance(w)
         converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
-            self.record_coupled_residual(w, inc)
+            self.measure.record_coupled_residual(w, inc, self.history)
             # Compared once per window, on the converged iterate (one collective).
             w.contact_changed = not same_active_set(w.active, self.active_K, self.comm)
         return converged
@@ -496,7 +269,7 @@ class _FixedStressSplit:
         """Back to the start of window w, to be computed again (`message`
         says why and on which steps)."""
         self.flow.set_unknowns(w.w_K)
-        self.mechanics.u.x.array[:] = self.u_K
+        self.mechanics.u.x.array[:] = self.history.u_K
         if self.observer.retry:
             self.observer.retry(message)
 
@@ -579,14 +352,7 @@ class _FixedStressSplit:
         report.max_window_q = max(report.max_window_q, w.q)
         self.mechanics.accept(self.t(w, w.q))
         self.observer.mechanics_state(self.t(w, w.q), w.K + 1, n + 1)
-        self.p_before = w.p_new[w.q - 1]  # p_K itself for q = 1
-        self.u_path_before = self.path(w, w.u_new, w.q - 1)
-        self.u_before = self.u_K
-        self.j_before = w.j
-        self.flow.p_before.x.array[:] = self.p_before
-        self.flow.u_before.x.array[:] = self.u_before
-        self.flow.u_path_before.x.array[:] = self.u_path_before
-        self.p_K, self.u_K = w.p_new[w.q], w.u_new
+        self.history.accept(w, self.flow)
 
     def run(self):
         report, max_iterations = self.report, self.coupling.max_iterations
