@@ -77,16 +77,32 @@ def parse(argv):
 
 
 def compare_main(argv):
+    """`compare DIR_A DIR_B [--tolerance T]`: 0 when the runs agree, 1 when
+    they differ, 2 (one line) when the command or a run directory is bad."""
+    def refuse(reason):
+        print(f"biotcontact: error: {reason}", file=sys.stderr)
+        return 2
     tolerance = 1e-8
     if "--tolerance" in argv:
         k = argv.index("--tolerance")
-        tolerance = float(argv[k + 1])
+        try:
+            tolerance = float(argv[k + 1])
+        except (IndexError, ValueError):
+            return refuse("--tolerance: expected a number after it")
         argv = argv[:k] + argv[k + 2:]
     if len(argv) != 2:
-        print("biotcontact: error: expected 'compare DIR_A DIR_B [--tolerance T]' (see --help)", file=sys.stderr)
-        return 2
+        return refuse("expected 'compare DIR_A DIR_B [--tolerance T]' (see --help)")
+    for directory in argv:
+        for name in ("solution.xdmf", "iterations.csv"):
+            if not os.path.isfile(os.path.join(directory, name)):
+                return refuse(f"{os.path.join(directory, name)}: not found (compare takes two run directories "
+                              "written with output.xdmf = true)")
+    from xml.etree.ElementTree import ParseError
     from .output.compare import compare
-    return compare(argv[0], argv[1], tolerance)
+    try:
+        return compare(argv[0], argv[1], tolerance)
+    except (OSError, ParseError, KeyError, ValueError) as e:
+        return refuse(f"cannot read the runs {argv[0]} and {argv[1]}: {e}")
 
 
 def _start_mpi_alone():

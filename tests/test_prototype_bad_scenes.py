@@ -195,6 +195,22 @@ for label, command, path, overrides, key in (
 (cs, ce), (ps, pe) = both("check", os.path.join(ROOT, "no", "such.toml"), [])
 check(ps == cs == 2 and pe == ce, f"missing scene file: same line and status 2: {pe!r}")
 
+# `compare`, the prototype's own command: a directory that is no run, a
+# tolerance that is no number, a damaged solution.xdmf: one line naming
+# the cause, status 2, no traceback.
+empty, damaged = tempfile.mkdtemp(), tempfile.mkdtemp()
+with open(os.path.join(damaged, "iterations.csv"), "w") as f:
+    f.write("step,iteration\n")
+with open(os.path.join(damaged, "solution.xdmf"), "w") as f:
+    f.write("<Xdmf")
+for label, args, key in (("a directory that is no run", [empty, damaged], "solution.xdmf: not found"),
+                         ("a tolerance that is no number", [damaged, damaged, "--tolerance", "x"], "--tolerance"),
+                         ("a damaged solution.xdmf", [damaged, damaged], "cannot read the runs")):
+    p = subprocess.run(PROTOTYPE + ["compare"] + args, capture_output=True, text=True, env=ENV, timeout=120)
+    lines = p.stderr.strip().splitlines()
+    check(p.returncode == 2 and len(lines) == 1 and lines[0].startswith("biotcontact: error:") and key in lines[0],
+          f"compare, {label}: one line naming {key!r}, status 2 (status {p.returncode}): {p.stderr.strip()!r}")
+
 (cs, ce), (ps, pe) = both("run", DEFAULT, ["coupling.max_iterations=3"])
 check(ps == cs == 3, f"non-convergence: exit status 3 (C++ {cs}, prototype {ps})")
 strip = [e.rsplit(" (log:", 1)[0] for e in (ce, pe)]
