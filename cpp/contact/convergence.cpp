@@ -20,8 +20,12 @@ ContactConvergence::ContactConvergence(MPI_Comm comm, VIBounds bounds, std::vect
 void ContactConvergence::attach(SNES snes, Vec load, bool friction)
 {
   _snes = snes, _load = load, _friction = friction;
-  check_petsc(SNESSetConvergenceTest(snes, &ContactConvergence::converged, this, nullptr),
-              "contact solver: SNESSetConvergenceTest");
+  // SNESSetConvergenceTest's callback takes the step, ||x||, ||dx||, ||F||,
+  // the reason and the context; the test reads the step and ||F||.
+  auto test = [](SNES s, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm, SNESConvergedReason* reason,
+                 void* context) -> PetscErrorCode
+  { return static_cast<ContactConvergence*>(context)->converged(s, iteration, fnorm, reason); };
+  check_petsc(SNESSetConvergenceTest(snes, test, this, nullptr), "contact solver: SNESSetConvergenceTest");
   check_petsc(SNESMonitorSet(snes, &ContactConvergence::monitor, this, nullptr), "contact solver: SNESMonitorSet");
 }
 
@@ -124,10 +128,8 @@ PetscErrorCode ContactConvergence::stagnation(KSP ksp, PetscInt iteration, Petsc
   return 0;
 }
 
-PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
-                                             SNESConvergedReason* reason, void* context)
+PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, PetscReal fnorm, SNESConvergedReason* reason)
 {
-  auto* self = static_cast<ContactConvergence*>(context);
   PetscReal atol = 0, rtol = 0, stol = 0;
   PetscInt max_it = 0, max_f = 0;
   PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &max_it, &max_f));
@@ -140,24 +142,24 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
     // start of a body that slides) would make any residual "relative":
     // relative to the load then, where that is smaller.
     PetscReal load = 0;
-    PetscCall(VecNorm(self->_load, NORM_2, &load));
-    self->_relative_target = rtol * std::min(fnorm, self->_friction ? load : fnorm);
-    self->_repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
+    PetscCall(VecNorm(_load, NORM_2, &load));
+    _relative_target = rtol * std::min(fnorm, _friction ? load : fnorm);
+    _repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
     Vec F = nullptr;
     PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
     double norm = 0;
-    PetscCall(self->separate_norm(F, &norm));
-    self->_separate_relative_target = rtol * norm;
-    self->_separate_met = false;
+    PetscCall(separate_norm(F, &norm));
+    _separate_relative_target = rtol * norm;
+    _separate_met = false;
   }
   bool solved = false;
-  PetscCall(self->separate_solved(iteration, &solved));
-  const bool separate = self->separate_may_stop(solved);
+  PetscCall(separate_solved(iteration, &solved));
+  const bool separate = separate_may_stop(solved);
   if (PetscIsInfOrNanReal(fnorm))
     *reason = SNES_DIVERGED_FNORM_NAN;
-  else if ((iteration > 0 or self->_friction) and fnorm < atol and separate)
+  else if ((iteration > 0 or _friction) and fnorm < atol and separate)
     *reason = SNES_CONVERGED_FNORM_ABS; // a step taken, or the start with friction
-  else if (iteration > 0 and fnorm < self->_relative_target and separate)
+  else if (iteration > 0 and fnorm < _relative_target and separate)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   // ... and the stopping rule of the primal-dual active set method: the
   // step solved F = 0 on the inactive set, and the active set at its result
@@ -176,11 +178,11 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
   // that presses on nothing) solved by a factorisation that did not see
   // it. Above both it is refused at once (the solver starts again
   // clamped), else iterated on.
-  else if (iteration > 0 and self->_set_repeated and !self->_friction)
+  else if (iteration > 0 and _set_repeated and !_friction)
   {
-    if (fnorm <= self->_repeated_set_bound)
+    if (fnorm <= _repeated_set_bound)
       *reason = SNES_CONVERGED_ITS;
-    else if (fnorm > self->_repeated_set_bound / repeated_set_fraction)
+    else if (fnorm > _repeated_set_bound / repeated_set_fraction)
       *reason = SNES_DIVERGED_DTOL;
   }
   return 0;

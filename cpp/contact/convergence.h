@@ -79,10 +79,9 @@ private:
   /// the next step will use, and counts changes.
   static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
   /// PETSc's convergence test of the VI methods and the active set rule
-  /// (convergence.cpp). A PETSc callback: its 7 parameters are
-  /// SNESSetConvergenceTest's.
-  static PetscErrorCode converged(SNES, PetscInt iteration, PetscReal, PetscReal, PetscReal fnorm,
-                                  SNESConvergedReason* reason, void* context);
+  /// (convergence.cpp), at Newton step `iteration` with residual norm
+  /// `fnorm` (SNESSetConvergenceTest's callback, attach(), forwards to it).
+  PetscErrorCode converged(SNES snes, PetscInt iteration, PetscReal fnorm, SNESConvergedReason* reason);
   static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
 
   MPI_Comm _comm;

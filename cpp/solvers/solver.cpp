@@ -10,11 +10,13 @@ namespace biotcontact
 
 void set_default_option(const std::string& name, const std::string& value)
 {
+  // The messages are built only on failure: this runs for every default.
   PetscBool given = PETSC_FALSE;
-  PetscErrorCode ierr = PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given);
-  if (ierr == 0 and !given)
-    ierr = PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str());
-  if (ierr != 0) // the message is built only on failure: this runs for every default
+  if (const PetscErrorCode ierr = PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given); ierr != 0)
+    check_petsc(ierr, "the default -" + name + " " + value);
+  if (given)
+    return;
+  if (const PetscErrorCode ierr = PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()); ierr != 0)
     check_petsc(ierr, "the default -" + name + " " + value);
 }
 
@@ -299,24 +301,23 @@ LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat 
   check_solver(KSPCreate(comm, &_ksp), prefix, "KSPCreate");
   check_solver(KSPSetOptionsPrefix(_ksp, prefix.c_str()), prefix, "KSPSetOptionsPrefix");
   check_solver(KSPSetOperators(_ksp, A, P), prefix, "KSPSetOperators");
-  PetscErrorCode ierr = KSPSetFromOptions(_ksp);
+  // Bad input: the options given make no solver.
+  if (const PetscErrorCode ierr = KSPSetFromOptions(_ksp); ierr != 0)
+    throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver: "
+                       + petsc_error_text(ierr));
   PC pc;
   check_solver(KSPGetPC(_ksp, &pc), prefix, "KSPGetPC");
-  if (ierr == 0)
-    set_fields(pc, fields, prefix);
+  set_fields(pc, fields, prefix);
   // A Krylov method starts from x, the previous iterate (preonly refuses a
   // nonzero guess).
   PetscBool preonly = PETSC_TRUE;
   check_solver(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly), prefix,
                "PetscObjectTypeCompare");
-  if (ierr == 0 and !preonly)
+  if (!preonly)
   {
-    ierr = KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE);
+    check_solver(KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE), prefix, "KSPSetInitialGuessNonzero");
     set_relative_tolerance(_ksp, prefix, iterative_tolerance);
   }
-  if (ierr != 0)
-    throw OptionsError("the PETSc options of " + system_name(prefix) + " solver do not make a solver: "
-                       + petsc_error_text(ierr));
 }
 
 LinearSolver::~LinearSolver() { warn_petsc(KSPDestroy(&_ksp), "a linear solver: KSPDestroy"); }
@@ -365,15 +366,7 @@ void LinearSolver::run(const std::function<PetscErrorCode()>& solve)
   // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
   const bool set_up = _operator_changed;
   _operator_changed = false;
-  const double start = MPI_Wtime();
-  PetscErrorCode ierr = KSPSetUp(_ksp);
-  if (set_up)
-  {
-    ++setups;
-    setup_time += MPI_Wtime() - start;
-  }
-  if (ierr == 0)
-    ierr = solve();
+  PetscErrorCode ierr = set_up_and_solve(solve, set_up);
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
   // A quasi-definite matrix whose negative block is at round-off against
@@ -418,11 +411,28 @@ PetscErrorCode LinearSolver::refactorise(const char* package, const std::functio
   check_solver(PCSetFailedReason(factor_pc(_ksp), PC_NOERROR), _prefix, "PCSetFailedReason");
   check_solver(KSPSetOperators(_ksp, A, P), _prefix, "KSPSetOperators");
   check_solver(KSPSetFromOptions(_ksp), _prefix, "KSPSetFromOptions");
-  PetscErrorCode ierr = KSPSetUp(_ksp);
-  if (ierr == 0)
-    ierr = solve();
+  const PetscErrorCode ierr = set_up_and_solve(solve, false);
   check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
   return ierr;
+}
+
+PetscErrorCode LinearSolver::set_up_and_solve(const std::function<PetscErrorCode()>& solve, bool counted)
+{
+  const double start = MPI_Wtime();
+  auto count = [&]
+  {
+    if (counted)
+      ++setups, setup_time += MPI_Wtime() - start;
+  };
+  // A failed set-up (a zero pivot) is returned, not thrown: run() retries
+  // it with another package.
+  if (const PetscErrorCode ierr = KSPSetUp(_ksp); ierr != 0)
+  {
+    count();
+    return ierr;
+  }
+  count();
+  return solve();
 }
 
 } // namespace biotcontact

@@ -247,6 +247,9 @@ private:
   /// Factorises the operator again with `package` and runs `solve`.
   PetscErrorCode refactorise(const char* package, const std::function<PetscErrorCode()>& solve,
                              KSPConvergedReason& reason);
+  /// KSPSetUp, then `solve` if it succeeded: the first error code (0 when
+  /// both succeed); the set-up counted in setups and setup_time if `counted`.
+  PetscErrorCode set_up_and_solve(const std::function<PetscErrorCode()>& solve, bool counted);
   KSP _ksp;
   std::string _prefix;
   bool _operator_changed = true; // the next solve sets up
