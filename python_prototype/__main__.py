@@ -108,11 +108,14 @@ def compare_main(argv):
 def _start_mpi_alone():
     """A run started without mpirun is one process: Open MPI need not start its
     runtime daemon nor probe the network for peers (0.4 s of every start, as
-    cpp/main.cpp), nor have hwloc read every PCI device's configuration.
-    A user's own setting wins; under mpirun nothing changes."""
+    cpp/main.cpp), nor have hwloc read every PCI device's configuration,
+    nor create the session directory that all isolated processes share (one
+    removes it as it ends while another creates it: cpp/main.cpp). A user's
+    own setting wins; under mpirun nothing changes."""
     if "OMPI_COMM_WORLD_SIZE" in os.environ or "PMIX_RANK" in os.environ:
         return
-    os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
+    if os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1") == "1":
+        os.environ.setdefault("OMPI_MCA_orte_create_session_dirs", "0")
     os.environ.setdefault("OMPI_MCA_pml", "ob1")
     os.environ.setdefault("HWLOC_COMPONENTS", "-pci,-linuxio")
 
