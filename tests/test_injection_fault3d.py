@@ -13,20 +13,36 @@ fault crossing a layered reservoir in 3D, for 4 hours.
   total their sum and Mw = (2/3)(log10 M0 - 9.1).
 - The fault's volumes: 0.05 m^3/s for 4 hours injected, and injected +
   exchanged = stored + outflow to 1e-9 of it.
-- On 2 ranks the same seismic moments to 1e-8 (each pair's G is the mean
-  over its + node's cells, the same on any partition; it was the G of
-  one of them, which differed by 3 % between 1 and 2 ranks at the pairs
-  on the reservoir's top and bottom)."""
+- Partial opening (issue 50, verification 3 in 3D): at ten times the
+  rate (0.5 m^3/s, three steps) p_f lifts the pair nearest the well off
+  its face in the second step: it opens there, the fault slips around it
+  and sticks beyond (every pair nearer the well than the nearest stuck
+  one, at least 100 m away, open or slipping); each step converges with
+  the fault's volumes balanced (a step that does not is refused).
+- Through that opening 2 ranks give the 1-rank fields to 1e-8, the
+  coupling iterations of each step within 10 % (the opening step's slow
+  tail stops where round-off puts it: 67 against 71 measured) and the
+  same seismic moments to 1e-8 (each pair's G
+  is the mean over its + node's cells, the same on any partition; it was
+  the G of one of them, which differed by 3 % between 1 and 2 ranks at the
+  pairs on the reservoir's top and bottom); a run killed after the
+  opening and restarted from its checkpoint ends equal to the
+  uninterrupted one (1e-12).
+- Not in the suite (10 minutes): the monolithic solve of the same three
+  steps gives the split's fields (docs/verification.md, measured)."""
 import math
 import os
 
 import h5py
 import numpy as np
-from support import ROOT, check, run_track, summary
+from support import ROOT, check, iterations, killed_and_restarted, max_difference, run_track, summary
 
 MU, RATE, END = 0.6, 0.05, 14400.0
 G_BURDEN, G_RESERVOIR = 15.0e9 / (2 * 1.2), 10.0e9 / (2 * 1.2)
 WELL = np.array([0.0, 0.0, -550.0])  # where the well crosses the fault
+SCENE = os.path.join(ROOT, "scenes", "injection_fault3d.toml")
+OPENING = ("well.injector.rate=0.5", "time.end=5400.0", "coupling.tolerance=1e-10")
+FIELDS = ["displacement", "pressure"]
 
 
 def fault_series(out):
@@ -78,19 +94,54 @@ def check_moment(out, x, triangles, series, areas):
           f"N m, Mw {m['magnitude']:.2f}")
 
 
-out, _ = run_track("C++", os.path.join(ROOT, "scenes", "injection_fault3d.toml"))
+def check_balance(out, injected, tolerance):
+    v = summary(out)["fault_volumes"]["fault"]
+    balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / v["injected"]
+    check(abs(v["injected"] - injected) <= 1e-12 * injected and balance <= tolerance,
+          f"the fault's volumes: {v['injected']:g} m^3 injected, {-v['exchanged']:.6g} into the rock, "
+          f"{v['stored']:.3g} stored, balanced to {balance:.1e} ({tolerance:.0e})")
+
+
+def per_step(out):
+    """The coupling iterations of each step."""
+    rows = iterations(out)
+    steps = sorted({int(r["step"]) for r in rows})
+    return [max(int(r["iteration"]) for r in rows if int(r["step"]) == step) for step in steps]
+
+
+def check_opening(out):
+    """Open by the well, slipping around it, stuck beyond, every step
+    converged."""
+    s = summary(out)
+    check(s["converged"] is True and s["steps"] == 3, "at ten times the rate the three steps converge")
+    x, _, series = fault_series(out)
+    distance = np.linalg.norm(x - WELL, axis=1)
+    state = series[-1]["state"][:, 0]
+    open_, stuck = state == 0, state == 1
+    reach = distance[stuck].min()
+    check(open_.sum() >= 1 and distance[open_].max() < distance[~open_].min() and reach >= 100.0
+          and np.all(state[distance < reach] != 1) and (state == 2).sum() > 10,
+          f"{open_.sum()} pair(s) open by the well (within {distance[open_].max():.0f} m, the nearest), "
+          f"{(state == 2).sum()} slipping, every pair within {reach:.0f} m (100 m) open or slipping, "
+          f"{stuck.sum()} stuck beyond")
+
+
+out, _ = run_track("C++", SCENE)
 x, triangles, series = fault_series(out)
 areas = check_slip(x, triangles, series)
 check_moment(out, x, triangles, series, areas)
-v = summary(out)["fault_volumes"]["fault"]
-balance = abs(v["injected"] + v["exchanged"] - v["stored"] - v["outflow"]) / v["injected"]
-check(abs(v["injected"] - RATE * END) <= 1e-12 * RATE * END and balance <= 1e-9,
-      f"the fault's volumes: {v['injected']:g} m^3 injected, {-v['exchanged']:.6g} into the rock, {v['stored']:.3g} "
-      f"stored, balanced to {balance:.1e} (1e-9)")
-# The first three steps on 2 ranks (a pair's G once depended on the
-# partition: up to 3.8 % from the first step on), to keep the suite's time.
-two, _ = run_track("C++", os.path.join(ROOT, "scenes", "injection_fault3d.toml"), "time.end=5400.0", ranks=2)
-m1, m2 = summary(out)["seismic_moment"]["fault"]["moments"], summary(two)["seismic_moment"]["fault"]["moments"]
+check_balance(out, RATE * END, 1e-9)
+opening, _ = run_track("C++", SCENE, *OPENING)
+check_opening(opening)
+check_balance(opening, 10 * RATE * 5400.0, 1e-8)
+two, _ = run_track("C++", SCENE, *OPENING, ranks=2)
+d = max_difference(opening, two, FIELDS, sort=True)
+counts = [per_step(o) for o in (opening, two)]
+m1, m2 = (summary(o)["seismic_moment"]["fault"]["moments"] for o in (opening, two))
 worst = max(abs(a - b) / a for a, b in zip(m1, m2))
-check(len(m2) == 3 and worst <= 1e-8, f"2 ranks: the same seismic moment in each of the first 3 steps to {worst:.1e} "
-      "(1e-8)")
+check(max(d.values()) <= 1e-8 and all(abs(a - b) <= 0.1 * a for a, b in zip(*counts)) and len(m2) == 3
+      and worst <= 1e-8, f"2 ranks through the opening: the fields {d} (1e-8), coupling iterations per step "
+      f"{counts[1]} against {counts[0]} (within 10 %), the seismic moment of each step to {worst:.1e} (1e-8)")
+restarted, step = killed_and_restarted("C++", SCENE, 2, *OPENING, "output.checkpoint_every=1")
+d = max_difference(opening, restarted, FIELDS)
+check(max(d.values()) <= 1e-12, f"killed after step 2, restarted from step {step}: {d} (1e-12)")
