@@ -14,7 +14,7 @@ fault crossing a layered reservoir in 3D, for 4 hours.
 - The fault's volumes: 0.05 m^3/s for 4 hours injected, and injected +
   exchanged = stored + outflow to 1e-9 of it.
 - Partial opening (issue 50, verification 3 in 3D): at ten times the
-  rate (0.5 m^3/s, three steps) p_f lifts the pair nearest the well off
+  rate (0.5 m^3/s, two steps) p_f lifts the pair nearest the well off
   its face in the second step: it opens there, the fault slips around it
   and sticks beyond (every pair nearer the well than the nearest stuck
   one, at least 100 m away, open or slipping); each step converges with
@@ -25,23 +25,24 @@ fault crossing a layered reservoir in 3D, for 4 hours.
   same seismic moments to 1e-8 (each pair's G
   is the mean over its + node's cells, the same on any partition; it was
   the G of one of them, which differed by 3 % between 1 and 2 ranks at the
-  pairs on the reservoir's top and bottom); a run killed after the
-  opening and restarted from its checkpoint ends equal to the
-  uninterrupted one (1e-12).
-- Not in the suite (10 minutes): the monolithic solve of the same three
-  steps gives the split's fields (docs/verification.md, measured)."""
+  pairs on the reservoir's top and bottom).
+- Not in the suite (docs/verification.md, measured): the monolithic
+  solve of three such steps gives the split's fields (10 minutes); a run
+  of three steps killed after step 2 and restarted from its checkpoint of
+  step 1 ends equal to the uninterrupted one (30 s more; the 2D opening's
+  restart is test_friction_opening's)."""
 import math
 import os
 
 import h5py
 import numpy as np
-from support import ROOT, check, iterations, killed_and_restarted, max_difference, run_track, summary
+from support import ROOT, check, iterations, max_difference, run_track, summary
 
 MU, RATE, END = 0.6, 0.05, 14400.0
 G_BURDEN, G_RESERVOIR = 15.0e9 / (2 * 1.2), 10.0e9 / (2 * 1.2)
 WELL = np.array([0.0, 0.0, -550.0])  # where the well crosses the fault
 SCENE = os.path.join(ROOT, "scenes", "injection_fault3d.toml")
-OPENING = ("well.injector.rate=0.5", "time.end=5400.0", "coupling.tolerance=1e-10")
+OPENING = ("well.injector.rate=0.5", "time.end=3600.0", "coupling.tolerance=1e-10")
 FIELDS = ["displacement", "pressure"]
 
 
@@ -113,7 +114,7 @@ def check_opening(out):
     """Open by the well, slipping around it, stuck beyond, every step
     converged."""
     s = summary(out)
-    check(s["converged"] is True and s["steps"] == 3, "at ten times the rate the three steps converge")
+    check(s["converged"] is True and s["steps"] == 2, "at ten times the rate the two steps converge")
     x, _, series = fault_series(out)
     distance = np.linalg.norm(x - WELL, axis=1)
     state = series[-1]["state"][:, 0]
@@ -133,15 +134,12 @@ check_moment(out, x, triangles, series, areas)
 check_balance(out, RATE * END, 1e-9)
 opening, _ = run_track("C++", SCENE, *OPENING)
 check_opening(opening)
-check_balance(opening, 10 * RATE * 5400.0, 1e-8)
+check_balance(opening, 10 * RATE * 3600.0, 1e-8)
 two, _ = run_track("C++", SCENE, *OPENING, ranks=2)
 d = max_difference(opening, two, FIELDS, sort=True)
 counts = [per_step(o) for o in (opening, two)]
 m1, m2 = (summary(o)["seismic_moment"]["fault"]["moments"] for o in (opening, two))
 worst = max(abs(a - b) / a for a, b in zip(m1, m2))
-check(max(d.values()) <= 1e-8 and all(abs(a - b) <= 0.1 * a for a, b in zip(*counts)) and len(m2) == 3
+check(max(d.values()) <= 1e-8 and all(abs(a - b) <= 0.1 * a for a, b in zip(*counts)) and len(m2) == 2
       and worst <= 1e-8, f"2 ranks through the opening: the fields {d} (1e-8), coupling iterations per step "
       f"{counts[1]} against {counts[0]} (within 10 %), the seismic moment of each step to {worst:.1e} (1e-8)")
-restarted, step = killed_and_restarted("C++", SCENE, 2, *OPENING, "output.checkpoint_every=1")
-d = max_difference(opening, restarted, FIELDS)
-check(max(d.values()) <= 1e-12, f"killed after step 2, restarted from step {step}: {d} (1e-12)")
