@@ -21,11 +21,11 @@ fault crossing a layered reservoir in 3D, for 4 hours.
   the fault's volumes balanced (a step that does not is refused).
 - Through that opening 2 ranks give the 1-rank fields to 1e-8, the
   coupling iterations of each step within 10 % (the opening step's slow
-  tail stops where round-off puts it: 67 against 71 measured) and the
-  same seismic moments to 1e-8 (each pair's G
-  is the mean over its + node's cells, the same on any partition; it was
-  the G of one of them, which differed by 3 % between 1 and 2 ranks at the
-  pairs on the reservoir's top and bottom).
+  tail stops where round-off puts it: 66-67 against 71 measured) and the
+  same seismic moments to 1e-8 (each pair's G is the mean over its + node's
+  cells, the same on any partition; it was the G of one of them, which
+  differed by 3 % between 1 and 2 ranks at the pairs on the reservoir's top
+  and bottom).
 - Not in the suite (docs/verification.md, measured): the monolithic
   solve of three such steps gives the split's fields (10 minutes); a run
   of three steps killed after step 2 and restarted from its checkpoint of
