@@ -28,7 +28,8 @@ PROTOTYPE = ["/usr/bin/python3", "-m", "python_prototype"]
 ENV = dict(MPI_ENV, PYTHONPATH=ROOT)
 CHECKPOINT = ["--set", "output.checkpoint_every=3"]
 # A restarted run sets its preconditioners up again (factorisations, AMG).
-EXPECTED_TO_DIFFER = {"factorizations", "preconditioner_setups", "schur_columns", "schur_factorizations"}
+EXPECTED_TO_DIFFER = {"factorizations", "preconditioner_setups", "schur_columns", "schur_factorizations",
+                      "contact_factorizations"}
 
 
 def counts(summary, prefix=""):

@@ -158,6 +158,9 @@ public:
   /// forming H (0 when full).
   long schur_columns() const { return _schur ? _schur->columns : 0; }
   long schur_factorizations() const { return _schur ? _schur->factorizations : 0; }
+  /// The condensed VI's factorisations (0 on the full path, whose
+  /// factorisations are the system's).
+  long contact_factorizations() const { return _vi->factorizations(); }
   double schur_time() const { return _schur ? _schur->time : 0; }
 
   /// Newton steps and Krylov iterations (1 per back-solve when direct).

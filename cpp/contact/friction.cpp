@@ -183,6 +183,21 @@ PetscErrorCode friction_jacobian(const std::vector<FrictionalConstraint>& constr
   PetscFunctionReturn(0);
 }
 
+std::vector<double> jacobian_weights(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at)
+{
+  std::vector<double> weights;
+  for (const FrictionalConstraint& f : constraints)
+  {
+    const FrictionTerm t = friction_term(f, at);
+    for (int r = 0; r < at.tangents; ++r)
+    {
+      const RowWeights w = row_weights(f, t, r, at.tangents);
+      weights.insert(weights.end(), {w.tangential[0], w.tangential[1], w.diagonal[0], w.diagonal[1], w.normal});
+    }
+  }
+  return weights;
+}
+
 std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<FrictionalConstraint>& mine, MPI_Comm comm)
 {
   static_assert(std::is_trivially_copyable_v<FrictionalConstraint>);

@@ -70,6 +70,13 @@ void add_friction_forces(const std::vector<FrictionalConstraint>& constraints, c
 PetscErrorCode friction_jacobian(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at,
                                  Mat K, Mat J);
 
+/// The weights of the generalised Jacobian's rows (friction_jacobian), 5
+/// per tangential row in the constraints' order: of K's rows T_q, of the
+/// diagonal and of row N. J is K but for them, so while K stays, equal
+/// weights make an equal J (in 2D they change only with a constraint's
+/// state; in 3D also with a slip's direction).
+std::vector<double> jacobian_weights(const std::vector<FrictionalConstraint>& constraints, const FrictionPoint& at);
+
 /// Every rank's constraints on every rank, in rank order (collective): a
 /// record of plain values, gathered as bytes.
 std::vector<FrictionalConstraint> all_gather_constraints(const std::vector<FrictionalConstraint>& mine,

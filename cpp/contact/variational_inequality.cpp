@@ -68,21 +68,16 @@ void VariationalInequality::make_friction_operators()
 void VariationalInequality::create_snes()
 {
   const std::string& prefix = _p.prefix;
-  // Jacobian evaluations cost nothing (the matrix is constant); the
-  // factorisation is built at the first Newton step and then reused ("-2":
-  // rebuild once, then lag forever) until the inactive set changes, when
-  // SNES VI resets the preconditioner itself (PETSc 3.18 virs.c,
-  // SNESVIResetPCandKSP).
+  // The factorisation is built at the first Newton step and then reused
+  // ("-2": rebuild once, then lag forever) until the inactive set changes,
+  // when SNES VI resets the preconditioner itself (PETSc 3.18 virs.c,
+  // SNESVIResetPCandKSP), or the Jacobian changes: K reassembled
+  // (operator_changed) or, with friction, its rows' weights (jacobian).
   PetscBool lag_given = PETSC_FALSE;
   check_petsc(PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_lag_preconditioner", &lag_given), "contact solver: PetscOptionsHasName");
   _lag_by_default = !lag_given;
   check_petsc(PetscOptionsHasName(nullptr, prefix.c_str(), "-snes_rtol", &_snes_rtol_given), "contact solver: PetscOptionsHasName");
-  // With friction the Jacobian changes every step: no lag for a
-  // factorisation of it. The iterative path's preconditioner is built from
-  // P and the inactive set alone (inactive_set_preconditioner.h), not from
-  // the Jacobian: it is reused across Newton steps there too.
-  const bool iterative = _whole and _whole->method == Method::iterative;
-  set_default_option(prefix + "snes_lag_preconditioner", !_J or iterative ? "-2" : "1");
+  set_default_option(prefix + "snes_lag_preconditioner", "-2");
   set_default_option(prefix + "snes_rtol", "1e-10");
   set_default_option(prefix + "snes_stol", "1e-12");
   set_default_option(prefix + "snes_max_it", "100");
@@ -137,8 +132,17 @@ void VariationalInequality::set_from_options()
 void VariationalInequality::operator_changed()
 {
   // Re-arm "rebuild once, then reuse" (the lag is -1 after the first build).
-  if (_lag_by_default and lag_preconditioner())
+  _jacobian_weights.clear();
+  if (_lag_by_default)
     check_petsc(SNESSetLagPreconditioner(_snes, -2), "contact solver: SNESSetLagPreconditioner");
+}
+
+long VariationalInequality::factorizations() const
+{
+  SolverStatistics s;
+  if (_stage)
+    _stage->read(s);
+  return s.setups;
 }
 
 void VariationalInequality::set_tolerance(double relative)
@@ -350,8 +354,12 @@ PetscErrorCode VariationalInequality::residual(SNES, Vec y, Vec F, void* context
 }
 
 // The Jacobian is the constant matrix K (A, or H formed once per A); with
-// friction the generalised Jacobian of its rows (friction_jacobian).
-PetscErrorCode VariationalInequality::jacobian(SNES, Vec y, Mat, Mat, void* context)
+// friction the generalised Jacobian of its rows (friction_jacobian), built
+// anew, and its factorisation with it, only when its rows' weights changed
+// (on every rank alike: the factorisation is collective). The iterative
+// path's preconditioner is built from P and the inactive set alone
+// (inactive_set_preconditioner.h), not from J.
+PetscErrorCode VariationalInequality::jacobian(SNES snes, Vec y, Mat, Mat, void* context)
 {
   auto* self = static_cast<VariationalInequality*>(context);
   if (!self->_J)
@@ -363,8 +371,17 @@ PetscErrorCode VariationalInequality::jacobian(SNES, Vec y, Mat, Mat, void* cont
   PetscCall(VecGetArrayRead(self->_work, &R));
   PetscCall(VecGetArrayRead(self->_y_reference, &start));
   PetscCall(VecGetArrayRead(self->_stiffness, &c));
-  PetscCall(friction_jacobian(self->_p.friction, {Y, R, start, c, self->_scale, self->_p.tangents}, self->_p.K,
-                              self->_J));
+  const FrictionPoint at{Y, R, start, c, self->_scale, self->_p.tangents};
+  std::vector<double> weights = jacobian_weights(self->_p.friction, at);
+  int same = weights == self->_jacobian_weights;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_LAND, self->_p.comm));
+  if (!same)
+  {
+    PetscCall(friction_jacobian(self->_p.friction, at, self->_p.K, self->_J));
+    self->_jacobian_weights = std::move(weights);
+    if (self->_lag_by_default and !self->_preconditioner)
+      PetscCall(SNESSetLagPreconditioner(snes, -2));
+  }
   PetscCall(VecRestoreArrayRead(y, &Y));
   PetscCall(VecRestoreArrayRead(self->_work, &R));
   PetscCall(VecRestoreArrayRead(self->_y_reference, &start));

@@ -88,6 +88,10 @@ public:
   /// Solves to `relative` (iterative): the Krylov and the Newton tolerance.
   void set_tolerance(double relative);
 
+  /// The factorisations in the VI's own log stage (a condensed VI's; 0
+  /// without a stage: the system's stage counts them).
+  long factorizations() const;
+
   ContactConvergence& convergence() { return *_convergence; }
   const ContactConvergence& convergence() const { return *_convergence; }
   /// Preconditioner set-ups and their seconds (iterative; -1 otherwise).
@@ -101,10 +105,6 @@ private:
   void create_snes();
   /// The preconditioner of the iterative method, then the user's options.
   void set_from_options();
-  /// Whether the Newton steps reuse the preconditioner until the inactive
-  /// set or the operator changes: always but for a factorisation of the
-  /// Jacobian of friction, which changes every step.
-  bool lag_preconditioner() const { return !_J or _preconditioner; }
   void set_bounds(double scale);
   /// The absolute tolerances from the (scaled) load.
   void set_tolerances();
@@ -134,6 +134,7 @@ private:
   // (unscaled), the diagonal of K (the stiffness that turns a slip
   // increment into a trial force) and a work vector.
   Mat _J = nullptr;
+  std::vector<double> _jacobian_weights; // J's as last built (jacobian_weights); empty once K changed
   Vec _y_reference = nullptr, _stiffness = nullptr, _work = nullptr;
 };
 

@@ -136,7 +136,8 @@ std::pair<Json, Json> solver_summaries(const Scheme& scheme, bool inexact_coupli
       j.set("newton_iterations", st.newton_iterations)
           .set("active_set_changes", st.active_set_changes)
           .set("schur_columns", st.schur_columns)
-          .set("schur_factorizations", st.schur_factorizations);
+          .set("schur_factorizations", st.schur_factorizations)
+          .set("contact_factorizations", st.contact_factorizations);
     solvers.set(step->name(), j);
     timings.set(step->name(), Json()
                                   .set("total", st.total_time)

@@ -163,6 +163,7 @@ struct SolverStatistics
   long active_set_changes = 0;
   long schur_columns = 0;     // right-hand sides solved to form a contact Schur complement
   long schur_factorizations = 0; // partial factorisations that left one (MUMPS)
+  long contact_factorizations = 0; // the condensed contact solve's (its own log stage)
   double setup_time = 0;      // s in PCSetUp
   double solve_time = 0;      // s in KSPSolve: the back-solves
   double total_time = 0;      // s in the system's solve, all included
@@ -172,7 +173,7 @@ struct SolverStatistics
 
 /// The counts of SolverStatistics by name: the one list that checkpoints,
 /// restarts and the sum with an earlier run's counts read.
-inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 8> solver_counts{{
+inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 9> solver_counts{{
     {"solves", &SolverStatistics::solves},
     {"setups", &SolverStatistics::setups},
     {"back_solves", &SolverStatistics::back_solves},
@@ -181,6 +182,7 @@ inline constexpr std::array<std::pair<const char*, long SolverStatistics::*>, 8>
     {"active_set_changes", &SolverStatistics::active_set_changes},
     {"schur_columns", &SolverStatistics::schur_columns},
     {"schur_factorizations", &SolverStatistics::schur_factorizations},
+    {"contact_factorizations", &SolverStatistics::contact_factorizations},
 }};
 
 /// A PETSc log stage named after a system; pushed while the system solves.

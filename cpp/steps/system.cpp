@@ -303,6 +303,7 @@ SolverStatistics System::statistics() const
     s.active_set_changes = _contact->active_set_changes();
     s.schur_columns = _contact->schur_columns();
     s.schur_factorizations = _contact->schur_factorizations();
+    s.contact_factorizations = _contact->contact_factorizations();
     s.schur_time = _contact->schur_time();
   }
   for (const auto& [name, count] : solver_counts)

@@ -306,6 +306,11 @@ class ContactSolver:
     def schur_time(self):
         return self.schur.time if self.schur else 0.0
 
+    def contact_factorizations(self):
+        """The condensed VI's factorisations (0 on the full path, whose
+        factorisations are the system's)."""
+        return self.vi.factorizations()
+
     def operator_changed(self):
         """A was reassembled: H and A' are formed again at the next solve."""
         self.schur_current = self.change_current = False

@@ -165,6 +165,22 @@ def friction_jacobian(constraints, at, K, J):
     J.assemble()
 
 
+def jacobian_weights(constraints, at):
+    """The weights of the generalised Jacobian's rows (friction_jacobian), 5
+    per tangential row in the constraints' order: of K's rows T_q, of the
+    diagonal and of row N. J is K but for them, so while K stays, equal
+    weights make an equal J (in 2D they change only with a constraint's
+    state; in 3D also with a slip's direction)."""
+    weights = []
+    for f in constraints:
+        t = friction_term(f, at)
+        for r in range(at.tangents):
+            w = _row_weights(f, t, r, at.tangents)
+            pad = [0.0] * (2 - at.tangents)
+            weights += w.tangential + pad + w.diagonal + pad + [w.normal]
+    return weights
+
+
 def all_gather_constraints(mine, comm):
     """Every rank's constraints on every rank, in rank order (collective)."""
     return [f for rank in comm.allgather(mine) for f in rank]

@@ -8,15 +8,17 @@ linear and K its exact Jacobian."""
 import dataclasses
 
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .convergence import ContactConvergence, VIBounds
-from .friction import FrictionPoint, add_friction_forces, friction_jacobian
+from .friction import FrictionPoint, add_friction_forces, friction_jacobian, jacobian_weights
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.options import OptionsError, system_name
-from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, petsc_error_text, reason_name,
-                              set_default_option, set_relative_tolerance, unsymmetric_jacobian_options)
+from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStatistics,
+                              petsc_error_text, reason_name, set_default_option, set_relative_tolerance,
+                              unsymmetric_jacobian_options)
 
 # PETSc's error codes of a zero pivot (PETSC_ERR_MAT_LU_ZRPVT,
 # PETSC_ERR_MAT_CH_ZRPVT), which petsc4py does not name.
@@ -81,6 +83,7 @@ class VariationalInequality:
         self.scale = 1.0
         self.newton_iterations = self.linear_iterations = 0
         self.J = self.y_reference = self.stiffness = self.work = self.preconditioner = None
+        self.jacobian_weights = None  # J's as last built (jacobian_weights); None once K changed
         if problem.frictional:
             self._make_friction_operators()
         if self.J is not None and whole is not None:
@@ -127,18 +130,17 @@ class VariationalInequality:
         prefix = self.p.prefix
         self.lag_by_default = not PETSc.Options().hasName(prefix + "snes_lag_preconditioner")
         self.snes_rtol_given = PETSc.Options().hasName(prefix + "snes_rtol")
-        # With friction the Jacobian changes every step: no lag for a
-        # factorisation of it; the iterative path's preconditioner is built
-        # from P and the inactive set alone, and is reused there too.
-        iterative = self.whole is not None and self.whole.method == Method.iterative
-        lag = "-2" if self.J is None or iterative else "1"
+        # The factorisation is built at the first Newton step, then reused
+        # ("-2") until the inactive set changes (SNES VI resets it) or the
+        # Jacobian does: K reassembled (operator_changed) or, with friction,
+        # its rows' weights (_jacobian).
         # with friction (F semismooth: full steps can overshoot where a
         # constraint changes state) a backtracking search, but not with
         # separate rows: the search's merit ||F||, the forces' (N), is blind
         # to them (the coupled system's mass balances, m^3/s), whose step it
         # shrank to nothing
         backtrack = self.J is not None and not self.convergence.has_separate_rows()
-        for option, value in (("snes_lag_preconditioner", lag), ("snes_rtol", "1e-10"),
+        for option, value in (("snes_lag_preconditioner", "-2"), ("snes_rtol", "1e-10"),
                               ("snes_stol", "1e-12"), ("snes_max_it", "100"),
                               # F is linear, K exact: the full step is exact on the active
                               # set; with friction a backtracking search (above)
@@ -176,7 +178,8 @@ class VariationalInequality:
 
     def operator_changed(self):
         """K was reassembled: "rebuild once, then reuse" re-armed."""
-        if self.lag_by_default and (self.J is None or self.preconditioner is not None):
+        self.jacobian_weights = None
+        if self.lag_by_default:
             set_lag_preconditioner(self.snes, -2)
 
     def set_tolerance(self, relative):
@@ -190,6 +193,14 @@ class VariationalInequality:
     def preconditioner_setups(self):
         """Set-ups of the iterative preconditioner and their seconds (None otherwise)."""
         return (self.preconditioner.setups, self.preconditioner.setup_time) if self.preconditioner else None
+
+    def factorizations(self):
+        """The factorisations in the VI's own log stage (a condensed VI's; 0
+        without a stage: the system's stage counts them)."""
+        s = SolverStatistics()
+        if self.p.stage:
+            self.p.stage.read(s)
+        return s.setups
 
     def solve(self, scale):
         """Solves in units of `scale` (SNES decides "on a bound" with an
@@ -320,13 +331,23 @@ class VariationalInequality:
 
     def _jacobian(self, snes, y, J, P):
         """The constant matrix K (A, or H formed once per A); with friction
-        the generalised Jacobian of its rows (friction_jacobian)."""
+        the generalised Jacobian of its rows (friction_jacobian), built anew,
+        and its factorisation with it, only when its rows' weights changed
+        (on every rank alike: the factorisation is collective). The
+        iterative path's preconditioner is built from P and the inactive set
+        alone, not from J."""
         if self.J is None:
             return
         self.p.K.mult(y, self.work)
         self.work.axpy(-1.0, self.b)
-        friction_jacobian(self.p.friction, self._friction_point(y, self.work.getArray(readonly=True)), self.p.K,
-                          self.J)
+        at = self._friction_point(y, self.work.getArray(readonly=True))
+        weights = jacobian_weights(self.p.friction, at)
+        if self.p.mpi_comm.allreduce(weights == self.jacobian_weights, op=MPI.LAND):
+            return
+        friction_jacobian(self.p.friction, at, self.p.K, self.J)
+        self.jacobian_weights = weights
+        if self.lag_by_default and self.preconditioner is None:
+            set_lag_preconditioner(snes, -2)
 
     def _friction_point(self, y, R):
         """Friction at y with the residual R = K y - b (friction.py)."""

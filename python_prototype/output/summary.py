@@ -126,7 +126,8 @@ def _solver_summaries(scheme, inexact_coupling):
              "back_solves": st.back_solves, "linear_iterations": st.linear_iterations}
         if system.has_contact():
             j.update(newton_iterations=st.newton_iterations, active_set_changes=st.active_set_changes,
-                     schur_columns=st.schur_columns, schur_factorizations=st.schur_factorizations)
+                     schur_columns=st.schur_columns, schur_factorizations=st.schur_factorizations,
+                     contact_factorizations=st.contact_factorizations)
         solvers[step.name()] = j
         timings[step.name()] = {"total": st.total_time, "setup": st.setup_time, "solve": st.solve_time,
                                 "schur_complement": st.schur_time,

@@ -242,13 +242,14 @@ class SolverStatistics:
     def __init__(self):
         self.solves = self.setups = self.back_solves = self.linear_iterations = 0
         self.newton_iterations = self.active_set_changes = self.schur_columns = self.schur_factorizations = 0
+        self.contact_factorizations = 0  # the condensed contact solve's (its own log stage)
         self.setup_time = self.solve_time = self.total_time = self.assembly_time = self.schur_time = 0.0
 
 
 # The counts of SolverStatistics by name: the one list that checkpoints,
 # restarts and the sum with an earlier run's counts read.
 solver_counts = ("solves", "setups", "back_solves", "linear_iterations", "newton_iterations", "active_set_changes",
-                 "schur_columns", "schur_factorizations")
+                 "schur_columns", "schur_factorizations", "contact_factorizations")
 
 
 class SolverStage:

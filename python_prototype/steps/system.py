@@ -276,6 +276,7 @@ class System:
             s.linear_iterations = self.contact.linear_iterations
             s.active_set_changes = self.contact.active_set_changes
             s.schur_columns, s.schur_time = self.contact.schur_columns(), self.contact.schur_time()
+            s.contact_factorizations = self.contact.contact_factorizations()
         for name in solver_counts:
             setattr(s, name, getattr(s, name) + getattr(self._earlier, name))
         return s
