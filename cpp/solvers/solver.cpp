@@ -313,6 +313,7 @@ LinearSolver::LinearSolver(MPI_Comm comm, const std::string& prefix, Mat A, Mat 
   PetscBool preonly = PETSC_TRUE;
   check_solver(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(_ksp), KSPPREONLY, &preonly), prefix,
                "PetscObjectTypeCompare");
+  _direct = preonly;
   if (!preonly)
   {
     check_solver(KSPSetInitialGuessNonzero(_ksp, PETSC_TRUE), prefix, "KSPSetInitialGuessNonzero");
@@ -360,8 +361,28 @@ void LinearSolver::solve(Mat X, Mat B)
   }
 }
 
+bool LinearSolver::solve_nearby(const std::function<PetscErrorCode()>& solve)
+{
+  // A change of a few rows is a low-rank change: GMRES preconditioned by
+  // the old factors converges in about as many iterations as the rank.
+  check_solver(KSPSetReusePreconditioner(_ksp, PETSC_TRUE), _prefix, "KSPSetReusePreconditioner");
+  check_solver(KSPSetType(_ksp, KSPGMRES), _prefix, "KSPSetType");
+  check_solver(KSPSetTolerances(_ksp, nearby_tolerance, 0.0, PETSC_DEFAULT, nearby_iterations), _prefix,
+               "KSPSetTolerances");
+  const PetscErrorCode ierr = solve();
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
+  check_solver(KSPSetType(_ksp, KSPPREONLY), _prefix, "KSPSetType");
+  check_solver(KSPSetReusePreconditioner(_ksp, PETSC_FALSE), _prefix, "KSPSetReusePreconditioner");
+  _stale = ierr == 0 and reason > 0;
+  _operator_changed = !_stale;
+  return _stale;
+}
+
 void LinearSolver::run(const std::function<PetscErrorCode()>& solve)
 {
+  if (_stale and solve_nearby(solve))
+    return;
   // Set-up first, so that the log keeps factorisation (PCSetUp) and
   // back-solve (KSPSolve) apart; a no-op while the operator is unchanged.
   const bool set_up = _operator_changed;

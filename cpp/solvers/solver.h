@@ -236,7 +236,14 @@ public:
   void set_tolerance(double relative) { set_relative_tolerance(_ksp, _prefix, relative); }
   /// The operator's values changed: the next solve sets up anew (PETSc
   /// sees the new matrix state by itself; this only counts).
-  void operator_changed() { _operator_changed = true; }
+  void operator_changed() { _operator_changed = true, _stale = false; }
+  /// The operator's values changed in a few rows (a fault's apertures):
+  /// the solves that follow take the last factorisation as GMRES's
+  /// preconditioner, to nearby_tolerance, and factorise anew only when
+  /// that does not converge in nearby_iterations (a direct method only).
+  void operator_nudged() { _stale = _stale or (_direct and setups > 0 and !_operator_changed); }
+  static constexpr double nearby_tolerance = 1e-14;
+  static constexpr int nearby_iterations = 10;
   /// Preconditioner set-ups (factorisations or AMG hierarchies) so far:
   /// one per operator, and the seconds they took.
   long setups = 0;
@@ -252,9 +259,14 @@ private:
   /// KSPSetUp, then `solve` if it succeeded: the first error code (0 when
   /// both succeed); the set-up counted in setups and setup_time if `counted`.
   PetscErrorCode set_up_and_solve(const std::function<PetscErrorCode()>& solve, bool counted);
+  /// `solve` by GMRES preconditioned by the stale factorisation: whether
+  /// it converged (else the next solve factorises).
+  bool solve_nearby(const std::function<PetscErrorCode()>& solve);
   KSP _ksp;
   std::string _prefix;
   bool _operator_changed = true; // the next solve sets up
+  bool _direct = false;          // a factorisation (preonly)
+  bool _stale = false;           // the factorisation is of an operator since nudged
 };
 
 } // namespace biotcontact

@@ -139,7 +139,7 @@ void System::append(AppendedUnknowns appended)
     if (_contact)
       _contact->operator_changed();
     else
-      _linear->operator_changed();
+      _linear->operator_nudged();
     return;
   }
   _A_appended = big;

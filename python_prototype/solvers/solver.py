@@ -281,6 +281,7 @@ class LinearSolver:
         matrix of the coupled system); `fields` are P's splits."""
         self.prefix = prefix
         self.setups, self.setup_time, self._operator_changed = 0, 0.0, True
+        self._stale = False  # the factorisation is of an operator since nudged
         if structure == Structure.spd:
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.ksp = PETSc.KSP().create(comm)
@@ -291,7 +292,8 @@ class LinearSolver:
             set_fields(self.ksp.getPC(), fields, prefix)
             # A Krylov method starts from x, the previous iterate (preonly
             # refuses a nonzero guess).
-            if self.ksp.getType() != PETSc.KSP.Type.PREONLY:
+            self._direct = self.ksp.getType() == PETSc.KSP.Type.PREONLY
+            if not self._direct:
                 self.ksp.setInitialGuessNonzero(True)
                 set_relative_tolerance(self.ksp, prefix, ITERATIVE_TOLERANCE)
         except PETSc.Error as e:  # e.g. -flow_pc_type ilu with a factorisation package
@@ -304,7 +306,34 @@ class LinearSolver:
 
     def operator_changed(self):
         """The operator's values changed: the next solve sets up (counted)."""
-        self._operator_changed = True
+        self._operator_changed, self._stale = True, False
+
+    # A nudged operator's solves: GMRES preconditioned by the stale factors
+    NEARBY_TOLERANCE, NEARBY_ITERATIONS = 1e-14, 10
+
+    def operator_nudged(self):
+        """The operator's values changed in a few rows (a fault's apertures):
+        the solves that follow take the last factorisation as GMRES's
+        preconditioner, to NEARBY_TOLERANCE, and factorise anew only when
+        that does not converge in NEARBY_ITERATIONS (a direct method only)."""
+        self._stale = self._stale or (self._direct and self.setups > 0 and not self._operator_changed)
+
+    def _solve_nearby(self, solve):
+        """`solve` by GMRES preconditioned by the stale factorisation (a
+        change of a few rows is of low rank: about as many iterations as
+        the rank): whether it converged (else the next solve factorises)."""
+        self.ksp.getPC().setReusePreconditioner(True)  # KSPSetReusePreconditioner: petsc4py 3.18 has only the PC's
+        self.ksp.setType(PETSc.KSP.Type.GMRES)
+        self.ksp.setTolerances(rtol=self.NEARBY_TOLERANCE, atol=0.0, max_it=self.NEARBY_ITERATIONS)
+        try:
+            solve()
+            converged = self.ksp.getConvergedReason() > 0
+        except PETSc.Error:
+            converged = False
+        self.ksp.setType(PETSc.KSP.Type.PREONLY)
+        self.ksp.getPC().setReusePreconditioner(False)
+        self._stale, self._operator_changed = converged, not converged
+        return converged
 
     def _run(self, solve):
         """Set-up first, so the log keeps factorisation and back-solve apart."""
@@ -344,6 +373,8 @@ class LinearSolver:
         self.run(solve)
 
     def run(self, solve):
+        if self._stale and self._solve_nearby(solve):
+            return self.ksp.getIterationNumber()
         error = self._run(solve)
         # A quasi-definite matrix with a negative block at round-off can
         # still meet a tiny pivot: factorise once more with UMFPACK, which

@@ -101,7 +101,10 @@ class System:
         big = self._appended_operator()
         if not first:
             big.copy(self.A_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
-            (self.contact or self.linear).operator_changed()
+            if self.contact:
+                self.contact.operator_changed()
+            else:
+                self.linear.operator_nudged()
             return
         if self.contact:
             raise RuntimeError(f"{self.prefix}: unknowns appended after the contact (append before use_contact)")
