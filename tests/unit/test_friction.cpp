@@ -5,7 +5,9 @@
 // force; the tangential rows of F are c ds / s where a constraint sticks and
 // R_T + bound n / s where it slips; and the generalised Jacobian of
 // friction_jacobian is F's finite-difference derivative, in 2D and 3D, on a
-// dense SPD K with one constraint stuck, one slipping and one open. The
+// dense SPD K with one constraint stuck, one slipping and one open; and
+// its rows' weights (jacobian_weights) change with the states alone in 2D,
+// with a slip's trial force in 3D. The
 // prototype's twin is tests/unit/test_friction.py.
 #include "contact/friction.h"
 #include "dense.h"
@@ -92,7 +94,34 @@ void expect_jacobian_is_derivative(int tangents)
   MatDestroy(&J);
   MatDestroy(&A);
 }
+/// jacobian_weights at expect_jacobian_is_derivative's point, with the
+/// tangential loads `stuck` on constraint 0 and `slipping` on constraint 1.
+std::vector<double> weights_at(int tangents, double stuck, double slipping)
+{
+  const unit::Dense K = unit::spd_matrix(9);
+  std::vector<double> x = {1.0, 1e-3, -2e-3, 1.0, 0.3, 0.2, 0.5, 0.1, 0.1};
+  if (tangents == 1)
+    x[2] = x[5] = x[8] = 0;
+  std::vector<double> R(9, 0.0), start(9, 0.0), c(9);
+  for (int i = 0; i < 9; ++i)
+    c[i] = K(i, i);
+  R[0] = R[3] = -4.0, R[1] = stuck, R[4] = slipping; // R = K x - b
+  return jacobian_weights(constraints(), {x.data(), R.data(), start.data(), c.data(), 1.0, tangents});
+}
 } // namespace
+
+TEST(Friction, JacobianWeightsFollowTheStates)
+{
+  // 2D: the weights (and so J) change with a constraint's state only.
+  const std::vector<double> w = weights_at(1, 0.0, 30.0);
+  ASSERT_EQ(w.size(), 15u);
+  EXPECT_EQ(weights_at(1, 0.5, 40.0), w) << "stuck and slipping as before: the same J";
+  EXPECT_NE(weights_at(1, 30.0, 30.0), w) << "constraint 0 slips";
+  EXPECT_NE(weights_at(1, 0.0, -30.0), w) << "constraint 1 slips the other way";
+  // 3D: a slipping constraint's D turns with its trial force.
+  EXPECT_NE(weights_at(2, 0.0, 40.0), weights_at(2, 0.0, 30.0));
+  EXPECT_EQ(weights_at(2, 0.5, 30.0), weights_at(2, 0.0, 30.0)) << "stuck: D = I whatever the load";
+}
 
 TEST(Friction, DiscInsideSticks)
 {

@@ -6,7 +6,8 @@ bound 0 free, and its derivatives are the finite differences of the force;
 the tangential rows of F are c ds / s where a constraint sticks; and the
 generalised Jacobian of friction_jacobian is F's finite-difference
 derivative, in 2D and 3D, on a dense SPD K with one constraint stuck, one
-slipping and one open."""
+slipping and one open; and its rows' weights (jacobian_weights) change with
+the states alone in 2D, with a slip's trial force in 3D."""
 import os
 import sys
 import unittest
@@ -19,7 +20,8 @@ from dense import petsc_matrix, spd_matrix  # noqa: E402
 from petsc4py import PETSc  # noqa: E402
 from python_prototype.contact.contact_law import ContactLaw, project_on_disc, slip_bound_slope  # noqa: E402
 from python_prototype.contact.friction import (FrictionalConstraint, FrictionPoint,  # noqa: E402
-                                               add_friction_forces, friction_jacobian, friction_term)
+                                               add_friction_forces, friction_jacobian, friction_term,
+                                               jacobian_weights)
 
 
 def constraints():
@@ -52,7 +54,27 @@ def loaded_point(tangents):
     return K, x, b
 
 
+def weights_at(tangents, stuck, slipping):
+    """jacobian_weights at loaded_point, with the tangential loads `stuck`
+    on constraint 0 and `slipping` on constraint 1."""
+    K, x, _ = loaded_point(tangents)
+    R = np.zeros(9)
+    R[[0, 3]], R[1], R[4] = -4.0, stuck, slipping  # R = K x - b
+    return jacobian_weights(constraints(), FrictionPoint(x, R, np.zeros(9), np.diag(K).copy(), 1.0, tangents))
+
+
 class FrictionTest(unittest.TestCase):
+    def test_jacobian_weights_follow_the_states(self):
+        # 2D: the weights (and so J) change with a constraint's state only
+        w = weights_at(1, 0.0, 30.0)
+        self.assertEqual(len(w), 15)
+        self.assertEqual(weights_at(1, 0.5, 40.0), w, "stuck and slipping as before: the same J")
+        self.assertNotEqual(weights_at(1, 30.0, 30.0), w, "constraint 0 slips")
+        self.assertNotEqual(weights_at(1, 0.0, -30.0), w, "constraint 1 slips the other way")
+        # 3D: a slipping constraint's D turns with its trial force
+        self.assertNotEqual(weights_at(2, 0.0, 40.0), weights_at(2, 0.0, 30.0))
+        self.assertEqual(weights_at(2, 0.5, 30.0), weights_at(2, 0.0, 30.0), "stuck: D = I whatever the load")
+
     def test_disc_inside_sticks(self):
         p = project_on_disc(2.0, [1.0, -0.5], 2)
         self.assertTrue(p.stick)
