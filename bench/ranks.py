@@ -40,7 +40,7 @@ CELLS = {2: [(80, 8), (160, 16), (320, 32), (640, 64)], 3: scaling.CELLS[3] + [s
 SETS = {2: ["output.xdmf=false"], 3: scaling.SETS}
 SYSTEMS = ("flow", "mechanics", "monolithic")
 PHASES = ("setup", "solve", "schur_complement", "other", "total")
-COLUMNS = (["dimension", "variant", "cells", "ranks", "repetition", "unknowns", "wall_s", "process_wall_s",
+COLUMNS = (["dimension", "variant", "cells", "ranks", "working_ranks", "repetition", "unknowns", "wall_s", "process_wall_s",
             "coupling_iterations", "steps", "assembly_s", "output_s"]
            + [f"{s}_{p}_s" for s in SYSTEMS for p in PHASES]
            + [f"{s}_{c}" for s in SYSTEMS for c in ("linear_iterations", "back_solves", "solver")]
@@ -53,7 +53,7 @@ def row_from_run(dimension, variant, cells, ranks, repetition, result):
     s = result["summary"]
     timings, solvers = s.get("timings", {}), s.get("solvers", {})
     row = {"dimension": dimension, "variant": variant, "cells": common.cells_text(cells), "ranks": ranks,
-           "repetition": repetition, "unknowns": sum(s["dofs"].values()), "wall_s": float(s["wall_time_s"]),
+           "working_ranks": s.get("working_ranks", ranks), "repetition": repetition, "unknowns": sum(s["dofs"].values()), "wall_s": float(s["wall_time_s"]),
            "process_wall_s": result["process_wall_s"], "coupling_iterations": s["coupling_iterations"],
            "steps": s["steps"], "assembly_s": float(timings.get("assembly", 0.0)),
            "output_s": float(timings.get("output", 0.0)),

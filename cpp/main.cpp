@@ -10,6 +10,7 @@
 #include "contact/contact.h"
 #include "domain/create_domain.h"
 #include "domain/mesh_checks.h"
+#include "domain/working_ranks.h"
 #include "output/interruption.h"
 #include "output/write_failure.h"
 #include "scene/scene.h"
@@ -153,7 +154,9 @@ void initialize(std::vector<char*> petsc, char* argv[])
 int check_scene(const biotcontact::Scene& scene, const Arguments& args, int rank)
 {
   const biotcontact::Domain domain = biotcontact::create_domain(scene, MPI_COMM_WORLD);
-  biotcontact::check_expressions(scene, domain, MPI_COMM_WORLD);
+  if (!domain.mesh)
+    return 0; // this rank waits
+  biotcontact::check_expressions(scene, domain, domain.mesh->comm());
   biotcontact::check_materials(scene, domain);
   if (scene.mechanics)
     biotcontact::check_contact(scene, domain);
@@ -212,6 +215,16 @@ int execute(const Arguments& args, int rank)
   }
 }
 
+/// Rank 0's exit status, on every rank. A rank that did not work
+/// (domain/working_ranks.h) waits for it here, asleep.
+int status_of_rank0(int status)
+{
+  MPI_Request request;
+  MPI_Ibcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
+  biotcontact::wait_quietly(request);
+  return status;
+}
+
 } // namespace
 
 int main(int argc, char* argv[])
@@ -239,7 +252,7 @@ int main(int argc, char* argv[])
   }
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const int status = execute(args, rank);
+  const int status = status_of_rank0(execute(args, rank));
   // The outputs and the exit status are final by now: a failed clean-up is only reported.
   biotcontact::warn_petsc(PetscFinalize(), "finishing PETSc: PetscFinalize");
   return status;

@@ -6,6 +6,7 @@
 #include "diagnostics/reference_errors.h"
 #include "domain/create_domain.h"
 #include "domain/mesh_checks.h"
+#include "domain/working_ranks.h"
 #include "output/checkpoint.h"
 #include "output/directory_lock.h"
 #include "output/fields.h"
@@ -31,7 +32,7 @@ class Simulation
 {
 public:
   Simulation(const Scene& scene, const std::string& directory, MPI_Comm comm, const RunControl& control)
-      : _scene(with_mandel_plate(scene)), _directory(directory), _comm(comm), _control(control),
+      : _scene(with_mandel_plate(scene)), _directory(directory), _world(comm), _comm(comm), _control(control),
         _progress(comm, scene.progress_interval)
   {
   }
@@ -39,6 +40,8 @@ public:
   int run()
   {
     set_up();
+    if (!_domain->mesh)
+      return 0; // this rank waits; main takes rank 0's status
     _scheme = std::make_unique<Scheme>(*_problem);
     try
     {
@@ -74,7 +77,8 @@ private:
 
   const Scene _scene; // as read, with a closed form's boundary values imposed
   const std::string _directory;
-  MPI_Comm _comm;
+  MPI_Comm _world; // the ranks started
+  MPI_Comm _comm;  // those that work (domain/working_ranks.h)
   const RunControl& _control;
   Progress _progress;
   std::optional<Domain> _domain;
@@ -102,6 +106,10 @@ private:
 void Simulation::set_up()
 {
   _domain.emplace(create_domain(_scene, _comm));
+  if (!_domain->mesh)
+    return;
+  const std::string ranks = working_ranks_line(_comm, *_domain->mesh, _scene.solver.cells_per_rank);
+  _comm = _domain->mesh->comm(); // the working ranks
   check_expressions(_scene, *_domain, _comm);
   const CompiledForms& forms = compiled_forms(_domain->mesh->topology().cell_type());
   _materials = make_materials(_scene, *_domain, forms);
@@ -110,6 +118,8 @@ void Simulation::set_up()
   _constants = make_constants(_scene, _parameters);
   _problem.emplace(Problem{_scene, *_domain, forms, _materials, _parameters, _constants});
   _description = describe(*_problem);
+  if (!ranks.empty())
+    _description.lines.push_back(ranks);
   for (const std::string& line : _description.lines)
     _progress.say(line);
 }
@@ -278,10 +288,12 @@ void Simulation::write_summary()
   SummaryInput in{*_problem, *_scheme, _report, _grid, _fields->contact, std::nullopt};
   if (_scene.reference and _end.failure.empty() and _end.signal == 0)
     in.errors = reference_errors(*_problem, _scheme->u, _scheme->p);
-  int ranks;
-  MPI_Comm_size(_comm, &ranks);
-  const RunOutcome outcome{_end.failure, _end.signal, _end.completed_time, _description.left_out, _description.warnings,
-                           _progress.elapsed(), _output->time, ranks};
+  int working = 1, ranks = 1;
+  MPI_Comm_size(_comm, &working);
+  MPI_Comm_size(_world, &ranks);
+  const RunOutcome outcome{_end.failure,         _end.signal,       _end.completed_time,
+                           _description.left_out, _description.warnings, _progress.elapsed(),
+                           _output->time,         ranks,              working};
   try
   {
     _output->summary(run_summary(in, outcome));

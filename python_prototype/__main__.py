@@ -4,6 +4,7 @@ Exit status: 0 success, 2 bad input (one line naming the key or file),
 3 a solver or the coupling did not converge (what was finished is
 written), 1 anything else; `compare` exits 1 when the runs differ.
 """
+import array
 import os
 import sys
 
@@ -171,7 +172,9 @@ def main(argv):
         scene = read_scene(scene_file, overrides)
         if command == "check":
             domain = create_domain(scene, comm)  # a gmsh file's boundary names are known once read
-            check_expressions(scene, domain, comm)
+            if domain is None:
+                return 0  # this rank waits
+            check_expressions(scene, domain, domain.mesh.comm)
             check_materials(scene, domain)
             if scene.mechanics:
                 check_contact(scene, domain)
@@ -193,8 +196,20 @@ def main(argv):
         return fail(f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}", 1)
 
 
+def _status_of_rank0(status):
+    """Rank 0's exit status, on every rank (cpp/main.cpp). A rank that did
+    not work (domain/working_ranks.py) waits for it here, asleep."""
+    if "mpi4py.MPI" not in sys.modules:  # help: MPI never started
+        return status
+    from mpi4py import MPI
+    from .domain.working_ranks import wait_quietly
+    shared = array.array("i", [status])
+    wait_quietly(MPI.COMM_WORLD.Ibcast(shared, root=0))
+    return shared[0]
+
+
 if __name__ == "__main__":
-    status = main(sys.argv[1:])
+    status = _status_of_rank0(main(sys.argv[1:]))
     if status == RUN_OUTPUT_FAILED:
         # The HDF5 file stays as its last flush left it: the interpreter's
         # teardown would close it, writing metadata the full disk cannot hold

@@ -14,6 +14,7 @@ from .diagnostics.closed_form import with_mandel_plate
 from .diagnostics.description import Description, describe
 from .diagnostics.reference_errors import reference_errors
 from .domain.create_domain import create_domain
+from .domain.working_ranks import working_ranks_line
 from .domain.mesh_checks import check_expressions
 from .output.checkpoint import RunState, capture_checkpoint, read_checkpoint, restore_checkpoint, write_checkpoint
 from .output.directory_lock import DirectoryLock
@@ -34,7 +35,8 @@ class Simulation:
 
     def __init__(self, scene, directory, comm, fingerprint="", restart=False):
         # The scene as read, with a closed form's boundary values imposed.
-        self.scene, self.directory, self.comm = with_mandel_plate(scene), directory, comm
+        self.scene, self.directory = with_mandel_plate(scene), directory
+        self.world = self.comm = comm  # the ranks started; those that work (domain/working_ranks.py)
         self.fingerprint, self.restart = fingerprint, restart
         # output.progress_interval (seconds between lines within a step)
         self.progress = Progress(comm, scene.progress_interval)
@@ -50,6 +52,8 @@ class Simulation:
         released however it ends."""
         try:
             self.set_up()
+            if self.domain is None:
+                return 0  # this rank waits; main takes rank 0's status
             self.scheme = Scheme(self.problem)
             try:
                 self.open_output()
@@ -69,7 +73,11 @@ class Simulation:
         of its cells, the derived parameters and the constants of the forms;
         then what the scene leaves out, and warnings where the method is
         known to degrade (diagnostics/description.py)."""
-        self.domain = create_domain(self.scene, self.comm)
+        self.domain = create_domain(self.scene, self.world)
+        if self.domain is None:
+            return
+        ranks = working_ranks_line(self.world, self.domain.mesh, self.scene.solver.cells_per_rank)
+        self.comm = self.domain.mesh.comm
         check_expressions(self.scene, self.domain, self.comm)
         self.F = Forms(self.domain.mesh)
         self.materials = make_materials(self.scene, self.domain, self.F)
@@ -78,6 +86,8 @@ class Simulation:
         set_constants(self.F, self.scene, self.parameters)
         self.problem = Problem(self.scene, self.domain, self.F, self.materials, self.parameters)
         self.description = describe(self.problem)
+        if ranks:
+            self.description.lines.append(ranks)
         for line in self.description.lines:
             self.progress.say(line)
 
@@ -230,7 +240,8 @@ class Simulation:
         if self.scene.reference and not end.failure and not end.signal:
             summary_input.errors = reference_errors(self.problem, self.scheme.u, self.scheme.p)
         outcome = RunOutcome(end.failure, end.signal, end.completed_time, self.description.left_out,
-                             self.description.warnings, self.progress.elapsed(), self.output.time, self.comm.size)
+                             self.description.warnings, self.progress.elapsed(), self.output.time, self.world.size,
+                             self.comm.size)
         try:
             self.output.summary(run_summary(summary_input, outcome))
         except OutputError as e:

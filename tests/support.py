@@ -60,6 +60,11 @@ MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CO
                OMPI_MCA_rmaps_base_oversubscribe="1")
 
 
+# A test on several ranks is about the distributed run: every rank works
+# however few cells the scene has (cpp/domain/working_ranks.h).
+EVERY_RANK = ["--set", "solver.cells_per_rank=0"]
+
+
 def mpirun(ranks):
     """The command that starts `ranks` ranks: mpirun once no other test's
     mpirun runs (tests/mpirun_alone.py)."""
@@ -75,7 +80,7 @@ def run(scene_file, *extra, ranks=1, expect=0, out=None):
     out = out or tempfile.mkdtemp(prefix="biotcontact-test-")
     cmd = [BINARY, "run", scene_file, "--out", out, *extra]
     if ranks > 1:
-        cmd = mpirun(ranks) + cmd
+        cmd = mpirun(ranks) + cmd + EVERY_RANK
     p = subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV, timeout=900)
     if expect is not None and p.returncode != expect:
         sys.exit(f"FAIL: {' '.join(cmd)} exited {p.returncode}, expected {expect}\n"
@@ -307,7 +312,7 @@ def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     returns (output directory, completed process)."""
     out = tempfile.mkdtemp(prefix="run-")
     p = subprocess.run([*(mpirun(ranks) if ranks > 1 else []), *TRACKS[track], "run", scene_file, "--out", out,
-                        *[a for s in sets for a in ("--set", s)], *options],
+                        *[a for s in sets for a in ("--set", s)], *(EVERY_RANK if ranks > 1 else []), *options],
                        capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
     check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} {' '.join(sets)} exits {expect} "
           f"({p.stderr.strip()[-300:]!r})")

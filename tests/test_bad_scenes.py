@@ -10,7 +10,7 @@ import os
 import subprocess
 import tempfile
 
-from support import (BINARY, MPI_ENV, ROOT, check, crack_scenes, fault_group_scenes, flow_crack_scene,
+from support import (BINARY, EVERY_RANK, MPI_ENV, ROOT, check, crack_scenes, fault_group_scenes, flow_crack_scene,
                      foundation_fault_scene, mpirun, scene)
 
 DEFAULT = scene("default")
@@ -396,6 +396,8 @@ CASES = [
     ("unknown solver choice", DEFAULT, s("solver.flow=gpu"), "solver.flow", BOTH),
     ("solver choice not a string", DEFAULT, s("solver.mechanics=1"), "solver.mechanics", BOTH),
     ("unknown key in [solver]", DEFAULT, s("solver.mechanic=direct"), "solver.mechanic", BOTH),
+    ("negative cells per rank", DEFAULT, s("solver.cells_per_rank=-1"), "solver.cells_per_rank: must be >= 0", BOTH),
+    ("cells per rank not an integer", DEFAULT, s("solver.cells_per_rank=1e4"), "solver.cells_per_rank", BOTH),
     ("a field split without fields", DEFAULT, ["-mechanics_pc_type", "fieldsplit"], "-mechanics_pc_type", RUN),
     ("contact_condensed not a boolean", DEFAULT, ["-mechanics_contact_condensed", "maybe"],
      "-mechanics_contact_condensed", RUN),
@@ -412,7 +414,7 @@ for label, path, arguments, key, commands in CASES:
             if command == "run" and "--out" not in arguments:
                 args += ["--out", out]
             if ranks > 1:
-                args = mpirun(ranks) + args
+                args = mpirun(ranks) + args + EVERY_RANK
             p = subprocess.run(args, capture_output=True, text=True, timeout=120, env=MPI_ENV)
             ours = [line for line in p.stderr.strip().splitlines() if line.startswith("biotcontact")]
             where = f"{label} ({command}{', 2 ranks' if ranks > 1 else ''})"

@@ -16,7 +16,7 @@ import tempfile
 
 import meshio
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, mpirun, scene
+from support import BINARY, EVERY_RANK, MPI_ENV, PROTOTYPE, ROOT, check, mpirun, scene
 
 sys.path.insert(0, ROOT)
 from python_prototype.output.compare import compare  # noqa: E402
@@ -27,7 +27,9 @@ TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 
 
 def execute(track, ranks, *arguments):
-    cmd = [*TRACKS[track], "run", scene("default"), *arguments, *OPTIONS]
+    """Every rank works, also in the one-rank runs: a restart on another
+    number of ranks has the same --set values."""
+    cmd = [*TRACKS[track], "run", scene("default"), *arguments, *OPTIONS, *EVERY_RANK]
     cmd = mpirun(ranks) + cmd if ranks > 1 else cmd
     return subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=600)
 

@@ -8,7 +8,7 @@ condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve).
 import subprocess
 import tempfile
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, mpirun, run, run_track, scene, summary
+from support import BINARY, EVERY_RANK, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, mpirun, run, run_track, scene, summary
 
 direct = summary(run(scene("terzaghi"))[0])
 iterative = summary(run(scene("terzaghi"), "-flow_pc_type", "ilu", "-flow_ksp_rtol", "1e-12")[0])
@@ -42,7 +42,7 @@ for track, command in (("C++", [BINARY]), ("prototype", PROTOTYPE)):
     for ranks in (1, 2):
         out = tempfile.mkdtemp()
         p = subprocess.run([*mpirun(ranks), *command, "run", scene("default"), "--out", out, *SUPERLU,
-                            "-mechanics_pc_factor_mat_solver_type", "superlu_dist"],
+                            "-mechanics_pc_factor_mat_solver_type", "superlu_dist", *EVERY_RANK],
                            capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=300)
         c = subprocess.run(PROTOTYPE + ["compare", default, out], capture_output=True, text=True, cwd=ROOT)
         check(p.returncode == 0 and "superlu_dist" in summary(out)["solvers"]["mechanics"]["method"]

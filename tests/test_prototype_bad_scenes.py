@@ -56,6 +56,7 @@ CASES = [
     ("3e9 steps", ["time.end=3e9", "time.dt=1"], "time.dt"),
     ("a mesh larger than the machine", ["mesh.cells=[4000000, 4000000]"], "mesh.cells"),
     ("unknown solver choice", ["solver.flow=gpu"], "solver.flow"),
+    ("negative cells per rank", ["solver.cells_per_rank=-1"], "solver.cells_per_rank: must be >= 0"),
     ("unknown acceleration", ["coupling.acceleration=aitken"], "coupling.acceleration"),
     ("Anderson depth 0", ["coupling.acceleration=anderson", "coupling.depth=0"], "coupling.depth"),
     ("negative checkpoint interval", ["output.checkpoint_every=-1"], "output.checkpoint_every"),

@@ -10,10 +10,17 @@ relative), on both tracks:
 and `auto` divides its crossovers by the rank count: the 3D block at
 [24,12,6] (32,112 flow and 6,825 mechanics unknowns) has its flow solved
 directly on one rank and iteratively on two (crossover 5e4, 2.5e4 on two),
-its mechanics directly on both (3e4, 1.5e4), and the summary says why."""
+its mechanics directly on both (3e4, 1.5e4), and the summary says why.
+A mesh too small for its ranks (solver.cells_per_rank) is worked by fewer:
+fault_reactivation (4,720 cells) started on 2 ranks is the 1-rank run to
+the bit, its summary and log say so, and a failure there (exit 2 at
+set-up, exit 3 in a step) ends both ranks with that status and one line;
+with cells_per_rank = 2000 both ranks work."""
+import os
 import subprocess
+import tempfile
 
-from support import MPI_ENV, PROTOTYPE, ROOT, check, iterations, run_track, scene, summary
+from support import MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, iterations, mpirun, run_track, scene, summary
 
 SHORT = ["time.end=1.2", "mesh.cells=[80,8]"]
 CASES = {"split with contact": ([], {"flow": "redundant (lu, petsc on each rank)",
@@ -64,3 +71,38 @@ for track in ("C++", "prototype"):
                   for s, m in methods.items()),
               f"{track}, 3D block [24,12,6] on {ranks} rank(s): auto picks {methods} "
               f"({[solvers[s]['chosen_by'] for s in methods]})")
+
+# Fewer ranks work than were started: the run of one rank, to the bit.
+REACTIVATION = ["--set", "time.end=259200"]
+
+
+def started_on_two(track, *arguments):
+    """A run of fault_reactivation started on 2 ranks with the default
+    solver.cells_per_rank; (output directory, completed process)."""
+    out = os.path.join(tempfile.mkdtemp(prefix="working-"), "out")
+    p = subprocess.run([*mpirun(2), *TRACKS[track], "run", scene("fault_reactivation"), "--out", out, *REACTIVATION,
+                        *arguments], capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=600)
+    return out, p
+
+
+for track in ("C++", "prototype"):
+    one, _ = run_track(track, scene("fault_reactivation"), "time.end=259200")
+    two, p = started_on_two(track)
+    s = summary(two)
+    check(p.returncode == 0 and s["mpi_ranks"] == 2 and s["working_ranks"] == 1
+          and "1 of 2 ranks works: 4720 cells are fewer than solver.cells_per_rank = 12000" in p.stdout,
+          f"{track}: 4,720 cells on 2 ranks: one works, the summary and the log say so "
+          f"({s['mpi_ranks']}, {s['working_ranks']}, {p.stderr.strip()[-200:]!r})")
+    c = subprocess.run(PROTOTYPE + ["compare", one, two, "--tolerance", "0"], capture_output=True, text=True,
+                       cwd=ROOT, env=MPI_ENV)
+    check(c.returncode == 0, f"{track}: one working rank of 2 gives the 1-rank run to the bit\n{c.stdout[-300:]}")
+    both, p = started_on_two(track, "--set", "solver.cells_per_rank=2000")
+    check(p.returncode == 0 and summary(both)["working_ranks"] == 2, f"{track}: cells_per_rank = 2000: both work")
+    for status, arguments, says in ((2, ["--out", "/proc/x"], "/proc/x"),
+                                    (3, ["-flow_ksp_type", "gmres", "-flow_pc_type", "none", "-flow_ksp_max_it", "1"],
+                                     "DIVERGED_ITS")):
+        _, p = started_on_two(track, *arguments)
+        lines = [line for line in p.stderr.strip().splitlines() if line.startswith("biotcontact")]
+        check(p.returncode == status and len(lines) == 1 and says in lines[0],
+              f"{track}: a failure while one of 2 ranks waits: exit {p.returncode} == {status}, one line naming "
+              f"{says!r} ({p.stderr.strip()[-300:]!r})")

@@ -19,7 +19,7 @@ import sys
 import tempfile
 import time
 
-from support import BINARY, MPI_ENV, PROTOTYPE, ROOT, check, mpirun, scene
+from support import BINARY, EVERY_RANK, MPI_ENV, PROTOTYPE, ROOT, check, mpirun, scene
 
 sys.path.insert(0, ROOT)
 from python_prototype.output.compare import compare  # noqa: E402
@@ -31,7 +31,9 @@ TRACKS = {"C++": [BINARY], "prototype": PROTOTYPE}
 
 
 def command(track, ranks, scene_file, *arguments):
-    cmd = [*TRACKS[track], "run", scene_file, *arguments]
+    """Every rank works, also in the one-rank runs: a restart on another
+    number of ranks has the same --set values."""
+    cmd = [*TRACKS[track], "run", scene_file, *arguments, *EVERY_RANK]
     return mpirun(ranks) + cmd if ranks > 1 else cmd
 
 

@@ -2,6 +2,7 @@
 #include "domain/create_domain.h"
 
 #include "domain/gmsh_mesh.h"
+#include "domain/working_ranks.h"
 
 #include <dolfinx/mesh/generation.h>
 #include <dolfinx/mesh/utils.h>
@@ -25,13 +26,16 @@ std::map<std::string, std::pair<int, bool>> box_faces(int d)
 }
 } // namespace
 
-Domain create_domain(const Scene& scene, MPI_Comm comm)
+Domain create_domain(const Scene& scene, MPI_Comm world)
 {
   const MeshSpec& m = scene.mesh;
   if (m.type == MeshType::gmsh)
-    return read_gmsh(scene, comm);
+    return read_gmsh(scene, world);
 
   Domain domain;
+  MPI_Comm comm = working_communicator(world, built_in_cells(m), scene.solver.cells_per_rank);
+  if (comm == MPI_COMM_NULL)
+    return domain; // this rank waits
   if (m.type == MeshType::rectangle)
   {
     domain.mesh = std::make_shared<mesh::Mesh>(mesh::create_rectangle(
@@ -60,6 +64,7 @@ Domain create_domain(const Scene& scene, MPI_Comm comm)
         { return xt::abs(xt::row(x, axis) - value) < tol; });
   }
   domain.regions = locate_regions(scene, *domain.mesh, {});
+  MPI_Comm_free(&comm); // the mesh holds its own duplicate
   return domain;
 }
 

@@ -14,7 +14,9 @@ namespace biotcontact
 {
 
 /// Builds the mesh of a scene (built-in rectangle or box, or a gmsh file)
-/// and locates its named boundaries; throws SceneError for unknown names.
-Domain create_domain(const Scene& scene, MPI_Comm comm);
+/// on the working ranks of `world` (domain/working_ranks.h) and locates its
+/// named boundaries; throws SceneError for unknown names. On a rank that
+/// waits the domain has no mesh (collective on world).
+Domain create_domain(const Scene& scene, MPI_Comm world);
 
 } // namespace biotcontact

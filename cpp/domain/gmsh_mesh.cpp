@@ -6,6 +6,7 @@
 #include "domain/gmsh_api.h"
 #include "domain/pieces.h"
 #include "domain/tip_grading.h"
+#include "domain/working_ranks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -309,6 +310,23 @@ GmshData read_gmsh_file(const Scene& scene)
   return data;
 }
 
+/// Every boundary the scene names is one of the mesh's physical groups
+/// `groups` (of dimension d-1, the faults' faces not among them).
+void check_boundary_names(const Scene& scene, const std::vector<std::string>& groups)
+{
+  for (const auto& [name, b] : scene.boundaries)
+  {
+    if (std::find(groups.begin(), groups.end(), name) == groups.end())
+    {
+      std::string known;
+      for (const auto& n : groups)
+        known += (known.empty() ? "" : ", ") + n;
+      throw SceneError(scene.file + ": boundary." + name + ": unknown boundary name (" + scene.mesh.file
+                       + " has physical groups " + (known.empty() ? "none" : known) + ")");
+    }
+  }
+}
+
 /// Rank 0's node pairs, normals and cells of each fault, on every rank.
 void share_faults(std::vector<Fault>& faults, std::size_t count, MPI_Comm comm)
 {
@@ -327,11 +345,11 @@ void share_faults(std::vector<Fault>& faults, std::size_t count, MPI_Comm comm)
 
 } // namespace
 
-Domain read_gmsh(const Scene& scene, MPI_Comm comm)
+Domain read_gmsh(const Scene& scene, MPI_Comm world)
 {
   const int d = scene.mesh.dimension;
   int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_rank(world, &rank);
   GmshData data;
   std::string error;
   if (rank == 0)
@@ -345,16 +363,30 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
       error = e.what();
     }
   }
-  // Every rank learns the outcome and the boundary names.
+  // Every rank learns the outcome, the boundary names and the cells; the
+  // others wait for rank 0 asleep.
+  MPI_Request read;
+  MPI_Ibarrier(world, &read);
+  wait_quietly(read);
   std::string names = error.empty() ? "" : "!" + error;
   for (const std::string& n : data.names)
     names += n + "\n";
   int size = static_cast<int>(names.size());
-  MPI_Bcast(&size, 1, MPI_INT, 0, comm);
+  MPI_Bcast(&size, 1, MPI_INT, 0, world);
   names.resize(size);
-  MPI_Bcast(names.data(), size, MPI_CHAR, 0, comm);
+  MPI_Bcast(names.data(), size, MPI_CHAR, 0, world);
   if (!names.empty() and names[0] == '!')
     throw SceneError(names.substr(1));
+  std::vector<std::string> group_names;
+  for (std::size_t start = 0, end; (end = names.find('\n', start)) != std::string::npos; start = end + 1)
+    group_names.push_back(names.substr(start, end - start));
+  const std::size_t boundaries = group_names.size() - 2 * scene.faults.size();
+  check_boundary_names(scene, {group_names.begin(), group_names.begin() + boundaries});
+  auto cells = static_cast<std::int64_t>(data.cells.size() / (d + 1));
+  MPI_Bcast(&cells, 1, MPI_INT64_T, 0, world);
+  MPI_Comm comm = working_communicator(world, cells, scene.solver.cells_per_rank);
+  if (comm == MPI_COMM_NULL)
+    return {}; // this rank waits
 
   const mesh::CellType cell = d == 2 ? mesh::CellType::triangle : mesh::CellType::tetrahedron;
   Domain domain;
@@ -370,9 +402,6 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
       domain.mesh, d - 1, graph::regular_adjacency_list(std::move(entities), d), values);
 
   domain.regions = locate_regions(scene, *domain.mesh, data.cell_region);
-  std::vector<std::string> group_names;
-  for (std::size_t start = 0, end; (end = names.find('\n', start)) != std::string::npos; start = end + 1)
-    group_names.push_back(names.substr(start, end - start));
   auto group_facets = [&](std::size_t g)
   {
     std::vector<std::int32_t> facets;
@@ -383,7 +412,6 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
     return facets;
   };
   // The faults' faces are the last groups, + and - of each fault in turn.
-  const std::size_t boundaries = group_names.size() - 2 * scene.faults.size();
   for (std::size_t g = 0; g < boundaries; ++g)
     domain.boundaries[group_names[g]] = group_facets(g);
   share_faults(data.faults, scene.faults.size(), comm);
@@ -395,17 +423,7 @@ Domain read_gmsh(const Scene& scene, MPI_Comm comm)
     fault.minus_facets = group_facets(boundaries + 2 * k + 1);
     ++k;
   }
-  for (const auto& [name, b] : scene.boundaries)
-  {
-    if (domain.boundaries.count(name) == 0)
-    {
-      std::string known;
-      for (const auto& n : group_names)
-        known += (known.empty() ? "" : ", ") + n;
-      throw SceneError(scene.file + ": boundary." + name + ": unknown boundary name (" + scene.mesh.file
-                       + " has physical groups " + (known.empty() ? "none" : known) + ")");
-    }
-  }
+  MPI_Comm_free(&comm); // the mesh holds its own duplicate
   return domain;
 }
 

@@ -18,7 +18,9 @@ namespace biotcontact
 /// named physical groups of dimension d-1. Throws SceneError, the same on
 /// every rank, for what it refuses: a file gmsh cannot read, no cells or a
 /// degenerate one, a fault that names no group of dimension d-1, a piece
-/// nothing holds, an unknown boundary name (collective).
-Domain read_gmsh(const Scene& scene, MPI_Comm comm);
+/// nothing holds, an unknown boundary name (collective on world). The mesh
+/// lives on the working ranks (domain/working_ranks.h); a rank that waits
+/// gets a domain without one.
+Domain read_gmsh(const Scene& scene, MPI_Comm world);
 
 } // namespace biotcontact

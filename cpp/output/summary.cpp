@@ -290,7 +290,8 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
       .set("wall_time_s", outcome.wall_time)
       .set("left_out", outcome.left_out)
       .set("warnings", outcome.warnings)
-      .set("mpi_ranks", outcome.ranks);
+      .set("mpi_ranks", outcome.ranks)
+      .set("working_ranks", outcome.working_ranks);
   if (scene.coupling and scene.coupling->q_auto)
     summary.set("window_steps", window_steps_json(*scene.coupling, r));
   if (scene.adaptive)

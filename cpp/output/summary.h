@@ -22,7 +22,8 @@ struct RunOutcome
   std::string left_out, warnings;
   double wall_time = 0;       // s
   double output_time = 0;     // s spent writing
-  int ranks = 1;
+  int ranks = 1;         // started
+  int working_ranks = 1; // holding the mesh (domain/working_ranks.h)
 };
 
 /// @brief Everything summary.json reports on.

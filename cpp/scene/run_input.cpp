@@ -164,12 +164,15 @@ void read_output(Section output, Scene& scene)
   output.finish();
 }
 
-void read_solver(Section solver, SolverSpec& choices)
+void read_solver(Section solver, int dimension, SolverSpec& choices)
 {
   for (auto [key, choice] : {std::pair{"flow", &choices.flow}, std::pair{"mechanics", &choices.mechanics},
                              std::pair{"monolithic", &choices.monolithic}})
     *choice = solver.choice<SolverChoice>(key, SolverChoice::automatic);
   choices.inexact_coupling = solver.boolean("inexact_coupling", true);
+  choices.cells_per_rank = solver.integer("cells_per_rank", default_cells_per_rank(dimension));
+  if (choices.cells_per_rank < 0)
+    solver.fail("cells_per_rank", "must be >= 0 (0: every rank works)");
   solver.finish();
 }
 

@@ -18,8 +18,10 @@ void read_time(Section& top, Scene& scene);
 /// steps) and the progress interval (seconds).
 void read_output(Section output, Scene& scene);
 
-/// [solver]: direct, iterative or auto for each system, and inexact coupling.
-void read_solver(Section solver, SolverSpec& choices);
+/// [solver]: direct, iterative or auto for each system, inexact coupling,
+/// and the fewest cells a rank works on (by default that of the mesh's
+/// `dimension`).
+void read_solver(Section solver, int dimension, SolverSpec& choices);
 
 /// [reference]: the closed form the run is compared with ("none" switches
 /// the comparison of a reference scene off, e.g. from --set).

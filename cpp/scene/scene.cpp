@@ -195,7 +195,7 @@ Scene read_scene(const std::string& file, const std::vector<std::string>& overri
   read_physics(top, scene);
   read_time(top, scene);
   read_output(top.table("output", false), scene);
-  read_solver(top.table("solver", false), scene.solver);
+  read_solver(top.table("solver", false), scene.mesh.dimension, scene.solver);
   read_boundaries(top.table("boundary", false), scene);
   read_faults(top.table("fault", false), scene);
   read_wells(top.table("well", false), scene);

@@ -195,6 +195,11 @@ struct ReferenceSpec
   std::string plate;    // mandel: the boundary (y = b) carrying the rigid plate
 };
 
+/// Below this many cells per rank, 12000 triangles or 2000 tetrahedra, a
+/// second rank costs a run more than it saves (docs/performance.md,
+/// "nineteenth session"): a tetrahedron carries more work.
+constexpr int default_cells_per_rank(int dimension) { return dimension == 2 ? 12000 : 2000; }
+
 /// How each system is solved. PETSc options of a system's prefix override.
 struct SolverSpec
 {
@@ -203,6 +208,9 @@ struct SolverSpec
   /// Inexact coupling (fixed_stress.h): the iterative solves of a coupling
   /// iteration are only as accurate as its increment needs.
   bool inexact_coupling = true;
+  /// The fewest cells a rank works on (domain/working_ranks.h); 0: every
+  /// rank works.
+  int cells_per_rank = default_cells_per_rank(2);
 };
 
 /// @brief A material region: cells (a gmsh physical group of cells, or the

@@ -9,6 +9,7 @@ from ..scene.input import MeshType
 from .domain import Domain
 from .gmsh_mesh import read_gmsh
 from .regions import locate_regions
+from .working_ranks import built_in_cells, working_communicator
 
 
 def _box_faces(d):
@@ -19,10 +20,16 @@ def _box_faces(d):
             "bottom": (2, True), "top": (2, False)}
 
 
-def create_domain(scene, comm):
+def create_domain(scene, world):
+    """The mesh of `scene` on the working ranks of `world`
+    (working_ranks.py) with its named boundaries; None on a rank that waits
+    (collective on world)."""
     m = scene.mesh
     if m.type == MeshType.gmsh:
-        return read_gmsh(scene, comm)
+        return read_gmsh(scene, world)
+    comm = working_communicator(world, built_in_cells(m), scene.solver.cells_per_rank)
+    if comm is None:
+        return None  # this rank waits
     if m.type == MeshType.rectangle:
         mesh = dmesh.create_rectangle(comm, [m.lower, m.upper], m.cells, dmesh.CellType.triangle,
                                       dmesh.GhostMode.shared_facet, diagonal=dmesh.DiagonalType.crossed)

@@ -20,6 +20,7 @@ from .faults import FaultRequest, InputMesh, split_along_faults
 from .pieces import refuse_free_pieces
 from .regions import locate_regions, regions_of_groups
 from .tip_grading import grade_toward_tips
+from .working_ranks import wait_quietly, working_communicator
 
 
 def _cell_groups(gmsh, d, element_tags):
@@ -191,25 +192,44 @@ def _split_faults(scene, data):
     data.facet_group = np.concatenate(groups).astype(np.int32)
 
 
-def read_gmsh(scene, comm):
+def _check_boundary_names(scene, groups):
+    """Every boundary the scene names is one of the mesh's physical groups
+    `groups` (of dimension d-1, the faults' faces not among them)."""
+    for name in scene.boundaries:
+        if name not in groups:
+            known = ", ".join(groups) or "none"
+            raise SceneError(f"{scene.file}: boundary.{name}: unknown boundary name ({scene.mesh.file} has "
+                             f"physical groups {known})")
+
+
+def read_gmsh(scene, world):
     """A gmsh mesh read on rank 0 and distributed by dolfinx; boundaries are
     its named physical groups of dimension d-1. SceneError, the same on
     every rank, for what it refuses: a file gmsh cannot read, no cells or a
     degenerate one, a fault that names no group of dimension d-1, a piece
-    nothing holds, an unknown boundary name (collective)."""
+    nothing holds, an unknown boundary name (collective on world). The mesh
+    lives on the working ranks (working_ranks.py); None on a rank that
+    waits."""
     d = scene.mesh.dimension
     data, error = None, None
-    if comm.rank == 0:
+    if world.rank == 0:
         try:
             data = _read_gmsh_file(scene)
         except SceneError as e:
             error = str(e)
-    # Every rank learns the outcome, the group names and the faults' node
-    # pairs and normals (rank 0's).
-    error, names, faults = comm.bcast((error, data.names, data.faults)
-                                      if data else (error, None, None), root=0)
+    # Every rank learns the outcome, the group names, the cells and the
+    # faults' node pairs and normals (rank 0's); the others wait for rank 0
+    # asleep.
+    wait_quietly(world.Ibarrier())
+    error, names, faults, cells = world.bcast((error, data.names, data.faults, len(data.cells))
+                                              if data else (error, None, None, 0), root=0)
     if error:
         raise SceneError(error)
+    count = len(names) - 2 * len(scene.faults)
+    _check_boundary_names(scene, names[:count])
+    comm = working_communicator(world, cells, scene.solver.cells_per_rank)
+    if comm is None:
+        return None  # this rank waits
     if comm.rank != 0:
         data = _GmshData(np.zeros((0, d)), np.zeros((0, d + 1), dtype=np.int64), np.zeros((0, d), dtype=np.int64),
                          np.zeros(0, dtype=np.int32), names, None)
@@ -223,13 +243,7 @@ def read_gmsh(scene, comm):
     def group_facets(g):
         return np.sort(tags.indices[tags.values == g]).astype(np.int32)
     # The faults' faces are the last groups, + and - of each fault in turn.
-    count = len(names) - 2 * len(scene.faults)
     boundaries = {names[g]: group_facets(g) for g in range(count)}
     domain_faults = {name: Fault(group_facets(count + 2 * k), group_facets(count + 2 * k + 1), *faults[k])
                      for k, name in enumerate(scene.faults)}
-    for name in scene.boundaries:
-        if name not in boundaries:
-            known = ", ".join(names) or "none"
-            raise SceneError(f"{scene.file}: boundary.{name}: unknown boundary name ({scene.mesh.file} has "
-                             f"physical groups {known})")
     return Domain(mesh, boundaries, locate_regions(scene, mesh, data.cell_region), domain_faults)

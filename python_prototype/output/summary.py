@@ -20,7 +20,8 @@ class RunOutcome:
     warnings: str = ""
     wall_time: float = 0.0       # s
     output_time: float = 0.0     # s spent writing
-    ranks: int = 1
+    ranks: int = 1               # started
+    working_ranks: int = 1       # holding the mesh (domain/working_ranks.py)
 
 
 @dataclass
@@ -210,7 +211,8 @@ def run_summary(summary_input, outcome):
         "wall_time_s": outcome.wall_time,
         "left_out": outcome.left_out,
         "warnings": outcome.warnings,
-        "mpi_ranks": outcome.ranks})
+        "mpi_ranks": outcome.ranks,
+        "working_ranks": outcome.working_ranks})
     if scene.coupling and scene.coupling.q_auto:
         summary["window_steps"] = _window_steps_json(scene.coupling, r)
     if scene.adaptive:

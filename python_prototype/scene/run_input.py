@@ -6,7 +6,7 @@ import bisect
 
 from .input import MeshType, ReferenceSolution, SolverChoice, TimeScheme
 from .physics_input import positive
-from .schema import MAX_STEPS, AdaptiveSpec, ReferenceSpec
+from .schema import MAX_STEPS, AdaptiveSpec, ReferenceSpec, default_cells_per_rank
 
 
 def _read_adaptive(time, scene):
@@ -129,11 +129,16 @@ def read_output(output, scene):
     output.finish()
 
 
-def read_solver(solver, choices):
-    """[solver]: direct, iterative or auto for each system, and inexact coupling."""
+def read_solver(solver, dimension, choices):
+    """[solver]: direct, iterative or auto for each system, inexact
+    coupling, and the fewest cells a rank works on (by default that of the
+    mesh's `dimension`)."""
     for key in ("flow", "mechanics", "monolithic"):
         setattr(choices, key, solver.choice(key, SolverChoice, SolverChoice.automatic))
     choices.inexact_coupling = solver.boolean("inexact_coupling", True)
+    choices.cells_per_rank = solver.integer("cells_per_rank", default_cells_per_rank(dimension))
+    if choices.cells_per_rank < 0:
+        solver.fail("cells_per_rank", "must be >= 0 (0: every rank works)")
     solver.finish()
 
 

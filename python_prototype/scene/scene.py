@@ -91,7 +91,7 @@ def read_scene(file, overrides=()):
     read_physics(top, scene)
     read_time(top, scene)
     read_output(top.section("output", False), scene)
-    read_solver(top.section("solver", False), scene.solver)
+    read_solver(top.section("solver", False), scene.mesh.dimension, scene.solver)
     read_boundaries(top.section("boundary", False), scene)
     read_faults(top.section("fault", False), scene)
     read_wells(top.section("well", False), scene)

@@ -174,6 +174,13 @@ class AdaptiveSpec:
     dt_max: float = 0.0
 
 
+def default_cells_per_rank(dimension):
+    """Below this many cells per rank, 12000 triangles or 2000 tetrahedra, a
+    second rank costs a run more than it saves (docs/performance.md,
+    "nineteenth session"): a tetrahedron carries more work."""
+    return 12000 if dimension == 2 else 2000
+
+
 @dataclass
 class SolverSpec:
     """How each system is solved. PETSc options of a system's prefix override."""
@@ -181,6 +188,7 @@ class SolverSpec:
     mechanics: SolverChoice = SolverChoice.automatic
     monolithic: SolverChoice = SolverChoice.automatic
     inexact_coupling: bool = True  # iterative solves only as accurate as the coupling increment needs
+    cells_per_rank: int = 12000    # the fewest cells a rank works on (domain/working_ranks.py); 0: every rank
 
 
 @dataclass
