@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 #include <dolfinx/common/IndexMap.h>
 #include <functional>
 #include <numeric>
+#include <thread>
 
 namespace biotcontact
 {

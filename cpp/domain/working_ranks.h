@@ -1,8 +1,9 @@
 // The ranks a run works on: a mesh too small for the ranks it was started
-// on is distributed over fewer of them, since below a few thousand cells a
-// rank costs more in collectives than its share of the work saves
-// (docs/performance.md, "nineteenth session"); the others wait for the
-// exit status (docs/user-guide.md, "Running in parallel"). Twin:
+// on is distributed over fewer of them, since below some thousands of
+// cells a rank (scene/schema.h, default_cells_per_rank) a second rank
+// costs more than its share of the work saves (docs/performance.md,
+// "nineteenth session"); the others wait for the exit status
+// (docs/user-guide.md, "Running in parallel"). Twin:
 // python_prototype/domain/working_ranks.py.
 #pragma once
 

@@ -1,8 +1,9 @@
 """The ranks a run works on (cpp/domain/working_ranks.h): a mesh too small
 for the ranks it was started on is distributed over fewer of them, since
-below a few thousand cells a rank costs more in collectives than its share
-of the work saves (docs/performance.md, "nineteenth session"); the others
-wait for the exit status (docs/user-guide.md, "Running in parallel")."""
+below some thousands of cells a rank (scene/schema.py,
+default_cells_per_rank) a second rank costs more than its share of the
+work saves (docs/performance.md, "nineteenth session"); the others wait
+for the exit status (docs/user-guide.md, "Running in parallel")."""
 import math
 import time
 
