@@ -127,7 +127,62 @@ void VariationalInequality::set_from_options()
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(_p.system_prefix)
                        + " contact solver do not make a solver: " + petsc_error_text(ierr));
+  if (_J and _whole and _whole->method == Method::direct and _p.tangents == 2 and _lag_by_default
+      and !given_by_user(_p.prefix + "ksp_type"))
+    reuse_factorization();
 }
+
+void VariationalInequality::reuse_factorization()
+{
+  // In 3D a slipping pair's rows of J turn with its slip at every Newton
+  // step, while K and the inactive set stay: the factorisation of an
+  // earlier J preconditions GMRES on the new one, a few back-solves where
+  // a factorisation of the whole system would be (theory.md, "Friction").
+  // SNES VI sets its KSP up from the options again when the inactive set
+  // changes: the options say GMRES, for the VI's solves only (KrylovOnReuse),
+  // to 1e-12 (near a direct solve's round-off) in at most 100 iterations,
+  // else the Jacobian is factorised anew (refactorised).
+  _reuse_factorization = true;
+  for (const auto& [name, value] : {std::pair<std::string, std::string>{"ksp_type", "gmres"},
+                                    {"ksp_rtol", "1e-12"},
+                                    {"ksp_max_it", "100"}})
+    if (!given_by_user(_p.prefix + name))
+      _reuse_options.emplace_back(_p.prefix + name, value);
+}
+
+namespace
+{
+/// @brief The options of reuse_factorization in PETSc's database while the
+/// VI solves (the system's own solvers share its prefix and stay direct).
+class KrylovOnReuse
+{
+public:
+  KrylovOnReuse(SNES snes, const std::vector<std::pair<std::string, std::string>>& options)
+  {
+    for (const auto& [name, value] : options)
+    {
+      _before.emplace_back(name, option("", ("-" + name).c_str()));
+      check_petsc(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()),
+                  "contact solver: PetscOptionsSetValue -" + name);
+    }
+    KSP ksp;
+    check_petsc(SNESGetKSP(snes, &ksp), "contact solver: SNESGetKSP");
+    check_petsc(KSPSetFromOptions(ksp), "contact solver: KSPSetFromOptions");
+  }
+  ~KrylovOnReuse()
+  {
+    for (const auto& [name, value] : _before)
+      warn_petsc(value.empty() ? PetscOptionsClearValue(nullptr, ("-" + name).c_str())
+                               : PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()),
+                 "contact solver: restoring a PETSc option");
+  }
+  KrylovOnReuse(const KrylovOnReuse&) = delete;
+  KrylovOnReuse& operator=(const KrylovOnReuse&) = delete;
+
+private:
+  std::vector<std::pair<std::string, std::string>> _before;
+};
+} // namespace
 
 void VariationalInequality::operator_changed()
 {
@@ -158,7 +213,12 @@ void VariationalInequality::set_tolerance(double relative)
 
 void VariationalInequality::solve(double scale)
 {
+  std::optional<KrylovOnReuse> krylov;
+  if (_reuse_factorization)
+    krylov.emplace(_snes, _reuse_options);
   SNESConvergedReason reason = first_attempt(scale);
+  if (reason == SNES_DIVERGED_LINEAR_SOLVE and _reusing)
+    reason = refactorised();
   if (reason < 0)
   {
     // A body held in the normal direction by the foundation alone is
@@ -183,6 +243,9 @@ bool VariationalInequality::try_solve(double scale, int newton_steps)
   check_petsc(SNESGetTolerances(_snes, &atol, &rtol, &stol, &max_it, &max_f), "contact solver: SNESGetTolerances");
   check_petsc(SNESSetTolerances(_snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, newton_steps, PETSC_DEFAULT),
               "contact solver: SNESSetTolerances");
+  std::optional<KrylovOnReuse> krylov;
+  if (_reuse_factorization)
+    krylov.emplace(_snes, _reuse_options);
   const SNESConvergedReason reason = first_attempt(scale);
   check_petsc(SNESSetTolerances(_snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, max_it, PETSC_DEFAULT),
               "contact solver: SNESSetTolerances");
@@ -198,6 +261,7 @@ bool VariationalInequality::try_solve(double scale, int newton_steps)
 SNESConvergedReason VariationalInequality::first_attempt(double scale)
 {
   _scale = scale;
+  _reusing = _reuse_factorization;
   check_petsc(VecScale(_b, 1.0 / scale), "contact solver: VecScale");
   check_petsc(VecScale(_y, 1.0 / scale), "contact solver: VecScale");
   set_bounds(scale);
@@ -280,6 +344,17 @@ SNESConvergedReason VariationalInequality::run_snes()
   }
   SNESConvergedReason reason;
   check_petsc(SNESGetConvergedReason(_snes, &reason), "contact solver: SNESGetConvergedReason");
+  return reason;
+}
+
+SNESConvergedReason VariationalInequality::refactorised()
+{
+  // GMRES did not converge on an earlier factorisation: on from the last
+  // iterate with J factorised whenever it changes.
+  _reusing = false;
+  check_petsc(SNESSetLagPreconditioner(_snes, -2), "contact solver: SNESSetLagPreconditioner");
+  const SNESConvergedReason reason = run_snes();
+  count_iterations(reason);
   return reason;
 }
 
@@ -379,7 +454,7 @@ PetscErrorCode VariationalInequality::jacobian(SNES snes, Vec y, Mat, Mat, void*
   {
     PetscCall(friction_jacobian(self->_p.friction, at, self->_p.K, self->_J));
     self->_jacobian_weights = std::move(weights);
-    if (self->_lag_by_default and !self->_preconditioner)
+    if (self->_lag_by_default and !self->_preconditioner and !self->_reusing)
       PetscCall(SNESSetLagPreconditioner(snes, -2));
   }
   PetscCall(VecRestoreArrayRead(y, &Y));

@@ -15,10 +15,12 @@
 #include <optional>
 #include <petscsnes.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace biotcontact
 {
+
 
 /// @brief A VI as the contact poses it: its communicator (the system's, or
 /// PETSC_COMM_SELF when every rank solves the same small problem), options
@@ -92,6 +94,10 @@ public:
   /// without a stage: the system's stage counts them).
   long factorizations() const;
 
+  /// Whether an earlier factorisation preconditions GMRES on friction's
+  /// Jacobians (3D, on the whole system, factorised; reuse_factorization).
+  bool reuses_factorization() const { return _reuse_factorization; }
+
   ContactConvergence& convergence() { return *_convergence; }
   const ContactConvergence& convergence() const { return *_convergence; }
   /// Preconditioner set-ups and their seconds (iterative; -1 otherwise).
@@ -112,6 +118,12 @@ private:
   SNESConvergedReason run_snes();
   void count_iterations(SNESConvergedReason reason);
   void clamped_start();
+  /// 3D friction on the whole system, factorised (set_from_options): the
+  /// factorisation of an earlier Jacobian preconditions GMRES on the next.
+  void reuse_factorization();
+  /// After GMRES failed on an earlier factorisation: the solve goes on from
+  /// its last iterate, the Jacobian factorised whenever it changes.
+  SNESConvergedReason refactorised();
   /// The clamped start's solve of the whole system, the bounded rows
   /// `rows` (global) eliminated.
   void solve_clamped(const std::vector<PetscInt>& rows);
@@ -129,6 +141,9 @@ private:
   std::unique_ptr<ContactConvergence> _convergence;
   std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
   bool _lag_by_default = false;
+  bool _reuse_factorization = false; // reuse_factorization()
+  std::vector<std::pair<std::string, std::string>> _reuse_options; // its PETSc options (name, value)
+  bool _reusing = false;             // in this solve: off once refactorised()
   PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
   // Friction: the generalised Jacobian (friction.h), the start of the step
   // (unscaled), the diagonal of K (the stiffness that turns a slip

@@ -4,9 +4,20 @@
 #include <functional>
 #include <map>
 #include <petscpc.h>
+#include <set>
 
 namespace biotcontact
 {
+
+namespace
+{
+/// The options set_default_option has set (names without the dash).
+std::set<std::string>& project_defaults()
+{
+  static std::set<std::string> names;
+  return names;
+}
+} // namespace
 
 void set_default_option(const std::string& name, const std::string& value)
 {
@@ -18,6 +29,14 @@ void set_default_option(const std::string& name, const std::string& value)
     return;
   if (const PetscErrorCode ierr = PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()); ierr != 0)
     check_petsc(ierr, "the default -" + name + " " + value);
+  project_defaults().insert(name);
+}
+
+bool given_by_user(const std::string& name)
+{
+  PetscBool given = PETSC_FALSE;
+  check_petsc(PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &given), "reading the option -" + name);
+  return given and !project_defaults().contains(name);
 }
 
 void unsymmetric_jacobian_options(const std::string& prefix)

@@ -145,6 +145,10 @@ std::string option(const std::string& prefix, const char* name);
 /// Sets a PETSc option unless the user already gave it (command line wins).
 void set_default_option(const std::string& name, const std::string& value);
 
+/// Whether PETSc's option -name was given by the user (the command line or
+/// PETSC_OPTIONS), not set as a default by set_default_option.
+bool given_by_user(const std::string& name);
+
 /// The options of `prefix` for a Jacobian that is not symmetric though the
 /// system's matrix is (friction's, contact/friction.h): CG becomes GMRES,
 /// and a Cholesky factorisation LU by MUMPS (CHOLMOD has no LU), also inside

@@ -287,7 +287,7 @@ class ContactSolver:
 
     def method(self):
         if not self.schur:
-            return "full"
+            return "full, friction's Newton steps by gmres on the last factorisation" if self.vi.reuse else "full"
         after = ", after one full Newton step" if self.full_steps == 1 else ", after two full Newton steps"
         return f"condensed on {self.schur.size()} contact DOFs" + (after if self.switched else "")
 

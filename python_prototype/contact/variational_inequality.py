@@ -5,6 +5,7 @@ tangential rows of F carrying the return map on the Coulomb disc
 (friction.py). PETSc's reduced-space active-set Newton (SNES vinewtonrsls)
 solves it, with the stopping rules of convergence.py. Without friction F is
 linear and K its exact Jacobian."""
+import contextlib
 import dataclasses
 
 import numpy as np
@@ -17,8 +18,8 @@ from .friction import FrictionPoint, add_friction_forces, friction_jacobian, jac
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.options import OptionsError, system_name
 from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStatistics,
-                              petsc_error_text, reason_name, set_default_option, set_relative_tolerance,
-                              unsymmetric_jacobian_options)
+                              given_by_user, petsc_error_text, reason_name, set_default_option,
+                              set_relative_tolerance, unsymmetric_jacobian_options)
 
 # PETSc's error codes of a zero pivot (PETSC_ERR_MAT_LU_ZRPVT,
 # PETSC_ERR_MAT_CH_ZRPVT), which petsc4py does not name.
@@ -84,6 +85,10 @@ class VariationalInequality:
         self.newton_iterations = self.linear_iterations = 0
         self.J = self.y_reference = self.stiffness = self.work = self.preconditioner = None
         self.jacobian_weights = None  # J's as last built (jacobian_weights); None once K changed
+        # 3D friction on the whole system, factorised: an earlier factorisation
+        # preconditions GMRES (_reuse_factorization), in this solve until it fails
+        self.reuse = self.reusing = False
+        self.reuse_options = []
         if problem.frictional:
             self._make_friction_operators()
         if self.J is not None and whole is not None:
@@ -175,6 +180,44 @@ class VariationalInequality:
         except PETSc.Error as e:
             raise OptionsError(f"the PETSc options of {system_name(self.p.system_prefix)} contact solver do not "
                                f"make a solver: {petsc_error_text(e)}") from None
+        if (self.J is not None and self.whole is not None and self.whole.method == Method.direct
+                and self.p.tangents == 2 and self.lag_by_default and not given_by_user(self.p.prefix + "ksp_type")):
+            self._reuse_factorization()
+
+    def _reuse_factorization(self):
+        """In 3D a slipping pair's rows of J turn with its slip at every
+        Newton step, while K and the inactive set stay: the factorisation of
+        an earlier J preconditions GMRES on the new one (theory.md,
+        "Friction"). SNES VI sets its KSP up from the options again when the
+        inactive set changes: the options say GMRES, for the VI's solves only
+        (_krylov_on_reuse), to 1e-12 (near a direct solve's round-off) in at
+        most 100 iterations, else the Jacobian is factorised anew
+        (_refactorised)."""
+        self.reuse = True
+        self.reuse_options = [(self.p.prefix + name, value)
+                              for name, value in (("ksp_type", "gmres"), ("ksp_rtol", "1e-12"), ("ksp_max_it", "100"))
+                              if not given_by_user(self.p.prefix + name)]
+
+    @contextlib.contextmanager
+    def _krylov_on_reuse(self):
+        """The options of _reuse_factorization in PETSc's database while the
+        VI solves (the system's own solvers share its prefix and stay
+        direct)."""
+        options = PETSc.Options()
+        before = [(name, options.getString(name) if options.hasName(name) else None)
+                  for name, _ in self.reuse_options] if self.reuse else []
+        for name, value in self.reuse_options if self.reuse else []:
+            options.setValue(name, value)
+        if self.reuse:
+            self.snes.getKSP().setFromOptions()
+        try:
+            yield
+        finally:
+            for name, value in before:
+                if value is None:
+                    options.delValue(name)
+                else:
+                    options.setValue(name, value)
 
     def operator_changed(self):
         """K was reassembled: "rebuild once, then reuse" re-armed."""
@@ -207,21 +250,33 @@ class VariationalInequality:
         absolute tolerance of 1e-8; the residual K (y/s) - b/s has the same
         Jacobian K); retried from the clamped state when the first attempt
         fails. Raises SolverError when both do."""
-        reason = self._first_attempt(scale)
-        if reason < 0:
-            # A body held in the normal direction by the foundation alone is
-            # semi-coercive: from a start where no contact DOF pushes on its
-            # bound the reduced system is singular. Start again with every
-            # contact node on the foundation; the contact forces there say
-            # which nodes to release.
-            self._clamped_start()
-            reason = self._snes_solve()
-            self._count(reason)
+        with self._krylov_on_reuse():
+            reason = self._first_attempt(scale)
+            if reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE and self.reusing:
+                reason = self._refactorised()
+            if reason < 0:
+                # A body held in the normal direction by the foundation alone
+                # is semi-coercive: from a start where no contact DOF pushes on
+                # its bound the reduced system is singular. Start again with
+                # every contact node on the foundation; the contact forces
+                # there say which nodes to release.
+                self._clamped_start()
+                reason = self._snes_solve()
+                self._count(reason)
         if reason < 0:
             raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
                               + reason_name(PETSc.SNES.ConvergedReason, reason)
                               + (NO_EQUILIBRIUM if self.J is not None else ""))
         self.y.scale(scale)
+
+    def _refactorised(self):
+        """GMRES did not converge on an earlier factorisation: the solve goes
+        on from its last iterate with J factorised whenever it changes."""
+        self.reusing = False
+        set_lag_preconditioner(self.snes, -2)
+        reason = self._snes_solve()
+        self._count(reason)
+        return reason
 
     def try_solve(self, scale, newton_steps):
         """One attempt of at most `newton_steps` Newton steps, no clamped
@@ -229,7 +284,8 @@ class VariationalInequality:
         load are spent)."""
         max_it = self.snes.getTolerances()[3]
         self.snes.setTolerances(max_it=newton_steps)
-        reason = self._first_attempt(scale)
+        with self._krylov_on_reuse():
+            reason = self._first_attempt(scale)
         self.snes.setTolerances(max_it=max_it)
         if reason < 0:
             return False
@@ -239,6 +295,7 @@ class VariationalInequality:
     def _first_attempt(self, scale):
         """One SNES solve from y, in units of `scale`."""
         self.scale = scale
+        self.reusing = self.reuse
         self.b.scale(1.0 / scale)
         self.y.scale(1.0 / scale)
         self._set_bounds()
@@ -346,7 +403,7 @@ class VariationalInequality:
             return
         friction_jacobian(self.p.friction, at, self.p.K, self.J)
         self.jacobian_weights = weights
-        if self.lag_by_default and self.preconditioner is None:
+        if self.lag_by_default and self.preconditioner is None and not self.reusing:
             set_lag_preconditioner(snes, -2)
 
     def _friction_point(self, y, R):

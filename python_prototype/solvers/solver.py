@@ -46,11 +46,22 @@ def reason_name(enum_, reason):
     return name.replace("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED")
 
 
+# The options set_default_option has set (names without the dash).
+_PROJECT_DEFAULTS = set()
+
+
 def set_default_option(name, value):
     """Sets a PETSc option unless the command line gave it."""
     options = PETSc.Options()
     if not options.hasName(name):
         options.setValue(name, value)
+        _PROJECT_DEFAULTS.add(name)
+
+
+def given_by_user(name):
+    """Whether PETSc's option -name was given by the user (the command line
+    or PETSC_OPTIONS), not set as a default by set_default_option."""
+    return PETSc.Options().hasName(name) and name not in _PROJECT_DEFAULTS
 
 
 def unsymmetric_jacobian_options(prefix):
