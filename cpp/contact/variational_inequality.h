@@ -21,7 +21,6 @@
 namespace biotcontact
 {
 
-
 /// @brief A VI as the contact poses it: its communicator (the system's, or
 /// PETSC_COMM_SELF when every rank solves the same small problem), options
 /// prefix and log stage (none when empty), the prefix of the system it
