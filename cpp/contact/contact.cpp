@@ -124,6 +124,7 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
   else
   {
     VIProblem problem = pose_on_full_system(layout, std::move(unknowns.separate_rows));
+    problem.changing = operators.changing;
     add_friction(problem);
     _full_steps = problem.frictional ? 2 : 1; // stick and slip settle in a second step (docs/schemes.md, "Faults")
     _vi = std::make_unique<VariationalInequality>(std::move(problem),
@@ -253,7 +254,7 @@ VIProblem ContactSolver::pose_on_full_system(Vec layout, std::vector<std::int32_
 std::string ContactSolver::method() const
 {
   if (!_schur)
-    return _vi->reuses_factorization() ? "full, friction's Newton steps by gmres on the last factorisation" : "full";
+    return _vi->reuses_factorization() ? "full, Newton steps by gmres on the last factorisation" : "full";
   return "condensed on " + std::to_string(_schur->size()) + " contact DOFs"
          + (!_switched ? "" : _full_steps == 1 ? ", after one full Newton step" : ", after two full Newton steps");
 }
@@ -266,6 +267,13 @@ void ContactSolver::operator_changed()
   _schur_current = false;
   _change_current = false;
   _vi->operator_changed();
+}
+
+void ContactSolver::operator_nudged()
+{
+  _schur_current = false;
+  _change_current = false;
+  _vi->operator_nudged();
 }
 
 ContactSolver::~ContactSolver()

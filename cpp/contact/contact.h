@@ -131,6 +131,9 @@ public:
 
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
+  /// A few rows of A changed (a conduit fault's apertures): the last
+  /// factorisation may precondition GMRES on it (VariationalInequality).
+  void operator_nudged();
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
   /// each Newton step and the Newton tolerance both. F is linear (but with

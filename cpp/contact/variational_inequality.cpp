@@ -127,17 +127,19 @@ void VariationalInequality::set_from_options()
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(_p.system_prefix)
                        + " contact solver do not make a solver: " + petsc_error_text(ierr));
-  if (_J and _whole and _whole->method == Method::direct and _p.tangents == 2 and _lag_by_default
-      and !given_by_user(_p.prefix + "ksp_type"))
+  if (_whole and _whole->method == Method::direct and ((_J and _p.tangents == 2) or _p.changing)
+      and _lag_by_default and !given_by_user(_p.prefix + "ksp_type"))
     reuse_factorization();
 }
 
 void VariationalInequality::reuse_factorization()
 {
   // In 3D a slipping pair's rows of J turn with its slip at every Newton
-  // step, while K and the inactive set stay: the factorisation of an
-  // earlier J preconditions GMRES on the new one, a few back-solves where
-  // a factorisation of the whole system would be (theory.md, "Friction").
+  // step, and a conduit fault's rows of K follow its apertures from solve
+  // to solve, while the rest of K and the inactive set stay: the
+  // factorisation of an earlier J preconditions GMRES on the new one, a
+  // few back-solves where a factorisation of the whole system would be
+  // (theory.md, "Friction").
   // SNES VI sets its KSP up from the options again when the inactive set
   // changes: the options say GMRES, for the VI's solves only (KrylovOnReuse),
   // to 1e-12 (near a direct solve's round-off) in at most 100 iterations,
@@ -190,6 +192,13 @@ void VariationalInequality::operator_changed()
   _jacobian_weights.clear();
   if (_lag_by_default)
     check_petsc(SNESSetLagPreconditioner(_snes, -2), "contact solver: SNESSetLagPreconditioner");
+}
+
+void VariationalInequality::operator_nudged()
+{
+  if (!_reuse_factorization)
+    return operator_changed();
+  _jacobian_weights.clear(); // friction's J is built from the new K
 }
 
 long VariationalInequality::factorizations() const

@@ -27,8 +27,9 @@ namespace biotcontact
 /// comes from (its messages), its matrix K and a vector like y; the
 /// bounded positions of y (local) with their gaps and signs,
 /// sign y <= gap; the frictional constraints in y's numbering, their
-/// tangents each (d - 1) and whether any rank has one; and y's separate
-/// rows (convergence.h).
+/// tangents each (d - 1) and whether any rank has one; y's separate rows
+/// (convergence.h); and whether K changes in a few rows between most
+/// solves (the monolithic system with conduit faults: operator_nudged).
 struct VIProblem
 {
   MPI_Comm comm;
@@ -41,6 +42,7 @@ struct VIProblem
   int tangents = 0;
   bool frictional = false;
   std::vector<std::int32_t> separate_rows;
+  bool changing = false;
 };
 
 /// @brief The whole system a VI is posed on (y = x, K = A): its matrices,
@@ -86,6 +88,10 @@ public:
 
   /// K was reassembled: the next Newton step factorises anew.
   void operator_changed();
+  /// A few rows of K changed (a conduit fault's apertures): where an earlier
+  /// factorisation is reused, it preconditions GMRES on the new K; else as
+  /// operator_changed.
+  void operator_nudged();
   /// Solves to `relative` (iterative): the Krylov and the Newton tolerance.
   void set_tolerance(double relative);
 
@@ -93,8 +99,9 @@ public:
   /// without a stage: the system's stage counts them).
   long factorizations() const;
 
-  /// Whether an earlier factorisation preconditions GMRES on friction's
-  /// Jacobians (3D, on the whole system, factorised; reuse_factorization).
+  /// Whether an earlier factorisation preconditions GMRES on the next
+  /// Jacobians (3D friction or a changing K, on the whole system,
+  /// factorised; reuse_factorization).
   bool reuses_factorization() const { return _reuse_factorization; }
 
   ContactConvergence& convergence() { return *_convergence; }
@@ -117,8 +124,9 @@ private:
   SNESConvergedReason run_snes();
   void count_iterations(SNESConvergedReason reason);
   void clamped_start();
-  /// 3D friction on the whole system, factorised (set_from_options): the
-  /// factorisation of an earlier Jacobian preconditions GMRES on the next.
+  /// 3D friction or a changing K on the whole system, factorised
+  /// (set_from_options): the factorisation of an earlier Jacobian
+  /// preconditions GMRES on the next.
   void reuse_factorization();
   /// After GMRES failed on an earlier factorisation: the solve goes on from
   /// its last iterate, the Jacobian factorised whenever it changes.

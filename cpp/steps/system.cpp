@@ -137,7 +137,7 @@ void System::append(AppendedUnknowns appended)
     check_system(MatCopy(big, _A_appended, SAME_NONZERO_PATTERN), _prefix, "MatCopy of the appended system");
     check_system(MatDestroy(&big), _prefix, "MatDestroy");
     if (_contact)
-      _contact->operator_changed();
+      _contact->operator_nudged();
     else
       _linear->operator_nudged();
     return;

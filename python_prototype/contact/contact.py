@@ -190,6 +190,7 @@ class ContactSolver:
             self.vi = self._condensed_vi()
         else:
             problem = self._pose_on_full_system(unknowns.separate_rows)
+            problem.changing = operators.changing
             self._add_friction(problem)
             # Friction's stick and slip settle in a second Newton step (Phan's
             # crack: two full steps, where condensing after one added the
@@ -287,7 +288,7 @@ class ContactSolver:
 
     def method(self):
         if not self.schur:
-            return "full, friction's Newton steps by gmres on the last factorisation" if self.vi.reuse else "full"
+            return "full, Newton steps by gmres on the last factorisation" if self.vi.reuse else "full"
         after = ", after one full Newton step" if self.full_steps == 1 else ", after two full Newton steps"
         return f"condensed on {self.schur.size()} contact DOFs" + (after if self.switched else "")
 
@@ -315,6 +316,12 @@ class ContactSolver:
         """A was reassembled: H and A' are formed again at the next solve."""
         self.schur_current = self.change_current = False
         self.vi.operator_changed()
+
+    def operator_nudged(self):
+        """A few rows of A changed (a conduit fault's apertures): the last
+        factorisation may precondition GMRES on it (VariationalInequality)."""
+        self.schur_current = self.change_current = False
+        self.vi.operator_nudged()
 
     def displacement_scale(self, x):
         """The largest gap or |displacement| (collective)."""

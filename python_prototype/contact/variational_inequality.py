@@ -37,8 +37,9 @@ class VIProblem:
     prefix of the system it comes from (its messages), its matrix K and a
     vector like y; the bounded positions of y (local) with their gaps and
     signs, sign y <= gap; the frictional constraints in y's numbering, their
-    tangents each (d - 1) and whether any rank has one; and y's separate rows
-    (convergence.py)."""
+    tangents each (d - 1) and whether any rank has one; y's separate rows
+    (convergence.py); and whether K changes in a few rows between most
+    solves (the monolithic system with conduit faults: operator_nudged)."""
     comm: object
     mpi_comm: object
     prefix: str
@@ -53,6 +54,7 @@ class VIProblem:
     tangents: int = 0
     frictional: bool = False
     separate_rows: object = ()
+    changing: bool = False
 
 
 @dataclasses.dataclass
@@ -180,15 +182,17 @@ class VariationalInequality:
         except PETSc.Error as e:
             raise OptionsError(f"the PETSc options of {system_name(self.p.system_prefix)} contact solver do not "
                                f"make a solver: {petsc_error_text(e)}") from None
-        if (self.J is not None and self.whole is not None and self.whole.method == Method.direct
-                and self.p.tangents == 2 and self.lag_by_default and not given_by_user(self.p.prefix + "ksp_type")):
+        if (self.whole is not None and self.whole.method == Method.direct
+                and ((self.J is not None and self.p.tangents == 2) or self.p.changing)
+                and self.lag_by_default and not given_by_user(self.p.prefix + "ksp_type")):
             self._reuse_factorization()
 
     def _reuse_factorization(self):
         """In 3D a slipping pair's rows of J turn with its slip at every
-        Newton step, while K and the inactive set stay: the factorisation of
-        an earlier J preconditions GMRES on the new one (theory.md,
-        "Friction"). SNES VI sets its KSP up from the options again when the
+        Newton step, and a conduit fault's rows of K follow its apertures
+        from solve to solve, while the rest of K and the inactive set stay:
+        the factorisation of an earlier J preconditions GMRES on the new one
+        (theory.md, "Friction"). SNES VI sets its KSP up from the options again when the
         inactive set changes: the options say GMRES, for the VI's solves only
         (_krylov_on_reuse), to 1e-12 (near a direct solve's round-off) in at
         most 100 iterations, else the Jacobian is factorised anew
@@ -224,6 +228,14 @@ class VariationalInequality:
         self.jacobian_weights = None
         if self.lag_by_default:
             set_lag_preconditioner(self.snes, -2)
+
+    def operator_nudged(self):
+        """A few rows of K changed (a conduit fault's apertures): where an
+        earlier factorisation is reused, it preconditions GMRES on the new K
+        (friction's J is built from it); else as operator_changed."""
+        if not self.reuse:
+            return self.operator_changed()
+        self.jacobian_weights = None
 
     def set_tolerance(self, relative):
         """Solves to `relative` (iterative): the Krylov and the Newton tolerance."""

@@ -102,7 +102,7 @@ class System:
         if not first:
             big.copy(self.A_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
             if self.contact:
-                self.contact.operator_changed()
+                self.contact.operator_nudged()
             else:
                 self.linear.operator_nudged()
             return
