@@ -3,18 +3,21 @@ SIGINT mid-run: the step being computed is finished and written, the run
 exits with 128 + the signal, summary.json says "interrupted" with the last
 completed time, and h5py and meshio read every completed step. SIGKILL: no
 summary, but every output time listed in solution.xdmf is readable with h5py
-and meshio (each time is flushed as it is written)."""
+and meshio (each time is flushed as it is written). SIGINT twice (Ctrl-C
+again) during a long step: the run stops at once, as SIGKILL would, on both
+tracks."""
 import json
 import os
 import signal
 import subprocess
 import tempfile
+import time
 import xml.etree.ElementTree as ET
 
 import h5py
 import meshio
 import numpy as np
-from support import BINARY, check, scene
+from support import BINARY, PROTOTYPE, ROOT, check, scene
 
 STEPS_BEFORE_SIGNAL = 5
 
@@ -35,6 +38,29 @@ def interrupted_run(number):
     rest, error = p.communicate(timeout=300)
     printed += sum(1 for line in rest.splitlines() if line.startswith("step"))
     return p.returncode, out, printed, error
+
+
+def interrupted_twice(command, label):
+    """Runs the default scene at [480,48] (steps of seconds), sends SIGINT 1 s
+    after the first step is done (after its check for a signal) and again
+    0.5 s later, within the second step: the run ends by the signal,
+    without finishing that step."""
+    out = tempfile.mkdtemp(prefix="interrupt-twice-")
+    p = subprocess.Popen(command + ["run", scene("default"), "--set", "mesh.cells=[480,48]", "--out", out],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    for line in p.stdout:
+        if line.startswith("step"):
+            time.sleep(1.0)
+            p.send_signal(signal.SIGINT)
+            time.sleep(0.5)
+            p.send_signal(signal.SIGINT)
+            break
+    rest, _ = p.communicate(timeout=300)
+    check(p.returncode == -signal.SIGINT, f"{label}: SIGINT twice: ended by the signal ({p.returncode})")
+    check(not os.path.exists(os.path.join(out, "summary.json")) and "step    2" not in rest,
+          f"{label}: SIGINT twice: step 2 not finished, no summary.json")
+    times = readable_steps(out, f"{label}, SIGINT twice")
+    check(len(times) == 2, f"{label}: SIGINT twice: the initial state and step 1 readable ({len(times)} times)")
 
 
 def readable_steps(out, label):
@@ -75,3 +101,6 @@ check(status == -signal.SIGKILL, f"SIGKILL: killed ({status})")
 check(not os.path.exists(os.path.join(out, "summary.json")), "SIGKILL: no summary.json (nothing could write it)")
 times = readable_steps(out, "SIGKILL")
 check(len(times) >= printed + 1, f"SIGKILL: {len(times)} output times readable for {printed} steps printed")
+
+interrupted_twice([BINARY], "C++")
+interrupted_twice(PROTOTYPE, "prototype")

@@ -12,7 +12,19 @@ namespace
 {
 volatile std::sig_atomic_t received = 0;
 
-extern "C" void record(int signal) { received = signal; }
+// A second signal stops the run at once by the signal's default action
+// (signal and raise are async-signal-safe): the step being computed is
+// lost, the finished ones are on disk (each flushed as it is written).
+extern "C" void record(int signal)
+{
+  if (received != 0)
+  {
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+    return;
+  }
+  received = signal;
+}
 } // namespace
 
 void install_interruption_handlers()

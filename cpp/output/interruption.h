@@ -2,8 +2,9 @@
 // signal; the time loop checks it after each completed (and written) step,
 // then stops, closes its files and writes summary.json with "status":
 // "interrupted". The process then exits with the usual status of the
-// signal (128 + signal number). SIGKILL cannot be caught: what protects a
-// killed run is that every output time is flushed as it is written.
+// signal (128 + signal number). A second signal stops it at once, as
+// SIGKILL would: what protects such a run is that every output time is
+// flushed as it is written.
 #pragma once
 
 #include <mpi.h>

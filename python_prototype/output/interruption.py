@@ -1,7 +1,10 @@
 """SIGINT and SIGTERM end a run cleanly (cpp/output/interruption.h): the handler
 only records the signal; the time loop checks it after each completed (and
 written) step, then stops, closes its files and writes summary.json with
-"status": "interrupted"; the process exits with 128 + the signal number."""
+"status": "interrupted"; the process exits with 128 + the signal number.
+A second signal stops it at once, as SIGKILL would (every output time is
+flushed as it is written)."""
+import os
 import signal
 
 from mpi4py import MPI
@@ -11,6 +14,10 @@ _received = 0
 
 def _record(number, frame):
     global _received
+    if _received:  # the second signal: its default action (Python runs this between PETSc calls)
+        signal.signal(number, signal.SIG_DFL)
+        os.kill(os.getpid(), number)
+        return
     _received = number
 
 
