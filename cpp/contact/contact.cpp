@@ -269,13 +269,6 @@ void ContactSolver::operator_changed()
   _vi->operator_changed();
 }
 
-void ContactSolver::operator_nudged()
-{
-  _schur_current = false;
-  _change_current = false;
-  _vi->operator_nudged();
-}
-
 ContactSolver::~ContactSolver()
 {
   for (Vec* v : {&_force, &_x_vi, &_b_vi, &_x_start, &_x_start_vi})

@@ -133,7 +133,7 @@ public:
   void operator_changed();
   /// A few rows of A changed (a conduit fault's apertures): the last
   /// factorisation may precondition GMRES on it (VariationalInequality).
-  void operator_nudged();
+  void operator_nudged() { _schur_current = _change_current = false, _vi->operator_nudged(); }
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
   /// each Newton step and the Newton tolerance both. F is linear (but with

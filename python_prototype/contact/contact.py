@@ -318,8 +318,7 @@ class ContactSolver:
         self.vi.operator_changed()
 
     def operator_nudged(self):
-        """A few rows of A changed (a conduit fault's apertures): the last
-        factorisation may precondition GMRES on it (VariationalInequality)."""
+        """A few rows of A changed (a conduit's apertures): VariationalInequality.operator_nudged."""
         self.schur_current = self.change_current = False
         self.vi.operator_nudged()
 
@@ -493,11 +492,9 @@ class ContactSolver:
 
     @property
     def active_set_changes(self):
-        """Newton steps whose inactive set differed from the previous step's
-        (across solves): each may cost one factorisation."""
+        """Newton steps whose inactive set differed from the previous step's (across solves)."""
         return self.vi.convergence.active_set_changes
 
     def on_newton_step(self, told):
-        """`told` is called after each Newton step with its number: a long
-        solve's sign of life (the run's progress line)."""
+        """`told` is called after each Newton step with its number (the progress line)."""
         self.vi.convergence.on_newton_step = told
