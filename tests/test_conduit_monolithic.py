@@ -39,13 +39,19 @@ the same discrete equations; each split's limit is the monolithic solution.
 - 2 ranks give 1 rank's fields and p_f to 1e-10; a run killed after 6
   steps and restarted from its checkpoint (step 4) ends with the
   uninterrupted fields and p_f to 1e-12 (C++);
-- the prototype gives the C++ fields and p_f to 1e-10."""
+- the prototype gives the C++ fields and p_f to 1e-10;
+- iterations.csv has a row per solve (per aperture iteration), their
+  Newton steps the summary's, the same on both tracks and on 2 ranks (the
+  first solve's changes to 1e-8: a rank's ghosts and p_f counted once);
+  a step whose apertures do not settle in coupling.max_iterations = 2
+  fails (exit 3) in one line naming the last iteration's change, its two
+  rows written."""
 import os
 
 import numpy as np
 import test_hydraulic_opening as opening
-from support import (BOX_GEO, CHANNEL_GEO, CRACK_GEO, INCLINED_CRACK_GEO, check, killed_and_restarted, max_difference,
-                     run_track, summary, written)
+from support import (BOX_GEO, CHANNEL_GEO, CRACK_GEO, INCLINED_CRACK_GEO, check, iterations, killed_and_restarted,
+                     max_difference, run_track, summary, written)
 from test_fault_closure import BOX, SCENE, fault_pressure_difference
 
 FIELDS = ["displacement", "pressure", "flux"]
@@ -120,6 +126,47 @@ def check_reused_factorization(track, path, reused):
               1e-10)
 
 
+def rows_by_step(out):
+    """iterations.csv's rows of each step."""
+    steps = {}
+    for r in iterations(out):
+        steps.setdefault(int(r["step"]), []).append(r)
+    return steps
+
+
+def check_rows(label, out, reference=None):
+    """A row per monolithic solve, numbered 1, 2, ... in each step, their
+    Newton steps summing to the summary's; against `reference` (another
+    run of the same case) the same rows and the first solve's changes."""
+    s, steps = summary(out), rows_by_step(out)
+    every = [r for rows in steps.values() for r in rows]
+    numbered = all([int(r["iteration"]) for r in rows] == list(range(1, len(rows) + 1)) for rows in steps.values())
+    newton = sum(int(r["newton_steps"]) for r in every)
+    check(len(every) == s["monolithic_solves"] and numbered and newton == s["solvers"]["monolithic"]["newton_iterations"]
+          and all(not r["gamma"] for r in every),
+          f"{label}: iterations.csv has a row per solve ({len(every)} in {len(steps)} steps, "
+          f"{s['monolithic_solves']} solves), {newton} Newton steps as the summary's")
+    if reference is None:
+        return
+    other = rows_by_step(reference)
+    shape = [len(r) for r in steps.values()] == [len(r) for r in other.values()]
+    first = max(abs(float(a[k]) - float(b[k])) for a, b in zip(every, iterations(reference))
+                if a["iteration"] == "1" for k in ("dp_norm", "du_norm", "fault_dp_norm"))
+    check(shape and first <= 1e-8, f"{label}: the same rows per step as the reference, the first solves' changes "
+          f"to {first:.1e} (1e-8)")
+
+
+def check_unsettled(track, path):
+    """Apertures that do not settle in coupling.max_iterations = 2: exit 3,
+    one line naming the last change, both iterations in iterations.csv."""
+    out, p = run_track(track, path, MONOLITHIC, "coupling.max_iterations=2", expect=3)
+    line = p.stderr.strip().splitlines()
+    steps = rows_by_step(out)
+    check(len(line) == 1 and "still move after 2 iterations" in line[0] and "p_f by" in line[0]
+          and len(steps[max(steps)]) == 2 and summary(out)["status"] == "failed",
+          f"{track}: unsettled apertures end in one line with the last change, both rows written: {line[-1][-170:]!r}")
+
+
 def check_friction3d():
     """The 3D box, its fault frictional: the monolithic solve against the
     split, on both tracks; the prototype against C++."""
@@ -144,6 +191,8 @@ def main():
         runs[track] = against_split(track, path, "the closure")
         check_volumes(f"{track}: monolithic, the closure", runs[track])
         check_reused_factorization(track, path, runs[track])
+        check_rows(f"{track}: the closure", runs[track], runs["C++"] if track == "prototype" else None)
+        check_unsettled(track, path)
         runs[track, "opening"] = check_opening(track)
     same_runs("the closure: the prototype against C++", runs["prototype"], runs["C++"], 1e-10)
     u, p_f = opening_difference(runs["prototype", "opening"], runs["C++", "opening"])
@@ -152,6 +201,7 @@ def main():
     check_friction3d()
     two, _ = run_track("C++", path, MONOLITHIC, ranks=2)
     same_runs("C++: 2 ranks against 1", two, runs["C++"], 1e-10)
+    check_rows("C++: 2 ranks", two, runs["C++"])
     restarted, step = killed_and_restarted("C++", path, 6, MONOLITHIC)
     same_runs(f"C++: restarted from step {step}, against the uninterrupted run", restarted, runs["C++"], 1e-12)
 

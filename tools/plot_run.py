@@ -124,7 +124,7 @@ def plot_history(directory, nodes, cells, series, points):
 def plot_coupling(directory, summary):
     """Iterations per step; contraction ratio per iteration against gamma."""
     with open(os.path.join(directory, "iterations.csv")) as f:
-        rows = list(csv.DictReader(f))
+        rows = [r for r in csv.DictReader(f) if r["gamma"]]  # a single solve's rows have no gamma
     if not rows:
         return None
     plt = pyplot()

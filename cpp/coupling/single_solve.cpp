@@ -1,8 +1,10 @@
 #include "coupling/single_solve.h"
 
+#include "coupling/contraction.h"
 #include "time/step_control.h"
 #include "time/time_scheme.h"
 
+#include <algorithm>
 #include <exception>
 #include <sstream>
 
@@ -50,6 +52,28 @@ bool retried(const Problem& problem, const FailedStep& failed, int& attempts, Co
   return message.has_value();
 }
 
+/// iterations.csv: a row per solve of step k's last advance (also of one
+/// that failed), its changes relative to the largest p, u and p_f of the
+/// run so far, as in the split's stopping test, and p_f's change to the
+/// solve before's.
+void record_solves(const Step& step, int k, double t, CouplingRun& run)
+{
+  const double nan = SolveRecord::none;
+  ControllerState& c = run.state;
+  double fault_previous = nan;
+  int i = 0;
+  for (const SolveRecord& s : step.solves())
+  {
+    c.p_size = std::max(c.p_size, s.p); // a NaN (no such field) leaves the size
+    c.u_size = std::max(c.u_size, s.u);
+    c.fault_p_size = std::max(c.fault_p_size, s.fault_p);
+    const double fault_ratio = i > 0 and fault_previous > 0 ? s.fault_dp / fault_previous : nan;
+    run.observer.record({k, t, ++i, nan, nan, nan, relative(s.dp, c.p_size), relative(s.du, c.u_size),
+                         s.active_nodes, relative(s.fault_dp, c.fault_p_size), fault_ratio, s.newton_steps});
+    fault_previous = s.fault_dp;
+  }
+}
+
 std::string step_name(int k, double t)
 {
   std::ostringstream s;
@@ -81,6 +105,7 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
       failure = e.what();
       error = std::current_exception();
     }
+    record_solves(step, k, t, run);
     if (!failure.empty())
     {
       if (!retried(problem, {k, failure, k - 1, 1}, attempts, run))

@@ -274,7 +274,9 @@ void FlowStep::flux(fem::Function<double>& out) const
 void FlowStep::advance(double t, const TimeDerivative& d)
 {
   assign(*p_previous, history_value(d, pressure->x()->array(), p_before->x()->array()));
+  solve_begins(true);
   solve(t);
+  solve_ends();
 }
 
 std::map<std::string, std::vector<double>> FlowStep::arrays() const

@@ -161,6 +161,15 @@ public:
   const System& system() const override { return *_system; }
   System& system() override { return *_system; }
 
+protected:
+  /// p, and the conduit faults' p_f (the last rank's).
+  SolveFields solve_fields() const override
+  {
+    const auto n = static_cast<std::int32_t>(_fault_pressure.size());
+    return {{pressure->x()->array(), owned_size(*_Q), true}, {}, {_fault_pressure, n, bool(*_conduits)},
+            _Q->mesh()->comm()};
+  }
+
 private:
   void make_spaces(const Domain& domain, const CompiledForms& forms,
                    std::shared_ptr<const dolfinx::fem::FunctionSpace> V);

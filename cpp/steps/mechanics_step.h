@@ -44,7 +44,12 @@ public:
 
   std::string name() const override { return "mechanics"; }
   /// solve(t): the mechanics has no time derivative.
-  void advance(double t, const TimeDerivative&) override { solve(t); }
+  void advance(double t, const TimeDerivative&) override
+  {
+    solve_begins(true);
+    solve(t);
+    solve_ends();
+  }
   /// The solve at t = 0.
   void equilibrate() override { solve(0.0); }
   void begin_step() override;
@@ -98,6 +103,12 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> given_pressure;
   /// On the P1 scalar space of the contact component; zero off Gamma_3.
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
+
+protected:
+  SolveFields solve_fields() const override
+  {
+    return {{}, {u->x()->array(), owned_size(*_V), true}, {}, _V->mesh()->comm()};
+  }
 
 private:
   void make_loads(const Domain& domain, const CompiledForms& forms, const Constants& constants);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <dolfinx/fem/assembler.h>
+#include <sstream>
 
 namespace biotcontact
 {
@@ -141,10 +142,20 @@ bool MonolithicConduits::update(System& system, la::Vector<double>& u, std::span
     moved = {std::max(moved[0], std::abs(_pressure[k] - before[k])), std::max(moved[1], std::abs(_pressure[k]))};
   MPI_Allreduce(MPI_IN_PLACE, moved.data(), 2, MPI_DOUBLE, MPI_MAX, _problem.domain.mesh->comm());
   const double tolerance = _problem.scene.coupling->tolerance;
-  const bool converged = _faults->aperture_change() <= tolerance and moved[0] <= tolerance * moved[1];
+  _change = {_faults->aperture_change(), moved[1] > 0 ? moved[0] / moved[1] : moved[0]};
+  const bool converged = _change[0] <= tolerance and moved[0] <= tolerance * moved[1];
   if (!converged) // the next iterate's rows: its apertures, and B's Newton term at its p_f
     append(system);
   return converged;
+}
+
+std::string MonolithicConduits::last_change() const
+{
+  std::ostringstream s;
+  s << "the last iteration moved the apertures by " << _change[0] << " relative ("
+    << (std::isinf(_change[0]) ? "a cell opened or closed" : "no cell opened or closed") << ") and p_f by "
+    << _change[1] << " relative, against coupling.tolerance = " << _problem.scene.coupling->tolerance;
+  return s.str();
 }
 
 std::vector<double> MonolithicConduits::normal_stress(const ContactState& state) const

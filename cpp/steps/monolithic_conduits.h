@@ -18,6 +18,7 @@
 #include "contact/contact.h"
 #include "steps/system.h"
 
+#include <array>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <map>
 #include <memory>
@@ -75,6 +76,8 @@ public:
   /// rows appended again if they changed. Whether the iteration has
   /// converged.
   bool update(System& system, dolfinx::la::Vector<double>& x, std::span<const double> s_n);
+  /// What the last update measured against the tolerance, for an error.
+  std::string last_change() const;
 
   /// The cells' mean contact traction, s_n (every cell on every rank;
   /// collective).
@@ -112,6 +115,9 @@ private:
   Mat _E = nullptr;       // B_z^T - J^T |k|, zero on Dirichlet rows: the same at every append
   PetscInt _rows = 0;     // X's owned DOFs
   std::vector<double> _pressure, _pressure_old; // p_f, and at the step's start
+  // The last update's apertures' change (ConduitFaults::aperture_change)
+  // and p_f's largest change relative to the largest p_f.
+  std::array<double, 2> _change{0, 0};
 };
 
 } // namespace biotcontact

@@ -243,7 +243,21 @@ void MonolithicStep::solve(double t, const TimeDerivative& d)
   if (*_conduits)
     solve_with_conduits(t);
   else
+  {
+    solve_begins(true);
     solve_system();
+    solve_ends();
+  }
+}
+
+SolveFields MonolithicStep::solve_fields() const
+{
+  const bool conduits = bool(*_conduits);
+  const std::span<const double> p_f = conduits ? std::span<const double>(_conduits->pressure()) : std::span<const double>();
+  return {{pressure->x()->array(), owned_size(*Q), true},
+          {u->x()->array(), owned_size(*V), true},
+          {p_f, static_cast<std::int32_t>(p_f.size()), conduits},
+          V->mesh()->comm()};
 }
 
 void MonolithicStep::solve_system()
@@ -260,15 +274,17 @@ void MonolithicStep::solve_with_conduits(double t)
   const int most = _scene.coupling->max_iterations;
   for (int i = 1;; ++i)
   {
-    _iterations = i;
+    solve_begins(i == 1);
     _conduits->load(*_system, *_x->x(), t);
     solve_system();
     _fault_traction = fault_normal_stress();
-    if (_conduits->update(*_system, *u->x(), _fault_traction))
+    const bool settled = _conduits->update(*_system, *u->x(), _fault_traction);
+    solve_ends();
+    if (settled)
       return;
     if (i == most)
       throw SolverError("monolithic: the conduit faults' apertures still move after " + std::to_string(most)
-                        + " iterations (coupling.max_iterations)");
+                        + " iterations (coupling.max_iterations): " + _conduits->last_change());
   }
 }
 

@@ -60,9 +60,6 @@ public:
   void accept(double t) override;
   /// A conduit fault the step to t would leave unbalanced, or empty.
   std::string unbalanced(double t) const override;
-  /// The iterations on the conduit faults' apertures of the last step (1
-  /// without conduits).
-  int iterations() const override { return _iterations; }
   /// The record of the faults' seismic moments, "seismic_moments" (a
   /// checkpoint's), the conduit faults' arrays (FlowStep::arrays) and
   /// their cells' s_n, "fault_traction"; and their restoration.
@@ -111,6 +108,10 @@ public:
   /// `pressure`): the initial equilibrium (mechanics.initial_equilibrium).
   void set_displacement(std::span<const double> u, double t);
 
+protected:
+  /// p, u and the conduit faults' p_f (the last rank's).
+  SolveFields solve_fields() const override;
+
 private:
   /// The right-hand side of a step to t from the state in u and pressure.
   void make_spaces(const Domain& domain, const CompiledForms& forms);
@@ -147,7 +148,6 @@ private:
   std::unique_ptr<MonolithicConduits> _conduits;
   std::vector<double> _fault_traction; // s_n per conduit cell at the last solve (with a closure)
   mutable std::vector<double> _unknowns; // unknowns() with conduit faults
-  int _iterations = 1;                   // of the last solve
 };
 
 } // namespace biotcontact

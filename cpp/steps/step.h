@@ -6,6 +6,7 @@
 
 #include "assembly/linear_algebra.h"
 #include "contact/contact.h"
+#include "steps/solve_record.h"
 #include "steps/system.h"
 #include "time/time_scheme.h"
 
@@ -75,9 +76,12 @@ public:
   /// it must to be accepted: one line naming what does not (a conduit
   /// fault whose volumes do not balance), empty when all does.
   virtual std::string unbalanced(double) const { return {}; }
-  /// The solves of the last advance, which the progress line shows: 1, or
-  /// the monolithic step's iterations on its conduit faults' apertures.
-  virtual int iterations() const { return 1; }
+  /// What each solve of the last advance measured, in order, also when it
+  /// failed: one record, or one per iteration of the monolithic step on its
+  /// conduit faults' apertures (iterations.csv).
+  const std::vector<SolveRecord>& solves() const { return _solves; }
+  /// The solves of the last advance, which the progress line shows.
+  int iterations() const { return static_cast<int>(_solves.size()); }
 
   /// The unknowns, their fields (for checkpoints) and their restoration.
   virtual std::span<const double> unknowns() const = 0;
@@ -102,6 +106,23 @@ public:
   virtual ActiveSet active_contact_set() { return {}; }
 
   double assembly_time = 0; // right-hand sides
+
+protected:
+  /// The fields the step's solves move (p, u, p_f), for their records.
+  virtual SolveFields solve_fields() const = 0;
+  /// Brackets each solve of advance(); the first of an advance clears the
+  /// last one's records (collective: the record counts active nodes).
+  void solve_begins(bool first)
+  {
+    if (first)
+      _solves.clear();
+    _meter.start(solve_fields(), system().newton_steps());
+  }
+  void solve_ends() { _solves.push_back(_meter.record(solve_fields(), system().newton_steps(), active_contact_set().nodes)); }
+
+private:
+  SolveMeter _meter;
+  std::vector<SolveRecord> _solves;
 };
 
 } // namespace biotcontact

@@ -1,9 +1,12 @@
 """The scheme of a scene with one solve per step: the monolithic system, or
 a single physics (flow only, mechanics only); cpp/coupling/single_solve.cpp.
 It drives any step through the step interface (steps/step.py)."""
+import math
+
 from ..assembly.parameters import set_time_step
 from ..contact.contact_state import ActiveSet
-from .coupling import CouplingError
+from .contraction import relative
+from .coupling import CouplingError, IterationRecord
 from ..solvers.solver import SolverError
 from ..time.time_grid import FailedStep, retry_step
 from ..time.time_scheme import time_derivative
@@ -35,6 +38,27 @@ def _begin_step(problem, step, grid, k):
     return d
 
 
+def _record_solves(step, k, t, run):
+    """iterations.csv: a row per solve of step k's last advance (also of one
+    that failed), its changes relative to the largest p, u and p_f of the
+    run so far, as in the split's stopping test, and p_f's change to the
+    solve before's."""
+    c, fault_previous = run.state, math.nan
+    for i, s in enumerate(step.solves()):
+        c.p_size, c.u_size = _larger(c.p_size, s.p), _larger(c.u_size, s.u)
+        c.fault_p_size = _larger(c.fault_p_size, s.fault_p)
+        fault_ratio = s.fault_dp / fault_previous if i > 0 and fault_previous > 0 else math.nan
+        run.observer.record(IterationRecord(k, t, i + 1, math.nan, math.nan, math.nan, relative(s.dp, c.p_size),
+                                            relative(s.du, c.u_size), s.active_nodes,
+                                            relative(s.fault_dp, c.fault_p_size), fault_ratio, s.newton_steps))
+        fault_previous = s.fault_dp
+
+
+def _larger(size, value):
+    """The larger of a size and a value; the size where the value is NaN."""
+    return value if value > size else size
+
+
 def run_single_solve(problem, step, run):
     """Runs the scene from the end of step run.report.windows (0, or a
     restart's) to its end time, one solve of `step` per step of run.grid (a
@@ -57,6 +81,7 @@ def run_single_solve(problem, step, run):
             failure, error = step.unbalanced(t), None  # a solution that conserves too little
         except SolverError as e:
             failure, error = str(e), e
+        _record_solves(step, k, t, run)
         if failure:
             message = retry_step(problem.scene, FailedStep(k, failure, k - 1, 1), attempts, run.report, run.grid)
             if message is None:

@@ -11,8 +11,9 @@ from ..scene.input import FaultFlow, TimeScheme
 from ..assembly.loads import Loads
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (accumulate_ghosts, assemble_operator, dof_map, finish_rhs, largest_entry,
-                                       multiply_add, owned_global_dofs, reassemble_operator, UnknownsPart)
+                                       multiply_add, owned, owned_global_dofs, reassemble_operator, UnknownsPart)
 from ..solvers.solver import Structure, SystemLayout
+from .solve_record import FieldValues, SolveFields
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import facet_flux, fault_flux_ties, flux_bc, update_fluxes
@@ -40,6 +41,7 @@ class FlowStep(Step):
 
     def __init__(self, problem, V, flow_pass=FlowPass.first):
         """`V` is the displacement space of a coupled scene, None otherwise."""
+        super().__init__()
         scene, domain, F, materials = problem.scene, problem.domain, problem.forms, problem.materials
         self.scene, self.F, self.flow_pass = scene, F, flow_pass
         flow, comm = scene.flow, domain.mesh.comm
@@ -213,7 +215,14 @@ class FlowStep(Step):
         """One solve per step: the pressure history of `d` from the last
         step's pressure and p_before, then solve(t)."""
         self.p_previous.x.array[:] = history_value(d, self.pressure.x.array, self.p_before.x.array)
+        self.solve_begins(True)
         self.solve(t)
+        self.solve_ends()
+
+    def solve_fields(self):
+        """p, and the conduit faults' p_f (the last rank's)."""
+        p_f = FieldValues(self.fault_pressure, len(self.fault_pressure)) if self.conduits else FieldValues()
+        return SolveFields(FieldValues(self.pressure.x.array, owned(self.Q)), FieldValues(), p_f, self.Q.mesh.comm)
 
     def name(self):
         return "flow" if self.flow_pass == FlowPass.first else "flow_second_pass"

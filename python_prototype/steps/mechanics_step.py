@@ -15,6 +15,7 @@ from ..domain.domain import pore_pressure_faces
 from ..assembly.linear_algebra import (UnknownsPart, assemble_operator, finish_rhs, multiply_add, owned,
                                        rigid_body_modes)
 from ..solvers.solver import Method, Structure, SystemLayout
+from .solve_record import FieldValues, SolveFields
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, update
@@ -29,6 +30,7 @@ class MechanicsStep(Step):
         """`V` is the P1 displacement space; `pressure` the pore pressure of a
         coupled scene, None otherwise (then the step makes `given_pressure`
         from mechanics.pore_pressure, if the scene gives one)."""
+        super().__init__()
         scene, domain, F = problem.scene, problem.domain, problem.forms
         self.scene, comm = scene, domain.mesh.comm
         self.V = V
@@ -162,7 +164,12 @@ class MechanicsStep(Step):
 
     def advance(self, t, d):
         """solve(t): the mechanics has no time derivative."""
+        self.solve_begins(True)
         self.solve(t)
+        self.solve_ends()
+
+    def solve_fields(self):
+        return SolveFields(FieldValues(), FieldValues(self.u.x.array, owned(self.V)), FieldValues(), self.V.mesh.comm)
 
     def equilibrate(self):
         """The solve at t = 0."""

@@ -12,6 +12,8 @@ coupled system x = (u, z, p),
                              fixed-stress term in open cells."""
 import dataclasses
 
+import math
+
 import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
@@ -135,10 +137,20 @@ class MonolithicConduits:
         moved = [np.abs(self.pressure - before).max(initial=0.0), np.abs(self.pressure).max(initial=0.0)]
         moved = self.problem.domain.mesh.comm.allreduce(np.array(moved), op=MPI.MAX)
         tolerance = self.problem.scene.coupling.tolerance
+        # The apertures' change (ConduitFaults.aperture_change) and p_f's
+        # largest change relative to the largest p_f, for an error.
+        self._change = (self.faults.aperture_change, moved[0] / moved[1] if moved[1] > 0 else moved[0])
         converged = self.faults.aperture_change <= tolerance and moved[0] <= tolerance * moved[1]
         if not converged:  # the next iterate's rows: its apertures, and B's Newton term at its p_f
             self.append(system)
         return converged
+
+    def last_change(self):
+        """What the last update measured against the tolerance, for an error."""
+        w, p = self._change
+        cells = "a cell opened or closed" if math.isinf(w) else "no cell opened or closed"
+        return (f"the last iteration moved the apertures by {w:g} relative ({cells}) and p_f by {p:g} relative, "
+                f"against coupling.tolerance = {self.problem.scene.coupling.tolerance:g}")
 
     def normal_stress(self, state):
         """The cells' mean contact traction, s_n (every cell on every rank;

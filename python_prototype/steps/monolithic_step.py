@@ -21,6 +21,7 @@ from ..solvers.solver import SolverError, Structure, SystemLayout
 from .mechanics_step import MechanicsStep
 from .monolithic_conduits import MixedSpace, MonolithicConduits
 from .seismic_moments import SeismicMoments, keep_moments, moments_of, record_moments, restore_moments
+from .solve_record import FieldValues, SolveFields
 from .step import Step, StepState
 from .system import System
 from ..assembly.boundary_conditions import displacement_bcs, facet_flux, fault_flux_ties, flux_bc, update, update_fluxes
@@ -32,6 +33,7 @@ class MonolithicStep(Step):
     """(u, z, p) together on P1^d x RT0 x P0, one VI per step."""
 
     def __init__(self, problem):
+        super().__init__()
         scene, domain, F = problem.scene, problem.domain, problem.forms
         self.problem, self.scene, comm = problem, scene, domain.mesh.comm
         X = F["X"]
@@ -72,7 +74,6 @@ class MonolithicStep(Step):
         # p_f before the contact: the contact solver takes the appended system
         self.conduits = MonolithicConduits(problem, MixedSpace(X, self.V, self.V_to_X, self.bcs, flux))
         self.fault_traction = None  # s_n per conduit cell at the last solve (with a closure)
-        self._iterations = 1  # of the last solve
         if self.conduits:
             self.conduits.append(self.system)
         if scene.has_contact():
@@ -175,7 +176,15 @@ class MonolithicStep(Step):
         if self.conduits:
             self._solve_with_conduits(t)
         else:
+            self.solve_begins(True)
             self._solve_system()
+            self.solve_ends()
+
+    def solve_fields(self):
+        """p, u and the conduit faults' p_f (the last rank's)."""
+        p_f = FieldValues(self.conduits.pressure, len(self.conduits.pressure)) if self.conduits else FieldValues()
+        return SolveFields(FieldValues(self.pressure.x.array, owned(self.Q)), FieldValues(self.u.x.array, owned(self.V)),
+                           p_f, self.V.mesh.comm)
 
     def _solve_system(self):
         """Solves the system at the right-hand side assembled; u, pressure and
@@ -190,14 +199,16 @@ class MonolithicStep(Step):
         until they settle; raises SolverError after coupling.max_iterations."""
         most = self.scene.coupling.max_iterations
         for i in range(1, most + 1):
-            self._iterations = i
+            self.solve_begins(i == 1)
             self.conduits.load(self.system, self.x.vector, t)
             self._solve_system()
             self.fault_traction = self._fault_normal_stress()
-            if self.conduits.update(self.system, self.u, self.fault_traction):
+            settled = self.conduits.update(self.system, self.u, self.fault_traction)
+            self.solve_ends()
+            if settled:
                 return
         raise SolverError(f"monolithic: the conduit faults' apertures still move after {most} iterations "
-                          "(coupling.max_iterations)")
+                          f"(coupling.max_iterations): {self.conduits.last_change()}")
 
     def _fault_normal_stress(self):
         """The conduit cells' s_n now, with a closure (None otherwise)."""
@@ -255,11 +266,6 @@ class MonolithicStep(Step):
             return ""
         x = self.x.x.array
         return self.conduits.unbalanced(x, t, largest_entry(x, self.Z_to_X, self.Z.mesh.comm))
-
-    def iterations(self):
-        """The iterations on the conduit faults' apertures of the last step
-        (1 without conduits)."""
-        return self._iterations
 
     def fault_flow(self, t):
         """The conduit faults' cell fields at t on rank 0 (FlowStep.fault_flow;

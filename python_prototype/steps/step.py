@@ -9,6 +9,7 @@ from typing import Optional
 import numpy as np
 
 from ..contact.contact_state import ActiveSet
+from .solve_record import SolveMeter
 
 # The functions of a step that a checkpoint keeps besides its unknowns (the
 # time scheme's memory): (checkpoint name, Function) pairs.
@@ -34,6 +35,10 @@ class Step(abc.ABC):
     mechanics step through their own interfaces, which iterate between them."""
 
     assembly_time = 0.0  # right-hand sides
+
+    def __init__(self):
+        self._meter = SolveMeter()
+        self._solves = []
 
     @abc.abstractmethod
     def name(self):
@@ -90,10 +95,32 @@ class Step(abc.ABC):
         conduit fault whose volumes do not balance), empty when all does."""
         return ""
 
+    def solves(self):
+        """What each solve of the last advance measured, in order, also when
+        it failed: one SolveRecord, or one per iteration of the monolithic
+        step on its conduit faults' apertures (iterations.csv)."""
+        return self._solves
+
     def iterations(self):
-        """The solves of the last advance, which the progress line shows: 1,
-        or the monolithic step's iterations on its conduit faults' apertures."""
-        return 1
+        """The solves of the last advance, which the progress line shows."""
+        return len(self._solves)
+
+    @abc.abstractmethod
+    def solve_fields(self):
+        """The fields the step's solves move (p, u, p_f: a SolveFields), for
+        their records."""
+
+    def solve_begins(self, first):
+        """Brackets each solve of advance(); the first of an advance clears
+        the last one's records."""
+        if first:
+            self._solves = []
+        self._meter.start(self.solve_fields(), self.system.newton_steps())
+
+    def solve_ends(self):
+        """(collective: the record counts active nodes)"""
+        self._solves.append(self._meter.record(self.solve_fields(), self.system.newton_steps(),
+                                               self.active_contact_set().nodes))
 
     @abc.abstractmethod
     def unknowns(self):

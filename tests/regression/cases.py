@@ -56,7 +56,7 @@ def run(case, track, binary, out):
 
 
 def outcome(out):
-    """What a run computed: the coupling iterations of every step, the
+    """What a run computed: the split's coupling iterations of every step, the
     summary's counts, the active contact set at every output time and every
     field at the final time (sorted by coordinates, so that two builds
     compare whatever their numbering)."""
@@ -64,7 +64,8 @@ def outcome(out):
     with open(os.path.join(out, "iterations.csv")) as f:
         last = {}
         for row in csv.DictReader(f):
-            last[int(row["step"])] = int(row["iteration"])
+            if row["gamma"]:  # the split's coupling iterations (a single solve's rows have no gamma)
+                last[int(row["step"])] = int(row["iteration"])
     result["iterations"] = np.array([last[k] for k in sorted(last)], dtype=np.int64)
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
