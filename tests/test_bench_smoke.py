@@ -38,6 +38,9 @@ out = bench("mandel.py", "--cells", "[20,2]", *common_options)
 out = bench("builds.py", "--before", BINARY, "--scenes", "default", "--set", "time.end=0.8",
             *common_options)
 check("| default |" in out, "bench/builds.py prints the table of two builds")
+out = bench("newton_steps.py", "--cases", "default,default:monolithic", "--set", "time.end=0.4", *common_options)
+check("| default:monolithic | 2 | " in out,
+      "bench/newton_steps.py counts a row per monolithic step and prints the Newton steps' table")
 out = bench("network.py", "--faults", "4", "--ranks", "1", "--set", "time.end=86400.0", *common_options)
 check("ratio" in out, "bench/network.py runs a network and its single fracture and prints their ratio")
 out = bench("prototype.py", "--cells", "[20,2]", "--set", "time.end=0.8", *common_options)
