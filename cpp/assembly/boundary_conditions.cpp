@@ -1,5 +1,6 @@
 #include "assembly/boundary_conditions.h"
 
+#include "assembly/node_coordinates.h"
 #include "assembly/parameters.h"
 
 #include <algorithm>
@@ -30,7 +31,7 @@ BCs displacement_bcs(const Scene& scene, const Domain& domain, std::shared_ptr<c
       auto collapsed = std::make_shared<fem::FunctionSpace>(Ui->collapse().first);
       auto g = std::make_shared<fem::Function<double>>(collapsed);
       auto dofs = fem::locate_dofs_topological({*Ui, *collapsed}, d - 1, domain.boundaries.at(name));
-      const std::vector<double> x = collapsed->tabulate_dof_coordinates(false);
+      const std::vector<double> x = node_coordinates(*collapsed);
       DisplacementValue value{&*b.displacement[i], g, dofs[1], {}};
       for (std::int32_t dof : value.dofs)
         value.points.insert(value.points.end(), x.begin() + 3 * dof, x.begin() + 3 * dof + 3);

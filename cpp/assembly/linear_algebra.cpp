@@ -1,5 +1,6 @@
 #include "assembly/linear_algebra.h"
 
+#include "assembly/node_coordinates.h"
 #include "assembly/petsc_error.h"
 
 #include <algorithm>
@@ -148,7 +149,7 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, const std::vector<std
   // as a vector with the block size d laid out like the displacement.
   const int d = V.dofmap()->index_map_bs();
   const std::int32_t nodes = V.dofmap()->index_map->size_local();
-  const std::vector<double> x = V.tabulate_dof_coordinates(false); // 3 per node
+  const std::vector<double> x = node_coordinates(V); // 3 per node
   Vec coordinates;
   check_petsc(VecCreateMPI(V.mesh()->comm(), d * nodes, PETSC_DETERMINE, &coordinates),
               "the rigid-body modes: VecCreateMPI");

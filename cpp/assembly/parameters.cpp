@@ -1,6 +1,9 @@
 #include "assembly/parameters.h"
 
+#include "assembly/node_coordinates.h"
+
 #include <cmath>
+#include <stdexcept>
 #include <xtensor/xarray.hpp>
 #include <xtensor/xbuilder.hpp>
 #include <xtensor/xtensor.hpp>
@@ -102,6 +105,18 @@ bool set_window_steps(const Constants& constants, int q) { return set_constant(c
 void interpolate(dolfinx::fem::Function<double>& f, const std::vector<Expression>& components, double t)
 {
   const std::size_t n = components.size();
+  if (on_mesh_nodes(*f.function_space()))
+  {
+    // At the mesh's own nodes (node_coordinates.h): sqrt(x) is defined at x = 0.
+    if (f.function_space()->dofmap()->index_map_bs() != static_cast<int>(n))
+      throw std::logic_error("interpolate: one expression per component of the space");
+    const std::vector<double> x = node_coordinates(*f.function_space());
+    const std::span<double> values = f.x()->mutable_array();
+    for (std::size_t node = 0; node < x.size() / 3; ++node)
+      for (std::size_t i = 0; i < n; ++i)
+        values[n * node + i] = components[i](&x[3 * node], t);
+    return;
+  }
   f.interpolate(
       [&](const xt::xtensor<double, 2>& x) -> xt::xarray<double>
       {

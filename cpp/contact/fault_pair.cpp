@@ -2,6 +2,7 @@
 
 #include "assembly/fault_aperture.h"
 #include "assembly/linear_algebra.h"
+#include "assembly/node_coordinates.h"
 #include "contact/junction.h"
 
 #include <dolfinx/fem/DirichletBC.h>
@@ -171,7 +172,7 @@ void add_fault_pairs(const Scene& scene, const Domain& domain, const CompiledFor
   Junctions junctions = fault_junctions(domain, nodes, prescribed);
   const PairContext context{scene.file,
                             domain,
-                            V->tabulate_dof_coordinates(false),
+                            node_coordinates(*V),
                             std::move(prescribed),
                             std::move(nodes),
                             foundation_nodes(c),

@@ -1,5 +1,7 @@
 #include "contact/foundation_pair.h"
 
+#include "assembly/node_coordinates.h"
+
 #include <algorithm>
 #include <cmath>
 #include <dolfinx/fem/DirichletBC.h>
@@ -56,7 +58,7 @@ NodeCandidates gather_candidates(const Scene& scene, const Domain& domain, const
 {
   const int d = domain.dim(), bs = V->dofmap()->index_map_bs();
   const std::int32_t owned = bs * V->dofmap()->index_map->size_local();
-  const std::vector<double> coords = V->tabulate_dof_coordinates(false);
+  const std::vector<double> coords = node_coordinates(*V);
   auto V0 = V->sub({0});
   NodeCandidates nodes;
   std::map<std::int32_t, std::size_t> position;
@@ -219,7 +221,7 @@ void add_foundation_pairs(const Scene& scene, const Domain& domain, const Compil
 {
   NodeCandidates nodes = gather_candidates(scene, domain, forms, V, c, error);
   const std::vector<char> prescribed = prescribed_dofs(scene, domain, *V);
-  const std::vector<double> coords = V->tabulate_dof_coordinates(false);
+  const std::vector<double> coords = node_coordinates(*V);
   const int bs = V->dofmap()->index_map_bs();
   for (auto& [first, candidates] : nodes)
     add_node(c, {first, std::move(candidates), &coords[3 * (first / bs)]}, prescribed, scene.file, error);

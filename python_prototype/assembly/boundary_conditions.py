@@ -8,6 +8,7 @@ from dolfinx import fem, mesh as dmesh
 from ..domain.domain import vertex_input_indices
 from ..domain.mesh_checks import planar_boundary
 from .linear_algebra import accumulate_ghosts, add_vector
+from .node_coordinates import node_coordinates
 from .tied_dofs import Tie
 from ..scene.input import FaultFlow
 
@@ -26,7 +27,7 @@ def displacement_bcs(scene, domain, U):
             g = fem.Function(collapsed)
             dofs = fem.locate_dofs_topological((Ui, collapsed), d - 1, domain.boundaries[name])
             bcs.append(fem.dirichletbc(g, dofs, Ui))
-            points = collapsed.tabulate_dof_coordinates()[dofs[1]]
+            points = node_coordinates(collapsed)[dofs[1]]
             values.append((b.displacement[i], g, dofs[1], points))
     return bcs, values
 

@@ -12,6 +12,8 @@ from dolfinx.cpp.la import ScatterMode
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .node_coordinates import node_coordinates
+
 
 class UnknownsPart:
     """One field within a vector of unknowns: its own (collapsed) space and
@@ -110,7 +112,7 @@ def rigid_body_modes(V, position=None):
     d = V.dofmap.index_map_bs
     nodes = V.dofmap.index_map.size_local
     coordinates = PETSc.Vec().createMPI((d * nodes, PETSc.DECIDE), bsize=d, comm=V.mesh.comm)
-    values = V.tabulate_dof_coordinates()[:nodes, :d].reshape(-1)
+    values = node_coordinates(V)[:nodes, :d].reshape(-1)
     if position is None:
         coordinates.getArray()[:] = values
     else:

@@ -5,6 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..scene.input import LChoice
+from .node_coordinates import node_coordinates, on_mesh_nodes
 
 
 @dataclass
@@ -84,7 +85,16 @@ def set_window_steps(F, q):
 
 
 def interpolate(f, components, t):
-    """Interpolates one expression per component (at time t) into f."""
+    """Interpolates one expression per component (at time t) into f; on a
+    P1 space at the mesh's own nodes (node_coordinates.py: sqrt(x) is
+    defined at x = 0)."""
+    V = f.function_space
+    if on_mesh_nodes(V):
+        if V.dofmap.index_map_bs != len(components):
+            raise RuntimeError("interpolate: one expression per component of the space")
+        x = node_coordinates(V).T
+        f.x.array[:] = np.column_stack([c.at(x, t) * np.ones(x.shape[1]) for c in components]).ravel()
+        return
     if len(components) == 1:
         f.interpolate(lambda x: components[0].at(x, t))
     else:

@@ -15,6 +15,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..assembly.fault_aperture import FaultNodes, fault_nodes
+from ..assembly.node_coordinates import node_coordinates
 from ..scene.input import nonnegative_problem, point_text
 from .change_of_variables import node_change_of_variables, pair_change_of_variables
 from .contact_law import contact_law, frictionless
@@ -149,7 +150,7 @@ def add_fault_pairs(scene, domain, F, V, c, error):
     if not domain.faults:
         return
     nodes, prescribed = fault_nodes(domain, V), prescribed_dofs(scene, domain, V)
-    context = _PairContext(scene.file, domain, V.tabulate_dof_coordinates(), prescribed, nodes,
+    context = _PairContext(scene.file, domain, node_coordinates(V), prescribed, nodes,
                            _foundation_nodes(c), fault_junctions(domain, nodes, prescribed))
     d = domain.dim
     problem = _junctions_problem(context)

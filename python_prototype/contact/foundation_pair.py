@@ -11,6 +11,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..assembly.linear_algebra import owned
+from ..assembly.node_coordinates import node_coordinates
 from ..scene.input import nonnegative_problem, point_text
 from .change_of_variables import coordinate_axis, node_change_of_variables
 from .contact_law import contact_law, frictionless
@@ -35,7 +36,7 @@ def _gather_candidates(scene, domain, F, V, c, error):
     in the order first met (boundaries in the scene's order, each
     boundary's DOFs in dolfinx's): the order of the constraints."""
     d, bs, n_owned = domain.dim, V.dofmap.index_map_bs, owned(V)
-    coords, V0, nodes = V.tabulate_dof_coordinates(), V.sub(0), {}
+    coords, V0, nodes = node_coordinates(V), V.sub(0), {}
     for name, b in scene.boundaries.items():
         if not b.contact:
             continue
@@ -143,6 +144,6 @@ def add_foundation_pairs(scene, domain, F, V, c, error):
     its key."""
     nodes = _gather_candidates(scene, domain, F, V, c, error)
     prescribed = prescribed_dofs(scene, domain, V)
-    coords, bs = V.tabulate_dof_coordinates(), V.dofmap.index_map_bs
+    coords, bs = node_coordinates(V), V.dofmap.index_map_bs
     for first, candidates in nodes.items():
         _add_node(c, _ContactNode(first, candidates, coords[first // bs]), prescribed, scene.file, error)
