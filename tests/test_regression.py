@@ -3,7 +3,12 @@ each shipped scene, every coupling scheme and solver path) computes, on both
 tracks, what tests/regression/record.py recorded before the code was
 reshaped: the same coupling iterations at every step, the same summary
 counts, the same active contact set at every output time and every final
-field equal to 1e-12 relative to its largest value.
+field equal to 1e-12 relative to its largest value, with the BLAS kernel
+it was recorded with. Another kernel rounds otherwise, and the fields are
+held to 1e-9 (measured 2026-12-01 against the record of OpenBLAS's Haswell
+kernel: at most 4.5e-11 with its Cooperlake kernel and 7.2e-11 with the
+reference BLAS, both the monolithic case's contact pressure, a force read
+from the residual A u - b; iterations, counts and active sets identical).
 
 REGRESSION_TRACKS=prototype (or cpp) checks one track only, and
 REGRESSION_CASES=a,b some cases only, while working on one of them."""
@@ -16,9 +21,10 @@ import numpy as np
 from support import BINARY, check
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "regression"))
-from cases import CASES, COUNTS, HERE, outcome, run  # noqa: E402
+from cases import CASES, COUNTS, HERE, blas_kernel, outcome, run  # noqa: E402
 
-TOLERANCE = 1e-12
+TOLERANCE, OTHER_KERNEL = 1e-12, 1e-9
+KERNEL = blas_kernel()
 
 TRACKS = os.environ.get("REGRESSION_TRACKS", "cpp,prototype").split(",")
 SELECTED = os.environ.get("REGRESSION_CASES", ",".join(CASES)).split(",")
@@ -32,6 +38,8 @@ for case in SELECTED:
         check(p.returncode == 0, f"{label}: runs ({stderr.strip()[-300:]})")
         now = outcome(outs[track])
         recorded = dict(np.load(os.path.join(HERE, f"{case}.{track}.npz")))
+        kernel = str(recorded.pop("blas"))
+        tolerance = TOLERANCE if kernel == KERNEL else OTHER_KERNEL
         check(sorted(now) == sorted(recorded), f"{label}: the same fields ({sorted(set(now) ^ set(recorded))})")
         check(np.array_equal(now["iterations"], recorded["iterations"]),
               f"{label}: the same coupling iterations in all {len(recorded['iterations'])} steps")
@@ -43,4 +51,5 @@ for case in SELECTED:
         for name in (k for k in recorded if k.startswith("final_")):
             scale = max(np.abs(recorded[name]).max(), 1e-300)
             difference = np.abs(now[name] - recorded[name]).max() / scale
-            check(difference <= TOLERANCE, f"{label}: {name[6:]} equal to {difference:.1e} (limit {TOLERANCE:g})")
+            check(difference <= tolerance, f"{label}: {name[6:]} equal to {difference:.1e} (limit {tolerance:g}, "
+                  f"{'the recorded BLAS' if kernel == KERNEL else f'{KERNEL} against the recorded {kernel}'})")

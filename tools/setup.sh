@@ -10,6 +10,7 @@ packages=(
   libtomlplusplus-dev libmuparser-dev libgtest-dev
   gmsh python3-gmsh libgmsh-dev
   python3-numpy python3-h5py python3-matplotlib python3-meshio python3-scipy
+  libopenblas0-serial
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -21,6 +22,14 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+
+# MUMPS, CHOLMOD and UMFPACK spend their factorisations in dgemm and dtrsm:
+# OpenBLAS (serial: the ranks are the parallelism) instead of the reference
+# BLAS, chosen here whatever the alternatives held (docs/performance.md).
+arch=$(gcc -print-multiarch)
+for lib in libblas.so.3 liblapack.so.3; do
+  update-alternatives --set "$lib-$arch" "/usr/lib/$arch/openblas-serial/$lib" >/dev/null
+done
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
 if ! cmake --build build -j2 > build/build.log 2>&1; then

@@ -1,6 +1,7 @@
 """Records what every regression case computes, C++ and prototype, into
 tests/regression/<case>.<track>.npz. Run it on the build whose results are
-the reference (before a change that must not alter a number):
+the reference (before a change that must not alter a number), with the
+BLAS kernel it computed with:
 
     /usr/bin/python3 tests/regression/record.py [build/biotcontact]
 """
@@ -10,7 +11,7 @@ import tempfile
 
 import numpy as np
 
-from cases import CASES, HERE, outcome, run
+from cases import CASES, HERE, blas_kernel, outcome, run
 
 binary = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.dirname(HERE)), "build",
                                                                 "biotcontact")
@@ -21,5 +22,5 @@ for case in CASES:
         _, stderr = p.communicate(timeout=900)
         if p.returncode != 0:
             sys.exit(f"{case} ({track}) failed: {stderr.strip()[-400:]}")
-        np.savez_compressed(os.path.join(HERE, f"{case}.{track}.npz"), **outcome(outs[track]))
+        np.savez_compressed(os.path.join(HERE, f"{case}.{track}.npz"), **outcome(outs[track]), blas=blas_kernel())
         print(f"recorded {case} ({track})")
