@@ -99,6 +99,15 @@ def _build_type(binary):
     return f"{values.get('CMAKE_BUILD_TYPE', '?')} ({values.get('CMAKE_CXX_FLAGS_RELEASE', '')})"
 
 
+def _blas(binary):
+    """The BLAS the binary loads (the library behind Debian's libblas.so.3
+    alternative: reference or OpenBLAS)."""
+    for line in _output(["ldd", binary]).splitlines():
+        if line.strip().startswith("libblas.so"):
+            return os.path.realpath(line.split("=>")[1].split("(")[0].strip())
+    return "unknown"
+
+
 def machine_header(binary, command=None):
     """The header every CSV starts with, as an ordered dict: machine, date,
     commit, versions and the bench command line."""
@@ -116,9 +125,10 @@ def machine_header(binary, command=None):
         "dirty": dirty,
         "solver": _output([binary, "--version"]) or f"{binary}: --version failed",
         "build": _build_type(binary),
+        "blas": _blas(binary),
         "python": python_versions or "dolfinx/petsc4py not importable",
     }
-    threads = {k: os.environ[k] for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS") if k in os.environ}
+    threads = {k: os.environ[k] for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "OPENBLAS_CORETYPE") if k in os.environ}
     if threads:
         header["environment"] = " ".join(f"{k}={v}" for k, v in threads.items())
     header["command"] = command or shlex.join([PYTHON] + [os.path.relpath(sys.argv[0], ROOT)] + sys.argv[1:])
