@@ -122,6 +122,10 @@ def check_reused_factorization(track, path, reused):
           f"{track}: the closure's {a['solves']} solves factorise {a['factorizations']} times (GMRES on the last "
           f"factorisation, {a['linear_iterations']} iterations), {b['factorizations']} times with "
           "-monolithic_ksp_type preonly")
+    # the method names the Krylov method the Newton steps run, not the
+    # system's own preonly
+    check("preonly" not in a["method"] and "preonly + lu" in b["method"] and "gmres" not in b["method"],
+          f"{track}: the methods say which solve ran: {a['method']!r} and {b['method']!r}")
     same_runs(f"{track}: the closure, GMRES on the last factorisation against a factorisation each", reused, each,
               1e-10)
 

@@ -254,7 +254,7 @@ VIProblem ContactSolver::pose_on_full_system(Vec layout, std::vector<std::int32_
 std::string ContactSolver::method() const
 {
   if (!_schur)
-    return _vi->reuses_factorization() ? "full, Newton steps by gmres on the last factorisation" : "full";
+    return "full";
   return "condensed on " + std::to_string(_schur->size()) + " contact DOFs"
          + (!_switched ? "" : _full_steps == 1 ? ", after one full Newton step" : ", after two full Newton steps");
 }

@@ -153,6 +153,9 @@ public:
   const ContactSet& set() const { return _set; }
   /// "condensed on m contact DOFs" or "full".
   std::string method() const;
+  /// Whether the full path's Newton steps run GMRES on the last
+  /// factorisation instead of the system's own solver (VariationalInequality).
+  bool reuses_factorization() const { return !_schur and _vi->reuses_factorization(); }
   /// Preconditioner set-ups of the iterative full path (-1 otherwise: then
   /// PETSc's PCSetUp events count them).
   long preconditioner_setups() const { return _vi->preconditioner_setups(); }

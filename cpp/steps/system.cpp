@@ -314,8 +314,12 @@ SolverStatistics System::statistics() const
 std::string System::description() const
 {
   const std::string pc = option(_prefix, "-pc_type");
-  std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + option(_prefix, "-ksp_type")
-                  + " + " + pc;
+  // With the factorisation reused, the contact's Newton steps run GMRES on
+  // it, not the system's own Krylov method.
+  const std::string krylov = _contact and _contact->reuses_factorization()
+                                 ? "Newton steps by gmres on the last factorisation: "
+                                 : option(_prefix, "-ksp_type") + " + ";
+  std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + krylov + pc;
   // PCREDUNDANT: the factorisation each rank holds a copy of.
   const std::string factor = pc == "redundant" ? _prefix + "redundant_" : _prefix;
   const std::string factor_pc = option(factor, "-pc_type");

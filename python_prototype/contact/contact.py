@@ -287,14 +287,15 @@ class ContactSolver:
                          self.dofs, self.set.gap, self.set.sign, separate_rows=separate_rows)
 
     def method(self):
-        if not self.schur:
-            return "full, Newton steps by gmres on the last factorisation" if self.vi.reuse else "full"
         after = ", after one full Newton step" if self.full_steps == 1 else ", after two full Newton steps"
-        return f"condensed on {self.schur.size()} contact DOFs" + (after if self.switched else "")
+        return f"condensed on {self.schur.size()} contact DOFs" + (after if self.switched else "") if self.schur else "full"
+
+    def reuses_factorization(self):
+        """Whether the full path's Newton steps run GMRES on the last factorisation."""
+        return not self.schur and self.vi.reuse
 
     def set_tolerance(self, relative):
-        """Solves to `relative` (iterative full path): the Krylov tolerance of
-        each Newton step and the Newton tolerance (cpp/contact/contact.h says why)."""
+        """Solves to `relative` (iterative full path): each Newton step's Krylov tolerance and Newton's (contact.h says why)."""
         self.vi.set_tolerance(relative)
 
     def preconditioner_setups(self):
@@ -308,8 +309,7 @@ class ContactSolver:
         return self.schur.time if self.schur else 0.0
 
     def contact_factorizations(self):
-        """The condensed VI's factorisations (0 on the full path, whose
-        factorisations are the system's)."""
+        """The condensed VI's factorisations (0 on the full path: there they are the system's)."""
         return self.vi.factorizations()
 
     def operator_changed(self):

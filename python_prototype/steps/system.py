@@ -288,8 +288,11 @@ class System:
         from petsc4py import PETSc
         options = PETSc.Options()
         pc = options.getString(self.prefix + "pc_type", "")
-        d = (f"SNES vinewtonrsls ({self.contact.method()}), " if self.contact else "") + options.getString(self.prefix + "ksp_type", "") \
-            + " + " + pc
+        # with the factorisation reused, the contact's Newton steps run GMRES
+        # on it, not the system's own Krylov method
+        krylov = "Newton steps by gmres on the last factorisation: " if self.contact and self.contact.reuses_factorization() \
+            else options.getString(self.prefix + "ksp_type", "") + " + "
+        d = (f"SNES vinewtonrsls ({self.contact.method()}), " if self.contact else "") + krylov + pc
         # PCREDUNDANT: the factorisation each rank holds a copy of
         factor = self.prefix + "redundant_" if pc == "redundant" else self.prefix
         factor_pc = options.getString(factor + "pc_type", "")
