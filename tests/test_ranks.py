@@ -60,15 +60,16 @@ compare(one, two, "C++, MUMPS across the ranks (named)")
 check("cholesky (mumps)" in summary(two)["solvers"]["mechanics"]["method"],
       f"MUMPS across the ranks when named ({summary(two)['solvers']['mechanics']['method']})")
 
-# auto knows the rank count.
+# auto knows the rank count: on 2 ranks the flow's crossover is halved, the
+# 3D mechanics' kept (crossover_divisor).
 block = ["time.end=0.2", "mesh.cells=[24,12,6]"]
 for track in ("C++", "prototype"):
-    for ranks, methods in ((1, {"flow": "direct", "mechanics": "direct"}),
-                           (2, {"flow": "iterative", "mechanics": "direct"})):
+    for ranks, methods in ((1, {"flow": ("direct", 1), "mechanics": ("direct", 1)}),
+                           (2, {"flow": ("iterative", 2), "mechanics": ("direct", 1)})):
         out, _ = run_track(track, scene("block3d_box"), *block, ranks=ranks)
         solvers = summary(out)["solvers"]
-        check(all(solvers[s]["solver"] == m and f"divided by {ranks} rank(s)" in solvers[s]["chosen_by"]
-                  for s, m in methods.items()),
+        check(all(solvers[s]["solver"] == m and f"divided by {d} for {ranks} rank(s)" in solvers[s]["chosen_by"]
+                  for s, (m, d) in methods.items()),
               f"{track}, 3D block [24,12,6] on {ranks} rank(s): auto picks {methods} "
               f"({[solvers[s]['chosen_by'] for s in methods]})")
 

@@ -66,17 +66,20 @@ MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_
     return {choice == SolverChoice::direct ? Method::direct : Method::iterative,
             "solver." + std::string(name_of(choice)) + " in the scene"};
   // "auto": the one-rank crossover of the system and dimension (solver.h
-  // says where each was measured) divided by the ranks.
+  // says where each was measured) divided by the ranks, the 3D mechanics'
+  // by the ranks beyond the second (crossover_divisor).
   const bool elasticity = structure == Structure::spd;
   const std::int64_t one_rank
       = coupled ? (dimension == 3 ? crossover_3d_monolithic : crossover_2d_monolithic)
                 : (dimension == 3 ? (elasticity ? crossover_3d_mechanics : crossover_3d_flow)
                                   : (elasticity ? crossover_2d_mechanics : crossover_2d_flow));
-  const std::int64_t crossover = one_rank / std::max(ranks, 1);
+  const int divisor = crossover_divisor(dimension == 3 and elasticity and !coupled, ranks);
+  const std::int64_t crossover = one_rank / divisor;
   const Method method = unknowns < crossover ? Method::direct : Method::iterative;
   return {method, "auto: " + std::to_string(unknowns) + (method == Method::direct ? " < " : " >= ")
                       + std::to_string(crossover) + " unknowns, the " + std::to_string(dimension) + "D crossover of "
-                      + std::to_string(one_rank) + " on one rank divided by " + std::to_string(ranks) + " rank(s)"};
+                      + std::to_string(one_rank) + " on one rank divided by " + std::to_string(divisor) + " for "
+                      + std::to_string(ranks) + " rank(s)"};
 }
 
 std::string option(const std::string& prefix, const char* name)

@@ -13,6 +13,7 @@
 #include "scene/scene.h"
 #include "solvers/field_split.h"
 #include "solvers/options.h"
+#include <algorithm>
 
 #include <cstdint>
 #include <functional>
@@ -88,6 +89,17 @@ std::string method_name(Method method);
 constexpr std::int64_t crossover_2d_mechanics = 4000000, crossover_2d_flow = 8000000;
 constexpr std::int64_t crossover_3d_mechanics = 30000, crossover_3d_flow = 50000;
 constexpr std::int64_t crossover_2d_monolithic = 8000000, crossover_3d_monolithic = 10000;
+
+/// What "auto" divides a one-rank crossover by on `ranks` ranks: the ranks,
+/// since each rank factorises the whole matrix and only the iterative
+/// path's time divides; for the 3D mechanics (`mechanics_3d`) the ranks
+/// beyond the second: its factorisation with contact stays the faster on
+/// two ranks at 1.5e4 and 2.2e4 unknowns (1.4x, OpenBLAS) and loses at
+/// 4.5e4 (3x), docs/performance.md, "twenty-fourth session".
+constexpr int crossover_divisor(bool mechanics_3d, int ranks)
+{
+  return std::max(mechanics_3d ? ranks / 2 : ranks, 1);
+}
 
 /// The method of a system and why it was chosen (written to the summary).
 struct MethodChoice

@@ -94,18 +94,25 @@ CROSSOVER = {(2, "mechanics"): 4000000, (2, "flow"): 8000000, (2, "monolithic"):
 
 def choose_method(choice, structure, unknowns, dimension, ranks, coupled=False):
     """(method, reason) for a [solver] choice: "auto" is direct below the
-    measured one-rank crossover divided by the rank count, since each rank
+    measured one-rank crossover divided by crossover_divisor (each rank
     factorises the whole matrix and only the iterative path's time divides by
-    the ranks (cpp/solvers/solver.h); `coupled`: the monolithic system."""
+    the ranks, cpp/solvers/solver.h); `coupled`: the monolithic system."""
     if choice != SolverChoice.automatic:
         return (Method.direct if choice == SolverChoice.direct else Method.iterative,
                 f"solver.{name_of(choice)} in the scene")
     system = "monolithic" if coupled else ("mechanics" if structure == Structure.spd else "flow")
     one_rank = CROSSOVER[(3 if dimension == 3 else 2, system)]
-    crossover = one_rank // max(ranks, 1)
+    divisor = crossover_divisor(dimension == 3 and system == "mechanics", ranks)
+    crossover = one_rank // divisor
     method = Method.direct if unknowns < crossover else Method.iterative
     return method, (f"auto: {unknowns} {'<' if method == Method.direct else '>='} {crossover} unknowns, the "
-                    f"{dimension}D crossover of {one_rank} on one rank divided by {ranks} rank(s)")
+                    f"{dimension}D crossover of {one_rank} on one rank divided by {divisor} for {ranks} rank(s)")
+
+
+def crossover_divisor(mechanics_3d, ranks):
+    """What auto divides a one-rank crossover by: the ranks, or for the 3D
+    mechanics the ranks beyond the second (cpp/solvers/solver.h says why)."""
+    return max(ranks // 2 if mechanics_3d else ranks, 1)
 
 
 def petsc_error_text(error):

@@ -1,9 +1,11 @@
 // Unit tests of the working ranks (cpp/domain/working_ranks.h): the ranks a
 // mesh is distributed over, at least one and at most those started, none
 // dropped with cells_per_rank = 0; the built-in meshes' cells as dolfinx
-// makes them; the default per dimension. The prototype's twin is
+// makes them; the default per dimension; what `auto` divides its
+// crossovers by on more ranks. The prototype's twin is
 // tests/unit/test_working_ranks.py.
 #include "domain/working_ranks.h"
+#include "solvers/solver.h"
 
 #include <dolfinx/common/IndexMap.h>
 #include <dolfinx/mesh/generation.h>
@@ -46,4 +48,21 @@ TEST(WorkingRanks, TetrahedraWorkFromFewerCellsThanTriangles)
 {
   EXPECT_LT(default_cells_per_rank(3), default_cells_per_rank(2));
   EXPECT_EQ(SolverSpec{}.cells_per_rank, default_cells_per_rank(2));
+}
+
+TEST(WorkingRanks, AutoKeepsThe3DMechanicsCrossoverOnTwoRanks)
+{
+  EXPECT_EQ(crossover_divisor(true, 1), 1);
+  EXPECT_EQ(crossover_divisor(true, 2), 1);
+  EXPECT_EQ(crossover_divisor(true, 4), 2);
+  EXPECT_EQ(crossover_divisor(false, 2), 2);
+  EXPECT_EQ(crossover_divisor(false, 0), 1);
+  const auto automatic = [](Structure s, std::int64_t n, int ranks)
+  { return choose_method(SolverChoice::automatic, s, n, 3, ranks, false).method; };
+  // scenes/injection_fault3d.toml's mechanics (15,186 unknowns) and its flow (81,820)
+  EXPECT_EQ(automatic(Structure::spd, 15186, 2), Method::direct);
+  EXPECT_EQ(automatic(Structure::quasi_definite, 81820, 2), Method::iterative);
+  EXPECT_EQ(automatic(Structure::spd, 44793, 2), Method::iterative); // indenter3d
+  EXPECT_EQ(automatic(Structure::quasi_definite, 30000, 2), Method::iterative);
+  EXPECT_EQ(automatic(Structure::quasi_definite, 30000, 1), Method::direct);
 }

@@ -3,7 +3,7 @@
 tests/unit/test_working_ranks.cpp: the ranks a mesh is distributed over,
 at least one and at most those started, none dropped with cells_per_rank =
 0; the built-in meshes' cells as dolfinx makes them; the default per
-dimension."""
+dimension; what `auto` divides its crossovers by on more ranks."""
 import os
 import sys
 import unittest
@@ -15,7 +15,9 @@ import support  # noqa: E402,F401  (the repository on sys.path)
 from dolfinx import mesh as dmesh  # noqa: E402
 from python_prototype.domain.working_ranks import built_in_cells, working_ranks  # noqa: E402
 from python_prototype.scene.input import MeshType  # noqa: E402
+from python_prototype.scene.input import SolverChoice  # noqa: E402
 from python_prototype.scene.schema import MeshSpec, SolverSpec, default_cells_per_rank  # noqa: E402
+from python_prototype.solvers.solver import Method, Structure, choose_method, crossover_divisor  # noqa: E402
 
 
 class WorkingRanksTest(unittest.TestCase):
@@ -46,6 +48,20 @@ class WorkingRanksTest(unittest.TestCase):
     def test_tetrahedra_work_from_fewer_cells_than_triangles(self):
         self.assertLess(default_cells_per_rank(3), default_cells_per_rank(2))
         self.assertEqual(SolverSpec().cells_per_rank, default_cells_per_rank(2))
+
+    def test_auto_keeps_the_3d_mechanics_crossover_on_two_ranks(self):
+        self.assertEqual([crossover_divisor(True, r) for r in (1, 2, 4)], [1, 1, 2])
+        self.assertEqual(crossover_divisor(False, 2), 2)
+        self.assertEqual(crossover_divisor(False, 0), 1)
+
+        def automatic(structure, unknowns, ranks):
+            return choose_method(SolverChoice.automatic, structure, unknowns, 3, ranks)[0]
+        # scenes/injection_fault3d.toml's mechanics (15,186 unknowns) and its flow (81,820)
+        self.assertEqual(automatic(Structure.spd, 15186, 2), Method.direct)
+        self.assertEqual(automatic(Structure.quasi_definite, 81820, 2), Method.iterative)
+        self.assertEqual(automatic(Structure.spd, 44793, 2), Method.iterative)  # indenter3d
+        self.assertEqual(automatic(Structure.quasi_definite, 30000, 2), Method.iterative)
+        self.assertEqual(automatic(Structure.quasi_definite, 30000, 1), Method.direct)
 
 
 if __name__ == "__main__":
