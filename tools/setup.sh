@@ -26,10 +26,17 @@ fi
 # MUMPS, CHOLMOD and UMFPACK spend their factorisations in dgemm and dtrsm:
 # OpenBLAS (serial: the ranks are the parallelism) instead of the reference
 # BLAS, chosen here whatever the alternatives held (docs/performance.md).
+# FFCx tabulates the forms' basis functions with it too: tables made under
+# another BLAS (the build's generated forms, the prototype's JIT cache)
+# differ in the last digit, and the two tracks would differ by 1e-12.
 arch=$(gcc -print-multiarch)
+blas_before=$(readlink -f "/etc/alternatives/libblas.so.3-$arch" || true)
 for lib in libblas.so.3 liblapack.so.3; do
   update-alternatives --set "$lib-$arch" "/usr/lib/$arch/openblas-serial/$lib" >/dev/null
 done
+if [ "$blas_before" != "$(readlink -f "/etc/alternatives/libblas.so.3-$arch")" ]; then
+  rm -rf build/biot_*.[ch] "${XDG_CACHE_HOME:-$HOME/.cache}/fenics"
+fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
 if ! cmake --build build -j2 > build/build.log 2>&1; then
