@@ -1,5 +1,6 @@
 #include "simulation.h"
 
+#include "coupling/contraction.h"
 #include "coupling/scheme.h"
 #include "diagnostics/closed_form.h"
 #include "diagnostics/description.h"
@@ -64,6 +65,7 @@ public:
 private:
   void set_up();
   void open_output();
+  void equilibrate();
   void start_or_restore();
   WindowObserver observer();
   void time_loop();
@@ -147,6 +149,25 @@ void Simulation::open_output()
   _fields = std::make_unique<OutputFields>(*_problem, *_scheme, *_output, _resumed ? &_resumed->time : nullptr);
 }
 
+/// mechanics.initial_equilibrium: the solve at t = 0, a row of
+/// iterations.csv at step 0 for each solve (its contact solve's Newton steps).
+void Simulation::equilibrate()
+{
+  const double nan = SolveRecord::none;
+  int i = 0;
+  try
+  {
+    for (Step* step : _scheme->steps())
+      for (const SolveRecord& s : step->equilibrate())
+        _output->iteration({0, 0.0, ++i, nan, nan, nan, relative(s.dp, s.p), relative(s.du, s.u), s.active_nodes, nan,
+                            nan, s.newton_steps});
+  }
+  catch (const SolverError& e)
+  {
+    throw SolverError("the initial equilibrium (t = 0): " + std::string(e.what()));
+  }
+}
+
 /// The initial state, written at t = 0, or the checkpoint's step and time.
 void Simulation::start_or_restore()
 {
@@ -160,16 +181,8 @@ void Simulation::start_or_restore()
                   + std::to_string(_end.completed_time));
     return;
   }
-  try
-  {
-    if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
-      for (Step* step : _scheme->steps())
-        step->equilibrate();
-  }
-  catch (const SolverError& e)
-  {
-    throw SolverError("the initial equilibrium (t = 0): " + std::string(e.what()));
-  }
+  if (_scene.mechanics and _scene.mechanics->initial_equilibrium)
+    equilibrate();
   _fields->write_flow(0.0);
   if (_scheme->u)
     _fields->write_mechanics(0.0);

@@ -2,13 +2,16 @@
 up the problem (mesh, forms, materials), describe it, make the scheme and
 its steps, open the output, start or restore, the time loop, the summary
 and the exit status."""
+import math
 import os
 
 from .assembly.forms import Forms
 from .assembly.materials import make_materials
 from .assembly.parameters import derive_parameters, set_constants
 from .assembly.problem import Problem
-from .coupling.coupling import ControllerState, CouplingError, CouplingReport, CouplingRun, WindowObserver
+from .coupling.contraction import relative
+from .coupling.coupling import (ControllerState, CouplingError, CouplingReport, CouplingRun, IterationRecord,
+                                WindowObserver)
 from .coupling.scheme import Scheme
 from .diagnostics.closed_form import with_mandel_plate
 from .diagnostics.description import Description, describe
@@ -124,6 +127,21 @@ class Simulation:
         if self.lock is not None:
             self.lock.release()
 
+    def equilibrate(self):
+        """mechanics.initial_equilibrium: the solve at t = 0, a row of
+        iterations.csv at step 0 for each solve (its contact solve's Newton
+        steps)."""
+        i = 0
+        try:
+            for step in self.scheme.steps():
+                for s in step.equilibrate():
+                    i += 1
+                    self.output.iteration(IterationRecord(0, 0.0, i, math.nan, math.nan, math.nan, relative(s.dp, s.p),
+                                                          relative(s.du, s.u), s.active_nodes, math.nan, math.nan,
+                                                          s.newton_steps))
+        except SolverError as e:
+            raise SolverError(f"the initial equilibrium (t = 0): {e}") from None
+
     def start_or_restore(self):
         """The initial state, written at t = 0, or the checkpoint's step and time."""
         s = self.scheme
@@ -135,12 +153,8 @@ class Simulation:
             self.progress.say(f"restarted from the checkpoint at step {self.end.completed_steps}, "
                               f"t = {self.end.completed_time:f}")
             return
-        try:
-            if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
-                for step in s.steps():
-                    step.equilibrate()
-        except SolverError as e:
-            raise SolverError(f"the initial equilibrium (t = 0): {e}") from None
+        if self.scene.mechanics and self.scene.mechanics.initial_equilibrium:
+            self.equilibrate()
         self.fields.write_flow(0.0)
         if s.u is not None:
             self.fields.write_mechanics(0.0)

@@ -9,8 +9,10 @@ fractures): the condensed VI's Jacobian changes only where a pair's state
 does (in 2D its rows' weights are those of stick, slip or open), so it is
 factorised anew only then, fewer times than there are Newton steps, and the
 fields equal those of a factorisation at every Newton step
-(`-mechanics_contact_snes_lag_preconditioner 1`) to the bit."""
-from support import TRACKS, check, max_difference, run, run_track, scene, summary
+(`-mechanics_contact_snes_lag_preconditioner 1`) to the bit. Its initial
+equilibrium is iterations.csv's step 0, a row with its Newton steps: the
+rows' steps sum to the summary's count, the same on both tracks."""
+from support import TRACKS, check, iterations, max_difference, run, run_track, scene, summary
 
 FIELDS = ["displacement", "pressure", "flux", "sigma_v", "contact_pressure"]
 # The behaviour before issue 9: the VI on the full system, the preconditioner
@@ -61,6 +63,7 @@ for scheme, system in (("fixed-stress", "mechanics"), ("monolithic", "monolithic
 
 
 EVERY_STEP = ("-mechanics_contact_snes_lag_preconditioner", "1")
+equilibrium = {}
 for track in TRACKS:
     runs = {label: run_track(track, scene("network2d"), options=options)[0]
             for label, options in (("reused", ()), ("every step", EVERY_STEP))}
@@ -71,7 +74,16 @@ for track in TRACKS:
           f"{track}, network2d: {m['reused']['contact_factorizations']} factorisations of the condensed VI for "
           f"{m['reused']['newton_iterations']} Newton steps ({m['every step']['contact_factorizations']} when "
           "factorised at every step)")
+    rows = iterations(runs["reused"])
+    equilibrium[track] = [(r["iteration"], r["newton_steps"], r["active_nodes"]) for r in rows if r["step"] == "0"]
+    steps = sum(int(r["newton_steps"]) for r in rows)
+    check(len(equilibrium[track]) == 1 and int(equilibrium[track][0][1]) >= 1
+          and steps == m["reused"]["newton_iterations"], f"{track}, network2d: the initial equilibrium is step 0 of "
+          f"iterations.csv ({equilibrium[track]}: iteration, Newton steps, active nodes); the rows' {steps} Newton "
+          f"steps are the summary's {m['reused']['newton_iterations']}")
     differences = max_difference(runs["reused"], runs["every step"], FIELDS)
     check(max(differences.values()) == 0.0,
           f"{track}, network2d: the fields equal those of a factorisation at every Newton step "
           f"({max(differences.values()):.1e})")
+check(equilibrium["C++"] == equilibrium["prototype"], f"network2d: the initial equilibrium's row the same on both "
+      f"tracks ({equilibrium['C++']})")

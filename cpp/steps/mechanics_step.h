@@ -51,7 +51,11 @@ public:
     solve_ends();
   }
   /// The solve at t = 0.
-  void equilibrate() override { solve(0.0); }
+  std::vector<SolveRecord> equilibrate() override
+  {
+    advance(0.0, {});
+    return solves();
+  }
   void begin_step() override;
   StepState state() const override { return {values(unknowns()), {}, {}}; }
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }

@@ -345,14 +345,15 @@ ContactState MonolithicStep::contact_state()
   return _system->contact().state(X, B, *contact_pressure, *contact_active);
 }
 
-void MonolithicStep::equilibrate()
+std::vector<SolveRecord> MonolithicStep::equilibrate()
 {
   MechanicsStep step(_problem, V, pressure);
   if (*_conduits) // the conduit faults' pressure on their faces too
     step.load_fault_pressure(_conduits->aperture(), _conduits->pressure());
-  step.solve(0.0);
+  const std::vector<SolveRecord> records = step.equilibrate();
   set_displacement(step.u->x()->array(), 0.0);
   _fault_traction = step.fault_traction();
+  return records;
 }
 
 StepState MonolithicStep::state() const

@@ -48,7 +48,7 @@ public:
   void advance(double t, const TimeDerivative& d) override { solve(t, d); }
   /// The coupled system has no mechanics system of its own: one mechanics
   /// step on its displacement space, loaded by its pressure, solved once.
-  void equilibrate() override;
+  std::vector<SolveRecord> equilibrate() override;
   void begin_step() override;
   StepState state() const override;
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }

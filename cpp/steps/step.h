@@ -55,8 +55,9 @@ public:
   virtual void time_step_changed() {}
   /// mechanics.initial_equilibrium: replaces u = 0 by the displacement in
   /// equilibrium with the loads at t = 0 and the initial pressure (nothing
-  /// for a step without mechanics).
-  virtual void equilibrate() {}
+  /// for a step without mechanics); what its solve measured (its rows of
+  /// iterations.csv at step 0).
+  virtual std::vector<SolveRecord> equilibrate() { return {}; }
 
   /// A time step (or a window of the fixed-stress split) starts from the
   /// current unknowns: friction measures its slip increments from them, a

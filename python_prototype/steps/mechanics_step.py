@@ -173,7 +173,8 @@ class MechanicsStep(Step):
 
     def equilibrate(self):
         """The solve at t = 0."""
-        self.solve(0.0)
+        self.advance(0.0, None)
+        return self.solves()
 
     def begin_step(self):
         self.system.begin_step(self.u.vector)

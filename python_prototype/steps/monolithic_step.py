@@ -229,9 +229,10 @@ class MonolithicStep(Step):
         step = MechanicsStep(self.problem, self.V, self.pressure)
         if self.conduits:  # the conduit faults' pressure on their faces too
             step.load_fault_pressure(self.conduits.aperture, self.conduits.pressure)
-        step.solve(0.0)
+        records = step.equilibrate()
         self.set_displacement(step.u.x.array, 0.0)
         self.fault_traction = step.fault_traction
+        return records
 
     def begin_step(self):
         if self.conduits:

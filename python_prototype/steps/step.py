@@ -56,7 +56,9 @@ class Step(abc.ABC):
     def equilibrate(self):
         """mechanics.initial_equilibrium: replaces u = 0 by the displacement
         in equilibrium with the loads at t = 0 and the initial pressure
-        (nothing for a step without mechanics)."""
+        (nothing for a step without mechanics); what its solve measured (its
+        rows of iterations.csv at step 0)."""
+        return []
 
     def begin_step(self):
         """A time step (or a window of the fixed-stress split) starts from
