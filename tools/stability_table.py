@@ -169,8 +169,19 @@ fault); a conduit fault's volume imbalance is |injected + exchanged -
 stored - outflow| over the volume the well injected. A failed run gives
 its one line (exit 2: refused; exit 3: the run stopped, its finished steps
 kept); where a remedy is listed, the row after it is the run with it.
-
 """
+
+
+def fault_header():
+    """The fault section's text, and where and when its rows were made
+    (--faults-only regenerates them alone)."""
+    return (FAULT_HEADER + f"These rows: {platform.node()} ({os.cpu_count()} cores, {cpu_model()}), "
+            f"{datetime.date.today()}.\n\n")
+
+
+def cpu_model():
+    with open("/proc/cpuinfo") as f:
+        return next((line.split(":", 1)[1].strip() for line in f if line.startswith("model name")), "unknown cpu")
 
 
 def fault_volume_imbalance(s):
@@ -230,7 +241,7 @@ def main():
         with open(path) as f:
             text = f.read()
         with open(path, "w") as f:
-            f.write(text[:text.index("## Faults")] + FAULT_HEADER + "\n".join(fault_table(args.binary)) + "\n")
+            f.write(text[:text.index("## Faults")] + fault_header() + "\n".join(fault_table(args.binary)) + "\n")
         return
     lines = ["| case | scheme | iterations per step (mean / max) | max ratio / gamma | converged "
              "| pressure range (/p0 for Terzaghi, Pa otherwise) | active nodes (end) "
@@ -248,7 +259,7 @@ def main():
             "script. Terzaghi cases run to t = 0.2 unless stated; their pressure range is divided by the "
             "undrained pressure p0, so the physical range is 0 .. 1 (negative values are the known "
             "early-time undershoot of P1-RT0-P0). Ratios are Theorem 1's (single rate) or Theorem 2's "
-            "(multirate), resolved ones only.\n\n" + "\n".join(lines) + "\n\n" + FAULT_HEADER
+            "(multirate), resolved ones only.\n\n" + "\n".join(lines) + "\n\n" + fault_header()
             + "\n".join(fault_table(args.binary)) + "\n")
     with open(path, "w") as f:
         f.write(text)

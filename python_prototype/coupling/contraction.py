@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from mpi4py import MPI
 
 from ..assembly.linear_algebra import owned_norm
 from ..diagnostics.diagnostics import ContractionNorm
@@ -90,8 +91,9 @@ class ContractionMeasure:
         # ||dp_f||^2 and ||p_f||^2 summed over the fine steps; as p's, their
         # root mean square over the window.
         steps = range(1, q + 1)
-        fault = self.comm.allreduce(np.array([sum(np.sum((w.fault_new[m] - w.fault_old[m]) ** 2) for m in steps),
-                                              sum(np.sum(w.fault_new[m] ** 2) for m in steps)]))
+        fault = np.array([sum(np.sum((w.fault_new[m] - w.fault_old[m]) ** 2) for m in steps),
+                          sum(np.sum(w.fault_new[m] ** 2) for m in steps)], dtype=float)
+        self.comm.Allreduce(MPI.IN_PLACE, fault)  # the buffer, not a pickled array
         inc.fault_dp, inc.fault_p = np.sqrt(fault / q)
         inc.theorem2 = math.sqrt(inc.theorem2) if self.stabilised else math.nan
         inc.residual = math.sqrt(inc.residual)
