@@ -460,10 +460,12 @@ def check_contact_scene_agrees(scene_file, sets, active_sets, runs, *settings):
 def windows(out, dt):
     """(q, active contact nodes at its end) of each accepted window, from
     iterations.csv (a window computed again logs its rows before the
-    accepted ones; the last rows of a step are the accepted window's)."""
+    accepted ones; the last rows of a step are the accepted window's; step 0
+    is the initial equilibrium, no window)."""
     last = {}
     for row in iterations(out):
-        last[int(row["step"])] = row
+        if int(row["step"]) > 0:
+            last[int(row["step"])] = row
     t, result = 0.0, []
     for k in sorted(last):
         end = float(last[k]["time"])
