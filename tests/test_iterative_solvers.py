@@ -9,8 +9,9 @@ solve do not grow with the mesh; inexact coupling (Krylov tolerances tied
 to the coupling increment) saves linear iterations and changes nothing else;
 a Krylov solve that fails is one line. The monolithic system solved by
 FGMRES preconditioned by the fixed-stress split equals its factorisation
-(and the split), with and without contact, on 1 and 2 ranks, with
-iterations per solve flat under refinement."""
+(and the split), with and without contact, on 1 and 2 ranks, in as many
+Newton steps (within 10 % + 2), with iterations per solve flat under
+refinement."""
 from support import check, check_signorini, max_difference, run, scene, summary
 
 FIELDS = ("displacement", "pressure", "flux", "sigma_v")
@@ -101,6 +102,13 @@ def compare_monolithic(name, extra=(), ranks=1):
           f"monolithic {name}, {ranks} rank(s): solved by {solver['method']}")
     for field, d in max_difference(iterative, direct, ("displacement", "pressure", "flux"), sort=ranks > 1).items():
         check(d <= 1e-6, f"monolithic {name}, {ranks} rank(s): {field} iterative vs direct {d:.1e} <= 1e-6")
+    # Balanced rows (docs/theory.md): each step's VI solve goes on from the
+    # last solution as the factorisation's does, not from the clamped state
+    # (868 Newton steps against 72 on the default scene without them).
+    steps = {run: summary(out)["newton_iterations"] for run, out in (("iterative", iterative), ("direct", direct))}
+    check(steps["iterative"] <= 1.1 * steps["direct"] + 2,
+          f"monolithic {name}, {ranks} rank(s): {steps['iterative']} Newton steps, the factorisation's "
+          f"{steps['direct']} (at most 10 % + 2 more)")
     return iterative
 
 

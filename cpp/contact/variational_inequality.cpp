@@ -34,6 +34,8 @@ VariationalInequality::VariationalInequality(VIProblem problem, const std::optio
   // Condensed, the VI's unknown is the contact DOFs alone: no separate rows.
   _convergence = std::make_unique<ContactConvergence>(_p.comm, VIBounds{_lower, _upper, _p.bounded},
                                                       std::move(_p.separate_rows));
+  if (_whole and _whole->method == Method::iterative and is_coupled(_whole->layout.fields))
+    _balanced = std::make_unique<BalancedRows>(_p.K, _whole->layout.fields, _p.comm);
   create_snes();
   set_from_options();
 }
@@ -81,15 +83,12 @@ void VariationalInequality::create_snes()
   set_default_option(prefix + "snes_rtol", "1e-10");
   set_default_option(prefix + "snes_stol", "1e-12");
   set_default_option(prefix + "snes_max_it", "100");
-  // F is linear and its matrix the exact Jacobian: the full semismooth
-  // Newton step is exact on the current active set, and a backtracking
-  // search only fails once the residual is at round-off.
-  // With friction F is semismooth, and full steps can overshoot where a
-  // constraint changes state: a backtracking search. But not with separate
-  // rows: the search's merit ||F||, the forces' (N), is blind to them (the
-  // coupled system's mass balances, m^3/s); with the forces at round-off
-  // it shrank their step to nothing (a conduit fault's p_f,
-  // test_conduit_monolithic).
+  // F is linear and K its exact Jacobian: a full step is exact on the
+  // active set (a backtracking search only fails at round-off). With
+  // friction F is semismooth and full steps can overshoot where a
+  // constraint changes state: a backtracking search, but not with separate
+  // rows, to which its merit ||F|| (forces, N) is blind: with the forces at
+  // round-off it shrank a conduit fault's p_f step to nothing.
   const bool backtrack = _J and !_convergence->has_separate_rows();
   set_default_option(prefix + "snes_linesearch_type", backtrack ? "bt" : "basic");
   // No cap on the step's length (PETSc's 1e8): y is in units of the
@@ -101,10 +100,10 @@ void VariationalInequality::create_snes()
   check_petsc(SNESSetOptionsPrefix(_snes, prefix.c_str()), "contact solver: SNESSetOptionsPrefix");
   check_petsc(SNESSetType(_snes, SNESVINEWTONRSLS), "contact solver: SNESSetType");
   check_petsc(SNESSetFunction(_snes, _residual, &VariationalInequality::residual, this), "contact solver: SNESSetFunction");
-  Mat J = _J ? _J : _p.K;
+  Mat J = _balanced ? _balanced->jacobian() : _J ? _J : _p.K;
   check_petsc(SNESSetJacobian(_snes, J, J, &VariationalInequality::jacobian, this), "contact solver: SNESSetJacobian");
   check_petsc(SNESVISetVariableBounds(_snes, _lower, _upper), "contact solver: SNESVISetVariableBounds");
-  _convergence->attach(_snes, _b, _J != nullptr);
+  _convergence->attach(_snes, tested_load(), _J != nullptr);
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave y as it was).
@@ -118,6 +117,7 @@ void VariationalInequality::set_from_options()
   if (_whole and _whole->method == Method::iterative)
   {
     _preconditioner = std::make_unique<InactiveSetPreconditioner>(_snes, _whole->P, _whole->layout.fields,
+                                                                  _balanced ? _balanced->weights() : nullptr,
                                                                   _whole->layout.prefix);
     KSP ksp;
     check_petsc(SNESGetKSP(_snes, &ksp), "contact solver: SNESGetKSP");
@@ -190,6 +190,8 @@ void VariationalInequality::operator_changed()
 {
   // Re-arm "rebuild once, then reuse" (the lag is -1 after the first build).
   _jacobian_weights.clear();
+  if (_balanced)
+    _balanced->operator_changed();
   if (_lag_by_default)
     check_petsc(SNESSetLagPreconditioner(_snes, -2), "contact solver: SNESSetLagPreconditioner");
 }
@@ -230,11 +232,10 @@ void VariationalInequality::solve(double scale)
     reason = refactorised();
   if (reason < 0)
   {
-    // A body held in the normal direction by the foundation alone is
-    // semi-coercive: from a start where no contact DOF pushes on its bound
-    // the reduced system is singular. Start again from the state with every
-    // contact node on the foundation; there the contact forces say which
-    // nodes to release.
+    // A body held normally by the foundation alone is semi-coercive: from a
+    // start where no contact DOF pushes on its bound the reduced system is
+    // singular. Start again with every contact node on the foundation,
+    // where the contact forces say which nodes to release.
     clamped_start();
     reason = run_snes();
     count_iterations(reason);
@@ -273,6 +274,8 @@ SNESConvergedReason VariationalInequality::first_attempt(double scale)
   _reusing = _reuse_factorization;
   check_petsc(VecScale(_b, 1.0 / scale), "contact solver: VecScale");
   check_petsc(VecScale(_y, 1.0 / scale), "contact solver: VecScale");
+  if (_balanced)
+    _balanced->pose(_p.K, _J ? _J : _p.K, _b);
   set_bounds(scale);
   set_tolerances();
   if (_J) // the stiffness that turns a slip increment into a trial force
@@ -309,7 +312,7 @@ void VariationalInequality::set_tolerances()
   if (!atol_given)
   {
     PetscReal bnorm = 0;
-    check_petsc(VecNorm(_b, NORM_2, &bnorm), "contact solver: VecNorm");
+    check_petsc(VecNorm(tested_load(), NORM_2, &bnorm), "contact solver: VecNorm");
     // With friction the residual decides the last step (F is not
     // linear): tighter, Newton's last steps are quadratic.
     const double relative = _J ? 1e-12 : 1e-10;
@@ -426,7 +429,7 @@ void VariationalInequality::solve_clamped(const std::vector<PetscInt>& rows)
 
 // F(y) = K y - b/s: the gradient of the quadratic energy, in units of s;
 // with friction its frictional constraints' tangential rows carry the
-// return map (friction.h).
+// return map (friction.h); W F with balanced rows.
 PetscErrorCode VariationalInequality::residual(SNES, Vec y, Vec F, void* context)
 {
   auto* self = static_cast<VariationalInequality*>(context);
@@ -434,6 +437,8 @@ PetscErrorCode VariationalInequality::residual(SNES, Vec y, Vec F, void* context
   PetscCall(VecAXPY(F, -1.0, self->_b));
   if (self->_J)
     PetscCall(self->add_friction(y, F));
+  if (self->_balanced)
+    PetscCall(VecPointwiseMult(F, F, self->_balanced->weights()));
   return 0;
 }
 
@@ -465,6 +470,8 @@ PetscErrorCode VariationalInequality::jacobian(SNES snes, Vec y, Mat, Mat, void*
     self->_jacobian_weights = std::move(weights);
     if (self->_lag_by_default and !self->_preconditioner and !self->_reusing)
       PetscCall(SNESSetLagPreconditioner(snes, -2));
+    if (self->_balanced)
+      self->_balanced->weigh_jacobian(self->_J);
   }
   PetscCall(VecRestoreArrayRead(y, &Y));
   PetscCall(VecRestoreArrayRead(self->_work, &R));

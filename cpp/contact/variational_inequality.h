@@ -9,6 +9,7 @@
 #include "contact/convergence.h"
 #include "contact/friction.h"
 #include "solvers/inactive_set_preconditioner.h"
+#include "solvers/row_weights.h"
 #include "solvers/solver.h"
 
 #include <memory>
@@ -138,6 +139,8 @@ private:
   static PetscErrorCode jacobian(SNES, Vec y, Mat, Mat, void* context);
   /// F += the friction forces at y (F holds K y - b on entry).
   PetscErrorCode add_friction(Vec y, Vec F) const;
+  /// The load the convergence tests measure: b, or W b with balanced rows.
+  Vec tested_load() const { return _balanced ? _balanced->load() : _b; }
 
   VIProblem _p;
   std::optional<WholeSystem> _whole;
@@ -158,6 +161,7 @@ private:
   Mat _J = nullptr;
   std::vector<double> _jacobian_weights; // J's as last built (jacobian_weights); empty once K changed
   Vec _y_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+  std::unique_ptr<BalancedRows> _balanced; // the iterative coupled system's row weights
 };
 
 } // namespace biotcontact

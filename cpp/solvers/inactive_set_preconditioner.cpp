@@ -6,8 +6,8 @@ namespace biotcontact
 {
 
 InactiveSetPreconditioner::InactiveSetPreconditioner(SNES snes, Mat P, const std::vector<Field>& fields,
-                                                     const std::string& prefix)
-    : _snes(snes), _P(P)
+                                                     Vec row_weights, const std::string& prefix)
+    : _snes(snes), _P(P), _row_weights(row_weights)
 {
   auto check = [&prefix](PetscErrorCode code, const char* call)
   {
@@ -78,6 +78,8 @@ PetscErrorCode InactiveSetPreconditioner::set_up(PC pc)
   IS active = nullptr;
   PetscCall(ISComplement(inactive, start, end, &active));
   PetscCall(MatCopy(self->_P, self->_P_D, SAME_NONZERO_PATTERN));
+  if (self->_row_weights)
+    PetscCall(MatDiagonalScale(self->_P_D, self->_row_weights, nullptr));
   PetscCall(MatZeroRowsColumnsIS(self->_P_D, active, 1.0, nullptr, nullptr));
   PetscCall(ISDestroy(&active));
   PetscCall(PCSetOperators(self->_inner, self->_P_D, self->_P_D));

@@ -51,8 +51,11 @@ public:
   /// (a vinewtonrsls), built from P; `fields` are P's splits when its
   /// preconditioner is a field split. The inner preconditioner reads the
   /// options of `prefix` (-<prefix>pc_type, -<prefix>mg_levels_...); the PC
-  /// of the reduced KSP takes the prefix <prefix>inactive_.
-  InactiveSetPreconditioner(SNES snes, Mat P, const std::vector<Field>& fields, const std::string& prefix);
+  /// of the reduced KSP takes the prefix <prefix>inactive_. With
+  /// `row_weights` W (or nullptr) the Newton steps are of W A: it is built
+  /// from W P.
+  InactiveSetPreconditioner(SNES snes, Mat P, const std::vector<Field>& fields, Vec row_weights,
+                            const std::string& prefix);
   ~InactiveSetPreconditioner();
   InactiveSetPreconditioner(const InactiveSetPreconditioner&) = delete;
   InactiveSetPreconditioner& operator=(const InactiveSetPreconditioner&) = delete;
@@ -67,6 +70,7 @@ private:
 
   SNES _snes;
   Mat _P;
+  Vec _row_weights; // W of the Newton steps W A (not owned), or nullptr
   Mat _P_D = nullptr;
   PC _inner = nullptr;
   IS _inactive = nullptr;

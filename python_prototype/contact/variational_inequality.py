@@ -15,7 +15,9 @@ from petsc4py import PETSc
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .convergence import ContactConvergence, VIBounds
 from .friction import FrictionPoint, add_friction_forces, friction_jacobian, jacobian_weights
+from ..solvers.field_split import is_coupled
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
+from ..solvers.row_weights import BalancedRows
 from ..solvers.options import OptionsError, system_name
 from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStatistics,
                               given_by_user, petsc_error_text, reason_name, set_default_option,
@@ -102,6 +104,10 @@ class VariationalInequality:
         # condensed, the VI's unknown is the contact DOFs alone: no separate rows
         self.convergence = ContactConvergence(problem.mpi_comm, VIBounds(self.lower, self.upper, problem.bounded),
                                               problem.separate_rows)
+        # the iterative coupled system's row weights (row_weights.py)
+        self.balanced = None
+        if whole is not None and whole.method == Method.iterative and is_coupled(whole.layout.fields):
+            self.balanced = BalancedRows(problem.K, whole.layout.fields, problem.mpi_comm)
         self._create_snes()
         self._set_from_options()
 
@@ -161,10 +167,10 @@ class VariationalInequality:
         self.snes.setOptionsPrefix(prefix)
         self.snes.setType("vinewtonrsls")
         self.snes.setFunction(self._residual, self.residual)
-        J = self.J if self.J is not None else self.p.K
+        J = self.balanced.jacobian if self.balanced else self.J if self.J is not None else self.p.K
         self.snes.setJacobian(self._jacobian, J, J)
         self.snes.setVariableBounds(self.lower, self.upper)
-        self.convergence.attach(self.snes, self.b, self.J is not None)
+        self.convergence.attach(self.snes, self._tested_load(), self.J is not None)
         # At least one Newton step per solve, so the result never lags the
         # load (not with friction: its F is not linear, the residual
         # decides, and a backtracking search fails on a zero step).
@@ -175,6 +181,7 @@ class VariationalInequality:
         if self.whole is not None and self.whole.method == Method.iterative:
             self.convergence.watch(self.snes.getKSP())
             self.preconditioner = InactiveSetPreconditioner(self.snes, self.whole.P, self.whole.layout.fields,
+                                                            self.balanced.weights if self.balanced else None,
                                                             self.whole.layout.prefix)
             self.set_tolerance(ITERATIVE_TOLERANCE)
         try:
@@ -226,6 +233,8 @@ class VariationalInequality:
     def operator_changed(self):
         """K was reassembled: "rebuild once, then reuse" re-armed."""
         self.jacobian_weights = None
+        if self.balanced:
+            self.balanced.operator_changed()
         if self.lag_by_default:
             set_lag_preconditioner(self.snes, -2)
 
@@ -310,6 +319,8 @@ class VariationalInequality:
         self.reusing = self.reuse
         self.b.scale(1.0 / scale)
         self.y.scale(1.0 / scale)
+        if self.balanced:
+            self.balanced.pose(self.p.K, self.J if self.J is not None else self.p.K, self.b)
         self._set_bounds()
         self._set_tolerances()
         if self.J is not None:  # the stiffness that turns a slip increment into a trial force
@@ -335,7 +346,7 @@ class VariationalInequality:
             # With friction the residual decides the last step (F is not
             # linear): tighter, Newton's last steps are quadratic.
             relative = 1e-12 if self.J is not None else 1e-10
-            self.snes.setTolerances(atol=max(relative * self.b.norm(), 1e-300))
+            self.snes.setTolerances(atol=max(relative * self._tested_load().norm(), 1e-300))
         self.convergence.pose()
 
     def _count(self, reason):
@@ -391,12 +402,14 @@ class VariationalInequality:
     def _residual(self, snes, y, F):
         """F(y) = K y - b/s: the gradient of the quadratic energy, in units
         of s; with friction its frictional constraints' tangential rows carry
-        the return map (friction.py)."""
+        the return map (friction.py); W F with balanced rows."""
         self.p.K.mult(y, F)
         F.axpy(-1.0, self.b)
         if self.J is not None:
             with F as R:
                 add_friction_forces(self.p.friction, self._friction_point(y, R), R)
+        if self.balanced:
+            F.pointwiseMult(F, self.balanced.weights)
 
     def _jacobian(self, snes, y, J, P):
         """The constant matrix K (A, or H formed once per A); with friction
@@ -417,6 +430,12 @@ class VariationalInequality:
         self.jacobian_weights = weights
         if self.lag_by_default and self.preconditioner is None and not self.reusing:
             set_lag_preconditioner(snes, -2)
+        if self.balanced:
+            self.balanced.weigh_jacobian(self.J)
+
+    def _tested_load(self):
+        """The load the convergence tests measure: b, or W b with balanced rows."""
+        return self.balanced.load if self.balanced else self.b
 
     def _friction_point(self, y, R):
         """Friction at y with the residual R = K y - b (friction.py)."""

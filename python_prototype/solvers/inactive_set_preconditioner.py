@@ -18,8 +18,10 @@ from .solver import set_default_option
 
 
 class InactiveSetPreconditioner:
-    def __init__(self, snes, P, fields, prefix):
-        self.snes, self.P = snes, P
+    def __init__(self, snes, P, fields, row_weights, prefix):
+        """With `row_weights` W (or None) the Newton steps are of W A: it is
+        built from W P."""
+        self.snes, self.P, self.row_weights = snes, P, row_weights
         self.setups, self.setup_time = 0, 0.0
         pc = snes.getKSP().getPC()
         # Its own prefix: SNES VI resets the reduced KSP from the options at
@@ -52,6 +54,8 @@ class InactiveSetPreconditioner:
         self.inactive = inactive.getIndices() - first
         active = np.setdiff1d(np.arange(first, last, dtype=PETSc.IntType), inactive.getIndices())
         self.P.copy(self.P_D, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        if self.row_weights is not None:
+            self.P_D.diagonalScale(L=self.row_weights)
         self.P_D.zeroRowsColumns(active, diag=1.0)
         self.inner.setOperators(self.P_D, self.P_D)
         self.inner.setUp()
