@@ -94,7 +94,7 @@ for system, its in per_solve.items():
 MONOLITHIC = ["--set", "coupling.scheme=monolithic"]
 
 
-def compare_monolithic(name, extra=(), ranks=1):
+def compare_monolithic(name, extra=(), ranks=1, same_steps=True):
     direct, _ = run(scene(name), *MONOLITHIC, *extra, "--set", "solver.monolithic=direct")
     iterative, _ = run(scene(name), *MONOLITHIC, *extra, "--set", "solver.monolithic=iterative", ranks=ranks)
     solver = summary(iterative)["solvers"]["monolithic"]
@@ -106,9 +106,10 @@ def compare_monolithic(name, extra=(), ranks=1):
     # last solution as the factorisation's does, not from the clamped state
     # (868 Newton steps against 72 on the default scene without them).
     steps = {run: summary(out)["newton_iterations"] for run, out in (("iterative", iterative), ("direct", direct))}
-    check(steps["iterative"] <= 1.1 * steps["direct"] + 2,
-          f"monolithic {name}, {ranks} rank(s): {steps['iterative']} Newton steps, the factorisation's "
-          f"{steps['direct']} (at most 10 % + 2 more)")
+    if same_steps:
+        check(steps["iterative"] <= 1.1 * steps["direct"] + 2,
+              f"monolithic {name}, {ranks} rank(s): {steps['iterative']} Newton steps, the factorisation's "
+              f"{steps['direct']} (at most 10 % + 2 more)")
     return iterative
 
 
@@ -119,6 +120,10 @@ for field, d in max_difference(monolithic, split, ("displacement", "pressure", "
 compare_monolithic("default", SHORT, ranks=2)
 compare_monolithic("terzaghi")
 compare_monolithic("block3d_box", ["--set", "time.end=0.4"])
+# Friction (Coulomb, a fault across the body): semismooth, so the Newton
+# steps of an inexact Krylov solve are not the factorisation's; without
+# balanced rows the first step failed (DIVERGED_LINEAR_SOLVE at 100 steps).
+compare_monolithic("fault_reactivation", ["--set", "time.end=259200"], same_steps=False)
 
 # Mesh independence of the fixed-stress preconditioned Krylov method:
 # iterations per solve on three levels (Terzaghi: no contact, so every
