@@ -471,7 +471,7 @@ PetscErrorCode VariationalInequality::jacobian(SNES snes, Vec y, Mat, Mat, void*
     if (self->_lag_by_default and !self->_preconditioner and !self->_reusing)
       PetscCall(SNESSetLagPreconditioner(snes, -2));
     if (self->_balanced)
-      self->_balanced->weigh_jacobian(self->_J);
+      PetscCall(self->_balanced->weigh_jacobian(self->_J));
   }
   PetscCall(VecRestoreArrayRead(y, &Y));
   PetscCall(VecRestoreArrayRead(self->_work, &R));

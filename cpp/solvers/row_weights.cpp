@@ -79,17 +79,19 @@ void BalancedRows::pose(Mat K, Mat J, Vec b)
   if (_stale)
   {
     set_balancing_weights(K, _leaves, _weights);
-    weigh_jacobian(J);
+    check_petsc(weigh_jacobian(J), "the balanced rows: W J");
     _stale = false;
   }
   check_petsc(VecPointwiseMult(_load, b, _weights), "the balanced rows: VecPointwiseMult");
 }
 
-void BalancedRows::weigh_jacobian(Mat J)
+PetscErrorCode BalancedRows::weigh_jacobian(Mat J)
 {
   // J may have grown beyond K's pattern (friction_jacobian).
-  check_petsc(MatCopy(J, _jacobian, DIFFERENT_NONZERO_PATTERN), "the balanced rows: MatCopy");
-  check_petsc(MatDiagonalScale(_jacobian, _weights, nullptr), "the balanced rows: MatDiagonalScale");
+  PetscFunctionBeginUser;
+  PetscCall(MatCopy(J, _jacobian, DIFFERENT_NONZERO_PATTERN));
+  PetscCall(MatDiagonalScale(_jacobian, _weights, nullptr));
+  PetscFunctionReturn(0);
 }
 
 } // namespace biotcontact

@@ -41,8 +41,9 @@ public:
   void operator_changed() { _stale = true; }
   /// Before a solve: the weights from K if it changed, W J, and W b.
   void pose(Mat K, Mat J, Vec b);
-  /// W J after J changed within a solve (friction).
-  void weigh_jacobian(Mat J);
+  /// W J after J changed within a solve (friction): an error code, for
+  /// SNES's Jacobian callback.
+  PetscErrorCode weigh_jacobian(Mat J);
 
   Vec weights() const { return _weights; }
   Vec load() const { return _load; }
