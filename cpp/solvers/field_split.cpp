@@ -18,16 +18,18 @@ std::shared_ptr<std::remove_pointer_t<MatNullSpace>> own(MatNullSpace space)
   return {space, [](MatNullSpace s) { warn_petsc(MatNullSpaceDestroy(&s), "a near-nullspace: MatNullSpaceDestroy"); }};
 }
 
-Field part_of(const Field& whole, const std::string& name, const std::vector<PetscInt>& dofs, MPI_Comm comm)
+PetscInt block_offset(const Field& whole, MPI_Comm comm)
 {
-  // The block of `whole` numbers its rows rank by rank: this rank's first
-  // row is the number of DOFs of `whole` on the ranks before it.
   PetscInt local = static_cast<PetscInt>(whole.dofs.size()), offset = 0;
   MPI_Exscan(&local, &offset, 1, MPIU_INT, MPI_SUM, comm);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  if (rank == 0)
-    offset = 0; // MPI_Exscan leaves rank 0's result undefined
+  return rank == 0 ? 0 : offset; // MPI_Exscan leaves rank 0's result undefined
+}
+
+Field part_of(const Field& whole, const std::string& name, const std::vector<PetscInt>& dofs, MPI_Comm comm)
+{
+  const PetscInt offset = block_offset(whole, comm);
   Field part{name, {}};
   part.dofs.reserve(dofs.size());
   for (PetscInt dof : dofs)

@@ -46,6 +46,11 @@ bool is_coupled(const std::vector<Field>& fields);
 /// Takes ownership of a near-nullspace for Field::near_nullspace.
 std::shared_ptr<std::remove_pointer_t<MatNullSpace>> own(MatNullSpace space);
 
+/// The first row of this rank in the block of `whole`, which numbers its
+/// rows rank by rank: the number of DOFs of `whole` on the ranks before it
+/// (collective).
+PetscInt block_offset(const Field& whole, MPI_Comm comm);
+
 /// The field `name` made of `dofs` (global, owned, ascending), a subset of
 /// `whole`'s DOFs, numbered within the block of `whole`: the block's rows
 /// are `whole`'s DOFs in order, rank by rank (collective).

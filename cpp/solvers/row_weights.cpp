@@ -3,6 +3,7 @@
 #include "assembly/petsc_error.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 namespace biotcontact
@@ -22,13 +23,7 @@ std::vector<std::vector<PetscInt>> leaf_rows(const std::vector<Field>& fields, M
       leaves.push_back(std::move(rows));
       return;
     }
-    // A split field numbers its rows rank by rank (part_of).
-    PetscInt local = static_cast<PetscInt>(f.dofs.size()), offset = 0;
-    MPI_Exscan(&local, &offset, 1, MPIU_INT, MPI_SUM, comm);
-    int rank = 0;
-    MPI_Comm_rank(comm, &rank);
-    if (rank == 0)
-      offset = 0;
+    const PetscInt offset = block_offset(f, comm);
     for (const Field& part : f.fields)
       visit(part, [&](PetscInt row) { return to_global(f.dofs[row - offset]); });
   };
@@ -49,8 +44,9 @@ void set_balancing_weights(Mat A, const std::vector<std::vector<PetscInt>>& leav
   for (std::size_t f = 0; f < leaves.size(); ++f)
     for (PetscInt row : leaves[f])
       largest[f] = std::max(largest[f], std::abs(w[row - start]));
-  MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX,
-                PetscObjectComm(reinterpret_cast<PetscObject>(A)));
+  MPI_Comm comm = MPI_COMM_NULL;
+  check_petsc(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm), what + "PetscObjectGetComm");
+  MPI_Allreduce(MPI_IN_PLACE, largest.data(), static_cast<int>(largest.size()), MPI_DOUBLE, MPI_MAX, comm);
   const double m = *std::max_element(largest.begin(), largest.end());
   PetscInt n = 0;
   check_petsc(VecGetLocalSize(weights, &n), what + "VecGetLocalSize");

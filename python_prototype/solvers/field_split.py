@@ -24,11 +24,18 @@ def is_coupled(fields):
     return any(f.fields for f in fields)
 
 
+def block_offset(whole, comm):
+    """The first row of this rank in the block of `whole`, which numbers its
+    rows rank by rank: the number of DOFs of `whole` on the ranks before it
+    (collective)."""
+    return comm.exscan(len(whole.dofs), op=MPI.SUM) or 0
+
+
 def part_of(whole, name, dofs, comm):
     """The field `name` made of `dofs` (a subset of whole's), numbered
     within the block of `whole`: its rows are whole's DOFs in order, rank by
     rank (collective)."""
-    offset = comm.exscan(len(whole.dofs), op=MPI.SUM) or 0
+    offset = block_offset(whole, comm)
     position = np.searchsorted(whole.dofs, dofs)
     if np.any(position >= len(whole.dofs)) or np.any(whole.dofs[np.minimum(position, len(whole.dofs) - 1)] != dofs):
         raise RuntimeError(f"field {name} is not a part of field {whole.name}")

@@ -8,6 +8,8 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .field_split import block_offset
+
 
 def leaf_rows(fields, comm):
     """The global rows of each field that is not split further (the
@@ -18,8 +20,7 @@ def leaf_rows(fields, comm):
         if not f.fields:
             leaves.append(to_global(np.asarray(f.dofs, dtype=PETSc.IntType)))
             return
-        # a split field numbers its rows rank by rank (field_split.part_of)
-        offset = comm.exscan(len(f.dofs), op=MPI.SUM) or 0
+        offset = block_offset(f, comm)
         dofs = np.asarray(f.dofs, dtype=PETSc.IntType)
         for part in f.fields:
             visit(part, lambda rows, dofs=dofs: to_global(dofs[rows - offset]))
