@@ -186,9 +186,10 @@ for label, command, path, overrides, key in (
          ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", "fault.fault.pore_pressure_load=false",
           'coupling.scheme="monolithic"', 'solver.monolithic="iterative"'],
          "fault.fault.flow"),
-        ("a conduit fault with BDF2", "check", FLOW_CRACK,
-         ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", 'time.scheme="bdf2"'],
-         "fault.crack.flow")):
+        ("a conduit fault with BDF2 and a multirate scheme", "check", scene("fault_reactivation"),
+         ["fault.fault.flow=conduit", "fault.fault.residual_aperture=1e-4", "fault.fault.pore_pressure_load=false",
+          'time.scheme="bdf2"', 'coupling.scheme="multirate"'],
+         "fault.fault.flow")):
     (cs, ce), (ps, pe) = both(command, path, overrides)
     check(ps == cs == 2 and len(pe.splitlines()) == 1 and key in pe and pe == ce,
           f"{label}: the same line and status 2 (C++ {cs}, prototype {ps}): {pe!r}")

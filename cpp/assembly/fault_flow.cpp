@@ -13,6 +13,15 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
+std::vector<double> history_value(const FineStep& step, std::span<const double> y, std::span<const double> y_before)
+{
+  std::vector<double> out(y.begin(), y.end());
+  const auto [c0, c1, c2] = step.c;
+  for (std::size_t i = 0; i < out.size() and c2 != 0; ++i)
+    out[i] = (c1 * y[i] - c2 * y_before[i]) / c0;
+  return out;
+}
+
 std::vector<double> transmissibilities(std::span<const double> t, const FaultEdges& edges)
 {
   std::vector<double> T(edges.size());
@@ -41,7 +50,7 @@ ConduitFaults::ConduitFaults(const Scene& scene, const Domain& domain, const fem
     const FaultCells& cells = domain.faults.at(name).cells;
     const double resistance = std::isinf(f.normal_permeability) ? 0.0 : _flow.mu_f / (2 * f.normal_permeability);
     const std::vector<double> w_r(cells.size(), f.residual_aperture), zero(cells.size(), 0.0);
-    _conduits.push_back({name, _size, &cells, w_r, w_r, f.residual_aperture, f.closure,
+    _conduits.push_back({name, _size, &cells, w_r, w_r, w_r, f.residual_aperture, f.closure,
                          scene.mechanics ? softest_modulus(scene) : 0.0, std::vector<char>(cells.size(), 0),
                          std::vector<char>(cells.size(), 0), zero, zero, resistance, f.permeability});
     std::map<std::vector<std::int64_t>, std::int64_t> index;
@@ -139,17 +148,24 @@ void ConduitFaults::set_compliance(Conduit& c) const
                                                      : 0.0;
 }
 
-std::vector<double> ConduitFaults::opening_rates(double dt, std::span<const double> p_old,
+std::vector<double> ConduitFaults::opening_rates(const FineStep& step, std::span<const double> p_old,
                                                  std::span<const double> p_iterate) const
 {
+  const std::vector<double> p_star = pressure_history(step, p_old);
   std::vector<double> rates;
   for (const Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.open.size() and _owned; ++k)
     {
       const std::size_t row = c.offset + k;
-      rates.push_back(c.open[k] ? -c.cells->measures[k] / dt * (1 + _flow.c_f * (p_iterate[row] - p_old[row])) : 0.0);
+      rates.push_back(
+          c.open[k] ? -c.cells->measures[k] / step.dt * (1 + _flow.c_f * (p_iterate[row] - p_star[row])) : 0.0);
     }
   return rates;
+}
+
+std::vector<double> ConduitFaults::pressure_history(const FineStep& step, std::span<const double> p_old) const
+{
+  return history_value(step, p_old, _pressure_before.empty() ? p_old : std::span<const double>(_pressure_before));
 }
 
 std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) const
@@ -299,7 +315,7 @@ bool ConduitFaults::set_openings(std::span<const double> opening, std::span<cons
   {
     set_compliance(c);
     if (!_started)
-      c.aperture_start = c.aperture;
+      c.aperture_start = c.aperture_before = c.aperture;
   }
   _started = true;
   _relaxing = _relaxing or flipped_back;
@@ -342,32 +358,19 @@ double ConduitFaults::relax_conducting()
   return moved;
 }
 
-std::vector<double> ConduitFaults::start_apertures() const
-{
-  std::vector<double> w_h;
-  for (const Conduit& c : _conduits)
-    w_h.insert(w_h.end(), c.aperture_start.begin(), c.aperture_start.end());
-  return w_h;
-}
-
-void ConduitFaults::set_start_apertures(std::span<const double> w_h)
-{
-  for (Conduit& c : _conduits)
-    std::copy_n(w_h.begin() + c.offset, c.aperture_start.size(), c.aperture_start.begin());
-  _started = true;
-}
-
 void ConduitFaults::load(const FineStep& step, std::span<const double> p_old, std::span<const double> p_iterate,
                          std::span<double> b) const
 {
+  const std::vector<double> p_star = pressure_history(step, p_old);
   for (const Conduit& c : _conduits)
   {
     if (!_owned)
       break;
     const std::vector<double> s = storage(c, step.dt), L = stabilisation(c, step.dt);
+    const std::vector<double> w_star = history_value(step, c.aperture_start, c.aperture_before);
     for (std::size_t k = 0; k < s.size(); ++k)
-      b[c.offset + k] = -s[k] * p_old[c.offset + k] - L[k] * p_iterate[c.offset + k]
-                        + c.cells->measures[k] * (c.aperture[k] - c.aperture_start[k]) / (step.q * step.dt);
+      b[c.offset + k] = -s[k] * p_star[c.offset + k] - L[k] * p_iterate[c.offset + k]
+                        + c.cells->measures[k] * (c.aperture[k] - w_star[k]) / (step.q * step.dt);
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, step.t);
     for (std::size_t i = 0; i < held.size(); ++i)
@@ -459,21 +462,4 @@ std::vector<double> ConduitFaults::cell_values(std::span<const double> w, std::s
   return values;
 }
 
-std::map<std::string, std::vector<double>> ConduitFaults::arrays(std::span<const double> p) const
-{
-  std::vector<double> all(_size);
-  std::copy(p.begin(), p.end(), all.begin());
-  int ranks = 1;
-  MPI_Comm_size(_comm, &ranks);
-  MPI_Bcast(all.data(), static_cast<int>(all.size()), MPI_DOUBLE, ranks - 1, _comm);
-  return {{"fault_pressure", all}, {"fault_volumes", volume_values()}, {"fault_apertures", start_apertures()}};
-}
-
-void ConduitFaults::restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p)
-{
-  std::copy_n(arrays.at("fault_pressure").begin(), p.size(), p.begin());
-  set_volume_values(arrays.at("fault_volumes"));
-  if (const auto found = arrays.find("fault_apertures"); found != arrays.end())
-    set_start_apertures(found->second);
-}
 } // namespace biotcontact

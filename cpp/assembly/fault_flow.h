@@ -5,11 +5,11 @@
 //
 //     sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
 //         = -(S_k/dt) p_k^old - (L_k/dt) p_k^i + |k| (w_k - w_k^old)/dt,
-//
-// w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
-// two-point transmissibility (to other faults' cells at intersections too),
-// c_i the faces' facet fluxes, L_k = L_f |k| the fixed-stress term. The
-// operator stays symmetric. Twin: python_prototype/assembly/fault_flow.py.
+// w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl
+// the two-point transmissibility (to other faults' cells at intersections),
+// c_i the faces' facet fluxes, L_k = L_f |k| the fixed-stress term (BDF2:
+// dt/c0 and history values for ^old, FineStep). The operator stays
+// symmetric. Twin: python_prototype/assembly/fault_flow.py.
 #pragma once
 
 #include "assembly/boundary_conditions.h"
@@ -18,6 +18,7 @@
 #include "domain/domain.h"
 #include "scene/scene.h"
 
+#include <array>
 #include <optional>
 #include <petscmat.h>
 #include <span>
@@ -27,6 +28,25 @@
 
 namespace biotcontact
 {
+
+/// @brief Fine step m (1..q) of a window of q flow steps, ending at t,
+/// of length dt: with the mechanics once per window, each fine step takes
+/// 1/q of the window's change of aperture, as the rock's flow takes
+/// (alpha/q) div(u^n - u_K) (paper eq. 4.17). A step of the single-rate
+/// split is m = q = 1. `c` holds the time derivative's (c0, c1, c2)
+/// (time/time_scheme.h): dt is then the effective step dt_n/c0, and the
+/// history value y* = (c1 y_n - c2 y_{n-1})/c0 of the fault's pressure and
+/// aperture stands where backward Euler reads y_n (BDF2; single rate only).
+struct FineStep
+{
+  double t = 0, dt = 0;
+  int m = 1, q = 1;
+  std::array<double, 3> c = {1, 1, 0}; // backward Euler by default
+};
+
+/// The history value y* = (c1 y - c2 y_before)/c0 of `step` (FineStep::c,
+/// as time_scheme.h's), y itself for backward Euler.
+std::vector<double> history_value(const FineStep& step, std::span<const double> y, std::span<const double> y_before);
 
 /// The two-point transmissibility |e| / (sum_k d_k / t_k) of each of the
 /// FaultEdges `edges` (t: per cell, the cubic law's w_h^3 / (12 mu_f)): |e|
@@ -46,17 +66,6 @@ constexpr double open_fraction = 1e-6;
 /// iteration, by Aitken's relaxation once it does not (theory.md, "Flow in
 /// a fault").
 constexpr double relaxed_above = 0.9;
-
-/// @brief Fine step m (1..q) of a window of q flow steps, ending at t,
-/// of length dt: with the mechanics once per window, each fine step takes
-/// 1/q of the window's change of aperture, as the rock's flow takes
-/// (alpha/q) div(u^n - u_K) (paper eq. 4.17). A step of the single-rate
-/// split is m = q = 1.
-struct FineStep
-{
-  double t = 0, dt = 0;
-  int m = 1, q = 1;
-};
 
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns on
@@ -115,11 +124,12 @@ public:
   void with_implicit_openings() { _implicit = true; }
   /// Per appended row (the last rank's) the factor of the cell's mean
   /// opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
-  /// p^old)) where the cell was open at the last set_openings (the volume
+  /// p^old)) (p^old the history value of `step`) where the cell was open at the last set_openings (the volume
   /// it opens, and Newton's term of its fluid's storage c_f w_h (p -
   /// p^old) in w_h), 0 where closed (there the closure's aperture, explicit
   /// in load, moves p_f).
-  std::vector<double> opening_rates(double dt, std::span<const double> p_old, std::span<const double> p_iterate) const;
+  std::vector<double> opening_rates(const FineStep& step, std::span<const double> p_old,
+                                    std::span<const double> p_iterate) const;
   /// How far the last set_openings moved the hydraulic apertures: the
   /// largest change relative to the largest aperture, infinite where a
   /// cell opened or closed (the monolithic step's aperture iteration).
@@ -157,8 +167,9 @@ public:
   std::string unbalanced(const std::vector<StepVolumes>& step, double rock_flux) const;
   /// Adds the accepted fine step's volumes (step_volumes) to each fault's.
   /// After a window's last fine step its apertures become the next
-  /// window's start.
-  void add_volumes(const std::vector<StepVolumes>& volumes, const FineStep& step);
+  /// window's start, and the start's apertures and pressure `p_start` (the
+  /// last rank's) the values one step before, which BDF2 reads.
+  void add_volumes(const std::vector<StepVolumes>& volumes, const FineStep& step, std::span<const double> p_start);
   /// Sets each intersection's rate from `p`, the faults' pressure at an
   /// accepted step's end (the last rank's; collective).
   void set_intersection_rates(std::span<const double> p);
@@ -172,8 +183,10 @@ public:
   void set_volume_values(std::span<const double> values);
   /// What a checkpoint keeps of the faults: their pressure p (the last
   /// rank's), "fault_pressure" (every cell on every rank), the volumes,
-  /// "fault_volumes", and the start apertures, "fault_apertures"
-  /// (collective); and their restoration into p and the faults.
+  /// "fault_volumes", the start apertures, "fault_apertures", and the
+  /// pressure and apertures one step before (BDF2), "fault_pressure_before"
+  /// and "fault_apertures_before" (collective); and their restoration into
+  /// p and the faults.
   std::map<std::string, std::vector<double>> arrays(std::span<const double> p) const;
   void restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p);
 
@@ -190,6 +203,7 @@ private:
     const FaultCells* cells;
     std::vector<double> aperture; // w_h per cell (m)
     std::vector<double> aperture_start; // w_h at the start of the step
+    std::vector<double> aperture_before; // w_h at the start of the step before (BDF2)
     double residual;                    // w_r
     std::optional<ClosureSpec> closure;
     double modulus;                     // E' of the softest rock, 0 without mechanics
@@ -221,6 +235,8 @@ private:
   /// check_expressions has checked that each meets one).
   void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;
+  /// The history value of the pressure p_old (the last rank's) at `step`.
+  std::vector<double> pressure_history(const FineStep& step, std::span<const double> p_old) const;
   /// Each cell's L_f, with L_k = L_f |k| the fault's fixed-stress term
   /// (Girault, Kumar and Wheeler): in the cells open (w > e) at either of
   /// the last two mechanics iterates of the step, the mean opening per unit
@@ -262,6 +278,7 @@ private:
   std::vector<Well> _wells;
   std::vector<FaultJunction> _junctions; // where the conduits meet (fault_network)
   std::vector<double> _through;          // per junction: its rate (set_intersection_rates)
+  std::vector<double> _pressure_before; // p_f at the start of the step before (the last rank's; BDF2)
   std::int64_t _size = 0, _start = 0;
   std::int32_t _owned = 0;
   int _dim = 2;

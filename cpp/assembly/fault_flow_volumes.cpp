@@ -1,6 +1,7 @@
 // The volume bookkeeping of the conduit faults (ConduitFaults, fault_flow.h):
 // each step's volumes of each fault, their balance, their sums since the
-// start and the rates through the intersections (fault_volumes.h). Twin:
+// start and the rates through the intersections (fault_volumes.h); and what
+// a checkpoint keeps of the faults between steps. Twin:
 // python_prototype/assembly/fault_flow_volumes.py.
 #include "assembly/fault_flow.h"
 
@@ -9,6 +10,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace biotcontact
 {
@@ -16,7 +18,10 @@ namespace biotcontact
 std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, std::span<const double> p,
                                                      std::span<const double> p_old, const FineStep& fine) const
 {
-  const double t = fine.t, dt = fine.dt;
+  // BDF2 balances its derivative, c0 (y - y*)/dt_n, against the rates over
+  // the step dt_n = c0 fine.dt: stored = c0 (y - y*) (time_scheme.h).
+  const double t = fine.t, c0 = fine.c[0], dt = c0 * fine.dt;
+  const std::vector<double> p_star = pressure_history(fine, p_old);
   // Per fault: injected, stored, exchanged, outflow of the step, gross,
   // held and faces; the faces on every rank, the rest on the last.
   // The intersections in the 8th column.
@@ -34,10 +39,11 @@ std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, 
   {
     const Conduit& c = _conduits[i];
     const std::vector<double>& measures = c.cells->measures;
+    const std::vector<double> w_star = history_value(fine, c.aperture_start, c.aperture_before);
     for (std::size_t k = 0; k < measures.size(); ++k)
     {
-      add(i, 1, measures[k] * (c.aperture[k] - c.aperture_start[k]) / fine.q
-                    + _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_old[c.offset + k]));
+      add(i, 1, c0 * measures[k] * (c.aperture[k] - w_star[k]) / fine.q
+                    + c0 * _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_star[c.offset + k]));
       step[8 * i + 5] += measures[k] * c.aperture[k];
     }
     const auto [held, T_e] = held_ends(c);
@@ -89,8 +95,11 @@ std::string ConduitFaults::unbalanced(const std::vector<StepVolumes>& step, doub
   return {};
 }
 
-void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const FineStep& fine)
+void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const FineStep& fine,
+                                std::span<const double> p_start)
 {
+  if (fine.m == fine.q)
+    _pressure_before.assign(p_start.begin(), p_start.end());
   for (std::size_t i = 0; i < _conduits.size(); ++i)
   {
     FaultVolumes& v = _conduits[i].volumes;
@@ -98,7 +107,7 @@ void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const Fine
     v.injected += s.injected, v.stored += s.stored, v.exchanged += s.exchanged, v.outflow += s.outflow;
     v.intersections += s.intersections;
     if (fine.m == fine.q)
-      _conduits[i].aperture_start = _conduits[i].aperture;
+      _conduits[i].aperture_before = std::exchange(_conduits[i].aperture_start, _conduits[i].aperture);
   }
 }
 
@@ -164,6 +173,62 @@ void ConduitFaults::set_volume_values(std::span<const double> values)
   for (std::size_t i = 0; i < _conduits.size(); ++i)
     _conduits[i].volumes = {values[n * i], values[n * i + 1], values[n * i + 2], values[n * i + 3],
                             n > 4 ? values[n * i + 4] : 0.0};
+}
+
+std::vector<double> ConduitFaults::start_apertures() const
+{
+  std::vector<double> w_h;
+  for (const Conduit& c : _conduits)
+    w_h.insert(w_h.end(), c.aperture_start.begin(), c.aperture_start.end());
+  return w_h;
+}
+
+void ConduitFaults::set_start_apertures(std::span<const double> w_h)
+{
+  for (Conduit& c : _conduits)
+    std::copy_n(w_h.begin() + c.offset, c.aperture_start.size(), c.aperture_start.begin());
+  _started = true;
+}
+
+std::map<std::string, std::vector<double>> ConduitFaults::arrays(std::span<const double> p) const
+{
+  // Every cell on every rank from the last rank's p.
+  auto everywhere = [this](std::span<const double> p)
+  {
+    std::vector<double> all(_size);
+    std::copy(p.begin(), p.end(), all.begin());
+    int ranks = 1;
+    MPI_Comm_size(_comm, &ranks);
+    MPI_Bcast(all.data(), static_cast<int>(all.size()), MPI_DOUBLE, ranks - 1, _comm);
+    return all;
+  };
+  std::vector<double> before;
+  for (const Conduit& c : _conduits)
+    before.insert(before.end(), c.aperture_before.begin(), c.aperture_before.end());
+  return {{"fault_pressure", everywhere(p)},
+          {"fault_volumes", volume_values()},
+          {"fault_apertures", start_apertures()},
+          {"fault_pressure_before", everywhere(_pressure_before.empty() ? p : _pressure_before)},
+          {"fault_apertures_before", before}};
+}
+
+void ConduitFaults::restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p)
+{
+  std::copy_n(arrays.at("fault_pressure").begin(), p.size(), p.begin());
+  set_volume_values(arrays.at("fault_volumes"));
+  if (const auto found = arrays.find("fault_apertures"); found != arrays.end())
+    set_start_apertures(found->second);
+  // Checkpoints before BDF2's conduits have neither: the step before is
+  // then the start's (only backward Euler reads them there).
+  _pressure_before.assign(p.begin(), p.end());
+  if (const auto found = arrays.find("fault_pressure_before"); found != arrays.end())
+    std::copy_n(found->second.begin(), p.size(), _pressure_before.begin());
+  const auto found = arrays.find("fault_apertures_before");
+  for (Conduit& c : _conduits)
+    c.aperture_before = found == arrays.end() ? c.aperture_start
+                                              : std::vector<double>(found->second.begin() + c.offset,
+                                                                    found->second.begin() + c.offset
+                                                                        + static_cast<std::int64_t>(c.aperture_start.size()));
 }
 
 } // namespace biotcontact

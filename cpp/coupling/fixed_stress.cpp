@@ -146,10 +146,15 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   if (q_changed)
     _measure.set_window_steps(q);
   for (FlowStep* flow : {&_flow, _second_pass})
-    if (flow and dt_changed)
+  {
+    if (!flow)
+      continue;
+    flow->set_time_derivative(w.derivative);
+    if (dt_changed)
       flow->time_step_changed(); // all its operators, with the new q too
-    else if (flow and q_changed)
+    else if (q_changed)
       flow->window_steps_changed();
+  }
   w.K = K;
   w.j = j;
   w.q = q;

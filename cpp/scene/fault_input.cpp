@@ -162,9 +162,11 @@ void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
       and scene.solver.monolithic == SolverChoice::iterative)
     s.fail("flow", "\"conduit\" with solver.monolithic = \"iterative\": the monolithic system with the fault's "
                    "pressure is solved directly (\"direct\" or \"auto\")");
-  if (scene.time_scheme == TimeScheme::bdf2)
-    s.fail("flow", "\"conduit\" with time.scheme = \"bdf2\": the fault's storage is backward Euler only yet "
-                   "(issue 39)");
+  if (scene.time_scheme == TimeScheme::bdf2 and scene.coupling
+      and (scene.coupling->scheme == CouplingScheme::multirate
+           or scene.coupling->scheme == CouplingScheme::multirate_two_pass))
+    s.fail("flow", "\"conduit\" with time.scheme = \"bdf2\" and a multirate coupling.scheme: the fault's "
+                   "storage is BDF2 in the single-rate schemes only (\"fixed-stress\", \"monolithic\")");
   f.residual_aperture = s.number("residual_aperture");
   if (!(f.residual_aperture > 0 and std::isfinite(f.residual_aperture)))
     s.fail("residual_aperture", "must be a finite number > 0 (m)");

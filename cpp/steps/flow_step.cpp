@@ -273,6 +273,7 @@ void FlowStep::flux(fem::Function<double>& out) const
 
 void FlowStep::advance(double t, const TimeDerivative& d)
 {
+  _derivative = d;
   assign(*p_previous, history_value(d, pressure->x()->array(), p_before->x()->array()));
   solve_begins(true);
   solve(t);
@@ -310,7 +311,7 @@ void FlowStep::accept(double t)
   {
     _conduits->add_volumes(
         _conduits->step_volumes(_w->x()->array(), _fault_pressure, _fault_pressure_previous, fine_step(t)),
-        fine_step(t));
+        fine_step(t), _fault_pressure_previous);
     _conduits->set_intersection_rates(_fault_pressure);
   }
 }
@@ -326,7 +327,8 @@ std::string FlowStep::unbalanced(double t) const
 
 FineStep FlowStep::fine_step(double t) const
 {
-  return {t, _constants.at("dt")->value[0], _fine_step, static_cast<int>(_constants.at("q")->value[0])};
+  return {t, _constants.at("dt")->value[0], _fine_step, static_cast<int>(_constants.at("q")->value[0]),
+          {_derivative.c0, _derivative.c1, _derivative.c2}};
 }
 
 void FlowStep::set_fine_step(int m, std::span<const double> previous, std::span<const double> iterate)

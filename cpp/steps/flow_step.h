@@ -112,6 +112,9 @@ public:
   /// The apertures are read at fine step 1 only: the mechanics iterate is
   /// the window's.
   void set_fine_step(int m, std::span<const double> previous, std::span<const double> iterate);
+  /// The time derivative of the split's steps (advance sets its own): the
+  /// conduit faults' storage differentiates with it as the rock's.
+  void set_time_derivative(const TimeDerivative& d) { _derivative = d; }
   /// The conduit cells' effective normal stress s_n at the last mechanics
   /// solve (MechanicsStep::fault_traction), which their closure follows.
   void read_fault_traction(const std::vector<double>& s_n) { _fault_traction = &s_n; }
@@ -211,6 +214,7 @@ private:
   std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (the last rank's), and one step before
   const std::vector<double>* _fault_traction = nullptr;          // s_n per conduit cell (every rank)
   int _fine_step = 1; // of the window, set_fine_step
+  TimeDerivative _derivative; // of the step (advance, set_time_derivative)
   /// The fine step of the next solve or accept, ending at t.
   FineStep fine_step(double t) const;
   mutable std::vector<double> _unknowns; // unknowns() with conduit faults

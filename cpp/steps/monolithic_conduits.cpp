@@ -83,7 +83,10 @@ bool MonolithicConduits::has_closure() const
                      [](const auto& f) { return f.second.flow == FaultFlow::conduit and f.second.closure; });
 }
 
-double MonolithicConduits::dt() const { return _problem.constants.at("dt")->value[0]; }
+FineStep MonolithicConduits::step(double t) const
+{
+  return {t, _problem.constants.at("dt")->value[0], 1, 1, {_derivative.c0, _derivative.c1, _derivative.c2}};
+}
 
 void MonolithicConduits::append(System& system) const
 {
@@ -93,7 +96,7 @@ void MonolithicConduits::append(System& system) const
   // that the structure stays as cells open and close.
   Mat B = nullptr;
   check_conduits(MatDuplicate(_J, MAT_COPY_VALUES, &B), "MatDuplicate of J");
-  const std::vector<double> rates = _faults->opening_rates(dt(), _pressure_old, _pressure);
+  const std::vector<double> rates = _faults->opening_rates(step(0), _pressure_old, _pressure);
   Vec factors = nullptr;
   check_conduits(VecDuplicate(_cells, &factors), "VecDuplicate");
   double* r = nullptr;
@@ -104,8 +107,16 @@ void MonolithicConduits::append(System& system) const
   check_conduits(MatAXPY(B, 1.0, B_z, DIFFERENT_NONZERO_PATTERN), "MatAXPY of B");
   check_conduits(VecDestroy(&factors), "VecDestroy");
   check_conduits(MatDestroy(&B_z), "MatDestroy of B_z");
-  system.append({B, _faults->operator_matrix(dt()), _faults->face_resistance(),
+  system.append({B, _faults->operator_matrix(step(0).dt), _faults->face_resistance(),
                  std::vector<double>(_faults->owned(), 0.0), _pressure, E});
+}
+
+void MonolithicConduits::set_time_derivative(System& system, const TimeDerivative& d)
+{
+  const bool changed = d.c0 != _derivative.c0 or d.c1 != _derivative.c1 or d.c2 != _derivative.c2;
+  _derivative = d;
+  if (changed)
+    append(system);
 }
 
 void MonolithicConduits::begin_step(System& system, la::Vector<double>& u, std::span<const double> s_n)
@@ -119,11 +130,11 @@ void MonolithicConduits::begin_step(System& system, la::Vector<double>& u, std::
 void MonolithicConduits::load(System& system, la::Vector<double>& x, double t)
 {
   AppendedUnknowns& appended = system.appended();
-  _faults->load({t, dt(), 1, 1}, _pressure_old, _pressure, appended.b);
+  _faults->load(step(t), _pressure_old, _pressure, appended.b);
   // The open cells' volume at u^i, which B's rows move to u^{i+1}.
   la::petsc::Vector X = wrap(x);
   check_conduits(MatMult(_J, X.vec(), _cells), "MatMult by J");
-  const std::vector<double> rates = _faults->opening_rates(dt(), _pressure_old, _pressure);
+  const std::vector<double> rates = _faults->opening_rates(step(t), _pressure_old, _pressure);
   const double* Ju = nullptr;
   check_conduits(VecGetArrayRead(_cells, &Ju), "VecGetArrayRead");
   for (std::size_t k = 0; k < rates.size(); ++k)
@@ -165,14 +176,13 @@ std::vector<double> MonolithicConduits::normal_stress(const ContactState& state)
 
 void MonolithicConduits::accept(std::span<const double> x, double t)
 {
-  const FineStep step{t, dt(), 1, 1};
-  _faults->add_volumes(_faults->step_volumes(x, _pressure, _pressure_old, step), step);
+  _faults->add_volumes(_faults->step_volumes(x, _pressure, _pressure_old, step(t)), step(t), _pressure_old);
   _faults->set_intersection_rates(_pressure);
 }
 
 std::string MonolithicConduits::unbalanced(std::span<const double> x, double t, double rock_flux) const
 {
-  return _faults->unbalanced(_faults->step_volumes(x, _pressure, _pressure_old, {t, dt(), 1, 1}), rock_flux);
+  return _faults->unbalanced(_faults->step_volumes(x, _pressure, _pressure_old, step(t)), rock_flux);
 }
 
 std::vector<double> MonolithicConduits::cell_values(std::span<const double> x, double t) const

@@ -17,6 +17,7 @@
 #include "assembly/problem.h"
 #include "contact/contact.h"
 #include "steps/system.h"
+#include "time/time_scheme.h"
 
 #include <array>
 #include <dolfinx/fem/FunctionSpace.h>
@@ -102,8 +103,14 @@ public:
   void keep(std::map<std::string, std::vector<double>>& arrays) const;
   void restore(const std::map<std::string, std::vector<double>>& arrays);
 
+  /// The step's time derivative (MonolithicStep::solve's): the faults'
+  /// storage differentiates with it as the rock's (time_scheme.h); the
+  /// rows appended again if it changed.
+  void set_time_derivative(System& system, const TimeDerivative& d);
+
 private:
-  double dt() const;
+  /// The FineStep of the step to t: the "dt" constant and the derivative.
+  FineStep step(double t) const;
   /// E, once (see the file's comment).
   void make_load_rows(const MixedSpace& space);
 
@@ -115,6 +122,7 @@ private:
   Mat _E = nullptr;       // B_z^T - J^T |k|, zero on Dirichlet rows: the same at every append
   PetscInt _rows = 0;     // X's owned DOFs
   std::vector<double> _pressure, _pressure_old; // p_f, and at the step's start
+  TimeDerivative _derivative;                   // of the step (set_time_derivative)
   // The last update's apertures' change (ConduitFaults::aperture_change)
   // and p_f's largest change relative to the largest p_f.
   std::array<double, 2> _change{0, 0};

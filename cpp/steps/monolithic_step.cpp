@@ -241,7 +241,10 @@ void MonolithicStep::solve(double t, const TimeDerivative& d)
   _derivative = d;
   assemble_rhs(t);
   if (*_conduits)
+  {
+    _conduits->set_time_derivative(*_system, d);
     solve_with_conduits(t);
+  }
   else
   {
     solve_begins(true);

@@ -28,11 +28,24 @@ class FineStep:
     """Fine step m (1..q) of a window of q flow steps, ending at t, of length
     dt: with the mechanics once per window, each fine step takes 1/q of the
     window's change of aperture, as the rock's flow takes (alpha/q) div(u^n -
-    u_K) (paper eq. 4.17). A step of the single-rate split is m = q = 1."""
+    u_K) (paper eq. 4.17). A step of the single-rate split is m = q = 1.
+    `c` holds the time derivative's (c0, c1, c2) (time/time_scheme.py): dt is
+    then the effective step dt_n/c0, and the history value y* = (c1 y_n -
+    c2 y_{n-1})/c0 of the fault's pressure and aperture stands where
+    backward Euler reads y_n (BDF2; single rate only)."""
     t: float = 0.0
     dt: float = 0.0
     m: int = 1
     q: int = 1
+    c: tuple = (1.0, 1.0, 0.0)  # backward Euler by default
+
+
+def history_value(step, y, y_before):
+    """The history value y* = (c1 y - c2 y_before)/c0 of `step` (FineStep.c,
+    as time_scheme.py's), y itself for backward Euler."""
+    c0, c1, c2 = step.c
+    y = np.asarray(y, dtype=float)
+    return y.copy() if c2 == 0 else (c1 * y - c2 * np.asarray(y_before, dtype=float)) / c0
 
 
 @dataclasses.dataclass
@@ -43,6 +56,7 @@ class _Conduit:
     cells: object          # FaultCells
     aperture: np.ndarray   # w_h per cell (m)
     aperture_start: np.ndarray  # w_h at the start of the step
+    aperture_before: np.ndarray  # w_h at the start of the step before (BDF2)
     residual: float        # w_r
     closure: object        # ClosureSpec or None
     modulus: float         # E' of the softest rock, 0 without mechanics
@@ -99,7 +113,7 @@ class ConduitFaults(ConduitVolumes):
             resistance = 0.0 if np.isinf(f.normal_permeability) else self.flow.mu_f / (2 * f.normal_permeability)
             w_r = np.full(len(cells.measures), f.residual_aperture)
             n = len(cells.measures)
-            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), f.residual_aperture, f.closure,
+            conduit = _Conduit(name, count, cells, w_r, w_r.copy(), w_r.copy(), f.residual_aperture, f.closure,
                                softest_modulus(scene) if scene.mechanics else 0.0, np.zeros(n, dtype=bool),
                                np.zeros(n, dtype=bool), np.zeros(n), np.zeros(n), resistance, f.permeability)
             index = {tuple(key): k for k, key in enumerate(cells.keys.tolist())}
@@ -118,6 +132,7 @@ class ConduitFaults(ConduitVolumes):
         self.owned = count if self.comm.rank == self.comm.size - 1 else 0
         self.dim = domain.mesh.topology.dim
         self.started = False  # whether the start apertures are known
+        self.pressure_before = None  # p_f at the start of the step before (the last rank's; BDF2)
         self.stabilised = True  # whether the cells take L (_set_compliance)
         self.implicit = False  # whether open cells' openings are unknowns (with_implicit_openings)
         self.aperture_change = 0.0
@@ -289,6 +304,7 @@ class ConduitFaults(ConduitVolumes):
             self._set_compliance(conduit)
             if not self.started:
                 conduit.aperture_start = conduit.aperture.copy()
+                conduit.aperture_before = conduit.aperture.copy()
         self.started = True
         self.relaxing = self.relaxing or flipped_back
         moved = self._relax_conducting()
@@ -341,29 +357,27 @@ class ConduitFaults(ConduitVolumes):
         they take no fixed-stress term; closed cells keep their closure's."""
         self.implicit = True
 
-    def opening_rates(self, dt, p_old, p_iterate):
+    def opening_rates(self, step, p_old, p_iterate):
         """Per appended row (the last rank's) the factor of the cell's mean
         opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
-        p^old)) where the cell was open at the last set_openings (the volume
-        it opens, and Newton's term of its fluid's storage c_f w_h (p - p^old)
-        in w_h), 0 where closed."""
+        p^old)) (p^old the history value of the FineStep `step`) where the
+        cell was open at the last set_openings (the volume it opens, and
+        Newton's term of its fluid's storage c_f w_h (p - p^old) in w_h), 0
+        where closed."""
         if not self.owned:
             return np.zeros(0)
         is_open = np.concatenate([conduit.open for conduit in self.faults])
         measures = np.concatenate([conduit.cells.measures for conduit in self.faults])
-        factor = 1 + self.flow.c_f * (np.asarray(p_iterate) - np.asarray(p_old))
-        return np.where(is_open, -measures / dt * factor, 0.0)
+        factor = 1 + self.flow.c_f * (np.asarray(p_iterate) - self._pressure_history(step, p_old))
+        return np.where(is_open, -measures / step.dt * factor, 0.0)
 
-    def start_apertures(self):
-        """The hydraulic apertures at the start of the step, every cell (the
-        same on every rank): the last accepted step's (add_volumes), which a
-        checkpoint keeps and restores (set_start_apertures)."""
-        return np.concatenate([conduit.aperture_start for conduit in self.faults])
+    def _pressure_history(self, step, p_old):
+        """The history value of the pressure p_old (the last rank's) at `step`."""
+        return history_value(step, p_old, p_old if self.pressure_before is None else self.pressure_before)
 
-    def set_start_apertures(self, w_h):
-        for conduit in self.faults:
-            conduit.aperture_start = np.array(w_h[conduit.offset:conduit.offset + len(conduit.aperture_start)])
-        self.started = True
+    def _aperture_history(self, conduit, step):
+        """The history value of the conduit's apertures at `step`."""
+        return history_value(step, conduit.aperture_start, conduit.aperture_before)
 
     def begin_step(self):
         """A step starts: no cell was open at an iterate before (the next
@@ -384,11 +398,12 @@ class ConduitFaults(ConduitVolumes):
         w_h_start)/(q dt). In a coupled split p_iterate is the last flow
         iterate's p^i, and w_h the last mechanics iterate's."""
         t, dt = step.t, step.dt
+        p_star = self._pressure_history(step, p_old)
         for conduit in self.faults if self.owned else []:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            part = (-self._storage(conduit, dt) * p_old[o:o + n]
+            part = (-self._storage(conduit, dt) * p_star[o:o + n]
                     - self._stabilisation(conduit, dt) * p_iterate[o:o + n]
-                    + cells.measures * (conduit.aperture - conduit.aperture_start) / (step.q * dt))
+                    + cells.measures * (conduit.aperture - self._aperture_history(conduit, step)) / (step.q * dt))
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
             b[o:o + n] = part
@@ -451,17 +466,3 @@ class ConduitFaults(ConduitVolumes):
             values[cells, 3:] = self._mean_flux(conduit, p, junction_links, t)
         return values
 
-    def arrays(self, p):
-        """What a checkpoint keeps of the faults: their pressure p (the last
-        rank's), "fault_pressure" (every cell on every rank), the volumes,
-        "fault_volumes", and the start apertures, "fault_apertures"
-        (collective)."""
-        return {"fault_pressure": np.asarray(self.comm.bcast(p, root=self.comm.size - 1)),
-                "fault_volumes": self.volume_values(), "fault_apertures": self.start_apertures()}
-
-    def restore_arrays(self, arrays, p):
-        """The checkpoint's arrays back into p (in place) and the faults."""
-        p[:] = arrays["fault_pressure"][:len(p)]
-        self.set_volume_values(arrays["fault_volumes"])
-        if "fault_apertures" in arrays:
-            self.set_start_apertures(arrays["fault_apertures"])

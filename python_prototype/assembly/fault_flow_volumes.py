@@ -1,7 +1,8 @@
 """The volume bookkeeping of the conduit faults (ConduitFaults,
 fault_flow.py; cpp/assembly/fault_flow_volumes.cpp): each step's volumes of
 each fault, their balance, their sums since the start and the rates
-through the intersections (fault_volumes.py)."""
+through the intersections (fault_volumes.py); and what a checkpoint keeps
+of the faults between steps."""
 import collections
 
 import numpy as np
@@ -18,7 +19,11 @@ class ConduitVolumes:
         """Each fault's StepVolumes of FineStep `fine` (every rank): `w` the
         flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
         its end and start (the last rank's; collective)."""
-        t, dt = fine.t, fine.dt
+        # BDF2 balances its derivative, c0 (y - y*)/dt_n, against the rates
+        # over the step dt_n = c0 fine.dt: stored = c0 (y - y*) (time_scheme.py).
+        t, c0 = fine.t, fine.c[0]
+        dt = c0 * fine.dt
+        p_star = self._pressure_history(fine, p_old)
         # Per fault: injected, stored, exchanged, outflow of the step, gross,
         # held and faces; the faces on every rank, the rest on the last.
         # The intersections in the 8th column.
@@ -35,8 +40,8 @@ class ConduitVolumes:
             add(i, 0, dt * share * float(rate(0, 0, 0, t)))
         for i, conduit in enumerate(self.faults if self.owned else []):
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            add(i, 1, cells.measures * (conduit.aperture - conduit.aperture_start) / fine.q
-                + self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_old[o:o + n]))
+            add(i, 1, c0 * cells.measures * (conduit.aperture - self._aperture_history(conduit, fine)) / fine.q
+                + c0 * self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_star[o:o + n]))
             step[i, 5] = np.sum(cells.measures * conduit.aperture)
             held, T_e = self._held_ends(conduit)
             add(i, 3, dt * T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
@@ -68,17 +73,21 @@ class ConduitVolumes:
                         f"{s.outflow:g}), {imbalance:g} of the volumes, more than {VOLUME_BALANCE_TOLERANCE:g}")
         return ""
 
-    def add_volumes(self, step, fine):
+    def add_volumes(self, step, fine, p_start):
         """Adds the accepted fine step's volumes (step_volumes) to each
         fault's. After a window's last fine step its apertures become the
-        next window's start."""
+        next window's start, and the start's apertures and pressure
+        `p_start` (the last rank's) the values one step before, which BDF2
+        reads."""
+        if fine.m == fine.q:
+            self.pressure_before = np.array(p_start, dtype=float)
         for conduit, volumes in zip(self.faults, step):
             v, s = conduit.volumes, volumes.net
             v.injected, v.stored, v.exchanged, v.outflow = (v.injected + s.injected, v.stored + s.stored,
                                                              v.exchanged + s.exchanged, v.outflow + s.outflow)
             v.intersections += s.intersections
             if fine.m == fine.q:
-                conduit.aperture_start = conduit.aperture.copy()
+                conduit.aperture_before, conduit.aperture_start = conduit.aperture_start, conduit.aperture.copy()
 
     def set_intersection_rates(self, p):
         """Sets each intersection's rate from `p`, the faults' pressure at an
@@ -121,3 +130,42 @@ class ConduitVolumes:
         n = len(values) // len(self.faults) if self.faults else 5  # 4 in the checkpoints before the intersections
         for i, conduit in enumerate(self.faults):
             conduit.volumes = FaultVolumes(*(float(x) for x in values[n * i:n * i + n]))
+
+    def start_apertures(self):
+        """The hydraulic apertures at the start of the step, every cell (the
+        same on every rank): the last accepted step's (add_volumes), which a
+        checkpoint keeps and restores (set_start_apertures)."""
+        return np.concatenate([conduit.aperture_start for conduit in self.faults])
+
+    def set_start_apertures(self, w_h):
+        for conduit in self.faults:
+            conduit.aperture_start = np.array(w_h[conduit.offset:conduit.offset + len(conduit.aperture_start)])
+        self.started = True
+
+    def arrays(self, p):
+        """What a checkpoint keeps of the faults: their pressure p (the last
+        rank's), "fault_pressure" (every cell on every rank), the volumes,
+        "fault_volumes", the start apertures, "fault_apertures", and the
+        pressure and apertures one step before (BDF2), "fault_pressure_before"
+        and "fault_apertures_before" (collective)."""
+        before = p if self.pressure_before is None else self.pressure_before
+        return {"fault_pressure": np.asarray(self.comm.bcast(p, root=self.comm.size - 1)),
+                "fault_volumes": self.volume_values(), "fault_apertures": self.start_apertures(),
+                "fault_pressure_before": np.asarray(self.comm.bcast(before, root=self.comm.size - 1)),
+                "fault_apertures_before": np.concatenate([conduit.aperture_before for conduit in self.faults])}
+
+    def restore_arrays(self, arrays, p):
+        """The checkpoint's arrays back into p (in place) and the faults.
+        Checkpoints before BDF2's conduits have no values of the step
+        before: they are then the start's (only backward Euler reads them
+        there)."""
+        p[:] = arrays["fault_pressure"][:len(p)]
+        self.set_volume_values(arrays["fault_volumes"])
+        if "fault_apertures" in arrays:
+            self.set_start_apertures(arrays["fault_apertures"])
+        self.pressure_before = np.array(arrays.get("fault_pressure_before", p)[:len(p)], dtype=float)
+        before = arrays.get("fault_apertures_before")
+        for conduit in self.faults:
+            n = len(conduit.aperture_start)
+            conduit.aperture_before = (conduit.aperture_start.copy() if before is None
+                                       else np.array(before[conduit.offset:conduit.offset + n]))

@@ -108,6 +108,7 @@ class _FixedStressSplit:
         dt = derivative.effective_step(self.grid.dt[j])
         for flow in (self.flow, self.second_pass):
             if flow:
+                flow.set_time_derivative(derivative)
                 q_changed = set_window_steps(flow.F, q)
                 if set_time_step(flow.F, dt):
                     flow.time_step_changed()  # all its operators, with the new q too

@@ -216,9 +216,10 @@ def _read_conduit(s, scene, f):
             and scene.solver.monolithic == SolverChoice.iterative):
         s.fail("flow", '"conduit" with solver.monolithic = "iterative": the monolithic system with the fault\'s '
                'pressure is solved directly ("direct" or "auto")')
-    if scene.time_scheme == TimeScheme.bdf2:
-        s.fail("flow", '"conduit" with time.scheme = "bdf2": the fault\'s storage is backward Euler only yet '
-               "(issue 39)")
+    if scene.time_scheme == TimeScheme.bdf2 and scene.coupling and scene.coupling.scheme in (
+            CouplingScheme.multirate, CouplingScheme.multirate_two_pass):
+        s.fail("flow", '"conduit" with time.scheme = "bdf2" and a multirate coupling.scheme: the fault\'s '
+               'storage is BDF2 in the single-rate schemes only ("fixed-stress", "monolithic")')
     f.residual_aperture = s.number("residual_aperture")
     if not (f.residual_aperture > 0 and math.isfinite(f.residual_aperture)):
         s.fail("residual_aperture", "must be a finite number > 0 (m)")

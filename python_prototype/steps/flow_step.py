@@ -21,7 +21,7 @@ from ..assembly.fault_aperture import FaultAperture
 from ..assembly.fault_flow import ConduitFaults, FineStep
 from .system import AppendedUnknowns
 from ..assembly.wells import add_wells, depends_on_time, well_sources
-from ..time.time_scheme import history_value
+from ..time.time_scheme import TimeDerivative, history_value
 
 
 class FlowPass(enum.Enum):
@@ -109,6 +109,7 @@ class FlowStep(Step):
         self.fault_aperture = None
         self.traction_source = None  # the step whose fault_traction is s_n per conduit cell (read_fault_traction)
         self.fine_step = 1  # of the window (set_fine_step)
+        self.derivative = TimeDerivative()  # of the step (advance, set_time_derivative)
         if not self.conduits:
             return
         self.fault_pressure[:] = self.conduits.initial_pressure(self.scene.flow.initial_pressure)
@@ -214,6 +215,7 @@ class FlowStep(Step):
     def advance(self, t, d):
         """One solve per step: the pressure history of `d` from the last
         step's pressure and p_before, then solve(t)."""
+        self.derivative = d
         self.p_previous.x.array[:] = history_value(d, self.pressure.x.array, self.p_before.x.array)
         self.solve_begins(True)
         self.solve(t)
@@ -246,7 +248,8 @@ class FlowStep(Step):
         if self.conduits and self.flow_pass == FlowPass.first:
             fine = self._fine_step(t)
             self.conduits.add_volumes(self.conduits.step_volumes(self.w.x.array, self.fault_pressure,
-                                                                 self.fault_pressure_previous, fine), fine)
+                                                                 self.fault_pressure_previous, fine), fine,
+                                      self.fault_pressure_previous)
             self.conduits.set_intersection_rates(self.fault_pressure)
 
     def unbalanced(self, t):
@@ -261,7 +264,14 @@ class FlowStep(Step):
 
     def _fine_step(self, t):
         """The fine step of the next solve or accept, ending at t."""
-        return FineStep(t, float(self.F["dt"].value), self.fine_step, int(round(float(self.F["q"].value))))
+        d = self.derivative
+        return FineStep(t, float(self.F["dt"].value), self.fine_step, int(round(float(self.F["q"].value))),
+                        (d.c0, d.c1, d.c2))
+
+    def set_time_derivative(self, d):
+        """The time derivative of the split's steps (advance sets its own):
+        the conduit faults' storage differentiates with it as the rock's."""
+        self.derivative = d
 
     def set_fine_step(self, m, previous, iterate):
         """The next solve (or accept) is fine step m of its window (1 for the

@@ -24,6 +24,7 @@ from ..assembly.fault_flow import ConduitFaults, FineStep
 from ..assembly.linear_algebra import owned, placement
 from ..contact.contact_state import pair_tractions
 from ..scene.input import FaultFlow
+from ..time.time_scheme import TimeDerivative
 from .system import AppendedUnknowns
 
 
@@ -54,6 +55,7 @@ class MonolithicConduits:
         self.problem = problem
         faults = ConduitFaults(problem.scene, problem.domain, space.X.sub(1), space.flux)
         self.faults = faults if faults else None
+        self.derivative = TimeDerivative()  # of the step (set_time_derivative)
         if not faults:
             return
         faults.with_implicit_openings()
@@ -91,8 +93,19 @@ class MonolithicConduits:
         """The closure needs the faults' contact tractions after each solve."""
         return any(f.flow == FaultFlow.conduit and f.closure for f in self.problem.scene.faults.values())
 
-    def _dt(self):
-        return float(self.problem.forms["dt"].value)
+    def _step(self, t):
+        """The FineStep of the step to t: the "dt" constant and the derivative."""
+        d = self.derivative
+        return FineStep(t, float(self.problem.forms["dt"].value), 1, 1, (d.c0, d.c1, d.c2))
+
+    def set_time_derivative(self, system, d):
+        """The step's time derivative (MonolithicStep.solve's): the faults'
+        storage differentiates with it as the rock's (time_scheme.py); the
+        rows appended again if it changed."""
+        changed = (d.c0, d.c1, d.c2) != (self.derivative.c0, self.derivative.c1, self.derivative.c2)
+        self.derivative = d
+        if changed:
+            self.append(system)
 
     def append(self, system):
         """Appends the rows at the current apertures and dt to `system` (again
@@ -102,10 +115,10 @@ class MonolithicConduits:
         # that the structure stays as cells open and close
         B = self.J.copy()
         factors = self.cells.duplicate()
-        factors.array[:] = self.faults.opening_rates(self._dt(), self.pressure_old, self.pressure)
+        factors.array[:] = self.faults.opening_rates(self._step(0.0), self.pressure_old, self.pressure)
         B.diagonalScale(factors, None)
         B.axpy(1.0, B_z, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-        system.append(AppendedUnknowns(B, self.faults.operator_matrix(self._dt()), self.faults.face_resistance(),
+        system.append(AppendedUnknowns(B, self.faults.operator_matrix(self._step(0.0).dt), self.faults.face_resistance(),
                                        np.zeros(self.faults.owned), self.pressure.copy(), self.E.copy()))
 
     def begin_step(self, system, u, s_n):
@@ -121,10 +134,10 @@ class MonolithicConduits:
         """b_f of iterate i at time t from x = x^i (a vector of X), and p_f^i
         as the guess."""
         appended = system.appended
-        self.faults.load(FineStep(t, self._dt(), 1, 1), self.pressure_old, self.pressure, appended.b)
+        self.faults.load(self._step(t), self.pressure_old, self.pressure, appended.b)
         # the open cells' volume at u^i, which B's rows move to u^{i+1}
         self.J.mult(x, self.cells)
-        appended.b[:] += self.faults.opening_rates(self._dt(), self.pressure_old, self.pressure) * self.cells.array_r
+        appended.b[:] += self.faults.opening_rates(self._step(0.0), self.pressure_old, self.pressure) * self.cells.array_r
         appended.x[:] = self.pressure
 
     def update(self, system, u, s_n):
@@ -160,15 +173,16 @@ class MonolithicConduits:
     def accept(self, x, t):
         """The accepted step to t: the volumes take it (`x` the coupled
         unknowns)."""
-        step = FineStep(t, self._dt(), 1, 1)
-        self.faults.add_volumes(self.faults.step_volumes(x, self.pressure, self.pressure_old, step), step)
+        step = self._step(t)
+        self.faults.add_volumes(self.faults.step_volumes(x, self.pressure, self.pressure_old, step), step,
+                                self.pressure_old)
         self.faults.set_intersection_rates(self.pressure)
 
     def unbalanced(self, x, t, rock_flux):
         """A fault that the step to t would leave unbalanced, or empty
         (`rock_flux` the rock's largest flux DOF: ConduitFaults.unbalanced)."""
         return self.faults.unbalanced(self.faults.step_volumes(x, self.pressure, self.pressure_old,
-                                                               FineStep(t, self._dt(), 1, 1)), rock_flux)
+                                                               self._step(t)), rock_flux)
 
     def cell_values(self, x, t):
         """The faults' cell fields at t on rank 0 (ConduitFaults.cell_values)."""

@@ -174,6 +174,7 @@ class MonolithicStep(Step):
         self.derivative = derivative
         self.assemble_rhs(t)
         if self.conduits:
+            self.conduits.set_time_derivative(self.system, derivative)
             self._solve_with_conduits(t)
         else:
             self.solve_begins(True)
