@@ -1,5 +1,6 @@
 """The error-against-run-time study end to end on a tiny study: the CSV has
-its columns, every plot is a PNG, errors fall under refinement, and a study
+its columns, every plot is a PNG, errors fall under refinement, the
+study's own overrides reach every run, and a study
 started again reuses its finished runs. A run reference compares P0 fields
 with its average over each coarse cell: on meshes nested by halving h each
 coarse cell gets exactly its 4 fine cells (their areas sum to its own), and
@@ -22,12 +23,13 @@ with open(study, "w") as f:
     f.write('''name = "tiny"
 scene = "scenes/terzaghi.toml"
 reference = "closed-form"
+overrides = ["time.end=0.32"]
 [[levels]]
-overrides = ["mesh.cells=[1,5]", "time.dt=0.08", "time.end=0.32"]
+overrides = ["mesh.cells=[1,5]", "time.dt=0.08"]
 [[levels]]
-overrides = ["mesh.cells=[1,10]", "time.dt=0.04", "time.end=0.32"]
+overrides = ["mesh.cells=[1,10]", "time.dt=0.04"]
 [[levels]]
-overrides = ["mesh.cells=[1,20]", "time.dt=0.02", "time.end=0.32"]
+overrides = ["mesh.cells=[1,20]", "time.dt=0.02"]
 [[variants]]
 label = "monolithic"
 overrides = ["coupling.scheme=monolithic"]
@@ -50,6 +52,8 @@ for name in ("error_vs_time.png", "work_vs_error.png", "iterations_vs_gamma.png"
     with open(os.path.join(out, name), "rb") as f:
         check(f.read(8) == b"\x89PNG\r\n\x1a\n", f"{name} is a PNG")
 for variant in ("monolithic", "fixed stress"):
+    steps = [int(r["steps"]) for r in rows if r["variant"] == variant]
+    check(steps == [4, 8, 16], f"{variant}: the study's own overrides (time.end = 0.32) in every run: steps {steps}")
     errs = [float(r["pressure_error_final"]) for r in rows if r["variant"] == variant]
     check(errs[0] > errs[1] > errs[2] > 0, f"{variant}: pressure error falls under refinement {errs}")
     errs = [float(r["displacement_error_final"]) for r in rows if r["variant"] == variant]
