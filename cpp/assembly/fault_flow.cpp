@@ -288,6 +288,7 @@ void ConduitFaults::begin_step()
   }
   _relaxing = _lagged = false;
   _relaxation = 1;
+  _stalled = 0;
 }
 
 bool ConduitFaults::set_openings(std::span<const double> opening, std::span<const double> traction)
@@ -329,10 +330,12 @@ double ConduitFaults::relax_conducting()
   // The fixed point conducting = w_h(u(conducting)), r = w_h - conducting
   // its lag: taken whole (omega = 1) until a cell's open state flips back
   // (set_openings: the cubic law cycling, an open cell sheds its fluid and
-  // closes, then fills and opens again) or, in the monolithic step, whose
-  // open cells move with p_f in one solve, until the lag shrinks by less
-  // than relaxed_above; from then to the step's end by Aitken's factor,
-  // omega = -omega (r_old . (r - r_old)) / |r - r_old|^2.
+  // closes, then fills and opens again) or until the lag shrinks by less
+  // than relaxed_above (the monolithic step, whose open cells move with p_f
+  // in one solve; the split, where an open cell's lagged w_h^3 can move p_f
+  // more than its fixed-stress term holds: a 2-cycle); from then to the
+  // step's end by Aitken's factor, omega = -omega (r_old . (r - r_old)) /
+  // |r - r_old|^2.
   double dot = 0, norm = 0, lag = 0, lag_old = 0, moved = 0;
   for (Conduit& c : _conduits)
   {
@@ -344,7 +347,11 @@ double ConduitFaults::relax_conducting()
       dot += c.lag[k] * d, norm += d * d, lag += r * r, lag_old += c.lag[k] * c.lag[k];
     }
   }
-  _relaxing = _relaxing or (_implicit and _lagged and lag > relaxed_above * relaxed_above * lag_old);
+  // The split's lag shrinks at the coupling's rate, after a transient: there
+  // only a lag that grew at stalled_iterations iterations in a row counts.
+  const bool stalled = _lagged and lag > (_implicit ? relaxed_above * relaxed_above : 1.0) * lag_old;
+  _stalled = stalled ? _stalled + 1 : 0;
+  _relaxing = _relaxing or _stalled >= (_implicit ? 1 : stalled_iterations);
   if (_relaxing and norm > 0)
     _relaxation = std::clamp(-_relaxation * dot / norm, 1e-3, 1.0);
   for (Conduit& c : _conduits)

@@ -61,11 +61,15 @@ std::vector<double> transmissibilities(std::span<const double> t, const FaultEdg
 /// which it converges at the rate L_f/(L_f + S), nearly 1.
 constexpr double open_fraction = 1e-6;
 
-/// In the monolithic step the conducting apertures of the cubic law follow
-/// w_h whole while the lag between them shrinks by this factor per
-/// iteration, by Aitken's relaxation once it does not (theory.md, "Flow in
-/// a fault").
+/// The conducting apertures of the cubic law follow w_h whole while the lag
+/// between them shrinks by this factor per iteration (the monolithic step's
+/// aperture iterations, the split's coupling iterations), by Aitken's
+/// relaxation once it does not (theory.md, "Flow in a fault").
 constexpr double relaxed_above = 0.9;
+/// In the split, whose lag shrinks at the coupling's rate after a transient,
+/// Aitken's relaxation starts once the lag grew at this many coupling
+/// iterations in a row (the lagged cubic law's 2-cycle).
+constexpr int stalled_iterations = 3;
 
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns on
@@ -192,9 +196,8 @@ public:
 
 private:
   /// Moves the apertures of the cubic law toward w_h, by Aitken's factor
-  /// once a cell's open state flipped back in this step (or, monolithic,
-  /// the lag stopped shrinking); returns how far w_h lay from them (the
-  /// lag, m).
+  /// once a cell's open state flipped back in this step (or the lag
+  /// stopped shrinking); returns how far w_h lay from them (the lag, m).
   double relax_conducting();
   struct Conduit
   {
@@ -289,6 +292,7 @@ private:
   double _relaxation = 1;  // Aitken's factor of the conducting apertures
   bool _lagged = false;    // a lag of this step is known
   bool _relaxing = false;  // the conducting apertures are relaxed (relax_conducting)
+  int _stalled = 0;        // iterations in a row whose lag did not shrink (relax_conducting)
 };
 
 } // namespace biotcontact

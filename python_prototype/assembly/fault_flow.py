@@ -79,11 +79,15 @@ class _Conduit:
 # converges at the rate L_f/(L_f + S), nearly 1.
 OPEN_FRACTION = 1e-6
 
-# In the monolithic step the conducting apertures of the cubic law follow
-# w_h whole while the lag between them shrinks by this factor per
-# iteration, by Aitken's relaxation once it does not (theory.md, "Flow in a
-# fault").
+# The conducting apertures of the cubic law follow w_h whole while the lag
+# between them shrinks by this factor per iteration (the monolithic step's
+# aperture iterations, the split's coupling iterations), by Aitken's
+# relaxation once it does not (theory.md, "Flow in a fault").
 RELAXED_ABOVE = 0.9
+# In the split, whose lag shrinks at the coupling's rate after a transient,
+# Aitken's relaxation starts once the lag grew at this many coupling
+# iterations in a row (the lagged cubic law's 2-cycle).
+STALLED_ITERATIONS = 3
 
 
 def transmissibilities(t, edges):
@@ -139,6 +143,7 @@ class ConduitFaults(ConduitVolumes):
         # the conducting apertures: a lag of this step known, relaxed
         # (_relax_conducting), and Aitken's factor
         self.lagged = self.relaxing = False
+        self.stalled = 0  # iterations in a row whose lag did not shrink
         self.relaxation = 1.0
 
     def _locate_wells(self, scene, fault, cells, offset):
@@ -316,16 +321,17 @@ class ConduitFaults(ConduitVolumes):
 
     def _relax_conducting(self):
         """Moves the apertures of the cubic law toward w_h, by Aitken's factor
-        once a cell's open state flipped back in this step (or, monolithic,
-        the lag stopped shrinking); returns how far w_h lay from them (the
-        lag, m). The fixed point conducting = w_h(u(conducting)), r = w_h -
-        conducting its lag: taken whole (omega = 1) until a cell's open state
-        flips back (set_openings: the cubic law cycling, an open cell sheds
-        its fluid and closes, then fills and opens again) or, in the
-        monolithic step, whose open cells move with p_f in one solve, until
-        the lag shrinks by less than RELAXED_ABOVE; from then to the step's
-        end by Aitken's factor, omega = -omega (r_old . (r - r_old)) /
-        |r - r_old|^2."""
+        once a cell's open state flipped back in this step (or the lag
+        stopped shrinking); returns how far w_h lay from them (the lag, m).
+        The fixed point conducting = w_h(u(conducting)), r = w_h - conducting
+        its lag: taken whole (omega = 1) until a cell's open state flips back
+        (set_openings: the cubic law cycling, an open cell sheds its fluid
+        and closes, then fills and opens again) or until the lag shrinks by
+        less than RELAXED_ABOVE (the monolithic step, whose open cells move
+        with p_f in one solve; the split, where an open cell's lagged w_h^3
+        can move p_f more than its fixed-stress term holds: a 2-cycle); from
+        then to the step's end by Aitken's factor, omega = -omega (r_old .
+        (r - r_old)) / |r - r_old|^2."""
         dot = norm = lag = lag_old = moved = 0.0
         for conduit in self.faults:
             if conduit.conducting is None:
@@ -336,7 +342,11 @@ class ConduitFaults(ConduitVolumes):
             norm += float(d @ d)
             lag += float(r @ r)
             lag_old += float(conduit.lag @ conduit.lag)
-        self.relaxing = self.relaxing or (self.implicit and self.lagged and lag > RELAXED_ABOVE ** 2 * lag_old)
+        # The split's lag shrinks at the coupling's rate, after a transient:
+        # there only a lag that grew at STALLED_ITERATIONS iterations in a row counts.
+        stalled = self.lagged and lag > (RELAXED_ABOVE ** 2 if self.implicit else 1.0) * lag_old
+        self.stalled = self.stalled + 1 if stalled else 0
+        self.relaxing = self.relaxing or self.stalled >= (1 if self.implicit else STALLED_ITERATIONS)
         if self.relaxing and norm > 0:
             self.relaxation = min(max(-self.relaxation * dot / norm, 1e-3), 1.0)
         for conduit in self.faults:
@@ -388,6 +398,7 @@ class ConduitFaults(ConduitVolumes):
                 conduit.conducting = conduit.aperture.copy()
         self.lagged = self.relaxing = False  # no lag of this step known yet
         self.relaxation = 1.0
+        self.stalled = 0  # iterations in a row whose lag did not shrink (_relax_conducting)
 
     def load(self, step, p_old, p_iterate, b):
         """The fault's right-hand side of the FineStep `step` into b (its
