@@ -128,10 +128,10 @@ public:
   void with_implicit_openings() { _implicit = true; }
   /// Per appended row (the last rank's) the factor of the cell's mean
   /// opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
-  /// p^old)) (p^old the history value of `step`) where the cell was open at the last set_openings (the volume
-  /// it opens, and Newton's term of its fluid's storage c_f w_h (p -
-  /// p^old) in w_h), 0 where closed (there the closure's aperture, explicit
-  /// in load, moves p_f).
+  /// p^old)) (p^old the history value of `step`) where the cell was open
+  /// at the last set_openings (the volume it opens, and Newton's term of
+  /// its fluid's storage c_f w_h (p - p^old) in w_h), 0 where closed (there
+  /// the closure's aperture, explicit in load, moves p_f).
   std::vector<double> opening_rates(const FineStep& step, std::span<const double> p_old,
                                     std::span<const double> p_iterate) const;
   /// How far the last set_openings moved the hydraulic apertures: the

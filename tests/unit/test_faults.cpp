@@ -8,7 +8,8 @@
 // Then gmsh meshes with an embedded curve: area kept, the two faces at the
 // same points, each a face of one cell. Last, the cells of a fault's own
 // flow (domain/fault_cells.h) on the fault across the square: cells, links
-// and ends; the cells a well meets; the two-point transmissibility.
+// and ends; the cells a well meets; the two-point transmissibility; BDF2's
+// history value of the fault's storage.
 #include "assembly/fault_flow.h"
 #include "domain/fault_cells.h"
 #include "domain/faults.h"
@@ -739,6 +740,17 @@ TEST(FaultCells, Transmissibility)
   edges.points = {{0, 0, 0}};
   // |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
   EXPECT_EQ(transmissibilities(std::vector<double>{1.0, 3.0}, edges), std::vector<double>{2.0});
+}
+
+TEST(FaultCells, HistoryValue)
+{
+  // y = t^2 at t = 0, 1, 3: the step dt = 2 after dt = 1 (w = 2) has
+  // c = (5/3, 3, 4/3), dt/c0 = 1.2, and c0 (y - y*)/dt = y'(3) = 6 exactly
+  // (BDF2 is exact for quadratics); backward Euler's y* is y_n itself.
+  const FineStep bdf2{3.0, 1.2, 1, 1, {5.0 / 3, 3.0, 4.0 / 3}};
+  const std::vector<double> y_n{1.0}, y_before{0.0};
+  EXPECT_NEAR((9.0 - history_value(bdf2, y_n, y_before)[0]) / bdf2.dt, 6.0, 1e-14);
+  EXPECT_EQ(history_value(FineStep{3.0, 2.0}, y_n, y_before), y_n);
 }
 
 TEST(FaultCells, OpenPatches)

@@ -8,8 +8,9 @@ their meeting node one node per piece around it, and their cells one
 junction there. Then gmsh meshes with an embedded curve: area kept, the two
 faces at the same points, each a face of one cell. Last, the cells of a
 fault's own flow (domain/fault_cells.py) on the fault across the square:
-cells, links and ends; the cells a well meets; and the two-point
-transmissibility (assembly/fault_flow.py)."""
+cells, links and ends; the cells a well meets; the two-point
+transmissibility and BDF2's history value of the fault's storage
+(assembly/fault_flow.py)."""
 import os
 import sys
 import tempfile
@@ -21,7 +22,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.assembly.fault_compliance import (closure_aperture, closure_compliance,  # noqa: E402
                                                         open_patches, patch_compliance)
-from python_prototype.assembly.fault_flow import transmissibilities  # noqa: E402
+from python_prototype.assembly.fault_flow import FineStep, history_value, transmissibilities  # noqa: E402
 from python_prototype.domain.fault_cells import FaultEdges, fault_cells, fault_network, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
 from python_prototype.scene.scene import ClosureSpec, WellSpec  # noqa: E402
@@ -498,6 +499,14 @@ class Cells(unittest.TestCase):
         edges = FaultEdges(np.array([[0, 1]]), np.array([2.0]), np.array([[0.5, 1.5]]), np.zeros((1, 3)))
         # |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
         np.testing.assert_array_equal(transmissibilities(np.array([1.0, 3.0]), edges), [2.0])
+
+    def test_history_value(self):
+        # y = t^2 at t = 0, 1, 3: the step dt = 2 after dt = 1 (w = 2) has
+        # c = (5/3, 3, 4/3), dt/c0 = 1.2, and c0 (y - y*)/dt = y'(3) = 6
+        # exactly (BDF2 is exact for quadratics); backward Euler's y* is y_n.
+        bdf2 = FineStep(3.0, 1.2, 1, 1, (5.0 / 3, 3.0, 4.0 / 3))
+        self.assertAlmostEqual((9.0 - history_value(bdf2, [1.0], [0.0])[0]) / bdf2.dt, 6.0, delta=1e-14)
+        np.testing.assert_array_equal(history_value(FineStep(3.0, 2.0), [1.0], [0.0]), [1.0])
 
     def test_open_patches(self):
         # A chain of 6 cells, 0-1-2-3-4-5, and a 7th linked to 0: open 0, 1,
