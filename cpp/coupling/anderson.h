@@ -24,6 +24,12 @@ namespace biotcontact
 /// owned[b] entries of block b enter the inner products).
 using State = std::vector<std::vector<double>>;
 
+/// After this many restarts in one window (each a change of the contact
+/// set) the split drops Anderson for the window's remaining iterations
+/// (FixedStressSplit: an extrapolation that keeps opening and closing a
+/// pair in turn, measured on an injection through a fault's opening).
+constexpr int anderson_restarts = 8;
+
 class AndersonAcceleration
 {
 public:

@@ -267,7 +267,8 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
 /// The iterate the next flow pass reads: the map value (p^{n+1}, u^{n+1}),
 /// or with Anderson a combination of the last map values. The differences
 /// of earlier iterations describe the map of their contact active set
-/// only: a new set restarts the history.
+/// only: a new set restarts the history, and more than anderson_restarts
+/// restarts end Anderson for the window.
 void FixedStressSplit::next_iterate(Window& w)
 {
   if (!w.anderson)
@@ -278,8 +279,17 @@ void FixedStressSplit::next_iterate(Window& w)
   }
   if (const long changes = contact_changes(_mechanics); changes != w.active_set_changes)
   {
-    w.anderson->restart();
     w.active_set_changes = changes;
+    // A contact set the extrapolation keeps changing (a pair opened and
+    // closed in turn, a restart every few iterations) ends Anderson for
+    // the window: the plain iteration goes on from the last map values.
+    if (++w.restarts > anderson_restarts)
+    {
+      w.anderson.reset();
+      next_iterate(w);
+      return;
+    }
+    w.anderson->restart();
   }
   State x(w.p_old.begin() + 1, w.p_old.end()), g(w.p_new.begin() + 1, w.p_new.end());
   x.push_back(w.u_old);

@@ -33,6 +33,13 @@ def _cholesky_solve(H, r):
     return c
 
 
+# After this many restarts in one window (each a change of the contact set)
+# the split drops Anderson for the window's remaining iterations
+# (FixedStressSplit: an extrapolation that keeps opening and closing a pair
+# in turn, measured on an injection through a fault's opening).
+ANDERSON_RESTARTS = 8
+
+
 class AndersonAcceleration:
     def __init__(self, comm, depth, owned, weights):
         self.comm, self.depth, self.owned, self.weights = comm, depth, owned, weights
