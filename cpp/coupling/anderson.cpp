@@ -12,13 +12,14 @@ AndersonAcceleration::AndersonAcceleration(MPI_Comm comm, int depth, std::vector
 {
 }
 
-void AndersonAcceleration::restart()
+bool AndersonAcceleration::restart()
 {
   _f.clear();
   _g.clear();
   _dF.clear();
   _dG.clear();
   _gram.clear();
+  return ++_restarts <= anderson_restarts;
 }
 
 double AndersonAcceleration::dot(const State& a, const State& b) const

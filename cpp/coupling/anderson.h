@@ -24,10 +24,11 @@ namespace biotcontact
 /// owned[b] entries of block b enter the inner products).
 using State = std::vector<std::vector<double>>;
 
-/// After this many restarts in one window (each a change of the contact
-/// set) the split drops Anderson for the window's remaining iterations
-/// (FixedStressSplit: an extrapolation that keeps opening and closing a
-/// pair in turn, measured on an injection through a fault's opening).
+/// After this many restarts (each a change of the map: the split restarts
+/// at each change of the contact set, in each window anew) Anderson gives
+/// up, and the caller goes on with the plain iteration: an extrapolation
+/// that keeps changing the map, measured opening and closing a fault's
+/// pairs in turn through an injection's opening.
 constexpr int anderson_restarts = 8;
 
 class AndersonAcceleration
@@ -40,7 +41,8 @@ public:
 
   /// Forgets the history: the map changed (a new contact active set makes
   /// G another affine map, whose differences the old ones do not describe).
-  void restart();
+  /// Whether to go on: false after more than anderson_restarts restarts.
+  bool restart();
 
   /// The next iterate from x and g = G(x); x is overwritten with it.
   void next(State& x, const State& g);
@@ -57,6 +59,7 @@ private:
   State _f, _g;
   std::deque<State> _dF, _dG;
   std::deque<std::deque<double>> _gram;
+  int _restarts = 0;
 };
 
 } // namespace biotcontact

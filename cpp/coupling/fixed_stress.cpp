@@ -146,15 +146,14 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   if (q_changed)
     _measure.set_window_steps(q);
   for (FlowStep* flow : {&_flow, _second_pass})
-  {
-    if (!flow)
-      continue;
-    flow->set_time_derivative(w.derivative);
-    if (dt_changed)
-      flow->time_step_changed(); // all its operators, with the new q too
-    else if (q_changed)
-      flow->window_steps_changed();
-  }
+    if (flow)
+    {
+      flow->set_time_derivative(w.derivative);
+      if (dt_changed)
+        flow->time_step_changed(); // all its operators, with the new q too
+      else if (q_changed)
+        flow->window_steps_changed();
+    }
   w.K = K;
   w.j = j;
   w.q = q;
@@ -267,29 +266,20 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
 /// The iterate the next flow pass reads: the map value (p^{n+1}, u^{n+1}),
 /// or with Anderson a combination of the last map values. The differences
 /// of earlier iterations describe the map of their contact active set
-/// only: a new set restarts the history, and more than anderson_restarts
-/// restarts end Anderson for the window.
+/// only: a new set restarts the history (too many, Anderson itself).
 void FixedStressSplit::next_iterate(Window& w)
 {
+  if (const long changes = contact_changes(_mechanics); w.anderson and changes != w.active_set_changes)
+  {
+    w.active_set_changes = changes;
+    if (!w.anderson->restart()) // the map kept changing: the plain iteration from here (anderson.h)
+      w.anderson.reset();
+  }
   if (!w.anderson)
   {
     w.p_old = w.p_new;
     w.u_old = w.u_new;
     return;
-  }
-  if (const long changes = contact_changes(_mechanics); changes != w.active_set_changes)
-  {
-    w.active_set_changes = changes;
-    // A contact set the extrapolation keeps changing (a pair opened and
-    // closed in turn, a restart every few iterations) ends Anderson for
-    // the window: the plain iteration goes on from the last map values.
-    if (++w.restarts > anderson_restarts)
-    {
-      w.anderson.reset();
-      next_iterate(w);
-      return;
-    }
-    w.anderson->restart();
   }
   State x(w.p_old.begin() + 1, w.p_old.end()), g(w.p_new.begin() + 1, w.p_new.end());
   x.push_back(w.u_old);

@@ -36,7 +36,6 @@ struct Window
   // The conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q, the last rank's).
   std::vector<std::vector<double>> fault_old, fault_new;
   std::optional<AndersonAcceleration> anderson;
-  int restarts = 0; // of anderson, at changes of the contact set
   long active_set_changes = 0;         // at the last Anderson restart
   double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
   double fault_previous = std::numeric_limits<double>::quiet_NaN(); // ||dp_f|| of the last iteration

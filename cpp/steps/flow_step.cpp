@@ -328,7 +328,7 @@ std::string FlowStep::unbalanced(double t) const
 FineStep FlowStep::fine_step(double t) const
 {
   return {t, _constants.at("dt")->value[0], _fine_step, static_cast<int>(_constants.at("q")->value[0]),
-          {_derivative.c0, _derivative.c1, _derivative.c2}};
+          _derivative.coefficients()};
 }
 
 void FlowStep::set_fine_step(int m, std::span<const double> previous, std::span<const double> iterate)

@@ -85,7 +85,7 @@ bool MonolithicConduits::has_closure() const
 
 FineStep MonolithicConduits::step(double t) const
 {
-  return {t, _problem.constants.at("dt")->value[0], 1, 1, {_derivative.c0, _derivative.c1, _derivative.c2}};
+  return {t, _problem.constants.at("dt")->value[0], 1, 1, _derivative.coefficients()};
 }
 
 void MonolithicConduits::append(System& system) const
@@ -113,7 +113,7 @@ void MonolithicConduits::append(System& system) const
 
 void MonolithicConduits::set_time_derivative(System& system, const TimeDerivative& d)
 {
-  const bool changed = d.c0 != _derivative.c0 or d.c1 != _derivative.c1 or d.c2 != _derivative.c2;
+  const bool changed = d.coefficients() != _derivative.coefficients();
   _derivative = d;
   if (changed)
     append(system);

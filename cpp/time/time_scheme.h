@@ -12,6 +12,7 @@
 
 #include "scene/scene.h"
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,6 +28,8 @@ struct TimeDerivative
   /// The step the backward-Euler forms are assembled with: dt / c0.
   double effective_step(double dt) const { return dt / c0; }
   bool second_order() const { return c2 != 0; }
+  /// (c0, c1, c2), as a conduit fault's FineStep takes them.
+  std::array<double, 3> coefficients() const { return {c0, c1, c2}; }
 };
 
 /// The derivative of a step of length `dt` after one of `dt_previous`

@@ -33,20 +33,28 @@ def _cholesky_solve(H, r):
     return c
 
 
-# After this many restarts in one window (each a change of the contact set)
-# the split drops Anderson for the window's remaining iterations
-# (FixedStressSplit: an extrapolation that keeps opening and closing a pair
-# in turn, measured on an injection through a fault's opening).
+# After this many restarts (each a change of the map: the split restarts at
+# each change of the contact set, in each window anew) Anderson gives up,
+# and the caller goes on with the plain iteration: an extrapolation that
+# keeps changing the map, measured opening and closing a fault's pairs in
+# turn through an injection's opening.
 ANDERSON_RESTARTS = 8
 
 
 class AndersonAcceleration:
     def __init__(self, comm, depth, owned, weights):
         self.comm, self.depth, self.owned, self.weights = comm, depth, owned, weights
-        self.restart()
+        self.restarts = 0
+        self._forget()
 
     def restart(self):
-        """Forgets the history (a new contact active set: another map)."""
+        """Forgets the history (a new contact active set: another map).
+        Whether to go on: False after more than ANDERSON_RESTARTS restarts."""
+        self._forget()
+        self.restarts += 1
+        return self.restarts <= ANDERSON_RESTARTS
+
+    def _forget(self):
         # the last residual and map value, the last `depth` differences of
         # consecutive ones (oldest first) and the Gram matrix of the residual
         # differences, updated by one row per iteration

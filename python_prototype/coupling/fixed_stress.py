@@ -11,7 +11,7 @@ from typing import Optional
 
 from ..assembly.materials import split_advice
 from ..assembly.parameters import set_time_step, set_window_steps
-from .anderson import ANDERSON_RESTARTS, AndersonAcceleration
+from .anderson import AndersonAcceleration
 from ..contact.contact_state import ActiveSet, same_active_set
 from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
@@ -207,25 +207,17 @@ class _FixedStressSplit:
         """The iterate the next flow pass reads: the map value (p^{n+1},
         u^{n+1}), or with Anderson a combination of the last map values. The
         differences of earlier iterations describe the map of their contact
-        active set only: a new set restarts the history, and more than
-        ANDERSON_RESTARTS restarts end Anderson for the window."""
+        active set only: a new set restarts the history (too many, Anderson
+        itself)."""
+        changes = _contact_changes(self.mechanics)
+        if w.anderson and changes != w.active_set_changes:
+            w.active_set_changes = changes
+            if not w.anderson.restart():  # the map kept changing: the plain iteration from here (anderson.py)
+                w.anderson = None
         if not w.anderson:
             w.p_old = list(w.p_new)
             w.u_old = w.u_new
             return
-        changes = _contact_changes(self.mechanics)
-        if changes != w.active_set_changes:
-            w.active_set_changes = changes
-            # A contact set the extrapolation keeps changing (a pair opened
-            # and closed in turn, a restart every few iterations) ends
-            # Anderson for the window: the plain iteration goes on from the
-            # last map values.
-            w.restarts += 1
-            if w.restarts > ANDERSON_RESTARTS:
-                w.anderson = None
-                self.next_iterate(w)
-                return
-            w.anderson.restart()
         x = w.anderson.next(w.p_old[1:] + [w.u_old], w.p_new[1:] + [w.u_new])
         w.p_old = [w.p_old[0]] + x[:w.q]
         w.u_old = x[w.q]

@@ -29,7 +29,6 @@ class Window:
         self.u_old, self.u_new = u_K, None
         self.fault_old = self.fault_new = None  # the conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q)
         self.anderson = None
-        self.restarts = 0  # of anderson, at changes of the contact set
         self.active_set_changes = 0   # at the last Anderson restart
         self.dsigma_previous, self.dsigma_first = math.nan, 0.0
         self.fault_previous = math.nan  # ||dp_f|| of the last iteration

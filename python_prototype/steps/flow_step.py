@@ -264,9 +264,8 @@ class FlowStep(Step):
 
     def _fine_step(self, t):
         """The fine step of the next solve or accept, ending at t."""
-        d = self.derivative
         return FineStep(t, float(self.F["dt"].value), self.fine_step, int(round(float(self.F["q"].value))),
-                        (d.c0, d.c1, d.c2))
+                        self.derivative.coefficients())
 
     def set_time_derivative(self, d):
         """The time derivative of the split's steps (advance sets its own):

@@ -95,14 +95,13 @@ class MonolithicConduits:
 
     def _step(self, t):
         """The FineStep of the step to t: the "dt" constant and the derivative."""
-        d = self.derivative
-        return FineStep(t, float(self.problem.forms["dt"].value), 1, 1, (d.c0, d.c1, d.c2))
+        return FineStep(t, float(self.problem.forms["dt"].value), 1, 1, self.derivative.coefficients())
 
     def set_time_derivative(self, system, d):
         """The step's time derivative (MonolithicStep.solve's): the faults'
         storage differentiates with it as the rock's (time_scheme.py); the
         rows appended again if it changed."""
-        changed = (d.c0, d.c1, d.c2) != (self.derivative.c0, self.derivative.c1, self.derivative.c2)
+        changed = d.coefficients() != self.derivative.coefficients()
         self.derivative = d
         if changed:
             self.append(system)

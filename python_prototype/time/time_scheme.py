@@ -27,6 +27,10 @@ class TimeDerivative:
     def second_order(self):
         return self.c2 != 0
 
+    def coefficients(self):
+        """(c0, c1, c2), as a conduit fault's FineStep takes them."""
+        return (self.c0, self.c1, self.c2)
+
 
 def time_derivative(scheme, dt, dt_previous):
     """The derivative of a step of length dt after one of dt_previous under
