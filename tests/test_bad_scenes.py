@@ -74,6 +74,9 @@ CASES = [
      "time.adaptive.tolerance: missing (a number is required; the table has tol: misspelt?)", BOTH),
     ("clamp and contact on one boundary", DEFAULT, s("boundary.bottom.clamp=true"), "boundary.bottom.clamp", BOTH),
     ("gmsh refinement out of range", BLOCK, s("mesh.refine=9"), "mesh.refine", BOTH),
+    ("a zero mesh size factor", BLOCK, s("mesh.size_factor=0.0"), "mesh.size_factor: must be a finite number > 0",
+     BOTH),
+    ("a mesh size factor on a built-in mesh", DEFAULT, s("mesh.size_factor=0.5"), "mesh.size_factor", BOTH),
     ("--set without =", DEFAULT, s("mechanics"), "--set mechanics", BOTH),
     ("missing scene file", "no/such/scene.toml", [], "no/such/scene.toml", BOTH),
     ("scene file is a directory", os.path.dirname(DEFAULT), [], os.path.dirname(DEFAULT), BOTH),
@@ -271,6 +274,8 @@ CASES = [
      "fault.crack.tip_grading", BOTH),
     ("a tip size on a .msh mesh", CRACK, s(f"mesh.file={CORRUPT_MSH}", "fault.crack.tip_size=0.01"),
      "fault.crack.tip_size: needs a .geo", BOTH),
+    ("a mesh size factor on a .msh mesh", CRACK, s(f"mesh.file={CORRUPT_MSH}", "mesh.size_factor=0.5"),
+     "mesh.size_factor: needs a .geo", BOTH),
     ("a tip size on a .geo with size fields of its own", CRACK, s("fault.crack.tip_size=0.01"),
      "fault.crack.tip_size: ", BOTH),
     # issue 50: the condensed path failed with PETSc error 81, the full one

@@ -1,13 +1,14 @@
 """A gmsh geometry with named physical groups: the default scene on
-meshes/cantilever.geo runs on one and two ranks alike, and a boundary name
-the file does not have is refused naming the groups it has."""
+meshes/cantilever.geo runs on one and two ranks alike, mesh.size_factor
+scales its sizes (the prototype meshes it alike), and a boundary name the
+file does not have is refused naming the groups it has."""
 import os
 import re
 import subprocess
 import tempfile
 
 import numpy as np
-from support import BINARY, ROOT, Fields, check, iterations, run, scene, summary
+from support import BINARY, ROOT, Fields, check, iterations, run, run_track, scene, summary
 
 with open(scene("default")) as f:
     text = f.read()
@@ -27,6 +28,18 @@ a, b = Fields(one), Fields(two)
 t = a.times("displacement")[-1]
 x, y = a.sorted_values("displacement", t), b.sorted_values("displacement", t)
 check(np.abs(x - y).max() <= 1e-8 * np.abs(x).max(), "one and two ranks: same final displacement")
+
+# mesh.size_factor: every size of the .geo halved, so about 4x the
+# triangles; the prototype's gmsh meshes it alike (its fields the C++ ones').
+short = "time.end=1.0"
+finer = {track: Fields(run_track(track, path, short, "mesh.size_factor=0.5")[0]) for track in ("C++", "prototype")}
+cells = [len(f.topology) for f in (a, finer["C++"], finer["prototype"])]
+check(3.0 <= cells[1] / cells[0] <= 5.0 and cells[2] == cells[1],
+      f"mesh.size_factor = 0.5: {cells[0]} -> {cells[1]} triangles (prototype: {cells[2]})")
+t = 1.0
+x, y = (finer[k].sorted_values("displacement", t) for k in ("C++", "prototype"))
+check(np.abs(x - y).max() <= 1e-8 * np.abs(x).max(),
+      f"mesh.size_factor = 0.5: the prototype's displacement the C++ one's ({np.abs(x - y).max():.2e} m)")
 
 for command in (["check", path], ["run", path, "--out", tempfile.mkdtemp()]):
     p = subprocess.run([BINARY, *command, "--set", "boundary.middle.pressure=0.0"], capture_output=True, text=True)

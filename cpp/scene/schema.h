@@ -24,6 +24,7 @@ struct MeshSpec
   std::string file;                 // .msh or .geo (gmsh), resolved path
   int dimension = 2;
   int refine = 0;                   // uniform refinements of a gmsh mesh (nested: each halves h)
+  double size_factor = 1;           // every size gmsh meshes a .geo with, times this (not nested)
 };
 
 /// Friction on a contact (a foundation, or a fault's two faces): the

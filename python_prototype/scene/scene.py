@@ -75,6 +75,14 @@ def _read_mesh(s, scene_file):
         m.refine = s.integer("refine", 0)
         if not 0 <= m.refine <= 6:
             s.fail("refine", "must be an integer in [0, 6]")
+        # Any fineness between the refinements' halvings (a 3D study's levels:
+        # each refinement costs 8x), at the price of meshes that do not nest.
+        m.size_factor = s.number("size_factor", 1.0)
+        if not (m.size_factor > 0 and math.isfinite(m.size_factor)):
+            s.fail("size_factor", "must be a finite number > 0")
+        if s.has("size_factor") and os.path.splitext(m.file)[1] != ".geo":
+            s.fail("size_factor", f"needs a .geo mesh file, which gmsh meshes here ({m.file} is meshed already: "
+                   "use mesh.refine)")
     s.finish()
     return m
 

@@ -22,6 +22,7 @@ class MeshSpec:
     file: str = ""
     dimension: int = 2
     refine: int = 0  # uniform refinements of a gmsh mesh (nested: each halves h)
+    size_factor: float = 1.0  # every size gmsh meshes a .geo with, times this (not nested)
 
 
 @dataclass
