@@ -2,9 +2,11 @@
 its columns, every plot is a PNG, errors fall under refinement, the
 study's own overrides reach every run, and a study
 started again reuses its finished runs. A run reference compares P0 fields
-with its average over each coarse cell: on meshes nested by halving h each
-coarse cell gets exactly its 4 fine cells (their areas sum to its own), and
-a run against itself has no error (to round-off)."""
+with its average over each coarse cell: on meshes nested by mesh.refine
+each coarse cell gets exactly its 4 fine cells, a quarter each; on meshes
+that do not nest (mesh.size_factor) it interpolates at each coarse node
+from the fine cell holding it; a run against itself has no error (to
+round-off)."""
 import csv
 import os
 import subprocess
@@ -66,16 +68,28 @@ with open(os.path.join(out, "results.csv")) as f:
     again = list(csv.DictReader(f))
 check(p.returncode == 0 and all(r["cached"] == "True" for r in again), "a second start reuses every finished run")
 
-# The run reference's cell averages, on two nested meshes of the default scene.
-SHORT = ["--set", "time.end=0.4", "--set", "coupling.scheme=monolithic"]
-coarse, _ = run(scene("default"), "--set", "mesh.cells=[20,2]", *SHORT)
-fine, _ = run(scene("default"), "--set", "mesh.cells=[40,4]", *SHORT)
-reference = study_tool.RunReference(fine, "the finer run")
+# The run reference's cell averages: on meshes nested by mesh.refine
+# (gmsh splits each triangle into its 4 children) exactly its 4 fine
+# cells, a quarter each; on meshes that do not nest (mesh.size_factor, a
+# fault between two sides) each coarse node lies in the fine cell it
+# interpolates from, and each coarse cell's weights sum to 1. (The built-in
+# meshes cut each square into four at its centre: [2n] does not nest in [n].)
+ONE_DAY = ["--set", "time.end=86400.0", "--set", "mesh.size_factor=2.0"]
+coarse, _ = run(scene("fault_reactivation"), *ONE_DAY)
+fine, _ = run(scene("fault_reactivation"), *ONE_DAY, "--set", "mesh.refine=1")
 fields = study_tool.Fields(coarse)
-_, owner, weights = reference._maps_for(fields)
-check(np.all(np.bincount(owner, minlength=len(fields.cells)) == 4)
-      and np.allclose(weights, study_tool.cell_areas(fields), rtol=1e-12, atol=0),
-      "run reference: each coarse cell averages exactly its 4 fine cells, whose areas sum to its own")
+_, average = study_tool.RunReference(fine, "the finer run")._maps_for(fields)
+check(np.all(np.diff(average.indptr) == 4) and np.allclose(average.data, 0.25, rtol=1e-14, atol=0),
+      "run reference: each coarse cell averages exactly its 4 fine cells, a quarter each")
+other, _ = run(scene("fault_reactivation"), *ONE_DAY[:2], "--set", "mesh.size_factor=1.4")
+reference = study_tool.RunReference(other, "the finer run")
+(vertices, lam), average = reference._maps_for(fields)
+x = np.einsum("nk,nkj->nj", lam, reference.fine.nodes[vertices][:, :, :2])
+check(lam.min() >= -1e-9 and np.abs(x - fields.nodes[:, :2]).max() <= 1e-9 * np.abs(fields.nodes).max(),
+      f"run reference, meshes not nested: every coarse node inside its fine cell (smallest weight {lam.min():.1e}) "
+      "and at the weights' point")
+check(np.allclose(np.asarray(average.sum(axis=1)).ravel(), 1.0, rtol=1e-12, atol=0),
+      "run reference, meshes not nested: each coarse cell's weights sum to 1")
 itself = study_tool.errors(fine, study_tool.RunReference(fine, "itself"))
 check(max(max(v) for v in itself.values()) <= 1e-14, f"run reference: a run against itself has no error {itself}")
 

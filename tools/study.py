@@ -11,7 +11,8 @@ list of variants (overrides that choose scheme, q, L; a
 per level); every variant runs on every level. Errors are measured against
 the closed form (`reference = "closed-form"`, Terzaghi) or against a
 monolithic run on the finest level (`reference = "monolithic"`, computed
-once and cached; its cell averages over each coarse cell; `reference_scheme`
+once and cached; its cell averages over each coarse cell, its P1 values at
+the nodes, on meshes nested or not (mesh.size_factor); `reference_scheme`
 replaces monolithic by a tightly converged split), at every output
 time of the run: relative l2 errors of pressure (cell-area weighted),
 displacement (nodal) and flux (cell-area weighted), at the final time and
@@ -42,6 +43,7 @@ import tomllib
 
 import h5py
 import numpy as np
+import scipy.sparse
 from scipy.spatial import cKDTree
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -166,12 +168,9 @@ class ClosedFormReference:
 
 
 class RunReference:
-    """A (finer) run's fields at the points of a coarser one, whose mesh the
-    finer one refines: nodes by coordinates, cells by the area-weighted
-    average of the fine cells whose midpoints they hold. A P0 value is a
-    cell average; the fine value read at the coarse midpoint instead is off
-    by the fine cell's own offset, a floor that hid everything below 8.3e-4
-    of the pressure error on the Mandel study (docs/schemes.md)."""
+    """A (finer) run's fields at the points of a coarser one: nodes by the
+    finer run's P1 interpolation there (its own node where the meshes nest:
+    mesh.refine), cells by the average over each coarse cell (averaging)."""
 
     def __init__(self, directory, description):
         self.fine = Fields(directory)
@@ -184,35 +183,81 @@ class RunReference:
     def _maps_for(self, fields):
         key = (len(fields.nodes), len(fields.cells))
         if key not in self._maps:
-            _, nodes = cKDTree(sided_nodes(self.fine)).query(sided_nodes(fields))
-            owner = containing_cells(fields, self.fine.cells)
-            weights = np.bincount(owner, self.fine_areas, len(fields.cells))
-            self._maps[key] = nodes, owner, weights
+            d = fields.topology.shape[1] - 1
+            # The cell on the node's side of a fault (sided_nodes), the
+            # weights at the node itself.
+            cell, _ = containing_cells(self.fine, sided_nodes(fields))
+            weights = barycentric(self.fine, cell, fields.nodes[:, :d])
+            self._maps[key] = (self.fine.topology[cell], weights), self.averaging(fields)
         return self._maps[key]
 
-    def _averages(self, values, owner, weights):
-        v = values.reshape(len(owner), -1)
-        return np.stack([np.bincount(owner, self.fine_areas * v[:, i], len(weights)) / weights
-                         for i in range(v.shape[1])], axis=1)
+    def averaging(self, fields):
+        """The matrix of a coarse cell's average of the fine P0 values: the
+        mean of the fine values at the midpoints of the coarse cell's equal
+        children (lattice_points), exact where the meshes nest in 2D (gmsh
+        refines triangles as children does), to the fine values' variation
+        over a child otherwise. A P0 value is a cell average: the fine value
+        read at the coarse midpoint alone is off by the fine cell's own
+        offset, a floor that hid everything below 8.3e-4 of the pressure
+        error on the Mandel study (docs/schemes.md)."""
+        points, rows = lattice_points(fields)
+        cols, _ = containing_cells(self.fine, points)
+        A = scipy.sparse.csr_matrix((np.ones(len(rows)), (rows, cols)),
+                                    shape=(len(fields.cells), len(self.fine.cells)))
+        return A / (len(rows) // len(fields.cells))
 
     def fields(self, fields, t):
         times = self.fine.times("pressure")
         tf = min(times, key=lambda s: abs(s - t))
         if abs(tf - t) > 1e-9 * max(abs(t), 1.0):
             return None
-        nodes, owner, weights = self._maps_for(fields)
-        return {"pressure": self._averages(values(self.fine, "pressure", tf), owner, weights),
-                "displacement": values(self.fine, "displacement", tf)[nodes],
-                "flux": self._averages(values(self.fine, "flux", tf), owner, weights)}
+        (vertices, lam), average = self._maps_for(fields)
+        u = values(self.fine, "displacement", tf)
+        cellwise = {name: values(self.fine, name, tf).reshape(len(self.fine.cells), -1)
+                    for name in ("pressure", "flux")}
+        return {"pressure": average @ cellwise["pressure"],
+                "displacement": np.einsum("nk,nkj->nj", lam, u[vertices]),
+                "flux": average @ cellwise["flux"]}
+
+
+def children(simplex):
+    """A simplex's 2^d children of equal size by its edges' midpoints (the
+    red refinement of a triangle; Bey's of a tetrahedron, its inner
+    octahedron cut along the diagonal between the midpoints of edges 02 and
+    13). `simplex` holds its vertices as rows."""
+    p = simplex
+    m = {(i, j): (p[i] + p[j]) / 2 for i in range(len(p)) for j in range(i + 1, len(p))}
+    if len(p) == 3:
+        return [np.array(c) for c in ([p[0], m[0, 1], m[0, 2]], [m[0, 1], p[1], m[1, 2]],
+                                      [m[0, 2], m[1, 2], p[2]], [m[0, 1], m[1, 2], m[0, 2]])]
+    return [np.array(c) for c in ([p[0], m[0, 1], m[0, 2], m[0, 3]], [m[0, 1], p[1], m[1, 2], m[1, 3]],
+                                  [m[0, 2], m[1, 2], p[2], m[2, 3]], [m[0, 3], m[1, 3], m[2, 3], p[3]],
+                                  [m[0, 1], m[0, 2], m[0, 3], m[1, 3]], [m[0, 1], m[0, 2], m[1, 2], m[1, 3]],
+                                  [m[0, 2], m[0, 3], m[1, 3], m[2, 3]], [m[0, 2], m[1, 2], m[1, 3], m[2, 3]])]
+
+
+def lattice_points(fields, levels=None):
+    """The midpoints of each cell's 2^(d levels) equal children (children,
+    3 levels in 2D and 2 in 3D: 64 points a cell), as points and the cell
+    of each: their mean is the cell average of a field to its variation
+    over a child."""
+    d = fields.topology.shape[1] - 1
+    simplices = [np.eye(d + 1)]
+    for _ in range(levels or (3 if d == 2 else 2)):
+        simplices = [c for s in simplices for c in children(s)]
+    lam = np.array([s.mean(axis=0) for s in simplices])
+    v = fields.nodes[:, :d][fields.topology]
+    points = np.einsum("mk,ckj->cmj", lam, v).reshape(-1, d)
+    return points, np.repeat(np.arange(len(fields.topology)), len(lam))
 
 
 def sided_nodes(fields):
     """The nodes moved a little toward the midpoint of the cells around them:
     a fault's two copies of a node (one per face, at the same point) part
-    toward their own sides, so a coarse node is matched with the fine copy
-    on its side. The corners of a cell split uniformly are scaled copies of
-    it, so a node's direction is the same on every level; the move, 1e-3 of
-    the shortest such distance, keeps every other match as it was."""
+    toward their own sides, so a coarse node is matched with the fine cell
+    on its side. The move, 1e-3 of the shortest such distance, keeps the
+    point in a fine cell at the node (a cell split uniformly has its
+    corners' directions on every level)."""
     d = fields.topology.shape[1] - 1
     x = fields.nodes[:, :d]
     count = np.bincount(fields.topology.ravel(), minlength=len(x))
@@ -227,26 +272,35 @@ def sided_nodes(fields):
     return moved
 
 
-def containing_cells(fields, points, candidates=12):
-    """The cell of `fields`' mesh (triangles or tetrahedra) holding each
-    point: of the cells with the nearest midpoints, the one whose smallest
-    barycentric coordinate of the point is largest (>= 0 inside; a point on
-    a face goes to either side)."""
+def barycentric(fields, cells, points):
+    """The barycentric coordinates (n, d+1) of each point in its cell."""
     d = fields.topology.shape[1] - 1
-    x = fields.nodes[:, :d]
+    v = fields.nodes[:, :d][fields.topology[cells]]
+    T = np.stack([v[:, i + 1] - v[:, 0] for i in range(d)], axis=2)
+    lam = np.linalg.solve(T, (points - v[:, 0])[..., None])[..., 0]
+    return np.concatenate([(1 - lam.sum(axis=1))[:, None], lam], axis=1)
+
+
+def containing_cells(fields, points):
+    """The cell of `fields`' mesh (triangles or tetrahedra) holding each
+    point and the point's barycentric coordinates in it: of the cells with
+    the nearest midpoints (more in 3D, where more cells share a node), the
+    one whose smallest coordinate is largest (>= 0 inside; a point on a face
+    goes to either side)."""
+    d = fields.topology.shape[1] - 1
     y = points[:, :d]
+    candidates = 12 if d == 2 else 32
     _, near = cKDTree(fields.cells[:, :d]).query(y, k=min(candidates, len(fields.cells)))
     near = near.reshape(len(y), -1)
     best = np.full(len(y), -np.inf)
     owner = near[:, 0].copy()
+    weights = np.zeros((len(y), d + 1))
     for c in near.T:
-        v = x[fields.topology[c]]
-        T = np.stack([v[:, i + 1] - v[:, 0] for i in range(d)], axis=2)
-        lam = np.linalg.solve(T, (y - v[:, 0])[..., None])[..., 0]
-        smallest = np.minimum(lam.min(axis=1), 1 - lam.sum(axis=1))
+        lam = barycentric(fields, c, y)
+        smallest = lam.min(axis=1)
         better = smallest > best
-        owner[better], best[better] = c[better], smallest[better]
-    return owner
+        owner[better], best[better], weights[better] = c[better], smallest[better], lam[better]
+    return owner, weights
 
 
 class CrackReference:
@@ -330,10 +384,13 @@ def jansen_meulenbroek_reference(c):
 
 class PennyReference:
     """Sneddon's penny-shaped crack of radius a in the plane through `centre`
-    normal to `normal`: fault.h5's opening at the + face's nodes against
+    normal to `normal`: the opening at the crack's nodes against
     8 (1 - nu^2) p / (pi E) sqrt(a^2 - r^2), r the distance from the centre
     in the crack's plane; relative l2 weighted by the area each node stands
-    for (a third of its triangles'), over r <= (1 - tips) a."""
+    for (a third of its triangles'), over r <= (1 - tips) a. The opening is
+    fault.h5's at the + face's nodes, or with `symmetric = true` (the body
+    on one side, the crack a contact boundary on its plane of symmetry)
+    2 u.n at the nodes of the plane (solution.h5)."""
 
     def __init__(self, c):
         self.c = c
@@ -342,12 +399,25 @@ class PennyReference:
         self.sampling = (f"the closed-form opening at the crack's nodes, its rim's {c.get('tips', 0.1):.0%} of a "
                          "excluded")
 
+    def crack_face(self, directory):
+        """The nodes, the triangles and the opening of the crack's face."""
+        if not self.c.get("symmetric", False):
+            with h5py.File(os.path.join(directory, "fault.h5")) as f:
+                last = max(int(k) for k in f["opening"].keys())
+                return f["Mesh/geometry"][:], f["Mesh/topology"][:], f[f"opening/{last}"][:].ravel()
+        fields = Fields(directory)
+        x, tets = fields.nodes, fields.topology
+        n = np.array(self.c["normal"], dtype=float)
+        n /= np.linalg.norm(n)
+        on = np.abs((x - np.array(self.c["centre"], dtype=float)) @ n) <= 1e-9 * np.abs(x).max()
+        faces = np.concatenate([tets[:, f][on[tets[:, f]].all(axis=1)]
+                                for f in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3))])
+        u = values(fields, "displacement", fields.times("displacement")[-1]).reshape(len(x), -1)
+        return x, faces, 2 * np.abs(u @ n)
+
     def errors(self, directory):
         c = self.c
-        with h5py.File(os.path.join(directory, "fault.h5")) as f:
-            x, triangles = f["Mesh/geometry"][:], f["Mesh/topology"][:]
-            last = max(int(k) for k in f["opening"].keys())
-            opening = f[f"opening/{last}"][:].ravel()
+        x, triangles, opening = self.crack_face(directory)
         v = x[triangles]
         area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
         weight = np.bincount(triangles.ravel(), np.repeat(area / 3, 3), len(x))
@@ -355,7 +425,7 @@ class PennyReference:
         d = x - np.array(c["centre"], dtype=float)
         r = np.linalg.norm(d - np.outer(d @ n, n) / (n @ n), axis=1)
         exact = penny_opening(c["p"], c["E"], c["nu"], c["a"], r)
-        inner = r <= (1 - c.get("tips", 0.1)) * c["a"]
+        inner = (weight > 0) & (r <= (1 - c.get("tips", 0.1)) * c["a"])
         e = relative((np.abs(opening) - exact)[inner], exact[inner], weight[inner])
         nan = (float("nan"), float("nan"))
         return {"opening": (e, e), "pressure": nan, "displacement": nan, "flux": nan}
@@ -404,7 +474,7 @@ FAULT_REFERENCES = {
     "phan": ("slip", phan_reference, "a, E, nu, sigma, psi, theta, centre, direction"),
     "jansen_meulenbroek": ("slip", jansen_meulenbroek_reference,
                            "a, reservoir_a, reservoir_b, E, nu, alpha, dp, centre, direction, tips = 0"),
-    "penny": ("opening", PennyReference, "a, E, nu, p, centre, normal"),
+    "penny": ("opening", PennyReference, "a, E, nu, p, centre, normal, tips = 0.1, symmetric = false"),
     "conduit_erfc": ("fault_pressure", ConduitReference, "w, mu_f, c_f, p0, dp, inlet, direction")}
 
 
