@@ -174,7 +174,6 @@ class RunReference:
 
     def __init__(self, directory, description):
         self.fine = Fields(directory)
-        self.fine_areas = cell_areas(self.fine)
         self.description = description
         self.sampling = ("the reference's average over each cell (pressure, flux) and its values at the nodes "
                          "(displacement)")
@@ -194,13 +193,13 @@ class RunReference:
     def averaging(self, fields):
         """The matrix of a coarse cell's average of the fine P0 values: the
         mean of the fine values at the midpoints of the coarse cell's equal
-        children (lattice_points), exact where the meshes nest in 2D (gmsh
+        children (child_midpoints), exact where the meshes nest in 2D (gmsh
         refines triangles as children does), to the fine values' variation
         over a child otherwise. A P0 value is a cell average: the fine value
         read at the coarse midpoint alone is off by the fine cell's own
         offset, a floor that hid everything below 8.3e-4 of the pressure
         error on the Mandel study (docs/schemes.md)."""
-        points, rows = lattice_points(fields)
+        points, rows = child_midpoints(fields)
         cols, _ = containing_cells(self.fine, points)
         A = scipy.sparse.csr_matrix((np.ones(len(rows)), (rows, cols)),
                                     shape=(len(fields.cells), len(self.fine.cells)))
@@ -236,14 +235,14 @@ def children(simplex):
                                   [m[0, 2], m[0, 3], m[1, 3], m[2, 3]], [m[0, 2], m[1, 2], m[1, 3], m[2, 3]])]
 
 
-def lattice_points(fields, levels=None):
+def child_midpoints(fields):
     """The midpoints of each cell's 2^(d levels) equal children (children,
     3 levels in 2D and 2 in 3D: 64 points a cell), as points and the cell
     of each: their mean is the cell average of a field to its variation
     over a child."""
     d = fields.topology.shape[1] - 1
     simplices = [np.eye(d + 1)]
-    for _ in range(levels or (3 if d == 2 else 2)):
+    for _ in range(3 if d == 2 else 2):
         simplices = [c for s in simplices for c in children(s)]
     lam = np.array([s.mean(axis=0) for s in simplices])
     v = fields.nodes[:, :d][fields.topology]
