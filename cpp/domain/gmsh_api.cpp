@@ -83,6 +83,8 @@ void finalize() { call("gmshFinalize"); }
 void open(const std::string& file) { call("gmshOpen", file.c_str()); }
 void option::setNumber(const std::string& name, double value) { call("gmshOptionSetNumber", name.c_str(), value); }
 
+void option::getNumber(const std::string& name, double& value) { call("gmshOptionGetNumber", name.c_str(), &value); }
+
 void model::getEntities(vectorpair& dim_tags, int dim)
 {
   int* data = nullptr;

@@ -24,6 +24,7 @@ void open(const std::string& file);
 namespace option
 {
 void setNumber(const std::string& name, double value);
+void getNumber(const std::string& name, double& value);
 }
 
 namespace model

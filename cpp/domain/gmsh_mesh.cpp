@@ -251,8 +251,11 @@ GmshData read_gmsh_file(const Scene& scene)
     if (std::filesystem::path(file).extension() == ".geo")
     {
       grade_toward_tips(scene);
-      // After open(): the factor scales the .geo's sizes and its fields.
-      gmsh::option::setNumber("Mesh.MeshSizeFactor", scene.mesh.size_factor);
+      // After open(): the factor scales the .geo's sizes and its fields,
+      // times the .geo's own factor, if it sets one.
+      double own = 1;
+      gmsh::option::getNumber("Mesh.MeshSizeFactor", own);
+      gmsh::option::setNumber("Mesh.MeshSizeFactor", own * scene.mesh.size_factor);
       gmsh::model::mesh::generate(d);
     }
     for (int i = 0; i < refine; ++i)

@@ -83,8 +83,10 @@ def _read_gmsh_file(scene):
         gmsh.open(file)
         if os.path.splitext(file)[1] == ".geo":
             grade_toward_tips(gmsh, scene)
-            # After open(): the factor scales the .geo's sizes and its fields.
-            gmsh.option.setNumber("Mesh.MeshSizeFactor", scene.mesh.size_factor)
+            # After open(): the factor scales the .geo's sizes and its fields,
+            # times the .geo's own factor, if it sets one.
+            own = gmsh.option.getNumber("Mesh.MeshSizeFactor")
+            gmsh.option.setNumber("Mesh.MeshSizeFactor", own * scene.mesh.size_factor)
             gmsh.model.mesh.generate(d)
         for _ in range(refine):
             gmsh.model.mesh.refine()
