@@ -185,7 +185,7 @@ class RunReference:
             d = fields.topology.shape[1] - 1
             # The cell on the node's side of a fault (sided_nodes), the
             # weights at the node itself.
-            cell, _ = containing_cells(self.fine, sided_nodes(fields))
+            cell = containing_cells(self.fine, sided_nodes(fields))
             weights = barycentric(self.fine, cell, fields.nodes[:, :d])
             self._maps[key] = (self.fine.topology[cell], weights), self.averaging(fields)
         return self._maps[key]
@@ -200,7 +200,7 @@ class RunReference:
         offset, a floor that hid everything below 8.3e-4 of the pressure
         error on the Mandel study (docs/schemes.md)."""
         points, rows = child_midpoints(fields)
-        cols, _ = containing_cells(self.fine, points)
+        cols = containing_cells(self.fine, points)
         A = scipy.sparse.csr_matrix((np.ones(len(rows)), (rows, cols)),
                                     shape=(len(fields.cells), len(self.fine.cells)))
         return A / (len(rows) // len(fields.cells))
@@ -282,10 +282,10 @@ def barycentric(fields, cells, points):
 
 def containing_cells(fields, points):
     """The cell of `fields`' mesh (triangles or tetrahedra) holding each
-    point and the point's barycentric coordinates in it: of the cells with
-    the nearest midpoints (more in 3D, where more cells share a node), the
-    one whose smallest coordinate is largest (>= 0 inside; a point on a face
-    goes to either side)."""
+    point: of the cells with the nearest midpoints (more in 3D, where more
+    cells share a node), the one whose smallest barycentric coordinate of
+    the point is largest (>= 0 inside; a point on a face goes to either
+    side)."""
     d = fields.topology.shape[1] - 1
     y = points[:, :d]
     candidates = 12 if d == 2 else 32
@@ -293,13 +293,11 @@ def containing_cells(fields, points):
     near = near.reshape(len(y), -1)
     best = np.full(len(y), -np.inf)
     owner = near[:, 0].copy()
-    weights = np.zeros((len(y), d + 1))
     for c in near.T:
-        lam = barycentric(fields, c, y)
-        smallest = lam.min(axis=1)
+        smallest = barycentric(fields, c, y).min(axis=1)
         better = smallest > best
-        owner[better], best[better], weights[better] = c[better], smallest[better], lam[better]
-    return owner, weights
+        owner[better], best[better] = c[better], smallest[better]
+    return owner
 
 
 class CrackReference:
