@@ -201,10 +201,7 @@ std::vector<ConduitFaults::JunctionLink> ConduitFaults::junction_links() const
   for (const FaultJunction& j : _junctions)
   {
     const auto index = static_cast<std::size_t>(&j - _junctions.data());
-    std::set<std::size_t> faults(j.faults.begin(), j.faults.end());
-    double r = 0;
-    for (std::size_t f : faults)
-      r += _conduits[f].normal_resistance / static_cast<double>(faults.size());
+    const double r = junction_resistance(j);
     std::vector<double> h;
     for (std::size_t i = 0; i < j.cells.size(); ++i)
       h.push_back(j.measure / (j.distances[i] / t[j.faults[i]][j.cells[i]] + r));
@@ -215,6 +212,15 @@ std::vector<ConduitFaults::JunctionLink> ConduitFaults::junction_links() const
                          {j.faults[a], j.faults[b]}, h[a] * h[b] / sum, &j.point, index});
   }
   return links;
+}
+
+double ConduitFaults::junction_resistance(const FaultJunction& j) const
+{
+  std::set<std::size_t> faults(j.faults.begin(), j.faults.end());
+  double r = 0;
+  for (std::size_t f : faults)
+    r += _conduits[f].normal_resistance / static_cast<double>(faults.size());
+  return r;
 }
 
 std::pair<std::vector<std::size_t>, std::vector<double>> ConduitFaults::held_ends(const Conduit& c) const
@@ -286,7 +292,7 @@ void ConduitFaults::begin_step()
     if (!c.conducting.empty()) // the step starts from w_h, as a restart does
       c.conducting = c.aperture;
   }
-  _relaxing = _lagged = false;
+  _relaxing = _lagged = _newton = false;
   _relaxation = 1;
   _stalled = 0;
 }
@@ -335,7 +341,9 @@ double ConduitFaults::relax_conducting()
   // in one solve; the split, where an open cell's lagged w_h^3 can move p_f
   // more than its fixed-stress term holds: a 2-cycle); from then to the
   // step's end by Aitken's factor, omega = -omega (r_old . (r - r_old)) /
-  // |r - r_old|^2.
+  // |r - r_old|^2, except that the monolithic step, once that factor comes
+  // out negative, takes the lag whole with Newton's term of the
+  // transmissibilities (newton(), flux_jacobian).
   double dot = 0, norm = 0, lag = 0, lag_old = 0, moved = 0;
   for (Conduit& c : _conduits)
   {
@@ -352,8 +360,12 @@ double ConduitFaults::relax_conducting()
   const bool stalled = _lagged and lag > (_implicit ? relaxed_above * relaxed_above : 1.0) * lag_old;
   _stalled = stalled ? _stalled + 1 : 0;
   _relaxing = _relaxing or _stalled >= (_implicit ? 1 : stalled_iterations);
-  if (_relaxing and norm > 0)
-    _relaxation = std::clamp(-_relaxation * dot / norm, 1e-3, 1.0);
+  if (_relaxing and norm > 0 and !_newton)
+  {
+    const double aitken = -_relaxation * dot / norm;
+    _newton = _implicit and aitken < 0;
+    _relaxation = _newton ? 1.0 : std::clamp(aitken, 1e-3, 1.0);
+  }
   for (Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.aperture.size(); ++k)
     {

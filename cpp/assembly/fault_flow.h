@@ -63,8 +63,9 @@ constexpr double open_fraction = 1e-6;
 
 /// The conducting apertures of the cubic law follow w_h whole while the lag
 /// between them shrinks by this factor per iteration (the monolithic step's
-/// aperture iterations, the split's coupling iterations), by Aitken's
-/// relaxation once it does not (theory.md, "Flow in a fault").
+/// aperture iterations, the split's coupling iterations); once it does not,
+/// the split relaxes them by Aitken's factor and the monolithic step takes
+/// Newton's term of the transmissibilities (theory.md, "Flow in a fault").
 constexpr double relaxed_above = 0.9;
 /// In the split, whose lag shrinks at the coupling's rate after a transient,
 /// Aitken's relaxation starts once the lag grew at this many coupling
@@ -134,6 +135,25 @@ public:
   /// the closure's aperture, explicit in load, moves p_f).
   std::vector<double> opening_rates(const FineStep& step, std::span<const double> p_old,
                                     std::span<const double> p_iterate) const;
+  /// Whether the monolithic step's aperture iteration carries Newton's term
+  /// of the transmissibilities (flux_jacobian), the conducting apertures
+  /// then following w_h whole: from the iteration at which its relaxation's
+  /// Aitken factor comes out negative (the map w_c -> w_h amplifies the
+  /// lag: a positive factor can only crawl) to the step's end. Not sooner:
+  /// far from the solution Newton's step on the cubic law overshoots and
+  /// the contact solve fails (docs/theory.md).
+  bool newton() const { return _newton; }
+  /// Newton's term of the cubic law: D_km = dN_k/dw_m, the derivative of
+  /// cell k's flux terms N_k = -sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k -
+  /// p_D) (junctions' links included) by the conducting aperture w_m of
+  /// each cell m open at the last set_openings, at the faults' pressure `p`
+  /// (the last rank's) and time t (p_D); zero before newton(). Entries of
+  /// closed cells stay as zeros, so the structure does not change as cells
+  /// open (collective).
+  Mat flux_jacobian(std::span<const double> p, double t) const;
+  /// w_h - w_c per cell, the hydraulic aperture's lead on the conducting
+  /// one that relax_conducting left (the last rank's).
+  std::vector<double> conducting_lag() const;
   /// How far the last set_openings moved the hydraulic apertures: the
   /// largest change relative to the largest aperture, infinite where a
   /// cell opened or closed (the monolithic step's aperture iteration).
@@ -254,6 +274,14 @@ private:
   /// t per cell: k_f w / mu_f with the fault's own permeability, else the
   /// cubic law's w^3 / (12 mu_f); w the conducting aperture.
   std::vector<double> conductance(const Conduit& c) const;
+  /// dt/dw per cell at the conducting aperture where the cell is open, 0
+  /// where closed and before newton() (fault_flow_jacobian.cpp).
+  std::vector<double> conductance_slope(const Conduit& c) const;
+  /// The intersection's own resistance r_j at junction j: the mean of
+  /// mu_f / (2 k_n) over the faults that meet there.
+  double junction_resistance(const FaultJunction& j) const;
+  /// Adds the junctions' share of flux_jacobian to D.
+  void add_junction_jacobian(std::span<const double> p, Mat D) const;
   /// @brief Two members of a junction and the transmissibility between them.
   struct JunctionLink
   {
@@ -292,6 +320,7 @@ private:
   double _relaxation = 1;  // Aitken's factor of the conducting apertures
   bool _lagged = false;    // a lag of this step is known
   bool _relaxing = false;  // the conducting apertures are relaxed (relax_conducting)
+  bool _newton = false;    // Newton's term of the transmissibilities is on (newton())
   int _stalled = 0;        // iterations in a row whose lag did not shrink (relax_conducting)
 };
 

@@ -74,6 +74,7 @@ MonolithicConduits::~MonolithicConduits()
 {
   warn_petsc(MatDestroy(&_J), "the conduit faults: MatDestroy");
   warn_petsc(MatDestroy(&_E), "the conduit faults: MatDestroy");
+  warn_petsc(MatDestroy(&_G), "the conduit faults: MatDestroy");
   warn_petsc(VecDestroy(&_cells), "the conduit faults: VecDestroy");
 }
 
@@ -88,14 +89,19 @@ FineStep MonolithicConduits::step(double t) const
   return {t, _problem.constants.at("dt")->value[0], 1, 1, _derivative.coefficients()};
 }
 
-void MonolithicConduits::append(System& system) const
+void MonolithicConduits::append(System& system)
 {
   Mat B_z = _faults->exchange(_rows), E = nullptr;
   check_conduits(MatDuplicate(_E, MAT_COPY_VALUES, &E), "MatDuplicate of E"); // the System takes it
-  // B = B_z - (|k|/dt) O J: every entry of J kept, zero where closed, so
-  // that the structure stays as cells open and close.
-  Mat B = nullptr;
-  check_conduits(MatDuplicate(_J, MAT_COPY_VALUES, &B), "MatDuplicate of J");
+  // B = B_z + M J, M = G - (|k|/dt) O: Newton's term of the open cells'
+  // transmissibilities (G at this iterate's p_f, kept for load's
+  // right-hand side) and their opening rate (opening_rates); every entry of
+  // J and G kept, zero where closed, so the structure stays as cells open
+  // and close.
+  check_conduits(MatDestroy(&_G), "MatDestroy of G");
+  _G = _faults->flux_jacobian(_pressure, _time);
+  Mat M = nullptr, B = nullptr;
+  check_conduits(MatDuplicate(_G, MAT_COPY_VALUES, &M), "MatDuplicate of G");
   const std::vector<double> rates = _faults->opening_rates(step(0), _pressure_old, _pressure);
   Vec factors = nullptr;
   check_conduits(VecDuplicate(_cells, &factors), "VecDuplicate");
@@ -103,9 +109,11 @@ void MonolithicConduits::append(System& system) const
   check_conduits(VecGetArray(factors, &r), "VecGetArray");
   std::copy(rates.begin(), rates.end(), r);
   check_conduits(VecRestoreArray(factors, &r), "VecRestoreArray");
-  check_conduits(MatDiagonalScale(B, factors, nullptr), "MatDiagonalScale of B");
+  check_conduits(MatDiagonalSet(M, factors, ADD_VALUES), "MatDiagonalSet of M");
+  check_conduits(MatMatMult(M, _J, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &B), "MatMatMult of M and J");
   check_conduits(MatAXPY(B, 1.0, B_z, DIFFERENT_NONZERO_PATTERN), "MatAXPY of B");
   check_conduits(VecDestroy(&factors), "VecDestroy");
+  check_conduits(MatDestroy(&M), "MatDestroy of M");
   check_conduits(MatDestroy(&B_z), "MatDestroy of B_z");
   system.append({B, _faults->operator_matrix(step(0).dt), _faults->face_resistance(),
                  std::vector<double>(_faults->owned(), 0.0), _pressure, E});
@@ -129,17 +137,30 @@ void MonolithicConduits::begin_step(System& system, la::Vector<double>& u, std::
 
 void MonolithicConduits::load(System& system, la::Vector<double>& x, double t)
 {
+  _time = t;
   AppendedUnknowns& appended = system.appended();
   _faults->load(step(t), _pressure_old, _pressure, appended.b);
-  // The open cells' volume at u^i, which B's rows move to u^{i+1}.
+  // The open cells' volume at u^i, which B's rows move to u^{i+1}, and
+  // Newton's term at u^i: G (J u^i - (w_h - w_c)), the transmissibilities'
+  // change from the conducting apertures w_c to w_h(u^{i+1}).
   la::petsc::Vector X = wrap(x);
   check_conduits(MatMult(_J, X.vec(), _cells), "MatMult by J");
+  Vec newton = nullptr;
+  check_conduits(VecDuplicate(_cells, &newton), "VecDuplicate");
   const std::vector<double> rates = _faults->opening_rates(step(t), _pressure_old, _pressure);
-  const double* Ju = nullptr;
-  check_conduits(VecGetArrayRead(_cells, &Ju), "VecGetArrayRead");
+  const std::vector<double> lag = _faults->conducting_lag();
+  double* Ju = nullptr;
+  check_conduits(VecGetArray(_cells, &Ju), "VecGetArray");
   for (std::size_t k = 0; k < rates.size(); ++k)
-    appended.b[k] += rates[k] * Ju[k];
-  check_conduits(VecRestoreArrayRead(_cells, &Ju), "VecRestoreArrayRead");
+    appended.b[k] += rates[k] * Ju[k], Ju[k] -= lag[k];
+  check_conduits(VecRestoreArray(_cells, &Ju), "VecRestoreArray");
+  check_conduits(MatMult(_G, _cells, newton), "MatMult by G");
+  const double* n = nullptr;
+  check_conduits(VecGetArrayRead(newton, &n), "VecGetArrayRead");
+  for (std::size_t k = 0; k < rates.size(); ++k)
+    appended.b[k] += n[k];
+  check_conduits(VecRestoreArrayRead(newton, &n), "VecRestoreArrayRead");
+  check_conduits(VecDestroy(&newton), "VecDestroy");
   appended.x = _pressure;
 }
 

@@ -1,15 +1,15 @@
-// The conduit faults' pressure in the monolithic step (docs/theory.md
-// "Flow in a fault", "The monolithic solve with p_f"; the prototype's twin
-// is python_prototype/steps/monolithic_conduits.py): p_f, one unknown per
-// fault cell, appended to the coupled system x = (u, z, p),
-//     [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
-//     E = B_z^T - J^T |k|      the faces' pressure p_f (B_z: the exchange with
-//                              their fluxes, fault_flow.h) and p_f pushing them
-//                              apart (fault_aperture.h), zero on Dirichlet rows;
-//     B = B_z - (|k|/dt) O J   the exchange, and the rate of the open cells'
-//                              opening (O: 1 on open cells);
-//     C                        the fault's own rows (fault_flow.h), with no
-//                              fixed-stress term in open cells.
+// The conduit faults' pressure in the monolithic step (docs/theory.md "The
+// monolithic solve with p_f"; twin python_prototype/steps/
+// monolithic_conduits.py): p_f, one unknown per fault cell, appended to the
+// coupled system x = (u, z, p), [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
+//     E = B_z^T - J^T |k|   the faces' pressure p_f (B_z: the exchange with
+//                           their fluxes, fault_flow.h) and p_f pushing them
+//                           apart (fault_aperture.h), zero on Dirichlet rows;
+//     B = B_z + M J         the exchange and the open cells' opening (J: the
+//                           cells' mean jump), M = G - (|k|/dt) O with G
+//                           Newton's term of their transmissibilities;
+//     C                     the fault's own rows (fault_flow.h), with no
+//                           fixed-stress term in open cells.
 #pragma once
 
 #include "assembly/fault_aperture.h"
@@ -45,13 +45,16 @@ struct MixedSpace
 /// @brief The conduit faults of the monolithic step: their rows of the
 /// coupled system and the iteration on their apertures.
 ///
-/// The transmissivity w_h^3/(12 mu_f), which cells are open and a closure's
-/// aperture follow the solution: each step iterates on them (Picard). At
+/// Which cells are open, their transmissivity w_h^3/(12 mu_f) and a
+/// closure's aperture follow the solution: each step iterates on them. At
 /// iterate i, b_f holds the volume with its open cells' opening taken at
-/// u^i, |k| (w_h^i - w_h^start)/dt - (|k|/dt) (O J u^i), which the solve
-/// moves to u^{i+1}; closed cells keep their closure's fixed-stress term,
-/// which vanishes as p_f settles. The iteration stops when the apertures
-/// and p_f move by at most the coupling's tolerance.
+/// u^i, |k| (w_h^i - w_h^start)/dt - (|k|/dt) (O J u^i), and Newton's term
+/// of the transmissibilities, G (J u^i - (w_h^i - w_c)) with G = dN/dw_c
+/// at p_f^i (ConduitFaults::flux_jacobian), which the solve moves to
+/// u^{i+1}: a Newton iteration on the open cells' apertures, from the
+/// conducting ones w_c. Closed cells keep their closure's fixed-stress
+/// term, which vanishes as p_f settles. The iteration stops when the
+/// apertures and p_f move by at most the coupling's tolerance.
 class MonolithicConduits
 {
 public:
@@ -66,7 +69,7 @@ public:
 
   /// Appends the rows at the current apertures and dt to `system` (again
   /// after a change: the same structure).
-  void append(System& system) const;
+  void append(System& system);
   /// The step starts from x (the coupled unknowns, ghosts updated) and the
   /// cells' effective normal stress `s_n` (empty before any contact
   /// solve): p_f now is the step's p_f^old, and the apertures are x's.
@@ -120,6 +123,8 @@ private:
   Mat _J = nullptr;       // J R: the cells' mean jump of X's displacement
   Vec _cells = nullptr;   // on J's rows
   Mat _E = nullptr;       // B_z^T - J^T |k|, zero on Dirichlet rows: the same at every append
+  Mat _G = nullptr;       // Newton's term of the transmissibilities at the last append (flux_jacobian)
+  double _time = 0;       // of the last load: the held ends' p_D in G
   PetscInt _rows = 0;     // X's owned DOFs
   std::vector<double> _pressure, _pressure_old; // p_f, and at the step's start
   TimeDerivative _derivative;                   // of the step (set_time_derivative)

@@ -19,6 +19,7 @@ from ..domain.fault_cells import fault_network, well_cells
 from ..scene.input import FaultFlow
 from .boundary_conditions import fault_face_rows
 from .fault_compliance import closure_aperture, closure_compliance, open_patches, patch_compliance, softest_modulus
+from .fault_flow_jacobian import ConduitJacobian
 from .fault_flow_volumes import ConduitVolumes
 from .fault_volumes import FaultVolumes
 
@@ -81,8 +82,9 @@ OPEN_FRACTION = 1e-6
 
 # The conducting apertures of the cubic law follow w_h whole while the lag
 # between them shrinks by this factor per iteration (the monolithic step's
-# aperture iterations, the split's coupling iterations), by Aitken's
-# relaxation once it does not (theory.md, "Flow in a fault").
+# aperture iterations, the split's coupling iterations); once it does not,
+# the split relaxes them by Aitken's factor and the monolithic step takes
+# Newton's term of the transmissibilities (theory.md, "Flow in a fault").
 RELAXED_ABOVE = 0.9
 # In the split, whose lag shrinks at the coupling's rate after a transient,
 # Aitken's relaxation starts once the lag grew at this many coupling
@@ -98,7 +100,7 @@ def transmissibilities(t, edges):
     return edges.measures / np.sum(edges.distances / t[edges.cells], axis=1)
 
 
-class ConduitFaults(ConduitVolumes):
+class ConduitFaults(ConduitVolumes, ConduitJacobian):
     """The conduit faults of a scene: their cells, numbered fault by fault
     in the scene's order, appended after the flow system's unknowns on the
     last rank (a fault holds few facets); the faces' flux DOFs on the ranks
@@ -143,6 +145,12 @@ class ConduitFaults(ConduitVolumes):
         # the conducting apertures: a lag of this step known, relaxed
         # (_relax_conducting), and Aitken's factor
         self.lagged = self.relaxing = False
+        # Newton's term of the transmissibilities is on in the monolithic
+        # step (flux_jacobian), the conducting apertures following w_h whole:
+        # from the iteration at which Aitken's factor comes out negative (the
+        # map w_c -> w_h amplifies the lag) to the step's end
+        # (cpp/assembly/fault_flow.h's newton()).
+        self.newton = False
         self.stalled = 0  # iterations in a row whose lag did not shrink
         self.relaxation = 1.0
 
@@ -240,10 +248,7 @@ class ConduitFaults(ConduitVolumes):
         t = [self._conductance(conduit) for conduit in self.faults]
         links = []
         for index, j in enumerate(self.junctions):
-            faults = sorted(set(j.faults))
-            r = 0.0
-            for f in faults:
-                r += self.faults[f].normal_resistance / len(faults)
+            r = self._junction_resistance(j)
             h = [j.measure / (d / t[f][k] + r) for f, k, d in zip(j.faults, j.cells, j.distances)]
             total = sum(h)
             for a in range(len(h)):
@@ -331,7 +336,9 @@ class ConduitFaults(ConduitVolumes):
         with p_f in one solve; the split, where an open cell's lagged w_h^3
         can move p_f more than its fixed-stress term holds: a 2-cycle); from
         then to the step's end by Aitken's factor, omega = -omega (r_old .
-        (r - r_old)) / |r - r_old|^2."""
+        (r - r_old)) / |r - r_old|^2, except that the monolithic step, once
+        that factor comes out negative, takes the lag whole with Newton's
+        term of the transmissibilities (newton, flux_jacobian)."""
         dot = norm = lag = lag_old = moved = 0.0
         for conduit in self.faults:
             if conduit.conducting is None:
@@ -347,8 +354,10 @@ class ConduitFaults(ConduitVolumes):
         stalled = self.lagged and lag > (RELAXED_ABOVE ** 2 if self.implicit else 1.0) * lag_old
         self.stalled = self.stalled + 1 if stalled else 0
         self.relaxing = self.relaxing or self.stalled >= (1 if self.implicit else STALLED_ITERATIONS)
-        if self.relaxing and norm > 0:
-            self.relaxation = min(max(-self.relaxation * dot / norm, 1e-3), 1.0)
+        if self.relaxing and norm > 0 and not self.newton:
+            aitken = -self.relaxation * dot / norm
+            self.newton = self.implicit and aitken < 0
+            self.relaxation = 1.0 if self.newton else min(max(aitken, 1e-3), 1.0)
         for conduit in self.faults:
             conduit.lag = conduit.aperture - conduit.conducting
             conduit.conducting = conduit.conducting + self.relaxation * conduit.lag
@@ -396,7 +405,7 @@ class ConduitFaults(ConduitVolumes):
             conduit.open = np.zeros_like(conduit.open)
             if conduit.conducting is not None:  # the step starts from w_h, as a restart does
                 conduit.conducting = conduit.aperture.copy()
-        self.lagged = self.relaxing = False  # no lag of this step known yet
+        self.lagged = self.relaxing = self.newton = False  # no lag of this step known yet
         self.relaxation = 1.0
         self.stalled = 0  # iterations in a row whose lag did not shrink (_relax_conducting)
 

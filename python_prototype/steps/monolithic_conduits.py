@@ -6,8 +6,9 @@ coupled system x = (u, z, p),
     E = B_z^T - J^T |k|      the faces' pressure p_f (B_z: the exchange with
                              their fluxes, fault_flow.py) and p_f pushing them
                              apart (fault_aperture.py), zero on Dirichlet rows;
-    B = B_z - (|k|/dt) O J   the exchange, and the rate of the open cells'
-                             opening (O: 1 on open cells);
+    B = B_z + M J            the exchange and the open cells' opening (J: the
+                             cells' mean jump), M = G - (|k|/dt) O with G
+                             Newton's term of their transmissibilities;
     C                        the fault's own rows (fault_flow.py), with no
                              fixed-stress term in open cells."""
 import dataclasses
@@ -44,18 +45,23 @@ class MonolithicConduits:
     """The conduit faults of the monolithic step: their rows of the coupled
     system and the iteration on their apertures.
 
-    The transmissivity, which cells are open and a closure's aperture follow
-    the solution: each step iterates on them (Picard). At iterate i, b_f
-    holds the volume with its open cells' opening taken at u^i, which the
-    solve moves to u^{i+1}; closed cells keep their closure's fixed-stress
-    term, which vanishes as p_f settles. The iteration stops when the
-    apertures and p_f move by at most the coupling's tolerance."""
+    Which cells are open, their transmissivity and a closure's aperture
+    follow the solution: each step iterates on them. At iterate i, b_f holds
+    the volume with its open cells' opening taken at u^i, and Newton's term
+    of the transmissibilities, G (J u^i - (w_h^i - w_c)) with G = dN/dw_c at
+    p_f^i (ConduitFaults.flux_jacobian), which the solve moves to u^{i+1}: a
+    Newton iteration on the open cells' apertures, from the conducting ones
+    w_c. Closed cells keep their closure's fixed-stress term, which vanishes
+    as p_f settles. The iteration stops when the apertures and p_f move by
+    at most the coupling's tolerance."""
 
     def __init__(self, problem, space):
         self.problem = problem
         faults = ConduitFaults(problem.scene, problem.domain, space.X.sub(1), space.flux)
         self.faults = faults if faults else None
         self.derivative = TimeDerivative()  # of the step (set_time_derivative)
+        self.G = None     # Newton's term of the transmissibilities at the last append (flux_jacobian)
+        self.time = 0.0   # of the last load: the held ends' p_D in G
         if not faults:
             return
         faults.with_implicit_openings()
@@ -110,12 +116,17 @@ class MonolithicConduits:
         """Appends the rows at the current apertures and dt to `system` (again
         after a change: the same structure)."""
         B_z = self.faults.exchange(self.rows)
-        # B = B_z - (|k|/dt) O J: every entry of J kept, zero where closed, so
-        # that the structure stays as cells open and close
-        B = self.J.copy()
+        # B = B_z + M J, M = G - (|k|/dt) O: Newton's term of the open cells'
+        # transmissibilities (G at this iterate's p_f, kept for load's
+        # right-hand side) and their opening rate (opening_rates); every entry
+        # of J and G kept, zero where closed, so the structure stays as cells
+        # open and close.
+        self.G = self.faults.flux_jacobian(self.pressure, self.time)
+        M = self.G.copy()
         factors = self.cells.duplicate()
         factors.array[:] = self.faults.opening_rates(self._step(0.0), self.pressure_old, self.pressure)
-        B.diagonalScale(factors, None)
+        M.setDiagonal(factors, addv=PETSc.InsertMode.ADD_VALUES)
+        B = M.matMult(self.J)
         B.axpy(1.0, B_z, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
         system.append(AppendedUnknowns(B, self.faults.operator_matrix(self._step(0.0).dt), self.faults.face_resistance(),
                                        np.zeros(self.faults.owned), self.pressure.copy(), self.E.copy()))
@@ -132,11 +143,19 @@ class MonolithicConduits:
     def load(self, system, x, t):
         """b_f of iterate i at time t from x = x^i (a vector of X), and p_f^i
         as the guess."""
+        self.time = t
         appended = system.appended
         self.faults.load(self._step(t), self.pressure_old, self.pressure, appended.b)
-        # the open cells' volume at u^i, which B's rows move to u^{i+1}
+        # The open cells' volume at u^i, which B's rows move to u^{i+1}, and
+        # Newton's term at u^i: G (J u^i - (w_h - w_c)), the
+        # transmissibilities' change from the conducting apertures w_c to
+        # w_h(u^{i+1}).
         self.J.mult(x, self.cells)
         appended.b[:] += self.faults.opening_rates(self._step(0.0), self.pressure_old, self.pressure) * self.cells.array_r
+        self.cells.array[:] -= self.faults.conducting_lag()
+        newton = self.cells.duplicate()
+        self.G.mult(self.cells, newton)
+        appended.b[:] += newton.array_r
         appended.x[:] = self.pressure
 
     def update(self, system, u, s_n):

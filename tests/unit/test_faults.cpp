@@ -11,6 +11,7 @@
 // and ends; the cells a well meets; the two-point transmissibility; BDF2's
 // history value of the fault's storage.
 #include "assembly/fault_flow.h"
+#include "assembly/fault_flow_jacobian.h"
 #include "domain/fault_cells.h"
 #include "domain/faults.h"
 #include "domain/gmsh_api.h"
@@ -740,6 +741,56 @@ TEST(FaultCells, Transmissibility)
   edges.points = {{0, 0, 0}};
   // |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
   EXPECT_EQ(transmissibilities(std::vector<double>{1.0, 3.0}, edges), std::vector<double>{2.0});
+}
+
+TEST(FaultCells, TransmissibilitySlopes)
+{
+  // dT/dw of a link (width 2) and of an end (width 1) against central
+  // differences of transmissibilities, with the cubic law's t = w^3.
+  FaultEdges links(2), ends(1);
+  links.cells = {0, 1}, links.measures = {2.0}, links.distances = {0.5, 1.5}, links.points = {{0, 0, 0}};
+  ends.cells = {1}, ends.measures = {0.7}, ends.distances = {0.25}, ends.points = {{0, 0, 0}};
+  auto cubed = [](std::vector<double> w)
+  {
+    for (double& x : w)
+      x = x * x * x;
+    return w;
+  };
+  const std::vector<double> w{1.3, 0.6}, slope{3 * 1.3 * 1.3, 3 * 0.6 * 0.6};
+  for (const FaultEdges* edges : {&links, &ends})
+  {
+    const std::vector<double> dT = transmissibility_slopes(cubed(w), slope, *edges);
+    for (int i = 0; i < edges->width; ++i)
+    {
+      std::vector<double> up = w, down = w;
+      const double h = 1e-6;
+      up[edges->cells[i]] += h, down[edges->cells[i]] -= h;
+      const double fd = (transmissibilities(cubed(up), *edges)[0] - transmissibilities(cubed(down), *edges)[0]) / (2 * h);
+      EXPECT_NEAR(dT[i], fd, 1e-7 * std::abs(fd));
+    }
+  }
+}
+
+TEST(FaultCells, JunctionStarDerivative)
+{
+  // dN_a/dh_c of three members against central differences of N_a = -h_a
+  // (p_a - p_j); the fluxes into the junction sum to zero for every h, so
+  // each column sums to zero.
+  const std::vector<double> h{2.0, 0.5, 1.25}, p{3.0, -1.0, 0.5};
+  auto N = [&p](const std::vector<double>& g, std::size_t a)
+  {
+    const double p_j = (g[0] * p[0] + g[1] * p[1] + g[2] * p[2]) / (g[0] + g[1] + g[2]);
+    return -g[a] * (p[a] - p_j);
+  };
+  const std::vector<double> dN = star_flux_derivative(h, p);
+  for (std::size_t c = 0; c < 3; ++c)
+  {
+    std::vector<double> up = h, down = h;
+    up[c] += 1e-6, down[c] -= 1e-6;
+    for (std::size_t a = 0; a < 3; ++a)
+      EXPECT_NEAR(dN[3 * a + c], (N(up, a) - N(down, a)) / 2e-6, 1e-8);
+    EXPECT_NEAR(dN[c] + dN[3 + c] + dN[6 + c], 0.0, 1e-14);
+  }
 }
 
 TEST(FaultCells, HistoryValue)

@@ -23,6 +23,7 @@ import support  # noqa: E402,F401  (the repository on sys.path)
 from python_prototype.assembly.fault_compliance import (closure_aperture, closure_compliance,  # noqa: E402
                                                         open_patches, patch_compliance)
 from python_prototype.assembly.fault_flow import FineStep, history_value, transmissibilities  # noqa: E402
+from python_prototype.assembly.fault_flow_jacobian import star_flux_derivative, transmissibility_slopes  # noqa: E402
 from python_prototype.domain.fault_cells import FaultEdges, fault_cells, fault_network, well_cells  # noqa: E402
 from python_prototype.domain.faults import FaultRequest, InputMesh, split_along_faults  # noqa: E402
 from python_prototype.scene.scene import ClosureSpec, WellSpec  # noqa: E402
@@ -499,6 +500,37 @@ class Cells(unittest.TestCase):
         edges = FaultEdges(np.array([[0, 1]]), np.array([2.0]), np.array([[0.5, 1.5]]), np.zeros((1, 3)))
         # |e| / (d_0/t_0 + d_1/t_1) = 2 / (0.5/1 + 1.5/3)
         np.testing.assert_array_equal(transmissibilities(np.array([1.0, 3.0]), edges), [2.0])
+
+    def test_transmissibility_slopes(self):
+        # dT/dw of a link (width 2) and of an end (width 1) against central
+        # differences of transmissibilities, with the cubic law's t = w^3.
+        links = FaultEdges(np.array([[0, 1]]), np.array([2.0]), np.array([[0.5, 1.5]]), np.zeros((1, 3)))
+        ends = FaultEdges(np.array([[1]]), np.array([0.7]), np.array([[0.25]]), np.zeros((1, 3)))
+        w = np.array([1.3, 0.6])
+        for edges in (links, ends):
+            dT = transmissibility_slopes(w ** 3, 3 * w ** 2, edges)
+            for i, k in enumerate(edges.cells[0]):
+                up, down = w.copy(), w.copy()
+                up[k] += 1e-6
+                down[k] -= 1e-6
+                fd = (transmissibilities(up ** 3, edges)[0] - transmissibilities(down ** 3, edges)[0]) / 2e-6
+                self.assertAlmostEqual(dT[0, i], fd, delta=1e-7 * abs(fd))
+
+    def test_junction_star_derivative(self):
+        # dN_a/dh_c of three members against central differences of N_a =
+        # -h_a (p_a - p_j); the fluxes into the junction sum to zero for every
+        # h, so each column sums to zero.
+        h, p = np.array([2.0, 0.5, 1.25]), np.array([3.0, -1.0, 0.5])
+
+        def N(g):
+            return -g * (p - g @ p / g.sum())
+        dN = star_flux_derivative(h, p)
+        for c in range(3):
+            up, down = h.copy(), h.copy()
+            up[c] += 1e-6
+            down[c] -= 1e-6
+            np.testing.assert_allclose(dN[:, c], (N(up) - N(down)) / 2e-6, rtol=0, atol=1e-8)
+            self.assertAlmostEqual(dN[:, c].sum(), 0.0, delta=1e-14)
 
     def test_history_value(self):
         # y = t^2 at t = 0, 1, 3: the step dt = 2 after dt = 1 (w = 2) has
