@@ -15,13 +15,8 @@ namespace biotcontact
 
 namespace
 {
-/// check_petsc with "the conduit faults' Jacobian: <call>", the text built
-/// only when the call failed (MatSetValue runs once per link).
-void check_jacobian(PetscErrorCode code, const char* call)
-{
-  if (code != 0)
-    check_petsc(code, std::string("the conduit faults' Jacobian: ") + call);
-}
+/// check_petsc for the Jacobian's calls (MatSetValue runs once per link).
+void check_jacobian(PetscErrorCode code, const char* call) { check_petsc(code, "the conduit faults' Jacobian", call); }
 } // namespace
 
 std::vector<double> transmissibility_slopes(std::span<const double> t, std::span<const double> slope,

@@ -26,6 +26,12 @@ void check_petsc(PetscErrorCode code, std::string_view what)
     throw SolverError(std::string(what) + ": " + petsc_error_text(code));
 }
 
+void check_petsc(PetscErrorCode code, const char* context, const char* call)
+{
+  if (code != 0)
+    check_petsc(code, std::string(context) + ": " + call);
+}
+
 void warn_petsc(PetscErrorCode code, const char* what) noexcept
 {
   if (code != 0)

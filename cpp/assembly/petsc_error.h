@@ -28,6 +28,10 @@ std::string petsc_error_text(PetscErrorCode code);
 /// A string literal as `what` costs nothing when the call succeeded.
 void check_petsc(PetscErrorCode code, std::string_view what);
 
+/// check_petsc with "<context>: <call>", the text built only when the call
+/// failed (for calls made once per entry or cell).
+void check_petsc(PetscErrorCode code, const char* context, const char* call);
+
 /// For destructors, which cannot throw: one warning line on stderr when a
 /// PETSc call failed (a release that failed leaks, it corrupts nothing).
 void warn_petsc(PetscErrorCode code, const char* what) noexcept;

@@ -12,11 +12,7 @@ namespace biotcontact
 namespace
 {
 /// check_petsc for the change of variables' calls; `what` names the call.
-void check(PetscErrorCode code, const char* what)
-{
-  if (code != 0)
-    check_petsc(code, std::string("the change of variables: ") + what);
-}
+void check(PetscErrorCode code, const char* what) { check_petsc(code, "the change of variables", what); }
 
 double dot(const double* a, const double* b, int d)
 {

@@ -9,11 +9,7 @@ namespace biotcontact
 namespace
 {
 /// check_petsc for the Schur complement's calls; `what` names the call.
-void check(PetscErrorCode code, const char* what)
-{
-  if (code != 0)
-    check_petsc(code, std::string("the Schur complement: ") + what);
-}
+void check(PetscErrorCode code, const char* what) { check_petsc(code, "the Schur complement", what); }
 } // namespace
 
 SchurComplement::SchurComplement(MPI_Comm comm, const std::string& prefix, Mat A, Structure structure,

@@ -14,13 +14,9 @@ using namespace dolfinx;
 
 namespace
 {
-/// check_petsc with "the conduit faults: <call>", the text built only when
-/// the call failed (VecSetValue runs once per fault cell).
-void check_conduits(PetscErrorCode code, const char* call)
-{
-  if (code != 0)
-    check_petsc(code, std::string("the conduit faults: ") + call);
-}
+/// check_petsc for the conduit faults' calls (VecSetValue runs once per
+/// fault cell).
+void check_conduits(PetscErrorCode code, const char* call) { check_petsc(code, "the conduit faults", call); }
 } // namespace
 
 MonolithicConduits::MonolithicConduits(const Problem& problem, const MixedSpace& space) : _problem(problem)
