@@ -51,10 +51,6 @@ def locate_contact(scene, domain, F, V):
     return c
 
 
-# What a friction that fails to converge most often means.
-NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
-
-
 def check_contact(scene, domain):
     """`check`'s look at the contact: the pairs made as a run makes them (a
     fault's gap and normal, where it meets a foundation) in the scene's
