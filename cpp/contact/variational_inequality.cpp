@@ -8,8 +8,13 @@ namespace biotcontact
 {
 namespace
 {
-/// What a friction that fails to converge most often means.
-constexpr const char* no_equilibrium = " (a body that friction cannot hold has no quasi-static equilibrium)";
+/// What a friction whose Newton iteration does not settle (no linear
+/// solve failed) may mean: a body that friction cannot hold, or contact
+/// states that the step changes too much at once (a spreading opening:
+/// docs/theory.md, "Newton on the cubic law").
+constexpr const char* no_equilibrium = " (with friction: a body that friction cannot hold has no quasi-static "
+                                       "equilibrium, or the step is too long for the contact states to settle: "
+                                       "time.retry halves it)";
 } // namespace
 
 VariationalInequality::VariationalInequality(VIProblem problem, const std::optional<WholeSystem>& whole)
@@ -242,7 +247,8 @@ void VariationalInequality::solve(double scale)
   }
   if (reason < 0)
     throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
-                      + SNESConvergedReasons[reason] + (_J ? no_equilibrium : ""));
+                      + SNESConvergedReasons[reason]
+                      + (_J and reason != SNES_DIVERGED_LINEAR_SOLVE ? no_equilibrium : ""));
   check_petsc(VecScale(_y, scale), "contact solver: VecScale");
 }
 

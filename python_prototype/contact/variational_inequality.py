@@ -27,8 +27,12 @@ from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverE
 # PETSC_ERR_MAT_CH_ZRPVT), which petsc4py does not name.
 _ZERO_PIVOTS = (71, 81)
 
-# What a friction that fails to converge most often means.
-NO_EQUILIBRIUM = " (a body that friction cannot hold has no quasi-static equilibrium)"
+# What a friction whose Newton iteration does not settle (no linear solve
+# failed) may mean: a body that friction cannot hold, or contact states that
+# the step changes too much at once (a spreading opening: docs/theory.md,
+# "Newton on the cubic law").
+NO_EQUILIBRIUM = (" (with friction: a body that friction cannot hold has no quasi-static equilibrium, or the step "
+                  "is too long for the contact states to settle: time.retry halves it)")
 
 
 @dataclasses.dataclass
@@ -287,7 +291,8 @@ class VariationalInequality:
         if reason < 0:
             raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
                               + reason_name(PETSc.SNES.ConvergedReason, reason)
-                              + (NO_EQUILIBRIUM if self.J is not None else ""))
+                              + (NO_EQUILIBRIUM if self.J is not None
+                                 and reason != PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else ""))
         self.y.scale(scale)
 
     def _refactorised(self):
