@@ -6,16 +6,6 @@
 
 namespace biotcontact
 {
-namespace
-{
-/// What a friction whose Newton iteration does not settle (no linear
-/// solve failed) may mean: a body that friction cannot hold, or contact
-/// states that the step changes too much at once (a spreading opening:
-/// docs/theory.md, "Newton on the cubic law").
-constexpr const char* no_equilibrium = " (with friction: a body that friction cannot hold has no quasi-static "
-                                       "equilibrium, or the step is too long for the contact states to settle: "
-                                       "time.retry halves it)";
-} // namespace
 
 VariationalInequality::VariationalInequality(VIProblem problem, const std::optional<WholeSystem>& whole)
     : _p(std::move(problem)), _whole(whole)

@@ -22,6 +22,14 @@
 namespace biotcontact
 {
 
+/// What a friction whose Newton iteration does not settle (no linear
+/// solve failed) may mean: a body that friction cannot hold, or contact
+/// states that the step changes too much at once (a spreading opening:
+/// docs/theory.md, "Newton on the cubic law").
+constexpr const char* no_equilibrium = " (with friction: a body that friction cannot hold has no quasi-static "
+                                       "equilibrium, or the step is too long for the contact states to settle: "
+                                       "time.retry halves it)";
+
 /// @brief A VI as the contact poses it: its communicator (the system's, or
 /// PETSC_COMM_SELF when every rank solves the same small problem), options
 /// prefix and log stage (none when empty), the prefix of the system it
