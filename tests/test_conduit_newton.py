@@ -43,9 +43,14 @@ def check_run(out, track):
     check(balance <= 1e-8, f"{track}: the fault's volumes balance to {balance:.1e} of the injected (1e-8)")
 
 
-cpp, _ = run_track("C++", scene("fault_reactivation"), *INJECTION)
-check_run(cpp, "C++")
-prototype, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION)
-check_run(prototype, "prototype")
-d = max_difference(cpp, prototype, ["displacement", "pressure"])
-check(max(d.values()) <= 1e-9, f"the prototype gives the C++ fields through the stall: {d} (1e-9)")
+def main():
+    cpp, _ = run_track("C++", scene("fault_reactivation"), *INJECTION)
+    check_run(cpp, "C++")
+    prototype, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION)
+    check_run(prototype, "prototype")
+    d = max_difference(cpp, prototype, ["displacement", "pressure"])
+    check(max(d.values()) <= 1e-9, f"the prototype gives the C++ fields through the stall: {d} (1e-9)")
+
+
+if __name__ == "__main__":
+    main()

@@ -133,6 +133,11 @@ DIFFERENCES = {
         "FacetFlux": "C++ only: the type of facet_flux's result, a function of the facets; Python's closures "
                      "need no type",
     },
+    "assembly/fault_flow_compliance": {
+        "ConduitCompliance": "Python only: the fixed-stress terms of ConduitFaults as its base class, whose "
+                             "methods read the faults' cells and open sets; in C++ those members of ConduitFaults "
+                             "are defined in fault_flow_compliance.cpp",
+    },
     "assembly/fault_flow_jacobian": {
         "ConduitJacobian": "Python only: Newton's term of ConduitFaults as its base class, whose methods read "
                            "the faults' cells, links, ends and junctions; in C++ those members of ConduitFaults "

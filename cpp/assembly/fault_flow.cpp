@@ -131,23 +131,6 @@ std::vector<double> ConduitFaults::storage(const Conduit& c, double dt) const
   return s;
 }
 
-void ConduitFaults::set_compliance(Conduit& c) const
-{
-  std::vector<char> stabilised(c.open.size());
-  for (std::size_t k = 0; k < stabilised.size(); ++k)
-    stabilised[k] = c.open[k] or c.open_before[k];
-  const std::vector<std::int64_t> patch = open_patches(c.cells->links, stabilised);
-  std::vector<double> size(c.cells->size(), 0.0);
-  for (std::size_t k = 0; k < patch.size(); ++k)
-    if (patch[k] >= 0)
-      size[patch[k]] += c.cells->measures[k];
-  for (std::size_t k = 0; k < patch.size() and _stabilised; ++k)
-    c.compliance[k] = _implicit and c.open[k] ? 0.0
-                      : patch[k] >= 0 and !_implicit ? patch_compliance(size[patch[k]], c.modulus, _dim)
-                      : c.closure                    ? closure_compliance(*c.closure, c.traction[k])
-                                                     : 0.0;
-}
-
 std::vector<double> ConduitFaults::opening_rates(const FineStep& step, std::span<const double> p_old,
                                                  std::span<const double> p_iterate) const
 {
@@ -166,14 +149,6 @@ std::vector<double> ConduitFaults::opening_rates(const FineStep& step, std::span
 std::vector<double> ConduitFaults::pressure_history(const FineStep& step, std::span<const double> p_old) const
 {
   return history_value(step, p_old, _pressure_before.empty() ? p_old : std::span<const double>(_pressure_before));
-}
-
-std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) const
-{
-  std::vector<double> s(c.cells->size());
-  for (std::size_t k = 0; k < s.size(); ++k)
-    s[k] = c.compliance[k] * c.cells->measures[k] / dt;
-  return s;
 }
 
 std::vector<double> ConduitFaults::conductance(const Conduit& c) const

@@ -127,6 +127,12 @@ public:
   /// monolithic step, whose rows -(|k|/dt) J u carry it: opening_rates):
   /// they take no fixed-stress term; closed cells keep their closure's.
   void with_implicit_openings() { _implicit = true; }
+  /// Per appended row (the last rank's) the fixed-stress term L_k/dt =
+  /// L_f |k|/dt that the split gives an open cell (its open patch's
+  /// patch_compliance), 0 in the others: what the monolithic system's
+  /// fixed-stress preconditioner adds to C's diagonal, its open cells
+  /// taking none in the system itself (with_implicit_openings).
+  std::vector<double> open_stabilisation(double dt) const;
   /// Per appended row (the last rank's) the factor of the cell's mean
   /// opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
   /// p^old)) (p^old the history value of `step`) where the cell was open
@@ -269,6 +275,9 @@ private:
   /// nothing. Why not L in every cell, and why the cells open at the iterate
   /// before keep the patch's L: docs/theory.md, "Flow in a fault".
   void set_compliance(Conduit& c) const;
+  /// Per cell of c, patch_compliance of the patch of cells open at either
+  /// of the last two mechanics iterates that it belongs to, -1 outside one.
+  std::vector<double> patch_compliances(const Conduit& c) const;
   /// L_k/dt = L_f |k|/dt in the open cells, 0 in the others.
   std::vector<double> stabilisation(const Conduit& c, double dt) const;
   /// t per cell: k_f w / mu_f with the fault's own permeability, else the

@@ -158,10 +158,6 @@ ClosureSpec read_closure(Section c)
 /// (else the cubic law), and the closure of its aperture.
 void read_conduit(Section& s, const Scene& scene, FaultSpec& f)
 {
-  if (scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic
-      and scene.solver.monolithic == SolverChoice::iterative)
-    s.fail("flow", "\"conduit\" with solver.monolithic = \"iterative\": the monolithic system with the fault's "
-                   "pressure is solved directly (\"direct\" or \"auto\")");
   if (scene.time_scheme == TimeScheme::bdf2 and scene.coupling
       and (scene.coupling->scheme == CouplingScheme::multirate
            or scene.coupling->scheme == CouplingScheme::multirate_two_pass))

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <dolfinx/fem/assembler.h>
+#include <functional>
 #include <sstream>
 
 namespace biotcontact
@@ -111,8 +112,13 @@ void MonolithicConduits::append(System& system)
   check_conduits(VecDestroy(&factors), "VecDestroy");
   check_conduits(MatDestroy(&M), "MatDestroy of M");
   check_conduits(MatDestroy(&B_z), "MatDestroy of B_z");
+  // The fixed-stress preconditioner's C (iterative path) takes the split's
+  // term -L_k/dt in the open cells, whose opening it leaves to the
+  // mechanics (alg. "Single-rate ... (a)" on the fault).
+  std::vector<double> L = _faults->open_stabilisation(step(0).dt);
+  std::transform(L.begin(), L.end(), L.begin(), std::negate<>());
   system.append({B, _faults->operator_matrix(step(0).dt), _faults->face_resistance(),
-                 std::vector<double>(_faults->owned(), 0.0), _pressure, E});
+                 std::vector<double>(_faults->owned(), 0.0), _pressure, E, std::move(L)});
 }
 
 void MonolithicConduits::set_time_derivative(System& system, const TimeDerivative& d)

@@ -58,13 +58,11 @@ MonolithicStep::MonolithicStep(const Problem& problem) : _problem(problem), _sce
   // the cell mass is often negligible against the coupling (S = 1e-12 in the
   // poroelastic Hertz scene): LU with pivoting. The iterative path is a
   // Krylov method preconditioned by the fixed-stress split (solver.h),
-  // built from a_monolithic_preconditioner and split along fields().
-  // With conduit faults the system is solved directly (System::append).
-  const bool conduits = std::any_of(scene.faults.begin(), scene.faults.end(),
-                                    [](const auto& f) { return f.second.flow == FaultFlow::conduit; });
+  // built from a_monolithic_preconditioner and split along fields() (the
+  // conduit faults' p_f joins the flow: System::append).
   _system = std::make_unique<System>(domain.mesh->comm(), _a, _bcs,
                                      SystemLayout{"monolithic_", Structure::general, fields()},
-                                     conduits ? SolverChoice::direct : scene.solver.monolithic,
+                                     scene.solver.monolithic,
                                      make_form(forms.a_monolithic_preconditioner, {_X, _X}, coefficients, constants,
                                                faces.get()));
   const FacetFlux flux = facet_flux(forms.L_monolithic_pressure, _X, domain, forms, constants);

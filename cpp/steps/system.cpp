@@ -71,7 +71,7 @@ System::~System()
 {
   _contact.reset();
   _linear.reset();
-  for (Mat* m : {&_A_tied, &_P_tied, &_A_appended, &_appended.B, &_appended.C, &_appended.E})
+  for (Mat* m : {&_A_tied, &_P_tied, &_A_appended, &_P_appended, &_appended.B, &_appended.C, &_appended.E})
     warn_petsc(MatDestroy(m), "a system: MatDestroy");
   for (Vec* v : {&_b_appended, &_x_appended, &_b_tied, &_y_tied})
     warn_petsc(VecDestroy(v), "a system: VecDestroy");
@@ -96,9 +96,8 @@ void System::tie(const std::vector<Tie>& ties)
                                            _fields);
 }
 
-Mat System::appended_operator() const
+Mat System::appended_operator(Mat a, const std::vector<double>* diagonal) const
 {
-  Mat a = _A_tied ? _A_tied : _A.mat();
   if (!_appended.diagonal.empty())
   {
     check_system(MatDuplicate(a, MAT_COPY_VALUES, &a), _prefix, "MatDuplicate of A");
@@ -107,10 +106,23 @@ Mat System::appended_operator() const
     check_system(MatAssemblyBegin(a, MAT_FINAL_ASSEMBLY), _prefix, "MatAssemblyBegin of A + D");
     check_system(MatAssemblyEnd(a, MAT_FINAL_ASSEMBLY), _prefix, "MatAssemblyEnd of A + D");
   }
+  Mat C = _appended.C;
+  if (diagonal) // on every rank: the calls are collective
+  {
+    Vec c = nullptr;
+    check_system(MatDuplicate(_appended.C, MAT_COPY_VALUES, &C), _prefix, "MatDuplicate of C");
+    check_system(MatCreateVecs(C, nullptr, &c), _prefix, "MatCreateVecs of C");
+    double* entries = nullptr;
+    check_system(VecGetArray(c, &entries), _prefix, "VecGetArray of C's diagonal");
+    std::copy(diagonal->begin(), diagonal->end(), entries);
+    check_system(VecRestoreArray(c, &entries), _prefix, "VecRestoreArray of C's diagonal");
+    check_system(MatDiagonalSet(C, c, ADD_VALUES), _prefix, "MatDiagonalSet of C");
+    check_system(VecDestroy(&c), _prefix, "VecDestroy of C's diagonal");
+  }
   Mat E = _appended.E, nest = nullptr, big = nullptr;
   if (!E)
     check_system(MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &E), _prefix, "MatTranspose of B");
-  std::array<Mat, 4> blocks{a, E, _appended.B, _appended.C};
+  std::array<Mat, 4> blocks{a, E, _appended.B, C};
   check_system(MatCreateNest(_comm, 2, nullptr, 2, nullptr, blocks.data(), &nest), _prefix, "MatCreateNest");
   check_system(MatConvert(nest, MATAIJ, MAT_INITIAL_MATRIX, &big), _prefix, "MatConvert of the appended system");
   check_system(MatDestroy(&nest), _prefix, "MatDestroy");
@@ -118,24 +130,28 @@ Mat System::appended_operator() const
     check_system(MatDestroy(&E), _prefix, "MatDestroy of B^T");
   if (!_appended.diagonal.empty())
     check_system(MatDestroy(&a), _prefix, "MatDestroy of A + D");
+  if (C != _appended.C)
+    check_system(MatDestroy(&C), _prefix, "MatDestroy of C + c");
   return big;
 }
 
 void System::append(AppendedUnknowns appended)
 {
   const bool first = _A_appended == nullptr;
-  // The fixed-stress preconditioner's matrix has no rows for y.
-  if (_P)
-    throw std::runtime_error(_prefix + ": appended unknowns (conduit faults) need the direct solver "
-                                       "(solver.monolithic = \"direct\")");
   for (Mat* m : {&_appended.B, &_appended.C, &_appended.E})
     check_system(MatDestroy(m), _prefix, "MatDestroy of the appended blocks");
   _appended = std::move(appended);
-  Mat big = appended_operator();
+  Mat big = appended_operator(_A_tied ? _A_tied : _A.mat(), nullptr);
+  // The fixed-stress preconditioner's matrix gets the same rows, its own
+  // fixed-stress term on C's diagonal.
+  Mat big_P = _P ? appended_operator(_P_tied ? _P_tied : _P->mat(), &_appended.preconditioner_diagonal) : nullptr;
   if (!first)
   {
     check_system(MatCopy(big, _A_appended, SAME_NONZERO_PATTERN), _prefix, "MatCopy of the appended system");
     check_system(MatDestroy(&big), _prefix, "MatDestroy");
+    if (big_P)
+      check_system(MatCopy(big_P, _P_appended, SAME_NONZERO_PATTERN), _prefix, "MatCopy of the appended system");
+    check_system(MatDestroy(&big_P), _prefix, "MatDestroy");
     if (_contact)
       _contact->operator_nudged();
     else
@@ -143,22 +159,41 @@ void System::append(AppendedUnknowns appended)
     return;
   }
   _A_appended = big;
+  _P_appended = big_P;
   check_system(MatCreateVecs(big, &_x_appended, &_b_appended), _prefix, "MatCreateVecs of the appended system");
+  PetscInt rows = 0;
+  check_system(MatGetLocalSize(_appended.C, &rows, nullptr), _prefix, "MatGetLocalSize of C");
+  append_to_fields(rows);
+  if (_contact)
+    throw std::runtime_error(_prefix + ": unknowns appended after the contact (append before use_contact)");
+  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A_appended, preconditioner_matrix(), _structure, _fields);
+}
+
+void System::append_to_fields(PetscInt rows)
+{
   int rank = 0, ranks = 1;
   MPI_Comm_rank(_comm, &rank);
   MPI_Comm_size(_comm, &ranks);
-  PetscInt start = 0, rows = 0;
-  check_system(MatGetOwnershipRange(_A.mat(), &start, nullptr), _prefix, "MatGetOwnershipRange");
-  check_system(MatGetLocalSize(_appended.C, &rows, nullptr), _prefix, "MatGetLocalSize of C");
+  PetscInt start = 0; // the first appended row: A's size on the last rank
   if (rank == ranks - 1)
     check_system(MatGetSize(_A.mat(), &start, nullptr), _prefix, "MatGetSize");
+  auto add = [rows](std::vector<PetscInt>& dofs, PetscInt first)
+  {
+    for (PetscInt r = 0; r < rows; ++r)
+      dofs.push_back(first + r);
+  };
   for (Field& f : _fields)
+  {
     if (f.name == "pressure")
-      for (PetscInt r = 0; r < rows; ++r)
-        f.dofs.push_back(start + r);
-  if (_contact)
-    throw std::runtime_error(_prefix + ": unknowns appended after the contact (append before use_contact)");
-  _linear = std::make_unique<LinearSolver>(_comm, _prefix, _A_appended, _A_appended, _structure, _fields);
+      add(f.dofs, start);
+    if (f.name != "flow") // the coupled system's, whose splits number its block
+      continue;
+    const PetscInt block_start = block_offset(f, _comm) + static_cast<PetscInt>(f.dofs.size());
+    add(f.dofs, start);
+    for (Field& g : f.fields)
+      if (g.name == "pressure")
+        add(g.dofs, block_start);
+  }
 }
 
 void System::copy_in(Vec x, const std::vector<double>& appended, Vec whole)

@@ -33,6 +33,9 @@ struct AppendedUnknowns
   std::vector<double> b;        // b_y (this rank's entries), set before each solve
   std::vector<double> x;        // y: the guess of each solve, then its solution
   Mat E = nullptr;              // A's rows against y; null: B^T (destroyed by the System too)
+  /// Added to C's diagonal in the preconditioner's matrix only (this rank's
+  /// entries; the iterative path): the fixed-stress term of y's rows.
+  std::vector<double> preconditioner_diagonal = {};
 };
 
 class System
@@ -63,7 +66,9 @@ public:
   /// Solves with the AppendedUnknowns from now on (or, called again, with
   /// their new B, C and diagonal: same structure; collective). The System
   /// takes B and C. The appended unknowns join the "pressure" field of an
-  /// iterative solve.
+  /// iterative solve (of the coupled system: its "flow" field and, inside
+  /// it, "pressure"), whose preconditioner's matrix is built alike from
+  /// the fixed-stress matrix, C plus preconditioner_diagonal.
   void append(AppendedUnknowns appended);
   AppendedUnknowns& appended() { return _appended; }
 
@@ -77,9 +82,12 @@ public:
   Mat operator_matrix() const { return _A_appended ? _A_appended : _A_tied ? _A_tied : _A.mat(); }
 
   /// The matrix the preconditioner is built from: the operator, or the
-  /// matrix of `a_preconditioner` on the iterative path (tied too; never
+  /// matrix of `a_preconditioner` on the iterative path (tied too, and
   /// with appended unknowns).
-  Mat preconditioner_matrix() const { return _P ? (_P_tied ? _P_tied : _P->mat()) : operator_matrix(); }
+  Mat preconditioner_matrix() const
+  {
+    return _P_appended ? _P_appended : _P ? (_P_tied ? _P_tied : _P->mat()) : operator_matrix();
+  }
 
   /// Makes every solve the contact problem of `set` (see ContactSolver:
   /// `displacement_dofs` place V's owned DOFs in x); `layout` is a vector
@@ -130,9 +138,13 @@ public:
   std::int64_t unknowns() const;
 
 private:
-  /// [[A + D, B^T], [B, C]] as one AIJ matrix (A tied, if so): its rows on
-  /// each rank are A's, then (last rank) C's.
-  Mat appended_operator() const;
+  /// [[a + D, B^T], [B, C + c]] as one AIJ matrix, a the operator or the
+  /// preconditioner's matrix before the appended unknowns (tied, if so),
+  /// c `diagonal` (this rank's entries; none if null): its rows on each
+  /// rank are a's, then (last rank) C's.
+  Mat appended_operator(Mat a, const std::vector<double>* diagonal) const;
+  /// Adds the appended rows to the fields of an iterative solve.
+  void append_to_fields(PetscInt rows);
   /// Solves the system with appended unknowns: [b; b_y] in, [x; y] out
   /// (by the contact solver if there is one).
   void solve_appended(Vec b, Vec x);
@@ -155,7 +167,7 @@ private:
   Mat _A_tied = nullptr, _P_tied = nullptr;
   Vec _b_tied = nullptr, _y_tied = nullptr; // b' and y of the ties
   AppendedUnknowns _appended;
-  Mat _A_appended = nullptr;
+  Mat _A_appended = nullptr, _P_appended = nullptr;
   Vec _b_appended = nullptr, _x_appended = nullptr;
   std::unique_ptr<LinearSolver> _linear;
   std::unique_ptr<ContactSolver> _contact;

@@ -18,7 +18,8 @@ from petsc4py import PETSc
 from ..domain.fault_cells import fault_network, well_cells
 from ..scene.input import FaultFlow
 from .boundary_conditions import fault_face_rows
-from .fault_compliance import closure_aperture, closure_compliance, open_patches, patch_compliance, softest_modulus
+from .fault_compliance import closure_aperture, softest_modulus
+from .fault_flow_compliance import ConduitCompliance
 from .fault_flow_jacobian import ConduitJacobian
 from .fault_flow_volumes import ConduitVolumes
 from .fault_volumes import FaultVolumes
@@ -100,7 +101,7 @@ def transmissibilities(t, edges):
     return edges.measures / np.sum(edges.distances / t[edges.cells], axis=1)
 
 
-class ConduitFaults(ConduitVolumes, ConduitJacobian):
+class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
     """The conduit faults of a scene: their cells, numbered fault by fault
     in the scene's order, appended after the flow system's unknowns on the
     last rank (a fault holds few facets); the faces' flux DOFs on the ranks
@@ -200,31 +201,6 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian):
     def _storage(self, conduit, dt):
         """S_k / dt = w_h c_f |k| / dt per cell."""
         return conduit.aperture * self.flow.c_f * conduit.cells.measures / dt
-
-    @staticmethod
-    def _stabilisation(conduit, dt):
-        """L_k / dt = L_f |k| / dt in the open cells, 0 in the others."""
-        return conduit.compliance * conduit.cells.measures / dt
-
-    def _set_compliance(self, conduit):
-        """Each cell's L_f, with L_k = L_f |k| the fault's fixed-stress term
-        (Girault, Kumar and Wheeler): in the cells open (w > e) at either of
-        the last two mechanics iterates of the step, the mean opening per
-        unit pressure of the open patch the cell belongs to
-        (patch_compliance); in the other cells the closure's compliance
-        -b'(s_n) (closure_compliance: there s_n falls as p_f rises), or 0
-        without a closure, where p_f moves nothing. Why not L in every cell,
-        and why the cells open at the iterate before keep the patch's L:
-        docs/theory.md, "Flow in a fault"."""
-        patch = open_patches(conduit.cells.links, conduit.open | conduit.open_before)
-        size = np.zeros(len(patch))
-        np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
-        closed = closure_compliance(conduit.closure, conduit.traction) if conduit.closure else 0.0
-        conduit.compliance = np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), closed)
-        if self.implicit:  # the open cells' opening is implicit; closed cells keep their closure's
-            conduit.compliance = np.where(conduit.open, 0.0, closed) * np.ones(len(patch))
-        if not self.stabilised:
-            conduit.compliance = np.zeros_like(conduit.compliance)
 
     def _conductance(self, conduit):
         """t per cell: k_f w / mu_f with the fault's own permeability, else the

@@ -6,7 +6,7 @@ import math
 import os
 
 from .expression import Expression
-from .input import CouplingScheme, FaultFlow, MeshType, SolverChoice, TimeScheme, name_of
+from .input import CouplingScheme, FaultFlow, MeshType, TimeScheme, name_of
 from .schema import BoundarySpec, ClosureSpec, ContactSpec, FaultSpec, FrictionSpec, WellSpec, builtin_boundary_names
 
 
@@ -212,10 +212,6 @@ def _read_conduit(s, scene, f):
     fault"): its aperture where closed, w_r > 0, the permeability across
     its faces, k_n > 0 or "inf", its own tangential permeability k_f > 0
     (else the cubic law), and the closure of its aperture."""
-    if (scene.coupling and scene.coupling.scheme == CouplingScheme.monolithic
-            and scene.solver.monolithic == SolverChoice.iterative):
-        s.fail("flow", '"conduit" with solver.monolithic = "iterative": the monolithic system with the fault\'s '
-               'pressure is solved directly ("direct" or "auto")')
     if scene.time_scheme == TimeScheme.bdf2 and scene.coupling and scene.coupling.scheme in (
             CouplingScheme.multirate, CouplingScheme.multirate_two_pass):
         s.fail("flow", '"conduit" with time.scheme = "bdf2" and a multirate coupling.scheme: the fault\'s '

@@ -128,8 +128,13 @@ class MonolithicConduits:
         M.setDiagonal(factors, addv=PETSc.InsertMode.ADD_VALUES)
         B = M.matMult(self.J)
         B.axpy(1.0, B_z, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-        system.append(AppendedUnknowns(B, self.faults.operator_matrix(self._step(0.0).dt), self.faults.face_resistance(),
-                                       np.zeros(self.faults.owned), self.pressure.copy(), self.E.copy()))
+        # The fixed-stress preconditioner's C (iterative path) takes the
+        # split's term -L_k/dt in the open cells, whose opening it leaves to
+        # the mechanics (alg. "Single-rate ... (a)" on the fault).
+        dt = self._step(0.0).dt
+        system.append(AppendedUnknowns(B, self.faults.operator_matrix(dt), self.faults.face_resistance(),
+                                       np.zeros(self.faults.owned), self.pressure.copy(), self.E.copy(),
+                                       -self.faults.open_stabilisation(dt)))
 
     def begin_step(self, system, u, s_n):
         """The step starts from the displacement u (a Function of V) and the

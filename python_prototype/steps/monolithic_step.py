@@ -13,7 +13,7 @@ from ..solvers.field_split import Field, part_of
 from ..assembly.loads import Loads
 from ..assembly.materials import BodyForceTerm, add_body_force
 from ..domain.domain import pore_pressure_faces
-from ..scene.input import FaultFlow, SolverChoice, TimeScheme
+from ..scene.input import FaultFlow, TimeScheme
 from ..assembly.parameters import interpolate
 from ..assembly.linear_algebra import (UnknownsPart, add_vector, dof_map, finish_rhs, largest_entry, owned,
                                        owned_global_dofs, rigid_body_modes)
@@ -60,11 +60,10 @@ class MonolithicStep(Step):
         self.assembly_time = 0.0  # right-hand sides
         # Depends on dt only; its pressure block -(S/dt) is often negligible
         # against the coupling: LU with pivoting (cpp/steps/monolithic_step.cpp). The
-        # iterative path is preconditioned by the fixed-stress split.
-        # With conduit faults the system is solved directly (System.append).
-        conduits = any(f.flow == FaultFlow.conduit for f in scene.faults.values())
+        # iterative path is preconditioned by the fixed-stress split (the
+        # conduit faults' p_f joins the flow: System.append).
         self.system = System(comm, self.a, self.bcs, SystemLayout("monolithic_", Structure.general, self.fields(X)),
-                             SolverChoice.direct if conduits else scene.solver.monolithic,
+                             scene.solver.monolithic,
                              F.compile("a_monolithic_preconditioner", faces))
         flux = facet_flux(F, "L_monolithic_pressure", "X")
         self.system.tie(fault_flux_ties(scene, domain, X.sub(1), flux))

@@ -10,7 +10,7 @@ from petsc4py import PETSc
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
 from ..assembly.tied_dofs import TiedDofs
 from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
-from ..solvers.field_split import Field, is_coupled
+from ..solvers.field_split import Field, block_offset, is_coupled
 from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, SystemLayout, choose_method,
                               set_solver_defaults, solver_counts)
 
@@ -29,6 +29,9 @@ class AppendedUnknowns:
     b: np.ndarray = None     # b_y (this rank's entries), set before each solve
     x: np.ndarray = None     # y: the guess of each solve, then its solution
     E: PETSc.Mat = None      # A's rows against y; None: B^T
+    # Added to C's diagonal in the preconditioner's matrix only (this rank's
+    # entries; the iterative path): the fixed-stress term of y's rows.
+    preconditioner_diagonal: np.ndarray = None
 
 
 def _copy_in(x, appended, whole):
@@ -66,7 +69,7 @@ class System:
             self._statistics.assembly_time += time.perf_counter() - start
         self.contact = None
         self.tied, self.A_tied, self.P_tied = None, None, None
-        self.appended = None
+        self.appended, self.A_appended, self.P_appended = None, None, None
         self._earlier = SolverStatistics()  # the counts of the run a restart continues
         # made now, so that options that make no solver are refused before the run
         self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
@@ -92,15 +95,21 @@ class System:
     def append(self, appended):
         """Solves with the AppendedUnknowns from now on (or, called again,
         with their new B, C and diagonal: same structure; collective). The
-        appended unknowns join the "pressure" field of an iterative solve."""
+        appended unknowns join the "pressure" field of an iterative solve
+        (of the coupled system: its "flow" field and, inside it,
+        "pressure"), whose preconditioner's matrix is built alike from the
+        fixed-stress matrix, C plus preconditioner_diagonal."""
         first = self.appended is None
-        if self.P is not None:  # the fixed-stress preconditioner's matrix has no rows for y
-            raise RuntimeError(f"{self.prefix}: appended unknowns (conduit faults) need the direct solver "
-                               '(solver.monolithic = "direct")')
         self.appended = appended
-        big = self._appended_operator()
+        big = self._appended_operator(self.A_tied if self.A_tied is not None else self.A)
+        # The fixed-stress preconditioner's matrix gets the same rows, its own
+        # fixed-stress term on C's diagonal.
+        big_P = None if self.P is None else self._appended_operator(
+            self.P_tied if self.P_tied is not None else self.P, appended.preconditioner_diagonal)
         if not first:
             big.copy(self.A_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            if big_P is not None:
+                big_P.copy(self.P_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
             if self.contact:
                 self.contact.operator_nudged()
             else:
@@ -108,27 +117,47 @@ class System:
             return
         if self.contact:
             raise RuntimeError(f"{self.prefix}: unknowns appended after the contact (append before use_contact)")
-        self.A_appended = big
+        self.A_appended, self.P_appended = big, big_P
         self.x_appended, self.b_appended = big.createVecs()
-        start = self.A.getOwnershipRange()[0] if self.comm.rank < self.comm.size - 1 else self.A.getSize()[0]
-        rows = np.arange(start, start + appended.C.getLocalSize()[0], dtype=np.int64)
-        self.fields = [Field(f.name, np.concatenate([f.dofs, rows]) if f.name == "pressure" else f.dofs,
-                             f.block_size, f.near_nullspace, f.fields) for f in self.fields]
-        self.linear = LinearSolver(self.comm, self.prefix, self.A_appended, self.A_appended, self.structure,
-                                   self.fields)
+        self._append_to_fields(appended.C.getLocalSize()[0])
+        self.linear = LinearSolver(self.comm, self.prefix, self.A_appended, self.preconditioner_matrix(),
+                                   self.structure, self.fields)
 
-    def _appended_operator(self):
-        """[[A + D, B^T], [B, C]] as one AIJ matrix: its rows on each rank are
-        A's, then (last rank) C's."""
-        a = self.A_tied if self.A_tied is not None else self.A
+    def _append_to_fields(self, rows):
+        """Adds the appended rows to the fields of an iterative solve."""
+        start = self.A.getOwnershipRange()[0] if self.comm.rank < self.comm.size - 1 else self.A.getSize()[0]
+        appended = np.arange(start, start + rows, dtype=np.int64)
+        fields = []
+        for f in self.fields:
+            dofs, splits = f.dofs, f.fields
+            if f.name == "pressure":
+                dofs = np.concatenate([f.dofs, appended])
+            if f.name == "flow":  # the coupled system's, whose splits number its block
+                block_start = block_offset(f, self.comm) + len(f.dofs)
+                dofs = np.concatenate([f.dofs, appended])
+                splits = [Field(g.name, np.concatenate([g.dofs, np.arange(block_start, block_start + rows)])
+                                if g.name == "pressure" else g.dofs, g.block_size, g.near_nullspace, g.fields)
+                          for g in f.fields]
+            fields.append(Field(f.name, dofs, f.block_size, f.near_nullspace, splits))
+        self.fields = fields
+
+    def _appended_operator(self, a, diagonal=None):
+        """[[a + D, B^T], [B, C + c]] as one AIJ matrix, `a` the operator or
+        the preconditioner's matrix before the appended unknowns (tied, if
+        so), c `diagonal` (none if None): its rows on each rank are a's, then
+        (last rank) C's."""
         if self.appended.diagonal:
             a = a.copy()
             for row, value in self.appended.diagonal:
                 a.setValue(row, row, value, addv=True)
             a.assemble()
-        B, E = self.appended.B, self.appended.E
+        B, E, C = self.appended.B, self.appended.E, self.appended.C
         E = B.transpose(PETSc.Mat()) if E is None else E
-        nest = PETSc.Mat().createNest([[a, E], [B, self.appended.C]], comm=self.comm)
+        if diagonal is not None:
+            C, c = C.copy(), C.createVecs()[1]
+            c.array[:] = diagonal
+            C.setDiagonal(c, addv=PETSc.InsertMode.ADD_VALUES)
+        nest = PETSc.Mat().createNest([[a, E], [B, C]], comm=self.comm)
         return nest.convert("aij")
 
     def whole(self, x, b):
@@ -150,7 +179,9 @@ class System:
 
     def preconditioner_matrix(self):
         """The operator, or the matrix of a_preconditioner on the iterative
-        path (tied too)."""
+        path (tied too, and with appended unknowns)."""
+        if self.P_appended is not None:
+            return self.P_appended
         if self.P is None:
             return self.operator_matrix()
         return self.P_tied if self.P_tied is not None else self.P
