@@ -182,9 +182,9 @@ Mat placement(const fem::FunctionSpace& V, const std::vector<std::int32_t>& V_to
   const std::int64_t first_row = V.dofmap()->index_map->local_range()[0] * V.dofmap()->index_map_bs();
   const std::int64_t first_column = X.dofmap()->index_map->local_range()[0];
   Mat R = nullptr;
-  check_petsc(
-      MatCreateAIJ(V.mesh()->comm(), rows, columns, PETSC_DETERMINE, PETSC_DETERMINE, 1, nullptr, 1, nullptr, &R),
-      "the placement matrix: MatCreateAIJ");
+  const MPI_Comm comm = V.mesh()->comm();
+  check_petsc(MatCreateAIJ(comm, rows, columns, PETSC_DETERMINE, PETSC_DETERMINE, 1, nullptr, 1, nullptr, &R),
+              "the placement matrix: MatCreateAIJ");
   for (std::int32_t i = 0; i < rows; ++i)
     check_petsc(MatSetValue(R, static_cast<PetscInt>(first_row + i), static_cast<PetscInt>(first_column + V_to_X[i]),
                             1.0, INSERT_VALUES),

@@ -42,7 +42,7 @@ namespace
 {
 /// Reads -<prefix>contact_condensed through PETSc's options database, so
 /// that -help lists it with this run's default; `given` says whether the
-/// user set it.
+/// user set it. (PetscOptionsBegin/End are macros checking their calls.)
 PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed,
                               PetscBool* given)
 {

@@ -441,9 +441,8 @@ PetscErrorCode LinearSolver::refactorise(const char* package, const std::functio
   // The PC keeps the nested-dissection ordering of the first attempt
   // unless told otherwise; given one, UMFPACK uses it instead of its own
   // (6x slower solves here).
-  check_solver(
-      PetscOptionsSetValue(nullptr, ("-" + factor + "pc_factor_mat_ordering_type").c_str(), MATORDERINGEXTERNAL),
-      _prefix, "PetscOptionsSetValue");
+  const std::string ordering = "-" + factor + "pc_factor_mat_ordering_type";
+  check_solver(PetscOptionsSetValue(nullptr, ordering.c_str(), MATORDERINGEXTERNAL), _prefix, "PetscOptionsSetValue");
   Mat A, P; // owned by the system: they outlive the reset
   check_solver(KSPGetOperators(_ksp, &A, &P), _prefix, "KSPGetOperators");
   check_solver(KSPReset(_ksp), _prefix, "KSPReset");
