@@ -12,13 +12,13 @@ conduit of scenes/fault_reactivation.toml, two days, sizes doubled.
 - two ranks give one rank's fields to 1e-9 (measured 1.2e-11);
 - the prototype gives the C++ fields to 1e-9 (measured 1.1e-11)."""
 from support import check, max_difference, run_track, scene, summary
-from test_conduit_newton import INJECTION, check_run
+from test_conduit_newton import INJECTION, MONOLITHIC, check_run
 
 FIELDS = ["displacement", "pressure"]
 ITERATIVE = 'solver.monolithic="iterative"'
 
-direct, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, 'solver.monolithic="direct"')
-cpp, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, ITERATIVE)
+direct, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, MONOLITHIC, 'solver.monolithic="direct"')
+cpp, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, MONOLITHIC, ITERATIVE)
 check_run(cpp, "C++, iterative")
 solver = summary(cpp)["solvers"]["monolithic"]
 check(solver["solver"] == "iterative" and solver["linear_iterations"] <= 4000,
@@ -26,10 +26,10 @@ check(solver["solver"] == "iterative" and solver["linear_iterations"] <= 4000,
       "Krylov iterations (at most 4000)")
 d = max_difference(direct, cpp, FIELDS)
 check(max(d.values()) <= 1e-9, f"C++: iterative = direct: {d} (1e-9)")
-two, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, ITERATIVE, ranks=2)
+two, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, MONOLITHIC, ITERATIVE, ranks=2)
 d = max_difference(cpp, two, FIELDS)
 check(max(d.values()) <= 1e-9, f"C++: 2 ranks = 1 rank: {d} (1e-9)")
-prototype, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION, ITERATIVE)
+prototype, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION, MONOLITHIC, ITERATIVE)
 check_run(prototype, "prototype, iterative")
 d = max_difference(cpp, prototype, FIELDS)
 check(max(d.values()) <= 1e-9, f"the prototype gives the C++ fields: {d} (1e-9)")

@@ -14,26 +14,40 @@ transmissibilities once that factor comes out negative (docs/theory.md,
   last iterations sit at round-off), more pairs open on day 2 than on day
   1 (measured 2 and 4), and the fault's volumes balance (injected +
   exchanged = stored + outflow to 1e-8 of the injected).
-- The prototype gives the C++ fields to 1e-9 (measured 5e-12)."""
+- The prototype gives the C++ fields to 1e-9 (measured 5e-12).
+The split on the same two days: there Aitken's factor came out negative
+too and sat at its floor, and the coupling crawled at a ratio of 1.0006
+per iteration to the 400th on day 1 (2026-12-02); the split now relaxes
+by the factor's magnitude (docs/theory.md, "Flow in a fault"):
+- Both tracks: converged (at most 150 coupling iterations a step; measured
+  103 and 24), opening day by day, balanced; the same coupling iterations
+  on both tracks, the prototype's fields the C++ ones to 1e-9 (measured
+  1.5e-13 and 6.1e-12).
+- The split equals the monolithic solve to 1e-9 in u and 1e-8 in p
+  (measured 9.5e-13 and 2.5e-11)."""
 import numpy as np
 from support import check, fault_fields, iterations, max_difference, run_track, scene, summary
 
 INJECTION = ("well.injector.position=[0.0, 0.0]", 'well.injector.fault="fault"', "well.injector.rate=1.0e-3",
              "fault.fault.pore_pressure_load=false", 'fault.fault.flow="conduit"',
              "fault.fault.residual_aperture=1.0e-4", "time.end=172800.0", "coupling.tolerance=1e-10",
-             'coupling.scheme="monolithic"', "mesh.size_factor=2.0")
+             "mesh.size_factor=2.0")
+MONOLITHIC = 'coupling.scheme="monolithic"'
+SPLIT = "coupling.max_iterations=200"
+FIELDS = ["displacement", "pressure"]
 
 
-def check_run(out, track):
-    """Converged in few iterations a step, opening day by day, balanced."""
+def check_run(out, track, most=30):
+    """Converged in at most `most` iterations a step, opening day by day,
+    balanced."""
     s = summary(out)
     per_step = {}
     for row in iterations(out):
         if int(row["step"]) > 0:
             per_step[int(row["step"])] = int(row["iteration"])
     counts = [per_step[k] for k in sorted(per_step)]
-    check(s["converged"] is True and s["steps"] == 2 and max(counts) <= 30,
-          f"{track}: the two steps converge in {counts} aperture iterations (at most 30)")
+    check(s["converged"] is True and s["steps"] == 2 and max(counts) <= most,
+          f"{track}: the two steps converge in {counts} iterations (at most {most})")
     _, _, series = fault_fields(out, names=("state",))
     opened = [int(np.sum(fields["state"][:, 0] == 0)) for fields in series[1:]]
     check(len(opened) == 2 and 0 < opened[0] < opened[1],
@@ -44,12 +58,23 @@ def check_run(out, track):
 
 
 def main():
-    cpp, _ = run_track("C++", scene("fault_reactivation"), *INJECTION)
+    cpp, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, MONOLITHIC)
     check_run(cpp, "C++")
-    prototype, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION)
+    prototype, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION, MONOLITHIC)
     check_run(prototype, "prototype")
-    d = max_difference(cpp, prototype, ["displacement", "pressure"])
+    d = max_difference(cpp, prototype, FIELDS)
     check(max(d.values()) <= 1e-9, f"the prototype gives the C++ fields through the stall: {d} (1e-9)")
+    split, _ = run_track("C++", scene("fault_reactivation"), *INJECTION, SPLIT)
+    check_run(split, "C++, split", most=150)
+    prototype_split, _ = run_track("prototype", scene("fault_reactivation"), *INJECTION, SPLIT)
+    check_run(prototype_split, "prototype, split", most=150)
+    d = max_difference(split, prototype_split, FIELDS)
+    same = [r["iteration"] for r in iterations(split)] == [r["iteration"] for r in iterations(prototype_split)]
+    check(max(d.values()) <= 1e-9 and same, f"the prototype's split gives the C++ split's fields: {d} (1e-9), the "
+          f"same coupling iterations: {same}")
+    d = max_difference(split, cpp, FIELDS)
+    check(d["displacement"] <= 1e-9 and d["pressure"] <= 1e-8,
+          f"the split equals the monolithic solve through the opening: {d} (1e-9, 1e-8)")
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ solve with opening (docs/theory.md, "Friction").
   = stored + outflow to 1e-8 of the injected); the apertures change the
   flow system at each coupling iteration, and the last factorisation
   preconditions GMRES (docs/theory.md, "Solvers"): fewer than one
-  factorisation per ten flow solves (measured 2 for 369; 253 when each
+  factorisation per ten flow solves (measured 2 for 335, 2026-12-02; 253 when each
   change was factorised, 2026-11-30).
 - The split and the monolithic solve (C++; both at coupling.tolerance
   1e-11, to day 7, the opening's first two days) give the same
@@ -34,7 +34,9 @@ solve with opening (docs/theory.md, "Friction").
 - On six-hour steps the split converges through the opening too (before
   2026-12-01 it cycled on day 7), equals the monolithic solve to 1e-9 and
   1e-8 (measured 4.8e-12 and 3.2e-10) and the prototype the C++ split to
-  1e-9 (measured 3.8e-14 and 9.5e-12) in the same 915 iterations.
+  1e-9 (measured 3.8e-14 and 9.5e-12, 2026-12-01) in the same iterations
+  (840 on 2026-12-02; 915 before the split's Aitken factor took its
+  magnitude, docs/theory.md).
 - With Anderson acceleration (before 2026-12-01 its extrapolation opened
   and closed pairs in turn on day 6 to iteration 400) the split converges
   on both tracks to the plain split's fields (1e-9, 1e-8)."""

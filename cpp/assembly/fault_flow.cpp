@@ -316,12 +316,18 @@ double ConduitFaults::relax_conducting()
   // in one solve; the split, where an open cell's lagged w_h^3 can move p_f
   // more than its fixed-stress term holds: a 2-cycle); from then to the
   // step's end by Aitken's factor, omega = -omega (r_old . (r - r_old)) /
-  // |r - r_old|^2, except that the monolithic step, once that factor comes
-  // out negative, takes the lag whole with Newton's term of the
-  // transmissibilities (newton(), flux_jacobian).
-  double dot = 0, norm = 0, lag = 0, lag_old = 0, moved = 0;
+  // |r - r_old|^2, clamped to [1e-3, 1]. A negative factor (the map
+  // amplifies the lag's mode: the opening spreads) would step back against
+  // the lag: the monolithic step then takes the lag whole with Newton's
+  // term of the transmissibilities (newton(), flux_jacobian), the split the
+  // factor's magnitude (held at the floor its apertures crawled), unless
+  // the lag is below the openings' round-off, where the factor's sign is
+  // noise and the floor holds the fixed point (theory.md, "Flow in a
+  // fault").
+  double dot = 0, norm = 0, lag = 0, lag_old = 0, moved = 0, round_off = 0;
   for (Conduit& c : _conduits)
   {
+    round_off = std::max(round_off, open_fraction * c.residual); // as set_openings's
     if (c.conducting.empty())
       c.conducting = c.aperture, c.lag.assign(c.aperture.size(), 0.0);
     for (std::size_t k = 0; k < c.aperture.size(); ++k)
@@ -339,7 +345,8 @@ double ConduitFaults::relax_conducting()
   {
     const double aitken = -_relaxation * dot / norm;
     _newton = _implicit and aitken < 0;
-    _relaxation = _newton ? 1.0 : std::clamp(aitken, 1e-3, 1.0);
+    const bool noise = std::sqrt(lag) <= round_off;
+    _relaxation = _newton ? 1.0 : std::clamp(noise ? aitken : std::abs(aitken), 1e-3, 1.0);
   }
   for (Conduit& c : _conduits)
     for (std::size_t k = 0; k < c.aperture.size(); ++k)

@@ -11,6 +11,7 @@ w_k the hydraulic aperture w_h (set_openings), S_k = w_h c_f |k|, T_kl the
 cubic law's two-point transmissibility, c_i the faces' facet fluxes, L_k =
 L_f |k| the fixed-stress term (_set_compliance). The operator stays symmetric."""
 import dataclasses
+import math
 
 import numpy as np
 from petsc4py import PETSc
@@ -312,11 +313,17 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         with p_f in one solve; the split, where an open cell's lagged w_h^3
         can move p_f more than its fixed-stress term holds: a 2-cycle); from
         then to the step's end by Aitken's factor, omega = -omega (r_old .
-        (r - r_old)) / |r - r_old|^2, except that the monolithic step, once
-        that factor comes out negative, takes the lag whole with Newton's
-        term of the transmissibilities (newton, flux_jacobian)."""
-        dot = norm = lag = lag_old = moved = 0.0
+        (r - r_old)) / |r - r_old|^2, clamped to [1e-3, 1]. A negative
+        factor (the map amplifies the lag's mode: the opening spreads) would
+        step back against the lag: the monolithic step then takes the lag
+        whole with Newton's term of the transmissibilities (newton,
+        flux_jacobian), the split the factor's magnitude (held at the floor
+        its apertures crawled), unless the lag is below the openings'
+        round-off, where the factor's sign is noise and the floor holds the
+        fixed point (theory.md, "Flow in a fault")."""
+        dot = norm = lag = lag_old = moved = round_off = 0.0
         for conduit in self.faults:
+            round_off = max(round_off, OPEN_FRACTION * conduit.residual)  # as set_openings's
             if conduit.conducting is None:
                 conduit.conducting, conduit.lag = conduit.aperture.copy(), np.zeros_like(conduit.aperture)
             r = conduit.aperture - conduit.conducting
@@ -333,7 +340,8 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         if self.relaxing and norm > 0 and not self.newton:
             aitken = -self.relaxation * dot / norm
             self.newton = self.implicit and aitken < 0
-            self.relaxation = 1.0 if self.newton else min(max(aitken, 1e-3), 1.0)
+            noise = math.sqrt(lag) <= round_off
+            self.relaxation = 1.0 if self.newton else min(max(aitken if noise else abs(aitken), 1e-3), 1.0)
         for conduit in self.faults:
             conduit.lag = conduit.aperture - conduit.conducting
             conduit.conducting = conduit.conducting + self.relaxation * conduit.lag
