@@ -124,7 +124,7 @@ for label, path, overrides, key in (
 
 # The faults' bad inputs of the split mesh and the flow: the catalogue's
 # scenes; the pairs are made by `check` too (a negative gap, a fault on a foundation).
-CRACK, DEGENERATE = crack_scenes()
+CRACK_GEO, CRACK, DEGENERATE = crack_scenes()  # CRACK: the .geo meshed once
 LOOSE, SHARED, PINNED = fault_group_scenes()
 FLOW_CRACK = flow_crack_scene()
 for label, command, path, overrides, key in (
@@ -149,10 +149,10 @@ for label, command, path, overrides, key in (
          ["fault.crack.flow=conduit", "fault.crack.residual_aperture=1e-4", "fault.crack.pore_pressure_load=true"],
          "fault.crack.pore_pressure_load"),
         ("a negative fault gap", "check", CRACK, ["fault.crack.gap=-1e-3"], "fault.crack.gap"),
-        ("a negative tip size", "check", CRACK, ["fault.crack.tip_size=-0.01"], "fault.crack.tip_size"),
-        ("a tip grading without a tip size", "check", CRACK, ["fault.crack.tip_grading=0.3"],
+        ("a negative tip size", "check", CRACK_GEO, ["fault.crack.tip_size=-0.01"], "fault.crack.tip_size"),
+        ("a tip grading without a tip size", "check", CRACK_GEO, ["fault.crack.tip_grading=0.3"],
          "fault.crack.tip_grading"),
-        ("a tip size on a .geo with size fields of its own", "check", CRACK, ["fault.crack.tip_size=0.01"],
+        ("a tip size on a .geo with size fields of its own", "check", CRACK_GEO, ["fault.crack.tip_size=0.01"],
          "fault.crack.tip_size"),
         ("a fault that reaches a contact boundary", "check", foundation_fault_scene(), [], "fault.fault"),
         ("a fault pressure that is NaN", "check", CRACK, ["fault.crack.pressure='sqrt(x - 10)'"],
