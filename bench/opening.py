@@ -21,6 +21,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
+import markdown  # noqa: E402
 
 NAME = "opening"
 COLUMNS = ["case", "repetition", "status", "steps", "coupling_iterations", "most_in_a_step", "wall_s", "command"]
@@ -80,15 +81,14 @@ def main():
 
 def report(rows, cases):
     """One row per case: the first run's counts, the median wall time."""
-    print("| case | status | steps | coupling iterations | most in a step | wall (s, median) |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    lines = []
     for case in cases:
         runs = [r for r in rows if r["case"] == case]
         r = runs[0]
         wall = statistics.median(float(x["wall_s"]) for x in runs)
-        print(f"| {case} | {r['status']} | {r['steps']} | {r['coupling_iterations']} | {r['most_in_a_step']} "
-              f"| {wall:.2f} |")
-
+        lines.append([case, r["status"], r["steps"], r["coupling_iterations"], r["most_in_a_step"], f"{wall:.2f}"])
+    print("\n".join(markdown.table(["case", "status", "steps", "coupling iterations", "most in a step",
+                                    "wall (s, median)"], lines)))
 
 if __name__ == "__main__":
     sys.exit(common.main_wrapper(main))
