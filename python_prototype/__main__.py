@@ -7,6 +7,8 @@ written), 1 anything else; `compare` exits 1 when the runs differ.
 import array
 import os
 import sys
+import types
+from contextlib import contextmanager
 
 if not __package__:  # run as a path, `python3 /path/to/python_prototype run ...`, from any directory
     here = os.path.dirname(os.path.abspath(__file__))
@@ -121,6 +123,29 @@ def _start_mpi_alone():
     os.environ.setdefault("HWLOC_COMPONENTS", "-pci,-linuxio")
 
 
+@contextmanager
+def _versions_without_pkg_resources():
+    """UFL and FFCx read their own versions at import with pkg_resources,
+    whose import scans every installed distribution: 0.19 of the 1.2 s a
+    start of the prototype takes (docs/performance.md). While dolfinx
+    imports them, a stand-in answers get_distribution(name).version from
+    importlib.metadata, the same string (it enters FFCx's cache keys); it is
+    then removed, so that setuptools, which the JIT compiler may import
+    later, gets the real module."""
+    if "pkg_resources" in sys.modules:
+        yield
+        return
+    from importlib import metadata
+    stand_in = types.ModuleType("pkg_resources")
+    stand_in.get_distribution = lambda name: types.SimpleNamespace(version=metadata.version(name))
+    sys.modules["pkg_resources"] = stand_in
+    try:
+        yield
+    finally:
+        if sys.modules.get("pkg_resources") is stand_in:
+            del sys.modules["pkg_resources"]
+
+
 def main(argv):
     if argv[:1] == ["compare"]:
         return compare_main(argv[1:])
@@ -135,7 +160,8 @@ def main(argv):
     petsc4py.init([sys.argv[0]] + petsc)
     import logging
     from mpi4py import MPI
-    import dolfinx
+    with _versions_without_pkg_resources():
+        import dolfinx
     from petsc4py import PETSc
     # The solver statistics are read from PETSc's event log (solver.py).
     PETSc.Log.begin()
