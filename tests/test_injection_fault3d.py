@@ -21,12 +21,16 @@ fault crossing a layered reservoir in 3D, for the first 2 of its 4 hours
   one, at least 100 m away, open or slipping); each step converges with
   the fault's volumes balanced (a step that does not is refused).
 - Through that opening 2 ranks give the 1-rank fields to 1e-8, the
-  coupling iterations of each step within 10 % (the opening step's slow
-  tail stops where round-off puts it: 66-67 against 71 measured) and the
-  same seismic moments to 1e-8 (each pair's G is the mean over its + node's
-  cells, the same on any partition; it was the G of one of them, which
-  differed by 3 % between 1 and 2 ranks at the pairs on the reservoir's top
-  and bottom).
+  run's coupling iterations within 10 % and the same seismic moments to
+  1e-8. The opening step's slow tail stops where round-off puts it, and on
+  2 ranks that round-off is not the same from run to run: five runs of one
+  command took 65, 73, 65, 69 and 65 iterations in it (99 to 107 in all)
+  against 73 (107) on one rank, 2026-12-02 (docs/performance.md,
+  "thirty-second session"); a bound on each step's count failed so. The
+  moments agree since each pair's G is the mean over its + node's cells,
+  the same on any partition (it was the G of one of them, which differed
+  by 3 % between 1 and 2 ranks at the pairs on the reservoir's top and
+  bottom).
 - Not in the suite (docs/verification.md, measured): the monolithic
   solve of three such steps gives the split's fields (10 minutes); a run
   of three steps killed after step 2 and restarted from its checkpoint of
@@ -141,6 +145,8 @@ d = max_difference(opening, two, FIELDS, sort=True)
 counts = [per_step(o) for o in (opening, two)]
 m1, m2 = (summary(o)["seismic_moment"]["fault"]["moments"] for o in (opening, two))
 worst = max(abs(a - b) / a for a, b in zip(m1, m2))
-check(max(d.values()) <= 1e-8 and all(abs(a - b) <= 0.1 * a for a, b in zip(*counts)) and len(m2) == 2
+total = [sum(c) for c in counts]
+check(max(d.values()) <= 1e-8 and abs(total[1] - total[0]) <= 0.1 * total[0] and len(m2) == 2
       and worst <= 1e-8, f"2 ranks through the opening: the fields {d} (1e-8), coupling iterations per step "
-      f"{counts[1]} against {counts[0]} (within 10 %), the seismic moment of each step to {worst:.1e} (1e-8)")
+      f"{counts[1]} against {counts[0]} (in all within 10 %), the seismic moment of each step to {worst:.1e} "
+      "(1e-8)")

@@ -81,9 +81,19 @@ vectorpair pairs(int* data, std::size_t n)
 void initialize() { call("gmshInitialize", 0, static_cast<char**>(nullptr), 1); }
 void finalize() { call("gmshFinalize"); }
 void open(const std::string& file) { call("gmshOpen", file.c_str()); }
+void write(const std::string& file) { call("gmshWrite", file.c_str()); }
+void clear() { call("gmshClear"); }
 void option::setNumber(const std::string& name, double value) { call("gmshOptionSetNumber", name.c_str(), value); }
 
 void option::getNumber(const std::string& name, double& value) { call("gmshOptionGetNumber", name.c_str(), &value); }
+
+void option::getString(const std::string& name, std::string& value)
+{
+  char* text = nullptr;
+  call("gmshOptionGetString", name.c_str(), &text);
+  value = text ? text : "";
+  release(text);
+}
 
 void model::getEntities(vectorpair& dim_tags, int dim)
 {

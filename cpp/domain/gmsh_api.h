@@ -20,11 +20,14 @@ using vectorpair = std::vector<std::pair<int, int>>;
 void initialize();
 void finalize();
 void open(const std::string& file);
+void write(const std::string& file);
+void clear();
 
 namespace option
 {
 void setNumber(const std::string& name, double value);
 void getNumber(const std::string& name, double& value);
+void getString(const std::string& name, std::string& value);
 }
 
 namespace model

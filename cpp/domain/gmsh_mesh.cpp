@@ -4,6 +4,7 @@
 
 #include "domain/faults.h"
 #include "domain/gmsh_api.h"
+#include "domain/mesh_cache.h"
 #include "domain/pieces.h"
 #include "domain/tip_grading.h"
 #include "domain/working_ranks.h"
@@ -238,28 +239,50 @@ void split_faults(const Scene& scene, GmshData& data)
   data.names = std::move(mesh.names);
 }
 
+/// Opens the scene's mesh in gmsh: a .msh as it is; a .geo from the mesh
+/// cache where it holds it (domain/mesh_cache.h), else meshed (graded
+/// toward the faults' tips, its sizes times mesh.size_factor), refined
+/// mesh.refine times and, with a cache, stored there and read back.
+void open_mesh(const Scene& scene)
+{
+  const std::string& file = scene.mesh.file;
+  const std::string cached = mesh_cache_file(scene);
+  if (!cached.empty() and std::filesystem::exists(cached))
+  {
+    gmsh::open(cached);
+    return;
+  }
+  gmsh::open(file);
+  if (std::filesystem::path(file).extension() == ".geo")
+  {
+    grade_toward_tips(scene);
+    // After open(): the factor scales the .geo's sizes and its fields,
+    // times the .geo's own factor, if it sets one.
+    double own = 1;
+    gmsh::option::getNumber("Mesh.MeshSizeFactor", own);
+    gmsh::option::setNumber("Mesh.MeshSizeFactor", own * scene.mesh.size_factor);
+    gmsh::model::mesh::generate(scene.mesh.dimension);
+  }
+  for (int i = 0; i < scene.mesh.refine; ++i)
+    gmsh::model::mesh::refine();
+  if (!cached.empty())
+  {
+    store_mesh(cached);
+    gmsh::clear();
+    gmsh::open(cached); // as every later run reads it
+  }
+}
+
 GmshData read_gmsh_file(const Scene& scene)
 {
   const std::string& file = scene.mesh.file;
-  const int d = scene.mesh.dimension, refine = scene.mesh.refine;
+  const int d = scene.mesh.dimension;
   GmshData data;
   gmsh::initialize();
   gmsh::option::setNumber("General.Terminal", 0);
   try
   {
-    gmsh::open(file);
-    if (std::filesystem::path(file).extension() == ".geo")
-    {
-      grade_toward_tips(scene);
-      // After open(): the factor scales the .geo's sizes and its fields,
-      // times the .geo's own factor, if it sets one.
-      double own = 1;
-      gmsh::option::getNumber("Mesh.MeshSizeFactor", own);
-      gmsh::option::setNumber("Mesh.MeshSizeFactor", own * scene.mesh.size_factor);
-      gmsh::model::mesh::generate(d);
-    }
-    for (int i = 0; i < refine; ++i)
-      gmsh::model::mesh::refine();
+    open_mesh(scene);
     std::vector<std::size_t> tags;
     std::vector<double> coords;
     gmsh::model::mesh::getNodes(tags, coords);

@@ -17,6 +17,7 @@ from ..scene.scene import SceneError
 from .domain import Domain, Fault
 from .fault_cells import fault_cells
 from .faults import FaultRequest, InputMesh, split_along_faults
+from .mesh_cache import mesh_cache_file, store_mesh
 from .pieces import refuse_free_pieces
 from .regions import locate_regions, regions_of_groups
 from .tip_grading import grade_toward_tips
@@ -72,24 +73,41 @@ def _check_fault_groups(gmsh, scene):
                              f"{d - 1}" + (" (a curve in the surface)" if d == 2 else " (a surface in the volume)"))
 
 
+def _open_mesh(gmsh, scene):
+    """Opens the scene's mesh in gmsh: a .msh as it is; a .geo from the
+    mesh cache where it holds it (mesh_cache.py), else meshed (graded
+    toward the faults' tips, its sizes times mesh.size_factor), refined
+    mesh.refine times and, with a cache, stored there and read back."""
+    file = scene.mesh.file
+    cached = mesh_cache_file(gmsh, scene)
+    if cached is not None and os.path.exists(cached):
+        gmsh.open(cached)
+        return
+    gmsh.open(file)
+    if os.path.splitext(file)[1] == ".geo":
+        grade_toward_tips(gmsh, scene)
+        # After open(): the factor scales the .geo's sizes and its fields,
+        # times the .geo's own factor, if it sets one.
+        own = gmsh.option.getNumber("Mesh.MeshSizeFactor")
+        gmsh.option.setNumber("Mesh.MeshSizeFactor", own * scene.mesh.size_factor)
+        gmsh.model.mesh.generate(scene.mesh.dimension)
+    for _ in range(scene.mesh.refine):
+        gmsh.model.mesh.refine()
+    if cached is not None:
+        store_mesh(gmsh, cached)
+        gmsh.clear()
+        gmsh.open(cached)  # as every later run reads it
+
+
 def _read_gmsh_file(scene):
     """Rank 0: nodes, simplices, the facets of each physical group of
     dimension d-1 and the region of each cell, split along the faults."""
     import gmsh
-    file, d, refine = scene.mesh.file, scene.mesh.dimension, scene.mesh.refine
+    file, d = scene.mesh.file, scene.mesh.dimension
     gmsh.initialize()
     gmsh.option.setNumber("General.Terminal", 0)
     try:
-        gmsh.open(file)
-        if os.path.splitext(file)[1] == ".geo":
-            grade_toward_tips(gmsh, scene)
-            # After open(): the factor scales the .geo's sizes and its fields,
-            # times the .geo's own factor, if it sets one.
-            own = gmsh.option.getNumber("Mesh.MeshSizeFactor")
-            gmsh.option.setNumber("Mesh.MeshSizeFactor", own * scene.mesh.size_factor)
-            gmsh.model.mesh.generate(d)
-        for _ in range(refine):
-            gmsh.model.mesh.refine()
+        _open_mesh(gmsh, scene)
         tags, coords, _ = gmsh.model.mesh.getNodes(-1, -1, False, False)
         index = {int(t): i for i, t in enumerate(tags)}
         x = np.asarray(coords).reshape(-1, 3)[:, :d].copy()
