@@ -34,6 +34,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PYTHON = "/usr/bin/python3"
 DEFAULT_BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
 RESULTS = os.path.join(ROOT, "bench", "results")
+# One OpenMP thread per process unless the caller chose (the user guide's
+# advice for MPI runs, and the tests' setting): hypre's threads on cores
+# the ranks already use made 2-rank runs twice as slow (docs/performance.md,
+# "thirty-second session"). The header records it.
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
 class BenchError(Exception):
