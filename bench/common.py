@@ -35,9 +35,9 @@ PYTHON = "/usr/bin/python3"
 DEFAULT_BINARY = os.environ.get("BIOTCONTACT", os.path.join(ROOT, "build", "biotcontact"))
 RESULTS = os.path.join(ROOT, "bench", "results")
 # One OpenMP thread per process unless the caller chose (the user guide's
-# advice for MPI runs, and the tests' setting): hypre's threads on cores
-# the ranks already use made 2-rank runs twice as slow (docs/performance.md,
-# "thirty-second session"). The header records it.
+# advice for MPI runs, and the tests' setting): hypre's threads on the
+# cores the ranks already use (docs/performance.md, "thirty-second
+# session"). The header records it.
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
@@ -122,7 +122,7 @@ def machine_header(binary, command=None):
                                "'.'.join(map(str, P.Sys.getVersion())))"])
     header = {
         "host": socket.gethostname(),
-        "cores": _output(["nproc"]) or str(os.cpu_count()),
+        "cores": str(len(os.sched_getaffinity(0))),  # not nproc, which OMP_NUM_THREADS changes
         "cpu": _cpu_model(),
         "memory": _memory_gb(),
         "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
