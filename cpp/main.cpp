@@ -128,11 +128,21 @@ void start_mpi_alone()
   setenv("HWLOC_COMPONENTS", "-pci,-linuxio", 0);
 }
 
+/// PT-Scotch 7, which partitions the mesh over the ranks, splits its work
+/// over threads by default and then returns another partition at each run
+/// (its seed is fixed): the DOFs' order, so the iterative solves' round-off
+/// and the coupling's iteration counts, changed from run to run of one
+/// command on 2 ranks (docs/performance.md, "thirty-third session"). One
+/// thread makes the partition a function of the mesh; a user's own setting
+/// wins. Scotch reads the variable when it first partitions.
+void partition_reproducibly() { setenv("SCOTCH_PTHREAD_NUMBER", "1", 0); }
+
 /// PETSc, MPI, the interruption handlers and the logs.
 void initialize(std::vector<char*> petsc, char* argv[])
 {
   biotcontact::silence_hdf5_errors(); // before any HDF5 call
   start_mpi_alone();
+  partition_reproducibly();
   int petsc_argc = static_cast<int>(petsc.size());
   petsc.push_back(nullptr); // MPI_Init reads argv up to its terminator
   char** petsc_args = petsc.data();

@@ -123,6 +123,13 @@ def _start_mpi_alone():
     os.environ.setdefault("HWLOC_COMPONENTS", "-pci,-linuxio")
 
 
+def _partition_reproducibly():
+    """PT-Scotch partitions the mesh over the ranks with one thread, so that
+    the partition, and with it the DOFs' order, is the same at every run of
+    one command (as cpp/main.cpp). A user's own setting wins."""
+    os.environ.setdefault("SCOTCH_PTHREAD_NUMBER", "1")
+
+
 @contextmanager
 def _versions_without_pkg_resources():
     """UFL and FFCx read their own versions at import with pkg_resources,
@@ -155,6 +162,7 @@ def main(argv):
         return 0
 
     _start_mpi_alone()
+    _partition_reproducibly()
     # PETSc reads its options once, at initialisation: before dolfinx is imported.
     import petsc4py
     petsc4py.init([sys.argv[0]] + petsc)

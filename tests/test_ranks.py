@@ -29,12 +29,12 @@ CASES = {"split with contact": ([], {"flow": "redundant (lu, petsc on each rank)
                                      {"monolithic": "redundant (lu, mumps on each rank)"})}
 
 
-def compare(a, b, label):
-    c = subprocess.run(PROTOTYPE + ["compare", a, b, "--tolerance", "1e-8"], capture_output=True, text=True,
+def compare(a, b, label, tolerance="1e-8", claim="2 ranks give the 1-rank run"):
+    c = subprocess.run(PROTOTYPE + ["compare", a, b, "--tolerance", tolerance], capture_output=True, text=True,
                        cwd=ROOT, env=MPI_ENV)
-    check(c.returncode == 0 and [r["iteration"] for r in iterations(a)] == [r["iteration"] for r in iterations(b)],
-          f"{label}: 2 ranks give the 1-rank run (fields to 1e-8, coupling iterations, contact sets)\n"
-          f"{c.stdout[-400:]}")
+    check(c.returncode == 0 and "agree" in c.stdout.splitlines()[-1:]
+          and [r["iteration"] for r in iterations(a)] == [r["iteration"] for r in iterations(b)],
+          f"{label}: {claim} (fields to {tolerance}, coupling iterations, contact sets)\n{c.stdout[-400:]}")
 
 
 def counts(out):
@@ -72,6 +72,12 @@ for track in ("C++", "prototype"):
                   for s, (m, d) in methods.items()),
               f"{track}, 3D block [24,12,6] on {ranks} rank(s): auto picks {methods} "
               f"({[solvers[s]['chosen_by'] for s in methods]})")
+    # One partition per mesh (PT-Scotch on one thread): a second run of the
+    # same command on 2 ranks is the first to the bit; with Scotch's threads
+    # the partition, and so the iterative flow solve's round-off, changed
+    # from run to run (5e-10 in the flux).
+    again, _ = run_track(track, scene("block3d_box"), *block, ranks=2)
+    compare(out, again, f"{track}, 3D block on 2 ranks twice", "0", "the second run is the first")
 
 # Fewer ranks work than were started: the run of one rank, to the bit.
 REACTIVATION = ["--set", "time.end=259200"]

@@ -1,11 +1,11 @@
 """Restarts on any partition (issue 21): a checkpoint names each value by the
 mesh's input numbering (a node's, a cell's, a facet's vertices'), so a run
-checkpointed on 2 ranks goes on, on 2 ranks (another partition: PT-SCOTCH
-differs from run to run) or on 1, and a 1-rank checkpoint goes on, on 2,
+checkpointed on 2 ranks goes on, on 2 ranks (the same partition) or on 1
+(none), and a 1-rank checkpoint goes on, on 2,
 each ending with the uninterrupted 1-rank run's fields (to 1e-8: the ranks
 sum in another order), active sets and coupling iterations, for the split
 with contact and the monolithic solve; a 2-rank run killed by SIGKILL goes
-on from its last periodic checkpoint on 2 ranks (another partition again). The flux values carry the facet's
+on from its last periodic checkpoint on 2 ranks. The flux values carry the facet's
 orientation: a wrong sign would show at the first step after the restart.
 A checkpoint of another mesh under the same scene text (the gmsh file was
 changed in between: another size, or the same size with its nodes moved) is
