@@ -5,7 +5,8 @@ checkpointed on 2 ranks goes on, on 2 ranks (the same partition) or on 1
 each ending with the uninterrupted 1-rank run's fields (to 1e-8: the ranks
 sum in another order), active sets and coupling iterations, for the split
 with contact and the monolithic solve; a 2-rank run killed by SIGKILL goes
-on from its last periodic checkpoint on 2 ranks. The flux values carry the facet's
+on from its last periodic checkpoint on 2 ranks. Continued on 2 ranks, a
+C++ run ends with the uninterrupted 2-rank run's fields to the bit. The flux values carry the facet's
 orientation: a wrong sign would show at the first step after the restart.
 A checkpoint of another mesh under the same scene text (the gmsh file was
 changed in between: another size, or the same size with its nodes moved) is
@@ -113,7 +114,12 @@ def killed_run(track, ranks, scene_file, options):
     return out
 
 
-def continues_the_run(track, label, whole, stopped_on, restarted_on, options, stop=stopped_run):
+def continues_the_run(track, label, whole, ranks, options, stop=stopped_run):
+    """Checkpointed on ranks[0], restarted on ranks[1]: the uninterrupted
+    1-rank run (whole[1]) to 1e-8, and on an unchanged rank count its own
+    uninterrupted run (whole[ranks[0]], where given) to the bit: one
+    partition per mesh and rank count (PT-Scotch on one thread)."""
+    stopped_on, restarted_on = ranks
     checkpointed = stop(track, stopped_on, scene("default"), options)
     p = execute(track, restarted_on, scene("default"), "--restart", checkpointed, *options)
     label = f"{track}, {label}"
@@ -121,9 +127,14 @@ def continues_the_run(track, label, whole, stopped_on, restarted_on, options, st
           f"{label}: checkpointed on {stopped_on}, restarted on {restarted_on} rank(s), runs to the end "
           f"({p.stderr.strip()[-200:]!r})")
     lines = []
-    agreed = compare(whole, checkpointed, tolerance=1e-8, out=lines.append) == 0
+    agreed = compare(whole[1], checkpointed, tolerance=1e-8, out=lines.append) == 0
     check(agreed, f"{label}, {stopped_on} -> {restarted_on} rank(s): the uninterrupted run's fields to 1e-8, "
           f"active sets and coupling iterations:\n  " + "\n  ".join(lines[1:]))
+    if stopped_on == restarted_on and stopped_on in whole:
+        lines = []
+        agreed = compare(whole[stopped_on], checkpointed, tolerance=0.0, out=lines.append) == 0
+        check(agreed, f"{label}, {stopped_on} -> {restarted_on} rank(s): the uninterrupted {stopped_on}-rank "
+              f"run to the bit:\n  " + "\n  ".join(lines[1:]))
 
 
 # The default scene, refined and shortened (the signal stops a run after its
@@ -133,13 +144,16 @@ CASES = [("split with contact", SMALL), ("monolithic", ["--set", "coupling.schem
 for track, rank_changes in [("C++", [(2, 2), (2, 1), (1, 2)]), ("prototype", [(2, 1), (1, 2)])]:
     for label, extra in CASES:
         options = CHECKPOINT + extra
-        whole = tempfile.mkdtemp(prefix="whole-")
-        p = execute(track, 1, scene("default"), "--out", whole, *options)
-        check(p.returncode == 0, f"{track}, {label}: the uninterrupted run on 1 rank ({p.stderr.strip()[-200:]!r})")
-        for stopped_on, restarted_on in rank_changes:
-            continues_the_run(track, label, whole, stopped_on, restarted_on, options)
+        whole = {}
+        for ranks in sorted({1} | {a for a, b in rank_changes if a == b}):
+            whole[ranks] = tempfile.mkdtemp(prefix="whole-")
+            p = execute(track, ranks, scene("default"), "--out", whole[ranks], *options)
+            check(p.returncode == 0, f"{track}, {label}: the uninterrupted run on {ranks} rank(s) "
+                  f"({p.stderr.strip()[-200:]!r})")
+        for change in rank_changes:
+            continues_the_run(track, label, whole, change, options)
         if label == "split with contact":
-            continues_the_run(track, label + ", killed", whole, 2, 2, options, stop=killed_run)
+            continues_the_run(track, label + ", killed", whole, (2, 2), options, stop=killed_run)
 
 # Another mesh under the same scene text: the gmsh file changed in between,
 # to another size, or to the same size with its nodes moved.
