@@ -19,6 +19,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <omp.h>
 #include <cstring>
 #include <fstream>
 #include <dolfinx/common/log.h>
@@ -137,12 +138,36 @@ void start_mpi_alone()
 /// wins. Scotch reads the variable when it first partitions.
 void partition_reproducibly() { setenv("SCOTCH_PTHREAD_NUMBER", "1", 0); }
 
+/// One OpenMP thread per process unless OMP_NUM_THREADS says otherwise
+/// (read by the OpenMP runtime as it loads, before main): hypre, MUMPS and
+/// CHOLMOD give the same fields bit for bit with two threads, ranks on one
+/// node would fight over its cores, and SuperLU_DIST solves wrongly with
+/// more than one (threaded_superlu, solvers/options.h).
+void one_openmp_thread()
+{
+  if (!std::getenv("OMP_NUM_THREADS"))
+    omp_set_num_threads(1);
+}
+
+/// The error for options that name SuperLU_DIST with several OpenMP
+/// threads ("" when there is none), from every PETSc option however given
+/// (command line, PETSC_OPTIONS, a file).
+std::string refused_options()
+{
+  char* all = nullptr;
+  biotcontact::check_petsc(PetscOptionsGetAll(nullptr, &all), "reading the PETSc options: PetscOptionsGetAll");
+  const std::string error = biotcontact::threaded_superlu(all ? all : "", omp_get_max_threads());
+  biotcontact::check_petsc(PetscFree(all), "reading the PETSc options: PetscFree");
+  return error;
+}
+
 /// PETSc, MPI, the interruption handlers and the logs.
 void initialize(std::vector<char*> petsc, char* argv[])
 {
   biotcontact::silence_hdf5_errors(); // before any HDF5 call
   start_mpi_alone();
   partition_reproducibly();
+  one_openmp_thread();
   int petsc_argc = static_cast<int>(petsc.size());
   petsc.push_back(nullptr); // MPI_Init reads argv up to its terminator
   char** petsc_args = petsc.data();
@@ -200,6 +225,8 @@ int execute(const Arguments& args, int rank)
     return fail(args.bad + " (see --help)", rank);
   if (args.command.empty() or args.scene.empty())
     return fail("expected 'run SCENE.toml' or 'check SCENE.toml' (see --help)", rank);
+  if (const std::string refused = refused_options(); !refused.empty())
+    return fail(refused, rank);
   try
   {
     const biotcontact::Scene scene = biotcontact::read_scene(args.scene, args.overrides);

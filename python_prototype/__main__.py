@@ -130,6 +130,22 @@ def _partition_reproducibly():
     os.environ.setdefault("SCOTCH_PTHREAD_NUMBER", "1")
 
 
+def _one_openmp_thread():
+    """One OpenMP thread per process unless OMP_NUM_THREADS says otherwise,
+    set before PETSc's libraries load the OpenMP runtime, which reads it
+    then (as cpp/main.cpp): SuperLU_DIST solves wrongly with more."""
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+
+def _refused_options(PETSc):
+    """The error for options that name SuperLU_DIST with several OpenMP
+    threads ("" when there is none), from every PETSc option however given."""
+    import ctypes
+    from .solvers.options import threaded_superlu
+    threads = ctypes.CDLL("libgomp.so.1").omp_get_max_threads()
+    return threaded_superlu(PETSc.Options().getAll(), threads)
+
+
 @contextmanager
 def _versions_without_pkg_resources():
     """UFL and FFCx read their own versions at import with pkg_resources,
@@ -163,6 +179,7 @@ def main(argv):
 
     _start_mpi_alone()
     _partition_reproducibly()
+    _one_openmp_thread()
     # PETSc reads its options once, at initialisation: before dolfinx is imported.
     import petsc4py
     petsc4py.init([sys.argv[0]] + petsc)
@@ -202,6 +219,9 @@ def main(argv):
         return fail(bad + " (see --help)")
     if not command or not scene_file:
         return fail("expected 'run SCENE.toml' or 'check SCENE.toml' (see --help)")
+    refused = _refused_options(PETSc)
+    if refused:
+        return fail(refused)
     try:
         scene = read_scene(scene_file, overrides)
         if command == "check":

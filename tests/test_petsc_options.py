@@ -2,9 +2,11 @@
 default Krylov method once the preconditioner is no factorisation) gives the
 same answer as the direct default, and options that make no solver are
 refused in one line, without a PETSc trace. SuperLU_DIST solves the
-condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve).
+condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve)
+and, with one OpenMP thread (the default), on 1; with several it is refused.
 -help lists the project's own options with this run's default and value
 (issue 36), on both tracks."""
+import os
 import subprocess
 import tempfile
 
@@ -48,6 +50,28 @@ for track, command in (("C++", [BINARY]), ("prototype", PROTOTYPE)):
         check(p.returncode == 0 and "superlu_dist" in summary(out)["solvers"]["mechanics"]["method"]
               and c.returncode == 0, f"{track}, {ranks} rank(s), SuperLU_DIST on the condensed contact problem: the "
               f"default's run ({p.stderr.strip()[-200:]!r}, {c.stdout.strip()[-120:]!r})")
+
+# OpenMP: one thread per process unless OMP_NUM_THREADS says otherwise,
+# since Debian's SuperLU_DIST 8.1.2 solves wrongly with two (this run's
+# contact solver cycled in step 1, DIVERGED_MAX_IT, before the default);
+# set to 2 by the user, SuperLU_DIST is refused in one line naming the
+# option, no output written (both tracks).
+UNSET = {k: v for k, v in MPI_ENV.items() if k != "OMP_NUM_THREADS"}
+NAMED = ["-mechanics_pc_factor_mat_solver_type", "superlu_dist"]
+for track, command in TRACKS.items():
+    out = tempfile.mkdtemp()
+    p = subprocess.run([*command, "run", scene("default"), "--out", out, *SUPERLU, *NAMED], capture_output=True,
+                       text=True, env=UNSET, cwd=ROOT, timeout=300)
+    c = subprocess.run(PROTOTYPE + ["compare", default, out], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0 and c.returncode == 0, f"{track}: SuperLU_DIST without OMP_NUM_THREADS (one thread by "
+          f"default): the default's run ({p.stderr.strip()[-200:]!r}, {c.stdout.strip()[-120:]!r})")
+    out = tempfile.mkdtemp() + "/out"
+    p = subprocess.run([*command, "run", scene("default"), "--out", out, *SUPERLU, *NAMED], capture_output=True,
+                       text=True, env=dict(UNSET, OMP_NUM_THREADS="2"), cwd=ROOT, timeout=300)
+    check(p.returncode == 2 and p.stderr.count("\n") == 1 and "-mechanics_pc_factor_mat_solver_type superlu_dist: "
+          "SuperLU_DIST solves wrongly with 2 OpenMP threads" in p.stderr and "OMP_NUM_THREADS=1" in p.stderr
+          and not os.path.exists(out), f"{track}: SuperLU_DIST with OMP_NUM_THREADS=2 is refused in one line "
+          f"({p.stderr.strip()!r})")
 
 # -help lists -<prefix>contact_condensed, registered with PETSc's options
 # database, once per system, as "<default : value>" with its description:
