@@ -19,11 +19,11 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <omp.h>
 #include <cstring>
 #include <fstream>
 #include <dolfinx/common/log.h>
 #include <filesystem>
+#include <omp.h>
 #include <petscsys.h>
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 // The project's PETSc options as the solvers read them: the error that
 // options which do not make a solver raise, the name of a system in
-// messages, from its options prefix, and the packages refused. Below solver.h and field_split.h,
-// which both report bad options.
+// messages, from its options prefix, and the packages refused. Below
+// solver.h and field_split.h, which both report bad options.
 #pragma once
 
 #include <stdexcept>

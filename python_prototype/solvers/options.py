@@ -1,7 +1,7 @@
 """The project's PETSc options as the solvers read them (cpp/solvers/options.h):
 the error that options which do not make a solver raise, the name of a
-system in messages, from its options prefix, and the packages refused. Below solver.py and
-field_split.py, which both report bad options."""
+system in messages, from its options prefix, and the packages refused.
+Below solver.py and field_split.py, which both report bad options."""
 
 
 class OptionsError(Exception):
