@@ -122,16 +122,39 @@ void VariationalInequality::set_from_options()
   if (PetscErrorCode ierr = SNESSetFromOptions(_snes); ierr != 0)
     throw OptionsError("the PETSc options of " + system_name(_p.system_prefix)
                        + " contact solver do not make a solver: " + petsc_error_text(ierr));
-  if (_whole and _whole->method == Method::direct and ((_J and _p.tangents == 2) or _p.changing)
-      and _lag_by_default and !given_by_user(_p.prefix + "ksp_type"))
-    reuse_factorization();
+  if (!_whole or _whole->method != Method::direct)
+    return;
+  if (_p.tangents == 2 and (_J or _p.changing))
+  {
+    if (_lag_by_default and !given_by_user(_p.prefix + "ksp_type"))
+      reuse_factorization();
+  }
+  else if (_p.changing)
+    analyse_quickly();
+}
+
+void VariationalInequality::analyse_quickly()
+{
+  // A 2D conduit fault's K changes at every solve, and GMRES on the last
+  // factorisation took about 30 back-solves a Newton step (network2d),
+  // more than a factorisation costs in 2D: each change is factorised. Its
+  // cost is then MUMPS's analysis, 0.13 s with its METIS ordering against
+  // 0.009 s with AMD at 13,414 unknowns (the factorisation 0.033 s);
+  // AMD's fill makes a back-solve about 10 % dearer, which pays back at a
+  // few back-solves per factorisation (docs/performance.md, "thirty-fourth
+  // session").
+  const std::string factor = option(_p.prefix, "-pc_type") == "redundant" ? _p.prefix + "redundant_" : _p.prefix;
+  if (option(factor, "-pc_factor_mat_solver_type") == "mumps")
+    set_default_option(factor + "mat_mumps_icntl_7", "0");
 }
 
 void VariationalInequality::reuse_factorization()
 {
   // In 3D a slipping pair's rows of J turn with its slip at every Newton
   // step, and a conduit fault's rows of K follow its apertures from solve
-  // to solve, while the rest of K and the inactive set stay: the
+  // to solve, while the rest of K and the inactive set stay, and a
+  // factorisation costs about 100 back-solves (97,006 unknowns: 9.2 s
+  // against 0.07 s): the
   // factorisation of an earlier J preconditions GMRES on the new one, a
   // few back-solves where a factorisation of the whole system would be
   // (theory.md, "Friction").

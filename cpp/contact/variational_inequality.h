@@ -109,7 +109,7 @@ public:
   long factorizations() const;
 
   /// Whether an earlier factorisation preconditions GMRES on the next
-  /// Jacobians (3D friction or a changing K, on the whole system,
+  /// Jacobians (3D friction or a changing K in 3D, on the whole system,
   /// factorised; reuse_factorization).
   bool reuses_factorization() const { return _reuse_factorization; }
 
@@ -133,10 +133,13 @@ private:
   SNESConvergedReason run_snes();
   void count_iterations(SNESConvergedReason reason);
   void clamped_start();
-  /// 3D friction or a changing K on the whole system, factorised
+  /// 3D friction or a changing K in 3D on the whole system, factorised
   /// (set_from_options): the factorisation of an earlier Jacobian
   /// preconditions GMRES on the next.
   void reuse_factorization();
+  /// A changing K in 2D, factorised (set_from_options): each change is
+  /// factorised, MUMPS's analysis by AMD.
+  void analyse_quickly();
   /// After GMRES failed on an earlier factorisation: the solve goes on from
   /// its last iterate, the Jacobian factorised whenever it changes.
   SNESConvergedReason refactorised();
