@@ -32,6 +32,17 @@ for track, command in TRACKS.items():
     check(failed["status"] == "failed" and reason in failed["failure"],
           f"{track}: summary.json says failed, with the reason: {failed['failure']!r}")
 
+# The contact solver's error names the SNES type the options made, not
+# the default's (it said vinewtonrsls whatever -<prefix>snes_type was).
+for track, command in TRACKS.items():
+    out = tempfile.mkdtemp()
+    p = subprocess.run([*command, "run", scene("default"), "--out", out, "--set", "time.end=0.2",
+                        "-mechanics_contact_snes_type", "vinewtonssls", "-mechanics_contact_snes_max_it", "1"],
+                       capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 3 and p.stderr.count("\n") == 1
+          and "the contact solver (SNES vinewtonssls) did not converge: DIVERGED_MAX_IT" in p.stderr,
+          f"{track}: the contact solver's error names the type given: {p.stderr.strip()!r}")
+
 # SuperLU_DIST for the condensed contact problem: on 2 ranks the Schur
 # complement's 161 columns come in blocks of 64 and a last, narrower one,
 # which PETSc 3.18's block solve aborted on ("double free or

@@ -133,6 +133,13 @@ void VariationalInequality::set_from_options()
     analyse_quickly();
 }
 
+std::string VariationalInequality::solver_name() const
+{
+  SNESType type = nullptr;
+  check_petsc(SNESGetType(_snes, &type), "contact solver: SNESGetType");
+  return std::string("the contact solver (SNES ") + (type ? type : "without a type") + ")";
+}
+
 void VariationalInequality::analyse_quickly()
 {
   // A 2D conduit fault's K changes at every solve, and GMRES on the last
@@ -259,8 +266,7 @@ void VariationalInequality::solve(double scale)
     count_iterations(reason);
   }
   if (reason < 0)
-    throw SolverError(std::string("the contact solver (SNES vinewtonrsls) did not converge: ")
-                      + SNESConvergedReasons[reason]
+    throw SolverError(solver_name() + " did not converge: " + SNESConvergedReasons[reason]
                       + (_J and reason != SNES_DIVERGED_LINEAR_SOLVE ? no_equilibrium : ""));
   check_petsc(VecScale(_y, scale), "contact solver: VecScale");
 }
@@ -371,7 +377,7 @@ SNESConvergedReason VariationalInequality::run_snes()
     // (convergence.cpp), which the clamped start answers.
     if (ierr == PETSC_ERR_MAT_LU_ZRPVT or ierr == PETSC_ERR_MAT_CH_ZRPVT)
       return SNES_DIVERGED_LINEAR_SOLVE;
-    throw SolverError("the contact solver (SNES vinewtonrsls) failed: " + petsc_error_text(ierr));
+    throw SolverError(solver_name() + " failed: " + petsc_error_text(ierr));
   }
   SNESConvergedReason reason;
   check_petsc(SNESGetConvergedReason(_snes, &reason), "contact solver: SNESGetConvergedReason");

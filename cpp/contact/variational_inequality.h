@@ -140,6 +140,9 @@ private:
   /// A changing K in 2D, factorised (set_from_options): each change is
   /// factorised, MUMPS's analysis by AMD.
   void analyse_quickly();
+  /// "the contact solver (SNES <type>)": the SNES type the options made,
+  /// for the solver's errors.
+  std::string solver_name() const;
   /// After GMRES failed on an earlier factorisation: the solve goes on from
   /// its last iterate, the Jacobian factorised whenever it changes.
   SNESConvergedReason refactorised();

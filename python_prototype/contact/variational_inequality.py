@@ -201,6 +201,11 @@ class VariationalInequality:
         elif self.p.changing:
             self._analyse_quickly()
 
+    def _solver_name(self):
+        """"the contact solver (SNES <type>)": the SNES type the options
+        made, for the solver's errors."""
+        return f"the contact solver (SNES {self.snes.getType()})"
+
     def _analyse_quickly(self):
         """A 2D conduit fault's K changes at every solve, and GMRES on the
         last factorisation costs more back-solves than a factorisation in
@@ -305,7 +310,7 @@ class VariationalInequality:
                 reason = self._snes_solve()
                 self._count(reason)
         if reason < 0:
-            raise SolverError("the contact solver (SNES vinewtonrsls) did not converge: "
+            raise SolverError(f"{self._solver_name()} did not converge: "
                               + reason_name(PETSc.SNES.ConvergedReason, reason)
                               + (NO_EQUILIBRIUM if self.J is not None
                                  and reason != PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else ""))
@@ -392,7 +397,7 @@ class VariationalInequality:
             # DIVERGED_DTOL is (convergence.py), which the clamped start answers
             if e.ierr in _ZERO_PIVOTS:
                 return PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
-            raise SolverError(f"the contact solver (SNES vinewtonrsls) failed: {petsc_error_text(e)}") from None
+            raise SolverError(f"{self._solver_name()} failed: {petsc_error_text(e)}") from None
         return self.snes.getConvergedReason()
 
     def _clamped_start(self):
