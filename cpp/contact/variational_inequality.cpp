@@ -1,5 +1,6 @@
 #include "contact/variational_inequality.h"
 
+#include "contact/factorization_reuse.h"
 #include "solvers/options.h"
 
 #include <algorithm>
@@ -130,7 +131,11 @@ void VariationalInequality::set_from_options()
       reuse_factorization();
   }
   else if (_p.changing)
-    analyse_quickly();
+    // A 2D conduit fault's K changes at every solve, where GMRES on the
+    // last factorisation took 15-30 back-solves a Newton step, more than a
+    // factorisation with a quick analysis costs in 2D: each change is
+    // factorised (docs/performance.md, "thirty-fourth session").
+    analyse_quickly(_p.prefix);
 }
 
 std::string VariationalInequality::solver_name() const
@@ -140,76 +145,18 @@ std::string VariationalInequality::solver_name() const
   return std::string("the contact solver (SNES ") + (type ? type : "without a type") + ")";
 }
 
-void VariationalInequality::analyse_quickly()
-{
-  // A 2D conduit fault's K changes at every solve, and GMRES on the last
-  // factorisation took about 30 back-solves a Newton step (network2d),
-  // more than a factorisation costs in 2D: each change is factorised. Its
-  // cost is then MUMPS's analysis, 0.13 s with its METIS ordering against
-  // 0.009 s with AMD at 13,414 unknowns (the factorisation 0.033 s);
-  // AMD's fill makes a back-solve about 10 % dearer, which pays back at a
-  // few back-solves per factorisation (docs/performance.md, "thirty-fourth
-  // session").
-  const std::string factor = option(_p.prefix, "-pc_type") == "redundant" ? _p.prefix + "redundant_" : _p.prefix;
-  if (option(factor, "-pc_factor_mat_solver_type") == "mumps")
-    set_default_option(factor + "mat_mumps_icntl_7", "0");
-}
-
 void VariationalInequality::reuse_factorization()
 {
   // In 3D a slipping pair's rows of J turn with its slip at every Newton
   // step, and a conduit fault's rows of K follow its apertures from solve
   // to solve, while the rest of K and the inactive set stay, and a
   // factorisation costs about 100 back-solves (97,006 unknowns: 9.2 s
-  // against 0.07 s): the
-  // factorisation of an earlier J preconditions GMRES on the new one, a
-  // few back-solves where a factorisation of the whole system would be
-  // (theory.md, "Friction").
-  // SNES VI sets its KSP up from the options again when the inactive set
-  // changes: the options say GMRES, for the VI's solves only (KrylovOnReuse),
-  // to 1e-12 (near a direct solve's round-off) in at most 100 iterations,
-  // else the Jacobian is factorised anew (refactorised).
+  // against 0.07 s): the factorisation of an earlier J preconditions GMRES
+  // on the new one (reuse_options), else the Jacobian is factorised anew
+  // (refactorised; theory.md, "Friction").
   _reuse_factorization = true;
-  for (const auto& [name, value] : {std::pair<std::string, std::string>{"ksp_type", "gmres"},
-                                    {"ksp_rtol", "1e-12"},
-                                    {"ksp_max_it", "100"}})
-    if (!given_by_user(_p.prefix + name))
-      _reuse_options.emplace_back(_p.prefix + name, value);
+  _reuse_options = reuse_options(_p.prefix);
 }
-
-namespace
-{
-/// @brief The options of reuse_factorization in PETSc's database while the
-/// VI solves (the system's own solvers share its prefix and stay direct).
-class KrylovOnReuse
-{
-public:
-  KrylovOnReuse(SNES snes, const std::vector<std::pair<std::string, std::string>>& options)
-  {
-    for (const auto& [name, value] : options)
-    {
-      _before.emplace_back(name, option("", ("-" + name).c_str()));
-      check_petsc(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()),
-                  "contact solver: PetscOptionsSetValue -" + name);
-    }
-    KSP ksp;
-    check_petsc(SNESGetKSP(snes, &ksp), "contact solver: SNESGetKSP");
-    check_petsc(KSPSetFromOptions(ksp), "contact solver: KSPSetFromOptions");
-  }
-  ~KrylovOnReuse()
-  {
-    for (const auto& [name, value] : _before)
-      warn_petsc(value.empty() ? PetscOptionsClearValue(nullptr, ("-" + name).c_str())
-                               : PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()),
-                 "contact solver: restoring a PETSc option");
-  }
-  KrylovOnReuse(const KrylovOnReuse&) = delete;
-  KrylovOnReuse& operator=(const KrylovOnReuse&) = delete;
-
-private:
-  std::vector<std::pair<std::string, std::string>> _before;
-};
-} // namespace
 
 void VariationalInequality::operator_changed()
 {

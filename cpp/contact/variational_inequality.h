@@ -137,9 +137,6 @@ private:
   /// (set_from_options): the factorisation of an earlier Jacobian
   /// preconditions GMRES on the next.
   void reuse_factorization();
-  /// A changing K in 2D, factorised (set_from_options): each change is
-  /// factorised, MUMPS's analysis by AMD.
-  void analyse_quickly();
   /// "the contact solver (SNES <type>)": the SNES type the options made,
   /// for the solver's errors.
   std::string solver_name() const;

@@ -14,6 +14,7 @@ from petsc4py import PETSc
 
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .convergence import ContactConvergence, VIBounds
+from .factorization_reuse import KrylovOnReuse, analyse_quickly, reuse_options
 from .friction import FrictionPoint, add_friction_forces, friction_jacobian, jacobian_weights
 from ..solvers.field_split import is_coupled
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
@@ -199,61 +200,31 @@ class VariationalInequality:
             if self.lag_by_default and not given_by_user(self.p.prefix + "ksp_type"):
                 self._reuse_factorization()
         elif self.p.changing:
-            self._analyse_quickly()
+            # a 2D conduit fault's K changes at every solve, where GMRES on the
+            # last factorisation took 15-30 back-solves a Newton step, more
+            # than a factorisation with a quick analysis costs in 2D: each
+            # change is factorised (docs/performance.md, "thirty-fourth session")
+            analyse_quickly(self.p.prefix)
 
     def _solver_name(self):
         """"the contact solver (SNES <type>)": the SNES type the options
         made, for the solver's errors."""
         return f"the contact solver (SNES {self.snes.getType()})"
 
-    def _analyse_quickly(self):
-        """A 2D conduit fault's K changes at every solve, and GMRES on the
-        last factorisation costs more back-solves than a factorisation in
-        2D: each change is factorised, MUMPS's analysis by AMD instead of
-        METIS, 14x faster at 13,414 unknowns for back-solves 10 % dearer
-        (cpp/contact/variational_inequality.cpp)."""
-        options = PETSc.Options()
-        redundant = options.getString(self.p.prefix + "pc_type", "") == "redundant"
-        factor = self.p.prefix + ("redundant_" if redundant else "")
-        if options.getString(factor + "pc_factor_mat_solver_type", "") == "mumps":
-            set_default_option(factor + "mat_mumps_icntl_7", "0")
-
     def _reuse_factorization(self):
         """In 3D a slipping pair's rows of J turn with its slip at every
         Newton step, and a conduit fault's rows of K follow its apertures
         from solve to solve, while the rest of K and the inactive set stay,
         and a factorisation costs about 100 back-solves: the factorisation
-        of an earlier J preconditions GMRES on the new one
-        (theory.md, "Friction"). SNES VI sets its KSP up from the options again when the
-        inactive set changes: the options say GMRES, for the VI's solves only
-        (_krylov_on_reuse), to 1e-12 (near a direct solve's round-off) in at
-        most 100 iterations, else the Jacobian is factorised anew
-        (_refactorised)."""
+        of an earlier J preconditions GMRES on the new one (reuse_options),
+        else the Jacobian is factorised anew (_refactorised; theory.md,
+        "Friction")."""
         self.reuse = True
-        self.reuse_options = [(self.p.prefix + name, value)
-                              for name, value in (("ksp_type", "gmres"), ("ksp_rtol", "1e-12"), ("ksp_max_it", "100"))
-                              if not given_by_user(self.p.prefix + name)]
+        self.reuse_options = reuse_options(self.p.prefix)
 
-    @contextlib.contextmanager
     def _krylov_on_reuse(self):
-        """The options of _reuse_factorization in PETSc's database while the
-        VI solves (the system's own solvers share its prefix and stay
-        direct)."""
-        options = PETSc.Options()
-        before = [(name, options.getString(name) if options.hasName(name) else None)
-                  for name, _ in self.reuse_options] if self.reuse else []
-        for name, value in self.reuse_options if self.reuse else []:
-            options.setValue(name, value)
-        if self.reuse:
-            self.snes.getKSP().setFromOptions()
-        try:
-            yield
-        finally:
-            for name, value in before:
-                if value is None:
-                    options.delValue(name)
-                else:
-                    options.setValue(name, value)
+        """KrylovOnReuse while reusing a factorisation, else nothing."""
+        return KrylovOnReuse(self.snes, self.reuse_options) if self.reuse else contextlib.nullcontext()
 
     def operator_changed(self):
         """K was reassembled: "rebuild once, then reuse" re-armed."""
