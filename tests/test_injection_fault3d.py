@@ -22,11 +22,10 @@ fault crossing a layered reservoir in 3D, for the first 2 of its 4 hours
   the fault's volumes balanced (a step that does not is refused).
 - Through that opening 2 ranks give the 1-rank fields to 1e-8, the
   run's coupling iterations within 10 % and the same seismic moments to
-  1e-8. The opening step's slow tail stops where round-off puts it, and
-  the partition sets the round-off: 68 iterations in it on 2 ranks, 73 on
-  one. Until 2026-12-02 PT-SCOTCH's threads gave another partition at each
-  run (65, 73, 65, 69 and 65 iterations in five runs of one command;
-  docs/performance.md, "thirty-third session"). The
+  1e-8. The opening step's slow tail ends where its lag stagnates at the
+  openings' round-off (theory.md, "Flow in a fault"): 67 iterations in it
+  on 1 and on 2 ranks (73 and 68 before that was held; with the fault's
+  rows spread over both ranks it then cycled to the 200th). The
   moments agree since each pair's G is the mean over its + node's cells,
   the same on any partition (it was the G of one of them, which differed
   by 3 % between 1 and 2 ranks at the pairs on the reservoir's top and

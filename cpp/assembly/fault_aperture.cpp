@@ -47,22 +47,16 @@ FaultNodes fault_nodes(const Domain& domain, const fem::FunctionSpace& V)
 }
 
 FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem::FunctionSpace& V)
-    : _comm(domain.mesh->comm())
+    : _comm(domain.mesh->comm()), _rows(fault_rows(scene, domain))
 {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(_comm, &rank);
-  MPI_Comm_size(_comm, &ranks);
-  const bool last = rank == ranks - 1;
   const int d = domain.dim();
-  for (const auto& [name, f] : scene.faults)
-    if (f.flow == FaultFlow::conduit)
-      _size += static_cast<std::int64_t>(domain.faults.at(name).cells.size());
+  _size = _rows.size();
   const FaultNodes nodes = fault_nodes(domain, V);
   const auto columns = static_cast<PetscInt>(d * V.dofmap()->index_map->size_local());
-  check_petsc(MatCreateAIJ(_comm, last ? static_cast<PetscInt>(_size) : 0, columns, PETSC_DETERMINE, PETSC_DETERMINE,
-                           2 * d * d, nullptr, 2 * d * d, nullptr, &_J),
+  check_petsc(MatCreateAIJ(_comm, _rows.owned(), columns, PETSC_DETERMINE, PETSC_DETERMINE, 2 * d * d, nullptr,
+                           2 * d * d, nullptr, &_J),
               "the fault apertures: MatCreateAIJ of J");
-  PetscInt row = 0;
+  std::int64_t cell = 0; // among every conduit's cells
   for (const auto& [name, f] : scene.faults)
   {
     const auto index = static_cast<std::int64_t>(_fault_index.size());
@@ -72,10 +66,11 @@ FaultAperture::FaultAperture(const Scene& scene, const Domain& domain, const fem
     const FaultCells& cells = domain.faults.at(name).cells;
     _keys.insert(_keys.end(), cells.keys.begin(), cells.keys.end());
     _fault.insert(_fault.end(), cells.size(), index);
-    if (!last)
-      continue;
-    for (std::size_t k = 0; k < cells.size(); ++k, ++row)
+    for (std::size_t k = 0; k < cells.size(); ++k, ++cell)
     {
+      if (!_rows.owns(cell))
+        continue;
+      const PetscInt row = _rows.row[cell];
       double gap = 0;
       for (int i = 0; i < d; ++i)
       {
@@ -105,16 +100,13 @@ std::vector<double> FaultAperture::opening(la::Vector<double>& u) const
 {
   la::petsc::Vector x = wrap(u);
   check_petsc(MatMult(_J, x.vec(), _cells), "the fault apertures' opening: MatMult");
-  std::vector<double> w(_size);
+  std::vector<double> w(_gap.size());
   const PetscScalar* W;
   check_petsc(VecGetArrayRead(_cells, &W), "the fault apertures' opening: VecGetArrayRead");
   for (std::size_t k = 0; k < _gap.size(); ++k)
     w[k] = _gap[k] + W[k];
   check_petsc(VecRestoreArrayRead(_cells, &W), "the fault apertures' opening: VecRestoreArrayRead");
-  int ranks = 1;
-  MPI_Comm_size(_comm, &ranks);
-  MPI_Bcast(w.data(), static_cast<int>(w.size()), MPI_DOUBLE, ranks - 1, _comm);
-  return w;
+  return _rows.everywhere(w);
 }
 
 std::vector<double> FaultAperture::cell_means(const std::map<std::pair<std::string, std::int64_t>, double>& nodal) const

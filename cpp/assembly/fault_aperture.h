@@ -11,6 +11,7 @@
 // The prototype's twin is python_prototype/assembly/fault_aperture.py.
 #pragma once
 
+#include "assembly/fault_rows.h"
 #include "assembly/linear_algebra.h"
 #include "domain/domain.h"
 #include "scene/scene.h"
@@ -40,8 +41,8 @@ FaultNodes fault_nodes(const Domain& domain, const dolfinx::fem::FunctionSpace& 
 
 /// @brief The mean opening w = g0 + J u of each conduit fault cell, and the
 /// load J^T (|k| p_f) of the faults' fluid pressure. The rows of J are the
-/// conduit cells in ConduitFaults' numbering (fault by fault), on the last
-/// rank.
+/// conduit cells in ConduitFaults' numbering (fault by fault), each on its
+/// owner (fault_rows.h).
 class FaultAperture
 {
 public:
@@ -61,26 +62,27 @@ public:
   /// contact tractions, the cells' effective normal stress s_n.
   std::vector<double> cell_means(const std::map<std::pair<std::string, std::int64_t>, double>& nodal) const;
   /// Adds J^T (|k| p_f) to b but on the Dirichlet rows of `bcs`; `p_f`:
-  /// the last rank's pressures, none elsewhere (collective). The fluid
+  /// this rank's entries of the pressures (collective). The fluid
   /// pressure p_f pushes both faces apart; its work on the displacement is
   /// sum_k p_k |k| w_k, so its load is the adjoint of J: for P1 on a flat
   /// face each node takes |k|/d of the face's p_f n, the integral
   /// forms/biot.py's L_face_pressure takes of a given pressure.
   void add_load(std::span<const double> p_f, const BCs& bcs, dolfinx::la::Vector<double>& b) const;
-  /// J itself (rows: the conduit cells, on the last rank; columns: V's
-  /// DOFs), and the cells' measures |k| (the last rank's).
+  /// J itself (rows: the conduit cells, each on its owner; columns: V's
+  /// DOFs), and the cells' measures |k| (this rank's entries).
   Mat jump() const { return _J; }
   const std::vector<double>& measures() const { return _measures; }
 
 private:
   Mat _J = nullptr;
   Vec _cells = nullptr;                // on J's rows
-  std::vector<double> _gap, _measures; // per cell (the last rank's)
+  std::vector<double> _gap, _measures; // per cell (this rank's entries)
   std::vector<std::int64_t> _keys;     // the + nodes of every cell, d per cell (every rank)
   std::vector<std::int64_t> _fault;    // every cell's fault, its position in the scene's faults (every rank)
   std::map<std::string, std::int64_t> _fault_index; // the scene's faults' positions, by name
   std::int64_t _size = 0;
   MPI_Comm _comm;
+  FaultRows _rows;
 };
 
 } // namespace biotcontact

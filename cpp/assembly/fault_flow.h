@@ -1,6 +1,6 @@
 // The flow inside "conduit" faults (docs/theory.md "Flow in a fault"): the
 // fault's pressure p_f, one unknown per fault cell (domain/fault_cells.h),
-// appended to the flow system after the rock's unknowns, on the last rank.
+// appended to the flow system after the rock's unknowns (fault_rows.h).
 // Per cell k, the mass balance times -1 (as forms/biot.py writes the rock's),
 //
 //     sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
@@ -14,6 +14,7 @@
 
 #include "assembly/boundary_conditions.h"
 #include "assembly/fault_compliance.h"
+#include "assembly/fault_rows.h"
 #include "assembly/fault_volumes.h"
 #include "domain/domain.h"
 #include "scene/scene.h"
@@ -71,11 +72,18 @@ constexpr double relaxed_above = 0.9;
 /// Aitken's relaxation starts once the lag grew at this many coupling
 /// iterations in a row (the lagged cubic law's 2-cycle).
 constexpr int stalled_iterations = 3;
+/// A lag below the openings' round-off that has not halved over this many
+/// of the split's iterations is noise: the floor of the relaxation holds
+/// the apertures from then to the step's end (Aitken's factor from noise
+/// cycled with period 4).
+constexpr std::size_t stagnation_window = 4;
 
 /// @brief The conduit faults of a scene: their cells, numbered fault by
-/// fault in the scene's order, appended after the flow system's unknowns on
-/// the last rank (a fault holds few facets); the faces' flux DOFs on the
-/// ranks that own them.
+/// fault in the scene's order, appended after the flow system's unknowns,
+/// each on the rank that owns its first node (fault_rows.h); the faces'
+/// flux DOFs on the ranks that own them. Every rank keeps every cell's
+/// geometry and apertures (a fault holds few facets); "this rank's
+/// entries" of the pressure are its owned cells', in the cells' order.
 class ConduitFaults
 {
 public:
@@ -85,10 +93,9 @@ public:
                 const FacetFlux& flux);
 
   explicit operator bool() const { return _size > 0; }
-  /// The cells of every conduit fault, and this rank's share of them (all
-  /// on the last rank).
+  /// The cells of every conduit fault, and this rank's share of them.
   std::int64_t size() const { return _size; }
-  std::int32_t owned() const { return _owned; }
+  std::int32_t owned() const { return _rows.owned(); }
 
   /// p_f at the start: the expression p0 at the cells' centroids (this
   /// rank's entries).
@@ -103,8 +110,7 @@ public:
   /// The rows of the face DOFs across a finite normal permeability: (dof,
   /// mu_f (w_h/2)/k_n <w_i.n, w_i.n>) with w_i.n = c_i/|face|.
   std::vector<std::pair<PetscInt, double>> face_resistance() const;
-  /// C: the fault's rows against its own unknowns at step dt (collective;
-  /// the entries on the last rank).
+  /// C: the fault's rows against its own unknowns at step dt (collective).
   Mat operator_matrix(double dt) const;
   /// The hydraulic apertures w_h = w_r + b(s_n) + (w - e)^+ of the
   /// cells' mean openings w (FaultAperture::opening) and effective normal
@@ -127,13 +133,13 @@ public:
   /// monolithic step, whose rows -(|k|/dt) J u carry it: opening_rates):
   /// they take no fixed-stress term; closed cells keep their closure's.
   void with_implicit_openings() { _implicit = true; }
-  /// Per appended row (the last rank's) the fixed-stress term L_k/dt =
+  /// Per appended row (this rank's entries) the fixed-stress term L_k/dt =
   /// L_f |k|/dt that the split gives an open cell (its open patch's
   /// patch_compliance), 0 in the others: what the monolithic system's
   /// fixed-stress preconditioner adds to C's diagonal, its open cells
   /// taking none in the system itself (with_implicit_openings).
   std::vector<double> open_stabilisation(double dt) const;
-  /// Per appended row (the last rank's) the factor of the cell's mean
+  /// Per appended row (this rank's entries) the factor of the cell's mean
   /// opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
   /// p^old)) (p^old the history value of `step`) where the cell was open
   /// at the last set_openings (the volume it opens, and Newton's term of
@@ -153,12 +159,12 @@ public:
   /// cell k's flux terms N_k = -sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k -
   /// p_D) (junctions' links included) by the conducting aperture w_m of
   /// each cell m open at the last set_openings, at the faults' pressure `p`
-  /// (the last rank's) and time t (p_D); zero before newton(). Entries of
+  /// (this rank's entries) and time t (p_D); zero before newton(). Entries of
   /// closed cells stay as zeros, so the structure does not change as cells
   /// open (collective).
   Mat flux_jacobian(std::span<const double> p, double t) const;
   /// w_h - w_c per cell, the hydraulic aperture's lead on the conducting
-  /// one that relax_conducting left (the last rank's).
+  /// one that relax_conducting left (this rank's entries).
   std::vector<double> conducting_lag() const;
   /// How far the last set_openings moved the hydraulic apertures: the
   /// largest change relative to the largest aperture, infinite where a
@@ -175,19 +181,19 @@ public:
   /// positive), and the fine step's share of the volume the cell's opening
   /// made since the start of the window, |k| (w_h - w_h_start)/(q dt). In a
   /// coupled split p_iterate is the last flow iterate's p^i, and w_h the
-  /// last mechanics iterate's.
+  /// last mechanics iterate's (collective).
   void load(const FineStep& step, std::span<const double> p_old, std::span<const double> p_iterate,
             std::span<double> b) const;
   /// The conduit cells' fields at time t, every fault in turn, on rank 0
   /// (empty elsewhere; collective): per cell pressure, hydraulic aperture,
   /// exchange (the rock's volume rate per area into the fault, sum_i c_i
   /// z_i / |k|) and mean flux (3). `w` the flow unknowns (this rank's), `p`
-  /// the fault's pressure (the last rank's).
+  /// the fault's pressure (this rank's entries).
   std::vector<double> cell_values(std::span<const double> w, std::span<const double> p, double t) const;
 
   /// Each fault's volumes of fine step `step` (every rank): `w` the flow
   /// unknowns (this rank's), `p` and `p_old` the fault's pressure at its
-  /// end and start (the last rank's; collective).
+  /// end and start (this rank's entries; collective).
   std::vector<StepVolumes> step_volumes(std::span<const double> w, std::span<const double> p,
                                         std::span<const double> p_old, const FineStep& step) const;
   /// The first fault that `step` (step_volumes) leaves unbalanced by more
@@ -197,11 +203,12 @@ public:
   std::string unbalanced(const std::vector<StepVolumes>& step, double rock_flux) const;
   /// Adds the accepted fine step's volumes (step_volumes) to each fault's.
   /// After a window's last fine step its apertures become the next
-  /// window's start, and the start's apertures and pressure `p_start` (the
-  /// last rank's) the values one step before, which BDF2 reads.
+  /// window's start, and the start's apertures and pressure `p_start` (this
+  /// rank's entries) the values one step before, which BDF2 reads
+  /// (collective).
   void add_volumes(const std::vector<StepVolumes>& volumes, const FineStep& step, std::span<const double> p_start);
   /// Sets each intersection's rate from `p`, the faults' pressure at an
-  /// accepted step's end (the last rank's; collective).
+  /// accepted step's end (this rank's entries; collective).
   void set_intersection_rates(std::span<const double> p);
   /// The rates by set of faults that meet, in the order of their names
   /// (the same on every rank).
@@ -225,6 +232,9 @@ private:
   /// once a cell's open state flipped back in this step (or the lag
   /// stopped shrinking); returns how far w_h lay from them (the lag, m).
   double relax_conducting();
+  /// Whether `lag` (|w_h - w_c|) has not halved over the last
+  /// stagnation_window iterations of the step.
+  bool stagnant(double lag) const;
   struct Conduit
   {
     std::string name;
@@ -264,7 +274,7 @@ private:
   /// check_expressions has checked that each meets one).
   void locate_wells(const Scene& scene, const std::string& fault, const FaultCells& cells, std::int64_t offset);
   std::vector<double> storage(const Conduit& c, double dt) const;
-  /// The history value of the pressure p_old (the last rank's) at `step`.
+  /// The history value of the pressure p_old (every cell) at `step`.
   std::vector<double> pressure_history(const FineStep& step, std::span<const double> p_old) const;
   /// Each cell's L_f, with L_k = L_f |k| the fault's fixed-stress term
   /// (Girault, Kumar and Wheeler): in the cells open (w > e) at either of
@@ -318,9 +328,9 @@ private:
   std::vector<Well> _wells;
   std::vector<FaultJunction> _junctions; // where the conduits meet (fault_network)
   std::vector<double> _through;          // per junction: its rate (set_intersection_rates)
-  std::vector<double> _pressure_before; // p_f at the start of the step before (the last rank's; BDF2)
+  std::vector<double> _pressure_before; // p_f at the start of the step before (every cell; BDF2)
   std::int64_t _size = 0, _start = 0;
-  std::int32_t _owned = 0;
+  FaultRows _rows;
   int _dim = 2;
   bool _started = false;   // whether the start apertures are known
   bool _stabilised = true; // whether the cells take L (set_compliance)
@@ -331,6 +341,8 @@ private:
   bool _relaxing = false;  // the conducting apertures are relaxed (relax_conducting)
   bool _newton = false;    // Newton's term of the transmissibilities is on (newton())
   int _stalled = 0;        // iterations in a row whose lag did not shrink (relax_conducting)
+  bool _held = false;      // the lag stagnated below round-off: the floor holds the apertures
+  std::vector<double> _lags; // |w_h - w_c| at each iteration of the step (relax_conducting)
 };
 
 } // namespace biotcontact

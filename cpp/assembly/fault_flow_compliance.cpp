@@ -37,16 +37,14 @@ void ConduitFaults::set_compliance(Conduit& c) const
 
 std::vector<double> ConduitFaults::open_stabilisation(double dt) const
 {
-  std::vector<double> s(_owned, 0.0);
+  std::vector<double> s(_rows.size(), 0.0);
   for (const Conduit& c : _conduits)
   {
-    if (!_owned)
-      break;
     const std::vector<double> L = patch_compliances(c);
     for (std::size_t k = 0; k < L.size(); ++k)
       s[c.offset + k] = c.open[k] and L[k] > 0 ? L[k] * c.cells->measures[k] / dt : 0.0;
   }
-  return s;
+  return _rows.entries(s);
 }
 
 std::vector<double> ConduitFaults::stabilisation(const Conduit& c, double dt) const

@@ -64,19 +64,23 @@ std::vector<double> ConduitFaults::conductance_slope(const Conduit& c) const
   return slope;
 }
 
-Mat ConduitFaults::flux_jacobian(std::span<const double> p, double t) const
+Mat ConduitFaults::flux_jacobian(std::span<const double> p_mine, double t) const
 {
+  const std::vector<double> p = _rows.everywhere(p_mine);
   Mat D = nullptr;
-  check_jacobian(MatCreateAIJ(_comm, _owned, _owned, PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 0, nullptr, &D),
+  check_jacobian(MatCreateAIJ(_comm, _rows.owned(), _rows.owned(), PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 8,
+                              nullptr, &D),
                  "MatCreateAIJ");
+  // Each rank sets its own rows: (cell k, cell m, value).
   auto add = [&](std::int64_t k, std::int64_t m, double v)
-  { check_jacobian(MatSetValue(D, static_cast<PetscInt>(k), static_cast<PetscInt>(m), v, ADD_VALUES), "MatSetValue"); };
-  for (std::int64_t k = 0; k < _size and _owned; ++k)
+  {
+    if (_rows.owns(k))
+      check_jacobian(MatSetValue(D, _rows.row[k], _rows.row[m], v, ADD_VALUES), "MatSetValue");
+  };
+  for (std::int64_t k = 0; k < _size; ++k)
     add(k, k, 0.0); // every diagonal entry: B = (rates + D) J's structure stays
   for (const Conduit& c : _conduits)
   {
-    if (!_owned)
-      break;
     const std::int64_t o = c.offset;
     const std::vector<double> t_c = conductance(c), slope = conductance_slope(c);
     // A link's N_k = -T (p_k - p_l), N_l = -T (p_l - p_k); entries kept
@@ -99,8 +103,7 @@ Mat ConduitFaults::flux_jacobian(std::span<const double> p, double t) const
       add(k, k, -dT_e[held[i]] * (p[k] - p_D[i]));
     }
   }
-  if (_owned)
-    add_junction_jacobian(p, D);
+  add_junction_jacobian(p, D);
   check_jacobian(MatAssemblyBegin(D, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check_jacobian(MatAssemblyEnd(D, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   return D;
@@ -117,7 +120,7 @@ void ConduitFaults::add_junction_jacobian(std::span<const double> p, Mat D) cons
   for (const FaultJunction& j : _junctions)
   {
     std::vector<double> h, dh, p_i;
-    std::vector<PetscInt> rows;
+    std::vector<std::int64_t> cells;
     const double r = junction_resistance(j);
     for (std::size_t i = 0; i < j.cells.size(); ++i)
     {
@@ -125,13 +128,15 @@ void ConduitFaults::add_junction_jacobian(std::span<const double> p, Mat D) cons
       const auto k = static_cast<std::size_t>(j.cells[i]);
       h.push_back(j.measure / (j.distances[i] / t[f][k] + r));
       dh.push_back(h[i] * h[i] * j.distances[i] * slope[f][k] / (j.measure * t[f][k] * t[f][k]));
-      rows.push_back(static_cast<PetscInt>(_conduits[f].offset + j.cells[i]));
-      p_i.push_back(p[rows[i]]);
+      cells.push_back(_conduits[f].offset + j.cells[i]);
+      p_i.push_back(p[cells[i]]);
     }
     const std::vector<double> dN = star_flux_derivative(h, p_i);
     for (std::size_t a = 0; a < h.size(); ++a)
-      for (std::size_t c = 0; c < h.size(); ++c)
-        check_jacobian(MatSetValue(D, rows[a], rows[c], dN[h.size() * a + c] * dh[c], ADD_VALUES), "MatSetValue");
+      for (std::size_t c = 0; c < h.size() and _rows.owns(cells[a]); ++c)
+        check_jacobian(MatSetValue(D, _rows.row[cells[a]], _rows.row[cells[c]], dN[h.size() * a + c] * dh[c],
+                                   ADD_VALUES),
+                       "MatSetValue");
   }
 }
 
@@ -139,9 +144,9 @@ std::vector<double> ConduitFaults::conducting_lag() const
 {
   std::vector<double> lag;
   for (const Conduit& c : _conduits)
-    for (std::size_t k = 0; k < c.aperture.size() and _owned; ++k)
+    for (std::size_t k = 0; k < c.aperture.size(); ++k)
       lag.push_back(c.conducting.empty() ? 0.0 : c.aperture[k] - c.conducting[k]);
-  return lag;
+  return _rows.entries(lag);
 }
 
 } // namespace biotcontact

@@ -15,16 +15,18 @@
 namespace biotcontact
 {
 
-std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, std::span<const double> p,
+std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, std::span<const double> p_mine,
                                                      std::span<const double> p_old, const FineStep& fine) const
 {
   // BDF2 balances its derivative, c0 (y - y*)/dt_n, against the rates over
   // the step dt_n = c0 fine.dt: stored = c0 (y - y*) (time_scheme.h).
   const double t = fine.t, c0 = fine.c[0], dt = c0 * fine.dt;
-  const std::vector<double> p_star = pressure_history(fine, p_old);
+  const std::vector<double> p_star = pressure_history(fine, _rows.everywhere(p_old));
+  const std::vector<double> p = _rows.everywhere(p_mine);
   // Per fault: injected, stored, exchanged, outflow of the step, gross,
-  // held and faces; the faces on every rank, the rest on the last.
-  // The intersections in the 8th column.
+  // held and faces; the faces on the ranks that own them, the rest by each
+  // cell's owner (a junction's link by its first member's). The
+  // intersections in the 8th column.
   std::vector<double> step(8 * _conduits.size(), 0.0);
   auto add = [&](std::size_t i, int column, double v) { step[8 * i + column] += v, step[8 * i + 4] += std::abs(v); };
   for (const Face& f : _faces)
@@ -33,15 +35,17 @@ std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, 
     step[8 * f.conduit + 6] += dt * std::abs(f.flux);
   }
   for (const Well& well : _wells)
-    if (_owned)
+    if (_rows.owns(well.row))
       add(well.conduit, 0, dt * well.share * (*well.rate)(0, 0, 0, t));
-  for (std::size_t i = 0; i < _conduits.size() and _owned; ++i)
+  for (std::size_t i = 0; i < _conduits.size(); ++i)
   {
     const Conduit& c = _conduits[i];
     const std::vector<double>& measures = c.cells->measures;
     const std::vector<double> w_star = history_value(fine, c.aperture_start, c.aperture_before);
     for (std::size_t k = 0; k < measures.size(); ++k)
     {
+      if (!_rows.owns(c.offset + static_cast<std::int64_t>(k)))
+        continue;
       add(i, 1, c0 * measures[k] * (c.aperture[k] - w_star[k]) / fine.q
                     + c0 * _flow.c_f * c.aperture[k] * measures[k] * (p[c.offset + k] - p_star[c.offset + k]));
       step[8 * i + 5] += measures[k] * c.aperture[k];
@@ -49,10 +53,11 @@ std::vector<StepVolumes> ConduitFaults::step_volumes(std::span<const double> w, 
     const auto [held, T_e] = held_ends(c);
     const std::vector<double> p_D = end_pressures(c, held, t);
     for (std::size_t e = 0; e < held.size(); ++e)
-      add(i, 3, dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]));
+      if (_rows.owns(c.offset + c.cells->ends.cells[held[e]]))
+        add(i, 3, dt * T_e[e] * (p[c.offset + c.cells->ends.cells[held[e]]] - p_D[e]));
   }
-  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
-    if (j.conduits[0] != j.conduits[1]) // from the first member's fault into the second's
+  for (const JunctionLink& j : junction_links())
+    if (j.conduits[0] != j.conduits[1] and _rows.owns(j.rows[0])) // from the first member's fault into the second's
     {
       const double V = dt * j.T * (p[j.rows[0]] - p[j.rows[1]]);
       add(j.conduits[0], 7, -V);
@@ -99,7 +104,7 @@ void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const Fine
                                 std::span<const double> p_start)
 {
   if (fine.m == fine.q)
-    _pressure_before.assign(p_start.begin(), p_start.end());
+    _pressure_before = _rows.everywhere(p_start);
   for (std::size_t i = 0; i < _conduits.size(); ++i)
   {
     FaultVolumes& v = _conduits[i].volumes;
@@ -111,15 +116,17 @@ void ConduitFaults::add_volumes(const std::vector<StepVolumes>& step, const Fine
   }
 }
 
-void ConduitFaults::set_intersection_rates(std::span<const double> p)
+void ConduitFaults::set_intersection_rates(std::span<const double> p_mine)
 {
   // Each member's net flow into the junction, sum_b T_ab (p_a - p_b) over
-  // its links there; the positive ones summed are what passes through.
+  // its links there; the positive ones summed are what passes through
+  // (every rank alike, from every cell's p).
   _through.assign(_junctions.size(), 0.0);
   if (_junctions.empty()) // the same on every rank
     return;
+  const std::vector<double> p = _rows.everywhere(p_mine);
   std::map<std::pair<std::size_t, std::int64_t>, double> into; // (junction, row)
-  for (const JunctionLink& j : _owned ? junction_links() : std::vector<JunctionLink>{})
+  for (const JunctionLink& j : junction_links())
   {
     const double q = j.T * (p[j.rows[0]] - p[j.rows[1]]);
     into[{j.junction, j.rows[0]}] += q;
@@ -127,7 +134,6 @@ void ConduitFaults::set_intersection_rates(std::span<const double> p)
   }
   for (const auto& [key, q] : into)
     _through[key.first] += std::max(q, 0.0);
-  MPI_Allreduce(MPI_IN_PLACE, _through.data(), static_cast<int>(_through.size()), MPI_DOUBLE, MPI_SUM, _comm);
 }
 
 std::vector<IntersectionRate> ConduitFaults::intersection_rates() const
@@ -192,37 +198,29 @@ void ConduitFaults::set_start_apertures(std::span<const double> w_h)
 
 std::map<std::string, std::vector<double>> ConduitFaults::arrays(std::span<const double> p) const
 {
-  // Every cell on every rank from the last rank's p.
-  auto everywhere = [this](std::span<const double> p)
-  {
-    std::vector<double> all(_size);
-    std::copy(p.begin(), p.end(), all.begin());
-    int ranks = 1;
-    MPI_Comm_size(_comm, &ranks);
-    MPI_Bcast(all.data(), static_cast<int>(all.size()), MPI_DOUBLE, ranks - 1, _comm);
-    return all;
-  };
-  std::vector<double> before;
+  // Every cell on every rank.
+  std::vector<double> before, pressure = _rows.everywhere(p);
   for (const Conduit& c : _conduits)
     before.insert(before.end(), c.aperture_before.begin(), c.aperture_before.end());
-  return {{"fault_pressure", everywhere(p)},
+  return {{"fault_pressure", pressure},
           {"fault_volumes", volume_values()},
           {"fault_apertures", start_apertures()},
-          {"fault_pressure_before", everywhere(_pressure_before.empty() ? p : _pressure_before)},
+          {"fault_pressure_before", _pressure_before.empty() ? pressure : _pressure_before},
           {"fault_apertures_before", before}};
 }
 
 void ConduitFaults::restore_arrays(const std::map<std::string, std::vector<double>>& arrays, std::span<double> p)
 {
-  std::copy_n(arrays.at("fault_pressure").begin(), p.size(), p.begin());
+  const std::vector<double>& pressure = arrays.at("fault_pressure"); // every cell
+  const std::vector<double> mine = _rows.entries(pressure);
+  std::copy(mine.begin(), mine.end(), p.begin());
   set_volume_values(arrays.at("fault_volumes"));
   if (const auto found = arrays.find("fault_apertures"); found != arrays.end())
     set_start_apertures(found->second);
   // Checkpoints before BDF2's conduits have neither: the step before is
   // then the start's (only backward Euler reads them there).
-  _pressure_before.assign(p.begin(), p.end());
-  if (const auto found = arrays.find("fault_pressure_before"); found != arrays.end())
-    std::copy_n(found->second.begin(), p.size(), _pressure_before.begin());
+  const auto found_before = arrays.find("fault_pressure_before");
+  _pressure_before = found_before == arrays.end() ? pressure : found_before->second;
   const auto found = arrays.find("fault_apertures_before");
   for (Conduit& c : _conduits)
     c.aperture_before = found == arrays.end() ? c.aperture_start

@@ -33,7 +33,7 @@ struct Window
   std::vector<double> w_K;             // flow state (z, p) at t_K, for a retry
   std::vector<std::vector<double>> p_old, p_new, w_new;
   std::vector<double> u_old, u_new;
-  // The conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q, the last rank's).
+  // The conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q, this rank's entries).
   std::vector<std::vector<double>> fault_old, fault_new;
   std::optional<AndersonAcceleration> anderson;
   long active_set_changes = 0;         // at the last Anderson restart

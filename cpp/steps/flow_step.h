@@ -101,12 +101,12 @@ public:
 
   /// The conduit faults' openings as a map of the displacement and the
   /// load of their pressure on the faces (a coupled scene with conduit
-  /// faults; null otherwise), and that pressure (the last rank's).
+  /// faults; null otherwise), and that pressure (this rank's entries).
   const FaultAperture* fault_aperture() const { return _aperture.get(); }
   const std::vector<double>& fault_pressure() const { return _fault_pressure; }
   /// The next solve (or accept) is fine step m of its window (1 for the
   /// single-rate split), its conduit faults' p_f^old `previous`, p_f^{n+1,m-1}
-  /// (the last rank's), and `iterate` the reference of their fixed-stress
+  /// (this rank's entries), and `iterate` the reference of their fixed-stress
   /// term, p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1} (p_f^n when q = 1), the
   /// fine-step form of the rock's L (p^{n,m} - p^{n,m-1}) (paper eq. 4.17).
   /// The apertures are read at fine step 1 only: the mechanics iterate is
@@ -165,7 +165,7 @@ public:
   System& system() override { return *_system; }
 
 protected:
-  /// p, and the conduit faults' p_f (the last rank's).
+  /// p, and the conduit faults' p_f (this rank's entries).
   SolveFields solve_fields() const override
   {
     const auto n = static_cast<std::int32_t>(_fault_pressure.size());
@@ -211,7 +211,7 @@ private:
   const Constants& _constants;
   std::unique_ptr<ConduitFaults> _conduits;
   std::unique_ptr<FaultAperture> _aperture;
-  std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (the last rank's), and one step before
+  std::vector<double> _fault_pressure, _fault_pressure_previous; // p_f (this rank's entries), and one step before
   const std::vector<double>* _fault_traction = nullptr;          // s_n per conduit cell (every rank)
   int _fine_step = 1; // of the window, set_fine_step
   TimeDerivative _derivative; // of the step (advance, set_time_derivative)

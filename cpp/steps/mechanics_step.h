@@ -73,7 +73,7 @@ public:
   /// contact.
   ActiveSet active_contact_set() override;
 
-  /// The conduit faults' pressure p_f (the last rank's) pushes their faces
+  /// The conduit faults' pressure p_f (this rank's entries) pushes their faces
   /// apart at every solve from now on, by the load of `aperture`.
   void load_fault_pressure(const FaultAperture& aperture, const std::vector<double>& p_f)
   {

@@ -50,11 +50,11 @@ void MonolithicConduits::make_load_rows(const MixedSpace& space)
   la::petsc::Vector from = wrap(ones);
   check_conduits(VecCopy(from.vec(), no_bcs), "VecCopy");
   check_conduits(VecDuplicate(_cells, &measures), "VecDuplicate");
-  const std::vector<double>& m = _aperture->measures();
-  for (std::size_t k = 0; k < m.size(); ++k) // every cell on the last rank
-    check_conduits(VecSetValue(measures, static_cast<PetscInt>(k), -m[k], INSERT_VALUES), "VecSetValue");
-  check_conduits(VecAssemblyBegin(measures), "VecAssemblyBegin");
-  check_conduits(VecAssemblyEnd(measures), "VecAssemblyEnd");
+  const std::vector<double>& m = _aperture->measures(); // this rank's cells, as J's rows
+  double* entries = nullptr;
+  check_conduits(VecGetArray(measures, &entries), "VecGetArray");
+  std::transform(m.begin(), m.end(), entries, std::negate<>());
+  check_conduits(VecRestoreArray(measures, &entries), "VecRestoreArray");
   Mat B_z = _faults->exchange(_rows), Jt = nullptr;
   check_conduits(MatTranspose(B_z, MAT_INITIAL_MATRIX, &_E), "MatTranspose of B_z");
   check_conduits(MatTranspose(_J, MAT_INITIAL_MATRIX, &Jt), "MatTranspose of J");

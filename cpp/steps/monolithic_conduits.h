@@ -89,7 +89,7 @@ public:
 
   /// The cells' openings and the load of p_f on their faces.
   const FaultAperture& aperture() const { return *_aperture; }
-  /// p_f (the last rank's).
+  /// p_f (this rank's entries).
   std::vector<double>& pressure() { return _pressure; }
   const std::vector<double>& pressure() const { return _pressure; }
   /// The accepted step to t: the volumes take it (`x` the coupled unknowns).

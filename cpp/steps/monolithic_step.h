@@ -95,7 +95,7 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> contact_pressure, contact_active, contact_boundary;
 
   /// The coupled unknown (u, z, p), ghosts included, then the conduit
-  /// faults' p_f (the last rank's), for a checkpoint.
+  /// faults' p_f (this rank's entries), for a checkpoint.
   std::span<const double> unknowns() const override;
   /// Loads unknowns() back (and u, pressure from it).
   void set_unknowns(std::span<const double> x) override;
@@ -109,7 +109,7 @@ public:
   void set_displacement(std::span<const double> u, double t);
 
 protected:
-  /// p, u and the conduit faults' p_f (the last rank's).
+  /// p, u and the conduit faults' p_f (this rank's entries).
   SolveFields solve_fields() const override;
 
 private:

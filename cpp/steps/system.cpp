@@ -171,28 +171,42 @@ void System::append(AppendedUnknowns appended)
 
 void System::append_to_fields(PetscInt rows)
 {
-  int rank = 0, ranks = 1;
+  // The nest's conversion numbers rank by rank, A's rows then C's: a rank's
+  // rows move by the rows appended on the ranks before it, in the whole
+  // system's numbering and in a block's (the coupled system's "flow").
+  PetscInt shift = 0, first = 0, local = 0;
+  MPI_Exscan(&rows, &shift, 1, MPIU_INT, MPI_SUM, _comm);
+  int rank = 0;
   MPI_Comm_rank(_comm, &rank);
-  MPI_Comm_size(_comm, &ranks);
-  PetscInt start = 0; // the first appended row: A's size on the last rank
-  if (rank == ranks - 1)
-    check_system(MatGetSize(_A.mat(), &start, nullptr), _prefix, "MatGetSize");
+  shift = rank == 0 ? 0 : shift; // MPI_Exscan leaves rank 0's undefined
+  check_system(MatGetOwnershipRange(_A.mat(), &first, nullptr), _prefix, "MatGetOwnershipRange");
+  check_system(MatGetLocalSize(_A.mat(), &local, nullptr), _prefix, "MatGetLocalSize");
+  const PetscInt start = first + shift + local; // this rank's first appended row
   auto add = [rows](std::vector<PetscInt>& dofs, PetscInt first)
   {
     for (PetscInt r = 0; r < rows; ++r)
       dofs.push_back(first + r);
   };
+  auto move = [shift](std::vector<PetscInt>& dofs)
+  {
+    for (PetscInt& dof : dofs)
+      dof += shift;
+  };
   for (Field& f : _fields)
   {
+    const PetscInt block_start = block_offset(f, _comm) + shift + static_cast<PetscInt>(f.dofs.size());
+    move(f.dofs);
     if (f.name == "pressure")
       add(f.dofs, start);
     if (f.name != "flow") // the coupled system's, whose splits number its block
       continue;
-    const PetscInt block_start = block_offset(f, _comm) + static_cast<PetscInt>(f.dofs.size());
     add(f.dofs, start);
     for (Field& g : f.fields)
+    {
+      move(g.dofs);
       if (g.name == "pressure")
         add(g.dofs, block_start);
+    }
   }
 }
 

@@ -21,7 +21,7 @@ namespace biotcontact
 {
 
 /// @brief Unknowns y appended after a system's own (the conduit faults'
-/// pressure, assembly/fault_flow.h), all on the last rank:
+/// pressure, assembly/fault_flow.h), each rank's after its rows of x:
 ///     [[A + D, E], [B, C]] [x; y] = [b; b_y],   D a diagonal on A's rows,
 /// E = B^T (the flow step's symmetric system) unless given (the
 /// monolithic step's, where y also loads the displacement's rows and B
@@ -93,7 +93,7 @@ public:
   /// `displacement_dofs` place V's owned DOFs in x); `layout` is a vector
   /// like x; `balance_rows` the local rows of x's mass balances
   /// (ContactUnknowns). Unknowns appended before are solved with it (their
-  /// rows follow x's on the last rank: V's DOFs keep their places), their
+  /// rows follow x's on each rank: V's DOFs keep their places), their
   /// rows among the mass balances. `once`: the run solves it once
   /// (ContactOperators::once).
   void use_contact(ContactSet set, std::vector<std::int32_t> displacement_dofs, Vec layout,
@@ -141,9 +141,10 @@ private:
   /// [[a + D, B^T], [B, C + c]] as one AIJ matrix, a the operator or the
   /// preconditioner's matrix before the appended unknowns (tied, if so),
   /// c `diagonal` (this rank's entries; none if null): its rows on each
-  /// rank are a's, then (last rank) C's.
+  /// rank are a's, then C's.
   Mat appended_operator(Mat a, const std::vector<double>* diagonal) const;
-  /// Adds the appended rows to the fields of an iterative solve.
+  /// Adds the appended rows to the fields of an iterative solve, whose
+  /// rows on each rank move by those appended on the ranks before.
   void append_to_fields(PetscInt rows);
   /// Solves the system with appended unknowns: [b; b_y] in, [x; y] out
   /// (by the contact solver if there is one).

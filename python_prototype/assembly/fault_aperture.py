@@ -16,6 +16,7 @@ from petsc4py import PETSc
 
 from ..domain.domain import vertex_input_indices
 from ..scene.input import FaultFlow
+from .fault_rows import fault_rows
 
 
 @dataclasses.dataclass
@@ -47,35 +48,36 @@ def fault_nodes(domain, V):
 class FaultAperture:
     """The mean opening w = g0 + J u of each conduit fault cell, and the
     load J^T (|k| p_f) of the faults' fluid pressure. The rows of J are the
-    conduit cells in ConduitFaults' numbering (fault by fault), on the last
-    rank."""
+    conduit cells in ConduitFaults' numbering (fault by fault), each on its
+    owner (fault_rows.py)."""
 
     def __init__(self, scene, domain, V):
         """V: the P1 displacement space."""
-        self.comm = domain.mesh.comm
-        last = self.comm.rank == self.comm.size - 1
+        self.comm, self.rows = domain.mesh.comm, fault_rows(scene, domain)
         d = domain.dim
         conduits = [(name, f) for name, f in sorted(scene.faults.items()) if f.flow == FaultFlow.conduit]
-        self.size = sum(len(domain.faults[name].cells.measures) for name, _ in conduits)
+        self.size = self.rows.size
         nodes = fault_nodes(domain, V)
-        self.J = PETSc.Mat().createAIJ(((self.size if last else 0, None),
-                                        (d * V.dofmap.index_map.size_local, None)),
+        self.J = PETSc.Mat().createAIJ(((self.rows.owned, None), (d * V.dofmap.index_map.size_local, None)),
                                        nnz=(2 * d * d, 2 * d * d), comm=self.comm)
-        self.gap, self.measures, row = [], [], 0
+        self.gap, self.measures, cell = [], [], 0  # cell: among every conduit's cells
         # the + nodes of every cell, d per cell (every rank)
         self.keys = np.concatenate([domain.faults[name].cells.keys for name, _ in conduits]) if conduits else None
         # every cell's fault (every rank)
         self.fault = [name for name, _ in conduits for _ in range(len(domain.faults[name].cells.measures))]
-        for name, f in conduits if last else []:
+        for name, f in conduits:
             cells = domain.faults[name].cells
             for k in range(len(cells.measures)):
+                cell += 1
+                if not self.rows.owns(cell - 1):
+                    continue
+                row = self.rows.row[cell - 1]
                 self.gap.append(np.mean([float(f.gap(*v, 0.0)) for v in cells.vertices[k]]))
                 self.measures.append(cells.measures[k])
                 for i in range(d):
                     for node, sign in ((cells.keys[k, i], 1.0), (cells.twins[k, i], -1.0)):
                         columns = [d * nodes.global_[int(node)] + j for j in range(d)]
                         self.J.setValues(row, columns, sign * cells.normals[k, :d] / d, addv=True)
-                row += 1
         self.J.assemble()
         self.gap, self.measures = np.array(self.gap), np.array(self.measures)
         self.cells = self.J.createVecLeft()
@@ -84,8 +86,7 @@ class FaultAperture:
         """The conduit cells' mean openings g0 + J u, every cell on every rank
         (u: a Function of V; collective)."""
         self.J.mult(u.vector, self.cells)
-        w = self.gap + self.cells.array_r if len(self.gap) else None
-        return self.comm.bcast(w, root=self.comm.size - 1)
+        return self.rows.everywhere(self.gap + self.cells.array_r)
 
     def cell_means(self, nodal):
         """Per conduit cell the mean of `nodal` (a dict: a value per fault and
@@ -103,7 +104,7 @@ class FaultAperture:
 
     def add_load(self, p_f, bcs, b):
         """Adds J^T (|k| p_f) to the Function b but on the Dirichlet rows of
-        `bcs`; `p_f`: the last rank's pressures, none elsewhere (collective).
+        `bcs`; `p_f`: this rank's entries of the pressures (collective).
         The fluid pressure p_f pushes both faces apart; its work on the
         displacement is sum_k p_k |k| w_k, so its load is the adjoint of J:
         for P1 on a flat face each node takes |k|/d of the face's p_f n, the

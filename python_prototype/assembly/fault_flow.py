@@ -1,7 +1,7 @@
 """The flow inside "conduit" faults (cpp/assembly/fault_flow.h,
 docs/theory.md "Flow in a fault"): the fault's pressure p_f, one unknown per
 fault cell (domain/fault_cells.py), appended to the flow system after the
-rock's unknowns, on the last rank. Per cell k, the mass balance times -1
+rock's unknowns (fault_rows.py). Per cell k, the mass balance times -1
 (as forms/biot.py writes the rock's),
 
     sum_i c_i z_i - ((S_k + L_k)/dt) p_k - sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k - p_D)
@@ -23,6 +23,7 @@ from .fault_compliance import closure_aperture, softest_modulus
 from .fault_flow_compliance import ConduitCompliance
 from .fault_flow_jacobian import ConduitJacobian
 from .fault_flow_volumes import ConduitVolumes
+from .fault_rows import fault_rows
 from .fault_volumes import FaultVolumes
 
 
@@ -92,6 +93,11 @@ RELAXED_ABOVE = 0.9
 # Aitken's relaxation starts once the lag grew at this many coupling
 # iterations in a row (the lagged cubic law's 2-cycle).
 STALLED_ITERATIONS = 3
+# A lag below the openings' round-off that has not halved over this many of
+# the split's iterations is noise: the floor of the relaxation holds the
+# apertures from then to the step's end (Aitken's factor from noise cycled
+# with period 4).
+STAGNATION_WINDOW = 4
 
 
 def transmissibilities(t, edges):
@@ -104,9 +110,11 @@ def transmissibilities(t, edges):
 
 class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
     """The conduit faults of a scene: their cells, numbered fault by fault
-    in the scene's order, appended after the flow system's unknowns on the
-    last rank (a fault holds few facets); the faces' flux DOFs on the ranks
-    that own them."""
+    in the scene's order, appended after the flow system's unknowns, each on
+    the rank that owns its first node (fault_rows.py); the faces' flux DOFs
+    on the ranks that own them. Every rank keeps every cell's geometry and
+    apertures (a fault holds few facets); "this rank's entries" of the
+    pressure are its owned cells', in the cells' order."""
 
     def __init__(self, scene, domain, Z, flux):
         """`flux(marker)`: the facet flux of the flux basis functions
@@ -137,10 +145,11 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         self._through = np.zeros(len(self.junctions))  # per junction: its rate (set_intersection_rates)
         self.size = count
         self.start = Z.dofmap.index_map.local_range[0]  # the global index of this rank's first flow unknown
-        self.owned = count if self.comm.rank == self.comm.size - 1 else 0
+        self.rows = fault_rows(scene, domain)
+        self.owned = self.rows.owned
         self.dim = domain.mesh.topology.dim
         self.started = False  # whether the start apertures are known
-        self.pressure_before = None  # p_f at the start of the step before (the last rank's; BDF2)
+        self.pressure_before = None  # p_f at the start of the step before (every cell; BDF2)
         self.stabilised = True  # whether the cells take L (_set_compliance)
         self.implicit = False  # whether open cells' openings are unknowns (with_implicit_openings)
         self.aperture_change = 0.0
@@ -154,6 +163,9 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         # (cpp/assembly/fault_flow.h's newton()).
         self.newton = False
         self.stalled = 0  # iterations in a row whose lag did not shrink
+        # the lag stagnated below round-off: the floor holds the apertures
+        # to the step's end; the lag at each iteration of the step
+        self.held, self.lags = False, []
         self.relaxation = 1.0
 
     def _locate_wells(self, scene, fault, cells, offset):
@@ -172,10 +184,10 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
     def initial_pressure(self, p0):
         """p_f at the start: the expression p0 at the cells' centroids (this
         rank's entries)."""
-        if not self.owned:
+        if not self.size:
             return np.zeros(0)
         x = np.concatenate([conduit.cells.centroids for conduit in self.faults])
-        return np.asarray(p0.at(x.T, 0.0), dtype=float) * np.ones(len(x))
+        return self.rows.entries(np.asarray(p0.at(x.T, 0.0), dtype=float) * np.ones(len(x)))
 
     def exchange(self, flow_rows):
         """B: the fault's rows against the flow unknowns, c_i at each face
@@ -189,7 +201,7 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         B.setPreallocationNNZ((2, 2))
         B.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         for dof, conduit, k, c in self.faces:
-            B.setValue(conduit.offset + k, dof, c)
+            B.setValue(self.rows.row[conduit.offset + k], dof, c)
         B.assemble()
         return B
 
@@ -242,22 +254,27 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         return held, transmissibilities(self._conductance(conduit), cells.ends)[held]
 
     def operator_matrix(self, dt):
-        """C: the fault's rows against its own unknowns (collective; the
-        entries on the last rank)."""
+        """C: the fault's rows against its own unknowns (collective)."""
         C = PETSc.Mat().createAIJ(((self.owned, None), (self.owned, None)), comm=self.comm)
-        C.setPreallocationNNZ((8, 0))
-        for conduit in self.faults if self.owned else []:
+        C.setPreallocationNNZ((8, 8))
+        row = self.rows.row
+
+        def add(k, l, value):  # each rank sets its own rows
+            if self.rows.owns(k):
+                C.setValue(row[k], row[l], value, addv=True)
+
+        for conduit in self.faults:
             cells, t, o = conduit.cells, self._conductance(conduit), conduit.offset
             diagonal = -self._storage(conduit, dt) - self._stabilisation(conduit, dt)
             T = transmissibilities(t, conduit.links)
             for (k, l), T_kl in zip(conduit.links.cells.tolist(), T):
-                C.setValues([o + k, o + l], [o + k, o + l], [[-T_kl, T_kl], [T_kl, -T_kl]], addv=True)
+                add(o + k, o + k, -T_kl), add(o + k, o + l, T_kl), add(o + l, o + k, T_kl), add(o + l, o + l, -T_kl)
             held, T_e = self._held_ends(conduit)
             np.subtract.at(diagonal, cells.ends.cells[held, 0], T_e)
             for k, value in enumerate(diagonal):
-                C.setValue(o + k, o + k, value, addv=True)
-        for (a, b), _, T_ab, _, _ in self._junction_links() if self.owned else []:
-            C.setValues([a, b], [a, b], [[-T_ab, T_ab], [T_ab, -T_ab]], addv=True)
+                add(o + k, o + k, value)
+        for (a, b), _, T_ab, _, _ in self._junction_links():
+            add(a, a, -T_ab), add(a, b, T_ab), add(b, a, T_ab), add(b, b, -T_ab)
         C.assemble()
         return C
 
@@ -320,7 +337,10 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         flux_jacobian), the split the factor's magnitude (held at the floor
         its apertures crawled), unless the lag is below the openings'
         round-off, where the factor's sign is noise and the floor holds the
-        fixed point (theory.md, "Flow in a fault")."""
+        fixed point. There, in the split, a lag that stagnates (_stagnant:
+        Aitken's factor computed from noise, cycling with period 4) is held
+        at the floor to the step's end; the monolithic step, whose stopping
+        test holds the lag, relaxes it on (theory.md, "Flow in a fault")."""
         dot = norm = lag = lag_old = moved = round_off = 0.0
         for conduit in self.faults:
             round_off = max(round_off, OPEN_FRACTION * conduit.residual)  # as set_openings's
@@ -342,12 +362,20 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
             self.newton = self.implicit and aitken < 0
             noise = math.sqrt(lag) <= round_off
             self.relaxation = 1.0 if self.newton else min(max(aitken if noise else abs(aitken), 1e-3), 1.0)
+            self.held = self.held or (noise and self._stagnant(math.sqrt(lag)) and not self.implicit)
+            self.relaxation = 1e-3 if self.held else self.relaxation
         for conduit in self.faults:
             conduit.lag = conduit.aperture - conduit.conducting
             conduit.conducting = conduit.conducting + self.relaxation * conduit.lag
             moved = max(moved, np.abs(conduit.lag).max(initial=0.0))
         self.lagged = True
+        self.lags.append(math.sqrt(lag))
         return moved
+
+    def _stagnant(self, lag):
+        """Whether `lag` (|w_h - w_c|) has not halved over the last
+        STAGNATION_WINDOW iterations of the step."""
+        return len(self.lags) >= STAGNATION_WINDOW and lag > 0.5 * self.lags[-STAGNATION_WINDOW]
 
     def without_stabilisation(self):
         """No fixed-stress term from now on (the second pass of
@@ -361,21 +389,23 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         self.implicit = True
 
     def opening_rates(self, step, p_old, p_iterate):
-        """Per appended row (the last rank's) the factor of the cell's mean
-        opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f (p^i -
-        p^old)) (p^old the history value of the FineStep `step`) where the
-        cell was open at the last set_openings (the volume it opens, and
-        Newton's term of its fluid's storage c_f w_h (p - p^old) in w_h), 0
-        where closed."""
-        if not self.owned:
+        """Per appended row (this rank's entries) the factor of the cell's
+        mean opening in its mass balance at iterate i, -(|k|/dt) (1 + c_f
+        (p^i - p^old)) (p^old the history value of the FineStep `step`)
+        where the cell was open at the last set_openings (the volume it
+        opens, and Newton's term of its fluid's storage c_f w_h (p - p^old)
+        in w_h), 0 where closed (collective)."""
+        p_star = self._pressure_history(step, self.rows.everywhere(p_old))
+        p = self.rows.everywhere(p_iterate)
+        if not self.size:
             return np.zeros(0)
         is_open = np.concatenate([conduit.open for conduit in self.faults])
         measures = np.concatenate([conduit.cells.measures for conduit in self.faults])
-        factor = 1 + self.flow.c_f * (np.asarray(p_iterate) - self._pressure_history(step, p_old))
-        return np.where(is_open, -measures / step.dt * factor, 0.0)
+        factor = 1 + self.flow.c_f * (p - p_star)
+        return self.rows.entries(np.where(is_open, -measures / step.dt * factor, 0.0))
 
     def _pressure_history(self, step, p_old):
-        """The history value of the pressure p_old (the last rank's) at `step`."""
+        """The history value of the pressure p_old (every cell) at `step`."""
         return history_value(step, p_old, p_old if self.pressure_before is None else self.pressure_before)
 
     def _aperture_history(self, conduit, step):
@@ -389,7 +419,8 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
             conduit.open = np.zeros_like(conduit.open)
             if conduit.conducting is not None:  # the step starts from w_h, as a restart does
                 conduit.conducting = conduit.aperture.copy()
-        self.lagged = self.relaxing = self.newton = False  # no lag of this step known yet
+        self.lagged = self.relaxing = self.newton = self.held = False  # no lag of this step known yet
+        self.lags = []  # |w_h - w_c| at each iteration of the step (_relax_conducting)
         self.relaxation = 1.0
         self.stalled = 0  # iterations in a row whose lag did not shrink (_relax_conducting)
 
@@ -400,19 +431,23 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         (injection positive), and the fine step's share of the volume the
         cell's opening made since the start of the window, |k| (w_h -
         w_h_start)/(q dt). In a coupled split p_iterate is the last flow
-        iterate's p^i, and w_h the last mechanics iterate's."""
+        iterate's p^i, and w_h the last mechanics iterate's (collective).
+        Every cell's entry on every rank (few), then this rank's."""
         t, dt = step.t, step.dt
-        p_star = self._pressure_history(step, p_old)
-        for conduit in self.faults if self.owned else []:
+        p_star = self._pressure_history(step, self.rows.everywhere(p_old))
+        p_iterate = self.rows.everywhere(p_iterate)
+        every = np.zeros(self.size)
+        for conduit in self.faults:
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
             part = (-self._storage(conduit, dt) * p_star[o:o + n]
                     - self._stabilisation(conduit, dt) * p_iterate[o:o + n]
                     + cells.measures * (conduit.aperture - self._aperture_history(conduit, step)) / (step.q * dt))
             held, T_e = self._held_ends(conduit)
             np.subtract.at(part, cells.ends.cells[held, 0], T_e * self._end_pressures(conduit, held, t))
-            b[o:o + n] = part
-        for row, share, rate, _ in self.wells if self.owned else []:
-            b[row] -= share * float(rate(0, 0, 0, t))
+            every[o:o + n] = part
+        for row, share, rate, _ in self.wells:
+            every[row] -= share * float(rate(0, 0, 0, t))
+        b[:] = self.rows.entries(every)
 
     def _end_pressures(self, conduit, held, t):
         """p_D at the ends `held` at time t."""
@@ -452,12 +487,11 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         (None elsewhere; collective): columns pressure, hydraulic aperture,
         exchange (the rock's volume rate per area into the fault, sum_i c_i
         z_i / |k|) and mean flux (3). `w` the flow unknowns (this rank's),
-        `p` the fault's pressure (the last rank's)."""
+        `p` the fault's pressure (this rank's entries)."""
         exchange = [(conduit.offset + k, c * w[dof - self.start]) for dof, conduit, k, c in self.faces]
-        parts, pressure = self.comm.gather(exchange, root=0), self.comm.gather(p, root=0)
+        parts, p = self.comm.gather(exchange, root=0), self.rows.everywhere(p)
         if self.comm.rank != 0:
             return None
-        p = np.concatenate(pressure)
         values = np.zeros((self.size, 6))
         for rows in parts:
             for row, value in rows:

@@ -45,14 +45,14 @@ class ConduitCompliance:
         return np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), -1.0)
 
     def open_stabilisation(self, dt):
-        """Per appended row (the last rank's) the fixed-stress term L_k/dt =
+        """Per appended row (this rank's entries) the fixed-stress term L_k/dt =
         L_f |k|/dt that the split gives an open cell (its open patch's
         patch_compliance), 0 in the others: what the monolithic system's
         fixed-stress preconditioner adds to C's diagonal, its open cells
         taking none in the system itself (with_implicit_openings)."""
-        s = np.zeros(self.owned)
-        for conduit in self.faults if self.owned else []:
+        s = np.zeros(self.size)
+        for conduit in self.faults:
             L = self._patch_compliances(conduit)
             n = len(L)
             s[conduit.offset:conduit.offset + n] = np.where(conduit.open & (L > 0), L, 0.0) * conduit.cells.measures / dt
-        return s
+        return self.rows.entries(s)

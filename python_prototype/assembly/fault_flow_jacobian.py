@@ -55,14 +55,21 @@ class ConduitJacobian:
         cell k's flux terms N_k = -sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k
         - p_D) (junctions' links included) by the conducting aperture w_m of
         each cell m open at the last set_openings, at the faults' pressure `p`
-        (the last rank's) and time t (p_D); zero before newton. Entries of
-        closed cells stay as zeros, so the structure does not change as cells
-        open (collective)."""
+        (this rank's entries) and time t (p_D); zero before newton. Entries
+        of closed cells stay as zeros, so the structure does not change as
+        cells open (collective)."""
+        p = self.rows.everywhere(p)
         D = PETSc.Mat().createAIJ(((self.owned, None), (self.owned, None)), comm=self.comm)
-        D.setPreallocationNNZ((8, 0))
-        for k in range(self.size if self.owned else 0):
-            D.setValue(k, k, 0.0, addv=True)  # every diagonal entry: B = (rates + D) J's structure stays
-        for conduit in self.faults if self.owned else []:
+        D.setPreallocationNNZ((8, 8))
+        row = self.rows.row
+
+        def add(k, m, value):  # each rank sets its own rows
+            if self.rows.owns(k):
+                D.setValue(row[k], row[m], value, addv=True)
+
+        for k in range(self.size):
+            add(k, k, 0.0)  # every diagonal entry: B = (rates + D) J's structure stays
+        for conduit in self.faults:
             o, t_c, slope = conduit.offset, self._conductance(conduit), self._conductance_slope(conduit)
             # A link's N_k = -T (p_k - p_l), N_l = -T (p_l - p_k); entries kept
             # where closed (their slope 0).
@@ -70,17 +77,16 @@ class ConduitJacobian:
             for e, (k, l) in enumerate(conduit.links.cells.tolist()):
                 jump = p[o + k] - p[o + l]
                 for i, m in enumerate((k, l)):
-                    D.setValue(o + k, o + m, -dT[e, i] * jump, addv=True)
-                    D.setValue(o + l, o + m, dT[e, i] * jump, addv=True)
+                    add(o + k, o + m, -dT[e, i] * jump)
+                    add(o + l, o + m, dT[e, i] * jump)
             # An end's N_k = -T_e (p_k - p_D).
             dT_e = transmissibility_slopes(t_c, slope, conduit.cells.ends)
             held, _ = self._held_ends(conduit)
             p_D = self._end_pressures(conduit, held, t)
             for i, e in enumerate(held):
                 k = o + int(conduit.cells.ends.cells[e, 0])
-                D.setValue(k, k, -dT_e[e, 0] * (p[k] - p_D[i]), addv=True)
-        if self.owned:
-            self._add_junction_jacobian(p, D)
+                add(k, k, -dT_e[e, 0] * (p[k] - p_D[i]))
+        self._add_junction_jacobian(p, D)
         D.assemble()
         return D
 
@@ -97,15 +103,16 @@ class ConduitJacobian:
             h = np.array([j.measure / (d / t[f][k] + r) for f, k, d in members])
             dh = np.array([h[i] ** 2 * d * slope[f][k] / (j.measure * t[f][k] ** 2)
                            for i, (f, k, d) in enumerate(members)])
-            rows = [self.faults[f].offset + k for f, k, _ in members]
-            dN = star_flux_derivative(h, [p[row] for row in rows])
-            for a, row in enumerate(rows):
-                D.setValues([row], rows, dN[a] * dh, addv=True)
+            cells = [self.faults[f].offset + k for f, k, _ in members]
+            dN = star_flux_derivative(h, [p[cell] for cell in cells])
+            for a, cell in enumerate(cells):
+                if self.rows.owns(cell):
+                    D.setValues([self.rows.row[cell]], self.rows.row[cells], dN[a] * dh, addv=True)
 
     def conducting_lag(self):
         """w_h - w_c per cell, the hydraulic aperture's lead on the conducting
-        one that _relax_conducting left (the last rank's)."""
-        if not self.owned:
+        one that _relax_conducting left (this rank's entries)."""
+        if not self.size:
             return np.zeros(0)
-        return np.concatenate([np.zeros(len(c.aperture)) if c.conducting is None else c.aperture - c.conducting
-                               for c in self.faults])
+        return self.rows.entries(np.concatenate([np.zeros(len(c.aperture)) if c.conducting is None
+                                                 else c.aperture - c.conducting for c in self.faults]))

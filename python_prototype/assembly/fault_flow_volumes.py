@@ -18,15 +18,17 @@ class ConduitVolumes:
     def step_volumes(self, w, p, p_old, fine):
         """Each fault's StepVolumes of FineStep `fine` (every rank): `w` the
         flow unknowns (this rank's), `p` and `p_old` the fault's pressure at
-        its end and start (the last rank's; collective)."""
+        its end and start (this rank's entries; collective)."""
         # BDF2 balances its derivative, c0 (y - y*)/dt_n, against the rates
         # over the step dt_n = c0 fine.dt: stored = c0 (y - y*) (time_scheme.py).
         t, c0 = fine.t, fine.c[0]
         dt = c0 * fine.dt
-        p_star = self._pressure_history(fine, p_old)
+        p_star = self._pressure_history(fine, self.rows.everywhere(p_old))
+        p = self.rows.everywhere(p)
         # Per fault: injected, stored, exchanged, outflow of the step, gross,
-        # held and faces; the faces on every rank, the rest on the last.
-        # The intersections in the 8th column.
+        # held and faces; the faces on the ranks that own them, the rest by
+        # each cell's owner (a junction's link by its first member's). The
+        # intersections in the 8th column.
         step = np.zeros((len(self.faults), 8))
 
         def add(i, column, v):
@@ -36,17 +38,21 @@ class ConduitVolumes:
         for dof, conduit, _, c in self.faces:
             add(index[id(conduit)], 2, dt * c * w[dof - self.start])
             step[index[id(conduit)], 6] += dt * abs(c)
-        for _, share, rate, i in self.wells if self.owned else []:
-            add(i, 0, dt * share * float(rate(0, 0, 0, t)))
-        for i, conduit in enumerate(self.faults if self.owned else []):
+        for row, share, rate, i in self.wells:
+            if self.rows.owns(row):
+                add(i, 0, dt * share * float(rate(0, 0, 0, t)))
+        for i, conduit in enumerate(self.faults):
             cells, o, n = conduit.cells, conduit.offset, len(conduit.cells.measures)
-            add(i, 1, c0 * cells.measures * (conduit.aperture - self._aperture_history(conduit, fine)) / fine.q
-                + c0 * self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_star[o:o + n]))
-            step[i, 5] = np.sum(cells.measures * conduit.aperture)
+            mine = self.rows.owner[o:o + n] == self.rows.rank
+            add(i, 1, (c0 * cells.measures * (conduit.aperture - self._aperture_history(conduit, fine)) / fine.q
+                       + c0 * self.flow.c_f * conduit.aperture * cells.measures * (p[o:o + n] - p_star[o:o + n]))[mine])
+            step[i, 5] += np.sum((cells.measures * conduit.aperture)[mine])
             held, T_e = self._held_ends(conduit)
-            add(i, 3, dt * T_e * (p[o + cells.ends.cells[held, 0]] - self._end_pressures(conduit, held, t)))
-        for (a, b), (fa, fb), T_ab, _, _ in self._junction_links() if self.owned else []:
-            if fa != fb:  # from the first member's fault into the second's
+            k = o + cells.ends.cells[held, 0]
+            ends = dt * T_e * (p[k] - self._end_pressures(conduit, held, t))
+            add(i, 3, ends[self.rows.owner[k] == self.rows.rank])
+        for (a, b), (fa, fb), T_ab, _, _ in self._junction_links():
+            if fa != fb and self.rows.owns(a):  # from the first member's fault into the second's
                 V = dt * T_ab * (p[a] - p[b])
                 add(fa, 7, -V)
                 add(fb, 7, V)
@@ -77,10 +83,10 @@ class ConduitVolumes:
         """Adds the accepted fine step's volumes (step_volumes) to each
         fault's. After a window's last fine step its apertures become the
         next window's start, and the start's apertures and pressure
-        `p_start` (the last rank's) the values one step before, which BDF2
-        reads."""
+        `p_start` (this rank's entries) the values one step before, which
+        BDF2 reads (collective)."""
         if fine.m == fine.q:
-            self.pressure_before = np.array(p_start, dtype=float)
+            self.pressure_before = self.rows.everywhere(p_start)
         for conduit, volumes in zip(self.faults, step):
             v, s = conduit.volumes, volumes.net
             v.injected, v.stored, v.exchanged, v.outflow = (v.injected + s.injected, v.stored + s.stored,
@@ -91,20 +97,22 @@ class ConduitVolumes:
 
     def set_intersection_rates(self, p):
         """Sets each intersection's rate from `p`, the faults' pressure at an
-        accepted step's end (the last rank's; collective): each member's net
-        flow into the junction, sum_b T_ab (p_a - p_b) over its links there;
-        the positive ones summed are what passes through."""
+        accepted step's end (this rank's entries; collective): each member's
+        net flow into the junction, sum_b T_ab (p_a - p_b) over its links
+        there; the positive ones summed are what passes through (every rank
+        alike, from every cell's p)."""
         if not self.junctions:  # the same on every rank
             return
+        p = self.rows.everywhere(p)
         into = collections.defaultdict(float)  # (junction, row)
-        for (a, b), _, T_ab, _, j in self._junction_links() if self.owned else []:
+        for (a, b), _, T_ab, _, j in self._junction_links():
             q = T_ab * (p[a] - p[b])
             into[j, a] += q
             into[j, b] -= q
         through = np.zeros(len(self.junctions))
         for (j, _), q in into.items():
             through[j] += max(q, 0.0)
-        self._through = self.comm.allreduce(through)
+        self._through = through
 
     def intersection_rates(self):
         """The rates by set of faults that meet, in the order of their names
@@ -143,15 +151,15 @@ class ConduitVolumes:
         self.started = True
 
     def arrays(self, p):
-        """What a checkpoint keeps of the faults: their pressure p (the last
-        rank's), "fault_pressure" (every cell on every rank), the volumes,
+        """What a checkpoint keeps of the faults: their pressure p (this
+        rank's entries), "fault_pressure" (every cell on every rank), the volumes,
         "fault_volumes", the start apertures, "fault_apertures", and the
         pressure and apertures one step before (BDF2), "fault_pressure_before"
         and "fault_apertures_before" (collective)."""
-        before = p if self.pressure_before is None else self.pressure_before
-        return {"fault_pressure": np.asarray(self.comm.bcast(p, root=self.comm.size - 1)),
+        pressure = self.rows.everywhere(p)
+        return {"fault_pressure": pressure,
                 "fault_volumes": self.volume_values(), "fault_apertures": self.start_apertures(),
-                "fault_pressure_before": np.asarray(self.comm.bcast(before, root=self.comm.size - 1)),
+                "fault_pressure_before": pressure if self.pressure_before is None else self.pressure_before,
                 "fault_apertures_before": np.concatenate([conduit.aperture_before for conduit in self.faults])}
 
     def restore_arrays(self, arrays, p):
@@ -159,11 +167,12 @@ class ConduitVolumes:
         Checkpoints before BDF2's conduits have no values of the step
         before: they are then the start's (only backward Euler reads them
         there)."""
-        p[:] = arrays["fault_pressure"][:len(p)]
+        pressure = np.asarray(arrays["fault_pressure"], dtype=float)  # every cell
+        p[:] = self.rows.entries(pressure)
         self.set_volume_values(arrays["fault_volumes"])
         if "fault_apertures" in arrays:
             self.set_start_apertures(arrays["fault_apertures"])
-        self.pressure_before = np.array(arrays.get("fault_pressure_before", p)[:len(p)], dtype=float)
+        self.pressure_before = np.array(arrays.get("fault_pressure_before", pressure), dtype=float)
         before = arrays.get("fault_apertures_before")
         for conduit in self.faults:
             n = len(conduit.aperture_start)

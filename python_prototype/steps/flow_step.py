@@ -222,7 +222,7 @@ class FlowStep(Step):
         self.solve_ends()
 
     def solve_fields(self):
-        """p, and the conduit faults' p_f (the last rank's)."""
+        """p, and the conduit faults' p_f (this rank's entries)."""
         p_f = FieldValues(self.fault_pressure, len(self.fault_pressure)) if self.conduits else FieldValues()
         return SolveFields(FieldValues(self.pressure.x.array, owned(self.Q)), FieldValues(), p_f, self.Q.mesh.comm)
 
@@ -275,7 +275,7 @@ class FlowStep(Step):
     def set_fine_step(self, m, previous, iterate):
         """The next solve (or accept) is fine step m of its window (1 for the
         single-rate split), its conduit faults' p_f^old `previous`,
-        p_f^{n+1,m-1} (the last rank's), and `iterate` the reference of
+        p_f^{n+1,m-1} (this rank's entries), and `iterate` the reference of
         their fixed-stress term, p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}
         (p_f^n when q = 1), the fine-step form of the rock's L (p^{n,m} -
         p^{n,m-1}) (paper eq. 4.17). The apertures are read at fine step 1

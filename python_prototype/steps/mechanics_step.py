@@ -119,7 +119,7 @@ class MechanicsStep(Step):
             aperture.add_load(p_f, self.bcs, self.b)
 
     def load_fault_pressure(self, aperture, p_f):
-        """The conduit faults' pressure p_f (the last rank's array) pushes
+        """The conduit faults' pressure p_f (this rank's entries) pushes
         their faces apart at every solve from now on, by the load of the
         FaultAperture `aperture`."""
         self.fault_load = (aperture, p_f)

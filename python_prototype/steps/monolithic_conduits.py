@@ -84,7 +84,7 @@ class MonolithicConduits:
         no_bcs = self.J.createVecRight()
         no_bcs.array[:] = ones.x.array[:self.rows]
         measures = self.cells.duplicate()
-        measures.array[:] = -self.aperture.measures  # every cell on the last rank
+        measures.array[:] = -self.aperture.measures  # this rank's cells, as J's rows
         Jt = self.J.transpose(PETSc.Mat())
         Jt.diagonalScale(None, measures)
         E = self.faults.exchange(self.rows).transpose(PETSc.Mat())

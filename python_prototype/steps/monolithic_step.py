@@ -181,7 +181,7 @@ class MonolithicStep(Step):
             self.solve_ends()
 
     def solve_fields(self):
-        """p, u and the conduit faults' p_f (the last rank's)."""
+        """p, u and the conduit faults' p_f (this rank's entries)."""
         p_f = FieldValues(self.conduits.pressure, len(self.conduits.pressure)) if self.conduits else FieldValues()
         return SolveFields(FieldValues(self.pressure.x.array, owned(self.Q)), FieldValues(self.u.x.array, owned(self.V)),
                            p_f, self.V.mesh.comm)
@@ -328,7 +328,7 @@ class MonolithicStep(Step):
 
     def unknowns(self):
         """The coupled unknown (u, z, p), ghosts included, then the conduit
-        faults' p_f (the last rank's), for a checkpoint."""
+        faults' p_f (this rank's entries), for a checkpoint."""
         if not self.conduits:
             return self.x.x.array
         return np.concatenate([self.x.x.array, self.conduits.pressure])

@@ -18,7 +18,7 @@ from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistic
 @dataclasses.dataclass
 class AppendedUnknowns:
     """Unknowns y appended after a system's own (the conduit faults'
-    pressure, assembly/fault_flow.py), all on the last rank:
+    pressure, assembly/fault_flow.py), each rank's after its rows of x:
     [[A + D, E], [B, C]] [x; y] = [b; b_y], D a diagonal on A's rows, E =
     B^T (the flow step's symmetric system) unless given (the monolithic
     step's, where y also loads the displacement's rows and B holds the rate
@@ -124,19 +124,26 @@ class System:
                                    self.structure, self.fields)
 
     def _append_to_fields(self, rows):
-        """Adds the appended rows to the fields of an iterative solve."""
-        start = self.A.getOwnershipRange()[0] if self.comm.rank < self.comm.size - 1 else self.A.getSize()[0]
+        """Adds the appended rows to the fields of an iterative solve, whose
+        rows on each rank move by those appended on the ranks before: the
+        nest's conversion numbers rank by rank, A's rows then C's (in the
+        whole system's numbering and in a block's, the coupled system's
+        "flow")."""
+        shift = self.comm.exscan(rows) or 0  # None on rank 0
+        start = self.A.getOwnershipRange()[0] + shift + self.A.getLocalSize()[0]  # this rank's first appended row
         appended = np.arange(start, start + rows, dtype=np.int64)
         fields = []
         for f in self.fields:
-            dofs, splits = f.dofs, f.fields
+            dofs, splits = np.asarray(f.dofs) + shift, f.fields
             if f.name == "pressure":
-                dofs = np.concatenate([f.dofs, appended])
+                dofs = np.concatenate([dofs, appended])
             if f.name == "flow":  # the coupled system's, whose splits number its block
-                block_start = block_offset(f, self.comm) + len(f.dofs)
-                dofs = np.concatenate([f.dofs, appended])
-                splits = [Field(g.name, np.concatenate([g.dofs, np.arange(block_start, block_start + rows)])
-                                if g.name == "pressure" else g.dofs, g.block_size, g.near_nullspace, g.fields)
+                block_start = block_offset(f, self.comm) + shift + len(f.dofs)
+                dofs = np.concatenate([dofs, appended])
+                splits = [Field(g.name, np.concatenate([np.asarray(g.dofs) + shift,
+                                                        np.arange(block_start, block_start + rows)])
+                                if g.name == "pressure" else np.asarray(g.dofs) + shift, g.block_size,
+                                g.near_nullspace, g.fields)
                           for g in f.fields]
             fields.append(Field(f.name, dofs, f.block_size, f.near_nullspace, splits))
         self.fields = fields
@@ -145,7 +152,7 @@ class System:
         """[[a + D, B^T], [B, C + c]] as one AIJ matrix, `a` the operator or
         the preconditioner's matrix before the appended unknowns (tied, if
         so), c `diagonal` (none if None): its rows on each rank are a's, then
-        (last rank) C's."""
+        C's."""
         if self.appended.diagonal:
             a = a.copy()
             for row, value in self.appended.diagonal:
@@ -200,8 +207,8 @@ class System:
         """Every solve becomes the contact problem of `contact_set`
         (`displacement_dofs` place V's owned DOFs in x; `balance_rows` the
         local rows of x's mass balances, ContactUnknowns). Unknowns appended
-        before are solved with it (their rows follow x's on the last rank:
-        V's DOFs keep their places), their rows among the mass balances.
+        before are solved with it (their rows follow x's on each rank: V's
+        DOFs keep their places), their rows among the mass balances.
         `once`: the run solves it once (ContactOperators.once)."""
         self.linear = None
         if self.appended is not None:
