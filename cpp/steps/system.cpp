@@ -1,5 +1,7 @@
 #include "steps/system.h"
 
+#include "solvers/block_matrix.h"
+
 #include <algorithm>
 #include <array>
 #include <stdexcept>
@@ -96,7 +98,7 @@ void System::tie(const std::vector<Tie>& ties)
                                            _fields);
 }
 
-Mat System::appended_operator(Mat a, const std::vector<double>* diagonal) const
+Mat System::appended_operator(Mat a, const std::vector<double>* diagonal, Mat into) const
 {
   if (!_appended.diagonal.empty())
   {
@@ -119,13 +121,19 @@ Mat System::appended_operator(Mat a, const std::vector<double>* diagonal) const
     check_system(MatDiagonalSet(C, c, ADD_VALUES), _prefix, "MatDiagonalSet of C");
     check_system(VecDestroy(&c), _prefix, "VecDestroy of C's diagonal");
   }
-  Mat E = _appended.E, nest = nullptr, big = nullptr;
+  Mat E = _appended.E;
   if (!E)
     check_system(MatTranspose(_appended.B, MAT_INITIAL_MATRIX, &E), _prefix, "MatTranspose of B");
-  std::array<Mat, 4> blocks{a, E, _appended.B, C};
-  check_system(MatCreateNest(_comm, 2, nullptr, 2, nullptr, blocks.data(), &nest), _prefix, "MatCreateNest");
-  check_system(MatConvert(nest, MATAIJ, MAT_INITIAL_MATRIX, &big), _prefix, "MatConvert of the appended system");
-  check_system(MatDestroy(&nest), _prefix, "MatDestroy");
+  // The first time a conversion of the blocks' nest; then the same
+  // structure's values, row by row (the conversion cost 18 ms a call on 2
+  // ranks against 3 on 1: docs/performance.md, thirty-fifth session).
+  const std::array<Mat, 4> blocks{a, E, _appended.B, C};
+  const BlockMatrix layout(a, C);
+  Mat big = into;
+  if (into)
+    layout.refill(into, blocks);
+  else
+    big = layout.convert(_comm, blocks);
   if (!_appended.E)
     check_system(MatDestroy(&E), _prefix, "MatDestroy of B^T");
   if (!_appended.diagonal.empty())
@@ -141,17 +149,13 @@ void System::append(AppendedUnknowns appended)
   for (Mat* m : {&_appended.B, &_appended.C, &_appended.E})
     check_system(MatDestroy(m), _prefix, "MatDestroy of the appended blocks");
   _appended = std::move(appended);
-  Mat big = appended_operator(_A_tied ? _A_tied : _A.mat(), nullptr);
+  Mat big = appended_operator(_A_tied ? _A_tied : _A.mat(), nullptr, _A_appended);
   // The fixed-stress preconditioner's matrix gets the same rows, its own
   // fixed-stress term on C's diagonal.
-  Mat big_P = _P ? appended_operator(_P_tied ? _P_tied : _P->mat(), &_appended.preconditioner_diagonal) : nullptr;
+  Mat big_P = _P ? appended_operator(_P_tied ? _P_tied : _P->mat(), &_appended.preconditioner_diagonal, _P_appended)
+                 : nullptr;
   if (!first)
   {
-    check_system(MatCopy(big, _A_appended, SAME_NONZERO_PATTERN), _prefix, "MatCopy of the appended system");
-    check_system(MatDestroy(&big), _prefix, "MatDestroy");
-    if (big_P)
-      check_system(MatCopy(big_P, _P_appended, SAME_NONZERO_PATTERN), _prefix, "MatCopy of the appended system");
-    check_system(MatDestroy(&big_P), _prefix, "MatDestroy");
     if (_contact)
       _contact->operator_nudged();
     else

@@ -141,8 +141,9 @@ private:
   /// [[a + D, B^T], [B, C + c]] as one AIJ matrix, a the operator or the
   /// preconditioner's matrix before the appended unknowns (tied, if so),
   /// c `diagonal` (this rank's entries; none if null): its rows on each
-  /// rank are a's, then C's.
-  Mat appended_operator(Mat a, const std::vector<double>* diagonal) const;
+  /// rank are a's, then C's (solvers/block_matrix.h). A new matrix, or
+  /// `into` (the one made before, of the same structure) refilled.
+  Mat appended_operator(Mat a, const std::vector<double>* diagonal, Mat into = nullptr) const;
   /// Adds the appended rows to the fields of an iterative solve, whose
   /// rows on each rank move by those appended on the ranks before.
   void append_to_fields(PetscInt rows);

@@ -10,6 +10,7 @@ from petsc4py import PETSc
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
 from ..assembly.tied_dofs import TiedDofs
 from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
+from ..solvers.block_matrix import BlockMatrix
 from ..solvers.field_split import Field, block_offset, is_coupled
 from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, SystemLayout, choose_method,
                               set_solver_defaults, solver_counts)
@@ -101,15 +102,14 @@ class System:
         fixed-stress matrix, C plus preconditioner_diagonal."""
         first = self.appended is None
         self.appended = appended
-        big = self._appended_operator(self.A_tied if self.A_tied is not None else self.A)
+        big = self._appended_operator(self.A_tied if self.A_tied is not None else self.A, None,
+                                      None if first else self.A_appended)
         # The fixed-stress preconditioner's matrix gets the same rows, its own
         # fixed-stress term on C's diagonal.
         big_P = None if self.P is None else self._appended_operator(
-            self.P_tied if self.P_tied is not None else self.P, appended.preconditioner_diagonal)
+            self.P_tied if self.P_tied is not None else self.P, appended.preconditioner_diagonal,
+            None if first else self.P_appended)
         if not first:
-            big.copy(self.A_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
-            if big_P is not None:
-                big_P.copy(self.P_appended, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
             if self.contact:
                 self.contact.operator_nudged()
             else:
@@ -148,11 +148,14 @@ class System:
             fields.append(Field(f.name, dofs, f.block_size, f.near_nullspace, splits))
         self.fields = fields
 
-    def _appended_operator(self, a, diagonal=None):
+    def _appended_operator(self, a, diagonal=None, into=None):
         """[[a + D, B^T], [B, C + c]] as one AIJ matrix, `a` the operator or
         the preconditioner's matrix before the appended unknowns (tied, if
         so), c `diagonal` (none if None): its rows on each rank are a's, then
-        C's."""
+        C's (solvers/block_matrix.py). A new matrix, or `into` (the one made
+        before, of the same structure) refilled: the conversion cost 18 ms a
+        call on 2 ranks against 3 on 1 (docs/performance.md, thirty-fifth
+        session)."""
         if self.appended.diagonal:
             a = a.copy()
             for row, value in self.appended.diagonal:
@@ -164,8 +167,11 @@ class System:
             C, c = C.copy(), C.createVecs()[1]
             c.array[:] = diagonal
             C.setDiagonal(c, addv=PETSc.InsertMode.ADD_VALUES)
-        nest = PETSc.Mat().createNest([[a, E], [B, C]], comm=self.comm)
-        return nest.convert("aij")
+        layout = BlockMatrix(a, C)
+        if into is None:
+            return layout.convert(self.comm, [a, E, B, C])
+        layout.refill(into, [a, E, B, C])
+        return into
 
     def whole(self, x, b):
         """The vectors [x; y] and [b; b_y] of the system with appended
