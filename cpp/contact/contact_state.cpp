@@ -111,7 +111,10 @@ void summarise_faults(ContactState& s, const ContactMeasurement& m, const std::v
     const std::size_t k = constraint[j];
     const bool closed = on_foundation(m.distance[k], s.gap_scale);
     const auto& t = p.tangential_traction;
-    p.status = pair_status(set.laws[p.fault], {closed, p.traction, std::hypot(t[0], t[1], t[2]), scale});
+    // A junction's pairs are frictionless whatever their faults' laws
+    // (theory.md, "Faults where they meet"): closed, they slip.
+    const ContactLaw law = set.junction_nodes[k][0] >= 0 ? ContactLaw{} : set.laws[p.fault];
+    p.status = pair_status(law, {closed, p.traction, std::hypot(t[0], t[1], t[2]), scale});
     const int f = summary_of[p.fault];
     largest[2 * f] = std::max(largest[2 * f], p.opening);
     largest[2 * f + 1] = std::max(largest[2 * f + 1], std::hypot(p.slip[0], p.slip[1], p.slip[2]));

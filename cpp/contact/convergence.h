@@ -19,6 +19,15 @@ namespace biotcontact
 /// first and the load.
 constexpr double repeated_set_fraction = 1e-3;
 
+/// With friction a residual at its round-off (residual_round_off) ends the
+/// solve where it lies below this fraction of the load.
+constexpr double round_off_ceiling = 1e-8;
+
+/// r = eps (W |K| |y| + |b|): a bound of the round-off of each entry of
+/// W (K y - b) (eps the machine's; W the row weights, nullptr for none;
+/// collective).
+void residual_round_off(Mat K, Vec weights, Vec y, Vec b, Vec r);
+
 /// @brief The bounds of a VI's unknown: its lower and upper bound vectors,
 /// and the positions (local, in its numbering) that carry a bound.
 struct VIBounds
@@ -54,6 +63,12 @@ public:
   void watch(KSP ksp);
   /// The load has been posed: the separate rows' tolerance from it.
   void pose();
+  /// With friction, a residual at the round-off of K y - b (weighted by
+  /// `weights`, nullptr for none) ends the solve (convergence.cpp).
+  void measure_round_off(Mat K, Vec weights) { _operator = K, _weights = weights; }
+  /// The next SNES solve continues the last one (the clamped start after
+  /// a failed first attempt): with friction it keeps that one's targets.
+  void continue_solve() { _continuing = true; }
 
   /// The bounded DOFs that are active at x by PETSc's rule
   /// (SNESVIGetActiveSetIS), into `active`; `clipped` tells of a DOF on a
@@ -75,6 +90,10 @@ private:
   PetscErrorCode separate_solved(PetscInt iteration, bool* solved);
   /// Whether a solve whose separate rows are solved (`met`) may stop.
   bool separate_may_stop(bool met);
+  /// Whether the residual's norm `fnorm` on the force rows lies within
+  /// the round-off of the solve's operator at its current unknown, into
+  /// `within` (collective).
+  PetscErrorCode at_round_off(PetscReal fnorm, bool* within) const;
   /// Before each Newton step (and after the last): records the active set
   /// the next step will use, and counts changes.
   static PetscErrorCode monitor(SNES, PetscInt iteration, PetscReal, void* context);
@@ -91,11 +110,15 @@ private:
   SNES _snes = nullptr;
   Vec _load = nullptr;
   bool _friction = false;
+  bool _continuing = false; // continue_solve() until the next first test
+  Mat _operator = nullptr;  // measure_round_off
+  Vec _weights = nullptr;
   std::vector<char> _pending, _used; // active flags of the bounded DOFs
   bool _any_used = false;
   bool _set_repeated = false;        // the last step's result keeps the set it used
   PetscReal _relative_target = 0;    // rtol times the first residual of a solve
   PetscReal _repeated_set_bound = 0; // a fraction of it or of the load (converged)
+  PetscReal _round_off_bound = 0;    // round_off_ceiling times the load
   // The residual on the separate rows is small below the larger of these:
   // their load's times the relative tolerance (pose), and rtol times the
   // solve's first.

@@ -100,6 +100,7 @@ void VariationalInequality::create_snes()
   check_petsc(SNESSetJacobian(_snes, J, J, &VariationalInequality::jacobian, this), "contact solver: SNESSetJacobian");
   check_petsc(SNESVISetVariableBounds(_snes, _lower, _upper), "contact solver: SNESVISetVariableBounds");
   _convergence->attach(_snes, tested_load(), _J != nullptr);
+  _convergence->measure_round_off(_p.K, _balanced ? _balanced->weights() : nullptr);
   // At least one Newton step per solve: a step is an exact solve on the
   // active set, so the result never lags behind the load (a residual
   // already below the tolerance would otherwise leave y as it was).
@@ -209,6 +210,7 @@ void VariationalInequality::solve(double scale)
     // singular. Start again with every contact node on the foundation,
     // where the contact forces say which nodes to release.
     clamped_start();
+    _convergence->continue_solve();
     reason = run_snes();
     count_iterations(reason);
   }
@@ -344,9 +346,13 @@ SNESConvergedReason VariationalInequality::refactorised()
 
 void VariationalInequality::clamped_start()
 {
-  // Every bounded DOF on its bound; the other DOFs (none when condensed)
-  // solve their equations: A y = b/s with the bounded rows and columns
-  // eliminated and the known values moved to the right-hand side.
+  // Every bounded DOF on its bound and, with friction, every frictional
+  // constraint stuck (its tangential unknowns at the step's start); the
+  // other DOFs (none when condensed) solve their equations: A y = b/s with
+  // the clamped rows and columns eliminated and the known values moved to
+  // the right-hand side. Tangential unknowns left free would slide the
+  // faces as if frictionless, a start from which every pair looks slipping
+  // (theory.md, "Friction").
   PetscInt start = 0;
   check_petsc(VecGetOwnershipRange(_y, &start, nullptr), "contact solver: VecGetOwnershipRange");
   std::vector<PetscInt> rows;
@@ -360,6 +366,18 @@ void VariationalInequality::clamped_start()
     const std::int32_t dof = _p.bounded[k];
     rows.push_back(start + dof);
     y[dof] = _p.sign[k] > 0 ? up[dof] : lo[dof];
+  }
+  if (_J)
+  {
+    const PetscScalar* reference;
+    check_petsc(VecGetArrayRead(_y_reference, &reference), "contact solver: VecGetArrayRead");
+    for (const FrictionalConstraint& f : _p.friction)
+      for (int q = 0; q < _p.tangents; ++q)
+      {
+        rows.push_back(start + f.tangential[q]);
+        y[f.tangential[q]] = reference[f.tangential[q]] / _scale;
+      }
+    check_petsc(VecRestoreArrayRead(_y_reference, &reference), "contact solver: VecRestoreArrayRead");
   }
   check_petsc(VecRestoreArray(_y, &y), "contact solver: VecRestoreArray");
   check_petsc(VecRestoreArrayRead(_lower, &lo), "contact solver: VecRestoreArrayRead");

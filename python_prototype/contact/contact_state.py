@@ -8,7 +8,7 @@ import math
 import numpy as np
 from mpi4py import MPI
 
-from .contact_law import PairStatus, PairTraction, on_foundation, pair_status
+from .contact_law import ContactLaw, PairStatus, PairTraction, on_foundation, pair_status
 
 
 @dataclasses.dataclass
@@ -201,8 +201,10 @@ def _summarise_faults(s, m, constraint, summary_of, comm):
     largest, measure = np.zeros(2 * len(s.faults)), np.zeros(4 * len(s.faults))
     for p, k in zip(s.pairs, constraint):
         closed = bool(on_foundation(m.distance[k], s.gap_scale))
-        p.status = pair_status(c.laws[p.fault], PairTraction(closed, p.traction,
-                                                             math.hypot(*p.tangential_traction), scale))
+        # a junction's pairs are frictionless whatever their faults' laws
+        # (theory.md, "Faults where they meet"): closed, they slip
+        law = ContactLaw() if c.junction_nodes[k, 0] >= 0 else c.laws[p.fault]
+        p.status = pair_status(law, PairTraction(closed, p.traction, math.hypot(*p.tangential_traction), scale))
         f = summary_of[p.fault]
         largest[2 * f] = max(largest[2 * f], p.opening)
         largest[2 * f + 1] = max(largest[2 * f + 1], math.hypot(*p.slip))

@@ -176,6 +176,7 @@ class VariationalInequality:
         self.snes.setJacobian(self._jacobian, J, J)
         self.snes.setVariableBounds(self.lower, self.upper)
         self.convergence.attach(self.snes, self._tested_load(), self.J is not None)
+        self.convergence.measure_round_off(self.p.K, self.balanced.weights if self.balanced else None)
         # At least one Newton step per solve, so the result never lags the
         # load (not with friction: its F is not linear, the residual
         # decides, and a backtracking search fails on a zero step).
@@ -278,6 +279,7 @@ class VariationalInequality:
                 # every contact node on the foundation; the contact forces
                 # there say which nodes to release.
                 self._clamped_start()
+                self.convergence.continue_solve()
                 reason = self._snes_solve()
                 self._count(reason)
         if reason < 0:
@@ -372,16 +374,24 @@ class VariationalInequality:
         return self.snes.getConvergedReason()
 
     def _clamped_start(self):
-        """Every bounded DOF on its bound; the other DOFs (none when
-        condensed) solve A y = b/s with the bounded rows and columns
-        eliminated and the known values moved to the right-hand side."""
+        """Every bounded DOF on its bound and, with friction, every
+        frictional constraint stuck (its tangential unknowns at the step's
+        start); the other DOFs (none when condensed) solve A y = b/s with
+        the clamped rows and columns eliminated and the known values moved
+        to the right-hand side. Tangential unknowns left free would slide
+        the faces as if frictionless, a start from which every pair looks
+        slipping (theory.md, "Friction")."""
         p = self.p
         up, lo = self.upper.getArray(readonly=True), self.lower.getArray(readonly=True)
+        stuck = np.array([f.tangential[q] for f in p.friction for q in range(p.tangents)], dtype=np.int64)
         with self.y as y:
             y[p.bounded] = np.where(p.sign > 0, up[p.bounded], lo[p.bounded])
+            if stuck.size:
+                y[stuck] = self.y_reference.getArray(readonly=True)[stuck] / self.scale
         if self.whole is None:
             return
-        rows = (self.y.getOwnershipRange()[0] + p.bounded).astype(PETSc.IntType)
+        clamped = np.concatenate([p.bounded, stuck])
+        rows = (self.y.getOwnershipRange()[0] + clamped).astype(PETSc.IntType)
 
         def clamped_copy(M, rhs=None):
             C = M.duplicate(copy=True)

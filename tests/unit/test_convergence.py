@@ -1,0 +1,40 @@
+"""Unit tests of the prototype's stopping rules of the contact solve
+(python_prototype/contact/convergence.py), the twins of
+tests/unit/test_convergence.cpp: the round-off bound of a residual
+W (K y - b) is eps (W |K| |y| + |b|) row by row, whatever the signs of K, y
+and b."""
+import os
+import sys
+import unittest
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import support  # noqa: E402,F401  (the repository on sys.path)
+from python_prototype.contact.convergence import residual_round_off  # noqa: E402
+from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
+
+
+def signed_matrix():
+    """spd_matrix(5) with the signs of its off-diagonal entries alternating."""
+    i = np.arange(5)
+    return spd_matrix(5) * np.where((i[:, None] + i[None, :]) % 2 == 1, -1.0, 1.0)
+
+
+class ConvergenceTests(unittest.TestCase):
+    def test_round_off_is_eps_times_the_magnitudes(self):
+        A = signed_matrix()
+        y, b, w = (np.array(v) for v in ([1.0, -2.0, 3.0, -4.0, 5.0], [-1e3, 0.0, 2e3, -3e3, 0.0],
+                                          [1.0, 2.0, 0.5, 1.0, 4.0]))
+        K = petsc_matrix(A)
+        Y, B, W, r = (petsc_vector(K, v) for v in (y, b, w, y))
+        for weights in (None, W):
+            residual_round_off(K, weights, Y, B, r)
+            expected = np.finfo(float).eps * ((1.0 if weights is None else w) * (np.abs(A) @ np.abs(y)) + np.abs(b))
+            np.testing.assert_allclose(r.array_r, expected, rtol=1e-14)
+        np.testing.assert_array_equal(Y.array_r, y)  # y and b are left as they were
+        np.testing.assert_array_equal(B.array_r, b)
+
+
+if __name__ == "__main__":
+    unittest.main()
