@@ -366,7 +366,7 @@ double ConduitFaults::relax_conducting()
 bool ConduitFaults::stagnant(double lag) const
 {
   const std::size_t n = _lags.size();
-  return n >= stagnation_window and lag > 0.5 * _lags[n - stagnation_window];
+  return n >= lag_window and lag > 0.5 * _lags[n - lag_window];
 }
 
 void ConduitFaults::load(const FineStep& step, std::span<const double> p_old, std::span<const double> p_iterate,

@@ -76,7 +76,7 @@ constexpr int stalled_iterations = 3;
 /// of the split's iterations is noise: the floor of the relaxation holds
 /// the apertures from then to the step's end (Aitken's factor from noise
 /// cycled with period 4).
-constexpr std::size_t stagnation_window = 4;
+constexpr std::size_t lag_window = 4;
 
 /// @brief The conduit faults of a scene: their cells, numbered fault by
 /// fault in the scene's order, appended after the flow system's unknowns,
@@ -233,7 +233,7 @@ private:
   /// stopped shrinking); returns how far w_h lay from them (the lag, m).
   double relax_conducting();
   /// Whether `lag` (|w_h - w_c|) has not halved over the last
-  /// stagnation_window iterations of the step.
+  /// lag_window iterations of the step.
   bool stagnant(double lag) const;
   struct Conduit
   {

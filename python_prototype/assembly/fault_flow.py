@@ -97,7 +97,7 @@ STALLED_ITERATIONS = 3
 # the split's iterations is noise: the floor of the relaxation holds the
 # apertures from then to the step's end (Aitken's factor from noise cycled
 # with period 4).
-STAGNATION_WINDOW = 4
+LAG_WINDOW = 4
 
 
 def transmissibilities(t, edges):
@@ -319,28 +319,18 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         return changed or moved > 0
 
     def _relax_conducting(self):
-        """Moves the apertures of the cubic law toward w_h, by Aitken's factor
-        once a cell's open state flipped back in this step (or the lag
-        stopped shrinking); returns how far w_h lay from them (the lag, m).
-        The fixed point conducting = w_h(u(conducting)), r = w_h - conducting
-        its lag: taken whole (omega = 1) until a cell's open state flips back
-        (set_openings: the cubic law cycling, an open cell sheds its fluid
-        and closes, then fills and opens again) or until the lag shrinks by
-        less than RELAXED_ABOVE (the monolithic step, whose open cells move
-        with p_f in one solve; the split, where an open cell's lagged w_h^3
-        can move p_f more than its fixed-stress term holds: a 2-cycle); from
-        then to the step's end by Aitken's factor, omega = -omega (r_old .
-        (r - r_old)) / |r - r_old|^2, clamped to [1e-3, 1]. A negative
-        factor (the map amplifies the lag's mode: the opening spreads) would
-        step back against the lag: the monolithic step then takes the lag
-        whole with Newton's term of the transmissibilities (newton,
-        flux_jacobian), the split the factor's magnitude (held at the floor
-        its apertures crawled), unless the lag is below the openings'
-        round-off, where the factor's sign is noise and the floor holds the
-        fixed point. There, in the split, a lag that stagnates (_stagnant:
-        Aitken's factor computed from noise, cycling with period 4) is held
-        at the floor to the step's end; the monolithic step, whose stopping
-        test holds the lag, relaxes it on (theory.md, "Flow in a fault")."""
+        """Moves the apertures of the cubic law toward w_h; returns how far
+        w_h lay from them (the lag r = w_h - conducting, m). Taken whole
+        until a cell's open state flips back in this step (set_openings: the
+        cubic law cycling) or the lag shrinks by less than RELAXED_ABOVE (in
+        the split: grew at STALLED_ITERATIONS iterations in a row); from then
+        to the step's end by Aitken's factor omega = -omega (r_old . (r -
+        r_old)) / |r - r_old|^2, clamped to [1e-3, 1]. A negative factor:
+        the monolithic step takes the lag whole with Newton's term (newton,
+        flux_jacobian), the split the factor's magnitude; below the openings'
+        round-off the factor's sign is noise, and in the split a lag that
+        stagnates there (_stagnant) is held at the floor to the step's end
+        (theory.md, "Flow in a fault")."""
         dot = norm = lag = lag_old = moved = round_off = 0.0
         for conduit in self.faults:
             round_off = max(round_off, OPEN_FRACTION * conduit.residual)  # as set_openings's
@@ -374,8 +364,8 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
 
     def _stagnant(self, lag):
         """Whether `lag` (|w_h - w_c|) has not halved over the last
-        STAGNATION_WINDOW iterations of the step."""
-        return len(self.lags) >= STAGNATION_WINDOW and lag > 0.5 * self.lags[-STAGNATION_WINDOW]
+        LAG_WINDOW iterations of the step."""
+        return len(self.lags) >= LAG_WINDOW and lag > 0.5 * self.lags[-LAG_WINDOW]
 
     def without_stabilisation(self):
         """No fixed-stress term from now on (the second pass of
