@@ -1,7 +1,8 @@
 """A split that does not converge is an error with the iteration log, and
 what was finished before it stays written; with time.retry a step that fails
 is tried again with halved steps, and a failure that a smaller step cures no
-longer ends the run (split and monolithic, C++ and prototype).
+longer ends the run (split and monolithic, C++ and prototype); a split with
+contact that fails without time.retry offers it.
 
 A split that cannot converge says why and what converges instead (issue 36):
 with a soft region of gamma near 1 the error, the run's warning and `check`
@@ -15,6 +16,13 @@ out, p = run(scene("default"), "--set", "coupling.max_iterations=3", expect=3)
 line = p.stderr.strip().splitlines()
 check(len(line) == 1 and "did not converge in 3 iterations" in line[0] and "iterations.csv" in line[0],
       f"one-line error naming the log: {p.stderr.strip()[:160]!r}")
+# With contact the line also offers time.retry (a step at a contact change or
+# an opening that cycles can pass at half the step); without contact not.
+check(line[0].endswith('time.retry = 4 (a failed step again with half its dt, up to 4 times) '
+                       f'(log: {out}/iterations.csv)'), f"the contact scene's line offers time.retry: {line[0]!r}")
+_, p = run(scene("terzaghi"), "--set", "coupling.max_iterations=3", expect=3)
+check("did not converge in 3 iterations" in p.stderr and "time.retry" not in p.stderr,
+      f"without contact no time.retry: {p.stderr.strip()[-120:]!r}")
 rows = iterations(out)
 check(len(rows) == 3 and [r["iteration"] for r in rows] == ["1", "2", "3"], "all three iterations logged")
 s = summary(out)

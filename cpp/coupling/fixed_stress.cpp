@@ -2,6 +2,7 @@
 
 #include "coupling/anderson.h"
 #include "coupling/contraction.h"
+#include "coupling/cycle.h"
 #include "coupling/two_pass.h"
 #include "coupling/window.h"
 #include "time/window_control.h"
@@ -301,6 +302,8 @@ bool FixedStressSplit::iteration(Window& w, int n)
   if (_observer.iteration)
     _observer.iteration(w.K + 1, n + 1, dp_norm, du_norm);
   w.increment = std::max(dp_norm, du_norm);
+  w.active_nodes.push_back(w.active.nodes);
+  w.increments.push_back(w.increment);
   const double tolerance = stopping_tolerance(w);
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
@@ -331,8 +334,13 @@ FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
   try
   {
     for (n = 0; n < _coupling.max_iterations; ++n)
+    {
       if (iteration(w, n))
         return Outcome::converged;
+      // A cycle goes on to max_iterations: end it here.
+      if ((w.cycle = cycle_period(w.active_nodes, w.increments)) > 0)
+        return Outcome::not_converged;
+    }
   }
   catch (const SolverError& e)
   {
@@ -422,16 +430,31 @@ bool FixedStressSplit::contact_accepted(const Window& w)
   return false;
 }
 
-/// The error of a window that did not converge in coupling.max_iterations,
-/// with the last increments.
+/// The error of a window that did not converge in coupling.max_iterations
+/// or cycled (coupling/cycle.h), with the last increments.
 CouplingError FixedStressSplit::not_converged(const Window& w)
 {
   std::ostringstream message;
-  message << "the fixed-stress split did not converge in " << _coupling.max_iterations
-          << " iterations at t = " << t(w, w.q) << " (step " << w.K + 1 << "); last increments:";
+  if (w.cycle)
+  {
+    message << "the fixed-stress split cycles at t = " << t(w, w.q) << " (step " << w.K + 1 << "): after "
+            << w.increments.size() << " iterations the contact set returns every " << w.cycle
+            << " iterations (active nodes";
+    for (std::size_t i = w.active_nodes.size() - w.cycle; i < w.active_nodes.size(); ++i)
+      message << " " << w.active_nodes[i];
+    message << ") and the increments no longer shrink; last increments:";
+  }
+  else
+    message << "the fixed-stress split did not converge in " << _coupling.max_iterations
+            << " iterations at t = " << t(w, w.q) << " (step " << w.K + 1 << "); last increments:";
   for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
     message << w.log[i];
   message << " " << _advice;
+  // A step at the threshold of an opening or a contact change can keep the
+  // split cycling where half the step passes (docs/theory.md, "Flow in a
+  // fault": the split through an opening).
+  if (_scene.retry == 0 and _scene.has_contact())
+    message << ", time.retry = 4 (a failed step again with half its dt, up to 4 times)";
   return CouplingError(message.str());
 }
 
@@ -472,7 +495,8 @@ void FixedStressSplit::run()
       _report.coupling_iterations += iterations;
       _report.max_iterations_per_step = std::max(_report.max_iterations_per_step, iterations);
     }
-    if (outcome == Outcome::not_converged and !retry(w, "the fixed-stress split did not converge"))
+    if (outcome == Outcome::not_converged
+        and !retry(w, w.cycle ? "the fixed-stress split cycles" : "the fixed-stress split did not converge"))
     {
       _report.mean_contraction_ratio = _report.ratios ? _state.ratio_sum / _report.ratios : 0.0;
       throw not_converged(w);

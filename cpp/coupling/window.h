@@ -42,6 +42,9 @@ struct Window
   long newton_steps = 0; // of the last mechanics pass's contact solve
   double increment = 1;                // max(dp, du) of the last iteration
   std::vector<std::string> log;        // the last iterations, for the error message
+  std::vector<std::int64_t> active_nodes; // per iteration: the contact set's active nodes (coupling/cycle.h)
+  std::vector<double> increments;      // per iteration: max(dp, du)
+  int cycle = 0;                       // the period of the cycle that ended the iteration, 0 for none
 };
 
 /// @brief The converged state at t_K and, for BDF2, what the windows before

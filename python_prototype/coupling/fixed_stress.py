@@ -15,6 +15,7 @@ from .anderson import AndersonAcceleration
 from ..contact.contact_state import ActiveSet, same_active_set
 from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
+from .cycle import cycle_period
 from .two_pass import second_pass_correction
 from .window import Window, WindowHistory
 from ..time.window_control import window_limit, window_steps
@@ -233,6 +234,8 @@ class _FixedStressSplit:
         if self.observer.iteration:
             self.observer.iteration(w.K + 1, n + 1, dp_norm, du_norm)
         w.increment = max(dp_norm, du_norm)
+        w.active_nodes.append(w.active.nodes)
+        w.increments.append(w.increment)
         tolerance = self.stopping_tolerance(w)
         converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
@@ -260,6 +263,10 @@ class _FixedStressSplit:
             for n in range(self.coupling.max_iterations):
                 if self.iteration(w, n):
                     return _Outcome.converged, n
+                # A cycle goes on to max_iterations: end it here.
+                w.cycle = cycle_period(w.active_nodes, w.increments)
+                if w.cycle:
+                    return _Outcome.not_converged, n
         except SolverError as e:
             # The failing solve named its system; the iteration is known here.
             cause = f"coupling iteration {n + 1}: {e}"
@@ -334,10 +341,20 @@ class _FixedStressSplit:
 
     def not_converged(self, w):
         """The error of a window that did not converge in
-        coupling.max_iterations, with the last increments."""
-        return CouplingError(f"the fixed-stress split did not converge in {self.coupling.max_iterations} "
-                             f"iterations at t = {self.t(w, w.q):g} (step {w.K + 1}); last increments:"
-                             + "".join(w.log[-3:]) + " " + self.advice)
+        coupling.max_iterations or cycled (cycle.py), with the last increments."""
+        if w.cycle:
+            head = (f"the fixed-stress split cycles at t = {self.t(w, w.q):g} (step {w.K + 1}): after "
+                    f"{len(w.increments)} iterations the contact set returns every {w.cycle} iterations (active "
+                    f"nodes {' '.join(str(a) for a in w.active_nodes[-w.cycle:])}) and the increments no longer "
+                    "shrink; last increments:")
+        else:
+            head = (f"the fixed-stress split did not converge in {self.coupling.max_iterations} "
+                    f"iterations at t = {self.t(w, w.q):g} (step {w.K + 1}); last increments:")
+        return CouplingError(head + "".join(w.log[-3:]) + " " + self.advice
+                             # A step at the threshold of an opening or a contact change can keep
+                             # the split cycling where half the step passes (docs/theory.md).
+                             + (", time.retry = 4 (a failed step again with half its dt, up to 4 times)"
+                                if self.scene.retry == 0 and self.scene.has_contact() else ""))
 
     def accept_window(self, w, n):
         """Accept the window: write every fine flow step, then the mechanics
@@ -368,7 +385,8 @@ class _FixedStressSplit:
                 iterations = min(n + 1, max_iterations)
                 report.coupling_iterations += iterations
                 report.max_iterations_per_step = max(report.max_iterations_per_step, iterations)
-            if outcome == _Outcome.not_converged and not self.retry(w, "the fixed-stress split did not converge"):
+            if outcome == _Outcome.not_converged and not self.retry(
+                    w, "the fixed-stress split cycles" if w.cycle else "the fixed-stress split did not converge"):
                 report.mean_contraction_ratio = self.state.ratio_sum / report.ratios if report.ratios else 0.0
                 raise self.not_converged(w)
             if (outcome != _Outcome.converged or not self.balance_accepted(w) or not self.error_accepted(w)

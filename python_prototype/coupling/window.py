@@ -35,6 +35,9 @@ class Window:
         self.newton_steps = 0          # of the last mechanics pass's contact solve
         self.increment = 1.0          # max(dp, du) of the last iteration
         self.log = []                 # the last iterations, for the error message
+        self.active_nodes = []        # per iteration: the contact set's active nodes (coupling/cycle.py)
+        self.increments = []          # per iteration: max(dp, du)
+        self.cycle = 0                # the period of the cycle that ended the iteration, 0 for none
 
 
 class WindowHistory:
