@@ -11,7 +11,12 @@ Scenes: network2d, network3d and injection_fault3d as shipped, and
 its frictional fault made a conduit (residual aperture 1e-4 m), four days,
 coupling tolerance 1e-10 (the opening spreads from the well: the apertures
 change at every coupling iteration; its split stalled on the first day
-until 2026-12-02, docs/theory.md, "Flow in a fault"). Variants:
+until 2026-12-02, docs/theory.md, "Flow in a fault"); `phan_loaded`:
+scenes/phan.toml's crack (mu 0.6) made a conduit (residual aperture
+1e-5 m) in an impermeable rock (1e-25 m^2), a well of 2e-7 m^2/s at its
+middle, three steps of 0.1 s, the 100 MPa loaded at once in the first (the
+monolithic step's full path cycles there and goes on condensed: docs/
+theory.md, "Friction"). Variants:
 `split` is the scene's own coupling; `direct` and `iterative` are coupling.scheme = "monolithic" with
 that solver.monolithic. No XDMF output. Per run: wall time, coupling
 iterations (the monolithic step's iterations on the apertures: its
@@ -29,9 +34,14 @@ NAME = "monolithic_conduits"
 OPENING = ["well.injector.position=[0.0, 0.0]", 'well.injector.fault="fault"', "well.injector.rate=1.0e-3",
            "fault.fault.pore_pressure_load=false", 'fault.fault.flow="conduit"',
            "fault.fault.residual_aperture=1.0e-4", "time.end=345600.0", "coupling.tolerance=1e-10"]
+PHAN_LOADED = ["flow.M=1.0e10", "flow.c_f=1.0e-9", "flow.mu_f=1.0e-3", "flow.permeability=1.0e-25",
+               "flow.initial_pressure=0.0", "coupling.alpha=1.0", "coupling.tolerance=1e-10", "time.end=0.3",
+               "time.dt=0.1", "fault.crack.friction=0.6", 'fault.crack.flow="conduit"',
+               "fault.crack.residual_aperture=1.0e-5", 'well.inj.fault="crack"', "well.inj.position=[0.0, 0.0]",
+               "well.inj.rate=2.0e-7"]
 SCENES = {"network2d": ("scenes/network2d.toml", []), "network3d": ("scenes/network3d.toml", []),
           "injection_fault3d": ("scenes/injection_fault3d.toml", []),
-          "opening": ("scenes/fault_reactivation.toml", OPENING)}
+          "opening": ("scenes/fault_reactivation.toml", OPENING), "phan_loaded": ("scenes/phan.toml", PHAN_LOADED)}
 VARIANT_SETS = {"split": [],
                 "direct": ["coupling.scheme=monolithic", "solver.monolithic=direct"],
                 "iterative": ["coupling.scheme=monolithic", "solver.monolithic=iterative"]}

@@ -40,54 +40,6 @@ void check_contact(const Scene& scene, const Domain& domain)
 
 namespace
 {
-/// Reads -<prefix>contact_condensed through PETSc's options database, so
-/// that -help lists it with this run's default; `given` says whether the
-/// user set it. (PetscOptionsBegin/End are macros checking their calls.)
-PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed,
-                              PetscBool* given)
-{
-  PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, prefix.c_str(), "Contact solver (biotcontact)", nullptr);
-  const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
-                           "direct solver and at most "
-                           + std::to_string(ContactSolver::max_condensed_dofs)
-                           + " contact DOFs, after one full Newton step, two with friction, that did not "
-                             "converge when the run solves the contact once), else on the whole system";
-  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, given));
-  PetscOptionsEnd();
-  PetscFunctionReturn(0);
-}
-
-/// @brief Where the contact VI is posed: on the Schur complement of the
-/// contact DOFs, on the whole system, or on the whole system for one Newton
-/// step (two with friction) and, if that did not solve it, condensed.
-enum class ContactPath
-{
-  condensed,
-  full,
-  full_then_condensed
-};
-
-/// -<prefix>contact_condensed, by default condensed when the system is
-/// solved directly, C is small enough and A is not `changing`. A run that
-/// solves the contact once would pay the Schur complement for one solve:
-/// there the whole system's first Newton steps come first, all a solve
-/// whose active set they find costs; else the condensed path follows.
-ContactPath contact_path(MPI_Comm comm, const std::string& prefix, Method method, PetscInt contact_dofs,
-                         const ContactOperators& operators)
-{
-  // Forming H takes m solves: cheap back-solves of a factorisation, but m
-  // full Krylov solves with an iterative method, and m more at each change
-  // of A.
-  const bool fallback = method == Method::direct and contact_dofs <= ContactSolver::max_condensed_dofs
-                        and !operators.changing;
-  PetscBool condensed = fallback ? PETSC_TRUE : PETSC_FALSE, given = PETSC_FALSE;
-  if (read_condensed(comm, prefix, condensed, &condensed, &given) != 0)
-    throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
-  if (!condensed)
-    return ContactPath::full;
-  return operators.once and !given ? ContactPath::full_then_condensed : ContactPath::condensed;
-}
 /// Whether any rank has a frictional constraint (collective).
 bool any_frictional(const ContactSet& set, MPI_Comm comm)
 {
@@ -118,7 +70,10 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
 
   long local_dofs = static_cast<long>(contact_dofs().size()), all_dofs = 0;
   MPI_Allreduce(&local_dofs, &all_dofs, 1, MPI_LONG, MPI_SUM, comm);
-  const ContactPath path = contact_path(comm, prefix, method, all_dofs, operators);
+  const PathCosts costs{method, static_cast<PetscInt>(all_dofs), operators.changing, operators.once};
+  const ContactPathChoice choice = choose_contact_path(comm, prefix, costs);
+  const ContactPath path = choice.path;
+  _condensed_on_failure = choice.condensed_on_failure;
   if (path == ContactPath::condensed)
     _vi = condensed_vi();
   else
@@ -153,7 +108,7 @@ std::unique_ptr<VariationalInequality> ContactSolver::condensed_vi()
   return vi;
 }
 
-void ContactSolver::switch_to_condensed()
+void ContactSolver::switch_to_condensed(std::string after)
 {
   std::unique_ptr<VariationalInequality> vi = condensed_vi();
   // The run's counts and its progress line go on.
@@ -162,8 +117,8 @@ void ContactSolver::switch_to_condensed()
   vi->convergence().active_set_changes = _vi->convergence().active_set_changes;
   vi->convergence().on_newton_step = std::move(_vi->convergence().on_newton_step);
   _vi = std::move(vi);
-  _then_condensed = false;
-  _switched = true;
+  _then_condensed = _condensed_on_failure = false;
+  _after = std::move(after);
   // Friction's slip increments are measured from the step's start.
   if (Vec reference = _vi->slip_reference())
     _schur->restrict_to_contact(to_vi(_x_start, _x_start_vi), reference);
@@ -255,8 +210,7 @@ std::string ContactSolver::method() const
 {
   if (!_schur)
     return "full";
-  return "condensed on " + std::to_string(_schur->size()) + " contact DOFs"
-         + (!_switched ? "" : _full_steps == 1 ? ", after one full Newton step" : ", after two full Newton steps");
+  return "condensed on " + std::to_string(_schur->size()) + " contact DOFs" + (_after.empty() ? "" : ", " + _after);
 }
 
 void ContactSolver::set_tolerance(double relative) { _vi->set_tolerance(relative); }
@@ -309,11 +263,34 @@ void ContactSolver::solve(Vec b, Vec x)
   if (!_then_condensed or !solve_vi(b_vi, x_vi, _full_steps))
   {
     if (_then_condensed)
-      switch_to_condensed();
-    solve_vi(b_vi, x_vi, 0);
+      switch_to_condensed(_full_steps == 1 ? "after one full Newton step" : "after two full Newton steps");
+    solve_on_path(b_vi, x_vi);
   }
   if (_change)
     _change->backward(x_vi, x);
+}
+
+void ContactSolver::solve_on_path(Vec b_vi, Vec x_vi)
+{
+  if (!_condensed_on_failure)
+  {
+    solve_vi(b_vi, x_vi, 0);
+    return;
+  }
+  // The condensed VI is the same problem with the other unknowns solved
+  // exactly at every Newton step, so its line search judges the contact
+  // rows alone: it settles contact states between which the whole
+  // system's semismooth Newton steps cycle (docs/theory.md, "Friction").
+  // x_vi is still the start: a failed solve leaves it as it was.
+  try
+  {
+    solve_vi(b_vi, x_vi, 0);
+  }
+  catch (const SolverError&)
+  {
+    switch_to_condensed("after a full solve that did not converge");
+    solve_vi(b_vi, x_vi, 0);
+  }
 }
 
 bool ContactSolver::solve_vi(Vec b_vi, Vec x_vi, int newton_steps)

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "contact/contact_law.h"
+#include "contact/contact_path.h"
 #include "contact/friction.h"
 #include "contact/contact_set.h"
 #include "contact/contact_state.h"
@@ -95,18 +96,15 @@ struct ContactUnknowns
 /// full path for one Newton step, and goes on condensed if that step did
 /// not solve the VI: a solve whose active set is right at once costs one
 /// factorisation, where the condensed path costs three to five (A's, and
-/// the partial one that forms H).
+/// the partial one that forms H). Where the full path is the default but
+/// the condensed one open (ContactPathChoice), a full solve that fails is
+/// solved again condensed from its start, and the run goes on condensed.
 ///
 /// Either way each solve starts from the previous solution, whose inactive
 /// set is usually the one of the new solution.
 class ContactSolver
 {
 public:
-  /// Above this many contact DOFs the dense H (m^2 doubles, m back-solves
-  /// to form, m^3/3 flops per active-set change) costs more than
-  /// refactorising the sparse inactive-set matrix.
-  static constexpr PetscInt max_condensed_dofs = 2000;
-
   /// `displacement_dofs[i]` is the position of V's owned DOF i in the
   /// solved vector (i itself for the mechanics system, its place in the
   /// mixed space for the monolithic one): they locate the contact DOFs and
@@ -189,9 +187,13 @@ private:
   VIProblem condense();
   /// The condensed VI, friction added.
   std::unique_ptr<VariationalInequality> condensed_vi();
-  /// The full path's trial did not converge: the VI is posed condensed from
-  /// now on, the counts carried over.
-  void switch_to_condensed();
+  /// The full path's trial or solve did not converge: the VI is posed
+  /// condensed from now on, the counts carried over; `after` says when
+  /// (method()).
+  void switch_to_condensed(std::string after);
+  /// Solves the VI for x' (in place) on the current path, and a failed
+  /// full solve again condensed where the path's choice allows it.
+  void solve_on_path(Vec b_vi, Vec x_vi);
   /// Solves the VI for x' (in place) from the load b': at most
   /// `newton_steps` of one attempt (0: as many as it takes, throwing
   /// SolverError if it fails); whether it converged.
@@ -234,8 +236,11 @@ private:
   std::unique_ptr<VariationalInequality> _vi;
   // On the whole system until its first Newton step, or first two with
   // friction, fail to solve the VI (ContactOperators::once).
-  bool _then_condensed = false, _switched = false;
+  bool _then_condensed = false;
   int _full_steps = 1;
+  // A failed full solve is solved again condensed (ContactPathChoice).
+  bool _condensed_on_failure = false;
+  std::string _after; // when the path turned condensed ("" from the start)
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
 };

@@ -166,6 +166,26 @@ PetscErrorCode ContactConvergence::stagnation(KSP ksp, PetscInt iteration, Petsc
   return 0;
 }
 
+PetscErrorCode ContactConvergence::start(SNES snes, PetscReal fnorm, PetscReal rtol)
+{
+  PetscFunctionBeginUser;
+  // With friction F is not linear, and a start far off (the clamped start
+  // of a body that slides) would make any residual "relative": relative to
+  // the load then, where that is smaller.
+  PetscReal load = 0;
+  PetscCall(VecNorm(_load, NORM_2, &load));
+  _relative_target = rtol * std::min(fnorm, _friction ? load : fnorm);
+  _round_off_bound = round_off_ceiling * load;
+  _repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
+  Vec F = nullptr;
+  PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
+  double norm = 0;
+  PetscCall(separate_norm(F, &norm));
+  _separate_relative_target = rtol * norm;
+  _separate_met = false;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, PetscReal fnorm, SNESConvergedReason* reason)
 {
   PetscReal atol = 0, rtol = 0, stol = 0;
@@ -181,23 +201,10 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
   // residual's round-off. Frictionless, F is linear and the repeated
   // active set ends the solve at round-off.
   const bool continued = std::exchange(_continuing, false) and _friction;
+  if (iteration == 0)
+    _norms.clear(), cycling = false;
   if (iteration == 0 and !continued)
-  {
-    // With friction F is not linear, and a start far off (the clamped
-    // start of a body that slides) would make any residual "relative":
-    // relative to the load then, where that is smaller.
-    PetscReal load = 0;
-    PetscCall(VecNorm(_load, NORM_2, &load));
-    _relative_target = rtol * std::min(fnorm, _friction ? load : fnorm);
-    _round_off_bound = round_off_ceiling * load;
-    _repeated_set_bound = repeated_set_fraction * std::max(fnorm, load);
-    Vec F = nullptr;
-    PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
-    double norm = 0;
-    PetscCall(separate_norm(F, &norm));
-    _separate_relative_target = rtol * norm;
-    _separate_met = false;
-  }
+    PetscCall(start(snes, fnorm, rtol));
   bool solved = false;
   PetscCall(separate_solved(iteration, &solved));
   const bool separate = separate_may_stop(solved);
@@ -244,7 +251,29 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
     else if (fnorm > _repeated_set_bound / repeated_set_fraction)
       *reason = SNES_DIVERGED_DTOL;
   }
+  // A semismooth Newton step is exact on its contact states: two states
+  // each of whose steps lands in the other repeat the same two iterates,
+  // and their residuals, to the last digits (friction's kink at a pair
+  // with t_N = 0: Phan's crack loaded at once on the coupled system).
+  if (_friction and *reason == SNES_CONVERGED_ITERATING)
+  {
+    _norms.push_back(fnorm);
+    if (two_cycle(_norms, cycle_periods))
+      *reason = SNES_DIVERGED_DTOL, cycling = true;
+  }
   return 0;
+}
+
+bool two_cycle(std::span<const double> norms, std::size_t periods)
+{
+  const std::size_t n = norms.size();
+  if (periods < 1 or n < 2 * periods)
+    return false;
+  auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); };
+  for (std::size_t k = n - 2 * periods + 1; k < n; ++k)
+    if (same(norms[k], norms[k - 1]) or (k >= n - 2 * periods + 2 and !same(norms[k], norms[k - 2])))
+      return false;
+  return true;
 }
 
 PetscErrorCode ContactConvergence::at_round_off(PetscReal fnorm, bool* within) const

@@ -23,6 +23,15 @@ constexpr double repeated_set_fraction = 1e-3;
 /// solve where it lies below this fraction of the load.
 constexpr double round_off_ceiling = 1e-8;
 
+/// With friction, a solve whose residuals alternate between two values
+/// for this many periods cycles between two sets of contact states.
+constexpr std::size_t cycle_periods = 3;
+
+/// Whether the last 2 `periods` of `norms` alternate between two values:
+/// from the third on each equal to the one two before it to 1e-9, and each
+/// unequal to the one before it.
+bool two_cycle(std::span<const double> norms, std::size_t periods);
+
 /// r = eps (W |K| |y| + |b|): a bound of the round-off of each entry of
 /// W (K y - b) (eps the machine's; W the row weights, nullptr for none;
 /// collective).
@@ -81,8 +90,15 @@ public:
   long active_set_changes = 0;
   /// Called after each Newton step with its number.
   std::function<void(int)> on_newton_step;
+  /// With friction, the last solve was stopped because its residuals
+  /// alternated between two values for cycle_periods periods (two_cycle;
+  /// its reason DIVERGED_DTOL).
+  bool cycling = false;
 
 private:
+  /// A solve's first residual `fnorm` sets its relative targets (rtol
+  /// times it, or the load's with friction where that is smaller).
+  PetscErrorCode start(SNES snes, PetscReal fnorm, PetscReal rtol);
   /// The norm of v on the separate rows, into `norm` (collective).
   PetscErrorCode separate_norm(Vec v, double* norm) const;
   /// Whether the residual is small on the separate rows, into `solved`
@@ -125,6 +141,7 @@ private:
   PetscReal _separate_tolerance = 0, _separate_relative_target = 0;
   bool _separate_met = false; // this solve's separate rows met their tolerance once
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
+  std::vector<PetscReal> _norms;     // of the current Newton solve (two_cycle)
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
 };
 

@@ -215,7 +215,9 @@ void VariationalInequality::solve(double scale)
     count_iterations(reason);
   }
   if (reason < 0)
-    throw SolverError(solver_name() + " did not converge: " + SNESConvergedReasons[reason]
+    throw SolverError(solver_name() + " did not converge: "
+                      + (_convergence->cycling ? "its Newton steps cycle between two sets of contact states"
+                                               : SNESConvergedReasons[reason])
                       + (_J and reason != SNES_DIVERGED_LINEAR_SOLVE ? no_equilibrium : ""));
   check_petsc(VecScale(_y, scale), "contact solver: VecScale");
 }

@@ -9,7 +9,6 @@ the variational inequality of variational_inequality.py on
 DOFs (schur_complement.py).
 """
 import dataclasses
-import enum
 
 import numpy as np
 from mpi4py import MPI
@@ -18,6 +17,7 @@ from petsc4py import PETSc
 from ..assembly.forms import Forms
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
+from .contact_path import ContactPath, PathCosts, choose_contact_path
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
 from .contact_set import ContactSet
@@ -26,7 +26,7 @@ from .foundation_pair import add_foundation_pairs
 from .schur_complement import SchurComplement
 from .variational_inequality import VariationalInequality, VIProblem, WholeSystem
 from ..solvers.options import OptionsError
-from ..solvers.solver import Method, SolverStage, Structure, SystemLayout, set_default_option
+from ..solvers.solver import SolverError, SolverStage, Structure, SystemLayout, set_default_option
 from ..scene.scene import agree_on_error
 
 
@@ -89,58 +89,9 @@ class ContactUnknowns:
     separate_rows: object = ()
 
 
-_help_printed = set()  # the prefixes whose -help lines are out, as PETSc keeps them for the C++
-
-
 def _any_frictional(contact_set, comm):
     """Whether any rank has a frictional constraint (collective)."""
     return comm.allreduce(bool(np.any(contact_set.frictional)), op=MPI.LOR)
-
-
-
-def _read_condensed(comm, prefix, fallback):
-    """-<prefix>contact_condensed, `fallback` when not given, and whether it
-    was given; with -help, the lines PETSc prints for the option the C++
-    registers (cpp/contact/contact.cpp, read_condensed), which petsc4py 3.18
-    cannot register."""
-    options = PETSc.Options()
-    try:
-        condensed = options.getBool(prefix + "contact_condensed", fallback)
-    except PETSc.Error:
-        raise OptionsError(f"-{prefix}contact_condensed: not a boolean (true or false)") from None
-    if options.hasName("help") and prefix not in _help_printed:
-        _help_printed.add(prefix)
-        text = ("pose the contact VI on the Schur complement of the contact DOFs (default with a direct solver and "
-                f"at most {ContactSolver.max_condensed_dofs} contact DOFs, after one full Newton step, two with "
-                "friction, that did not converge when the run solves the contact once), else on the whole system")
-        PETSc.Sys.Print(f"----------------------------------------\nContact solver (biotcontact):\n"
-                        f"  -{prefix}contact_condensed: <{str(fallback).upper()} : {str(condensed).upper()}> {text} "
-                        "(docs/user-guide.md)", comm=comm)
-    return condensed, options.hasName(prefix + "contact_condensed")
-
-
-class _ContactPath(enum.Enum):
-    """Where the contact VI is posed: on the Schur complement of the contact
-    DOFs, on the whole system, or on the whole system for one Newton step
-    (two with friction) and, if that did not solve it, condensed."""
-    condensed = 0
-    full = 1
-    full_then_condensed = 2
-
-
-def _contact_path(comm, prefix, method, contact_dofs, operators):
-    """-<prefix>contact_condensed, by default condensed when the system is
-    solved directly, C is small enough and A is not `changing` (forming H
-    takes m solves, m more at each change of A). A run that solves the
-    contact once would pay the Schur complement for one solve: there the
-    whole system's first Newton steps come first, all a solve whose active
-    set they find costs; else the condensed path follows."""
-    condensed, given = _read_condensed(comm, prefix, method == Method.direct
-                                       and contact_dofs <= ContactSolver.max_condensed_dofs
-                                       and not operators.changing)
-    if not condensed:
-        return _ContactPath.full
-    return _ContactPath.full_then_condensed if operators.once and not given else _ContactPath.condensed
 
 
 class ContactSolver:
@@ -151,13 +102,11 @@ class ContactSolver:
     displacement scale (largest gap or |x|): F = A (x/s) - b/s.
 
     As in cpp/contact/contact.h it runs condensed (by default with a direct solver
-    and at most max_condensed_dofs contact DOFs: SNES on the dense Schur
+    and at most MAX_CONDENSED_DOFS contact DOFs: SNES on the dense Schur
     complement H of A on the contact DOFs, options prefix <prefix>contact_,
     the large matrix factorised once with the contact DOFs clamped) or full
     (SNES on A, the inactive-set factorisation reused while the set stays
     the same; operator_changed re-arms it after a reassembly)."""
-
-    max_condensed_dofs = 2000  # above: dense H costs more than sparse refactorisations
 
     def __init__(self, comm, system, method, operators, unknowns):
         """`system` the SystemLayout of the system it solves, `operators` its
@@ -177,12 +126,18 @@ class ContactSolver:
         self.x_start.set(0.0)
         self._make_change_of_variables()
         self.schur, self.schur_current = None, False
-        path = _contact_path(comm, prefix, method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM), operators)
+        costs = PathCosts(method, comm.allreduce(len(self._contact_dofs()), op=MPI.SUM), operators.changing,
+                          operators.once)
+        choice = choose_contact_path(comm, prefix, costs)
+        path = choice.path
         # On the whole system until its first Newton step, or first two with
-        # friction, fail to solve the VI (ContactOperators.once).
-        self.then_condensed, self.switched = path == _ContactPath.full_then_condensed, False
+        # friction, fail to solve the VI (ContactOperators.once); a failed full
+        # solve solved again condensed (ContactPathChoice); `after` says when
+        # the path turned condensed ("" from the start).
+        self.then_condensed = path == ContactPath.full_then_condensed
+        self.condensed_on_failure, self.after = choice.condensed_on_failure, ""
         self.full_steps = 1
-        if path == _ContactPath.condensed:
+        if path == ContactPath.condensed:
             self.vi = self._condensed_vi()
         else:
             problem = self._pose_on_full_system(unknowns.separate_rows)
@@ -208,15 +163,16 @@ class ContactSolver:
         self._add_friction(problem)
         return VariationalInequality(problem, None)
 
-    def _switch_to_condensed(self):
-        """The full path's trial did not converge: the VI is posed condensed
-        from now on, the counts carried over."""
+    def _switch_to_condensed(self, after):
+        """The full path's trial or solve did not converge: the VI is posed
+        condensed from now on, the counts carried over; `after` says when
+        (method())."""
         vi = self._condensed_vi()
         # the run's counts and its progress line go on
         vi.newton_iterations, vi.linear_iterations = self.vi.newton_iterations, self.vi.linear_iterations
         vi.convergence.active_set_changes = self.vi.convergence.active_set_changes
         vi.convergence.on_newton_step = self.vi.convergence.on_newton_step
-        self.vi, self.then_condensed, self.switched = vi, False, True
+        self.vi, self.then_condensed, self.condensed_on_failure, self.after = vi, False, False, after
         # friction's slip increments are measured from the step's start
         reference = self.vi.slip_reference()
         if reference is not None:
@@ -283,8 +239,9 @@ class ContactSolver:
                          self.dofs, self.set.gap, self.set.sign, separate_rows=separate_rows)
 
     def method(self):
-        after = ", after one full Newton step" if self.full_steps == 1 else ", after two full Newton steps"
-        return f"condensed on {self.schur.size()} contact DOFs" + (after if self.switched else "") if self.schur else "full"
+        if not self.schur:
+            return "full"
+        return f"condensed on {self.schur.size()} contact DOFs" + (", " + self.after if self.after else "")
 
     def reuses_factorization(self):
         """Whether the full path's Newton steps run GMRES on the last factorisation."""
@@ -336,10 +293,28 @@ class ContactSolver:
             b_vi = self.b_vi
         if not self.then_condensed or not self._solve_vi(b_vi, x_vi, self.full_steps):
             if self.then_condensed:
-                self._switch_to_condensed()
-            self._solve_vi(b_vi, x_vi, 0)
+                self._switch_to_condensed("after one full Newton step" if self.full_steps == 1
+                                          else "after two full Newton steps")
+            self._solve_on_path(b_vi, x_vi)
         if self.change:
             self.change.backward(x_vi, x)
+
+    def _solve_on_path(self, b_vi, x_vi):
+        """Solves the VI for x' (in place) on the current path, and a failed
+        full solve again condensed where the path's choice allows it: the
+        condensed VI is the same problem with the other unknowns solved
+        exactly at every Newton step, so its line search judges the contact
+        rows alone and settles contact states between which the whole
+        system's semismooth Newton steps cycle (docs/theory.md, "Friction").
+        x_vi is still the start: a failed solve leaves it as it was."""
+        if not self.condensed_on_failure:
+            self._solve_vi(b_vi, x_vi, 0)
+            return
+        try:
+            self._solve_vi(b_vi, x_vi, 0)
+        except SolverError:
+            self._switch_to_condensed("after a full solve that did not converge")
+            self._solve_vi(b_vi, x_vi, 0)
 
     def _solve_vi(self, b_vi, x_vi, newton_steps):
         """Solves the VI for x' (in place) from the load b': at most

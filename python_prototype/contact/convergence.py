@@ -18,6 +18,24 @@ REPEATED_SET_FRACTION = 1e-3
 ROUND_OFF_CEILING = 1e-8
 
 
+# With friction, a solve whose residuals alternate between two values for
+# this many periods cycles between two sets of contact states.
+CYCLE_PERIODS = 3
+
+
+def two_cycle(norms, periods):
+    """Whether the last 2 `periods` of `norms` alternate between two values:
+    from the third on each equal to the one two before it to 1e-9, and
+    each unequal to the one before it."""
+    def same(a, b):
+        return abs(a - b) <= 1e-9 * max(a, b)
+    n = len(norms)
+    if periods < 1 or n < 2 * periods:
+        return False
+    return (all(same(norms[k], norms[k - 2]) for k in range(n - 2 * periods + 2, n))
+            and not any(same(norms[k], norms[k - 1]) for k in range(n - 2 * periods + 1, n)))
+
+
 def residual_round_off(K, weights, y, b, r):
     """r = eps (W |K| |y| + |b|): a bound of the round-off of each entry of
     W (K y - b) (eps the machine's; W the row weights, None for none;
@@ -87,6 +105,11 @@ class ContactConvergence:
         # (across solves): each may cost one factorisation.
         self.active_set_changes = 0
         self.on_newton_step = None  # called after each Newton step with its number
+        self.norms = []  # of the current Newton solve (two_cycle)
+        # with friction, the last solve was stopped because its residuals
+        # alternated between two values for CYCLE_PERIODS periods (two_cycle;
+        # its reason DIVERGED_DTOL)
+        self.cycling = False
 
     def has_separate_rows(self):
         """Whether any rank has separate rows (collective, at construction)."""
@@ -192,6 +215,8 @@ class ContactConvergence:
         # than the residual's round-off. Frictionless, F is linear and the
         # repeated active set ends the solve at round-off.
         continued, self.continuing = self.continuing and self.friction, False
+        if iteration == 0:
+            self.norms, self.cycling = [], False
         if iteration == 0 and not continued:
             self._start(snes, fnorm, rtol)
         separate = self._separate_may_stop(self._separate_solved(iteration))
@@ -217,6 +242,15 @@ class ContactConvergence:
             # above both refused at once (the solver starts again clamped),
             # else iterated on
             if fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
+                return reasons.DIVERGED_DTOL
+        # a semismooth Newton step is exact on its contact states: two states
+        # each of whose steps lands in the other repeat the same two iterates,
+        # and their residuals, to the last digits (friction's kink at a pair
+        # with t_N = 0: Phan's crack loaded at once on the coupled system)
+        if self.friction:
+            self.norms.append(fnorm)
+            if two_cycle(self.norms, CYCLE_PERIODS):
+                self.cycling = True
                 return reasons.DIVERGED_DTOL
         return reasons.CONVERGED_ITERATING
 

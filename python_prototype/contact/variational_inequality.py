@@ -284,7 +284,8 @@ class VariationalInequality:
                 self._count(reason)
         if reason < 0:
             raise SolverError(f"{self._solver_name()} did not converge: "
-                              + reason_name(PETSc.SNES.ConvergedReason, reason)
+                              + ("its Newton steps cycle between two sets of contact states" if self.convergence.cycling
+                                 else reason_name(PETSc.SNES.ConvergedReason, reason))
                               + (NO_EQUILIBRIUM if self.J is not None
                                  and reason != PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else ""))
         self.y.scale(scale)

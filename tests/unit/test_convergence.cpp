@@ -1,6 +1,7 @@
 // Unit tests of the contact solve's stopping rules (cpp/contact/convergence.h):
 // the round-off bound of a residual W (K y - b) is eps (W |K| |y| + |b|)
-// row by row, whatever the signs of K, y and b. The prototype's twin is
+// row by row, whatever the signs of K, y and b; a solve's residual norms
+// cycle when they alternate between two values. The prototype's twin is
 // tests/unit/test_convergence.py.
 #include "contact/convergence.h"
 #include "dense.h"
@@ -48,4 +49,23 @@ TEST(Convergence, RoundOffIsEpsTimesTheMagnitudes)
   for (Vec* v : {&Y, &B, &W, &r})
     VecDestroy(v);
   MatDestroy(&K);
+}
+
+TEST(Convergence, TwoCycleIsAnAlternationOfTwoValues)
+{
+  // Phan's crack loaded at once on the coupled system: 1.0123e7 and
+  // 1.0125e7 in turn after two steps that differ.
+  std::vector<double> norms{1.8e9, 4.7e8};
+  for (int k = 0; k < 6; ++k)
+    norms.push_back(k % 2 == 0 ? 1.0123e7 : 1.0125e7);
+  EXPECT_TRUE(two_cycle(norms, 3));
+  EXPECT_FALSE(two_cycle(std::span(norms).first(7), 3)); // two periods and a half
+  EXPECT_TRUE(two_cycle(std::span(norms).first(6), 2));
+  std::vector<double> near = norms; // the last differs in the 8th digit
+  near.back() *= 1 + 1e-8;
+  EXPECT_FALSE(two_cycle(near, 3));
+  const std::vector<double> steady(8, 1e7), falling{8, 7, 6, 5, 4, 3, 2, 1};
+  EXPECT_FALSE(two_cycle(steady, 3)); // stagnation is not a cycle
+  EXPECT_FALSE(two_cycle(falling, 3));
+  EXPECT_FALSE(two_cycle(std::vector<double>{}, 3));
 }

@@ -2,7 +2,8 @@
 (python_prototype/contact/convergence.py), the twins of
 tests/unit/test_convergence.cpp: the round-off bound of a residual
 W (K y - b) is eps (W |K| |y| + |b|) row by row, whatever the signs of K, y
-and b."""
+and b; a solve's residual norms cycle when they alternate between two
+values."""
 import os
 import sys
 import unittest
@@ -11,7 +12,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.contact.convergence import residual_round_off  # noqa: E402
+from python_prototype.contact.convergence import residual_round_off, two_cycle  # noqa: E402
 from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
 
 
@@ -34,6 +35,19 @@ class ConvergenceTests(unittest.TestCase):
             np.testing.assert_allclose(r.array_r, expected, rtol=1e-14)
         np.testing.assert_array_equal(Y.array_r, y)  # y and b are left as they were
         np.testing.assert_array_equal(B.array_r, b)
+
+    def test_two_cycle_is_an_alternation_of_two_values(self):
+        # Phan's crack loaded at once on the coupled system: 1.0123e7 and
+        # 1.0125e7 in turn after two steps that differ
+        norms = [1.8e9, 4.7e8] + [1.0123e7 if k % 2 == 0 else 1.0125e7 for k in range(6)]
+        self.assertTrue(two_cycle(norms, 3))
+        self.assertFalse(two_cycle(norms[:7], 3))  # two periods and a half
+        self.assertTrue(two_cycle(norms[:6], 2))
+        near = norms[:-1] + [norms[-1] * (1 + 1e-8)]  # the last differs in the 8th digit
+        self.assertFalse(two_cycle(near, 3))
+        self.assertFalse(two_cycle([1e7] * 8, 3))  # stagnation is not a cycle
+        self.assertFalse(two_cycle([8, 7, 6, 5, 4, 3, 2, 1], 3))
+        self.assertFalse(two_cycle([], 3))
 
 
 if __name__ == "__main__":

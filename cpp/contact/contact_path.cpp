@@ -1,0 +1,43 @@
+#include "contact/contact_path.h"
+
+#include "solvers/options.h"
+
+#include <petscoptions.h>
+
+namespace biotcontact
+{
+namespace
+{
+/// Reads -<prefix>contact_condensed; `given` says whether the user set it.
+/// (PetscOptionsBegin/End are macros checking their calls.)
+PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed,
+                              PetscBool* given)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, prefix.c_str(), "Contact solver (biotcontact)", nullptr);
+  const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
+                           "direct solver and at most "
+                           + std::to_string(max_condensed_dofs)
+                           + " contact DOFs, after one full Newton step, two with friction, that did not "
+                             "converge when the run solves the contact once), else on the whole system";
+  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, given));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+ContactPathChoice choose_contact_path(MPI_Comm comm, const std::string& prefix, const PathCosts& costs)
+{
+  // Forming H takes m solves: cheap back-solves of a factorisation, but m
+  // full Krylov solves with an iterative method, and m more at each change
+  // of A.
+  const bool open = costs.method == Method::direct and costs.contact_dofs <= max_condensed_dofs;
+  PetscBool condensed = open and !costs.changing ? PETSC_TRUE : PETSC_FALSE, given = PETSC_FALSE;
+  if (read_condensed(comm, prefix, condensed, &condensed, &given) != 0)
+    throw OptionsError("-" + prefix + "contact_condensed: not a boolean (true or false)");
+  if (!condensed)
+    return {ContactPath::full, open and !given};
+  return {costs.once and !given ? ContactPath::full_then_condensed : ContactPath::condensed, false};
+}
+
+} // namespace biotcontact
