@@ -14,9 +14,9 @@ change at every coupling iteration; its split stalled on the first day
 until 2026-12-02, docs/theory.md, "Flow in a fault"); `phan_loaded`:
 scenes/phan.toml's crack (mu 0.6) made a conduit (residual aperture
 1e-5 m) in an impermeable rock (1e-25 m^2), a well of 2e-7 m^2/s at its
-middle, three steps of 0.1 s, the 100 MPa loaded at once in the first (the
-monolithic step's full path cycles there and goes on condensed: docs/
-theory.md, "Friction"). Variants:
+middle, three steps of 0.1 s, the 100 MPa loaded at once in the first
+(where the monolithic step failed until 2026-12-03: docs/theory.md,
+"Friction"). Variants:
 `split` is the scene's own coupling; `direct` and `iterative` are coupling.scheme = "monolithic" with
 that solver.monolithic. No XDMF output. Per run: wall time, coupling
 iterations (the monolithic step's iterations on the apertures: its

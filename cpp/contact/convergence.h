@@ -101,11 +101,15 @@ private:
   PetscErrorCode start(SNES snes, PetscReal fnorm, PetscReal rtol);
   /// The norm of v on the separate rows, into `norm` (collective).
   PetscErrorCode separate_norm(Vec v, double* norm) const;
-  /// Whether the residual is small on the separate rows, into `solved`
+  /// Whether the residual is small on the separate rows, into `solved`:
+  /// below their tolerances or, with friction, within their round-off
   /// (collective; from the convergence test).
   PetscErrorCode separate_solved(PetscInt iteration, bool* solved);
   /// Whether a solve whose separate rows are solved (`met`) may stop.
   bool separate_may_stop(bool met);
+  /// The norms of residual_round_off at the current unknown on the force
+  /// rows and on the separate rows (collective).
+  PetscErrorCode round_off_norms(double* forces, double* separate) const;
   /// Whether the residual's norm `fnorm` on the force rows lies within
   /// the round-off of the solve's operator at its current unknown, into
   /// `within` (collective).
