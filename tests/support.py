@@ -6,6 +6,7 @@ suite run leaves nothing behind (the runs of test_theis alone take 454 MB).
 BIOTCONTACT_KEEP_TEST_RUNS=1 keeps it, to look at a failure's runs."""
 import atexit
 import csv
+import dataclasses
 import json
 import os
 import re
@@ -360,19 +361,29 @@ def check(condition, message):
     print("ok: " + message)
 
 
-def check_signorini(out, gap, axis=1, sign=-1, label="", pressure_scale="time", side=None, normal=None):
+@dataclasses.dataclass
+class Foundation:
+    """Where check_signorini looks: the contact nodes at coordinate 0 along
+    `axis`, u.nu_F = sign u[axis]; or, for a foundation of another normal,
+    `side` (the contact nodes' mask) and `normal` (their unit normals,
+    n x d), functions of the nodes' coordinates."""
+    axis: int = 1
+    sign: float = -1.0
+    side: object = None
+    normal: object = None
+
+
+def check_signorini(out, gap, foundation=Foundation(), label="", pressure_scale="time"):
     """u.nu_F <= g_a, contact pressure >= 0 and complementarity at every
-    contact node (the nodes on the foundation side, coordinate 0 along the
-    axis) and every output time; returns the active counts per time. `gap`
-    is a number, or a function of the nodes' coordinates (n x 3). Contact
-    pressures are judged against the largest at that time, or with
-    pressure_scale="run" the largest of the run (where a node of zero gap
-    touches without load, the pressures of that time are all round-off).
-    For a foundation of another normal, `side` (the contact nodes' mask)
-    and `normal` (their unit normals, n x d) are functions of the nodes'
-    coordinates."""
+    contact node of the `foundation` and every output time; returns the
+    active counts per time. `gap` is a number, or a function of the nodes'
+    coordinates (n x 3). Contact pressures are judged against the largest
+    at that time, or with pressure_scale="run" the largest of the run (where
+    a node of zero gap touches without load, the pressures of that time are
+    all round-off)."""
     fields = Fields(out)
-    side = side(fields.nodes) if side else np.isclose(fields.nodes[:, axis], 0.0)
+    axis, sign, normal = foundation.axis, foundation.sign, foundation.normal
+    side = foundation.side(fields.nodes) if foundation.side else np.isclose(fields.nodes[:, axis], 0.0)
     gap = gap(fields.nodes[side]) if callable(gap) else gap
     run_scale = max(fields.at("contact_pressure", t)[side, 0].max() for t in fields.times("displacement"))
     counts = []

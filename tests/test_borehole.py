@@ -13,7 +13,7 @@ whose gap and normal come from the screen. On the C++ solver:
 - the prototype gives the C++ run (fields, iterations, contact sets)."""
 import numpy as np
 
-from support import TRACKS, Fields, check, check_contact_scene_agrees, check_signorini, run_track, scene
+from support import TRACKS, Fields, Foundation, check, check_contact_scene_agrees, check_signorini, run_track, scene
 
 BOREHOLE = scene("borehole")
 R_WALL, R_SCREEN, E = 0.108, 0.0762, 0.0316  # hole and screen radii, the screen's centre (0, -E)
@@ -50,8 +50,9 @@ check(counts[0] == 0 and counts[-1] >= 4 and all(b >= a for a, b in zip(counts, 
       f"the contact arc only grows, from none ({counts})")
 arcs = [s.sum() == 0 or (s[0] and not s[int(s.sum()):].any()) for s in sets]
 check(all(arcs), f"at every time one arc from the lowest point (to {angle[sets[-1]].max():.1f} degrees at the end)")
-check_signorini(out, lambda x: to_screen(x)[1] - R_SCREEN, pressure_scale="run", side=on_wall,
-                normal=lambda x: to_screen(x)[0] / to_screen(x)[1][:, None])
+check_signorini(out, lambda x: to_screen(x)[1] - R_SCREEN,
+                Foundation(side=on_wall, normal=lambda x: to_screen(x)[0] / to_screen(x)[1][:, None]),
+                pressure_scale="run")
 t = fields.times("displacement")[-1]
 x = fields.nodes[on_wall(fields.nodes)]
 u = fields.at("displacement", t)[on_wall(fields.nodes)]

@@ -17,7 +17,8 @@ jacking included:
 - the prototype gives the C++ run (fields, iterations, contact sets)."""
 import numpy as np
 
-from support import TRACKS, Fields, check, check_contact_scene_agrees, check_signorini, run_track, scene, summary
+from support import (TRACKS, Fields, Foundation, check, check_contact_scene_agrees, check_signorini, run_track, scene,
+                     summary)
 
 CAPROCK = scene("caprock")
 END = "time.end=1382400"  # 16 days
@@ -55,7 +56,7 @@ for t, closed in zip(fields.times("displacement"), sets):
               f"day {t / 86400:.0f}: the open part is one interval from near the base, its front rising "
               f"({open_y.min():.0f} m to {open_y.max():.0f} m)")
         front = open_y.max()
-check_signorini(out, 0.0, axis=0, sign=-1, pressure_scale="run")
+check_signorini(out, 0.0, Foundation(axis=0), pressure_scale="run")
 regions = summary(out)["regions"]
 check(all(regions[name]["cells"] > 0 for name in ("reservoir", "fracture_zone")) and regions["no region"]["cells"] > 0,
       f"the regions hold the cells of their groups ({ {k: v['cells'] for k, v in regions.items()} })")

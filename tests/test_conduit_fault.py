@@ -68,11 +68,17 @@ W, MU, C_F, L, DP = 1.0e-4, 1.0e-3, 1.0e-9, 10.0, 1.0e6
 K_F = 1.0e-6  # a fault's own permeability (m^2), 1200 times the cubic law's w^2 / 12
 
 
-def scene(fault, permeability=1.0e-25, c_f=0.0, end=1.0, dt=1.0, size=0.25, left=2.0e6, well=""):
-    path = written(SCENE.format(permeability=permeability, c_f=c_f, end=end, dt=dt, fault=fault, left=left)
-                   + well)
+# The channel scene's values (scene's `changes` override them): the rock's
+# permeability, the fluid's compressibility, the time, the cell size and the
+# pressure held on the left.
+CHANNEL = {"permeability": 1.0e-25, "c_f": 0.0, "end": 1.0, "dt": 1.0, "size": 0.25, "left": 2.0e6}
+
+
+def scene(fault, well="", **changes):
+    values = dict(CHANNEL, **changes)
+    path = written(SCENE.format(fault=fault, **values) + well)
     with open(os.path.join(os.path.dirname(path), "channel.geo"), "w") as f:
-        f.write(CHANNEL_GEO.replace("h = 0.25", f"h = {size}"))
+        f.write(CHANNEL_GEO.replace("h = 0.25", f"h = {values['size']}"))
     return path
 
 
