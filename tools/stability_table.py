@@ -240,8 +240,11 @@ def main():
     if args.faults_only:
         with open(path) as f:
             text = f.read()
+        # the cases run before the file is opened for writing: an interrupted
+        # run leaves it as it was
+        table = "\n".join(fault_table(args.binary))
         with open(path, "w") as f:
-            f.write(text[:text.index("## Faults")] + fault_header() + "\n".join(fault_table(args.binary)) + "\n")
+            f.write(text[:text.index("## Faults")] + fault_header() + table + "\n")
         return
     lines = ["| case | scheme | iterations per step (mean / max) | max ratio / gamma | converged "
              "| pressure range (/p0 for Terzaghi, Pa otherwise) | active nodes (end) "
