@@ -9,19 +9,27 @@ namespace biotcontact
 namespace
 {
 /// Reads -<prefix>contact_condensed; `given` says whether the user set it.
-/// (PetscOptionsBegin/End are macros checking their calls.)
+/// PetscOptionsBegin/End spelled out (PETSc 3.18's petscoptions.h), so that
+/// every code is checked where it is made; PetscOptionsBool expects the
+/// items under the name PetscOptionsObject.
 PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBool fallback, PetscBool* condensed,
                               PetscBool* given)
 {
   PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, prefix.c_str(), "Contact solver (biotcontact)", nullptr);
   const std::string text = "pose the contact VI on the Schur complement of the contact DOFs (default with a "
                            "direct solver and at most "
                            + std::to_string(max_condensed_dofs)
                            + " contact DOFs, after one full Newton step, two with friction, that did not "
                              "converge when the run solves the contact once), else on the whole system";
-  PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, given));
-  PetscOptionsEnd();
+  PetscOptionItems items{};
+  PetscOptionItems* PetscOptionsObject = &items;
+  for (items.count = PetscOptionsPublish ? -1 : 1; items.count < 2; ++items.count)
+  {
+    PetscCall(PetscOptionsBegin_Private(PetscOptionsObject, comm, prefix.c_str(), "Contact solver (biotcontact)",
+                                        nullptr));
+    PetscCall(PetscOptionsBool("-contact_condensed", text.c_str(), "docs/user-guide.md", fallback, condensed, given));
+    PetscCall(PetscOptionsEnd_Private(PetscOptionsObject));
+  }
   PetscFunctionReturn(0);
 }
 } // namespace
