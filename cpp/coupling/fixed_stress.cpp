@@ -70,7 +70,6 @@ private:
   bool conduits() const { return _flow.fault_aperture() != nullptr; }
   void mechanics_pass(Window& w);
   std::pair<double, double> stopping_test(Window& w, const Increments& inc, int n);
-  double stopping_tolerance(const Window& w) const;
   void next_iterate(Window& w);
   void go_back(const Window& w, const std::string& message);
   bool retry(const Window& w, const std::string& cause);
@@ -304,7 +303,9 @@ bool FixedStressSplit::iteration(Window& w, int n)
   w.increment = std::max(dp_norm, du_norm);
   w.active_nodes.push_back(w.active.nodes);
   w.increments.push_back(w.increment);
-  const double tolerance = stopping_tolerance(w);
+  const double tolerance = _control ? iteration_tolerance(_coupling.tolerance, _scene.adaptive->tolerance,
+                                                          _grid.dt[w.j], t(w, w.q))
+                                    : _coupling.tolerance;
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
   {
@@ -313,19 +314,6 @@ bool FixedStressSplit::iteration(Window& w, int n)
     w.contact_changed = !same_active_set(w.active, _active_K, _V.mesh()->comm());
   }
   return converged;
-}
-
-/// The coupling tolerance of window w: coupling.tolerance, and under
-/// time.adaptive at most a tenth of the error tolerance per unit step,
-/// tolerance h / t. The iteration's own error enters the error estimate
-/// multiplied by t / h (step_control.h); above that bound it would keep
-/// short steps short (a crawl at dt_min, docs/theory.md "Adaptive steps").
-double FixedStressSplit::stopping_tolerance(const Window& w) const
-{
-  if (!_control)
-    return _coupling.tolerance;
-  const double per_unit_step = _scene.adaptive->tolerance * _grid.dt[w.j] / t(w, w.q);
-  return std::min(_coupling.tolerance, 0.1 * per_unit_step);
 }
 
 /// Iterates window w to convergence (n ends as the last iteration's index).
@@ -434,28 +422,8 @@ bool FixedStressSplit::contact_accepted(const Window& w)
 /// or cycled (coupling/cycle.h), with the last increments.
 CouplingError FixedStressSplit::not_converged(const Window& w)
 {
-  std::ostringstream message;
-  if (w.cycle)
-  {
-    message << "the fixed-stress split cycles at t = " << t(w, w.q) << " (step " << w.K + 1 << "): after "
-            << w.increments.size() << " iterations the contact set returns every " << w.cycle
-            << " iterations (active nodes";
-    for (std::size_t i = w.active_nodes.size() - w.cycle; i < w.active_nodes.size(); ++i)
-      message << " " << w.active_nodes[i];
-    message << ") and the increments no longer shrink; last increments:";
-  }
-  else
-    message << "the fixed-stress split did not converge in " << _coupling.max_iterations
-            << " iterations at t = " << t(w, w.q) << " (step " << w.K + 1 << "); last increments:";
-  for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
-    message << w.log[i];
-  message << " " << _advice;
-  // A step at the threshold of an opening or a contact change can keep the
-  // split cycling where half the step passes (docs/theory.md, "Flow in a
-  // fault": the split through an opening).
-  if (_scene.retry == 0 and _scene.has_contact())
-    message << ", time.retry = 4 (a failed step again with half its dt, up to 4 times)";
-  return CouplingError(message.str());
+  const bool propose_retry = _scene.retry == 0 and _scene.has_contact();
+  return CouplingError(not_converged_message(w, {t(w, w.q), _coupling.max_iterations, _advice, propose_retry}));
 }
 
 /// Accept the window: write every fine flow step, then the mechanics step;

@@ -2,8 +2,36 @@
 
 #include "assembly/linear_algebra.h"
 
+#include <sstream>
+
 namespace biotcontact
 {
+
+std::string not_converged_message(const Window& w, const WindowFailure& failure)
+{
+  std::ostringstream message;
+  if (w.cycle)
+  {
+    message << "the fixed-stress split cycles at t = " << failure.t << " (step " << w.K + 1 << "): after "
+            << w.increments.size() << " iterations the contact set returns every " << w.cycle
+            << " iterations (active nodes";
+    for (std::size_t i = w.active_nodes.size() - w.cycle; i < w.active_nodes.size(); ++i)
+      message << " " << w.active_nodes[i];
+    message << ") and the increments no longer shrink; last increments:";
+  }
+  else
+    message << "the fixed-stress split did not converge in " << failure.max_iterations << " iterations at t = "
+            << failure.t << " (step " << w.K + 1 << "); last increments:";
+  for (std::size_t i = w.log.size() > 3 ? w.log.size() - 3 : 0; i < w.log.size(); ++i)
+    message << w.log[i];
+  message << " " << failure.advice;
+  // A step at the threshold of an opening or a contact change can keep the
+  // split cycling where half the step passes (docs/theory.md, "Flow in a
+  // fault": the split through an opening).
+  if (failure.propose_retry)
+    message << ", time.retry = 4 (a failed step again with half its dt, up to 4 times)";
+  return message.str();
+}
 
 void WindowHistory::start(const FlowStep& flow, std::span<const double> u, int j_previous)
 {

@@ -47,6 +47,22 @@ struct Window
   int cycle = 0;                       // the period of the cycle that ended the iteration, 0 for none
 };
 
+/// @brief What the one-line error of a window that failed says besides the
+/// window's own record: the time it ended at, the iteration limit, the
+/// scheme's advice (gamma and what converges instead) and whether to
+/// propose time.retry (a scene with contact that does not retry).
+struct WindowFailure
+{
+  double t;
+  int max_iterations;
+  std::string advice;
+  bool propose_retry = false;
+};
+
+/// The one-line error of window w that did not converge in max_iterations
+/// or cycled (coupling/cycle.h), with its last three increments.
+std::string not_converged_message(const Window& w, const WindowFailure& failure);
+
 /// @brief The converged state at t_K and, for BDF2, what the windows before
 /// left: the pressure one fine step and the displacement one window before
 /// t_K, the displacement path's value one fine step before t_K and the

@@ -163,4 +163,9 @@ std::vector<std::pair<std::string, dolfinx::fem::Function<double>*>> StepControl
   return h;
 }
 
+double iteration_tolerance(double coupling_tolerance, double error_tolerance, double h, double t)
+{
+  return std::min(coupling_tolerance, 0.1 * error_tolerance * h / t);
+}
+
 } // namespace biotcontact

@@ -116,4 +116,12 @@ private:
   std::vector<std::shared_ptr<dolfinx::fem::Function<double>>> _p, _u;
 };
 
+/// The coupling tolerance of a step of length h ending at t under
+/// time.adaptive (error tolerance `error_tolerance`): coupling.tolerance,
+/// at most a tenth of the error tolerance per unit step, tolerance h / t.
+/// The iteration's own error enters the error estimate multiplied by t / h:
+/// above that bound it would keep short steps short (a crawl at dt_min,
+/// docs/theory.md "Adaptive steps").
+double iteration_tolerance(double coupling_tolerance, double error_tolerance, double h, double t);
+
 } // namespace biotcontact

@@ -17,7 +17,7 @@ from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
 from .cycle import cycle_period
 from .two_pass import second_pass_correction
-from .window import Window, WindowHistory
+from .window import Window, WindowFailure, WindowHistory, not_converged_message
 from ..time.window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..scene.input import Acceleration
@@ -25,7 +25,7 @@ from ..solvers.solver import ITERATIVE_TOLERANCE, SolverError
 from ..steps.flow_step import FlowStep
 from ..steps.mechanics_step import MechanicsStep
 from ..time.time_grid import FailedStep, retry_step
-from ..time.step_control import StepSolution
+from ..time.step_control import StepSolution, iteration_tolerance
 
 
 def inexact_tolerance(previous_increment):
@@ -236,24 +236,14 @@ class _FixedStressSplit:
         w.increment = max(dp_norm, du_norm)
         w.active_nodes.append(w.active.nodes)
         w.increments.append(w.increment)
-        tolerance = self.stopping_tolerance(w)
+        tolerance = self.coupling.tolerance if self.control is None else iteration_tolerance(
+            self.coupling.tolerance, self.scene.adaptive.tolerance, self.grid.dt[w.j], self.t(w, w.q))
         converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
             self.measure.record_coupled_residual(w, inc, self.history)
             # Compared once per window, on the converged iterate (one collective).
             w.contact_changed = not same_active_set(w.active, self.active_K, self.comm)
         return converged
-
-    def stopping_tolerance(self, w):
-        """The coupling tolerance of window w: coupling.tolerance, and under
-        time.adaptive at most a tenth of the error tolerance per unit step,
-        tolerance h / t. The iteration's own error enters the error estimate
-        multiplied by t / h (step_control.py); above that bound it would keep
-        short steps short (a crawl at dt_min, docs/theory.md "Adaptive steps")."""
-        if self.control is None:
-            return self.coupling.tolerance
-        per_unit_step = self.scene.adaptive.tolerance * self.grid.dt[w.j] / self.t(w, w.q)
-        return min(self.coupling.tolerance, 0.1 * per_unit_step)
 
     def iterate_window(self, w):
         """Iterates window w to convergence; returns the outcome and the last
@@ -342,19 +332,9 @@ class _FixedStressSplit:
     def not_converged(self, w):
         """The error of a window that did not converge in
         coupling.max_iterations or cycled (cycle.py), with the last increments."""
-        if w.cycle:
-            head = (f"the fixed-stress split cycles at t = {self.t(w, w.q):g} (step {w.K + 1}): after "
-                    f"{len(w.increments)} iterations the contact set returns every {w.cycle} iterations (active "
-                    f"nodes {' '.join(str(a) for a in w.active_nodes[-w.cycle:])}) and the increments no longer "
-                    "shrink; last increments:")
-        else:
-            head = (f"the fixed-stress split did not converge in {self.coupling.max_iterations} "
-                    f"iterations at t = {self.t(w, w.q):g} (step {w.K + 1}); last increments:")
-        return CouplingError(head + "".join(w.log[-3:]) + " " + self.advice
-                             # A step at the threshold of an opening or a contact change can keep
-                             # the split cycling where half the step passes (docs/theory.md).
-                             + (", time.retry = 4 (a failed step again with half its dt, up to 4 times)"
-                                if self.scene.retry == 0 and self.scene.has_contact() else ""))
+        propose_retry = self.scene.retry == 0 and self.scene.has_contact()
+        return CouplingError(not_converged_message(
+            w, WindowFailure(self.t(w, w.q), self.coupling.max_iterations, self.advice, propose_retry)))
 
     def accept_window(self, w, n):
         """Accept the window: write every fine flow step, then the mechanics

@@ -3,6 +3,7 @@ one mechanics step (paper section 4; cpp/coupling/window.h). Its iterates,
 and what the time scheme keeps of the windows before it: the flow's time
 history and the displacement's path across the window (backward Euler or
 BDF2, docs/theory.md "Time schemes")."""
+import dataclasses
 import math
 
 from ..contact.contact_state import ActiveSet
@@ -38,6 +39,37 @@ class Window:
         self.active_nodes = []        # per iteration: the contact set's active nodes (coupling/cycle.py)
         self.increments = []          # per iteration: max(dp, du)
         self.cycle = 0                # the period of the cycle that ended the iteration, 0 for none
+
+
+@dataclasses.dataclass
+class WindowFailure:
+    """What the one-line error of a window that failed says besides the
+    window's own record: the time it ended at, the iteration limit, the
+    scheme's advice (gamma and what converges instead) and whether to
+    propose time.retry (a scene with contact that does not retry)."""
+    t: float
+    max_iterations: int
+    advice: str
+    propose_retry: bool = False
+
+
+def not_converged_message(w, failure):
+    """The one-line error of window w that did not converge in
+    max_iterations or cycled (cycle.py), with its last three increments."""
+    if w.cycle:
+        head = (f"the fixed-stress split cycles at t = {failure.t:g} (step {w.K + 1}): after "
+                f"{len(w.increments)} iterations the contact set returns every {w.cycle} iterations (active "
+                f"nodes {' '.join(str(a) for a in w.active_nodes[-w.cycle:])}) and the increments no longer "
+                "shrink; last increments:")
+    else:
+        head = (f"the fixed-stress split did not converge in {failure.max_iterations} "
+                f"iterations at t = {failure.t:g} (step {w.K + 1}); last increments:")
+    # a step at the threshold of an opening or a contact change can keep the
+    # split cycling where half the step passes (docs/theory.md, "Flow in a
+    # fault": the split through an opening)
+    return (head + "".join(w.log[-3:]) + " " + failure.advice
+            + (", time.retry = 4 (a failed step again with half its dt, up to 4 times)"
+               if failure.propose_retry else ""))
 
 
 class WindowHistory:

@@ -161,3 +161,13 @@ class StepControl:
         """The accepted states y_{n-1}, y_{n-2}, y_{n-3} by checkpoint name."""
         return ([(f"adaptive_pressure_{i + 1}", f) for i, f in enumerate(self.p)]
                 + [(f"adaptive_displacement_{i + 1}", f) for i, f in enumerate(self.u)])
+
+
+def iteration_tolerance(coupling_tolerance, error_tolerance, h, t):
+    """The coupling tolerance of a step of length h ending at t under
+    time.adaptive (error tolerance `error_tolerance`): coupling.tolerance, at
+    most a tenth of the error tolerance per unit step, tolerance h / t. The
+    iteration's own error enters the error estimate multiplied by t / h:
+    above that bound it would keep short steps short (a crawl at dt_min,
+    docs/theory.md "Adaptive steps")."""
+    return min(coupling_tolerance, 0.1 * error_tolerance * h / t)
