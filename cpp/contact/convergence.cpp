@@ -251,29 +251,36 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
     else if (fnorm > _repeated_set_bound / repeated_set_fraction)
       *reason = SNES_DIVERGED_DTOL;
   }
-  // A semismooth Newton step is exact on its contact states: two states
-  // each of whose steps lands in the other repeat the same two iterates,
-  // and their residuals, to the last digits (friction's kink at a pair
-  // with t_N = 0: Phan's crack loaded at once on the coupled system).
+  // A semismooth Newton step is exact on its contact states: states each
+  // of whose steps lands in the next repeat the same iterates, and their
+  // residuals, to the last digits (friction's kink at a pair with t_N = 0:
+  // Phan's crack loaded at once on the coupled system, two states; its
+  // cohesive crack opening along its whole length, four).
   if (_friction and *reason == SNES_CONVERGED_ITERATING)
   {
     _norms.push_back(fnorm);
-    if (two_cycle(_norms, cycle_periods))
+    if (newton_cycle(_norms, cycle_periods))
       *reason = SNES_DIVERGED_DTOL, cycling = true;
   }
   return 0;
 }
 
-bool two_cycle(std::span<const double> norms, std::size_t periods)
+bool newton_cycle(std::span<const double> norms, std::size_t periods)
 {
-  const std::size_t n = norms.size();
-  if (periods < 1 or n < 2 * periods)
-    return false;
   auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); };
-  for (std::size_t k = n - 2 * periods + 1; k < n; ++k)
-    if (same(norms[k], norms[k - 1]) or (k >= n - 2 * periods + 2 and !same(norms[k], norms[k - 2])))
-      return false;
-  return true;
+  const std::size_t n = norms.size();
+  for (std::size_t length = 2; length <= longest_newton_cycle and periods >= 1 and n >= length * periods; ++length)
+  {
+    bool repeats = true, varies = false;
+    for (std::size_t k = n - length * periods; k < n; ++k)
+    {
+      repeats = repeats and (k < n - length * (periods - 1) or same(norms[k], norms[k - length]));
+      varies = varies or (k > n - length * periods and !same(norms[k], norms[k - 1]));
+    }
+    if (repeats and varies)
+      return true;
+  }
+  return false;
 }
 
 PetscErrorCode ContactConvergence::round_off_norms(double* forces, double* separate) const

@@ -23,14 +23,16 @@ constexpr double repeated_set_fraction = 1e-3;
 /// solve where it lies below this fraction of the load.
 constexpr double round_off_ceiling = 1e-8;
 
-/// With friction, a solve whose residuals alternate between two values
-/// for this many periods cycles between two sets of contact states.
+/// With friction, a solve whose residuals repeat a cycle of at most
+/// longest_newton_cycle values for cycle_periods periods cycles between sets of
+/// contact states.
 constexpr std::size_t cycle_periods = 3;
+constexpr std::size_t longest_newton_cycle = 6;
 
-/// Whether the last 2 `periods` of `norms` alternate between two values:
-/// from the third on each equal to the one two before it to 1e-9, and each
-/// unequal to the one before it.
-bool two_cycle(std::span<const double> norms, std::size_t periods);
+/// Whether the last `periods` periods of `norms` repeat a cycle of L
+/// values for some L from 2 to longest_newton_cycle: each equal to the one L
+/// before it to 1e-9, and not all the same (stagnation is no cycle).
+bool newton_cycle(std::span<const double> norms, std::size_t periods);
 
 /// r = eps (W |K| |y| + |b|): a bound of the round-off of each entry of
 /// W (K y - b) (eps the machine's; W the row weights, nullptr for none;
@@ -91,7 +93,7 @@ public:
   /// Called after each Newton step with its number.
   std::function<void(int)> on_newton_step;
   /// With friction, the last solve was stopped because its residuals
-  /// alternated between two values for cycle_periods periods (two_cycle;
+  /// repeated a cycle for cycle_periods periods (newton_cycle;
   /// its reason DIVERGED_DTOL).
   bool cycling = false;
 
@@ -145,7 +147,7 @@ private:
   PetscReal _separate_tolerance = 0, _separate_relative_target = 0;
   bool _separate_met = false; // this solve's separate rows met their tolerance once
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
-  std::vector<PetscReal> _norms;     // of the current Newton solve (two_cycle)
+  std::vector<PetscReal> _norms;     // of the current Newton solve (newton_cycle)
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
 };
 

@@ -18,22 +18,28 @@ REPEATED_SET_FRACTION = 1e-3
 ROUND_OFF_CEILING = 1e-8
 
 
-# With friction, a solve whose residuals alternate between two values for
-# this many periods cycles between two sets of contact states.
+# With friction, a solve whose residuals repeat a cycle of at most
+# LONGEST_NEWTON_CYCLE values for CYCLE_PERIODS periods cycles between sets of
+# contact states.
 CYCLE_PERIODS = 3
+LONGEST_NEWTON_CYCLE = 6
 
 
-def two_cycle(norms, periods):
-    """Whether the last 2 `periods` of `norms` alternate between two values:
-    from the third on each equal to the one two before it to 1e-9, and
-    each unequal to the one before it."""
+def newton_cycle(norms, periods):
+    """Whether the last `periods` periods of `norms` repeat a cycle of L
+    values for some L from 2 to LONGEST_NEWTON_CYCLE: each equal to the one L
+    before it to 1e-9, and not all the same (stagnation is no cycle)."""
     def same(a, b):
         return abs(a - b) <= 1e-9 * max(a, b)
     n = len(norms)
-    if periods < 1 or n < 2 * periods:
-        return False
-    return (all(same(norms[k], norms[k - 2]) for k in range(n - 2 * periods + 2, n))
-            and not any(same(norms[k], norms[k - 1]) for k in range(n - 2 * periods + 1, n)))
+    for length in range(2, LONGEST_NEWTON_CYCLE + 1):
+        if periods < 1 or n < length * periods:
+            break
+        first = n - length * periods
+        if (all(same(norms[k], norms[k - length]) for k in range(first + length, n))
+                and any(not same(norms[k], norms[k - 1]) for k in range(first + 1, n))):
+            return True
+    return False
 
 
 def residual_round_off(K, weights, y, b, r):
@@ -105,9 +111,9 @@ class ContactConvergence:
         # (across solves): each may cost one factorisation.
         self.active_set_changes = 0
         self.on_newton_step = None  # called after each Newton step with its number
-        self.norms = []  # of the current Newton solve (two_cycle)
+        self.norms = []  # of the current Newton solve (newton_cycle)
         # with friction, the last solve was stopped because its residuals
-        # alternated between two values for CYCLE_PERIODS periods (two_cycle;
+        # repeated a cycle for CYCLE_PERIODS periods (newton_cycle;
         # its reason DIVERGED_DTOL)
         self.cycling = False
 
@@ -249,7 +255,7 @@ class ContactConvergence:
         # with t_N = 0: Phan's crack loaded at once on the coupled system)
         if self.friction:
             self.norms.append(fnorm)
-            if two_cycle(self.norms, CYCLE_PERIODS):
+            if newton_cycle(self.norms, CYCLE_PERIODS):
                 self.cycling = True
                 return reasons.DIVERGED_DTOL
         return reasons.CONVERGED_ITERATING

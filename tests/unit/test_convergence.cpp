@@ -6,6 +6,7 @@
 #include "contact/convergence.h"
 #include "dense.h"
 
+#include <array>
 #include <gtest/gtest.h>
 
 using namespace biotcontact;
@@ -51,21 +52,31 @@ TEST(Convergence, RoundOffIsEpsTimesTheMagnitudes)
   MatDestroy(&K);
 }
 
-TEST(Convergence, TwoCycleIsAnAlternationOfTwoValues)
+TEST(Convergence, NewtonCycleIsARepeatedCycleOfResiduals)
 {
   // Phan's crack loaded at once on the coupled system: 1.0123e7 and
   // 1.0125e7 in turn after two steps that differ.
   std::vector<double> norms{1.8e9, 4.7e8};
   for (int k = 0; k < 6; ++k)
     norms.push_back(k % 2 == 0 ? 1.0123e7 : 1.0125e7);
-  EXPECT_TRUE(two_cycle(norms, 3));
-  EXPECT_FALSE(two_cycle(std::span(norms).first(7), 3)); // two periods and a half
-  EXPECT_TRUE(two_cycle(std::span(norms).first(6), 2));
+  EXPECT_TRUE(newton_cycle(norms, 3));
+  EXPECT_FALSE(newton_cycle(std::span(norms).first(7), 3)); // two periods and a half
+  EXPECT_TRUE(newton_cycle(std::span(norms).first(6), 2));
   std::vector<double> near = norms; // the last differs in the 8th digit
   near.back() *= 1 + 1e-8;
-  EXPECT_FALSE(two_cycle(near, 3));
+  EXPECT_FALSE(newton_cycle(near, 3));
   const std::vector<double> steady(8, 1e7), falling{8, 7, 6, 5, 4, 3, 2, 1};
-  EXPECT_FALSE(two_cycle(steady, 3)); // stagnation is not a cycle
-  EXPECT_FALSE(two_cycle(falling, 3));
-  EXPECT_FALSE(two_cycle(std::vector<double>{}, 3));
+  EXPECT_FALSE(newton_cycle(steady, 3)); // stagnation is not a cycle
+  EXPECT_FALSE(newton_cycle(falling, 3));
+  EXPECT_FALSE(newton_cycle(std::vector<double>{}, 3));
+  // Its cohesive crack opening along its whole length: four states.
+  std::vector<double> four{4.1e7, 2.7e7};
+  for (int k = 0; k < 12; ++k)
+    four.push_back(std::array{2.9087e7, 2.6532e7, 2.6526e7, 2.9186e7}[k % 4]);
+  EXPECT_TRUE(newton_cycle(four, 3));
+  EXPECT_FALSE(newton_cycle(std::span(four).first(12), 3)); // two periods and a half
+  std::vector<double> seven{1.0};                          // longer than longest_newton_cycle
+  for (int k = 0; k < 21; ++k)
+    seven.push_back(2.0 + k % 7);
+  EXPECT_FALSE(newton_cycle(seven, 3));
 }

@@ -12,7 +12,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.contact.convergence import residual_round_off, two_cycle  # noqa: E402
+from python_prototype.contact.convergence import residual_round_off, newton_cycle  # noqa: E402
 from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
 
 
@@ -36,18 +36,23 @@ class ConvergenceTests(unittest.TestCase):
         np.testing.assert_array_equal(Y.array_r, y)  # y and b are left as they were
         np.testing.assert_array_equal(B.array_r, b)
 
-    def test_two_cycle_is_an_alternation_of_two_values(self):
+    def test_newton_cycle_is_a_repeated_cycle_of_residuals(self):
         # Phan's crack loaded at once on the coupled system: 1.0123e7 and
         # 1.0125e7 in turn after two steps that differ
         norms = [1.8e9, 4.7e8] + [1.0123e7 if k % 2 == 0 else 1.0125e7 for k in range(6)]
-        self.assertTrue(two_cycle(norms, 3))
-        self.assertFalse(two_cycle(norms[:7], 3))  # two periods and a half
-        self.assertTrue(two_cycle(norms[:6], 2))
+        self.assertTrue(newton_cycle(norms, 3))
+        self.assertFalse(newton_cycle(norms[:7], 3))  # two periods and a half
+        self.assertTrue(newton_cycle(norms[:6], 2))
         near = norms[:-1] + [norms[-1] * (1 + 1e-8)]  # the last differs in the 8th digit
-        self.assertFalse(two_cycle(near, 3))
-        self.assertFalse(two_cycle([1e7] * 8, 3))  # stagnation is not a cycle
-        self.assertFalse(two_cycle([8, 7, 6, 5, 4, 3, 2, 1], 3))
-        self.assertFalse(two_cycle([], 3))
+        self.assertFalse(newton_cycle(near, 3))
+        self.assertFalse(newton_cycle([1e7] * 8, 3))  # stagnation is not a cycle
+        self.assertFalse(newton_cycle([8, 7, 6, 5, 4, 3, 2, 1], 3))
+        self.assertFalse(newton_cycle([], 3))
+        # its cohesive crack opening along its whole length: four states
+        four = [4.1e7, 2.7e7] + [[2.9087e7, 2.6532e7, 2.6526e7, 2.9186e7][k % 4] for k in range(12)]
+        self.assertTrue(newton_cycle(four, 3))
+        self.assertFalse(newton_cycle(four[:12], 3))  # two periods and a half
+        self.assertFalse(newton_cycle([1.0] + [2.0 + k % 7 for k in range(21)], 3))  # longer than LONGEST_NEWTON_CYCLE
 
 
 if __name__ == "__main__":
