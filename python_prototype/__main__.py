@@ -194,7 +194,7 @@ def main(argv):
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
     from .assembly.materials import check_materials, gamma_warning, largest_gamma_of
-    from .contact.contact import check_contact
+    from .contact.locate_contact import check_contact
     from .domain.create_domain import create_domain
     from .domain.mesh_checks import check_expressions
     from .output.interruption import install_interruption_handlers

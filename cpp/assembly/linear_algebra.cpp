@@ -34,6 +34,23 @@ double largest_entry(std::span<const double> x, std::span<const std::int32_t> do
   return largest;
 }
 
+std::vector<PetscInt> solved_positions(const std::vector<std::int64_t>& dofs, PetscInt start,
+                                       std::span<const std::int32_t> displacement_dofs, std::int64_t dof_offset,
+                                       MPI_Comm comm)
+{
+  const auto owned = static_cast<std::int64_t>(displacement_dofs.size());
+  const Gathered requests = all_gather(dofs, comm);
+  const std::vector<std::int64_t>& all = requests.values;
+  std::vector<std::int64_t> answer(all.size(), -1);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (const std::int64_t i = all[k] - dof_offset; i >= 0 and i < owned)
+      answer[k] = start + displacement_dofs[i];
+  MPI_Allreduce(MPI_IN_PLACE, answer.data(), static_cast<int>(answer.size()), MPI_INT64_T, MPI_MAX, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return std::vector<PetscInt>(answer.begin() + requests.offsets[rank], answer.begin() + requests.offsets[rank + 1]);
+}
+
 std::vector<double> values(std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); }
 
 void assign(fem::Function<double>& f, std::span<const double> x)

@@ -45,6 +45,15 @@ struct Gathered
 /// Gathers every rank's `values` on every rank (collective).
 Gathered all_gather(const std::vector<std::int64_t>& values, MPI_Comm comm);
 
+/// The global position in a solved vector (its rows from `start` on this
+/// rank) of each global DOF of V in `dofs`, wherever it is owned:
+/// `displacement_dofs[i]` is the place of V's owned DOF i, `dof_offset` the
+/// global index of this rank's first. A fault's other face may be owned by
+/// another rank, so every request goes to every rank (collective).
+std::vector<PetscInt> solved_positions(const std::vector<std::int64_t>& dofs, PetscInt start,
+                                       std::span<const std::int32_t> displacement_dofs, std::int64_t dof_offset,
+                                       MPI_Comm comm);
+
 /// A copy of the values (ghosts included) of a function or vector.
 std::vector<double> values(std::span<const double> x);
 

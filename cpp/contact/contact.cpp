@@ -1,8 +1,5 @@
 #include "contact/contact.h"
 
-#include "contact/fault_pair.h"
-#include "contact/foundation_pair.h"
-
 #include "assembly/linear_algebra.h"
 
 #include <algorithm>
@@ -16,27 +13,6 @@
 namespace biotcontact
 {
 using namespace dolfinx;
-
-ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                          std::shared_ptr<const fem::FunctionSpace> V)
-{
-  ContactSet c;
-  c.dim = domain.dim();
-  c.output_space = std::make_shared<fem::FunctionSpace>(V->sub({0})->collapse().first);
-  c.dof_offset = V->dofmap()->index_map_bs() * V->dofmap()->index_map->local_range()[0];
-  std::string error; // the first bad input on this rank
-  add_foundation_pairs(scene, domain, forms, V, c, error);
-  add_fault_pairs(scene, domain, forms, V, c, error);
-  agree_on_error(error, domain.mesh->comm());
-  return c;
-}
-
-void check_contact(const Scene& scene, const Domain& domain)
-{
-  const CompiledForms& forms = compiled_forms(domain.mesh->topology().cell_type());
-  auto V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(forms.displacement_space, "v_0", domain.mesh));
-  locate_contact(scene, domain, forms, V);
-}
 
 namespace
 {
@@ -59,6 +35,8 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
   const Vec layout = unknowns.layout;
   for (std::int32_t dof : _set.dofs)
     _dofs.push_back(_displacement_dofs.at(dof));
+  _set.bonded.assign(_set.dofs.size(), 1);
+  _bonded_accepted = _set.bonded;
   // MAT_SPD carries over to the inactive-set submatrices: Cholesky there.
   if (_structure == Structure::spd)
     check_petsc(MatSetOption(_A, MAT_SPD, PETSC_TRUE), "contact solver: MatSetOption MAT_SPD of A");
@@ -176,6 +154,13 @@ std::vector<std::int32_t> ContactSolver::contact_dofs() const
 /// order), gathered to every rank.
 void ContactSolver::add_friction(VIProblem& problem) const
 {
+  problem.friction = frictional_constraints();
+  problem.tangents = _set.dim - 1;
+  problem.frictional = any_frictional(_set, _comm);
+}
+
+std::vector<FrictionalConstraint> ContactSolver::frictional_constraints() const
+{
   const int d = _set.dim;
   const PetscInt first = _schur ? _schur->offset() : 0;
   std::vector<FrictionalConstraint> mine;
@@ -189,12 +174,47 @@ void ContactSolver::add_friction(VIProblem& problem) const
     for (int r = 1; r < d; ++r, ++next)
       f.tangential[r - 1] = _schur ? first + next : _displacement_dofs[_set.dofs[k] + r];
     f.sign = _set.sign[k], f.gap = _set.gap[k], f.lumped = _set.lumped[k];
-    f.law = _set.laws[_set.boundary[k]];
+    f.law = constraint_law(_set, k);
     mine.push_back(f);
   }
-  problem.friction = _schur ? all_gather_constraints(mine, _comm) : mine;
-  problem.tangents = d - 1;
-  problem.frictional = any_frictional(_set, _comm);
+  return _schur ? all_gather_constraints(mine, _comm) : mine;
+}
+
+bool ContactSolver::break_pulled_bonds()
+{
+  const std::vector<char> closed = _vi->closed_at_failure();
+  if (closed.empty()) // no friction anywhere
+    return false;
+  // The VI's constraints: this rank's, or condensed every rank's in rank order.
+  long mine = std::count(_set.frictional.begin(), _set.frictional.end(), 1), first = 0;
+  if (_schur)
+    MPI_Exscan(&mine, &first, 1, MPI_LONG, MPI_SUM, _comm);
+  int rank = 0;
+  MPI_Comm_rank(_comm, &rank);
+  return update_bonds(biotcontact::break_pulled_bonds(_set, closed, rank == 0 ? 0 : first));
+}
+
+bool ContactSolver::update_bonds(bool changed)
+{
+  int any = changed;
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_LOR, _comm);
+  if (any)
+    _vi->set_friction(frictional_constraints());
+  return any;
+}
+
+void ContactSolver::accept_step(Vec x)
+{
+  const bool broke = break_open_bonds(_set, active_set(x).flags);
+  _bonded_accepted = _set.bonded;
+  update_bonds(broke);
+}
+
+void ContactSolver::restore_bonds(const std::vector<double>& broken)
+{
+  _bonded_accepted = bonds_from_names(_set, broken);
+  _set.bonded = _bonded_accepted;
+  update_bonds(true);
 }
 
 /// The VI on the full system: only the contact DOFs are bounded.
@@ -264,7 +284,21 @@ void ContactSolver::solve(Vec b, Vec x)
   {
     if (_then_condensed)
       switch_to_condensed(_full_steps == 1 ? "after one full Newton step" : "after two full Newton steps");
-    solve_on_path(b_vi, x_vi);
+    // A solve that fails on every path is solved again from its start
+    // (x_vi) when it broke a bond: the pairs the cohesion could keep closed
+    // only pulled, and could not leave open, slip on friction alone
+    // (contact_law.h). Bonds break only where no solution keeps them.
+    for (;;)
+      try
+      {
+        solve_on_path(b_vi, x_vi);
+        break;
+      }
+      catch (const SolverError&)
+      {
+        if (!break_pulled_bonds())
+          throw;
+      }
   }
   if (_change)
     _change->backward(x_vi, x);
@@ -328,6 +362,10 @@ bool ContactSolver::solve_vi(Vec b_vi, Vec x_vi, int newton_steps)
 void ContactSolver::set_slip_reference(Vec x)
 {
   check_petsc(VecCopy(x, _x_start), "contact solver: VecCopy of the step's start");
+  // A step tried again starts from the bonds of the last accepted one.
+  const bool changed = _set.bonded != _bonded_accepted;
+  _set.bonded = _bonded_accepted;
+  update_bonds(changed);
   Vec reference = _vi->slip_reference();
   if (!reference)
     return;
@@ -349,7 +387,10 @@ void ContactSolver::make_change_of_variables(Vec layout)
   std::vector<std::int64_t> requested;
   for (const ContactBlock& block : _set.blocks)
     requested.insert(requested.end(), block.dofs.begin(), block.dofs.end());
-  const std::vector<PetscInt> positions = solved_positions(requested, layout);
+  PetscInt start = 0;
+  check_petsc(VecGetOwnershipRange(layout, &start, nullptr), "contact solver: VecGetOwnershipRange of the layout");
+  const std::vector<PetscInt> positions
+      = solved_positions(requested, start, _displacement_dofs, _set.dof_offset, _comm);
   std::vector<ChangeOfVariables::Block> blocks;
   std::size_t next = 0;
   for (const ContactBlock& block : _set.blocks)
@@ -377,26 +418,6 @@ void ContactSolver::make_change_of_variables(Vec layout)
   for (Field& f : _fields)
     if (f.near_nullspace)
       f.near_nullspace = own(_change->transformed(f.near_nullspace.get(), &f.dofs, layout));
-}
-
-std::vector<PetscInt> ContactSolver::solved_positions(const std::vector<std::int64_t>& dofs, Vec layout) const
-{
-  // Each rank answers for the DOFs it owns; a fault's other face may be
-  // owned by another rank, so every request goes to every rank (they are
-  // the few DOFs of the transformed nodes).
-  PetscInt start = 0;
-  check_petsc(VecGetOwnershipRange(layout, &start, nullptr), "contact solver: VecGetOwnershipRange of the layout");
-  const auto owned = static_cast<std::int64_t>(_displacement_dofs.size());
-  const Gathered requests = all_gather(dofs, _comm);
-  const std::vector<std::int64_t>& all = requests.values;
-  std::vector<std::int64_t> answer(all.size(), -1);
-  for (std::size_t k = 0; k < all.size(); ++k)
-    if (const std::int64_t i = all[k] - _set.dof_offset; i >= 0 and i < owned)
-      answer[k] = start + _displacement_dofs[i];
-  MPI_Allreduce(MPI_IN_PLACE, answer.data(), static_cast<int>(answer.size()), MPI_INT64_T, MPI_MAX, _comm);
-  int rank = 0;
-  MPI_Comm_rank(_comm, &rank);
-  return std::vector<PetscInt>(answer.begin() + requests.offsets[rank], answer.begin() + requests.offsets[rank + 1]);
 }
 
 void ContactSolver::change_operators()

@@ -8,8 +8,10 @@
 // Schur complement of its contact DOFs (schur_complement.h).
 #pragma once
 
+#include "contact/bonds.h"
 #include "contact/contact_law.h"
 #include "contact/contact_path.h"
+#include "contact/locate_contact.h"
 #include "contact/friction.h"
 #include "contact/contact_set.h"
 #include "contact/contact_state.h"
@@ -30,18 +32,6 @@
 
 namespace biotcontact
 {
-
-/// Finds the contact constraints of the scene: its contact boundaries
-/// against their foundations (foundation_pair.h), then the faults' node
-/// pairs (fault_pair.h). Throws SceneError, the same on every rank, for the
-/// first bad input they find (collective).
-ContactSet locate_contact(const Scene& scene, const Domain& domain, const CompiledForms& forms,
-                          std::shared_ptr<const dolfinx::fem::FunctionSpace> V);
-
-/// `check`'s look at the contact: the pairs made as a run makes them (a
-/// fault's gap and normal, where it meets a foundation) in the scene's
-/// displacement space; throws SceneError as locate_contact (collective).
-void check_contact(const Scene& scene, const Domain& domain);
 
 /// @brief The matrices of the contact problem: A, and P (A, or the
 /// fixed-stress matrix of the coupled system) that the iterative full path
@@ -127,6 +117,16 @@ public:
   /// and those fault.xdmf writes) are measured from it (collective).
   void set_slip_reference(Vec x);
 
+  /// The step (or window) ending at x was accepted: the bonds of the pairs
+  /// open at x break, and the bonds as they are now hold from the next
+  /// step on (contact_law.h; collective).
+  void accept_step(Vec x);
+  /// The names (constraint_keys) of the constraints whose cohesion held
+  /// and broke by the last accepted step, on every rank, for a checkpoint
+  /// (collective); and their restoration.
+  std::vector<double> broken_bonds() const { return broken_bond_names(_set, _bonded_accepted, _comm); }
+  void restore_bonds(const std::vector<double>& broken);
+
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
   /// A few rows of A changed (a conduit fault's apertures): the last
@@ -202,14 +202,20 @@ private:
   VIProblem pose_on_full_system(Vec layout, std::vector<std::int32_t> separate_rows) const;
   /// The frictional constraints, once the VI is posed.
   void add_friction(VIProblem& problem) const;
+  /// The VI's frictional constraints with their laws as the bonds are now
+  /// (collective when condensed).
+  std::vector<FrictionalConstraint> frictional_constraints() const;
+  /// After a failed solve: the bonds of the cohesive constraints it could
+  /// not keep closed break; whether any did (collective).
+  bool break_pulled_bonds();
+  /// The VI takes the bonds as they are now, if they changed on any rank;
+  /// whether they did (collective).
+  bool update_bonds(bool changed);
   /// The largest gap or displacement (collective): SNES works in its units.
   double displacement_scale(Vec x) const;
   /// The change of variables of the inclined and curved foundations, made
   /// when any node needs one (collective), and the operators it makes.
   void make_change_of_variables(Vec layout);
-  /// The global position in the solved vector of each global DOF of V in
-  /// `dofs`, wherever it is owned (collective).
-  std::vector<PetscInt> solved_positions(const std::vector<std::int64_t>& dofs, Vec layout) const;
   /// A' and P' of the current A and P (after a reassembly).
   void change_operators();
   /// x' = T x (x itself without a change of variables).
@@ -243,6 +249,8 @@ private:
   std::string _after; // when the path turned condensed ("" from the start)
   // The start of the step like x, and x' of it (the faults' slip increments).
   Vec _x_start = nullptr, _x_start_vi = nullptr;
+  // The bonds as of the last accepted step (_set.bonded: as of now).
+  std::vector<char> _bonded_accepted;
 };
 
 } // namespace biotcontact

@@ -58,6 +58,14 @@ la::Vector<double> lumped_measure(const Domain& domain, const CompiledForms& for
   return lumped;
 }
 
+ContactLaw constraint_law(const ContactSet& set, std::size_t k)
+{
+  ContactLaw law = set.laws[set.boundary[k]];
+  if (!set.bonded.empty() and !set.bonded[k])
+    law.cohesion = 0;
+  return law;
+}
+
 std::vector<double> pair_shear_moduli(const ContactSet& set, const fem::FunctionSpace& V,
                                       const fem::Function<double>& G)
 {

@@ -73,6 +73,9 @@ struct ContactSet
   std::vector<std::string> boundaries;
   std::vector<char> faults;
   std::vector<ContactLaw> laws;
+  /// Per constraint: whether its cohesion still holds (contact_law.h, "the
+  /// bond"); empty or 1 until its pair opens (ContactSolver keeps it).
+  std::vector<char> bonded;
   /// The blocks of the change of variables (change_of_variables.h): the
   /// nodes whose normals are not coordinate axes (T_node) and the node
   /// pairs of faults, by the global (unrolled) DOFs of V they mix.
@@ -84,6 +87,10 @@ struct ContactSet
   std::shared_ptr<const dolfinx::fem::FunctionSpace> output_space;
   std::vector<std::int32_t> output_dofs;
 };
+
+/// The law of constraint k: its boundary's, without the cohesion once
+/// its bond broke (contact_law.h).
+ContactLaw constraint_law(const ContactSet& set, std::size_t k);
 
 /// Flags of the DOFs of V (unrolled, local, ghosts too) whose value a
 /// displacement condition prescribes.

@@ -113,8 +113,9 @@ void summarise_faults(ContactState& s, const ContactMeasurement& m, const std::v
     const auto& t = p.tangential_traction;
     // A junction's pairs are frictionless whatever their faults' laws
     // (theory.md, "Faults where they meet"): closed, they slip.
-    const ContactLaw law = set.junction_nodes[k][0] >= 0 ? ContactLaw{} : set.laws[p.fault];
+    const ContactLaw law = set.junction_nodes[k][0] >= 0 ? ContactLaw{} : constraint_law(set, k);
     p.status = pair_status(law, {closed, p.traction, std::hypot(t[0], t[1], t[2]), scale});
+    p.cohesion = law.cohesion;
     const int f = summary_of[p.fault];
     largest[2 * f] = std::max(largest[2 * f], p.opening);
     largest[2 * f + 1] = std::max(largest[2 * f + 1], std::hypot(p.slip[0], p.slip[1], p.slip[2]));

@@ -37,6 +37,9 @@ struct PairState
   PairStatus status;
   /// The slip since the start of the step (ContactSolver::set_slip_reference).
   std::array<double, 3> slip_increment;
+  /// The cohesion its law holds: the fault's, 0 once its bond broke
+  /// (contact_law.h).
+  double cohesion = 0;
 };
 
 /// @brief What the summary says of a fault: its largest opening and slip,

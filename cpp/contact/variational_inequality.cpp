@@ -216,10 +216,39 @@ void VariationalInequality::solve(double scale)
   }
   if (reason < 0)
     throw SolverError(solver_name() + " did not converge: "
-                      + (_convergence->cycling ? "its Newton steps cycle between two sets of contact states"
+                      + (_convergence->cycling ? "its Newton steps cycle between sets of contact states"
                                                : SNESConvergedReasons[reason])
                       + (_J and reason != SNES_DIVERGED_LINEAR_SOLVE ? no_equilibrium : ""));
   check_petsc(VecScale(_y, scale), "contact solver: VecScale");
+}
+
+void VariationalInequality::set_friction(std::vector<FrictionalConstraint> friction)
+{
+  _p.friction = std::move(friction);
+  _jacobian_weights.clear(); // its bounds changed: J is built anew
+}
+
+std::vector<char> VariationalInequality::closed_at_failure()
+{
+  std::vector<char> closed;
+  if (!_J)
+    return closed;
+  // y is still in units of the solve's scale (solve scales only a solution).
+  check_petsc(MatMult(_p.K, _y, _work), "contact solver: MatMult");
+  check_petsc(VecAXPY(_work, -1.0, _b), "contact solver: VecAXPY");
+  const PetscScalar *Y, *R, *start, *c;
+  check_petsc(VecGetArrayRead(_y, &Y), "contact solver: VecGetArrayRead");
+  check_petsc(VecGetArrayRead(_work, &R), "contact solver: VecGetArrayRead");
+  check_petsc(VecGetArrayRead(_y_reference, &start), "contact solver: VecGetArrayRead");
+  check_petsc(VecGetArrayRead(_stiffness, &c), "contact solver: VecGetArrayRead");
+  const FrictionPoint at{Y, R, start, c, _scale, _p.tangents};
+  for (const FrictionalConstraint& f : _p.friction)
+    closed.push_back(friction_term(f, at).closed);
+  check_petsc(VecRestoreArrayRead(_y, &Y), "contact solver: VecRestoreArrayRead");
+  check_petsc(VecRestoreArrayRead(_work, &R), "contact solver: VecRestoreArrayRead");
+  check_petsc(VecRestoreArrayRead(_y_reference, &start), "contact solver: VecRestoreArrayRead");
+  check_petsc(VecRestoreArrayRead(_stiffness, &c), "contact solver: VecRestoreArrayRead");
+  return closed;
 }
 
 bool VariationalInequality::try_solve(double scale, int newton_steps)
@@ -385,38 +414,7 @@ void VariationalInequality::clamped_start()
   check_petsc(VecRestoreArrayRead(_lower, &lo), "contact solver: VecRestoreArrayRead");
   check_petsc(VecRestoreArrayRead(_upper, &up), "contact solver: VecRestoreArrayRead");
   if (_whole)
-    solve_clamped(rows);
-}
-
-void VariationalInequality::solve_clamped(const std::vector<PetscInt>& rows)
-{
-  // A (and the preconditioning matrix P, when it is another) with the
-  // bounded rows and columns made identity rows.
-  auto clamped_copy = [&](Mat M, Vec rhs)
-  {
-    Mat C;
-    check_petsc(MatDuplicate(M, MAT_COPY_VALUES, &C), "contact solver: MatDuplicate");
-    MatNullSpace modes = nullptr; // for AMG: the duplicate does not keep it
-    check_petsc(MatGetNearNullSpace(M, &modes), "contact solver: MatGetNearNullSpace");
-    if (modes)
-      check_petsc(MatSetNearNullSpace(C, modes), "contact solver: MatSetNearNullSpace");
-    check_petsc(MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, rhs ? _y : nullptr, rhs), "contact solver: MatZeroRowsColumns");
-    return C;
-  };
-  Vec rhs;
-  check_petsc(VecDuplicate(_b, &rhs), "contact solver: VecDuplicate");
-  check_petsc(VecCopy(_b, rhs), "contact solver: VecCopy");
-  const WholeSystem& w = *_whole;
-  Mat A = clamped_copy(w.A, rhs);
-  Mat P = w.P == w.A ? A : clamped_copy(w.P, nullptr);
-  {
-    LinearSolver clamped(w.comm, w.layout.prefix, A, P, w.layout.structure, w.layout.fields);
-    clamped.solve(_y, rhs);
-  }
-  if (P != A)
-    check_petsc(MatDestroy(&P), "contact solver: MatDestroy");
-  check_petsc(MatDestroy(&A), "contact solver: MatDestroy");
-  check_petsc(VecDestroy(&rhs), "contact solver: VecDestroy");
+    solve_clamped(*_whole, _b, _y, rows);
 }
 
 // F(y) = K y - b/s: the gradient of the quadratic energy, in units of s;

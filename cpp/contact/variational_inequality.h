@@ -8,6 +8,7 @@
 
 #include "contact/convergence.h"
 #include "contact/friction.h"
+#include "contact/whole_system.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "solvers/row_weights.h"
 #include "solvers/solver.h"
@@ -54,18 +55,6 @@ struct VIProblem
   bool changing = false;
 };
 
-/// @brief The whole system a VI is posed on (y = x, K = A): its matrices,
-/// fields and method. The clamped start solves it with the contact DOFs
-/// eliminated; the iterative method preconditions the Newton steps from P
-/// split along the fields (inactive_set_preconditioner.h).
-struct WholeSystem
-{
-  MPI_Comm comm;
-  Mat A, P;
-  SystemLayout layout;
-  Method method;
-};
-
 /// @brief The solver of a VIProblem (SNES vinewtonrsls), options-driven.
 class VariationalInequality
 {
@@ -94,6 +83,14 @@ public:
   /// restart: whether it converged (y is then the solution; else y and
   /// the load are spent).
   bool try_solve(double scale, int newton_steps);
+
+  /// The frictional constraints anew, in the same positions (a law
+  /// changed: a bond broke, or a new step restored the step's start).
+  void set_friction(std::vector<FrictionalConstraint> friction);
+  /// Per frictional constraint, whether it is closed (pressed on its
+  /// bound, friction_term) at the last iterate of a failed solve
+  /// (collective).
+  std::vector<char> closed_at_failure();
 
   /// K was reassembled: the next Newton step factorises anew.
   void operator_changed();
@@ -143,9 +140,6 @@ private:
   /// After GMRES failed on an earlier factorisation: the solve goes on from
   /// its last iterate, the Jacobian factorised whenever it changes.
   SNESConvergedReason refactorised();
-  /// The clamped start's solve of the whole system, the bounded rows
-  /// `rows` (global) eliminated.
-  void solve_clamped(const std::vector<PetscInt>& rows);
   static PetscErrorCode residual(SNES, Vec y, Vec F, void* context);
   static PetscErrorCode jacobian(SNES, Vec y, Mat, Mat, void* context);
   /// F += the friction forces at y (F holds K y - b on entry).

@@ -184,8 +184,8 @@ void FaultSeries::conduit_rows(const Problem& problem, const std::vector<std::in
 std::vector<FaultSeries::Field> FaultSeries::node_fields(const ContactState& contact) const
 {
   // Per pair: opening, traction, state, slip (3), tangential traction (3),
-  // slip increment (3).
-  constexpr int width = 12;
+  // slip increment (3), cohesion.
+  constexpr int width = 13;
   std::vector<std::int64_t> nodes;
   std::vector<double> values;
   for (const PairState& p : contact.pairs)
@@ -197,6 +197,7 @@ std::vector<FaultSeries::Field> FaultSeries::node_fields(const ContactState& con
     values.insert(values.end(), p.slip.begin(), p.slip.end());
     values.insert(values.end(), p.tangential_traction.begin(), p.tangential_traction.end());
     values.insert(values.end(), p.slip_increment.begin(), p.slip_increment.end());
+    values.push_back(p.cohesion);
   }
   const std::vector<std::int64_t> all_nodes = gather_to_root(nodes, MPI_INT64_T, _comm);
   const std::vector<double> all_values = gather_to_root(values, MPI_DOUBLE, _comm);
@@ -204,7 +205,7 @@ std::vector<FaultSeries::Field> FaultSeries::node_fields(const ContactState& con
     return {};
   const std::size_t n = _nodes.size();
   std::vector<double> opening(n, 0.0), traction(n, 0.0), slip(3 * n, 0.0), tangential(3 * n, 0.0);
-  std::vector<double> increment(3 * n, 0.0);
+  std::vector<double> increment(3 * n, 0.0), cohesion(n, 0.0);
   // A node without a pair is a tip: the faces are one node there.
   std::vector<double> state(n, static_cast<double>(PairStatus::stick));
   for (std::size_t k = 0; k < all_nodes.size(); ++k)
@@ -217,10 +218,12 @@ std::vector<FaultSeries::Field> FaultSeries::node_fields(const ContactState& con
     std::copy_n(v + 3, 3, &slip[3 * p]);
     std::copy_n(v + 6, 3, &tangential[3 * p]);
     std::copy_n(v + 9, 3, &increment[3 * p]);
+    cohesion[p] = v[12];
   }
   return {{"opening", opening, 1},          {"traction", traction, 1},
           {"slip", slip, 3},                {"slip_increment", increment, 3},
-          {"tangential_traction", tangential, 3}, {"state", state, 1}};
+          {"tangential_traction", tangential, 3}, {"state", state, 1},
+          {"cohesion", cohesion, 1}};
 }
 
 std::vector<FaultSeries::Field> FaultSeries::cell_fields(std::span<const double> cells, double t) const
@@ -273,7 +276,8 @@ std::vector<std::pair<std::string, std::string>> FaultSeries::attributes() const
   std::vector<std::pair<std::string, std::string>> a;
   a.emplace_back("fault", "Cell");
   if (_scene.mechanics)
-    for (const char* name : {"opening", "slip", "slip_increment", "traction", "tangential_traction", "state"})
+    for (const char* name :
+         {"opening", "slip", "slip_increment", "traction", "tangential_traction", "state", "cohesion"})
       a.emplace_back(name, "Node");
   a.emplace_back("pressure", "Cell");
   if (_conduits)

@@ -2,12 +2,13 @@
 // output time, for ParaView and meshio. One grid per time on the faces'
 // mesh (segments in 2D, triangles in 3D; the nodes of the + faces, a tip
 // being one node of both faces): with mechanics the node data opening,
-// slip, slip_increment, traction, tangential_traction and state; the cell
-// data fault (its index) and pressure, and with a conduit fault hydraulic_aperture, exchange and
-// flux (FaultSeries says what each holds). Rank 0 writes it, from the pairs
-// each rank gathers to it (a fault holds few nodes of the mesh). Each write
-// is complete on disk when it returns, as solution.xdmf's; a restart keeps
-// the times up to its checkpoint's.
+// slip, slip_increment, traction, tangential_traction, state and cohesion;
+// the cell data fault (its index) and pressure, and with a conduit fault
+// hydraulic_aperture, exchange and flux (FaultSeries says what each
+// holds). Rank 0 writes it, from the pairs each rank gathers to it (a fault
+// holds few nodes of the mesh). Each write is complete on disk when it
+// returns, as solution.xdmf's; a restart keeps the times up to its
+// checkpoint's.
 #pragma once
 
 #include "assembly/problem.h"
@@ -34,6 +35,8 @@ namespace biotcontact
 ///   frictionless fault the solve's error: round-off with a factorisation);
 /// - state: the pair's state (contact_law.h): 0 open, 1 stick, 2 slip; 1 at
 ///   the tips, where the faces are one node and neither open nor slide;
+/// - cohesion: the cohesion the pair's law holds, the fault's until its
+///   bond breaks (contact_law.h), 0 then and at the tips;
 /// - fault (cell data): the index of the cell's fault among the scene's
 ///   faults in the alphabetical order of their names (as summary.json lists
 ///   them), 0, 1, ...: one field for a network, to colour or threshold by;

@@ -172,6 +172,8 @@ void MechanicsStep::begin_step()
 
 void MechanicsStep::accept(double t)
 {
+  la::petsc::Vector x = wrap(*u->x());
+  _system->accept_step(x.vec());
   if (!_moments.names.empty()) // no fault: nothing to record, no contact state computed
     record_moments(_moments, t, contact_state());
 }
@@ -182,12 +184,16 @@ std::map<std::string, std::vector<double>> MechanicsStep::arrays() const
   keep_moments(_moments, arrays);
   if (!_fault_traction.empty())
     arrays["fault_traction"] = _fault_traction;
+  if (_system->has_contact() and cohesive(_system->contact().set()))
+    arrays["broken_bonds"] = _system->contact().broken_bonds();
   return arrays;
 }
 
 void MechanicsStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
 {
   restore_moments(_moments, arrays);
+  if (const auto found = arrays.find("broken_bonds"); found != arrays.end())
+    _system->contact().restore_bonds(found->second);
   if (const auto found = arrays.find("fault_traction"); found != arrays.end())
     _fault_traction = found->second;
 }

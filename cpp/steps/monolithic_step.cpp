@@ -390,6 +390,8 @@ void MonolithicStep::begin_step()
 
 void MonolithicStep::accept(double t)
 {
+  la::petsc::Vector x = wrap(*_x->x());
+  _system->accept_step(x.vec());
   if (!_moments.names.empty()) // no fault: nothing to record, no contact state computed
     record_moments(_moments, t, contact_state());
   if (*_conduits)
@@ -427,12 +429,16 @@ std::map<std::string, std::vector<double>> MonolithicStep::arrays() const
     _conduits->keep(arrays);
   if (!_fault_traction.empty())
     arrays["fault_traction"] = _fault_traction;
+  if (_system->has_contact() and cohesive(_system->contact().set()))
+    arrays["broken_bonds"] = _system->contact().broken_bonds();
   return arrays;
 }
 
 void MonolithicStep::restore_arrays(const std::map<std::string, std::vector<double>>& arrays)
 {
   restore_moments(_moments, arrays);
+  if (const auto found = arrays.find("broken_bonds"); found != arrays.end())
+    _system->contact().restore_bonds(found->second);
   if (*_conduits)
     _conduits->restore(arrays);
   if (const auto found = arrays.find("fault_traction"); found != arrays.end())

@@ -284,6 +284,14 @@ void System::begin_step(Vec x)
     _contact->set_slip_reference(_A_appended ? _x_appended : x);
 }
 
+void System::accept_step(Vec x)
+{
+  if (_contact and _A_appended)
+    copy_in(x, _appended.x, _x_appended);
+  if (_contact)
+    _contact->accept_step(_A_appended ? _x_appended : x);
+}
+
 void System::solve(Vec b, Vec x)
 {
   SolverStage::Guard stage(_stage);

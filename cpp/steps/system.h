@@ -103,6 +103,10 @@ public:
   /// from it (ContactSolver::set_slip_reference; nothing without contact).
   void begin_step(Vec x);
 
+  /// The step ending at x was accepted (ContactSolver::accept_step;
+  /// nothing without contact).
+  void accept_step(Vec x);
+
   /// Solves with x as the initial guess (a contact solve starts from it).
   void solve(Vec b, Vec x);
 

@@ -87,6 +87,24 @@ def owned_norm(x, V, comm):
     return np.sqrt(comm.allreduce(float(np.dot(x[:n], x[:n])), op=MPI.SUM))
 
 
+def solved_positions(dofs, start, displacement_dofs, dof_offset, comm):
+    """The global position in a solved vector (its rows from `start` on this
+    rank) of each global DOF of V in `dofs`, wherever it is owned:
+    `displacement_dofs[i]` is the place of V's owned DOF i, `dof_offset` the
+    global index of this rank's first. A fault's other face may be owned by
+    another rank, so every request goes to every rank (collective)."""
+    owned = len(displacement_dofs)
+    requests = comm.allgather(np.asarray(dofs, dtype=np.int64))
+    everything = np.concatenate(requests)
+    local = everything - dof_offset
+    mine = (local >= 0) & (local < owned)
+    answer = np.full(len(everything), -1, dtype=np.int64)
+    answer[mine] = start + np.asarray(displacement_dofs)[local[mine]]
+    comm.Allreduce(MPI.IN_PLACE, answer, op=MPI.MAX)
+    offset = sum(len(r) for r in requests[:comm.rank])
+    return answer[offset:offset + len(dofs)]
+
+
 def largest_entry(x, dofs, comm):
     """The largest |x[i]| over the positions `dofs` on every rank (collective)."""
     return comm.allreduce(float(np.max(np.abs(x[dofs]), initial=0.0)), op=MPI.MAX)

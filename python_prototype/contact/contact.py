@@ -14,49 +14,19 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..assembly.forms import Forms
+from ..assembly.linear_algebra import solved_positions
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
 from .contact_path import ContactPath, PathCosts, choose_contact_path
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
-from .contact_set import ContactSet
-from .fault_pair import add_fault_pairs
-from .foundation_pair import add_foundation_pairs
+from .bonds import bonds_from_names, break_open_bonds, break_pulled_bonds, broken_bond_names
+from .contact_set import constraint_law
 from .schur_complement import SchurComplement
-from .variational_inequality import VariationalInequality, VIProblem, WholeSystem
+from .variational_inequality import VariationalInequality, VIProblem
+from .whole_system import WholeSystem
 from ..solvers.options import OptionsError
 from ..solvers.solver import SolverError, SolverStage, Structure, SystemLayout, set_default_option
-from ..scene.scene import agree_on_error
-
-
-def locate_contact(scene, domain, F, V):
-    """The ContactSet of the scene: its contact boundaries against their
-    foundations (foundation_pair.py), then the faults' node pairs
-    (fault_pair.py). Raises SceneError, the same on every rank, for the
-    first bad input they find (collective)."""
-    c = ContactSet(domain.dim, V.sub(0).collapse()[0], V.dofmap.index_map_bs * V.dofmap.index_map.local_range[0])
-    error = []  # the first bad input on this rank
-    add_foundation_pairs(scene, domain, F, V, c, error)
-    add_fault_pairs(scene, domain, F, V, c, error)
-    agree_on_error(error[0] if error else "", domain.mesh.comm)
-    c.dofs, c.sign = np.array(c.dofs, dtype=np.int32), np.array(c.sign, dtype=np.int32)
-    c.gap, c.lumped, c.normal = np.array(c.gap), np.array(c.lumped), np.array(c.normal)
-    c.output_dofs = np.array(c.output_dofs, dtype=np.int32)
-    c.boundary = np.array(c.boundary, dtype=np.int32)
-    c.pair_node = np.array(c.pair_node, dtype=np.int64)
-    c.junction_nodes = np.array(c.junction_nodes, dtype=np.int64).reshape(-1, 2)
-    c.all_junction_nodes = np.array(c.all_junction_nodes, dtype=np.int64)
-    c.frictional = np.array(c.frictional, dtype=bool)
-    return c
-
-
-def check_contact(scene, domain):
-    """`check`'s look at the contact: the pairs made as a run makes them (a
-    fault's gap and normal, where it meets a foundation) in the scene's
-    displacement space; raises SceneError as locate_contact (collective)."""
-    F = Forms(domain.mesh)
-    locate_contact(scene, domain, F, F["V"])
 
 
 @dataclasses.dataclass
@@ -120,6 +90,9 @@ class ContactSolver:
             A.setOption(PETSc.Mat.Option.SPD, True)
         self.displacement_dofs = np.asarray(unknowns.displacement_dofs, dtype=np.int32)
         self.dofs = self.displacement_dofs[self.set.dofs] if len(self.set.dofs) else np.zeros(0, dtype=np.int32)
+        # The bonds as of now (set.bonded) and as of the last accepted step.
+        self.set.bonded = np.ones(len(self.dofs), dtype=bool)
+        self.bonded_accepted = self.set.bonded.copy()
         self.force = A.createVecRight()
         # The start of the step like x, and x' of it (the faults' slip increments).
         self.x_start, self.x_start_vi = A.createVecRight(), A.createVecRight()
@@ -213,10 +186,16 @@ class ContactSolver:
         return np.concatenate([self.dofs, np.array(tangential, dtype=np.int32)])
 
     def _add_friction(self, problem):
-        """The frictional constraints in the VI's numbering: on the full
-        system this rank's, at their local positions; condensed, every rank's
-        at their places in H (each rank's contact DOFs from its offset, in
-        _contact_dofs()'s order), gathered to every rank."""
+        """The frictional constraints, once the VI is posed."""
+        problem.friction = self._frictional_constraints()
+        problem.tangents, problem.frictional = self.set.dim - 1, _any_frictional(self.set, self.comm)
+
+    def _frictional_constraints(self):
+        """The frictional constraints in the VI's numbering, with their laws
+        as the bonds are now: on the full system this rank's, at their local
+        positions; condensed, every rank's at their places in H (each rank's
+        contact DOFs from its offset, in _contact_dofs()'s order), gathered
+        to every rank."""
         c, d = self.set, self.set.dim
         first = self.schur.offset if self.schur else 0
         mine = []
@@ -225,13 +204,51 @@ class ContactSolver:
             if not c.frictional[k]:
                 continue
             f = FrictionalConstraint(int(first + k if self.schur else self.dofs[k]), [-1, -1], float(c.sign[k]),
-                                     float(c.gap[k]), float(c.lumped[k]), c.laws[c.boundary[k]])
+                                     float(c.gap[k]), float(c.lumped[k]), constraint_law(c, k))
             for r in range(1, d):
                 f.tangential[r - 1] = int(first + following if self.schur else self.displacement_dofs[c.dofs[k] + r])
                 following += 1
             mine.append(f)
-        problem.friction = all_gather_constraints(mine, self.comm) if self.schur else mine
-        problem.tangents, problem.frictional = d - 1, _any_frictional(c, self.comm)
+        return all_gather_constraints(mine, self.comm) if self.schur else mine
+
+    def _break_pulled_bonds(self):
+        """After a failed solve: the bonds of the cohesive constraints it
+        could not keep closed break; whether any did (collective)."""
+        closed = self.vi.closed_at_failure()
+        if not closed:  # no friction anywhere
+            return False
+        # the VI's constraints: this rank's, or condensed every rank's in rank order
+        mine = int(np.count_nonzero(self.set.frictional))
+        first = (self.comm.exscan(mine) or 0) if self.schur else 0
+        return self._update_bonds(break_pulled_bonds(self.set, closed, first))
+
+    def _update_bonds(self, changed):
+        """The VI takes the bonds as they are now, if they changed on any
+        rank; whether they did (collective)."""
+        changed = self.comm.allreduce(bool(changed), op=MPI.LOR)
+        if changed:
+            self.vi.set_friction(self._frictional_constraints())
+        return changed
+
+    def accept_step(self, x):
+        """The step (or window) ending at x was accepted: the bonds of the
+        pairs open at x break, and the bonds as they are now hold from the
+        next step on (contact_law.py; collective)."""
+        broke = break_open_bonds(self.set, self.active_set(x).flags)
+        self.bonded_accepted = self.set.bonded.copy()
+        self._update_bonds(broke)
+
+    def broken_bonds(self):
+        """The names (constraint_keys) of the constraints whose cohesion held
+        and broke by the last accepted step, on every rank, for a checkpoint
+        (collective)."""
+        return broken_bond_names(self.set, self.bonded_accepted, self.comm)
+
+    def restore_bonds(self, broken):
+        """The bonds of a checkpoint (broken_bonds; collective)."""
+        self.bonded_accepted = bonds_from_names(self.set, broken)
+        self.set.bonded = self.bonded_accepted.copy()
+        self._update_bonds(True)
 
     def _pose_on_full_system(self, separate_rows):
         """The VIProblem on the whole system: only the contact DOFs are bounded."""
@@ -295,7 +312,16 @@ class ContactSolver:
             if self.then_condensed:
                 self._switch_to_condensed("after one full Newton step" if self.full_steps == 1
                                           else "after two full Newton steps")
-            self._solve_on_path(b_vi, x_vi)
+            # Each failure that breaks a bond is solved again from its start
+            # (x_vi): the pairs the cohesion could keep closed only pulled,
+            # and could not leave open, slip on friction alone (contact_law.py).
+            while True:
+                try:
+                    self._solve_on_path(b_vi, x_vi)
+                    break
+                except SolverError:
+                    if not self._break_pulled_bonds():
+                        raise
         if self.change:
             self.change.backward(x_vi, x)
 
@@ -351,6 +377,10 @@ class ContactSolver:
         (friction's, and those fault.xdmf writes) are measured from it
         (collective)."""
         x.copy(self.x_start)
+        # A step tried again starts from the bonds of the last accepted one.
+        changed = bool(np.any(self.set.bonded != self.bonded_accepted))
+        self.set.bonded = self.bonded_accepted.copy()
+        self._update_bonds(changed)
         reference = self.vi.slip_reference()
         if reference is None:
             return
@@ -369,7 +399,8 @@ class ContactSolver:
         if self.comm.allreduce(len(self.set.blocks), op=MPI.SUM) == 0:
             return
         requested = np.concatenate([dofs for dofs, _ in self.set.blocks] or [np.zeros(0, dtype=np.int64)])
-        positions = iter(self._solved_positions(requested))
+        positions = iter(solved_positions(requested, self.A.getOwnershipRange()[0], self.displacement_dofs,
+                                          self.set.dof_offset, self.comm))
         blocks = [([next(positions) for _ in dofs], T) for dofs, T in self.set.blocks]
         self.change = ChangeOfVariables(self.A, blocks, self.structure == Structure.spd)
         self.A_vi = self.change.congruence(self.A)
@@ -381,22 +412,6 @@ class ContactSolver:
             if f.near_nullspace is not None:
                 self.fields[k] = dataclasses.replace(
                     f, near_nullspace=self.change.transformed(f.near_nullspace, f.dofs, self.x_vi))
-
-    def _solved_positions(self, dofs):
-        """The global position in the solved vector of each global DOF of V
-        in `dofs`, wherever it is owned (collective): a fault's other face
-        may be owned by another rank, so every request goes to every rank."""
-        start = self.A.getOwnershipRange()[0]
-        owned = len(self.displacement_dofs)
-        requests = self.comm.allgather(np.asarray(dofs, dtype=np.int64))
-        everything = np.concatenate(requests)
-        local = everything - self.set.dof_offset
-        mine = (local >= 0) & (local < owned)
-        answer = np.full(len(everything), -1, dtype=np.int64)
-        answer[mine] = start + np.asarray(self.displacement_dofs)[local[mine]]
-        self.comm.Allreduce(MPI.IN_PLACE, answer, op=MPI.MAX)
-        offset = sum(len(r) for r in requests[:self.comm.rank])
-        return answer[offset:offset + len(dofs)]
 
     def _change_operators(self):
         """A' and P' of the current A and P (after a reassembly)."""

@@ -9,7 +9,10 @@ The bound of the tangential traction t_T (slip_bound) is
     bound = tresca                           (Tresca, when given),
     bound = cohesion + friction max(t_N, 0)  (Coulomb otherwise),
 the exact disc |t_T| <= bound in 3D (no polygon). The frictionless law, the
-default-constructed one, has bound 0: a closed pair slides freely."""
+default-constructed one, has bound 0: a closed pair slides freely.
+The bond: a pair's cohesion breaks for the rest of the run where its
+effective normal traction falls to zero (a tension cut-off at zero: the
+pair opens, or its solve can keep it closed only pulled); friction stays."""
 import dataclasses
 import enum
 import math

@@ -4,6 +4,7 @@ fault: fault_pair.py): per constraint the DOF that carries it after the
 change of variables, its gap, normal and lumped measure, and the blocks of
 that change, and the contact law of each contact boundary
 (cpp/contact/contact_set.h)."""
+import dataclasses
 import numpy as np
 from dolfinx import fem, la
 
@@ -39,7 +40,9 @@ class ContactSet:
     measured on u (junction_jumps), and it is frictionless;
     `all_junction_nodes`, every junction's nodes, on every rank. `faults` flags the entries of `boundaries`
     that are faults, `laws` holds the contact law of each (contact_law.py;
-    frictionless until the scene gives friction). `blocks` lists the blocks
+    frictionless until the scene gives friction); `bonded`, per constraint,
+    whether its cohesion still holds (contact_law.py, "the bond"; empty or 1
+    until its pair opens: the ContactSolver keeps it). `blocks` lists the blocks
     of the change of variables as (the global unrolled DOFs of V they mix,
     their matrix): the nodes whose normals are not coordinate axes and the
     node pairs of faults; `dof_offset` is the global index in V of this
@@ -50,7 +53,7 @@ class ContactSet:
         self.dim, self.output_space, self.dof_offset = dim, output_space, dof_offset
         self.dofs, self.sign, self.gap, self.lumped, self.normal, self.output_dofs = [], [], [], [], [], []
         self.boundary, self.boundaries, self.faults, self.laws = [], [], [], []
-        self.pair_node, self.pair_frame, self.frictional = [], [], []
+        self.pair_node, self.pair_frame, self.frictional, self.bonded = [], [], [], []
         self.junction_nodes, self.all_junction_nodes = [], []
         self.shear_modulus = np.zeros(0)
         self.blocks = []
@@ -75,6 +78,15 @@ def lumped_measure(domain, F, V, facets):
     add_vector(lumped, F.compile("L_lumped_boundary", domain.marker(facets=facets)))
     accumulate_ghosts(lumped)
     return lumped.x.array
+
+
+def constraint_law(contact_set, k):
+    """The law of constraint k: its boundary's, without the cohesion once its
+    bond broke (contact_law.py)."""
+    law = contact_set.laws[contact_set.boundary[k]]
+    if len(contact_set.bonded) and not contact_set.bonded[k]:
+        law = dataclasses.replace(law, cohesion=0.0)
+    return law
 
 
 def pair_shear_moduli(contact_set, V, G):

@@ -9,6 +9,7 @@ import numpy as np
 from mpi4py import MPI
 
 from .contact_law import ContactLaw, PairStatus, PairTraction, on_foundation, pair_status
+from .contact_set import constraint_law
 
 
 @dataclasses.dataclass
@@ -28,6 +29,8 @@ class PairState:
     status: PairStatus = PairStatus.open
     # The slip since the start of the step (ContactSolver.set_slip_reference).
     slip_increment: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
+    # The cohesion its law holds: the fault's, 0 once its bond broke (contact_law.py).
+    cohesion: float = 0.0
 
 
 @dataclasses.dataclass
@@ -203,8 +206,9 @@ def _summarise_faults(s, m, constraint, summary_of, comm):
         closed = bool(on_foundation(m.distance[k], s.gap_scale))
         # a junction's pairs are frictionless whatever their faults' laws
         # (theory.md, "Faults where they meet"): closed, they slip
-        law = ContactLaw() if c.junction_nodes[k, 0] >= 0 else c.laws[p.fault]
+        law = ContactLaw() if c.junction_nodes[k, 0] >= 0 else constraint_law(c, k)
         p.status = pair_status(law, PairTraction(closed, p.traction, math.hypot(*p.tangential_traction), scale))
+        p.cohesion = law.cohesion
         f = summary_of[p.fault]
         largest[2 * f] = max(largest[2 * f], p.opening)
         largest[2 * f + 1] = max(largest[2 * f + 1], math.hypot(*p.slip))

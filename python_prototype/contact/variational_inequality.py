@@ -15,12 +15,13 @@ from petsc4py import PETSc
 from ..assembly.linear_algebra import set_lag_preconditioner
 from .convergence import ContactConvergence, VIBounds
 from .factorization_reuse import KrylovOnReuse, analyse_quickly, reuse_options
-from .friction import FrictionPoint, add_friction_forces, friction_jacobian, jacobian_weights
+from .whole_system import solve_clamped
+from .friction import FrictionPoint, add_friction_forces, friction_jacobian, friction_term, jacobian_weights
 from ..solvers.field_split import is_coupled
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.row_weights import BalancedRows
 from ..solvers.options import OptionsError, system_name
-from ..solvers.solver import (ITERATIVE_TOLERANCE, LinearSolver, Method, SolverError, SolverStatistics,
+from ..solvers.solver import (ITERATIVE_TOLERANCE, Method, SolverError, SolverStatistics,
                               given_by_user, petsc_error_text, reason_name, set_default_option,
                               set_relative_tolerance, unsymmetric_jacobian_options)
 
@@ -62,19 +63,6 @@ class VIProblem:
     frictional: bool = False
     separate_rows: object = ()
     changing: bool = False
-
-
-@dataclasses.dataclass
-class WholeSystem:
-    """The whole system a VI is posed on (y = x, K = A): its matrices, fields
-    and method. The clamped start solves it with the contact DOFs
-    eliminated; the iterative method preconditions the Newton steps from P
-    split along the fields (inactive_set_preconditioner.py)."""
-    comm: object
-    A: PETSc.Mat
-    P: PETSc.Mat
-    layout: object
-    method: Method
 
 
 class VariationalInequality:
@@ -284,11 +272,28 @@ class VariationalInequality:
                 self._count(reason)
         if reason < 0:
             raise SolverError(f"{self._solver_name()} did not converge: "
-                              + ("its Newton steps cycle between two sets of contact states" if self.convergence.cycling
+                              + ("its Newton steps cycle between sets of contact states" if self.convergence.cycling
                                  else reason_name(PETSc.SNES.ConvergedReason, reason))
                               + (NO_EQUILIBRIUM if self.J is not None
                                  and reason != PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else ""))
         self.y.scale(scale)
+
+    def set_friction(self, friction):
+        """The frictional constraints anew, in the same positions (a law
+        changed: a bond broke, or a new step restored the step's start)."""
+        self.p.friction = friction
+        self.jacobian_weights = None  # its bounds changed: J is built anew
+
+    def closed_at_failure(self):
+        """Per frictional constraint, whether it is closed (pressed on its
+        bound, friction_term) at the last iterate of a failed solve; y is
+        still in units of the solve's scale."""
+        if self.J is None:
+            return []
+        self.p.K.mult(self.y, self.work)
+        self.work.axpy(-1.0, self.b)
+        at = self._friction_point(self.y, self.work.getArray(readonly=True))
+        return [friction_term(f, at).closed for f in self.p.friction]
 
     def _refactorised(self):
         """GMRES did not converge on an earlier factorisation: the solve goes
@@ -389,23 +394,9 @@ class VariationalInequality:
             y[p.bounded] = np.where(p.sign > 0, up[p.bounded], lo[p.bounded])
             if stuck.size:
                 y[stuck] = self.y_reference.getArray(readonly=True)[stuck] / self.scale
-        if self.whole is None:
-            return
-        clamped = np.concatenate([p.bounded, stuck])
-        rows = (self.y.getOwnershipRange()[0] + clamped).astype(PETSc.IntType)
-
-        def clamped_copy(M, rhs=None):
-            C = M.duplicate(copy=True)
-            modes = M.getNearNullSpace()  # for AMG: the duplicate does not keep it
-            if modes is not None and modes.handle:
-                C.setNearNullSpace(modes)
-            C.zeroRowsColumns(rows, 1.0, self.y if rhs is not None else None, rhs)
-            return C
-        rhs = self.b.copy()
-        w = self.whole
-        A = clamped_copy(w.A, rhs)
-        P = A if w.P is w.A else clamped_copy(w.P)
-        LinearSolver(w.comm, w.layout.prefix, A, P, w.layout.structure, w.layout.fields).solve(self.y, rhs)
+        if self.whole is not None:
+            clamped = np.concatenate([p.bounded, stuck])
+            solve_clamped(self.whole, self.b, self.y, (self.y.getOwnershipRange()[0] + clamped).astype(PETSc.IntType))
 
     def _residual(self, snes, y, F):
         """F(y) = K y - b/s: the gradient of the quadratic energy, in units

@@ -2,8 +2,8 @@
 output time, for ParaView and meshio (cpp/output/fault_series.h). One grid
 per time on the faces' mesh (segments in 2D, triangles in 3D; the nodes of
 the + faces, a tip being one node of both faces): with mechanics the node
-data opening, slip, slip_increment, traction, tangential_traction and
-state; the cell data fault (its index) and pressure, and with a conduit fault hydraulic_aperture,
+data opening, slip, slip_increment, traction, tangential_traction, state
+and cohesion; the cell data fault (its index) and pressure, and with a conduit fault hydraulic_aperture,
 exchange and flux (FaultSeries says what each holds). Rank 0 writes it with
 h5py, from the pairs each rank gathers to it (a fault holds few nodes of the
 mesh): the same XML text and datasets as the C++. Each write is complete on
@@ -52,6 +52,8 @@ class FaultSeries:
       frictionless fault the solve's error: round-off with a factorisation);
     - state: the pair's state (contact_law.py): 0 open, 1 stick, 2 slip; 1 at
       the tips, where the faces are one node and neither open nor slide;
+    - cohesion: the cohesion the pair's law holds, the fault's until its
+      bond breaks (contact_law.py), 0 then and at the tips;
     - fault (cell data): the index of the cell's fault among the scene's
       faults in the alphabetical order of their names (as summary.json lists
       them), 0, 1, ...: one field for a network, to colour or threshold by;
@@ -180,23 +182,25 @@ class FaultSeries:
         nodes = np.array([self._node_key(p.node, self._fault_names.index(contact.boundaries[p.fault][0]))
                           for p in contact.pairs], dtype=np.int64)
         # Per pair: opening, traction, state, slip (3), tangential traction
-        # (3), slip increment (3).
+        # (3), slip increment (3), cohesion.
         values = np.array([[p.opening, p.traction, float(p.status), *p.slip, *p.tangential_traction,
-                            *p.slip_increment] for p in contact.pairs]).reshape(-1, 12)
+                            *p.slip_increment, p.cohesion] for p in contact.pairs]).reshape(-1, 13)
         all_nodes = _gather_to_root(nodes, self._comm)
         all_values = _gather_to_root(values, self._comm)
         if self._comm.rank != 0:
             return
         n = len(self._nodes)
-        opening, traction = np.zeros(n), np.zeros(n)
+        opening, traction, cohesion = np.zeros(n), np.zeros(n), np.zeros(n)
         slip, tangential, increment = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
         state = np.full(n, float(PairStatus.stick))  # a node without a pair is a tip: the faces are one node there
         p = np.searchsorted(self._nodes, all_nodes)
         opening[p], traction[p], state[p] = all_values[:, 0], all_values[:, 1], all_values[:, 2]
         slip[p], tangential[p], increment[p] = all_values[:, 3:6], all_values[:, 6:9], all_values[:, 9:12]
+        cohesion[p] = all_values[:, 12]
         index = len(self._times)
         node_fields = [("opening", opening, 1), ("traction", traction, 1), ("slip", slip, 3),
-                       ("slip_increment", increment, 3), ("tangential_traction", tangential, 3), ("state", state, 1)]
+                       ("slip_increment", increment, 3), ("tangential_traction", tangential, 3), ("state", state, 1),
+                       ("cohesion", cohesion, 1)]
         for name, data, width in (node_fields if self._scene.mechanics else []) + self._cell_fields(cells, t):
             _write_rows(self._h5, f"/{name}/{index}", data, width)
         self._times.append(t)
@@ -204,7 +208,7 @@ class FaultSeries:
 
     def _attributes(self):
         """The fields of each time: (name, "Node" or "Cell")."""
-        nodes = ["opening", "slip", "slip_increment", "traction", "tangential_traction", "state"]
+        nodes = ["opening", "slip", "slip_increment", "traction", "tangential_traction", "state", "cohesion"]
         cells = ["pressure"] + (["hydraulic_aperture", "exchange", "flux"] if self._conduits else [])
         return ([("fault", "Cell")] + [(name, "Node") for name in (nodes if self._scene.mechanics else [])]
                 + [(c, "Cell") for c in cells])

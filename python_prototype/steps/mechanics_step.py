@@ -5,7 +5,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import locate_contact
+from ..contact.locate_contact import locate_contact
+from ..contact.bonds import cohesive
 from ..contact.contact_state import ActiveSet, ContactState, pair_tractions, same_active_set
 from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..assembly.loads import Loads
@@ -140,20 +141,26 @@ class MechanicsStep(Step):
     def accept(self, t):
         """The accepted step's seismic moment, per fault
         (FaultSummary.moment), joins the run's record."""
+        self.system.accept_step(self.u.vector)
         if self.moments.names:  # no fault: nothing to record, no contact state computed
             record_moments(self.moments, t, self.contact_state())
 
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a
-        checkpoint's), and the conduit cells' s_n, "fault_traction"."""
+        checkpoint's), the conduit cells' s_n, "fault_traction", and with
+        cohesion the broken bonds, "broken_bonds"."""
         arrays = {}
         keep_moments(self.moments, arrays)
         if len(self.fault_traction):
             arrays["fault_traction"] = np.array(self.fault_traction)
+        if self.system.contact and cohesive(self.system.contact.set):
+            arrays["broken_bonds"] = np.array(self.system.contact.broken_bonds())
         return arrays
 
     def restore_arrays(self, arrays):
         restore_moments(self.moments, arrays)
+        if "broken_bonds" in arrays:
+            self.system.contact.restore_bonds(arrays["broken_bonds"])
         if "fault_traction" in arrays:
             self.fault_traction = np.array(arrays["fault_traction"])
 

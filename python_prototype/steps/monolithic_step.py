@@ -6,7 +6,8 @@ import time
 import numpy as np
 from dolfinx import fem
 
-from ..contact.contact import locate_contact
+from ..contact.locate_contact import locate_contact
+from ..contact.bonds import cohesive
 from ..contact.contact_state import ActiveSet, ContactState, same_active_set
 from ..contact.contact_set import make_contact_fields, pair_shear_moduli
 from ..solvers.field_split import Field, part_of
@@ -256,6 +257,7 @@ class MonolithicStep(Step):
     def accept(self, t):
         """The accepted step's seismic moment, per fault, joins the run's
         record."""
+        self.system.accept_step(self.x.vector)
         if self.moments.names:  # no fault: nothing to record, no contact state computed
             record_moments(self.moments, t, self.contact_state())
         if self.conduits:
@@ -283,18 +285,23 @@ class MonolithicStep(Step):
 
     def arrays(self):
         """The record of the faults' seismic moments, "seismic_moments" (a
-        checkpoint's), the conduit faults' arrays (FlowStep.arrays) and their
-        cells' s_n, "fault_traction"."""
+        checkpoint's), the conduit faults' arrays (FlowStep.arrays), their
+        cells' s_n, "fault_traction", and with cohesion the broken bonds,
+        "broken_bonds"."""
         arrays = {}
         keep_moments(self.moments, arrays)
         if self.conduits:
             self.conduits.keep(arrays)
         if self.fault_traction is not None and len(self.fault_traction):
             arrays["fault_traction"] = np.asarray(self.fault_traction)
+        if self.system.contact and cohesive(self.system.contact.set):
+            arrays["broken_bonds"] = np.array(self.system.contact.broken_bonds())
         return arrays
 
     def restore_arrays(self, arrays):
         restore_moments(self.moments, arrays)
+        if "broken_bonds" in arrays:
+            self.system.contact.restore_bonds(arrays["broken_bonds"])
         if self.conduits:
             self.conduits.restore(arrays)
         if "fault_traction" in arrays:

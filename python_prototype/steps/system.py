@@ -237,6 +237,14 @@ class System:
         if self.contact:
             self.contact.set_slip_reference(self.x_appended if self.appended is not None else x)
 
+    def accept_step(self, x):
+        """The step ending at x was accepted (ContactSolver.accept_step;
+        nothing without contact)."""
+        if self.contact and self.appended is not None:
+            _copy_in(x, self.appended.x, self.x_appended)
+        if self.contact:
+            self.contact.accept_step(self.x_appended if self.appended is not None else x)
+
     def solve(self, b, x):
         """Solves with x as the initial guess."""
         start = time.perf_counter()

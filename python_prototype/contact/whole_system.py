@@ -1,0 +1,40 @@
+"""The whole system a contact VI may be posed on (variational_inequality.py),
+and its solve with some unknowns held: the clamped start's (all contact
+DOFs on their bounds, every frictional constraint stuck).
+Twin: cpp/contact/whole_system.h."""
+import dataclasses
+
+from petsc4py import PETSc
+
+from ..solvers.solver import LinearSolver, Method
+
+
+@dataclasses.dataclass
+class WholeSystem:
+    """The whole system a VI is posed on (y = x, K = A): its matrices, fields
+    and method. The clamped start solves it with the contact DOFs
+    eliminated; the iterative method preconditions the Newton steps from P
+    split along the fields (inactive_set_preconditioner.py)."""
+    comm: object
+    A: PETSc.Mat
+    P: PETSc.Mat
+    layout: object
+    method: Method
+
+
+def solve_clamped(whole, b, y, rows):
+    """Solves A y = b with the global rows `rows` held at their values in
+    y: their rows and columns eliminated, the known values moved to the
+    right-hand side (collective)."""
+    def clamped_copy(M, rhs=None):
+        # the held rows and columns made identity rows
+        C = M.duplicate(copy=True)
+        modes = M.getNearNullSpace()  # for AMG: the duplicate does not keep it
+        if modes is not None and modes.handle:
+            C.setNearNullSpace(modes)
+        C.zeroRowsColumns(rows, 1.0, y if rhs is not None else None, rhs)
+        return C
+    rhs = b.copy()
+    A = clamped_copy(whole.A, rhs)
+    P = A if whole.P is whole.A else clamped_copy(whole.P)
+    LinearSolver(whole.comm, whole.layout.prefix, A, P, whole.layout.structure, whole.layout.fields).solve(y, rhs)
