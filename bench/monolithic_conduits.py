@@ -16,7 +16,11 @@ scenes/phan.toml's crack (mu 0.6) made a conduit (residual aperture
 1e-5 m) in an impermeable rock (1e-25 m^2), a well of 2e-7 m^2/s at its
 middle, three steps of 0.1 s, the 100 MPa loaded at once in the first
 (where the monolithic step failed until 2026-12-03: docs/theory.md,
-"Friction"). Variants:
+"Friction"); `phan_cohesive`: the same with a cohesion of 30 MPa, run
+to 2 s: p_f passes the normal stress along the whole crack at 1.2 s
+(test_cohesive_opening's scene on the fine mesh; the monolithic step
+failed there until the bonds of 2026-12-03: docs/theory.md, "The contact
+law"). Variants:
 `split` is the scene's own coupling; `direct` and `iterative` are coupling.scheme = "monolithic" with
 that solver.monolithic. No XDMF output. Per run: wall time, coupling
 iterations (the monolithic step's iterations on the apertures: its
@@ -39,9 +43,12 @@ PHAN_LOADED = ["flow.M=1.0e10", "flow.c_f=1.0e-9", "flow.mu_f=1.0e-3", "flow.per
                "time.dt=0.1", "fault.crack.friction=0.6", 'fault.crack.flow="conduit"',
                "fault.crack.residual_aperture=1.0e-5", 'well.inj.fault="crack"', "well.inj.position=[0.0, 0.0]",
                "well.inj.rate=2.0e-7"]
+PHAN_COHESIVE = [s for s in PHAN_LOADED if not s.startswith("time.end")] + ["time.end=2.0",
+                                                                            "fault.crack.cohesion=3.0e7"]
 SCENES = {"network2d": ("scenes/network2d.toml", []), "network3d": ("scenes/network3d.toml", []),
           "injection_fault3d": ("scenes/injection_fault3d.toml", []),
-          "opening": ("scenes/fault_reactivation.toml", OPENING), "phan_loaded": ("scenes/phan.toml", PHAN_LOADED)}
+          "opening": ("scenes/fault_reactivation.toml", OPENING), "phan_loaded": ("scenes/phan.toml", PHAN_LOADED),
+          "phan_cohesive": ("scenes/phan.toml", PHAN_COHESIVE)}
 VARIANT_SETS = {"split": [],
                 "direct": ["coupling.scheme=monolithic", "solver.monolithic=direct"],
                 "iterative": ["coupling.scheme=monolithic", "solver.monolithic=iterative"]}

@@ -13,6 +13,9 @@ c) and open (bound 0) and the run ended in exit 3 at step 12.
   closed pair |t_T| <= cohesion + mu t_N, on it where the pair slips (to
   1e-10 of the load).
 - The conduit's volumes balance: injected + exchanged = stored (1e-8).
+- Which bonds break does not depend on the path: condensed from the start
+  (-monolithic_contact_condensed true) the same bonds and states, the
+  fields to 1e-10 (C++).
 - Killed after step 13 and restarted from its checkpoint of step 12 (the
   broken bonds in it), the run ends with the uninterrupted fields and
   cohesions (1e-12; C++).
@@ -20,7 +23,7 @@ c) and open (bound 0) and the run ended in exit 3 at step 12.
 import os
 
 import numpy as np
-from support import ROOT, Fields, check, fault_fields, killed_and_restarted, max_difference, run_track, summary, written
+from support import ROOT, check, fault_fields, killed_and_restarted, max_difference, run_track, summary, written
 from test_conduit_coupled import COHESION, MU, ONSET, SIGMA
 
 COARSE = os.path.join(ROOT, "meshes", "phan2d_coarse.geo")
@@ -32,8 +35,13 @@ def pair_fields(out):
     """Per output time the pairs' fields (but the tips) and the times."""
     x, times, series = fault_fields(out, FAULT)
     inner = np.linalg.norm(x[:, :2], axis=1) < 1 - 1e-9
-    return times, [{k: (v[inner] if v.ndim == 1 else v[inner]).reshape(np.count_nonzero(inner), -1).squeeze()
-                    for k, v in f.items()} for f in series]
+    pairs = np.count_nonzero(inner)
+    return times, [{k: v[inner].reshape(pairs, -1).squeeze() for k, v in f.items()} for f in series]
+
+
+def same_states(a, b):
+    """Whether two runs' pairs are in the same states at every output time."""
+    return all(np.array_equal(s["state"], t["state"]) for s, t in zip(pair_fields(a)[1], pair_fields(b)[1]))
 
 
 def check_bonds(track, out):
@@ -72,12 +80,16 @@ path = written(ONSET)
 for track in ("C++", "prototype"):
     runs[track], _ = run_track(track, path, *SETS)
     bonds[track] = check_bonds(track, runs[track])
+condensed, _ = run_track("C++", path, *SETS, options=["-monolithic_contact_condensed", "true"])
+fields = max_difference(runs["C++"], condensed, ["displacement", "pressure"])
+check(max(fields.values()) <= 1e-10 and same_states(runs["C++"], condensed)
+      and np.array_equal(bonds["C++"], check_bonds("C++", condensed)),
+      f"C++: condensed from the start, the same bonds and states, the fields {fields} (1e-10)")
 restarted, step = killed_and_restarted("C++", path, 13, *SETS)
 fields = max_difference(runs["C++"], restarted, ["displacement", "pressure"])
 check(step == 12 and max(fields.values()) <= 1e-12 and np.array_equal(bonds["C++"], check_bonds("C++", restarted)),
       f"C++: restarted from step {step}, the uninterrupted fields {fields} (1e-12) and bonds")
 fields = max_difference(runs["C++"], runs["prototype"], ["displacement", "pressure"])
-states = all(np.array_equal(a["state"], b["state"]) for a, b in zip(pair_fields(runs["C++"])[1],
-                                                                     pair_fields(runs["prototype"])[1]))
-check(max(fields.values()) <= 1e-10 and states and np.array_equal(bonds["C++"], bonds["prototype"]),
+check(max(fields.values()) <= 1e-10 and same_states(runs["C++"], runs["prototype"])
+      and np.array_equal(bonds["C++"], bonds["prototype"]),
       f"the prototype equals the C++ solver: {fields} (1e-10), the same states and bonds")

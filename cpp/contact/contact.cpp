@@ -14,18 +14,6 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
-namespace
-{
-/// Whether any rank has a frictional constraint (collective).
-bool any_frictional(const ContactSet& set, MPI_Comm comm)
-{
-  int local = std::any_of(set.frictional.begin(), set.frictional.end(), [](char f) { return f != 0; }), any = 0;
-  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
-  return any;
-}
-
-} // namespace
-
 ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method method, ContactOperators operators,
                              ContactUnknowns unknowns)
     : _comm(comm), _A(operators.A), _P(operators.P), _fields(system.fields), _structure(system.structure),
@@ -86,20 +74,27 @@ std::unique_ptr<VariationalInequality> ContactSolver::condensed_vi()
   return vi;
 }
 
-void ContactSolver::switch_to_condensed(std::string after)
+std::unique_ptr<VariationalInequality> ContactSolver::switch_to_condensed(std::string after)
 {
   std::unique_ptr<VariationalInequality> vi = condensed_vi();
-  // The run's counts and its progress line go on.
-  vi->newton_iterations = _vi->newton_iterations;
-  vi->linear_iterations = _vi->linear_iterations;
-  vi->convergence().active_set_changes = _vi->convergence().active_set_changes;
-  vi->convergence().on_newton_step = std::move(_vi->convergence().on_newton_step);
-  _vi = std::move(vi);
+  vi->continue_from(*_vi);
+  std::swap(_vi, vi);
   _then_condensed = _condensed_on_failure = false;
   _after = std::move(after);
   // Friction's slip increments are measured from the step's start.
   if (Vec reference = _vi->slip_reference())
     _schur->restrict_to_contact(to_vi(_x_start, _x_start_vi), reference);
+  return vi;
+}
+
+void ContactSolver::back_to_full(std::unique_ptr<VariationalInequality> full)
+{
+  full->continue_from(*_vi);
+  _vi = std::move(full);
+  _schur.reset();
+  _schur_current = false;
+  _condensed_on_failure = true;
+  _after.clear();
 }
 
 /// The VI on the Schur complement H = C A^-1 C^T of the contact DOFs
@@ -182,7 +177,7 @@ std::vector<FrictionalConstraint> ContactSolver::frictional_constraints() const
 
 bool ContactSolver::break_pulled_bonds()
 {
-  const std::vector<char> closed = _vi->closed_at_failure();
+  const std::vector<char>& closed = _vi->closed_when_clamped();
   if (closed.empty()) // no friction anywhere
     return false;
   // The VI's constraints: this rank's, or condensed every rank's in rank order.
@@ -255,21 +250,6 @@ ContactSolver::~ContactSolver()
   }
 }
 
-double ContactSolver::displacement_scale(Vec x) const
-{
-  double local = 0;
-  for (double g : _set.gap)
-    local = std::max(local, g);
-  const PetscScalar* X;
-  check_petsc(VecGetArrayRead(x, &X), "contact solver: VecGetArrayRead of x");
-  for (std::int32_t dof : _displacement_dofs)
-    local = std::max(local, std::abs(X[dof]));
-  check_petsc(VecRestoreArrayRead(x, &X), "contact solver: VecRestoreArrayRead of x");
-  double global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, _comm);
-  return global > 0 ? global : 1.0;
-}
-
 void ContactSolver::solve(Vec b, Vec x)
 {
   change_operators();
@@ -285,9 +265,9 @@ void ContactSolver::solve(Vec b, Vec x)
     if (_then_condensed)
       switch_to_condensed(_full_steps == 1 ? "after one full Newton step" : "after two full Newton steps");
     // A solve that fails on every path is solved again from its start
-    // (x_vi) when it broke a bond: the pairs the cohesion could keep closed
-    // only pulled, and could not leave open, slip on friction alone
-    // (contact_law.h). Bonds break only where no solution keeps them.
+    // (x_vi) when it broke a bond: the pairs that its clamped start (every
+    // pair closed and stuck) pulls slip on friction alone (contact_law.h).
+    // Bonds break only where no solution keeps them.
     for (;;)
       try
       {
@@ -322,8 +302,16 @@ void ContactSolver::solve_on_path(Vec b_vi, Vec x_vi)
   }
   catch (const SolverError&)
   {
-    switch_to_condensed("after a full solve that did not converge");
-    solve_vi(b_vi, x_vi, 0);
+    std::unique_ptr<VariationalInequality> full = switch_to_condensed("after a full solve that did not converge");
+    try
+    {
+      solve_vi(b_vi, x_vi, 0);
+    }
+    catch (const SolverError&)
+    {
+      back_to_full(std::move(full)); // condensing did not mend it either: a broken bond may (solve)
+      throw;
+    }
   }
 }
 
@@ -347,7 +335,7 @@ bool ContactSolver::solve_vi(Vec b_vi, Vec x_vi, int newton_steps)
     check_petsc(VecCopy(x_vi, _vi->unknown()), "contact solver: VecCopy of the VI's start");
   }
   // In units of the displacement scale (the largest gap or |x|).
-  const double scale = displacement_scale(x_vi);
+  const double scale = displacement_scale(_set, _displacement_dofs, x_vi, _comm);
   if (newton_steps == 0)
     _vi->solve(scale);
   else if (!_vi->try_solve(scale, newton_steps))
@@ -452,7 +440,7 @@ std::vector<double> ContactSolver::distances(Vec x) const
 
 ActiveSet ContactSolver::active_set(Vec x) const
 {
-  const double scale = displacement_scale(x);
+  const double scale = displacement_scale(_set, _displacement_dofs, x, _comm);
   ActiveSet set;
   for (double distance : distances(x))
     set.flags.push_back(on_foundation(distance, scale));
@@ -486,7 +474,7 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
     pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
   const auto jump = junction_jumps(_set, _displacement_dofs, x, _comm);
   const auto jump_start = junction_jumps(_set, _displacement_dofs, _x_start, _comm);
-  const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(x),
+  const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(_set, _displacement_dofs, x, _comm),
                                     X, start, R, jump, jump_start};
   ContactState s = contact_state(measured, {pressure_out, active_out}, _comm);
   check_petsc(VecRestoreArrayRead(x_vi, &X), "contact solver: VecRestoreArrayRead of x");

@@ -189,8 +189,11 @@ private:
   std::unique_ptr<VariationalInequality> condensed_vi();
   /// The full path's trial or solve did not converge: the VI is posed
   /// condensed from now on, the counts carried over; `after` says when
-  /// (method()).
-  void switch_to_condensed(std::string after);
+  /// (method()). Returns the full path's VI.
+  std::unique_ptr<VariationalInequality> switch_to_condensed(std::string after);
+  /// A failed full solve went on condensed and failed there too: the full
+  /// path (its VI `full`, the one switch_to_condensed returned) again.
+  void back_to_full(std::unique_ptr<VariationalInequality> full);
   /// Solves the VI for x' (in place) on the current path, and a failed
   /// full solve again condensed where the path's choice allows it.
   void solve_on_path(Vec b_vi, Vec x_vi);
@@ -205,14 +208,12 @@ private:
   /// The VI's frictional constraints with their laws as the bonds are now
   /// (collective when condensed).
   std::vector<FrictionalConstraint> frictional_constraints() const;
-  /// After a failed solve: the bonds of the cohesive constraints it could
-  /// not keep closed break; whether any did (collective).
+  /// After a failed solve: the bonds of the cohesive constraints its
+  /// clamped start pulls break; whether any did (collective).
   bool break_pulled_bonds();
   /// The VI takes the bonds as they are now, if they changed on any rank;
   /// whether they did (collective).
   bool update_bonds(bool changed);
-  /// The largest gap or displacement (collective): SNES works in its units.
-  double displacement_scale(Vec x) const;
   /// The change of variables of the inclined and curved foundations, made
   /// when any node needs one (collective), and the operators it makes.
   void make_change_of_variables(Vec layout);

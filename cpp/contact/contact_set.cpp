@@ -1,7 +1,10 @@
 #include "contact/contact_set.h"
 
 #include "assembly/linear_algebra.h"
+#include "assembly/petsc_error.h"
 
+#include <algorithm>
+#include <cmath>
 #include <dolfinx/fem/DirichletBC.h>
 #include <dolfinx/fem/FunctionSpace.h>
 
@@ -64,6 +67,29 @@ ContactLaw constraint_law(const ContactSet& set, std::size_t k)
   if (!set.bonded.empty() and !set.bonded[k])
     law.cohesion = 0;
   return law;
+}
+
+bool any_frictional(const ContactSet& set, MPI_Comm comm)
+{
+  int local = std::any_of(set.frictional.begin(), set.frictional.end(), [](char f) { return f != 0; }), any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any;
+}
+
+double displacement_scale(const ContactSet& set, std::span<const std::int32_t> displacement_dofs, Vec x,
+                          MPI_Comm comm)
+{
+  double local = 0;
+  for (double g : set.gap)
+    local = std::max(local, g);
+  const PetscScalar* X;
+  check_petsc(VecGetArrayRead(x, &X), "contact solver: VecGetArrayRead of x");
+  for (std::int32_t dof : displacement_dofs)
+    local = std::max(local, std::abs(X[dof]));
+  check_petsc(VecRestoreArrayRead(x, &X), "contact solver: VecRestoreArrayRead of x");
+  double global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return global > 0 ? global : 1.0;
 }
 
 std::vector<double> pair_shear_moduli(const ContactSet& set, const fem::FunctionSpace& V,

@@ -13,6 +13,9 @@
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/la/Vector.h>
 #include <memory>
+#include <mpi.h>
+#include <petscvec.h>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -91,6 +94,15 @@ struct ContactSet
 /// The law of constraint k: its boundary's, without the cohesion once
 /// its bond broke (contact_law.h).
 ContactLaw constraint_law(const ContactSet& set, std::size_t k);
+
+/// Whether any rank has a frictional constraint (collective).
+bool any_frictional(const ContactSet& set, MPI_Comm comm);
+
+/// The displacement scale of x (the solved vector, V's owned DOF i at
+/// displacement_dofs[i]): the largest gap or |displacement|, 1 when both
+/// are 0; the contact VI works in its units (collective).
+double displacement_scale(const ContactSet& set, std::span<const std::int32_t> displacement_dofs, Vec x,
+                          MPI_Comm comm);
 
 /// Flags of the DOFs of V (unrolled, local, ghosts too) whose value a
 /// displacement condition prescribes.

@@ -222,18 +222,26 @@ void VariationalInequality::solve(double scale)
   check_petsc(VecScale(_y, scale), "contact solver: VecScale");
 }
 
+void VariationalInequality::continue_from(VariationalInequality& earlier)
+{
+  newton_iterations = earlier.newton_iterations;
+  linear_iterations = earlier.linear_iterations;
+  _convergence->active_set_changes = earlier._convergence->active_set_changes;
+  _convergence->on_newton_step = std::move(earlier._convergence->on_newton_step);
+}
+
 void VariationalInequality::set_friction(std::vector<FrictionalConstraint> friction)
 {
   _p.friction = std::move(friction);
   _jacobian_weights.clear(); // its bounds changed: J is built anew
 }
 
-std::vector<char> VariationalInequality::closed_at_failure()
+void VariationalInequality::record_clamped_states()
 {
-  std::vector<char> closed;
+  std::vector<char>& closed = _closed_when_clamped;
+  closed.clear();
   if (!_J)
-    return closed;
-  // y is still in units of the solve's scale (solve scales only a solution).
+    return;
   check_petsc(MatMult(_p.K, _y, _work), "contact solver: MatMult");
   check_petsc(VecAXPY(_work, -1.0, _b), "contact solver: VecAXPY");
   const PetscScalar *Y, *R, *start, *c;
@@ -248,7 +256,6 @@ std::vector<char> VariationalInequality::closed_at_failure()
   check_petsc(VecRestoreArrayRead(_work, &R), "contact solver: VecRestoreArrayRead");
   check_petsc(VecRestoreArrayRead(_y_reference, &start), "contact solver: VecRestoreArrayRead");
   check_petsc(VecRestoreArrayRead(_stiffness, &c), "contact solver: VecRestoreArrayRead");
-  return closed;
 }
 
 bool VariationalInequality::try_solve(double scale, int newton_steps)
@@ -415,6 +422,7 @@ void VariationalInequality::clamped_start()
   check_petsc(VecRestoreArrayRead(_upper, &up), "contact solver: VecRestoreArrayRead");
   if (_whole)
     solve_clamped(*_whole, _b, _y, rows);
+  record_clamped_states();
 }
 
 // F(y) = K y - b/s: the gradient of the quadratic energy, in units of s;

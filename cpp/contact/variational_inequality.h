@@ -87,10 +87,15 @@ public:
   /// The frictional constraints anew, in the same positions (a law
   /// changed: a bond broke, or a new step restored the step's start).
   void set_friction(std::vector<FrictionalConstraint> friction);
-  /// Per frictional constraint, whether it is closed (pressed on its
-  /// bound, friction_term) at the last iterate of a failed solve
-  /// (collective).
-  std::vector<char> closed_at_failure();
+  /// Per frictional constraint, whether it was closed (pressed on its
+  /// bound, friction_term) in the last clamped start (every bounded DOF on
+  /// its bound, every frictional constraint stuck: a state that neither
+  /// the path nor the laws change); empty before one or without friction.
+  const std::vector<char>& closed_when_clamped() const { return _closed_when_clamped; }
+
+  /// This solver goes on from `earlier` (another path's): the run's counts
+  /// and its progress line.
+  void continue_from(VariationalInequality& earlier);
 
   /// K was reassembled: the next Newton step factorises anew.
   void operator_changed();
@@ -130,6 +135,8 @@ private:
   SNESConvergedReason run_snes();
   void count_iterations(SNESConvergedReason reason);
   void clamped_start();
+  /// closed_when_clamped() of the clamped state y.
+  void record_clamped_states();
   /// 3D friction or a changing K in 3D on the whole system, factorised
   /// (set_from_options): the factorisation of an earlier Jacobian
   /// preconditions GMRES on the next.
@@ -165,6 +172,7 @@ private:
   // increment into a trial force) and a work vector.
   Mat _J = nullptr;
   std::vector<double> _jacobian_weights; // J's as last built (jacobian_weights); empty once K changed
+  std::vector<char> _closed_when_clamped; // closed_when_clamped()
   Vec _y_reference = nullptr, _stiffness = nullptr, _work = nullptr;
   std::unique_ptr<BalancedRows> _balanced; // the iterative coupled system's row weights
 };

@@ -36,9 +36,9 @@ def _cohesive_constraints(contact_set):
 
 def break_pulled_bonds(contact_set, closed, first):
     """After a failed solve: breaks the bond of each cohesive frictional
-    constraint that `closed` (the VI's frictional constraints' flags,
-    friction_term; this rank's from position `first`) does not hold
-    closed; whether any broke here."""
+    constraint that `closed` (the VI's frictional constraints' flags in
+    its clamped start, closed_when_clamped; this rank's from position
+    `first`) does not hold closed; whether any broke here."""
     c = contact_set
     frictional = np.flatnonzero(c.frictional[:len(c.dofs)])
     pulled = ~np.asarray(closed[first:first + len(frictional)], dtype=bool)

@@ -21,7 +21,7 @@ from .contact_path import ContactPath, PathCosts, choose_contact_path
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
 from .bonds import bonds_from_names, break_open_bonds, break_pulled_bonds, broken_bond_names
-from .contact_set import constraint_law
+from .contact_set import any_frictional, constraint_law, displacement_scale
 from .schur_complement import SchurComplement
 from .variational_inequality import VariationalInequality, VIProblem
 from .whole_system import WholeSystem
@@ -57,11 +57,6 @@ class ContactUnknowns:
     set: object
     displacement_dofs: object
     separate_rows: object = ()
-
-
-def _any_frictional(contact_set, comm):
-    """Whether any rank has a frictional constraint (collective)."""
-    return comm.allreduce(bool(np.any(contact_set.frictional)), op=MPI.LOR)
 
 
 class ContactSolver:
@@ -139,18 +134,23 @@ class ContactSolver:
     def _switch_to_condensed(self, after):
         """The full path's trial or solve did not converge: the VI is posed
         condensed from now on, the counts carried over; `after` says when
-        (method())."""
-        vi = self._condensed_vi()
-        # the run's counts and its progress line go on
-        vi.newton_iterations, vi.linear_iterations = self.vi.newton_iterations, self.vi.linear_iterations
-        vi.convergence.active_set_changes = self.vi.convergence.active_set_changes
-        vi.convergence.on_newton_step = self.vi.convergence.on_newton_step
+        (method()). Returns the full path's VI."""
+        vi, full = self._condensed_vi(), self.vi
+        vi.continue_from(full)
         self.vi, self.then_condensed, self.condensed_on_failure, self.after = vi, False, False, after
         # friction's slip increments are measured from the step's start
         reference = self.vi.slip_reference()
         if reference is not None:
             with reference as r:
                 r[:] = self.schur.restrict_to_contact(self._start_vi())
+        return full
+
+    def _back_to_full(self, full):
+        """A failed full solve went on condensed and failed there too: the
+        full path (its VI `full`, the one _switch_to_condensed returned)
+        again."""
+        full.continue_from(self.vi)
+        self.vi, self.schur, self.schur_current, self.condensed_on_failure, self.after = full, None, False, True, ""
 
     def _condense(self):
         """The VIProblem on the Schur complement H = C A^-1 C^T of the
@@ -169,7 +169,7 @@ class ContactSolver:
         # but for the Jacobian of friction, which is not symmetric.
         vi_prefix = self.prefix + "contact_"
         set_default_option(vi_prefix + "ksp_type", "preonly")
-        symmetric = self.structure == Structure.spd and not _any_frictional(self.set, self.comm)
+        symmetric = self.structure == Structure.spd and not any_frictional(self.set, self.comm)
         set_default_option(vi_prefix + "pc_type", "cholesky" if symmetric else "lu")
         set_default_option(vi_prefix + "pc_factor_mat_solver_type", "petsc")
         # every rank solves the same small problem
@@ -188,7 +188,7 @@ class ContactSolver:
     def _add_friction(self, problem):
         """The frictional constraints, once the VI is posed."""
         problem.friction = self._frictional_constraints()
-        problem.tangents, problem.frictional = self.set.dim - 1, _any_frictional(self.set, self.comm)
+        problem.tangents, problem.frictional = self.set.dim - 1, any_frictional(self.set, self.comm)
 
     def _frictional_constraints(self):
         """The frictional constraints in the VI's numbering, with their laws
@@ -212,9 +212,9 @@ class ContactSolver:
         return all_gather_constraints(mine, self.comm) if self.schur else mine
 
     def _break_pulled_bonds(self):
-        """After a failed solve: the bonds of the cohesive constraints it
-        could not keep closed break; whether any did (collective)."""
-        closed = self.vi.closed_at_failure()
+        """After a failed solve: the bonds of the cohesive constraints its
+        clamped start pulls break; whether any did (collective)."""
+        closed = self.vi.closed_when_clamped
         if not closed:  # no friction anywhere
             return False
         # the VI's constraints: this rank's, or condensed every rank's in rank order
@@ -292,13 +292,6 @@ class ContactSolver:
         self.schur_current = self.change_current = False
         self.vi.operator_nudged()
 
-    def displacement_scale(self, x):
-        """The largest gap or |displacement| (collective)."""
-        local = max(self.set.gap.max(initial=0.0),
-                    np.abs(x.getArray(readonly=True)[self.displacement_dofs]).max(initial=0.0))
-        s = self.comm.allreduce(float(local), op=MPI.MAX)  # a float pickles in a tenth of numpy's time
-        return s if s > 0 else 1.0
-
     def solve(self, b, x):
         """Solves the VI; x holds the initial guess on entry. With friction,
         the slip increments of the frictional constraints are measured from
@@ -312,9 +305,10 @@ class ContactSolver:
             if self.then_condensed:
                 self._switch_to_condensed("after one full Newton step" if self.full_steps == 1
                                           else "after two full Newton steps")
-            # Each failure that breaks a bond is solved again from its start
-            # (x_vi): the pairs the cohesion could keep closed only pulled,
-            # and could not leave open, slip on friction alone (contact_law.py).
+            # A solve that fails on every path is solved again from its start
+            # (x_vi) when it broke a bond: the pairs that its clamped start
+            # (every pair closed and stuck) pulls slip on friction alone
+            # (contact_law.py). Bonds break only where no solution keeps them.
             while True:
                 try:
                     self._solve_on_path(b_vi, x_vi)
@@ -339,8 +333,12 @@ class ContactSolver:
         try:
             self._solve_vi(b_vi, x_vi, 0)
         except SolverError:
-            self._switch_to_condensed("after a full solve that did not converge")
-            self._solve_vi(b_vi, x_vi, 0)
+            full = self._switch_to_condensed("after a full solve that did not converge")
+            try:
+                self._solve_vi(b_vi, x_vi, 0)
+            except SolverError:
+                self._back_to_full(full)  # condensing did not mend it either: a broken bond may (solve)
+                raise
 
     def _solve_vi(self, b_vi, x_vi, newton_steps):
         """Solves the VI for x' (in place) from the load b': at most
@@ -361,7 +359,7 @@ class ContactSolver:
             b_vi.copy(load)
             x_vi.copy(y)
         # in units of the displacement scale (the largest gap or |x|)
-        scale = self.displacement_scale(x_vi)
+        scale = displacement_scale(self.set, self.displacement_dofs, x_vi, self.comm)
         if newton_steps == 0:
             self.vi.solve(scale)
         elif not self.vi.try_solve(scale, newton_steps):
@@ -443,7 +441,7 @@ class ContactSolver:
     def active_set(self, x):
         """Constraints on the foundation to round-off: the active flag of
         state(), without the contact forces (collective)."""
-        flags = on_foundation(self.distances(x), self.displacement_scale(x))
+        flags = on_foundation(self.distances(x), displacement_scale(self.set, self.displacement_dofs, x, self.comm))
         return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
     def state(self, x, b, pressure_out, active_out):
@@ -463,7 +461,7 @@ class ContactSolver:
         X = self._to_vi(x).getArray(readonly=True)
         jumps = [junction_jumps(self.set, self.displacement_dofs, v, self.comm) for v in (x, self.x_start)]
         measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,
-                                      self.displacement_scale(x), X, self._start_vi().getArray(readonly=True), R,
+                                      displacement_scale(self.set, self.displacement_dofs, x, self.comm), X, self._start_vi().getArray(readonly=True), R,
                                       *jumps)
         return contact_state(measured, ContactFields(pressure_out, active_out), self.comm)
 

@@ -6,6 +6,7 @@ that change, and the contact law of each contact boundary
 (cpp/contact/contact_set.h)."""
 import dataclasses
 import numpy as np
+from mpi4py import MPI
 from dolfinx import fem, la
 
 from ..assembly.linear_algebra import accumulate_ghosts, add_vector
@@ -87,6 +88,21 @@ def constraint_law(contact_set, k):
     if len(contact_set.bonded) and not contact_set.bonded[k]:
         law = dataclasses.replace(law, cohesion=0.0)
     return law
+
+
+def any_frictional(contact_set, comm):
+    """Whether any rank has a frictional constraint (collective)."""
+    return comm.allreduce(bool(np.any(contact_set.frictional)), op=MPI.LOR)
+
+
+def displacement_scale(contact_set, displacement_dofs, x, comm):
+    """The displacement scale of x (the solved vector, V's owned DOF i at
+    displacement_dofs[i]): the largest gap or |displacement|, 1 when both
+    are 0; the contact VI works in its units (collective)."""
+    local = max(np.asarray(contact_set.gap).max(initial=0.0),
+                np.abs(x.getArray(readonly=True)[displacement_dofs]).max(initial=0.0))
+    s = comm.allreduce(float(local), op=MPI.MAX)  # a float pickles in a tenth of numpy's time
+    return s if s > 0 else 1.0
 
 
 def pair_shear_moduli(contact_set, V, G):

@@ -82,6 +82,7 @@ class VariationalInequality:
         self.newton_iterations = self.linear_iterations = 0
         self.J = self.y_reference = self.stiffness = self.work = self.preconditioner = None
         self.jacobian_weights = None  # J's as last built (jacobian_weights); None once K changed
+        self.closed_when_clamped = []  # _record_clamped_states
         # 3D friction on the whole system, factorised: an earlier factorisation
         # preconditions GMRES (_reuse_factorization), in this solve until it fails
         self.reuse = self.reusing = False
@@ -278,22 +279,32 @@ class VariationalInequality:
                                  and reason != PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE else ""))
         self.y.scale(scale)
 
+    def continue_from(self, earlier):
+        """This solver goes on from `earlier` (another path's): the run's
+        counts and its progress line."""
+        self.newton_iterations, self.linear_iterations = earlier.newton_iterations, earlier.linear_iterations
+        self.convergence.active_set_changes = earlier.convergence.active_set_changes
+        self.convergence.on_newton_step = earlier.convergence.on_newton_step
+
     def set_friction(self, friction):
         """The frictional constraints anew, in the same positions (a law
         changed: a bond broke, or a new step restored the step's start)."""
         self.p.friction = friction
         self.jacobian_weights = None  # its bounds changed: J is built anew
 
-    def closed_at_failure(self):
-        """Per frictional constraint, whether it is closed (pressed on its
-        bound, friction_term) at the last iterate of a failed solve; y is
-        still in units of the solve's scale."""
+    def _record_clamped_states(self):
+        """closed_when_clamped of the clamped state y: per frictional
+        constraint, whether it is closed (pressed on its bound,
+        friction_term) with every bounded DOF on its bound and every
+        frictional constraint stuck, a state that neither the path nor the
+        laws change; empty without friction."""
+        self.closed_when_clamped = []
         if self.J is None:
-            return []
+            return
         self.p.K.mult(self.y, self.work)
         self.work.axpy(-1.0, self.b)
         at = self._friction_point(self.y, self.work.getArray(readonly=True))
-        return [friction_term(f, at).closed for f in self.p.friction]
+        self.closed_when_clamped = [friction_term(f, at).closed for f in self.p.friction]
 
     def _refactorised(self):
         """GMRES did not converge on an earlier factorisation: the solve goes
@@ -397,6 +408,7 @@ class VariationalInequality:
         if self.whole is not None:
             clamped = np.concatenate([p.bounded, stuck])
             solve_clamped(self.whole, self.b, self.y, (self.y.getOwnershipRange()[0] + clamped).astype(PETSc.IntType))
+        self._record_clamped_states()
 
     def _residual(self, snes, y, F):
         """F(y) = K y - b/s: the gradient of the quadratic energy, in units
