@@ -17,8 +17,12 @@ std::vector<std::pair<std::string, std::string>> reuse_options(const std::string
   return options;
 }
 
-void analyse_quickly(const std::string& prefix)
+void analyse_quickly(const std::string& prefix, Mat K)
 {
+  PetscInt rows = 0;
+  check_petsc(MatGetSize(K, &rows, nullptr), "contact solver: MatGetSize");
+  if (rows > quick_analysis_rows)
+    return;
   const std::string factor = option(prefix, "-pc_type") == "redundant" ? prefix + "redundant_" : prefix;
   if (option(factor, "-pc_factor_mat_solver_type") == "mumps")
     set_default_option(factor + "mat_mumps_icntl_7", "0");

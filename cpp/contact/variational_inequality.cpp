@@ -131,12 +131,14 @@ void VariationalInequality::set_from_options()
     if (_lag_by_default and !given_by_user(_p.prefix + "ksp_type"))
       reuse_factorization();
   }
-  else if (_p.changing)
+  else if (_p.changing or _J)
     // A 2D conduit fault's K changes at every solve, where GMRES on the
     // last factorisation took 15-30 back-solves a Newton step, more than a
     // factorisation with a quick analysis costs in 2D: each change is
-    // factorised (docs/performance.md, "thirty-fourth session").
-    analyse_quickly(_p.prefix);
+    // factorised (docs/performance.md, "thirty-fourth session"); friction's
+    // J changes with the inactive set and the slip states, METIS's analysis
+    // took 2.1 of 10.6 s of the 50-fracture network ("fortieth session").
+    analyse_quickly(_p.prefix, _p.K);
 }
 
 std::string VariationalInequality::solver_name() const

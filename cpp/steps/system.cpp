@@ -386,7 +386,11 @@ std::string System::description() const
   const std::string factor_pc = option(factor, "-pc_type");
   if (const std::string package = option(factor, "-pc_factor_mat_solver_type");
       !package.empty() and (factor_pc == "lu" or factor_pc == "cholesky"))
+  {
     d += pc == "redundant" ? " (" + factor_pc + ", " + package + " on each rank)" : " (" + package + ")";
+    if (package == "mumps" and option(factor, "-mat_mumps_icntl_7") == "0") // contact/factorization_reuse.h
+      d += ", analysis by AMD";
+  }
   return d;
 }
 

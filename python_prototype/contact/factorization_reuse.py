@@ -2,8 +2,9 @@
 (cpp/contact/factorization_reuse.h): by GMRES on an earlier factorisation
 where a factorisation costs about 100 back-solves (3D friction, a 3D conduit
 fault's apertures), or by factorising each change with a cheap analysis
-where it costs fewer (a 2D conduit fault). docs/theory.md, "Solvers";
-docs/performance.md, "thirty-fourth session"."""
+where it costs fewer (2D friction, a 2D conduit fault). docs/theory.md,
+"Solvers"; docs/performance.md, "thirty-fourth session", "fortieth
+session"."""
 from petsc4py import PETSc
 
 from ..solvers.solver import given_by_user, set_default_option
@@ -20,11 +21,20 @@ def reuse_options(prefix):
             if not given_by_user(prefix + name)]
 
 
-def analyse_quickly(prefix):
+# The largest system whose factorisations analyse_quickly hands to AMD: above
+# it AMD's fill costs more than METIS's analysis saves (a 2D frictional crack
+# of 3.7e5 unknowns 3 % slower, factorised twice).
+QUICK_ANALYSIS_ROWS = 300000
+
+
+def analyse_quickly(prefix, K):
     """MUMPS's analysis by AMD instead of its own choice (METIS) for the
-    factorisations of the system with options prefix `prefix` (or of its
-    copy on each rank), unless the user chose: 0.009 s against 0.13 s at
-    13,414 unknowns, for back-solves about 10 % dearer."""
+    factorisations of K, the system with options prefix `prefix` (or of
+    its copy on each rank), unless the user chose or K has more than
+    QUICK_ANALYSIS_ROWS rows: 0.009 s against 0.13 s at 13,414 unknowns,
+    for back-solves about 10 % dearer."""
+    if K.getSize()[0] > QUICK_ANALYSIS_ROWS:
+        return
     options = PETSc.Options()
     factor = prefix + ("redundant_" if options.getString(prefix + "pc_type", "") == "redundant" else "")
     if options.getString(factor + "pc_factor_mat_solver_type", "") == "mumps":

@@ -189,12 +189,15 @@ class VariationalInequality:
         if self.p.tangents == 2 and (self.J is not None or self.p.changing):
             if self.lag_by_default and not given_by_user(self.p.prefix + "ksp_type"):
                 self._reuse_factorization()
-        elif self.p.changing:
+        elif self.p.changing or self.J is not None:
             # a 2D conduit fault's K changes at every solve, where GMRES on the
             # last factorisation took 15-30 back-solves a Newton step, more
             # than a factorisation with a quick analysis costs in 2D: each
-            # change is factorised (docs/performance.md, "thirty-fourth session")
-            analyse_quickly(self.p.prefix)
+            # change is factorised (docs/performance.md, "thirty-fourth
+            # session"); friction's J changes with the inactive set and the
+            # slip states, METIS's analysis took 2.1 of 10.6 s of the
+            # 50-fracture network ("fortieth session")
+            analyse_quickly(self.p.prefix, self.p.K)
 
     def _solver_name(self):
         """"the contact solver (SNES <type>)": the SNES type the options

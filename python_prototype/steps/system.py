@@ -351,4 +351,6 @@ class System:
         package = options.getString(factor + "pc_factor_mat_solver_type", "")
         if package and factor_pc in ("lu", "cholesky"):
             d += f" ({factor_pc}, {package} on each rank)" if pc == "redundant" else f" ({package})"
+            if package == "mumps" and options.getString(factor + "mat_mumps_icntl_7", "") == "0":
+                d += ", analysis by AMD"  # contact/factorization_reuse.py
         return d
