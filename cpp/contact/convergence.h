@@ -29,6 +29,17 @@ constexpr double round_off_ceiling = 1e-8;
 constexpr std::size_t cycle_periods = 3;
 constexpr std::size_t longest_newton_cycle = 6;
 
+/// With friction, a first attempt whose last stall_steps Newton steps each
+/// reduced the residual by less than stall_reduction of it has stalled:
+/// its line search finds no descent along the semismooth direction, and
+/// the clamped start follows (convergence.cpp).
+constexpr std::size_t stall_steps = 3;
+constexpr double stall_reduction = 1e-3;
+
+/// Whether each of the last `steps` steps of `norms` reduced the norm by
+/// less than stall_reduction of it.
+bool newton_stall(std::span<const double> norms, std::size_t steps);
+
 /// Whether the last `periods` periods of `norms` repeat a cycle of L
 /// values for some L from 2 to longest_newton_cycle: each equal to the one L
 /// before it to 1e-9, and not all the same (stagnation is no cycle).
@@ -123,6 +134,10 @@ private:
   /// (convergence.cpp), at Newton step `iteration` with residual norm
   /// `fnorm` (SNESSetConvergenceTest's callback, attach(), forwards to it).
   PetscErrorCode converged(SNES snes, PetscInt iteration, PetscReal fnorm, SNESConvergedReason* reason);
+  /// With friction, after a step that met no test with residual norm
+  /// `fnorm`: DIVERGED_DTOL where the solve cycles (newton_cycle) or its
+  /// first attempt stalls (newton_stall), else CONVERGED_ITERATING.
+  SNESConvergedReason newton_path(PetscReal fnorm);
   static PetscErrorCode stagnation(KSP, PetscInt iteration, PetscReal rnorm, void* context);
 
   MPI_Comm _comm;
@@ -133,6 +148,7 @@ private:
   Vec _load = nullptr;
   bool _friction = false;
   bool _continuing = false; // continue_solve() until the next first test
+  bool _continued = false;  // the current solve continues a failed attempt
   Mat _operator = nullptr;  // measure_round_off
   Vec _weights = nullptr;
   std::vector<char> _pending, _used; // active flags of the bounded DOFs

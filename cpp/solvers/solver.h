@@ -257,8 +257,12 @@ public:
   /// the solves that follow take the last factorisation as GMRES's
   /// preconditioner, to nearby_tolerance, and factorise anew only when
   /// that does not converge in nearby_iterations (a direct method only).
+  /// nearby_tolerance lies above the round-off of a back-solve: GMRES's
+  /// first iteration ends at 0.7-1.5e-14 on the 50-fracture network, where
+  /// a tolerance of 1e-14 took a second iteration, which only stirs the
+  /// round-off, in 15 of its 61 solves on one rank and 60 on two.
   void operator_nudged() { _stale = _stale or (_direct and setups > 0 and !_operator_changed); }
-  static constexpr double nearby_tolerance = 1e-14;
+  static constexpr double nearby_tolerance = 1e-13;
   static constexpr int nearby_iterations = 10;
   /// Preconditioner set-ups (factorisations or AMG hierarchies) so far:
   /// one per operator, and the seconds they took.

@@ -25,6 +25,23 @@ CYCLE_PERIODS = 3
 LONGEST_NEWTON_CYCLE = 6
 
 
+# With friction, a first attempt whose last STALL_STEPS Newton steps each
+# reduced the residual by less than STALL_REDUCTION of it has stalled: its
+# line search finds no descent along the semismooth direction, and the
+# clamped start follows.
+STALL_STEPS = 3
+STALL_REDUCTION = 1e-3
+
+
+def newton_stall(norms, steps):
+    """Whether each of the last `steps` steps of `norms` reduced the norm by
+    less than STALL_REDUCTION of it."""
+    n = len(norms)
+    if steps == 0 or n < steps + 1:
+        return False
+    return all(norms[k] > (1 - STALL_REDUCTION) * norms[k - 1] for k in range(n - steps, n))
+
+
 def newton_cycle(norms, periods):
     """Whether the last `periods` periods of `norms` repeat a cycle of L
     values for some L from 2 to LONGEST_NEWTON_CYCLE: each equal to the one L
@@ -97,6 +114,7 @@ class ContactConvergence:
         self.snes = self.load = None
         self.friction = False
         self.continuing = False  # continue_solve() until the next first test
+        self.continued = False  # the current solve continues a failed attempt
         self.operator = self.weights = None  # measure_round_off
         self.round_off_bound = 0.0  # ROUND_OFF_CEILING times the load
         self.pending = self.used = None  # active flags of the bounded DOFs
@@ -220,11 +238,11 @@ class ContactConvergence:
         # load, every pair stuck as in the solution) rtol would ask for less
         # than the residual's round-off. Frictionless, F is linear and the
         # repeated active set ends the solve at round-off.
-        continued, self.continuing = self.continuing and self.friction, False
         if iteration == 0:
+            self.continued, self.continuing = self.continuing and self.friction, False
             self.norms, self.cycling = [], False
-        if iteration == 0 and not continued:
-            self._start(snes, fnorm, rtol)
+            if not self.continued:
+                self._start(snes, fnorm, rtol)
         separate = self._separate_may_stop(self._separate_solved(iteration))
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
@@ -249,15 +267,28 @@ class ContactConvergence:
             # else iterated on
             if fnorm > self.repeated_set_bound / REPEATED_SET_FRACTION:
                 return reasons.DIVERGED_DTOL
+        if self.friction:
+            return self._newton_path(fnorm)
+        return reasons.CONVERGED_ITERATING
+
+    def _newton_path(self, fnorm):
+        """With friction, after a step that met no test: DIVERGED_DTOL where
+        the solve cycles (newton_cycle) or its first attempt stalls
+        (newton_stall), else CONVERGED_ITERATING."""
+        reasons = PETSc.SNES.ConvergedReason
+        self.norms.append(fnorm)
         # a semismooth Newton step is exact on its contact states: two states
         # each of whose steps lands in the other repeat the same two iterates,
         # and their residuals, to the last digits (friction's kink at a pair
         # with t_N = 0: Phan's crack loaded at once on the coupled system)
-        if self.friction:
-            self.norms.append(fnorm)
-            if newton_cycle(self.norms, CYCLE_PERIODS):
-                self.cycling = True
-                return reasons.DIVERGED_DTOL
+        if newton_cycle(self.norms, CYCLE_PERIODS):
+            self.cycling = True
+            return reasons.DIVERGED_DTOL
+        # a first attempt whose line search shrinks every step to nothing (the
+        # 50-fracture network's initial equilibrium on 2 ranks) ends, and the
+        # clamped start, whose pairs all stick, goes on from there
+        if not self.continued and newton_stall(self.norms, STALL_STEPS):
+            return reasons.DIVERGED_DTOL
         return reasons.CONVERGED_ITERATING
 
     def _round_off_norms(self):

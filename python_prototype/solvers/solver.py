@@ -326,8 +326,9 @@ class LinearSolver:
         """The operator's values changed: the next solve sets up (counted)."""
         self._operator_changed, self._stale = True, False
 
-    # A nudged operator's solves: GMRES preconditioned by the stale factors
-    NEARBY_TOLERANCE, NEARBY_ITERATIONS = 1e-14, 10
+    # A nudged operator's solves: GMRES preconditioned by the stale factors,
+    # to a tolerance above a back-solve's round-off (cpp/solvers/solver.h)
+    NEARBY_TOLERANCE, NEARBY_ITERATIONS = 1e-13, 10
 
     def operator_nudged(self):
         """The operator's values changed in a few rows (a fault's apertures):

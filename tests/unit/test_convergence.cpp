@@ -80,3 +80,24 @@ TEST(Convergence, NewtonCycleIsARepeatedCycleOfResiduals)
     seven.push_back(2.0 + k % 7);
   EXPECT_FALSE(newton_cycle(seven, 3));
 }
+
+TEST(Convergence, NewtonStallIsEveryStepBelowItsFraction)
+{
+  // The 50-fracture network's initial equilibrium on 2 ranks (bench/network.py
+  // at size 0.5): its line search shrank the first steps to 1e-11 and 1e-7.
+  const std::vector<double> network{2.995830435789e9, 2.995830435731e9, 2.995830249459e9, 2.995829726679e9,
+                                    2.994522346468e9};
+  EXPECT_FALSE(newton_stall(std::span(network).first(3), 3)); // two steps
+  EXPECT_TRUE(newton_stall(std::span(network).first(4), 3));
+  EXPECT_TRUE(newton_stall(network, 3)); // the 4th step: 4.4e-4
+  // One step of 0.1 % among the last three is progress.
+  std::vector<double> progress = network;
+  progress.push_back(progress.back() * (1 - 1.01 * stall_reduction));
+  EXPECT_FALSE(newton_stall(progress, 3));
+  const std::vector<double> falling{8, 7, 6, 5}, rising{1, 2, 3, 4}, steady(4, 1e7);
+  EXPECT_FALSE(newton_stall(falling, 3));
+  EXPECT_TRUE(newton_stall(rising, 3)); // a step that raised it reduced it by less
+  EXPECT_TRUE(newton_stall(steady, 3));
+  EXPECT_FALSE(newton_stall(std::vector<double>{}, 3));
+  EXPECT_FALSE(newton_stall(steady, 0));
+}

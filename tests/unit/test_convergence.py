@@ -12,7 +12,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.contact.convergence import residual_round_off, newton_cycle  # noqa: E402
+from python_prototype.contact.convergence import STALL_REDUCTION, newton_cycle, newton_stall, residual_round_off  # noqa: E402
 from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
 
 
@@ -53,6 +53,22 @@ class ConvergenceTests(unittest.TestCase):
         self.assertTrue(newton_cycle(four, 3))
         self.assertFalse(newton_cycle(four[:12], 3))  # two periods and a half
         self.assertFalse(newton_cycle([1.0] + [2.0 + k % 7 for k in range(21)], 3))  # longer than LONGEST_NEWTON_CYCLE
+
+    def test_newton_stall_is_every_step_below_its_fraction(self):
+        # the 50-fracture network's initial equilibrium on 2 ranks
+        # (bench/network.py at size 0.5): its line search shrank the first
+        # steps to 1e-11 and 1e-7
+        network = [2.995830435789e9, 2.995830435731e9, 2.995830249459e9, 2.995829726679e9, 2.994522346468e9]
+        self.assertFalse(newton_stall(network[:3], 3))  # two steps
+        self.assertTrue(newton_stall(network[:4], 3))
+        self.assertTrue(newton_stall(network, 3))  # the 4th step: 4.4e-4
+        # one step of 0.1 % among the last three is progress
+        self.assertFalse(newton_stall(network + [network[-1] * (1 - 1.01 * STALL_REDUCTION)], 3))
+        self.assertFalse(newton_stall([8, 7, 6, 5], 3))
+        self.assertTrue(newton_stall([1, 2, 3, 4], 3))  # a step that raised it reduced it by less
+        self.assertTrue(newton_stall([1e7] * 4, 3))
+        self.assertFalse(newton_stall([], 3))
+        self.assertFalse(newton_stall([1e7] * 4, 0))
 
 
 if __name__ == "__main__":
