@@ -116,8 +116,6 @@ DIFFERENCES = {
         "option": "C++ only: a PETSc option's value by prefix and name; petsc4py's "
                   "PETSc.Options().getString(prefix + name, \"\") gives it",
         "factor_package": private("solver.cpp"),
-        "factor_prefix": "Python only: to align (issue 36): C++ has factor_pc instead (private to solver.cpp), "
-                         "which returns the factorisation's PC where this returns its options prefix",
         "reason_name": "Python only: a PETSc converged reason's name, which C++ reads from PETSc's "
                        "KSPConvergedReasons and SNESConvergedReasons; petsc4py has no such table (its enums know "
                        "some reasons by other names)",

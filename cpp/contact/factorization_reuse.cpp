@@ -23,7 +23,7 @@ void analyse_quickly(const std::string& prefix, Mat K)
   check_petsc(MatGetSize(K, &rows, nullptr), "contact solver: MatGetSize");
   if (rows > quick_analysis_rows)
     return;
-  const std::string factor = option(prefix, "-pc_type") == "redundant" ? prefix + "redundant_" : prefix;
+  const std::string factor = factor_prefix(prefix);
   if (option(factor, "-pc_factor_mat_solver_type") == "mumps")
     set_default_option(factor + "mat_mumps_icntl_7", "0");
 }

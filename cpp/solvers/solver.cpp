@@ -92,6 +92,11 @@ std::string option(const std::string& prefix, const char* name)
   return value;
 }
 
+std::string factor_prefix(const std::string& prefix)
+{
+  return option(prefix, "-pc_type") == "redundant" ? prefix + "redundant_" : prefix;
+}
+
 namespace
 {
 /// check_petsc with "<the system> solver: <call>", the text built only when

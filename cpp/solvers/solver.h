@@ -154,6 +154,11 @@ void set_relative_tolerance(KSP ksp, const std::string& prefix, double tolerance
 /// `name` starts with its dash, e.g. option("flow_", "-pc_type").
 std::string option(const std::string& prefix, const char* name);
 
+/// The options prefix of the factorisation of the system with options
+/// `prefix`: PCREDUNDANT's inner solver's (prefix + "redundant_") when
+/// -<prefix>pc_type is redundant, else `prefix`.
+std::string factor_prefix(const std::string& prefix);
+
 /// Sets a PETSc option unless the user already gave it (command line wins).
 void set_default_option(const std::string& name, const std::string& value);
 

@@ -382,7 +382,7 @@ std::string System::description() const
                                  : option(_prefix, "-ksp_type") + " + ";
   std::string d = (_contact ? "SNES vinewtonrsls (" + _contact->method() + "), " : "") + krylov + pc;
   // PCREDUNDANT: the factorisation each rank holds a copy of.
-  const std::string factor = pc == "redundant" ? _prefix + "redundant_" : _prefix;
+  const std::string factor = factor_prefix(_prefix);
   const std::string factor_pc = option(factor, "-pc_type");
   if (const std::string package = option(factor, "-pc_factor_mat_solver_type");
       !package.empty() and (factor_pc == "lu" or factor_pc == "cholesky"))

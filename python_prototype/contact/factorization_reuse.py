@@ -7,7 +7,7 @@ where it costs fewer (2D friction, a 2D conduit fault). docs/theory.md,
 session"."""
 from petsc4py import PETSc
 
-from ..solvers.solver import given_by_user, set_default_option
+from ..solvers.solver import factor_prefix, given_by_user, set_default_option
 
 
 def reuse_options(prefix):
@@ -36,7 +36,7 @@ def analyse_quickly(prefix, K):
     if K.getSize()[0] > QUICK_ANALYSIS_ROWS:
         return
     options = PETSc.Options()
-    factor = prefix + ("redundant_" if options.getString(prefix + "pc_type", "") == "redundant" else "")
+    factor = factor_prefix(prefix)
     if options.getString(factor + "pc_factor_mat_solver_type", "") == "mumps":
         set_default_option(factor + "mat_mumps_icntl_7", "0")
 

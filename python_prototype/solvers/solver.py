@@ -162,11 +162,11 @@ def _set_direct_defaults(prefix, structure, ranks):
         set_default_option(factor + "mat_mumps_icntl_14", "400")
 
 
-def factor_prefix(ksp):
-    """The options prefix of the factorisation: PCREDUNDANT's inner solver's
-    when each rank holds a copy of the matrix, else the KSP's own."""
-    prefix = ksp.getOptionsPrefix()
-    return prefix + "redundant_" if ksp.getPC().getType() == PETSc.PC.Type.REDUNDANT else prefix
+def factor_prefix(prefix):
+    """The options prefix of the factorisation of the system with options
+    `prefix`: PCREDUNDANT's inner solver's (prefix + "redundant_") when
+    -<prefix>pc_type is redundant, else `prefix`."""
+    return prefix + "redundant_" if PETSc.Options().getString(prefix + "pc_type", "") == "redundant" else prefix
 
 
 def factor_package(ksp):
@@ -174,7 +174,7 @@ def factor_package(ksp):
     petsc4py 3.18 cannot reach PCREDUNDANT's inner PC, so its package is
     read from the options, where _set_direct_defaults put it)."""
     if ksp.getPC().getType() == PETSc.PC.Type.REDUNDANT:
-        return PETSc.Options().getString(factor_prefix(ksp) + "pc_factor_mat_solver_type", "petsc")
+        return PETSc.Options().getString(factor_prefix(ksp.getOptionsPrefix()) + "pc_factor_mat_solver_type", "petsc")
     return ksp.getPC().getFactorSolverType() or ""
 
 
@@ -415,7 +415,7 @@ class LinearSolver:
 
     def _refactorise(self, package, solve):
         """Factorises the operator again with `package` and runs `solve`."""
-        factor = factor_prefix(self.ksp)
+        factor = factor_prefix(self.prefix)
         options = PETSc.Options()
         options.setValue(factor + "pc_factor_mat_solver_type", package)
         # its own ordering, not the nested dissection the PC kept

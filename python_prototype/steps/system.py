@@ -13,7 +13,7 @@ from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
 from ..solvers.block_matrix import BlockMatrix
 from ..solvers.field_split import Field, block_offset, is_coupled
 from ..solvers.solver import (LinearSolver, Method, SolverStage, SolverStatistics, SystemLayout, choose_method,
-                              set_solver_defaults, solver_counts)
+                              factor_prefix, set_solver_defaults, solver_counts)
 
 
 @dataclasses.dataclass
@@ -346,7 +346,7 @@ class System:
             else options.getString(self.prefix + "ksp_type", "") + " + "
         d = (f"SNES vinewtonrsls ({self.contact.method()}), " if self.contact else "") + krylov + pc
         # PCREDUNDANT: the factorisation each rank holds a copy of
-        factor = self.prefix + "redundant_" if pc == "redundant" else self.prefix
+        factor = factor_prefix(self.prefix)
         factor_pc = options.getString(factor + "pc_type", "")
         package = options.getString(factor + "pc_factor_mat_solver_type", "")
         if package and factor_pc in ("lu", "cholesky"):
