@@ -43,6 +43,8 @@ void BlockMatrix::refill(Mat whole, const std::array<Mat, 4>& blocks) const
   std::vector<PetscInt> columns;
   for (int b = 0; b < 4; ++b)
   {
+    if (!blocks[b])
+      continue;
     const int row_part = b / 2, column_part = b % 2;
     PetscInt first = 0, end = 0;
     check_petsc(MatGetOwnershipRange(blocks[b], &first, &end), "a block matrix: MatGetOwnershipRange");

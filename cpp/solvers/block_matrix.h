@@ -24,7 +24,8 @@ public:
   /// collective).
   Mat convert(MPI_Comm comm, const std::array<Mat, 4>& blocks) const;
   /// Sets `whole`'s entries (from convert) to those of `blocks`, of the same
-  /// structure: each rank its own rows, so nothing travels (collective).
+  /// structure: each rank its own rows, so nothing travels (collective). A
+  /// null block keeps its entries.
   void refill(Mat whole, const std::array<Mat, 4>& blocks) const;
 
 private:

@@ -142,12 +142,20 @@ public:
   std::int64_t unknowns() const;
 
 private:
+  /// The block `a` an appended operator was last filled from, and the
+  /// operator's version (reassemblies) then.
+  struct FilledFrom
+  {
+    Mat a = nullptr;
+    long version = -1;
+  };
   /// [[a + D, B^T], [B, C + c]] as one AIJ matrix, a the operator or the
   /// preconditioner's matrix before the appended unknowns (tied, if so),
   /// c `diagonal` (this rank's entries; none if null): its rows on each
   /// rank are a's, then C's (solvers/block_matrix.h). A new matrix, or
-  /// `into` (the one made before, of the same structure) refilled.
-  Mat appended_operator(Mat a, const std::vector<double>* diagonal, Mat into = nullptr) const;
+  /// `into` (the one made before, of the same structure) refilled, a's
+  /// block only if a was reassembled since `filled`, which it updates.
+  Mat appended_operator(Mat a, const std::vector<double>* diagonal, Mat into, FilledFrom& filled);
   /// Adds the appended rows to the fields of an iterative solve, whose
   /// rows on each rank move by those appended on the ranks before.
   void append_to_fields(PetscInt rows);
@@ -174,6 +182,8 @@ private:
   Vec _b_tied = nullptr, _y_tied = nullptr; // b' and y of the ties
   AppendedUnknowns _appended;
   Mat _A_appended = nullptr, _P_appended = nullptr;
+  FilledFrom _A_filled, _P_filled; // what _A_appended and _P_appended hold of A (P)
+  long _version = 0;                // reassemblies of A and P
   Vec _b_appended = nullptr, _x_appended = nullptr;
   std::unique_ptr<LinearSolver> _linear;
   std::unique_ptr<ContactSolver> _contact;

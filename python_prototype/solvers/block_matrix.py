@@ -25,8 +25,10 @@ class BlockMatrix:
     def refill(self, whole, blocks):
         """Sets `whole`'s entries (from convert) to those of `blocks`, of the
         same structure: each rank its own rows, so nothing travels
-        (collective)."""
+        (collective). A block None keeps its entries."""
         for b, block in enumerate(blocks):
+            if block is None:
+                continue
             first, end = block.getOwnershipRange()
             indptr, columns, values = block.getValuesCSR()
             rows = self._whole_index(b // 2, np.arange(first, end, dtype=PETSc.IntType))

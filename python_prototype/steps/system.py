@@ -41,6 +41,14 @@ def _copy_in(x, appended, whole):
     whole.array[:n], whole.array[n:] = x.array_r, appended
 
 
+@dataclasses.dataclass
+class _FilledFrom:
+    """The block `a` an appended operator was last filled from, and the
+    operator's version (reassemblies) then."""
+    a: object = None
+    version: int = -1
+
+
 class System:
     """`layout` (a SystemLayout) names the system's PETSc options and its
     log stage and gives the (name, global DOFs) splits of a mixed system;
@@ -71,6 +79,8 @@ class System:
         self.contact = None
         self.tied, self.A_tied, self.P_tied = None, None, None
         self.appended, self.A_appended, self.P_appended = None, None, None
+        self.A_filled, self.P_filled = _FilledFrom(), _FilledFrom()  # what A_appended, P_appended hold of A (P)
+        self.version = 0  # reassemblies of A and P
         self._earlier = SolverStatistics()  # the counts of the run a restart continues
         # made now, so that options that make no solver are refused before the run
         self.linear = LinearSolver(comm, prefix, self.A, self.preconditioner_matrix(), structure, self.fields)
@@ -103,12 +113,12 @@ class System:
         first = self.appended is None
         self.appended = appended
         big = self._appended_operator(self.A_tied if self.A_tied is not None else self.A, None,
-                                      None if first else self.A_appended)
+                                      None if first else self.A_appended, self.A_filled)
         # The fixed-stress preconditioner's matrix gets the same rows, its own
         # fixed-stress term on C's diagonal.
         big_P = None if self.P is None else self._appended_operator(
             self.P_tied if self.P_tied is not None else self.P, appended.preconditioner_diagonal,
-            None if first else self.P_appended)
+            None if first else self.P_appended, self.P_filled)
         if not first:
             if self.contact:
                 self.contact.operator_nudged()
@@ -148,14 +158,17 @@ class System:
             fields.append(Field(f.name, dofs, f.block_size, f.near_nullspace, splits))
         self.fields = fields
 
-    def _appended_operator(self, a, diagonal=None, into=None):
+    def _appended_operator(self, a, diagonal, into, filled):
         """[[a + D, B^T], [B, C + c]] as one AIJ matrix, `a` the operator or
         the preconditioner's matrix before the appended unknowns (tied, if
         so), c `diagonal` (none if None): its rows on each rank are a's, then
         C's (solvers/block_matrix.py). A new matrix, or `into` (the one made
         before, of the same structure) refilled: the conversion cost 18 ms a
         call on 2 ranks against 3 on 1 (docs/performance.md, thirty-fifth
-        session)."""
+        session); a's block only if a was reassembled since `filled`, which
+        it updates (a changes with dt, B and C with the apertures)."""
+        a_kept = into is not None and not self.appended.diagonal and filled.a is a and filled.version == self.version
+        filled.a, filled.version = (None, -1) if self.appended.diagonal else (a, self.version)
         if self.appended.diagonal:
             a = a.copy()
             for row, value in self.appended.diagonal:
@@ -170,7 +183,7 @@ class System:
         layout = BlockMatrix(a, C)
         if into is None:
             return layout.convert(self.comm, [a, E, B, C])
-        layout.refill(into, [a, E, B, C])
+        layout.refill(into, [None if a_kept else a, E, B, C])
         return into
 
     def whole(self, x, b):
@@ -292,6 +305,7 @@ class System:
         """dt changed: the next solve factorises anew."""
         start = time.perf_counter()
         reassemble_matrix(self.A, self.a, self.bcs)
+        self.version += 1
         if self.P is not None:
             reassemble_matrix(self.P, self.a_preconditioner, self.bcs)
         if self.tied:
