@@ -12,7 +12,7 @@ VariationalInequality::VariationalInequality(VIProblem problem, const std::optio
     : _p(std::move(problem)), _whole(whole)
 {
   check_petsc(VecDuplicate(_p.layout, &_y), "contact solver: VecDuplicate");
-  for (Vec* v : {&_b, &_residual, &_lower, &_upper})
+  for (Vec* v : {&_b, &_residual, &_lower, &_upper, &_elastic, &_elastic_at})
     check_petsc(VecDuplicate(_y, v), "contact solver: VecDuplicate");
   // Unbounded until solve() sets the contact bounds.
   check_petsc(VecSet(_lower, PETSC_NINFINITY), "contact solver: VecSet");
@@ -39,7 +39,7 @@ VariationalInequality::VariationalInequality(VIProblem problem, const std::optio
 VariationalInequality::~VariationalInequality()
 {
   check_petsc(SNESDestroy(&_snes), "contact solver: SNESDestroy");
-  for (Vec* v : {&_y, &_b, &_residual, &_lower, &_upper, &_y_reference, &_stiffness, &_work})
+  for (Vec* v : {&_y, &_b, &_residual, &_lower, &_upper, &_y_reference, &_stiffness, &_elastic, &_elastic_at})
     check_petsc(VecDestroy(v), "contact solver: VecDestroy");
   check_petsc(MatDestroy(&_J), "contact solver: MatDestroy");
 }
@@ -48,7 +48,7 @@ VariationalInequality::~VariationalInequality()
 /// duplicates are collective).
 void VariationalInequality::make_friction_operators()
 {
-  for (Vec* v : {&_y_reference, &_stiffness, &_work})
+  for (Vec* v : {&_y_reference, &_stiffness})
     check_petsc(VecDuplicate(_y, v), "contact solver: VecDuplicate");
   check_petsc(VecSet(_y_reference, 0.0), "contact solver: VecSet");
   check_petsc(MatDuplicate(_p.K, MAT_COPY_VALUES, &_J), "contact solver: MatDuplicate");
@@ -244,20 +244,15 @@ void VariationalInequality::record_clamped_states()
   closed.clear();
   if (!_J)
     return;
-  check_petsc(MatMult(_p.K, _y, _work), "contact solver: MatMult");
-  check_petsc(VecAXPY(_work, -1.0, _b), "contact solver: VecAXPY");
-  const PetscScalar *Y, *R, *start, *c;
-  check_petsc(VecGetArrayRead(_y, &Y), "contact solver: VecGetArrayRead");
-  check_petsc(VecGetArrayRead(_work, &R), "contact solver: VecGetArrayRead");
-  check_petsc(VecGetArrayRead(_y_reference, &start), "contact solver: VecGetArrayRead");
-  check_petsc(VecGetArrayRead(_stiffness, &c), "contact solver: VecGetArrayRead");
-  const FrictionPoint at{Y, R, start, c, _scale, _p.tangents};
-  for (const FrictionalConstraint& f : _p.friction)
-    closed.push_back(friction_term(f, at).closed);
-  check_petsc(VecRestoreArrayRead(_y, &Y), "contact solver: VecRestoreArrayRead");
-  check_petsc(VecRestoreArrayRead(_work, &R), "contact solver: VecRestoreArrayRead");
-  check_petsc(VecRestoreArrayRead(_y_reference, &start), "contact solver: VecRestoreArrayRead");
-  check_petsc(VecRestoreArrayRead(_stiffness, &c), "contact solver: VecRestoreArrayRead");
+  _elastic_known = false;
+  check_petsc(elastic_residual(_y), "contact solver: K y - b");
+  auto record = [&](const FrictionPoint& at, PetscScalar*)
+  {
+    for (const FrictionalConstraint& f : _p.friction)
+      closed.push_back(friction_term(f, at).closed);
+    return PetscErrorCode(0);
+  };
+  check_petsc(with_friction_point(_y, _elastic, record), "contact solver: the clamped states");
 }
 
 bool VariationalInequality::try_solve(double scale, int newton_steps)
@@ -358,6 +353,7 @@ SNESConvergedReason VariationalInequality::run_snes()
   std::optional<SolverStage::Guard> stage;
   if (_stage)
     stage.emplace(*_stage);
+  _elastic_known = false; // b, K and the scale are the solve's own
   if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _y); ierr != 0)
   {
     // A zero pivot in the factorisation of a Newton step's reduced system:
@@ -433,8 +429,8 @@ void VariationalInequality::clamped_start()
 PetscErrorCode VariationalInequality::residual(SNES, Vec y, Vec F, void* context)
 {
   auto* self = static_cast<VariationalInequality*>(context);
-  PetscCall(MatMult(self->_p.K, y, F));
-  PetscCall(VecAXPY(F, -1.0, self->_b));
+  PetscCall(self->elastic_residual(y));
+  PetscCall(VecCopy(self->_elastic, F));
   if (self->_J)
     PetscCall(self->add_friction(y, F));
   if (self->_balanced)
@@ -453,48 +449,47 @@ PetscErrorCode VariationalInequality::jacobian(SNES snes, Vec y, Mat, Mat, void*
   auto* self = static_cast<VariationalInequality*>(context);
   if (!self->_J)
     return 0;
-  PetscCall(MatMult(self->_p.K, y, self->_work));
-  PetscCall(VecAXPY(self->_work, -1.0, self->_b));
-  const PetscScalar *Y, *R, *start, *c;
-  PetscCall(VecGetArrayRead(y, &Y));
-  PetscCall(VecGetArrayRead(self->_work, &R));
-  PetscCall(VecGetArrayRead(self->_y_reference, &start));
-  PetscCall(VecGetArrayRead(self->_stiffness, &c));
-  const FrictionPoint at{Y, R, start, c, self->_scale, self->_p.tangents};
-  std::vector<double> weights = jacobian_weights(self->_p.friction, at);
-  int same = weights == self->_jacobian_weights;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_LAND, self->_p.comm));
-  if (!same)
+  PetscCall(self->elastic_residual(y));
+  auto build = [&](const FrictionPoint& at, PetscScalar*) -> PetscErrorCode
   {
+    std::vector<double> weights = jacobian_weights(self->_p.friction, at);
+    int same = weights == self->_jacobian_weights;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_LAND, self->_p.comm));
+    if (same)
+      return 0;
     PetscCall(friction_jacobian(self->_p.friction, at, self->_p.K, self->_J));
     self->_jacobian_weights = std::move(weights);
     if (self->_lag_by_default and !self->_preconditioner and !self->_reusing)
       PetscCall(SNESSetLagPreconditioner(snes, -2));
     if (self->_balanced)
       PetscCall(self->_balanced->weigh_jacobian(self->_J));
-  }
-  PetscCall(VecRestoreArrayRead(y, &Y));
-  PetscCall(VecRestoreArrayRead(self->_work, &R));
-  PetscCall(VecRestoreArrayRead(self->_y_reference, &start));
-  PetscCall(VecRestoreArrayRead(self->_stiffness, &c));
+    return 0;
+  };
+  return self->with_friction_point(y, self->_elastic, build);
+}
+
+// SNES asks for the Jacobian at the point whose residual it evaluated
+// last: K y - b is kept from there (a product with K less per Newton step,
+// where the condensed K is dense: m^2 per product). Equal bit for bit or
+// computed anew.
+PetscErrorCode VariationalInequality::elastic_residual(Vec y)
+{
+  PetscBool same = PETSC_FALSE;
+  if (_elastic_known)
+    PetscCall(VecEqual(y, _elastic_at, &same));
+  if (same)
+    return 0;
+  PetscCall(MatMult(_p.K, y, _elastic));
+  PetscCall(VecAXPY(_elastic, -1.0, _b));
+  PetscCall(VecCopy(y, _elastic_at));
+  _elastic_known = true;
   return 0;
 }
 
 PetscErrorCode VariationalInequality::add_friction(Vec y, Vec F) const
 {
-  const PetscScalar *Y, *start, *c;
-  PetscScalar* R;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(y, &Y));
-  PetscCall(VecGetArray(F, &R));
-  PetscCall(VecGetArrayRead(_y_reference, &start));
-  PetscCall(VecGetArrayRead(_stiffness, &c));
-  add_friction_forces(_p.friction, {Y, R, start, c, _scale, _p.tangents}, R);
-  PetscCall(VecRestoreArrayRead(y, &Y));
-  PetscCall(VecRestoreArray(F, &R));
-  PetscCall(VecRestoreArrayRead(_y_reference, &start));
-  PetscCall(VecRestoreArrayRead(_stiffness, &c));
-  PetscFunctionReturn(0);
+  return with_friction_point(y, F, [&](const FrictionPoint& at, PetscScalar* R)
+                             { add_friction_forces(_p.friction, at, R); return PetscErrorCode(0); });
 }
 
 } // namespace biotcontact

@@ -151,6 +151,12 @@ private:
   static PetscErrorCode jacobian(SNES, Vec y, Mat, Mat, void* context);
   /// F += the friction forces at y (F holds K y - b on entry).
   PetscErrorCode add_friction(Vec y, Vec F) const;
+  /// K y - b into _elastic, unless it holds that of this very y already.
+  PetscErrorCode elastic_residual(Vec y);
+  /// use(at, R): friction's point `at` at y with R the array of r (K y - b;
+  /// writable: the forces go into it), the arrays given back after.
+  template <typename Use>
+  PetscErrorCode with_friction_point(Vec y, Vec r, Use use) const;
   /// The load the convergence tests measure: b, or W b with balanced rows.
   Vec tested_load() const { return _balanced ? _balanced->load() : _b; }
 
@@ -169,12 +175,33 @@ private:
   PetscBool _snes_rtol_given = PETSC_FALSE; // -<prefix>snes_rtol on the command line
   // Friction: the generalised Jacobian (friction.h), the start of the step
   // (unscaled), the diagonal of K (the stiffness that turns a slip
-  // increment into a trial force) and a work vector.
+  // increment into a trial force).
   Mat _J = nullptr;
   std::vector<double> _jacobian_weights; // J's as last built (jacobian_weights); empty once K changed
   std::vector<char> _closed_when_clamped; // closed_when_clamped()
-  Vec _y_reference = nullptr, _stiffness = nullptr, _work = nullptr;
+  Vec _y_reference = nullptr, _stiffness = nullptr;
+  // K y - b at the y of this SNES solve's last residual (elastic_residual).
+  Vec _elastic = nullptr, _elastic_at = nullptr;
+  bool _elastic_known = false;
   std::unique_ptr<BalancedRows> _balanced; // the iterative coupled system's row weights
 };
+
+template <typename Use>
+PetscErrorCode VariationalInequality::with_friction_point(Vec y, Vec r, Use use) const
+{
+  const PetscScalar *Y, *start, *c;
+  PetscScalar* R;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(y, &Y));
+  PetscCall(VecGetArray(r, &R));
+  PetscCall(VecGetArrayRead(_y_reference, &start));
+  PetscCall(VecGetArrayRead(_stiffness, &c));
+  PetscCall(use(FrictionPoint{Y, R, start, c, _scale, _p.tangents}, R));
+  PetscCall(VecRestoreArrayRead(y, &Y));
+  PetscCall(VecRestoreArray(r, &R));
+  PetscCall(VecRestoreArrayRead(_y_reference, &start));
+  PetscCall(VecRestoreArrayRead(_stiffness, &c));
+  PetscFunctionReturn(0);
+}
 
 } // namespace biotcontact

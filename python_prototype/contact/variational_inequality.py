@@ -75,12 +75,15 @@ class VariationalInequality:
         self.p, self.whole = problem, whole
         self.y = problem.layout.duplicate()
         self.b, self.residual, self.lower, self.upper = (self.y.duplicate() for _ in range(4))
+        # K y - b at the y of this SNES solve's last residual (_elastic_residual)
+        self.elastic, self.elastic_at = self.y.duplicate(), self.y.duplicate()
+        self.elastic_known = False
         # unbounded until solve() sets the contact bounds
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
         self.scale = 1.0
         self.newton_iterations = self.linear_iterations = 0
-        self.J = self.y_reference = self.stiffness = self.work = self.preconditioner = None
+        self.J = self.y_reference = self.stiffness = self.preconditioner = None
         self.jacobian_weights = None  # J's as last built (jacobian_weights); None once K changed
         self.closed_when_clamped = []  # _record_clamped_states
         # 3D friction on the whole system, factorised: an earlier factorisation
@@ -120,7 +123,7 @@ class VariationalInequality:
 
     def _make_friction_operators(self):
         """The Jacobian of friction and its vectors."""
-        self.y_reference, self.stiffness, self.work = (self.y.duplicate() for _ in range(3))
+        self.y_reference, self.stiffness = self.y.duplicate(), self.y.duplicate()
         self.y_reference.set(0.0)
         self.J = self.p.K.duplicate(copy=True)
         # its tangential rows are combinations of the constraint's own rows of
@@ -304,9 +307,9 @@ class VariationalInequality:
         self.closed_when_clamped = []
         if self.J is None:
             return
-        self.p.K.mult(self.y, self.work)
-        self.work.axpy(-1.0, self.b)
-        at = self._friction_point(self.y, self.work.getArray(readonly=True))
+        self.elastic_known = False
+        self._elastic_residual(self.y)
+        at = self._friction_point(self.y, self.elastic.getArray(readonly=True))
         self.closed_when_clamped = [friction_term(f, at).closed for f in self.p.friction]
 
     def _refactorised(self):
@@ -377,6 +380,7 @@ class VariationalInequality:
         self.linear_iterations += self.snes.getLinearSolveIterations() + failed
 
     def _snes_solve(self):
+        self.elastic_known = False  # b, K and the scale are the solve's own
         try:
             if self.p.stage:
                 with self.p.stage:
@@ -417,8 +421,8 @@ class VariationalInequality:
         """F(y) = K y - b/s: the gradient of the quadratic energy, in units
         of s; with friction its frictional constraints' tangential rows carry
         the return map (friction.py); W F with balanced rows."""
-        self.p.K.mult(y, F)
-        F.axpy(-1.0, self.b)
+        self._elastic_residual(y)
+        self.elastic.copy(F)
         if self.J is not None:
             with F as R:
                 add_friction_forces(self.p.friction, self._friction_point(y, R), R)
@@ -434,9 +438,8 @@ class VariationalInequality:
         alone, not from J."""
         if self.J is None:
             return
-        self.p.K.mult(y, self.work)
-        self.work.axpy(-1.0, self.b)
-        at = self._friction_point(y, self.work.getArray(readonly=True))
+        self._elastic_residual(y)
+        at = self._friction_point(y, self.elastic.getArray(readonly=True))
         weights = jacobian_weights(self.p.friction, at)
         if self.p.mpi_comm.allreduce(weights == self.jacobian_weights, op=MPI.LAND):
             return
@@ -446,6 +449,19 @@ class VariationalInequality:
             set_lag_preconditioner(snes, -2)
         if self.balanced:
             self.balanced.weigh_jacobian(self.J)
+
+    def _elastic_residual(self, y):
+        """K y - b into self.elastic, unless it holds that of this very y
+        already: SNES asks for the Jacobian at the point whose residual it
+        evaluated last (a product with K less per Newton step, where the
+        condensed K is dense: m^2 per product). Equal bit for bit or computed
+        anew."""
+        if self.elastic_known and y.equal(self.elastic_at):
+            return
+        self.p.K.mult(y, self.elastic)
+        self.elastic.axpy(-1.0, self.b)
+        y.copy(self.elastic_at)
+        self.elastic_known = True
 
     def _tested_load(self):
         """The load the convergence tests measure: b, or W b with balanced rows."""
