@@ -9,6 +9,13 @@ namespace biotcontact
 {
 using namespace dolfinx;
 
+namespace
+{
+/// Whether constraint k's law has a cohesion (the prototype's
+/// _cohesive_constraints, per constraint).
+bool has_cohesion(const ContactSet& set, std::size_t k) { return set.laws[set.boundary[k]].cohesion > 0; }
+} // namespace
+
 std::vector<std::int64_t> constraint_keys(const ContactSet& set)
 {
   // The P1 output space: a cell's DOF k sits on its geometry node k.
@@ -45,7 +52,7 @@ bool break_pulled_bonds(ContactSet& set, std::span<const char> closed, std::size
   {
     if (!set.frictional[k])
       continue;
-    if (set.bonded[k] and set.laws[set.boundary[k]].cohesion > 0 and !closed[j])
+    if (set.bonded[k] and has_cohesion(set, k) and !closed[j])
       set.bonded[k] = 0, broke = true;
     ++j;
   }
@@ -66,7 +73,7 @@ std::vector<double> broken_bond_names(const ContactSet& set, std::span<const cha
   const std::vector<std::int64_t> keys = constraint_keys(set);
   std::vector<std::int64_t> mine;
   for (std::size_t k = 0; k < keys.size(); ++k)
-    if (!bonded[k] and set.laws[set.boundary[k]].cohesion > 0)
+    if (!bonded[k] and has_cohesion(set, k))
       mine.push_back(keys[k]);
   std::vector<double> all;
   for (std::int64_t key : all_gather(mine, comm).values)
