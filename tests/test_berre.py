@@ -1,23 +1,13 @@
 """The regular 3D fracture network of Berre et al. (2021), Case 2 (issue 52,
-verification 4): nine fractures in the unit cube that cross along lines and
-meet at points (scenes/berre_regular.toml), a unit flux into three squares
-at the origin, pressure 1 at the opposite corner, the matrix 0.1 in three
-blocks; conductive and blocking variants. Steady flow.
-- C++, each variant on the shipped mesh refined 0 and 1 times: the rock's
-  pressure along the diagonal from (0, 0, 0) to (1, 1, 1) approaches the
-  benchmark's reference (tools/berre_figure.py), the difference at least
-  halved by the refinement and within 6 % at refine 1 (measured 11.6 ->
-  4.6 % conductive, 5.4 -> 2.1 % blocking; at refine 2 docs/verification.md).
-- The variants cross the fractures as they say: where the diagonal crosses
-  the planes 0.5, 0.625 and 0.75 the blocking profile jumps, by what the
-  reference jumps, and the conductive one does not.
-- At every level each fracture's volumes balance with its intersections
-  and the intersections sum to zero: to 1e-10 of the volume into the cube
-  at refine 0 (a direct solve), to 1e-8 at refine 1, where `auto` takes
-  the iterative solver (relative residual 1e-10; measured 2.1e-9).
-- The prototype gives the C++ pressures (rock and fractures) at refine 0,
-  blocking, to 1e-10; C++ on 2 ranks gives the one rank's rock pressure
-  and flux, conductive, to 1e-10 (measured 1.2e-13)."""
+verification 4): nine fractures in the unit cube (scenes/berre_regular.toml),
+conductive and blocking, steady flow. C++ on the shipped mesh refined 0 and
+1 times: the rock's pressure along the diagonal approaches the benchmark's
+reference (the difference at least halved, within 6 % at refine 1); the
+blocking profile jumps where the diagonal crosses the planes 0.5, 0.625 and
+0.75, the conductive one does not; every fracture balances with its
+intersections (1e-10 direct, 1e-8 iterative); the prototype (refine 0,
+blocking) and 2 ranks (conductive) give the C++ pressures to 1e-10.
+Numbers: docs/verification.md, "What each test verifies"."""
 import os
 import sys
 

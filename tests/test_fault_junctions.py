@@ -1,33 +1,13 @@
 """Contact where faults cross and end on one another (issue 52, verification
-2; docs/theory.md, "Faults where they meet"), both tracks. In a 4 m square
-a crack along y = 0 (x in [-1, 1]), a second along x = 0 (y in [-1, 1])
-crossing it at the origin (an X: four pieces, four pairs at one node), and
-a branch along x = 0.5 from the crack up to y = 0.8 (a T: three pieces,
-three pairs).
-- Hydrostatic compression (1 MPa on the right and the top, rollers on the
-  left and the bottom), friction 0.6: the cracks stay closed and the
-  body's stress is uniform, so every pair, those at the X and the T too,
-  carries a contact traction of exactly 1 MPa (to 1e-10) and no slip.
-- 3D: two planes crossing along a line across a box, the line's foot on
-  the bottom, whose z is held (a prescribed component along the faults),
-  the same compression: every pair carries 1 MPa to 1e-10. The slip is
-  not round-off there: where a plane meets a side whose normal component
-  is held (u_x = 0 on x = 0), the held component is off by 1.9e-7 of the
-  displacement on the pair's two nodes, equal and opposite (the same with
-  one plane and on either contact path: a finding, docs/theory.md), so
-  the slip is bounded by 1e-6 of the displacement.
-- Pressurised cracks (1 MPa on every face, the square clamped): the X
-  opens; the opening at the crossing and the cracks' mean opening
-  converge under refinement (h 0.2, 0.1, 0.05; observed order reported,
-  at least 0.5 asserted: measured 0.62 at the crossing, 1.03 for the
-  largest opening).
-- Shear with friction 0.6 in a coupled scene (the fluid driven in from
-  the left, the faces loaded by the pore pressure beside them), the top
-  pushed sideways: pairs slip and others stick over the run; the fixed-stress
-  split equals the monolithic solve (fields to 1e-8) with the same
-  stick/slip states, 2 ranks give 1 rank's fields (1e-8), a run killed
-  after 5 steps and restarted ends equal to the uninterrupted one (1e-12),
-  and the prototype gives the C++ fields (1e-10)."""
+2; docs/theory.md, "Faults where they meet"), both tracks: an X and a T in a
+4 m square. Under hydrostatic compression with friction 0.6 every pair
+carries exactly the load (1e-10) and does not slip, in 2D and on two planes
+crossing in a box (3D: a held side's slip bounded by 1e-6 of the
+displacement, a finding); pressurised cracks open and converge under
+refinement (order >= 0.5); sheared with friction in a coupled scene, split
+= monolithic (1e-8, the same stick/slip states), 2 ranks = 1, a restart
+ends equal (1e-12), prototype = C++ (1e-10). Numbers: docs/verification.md,
+"What each test verifies"."""
 import os
 
 import numpy as np

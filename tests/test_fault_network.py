@@ -1,57 +1,14 @@
 """Flow through a network of conduit faults (issue 52, item 2 and
 verification 1; docs/theory.md, "Flow in a fault network"), both tracks.
-Rigid impermeable rock (a flow scene, permeability 1e-25 m^2), no storage,
-one step: the faults' steady flow.
-- 2D, Kirchhoff: a rectangle 4 m x 2 m; fault a along y = 1 from side to
-  side (w = 0.1 mm), fault b along x = 2 from bottom to top (0.2 mm; an X
-  with a at (2, 1)), fault c from a at (1, 1) up to the top (0.15 mm; a T);
-  pressures 3, 1, 2 and 0.5 MPa on the left, right, top and bottom. The
-  resistor network (cubic-law conductances w^3 / (12 mu_f L) per segment,
-  Kirchhoff's current law at the two intersections) gives the pressure at
-  each intersection and the linear profile along each segment: every
-  fault cell's pressure equals it to 1e-10 of the largest (the two-point
-  flux is exact for a linear profile, the intersection's star-delta
-  elimination exact). The same with finite normal permeabilities on b
-  and c (2e-13, 1e-13 m^2): each intersection's own resistance, the mean
-  of mu_f / (2 k_n) over the faults meeting there, in series at each
-  segment's end (the T moves from 2.054 to 2.083 MPa). The summary's
-  rate through each intersection (`intersections`, "a & c" the T, "a & b"
-  the X) is the resistor network's, the inflows of its segments, to 1e-10.
-- Each fault's volumes balance with what crosses its intersections
-  (injected + exchanged + intersections = stored + outflow) to 1e-10
-  (measured 5.9e-14 in 2D, 1.6e-11 in 3D: the direct solve's round-off
-  on conductances from 1e-25 to 1e-9) and the intersections' volumes sum
-  to zero over the faults to 1e-12.
-- 3D: two planes crossing in a box (x = 1 and y = 1, each the whole
-  cross-section), pressures on the four sides: balanced the same way; the
-  plane x = 1 as one physical group or as the two groups the other plane
-  cuts it into (a junction of two cells per edge instead of a link) gives
-  the same fault pressure to 1e-12 (C++).
-- The prototype gives the C++ fault pressures to 1e-10.
-- The shipped scene scenes/network2d.toml (C++): a well into f09 of 22
-  frictional fractures, 5 sealing, in poroelastic rock under the in-situ
-  stress; after ten days the fluid has spread through the intersections
-  to the conduits f09 meets (f02, f16) and on (f05, f18): each more than
-  2 MPa above the initial pressure, f09 the highest, while the conduits it
-  does not reach stay within 0.5 MPa of it; each conduit balances with its
-  intersections to 1e-8 of the volume injected. Every step converged; at
-  every pair and output time the faces do not overlap, the traction is
-  compressive and within the Coulomb disc (|tau| <= 0.6 sigma_n); pairs
-  slip as the stress is applied, and the injection makes the largest slip
-  grow.
-- The 2D network with storage (c_f = 1e-9 1/Pa, 40 steps of 0.25 ms from
-  1 MPa, C++): 2 ranks give 1 rank's fault pressure, volumes and rates
-  through the intersections to 1e-12,
-  and the run killed halfway and restarted from its checkpoint ends with
-  the uninterrupted run's (the intersections' volumes in the checkpoint).
-- The shipped scenes/network3d.toml, whose f2 has edges that cross f1 (a
-  fracture's tip line across another, split by the other alone): both
-  tracks pass `check`; its first step converges on both tracks, f1 and
-  f2 balance with their X to 1e-8 of the injected, fluid crosses into f2,
-  every pair is apart or touching and within the Coulomb disc, and more
-  pairs slip after the injection than under the in-situ stress alone
-  (7 and 27); the prototype gives the C++ fields to 1e-10 (measured
-  4.7e-13) in the same coupling iterations."""
+Rigid impermeable rock: every fault cell's pressure and the rate through
+each intersection equal the resistor network's (cubic-law conductances,
+Kirchhoff at an X and a T; also with finite normal permeabilities) to
+1e-10; each fault balances with its intersections, in 2D and on two planes
+crossing in 3D, where one plane drawn as one or two groups gives the same
+pressure; 2 ranks = 1 and a restart ends equal on a transient network; the
+shipped scenes/network2d.toml and network3d.toml spread the injected fluid
+through their intersections, balanced, every pair within the Coulomb disc.
+Numbers: docs/verification.md, "What each test verifies"."""
 import os
 import subprocess
 

@@ -1,26 +1,13 @@
 """The fracture networks of Flemisch et al. (2018) (issue 52, verification
-3): the regular network (scenes/flemisch_regular.toml: six fractures that
-cross and end on one another in the unit square, a unit flux into the left
-side, pressure 1 on the right) in its conductive and blocking variants, and
-the complex network (scenes/flemisch_complex.toml: ten fractures of an
-outcrop, two of them blocking) with the pressure held from top to bottom
-and from left to right. Steady flow.
-- C++, each variant on its shipped mesh refined 0 to 2 times (LEVELS): the
-  rock's pressure sampled along the benchmark's line converges, the second
-  refinement's change at least 1.6 times smaller than the first (observed
-  order above 0.7; measured 0.94 to 1.06), and at refine 2 lies within 1 %
-  of the benchmark's published reference pressure at five or six points of
-  the line away from the fractures (measured within 0.40 %; with LEVELS = 4,
-  at refine 3, within 0.21 %, orders 0.88 to 1.06).
-- The regular network's profiles cross the fractures the way their variant
-  says: the conductive line y = 0.7 stays continuous, the blocking line
-  jumps where it crosses the fractures y = 0.5 and x = 0.5 (steps between
-  samples of 0.02 at most elsewhere).
-- At every level each fracture's volumes balance with its intersections
-  to 1e-10 of the volume into the square and the intersections sum to
-  zero over the fractures.
-- The prototype gives the C++ pressures (rock and fractures) at refine 0
-  for the complex network's left-right variant to 1e-10."""
+3): the regular network (conductive and blocking) and the complex network
+(top-bottom and left-right), steady flow. C++ on the shipped meshes refined
+0 to 2 times (LEVELS): the pressure along the benchmark's line converges
+(the second change at least 1.6 times smaller than the first) and lies
+within 1 % of the published reference at refine 2; the regular network's
+lines are continuous (conductive) or jump at the fractures (blocking); every
+fracture balances with its intersections to 1e-10 of the inflow; the
+prototype gives the C++ pressures on the complex network to 1e-10.
+Numbers: docs/verification.md, "What each test verifies"."""
 import os
 import sys
 

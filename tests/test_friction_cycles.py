@@ -1,58 +1,14 @@
-"""Load, unload and reload with friction (issue 50, verification 5), on the
-C++ solver and the prototype: the closed-form hysteresis of Cattaneo and
-Mindlin, and of Mindlin and Deresiewicz (docs/verification.md,
-"Cattaneo-Mindlin: partial slip under a cycle"), plane strain.
-
-A square [-1, 1]^2 m cut from side to side by the fault y = 0 (mu = 0.6,
-E = 1 GPa, nu = 0.25 on both sides), its initial gap g0 = x^2/(2R),
-R = 1 m: Hertz's half-space form of two cylinders of radius 2R, so the
-faces touch at x = 0 first. The bottom is clamped, the top pushed down by
-4.5 mm in step 1 (the contact half-width a ~ 0.049 m, 97.5 pair spacings
-of 0.5 mm), then moved sideways by s(t): 0 -> S in 4 steps (loading),
-S -> -S in 8 (unloading), -S -> S in 8 (reloading), S = 3 mm, the
-tangential load reaching Q* = 0.749 mu P. The two blocks are the same
-material, so the normal and the tangential problems uncouple and, for
-a << the blocks, in each step of
-- the loading (and step 1, Q = 0) the pairs with |x| < c stick, c = a
-  sqrt(1 - |Q|/(mu P)), the others slip forward;
-- the unloading from Q_r = Q* (the reloading from Q_r = -Q*) the pairs
-  with |x| < c' stick, c' = a sqrt(1 - |Q_r - Q|/(2 mu P)), the others
-  slip back (forward),
-with P and Q the sums of the pairs' normal and tangential tractions times
-their lumped lengths and a half the closed measure. Asserted at every one
-of the 21 steps: the stuck measure within 3 % of 2c (or 2c'), the
-slipping measure within 3 % of 2a of 2(a - c) (it is the closed measure
-minus the stuck: no pair inside is open), the stuck pairs one interval
-centred to a pair spacing with every closed pair inside it stuck, each
-slipping pair's slip increment along the step's direction; a within 3 %
-of Hertz's sqrt(8 P R (1 - nu^2)/(pi E)) (the contact is Hertzian);
-every step converged (21 steps, no retry, in summary.json), whose stuck,
-slipping and closed measures are those of fault.xdmf's states; the
-prototype equal to the C++ run to 1e-10, with the same states at all
-times.
-
-Measured (2026-11-28, this 2-core machine), the same on both tracks: the
-stuck measure against 2c from -0.12 % to +1.31 % (largest at Q = +-Q*:
-49.5 of 97.5 mm stuck), the slipping one from -0.72 % to +0.11 % of 2a;
-c/a in the loading 1, 0.8974, 0.7846, 0.6615, 0.5077 against 1, 0.8974,
-0.7841, 0.6554, 0.5011 (steps 1-5); c'/a in the unloading 0.9487,
-0.8974, 0.8462, 0.7846, 0.7231, 0.6615, 0.5897, 0.5077 against 0.9498,
-0.8974, 0.8423, 0.7841, 0.7221, 0.6554, 0.5825, 0.5011 (steps 6-13), the
-reloading's (steps 14-21) the same (its closed form to 1e-4); a 0.04875 m, Hertz 0.04899 m (-0.49 %);
-Q*/(mu P) = 0.7489; the prototype equal to C++ to 9.2e-15
-(displacement); runs of 7.0 s (C++) and 13.6 s (prototype), 113 Newton
-steps each, the test 22 s. 3D (Mindlin's spheres) does not fit: a
-contact disc of radius 40 pair spacings holds some 5000 frictional pairs,
-where the penny crack's 241 already make forming H most of a 90 s run
-(docs/theory.md, "Friction"). In 3D, with no closed form, the cycle on a
-box cut by a horizontal fault (mu 0.6, the top pressed down 1 mm, then
-moved by 3 mm, -3 mm and 3 mm along x in 4, 8 and 8 steps): every step
-converges; at every pair and step the Coulomb law holds (slipping |t_T| =
-mu t_N, stuck |t_T| <= mu t_N, to 1e-9 of the largest traction); after
-each turn every pair sticks for three steps, slip spreads, every pair slips
-at each amplitude; the reloading's mean slip the unloading's mirrored
-(within 3 % of the amplitude's, the mesh not symmetric); the prototype
-equal to C++ to 1e-10."""
+"""Load, unload and reload with friction 0.6 (issue 50, verification 5), both
+tracks: the closed-form hysteresis of Cattaneo-Mindlin and of
+Mindlin-Deresiewicz (docs/verification.md, "Cattaneo-Mindlin: partial slip
+under a cycle"), plane strain. A square cut by the fault y = 0 with the
+Hertzian gap x^2/(2R), pressed, then moved sideways 0 -> S -> -S -> S in 4 +
+8 + 8 steps: at every step the stuck pairs are one centred interval of
+measure 2c (2c') within 3 %, the slipping ones slip along the step, a within
+3 % of Hertz's, every step converges; the prototype equals C++ (1e-10, the
+same states). 3D, no closed form: a box cut by a horizontal fault under the
+same cycle: every step converges, Coulomb holds (1e-9), the reloading
+mirrors the unloading (3 %). Numbers: docs/verification.md."""
 import math
 import os
 

@@ -1,40 +1,13 @@
-"""The prototype mirrors the C++ solver file for file and name for name.
-
-Files: every module of cpp/ (a header, a source or both) has a Python module
-of the same folder and name in python_prototype/, and every Python module a
-C++ twin, except the few listed below with the reason. The folders follow
-the data flow (scene -> domain -> assembly -> solvers and contact -> steps
--> coupling -> output and diagnostics) on both tracks: docs/layout.md.
-
-Names: each module pair defines the same public names, of the same kind
-(a type, a function or a constant), except those listed in DIFFERENCES
-with the reason; a listed difference that no longer exists fails too.
-- C++: what the header declares (the source, for a module without one) at
-  global or `biotcontact` scope: classes, structs, unions, enums, type
-  aliases (using, typedef), free functions, and variables and constants;
-  also the values of an unscoped enum, which lie at that scope. Not
-  members, nor anything in an anonymous or `detail` namespace.
-- Python (ast): the module-level classes, functions and assigned names not
-  starting with "_", also under a module-level if or try. An assigned
-  CamelCase name is a type alias.
-- Constants: a C++ constant's twin is the Python name equal to it up to
-  case (iterative_tolerance -> ITERATIVE_TOLERANCE; solver_counts stays
-  lower case in Python). A Python constant is compared only when C++ has
-  such a constant: the prototype's other module-level values (format
-  strings, parser tables) stand for what the C++ keeps in its sources'
-  anonymous namespaces, which are not compared either.
-A C++ class's constructor where Python has a free function (or the other
-way round) is two differences: a name on one side only on each side.
-
-The C++ parser is a small one: comments, preprocessor lines and string
-literals (raw ones too) are blanked, then the text is read declaration by
-declaration (up to ';' or a brace-enclosed body, bodies skipped by brace
-depth). Its limits: a macro used at namespace scope reads as a function;
-a definition of a qualified name (A::f, a member or another namespace's)
-is skipped; a using-declaration (using std::x;) names nothing; only the
-first declarator of `struct S {...} s;` or `T x{...}, y;` is read; a nested
-named namespace other than `detail` stops the test (extend the parser);
-overloads and parameters are not compared, only names."""
+"""The prototype mirrors the C++ solver file for file and name for name
+(docs/layout.md): every module of cpp/ (a header, a source or both) has a
+Python module of the same folder and name in python_prototype/ and back,
+and each pair defines the same public names of the same kind (a type, a
+function or a constant), except the modules and names listed below with
+the reason; a listed difference that no longer exists fails too. C++
+names are read from the header (the source without one) at global or
+`biotcontact` scope by a small parser whose limits docs/layout.md lists;
+Python's by ast (module-level, not starting with "_"; an assigned
+CamelCase name is a type alias). Constants pair up to case."""
 import ast
 import collections
 import os

@@ -1,25 +1,13 @@
-"""A contact set that moves at constant size: a poroelastic slab on a rigid
-foundation, pressed on its top except under an uplift bump that steps one
-node spacing along the top every 0.25 s. After the first step 28 of the
-41 base nodes touch at all times, and at every jump of the bump one node
-opens ahead of it and one closes behind it. The decisions that depend on a
-change of the contact set compare it node by node (ActiveSet), so they see
-these changes, which a comparison of counts would miss:
-- adaptive steps: every step with a change is a contact break (8 breaks,
-  while the count changes once); the steps across the jumps are accepted
-  as breaks instead of being estimated across a kink;
-- q = "auto": windows over a jump are computed again with q = 1, though
-  the count at their ends is unchanged; no window of q > 1 spans a change,
-  node by node.
-Both tracks, with the same steps, windows and breaks.
-
-The same slab under an uplift patch with sharp edges moving smoothly
-(1 m/s) checks the split's coupling tolerance under adaptive steps: each
-jump of the load at the mesh's points cuts the steps, and the iteration's
-error, multiplied by t/h in the estimate, held them short before the
-tolerance was tied to the step (BDF2, tolerance 1e-4: a crawl at dt_min
-from t = 0.27 s, 1127 rejections and 12 forced steps in 60 s). Now the
-split takes the monolithic solve's steps, none forced."""
+"""A contact set that moves at constant size (both tracks): a poroelastic
+slab on a rigid foundation under an uplift bump that steps one node spacing
+every 0.25 s, one base node opening and one closing at each jump while the
+count stays 28. Adaptive steps take every step with a change as a contact
+break; q = "auto" computes windows over a jump again with q = 1, and no
+window of q > 1 spans a change node by node (ActiveSet), where a
+comparison of counts would see none. An uplift patch moving smoothly checks
+that the split's coupling tolerance, tied to the step, lets adaptive steps
+follow sharp load edges (the monolithic solve's steps, none forced).
+Numbers: docs/verification.md, "What each test verifies"."""
 from support import TRACKS, Fields, check, run_track, set_changes, summary, windows, written
 
 JUMP, NODE = 0.25, 0.25  # the bump's period and step (the mesh's node spacing)
