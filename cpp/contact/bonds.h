@@ -4,6 +4,7 @@
 // (ContactSet::bonded) and as of the last accepted step.
 #pragma once
 
+#include "assembly/petsc_error.h"
 #include "contact/contact_set.h"
 
 #include <mpi.h>
@@ -12,6 +13,16 @@
 
 namespace biotcontact
 {
+
+/// @brief A contact solve that failed on every path though the bonds its
+/// clamped start pulled were broken: pairs the remaining bonds hold still
+/// have no state (pulled while closed, overlapping while open), as where a
+/// split's p_f, from the flow alone, passes a cohesive fault's normal
+/// stress along its length.
+struct BondFailure : SolverError
+{
+  using SolverError::SolverError;
+};
 
 /// A name of each constraint that no partition changes: the input index of
 /// its node (a fault pair's + node) times 4, plus its place among the

@@ -268,16 +268,20 @@ void ContactSolver::solve(Vec b, Vec x)
     // (x_vi) when it broke a bond: the pairs that its clamped start (every
     // pair closed and stuck) pulls slip on friction alone (contact_law.h).
     // Bonds break only where no solution keeps them.
-    for (;;)
+    for (int rounds = 0;; ++rounds)
       try
       {
         solve_on_path(b_vi, x_vi);
         break;
       }
-      catch (const SolverError&)
+      catch (const SolverError& e)
       {
-        if (!break_pulled_bonds())
+        if (break_pulled_bonds())
+          continue;
+        if (rounds == 0)
           throw;
+        throw BondFailure(std::string(e.what()) + " (also after breaking the bonds its clamped start pulled, "
+                          + std::to_string(rounds) + (rounds == 1 ? " time)" : " times)"));
       }
   }
   if (_change)

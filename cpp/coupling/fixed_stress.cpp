@@ -1,5 +1,6 @@
 #include "coupling/fixed_stress.h"
 
+#include "contact/bonds.h"
 #include "coupling/anderson.h"
 #include "coupling/contraction.h"
 #include "coupling/cycle.h"
@@ -23,6 +24,13 @@ double inexact_tolerance(double previous_increment)
 namespace
 {
 using Array = std::vector<double>;
+
+// A split's p_f comes from the flow alone: where it passes a cohesive
+// fault's normal stress along its length, the bonds leave the contact
+// solve no state (docs/user-guide.md, "Friction"); the monolithic solve
+// moves p_f with the openings and breaks them there.
+constexpr const char* cohesive_split_advice
+    = "; a cohesive fault opening along its length: coupling.scheme = \"monolithic\" solves p_f with the contact";
 
 /// Changes of the contact active set so far (0 without contact).
 long contact_changes(MechanicsStep& mechanics)
@@ -333,7 +341,9 @@ FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
   catch (const SolverError& e)
   {
     // The failing solve named its system; the iteration is known here.
-    const std::string cause = "coupling iteration " + std::to_string(n + 1) + ": " + e.what();
+    std::string cause = "coupling iteration " + std::to_string(n + 1) + ": " + e.what();
+    if (dynamic_cast<const BondFailure*>(&e))
+      cause += cohesive_split_advice;
     if (!retry(w, cause))
       throw SolverError(cause);
     return Outcome::retried;

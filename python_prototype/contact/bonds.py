@@ -5,6 +5,16 @@ checkpoint. The contact solver (contact.py) keeps them as of now
 Twin: cpp/contact/bonds.h."""
 import numpy as np
 
+from ..solvers.solver import SolverError
+
+
+class BondFailure(SolverError):
+    """A contact solve that failed on every path though the bonds its
+    clamped start pulled were broken: pairs the remaining bonds hold still
+    have no state (pulled while closed, overlapping while open), as where a
+    split's p_f, from the flow alone, passes a cohesive fault's normal
+    stress along its length."""
+
 
 def constraint_keys(contact_set):
     """A name of each constraint that no partition changes: the input index

@@ -20,7 +20,7 @@ from .contact_law import on_foundation
 from .contact_path import ContactPath, PathCosts, choose_contact_path
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
-from .bonds import bonds_from_names, break_open_bonds, break_pulled_bonds, broken_bond_names
+from .bonds import BondFailure, bonds_from_names, break_open_bonds, break_pulled_bonds, broken_bond_names
 from .contact_set import any_frictional, constraint_law, displacement_scale
 from .schur_complement import SchurComplement
 from .variational_inequality import VariationalInequality, VIProblem
@@ -309,13 +309,19 @@ class ContactSolver:
             # (x_vi) when it broke a bond: the pairs that its clamped start
             # (every pair closed and stuck) pulls slip on friction alone
             # (contact_law.py). Bonds break only where no solution keeps them.
+            rounds = 0
             while True:
                 try:
                     self._solve_on_path(b_vi, x_vi)
                     break
-                except SolverError:
-                    if not self._break_pulled_bonds():
+                except SolverError as e:
+                    if self._break_pulled_bonds():
+                        rounds += 1
+                        continue
+                    if rounds == 0:
                         raise
+                    raise BondFailure(f"{e} (also after breaking the bonds its clamped start pulled, {rounds} "
+                                      f"{'time' if rounds == 1 else 'times'})") from None
         if self.change:
             self.change.backward(x_vi, x)
 

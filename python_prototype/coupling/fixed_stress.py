@@ -12,6 +12,7 @@ from typing import Optional
 from ..assembly.materials import split_advice
 from ..assembly.parameters import set_time_step, set_window_steps
 from .anderson import AndersonAcceleration
+from ..contact.bonds import BondFailure
 from ..contact.contact_state import ActiveSet, same_active_set
 from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
@@ -33,6 +34,14 @@ def inexact_tolerance(previous_increment):
     iterative solves of an iteration, 1e-2 times the previous iteration's
     relative increment max(dp, du), between 1e-10 and 1e-4."""
     return min(max(1e-2 * previous_increment, ITERATIVE_TOLERANCE), 1e-4)
+
+
+# A split's p_f comes from the flow alone: where it passes a cohesive
+# fault's normal stress along its length, the bonds leave the contact solve
+# no state (docs/user-guide.md, "Friction"); the monolithic solve moves p_f
+# with the openings and breaks them there.
+_COHESIVE_SPLIT_ADVICE = ('; a cohesive fault opening along its length: coupling.scheme = "monolithic" solves p_f '
+                          'with the contact')
 
 
 def _contact_changes(mechanics):
@@ -260,6 +269,8 @@ class _FixedStressSplit:
         except SolverError as e:
             # The failing solve named its system; the iteration is known here.
             cause = f"coupling iteration {n + 1}: {e}"
+            if isinstance(e, BondFailure):
+                cause += _COHESIVE_SPLIT_ADVICE
             if not self.retry(w, cause):
                 raise SolverError(cause) from None
             return _Outcome.retried, n
