@@ -1,41 +1,15 @@
-"""Flow inside a conduit fault (issue 39; docs/theory.md "Flow in a fault"),
-on both tracks. A fault crosses a 10 m x 2 m rock from its left side to its
-right side (an unstructured gmsh mesh); the fault's ends take the sides'
-pressures. Walls rigid (a flow scene), hydraulic aperture w = 1e-4 m,
-mu_f = 1e-3 Pa s.
-- the cubic law: rock of permeability 1e-25 m^2 (impermeable beside the
-  fault), pressures 2 MPa and 1 MPa at the ends: the fault's pressure is
-  linear and its flux w^3 (p_in - p_out) / (12 mu_f L) in every cell, to
-  1e-10; the rock beside it takes no flow (exchange below 1e-10 of the
-  flux per metre); with the fault's own `permeability` k_f the flux is
-  k_f w (p_in - p_out) / (mu_f L) (issue 52);
-- a well injecting Q = 1e-6 m^2/s into the fault's middle, both ends at
-  1 MPa: p_f is the tent 1 MPa + (Q/2) (L/2 - |x - L/2|) / t, t = w^3 /
-  (12 mu_f), at every cell to 1e-10, and Q/2 leaves through each end (the
-  end cells' flux, to 1e-10): what the well injects leaves the fault;
-- transient: the same fault with storage w c_f (c_f = 1e-9 1/Pa, the
-  rock's storage nil), its pressure 1 MPa at the start and its inlet held
-  at 2 MPa: p_f follows p0 + dp erfc(x / (2 sqrt(D t))) with D = w^2 /
-  (12 mu_f c_f) within 1 % of dp at t = 0.25, 0.5 and 1 ms;
-- a finite normal permeability: a fault across the rock's flow (the
-  vertical line x = 5, ends on the no-flow top and bottom), k_n = 1e-17
-  m^2, rock 1e-12 m^2: the flux through rock, faces and fault is
-  dp / (mu_f L / K + mu_f w / k_n), half of the flux with k_n = inf, in
-  every cell, and p_f the mean of the ends' pressures, to 1e-10;
-- a conduit fault whose transmissivity is far below the rock's (w = 1e-9
-  m) in a permeable rock (1e-12 m^2) is "transparent": the rock's pressure
-  and flux equal the transparent fault's to 1e-6;
-- 2 ranks give the fields of 1 rank to 1e-10;
-- the transient run killed halfway and restarted from its checkpoint ends
-  with the uninterrupted run's fields and fault pressure exactly (1e-12);
-- the prototype gives the C++ fields and fault.xdmf's XML (the same text)
-  to 1e-10;
-- in 3D, a fault across a 4 m x 1 m x 2 m box (its plane z = 0 the whole
-  cross-section), the same ends: the two-point flux is not consistent on a
-  triangulation that is not K-orthogonal, so p_f is linear only to the
-  mesh's error (1.04 % of dp measured; 2 % asserted, docs/theory.md "Flow
-  in a fault"); a vertical well crossing the fault raises p_f most in the
-  cell it crosses; the prototype gives the C++ fault pressure to 1e-10."""
+"""Flow inside a conduit fault (issue 39; docs/theory.md, "Flow in a fault"),
+both tracks: a fault across a 10 m x 2 m rock, rigid walls, w = 1e-4 m.
+Against closed forms to 1e-10: the cubic law's linear pressure and flux in
+an impermeable rock (and k_f w with the fault's own permeability, issue
+52); a well at the middle: the pressure tent, half the rate out of each
+end; a finite normal permeability across the rock's flow: the series
+resistance. Transient storage w c_f: the erfc profile within 1 % of dp; a
+fault far less transmissive than the rock is transparent (1e-6); 2 ranks =
+1, a restart ends equal, prototype = C++ (and fault.xdmf's XML); in 3D p_f
+is linear to the mesh's error (2 % asserted: the two-point flux on
+triangles) and a vertical well raises p_f most where it crosses. Numbers:
+docs/verification.md."""
 import math
 import os
 

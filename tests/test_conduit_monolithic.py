@@ -1,53 +1,15 @@
 """The monolithic solve with a conduit fault's pressure p_f (issue 39;
-docs/theory.md "The monolithic solve with p_f"), on the C++ solver and the
-prototype: p_f appended to (u, z, p), its load on the faces and the open
-cells' opening in the same system, each step iterating on the apertures
-(transmissivity, open cells, closure) until they move by at most the
-coupling's tolerance. The monolithic solve and the fixed-stress split solve
-the same discrete equations; each split's limit is the monolithic solution.
-- The channel of test_fault_closure.py, closed under 20 MPa with its
-  Barton-Bandis closure, the inlet raised to 15 MPa (eight steps of
-  0.05 s): the monolithic fields and p_f are the split's (both to 1e-11)
-  to 1e-9, the volumes balance to 1e-10 (the closed cells' closure
-  aperture is lagged: its fixed-stress term stabilises the iteration);
-- the hydraulic opening of test_hydraulic_opening.py on a small square
-  (support.INCLINED_CRACK_GEO; gas injected into a closed crack, which
-  opens once p_f exceeds the compression; three steps, closed, then open): the open cells' opening is implicit, and Newton's
-  term of the fluid's storage c_f w_h (p_f - p_f^old) in w_h keeps the
-  iteration from cycling between the closed and the open crack (measured:
-  without it, p_f 5.0 then 2.9 MPa, and again, about S = 3 MPa); the
-  monolithic displacement and p_f are the split's to 1e-8, its injected
-  volume the opening plus the compressed fluid to 1e-8 at every step, in
-  no more solves than the split's iterations;
-- in 3D with friction (test_fault_closure.py's box with cells of 0.5 m
-  instead of 0.25: 2.4 s instead of 23 s; the fault frictional,
-  mu = 0.6, every pair stuck; the coupling's tolerance 1e-13): the contact
-  solver with friction in 3D on the coupled system (a full Newton step, no
-  backtracking search: its merit, the forces' norm in N, is blind to the
-  mass balances' rows in m^3/s, whose step it shrank to nothing; no cap on
-  the step's length, as the pressures run to 1e10 in the solver's units;
-  each balance judged by its own load, and one Newton step more once they
-  are met) gives the split's fields and p_f to 1e-9, and the fault's
-  volumes balance to 1e-7 of what entered (measured 1.5e-8; without the
-  step more, 6.9e-6 whatever the coupling's tolerance: a solve that took
-  no step left the apertures where they were, which ended the iteration);
-- the coupled matrix changes in the conduit's rows from solve to solve:
-  in 2D each change is factorised (MUMPS's analysis by AMD), the
-  closure's run that of `-monolithic_ksp_type preonly` (the same path)
-  to 1e-10; in 3D the last factorisation preconditions
-  GMRES on the new matrix, so the frictional box's solves factorise fewer
-  times than with `-monolithic_ksp_type preonly`, the same fields and
-  p_f to 1e-10;
-- 2 ranks give 1 rank's fields and p_f to 1e-10; a run killed after 6
-  steps and restarted from its checkpoint (step 4) ends with the
-  uninterrupted fields and p_f to 1e-12 (C++);
-- the prototype gives the C++ fields and p_f to 1e-10;
-- iterations.csv has a row per solve (per aperture iteration), their
-  Newton steps the summary's, the same on both tracks and on 2 ranks (the
-  first solve's changes to 1e-8: a rank's ghosts and p_f counted once);
-  a step whose apertures do not settle in coupling.max_iterations = 2
-  fails (exit 3) in one line naming the last iteration's change, its two
-  rows written."""
+docs/theory.md, "The monolithic solve with p_f"), both tracks: p_f appended
+to (u, z, p), each step iterating on the apertures until they move by at
+most the coupling's tolerance; each split's limit is its solution. On the
+closure channel of test_fault_closure, the hydraulic opening of
+test_hydraulic_opening and, in 3D, test_fault_closure's box with a
+frictional fault: the split's fields and p_f (1e-9 / 1e-8), the volumes
+balanced, no more solves than the split's iterations; 2D changes factorised,
+3D ones preconditioned by the last factorisation (same fields); 2 ranks = 1,
+a restart ends equal, prototype = C++; iterations.csv a row per solve; a
+step whose apertures do not settle fails in one line. Numbers:
+docs/verification.md."""
 import os
 
 import numpy as np

@@ -1,45 +1,14 @@
-"""Opening under friction (issue 50, items 1 and 2): a well injecting
-5e-4 m^2/s into the frictional conduit fault (mu 0.6) of
-scenes/fault_reactivation.toml, at the fault's centre, for ten days. The
-fluid lifts p_f above the fault's normal stress by the well from day 6: the
-fault opens there, slips around the opening and sticks beyond. Before this
-round the split cycled between two states at day 6 (the same increments
-from iteration 98 to 100: the cubic law's transmissivity of the cell by the
-well, lagged, sheds its fluid and closes it, then refills it), and the
-monolithic solve's apertures never settled; now the cubic law takes a
-conducting aperture relaxed by Aitken's factor once the cycle shows
-(docs/theory.md, "Flow in a fault"), and friction is one semismooth Newton
-solve with opening (docs/theory.md, "Friction").
-- Both tracks, split: converged; at the end a pair by the well is open,
-  the open pairs lie nearer the well than every stuck pair, some pairs slip
-  and the far ones stick; the fault's volumes balance (injected + exchanged
-  = stored + outflow to 1e-8 of the injected); the apertures change the
-  flow system at each coupling iteration, and the last factorisation
-  preconditions GMRES (docs/theory.md, "Solvers"): fewer than one
-  factorisation per ten flow solves (measured 2 for 335, 2026-12-02; 253 when each
-  change was factorised, 2026-11-30).
-- The split and the monolithic solve (C++; both at coupling.tolerance
-  1e-11, to day 7, the opening's first two days) give the same
-  displacement to 1e-9 and pressure to 1e-8, the issue's bound (measured
-  1.4e-12 and 2.6e-10 on 2026-11-28 over ten days, 2026-11-29 over seven; at the
-  tolerance 1e-10 of the other checks, 1.4e-10 and 2.9e-8: the two
-  iterations' own tolerance, not the method, sets the agreement).
-- The prototype gives the C++ split's fields to 1e-9, ten times the
-  coupling's tolerance (measured 5.7e-13 and 1.2e-10).
-- Through the opening (C++, item 3 of the verification): 2 ranks give the
-  1-rank split's fields to 1e-8 and its coupling iterations, and a run
-  killed after day 6 and restarted from its checkpoint of day 4 ends equal
-  to the uninterrupted one (1e-12; measured 2.1e-14 and 3.6e-12 on 2
-  ranks, 0 after the restart, 2026-11-29).
-- On six-hour steps the split converges through the opening too (before
-  2026-12-01 it cycled on day 7), equals the monolithic solve to 1e-9 and
-  1e-8 (measured 4.8e-12 and 3.2e-10) and the prototype the C++ split to
-  1e-9 (measured 3.8e-14 and 9.5e-12, 2026-12-01) in the same iterations
-  (840 on 2026-12-02; 915 before the split's Aitken factor took its
-  magnitude, docs/theory.md).
-- With Anderson acceleration (before 2026-12-01 its extrapolation opened
-  and closed pairs in turn on day 6 to iteration 400) the split converges
-  on both tracks to the plain split's fields (1e-9, 1e-8)."""
+"""Opening under friction (issue 50, items 1 and 2): a well of 5e-4 m^2/s
+into the frictional conduit fault (mu 0.6) of scenes/fault_reactivation.toml
+for ten days, lifting p_f above the normal stress from day 6: open by the
+well, slipping around, stuck beyond (docs/theory.md, "Flow in a fault",
+"Friction"). Both tracks: the split converges, the volumes balance (1e-8 of
+the injected), the flow system factorised fewer than once per ten solves;
+split = monolithic (1e-9 displacement, 1e-8 pressure, to day 7 at tolerance
+1e-11); prototype = C++ (1e-9); 2 ranks = 1 and a restart ends equal; on
+six-hour steps and with Anderson acceleration the split converges through
+the opening too. What failed before and the numbers: docs/verification.md,
+"What each test verifies"."""
 import numpy as np
 from support import check, fault_fields, iterations, killed_and_restarted, max_difference, run_track, scene, summary
 

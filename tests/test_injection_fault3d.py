@@ -1,40 +1,14 @@
-"""The shipped injection scene (scenes/injection_fault3d.toml, issue 39's
-scene), on the C++ solver: a well injects 50 l/s into a frictional conduit
-fault crossing a layered reservoir in 3D, for the first 2 of its 4 hours
-(the suite's time).
-- Before the injection every pair sticks (slip below 1e-12 of the final
-  largest); from the first step pairs slip, all within 100 m of the well,
-  and the slipping part only grows, as does the part of the fault the
-  pressure has reached (p_f above 0.1 MPa).
-- Coulomb at every output: |t_T| = mu t_N at the slipping pairs and
-  |t_T| <= mu t_N at the stuck ones (to 1e-8).
-- summary.json's seismic moment: each step's between G_reservoir and
-  G_burden times the slip increments' potency on fault.xdmf (sum of
-  |slip increment| times a third of the adjacent triangles' areas), the
-  total their sum and Mw = (2/3)(log10 M0 - 9.1).
-- The fault's volumes: 0.05 m^3/s for 2 hours injected, and injected +
-  exchanged = stored + outflow to 1e-9 of it.
-- Partial opening (issue 50, verification 3 in 3D): at ten times the
-  rate (0.5 m^3/s, two steps) p_f lifts the pair nearest the well off
-  its face in the second step: it opens there, the fault slips around it
-  and sticks beyond (every pair nearer the well than the nearest stuck
-  one, at least 100 m away, open or slipping); each step converges with
-  the fault's volumes balanced (a step that does not is refused).
-- Through that opening 2 ranks give the 1-rank fields to 1e-8, the
-  run's coupling iterations within 10 % and the same seismic moments to
-  1e-8. The opening step's slow tail ends where its lag stagnates at the
-  openings' round-off (theory.md, "Flow in a fault"): 67 iterations in it
-  on 1 and on 2 ranks (73 and 68 before that was held; with the fault's
-  rows spread over both ranks it then cycled to the 200th). The
-  moments agree since each pair's G is the mean over its + node's cells,
-  the same on any partition (it was the G of one of them, which differed
-  by 3 % between 1 and 2 ranks at the pairs on the reservoir's top and
-  bottom).
-- Not in the suite (docs/verification.md, measured): the monolithic
-  solve of three such steps gives the split's fields (10 minutes); a run
-  of three steps killed after step 2 and restarted from its checkpoint of
-  step 1 ends equal to the uninterrupted one (30 s more; the 2D opening's
-  restart is test_friction_opening's)."""
+"""The shipped 3D injection (scenes/injection_fault3d.toml), C++: a well of 50
+l/s into a frictional conduit fault crossing a layered reservoir, its first
+2 of 4 hours. Stuck before the injection, then slipping within 100 m of the
+well, the slipping and the pressurised parts only growing; Coulomb at every
+output (1e-8); each step's seismic moment G times fault.xdmf's potency and
+Mw from the total; the fault's volumes balanced (1e-9 of the injected).
+Partial opening (issue 50, verification 3) at ten times the rate: open by
+the well, slipping around, stuck beyond, every step converged and
+balanced; 2 ranks give the 1-rank fields (1e-8), iterations (10 %) and
+moments. Not in the suite (the monolithic solve, a restart) and the
+numbers: docs/verification.md."""
 import math
 import os
 
