@@ -1,33 +1,13 @@
-"""A conduit fault in the coupled solve (issue 39; docs/theory.md "Flow in a
-fault"), on the C++ solver and the prototype: the fault's pressure p_f pushes
-its faces apart, so the contact traction is the effective normal stress and
-friction weakens as p_f rises.
-- The load of p_f is the load of a given pressure: the crack of
-  test_friction_coupled.py (half-length 1 m at 30 degrees in a 4 m square,
-  Coulomb friction mu = 0.3, a vertical compression of 10 MPa) in rock and
-  fluid at a uniform 5 MPa in an impermeable rock (1e-30 m^2; the load
-  squeezes it undrained): the conduit fault, which then keeps its 5 MPa,
-  gives the displacement, pore pressure, contact tractions and stick/slip
-  states of the fault held at its given pressure of 5 MPa (flow =
-  "pressure") to 1e-10 (the split solved to 1e-12).
-- Onset by injection: the crack of Phan et al. (test_phan.py: half-length
-  1 m at psi = 20 degrees to the compression sigma = 100 MPa) in an
-  impermeable rock (1e-25 m^2), a conduit (residual aperture 1e-5 m, c_f =
-  1e-9 1/Pa) into whose middle a well injects 2e-7 m^2/s. Stuck and closed,
-  the crack is the unsplit body under uniform stress, normal traction s_n =
-  sigma sin^2(psi) and shear tau = sigma sin(psi) cos(psi); with cohesion c
-  = 30 MPa and mu = 0.6 a pair slips once the pressure its faces carry (the
-  |k|-weighted mean of p_f over its cells) reaches p* = s_n - (tau - c) /
-  mu. Every pair sticks, slip 0 to round-off (1e-14 of the largest
-  displacement), while no pair's pressure has
-  reached p*; slip starts in the first step where one has, at the pair of
-  the highest pressure (by the well); from then on every pair above p*
-  slips (but at the tips, one node each), and the slipping part only grows.
-- 2 ranks give 1 rank's fields and fault pressure to 1e-10 and its
-  stick/slip states at every output time (C++).
-- Killed after 6 steps and restarted from its last checkpoint, the run
-  ends with the uninterrupted fields and fault pressure to 1e-12 (C++).
-- The prototype gives the C++ fields and fault pressure to 1e-10."""
+"""A conduit fault in the coupled solve (issue 39; docs/theory.md, "Flow in a
+fault"), both tracks: p_f pushes the faces apart, so the contact traction is
+the effective normal stress. The load of p_f is a given pressure's: in an
+impermeable rock the conduit at 5 MPa gives the fields and stick/slip
+states of the fault held at 5 MPa (1e-10). Onset by injection into Phan's
+crack (mu 0.6, cohesion 30 MPa): every pair sticks while no pair's pressure
+has reached p* = s_n - (tau - c)/mu, slip starts at the pair of the highest
+pressure by the well and the slipping part only grows; 2 ranks = 1 (fields
+and states), a restart ends equal (1e-12), prototype = C++ (1e-10).
+Numbers: docs/verification.md."""
 import math
 import os
 

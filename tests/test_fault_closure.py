@@ -1,37 +1,13 @@
-"""Barton-Bandis closure of a conduit fault (issue 39; docs/theory.md "Flow
-in a fault"), on the C++ solver and the prototype. A fault crosses a 10 m x
-2 m rock from its left side to its right side (test_conduit_fault.py's
-channel), closed under a vertical compression sigma = 20 MPa; its
-hydraulic aperture follows its effective normal stress s_n = sigma - p_f,
-
-    w_h = w_r + V_m - V_m s_n / (K_ni V_m + s_n),
-
-w_r = 1e-5 m, V_m = 1e-4 m, K_ni = 1e11 Pa/m: 7.7e-5 m where s_n = 5 MPa,
-4.5e-5 m where s_n = 19 MPa. Rock impermeable beside it (1e-25 m^2), its
-ends held at p_in = 15 MPa (left) and p_out = 1 MPa (right).
-- Steady flow (two steps of 1e6 s; the fault's diffusion time is ~1 s):
-  the flux along the fault is one value Q (1e-6), the nonlinear cubic law
-      Q = (1 / (12 mu_f L)) int_{p_out}^{p_in} w_h(sigma - p)^3 dp
-  within 1 %, p_f the profile that law gives, int_{p_f(x)}^{p_in} w_h^3 dp
-  = 12 mu_f Q x, within 1 % of p_in - p_out, and each cell's w_h the
-  closure at sigma - p_f within 1 % (s_n is the mean of the cell's pairs'
-  contact tractions, which weigh p_f over the cells beside each node);
-- transient (the inlet raised at t = 0, eight steps of 0.05 s): the fault's
-  volumes balance, injected + exchanged = stored + outflow, to 1e-10 of the
-  volume that entered, the stored volume holding the closure's opening;
-- the prototype gives the C++ fields and fault pressure to 1e-10;
-- 2 ranks give 1 rank's fault pressure to 1e-10, and the transient run
-  killed after 6 steps and restarted from its checkpoint (step 4: the
-  apertures at the step's start and the contact tractions are in it) ends
-  with the uninterrupted fields and fault pressure to 1e-12 (C++);
-- in 3D (a fault plane across a box, 4 m long), each cell's w_h is the
-  closure at sigma - p_f to 1e-3 (median; 2 % at most, by the box's
-  edges), p_f's profile that of the law within 2 % and the mean flux
-  within 4 % (the two-point flux on triangles: 2.6 % high with a
-  constant aperture), both tracks, the prototype's p_f the C++ one's; the
-  flow solved by the Krylov method (solver.flow = "iterative") gives the
-  factorisation's fields to 1e-5 (their inexact solves: flux 2.3e-6,
-  pressure 1.2e-8 measured) and p_f to 1e-9 (1.5e-12)."""
+"""Barton-Bandis closure of a conduit fault (issue 39; docs/theory.md, "Flow
+in a fault"), both tracks: test_conduit_fault's channel closed under 20 MPa,
+w_h = w_r + V_m - V_m s_n / (K_ni V_m + s_n) with s_n = sigma - p_f, its
+ends at 15 and 1 MPa, the rock impermeable. Steady: the flux the nonlinear
+cubic law Q = int w_h(sigma - p)^3 dp / (12 mu_f L), p_f its profile and
+each cell's w_h the closure at sigma - p_f, within 1 %; transient: the
+volumes balance (1e-10 of the inflow); prototype = C++ (1e-10), 2 ranks =
+1 and a restart ends equal; in 3D the closure to 1e-3 (median), p_f within
+2 %, the flux within 4 % (the two-point flux on triangles), the Krylov
+flow solve the factorisation's fields. Numbers: docs/verification.md."""
 import os
 
 import h5py

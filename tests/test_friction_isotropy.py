@@ -1,33 +1,14 @@
-"""Friction in 3D is isotropic (issue 38), on the C++ solver and the
-prototype: a penny-shaped crack of radius 1 m in a cube of 8 m, the bottom
-clamped, the top pressed (50 MPa) and sheared (20 MPa), Coulomb friction
-mu = 0.3: the crack slips, held by friction.
-- The exact disc: at every slipping pair the tangential traction lies on
-  the bound, |t_T| = mu t_N (1e-9: the return map of docs/theory.md,
-  "Friction", puts it there exactly), and points along the slip to the
-  solve's tolerance (2e-8 rad at the smallest tractions, by the crack's
-  rim; limit 1e-7 rad): a square or a polygon in the pairs' tangent
-  frames would not, nor a return map with a stiffness c per tangential
-  unknown (0.14 rad).
-- The same scene turned by 30 degrees about the crack's normal (the mesh's
-  nodes turned, the shear turned with them) slips by the turned slip
-  vectors, their lengths unchanged, to 1e-8. The pairs' tangent frames are
-  built from the coordinate axes, so they do not turn with the scene: a
-  friction bound that is not a disc would give another slip.
-- The iterative full path (cg + gamg on the inactive set) gives the direct
-  path's slip to 1e-8 of the largest slip, and sets its preconditioner up
-  fewer times than it takes Newton steps: the preconditioner is built from
-  the stiffness and the inactive set, not from the Jacobian of the slip
-  forces, so it is reused until the inactive set changes.
-- The direct full path (`-mechanics_contact_condensed false`) factorises
-  the Jacobian fewer times than it takes Newton steps: the slipping pairs'
-  rows turn at every step, and the factorisation of an earlier Jacobian
-  preconditions GMRES on the next (2 factorisations in 4 steps, 4 with
-  `-mechanics_ksp_type preonly`, the same displacement to 1e-10, and the
-  condensed path's); where GMRES fails on the earlier factorisation
-  (`-mechanics_ksp_max_it 1`) the solve goes on factorising, to the same
-  displacement.
-- The prototype gives the C++ fields to 1e-10."""
+"""Friction in 3D is isotropic (issue 38), both tracks: a penny crack in a
+cube, pressed and sheared, mu = 0.3, slipping held by friction. At every
+slipping pair |t_T| = mu t_N (1e-9) along the slip (1e-7 rad: a polygon, or
+a stiffness per tangential unknown, would not); the scene turned by 30
+degrees about the normal slips by the turned slip (1e-8; the pairs' frames
+do not turn); the iterative full path gives the direct one's slip (1e-8)
+with fewer preconditioner set-ups than Newton steps; the direct full path
+factorises fewer times than it takes Newton steps (an earlier
+factorisation preconditions GMRES; with preonly and on the condensed path
+the same slip, 1e-10) and goes on factorising where GMRES fails; the
+prototype = C++ (1e-10). Numbers: docs/verification.md."""
 import json
 import math
 import os

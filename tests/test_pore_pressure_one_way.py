@@ -1,36 +1,14 @@
-"""One-way coupling (`[mechanics] pore_pressure` and `alpha`, a scene
-without [flow]): a given pore pressure loads the skeleton with the term the
-coupled mechanics has, (alpha p, div v), p taken in P0 at the cell
-midpoints at each step's time. Both tracks, 2D (plane strain) and 3D.
-
-A uniform pore pressure change dp (here a depletion, dp < 0, ramped in
-time: p = dp t) in a homogeneous block, d the dimension, K_dr = lambda +
-2G/d. The total stress is sigma = 2G eps + lambda tr(eps) I - alpha p I, and
-the homogeneous strain below satisfies equilibrium and every boundary
-condition, so P1 elements give it to round-off:
-
-- Free: rollers (normal displacement 0) on left and bottom (and front in
-  3D), the other faces traction-free. No total stress anywhere: 2G eps +
-  lambda tr(eps) I = alpha p I, so eps = e I with (2G + d lambda) e = alpha
-  p, u = e (x, y[, z]), and the volumetric strain is
-      tr(eps) = d e = alpha p / (lambda + 2G/d) = alpha p / K_dr.
-- Uniaxial (the depletion of a laterally confined reservoir): rollers on
-  every face but the top, which is free. Only the vertical strain eps_v
-  is non-zero and sigma_v,v = (lambda + 2G) eps_v - alpha p = 0, so
-      tr(eps) = eps_v = alpha p / (lambda + 2G).
-
-Checked at every output time: the displacement against the closed form,
-the volumetric strain of every cell (the trace of its P1 gradient) and the
-output sigma_v = lambda div u - alpha p (it takes the given p), each to
-1e-10 of its largest value. The prototype gives the C++ fields to 1e-10,
-also for a pore pressure that varies in space (no closed form).
-
-A contact face with `pore_pressure_load = true` in a scene without flow
-takes the given pressure: on `elastic_contact` (a block on a frictionless
-foundation pressed by the top traction 1e6 t Pa) with a uniform p0, the
-face loaded by the pore pressure gives the run of the face loaded by the
-traction p0, and the contact pressure is 1e6 t - p0 (vertical balance: the
-term alpha p0 pushes the top and the base outward alike)."""
+"""One-way coupling (`[mechanics] pore_pressure` and `alpha`, no [flow]): a
+given pore pressure loads the skeleton with the coupled mechanics' term
+(alpha p, div v), p in P0 at each step's time. Both tracks, 2D and 3D: a
+uniform depletion p = dp t in a homogeneous block, free on rollers (tr eps
+= alpha p / K_dr, K_dr = lambda + 2G/d) or laterally confined (tr eps =
+alpha p / (lambda + 2G)): the displacement, every cell's volumetric strain
+and sigma_v = lambda div u - alpha p to 1e-10 of their largest (P1 holds
+the homogeneous strain exactly); the prototype = C++ (1e-10), also for a
+pressure varying in space. A contact face with pore_pressure_load = true
+takes the given pressure: elastic_contact with a uniform p0 is the face
+loaded by the traction p0, its contact pressure 1e6 t - p0."""
 import numpy as np
 
 from support import Fields, TRACKS, check, max_difference, run_track, scene, written
