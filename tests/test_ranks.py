@@ -97,7 +97,7 @@ for track in ("C++", "prototype"):
     two, p = started_on_two(track)
     s = summary(two)
     check(p.returncode == 0 and s["mpi_ranks"] == 2 and s["working_ranks"] == 1
-          and "1 of 2 ranks works: 4720 cells are fewer than solver.cells_per_rank = 12000" in p.stdout,
+          and "1 of 2 ranks works: 4720 cells are fewer than solver.cells_per_rank = 15000" in p.stdout,
           f"{track}: 4,720 cells on 2 ranks: one works, the summary and the log say so "
           f"({s['mpi_ranks']}, {s['working_ranks']}, {p.stderr.strip()[-200:]!r})")
     c = subprocess.run(PROTOTYPE + ["compare", one, two, "--tolerance", "0"], capture_output=True, text=True,

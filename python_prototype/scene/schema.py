@@ -176,10 +176,11 @@ class AdaptiveSpec:
 
 
 def default_cells_per_rank(dimension):
-    """Below this many cells per rank, 12000 triangles or 2000 tetrahedra, a
+    """Below this many cells per rank, 15000 triangles or 2000 tetrahedra, a
     second rank costs a run more than it saves (docs/performance.md,
-    "nineteenth session"): a tetrahedron carries more work."""
-    return 12000 if dimension == 2 else 2000
+    "nineteenth session"; in 2D, where each rank makes every back-solve,
+    "forty-second session"): a tetrahedron carries more work."""
+    return 15000 if dimension == 2 else 2000
 
 
 @dataclass
@@ -189,7 +190,7 @@ class SolverSpec:
     mechanics: SolverChoice = SolverChoice.automatic
     monolithic: SolverChoice = SolverChoice.automatic
     inexact_coupling: bool = True  # iterative solves only as accurate as the coupling increment needs
-    cells_per_rank: int = 12000    # the fewest cells a rank works on (domain/working_ranks.py); 0: every rank
+    cells_per_rank: int = default_cells_per_rank(2)  # the fewest cells a rank works on (domain/working_ranks.py); 0: every rank
 
 
 @dataclass
