@@ -1,28 +1,15 @@
 """The monolithic contact solve of a frictional conduit fault loaded at once
 (issue 50: one Newton solve that never stalls; cpp/contact/convergence.h,
-contact_path.h), on the C++ solver and the prototype.
-
-Phan's crack (scenes/phan.toml: half-length 1 m at 20 degrees to a
-compression of 100 MPa; here mu = 0.6 and meshes/phan2d_coarse.geo) as a
-conduit fault in an impermeable rock fed by a well at its middle, the load
-applied at once in the first step of the monolithic solve (the coupled
-system with a conduit takes the full path by default). Until 2026-12-03
-both ended with exit 3 (docs/theory.md, "Friction"):
-- the rock's and the fault's mass balances, with a load of 2e-7 m^2/s
-  against exchanges of 1e-3 that cancel, sat within their round-off but
-  above their tolerance, and the Newton steps jittered to their limit: now
-  the run converges on the full path, with the fields of
-  `-monolithic_contact_condensed true` to 1e-10 and the split's
-  (fixed-stress to 1e-10) to 1e-8;
-- with cohesion (30 MPa) the steps cycled between two sets of states of
-  the pairs by the tips to their 100th: now the cycle is stopped and the
-  clamped start solves it, in fewer than 30 Newton steps in all;
-- a full solve that fails (here held to 1 Newton step by
-  -monolithic_snes_max_it 1) is solved again condensed, and the run goes on
-  condensed (the summary's method says so), with the condensed path's
-  fields to 1e-10; with `-monolithic_contact_condensed false` it ends in
-  the contact solver's one line (exit 3);
-- the prototype gives the C++ fields to 1e-10."""
+contact_path.h), both tracks: Phan's crack (mu 0.6, phan2d_coarse.geo) as a
+conduit in an impermeable rock fed by a well, the load applied in the first
+monolithic step. It converges on the full path (mass balances within their
+round-off no longer jitter), with the condensed path's fields (1e-10) and
+the split's (1e-8); with cohesion 30 MPa the cycle by the tips stops and
+the clamped start solves it (< 30 Newton steps); a full solve that fails
+(held to one Newton step) goes on condensed, the summary says so, the
+fields the condensed path's (1e-10), and with the condensed path refused
+it ends in one line (exit 3); prototype = C++ (1e-10). Until 2026-12-03
+both ended in exit 3 (docs/theory.md, "Friction"; docs/verification.md)."""
 from support import check, iterations, max_difference, run_track, scene, summary
 
 # scenes/phan.toml's crack on its coarse mesh, mu 0.6, a conduit in an

@@ -1,28 +1,15 @@
-"""BDF2 for a conduit fault's storage (issue 53): the fault's storage and
-opening differentiate with the rock's time derivative, as backward Euler
-on dt/c0 from history values of p_f and w_h (docs/theory.md, "Time
-schemes"), in the single-rate schemes (fixed-stress, monolithic) and
-without mechanics; a multirate scheme is refused (test_bad_scenes).
-- The cubic law's transient (scenes/conduit_transient.toml, flow only), on
-  its own mesh against a BDF2 run at dt = 1e-6 s: the fault's pressure
-  converges in time at first order with backward Euler and at second
-  order with BDF2 (measured 0.99-1.00 and 2.16, 2.06, 2.03 on 2026-12-01;
-  bounds 0.9-1.1 and 1.8), BDF2 at least 30 times more accurate at the
-  finest step (measured 112); every step's volumes balance (a step that
-  does not fails the run). The prototype gives the C++ pressure to 1e-12
-  (measured 0).
-- Injection into the frictional conduit fault of scenes/fault_reactivation.toml
-  (test_friction_opening's well, seven days, the fault opening by the well
-  from day 6) under BDF2: the split and the monolithic solve converge, the
-  fault opens by the well, its volumes balance to 1e-8 of the injected,
-  and the two give the same fields to 1e-9 (displacement) and 1e-8
-  (pressure) (measured 1.6e-13 and 1.0e-11); the prototype's split the C++
-  split's to 1e-9 (measured 1.5e-14 and 3.4e-12).
-- The transient at dt = 2.5e-6 s killed after step 5 and restarted from
-  its checkpoint ends equal to the uninterrupted run (1e-12), on both
-  tracks: the checkpoint keeps the fault's pressure and apertures one step
-  before, which BDF2 reads (measured 0; restored as the step's start
-  instead, the prototype's p_f differed by 3.0e-4, 2026-12-01)."""
+"""BDF2 for a conduit fault's storage (issue 53; docs/theory.md, "Time
+schemes"), in the single-rate schemes and without mechanics (a multirate
+scheme is refused: test_bad_scenes). scenes/conduit_transient.toml against
+a run at dt = 1e-6 s: p_f converges at order 1 (backward Euler, 0.9-1.1)
+and at least 1.8 (BDF2), BDF2 at least 30 times more accurate at the
+finest step, every step balanced, prototype = C++ (1e-12). Injection into
+fault_reactivation's frictional conduit (seven days, opening from day 6)
+under BDF2: split and monolithic converge, the fault opens by the well,
+balanced (1e-8), split = monolithic (1e-9, 1e-8), prototype = C++ (1e-9).
+Killed and restarted, the transient ends equal (1e-12) on both tracks: the
+checkpoint keeps the previous step's p_f and apertures. Numbers:
+docs/verification.md."""
 import numpy as np
 from support import (check, fault_fields, killed_and_restarted, max_difference, run_track, scene, summary)
 

@@ -1,32 +1,14 @@
-"""A conduit fault in the multirate split (issue 39; docs/theory.md "Flow in
-a fault"), on the C++ solver and the prototype: q flow steps per mechanics
-step, the fault's pressure p_f carried fine step by fine step, each fine
-step taking 1/q of the window's change of aperture (as the rock's flow
-takes (alpha/q) div(u^n - u_K)) and the fault's fixed-stress term in the
-fine-step form of the rock's, L (p_f^{n,m} - p_f^{n,m-1}). The channel of
-test_fault_closure.py: a fault across a 10 m x 2 m rock, closed under
-20 MPa, its ends at 15 and 1 MPa from 1 MPa, the rock impermeable.
-- q = 1 is the single-rate split: the fields and fault pressure of
-  coupling.scheme = "multirate" with q = 1 equal "fixed-stress"'s to 1e-12
-  (the closure of test_fault_closure, alpha = 1);
-- a closed fault without closure in a rock the mechanics does not see
-  (alpha = 0; w_h = w_r, the mechanics changes nothing the flow reads):
-  every fine step is the single-rate step, so q = 2 on steps of 0.025 s
-  gives the flow fields of "fixed-stress" on those steps at every fine
-  step and its fault pressure at every window's end (fault.xdmf is
-  written with the mechanics), to 1e-10, and the volumes balance to 1e-10;
-- with the closure (alpha = 1) the split converges, slowly: a compliant
-  closed cell (C = -b'(s_n) far above its storage c_f w_h) has its fine-step
-  modes that sum to zero over the window damped only by L/(L + S), as the
-  rock's are by gamma (docs/multirate-two-pass.md); the fault's ratios lie
-  between 0.9 and 0.99 (measured 0.955) against at most 0.5 single-rate,
-  and the volumes balance to 1e-10;
-- the two-pass multirate split (docs/multirate-two-pass.md), its second
-  pass without L for the fault too, reaches the printed scheme's fixed
-  point (the fields and fault pressure to 1e-8) with the closure in at most
-  a fifth of the iterations (measured 33 against 771), its volumes
-  balanced to 1e-10;
-- the prototype gives the C++ fields and fault pressure to 1e-10."""
+"""A conduit fault in the multirate split (issue 39; docs/theory.md, "Flow in
+a fault"), both tracks: q flow steps per mechanics step, p_f carried fine
+step by fine step with 1/q of the window's aperture change and the fault's
+fixed-stress term in the fine-step form. test_fault_closure's channel: q =
+1 equals "fixed-stress" (1e-12); without closure and alpha = 0, q = 2
+equals the single-rate split on the fine steps (1e-10), balanced; with the
+closure the split converges slowly, the fault's ratios between 0.9 and
+0.99 (the zero-sum fine-step modes damped by L/(L + S):
+docs/multirate-two-pass.md), balanced; the two-pass split reaches the
+printed scheme's fixed point (1e-8) in at most a fifth of the iterations;
+the prototype = C++ (1e-10). Numbers: docs/verification.md."""
 import csv
 import os
 

@@ -1,30 +1,13 @@
-"""Newton on the cubic law (issue 50: the monolithic stall): a well injecting
-1e-3 m^2/s into the frictional conduit fault (mu 0.6) of
-scenes/fault_reactivation.toml, at its centre, two days, monolithic, every
-mesh size doubled (mesh.size_factor = 2). The opening spreads from the
-well day by day; with the transmissibilities lagged by the aperture
-iteration (Picard, relaxed by Aitken's factor) the first step stalled: the
-factor came out negative, sat at its floor, and p_f's change fell by
-about 0.99 per iteration to the 100th (exit 3, 2026-12-01; on the shipped
-mesh the third step, 2026-11-30). Now the rows carry Newton's term of the
-transmissibilities once that factor comes out negative (docs/theory.md,
-"Newton on the cubic law").
-- Both tracks: the two steps converge, each in at most 30 aperture
-  iterations (measured 14 and 21 in C++, 14 and 14 in the prototype: the
-  last iterations sit at round-off), more pairs open on day 2 than on day
-  1 (measured 2 and 4), and the fault's volumes balance (injected +
-  exchanged = stored + outflow to 1e-8 of the injected).
-- The prototype gives the C++ fields to 1e-9 (measured 5e-12).
-The split on the same two days: there Aitken's factor came out negative
-too and sat at its floor, and the coupling crawled at a ratio of 1.0006
-per iteration to the 400th on day 1 (2026-12-02); the split now relaxes
-by the factor's magnitude (docs/theory.md, "Flow in a fault"):
-- Both tracks: converged (at most 150 coupling iterations a step; measured
-  103 and 24), opening day by day, balanced; the same coupling iterations
-  on both tracks, the prototype's fields the C++ ones to 1e-9 (measured
-  1.5e-13 and 6.1e-12).
-- The split equals the monolithic solve to 1e-9 in u and 1e-8 in p
-  (measured 9.5e-13 and 2.5e-11)."""
+"""Newton on the cubic law (issue 50: the monolithic stall; docs/theory.md,
+"Newton on the cubic law"): a well of 1e-3 m^2/s into fault_reactivation's
+frictional conduit fault, every mesh size doubled, two days. Monolithic,
+both tracks: each step converges in at most 30 aperture iterations, more
+pairs open on day 2 than on day 1, the volumes balance (1e-8 of the
+injected), the prototype = C++ (1e-9). The split (relaxed by the magnitude
+of Aitken's factor): converged in at most 150 coupling iterations a step,
+the same iterations on both tracks, prototype = C++ (1e-9), split =
+monolithic (1e-9 in u, 1e-8 in p). What stalled before and the numbers:
+docs/verification.md, "What each test verifies"."""
 import numpy as np
 from support import check, fault_fields, iterations, max_difference, run_track, scene, summary
 

@@ -1,27 +1,15 @@
-"""fault.xdmf (issue 37), on the C++ solver and the prototype, with
-scenes/fault_depletion.toml (a vertical fault, its + side the right block):
-meshio reads one grid per output time on the fault's + face (its pairs'
-+ nodes and its two tips: one node more than segments, a single curve);
-at the last time the slip is the jump of the displacement in
-solution.xdmf at each pair found from the output mesh alone
-(support.fault_pairs), to 1e-12; the opening is 0 where the traction is
-positive; summary.json's max_slip is the largest |slip| there. The pairs'
-states under the frictionless law (contact_law.h), at every output time, on
-this run and on one whose fault's upper part is pressurised open (40 MPa
-above y = 400 m): `state` is 0 (open) exactly at the pairs whose opening
-exceeds the solver's closed tolerance (1e-9 of the largest displacement), 2
-(slip) at the other pairs, 1 (stick) at the two tips; `tangential_traction`
-is round-off, below 1e-10 of the largest traction; summary.json's
-`slipping` is the measure of the nodes in state 2 (half their segments'
-lengths, to 1e-12) and equals `closed`, `stuck` is 0. The two tracks write
-the same fault.xdmf text and fault.h5 datasets (1e-10; the round-off
-tangential traction relative to the traction). A run killed after a
-periodic checkpoint and continued with --restart ends with the
-uninterrupted run's fault.xdmf (the same text, values to 1e-12), the times
-it wrote after the checkpoint written again. With two cracks (zeta given
-first, alpha second), fault.xdmf's cell field `fault` is 0 on each of
-alpha's segments and 1 on each of zeta's (the alphabetical order of the
-summary), the same on both tracks."""
+"""fault.xdmf (issue 37), both tracks, on scenes/fault_depletion.toml: one
+grid per output time on the fault's + face; the slip is solution.xdmf's
+displacement jump at each pair (1e-12), the opening 0 where the traction
+is positive, summary.json's max_slip the largest |slip|. Frictionless
+states on this run and with the upper fault pressurised open: 0 exactly
+where the opening exceeds the closed tolerance, 2 at the other pairs, 1 at
+the tips, tangential traction round-off (1e-10), `slipping` the measure of
+state 2 (= `closed`), `stuck` 0. The two tracks write the same text and
+datasets (1e-10); a restart after a periodic checkpoint ends with the
+uninterrupted fault.xdmf (1e-12), its later times written again; with two
+cracks the cell field `fault` numbers them in the summary's (alphabetical)
+order."""
 import os
 import re
 import signal

@@ -1,26 +1,13 @@
-"""Flow through boundaries (issue 22, item 3): `flux = expr` prescribes the
-outward normal Darcy flux (the essential condition of the mixed form) and
-`rate = expr` the total rate through a planar boundary, spread uniformly;
-both tracks.
-
-- A steady column, flux in at the base and p = 0 on top, in 2D and 3D: the
-  pressure at the cell centres and the cell flux equal the exact linear
-  solution p = (mu_f q / k)(H - y) to 1e-10.
-- A layered column without storage (M = inf: every step is the steady
-  state; permeabilities 1e-12, 1e-15 and 1e-13 from the base, layer tops at
-  3, 6 and 10 m, given by an expression of y): the pressure at the cell
-  centres, piecewise linear, and the flux equal the exact solution to 1e-10
-  (measured 2e-12 and 6e-12: round-off under the contrast of 1000).
-- `rate` is the flux it stands for: a rate R through a base of width 2 gives
-  the run with flux -R/2, to 1e-12.
-- Mass balance in a closed column (no pressure boundary): what entered
-  through the base, the integral of the rate over time, equals the fluid
-  content, the integral of S p + alpha div u, at every step, to 1e-10: flow
-  alone, the monolithic solve, and the split (at coupling tolerance 1e-12).
-- The split and the monolithic solve agree under a time-dependent
-  injection, and the prototype gives the C++ fields.
-- A rate that varies along the boundary, a flux on a curved boundary and
-  two flow conditions on one boundary are refused in one line."""
+"""Flow through boundaries (issue 22, item 3), both tracks: `flux = expr`
+prescribes the outward normal Darcy flux, `rate = expr` the total rate
+through a planar boundary spread uniformly. A steady column (2D and 3D)
+and a layered column without storage give the exact linear and piecewise
+linear pressure and flux (1e-10); a rate R is the flux it stands for
+(1e-12); in a closed column what entered equals the fluid content at every
+step (1e-10: flow alone, monolithic, split); split = monolithic under a
+time-dependent injection, prototype = C++; a rate varying along the
+boundary, a flux on a curved boundary and two flow conditions on one
+boundary are refused in one line."""
 import os
 import subprocess
 

@@ -1,31 +1,13 @@
-"""Friction through the coupled solve (issue 38), on the C++ solver and the
-prototype: the crack of test_transparent_fault.py (half-length 1 m at 30
-degrees in a 4 m square, transparent to the flow) with Coulomb friction
-mu = 0.7 under a vertical compression of 10 MPa, its faces loaded by the
-pore pressure beside them; the fluid is driven in from the left side
-(p = 4 MPa/s * t). The crack sticks where friction holds it and slips
-where the pore pressure lowers its effective normal stress enough:
-- some pairs slip, some stick, over the run;
-- the fixed-stress split equals the monolithic solve to the coupling
-  tolerance (1e-10: fields to 1e-9), with the same stick/slip states at
-  every output time;
-- the split accelerated by Anderson (coupling.acceleration) converges to
-  the same solution: equal to the monolithic solve to 1e-9;
-- iterations.csv's Newton steps of each iteration's contact solve add up
-  to summary.json's count;
-- the split's largest contraction ratio is printed against the gamma of
-  Theorem 1, which speaks of frictionless contact with a rigid foundation
-  (docs/verification.md records it);
-- the prototype gives the C++ fields to 1e-10;
-- multirate (q = 2 flow steps per mechanics step) and its two-pass variant
-  converge with friction at a coupling tolerance of 1e-12, to the same fixed
-  point (fields to 1e-10, the same stick/slip states at every output time),
-  on both tracks, the prototype equal to the C++ solver to 1e-10;
-- scenes/fault_reactivation.toml (a well injecting beside a frictional
-  fault, mu = 0.6, in-situ stress from a drained initial equilibrium),
-  shortened to its first 14 days, by which the fault has started to slip:
-  the split equals the monolithic solve (fields to 1e-7, its coupling
-  tolerance being 1e-8 by default) with the same stick/slip states."""
+"""Friction through the coupled solve (issue 38), both tracks: a crack with mu
+= 0.7 under 10 MPa, its faces loaded by the pore pressure beside them, the
+fluid driven in from the left: some pairs slip and some stick; split =
+monolithic (fields to 1e-9, the same stick/slip states), also with
+Anderson; iterations.csv's Newton steps add up to the summary's; the
+split's largest contraction ratio printed against Theorem 1's gamma
+(frictionless theory); prototype = C++ (1e-10); multirate q = 2 and its
+two-pass variant reach the same fixed point (1e-10, the same states);
+fault_reactivation's first 14 days: split = monolithic (1e-7, the same
+states). Numbers: docs/verification.md, "What each test verifies"."""
 import os
 
 import numpy as np

@@ -1,24 +1,11 @@
-"""Friction through time (issue 38), on the C++ solver and the prototype, on
-the crack of test_phan.py (psi = 20 degrees to the compression):
-- onset by pressure: under sigma = 100 MPa the crack carries the normal
-  traction s_n = sigma sin^2(psi) and the shear tau = sigma sin(psi)
-  cos(psi); with cohesion c = 30 MPa and mu = 0.6 it sticks (tau < c +
-  mu s_n) until its fluid pressure p = 1 MPa/s * t (fault.crack.pressure,
-  pushing both faces: the contact traction is the effective s_n - p)
-  reaches p* = s_n - (tau - c) / mu. Stuck and closed, the crack is the
-  unsplit body, whose stress is uniform: every pair sticks (slip 0 to
-  round-off) up to the step before t* = p* / (1 MPa/s) and slips from the
-  step that passes it, all at once; fault.xdmf's slip_increment of each
-  step is the change of its slip since the last (output every step, to
-  1e-12 of the largest slip);
-- hysteresis: a confinement of 50 MPa, then the vertical load raised by
-  100 MPa and taken off again (mu = 0.3): the crack slips while loaded and
-  keeps a residual slip when the load is gone; a run killed after a
-  checkpoint in the unloading and restarted ends with the uninterrupted
-  run's fields (1e-12);
-- 2 ranks give 1 rank's stick/slip states at every output time and its
-  fields to 1e-10;
-- the prototype gives the C++ fields to 1e-10."""
+"""Friction through time (issue 38), both tracks, on test_phan's crack. Onset
+by pressure: with cohesion 30 MPa and mu 0.6 the crack sticks (slip 0 to
+round-off) until its given pressure p = 1 MPa/s t reaches p* = s_n - (tau -
+c)/mu and slips, all at once, from the step that passes it; fault.xdmf's
+slip_increment is each step's change of slip (1e-12). Hysteresis: loaded
+and unloaded (mu 0.3) the crack keeps a residual slip, and a restart in
+the unloading ends equal (1e-12). 2 ranks give 1 rank's states and fields
+(1e-10); prototype = C++ (1e-10)."""
 import math
 
 import numpy as np

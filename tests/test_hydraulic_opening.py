@@ -1,26 +1,14 @@
-"""Hydraulic opening of a conduit fault (issue 39, item 5; docs/theory.md
-"Flow in a fault"), on the C++ solver and the prototype: Sneddon's crack
-(meshes/sneddon2d.geo: half-length a = 1 m at 30 degrees in a square of 100
-m) in a plate under a hydrostatic compression S = 3 MPa, a frictionless
-conduit fault (residual aperture 1e-4 m) into whose middle a well injects
-R = 2e-4 m^2/s of a gas (mu_f = 1e-5 Pa s, c_f = 1e-7 1/Pa). The rock is
-impermeable (1e-25 m^2) and decoupled (alpha = 0): only the fault's
-pressure p_f acts on the skeleton, on the faces.
-- Closed (t = 0.25 s): every pair in contact, opening 0, and the injected
-  volume (with the rock's exchange, 1e-7 of it) compresses the fluid of the
-  residual aperture: the mean p_f is R t / (c_f w_r 2a), below S, and the
-  contact traction is S - p_f.
-- Open (from t = 0.5 s): p_f exceeds S, every pair but the tips opens, and
-  the opening is Sneddon's for the net pressure, 4 (p_f - S) / E'
-  sqrt(a^2 - s^2), within 2 % at the centre and 3 % in the relative l2
-  norm over the inner 80 % (p_f, uniform along the fault to a fraction of a
-  percent of p_f - S, taken at its mean).
-- The volume injected is the fault's opening plus its compressed fluid plus
-  what the rock took, to 1e-8 of the injected volume at every step.
-- The split converges in every step (the fault's fixed-stress term: without
-  it the iteration stagnates once the fault opens), its fault contraction
-  ratios logged in iterations.csv.
-- The prototype gives the C++ displacement and p_f to 1e-10."""
+"""Hydraulic opening of a conduit fault (issue 39, item 5; docs/theory.md,
+"Flow in a fault"), both tracks: Sneddon's crack (a = 1 m) under a
+hydrostatic 3 MPa, a frictionless conduit fed with a gas in an impermeable,
+decoupled rock. Closed (t = 0.25 s): every pair in contact, the mean p_f
+the injected volume compressing the residual aperture's fluid, the
+contact traction S - p_f. Open (from 0.5 s): every pair but the tips open,
+the opening Sneddon's 4 (p_f - S)/E' sqrt(a^2 - s^2) within 2 % (centre)
+and 3 % (l2 over the inner 80 %). The injected volume is the opening plus
+the compressed fluid plus the rock's share (1e-8) at every step; the split
+converges every step (the fault's fixed-stress term), its fault ratios in
+iterations.csv; prototype = C++ (1e-10)."""
 import math
 import os
 

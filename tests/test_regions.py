@@ -1,24 +1,12 @@
-"""Material regions (issue 22, items 1 and 2): `[region.NAME]` replaces some
-of the scene's material values in the cells of a gmsh physical group NAME or
-in the cells whose midpoint satisfies `where`; every form takes its material
-coefficients cell by cell, and so does the fixed-stress L. Both tracks.
-
-- Two regions with the scene's own values give the homogeneous run exactly
-  (the same coupling iterations, fields equal to 1e-12): the default scene
-  split and monolithic.
-- A gmsh column whose layers are physical groups gives the same run as the
-  same layers selected with `where`.
-- A layered column under a load, drained on top, consolidates to the
-  settlement sum_i q h_i / (lambda_i + 2 G_i) (each layer's confined
-  compressibility m_v,i, rollers on the sides), to 1e-9.
-- A closed poroelastic box fed by a well, its upper half of another
-  storage, Biot coefficient and permeability: the fluid content, the sum
-  over cells of (S_K p + alpha_K div u)|K|, equals the injected volume at
-  every step (split and monolithic).
-- Contrasting regions: no resolved contraction ratio above the largest
-  gamma of the cells (Theorem 1 measured with the cell-wise coefficients).
-- The summary lists the regions with their cell counts; the prototype gives
-  the C++ fields to 1e-12."""
+"""Material regions (issue 22, items 1 and 2), both tracks: `[region.NAME]`
+replaces material values in a gmsh physical group or where `where` holds;
+every form, and the fixed-stress L, takes them cell by cell. Two regions
+with the scene's values give the homogeneous run (1e-12, the same
+iterations); physical groups and `where` give the same run; a layered
+column settles by sum q h_i / (lambda_i + 2 G_i) (1e-9); a closed box fed
+by a well with two regions keeps its fluid content equal to the injected
+volume (split and monolithic); no contraction ratio above the cells'
+largest gamma; the summary lists the regions; prototype = C++ (1e-12)."""
 import subprocess
 import tempfile
 

@@ -1,26 +1,12 @@
-"""A well against Theis's solution (issue 22): a well injecting at the
-constant rate q (m^2/s per metre of thickness) at the origin of a large
-formation (meshes/theis.geo, graded towards the well) raises the pressure as
-Theis's line source,
-
-    p(r, t) = q mu_f / (4 pi k) E1(r^2 S' mu_f / (4 k t)),
-
-with S' = S for rigid grains and no coupling (alpha = 0). In plane strain
-with alpha > 0 in an infinite medium the displacement around a line source
-is irrotational, so (lambda + 2G) grad(div u) = alpha grad p and
-div u = alpha p / (lambda + 2G): the fluid content S p + alpha div u is then
-(S + alpha^2 / (lambda + 2G)) p, and the pressure diffuses as Theis's
-solution with that storage (the uniaxial storage of the one-dimensional
-consolidation theory; docs/verification.md, "Theis"). Its limits: G -> inf
-or alpha -> 0 give S back.
-
-Checked on both tracks, flow alone (to t = 400 s) and coupled with the
-monolithic solve (to t = 100 s: 100 back-solves of its 79,564 unknowns),
-and with the split (C++, to t = 100 s):
-the pressure at the cell centres within 10 % of radius of 5, 10 and 20 m,
-at t = 100 and 400 s, within 2 % of the closed form (the front is then at about 20 and 40 m; the formation
-is 2000 m wide). The error falls with the mesh size (1.4 % at 20 m and
-100 s on this mesh, 2.0 % with elements growing twice as fast)."""
+"""A well against Theis's solution (issue 22; docs/verification.md, "Theis"):
+a well injecting q per metre at the origin of a large formation
+(meshes/theis.geo) raises the pressure as p(r, t) = q mu_f / (4 pi k)
+E1(r^2 S' mu_f / (4 k t)); in plane strain with alpha > 0 the displacement
+around a line source is irrotational, so S' = S + alpha^2 / (lambda + 2G)
+(S' = S without coupling). Both tracks, flow alone (to 400 s), monolithic
+(to 100 s) and the split (C++, to 100 s): the cell pressures near r = 5,
+10 and 20 m at t = 100 and 400 s within 2 % of the closed form (the
+error falls with the mesh size)."""
 import math
 import os
 
