@@ -1,18 +1,14 @@
 """The UFL forms of biotcontact, written once for both implementations.
-
 The C++ solver compiles them with FFCx through `biot_triangle.py` and
-`biot_tetrahedron.py` (one compilation per cell type); the Python prototype
-calls `build` with dolfinx spaces, functions and constants. Section names
-("alg. ...") refer to docs/theory.md, equation numbers ("eq.") to the paper.
-`form_names` lists the forms; the build generates the C++ table of compiled
-forms from it (cpp/assembly/forms.h), so a form added here is compiled and
-reaches C++ by its name.
-
-Every load term is a form of its own so that a scene assembles only what it
-has: no gravity form without gravity, no coupling form without mechanics.
-Boundary integrals use the facet marker 1; the solver marks one boundary at a
-time with it (a boundary may carry its own traction or pressure).
-"""
+`biot_tetrahedron.py`; the Python prototype calls `build` with dolfinx
+spaces, functions and constants. "alg. ..." names a section of
+docs/theory.md, "eq." an equation of the paper. `form_names` lists the
+forms; the build generates the C++ table of compiled forms from it
+(cpp/assembly/forms.h), so a form added here reaches C++ by its name.
+Every load term is a form of its own, so that a scene assembles only what
+it has (no gravity form without gravity, no coupling form without
+mechanics). Boundary integrals use the facet marker 1; the solver marks
+one boundary at a time with it."""
 
 import ufl
 from ufl import (div, dot, dx, grad, inner, sym, CellVolume, FacetNormal)

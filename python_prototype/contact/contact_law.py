@@ -1,18 +1,14 @@
-"""The contact law of a pair (theory.md, "Faults", "The contact law";
+"""The contact law of a pair (theory.md, "The contact law";
 cpp/contact/contact_law.h): what the traction across a closed pair may be,
 and the state it leaves the pair in (open, stick or slip: PairStatus). The
 pairs (foundation_pair.py, fault_pair.py) say which nodes face which; the
-VI solver (contact.py) knows no physics; the law is the physics between
-them.
-
-The bound of the tangential traction t_T (slip_bound) is
-    bound = tresca                           (Tresca, when given),
-    bound = cohesion + friction max(t_N, 0)  (Coulomb otherwise),
-the exact disc |t_T| <= bound in 3D (no polygon). The frictionless law, the
-default-constructed one, has bound 0: a closed pair slides freely.
-The bond: a pair's cohesion breaks for the rest of the run where its
-effective normal traction falls to zero (a tension cut-off at zero: the
-pair opens, or its solve can keep it closed only pulled); friction stays."""
+VI solver knows no physics. The bound of the tangential traction t_T
+(slip_bound), the exact disc in 3D: tresca when given, else cohesion +
+friction max(t_N, 0) (Coulomb); frictionless (the default law) bound 0: a
+closed pair slides freely. The bond: a pair's cohesion breaks for the rest
+of the run where its effective normal traction falls to zero (a tension
+cut-off at zero: the pair opens, or its solve can keep it closed only
+pulled); friction stays."""
 import dataclasses
 import enum
 import math

@@ -1,16 +1,14 @@
 """The conduit faults' pressure in the monolithic step
-(cpp/steps/monolithic_conduits.h; docs/theory.md "Flow in a fault", "The
-monolithic solve with p_f"): p_f, one unknown per fault cell, appended to the
-coupled system x = (u, z, p),
+(cpp/steps/monolithic_conduits.h; docs/theory.md, "The monolithic solve
+with p_f"): p_f, one unknown per fault cell, appended to x = (u, z, p),
     [[A + D, E], [B, C]] [x; p_f] = [b; b_f],
-    E = B_z^T - J^T |k|      the faces' pressure p_f (B_z: the exchange with
-                             their fluxes, fault_flow.py) and p_f pushing them
-                             apart (fault_aperture.py), zero on Dirichlet rows;
-    B = B_z + M J            the exchange and the open cells' opening (J: the
-                             cells' mean jump), M = G - (|k|/dt) O with G
-                             Newton's term of their transmissibilities;
-    C                        the fault's own rows (fault_flow.py), with no
-                             fixed-stress term in open cells."""
+    E = B_z^T - J^T |k|   the faces' pressure p_f and its push on them
+                          (fault_flow.py, fault_aperture.py), 0 on Dirichlet rows;
+    B = B_z + M J         the exchange and the open cells' opening (J: the
+                          cells' mean jump), M = G - (|k|/dt) O, G Newton's
+                          term of their transmissibilities;
+    C                     the fault's own rows (fault_flow.py), no
+                          fixed-stress term in open cells."""
 import dataclasses
 
 import math
