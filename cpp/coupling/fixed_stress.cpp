@@ -25,10 +25,8 @@ namespace
 {
 using Array = std::vector<double>;
 
-// A split's p_f comes from the flow alone: where it passes a cohesive
-// fault's normal stress along its length, the bonds leave the contact
-// solve no state (docs/user-guide.md, "Friction"); the monolithic solve
-// moves p_f with the openings and breaks them there.
+// The split's p_f, from the flow alone, can leave bonded pairs no state
+// (BondFailure); the monolithic solve moves p_f with the openings.
 constexpr const char* cohesive_split_advice
     = "; a cohesive fault opening along its length: coupling.scheme = \"monolithic\" solves p_f with the contact";
 
