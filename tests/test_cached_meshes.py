@@ -1,17 +1,14 @@
-"""The mesh cache (BIOTCONTACT_MESH_CACHE, domain/mesh_cache.h), both
-tracks:
-- a run meshes its .geo once into the cache and a second run reads it
-  (the file not written again); both give the fields, iterations and
-  contact sets of a run without the cache to the bit, also with
-  mesh.refine = 1 on a curved boundary (the cache holds the refined mesh:
-  refining a mesh read back would not move its new nodes onto the arc);
-- the two tracks key and write the same file (the prototype's run adds
-  none);
-- the key sees mesh.size_factor and the text of a file the .geo includes;
-  a .geo that names a file otherwise (a word `Merge` without a name in
-  quotes) is not kept, and runs;
-- a cache directory that cannot be made: exit 2, one line naming the
-  variable."""
+"""The mesh cache (BIOTCONTACT_MESH_CACHE, domain/mesh_cache.h), both tracks:
+- a run meshes its .geo once into the cache and a second run reads it (the file
+  not written again); both give the fields, iterations and contact sets of a
+  run without the cache to the bit, also with mesh.refine = 1 on a curved
+  boundary (the cache holds the refined mesh: refining a mesh read back would
+  not move its new nodes onto the arc);
+- the two tracks key and write the same file (the prototype's run adds none);
+- the key sees mesh.size_factor and the text of a file the .geo includes; a
+  .geo that names a file otherwise (a word `Merge` without a name in quotes) is
+  not kept, and runs;
+- a cache directory that cannot be made: exit 2, one line naming the variable."""
 import os
 import shutil
 import subprocess

@@ -1,14 +1,13 @@
-"""A cohesion-only fault under injection (issue 50, verification 4), on the
-C++ solver and the prototype: the conduit fault of
-scenes/fault_reactivation.toml without friction (mu 0) and with cohesion
-c = 8.688 MPa, a well of 3e-4 m^2/s into its centre for 30 days. The
-in-situ shear on the fault is 8.660 MPa; the injection raises it by the
-well (to 8.690 MPa by day 30, the rock's poroelastic stress), and the
-fault's bound is c whatever its normal traction.
-- The same fault with c = 1 GPa (held everywhere) gives the shear the
-  fault carries while it sticks. The cohesive fault sticks, its states
-  the held one's, up to the first output where that shear reaches c, and
-  slips from that output at the pair where it does.
+"""A cohesion-only fault under injection (issue 50, verification 4), on the C++
+solver and the prototype: the conduit fault of scenes/fault_reactivation.toml
+without friction (mu 0) and with cohesion c = 8.688 MPa, a well of 3e-4 m^2/s
+into its centre for 30 days. The in-situ shear on the fault is 8.660 MPa; the
+injection raises it by the well (to 8.690 MPa by day 30, the rock's poroelastic
+stress), and the fault's bound is c whatever its normal traction.
+- The same fault with c = 1 GPa (held everywhere) gives the shear the fault
+  carries while it sticks. The cohesive fault sticks, its states the held
+  one's, up to the first output where that shear reaches c, and slips from that
+  output at the pair where it does.
 - Every slipping pair carries |t_T| = c (1e-8), every stuck one less.
 - The prototype gives the C++ fields to 1e-10."""
 import numpy as np

@@ -1,17 +1,16 @@
-"""Jansen and Meulenbroek's displaced fault (issue 37), on the C++ solver
-and the prototype: scenes/fault_depletion.toml, a reservoir offset by a
-vertical frictionless fault, depleted by 25 MPa in four steps (a given pore
-pressure, no flow), plane strain. The fault's slip u_y(0+) - u_y(0-) is the
-closed-form trapezoid: (1 - 2 nu) alpha |dp| / G (b - a) on |y| < a, falling
-linearly to 0 at |y| = b, 0 beyond; within 5 % of that plateau at every
-pair outside one cell (2 m) of the reservoir's corners y = +-a, +-b. The
-fault stays closed, and with every pair in contact the problem is linear:
-the slip at each step is t/4 of the last one. The prototype gives the C++
-fields to 1e-10. On 2 and 3 ranks (C++) and 2 (prototype) the fields equal
-one rank's to 1e-10 with the same pairs in contact: the partitioner cuts
-along the fault (no edge of the mesh crosses it), so on 2 ranks a
-pair's two nodes are owned by two ranks, and the pair's block of the
-change of variables spans them."""
+"""Jansen and Meulenbroek's displaced fault (issue 37), on the C++ solver and the
+prototype: scenes/fault_depletion.toml, a reservoir offset by a vertical
+frictionless fault, depleted by 25 MPa in four steps (a given pore pressure, no
+flow), plane strain. The fault's slip u_y(0+) - u_y(0-) is the closed-form
+trapezoid: (1 - 2 nu) alpha |dp| / G (b - a) on |y| < a, falling linearly to 0
+at |y| = b, 0 beyond; within 5 % of that plateau at every pair outside one cell
+(2 m) of the reservoir's corners y = +-a, +-b. The fault stays closed, and with
+every pair in contact the problem is linear: the slip at each step is t/4 of
+the last one. The prototype gives the C++ fields to 1e-10. On 2 and 3 ranks
+(C++) and 2 (prototype) the fields equal one rank's to 1e-10 with the same
+pairs in contact: the partitioner cuts along the fault (no edge of the mesh
+crosses it), so on 2 ranks a pair's two nodes are owned by two ranks, and the
+pair's block of the change of variables spans them."""
 import numpy as np
 from support import Fields, check, fault_pairs, max_difference, run_track, scene
 

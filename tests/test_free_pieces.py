@@ -1,16 +1,15 @@
-"""A body that nothing holds (issue 50, item 4), both tracks: a square cut
-in two by a frictionless fault from side to side, its bottom clamped and
-its top loaded (down and sideways, or down only), ran with exit 0 and a
-slip of 4e10 m (down only: the upper block drifted sideways as a rigid
-body). Now `check` and `run` refuse it in one line naming the fault, the
-side and a point of the free piece, exit 2, nothing written. What holds it
-is accepted and runs: friction on the fault (mu = 0.6: every pair stuck,
-the slip below 1e-12 m), or a roller on the left side (the slip then the
-elastic one, below 1e-4 m, on either contact path: the full path's first
-step from the unloaded start presses on nothing, its reduced system is
-singular, and a residual 9x the first was once accepted as converged, with
-a slip of 2.6e-3 m). The pieces and the rank of their held rigid
-motions are unit-tested in tests/unit/test_pieces.*."""
+"""A body that nothing holds (issue 50, item 4), both tracks: a square cut in two
+by a frictionless fault from side to side, its bottom clamped and its top
+loaded (down and sideways, or down only), ran with exit 0 and a slip of 4e10 m
+(down only: the upper block drifted sideways as a rigid body). Now `check` and
+`run` refuse it in one line naming the fault, the side and a point of the free
+piece, exit 2, nothing written. What holds it is accepted and runs: friction on
+the fault (mu = 0.6: every pair stuck, the slip below 1e-12 m), or a roller on
+the left side (the slip then the elastic one, below 1e-4 m, on either contact
+path: the full path's first step from the unloaded start presses on nothing,
+its reduced system is singular, and a residual 9x the first was once accepted
+as converged, with a slip of 2.6e-3 m). The pieces and the rank of their held
+rigid motions are unit-tested in tests/unit/test_pieces.*."""
 import os
 
 from support import ROOT, TRACKS, check, run_track, summary, written

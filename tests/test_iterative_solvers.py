@@ -2,16 +2,15 @@
 "iterative" (GMRES + Schur field split with AMG for the flow, CG + GAMG with
 the rigid-body modes for the mechanics, the contact VI's Newton steps
 preconditioned by AMG on A with the active DOFs held) the fields equal the
-direct solve's to 1e-6 relative on the default scene (contact set changing),
-on Terzaghi and on the small 3D block, on 1 and 2 ranks; the split on the
-iterative path still equals the monolithic solve; linear iterations per
-solve do not grow with the mesh; inexact coupling (Krylov tolerances tied
-to the coupling increment) saves linear iterations and changes nothing else;
-a Krylov solve that fails is one line. The monolithic system solved by
-FGMRES preconditioned by the fixed-stress split equals its factorisation
-(and the split), with and without contact, on 1 and 2 ranks, in as many
-Newton steps (within 10 % + 2), with iterations per solve flat under
-refinement."""
+direct solve's to 1e-6 relative on the default scene (contact set changing), on
+Terzaghi and on the small 3D block, on 1 and 2 ranks; the split on the
+iterative path still equals the monolithic solve; linear iterations per solve
+do not grow with the mesh; inexact coupling (Krylov tolerances tied to the
+coupling increment) saves linear iterations and changes nothing else; a Krylov
+solve that fails is one line. The monolithic system solved by FGMRES
+preconditioned by the fixed-stress split equals its factorisation (and the
+split), with and without contact, on 1 and 2 ranks, in as many Newton steps
+(within 10 % + 2), with iterations per solve flat under refinement."""
 from support import check, check_signorini, max_difference, run, scene, summary
 
 FIELDS = ("displacement", "pressure", "flux", "sigma_v")

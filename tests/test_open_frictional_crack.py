@@ -1,16 +1,15 @@
-"""A fully open crack with friction (issue 50, verification 1), on the C++
-solver and the prototype: Phan's crack (test_phan.py: half-length b = 1 m
-at psi = 20 degrees to a compression sigma = 100 MPa, E = 25 GPa,
-nu = 0.25, plane strain) with Coulomb friction mu = tan(30 degrees) and a
-fluid pressure p = 50 MPa on its faces, above the normal stress
-s_n = sigma sin^2(psi) = 11.7 MPa: every pair opens (but the tips, one node
-each), and an open pair carries no traction, friction none either. The
-jumps are Sneddon's mode I and mode II,
+"""A fully open crack with friction (issue 50, verification 1), on the C++ solver
+and the prototype: Phan's crack (test_phan.py: half-length b = 1 m at psi = 20
+degrees to a compression sigma = 100 MPa, E = 25 GPa, nu = 0.25, plane strain)
+with Coulomb friction mu = tan(30 degrees) and a fluid pressure p = 50 MPa on
+its faces, above the normal stress s_n = sigma sin^2(psi) = 11.7 MPa: every
+pair opens (but the tips, one node each), and an open pair carries no traction,
+friction none either. The jumps are Sneddon's mode I and mode II,
     opening = 4 (1 - nu^2)/E (p - s_n) sqrt(b^2 - s^2),
     slip    = 4 (1 - nu^2)/E tau      sqrt(b^2 - s^2),   tau = sigma sin(psi) cos(psi),
-within 2 % at the centre (measured -0.42 % and -0.44 %) and 5 % in l2 over
-the inner 80 %; the frictionless run gives the same fields (1e-12); the
-prototype gives the C++ fields (1e-10)."""
+within 2 % at the centre (measured -0.42 % and -0.44 %) and 5 % in l2 over the
+inner 80 %; the frictionless run gives the same fields (1e-12); the prototype
+gives the C++ fields (1e-10)."""
 import math
 
 import numpy as np

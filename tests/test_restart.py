@@ -1,16 +1,14 @@
 """Checkpoint and restart (issue 12): a run with output.checkpoint_every = 3
 stopped mid-run (SIGTERM, which also writes a checkpoint, or SIGKILL, which
 leaves the last periodic one) and continued with --restart DIR ends with the
-uninterrupted run's fields (to the bit: docs/user-guide.md promises it),
-output times, iterations.csv and
-summary counts (a restart factorises again and forms the Schur complement
-again: those counts differ), for the single-rate, multirate, two-pass
-multirate and monolithic schemes with contact, with backward Euler and
-with BDF2 (whose memory, the state one step back, the checkpoint keeps)
-with time.adaptive (the same steps after the restart) and with
-coupling.q = "auto" (the same windows); the prototype does the same.
-A restart of another scene, or of a directory without a checkpoint, is
-refused."""
+uninterrupted run's fields (to the bit: docs/user-guide.md promises it), output
+times, iterations.csv and summary counts (a restart factorises again and forms
+the Schur complement again: those counts differ), for the single-rate,
+multirate, two-pass multirate and monolithic schemes with contact, with
+backward Euler and with BDF2 (whose memory, the state one step back, the
+checkpoint keeps) with time.adaptive (the same steps after the restart) and
+with coupling.q = "auto" (the same windows); the prototype does the same. A
+restart of another scene, or of a directory without a checkpoint, is refused."""
 import json
 import os
 import re

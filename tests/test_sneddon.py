@@ -1,14 +1,13 @@
-"""Sneddon's pressurised crack inside the body (issue 37), on the C++ solver
-and the prototype: a straight crack of half-length a = 1 m inclined at 30
-degrees in a square of 100 half-lengths (meshes/sneddon2d.geo), split along
-it, both faces free and loaded by the fluid pressure p of fault.crack:
+"""Sneddon's pressurised crack inside the body (issue 37), on the C++ solver and
+the prototype: a straight crack of half-length a = 1 m inclined at 30 degrees
+in a square of 100 half-lengths (meshes/sneddon2d.geo), split along it, both
+faces free and loaded by the fluid pressure p of fault.crack:
 - open: the total opening [u].n within 2 % of 4 (1 - nu^2) p / E
   sqrt(a^2 - s^2) at the centre and within 3 % in the relative l2 norm over
   the inner 80 %; no face overlaps the other;
 - closed: under a hydrostatic compression S > p (rollers on two sides,
   tractions on the others: the stress -S I everywhere) every pair is in
-  contact, the contact traction is S - p to 1e-10 relative, and nothing
-  slips;
+  contact, the contact traction is S - p to 1e-10 relative, and nothing slips;
 - the prototype gives the C++ fields to 1e-10.
 The pairs are found from the output mesh alone (support.fault_pairs)."""
 import math

@@ -1,15 +1,14 @@
-"""Converged means balanced (issue 50, item 3): a conduit fault whose step
-leaves injected + exchanged = stored + outflow off by more than its
-tolerance is no accepted step. Three runs that ended with exit 0,
-"converged": true and a wrong answer before, on both tracks: a well into
-the frictional conduit fault of scenes/fault_reactivation.toml with a
-normal permeability of 1e-30 (the fault stored 25x what was injected),
-and the same fault with residual apertures of 1 m and 10 m (transmissivity
-1e13 and 1e16 times the rock's: the exchange off by 2e-4 and 1.6 of the
-injection). Each now ends with exit 3, one line naming the step and the
-fault, summary.json "failed" with "converged": false and no step kept; and
-with time.retry the step is tried again on halved steps before it fails.
-A balanced run (residual aperture 1e-4 m, k_n infinite) still completes,
+"""Converged means balanced (issue 50, item 3): a conduit fault whose step leaves
+injected + exchanged = stored + outflow off by more than its tolerance is no
+accepted step. Three runs that ended with exit 0, "converged": true and a wrong
+answer before, on both tracks: a well into the frictional conduit fault of
+scenes/fault_reactivation.toml with a normal permeability of 1e-30 (the fault
+stored 25x what was injected), and the same fault with residual apertures of 1
+m and 10 m (transmissivity 1e13 and 1e16 times the rock's: the exchange off by
+2e-4 and 1.6 of the injection). Each now ends with exit 3, one line naming the
+step and the fault, summary.json "failed" with "converged": false and no step
+kept; and with time.retry the step is tried again on halved steps before it
+fails. A balanced run (residual aperture 1e-4 m, k_n infinite) still completes,
 its volumes balanced, on both tracks."""
 import json
 import os
