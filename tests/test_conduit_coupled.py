@@ -140,7 +140,6 @@ def check_onset(track):
     out, _ = run_track(track, written(ONSET))
     x, times, series = fault_series(out)
     inner = np.linalg.norm(x[:, :2], axis=1) < 1 - 1e-9  # all but the tips
-    scale = max(np.linalg.norm(f["slip"], axis=1).max() for f in series)
     first = next(i for i, f in enumerate(series) if f["p_node"].max() >= p_star)
     # A stuck pair's slip is the round-off of the displacement solve: held
     # to 1e-14 of the largest displacement (2.1e-16 m and 2.8e-16 m of

@@ -289,7 +289,7 @@ def check_shipped_network3d():
     d = max_difference(runs["C++"], runs["prototype"], ("displacement", "pressure", "contact_pressure"))
     steps = {track: [(r["step"], r["iteration"]) for r in iterations(out)] for track, out in runs.items()}
     check(max(d.values()) <= 1e-10 and steps["C++"] == steps["prototype"],
-          f"network3d: the prototype's fields are the C++ ones to 1e-10 ("
+          "network3d: the prototype's fields are the C++ ones to 1e-10 ("
           + ", ".join(f"{k} {v:.1e}" for k, v in d.items()) + "), the same coupling iterations")
 
 

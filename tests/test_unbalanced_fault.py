@@ -10,9 +10,6 @@ step and the fault, summary.json "failed" with "converged": false and no step
 kept; and with time.retry the step is tried again on halved steps before it
 fails. A balanced run (residual aperture 1e-4 m, k_n infinite) still completes,
 its volumes balanced, on both tracks."""
-import json
-import os
-
 from support import check, run_track, scene, summary
 
 REACTIVATION = scene("fault_reactivation")
