@@ -1,7 +1,6 @@
 """The borehole scene (issue 23, item 4): a weak formation closing onto an
 off-centre sand screen during the production drawdown, a curved foundation
 whose gap and normal come from the screen. On the C++ solver:
-
 - the contact arc starts at the low side and only grows, and at every time
   it is one arc from the lowest point of the wall;
 - Signorini holds at every wall node and time, in the screen's normal

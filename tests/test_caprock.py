@@ -1,19 +1,14 @@
 """The caprock scene (issue 22, item 4): CO2 injected below a caprock whose
-fracture zone above the well jacks open. Layers and the fracture zone are
-regions (gmsh cell groups), the injector a well, the fracture face a
-contact boundary loaded by the pore pressure beside it. To day 16, the
-jacking included:
-
-- the contact set only shrinks, from all 151 face nodes closed to the
-  jacking (fewer than 10 left), and the fracture opens from its base: at
-  every time the open part of the face is one interval from within 10 m of
-  its base (the corner at the reservoir's top stays pressed a little
-  longer), its upper end rising;
+fracture zone above the well jacks open (regions from gmsh cell groups, a
+well, a contact face loaded by the pore pressure beside it), to day 16:
+- the contact set only shrinks, from all 151 face nodes closed to fewer than
+  10, and the fracture opens from its base: the open part is one interval from
+  within 10 m of its base, its upper end rising;
 - Signorini holds at every face node and time (no penetration of the
   symmetry plane, contact pressure >= 0, complementarity);
 - the regions hold the cells of their gmsh groups;
-- 2 ranks reach the same contact sets at every time and the same fields;
-- the split and the monolithic solve reach the same contact sets;
+- 2 ranks reach the same contact sets and fields, the monolithic solve the
+  split's contact sets;
 - the prototype gives the C++ run (fields, iterations, contact sets)."""
 import numpy as np
 

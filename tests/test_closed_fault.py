@@ -3,18 +3,13 @@ solver and the prototype: Terzaghi's column (uniaxial strain: rollers on the
 sides, loaded on top, drained at the top) with a vertical fault in its middle,
 x = 0 for 2 <= y <= 8, its tips inside the column. In uniaxial strain no
 vertical plane carries shear and the horizontal stress is compressive, and the
-flow is vertical: the fault stays closed, does not slip, and no flow would
-cross it; on a mesh symmetric about x = 0 the discrete flow does not cross it
-either (on an unstructured mesh its small horizontal part would: a "sealing"
-fault then differs by 7e-5; the default, "transparent", ties the flux across
-the faces, test_transparent_fault.py). So the run with the fault gives the
-fields of the same scene without it, node by node at the same points and cell
-by cell, to 1e-10: mechanics alone, the fixed-stress split and the monolithic
-solve. On the fault scene the split equals the monolithic solve to the coupling
-tolerance, and its contraction ratio (Theorem 1's, measured every iteration) is
-held against gamma: the theorem speaks of a rigid foundation, a fault's two
-deformable faces are outside it; the measured ratio is printed and
-docs/verification.md records it."""
+flow is vertical: the fault stays closed, does not slip, and on a mesh
+symmetric about x = 0 no discrete flow crosses it. So the run with the fault
+gives the fields without it, node by node and cell by cell, to 1e-10:
+mechanics alone, the split and the monolithic solve; the split equals the
+monolithic solve, and Theorem 1's ratio, measured every iteration, is held
+against gamma (a fault's deformable faces are outside the theorem's rigid
+foundation; docs/verification.md records the ratio)."""
 import os
 import tempfile
 

@@ -6,11 +6,9 @@ diagonal in the preconditioner only (docs/theory.md, "The monolithic solve
 with p_f"). test_conduit_newton's case: 1e-3 m^2/s into the frictional
 conduit of scenes/fault_reactivation.toml, two days, sizes doubled.
 - C++: converged, balanced to 1e-8 of the injected, the fields equal to
-  the direct solve's to 1e-9 (measured 5e-12), in at most 4000 Krylov
-  iterations (measured 3200; 5297 in the prototype without the fault's
-  term in the preconditioner, 2026-12-01);
-- two ranks give one rank's fields to 1e-9 (measured 1.2e-11);
-- the prototype gives the C++ fields to 1e-9 (measured 1.1e-11)."""
+  the direct solve's to 1e-9, in at most 4000 Krylov iterations;
+- two ranks give one rank's fields to 1e-9, and the prototype the C++ ones.
+Measured: docs/verification.md, "The other tests"."""
 from support import check, max_difference, run_track, scene, summary
 from test_conduit_newton import INJECTION, MONOLITHIC, check_run
 

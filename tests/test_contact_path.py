@@ -1,19 +1,13 @@
 """The contact path a run that solves the contact once takes by default
 (issue 50, item 5; cpp/contact/contact.cpp, contact_path), on the C++ solver
 and the prototype:
-- Sneddon's pressurised crack (scenes/sneddon.toml, the mechanics alone,
-  one step): its active set is right at once, and the whole system's first
-  Newton step solves it: the default stays on the full path (one Newton
-  step) and gives the condensed path's displacement to 1e-12;
-- the Hertz contact (scenes/hertz.toml): its first full Newton step does
-  not find the contact zone, and the default goes on condensed from the
-  same start: the condensed path's fields to 1e-13, with one Newton step
-  more than the condensed path alone;
-- Phan's frictional crack (scenes/phan.toml on meshes/phan2d_coarse.geo):
-  friction's stick and slip settle in a second Newton step, which the
-  default takes on the full path before it would condense: two full Newton
-  steps, the condensed path's slip to 1e-10 (condensing after one step paid
-  the Schur complement on top of them: docs/schemes.md, "Faults");
+- Sneddon's crack (scenes/sneddon.toml): right at the first full Newton
+  step, the default stays full and gives the condensed displacement (1e-12);
+- Hertz (scenes/hertz.toml): the first full step misses the contact zone, and
+  the default goes on condensed from the same start: the condensed fields
+  (1e-13) in one Newton step more;
+- Phan's frictional crack (phan2d_coarse.geo): stick and slip settle in a
+  second full Newton step, taken before condensing; the condensed slip (1e-10);
 - an explicit -mechanics_contact_condensed true keeps the condensed path."""
 from support import check, fault_fields, max_difference, run_track, scene, summary
 

@@ -5,12 +5,10 @@ to 1e-10 relative, for the split and the monolithic solve, with the contact VI
 condensed on the Schur complement (the default: one factorisation per operator)
 and on the full system. With friction (both tracks, scenes/network2d.toml: 22
 frictional fractures): the condensed VI's Jacobian changes only where a pair's
-state does (in 2D its rows' weights are those of stick, slip or open), so it is
-factorised anew only then, fewer times than there are Newton steps, and the
-fields equal those of a factorisation at every Newton step
-(`-mechanics_contact_snes_lag_preconditioner 1`) to the bit. Its initial
-equilibrium is iterations.csv's step 0, a row with its Newton steps: the rows'
-steps sum to the summary's count, the same on both tracks."""
+state does (stick, slip or open): factorised anew only then, fewer times than
+Newton steps, the fields those of a factorisation at every step to the bit;
+iterations.csv's Newton steps (step 0: the initial equilibrium) sum to the
+summary's count, the same on both tracks."""
 from support import TRACKS, check, iterations, max_difference, run, run_track, scene, summary
 
 FIELDS = ["displacement", "pressure", "flux", "sigma_v", "contact_pressure"]

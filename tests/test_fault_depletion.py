@@ -8,9 +8,8 @@ at |y| = b, 0 beyond; within 5 % of that plateau at every pair outside one cell
 every pair in contact the problem is linear: the slip at each step is t/4 of
 the last one. The prototype gives the C++ fields to 1e-10. On 2 and 3 ranks
 (C++) and 2 (prototype) the fields equal one rank's to 1e-10 with the same
-pairs in contact: the partitioner cuts along the fault (no edge of the mesh
-crosses it), so on 2 ranks a pair's two nodes are owned by two ranks, and the
-pair's block of the change of variables spans them."""
+pairs in contact, the partitioner cutting along the fault (a pair's two nodes
+on two ranks, its block of the change of variables spanning them)."""
 import numpy as np
 from support import Fields, check, fault_pairs, max_difference, run_track, scene
 

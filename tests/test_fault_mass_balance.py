@@ -1,20 +1,15 @@
 """The mass balance of a conduit fault and the rock (issue 39, item 3;
 docs/theory.md "Flow in a fault"), on the C++ solver and the prototype: a well
 injects R = 1e-6 m^2/s into the middle of a conduit crack (half-length 1 m at
-30 degrees, residual aperture 1e-4 m, c_f = 1e-8 1/Pa) inside a closed 4 m
-square of rock (1e-14 m^2, 1/M = 1e-9 1/Pa), no flow through any outer
-boundary; the fault leaks into the rock.
-- Rigid walls (flow only) and a poroelastic rock (alpha = 1, the crack
-  compressed by 1 MPa on top, coupling tolerance 1e-12): at every output the
-  volume injected, R t, is the fluid the fault stores plus the change of the
-  rock's fluid content (S p + alpha div u) to 1e-10 of the injected volume
-  (nothing flows out). Without mechanics the rock takes a tenth of it;
-  compressed, the rock's pore pressure rises and it drains into the fault.
+30 degrees, residual aperture 1e-4 m, c_f = 1e-8 1/Pa) that leaks into a
+closed 4 m square of rock (1e-14 m^2, 1/M = 1e-9 1/Pa).
+- Rigid walls and a poroelastic rock (alpha = 1, 1 MPa on top, coupling
+  tolerance 1e-12): at every output R t is the fault's stored fluid plus the
+  change of the rock's content (S p + alpha div u) to 1e-10 of it.
 - summary.json's fault_volumes: injected R t, stored and exchanged as the
   fields give them (the rock's content is minus the exchanged volume), and
   injected + exchanged = stored + outflow with no outflow, to 1e-10.
-- Killed after 6 steps and restarted from step 4 (C++), the volumes are the
-  uninterrupted run's to 1e-12: they are in the checkpoints."""
+- Killed after 6 steps, restarted from step 4 (C++): the volumes to 1e-12."""
 import os
 
 import h5py

@@ -1,20 +1,15 @@
 """Foundations of any shape (issue 23), on the C++ solver and the prototype:
-- a rigid cylinder indenting an elastic block (scenes/indenter.toml, a
-  curved foundation: gap and normal from the cylinder) against Hertz for a
-  rigid indenter, half-width and peak pressure within 2 %;
+- a rigid cylinder indenting an elastic block (scenes/indenter.toml, gap and
+  normal from the cylinder): Hertz's half-width and peak pressure within 2 %;
 - a rigid sphere indenting an elastic block in 3D (scenes/indenter3d.toml,
   quarter model): contact radius a = (3 P R / (4 E*))^(1/3) and peak
   3 P / (2 pi a^2) within 3 %;
 - a wedge pressed into a frictionless V-groove (scenes/groove.toml, two
   contact boundaries with normals at +-30 degrees): each flank's resultant
-  equals F / (2 cos 30 deg) to 1e-8, and the apex node holds both
-  constraints; on the full path (-mechanics_contact_condensed false, whose
-  first Newton step, from a start that presses on nothing, meets a
-  singular reduced system: a zero pivot, answered by the clamped start)
-  the same fields to 1e-10, with no CHOLMOD warning on the terminal.
-P, the load, is measured: the vertical resultant of the contact pressures
-(each node's share of the top's area times its pressure times the normal's
-vertical component)."""
+  equals F / (2 cos 30 deg) to 1e-8, the apex node holds both constraints,
+  and the full path (its first step's singular reduced system answered by the
+  clamped start) the same fields to 1e-10, no CHOLMOD warning on the terminal.
+P is measured: the vertical resultant of the nodes' contact pressures."""
 import itertools
 import math
 

@@ -1,22 +1,14 @@
 """The fracture scenes (issue 13): a hydraulic fracture in the Barnett
 Shale closing during production, 2D (scenes/fracture.toml) and 3D
 (scenes/fracture3d.toml). Asserted:
-- the coupling is weak (gamma < 0.1: a gas-filled, stiff formation) and
-  every step converges;
-- the contact set grows during the drawdown: the active counts never fall,
-  start at the tip alone and end with most of the face closed;
-- in 2D the face closes from its tip: at every output time the closed
-  fracture nodes are those beyond a front, none inside an open stretch;
-- the Signorini conditions hold at every contact node at every time
-  (-u_y <= g, contact pressure >= 0, complementarity), with the scene's gap
-  (contact pressures against the run's largest: while only the tip, of zero
-  gap, touches, they are round-off);
-- mechanics.initial_equilibrium (the scenes start in equilibrium with the
-  in-situ stresses): the far-field pressure does not jump in the first step
-  (it does by 2 % without: the in-situ stresses applied at once, undrained),
-  and the monolithic run, initialised the same way, agrees with the split
-  at every time, t = 0 included;
-- the Python prototype gives the same fields and iterations (2D)."""
+- the coupling is weak (gamma < 0.1) and every step converges;
+- the contact set grows during the drawdown from the tip alone to most of the
+  face; in 2D the closed nodes are those beyond a front at every output;
+- Signorini holds at every contact node and time with the scene's gap;
+- started in equilibrium with the in-situ stresses, the far-field pressure
+  does not jump in the first step (2 % without), and the monolithic run
+  agrees with the split at every time, t = 0 included;
+- the prototype gives the same fields and iterations (2D)."""
 import subprocess
 
 import numpy as np

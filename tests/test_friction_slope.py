@@ -3,14 +3,12 @@ C++ solver and the prototype: a block (2D: 2 m x 1 m; 3D: 2 m x 1 m x 0.5 m) on
 a foundation with mu = 0.5, its weight rho g inclined by beta to the
 foundation's normal (the slope turned into the frame of the mesh:
 body_force = rho g (sin beta, -cos beta); nothing else holds the block).
-- tan(beta) < mu (beta = 20 degrees): friction holds it: every node of the
-  foundation in contact and stuck, no tangential displacement there (round-off,
-  against the block's normal displacement), but in 3D at the corners of the
-  contact face, where the pressure under the block's edges is singular and two
-  of them slip a little (5 % of the normal displacement);
-- tan(beta) > mu (beta = 40 degrees): the block slides; in quasi-static
-  mechanics it has no equilibrium, and the run ends in one line naming friction
-  (exit 3), not a stack trace or a NaN;
+- tan(beta) < mu (20 degrees): friction holds it: every foundation node in
+  contact and stuck, no tangential displacement there (round-off), but at two
+  3D corners of the contact face, under the singular pressure of the block's
+  edges (a slip of 5 % of the normal displacement);
+- tan(beta) > mu (40 degrees): the block slides, without a quasi-static
+  equilibrium: one line naming friction (exit 3), no stack trace or NaN;
 in 2D and in 3D; the prototype gives the C++ fields to 1e-10."""
 import math
 

@@ -3,18 +3,13 @@ disc of radius a = 1 m in the plane z = 0 of a cube of 50 radii
 (meshes/sneddon3d.geo), split along it, both faces under the fluid pressure p
 of fault.crack, the cube's faces clamped. The total opening [u].n at the centre
 is within 5 % of 8 (1 - nu^2) p / (pi E) a (C++); on the same geometry meshed
-1.5x coarser (-6.5 %, within 10 %) the prototype gives the C++ displacement to
-1e-10 (it takes 2.5x the C++ time on the fine mesh, 24 s). The pairs are found
-from the output mesh alone (support.fault_pairs). Each mesh is made once for
-the runs on it, by gmsh's HXT algorithm: 1.8 s and about 44,400 nodes, where
-its default Delaunay takes 25 s (21 of them evaluating the .geo's MathEval
-sizes) for 56,952. HXT's mesh differs a little from run to run (44,280-44,439
-nodes, the opening at the centre -3.18 to -3.24 %; Delaunay's -2.65 %). By
-symmetry (scenes/penny_eighth.toml: an eighth of the cube, the crack a contact
-boundary on its plane of symmetry) the opening 2 u_z is within 6 % (relative
-l2, r <= 0.9 a) of Sneddon's on meshes/penny_eighth.geo's sizes x 1.4, on both
-tracks, and within 3.5 % on its own sizes (HXT's meshes differ from run to run:
-the tracks are not compared cell by cell)."""
+1.5x coarser (within 10 %) the prototype gives the C++ displacement to 1e-10.
+Each mesh is made once, by gmsh's HXT algorithm (1.8 s against Delaunay's 25 s;
+it differs a little from run to run, so the tracks are not compared cell by
+cell). By symmetry (scenes/penny_eighth.toml, the crack a contact boundary on
+its plane of symmetry) the opening 2 u_z is within 6 % (relative l2, r <= 0.9
+a) of Sneddon's on penny_eighth.geo's sizes x 1.4, both tracks, and within
+3.5 % on its own sizes. Measured: docs/verification.md."""
 import math
 import os
 import tempfile

@@ -3,15 +3,13 @@
 is in pressure equilibrium with the rock beside it, so that the contact
 pressure is the fracture's effective normal stress; both tracks, split and
 monolithic.
-
 - Equal set-ups: with the pore pressure held at p0 everywhere (in equilibrium
   from the start: mechanics.initial_equilibrium, the same pressure on the
   drained boundary, nothing changing in time), the face loaded by the pore
   pressure gives the run of the face loaded by the traction p0 (displacement,
   contact pressure and sets to 1e-10).
 - A transient run: the converged split equals the monolithic solve.
-- Bad input: the key on a boundary without contact, or in a scene without flow,
-  is one line naming it."""
+- Bad input: the key without contact or without flow is one line naming it."""
 from support import TRACKS, check, max_difference, run_track, scene, written
 
 P0 = 400.0  # Pa: below the top load of 1e3 Pa, so the face stays in contact

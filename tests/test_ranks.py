@@ -1,20 +1,13 @@
 """More ranks (issue 24): each path that the rank count changes gives, on 2 ranks,
 the 1-rank run's coupling iterations, contact sets and fields (1e-8 relative),
-on both tracks:
-- the split with contact, where each rank holds a copy of the one-rank
-  factorisation (PCREDUNDANT: CHOLMOD, PETSc's LU) and forms its share of the
-  contact Schur complement's columns;
-- the monolithic solve with contact (MUMPS on each rank's copy);
-- a factorisation across the ranks when the command line names it (MUMPS, the
-  Schur complement's columns as distributed solves);
-and `auto` divides its crossovers by the rank count: the 3D block at [24,12,6]
-(32,112 flow and 6,825 mechanics unknowns) has its flow solved directly on one
-rank and iteratively on two (crossover 5e4, 2.5e4 on two), its mechanics
-directly on both (3e4, 1.5e4), and the summary says why. A mesh too small for
-its ranks (solver.cells_per_rank) is worked by fewer: fault_reactivation (4,720
-cells) started on 2 ranks is the 1-rank run to the bit, its summary and log say
-so, and a failure there (exit 2 at set-up, exit 3 in a step) ends both ranks
-with that status and one line; with cells_per_rank = 2000 both ranks work."""
+on both tracks: the split with contact (each rank a copy of the factorisation,
+PCREDUNDANT, and its share of the contact Schur complement's columns), the
+monolithic solve with contact, and MUMPS across the ranks when named;
+and `auto` divides its crossovers by the rank count (the 3D block at [24,12,6]:
+flow direct on one rank, iterative on two; the summary says why). A mesh too
+small for its ranks (solver.cells_per_rank) is worked by fewer: on 2 ranks
+fault_reactivation is the 1-rank run to the bit, summary and log say so, and a
+failure there ends both ranks with its status and one line."""
 import os
 import subprocess
 import tempfile

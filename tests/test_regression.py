@@ -5,10 +5,8 @@ reshaped: the same coupling iterations at every step, the same summary
 counts, the same active contact set at every output time and every final
 field equal to 1e-12 relative to its largest value, with the BLAS kernel
 it was recorded with. Another kernel rounds otherwise, and the fields are
-held to 1e-9 (measured 2026-12-01 against the record of OpenBLAS's Haswell
-kernel: at most 4.5e-11 with its Cooperlake kernel and 7.2e-11 with the
-reference BLAS, both the monolithic case's contact pressure, a force read
-from the residual A u - b; iterations, counts and active sets identical).
+held to 1e-9 (measured against the record of OpenBLAS's Haswell kernel: at
+most 7.2e-11, docs/verification.md; iterations, counts and sets identical).
 
 REGRESSION_TRACKS=prototype (or cpp) checks one track only, and
 REGRESSION_CASES=a,b some cases only, while working on one of them."""

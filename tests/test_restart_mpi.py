@@ -1,17 +1,15 @@
 """Restarts on any partition (issue 21): a checkpoint names each value by the
 mesh's input numbering (a node's, a cell's, a facet's vertices'), so a run
 checkpointed on 2 ranks goes on, on 2 ranks (the same partition) or on 1
-(none), and a 1-rank checkpoint goes on, on 2,
-each ending with the uninterrupted 1-rank run's fields (to 1e-8: the ranks
-sum in another order), active sets and coupling iterations, for the split
-with contact and the monolithic solve; a 2-rank run killed by SIGKILL goes
-on from its last periodic checkpoint on 2 ranks. Continued on 2 ranks, a
-C++ run ends with the uninterrupted 2-rank run's fields to the bit. The flux values carry the facet's
-orientation: a wrong sign would show at the first step after the restart.
-A checkpoint of another mesh under the same scene text (the gmsh file was
-changed in between: another size, or the same size with its nodes moved) is
-refused in one line, on 1 and on 2 ranks, and no output file is touched.
-The prototype does the same with its own checkpoint files."""
+(none), and a 1-rank checkpoint goes on, on 2, each ending with the
+uninterrupted 1-rank run's fields (1e-8: the ranks sum in another order),
+active sets and coupling iterations, for the split with contact and the
+monolithic solve; a 2-rank run killed by SIGKILL goes on from its last
+periodic checkpoint on 2 ranks, and a C++ run continued on 2 ranks ends with
+the uninterrupted 2-rank run's fields to the bit (the fluxes' signs included).
+A checkpoint of another mesh under the same scene text (another size, or its
+nodes moved) is refused in one line on 1 and 2 ranks, no output touched; the
+prototype does the same with its own checkpoints."""
 import os
 import shutil
 import signal

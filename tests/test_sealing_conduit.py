@@ -4,19 +4,11 @@ reservoir (y < -1) and an aquifer (y > 1) of 1e-10 m^2 separated by a
 sealing layer of 1e-25 m^2 (material regions from gmsh groups), the bottom
 held at 2 MPa and the top at 1 MPa, the sides closed; a vertical conduit
 fault (residual aperture 1e-4 m) from y = -2 to y = 2 crosses the seal.
-Steady flow (one step, no storage in the fault):
-- the seal's rock carries nothing: its largest flux across the seal's
-  width below 1e-9 of the fault's flow;
-- all the flow crosses the seal along the fault: in the seal's fault cells
-  the flux along the fault is one value Q to 1e-9, with no exchange with
-  the seal (1e-9 of Q), and p_f falls linearly there;
-- Q is the cubic law across the seal, w^3 (p_bottom - p_top) / (12 mu_f
-  (L_seal + h)), within 1 %: the fault's cells hold one pressure each, and
-  those just outside the seal hold the layers' (the layers' resistance as
-  they feed and drain the fault is about 1e-3 of it), so the drop is over
-  the seal and half a fault cell (h = 0.05 m) on either side; against
-  L_seal alone Q is 2.5 % low, O(h/L_seal);
-- the prototype gives the C++ fields to 1e-10."""
+Steady flow: the seal's rock carries nothing (1e-9 of the fault's flow); in
+the seal the fault carries one flux Q (1e-9), exchanges nothing and p_f falls
+linearly; Q is the cubic law w^3 (p_bottom - p_top) / (12 mu_f (L_seal + h))
+within 1 % (the drop spans the seal and half a fault cell, h = 0.05 m, either
+side); the prototype gives the C++ fields to 1e-10."""
 import os
 
 import h5py

@@ -4,15 +4,11 @@ uniform mesh meshes/sneddon2d_uniform.geo (cells of 0.1 m), with and without
 fault.crack.tip_size = 2 mm (tip_grading 0.3):
 - the graded mesh's cells at each tip are at most 2 tip_size across, the
   uniform mesh's at least 20 times that;
-- the opening's relative l2 error against Sneddon's ellipse (the tips' 10 %
-  excluded) falls by at least 5x with the grading, and from refine 0 to 1 at an
-  observed order of at least 1.5 graded (1.6 measured), where the uniform mesh
-  converges at first order (below 1.2);
-- the prototype meshes the same graded mesh and gives the C++ opening to 1e-10;
-- 3D: a disc crack's rim is its tip curve: its nodes at most 1.5 tip_size apart
-  (C++);
-- a crack that reaches the outer boundary at both ends has no tip to grade:
-  refused in one line (exit 2) on both tracks."""
+- the opening's l2 error against Sneddon's ellipse (the tips' 10 % excluded)
+  falls 5x with the grading, and under refinement at order >= 1.5 graded,
+  below 1.2 uniform; the prototype's graded mesh gives the C++ opening (1e-10);
+- 3D (C++): a disc crack's rim nodes at most 1.5 tip_size apart;
+- a crack from boundary to boundary has no tip to grade: exit 2, one line."""
 import math
 import os
 

@@ -1,19 +1,13 @@
 """Flow across a transparent fault (issue 37), on the C++ solver and the
 prototype: a crack of half-length 1 inclined at 30 degrees inside the square
 [-2, 2]^2 (an unstructured gmsh mesh), the flow driven from the left side
-(p = 1) to the right (p = 0), so it crosses the crack.
-
-The split duplicates the crack's nodes, making its two faces exterior
-facets with an RT0 flux DOF each. "transparent" ties the two: the flux that
-leaves the cell on one face enters the cell on the other (z- = -(c+/c-) z+,
-assembly/tied_dofs), which is the flux space of the unsplit mesh, so the
-flow equals the run without the fault to round-off (1e-12), on 1 and 2
-ranks; "sealing" leaves the faces no-flow boundaries, which must change the
-flow (else the ties would not be tested). Coupled, with mechanics (the
-frictionless crack slides under the top load, so the fields differ from the
-unsplit mesh's), the fixed-stress split equals the monolithic solve to the
-coupling tolerance with the flux tied in both, and an iterative solve the
-direct one. The prototype equals the C++ solver."""
+(p = 1) to the right (p = 0), so it crosses the crack. "transparent" ties
+the two faces' RT0 fluxes (z- = -(c+/c-) z+, assembly/tied_dofs: the unsplit
+mesh's flux space), so the flow equals the run without the fault to 1e-12, on
+1 and 2 ranks; "sealing" (no-flow faces) must change it. Coupled (the
+frictionless crack slides under the top load), the split equals the monolithic
+solve to the coupling tolerance with the flux tied in both, an iterative solve
+the direct one, and the prototype the C++ solver."""
 from support import INCLINED_CRACK_GEO as GEO, check, max_difference, run_track, written
 
 FLOW = """[mesh]

@@ -1,21 +1,13 @@
 """Wells (issue 22, item 3): `[well.NAME]` with `position` and `rate = expr`
-is a point source (2D) or a vertical line segment from `bottom` to `top`
-(3D) in the cells that contain it; injection positive; both tracks.
-
-- Mass balance in a closed box, every step, to 1e-12: the fluid content,
-  the integral of S p (+ alpha div u), equals the injected volume, the sum
-  of dt R(t_n) (backward Euler): a 2D point at a constant rate, a 3D segment
-  at a rate growing in time, and a 2D well in a poroelastic box with the
-  monolithic solve and the split.
-- Where the fluid goes, with a permeability so small that nothing moves
-  within a step: a point on a mesh vertex feeds only the cells around it,
-  in equal parts; a segment feeds each layer of cells in proportion to its
-  length there (0.5 : 1 : 1 : 1 : 1 : 0.5 for a segment from z = 2.5 to
-  7.5 through layers of height 1).
-- The prototype gives the C++ fields to 1e-12.
-- A well outside the mesh, a segment that leaves it, a rate that varies in
-  space, a segment upside down and a well without [flow] are refused in one
-  line naming the key."""
+is a point source (2D) or a vertical segment from `bottom` to `top` (3D);
+injection positive; both tracks, the prototype the C++ fields to 1e-12.
+- Mass balance in a closed box, every step, to 1e-12: the fluid content (S p
+  + alpha div u) equals the injected sum of dt R(t_n), for a 2D point, a 3D
+  segment at a growing rate, and a well in a poroelastic box (split, monolithic).
+- Where the fluid goes (nothing moving within a step): a point on a vertex
+  feeds the cells around it equally, a segment each layer by its length there.
+- A well outside the mesh, a segment leaving it or upside down, a rate varying
+  in space and a well without [flow]: one line naming the key."""
 import subprocess
 
 import numpy as np
