@@ -4,9 +4,6 @@ direct, both iterative, and `auto`, on 1 and 2 MPI ranks: the wall time and
 the coupling iterations each choice costs (an inexact inner solve must not
 buy its speed with more coupling iterations than it saves).
 
-    /usr/bin/python3 bench/auto.py [--cases fracture3d,fracture3d_refined,block3d,indenter3d]
-        [--ranks 1,2] [--repeat 3] [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 The 2D scenes are left out: every one of their systems lies far below the
 2D crossovers (docs/performance.md, "Scaling"). No XDMF output. Writes
 bench/results/auto.csv (the columns of bench/ranks.py, `variant` being the

@@ -4,10 +4,6 @@ not use it. Each scene is run by the build before (`--before`) and the
 build after (`--binary`), alternating, `--repeat` times; the wall time is
 summary.json's `wall_time_s`.
 
-    /usr/bin/python3 bench/builds.py --before OLD/build/biotcontact
-        [--binary build/biotcontact] [--scenes default,fault_reactivation]
-        [--repeat 5] [--out-dir bench/results] [-- PETSc options]
-
 Writes bench/results/builds.csv, one row per run, and prints per scene the
 runs, the medians and their ratio (after / before) as a Markdown table.
 """

@@ -20,9 +20,6 @@ and 1 MPa, four steps of 1e6 s; without and with the closure {V_m = 1e-4
 m, K_ni = 1e11 Pa/m}, which makes w_h, and so the fault's block of the
 flow system, change at every coupling iteration.
 
-    /usr/bin/python3 bench/conduit.py [--compare fault|closure] [--repeat 3]
-        [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 Writes bench/results/conduit.csv (conduit_closure.csv), one row per run and
 repetition, and prints the medians and the ratios of the second case to the
 first (conduit / transparent, closure / conduit) of the wall time and the

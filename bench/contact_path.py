@@ -5,9 +5,6 @@ Sneddon's pressurised crack (scenes/sneddon.toml, one solve) at three
 refinements, and the shipped fault and foundation scenes and the default
 scene (many solves).
 
-    /usr/bin/python3 bench/contact_path.py [--cases sneddon0,...] [--repeat 3]
-        [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 Writes bench/results/contact_path.csv, one row per run, and prints per case
 the medians and the default's ratio to the faster path (issue 50: at most
 1.2).

@@ -6,9 +6,6 @@ from one side. Per coupling iteration: the wall time against the time of
 its solve phases (the flow's back-solve, the mechanics' contact solve on
 the condensed fault), as for the foundations.
 
-    /usr/bin/python3 bench/faults.py [--dims 2,3] [--repeat 3] [--binary build/biotcontact]
-        [--out-dir bench/results] [-- PETSc options]
-
 Writes bench/results/faults.csv, one row per run and repetition, and prints
 the medians.
 """

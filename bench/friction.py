@@ -2,21 +2,14 @@
 """What friction costs: the same scene with and without friction, one
 mechanics step each, and the elastic solve of the same mesh without the
 fault (no split, no contact).
-
 - 2D: Phan et al.'s crack (meshes/phan2d.geo, refined once: about 1e5
   unknowns) under a uniaxial compression of 100 MPa, Coulomb mu = tan 30
   degrees against frictionless;
 - 3D: a penny-shaped crack (meshes/sneddon3d.geo with the sizes near the
   disc halved: about 5e5 unknowns) pressed by 50 MPa and sheared by
   20 MPa through the cube's top, mu = 0.3 against frictionless.
-
-    /usr/bin/python3 bench/friction.py [--dims 2,3] [--repeat 3] [--binary build/biotcontact]
-        [--out-dir bench/results] [-- PETSc options]
-
-Writes bench/results/friction.csv, one row per run and repetition, and
-prints the medians and the ratio frictional / frictionless, with the
-contact solver's Newton steps.
-"""
+Writes bench/results/friction.csv (a row per run and repetition) and prints
+the medians, the ratio frictional / frictionless and the Newton steps."""
 import argparse
 import os
 import sys

@@ -4,9 +4,6 @@ the cantilever, in its own frame (the foundation normal a coordinate axis:
 no change of variables) and rotated by 30 degrees (every contact node
 transformed, tools/rotate_mesh.py), on the direct and the iterative path.
 
-    /usr/bin/python3 bench/inclined.py [--clscale 0.25] [--paths direct,iterative]
-        [--repeat 3] [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 The two frames solve the same problem (tests/test_rotation_invariance.py:
 the same contact sets and iterations, fields to round-off), so the ratio of
 their wall times is the cost of the change of variables. Writes

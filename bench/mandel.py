@@ -2,16 +2,12 @@
 """Mandel's problem: pressure error against wall time, h and dt refined
 together, for the monolithic solve and the fixed-stress split.
 
-    /usr/bin/python3 bench/mandel.py [--cells "[40,4],[80,8]"] [--variants monolithic,fixed-stress]
-        [--repeat 3] [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 scenes/mandel.toml with time.end=50 at cells [40,4] dt 25, [80,8] dt 12.5,
 [160,16] dt 6.25 and [320,32] dt 3.125 (dt = 1000/nx for any --cells).
 The error is the cell-area weighted relative l2 error of the P0 pressure at
-the cell centres at the final time, against the closed form of
-python_prototype/diagnostics/closed_form.py (Mandel), read from solution.h5; the runs
-therefore write XDMF and their wall time includes the output. The closed
-form takes its parameters from the scene file: --set must not change them.
+the cell centres at the final time, against python_prototype/diagnostics/
+closed_form.py's Mandel, read from solution.h5 (the wall time includes the
+output); the closed form reads the scene file: --set must not change it.
 Writes bench/results/mandel.csv, one row per run and repetition.
 """
 import argparse

@@ -1,20 +1,13 @@
 #!/usr/bin/python3
 """The monolithic system solved by its factorisation and by FGMRES
 preconditioned by the fixed-stress split, against the iterative split, over
-mesh sizes (two time steps, one rank).
-
-    /usr/bin/python3 bench/monolithic.py [--dims 2,3] [--variants split,direct,iterative]
-        [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--repeat 3] [--binary build/biotcontact]
-        [--out-dir bench/results] [-- PETSc options]
-
-Scenes and meshes as bench/scaling.py (2D: the default contact scene, cells
-[80,8] .. [320,32]; 3D: scenes/block3d_box.toml, [16,8,4] .. [48,24,12]),
-two time steps (time.end = 0.4), no XDMF output. Variants: `split` is the
-fixed-stress split with solver.flow = solver.mechanics = "iterative";
-`direct` and `iterative` are coupling.scheme = "monolithic" with that
-solver.monolithic. Per run: wall time, Newton steps of the contact VI,
-Krylov iterations per Newton step, preconditioner set-ups (factorisations
-or set-ups of the fixed-stress preconditioner), peak memory. Writes
+mesh sizes: bench/scaling.py's scenes and meshes (2D: the default contact
+scene, [80,8] .. [320,32]; 3D: scenes/block3d_box.toml, [16,8,4] ..
+[48,24,12]), two time steps (time.end = 0.4), one rank, no XDMF. Variants:
+`split` (solver.flow = solver.mechanics = "iterative"), `direct` and
+`iterative` (coupling.scheme = "monolithic" with that solver.monolithic).
+Per run: wall time, the contact VI's Newton steps, Krylov iterations per
+Newton step, preconditioner set-ups, peak memory. Writes
 bench/results/monolithic.csv.
 """
 import argparse

@@ -3,9 +3,6 @@
 by FGMRES preconditioned by the fixed-stress split, against the split, on
 the shipped scenes with conduit faults and mechanics.
 
-    /usr/bin/python3 bench/monolithic_conduits.py [--scenes network2d,...] [--variants split,direct,iterative]
-        [--repeat 3] [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 Scenes: network2d, network3d and injection_fault3d as shipped, and
 `opening`: scenes/fault_reactivation.toml with a well of 1e-3 m^2/s into
 its frictional fault made a conduit (residual aperture 1e-4 m), four days,

@@ -6,16 +6,10 @@ five sealing, the others conduits), a well injecting into the first, under
 in-situ stress; against the same scene with that one fracture alone, its
 mesh refined to the network's number of unknowns. Per run the wall time of
 the run over its steps (the split's coupled steps, set-up included), on 1
-and 2 ranks.
-
-    /usr/bin/python3 bench/network.py [--faults 50] [--seed 1] [--ranks 1,2] [--repeat 3]
-        [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
-Writes bench/results/network.csv, one row per run and repetition, and prints
+and 2 ranks. Writes bench/results/network.csv, one row per run and repetition, and prints
 the medians and the ratio network / single fault per rank count.
 """
 import argparse
-import json
 import os
 import sys
 

@@ -5,9 +5,6 @@ solves of a scheme with one solve per step) and the Newton steps in each,
 their median, largest and total, the total against summary.json's count
 (which adds the initial equilibrium's), and the wall time.
 
-    /usr/bin/python3 bench/newton_steps.py [--cases phan,fault_reactivation:monolithic]
-        [--repeat 1] [--out-dir bench/results] [-- PETSc options]
-
 A case is a shipped scene, or SCENE:SCHEME with coupling.scheme = SCHEME.
 Writes bench/results/newton_steps.csv, one row per run, and prints a
 Markdown table (the first repetition's counts, the median wall time).

@@ -8,9 +8,6 @@ the status, the steps done, the coupling iterations and the most in a
 step, and the wall time; a failed run is a result too (its summary.json
 says how far it came).
 
-    /usr/bin/python3 bench/opening.py [--cases 1e-3,3d-1.0] [--binary B] [--repeat 1]
-        [--out-dir bench/results] [-- PETSc options]
-
 Writes bench/results/opening.csv and prints a Markdown table.
 """
 import argparse

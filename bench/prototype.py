@@ -3,9 +3,6 @@
 times (the summary's, and the process's including start-up), their ratio,
 and whether `python_prototype compare` finds the two runs equal.
 
-    /usr/bin/python3 bench/prototype.py [--cells "[80,8]"] [--repeat 3] [--binary build/biotcontact]
-        [--out-dir bench/results] [-- PETSc options]
-
 Per repetition: build/biotcontact run scenes/default.toml --set mesh.cells=[80,8],
 /usr/bin/python3 -m python_prototype run (same options), then
 /usr/bin/python3 -m python_prototype compare DIR_CPP DIR_PY. Writes

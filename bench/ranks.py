@@ -4,10 +4,6 @@
 ranks, one after the other, so that the speed-up is measured in one run;
 with --dims faults, the shipped fault scenes as they are.
 
-    /usr/bin/python3 bench/ranks.py [--dims 2,3,faults] [--ranks 1,2] [--variants paper,monolithic]
-        [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--scenes a,b] [--repeat 3] [--binary build/biotcontact]
-        [--out-dir bench/results] [-- PETSc options]
-
 2D: scenes/default.toml, cells [80,8] .. [640,64] (9.4e3 to 5.8e5 unknowns),
 the scene's 48 steps to t = 9.6, variants `paper` (single rate) and
 `monolithic` by default (`kdr` and `multirate4` of bench/size_sweep.py take

@@ -3,8 +3,6 @@
 docs/performance.md (machine, commands, tables of medians, the targets
 table) and its plots in docs/performance/.
 
-    /usr/bin/python3 bench/report.py [--results bench/results] [--output docs/performance.md] [--measured FILE]
-
 The block between `<!-- analysis begin -->` and `<!-- analysis end -->` of an
 existing output file is hand-written and kept. The targets table lives in the
 report (its section "Targets"); no other page of the repository repeats it.

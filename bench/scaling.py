@@ -2,10 +2,6 @@
 """Scaling of the solvers: direct against iterative ([solver]), on 1 and 2
 MPI ranks, over mesh sizes in 2D and 3D, for a short run (two time steps).
 
-    /usr/bin/python3 bench/scaling.py [--dims 2,3] [--solvers direct,iterative] [--ranks 1,2]
-        [--cells2 "[80,8],[160,16]"] [--cells3 "[16,8,4]"] [--largest] [--direct-limit2 N] [--direct-limit3 N]
-        [--repeat 3] [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 2D: the default contact scene, cells [80,8] .. [640,64] (9.4e3 to 5.8e5
 unknowns; --largest adds [1280,128], 2.3e6). 3D: scenes/block3d_box.toml,
 cells [16,8,4] .. [48,24,12] (1.2e4 to 3.0e5; --largest adds [72,36,18],

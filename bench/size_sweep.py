@@ -2,9 +2,6 @@
 """Size sweep: the default scene on refined meshes with four coupling
 variants, timing every phase of the run and its peak memory.
 
-    /usr/bin/python3 bench/size_sweep.py [--cells "[40,4],[80,8]"] [--variants paper,kdr,multirate4,monolithic]
-        [--largest] [--repeat 3] [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 Cells [40,4], [80,8], [160,16], [320,32] (and [640,64] with --largest);
 variants: single rate L = alpha^2/lambda (`paper`, the scene default), single
 rate L = alpha^2/K_dr (`kdr`), multirate q = 4 (`multirate4`) and the

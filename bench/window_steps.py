@@ -4,9 +4,6 @@ rate, multirate with q = "auto" and with a fixed q = 16, backward Euler, at
 the fracture study's three levels (mesh.refine 0, 1, 2 with dt 1 day,
 12 h, 6 h), runs of the three variants interleaved.
 
-    /usr/bin/python3 bench/window_steps.py [--levels 0,1,2] [--repeat 3]
-        [--binary build/biotcontact] [--out-dir bench/results] [-- PETSc options]
-
 q = "auto" takes the single-rate pressure error (tests/test_window_steps.py,
 docs/studies/fracture); q = 16 the smallest wall time. Writes
 bench/results/window_steps.csv, one row per run and repetition, and prints

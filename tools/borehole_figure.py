@@ -3,7 +3,6 @@
 scenes/borehole.toml:
 
     build/biotcontact run scenes/borehole.toml --out results/borehole
-    /usr/bin/python3 tools/borehole_figure.py results/borehole [--out docs/borehole.png]
 
 Left: the formation around the well at the end, coloured by the pore
 pressure change, its wall displaced (to scale) towards the off-centre

@@ -3,7 +3,6 @@
 scenes/caprock.toml:
 
     build/biotcontact run scenes/caprock.toml --out results/caprock
-    /usr/bin/python3 tools/caprock_figure.py results/caprock [--out docs/caprock.png]
 
 Left: the pore pressure around the well and the fracture zone at the end.
 Middle: the effective normal stress on the fracture (its contact pressure)

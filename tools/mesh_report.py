@@ -1,9 +1,6 @@
 #!/usr/bin/python3
-"""What a gmsh geometry makes, and whether its faults can be split:
-
-    /usr/bin/python3 tools/mesh_report.py meshes/sneddon2d.geo [more.geo ...] [--fault NAME ...]
-
-meshes each geometry as the solver does (gmsh, dimension 3 if it has a
+"""What a gmsh geometry makes, and whether its faults can be split.
+It meshes each geometry as the solver does (gmsh, dimension 3 if it has a
 volume, else 2) and prints the time to mesh, the nodes the cells use, the
 cells of each physical group of cells, and for each physical group of
 facets how many cells each of its facets bounds: 1 on the outer boundary,

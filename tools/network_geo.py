@@ -1,11 +1,7 @@
 #!/usr/bin/python3
 """A gmsh .geo (built-in kernel) of straight fractures in a rectangle, each
 fracture a physical group of its own, the points where fractures cross or
-touch one another shared (what the split needs to see them meet):
-
-    /usr/bin/python3 tools/network_geo.py NETWORK.json --out meshes/NAME.geo
-    /usr/bin/python3 tools/network_geo.py --draw 50 --seed 1 --out NETWORK.json
-
+touch one another shared (what the split needs to see them meet).
 NETWORK.json: {"box": [x0, y0, x1, y1], "h": mesh size, "fractures":
 {"name": [xa, ya, xb, yb], ...}, "comment": "..."}; the rectangle's sides are
 the groups "left", "right", "bottom" and "top". A fracture reaching a side

@@ -1,9 +1,6 @@
 #!/usr/bin/env python3
 """Quick-look plots of a run, without ParaView: PNGs written into the run
 directory.
-
-    /usr/bin/python3 tools/plot_run.py DIR [--point X,Y[,Z] ...] [--times N]
-
 - contact.png (runs with contact): the contact pressure along the contact
   boundary at N output times, and the active set over time (a space-time
   diagram: which contact nodes touch the foundation when);
@@ -12,7 +9,6 @@ directory.
   bounding box and the centres of its two halves along the longest side);
 - coupling.png (split schemes): coupling iterations per step, and the
   contraction ratio of every iteration against gamma (iterations.csv).
-
 Reads summary.json, iterations.csv and solution.xdmf/.h5 (output.xdmf = true)."""
 import argparse
 import csv

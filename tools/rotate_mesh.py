@@ -2,11 +2,7 @@
 """A scene built in a rotated frame: its gmsh mesh with every node rotated,
 and its scene file with its vectors (tractions, foundation normals)
 rotated. A check of rotation invariance (tests/test_rotation_invariance.py)
-and of what an inclined foundation costs (bench/inclined.py):
-
-    /usr/bin/python3 tools/rotate_mesh.py meshes/cantilever.geo rotated.msh --angle 30
-    /usr/bin/python3 tools/rotate_mesh.py meshes/block3d.geo rotated.msh --angle 30 --axis 1,1,1
-
+and of what an inclined foundation costs (bench/inclined.py): it
 meshes the geometry with gmsh (msh 2.2, `--clscale` scales its element
 sizes), and writes the mesh with its nodes rotated by `--angle` degrees
 (about z in 2D, about `--axis` in 3D).

@@ -2,8 +2,6 @@
 """Error against run time: sweeps a scene over schemes, q, L, dt and mesh
 levels with the C++ solver, and writes results.csv, PNG plots and report.md.
 
-    /usr/bin/python3 tools/study.py studies/contact.toml --out DIR [--binary build/biotcontact] [--replot]
-
 A study file names a scene (with `overrides` of its own for every run,
 if any), a list of levels (overrides that set h and dt together) and a
 list of variants (overrides that choose scheme, q, L; a
