@@ -2,19 +2,9 @@
 one timed solver run with its peak memory, CSV files with `# key: value`
 header lines, and medians over repetitions.
 
-Conventions of every bench script:
-
-- `--repeat N` (default 3): each case runs N times; the CSV keeps every
-  repetition (column `repetition`, 1..N) and the documentation uses the
-  median over the repetitions.
-- `--out-dir DIR` (default bench/results): where `<name>.csv` is written.
-- `--work-dir DIR`: where the runs write their output (default a temporary
-  directory, removed at the end unless `--keep-runs` or a run failed).
-- `--set KEY=VALUE` (repeatable): an extra scene override for every run;
-  everything after `--` is passed to every C++ run as PETSc options.
-- The script prints the machine header and every command it runs, and
-  rewrites its CSV after each run, so an interrupted benchmark keeps what
-  it finished.
+Every bench script takes the options of `add_arguments`, prints the machine
+header and every command it runs, and rewrites its CSV after each run, so
+that an interrupted benchmark keeps what it finished.
 """
 import csv
 import datetime
@@ -294,7 +284,10 @@ def cells_text(cells):
 
 
 def add_arguments(parser, name):
-    """The options every bench script has."""
+    """The options every bench script has. The CSV keeps every repetition
+    (column `repetition`, 1..N); the documentation quotes their median. The
+    work directory is removed at the end unless --keep-runs or a run failed;
+    everything after `--` goes to every C++ run as PETSc options."""
     parser.add_argument("--repeat", type=int, default=3, help="runs per case (default 3; docs use the median)")
     parser.add_argument("--binary", default=DEFAULT_BINARY, help="solver (default $BIOTCONTACT or build/biotcontact)")
     parser.add_argument("--out-dir", default=RESULTS, help=f"where {name}.csv goes (default bench/results)")

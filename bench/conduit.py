@@ -4,22 +4,6 @@ scene with a transparent fault and with a conduit fault, without and with
 Anderson acceleration (`--compare fault`, the default); or what its
 Barton-Bandis closure costs (`--compare closure`).
 
-Phan et al.'s crack (meshes/phan2d.geo, refined once: about 3.3e5
-unknowns; the fault holds 0.3 % of the facets), frictional (mu 0.6,
-cohesion 30 MPa) and closed under 100 MPa, in a rock of 1e-15 m^2 (M =
-1e10 Pa, alpha = 1) started in equilibrium with its load; the left side
-held at 10 MPa drives the fluid across the plate for 10 steps of 0.1 s.
-The transparent fault's faces carry the rock's pore pressure
-(pore_pressure_load), the conduit's its own p_f (residual aperture 1e-4 m,
-continuous exchange), so both are effective-stress faults.
-
-`--compare closure`: a conduit fault across a 3D box (meshes/fault_box.geo
-at mesh size 0.1: about 1.4e5 unknowns, the flow solved iteratively by
-`auto`), closed under 20 MPa in an impermeable rock, its ends held at 15
-and 1 MPa, four steps of 1e6 s; without and with the closure {V_m = 1e-4
-m, K_ni = 1e11 Pa/m}, which makes w_h, and so the fault's block of the
-flow system, change at every coupling iteration.
-
 Writes bench/results/conduit.csv (conduit_closure.csv), one row per run and
 repetition, and prints the medians and the ratios of the second case to the
 first (conduit / transparent, closure / conduit) of the wall time and the
@@ -52,6 +36,12 @@ alpha = 1.0
 tolerance = {tolerance}
 acceleration = "{{acceleration}}"
 """
+# `fault`: Phan et al.'s crack refined once (about 3.3e5 unknowns; the fault
+# holds 0.3 % of the facets), frictional and closed under 100 MPa, the rock
+# started in equilibrium with its load; the left side held at 10 MPa drives
+# the fluid across for 10 steps. The transparent fault's faces carry the
+# rock's pore pressure, the conduit's its own p_f: both are effective-stress
+# faults.
 SCENE = ("""[mesh]
 type = "gmsh"
 file = "{meshes}/phan2d.geo"
@@ -76,6 +66,10 @@ friction = 0.6
 cohesion = 3.0e7
 {fault}
 """)
+# `closure`: a conduit across a 3D box at mesh size 0.1 (about 1.4e5
+# unknowns, the flow solved iteratively by `auto`), closed under 20 MPa, its
+# ends held at 15 and 1 MPa; the Barton-Bandis closure makes w_h, and so the
+# fault's block of the flow system, change at every coupling iteration.
 BOX_SCENE = ("""[mesh]
 type = "gmsh"
 file = "{work}/fault_box.geo"

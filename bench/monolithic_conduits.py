@@ -3,26 +3,11 @@
 by FGMRES preconditioned by the fixed-stress split, against the split, on
 the shipped scenes with conduit faults and mechanics.
 
-Scenes: network2d, network3d and injection_fault3d as shipped, and
-`opening`: scenes/fault_reactivation.toml with a well of 1e-3 m^2/s into
-its frictional fault made a conduit (residual aperture 1e-4 m), four days,
-coupling tolerance 1e-10 (the opening spreads from the well: the apertures
-change at every coupling iteration; its split stalled on the first day
-until 2026-12-02, docs/theory.md, "Flow in a fault"); `phan_loaded`:
-scenes/phan.toml's crack (mu 0.6) made a conduit (residual aperture
-1e-5 m) in an impermeable rock (1e-25 m^2), a well of 2e-7 m^2/s at its
-middle, three steps of 0.1 s, the 100 MPa loaded at once in the first
-(where the monolithic step failed until 2026-12-03: docs/theory.md,
-"Friction"); `phan_cohesive`: the same with a cohesion of 30 MPa, run
-to 2 s: p_f passes the normal stress along the whole crack at 1.2 s
-(test_cohesive_opening's scene on the fine mesh; the monolithic step
-failed there until the bonds of 2026-12-03: docs/theory.md, "The contact
-law"). Variants:
-`split` is the scene's own coupling; `direct` and `iterative` are coupling.scheme = "monolithic" with
-that solver.monolithic. No XDMF output. Per run: wall time, coupling
-iterations (the monolithic step's iterations on the apertures: its
-solves), Newton steps of the contact VI, Krylov iterations, set-ups.
-Writes bench/results/monolithic_conduits.csv.
+Variants: `split` is the scene's own coupling; `direct` and `iterative` are
+coupling.scheme = "monolithic" with that solver.monolithic. No XDMF output.
+Per run: wall time, coupling iterations (the monolithic step's iterations
+on the apertures: its solves), Newton steps of the contact VI, Krylov
+iterations, set-ups. Writes bench/results/monolithic_conduits.csv.
 """
 import argparse
 import os
@@ -32,6 +17,16 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
 
 NAME = "monolithic_conduits"
+# `opening`: fault_reactivation's frictional fault made a conduit (residual
+# aperture 1e-4 m) fed by a well of 1e-3 m^2/s for four days: the opening
+# spreads from the well, the apertures change at every coupling iteration
+# (docs/theory.md, "Flow in a fault"). `phan_loaded`: Phan's crack (mu 0.6)
+# made a conduit (1e-5 m) in an impermeable rock, a well of 2e-7 m^2/s at
+# its middle, the 100 MPa loaded at once in the first of three steps of
+# 0.1 s (docs/theory.md, "Friction"). `phan_cohesive`: the same with a
+# cohesion of 30 MPa to 2 s: p_f passes the normal stress along the whole
+# crack at 1.2 s (test_cohesive_opening's scene on the fine mesh;
+# docs/theory.md, "The contact law").
 OPENING = ["well.injector.position=[0.0, 0.0]", 'well.injector.fault="fault"', "well.injector.rate=1.0e-3",
            "fault.fault.pore_pressure_load=false", 'fault.fault.flow="conduit"',
            "fault.fault.residual_aperture=1.0e-4", "time.end=345600.0", "coupling.tolerance=1e-10"]

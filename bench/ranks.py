@@ -4,20 +4,12 @@
 ranks, one after the other, so that the speed-up is measured in one run;
 with --dims faults, the shipped fault scenes as they are.
 
-2D: scenes/default.toml, cells [80,8] .. [640,64] (9.4e3 to 5.8e5 unknowns),
-the scene's 48 steps to t = 9.6, variants `paper` (single rate) and
-`monolithic` by default (`kdr` and `multirate4` of bench/size_sweep.py take
-the split's solver paths, with other iteration counts); 3D:
-scenes/block3d_box.toml, cells [16,8,4] .. [72,36,18] (1.2e4 to 1.0e6
-unknowns), two time steps (time.end = 0.4); faults: the scenes of
-FAULT_SCENES, every step (issue 51: 2 ranks never slower than 1 with
-faults). No XDMF output; `auto` picks
-each system's solver, as a user's run does. The rank runs of a case
-alternate (1, 2, 1, 2, ...), so that a drift of the machine's speed falls
-on both. Per run: wall time, coupling iterations, the time of each phase
-(assembly, set-ups, back-solves or Krylov iterations, the contact Schur
-complement, the rest of the contact VI, output) and the solvers chosen.
-Writes bench/results/ranks.csv.
+The rank runs of a case alternate (1, 2, 1, 2, ...), so that a drift of the
+machine's speed falls on both; `auto` picks each system's solver, as a
+user's run does. Per run: wall time, coupling iterations, the time of each
+phase (assembly, set-ups, solves, the contact Schur complement, the rest of
+the contact VI, output) and the solvers chosen. Writes
+bench/results/ranks.csv.
 """
 import argparse
 import os
@@ -29,6 +21,11 @@ import scaling  # noqa: E402
 import size_sweep  # noqa: E402
 
 NAME = "ranks"
+# 2D: 9.4e3 to 5.8e5 unknowns, the scene's 48 steps to t = 9.6, variants
+# `paper` (single rate) and `monolithic` by default (`kdr` and `multirate4`
+# of bench/size_sweep.py take the split's solver paths); 3D: 1.2e4 to 1.0e6
+# unknowns, two time steps; faults: every step of each scene (2 ranks never
+# slower than 1 with faults). No XDMF output.
 SCENES = {2: "scenes/default.toml", 3: "scenes/block3d_box.toml"}
 FAULT_SCENES = ("fault_reactivation", "fault_depletion", "sneddon", "sneddon_near", "fault3d", "injection_fault3d",
                 "flemisch_regular", "flemisch_complex", "network2d", "berre_regular")

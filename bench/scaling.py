@@ -2,15 +2,6 @@
 """Scaling of the solvers: direct against iterative ([solver]), on 1 and 2
 MPI ranks, over mesh sizes in 2D and 3D, for a short run (two time steps).
 
-2D: the default contact scene, cells [80,8] .. [640,64] (9.4e3 to 5.8e5
-unknowns; --largest adds [1280,128], 2.3e6). 3D: scenes/block3d_box.toml,
-cells [16,8,4] .. [48,24,12] (1.2e4 to 3.0e5; --largest adds [72,36,18],
-1.0e6). Each run is two time steps (time.end = 0.4) without XDMF output.
-The direct path is skipped above --direct-limit2 / --direct-limit3 unknowns
-(defaults 3e6 and 4e5: a 3D factorisation at 7e5 unknowns takes about ten
-minutes and 5 GB, issue 10's baseline, which is the point of the iterative
-path). Ranks > 1 run under mpirun.
-
 Per run: wall time, coupling iterations, time per coupling iteration and per
 unknown, linear iterations per solve (flow: per back-solve; mechanics: per
 Newton step of the contact VI), preconditioner set-ups, peak memory of the
@@ -24,6 +15,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
 
 NAME = "scaling"
+# 2D: 9.4e3 to 5.8e5 unknowns (--largest: 2.3e6); 3D: 1.2e4 to 3.0e5
+# (--largest: 1.0e6). The direct path is skipped above --direct-limit2 /
+# --direct-limit3 unknowns (defaults 3e6 and 4e5: a 3D factorisation at 7e5
+# unknowns takes about ten minutes and 5 GB, which is the point of the
+# iterative path). Two time steps without XDMF output.
 SCENES = {2: "scenes/default.toml", 3: "scenes/block3d_box.toml"}
 CELLS = {2: [(80, 8), (160, 16), (320, 32), (640, 64)], 3: [(16, 8, 4), (24, 12, 6), (32, 16, 8), (48, 24, 12)]}
 LARGEST = {2: (1280, 128), 3: (72, 36, 18)}

@@ -2,27 +2,12 @@
 """Error against run time: sweeps a scene over schemes, q, L, dt and mesh
 levels with the C++ solver, and writes results.csv, PNG plots and report.md.
 
-A study file names a scene (with `overrides` of its own for every run,
-if any), a list of levels (overrides that set h and dt together) and a
-list of variants (overrides that choose scheme, q, L; a
-"{key}" in them takes the level's value of key, e.g. an adaptive tolerance
-per level); every variant runs on every level. Errors are measured against
-the closed form (`reference = "closed-form"`, Terzaghi) or against a
-monolithic run on the finest level (`reference = "monolithic"`, computed
-once and cached; its cell averages over each coarse cell, its P1 values at
-the nodes, on meshes nested or not (mesh.size_factor); `reference_scheme`
-replaces monolithic by a tightly converged split), at every output
-time of the run: relative l2 errors of pressure (cell-area weighted),
-displacement (nodal) and flux (cell-area weighted), at the final time and
-the maximum over time. A crack study measures instead the jump along the
-crack against a closed form (relative l2, the tips' ends excluded): the
-opening against Sneddon's ellipse (`reference = "sneddon"`) or the slip
-against Phan et al.'s (`reference = "phan"`) or Jansen and Meulenbroek's
-trapezoid (`reference = "jansen_meulenbroek"`). A variant's
-override that starts with "-" is a PETSc option ("-mechanics_contact_condensed
-false"). Finished runs are kept under DIR/runs and reused when the study is
-started again; --replot redraws the plots from DIR/results.csv without
-running anything.
+Errors are relative l2 errors of pressure, displacement and flux at every
+output time (a crack study: of the jump along the crack, the tips' ends
+excluded), against a closed form or a monolithic run on the finest level.
+Finished runs are kept under DIR/runs and reused when the study is started
+again; --replot redraws the plots from DIR/results.csv without running
+anything.
 """
 import argparse
 import collections
@@ -64,6 +49,17 @@ class StudyError(Exception):
     pass
 
 
+# A study file names a scene (with `overrides` of its own for every run, if
+# any), a list of levels (overrides that set h and dt together) and a list
+# of variants (overrides that choose scheme, q, L; a "{key}" in them takes
+# the level's value of key, e.g. an adaptive tolerance per level; one that
+# starts with "-" is a PETSc option); every variant runs on every level.
+# `reference`: "closed-form" (Terzaghi), "monolithic" (the finest level's
+# monolithic run, computed once and cached; its cell averages over each
+# coarse cell and its P1 values at the nodes, on meshes nested or not;
+# `reference_scheme` replaces it by a tightly converged split), or a crack's
+# closed form: Sneddon's ellipse for the opening ("sneddon"), Phan et al.'s
+# slip ("phan") or Jansen and Meulenbroek's trapezoid ("jansen_meulenbroek").
 def read_study(path):
     try:
         with open(path, "rb") as f:
