@@ -229,6 +229,7 @@ WindowObserver Simulation::observer()
   };
   o.stop = [this] { return stop(); };
   o.retry = [this](const std::string& message) { _progress.say(message); };
+  o.note = o.retry;
   o.iteration = [this](int step, int iteration, double dp, double du)
   { _progress.iteration(step, iteration, dp, du); };
   o.record = [this](const IterationRecord& r) { _output->iteration(r); };

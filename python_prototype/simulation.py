@@ -198,7 +198,7 @@ class Simulation:
             self.progress.step(step, self.planned_steps(), t, iterations,
                                self.fields.contact.active_nodes)
         return WindowObserver(flow_state=flow_state, mechanics_state=mechanics_state, stop=self.stop,
-                              retry=self.progress.say, iteration=self.progress.iteration,
+                              retry=self.progress.say, note=self.progress.say, iteration=self.progress.iteration,
                               record=self.output.iteration)
 
     def time_loop(self):

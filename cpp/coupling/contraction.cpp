@@ -23,7 +23,6 @@ ContractionMeasure::ContractionMeasure(const Problem& problem, CouplingRun& run,
                                        std::shared_ptr<const dolfinx::fem::FunctionSpace> Q)
     : _norm(problem.forms, problem.materials, problem.parameters.q, V, Q),
       _stabilised(problem.materials.max_L > 0), _multirate(problem.scene.coupling->multirate()),
-      _accelerated(problem.scene.coupling->acceleration == Acceleration::anderson),
       _gamma(problem.parameters.gamma), _V(*V), _Q(*Q), _report(run.report), _state(run.state)
 {
 }
@@ -94,7 +93,7 @@ void ContractionMeasure::hold_against_gamma(Window& w, const Increments& inc, in
   using Quantity = ContractionNorm::Quantity;
   const double size = _multirate ? _norm(Quantity::theorem2, w.u_new, w.p_new[w.q])
                                  : _norm(Quantity::theorem1, w.u_new, w.p_new[1]);
-  const bool resolved = !_accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
+  const bool resolved = !w.accelerated and n > 1 and inc.dsigma >= resolved_fraction * w.dsigma_first
                         and inc.dsigma >= round_off_fraction * size;
   if (n > 0 and !resolved)
     ++_report.unresolved_ratios;

@@ -58,7 +58,7 @@ public:
 private:
   ContractionNorm _norm;
   const bool _stabilised; // L > 0 in some cell: Theorem 2's quantity is measured
-  const bool _multirate, _accelerated;
+  const bool _multirate;
   const double _gamma;
   const dolfinx::fem::FunctionSpace& _V;
   const dolfinx::fem::FunctionSpace& _Q;

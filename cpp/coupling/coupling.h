@@ -39,6 +39,7 @@ struct CouplingReport
   AdaptiveReport adaptive;     // time.adaptive (time/step_control.h)
   int max_window_q = 0;        // coupling.q = "auto": the largest q taken
   long q_rejections = 0;       // ... windows tried again with q = 1: the contact set changed in them
+  long accelerated_windows = 0; // coupling.acceleration = "auto": windows handed to Anderson where they stagnated
 };
 
 /// @brief The memory the schemes' controllers carry from window to window
@@ -83,6 +84,9 @@ struct WindowObserver
   /// Told that a window is tried again with shorter steps (a failed solve,
   /// or an error estimate above time.adaptive.tolerance).
   std::function<void(const std::string& message)> retry;
+  /// Told that the split changed its iteration in a window (Anderson's
+  /// taking over where it stagnated).
+  std::function<void(const std::string& message)> note;
   /// Told after each coupling iteration (window, iteration, increments dp
   /// and du): the progress of a long window.
   std::function<void(int window, int iteration, double dp, double du)> iteration;
@@ -135,6 +139,7 @@ void for_each_checkpointed(Report& r, State& c, F&& f)
   f("q_limit", c.q_limit);
   f("max_window_q", r.max_window_q);
   f("q_rejections", r.q_rejections);
+  f("accelerated_windows", r.accelerated_windows);
 }
 
 } // namespace biotcontact

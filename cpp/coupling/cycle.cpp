@@ -1,7 +1,8 @@
-// The cycle of a coupling iteration (coupling/cycle.h).
+// The cycle and the stagnation of a coupling iteration (coupling/cycle.h).
 #include "coupling/cycle.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace biotcontact
 {
@@ -25,6 +26,24 @@ int cycle_period(std::span<const std::int64_t> active_nodes, std::span<const dou
       return static_cast<int>(P);
   }
   return 0;
+}
+
+bool stagnates(std::span<const double> increments, double tolerance, int left)
+{
+  const std::size_t n = increments.size();
+  if (n < static_cast<std::size_t>(std::max(first_judged, steady_iterations + 1)) or !(increments[n - 1] > tolerance))
+    return false;
+  const double last = increments[n - 1] / increments[n - 2];
+  double slowest = last;
+  for (std::size_t i = n - steady_iterations; i < n; ++i)
+  {
+    const double r = increments[i] / increments[i - 1];
+    if (!(r >= stagnant_rate and r <= slowest_rate and std::abs(r - last) <= steady_spread))
+      return false;
+    slowest = std::max(slowest, r);
+  }
+  // The iterations the slowest of the steady ratios needs: log(tol / e) / log(r).
+  return std::log(tolerance / increments[n - 1]) / std::log(slowest) > left;
 }
 
 } // namespace biotcontact

@@ -1,7 +1,6 @@
 #include "coupling/fixed_stress.h"
 
 #include "contact/bonds.h"
-#include "coupling/anderson.h"
 #include "coupling/contraction.h"
 #include "coupling/cycle.h"
 #include "coupling/two_pass.h"
@@ -30,12 +29,6 @@ using Array = std::vector<double>;
 constexpr const char* cohesive_split_advice
     = "; a cohesive fault opening along its length: coupling.scheme = \"monolithic\" solves p_f with the contact";
 
-/// Changes of the contact active set so far (0 without contact).
-long contact_changes(MechanicsStep& mechanics)
-{
-  return mechanics.system().has_contact() ? mechanics.system().contact().active_set_changes() : 0;
-}
-
 /// The fixed-stress split as a sequence of windows, each iterated to
 /// convergence in the stages of paper section 4: flow pass (eq. 4.17-4.19),
 /// mechanics pass (eq. 4.20-4.22), contraction measure (Theorems 1 and 2),
@@ -49,8 +42,9 @@ public:
         _mechanics(steps.mechanics), _measure(problem, run, steps.mechanics.space(), steps.flow.pressure_space()),
         _history(problem.scene.time_scheme, run.grid), _observer(run.observer), _report(run.report),
         _state(run.state), _grid(run.grid), _control(run.control), _V(*steps.mechanics.space()),
-        _Q(*steps.flow.pressure_space()), _accelerated(_coupling.acceleration == Acceleration::anderson),
-        _advice(split_advice(problem.materials.gamma_peak(), _coupling.acceleration))
+        _Q(*steps.flow.pressure_space()),
+        _advice(split_advice(problem.materials.gamma_peak(), _coupling.acceleration)),
+        _rescued(_coupling.acceleration == Acceleration::automatic and problem.materials.gamma <= high_gamma)
   {
   }
 
@@ -68,10 +62,12 @@ private:
   void start();
   int window_steps(int j) const;
   Window begin_window(int K, int j, int q);
+  void accelerate(Window& w);
+  bool stagnant(Window& w, int n);
+  double tolerance(const Window& w) const;
   Outcome iterate_window(Window& w, int& n);
   bool iteration(Window& w, int n);
   void flow_pass(Window& w);
-  Array fault_reference(const Window& w, int m) const;
   /// Whether the flow carries conduit faults' pressures (every rank alike).
   bool conduits() const { return _flow.fault_aperture() != nullptr; }
   void mechanics_pass(Window& w);
@@ -101,8 +97,11 @@ private:
   StepControl* _control; // time.adaptive (q = 1), or null
   const fem::FunctionSpace& _V;
   const fem::FunctionSpace& _Q;
-  const bool _accelerated;
   const std::string _advice; // gamma and what converges instead, for not_converged
+  // coupling.acceleration = "auto" acts: not above high_gamma, where G's
+  // slowest modes (gamma) hide behind the rate seen, and the increments
+  // bound the error no longer (docs/theory.md, "Anderson acceleration").
+  const bool _rescued;
   int _attempts = 0; // retries of the current window (time.retry)
   ActiveSet _active_K; // contact active set at t_K
 };
@@ -140,9 +139,8 @@ int FixedStressSplit::window_steps(int j) const
 }
 
 /// The first iterate of window K (fine steps j + 1, ..., j + q): p^{0,m} =
-/// p_K for all m, u^0 = u_K; with coupling.acceleration = "anderson" the
-/// Anderson state (p^1, ..., p^q, u), weighted by the scales of the
-/// stopping test (coupling/anderson.h).
+/// p_K for all m, u^0 = u_K; with coupling.acceleration = "anderson"
+/// Anderson's method from the first iteration (accelerate).
 Window FixedStressSplit::begin_window(int K, int j, int q)
 {
   Window w;
@@ -174,18 +172,41 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   assign(*_flow.u_window, _history.u_K);
   if (_second_pass)
     assign(*_second_pass->u_window, _history.u_K);
-  w.active_set_changes = contact_changes(_mechanics);
-  if (_accelerated)
-  {
-    std::vector<std::int32_t> owned(q, owned_size(_Q));
-    owned.push_back(owned_size(_V));
-    // p_size is a fine step's: the window's q pressures weigh as one field.
-    const double p_size = std::sqrt(static_cast<double>(q)) * _state.p_size;
-    std::vector<double> weights(q, p_size > 0 ? 1 / p_size : 1.0);
-    weights.push_back(_state.u_size > 0 ? 1 / _state.u_size : 1.0);
-    w.anderson.emplace(_V.mesh()->comm(), _coupling.depth, owned, weights);
-  }
+  w.active_set_changes = _mechanics.active_set_changes();
+  if (_coupling.acceleration == Acceleration::anderson)
+    accelerate(w);
   return w;
+}
+
+/// Anderson's method from here on in window w (accelerate_window).
+void FixedStressSplit::accelerate(Window& w)
+{
+  accelerate_window(w, _V.mesh()->comm(), _coupling.depth,
+                    {owned_size(_Q), owned_size(_V), _state.p_size, _state.u_size});
+  w.active_set_changes = _mechanics.active_set_changes();
+}
+
+/// coupling.acceleration = "auto": whether the plain iteration of window w
+/// stagnates after iteration n (coupling/cycle.h: a steady rate that would
+/// not reach the tolerance in the iterations left), in which case Anderson's
+/// method takes over the window, once, and the log says so.
+bool FixedStressSplit::stagnant(Window& w, int n)
+{
+  const int left = _coupling.max_iterations - n - 1;
+  if (!_rescued or w.accelerated or !stagnates(w.increments, tolerance(w), left))
+    return false;
+  if (_observer.note)
+    _observer.note(stagnation_note(w, t(w, w.q), left));
+  ++_report.accelerated_windows;
+  return true;
+}
+
+/// The stopping test's tolerance of window w: coupling.tolerance, or
+/// time.adaptive's for its step.
+double FixedStressSplit::tolerance(const Window& w) const
+{
+  return _control ? iteration_tolerance(_coupling.tolerance, _scene.adaptive->tolerance, _grid.dt[w.j], t(w, w.q))
+                  : _coupling.tolerance;
 }
 
 /// (a) q flow steps with u^n lagged (eq. 4.17-4.19):
@@ -215,19 +236,6 @@ void FixedStressSplit::flow_pass(Window& w)
     w.w_new[m].assign(z_p.begin(), z_p.end());
     w.fault_new[m] = _flow.fault_pressure();
   }
-}
-
-/// The reference of the conduit faults' fixed-stress term at fine step m,
-/// p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S + L)(p_f^{n+1,m} -
-/// p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ... as the rock's eq. 4.17.
-Array FixedStressSplit::fault_reference(const Window& w, int m) const
-{
-  if (m == 1) // p_f^{n,0} = p_f^{n+1,0}: the window's start
-    return w.fault_old[1];
-  Array reference = difference(w.fault_old[m], w.fault_old[m - 1]);
-  for (std::size_t i = 0; i < reference.size(); ++i)
-    reference[i] += w.fault_new[m - 1][i];
-  return reference;
 }
 
 /// (b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq. 4.20-4.22):
@@ -264,8 +272,7 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   entry << " " << n + 1 << ": dp " << s.dp << " du " << s.du << " dsigma " << inc.dsigma;
   if (conduits)
     entry << " dp_f " << s.fault_dp;
-  entry << ";";
-  w.log.push_back(entry.str());
+  w.log.push_back(entry.str() + ";");
   return {conduits ? std::max(s.dp, s.fault_dp) : s.dp, s.du};
 }
 
@@ -275,24 +282,16 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
 /// only: a new set restarts the history (too many, Anderson itself).
 void FixedStressSplit::next_iterate(Window& w)
 {
-  if (const long changes = contact_changes(_mechanics); w.anderson and changes != w.active_set_changes)
+  if (const long changes = _mechanics.active_set_changes(); w.anderson and changes != w.active_set_changes)
   {
     w.active_set_changes = changes;
     if (!w.anderson->restart()) // the map kept changing: the plain iteration from here (anderson.h)
       w.anderson.reset();
   }
-  if (!w.anderson)
-  {
-    w.p_old = w.p_new;
-    w.u_old = w.u_new;
-    return;
-  }
-  State x(w.p_old.begin() + 1, w.p_old.end()), g(w.p_new.begin() + 1, w.p_new.end());
-  x.push_back(w.u_old);
-  g.push_back(w.u_new);
-  w.anderson->next(x, g);
-  std::copy(x.begin(), x.begin() + w.q, w.p_old.begin() + 1);
-  w.u_old = x.back();
+  if (w.anderson)
+    return mix_iterates(w);
+  w.p_old = w.p_new;
+  w.u_old = w.u_new;
 }
 
 /// One coupling iteration n of window w; true when it converged.
@@ -309,9 +308,7 @@ bool FixedStressSplit::iteration(Window& w, int n)
   w.increment = std::max(dp_norm, du_norm);
   w.active_nodes.push_back(w.active.nodes);
   w.increments.push_back(w.increment);
-  const double tolerance = _control ? iteration_tolerance(_coupling.tolerance, _scene.adaptive->tolerance,
-                                                          _grid.dt[w.j], t(w, w.q))
-                                    : _coupling.tolerance;
+  const double tolerance = this->tolerance(w);
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
   {
@@ -331,6 +328,8 @@ FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
     {
       if (iteration(w, n))
         return Outcome::converged;
+      if (stagnant(w, n))
+        accelerate(w);
       // A cycle goes on to max_iterations: end it here.
       if ((w.cycle = cycle_period(w.active_nodes, w.increments)) > 0)
         return Outcome::not_converged;

@@ -2,6 +2,8 @@
 
 #include "assembly/linear_algebra.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace biotcontact
@@ -134,6 +136,47 @@ void WindowHistory::accept(const Window& w, FlowStep& flow)
   assign(*flow.u_path_before, u_path_before);
   p_K = w.p_new[w.q];
   u_K = w.u_new;
+}
+
+void accelerate_window(Window& w, MPI_Comm comm, int depth, const AndersonScales& scales)
+{
+  std::vector<std::int32_t> owned(w.q, scales.p_owned);
+  owned.push_back(scales.u_owned);
+  const double p_size = std::sqrt(static_cast<double>(w.q)) * scales.p_size;
+  std::vector<double> weights(w.q, p_size > 0 ? 1 / p_size : 1.0);
+  weights.push_back(scales.u_size > 0 ? 1 / scales.u_size : 1.0);
+  w.anderson.emplace(comm, depth, owned, weights);
+  w.accelerated = true;
+}
+
+void mix_iterates(Window& w)
+{
+  State x(w.p_old.begin() + 1, w.p_old.end()), g(w.p_new.begin() + 1, w.p_new.end());
+  x.push_back(w.u_old);
+  g.push_back(w.u_new);
+  w.anderson->next(x, g);
+  std::copy(x.begin(), x.begin() + w.q, w.p_old.begin() + 1);
+  w.u_old = x.back();
+}
+
+std::vector<double> fault_reference(const Window& w, int m)
+{
+  if (m == 1) // p_f^{n,0} = p_f^{n+1,0}: the window's start
+    return w.fault_old[1];
+  std::vector<double> reference = difference(w.fault_old[m], w.fault_old[m - 1]);
+  for (std::size_t i = 0; i < reference.size(); ++i)
+    reference[i] += w.fault_new[m - 1][i];
+  return reference;
+}
+
+std::string stagnation_note(const Window& w, double t, int left)
+{
+  const std::size_t n = w.increments.size();
+  std::ostringstream message;
+  message << "step " << w.K + 1 << " (t = " << t << "): the split contracts by "
+          << w.increments[n - 1] / w.increments[n - 2] << " per iteration, too slowly for the " << left
+          << " iterations left; Anderson acceleration from iteration " << n + 1;
+  return message.str();
 }
 
 } // namespace biotcontact

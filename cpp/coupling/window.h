@@ -36,6 +36,7 @@ struct Window
   // The conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q, this rank's entries).
   std::vector<std::vector<double>> fault_old, fault_new;
   std::optional<AndersonAcceleration> anderson;
+  bool accelerated = false;            // Anderson's took part in the window (its ratios are not G's)
   long active_set_changes = 0;         // at the last Anderson restart
   double dsigma_previous = std::numeric_limits<double>::quiet_NaN(), dsigma_first = 0;
   double fault_previous = std::numeric_limits<double>::quiet_NaN(); // ||dp_f|| of the last iteration
@@ -62,6 +63,32 @@ struct WindowFailure
 /// The one-line error of window w that did not converge in max_iterations
 /// or cycled (coupling/cycle.h), with its last three increments.
 std::string not_converged_message(const Window& w, const WindowFailure& failure);
+
+/// The scales Anderson's norm weighs a window's blocks by: the owned
+/// entries of a pressure and of u, and the largest p (a fine step's) and u
+/// so far, the scales of the stopping test.
+struct AndersonScales
+{
+  std::int32_t p_owned, u_owned;
+  double p_size, u_size;
+};
+
+/// Anderson's method from here on in window w (coupling/anderson.h), on its
+/// state (p^1, ..., p^q, u), the window's q pressures weighing as one field.
+void accelerate_window(Window& w, MPI_Comm comm, int depth, const AndersonScales& scales);
+
+/// The iterate the next flow pass reads with Anderson's method: the
+/// combination of w's last map values (p^{n+1}, u^{n+1}).
+void mix_iterates(Window& w);
+
+/// The reference of the conduit faults' fixed-stress term at fine step m,
+/// p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S + L)(p_f^{n+1,m} -
+/// p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ... as the rock's eq. 4.17.
+std::vector<double> fault_reference(const Window& w, int m);
+
+/// The log's line where coupling.acceleration = "auto" hands window w
+/// (at t) to Anderson's method, `left` iterations left.
+std::string stagnation_note(const Window& w, double t, int left);
 
 /// @brief The converged state at t_K and, for BDF2, what the windows before
 /// left: the pressure one fine step and the displacement one window before

@@ -82,6 +82,16 @@ Json adaptive_json(const AdaptiveSpec& spec, const CouplingReport& report, const
   return j;
 }
 
+/// coupling.acceleration as summary.json gives it: "none", "anderson, depth
+/// m" or "auto, depth m" (Anderson's where the plain iteration stagnates).
+std::string acceleration_text(const CouplingSpec* c)
+{
+  if (!c or c->acceleration == Acceleration::none or c->scheme == CouplingScheme::monolithic)
+    return "none";
+  return std::string(c->acceleration == Acceleration::anderson ? "anderson" : "auto") + ", depth "
+         + std::to_string(c->depth);
+}
+
 /// coupling.q = "auto"'s part: its settings, the windows' mean and largest
 /// q, the windows tried again with q = 1 (contact).
 Json window_steps_json(const CouplingSpec& c, const CouplingReport& report)
@@ -184,8 +194,7 @@ Json scheme_json(const Problem& problem, const Scheme& scheme)
   else
     j.set("q", problem.parameters.q);
   return j.set("L_choice", c ? name_of(c->L_choice) : "none")
-      .set("acceleration", c and c->acceleration == Acceleration::anderson ? "anderson, depth " + std::to_string(c->depth)
-                                                               : std::string("none"))
+      .set("acceleration", acceleration_text(c))
       .set("L", problem.parameters.L)
       .set("gamma", problem.parameters.gamma);
 }
@@ -268,6 +277,7 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
       .set("time_scheme", name_of(scene.time_scheme))
       .set("steps", r.windows)
       .set("retries", r.retries)
+      .set("accelerated_windows", r.accelerated_windows)
       .set("fine_steps", r.fine_steps)
       .set("coupling_iterations", r.coupling_iterations)
       .set("max_iterations_per_step", r.max_iterations_per_step)

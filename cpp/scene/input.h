@@ -102,18 +102,20 @@ struct Choices<LChoice>
       {{LChoice::paper, "paper"}, {LChoice::kdr, "kdr"}, {LChoice::half_kdr, "half-kdr"}, {LChoice::number, "number"}}};
 };
 
-/// The acceleration of the split: none (the paper's iteration) or Anderson's
-/// (coupling/anderson.h).
+/// The acceleration of the split: none (the paper's iteration), Anderson's
+/// (coupling/anderson.h), or "auto": the paper's iteration, Anderson's in a
+/// window from where it stagnates (coupling/cycle.h).
 enum class Acceleration
 {
   none,
-  anderson
+  anderson,
+  automatic
 };
 template <>
 struct Choices<Acceleration>
 {
-  static constexpr std::array<std::pair<Acceleration, const char*>, 2> names{
-      {{Acceleration::none, "none"}, {Acceleration::anderson, "anderson"}}};
+  static constexpr std::array<std::pair<Acceleration, const char*>, 3> names{
+      {{Acceleration::none, "none"}, {Acceleration::anderson, "anderson"}, {Acceleration::automatic, "auto"}}};
 };
 
 /// time.scheme: the discrete time derivative (time/time_scheme.h).

@@ -202,8 +202,8 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
   c.max_iterations = s.integer("max_iterations", 100);
   if (c.max_iterations < 1)
     s.fail("max_iterations", "must be a positive integer");
-  c.acceleration = s.choice<Acceleration>("acceleration", Acceleration::none);
-  if (c.acceleration != Acceleration::none and c.scheme == CouplingScheme::monolithic)
+  c.acceleration = s.choice<Acceleration>("acceleration", Acceleration::automatic);
+  if (c.acceleration == Acceleration::anderson and c.scheme == CouplingScheme::monolithic)
     s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration");
   c.depth = s.integer("depth", 8);
   if (c.depth < 1 or c.depth > 50)

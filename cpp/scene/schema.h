@@ -177,7 +177,7 @@ struct CouplingSpec
   double tolerance = 1e-8;
   int max_iterations = 100;
   /// Anderson's keeps `depth` differences.
-  Acceleration acceleration = Acceleration::none;
+  Acceleration acceleration = Acceleration::automatic;
   int depth = 8;
   /// q flow steps per mechanics step (either multirate scheme).
   bool multirate() const

@@ -72,6 +72,8 @@ public:
   /// forces), for the log of every coupling iteration; empty without
   /// contact.
   ActiveSet active_contact_set() override;
+  /// Changes of the contact active set so far (0 without contact).
+  long active_set_changes() { return system().has_contact() ? system().contact().active_set_changes() : 0; }
 
   /// The conduit faults' pressure p_f (this rank's entries) pushes their faces
   /// apart at every solve from now on, by the load of `aperture`.

@@ -12,7 +12,6 @@ from mpi4py import MPI
 
 from ..assembly.linear_algebra import owned_norm
 from ..diagnostics.diagnostics import ContractionNorm
-from ..scene.input import Acceleration
 
 # Ratios measured below this fraction of a window's first ||delta sigma||
 # are at round-off level (see hold_against_gamma).
@@ -59,7 +58,6 @@ class ContractionMeasure:
         self.norm = ContractionNorm(problem.forms, problem.parameters.q, self.comm)
         self.stabilised = problem.materials.max_L > 0  # L > 0 in some cell: Theorem 2's quantity is measured
         self.multirate = problem.scene.coupling.multirate()
-        self.accelerated = problem.scene.coupling.acceleration == Acceleration.anderson
         self.gamma = problem.parameters.gamma
         self.V, self.Q = V, Q
         self.report, self.state = run.report, run.state
@@ -124,7 +122,7 @@ class ContractionMeasure:
             size = self.norm("theorem2", w.u_new, w.p_new[w.q]) if self.stabilised else math.nan
         else:
             size = self.norm("theorem1", w.u_new, w.p_new[1])
-        resolved = (not self.accelerated and n > 1 and inc.dsigma >= RESOLVED_FRACTION * w.dsigma_first
+        resolved = (not w.accelerated and n > 1 and inc.dsigma >= RESOLVED_FRACTION * w.dsigma_first
                     and inc.dsigma >= ROUND_OFF_FRACTION * size)
         if n > 0 and not resolved:
             report.unresolved_ratios += 1

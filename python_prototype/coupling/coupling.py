@@ -34,6 +34,7 @@ class CouplingReport:
     adaptive: AdaptiveReport = field(default_factory=AdaptiveReport)  # time.adaptive (time/step_control.py)
     max_window_q: int = 0              # coupling.q = "auto": the largest q taken
     q_rejections: int = 0              # ... windows tried again with q = 1: the contact set changed in them
+    accelerated_windows: int = 0       # coupling.acceleration = "auto": windows handed to Anderson where they stagnated
 
 
 @dataclass
@@ -88,6 +89,9 @@ class WindowObserver:
     # Told that a window is tried again with shorter steps (a failed solve,
     # or an error estimate above time.adaptive.tolerance).
     retry: Optional[Callable[[str], None]] = None
+    # Told that the split changed its iteration in a window (Anderson's
+    # taking over where it stagnated).
+    note: Optional[Callable[[str], None]] = None
     # Told after each coupling iteration (window, iteration, increments dp
     # and du): the progress of a long window.
     iteration: Optional[Callable[[int, int, float, float], None]] = None
@@ -114,7 +118,7 @@ CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "ma
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
                 "fault_p_size", "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate",
                 "p_largest", "u_largest", "contact_breaks", "smooth_states", "fine_steps", "window_q", "q_limit",
-                "max_window_q", "q_rejections")
+                "max_window_q", "q_rejections", "accelerated_windows")
 
 
 def for_each_checkpointed(report, state, f):

@@ -9,16 +9,16 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
-from ..assembly.materials import split_advice
+from ..assembly.materials import HIGH_GAMMA, split_advice
 from ..assembly.parameters import set_time_step, set_window_steps
-from .anderson import AndersonAcceleration
 from ..contact.bonds import BondFailure
 from ..contact.contact_state import ActiveSet, same_active_set
 from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
-from .cycle import cycle_period
+from .cycle import cycle_period, stagnates
 from .two_pass import second_pass_correction
-from .window import Window, WindowFailure, WindowHistory, not_converged_message
+from .window import (AndersonScales, Window, WindowFailure, WindowHistory, accelerate_window, fault_reference,
+                     mix_iterates, not_converged_message, stagnation_note)
 from ..time.window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..scene.input import Acceleration
@@ -40,11 +40,6 @@ def inexact_tolerance(previous_increment):
 # (BondFailure); the monolithic solve moves p_f with the openings.
 _COHESIVE_SPLIT_ADVICE = ('; a cohesive fault opening along its length: coupling.scheme = "monolithic" solves p_f '
                           'with the contact')
-
-
-def _contact_changes(mechanics):
-    """Changes of the contact active set so far (0 without contact)."""
-    return mechanics.system.contact.active_set_changes if mechanics.system.has_contact() else 0
 
 
 class _Outcome(enum.Enum):
@@ -69,8 +64,12 @@ class _FixedStressSplit:
         self.grid = run.grid
         self.control = run.control  # time.adaptive (q = 1), or None
         self.V, self.Q = steps.mechanics.V, steps.flow.Q
-        self.accelerated = self.coupling.acceleration == Acceleration.anderson
         self.advice = split_advice(problem.materials.gamma_peak(), self.coupling.acceleration)  # for not_converged
+        # coupling.acceleration = "auto" acts: not above HIGH_GAMMA, where G's
+        # slowest modes (gamma) hide behind the rate seen, and the increments
+        # bound the error no longer (docs/theory.md, "Anderson acceleration").
+        self.rescued = (self.coupling.acceleration == Acceleration.automatic
+                        and problem.materials.gamma_peak().gamma <= HIGH_GAMMA)
         self.attempts = [0]         # retries of the current window (time.retry)
         self.active_K = ActiveSet()  # contact active set at t_K
 
@@ -109,9 +108,7 @@ class _FixedStressSplit:
     def begin_window(self, K, j, q):
         """The first iterate of window K (fine steps j + 1, ..., j + q):
         p^{0,m} = p_K for all m, u^0 = u_K; with coupling.acceleration =
-        "anderson" the Anderson state (p^1, ..., p^q, u), weighted by the
-        scales of the stopping test (anderson.py)."""
-        state = self.state
+        "anderson" Anderson's method from the first iteration (accelerate)."""
         derivative = self.history.derivative(j, q)
         dt = derivative.effective_step(self.grid.dt[j])
         for flow in (self.flow, self.second_pass):
@@ -131,15 +128,38 @@ class _FixedStressSplit:
         self.flow.u_window.x.array[:] = self.history.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.history.u_K
-        w.active_set_changes = _contact_changes(self.mechanics)
-        if self.accelerated:
-            # p_size is a fine step's: the window's q pressures weigh as one field.
-            p_size = math.sqrt(q) * state.p_size
-            w.anderson = AndersonAcceleration(self.comm, self.coupling.depth,
-                                              [owned(self.Q)] * q + [owned(self.V)],
-                                              [1 / p_size if p_size > 0 else 1.0] * q
-                                              + [1 / state.u_size if state.u_size > 0 else 1.0])
+        w.active_set_changes = self.mechanics.active_set_changes()
+        if self.coupling.acceleration == Acceleration.anderson:
+            self.accelerate(w)
         return w
+
+    def accelerate(self, w):
+        """Anderson's method from here on in window w (accelerate_window)."""
+        accelerate_window(w, self.comm, self.coupling.depth,
+                          AndersonScales(owned(self.Q), owned(self.V), self.state.p_size, self.state.u_size))
+        w.active_set_changes = self.mechanics.active_set_changes()
+
+    def stagnant(self, w, n):
+        """coupling.acceleration = "auto": whether the plain iteration of
+        window w stagnates after iteration n (cycle.py: a steady rate that
+        would not reach the tolerance in the iterations left), in which case
+        Anderson's method takes over the window, once, and the log says so."""
+        left = self.coupling.max_iterations - n - 1
+        if (not self.rescued or w.accelerated
+                or not stagnates(w.increments, self.tolerance(w), left)):
+            return False
+        if self.observer.note:
+            self.observer.note(stagnation_note(w, self.t(w, w.q), left))
+        self.report.accelerated_windows += 1
+        return True
+
+    def tolerance(self, w):
+        """The stopping test's tolerance of window w: coupling.tolerance, or
+        time.adaptive's for its step."""
+        if self.control is None:
+            return self.coupling.tolerance
+        return iteration_tolerance(self.coupling.tolerance, self.scene.adaptive.tolerance, self.grid.dt[w.j],
+                                   self.t(w, w.q))
 
     def flow_pass(self, w):
         """(a) q flow steps with u^n lagged (eq. 4.17-4.19):
@@ -157,7 +177,7 @@ class _FixedStressSplit:
             self.history.set_time_history(flow, w, m, w.p_new, w.u_old)
             flow.p_iterate.x.array[:] = w.p_old[m]
             flow.p_iterate_previous.x.array[:] = self.history.previous(w, w.p_old, m)
-            flow.set_fine_step(m, w.fault_new[m - 1], self.fault_reference(w, m))
+            flow.set_fine_step(m, w.fault_new[m - 1], fault_reference(w, m))
             flow.solve(self.t(w, m))
             w.p_new[m] = flow.pressure.x.array.copy()
             w.w_new[m] = flow.unknowns().copy()
@@ -167,16 +187,6 @@ class _FixedStressSplit:
         """Whether the flow carries conduit faults' pressures (every rank
         alike)."""
         return self.flow.fault_aperture is not None
-
-    @staticmethod
-    def fault_reference(w, m):
-        """The reference of the conduit faults' fixed-stress term at fine
-        step m, p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S +
-        L)(p_f^{n+1,m} - p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ...
-        as the rock's eq. 4.17."""
-        if m == 1:  # p_f^{n,0} = p_f^{n+1,0}: the window's start
-            return w.fault_old[1]
-        return w.fault_old[m] - w.fault_old[m - 1] + w.fault_new[m - 1]
 
     def mechanics_pass(self, w):
         """(b) mechanics (the VI) at t_{K+1} with p = p^{n+1,q} (eq.
@@ -217,18 +227,15 @@ class _FixedStressSplit:
         differences of earlier iterations describe the map of their contact
         active set only: a new set restarts the history (too many, Anderson
         itself)."""
-        changes = _contact_changes(self.mechanics)
+        changes = self.mechanics.active_set_changes()
         if w.anderson and changes != w.active_set_changes:
             w.active_set_changes = changes
             if not w.anderson.restart():  # the map kept changing: the plain iteration from here (anderson.py)
                 w.anderson = None
-        if not w.anderson:
-            w.p_old = list(w.p_new)
-            w.u_old = w.u_new
-            return
-        x = w.anderson.next(w.p_old[1:] + [w.u_old], w.p_new[1:] + [w.u_new])
-        w.p_old = [w.p_old[0]] + x[:w.q]
-        w.u_old = x[w.q]
+        if w.anderson:
+            return mix_iterates(w)
+        w.p_old = list(w.p_new)
+        w.u_old = w.u_new
 
     def iteration(self, w, n):
         """One coupling iteration n of window w; True when it converged."""
@@ -243,8 +250,7 @@ class _FixedStressSplit:
         w.increment = max(dp_norm, du_norm)
         w.active_nodes.append(w.active.nodes)
         w.increments.append(w.increment)
-        tolerance = self.coupling.tolerance if self.control is None else iteration_tolerance(
-            self.coupling.tolerance, self.scene.adaptive.tolerance, self.grid.dt[w.j], self.t(w, w.q))
+        tolerance = self.tolerance(w)
         converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
             self.measure.record_coupled_residual(w, inc, self.history)
@@ -260,6 +266,8 @@ class _FixedStressSplit:
             for n in range(self.coupling.max_iterations):
                 if self.iteration(w, n):
                     return _Outcome.converged, n
+                if self.stagnant(w, n):
+                    self.accelerate(w)
                 # A cycle goes on to max_iterations: end it here.
                 w.cycle = cycle_period(w.active_nodes, w.increments)
                 if w.cycle:

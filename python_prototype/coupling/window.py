@@ -7,6 +7,7 @@ import dataclasses
 import math
 
 from ..contact.contact_state import ActiveSet
+from .anderson import AndersonAcceleration
 from ..scene.input import TimeScheme
 from ..time.time_scheme import TimeDerivative, history_value, time_derivative
 
@@ -30,6 +31,7 @@ class Window:
         self.u_old, self.u_new = u_K, None
         self.fault_old = self.fault_new = None  # the conduit faults' p_f^{n,m} and p_f^{n+1,m} (m = 0..q)
         self.anderson = None
+        self.accelerated = False  # Anderson's took part in the window (its ratios are not G's)
         self.active_set_changes = 0   # at the last Anderson restart
         self.dsigma_previous, self.dsigma_first = math.nan, 0.0
         self.fault_previous = math.nan  # ||dp_f|| of the last iteration
@@ -70,6 +72,53 @@ def not_converged_message(w, failure):
     return (head + "".join(w.log[-3:]) + " " + failure.advice
             + (", time.retry = 4 (a failed step again with half its dt, up to 4 times)"
                if failure.propose_retry else ""))
+
+
+@dataclasses.dataclass
+class AndersonScales:
+    """The scales Anderson's norm weighs a window's blocks by: the owned
+    entries of a pressure and of u, and the largest p (a fine step's) and u
+    so far, the scales of the stopping test."""
+    p_owned: int
+    u_owned: int
+    p_size: float
+    u_size: float
+
+
+def accelerate_window(w, comm, depth, scales):
+    """Anderson's method from here on in window w (anderson.py), on its state
+    (p^1, ..., p^q, u), the window's q pressures weighing as one field."""
+    p_size = math.sqrt(w.q) * scales.p_size
+    w.anderson = AndersonAcceleration(comm, depth, [scales.p_owned] * w.q + [scales.u_owned],
+                                      [1 / p_size if p_size > 0 else 1.0] * w.q
+                                      + [1 / scales.u_size if scales.u_size > 0 else 1.0])
+    w.accelerated = True
+
+
+def mix_iterates(w):
+    """The iterate the next flow pass reads with Anderson's method: the
+    combination of w's last map values (p^{n+1}, u^{n+1})."""
+    x = w.anderson.next(w.p_old[1:] + [w.u_old], w.p_new[1:] + [w.u_new])
+    w.p_old = [w.p_old[0]] + x[:w.q]
+    w.u_old = x[w.q]
+
+
+def stagnation_note(w, t, left):
+    """The log's line where coupling.acceleration = "auto" hands window w (at
+    t) to Anderson's method, `left` iterations left."""
+    return (f"step {w.K + 1} (t = {t:g}): the split contracts by {w.increments[-1] / w.increments[-2]:g} per "
+            f"iteration, too slowly for the {left} iterations left; Anderson acceleration from iteration "
+            f"{len(w.increments) + 1}")
+
+
+def fault_reference(w, m):
+    """The reference of the conduit faults' fixed-stress term at fine step m,
+    p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S + L)(p_f^{n+1,m}
+    - p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ... as the rock's eq.
+    4.17."""
+    if m == 1:  # p_f^{n,0} = p_f^{n+1,0}: the window's start
+        return w.fault_old[1]
+    return w.fault_old[m] - w.fault_old[m - 1] + w.fault_new[m - 1]
 
 
 class WindowHistory:

@@ -96,6 +96,15 @@ def _adaptive_json(spec, report, grid):
     return j
 
 
+def _acceleration_text(c):
+    """coupling.acceleration as summary.json gives it: "none", "anderson,
+    depth m" or "auto, depth m" (Anderson's where the plain iteration
+    stagnates)."""
+    if not c or c.acceleration == Acceleration.none or c.scheme == CouplingScheme.monolithic:
+        return "none"
+    return f"{'anderson' if c.acceleration == Acceleration.anderson else 'auto'}, depth {c.depth}"
+
+
 def _window_steps_json(c, report):
     """coupling.q = "auto"'s part: its settings, the windows' mean and
     largest q, the windows tried again with q = 1 (contact)."""
@@ -162,7 +171,7 @@ def _scheme_json(problem, scheme):
             "scheme": name_of(c.scheme) if c else ("flow-only" if scheme.p is not None else "mechanics-only"),
             "q": "auto" if c and c.q_auto else parameters.q,
             "L_choice": name_of(c.L_choice) if c else "none",
-            "acceleration": f"anderson, depth {c.depth}" if c and c.acceleration == Acceleration.anderson else "none",
+            "acceleration": _acceleration_text(c),
             "L": parameters.L,
             "gamma": parameters.gamma}
 
@@ -187,6 +196,7 @@ def run_summary(summary_input, outcome):
         "time_scheme": name_of(scene.time_scheme),
         "steps": r.windows,
         "retries": r.retries,
+        "accelerated_windows": r.accelerated_windows,
         "fine_steps": r.fine_steps,
         "coupling_iterations": r.coupling_iterations,
         "max_iterations_per_step": r.max_iterations_per_step,

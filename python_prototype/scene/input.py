@@ -62,10 +62,12 @@ class LChoice(enum.Enum):
 
 
 class Acceleration(enum.Enum):
-    """The acceleration of the split: none (the paper's iteration) or
-    Anderson's (coupling/anderson.py)."""
+    """The acceleration of the split: none (the paper's iteration),
+    Anderson's (coupling/anderson.py), or "auto": the paper's iteration,
+    Anderson's in a window from where it stagnates (coupling/cycle.py)."""
     none = "none"
     anderson = "anderson"
+    automatic = "auto"
 
 
 class TimeScheme(enum.Enum):

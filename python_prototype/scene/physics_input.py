@@ -175,8 +175,8 @@ def _read_coupling(s, mech, flow):
     c.max_iterations = s.integer("max_iterations", 100)
     if c.max_iterations < 1:
         s.fail("max_iterations", "must be a positive integer")
-    c.acceleration = s.choice("acceleration", Acceleration, Acceleration.none)
-    if c.acceleration != Acceleration.none and c.scheme == CouplingScheme.monolithic:
+    c.acceleration = s.choice("acceleration", Acceleration, Acceleration.automatic)
+    if c.acceleration == Acceleration.anderson and c.scheme == CouplingScheme.monolithic:
         s.fail("acceleration", "accelerates the split; the monolithic scheme has no coupling iteration")
     c.depth = s.integer("depth", 8)
     if not 1 <= c.depth <= 50:

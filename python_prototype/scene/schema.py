@@ -149,7 +149,7 @@ class CouplingSpec:
     L_number: float = 0.0  # L_choice = number
     tolerance: float = 1e-8
     max_iterations: int = 100
-    acceleration: Acceleration = Acceleration.none  # Anderson's keeps `depth` differences
+    acceleration: Acceleration = Acceleration.automatic  # Anderson's keeps `depth` differences
     depth: int = 8
 
     def multirate(self):

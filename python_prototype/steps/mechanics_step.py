@@ -212,6 +212,10 @@ class MechanicsStep(Step):
         (empty without contact)."""
         return self.system.contact.active_set(self.u.vector) if self.system.has_contact() else ActiveSet()
 
+    def active_set_changes(self):
+        """Changes of the contact active set so far (0 without contact)."""
+        return self.system.contact.active_set_changes if self.system.has_contact() else 0
+
     def contact_state(self):
         """Also fills the contact pressure and active-flag fields."""
         if not self.system.has_contact():

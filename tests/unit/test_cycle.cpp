@@ -1,12 +1,16 @@
-// Unit tests of a coupling iteration's cycle (cpp/coupling/cycle.h): a
-// contact set returning every P iterations with increments that do not
-// shrink is a cycle of period P, the smallest; a set that stays, increments
-// that shrink by more than 0.05 % a period, or too few iterations are none.
+// Unit tests of a coupling iteration's cycle and stagnation
+// (cpp/coupling/cycle.h): a contact set returning every P iterations with
+// increments that do not shrink is a cycle of period P, the smallest; a set
+// that stays, increments that shrink by more than 0.05 % a period, or too
+// few iterations are none. A steady rate that cannot reach the tolerance in
+// the iterations left stagnates; a faster, unsteady or early one does not.
 // The prototype's twin is tests/unit/test_cycle.py.
 #include "coupling/cycle.h"
 
 #include <gtest/gtest.h>
 #include <vector>
+
+#include <cmath>
 
 using namespace biotcontact;
 
@@ -53,4 +57,42 @@ TEST(Cycle, NoneWhereTheIterationProgresses)
   o[o.size() - 3] = 116;
   EXPECT_EQ(cycle_period(o, oi), 0);
   EXPECT_EQ(cycle_period({}, {}), 0);
+}
+
+namespace
+{
+/// `n` increments from 1e-3 shrinking by `rate` each.
+std::vector<double> geometric(int n, double rate)
+{
+  std::vector<double> increments;
+  for (int i = 0; i < n; ++i)
+    increments.push_back(1e-3 * std::pow(rate, i));
+  return increments;
+}
+} // namespace
+
+TEST(Stagnation, SteadyRateTooSlowForTheIterationsLeft)
+{
+  // At 0.983 from 1e-3 * 0.983^14 = 7.9e-4, 1e-10 takes 942 iterations.
+  const std::vector<double> slow = geometric(15, 0.983);
+  EXPECT_TRUE(stagnates(slow, 1e-10, 385));
+  EXPECT_FALSE(stagnates(slow, 1e-10, 1000)); // within the iterations left
+  EXPECT_FALSE(stagnates(slow, 1e-3, 385));   // converged already
+  // The split's alternating ratios at fault_reactivation's step 53 (0.9819, 0.9826).
+  std::vector<double> alternating = slow;
+  for (std::size_t i = 1; i < alternating.size(); ++i)
+    alternating[i] = alternating[i - 1] * (i % 2 ? 0.9819 : 0.9826);
+  EXPECT_TRUE(stagnates(alternating, 1e-10, 385));
+}
+
+TEST(Stagnation, NoneWhereTheRateIsFastUnsteadyOrEarly)
+{
+  EXPECT_FALSE(stagnates(geometric(15, 0.85), 1e-10, 2));     // below stagnant_rate
+  EXPECT_FALSE(stagnates(geometric(first_judged - 1, 0.99), 1e-10, 50)); // too early
+  EXPECT_FALSE(stagnates(geometric(15, 1.01), 1e-10, 50));    // growing: not a rate below 1
+  EXPECT_FALSE(stagnates(geometric(15, 0.9999), 1e-10, 50));  // above slowest_rate: gamma near 1
+  std::vector<double> unsteady = geometric(15, 0.97);
+  unsteady[12] *= 0.9; // one ratio 0.873, the next 1.078
+  EXPECT_FALSE(stagnates(unsteady, 1e-10, 50));
+  EXPECT_FALSE(stagnates({}, 1e-10, 50));
 }
