@@ -172,7 +172,6 @@ Window FixedStressSplit::begin_window(int K, int j, int q)
   assign(*_flow.u_window, _history.u_K);
   if (_second_pass)
     assign(*_second_pass->u_window, _history.u_K);
-  w.active_set_changes = _mechanics.active_set_changes();
   if (_coupling.acceleration == Acceleration::anderson)
     accelerate(w);
   return w;

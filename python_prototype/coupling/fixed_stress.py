@@ -128,7 +128,6 @@ class _FixedStressSplit:
         self.flow.u_window.x.array[:] = self.history.u_K
         if self.second_pass:
             self.second_pass.u_window.x.array[:] = self.history.u_K
-        w.active_set_changes = self.mechanics.active_set_changes()
         if self.coupling.acceleration == Acceleration.anderson:
             self.accelerate(w)
         return w
