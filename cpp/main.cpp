@@ -11,6 +11,7 @@
 #include "domain/create_domain.h"
 #include "domain/mesh_checks.h"
 #include "domain/working_ranks.h"
+#include "output/checkpoint.h"
 #include "output/interruption.h"
 #include "output/write_failure.h"
 #include "scene/scene.h"
@@ -204,17 +205,16 @@ int check_scene(const biotcontact::Scene& scene, const Arguments& args, int rank
 }
 
 /// `run`: a restart goes on in the directory of the run it continues; the
-/// scene text and the --set values are its fingerprint.
+/// scene text and the --set values are its fingerprint (restart_fingerprint).
 int run_scene(const biotcontact::Scene& scene, const Arguments& args)
 {
   const std::string out
       = !args.restart.empty() ? args.restart : args.out.empty() ? "results/" + scene.name : args.out;
   biotcontact::RunControl control;
   control.restart = !args.restart.empty();
-  std::ifstream text(args.scene);
-  control.fingerprint.assign(std::istreambuf_iterator<char>(text), {});
-  for (const std::string& o : args.overrides)
-    control.fingerprint += "\n--set " + o;
+  std::ifstream file(args.scene);
+  const std::string text(std::istreambuf_iterator<char>(file), {});
+  control.fingerprint = biotcontact::restart_fingerprint(text, args.overrides, scene);
   return biotcontact::run(scene, out, MPI_COMM_WORLD, control);
 }
 

@@ -73,6 +73,8 @@ private:
   int planned_steps() const;
   void output_failed(const OutputError& e);
   bool stop();
+  void save_completed();
+  void save_on_failure();
   void write_summary();
   int exit_status() const;
   RunState run_state() { return {*_scheme, *_domain->mesh, _report, _state, _grid}; }
@@ -91,6 +93,7 @@ private:
   Description _description;
   std::unique_ptr<Scheme> _scheme;
   std::optional<Checkpoint> _resumed;
+  std::optional<Checkpoint> _completed; // the last completed step's, with output.checkpoint_every
   std::optional<DirectoryLock> _lock;
   std::unique_ptr<Output> _output;
   std::unique_ptr<OutputFields> _fields;
@@ -193,22 +196,50 @@ void Simulation::start_or_restore()
 
 /// After each completed (and written) step: a checkpoint every
 /// checkpoint_every steps and at an interruption; then whether to stop.
+/// The last completed step is kept in memory too: a step that fails writes
+/// it (save_completed).
 bool Simulation::stop()
 {
-  auto save = [&]
-  {
-    _checkpointing = true;
-    write_checkpoint(_comm, _directory, _control.fingerprint,
-                     capture_checkpoint(run_state(), _end.completed_steps, _end.completed_time, _output->position()));
-    _checkpointing = false;
-    _end.saved = _end.completed_steps;
-  };
+  if (_scene.checkpoint_every > 0)
+    _completed = capture_checkpoint(run_state(), _end.completed_steps, _end.completed_time, _output->position());
   if (_scene.checkpoint_every > 0 and _end.completed_steps % _scene.checkpoint_every == 0)
-    save();
+    save_completed();
   _end.signal = interruption_signal(_comm);
   if (_end.signal and _scene.checkpoint_every > 0 and _end.saved != _end.completed_steps)
-    save();
+    save_completed();
   return _end.signal != 0;
+}
+
+/// Writes the checkpoint of the last completed step.
+void Simulation::save_completed()
+{
+  _checkpointing = true;
+  write_checkpoint(_comm, _directory, _control.fingerprint, *_completed);
+  _checkpointing = false;
+  _end.saved = _completed->steps;
+}
+
+/// A step failed: the checkpoint of the last completed one, where the run
+/// writes checkpoints and has not written it, so that nothing it finished
+/// is lost and a restart goes on from there (with coupling.scheme =
+/// "monolithic", say: restart_fingerprint).
+void Simulation::save_on_failure()
+{
+  if (!_completed)
+    return;
+  try
+  {
+    if (_end.saved != _completed->steps)
+      save_completed();
+    _end.failure += "; step " + std::to_string(_completed->steps) + " is in the checkpoint (--restart " + _directory
+                    + " goes on from it)";
+  }
+  catch (const OutputError& e)
+  {
+    _checkpointing = false;
+    _end.failure += "; the checkpoint of step " + std::to_string(_completed->steps) + " could not be written: "
+                    + e.what();
+  }
 }
 
 /// What the coupling schemes tell the run: write each step, print the
@@ -261,6 +292,8 @@ void Simulation::time_loop()
     _end.failure = step_being_computed() + ": " + e.what();
     _report.windows = _end.completed_steps;
   }
+  if (!_end.failure.empty())
+    save_on_failure();
   _fields->contact = _scheme->contact_state();
 }
 

@@ -197,6 +197,7 @@ def main(argv):
     from .contact.locate_contact import check_contact
     from .domain.create_domain import create_domain
     from .domain.mesh_checks import check_expressions
+    from .output.checkpoint import restart_fingerprint
     from .output.interruption import install_interruption_handlers
     from .scene.scene import SceneError, read_scene
     from .simulation import run
@@ -240,7 +241,7 @@ def main(argv):
             return 0
         # A restart goes on in the directory of the run it continues.
         with open(scene_file) as f:
-            fingerprint = f.read() + "".join(f"\n--set {o}" for o in overrides)
+            fingerprint = restart_fingerprint(f.read(), overrides, scene)
         return run(scene, restart or out or os.path.join("results", scene.name), comm, fingerprint, bool(restart))
     except (SceneError, OptionsError) as e:
         return fail(str(e))

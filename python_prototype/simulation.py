@@ -46,6 +46,7 @@ class Simulation:
         self.domain = self.F = self.materials = self.parameters = self.problem = None
         self.description = Description()
         self.scheme = self.resumed = self.lock = self.output = self.fields = self.grid = None
+        self.completed = None        # the last completed step's checkpoint, with output.checkpoint_every
         self.report, self.state = CouplingReport(), ControllerState()
         self.end = RunEnd()          # the steps completed and saved so far; why the run stopped
         self.checkpointing = False   # writing the checkpoint of the last completed step
@@ -164,23 +165,42 @@ class Simulation:
 
     def stop(self):
         """After each completed (and written) step: a checkpoint every
-        checkpoint_every steps and at an interruption; then whether to stop."""
-        end = self.end
-
-        def save():
-            self.checkpointing = True
-            write_checkpoint(self.comm, self.directory, self.fingerprint,
-                             capture_checkpoint(self.run_state(), end.completed_steps, end.completed_time,
-                                                self.output.position()))
-            self.checkpointing = False
-            end.saved = end.completed_steps
-        every = self.scene.checkpoint_every
+        checkpoint_every steps and at an interruption; then whether to stop.
+        The last completed step is kept in memory too: a step that fails
+        writes it (save_on_failure)."""
+        end, every = self.end, self.scene.checkpoint_every
+        if every > 0:
+            self.completed = capture_checkpoint(self.run_state(), end.completed_steps, end.completed_time,
+                                                self.output.position())
         if every > 0 and end.completed_steps % every == 0:
-            save()
+            self.save_completed()
         end.signal = interruption_signal(self.comm)
         if end.signal and every > 0 and end.saved != end.completed_steps:
-            save()
+            self.save_completed()
         return end.signal != 0
+
+    def save_completed(self):
+        """Writes the checkpoint of the last completed step."""
+        self.checkpointing = True
+        write_checkpoint(self.comm, self.directory, self.fingerprint, self.completed)
+        self.checkpointing = False
+        self.end.saved = self.completed.steps
+
+    def save_on_failure(self):
+        """A step failed: the checkpoint of the last completed one, where the
+        run writes checkpoints and has not written it, so that nothing it
+        finished is lost and a restart goes on from there (with
+        coupling.scheme = "monolithic", say: restart_fingerprint)."""
+        if self.completed is None:
+            return
+        steps = self.completed.steps
+        try:
+            if self.end.saved != steps:
+                self.save_completed()
+            self.end.failure += f"; step {steps} is in the checkpoint (--restart {self.directory} goes on from it)"
+        except OutputError as e:
+            self.checkpointing = False
+            self.end.failure += f"; the checkpoint of step {steps} could not be written: {e}"
 
     def observer(self):
         """What the coupling schemes tell the run: write each step, print the
@@ -219,6 +239,8 @@ class Simulation:
         except SolverError as e:
             self.end.failure = f"{self.step_being_computed()}: {e}"
             self.report.windows = self.end.completed_steps
+        if self.end.failure:
+            self.save_on_failure()
         self.fields.contact = self.scheme.contact_state()
 
     def planned_steps(self):

@@ -325,6 +325,16 @@ def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     return out, p
 
 
+def restarted(track, scene_file, out, *sets, expect=0):
+    """Continues the run in `out` from its checkpoint with --set values,
+    checking its exit status; returns the completed process."""
+    p = subprocess.run([*TRACKS[track], "run", scene_file, "--restart", out, *[a for s in sets for a in ("--set", s)]],
+                       capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
+    check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} --restart {' '.join(sets)} exits {expect} "
+          f"({p.stderr.strip()[-300:]!r})")
+    return p
+
+
 def poroelastic_column(fixed):
     """The mechanics of the mass-balance tests' 2D columns (alpha = 0.8,
     coupling tolerance 1e-12): rollers on the sides, boundary `fixed` held

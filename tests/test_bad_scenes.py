@@ -501,6 +501,11 @@ for track in ([BINARY, "run", DEFAULT], PROTOTYPE_RUN):
     directory_case("a restart with other --set values", track,
                    ["--restart", checkpointed, *SMALL, "--set", "coupling.L=kdr"], checkpointed,
                    f"--restart {checkpointed}: the checkpoint was written for another scene or other --set values")
+    # A restart may change how the coupling is solved (test_cohesive_opening),
+    # not its time steps: a multirate scheme is another scene.
+    directory_case("a restart with a multirate scheme", track,
+                   ["--restart", checkpointed, *SMALL, "--set", 'coupling.scheme="multirate"'], checkpointed,
+                   'a restart may change with --set coupling.scheme between "fixed-stress" and "monolithic"')
     # A frictionless run's checkpoint holds no stick/slip state to continue
     # from: a restart that adds friction to its fault is another scene.
     frictionless = tempfile.mkdtemp(prefix="frictionless-")

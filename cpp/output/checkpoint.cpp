@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <dolfinx/fem/FunctionSpace.h>
@@ -19,6 +20,30 @@ namespace biotcontact
 namespace
 {
 const char magic[] = "biotcontact checkpoint 2";
+
+/// The --set keys a restart may change (docs/user-guide.md, "Restart"):
+/// the split's iteration, its acceleration, the retries of a failed step and
+/// the single-rate scheme, so that a run the split could not carry through
+/// a step goes on monolithic from its checkpoint.
+constexpr std::array<const char*, 5> restart_keys{"coupling.scheme", "coupling.acceleration", "coupling.depth",
+                                                   "coupling.max_iterations", "time.retry"};
+
+bool may_change(const std::string& assignment)
+{
+  std::string key = assignment.substr(0, assignment.find('='));
+  key.erase(std::remove_if(key.begin(), key.end(), [](unsigned char c) { return std::isspace(c); }), key.end());
+  return std::find(restart_keys.begin(), restart_keys.end(), key) != restart_keys.end();
+}
+
+/// The keys a restart may change, for its refusal.
+std::string changeable()
+{
+  std::string keys = " (a restart may change with --set ";
+  for (const char* key : restart_keys)
+    keys += key + std::string(key == restart_keys[0] ? " between \"fixed-stress\" and \"monolithic\"" : "")
+            + (key == restart_keys.back() ? ")" : ", ");
+  return keys;
+}
 
 std::string state_file(const std::string& directory) { return directory + "/checkpoint/state.bin"; }
 
@@ -184,7 +209,8 @@ Checkpoint read_state(const std::string& directory, const std::string& fingerpri
   if (get_string(f) != magic)
     throw SceneError("--restart " + directory + ": " + path + " is no checkpoint of this version of biotcontact");
   if (get_string(f) != fingerprint)
-    throw SceneError("--restart " + directory + ": the checkpoint was written for another scene or other --set values");
+    throw SceneError("--restart " + directory + ": the checkpoint was written for another scene or other --set values"
+                     + changeable());
   Checkpoint c;
   ranks = get<int>(f);
   c.steps = get<int>(f);
@@ -222,6 +248,18 @@ void read_values(const std::string& path, Checkpoint& c)
   }
 }
 } // namespace
+
+std::string restart_fingerprint(const std::string& text, const std::vector<std::string>& overrides, const Scene& scene)
+{
+  std::string fingerprint = text;
+  for (const std::string& o : overrides)
+    if (!may_change(o))
+      fingerprint += "\n--set " + o;
+  if (scene.coupling and scene.coupling->scheme != CouplingScheme::monolithic
+      and scene.coupling->scheme != CouplingScheme::fixed_stress)
+    fingerprint += std::string("\ncoupling.scheme = ") + name_of(scene.coupling->scheme);
+  return fingerprint;
+}
 
 Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint)
 {

@@ -6,9 +6,9 @@
 // The state does not depend on the partition: every unknown is stored under
 // a name taken from the mesh's input numbering (output/keyed_values.h), so that a
 // run may be restarted on any partition and any number of ranks. A restart
-// needs the same scene (compared by its fingerprint: the file's text and the
-// --set overrides) and a mesh that holds every stored name; otherwise it is
-// refused in one line. The files and how one replaces the last: write_checkpoint.
+// needs the same scene (compared by its fingerprint, restart_fingerprint)
+// and a mesh that holds every stored name; otherwise it is refused in one
+// line. The files and how one replaces the last: write_checkpoint.
 #pragma once
 
 #include "coupling/scheme.h"
@@ -68,6 +68,14 @@ void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm,
 /// complete; the files of other steps are removed after that.
 void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint,
                       const Checkpoint& checkpoint);
+
+/// The fingerprint a checkpoint is written and read with: the scene file's
+/// `text` and its --set `overrides`, but those of the keys a restart may
+/// change (restart_keys: how the coupling is solved, not what), and the
+/// scheme's time stepping: "fixed-stress" and "monolithic" take the same
+/// steps and may replace each other, a multirate scheme is another scene.
+std::string restart_fingerprint(const std::string& text, const std::vector<std::string>& overrides,
+                                const Scene& scene);
 
 /// Reads it back with every rank's values; throws SceneError when there is
 /// none, or it belongs to another scene, or is damaged (collective).

@@ -6,7 +6,7 @@ continue after its last completed step, written every N steps
 The state does not depend on the partition: every unknown is stored under a
 name taken from the mesh's input numbering (keyed_values.py), so a run may
 be restarted on any partition and any number of ranks. A restart needs the same
-scene (its fingerprint: the file's text and the --set overrides) and a mesh
+scene (its fingerprint: restart_fingerprint) and a mesh
 that holds every stored name; otherwise it is refused in one line. The files
 and how one replaces the last: write_checkpoint."""
 import glob
@@ -18,6 +18,7 @@ import numpy as np
 
 from ..assembly.linear_algebra import UnknownsPart
 from ..coupling.coupling import for_each_checkpointed
+from ..scene.input import CouplingScheme
 from ..scene.scene import SceneError, agree_on_error
 from ..solvers.solver import SolverStatistics, solver_counts
 from .keyed_values import keyed_values, mesh_difference, mesh_signature, restore_values
@@ -107,6 +108,32 @@ def write_checkpoint(comm, directory, fingerprint, c):
     agree_on_output_error(_write_state(directory, fingerprint, comm.size, c) if comm.rank == 0 else "", comm)
 
 
+# The --set keys a restart may change (docs/user-guide.md, "Restart"): the
+# split's iteration, its acceleration, the retries of a failed step and the
+# single-rate scheme, so that a run the split could not carry through a step
+# goes on monolithic from its checkpoint.
+RESTART_KEYS = ("coupling.scheme", "coupling.acceleration", "coupling.depth", "coupling.max_iterations", "time.retry")
+
+
+def restart_fingerprint(text, overrides, scene):
+    """The fingerprint a checkpoint is written and read with: the scene
+    file's `text` and its --set `overrides`, but those of RESTART_KEYS (how
+    the coupling is solved, not what), and the scheme's time stepping:
+    "fixed-stress" and "monolithic" take the same steps and may replace
+    each other, a multirate scheme is another scene."""
+    fingerprint = text + "".join(f"\n--set {o}" for o in overrides
+                                 if "".join(o.split("=", 1)[0].split()) not in RESTART_KEYS)
+    if scene.coupling and scene.coupling.scheme not in (CouplingScheme.fixed_stress, CouplingScheme.monolithic):
+        fingerprint += f"\ncoupling.scheme = {scene.coupling.scheme.value}"
+    return fingerprint
+
+
+def _changeable():
+    """The keys a restart may change, for its refusal."""
+    return (f" (a restart may change with --set {RESTART_KEYS[0]} between \"fixed-stress\" and \"monolithic\", "
+            + ", ".join(RESTART_KEYS[1:]) + ")")
+
+
 def _read_state(directory, fingerprint):
     path = _state_path(directory)
     if not os.path.exists(path):
@@ -117,7 +144,7 @@ def _read_state(directory, fingerprint):
             raise SceneError(f"--restart {directory}: {path} is no checkpoint of this version of the prototype")
         if str(data["fingerprint"]) != fingerprint:
             raise SceneError(f"--restart {directory}: the checkpoint was written for another scene or other "
-                             "--set values")
+                             "--set values" + _changeable())
         c = Checkpoint(int(data["steps"]), float(data["time"]), output=str(data["output"]))
         c.numbers = dict(zip((str(n) for n in data["number_names"]), (float(v) for v in data["number_values"])))
         c.arrays = {k[len("array_"):]: data[k] for k in data.files if k.startswith("array_")}
@@ -165,8 +192,8 @@ def capture_checkpoint(run, steps, time, output):
             c.fields[part.name] = keyed_values(run.mesh, part, step.unknowns())
     for name, f in run.scheme.history():
         c.fields[name] = keyed_values(run.mesh, UnknownsPart(name, f.function_space), f.x.array)
-    for step in run.scheme.steps():
-        c.arrays.update(step.arrays())
+    for step in run.scheme.steps():  # copies: the run's last completed step is kept in memory (simulation.py)
+        c.arrays.update({name: np.array(a) for name, a in step.arrays().items()})
     for_each_checkpointed(run.report, run.state,
                           lambda holder, name: c.numbers.__setitem__(name, float(getattr(holder, name))))
     for step in run.scheme.steps():
