@@ -231,8 +231,11 @@ void Simulation::save_on_failure()
   {
     if (_end.saved != _completed->steps)
       save_completed();
+    // Where the failure proposes the monolithic scheme, the restart that
+    // takes it (restart_fingerprint lets coupling.scheme change).
+    const bool monolithic = _end.failure.find("coupling.scheme = \"monolithic\"") != std::string::npos;
     _end.failure += "; step " + std::to_string(_completed->steps) + " is in the checkpoint (--restart " + _directory
-                    + " goes on from it)";
+                    + (monolithic ? " --set coupling.scheme=monolithic" : "") + " goes on from it)";
   }
   catch (const OutputError& e)
   {

@@ -197,7 +197,10 @@ class Simulation:
         try:
             if self.end.saved != steps:
                 self.save_completed()
-            self.end.failure += f"; step {steps} is in the checkpoint (--restart {self.directory} goes on from it)"
+            # Where the failure proposes the monolithic scheme, the restart
+            # that takes it (restart_fingerprint lets coupling.scheme change).
+            take = " --set coupling.scheme=monolithic" if 'coupling.scheme = "monolithic"' in self.end.failure else ""
+            self.end.failure += f"; step {steps} is in the checkpoint (--restart {self.directory}{take} goes on from it)"
         except OutputError as e:
             self.checkpointing = False
             self.end.failure += f"; the checkpoint of step {steps} could not be written: {e}"

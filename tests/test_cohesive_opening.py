@@ -101,7 +101,7 @@ for track in ("C++", "prototype"):
     out, p = run_track(track, path, *SPLIT, expect=3)
     s = summary(out)
     check(s["status"] == "failed" and s["steps"] == 11 and not s["converged"] and "step 12" in s["failure"]
-          and 'coupling.scheme = "monolithic"' in p.stderr and f"step 11 is in the checkpoint (--restart {out}" in p.stderr,
+          and 'coupling.scheme = "monolithic"' in p.stderr and f"step 11 is in the checkpoint (--restart {out} --set coupling.scheme=monolithic goes on" in p.stderr,
           f"{track}: the split ends at step 12 ({s['status']}, {s['steps']} steps kept) proposing the "
           f"monolithic scheme, step 11 checkpointed: {p.stderr.strip()[-160:]!r}")
     p = restarted(track, path, out, *SPLIT, 'coupling.scheme="monolithic"')
