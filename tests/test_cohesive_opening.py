@@ -84,13 +84,12 @@ fields = max_difference(runs["C++"], runs["prototype"], ["displacement", "pressu
 check(max(fields.values()) <= 1e-10 and same_states(runs["C++"], runs["prototype"])
       and np.array_equal(bonds["C++"], bonds["prototype"]),
       f"the prototype equals the C++ solver: {fields} (1e-10), the same states and bonds")
-# The split at that step (docs/user-guide.md, "Friction"): its p_f, from
-# the flow alone, leaves the C++ contact solve no state though the bonds
-# its clamped start pulled are broken (BondFailure); the prototype's
-# contact solves pass there and its iterations contract by 0.99. Both end
-# in exit 3 at step 12 with the steps before kept, their error proposing
-# the monolithic scheme; until 2026-12-03 the C++ error proposed only
-# time.retry, which does not mend it.
+# The split at that step (docs/user-guide.md, "Friction"): its iterations
+# converge sublinearly (the fault's ratio toward 1), and both tracks end in
+# exit 3 at step 12 after 100 iterations with the steps before kept, their
+# error proposing the monolithic scheme. (The C++ contact solve of the
+# second iteration passes by continuation in the load since 2026-12-04;
+# before, it failed there, BondFailure.)
 # A failed step writes the checkpoint of the last completed one (output.
 # checkpoint_every = 5: steps 5 and 10 by the schedule, 11 at the failure),
 # and a restart may change coupling.scheme: the split's run goes on

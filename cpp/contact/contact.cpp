@@ -235,6 +235,7 @@ void ContactSolver::operator_changed()
   // H and A' are formed again at the next solve.
   _schur_current = false;
   _change_current = false;
+  _solved.forget();
   _vi->operator_changed();
 }
 
@@ -276,6 +277,12 @@ void ContactSolver::solve(Vec b, Vec x)
       }
       catch (const SolverError& e)
       {
+        // With friction, a change of load that changes too many states for
+        // one Newton solve: through the loads between (load_continuation.h).
+        if (rounds == 0 and _solved.known()
+            and continue_load(_solved, b_vi, x_vi, [this](Vec b, Vec y) { solve_on_path(b, y); },
+                             continuation_solves))
+          break;
         if (break_pulled_bonds())
           continue;
         if (rounds == 0)
@@ -284,6 +291,8 @@ void ContactSolver::solve(Vec b, Vec x)
                           + std::to_string(rounds) + (rounds == 1 ? " time)" : " times)"));
       }
   }
+  if (_vi->frictional())
+    _solved.keep(b_vi, x_vi);
   if (_change)
     _change->backward(x_vi, x);
 }

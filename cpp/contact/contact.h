@@ -13,6 +13,7 @@
 #include "contact/contact_path.h"
 #include "contact/locate_contact.h"
 #include "contact/friction.h"
+#include "contact/load_continuation.h"
 #include "contact/contact_set.h"
 #include "contact/contact_state.h"
 #include "contact/change_of_variables.h"
@@ -131,7 +132,7 @@ public:
   void operator_changed();
   /// A few rows of A changed (a conduit fault's apertures): the last
   /// factorisation may precondition GMRES on it (VariationalInequality).
-  void operator_nudged() { _schur_current = _change_current = false, _vi->operator_nudged(); }
+  void operator_nudged() { _schur_current = _change_current = false, _solved.forget(), _vi->operator_nudged(); }
 
   /// Solves to `relative` (iterative full path): the Krylov tolerance of
   /// each Newton step and the Newton tolerance both. F is linear (but with
@@ -252,6 +253,9 @@ private:
   Vec _x_start = nullptr, _x_start_vi = nullptr;
   // The bonds as of the last accepted step (_set.bonded: as of now).
   std::vector<char> _bonded_accepted;
+  // The last load solved and its solution, where a failed solve's load
+  // continuation starts.
+  SolvedLoad _solved;
 };
 
 } // namespace biotcontact

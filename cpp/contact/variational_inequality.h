@@ -114,6 +114,8 @@ public:
   /// Jacobians (3D friction or a changing K in 3D, on the whole system,
   /// factorised; reuse_factorization).
   bool reuses_factorization() const { return _reuse_factorization; }
+  /// Whether the VI has frictional constraints (a generalised Jacobian).
+  bool frictional() const { return _J != nullptr; }
 
   ContactConvergence& convergence() { return *_convergence; }
   const ContactConvergence& convergence() const { return *_convergence; }

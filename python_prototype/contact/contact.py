@@ -20,6 +20,7 @@ from .contact_law import on_foundation
 from .contact_path import ContactPath, PathCosts, choose_contact_path
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
+from .load_continuation import CONTINUATION_SOLVES, SolvedLoad, continue_load
 from .bonds import BondFailure, bonds_from_names, break_open_bonds, break_pulled_bonds, broken_bond_names
 from .contact_set import any_frictional, constraint_law, displacement_scale
 from .schur_complement import SchurComplement
@@ -88,6 +89,7 @@ class ContactSolver:
         # The bonds as of now (set.bonded) and as of the last accepted step.
         self.set.bonded = np.ones(len(self.dofs), dtype=bool)
         self.bonded_accepted = self.set.bonded.copy()
+        self.solved = SolvedLoad()  # the last load solved, where a failed solve's continuation starts
         self.force = A.createVecRight()
         # The start of the step like x, and x' of it (the faults' slip increments).
         self.x_start, self.x_start_vi = A.createVecRight(), A.createVecRight()
@@ -285,17 +287,18 @@ class ContactSolver:
     def operator_changed(self):
         """A was reassembled: H and A' are formed again at the next solve."""
         self.schur_current = self.change_current = False
+        self.solved.forget()
         self.vi.operator_changed()
 
     def operator_nudged(self):
         """A few rows of A changed (a conduit's apertures): VariationalInequality.operator_nudged."""
         self.schur_current = self.change_current = False
+        self.solved.forget()
         self.vi.operator_nudged()
 
     def solve(self, b, x):
-        """Solves the VI; x holds the initial guess on entry. With friction,
-        the slip increments of the frictional constraints are measured from
-        the slip reference (friction.py)."""
+        """Solves the VI; x holds the initial guess on entry. With friction, the slip
+        increments are measured from the slip reference (friction.py)."""
         self._change_operators()
         b_vi, x_vi = b, self._to_vi(x)
         if self.change:
@@ -315,6 +318,11 @@ class ContactSolver:
                     self._solve_on_path(b_vi, x_vi)
                     break
                 except SolverError as e:
+                    # With friction, a change of load that changes too many states
+                    # for one Newton solve: through the loads between (load_continuation.py).
+                    if rounds == 0 and self.solved.known and continue_load(self.solved, b_vi, x_vi,
+                                                                          self._solve_on_path, CONTINUATION_SOLVES):
+                        break
                     if self._break_pulled_bonds():
                         rounds += 1
                         continue
@@ -322,6 +330,8 @@ class ContactSolver:
                         raise
                     raise BondFailure(f"{e} (also after breaking the bonds its clamped start pulled, {rounds} "
                                       f"{'time' if rounds == 1 else 'times'})") from None
+        if self.vi.p.frictional:
+            self.solved.keep(b_vi, x_vi)
         if self.change:
             self.change.backward(x_vi, x)
 
