@@ -571,12 +571,11 @@ def killed_and_restarted(track, scene_file, steps, *extra):
             p.send_signal(signal.SIGKILL)
             break
     p.communicate(timeout=300)
-    p = subprocess.run(TRACKS[track] + ["run", scene_file, "--restart", out] + sets, capture_output=True, text=True,
-                       env=MPI_ENV, cwd=ROOT, timeout=900)
-    restarted = re.search(r"restarted from the checkpoint at step (\d+)", p.stdout)
-    check(p.returncode == 0 and restarted is not None, f"{track}: killed after step {steps} and restarted "
-          f"from step {restarted.group(1) if restarted else '?'} ({p.stderr.strip()[-200:]!r})")
-    return out, int(restarted.group(1))
+    p = restarted(track, scene_file, out, "output.checkpoint_every=4", *extra)
+    step = re.search(r"restarted from the checkpoint at step (\d+)", p.stdout)
+    check(step is not None, f"{track}: killed after step {steps} and restarted "
+          f"from step {step.group(1) if step else '?'} ({p.stderr.strip()[-200:]!r})")
+    return out, int(step.group(1))
 
 
 def fault_centroids(out):
