@@ -1,6 +1,7 @@
 #include "simulation.h"
 
 #include "coupling/contraction.h"
+#include "coupling/fallback.h"
 #include "coupling/scheme.h"
 #include "diagnostics/closed_form.h"
 #include "diagnostics/description.h"
@@ -69,6 +70,10 @@ private:
   void start_or_restore();
   WindowObserver observer();
   void time_loop();
+  bool falls_back() const;
+  bool fall_back();
+  bool fallback_failed(const std::string& why);
+  void solve_by_fallback(double& t, int& step, int& iterations);
   std::string step_being_computed() const;
   int planned_steps() const;
   void output_failed(const OutputError& e);
@@ -92,8 +97,10 @@ private:
   std::optional<Problem> _problem; // the parts above, with the scene and the forms
   Description _description;
   std::unique_ptr<Scheme> _scheme;
+  std::unique_ptr<MonolithicFallback> _fallback; // coupling.fallback, from the split's first failed step
   std::optional<Checkpoint> _resumed;
-  std::optional<Checkpoint> _completed; // the last completed step's, with output.checkpoint_every
+  std::optional<Checkpoint> _completed; // the last completed step's, with output.checkpoint_every or
+                                        // coupling.fallback
   std::optional<DirectoryLock> _lock;
   std::unique_ptr<Output> _output;
   std::unique_ptr<OutputFields> _fields;
@@ -200,7 +207,7 @@ void Simulation::start_or_restore()
 /// it (save_completed).
 bool Simulation::stop()
 {
-  if (_scene.checkpoint_every > 0)
+  if (_scene.checkpoint_every > 0 or falls_back())
     _completed = capture_checkpoint(run_state(), _end.completed_steps, _end.completed_time, _output->position());
   if (_scene.checkpoint_every > 0 and _end.completed_steps % _scene.checkpoint_every == 0)
     save_completed();
@@ -225,7 +232,7 @@ void Simulation::save_completed()
 /// "monolithic", say: restart_fingerprint).
 void Simulation::save_on_failure()
 {
-  if (!_completed)
+  if (!_completed or _scene.checkpoint_every == 0)
     return;
   try
   {
@@ -256,7 +263,7 @@ WindowObserver Simulation::observer()
     if (_scheme->u and _scene.is_output_time(t))
       _fields->write_mechanics(t);
     else if (_scheme->u)
-      _fields->contact = _scheme->contact_state();
+      _fields->read_contact();
     _end.completed_steps = step;
     _end.completed_time = t;
     _progress.step(step, planned_steps(), t, iterations, _fields->contact.active_nodes);
@@ -272,7 +279,8 @@ WindowObserver Simulation::observer()
 
 /// The steps from t = 0 (or the checkpoint) to the end, driven by the
 /// scheme. A failure ends the loop with what was finished written; it names
-/// the step it was computing.
+/// the step it was computing. With coupling.fallback the monolithic scheme
+/// solves a step the split failed at, and the split goes on from it.
 void Simulation::time_loop()
 {
   const WindowObserver o = observer();
@@ -281,23 +289,104 @@ void Simulation::time_loop()
   _scheme->on_newton_step([this](const std::string& system, int iteration)
                           { _progress.newton_step(_end.completed_steps + 1, system, iteration); });
   _progress.start_loop(_end.completed_steps, planned_steps());
+  if (falls_back())
+    _completed = capture_checkpoint(run_state(), _end.completed_steps, _end.completed_time, _output->position());
   CouplingRun run{_grid, _scheme->step_control.get(), o, _report, _state};
+  do
+  {
+    try
+    {
+      _scheme->run(run);
+      break;
+    }
+    catch (const CouplingError& e)
+    {
+      _end.failure = e.what(); // names its step and the last increments
+    }
+    catch (const SolverError& e)
+    {
+      _end.failure = step_being_computed() + ": " + e.what();
+      _report.windows = _end.completed_steps;
+    }
+  } while (fall_back());
+  if (!_end.failure.empty())
+  {
+    save_on_failure();
+    _fields->contact = _scheme->contact_state(); // at the failure
+  }
+}
+
+bool Simulation::falls_back() const
+{
+  return _scene.coupling and _scene.coupling->fallback == Fallback::monolithic;
+}
+
+/// coupling.fallback: after the split failed at a step (_end.failure), the
+/// monolithic scheme solves it from the last completed step, and the split
+/// takes its state (restore_run_state, as a restart with another
+/// coupling.scheme); the step is written and counted (fallback_steps).
+/// Returns whether the split goes on: not when the run has no fallback,
+/// the monolithic solve fails too (the failure says both) or the run is
+/// interrupted.
+bool Simulation::fall_back()
+{
+  if (!falls_back() or !_completed)
+    return false;
+  _progress.say(_end.failure + "; the monolithic scheme solves the step (coupling.fallback)");
+  double t = 0;
+  int step = 0, iterations = 0;
   try
   {
-    _scheme->run(run);
+    solve_by_fallback(t, step, iterations);
   }
   catch (const CouplingError& e)
   {
-    _end.failure = e.what(); // names its step and the last increments
+    return fallback_failed(e.what());
   }
   catch (const SolverError& e)
   {
-    _end.failure = step_being_computed() + ": " + e.what();
-    _report.windows = _end.completed_steps;
+    return fallback_failed(e.what());
   }
-  if (!_end.failure.empty())
-    save_on_failure();
-  _fields->contact = _scheme->contact_state();
+  _end.failure.clear();
+  ++_report.fallback_steps;
+  // The step's fields are the monolithic scheme's, which solved it.
+  const WindowObserver o = observer();
+  _fields->read_from(*_fallback->scheme);
+  o.flow_state(t);
+  o.mechanics_state(t, step, iterations);
+  _fields->read_from(*_scheme);
+  return !o.stop();
+}
+
+/// The monolithic scheme failed at the step too: the failure says both,
+/// and the split's state is the last completed step's.
+bool Simulation::fallback_failed(const std::string& why)
+{
+  _end.failure += "; the monolithic scheme failed there too (coupling.fallback): " + why;
+  restore_run_state(*_completed, run_state(), _comm, _directory);
+  return false;
+}
+
+/// The monolithic scheme's one step from the last completed one, its state
+/// then the split's: the time, the step and its iterations.
+void Simulation::solve_by_fallback(double& t, int& step, int& iterations)
+{
+  if (!_fallback)
+  {
+    _fallback = std::make_unique<MonolithicFallback>(*_problem);
+    _fallback->scheme->on_newton_step([this](const std::string& system, int iteration)
+                                      { _progress.newton_step(_end.completed_steps + 1, system, iteration); });
+  }
+  Scheme& m = *_fallback->scheme;
+  const RunState monolithic{m, *_domain->mesh, _report, _state, _grid};
+  restore_run_state(*_completed, monolithic, _comm, _directory);
+  WindowObserver o = observer();
+  o.flow_state = [](double) {};
+  o.mechanics_state = [&](double time, int k, int n) { t = time, step = k, iterations = n; };
+  o.stop = [] { return true; }; // one step
+  CouplingRun run{_grid, m.step_control.get(), o, _report, _state};
+  m.run(run);
+  restore_run_state(capture_checkpoint(monolithic, step, t, _output->position()), run_state(), _comm, _directory);
 }
 
 /// The mechanics steps (windows) of the run, for the progress: with

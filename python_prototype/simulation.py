@@ -2,6 +2,7 @@
 up the problem (mesh, forms, materials), describe it, make the scheme and
 its steps, open the output, start or restore, the time loop, the summary
 and the exit status."""
+import dataclasses
 import math
 import os
 
@@ -12,6 +13,7 @@ from .assembly.problem import Problem
 from .coupling.contraction import relative
 from .coupling.coupling import (ControllerState, CouplingError, CouplingReport, CouplingRun, IterationRecord,
                                 WindowObserver)
+from .coupling.fallback import MonolithicFallback
 from .coupling.scheme import Scheme
 from .diagnostics.closed_form import with_mandel_plate
 from .diagnostics.description import Description, describe
@@ -19,7 +21,8 @@ from .diagnostics.reference_errors import reference_errors
 from .domain.create_domain import create_domain
 from .domain.working_ranks import working_ranks_line
 from .domain.mesh_checks import check_expressions
-from .output.checkpoint import RunState, capture_checkpoint, read_checkpoint, restore_checkpoint, write_checkpoint
+from .output.checkpoint import (RunState, capture_checkpoint, read_checkpoint, restore_checkpoint, restore_run_state,
+                                write_checkpoint)
 from .output.directory_lock import DirectoryLock
 from .output.fields import OutputFields
 from .output.interruption import interruption_signal
@@ -27,6 +30,7 @@ from .output.output import Output
 from .output.progress import Progress, RunEnd
 from .output.summary import RunOutcome, SummaryInput, run_summary
 from .output.write_failure import OutputError
+from .scene.input import Fallback
 from .solvers.solver import SolverError
 from .time.time_grid import time_grid
 
@@ -46,7 +50,10 @@ class Simulation:
         self.domain = self.F = self.materials = self.parameters = self.problem = None
         self.description = Description()
         self.scheme = self.resumed = self.lock = self.output = self.fields = self.grid = None
-        self.completed = None        # the last completed step's checkpoint, with output.checkpoint_every
+        # The last completed step's checkpoint, with output.checkpoint_every
+        # or coupling.fallback; coupling.fallback's monolithic scheme, from
+        # the split's first failed step.
+        self.completed = self.fallback = None
         self.report, self.state = CouplingReport(), ControllerState()
         self.end = RunEnd()          # the steps completed and saved so far; why the run stopped
         self.checkpointing = False   # writing the checkpoint of the last completed step
@@ -169,7 +176,7 @@ class Simulation:
         The last completed step is kept in memory too: a step that fails
         writes it (save_on_failure)."""
         end, every = self.end, self.scene.checkpoint_every
-        if every > 0:
+        if every > 0 or self.falls_back():
             self.completed = capture_checkpoint(self.run_state(), end.completed_steps, end.completed_time,
                                                 self.output.position())
         if every > 0 and end.completed_steps % every == 0:
@@ -191,7 +198,7 @@ class Simulation:
         run writes checkpoints and has not written it, so that nothing it
         finished is lost and a restart goes on from there (with
         coupling.scheme = "monolithic", say: restart_fingerprint)."""
-        if self.completed is None:
+        if self.completed is None or self.scene.checkpoint_every == 0:
             return
         steps = self.completed.steps
         try:
@@ -216,7 +223,7 @@ class Simulation:
             if self.scheme.u is not None and self.scene.is_output_time(t):
                 self.fields.write_mechanics(t)
             elif self.scheme.u is not None:
-                self.fields.contact = self.scheme.contact_state()
+                self.fields.read_contact()
             self.end.completed_steps, self.end.completed_time = step, t
             self.progress.step(step, self.planned_steps(), t, iterations,
                                self.fields.contact.active_nodes)
@@ -227,7 +234,9 @@ class Simulation:
     def time_loop(self):
         """The steps from t = 0 (or the checkpoint) to the end, driven by the
         scheme. A failure ends the loop with what was finished written; it
-        names the step it was computing."""
+        names the step it was computing. With coupling.fallback the
+        monolithic scheme solves a step the split failed at, and the split
+        goes on from it."""
         run = CouplingRun(self.grid, self.scheme.step_control, self.observer(), self.report, self.state)
         # A contact solve longer than the interval (a large monolithic step)
         # prints its Newton steps as it goes, like the coupling iterations
@@ -235,16 +244,74 @@ class Simulation:
         self.scheme.on_newton_step(
             lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
         self.progress.start_loop(self.end.completed_steps, self.planned_steps())
-        try:
-            self.scheme.run(run)
-        except CouplingError as e:
-            self.end.failure = str(e)  # names its step and the last increments
-        except SolverError as e:
-            self.end.failure = f"{self.step_being_computed()}: {e}"
-            self.report.windows = self.end.completed_steps
+        if self.falls_back():
+            self.completed = capture_checkpoint(self.run_state(), self.end.completed_steps, self.end.completed_time,
+                                                self.output.position())
+        while True:
+            try:
+                self.scheme.run(run)
+                break
+            except CouplingError as e:
+                self.end.failure = str(e)  # names its step and the last increments
+            except SolverError as e:
+                self.end.failure = f"{self.step_being_computed()}: {e}"
+                self.report.windows = self.end.completed_steps
+            if not self.fall_back():
+                break
         if self.end.failure:
             self.save_on_failure()
-        self.fields.contact = self.scheme.contact_state()
+            self.fields.contact = self.scheme.contact_state()  # at the failure
+
+    def falls_back(self):
+        """Whether the scene has coupling.fallback = "monolithic"."""
+        return self.scene.coupling is not None and self.scene.coupling.fallback == Fallback.monolithic
+
+    def fall_back(self):
+        """coupling.fallback: after the split failed at a step (end.failure),
+        the monolithic scheme solves it from the last completed step, and the
+        split takes its state (restore_run_state, as a restart with another
+        coupling.scheme); the step is written and counted (fallback_steps).
+        Returns whether the split goes on: not when the run has no fallback,
+        the monolithic solve fails too (the failure says both) or the run is
+        interrupted."""
+        if not self.falls_back() or self.completed is None:
+            return False
+        self.progress.say(f"{self.end.failure}; the monolithic scheme solves the step (coupling.fallback)")
+        try:
+            t, step, iterations = self.solve_by_fallback()
+        except (CouplingError, SolverError) as e:
+            self.end.failure += f"; the monolithic scheme failed there too (coupling.fallback): {e}"
+            restore_run_state(self.completed, self.run_state(), self.comm, self.directory)
+            return False
+        self.end.failure = ""
+        self.report.fallback_steps += 1
+        # The step's fields are the monolithic scheme's, which solved it.
+        o = self.observer()
+        self.fields.read_from(self.fallback.scheme)
+        o.flow_state(t)
+        o.mechanics_state(t, step, iterations)
+        self.fields.read_from(self.scheme)
+        return not o.stop()
+
+    def solve_by_fallback(self):
+        """The monolithic scheme's one step from the last completed one, its
+        state then the split's: the time, the step and its iterations."""
+        if self.fallback is None:
+            self.fallback = MonolithicFallback(self.problem)
+            self.fallback.scheme.on_newton_step(
+                lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
+        m = self.fallback.scheme
+        monolithic = RunState(m, self.domain.mesh, self.report, self.state, self.grid)
+        restore_run_state(self.completed, monolithic, self.comm, self.directory)
+        solved = []
+        o = dataclasses.replace(self.observer(), flow_state=lambda t: None,
+                                mechanics_state=lambda t, step, iterations: solved.append((t, step, iterations)),
+                                stop=lambda: True)  # one step
+        m.run(CouplingRun(self.grid, m.step_control, o, self.report, self.state))
+        t, step, iterations = solved[-1]
+        restore_run_state(capture_checkpoint(monolithic, step, t, self.output.position()), self.run_state(),
+                          self.comm, self.directory)
+        return t, step, iterations
 
     def planned_steps(self):
         """The mechanics steps (windows) of the run, for the progress: with

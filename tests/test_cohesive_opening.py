@@ -1,16 +1,17 @@
 """A cohesive fault opened along its whole length at once (issue 50; docs/
-theory.md, "The bond"), both tracks: test_conduit_coupled's onset scene
-(Phan's crack, mu 0.6, cohesion 30 MPa, a conduit in an impermeable rock
-fed by a well) on the coarse mesh to t = 1.4 s, where p_f passes the normal
-stress at every pair at once (step 12). The monolithic solve completes:
-bonds hold until then and break for good, none at an open pair; Coulomb's
-law with each pair's cohesion holds (1e-10 of the load); the volumes
-balance (1e-8); condensed from the start the same bonds and states (1e-10);
-a restart ends equal (1e-12); the prototype = C++ (1e-10). The split ends
-in exit 3 at step 12, its error proposing the monolithic scheme, step 11
-checkpointed; restarted from it monolithic, it ends as the monolithic run
-(1e-8). Numbers: docs/verification.md, "What each test verifies"."""
+theory.md, "The bond"), both tracks: test_conduit_coupled's onset scene on
+the coarse mesh to t = 1.4 s, where p_f passes the normal stress at every
+pair at once (step 12). The monolithic solve completes: bonds hold until
+then and break for good, none at an open pair; Coulomb's law holds (1e-10
+of the load); the volumes balance (1e-8); condensed the same (1e-10); a
+restart ends equal (1e-12); the prototype = C++ (1e-10). The split with
+coupling.fallback hands step 12 to the monolithic scheme and ends as the
+monolithic run (1e-8); without it, it ends in exit 3 at step 12, step 11
+checkpointed, and restarted from there monolithic it ends as the monolithic
+run (1e-8). Numbers: docs/verification.md, "What each test verifies"."""
+import csv
 import os
+import shutil
 
 import numpy as np
 from support import (ROOT, check, fault_fields, killed_and_restarted, max_difference, restarted, run_track, summary,
@@ -84,6 +85,38 @@ fields = max_difference(runs["C++"], runs["prototype"], ["displacement", "pressu
 check(max(fields.values()) <= 1e-10 and same_states(runs["C++"], runs["prototype"])
       and np.array_equal(bonds["C++"], bonds["prototype"]),
       f"the prototype equals the C++ solver: {fields} (1e-10), the same states and bonds")
+# coupling.fallback = "monolithic" (docs/user-guide.md, "A step the split
+# fails at"): the split hands step 12 to the monolithic scheme, from step
+# 11, and goes on with the split at steps 13 and 14 (their iterations.csv
+# rows are the split's: dsigma logged). It ends as the monolithic run
+# (1e-8: the split's other steps met the coupling tolerance 1e-10) with the
+# same bonds, Coulomb's law and balanced volumes (check_bonds), counting
+# one fallback step; the prototype equals the C++ solver (1e-10).
+FALLBACK = [s for s in SETS if "scheme" not in s] + ['coupling.fallback="monolithic"']
+
+
+def split_steps(out):
+    """The steps with a coupling iteration of the split in iterations.csv."""
+    with open(os.path.join(out, "iterations.csv")) as f:
+        return sorted({int(r["step"]) for r in csv.DictReader(f) if r["dsigma_norm"]})
+
+
+fallback = {}
+for track in ("C++", "prototype"):
+    fallback[track], p = run_track(track, path, *FALLBACK)
+    s = summary(fallback[track])
+    fields = max_difference(runs[track], fallback[track], ["displacement", "pressure", "contact_pressure"])
+    check(s["converged"] and s["steps"] == 14 and s["fallback_steps"] == 1 and s["fallback"] == "monolithic"
+          and "step 12 (t = 1.2)" in p.stdout and "the monolithic scheme solves the step (coupling.fallback)" in p.stdout
+          and split_steps(fallback[track]) == list(range(1, 15)),
+          f"{track}: with coupling.fallback the split's run hands step 12 to the monolithic scheme and takes steps 13 "
+          f"and 14 itself ({s['steps']} steps, {s['fallback_steps']} fallback step, split iterations at steps "
+          f"{split_steps(fallback[track])})")
+    check(max(fields.values()) <= 1e-8 and np.array_equal(bonds[track], check_bonds(track, fallback[track])),
+          f"{track}: with coupling.fallback the monolithic run's fields {fields} (1e-8) and bonds")
+fields = max_difference(fallback["C++"], fallback["prototype"], ["displacement", "pressure", "contact_pressure"])
+check(max(fields.values()) <= 1e-10 and same_states(fallback["C++"], fallback["prototype"]),
+      f"with coupling.fallback the prototype equals the C++ solver: {fields} (1e-10), the same states")
 # The split at that step (docs/user-guide.md, "Friction"): its iterations
 # converge sublinearly (the fault's ratio toward 1), and both tracks end in
 # exit 3 at step 12 after 100 iterations with the steps before kept, their
@@ -103,6 +136,15 @@ for track in ("C++", "prototype"):
           and 'coupling.scheme = "monolithic"' in p.stderr and f"step 11 is in the checkpoint (--restart {out} --set coupling.scheme=monolithic goes on" in p.stderr,
           f"{track}: the split ends at step 12 ({s['status']}, {s['steps']} steps kept) proposing the "
           f"monolithic scheme, step 11 checkpointed: {p.stderr.strip()[-160:]!r}")
+    # coupling.fallback may change at a restart too: a copy of the failed
+    # run goes on from step 11 with it and ends as the run that had it.
+    copy = out + "-fallback"
+    shutil.copytree(out, copy)
+    p = restarted(track, path, copy, *SPLIT, 'coupling.fallback="monolithic"')
+    fields = max_difference(fallback[track], copy, ["displacement", "pressure", "contact_pressure"])
+    check("restarted from the checkpoint at step 11" in p.stdout and summary(copy)["fallback_steps"] == 1
+          and summary(copy)["converged"] and max(fields.values()) <= 1e-12,
+          f"{track}: restarted from step 11 with coupling.fallback, it ends as the run that had it: {fields} (1e-12)")
     p = restarted(track, path, out, *SPLIT, 'coupling.scheme="monolithic"')
     fields = max_difference(runs[track], out, ["displacement", "pressure"])
     check("restarted from the checkpoint at step 11" in p.stdout and summary(out)["converged"]

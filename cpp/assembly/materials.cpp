@@ -109,7 +109,7 @@ GammaPeak largest_gamma_of(const Scene& scene, const CellRegions& cells)
   return largest_gamma(derive_parameters(scene), regions, cells);
 }
 
-std::string split_advice(const GammaPeak& peak, Acceleration acceleration)
+std::string split_advice(const GammaPeak& peak, const CouplingSpec& coupling)
 {
   std::ostringstream advice;
   advice << "gamma = " << std::setprecision(7) << peak.gamma;
@@ -121,7 +121,9 @@ std::string split_advice(const GammaPeak& peak, Acceleration acceleration)
   // docs/theory.md, "Anderson acceleration": its iterates are not bound to
   // contract by gamma each.
   advice << "; instead: coupling.scheme = \"monolithic\" (no coupling iteration: the robust choice)";
-  if (acceleration != Acceleration::anderson)
+  if (coupling.scheme == CouplingScheme::fixed_stress and coupling.fallback == Fallback::none)
+    advice << ", coupling.fallback = \"monolithic\" (that scheme for the steps the split fails at)";
+  if (coupling.acceleration != Acceleration::anderson)
     advice << ", coupling.acceleration = \"anderson\" (not bound to gamma per iteration)";
   if (peak.gamma <= high_gamma)
     advice << ", a larger coupling.max_iterations (each iteration contracts by gamma or better)";
@@ -132,7 +134,7 @@ std::string gamma_warning(const Scene& scene, const GammaPeak& peak)
 {
   if (!scene.coupling or scene.coupling->scheme == CouplingScheme::monolithic or peak.gamma <= high_gamma)
     return "";
-  return split_advice(peak, scene.coupling->acceleration);
+  return split_advice(peak, *scene.coupling);
 }
 
 Materials make_materials(const Scene& scene, const Domain& domain, const CompiledForms& forms)

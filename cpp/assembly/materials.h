@@ -89,11 +89,12 @@ GammaPeak largest_gamma_of(const Scene& scene, const CellRegions& cells);
 /// What to know of a split at this gamma and what converges instead, in
 /// one sentence: gamma and the region where it is reached; above
 /// high_gamma, that the contraction theorems guarantee almost nothing;
-/// then the choices: coupling.scheme = "monolithic", coupling.acceleration
-/// = "anderson" unless `acceleration` is it already, and below high_gamma
+/// then the choices: coupling.scheme = "monolithic", coupling.fallback =
+/// "monolithic" for the single-rate split without it, coupling.acceleration = "anderson"
+/// unless the scene has it, and below high_gamma
 /// more coupling.max_iterations. The one wording of the gamma warning and
 /// of the error of a split that did not converge, on both tracks.
-std::string split_advice(const GammaPeak& peak, Acceleration acceleration);
+std::string split_advice(const GammaPeak& peak, const CouplingSpec& coupling);
 
 /// The warning of a split scene whose gamma exceeds high_gamma, "" for any
 /// other (what the run and `check` print).

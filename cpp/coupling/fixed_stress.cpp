@@ -43,7 +43,7 @@ public:
         _history(problem.scene.time_scheme, run.grid), _observer(run.observer), _report(run.report),
         _state(run.state), _grid(run.grid), _control(run.control), _V(*steps.mechanics.space()),
         _Q(*steps.flow.pressure_space()),
-        _advice(split_advice(problem.materials.gamma_peak(), _coupling.acceleration)),
+        _advice(split_advice(problem.materials.gamma_peak(), _coupling)),
         _rescued(_coupling.acceleration == Acceleration::automatic and problem.materials.gamma <= high_gamma)
   {
   }

@@ -22,11 +22,12 @@ namespace
 const char magic[] = "biotcontact checkpoint 2";
 
 /// The --set keys a restart may change (docs/user-guide.md, "Restart"):
-/// the split's iteration, its acceleration, the retries of a failed step and
-/// the single-rate scheme, so that a run the split could not carry through
-/// a step goes on monolithic from its checkpoint.
-constexpr std::array<const char*, 5> restart_keys{"coupling.scheme", "coupling.acceleration", "coupling.depth",
-                                                   "coupling.max_iterations", "time.retry"};
+/// the split's iteration, its acceleration, the retries of a failed step,
+/// the single-rate scheme and its fallback, so that a run the split could
+/// not carry through a step goes on monolithic from its checkpoint.
+constexpr std::array<const char*, 6> restart_keys{"coupling.scheme",         "coupling.acceleration",
+                                                   "coupling.depth",          "coupling.max_iterations",
+                                                   "coupling.fallback",       "time.retry"};
 
 bool may_change(const std::string& assignment)
 {
@@ -376,13 +377,24 @@ double stored_count(const Checkpoint& c, const std::string& system, const std::s
 
 } // namespace
 
-void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory)
+void restore_run_state(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory)
 {
   run.grid.t = c.arrays.at("times");
   run.grid.dt = c.arrays.at("time_steps");
   restore_unknowns(c, run, comm, directory);
-  for_each_checkpointed(run.report, run.state, [&](const char* name, auto& value)
-                        { value = static_cast<std::remove_reference_t<decltype(value)>>(c.numbers.at(name)); });
+  // A number newer than the checkpoint (fallback_steps) keeps its value at
+  // the run's start.
+  for_each_checkpointed(run.report, run.state,
+                        [&](const char* name, auto& value)
+                        {
+                          if (const auto stored = c.numbers.find(name); stored != c.numbers.end())
+                            value = static_cast<std::remove_reference_t<decltype(value)>>(stored->second);
+                        });
+}
+
+void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory)
+{
+  restore_run_state(c, run, comm, directory);
   for (Step* step : run.scheme.steps())
   {
     SolverStatistics earlier;

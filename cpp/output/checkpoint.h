@@ -58,6 +58,12 @@ Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const
 /// both read.
 void restore_checkpoint(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory);
 
+/// What restore_checkpoint loads but the solver counts: the unknowns, the
+/// time grid, the report and the controllers' state; for a scheme that
+/// goes on from another's state in the same run (coupling.fallback), whose
+/// systems keep counting their own solves.
+void restore_run_state(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory);
+
 /// Writes the checkpoint of a run into `directory` (collective); throws
 /// OutputError on every rank when a file could not be written, leaving the
 /// previous checkpoint as it was. Layout of DIR/checkpoint: state.bin (rank

@@ -28,11 +28,17 @@ public:
   /// `contact`.
   void write_mechanics(double t);
 
+  /// The scheme whose fields are written from now on: the run's, or
+  /// coupling.fallback's for the step it solved.
+  void read_from(Scheme& scheme);
+  /// `contact` from the scheme, where its fields are not written.
+  void read_contact() { contact = _scheme->contact_state(); }
+
   ContactState contact; // at the last mechanics output
 
 private:
   const Problem& _problem;
-  Scheme& _scheme;
+  Scheme* _scheme;
   Output& _output;
   std::shared_ptr<dolfinx::fem::Function<double>> _flux, _sigma_v, _zero_pressure;
   std::unique_ptr<FaultSeries> _faults;

@@ -195,6 +195,7 @@ Json scheme_json(const Problem& problem, const Scheme& scheme)
     j.set("q", problem.parameters.q);
   return j.set("L_choice", c ? name_of(c->L_choice) : "none")
       .set("acceleration", acceleration_text(c))
+      .set("fallback", c ? name_of(c->fallback) : "none")
       .set("L", problem.parameters.L)
       .set("gamma", problem.parameters.gamma);
 }
@@ -278,6 +279,7 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
       .set("steps", r.windows)
       .set("retries", r.retries)
       .set("accelerated_windows", r.accelerated_windows)
+      .set("fallback_steps", r.fallback_steps)
       .set("fine_steps", r.fine_steps)
       .set("coupling_iterations", r.coupling_iterations)
       .set("max_iterations_per_step", r.max_iterations_per_step)

@@ -118,6 +118,21 @@ struct Choices<Acceleration>
       {{Acceleration::none, "none"}, {Acceleration::anderson, "anderson"}, {Acceleration::automatic, "auto"}}};
 };
 
+/// coupling.fallback: what solves a step the split fails at (after
+/// time.retry's halvings): nothing (the run ends there) or the monolithic
+/// scheme, from the last completed step; the split goes on after it.
+enum class Fallback
+{
+  none,
+  monolithic
+};
+template <>
+struct Choices<Fallback>
+{
+  static constexpr std::array<std::pair<Fallback, const char*>, 2> names{
+      {{Fallback::none, "none"}, {Fallback::monolithic, "monolithic"}}};
+};
+
 /// time.scheme: the discrete time derivative (time/time_scheme.h).
 enum class TimeScheme
 {

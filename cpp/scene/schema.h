@@ -179,6 +179,7 @@ struct CouplingSpec
   /// Anderson's keeps `depth` differences.
   Acceleration acceleration = Acceleration::automatic;
   int depth = 8;
+  Fallback fallback = Fallback::none;
   /// q flow steps per mechanics step (either multirate scheme).
   bool multirate() const
   {

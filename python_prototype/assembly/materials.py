@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from dolfinx import fem
 
-from ..scene.input import Acceleration, CouplingScheme
+from ..scene.input import Acceleration, CouplingScheme, Fallback
 from ..scene.scene import agree_on_error
 from .parameters import derive_parameters, resistivity
 
@@ -43,7 +43,7 @@ def largest_gamma_of(scene, cells):
                          cells)
 
 
-def split_advice(peak, acceleration):
+def split_advice(peak, coupling):
     """What to know of a split at this gamma and what converges instead, in
     one sentence (cpp/assembly/materials.h): the one wording of the gamma
     warning and of the error of a split that did not converge."""
@@ -54,7 +54,9 @@ def split_advice(peak, acceleration):
     # docs/theory.md, "Anderson acceleration": its iterates are not bound to
     # contract by gamma each.
     advice += '; instead: coupling.scheme = "monolithic" (no coupling iteration: the robust choice)'
-    if acceleration != Acceleration.anderson:
+    if coupling.scheme == CouplingScheme.fixed_stress and coupling.fallback == Fallback.none:
+        advice += ', coupling.fallback = "monolithic" (that scheme for the steps the split fails at)'
+    if coupling.acceleration != Acceleration.anderson:
         advice += ', coupling.acceleration = "anderson" (not bound to gamma per iteration)'
     if peak.gamma <= HIGH_GAMMA:
         advice += ", a larger coupling.max_iterations (each iteration contracts by gamma or better)"
@@ -66,7 +68,7 @@ def gamma_warning(scene, peak):
     other (what the run and `check` print)."""
     if not scene.coupling or scene.coupling.scheme == CouplingScheme.monolithic or peak.gamma <= HIGH_GAMMA:
         return ""
-    return split_advice(peak, scene.coupling.acceleration)
+    return split_advice(peak, scene.coupling)
 
 
 class Materials:

@@ -64,7 +64,7 @@ class _FixedStressSplit:
         self.grid = run.grid
         self.control = run.control  # time.adaptive (q = 1), or None
         self.V, self.Q = steps.mechanics.V, steps.flow.Q
-        self.advice = split_advice(problem.materials.gamma_peak(), self.coupling.acceleration)  # for not_converged
+        self.advice = split_advice(problem.materials.gamma_peak(), self.coupling)  # for not_converged
         # coupling.acceleration = "auto" acts: not above HIGH_GAMMA, where G's
         # slowest modes (gamma) hide behind the rate seen, and the increments
         # bound the error no longer (docs/theory.md, "Anderson acceleration").

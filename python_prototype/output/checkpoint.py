@@ -109,10 +109,11 @@ def write_checkpoint(comm, directory, fingerprint, c):
 
 
 # The --set keys a restart may change (docs/user-guide.md, "Restart"): the
-# split's iteration, its acceleration, the retries of a failed step and the
-# single-rate scheme, so that a run the split could not carry through a step
-# goes on monolithic from its checkpoint.
-RESTART_KEYS = ("coupling.scheme", "coupling.acceleration", "coupling.depth", "coupling.max_iterations", "time.retry")
+# split's iteration, its acceleration, the retries of a failed step, the
+# single-rate scheme and its fallback, so that a run the split could not
+# carry through a step goes on monolithic from its checkpoint.
+RESTART_KEYS = ("coupling.scheme", "coupling.acceleration", "coupling.depth", "coupling.max_iterations",
+                "coupling.fallback", "time.retry")
 
 
 def restart_fingerprint(text, overrides, scene):
@@ -243,16 +244,26 @@ def _stored_count(c, system, count):
     return c.numbers.get(f"{positions.index(system)}.{count}", 0.0)
 
 
+def restore_run_state(c, run, comm, directory):
+    """What restore_checkpoint loads but the solver counts: the unknowns,
+    the time grid, the report and the controllers' state; for a scheme that
+    goes on from another's state in the same run (coupling.fallback), whose
+    systems keep counting their own solves."""
+    run.grid.t, run.grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
+    _restore_unknowns(c, run, comm, directory)
+    # A number newer than the checkpoint (fallback_steps) keeps its value
+    # at the run's start.
+    for_each_checkpointed(run.report, run.state, lambda holder, name: setattr(
+        holder, name, type(getattr(holder, name))(c.numbers.get(name, getattr(holder, name)))))
+
+
 def restore_checkpoint(c, run, comm, directory):
     """Loads the checkpoint `c` into the RunState `run`, whatever the
     partition; refuses one of another mesh, or one that lacks any of the
     unknowns, naming `directory` (collective). Solver counts stored by
     system name, or by the position of the layout before names, are both
     read."""
-    run.grid.t, run.grid.dt = list(c.arrays["times"]), list(c.arrays["time_steps"])
-    _restore_unknowns(c, run, comm, directory)
-    for_each_checkpointed(run.report, run.state, lambda holder, name: setattr(
-        holder, name, type(getattr(holder, name))(c.numbers[name])))
+    restore_run_state(c, run, comm, directory)
     for step in run.scheme.steps():
         earlier = SolverStatistics()
         for name in solver_counts:

@@ -8,6 +8,17 @@ from ..diagnostics.diagnostics import volumetric_stress
 from .fault_series import FaultSeries
 
 
+def _name_fields(scheme):
+    """The names ParaView shows."""
+    if scheme.p is not None:
+        scheme.p.name = "pressure"
+    if scheme.u is not None:
+        scheme.u.name = "displacement"
+    if scheme.contact_pressure is not None:
+        scheme.contact_pressure.name = "contact_pressure"
+        scheme.contact_active.name = "contact_active"
+
+
 class OutputFields:
     """Writes the scheme's fields into the output at a time; names them as
     ParaView shows them."""
@@ -16,21 +27,27 @@ class OutputFields:
         """With faults and XDMF output, the faults' fields go to fault.xdmf
         (kept up to `resume_time` after a restart)."""
         F = problem.forms
-        self._F, self._scheme, self._output = F, scheme, output
+        self._F, self._output = F, output
+        self.read_from(scheme)
         if scheme.p is not None:
-            scheme.p.name = "pressure"
             self._flux = fem.Function(F["Qv"], name="flux")
         if scheme.u is not None:
-            scheme.u.name = "displacement"
             self._sigma_v = fem.Function(F["Q"], name="sigma_v")
             self._L_sigma_v = F.compile("L_sigma_v")
-            if scheme.contact_pressure is not None:
-                scheme.contact_pressure.name = "contact_pressure"
-                scheme.contact_active.name = "contact_active"
         self._faults, self._fault_flow = None, None
         if problem.scene.faults and problem.scene.write_xdmf:
             self._faults = FaultSeries(problem.domain.mesh.comm, output.directory(), problem, resume_time)
         self.contact = ContactState()  # at the last mechanics output
+
+    def read_from(self, scheme):
+        """The scheme whose fields are written from now on: the run's, or
+        coupling.fallback's for the step it solved."""
+        _name_fields(scheme)
+        self._scheme = scheme
+
+    def read_contact(self):
+        """`contact` from the scheme, where its fields are not written."""
+        self.contact = self._scheme.contact_state()
 
     def write_flow(self, t):
         """The pressure and the flux (nothing without flow)."""

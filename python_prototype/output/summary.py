@@ -172,6 +172,7 @@ def _scheme_json(problem, scheme):
             "q": "auto" if c and c.q_auto else parameters.q,
             "L_choice": name_of(c.L_choice) if c else "none",
             "acceleration": _acceleration_text(c),
+            "fallback": name_of(c.fallback) if c else "none",
             "L": parameters.L,
             "gamma": parameters.gamma}
 
@@ -197,6 +198,7 @@ def run_summary(summary_input, outcome):
         "steps": r.windows,
         "retries": r.retries,
         "accelerated_windows": r.accelerated_windows,
+        "fallback_steps": r.fallback_steps,
         "fine_steps": r.fine_steps,
         "coupling_iterations": r.coupling_iterations,
         "max_iterations_per_step": r.max_iterations_per_step,

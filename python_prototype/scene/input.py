@@ -70,6 +70,14 @@ class Acceleration(enum.Enum):
     automatic = "auto"
 
 
+class Fallback(enum.Enum):
+    """coupling.fallback: what solves a step the split fails at (after
+    time.retry's halvings): nothing (the run ends there) or the monolithic
+    scheme, from the last completed step; the split goes on after it."""
+    none = "none"
+    monolithic = "monolithic"
+
+
 class TimeScheme(enum.Enum):
     """time.scheme: the discrete time derivative (time/time_scheme.py)."""
     backward_euler = "backward-euler"

@@ -4,7 +4,7 @@ some of their values. Mirrors cpp/scene/physics_input.cpp key by key."""
 import math
 
 from .expression import Expression
-from .input import Acceleration, CouplingScheme, LChoice, MeshType
+from .input import Acceleration, CouplingScheme, Fallback, LChoice, MeshType
 from .schema import CouplingSpec, FlowSpec, MechanicsSpec, RegionSpec
 from .section import Section
 
@@ -181,6 +181,12 @@ def _read_coupling(s, mech, flow):
     c.depth = s.integer("depth", 8)
     if not 1 <= c.depth <= 50:
         s.fail("depth", "must be an integer from 1 to 50")
+    c.fallback = s.choice("fallback", Fallback, Fallback.none)
+    if c.fallback == Fallback.monolithic and c.scheme == CouplingScheme.monolithic:
+        s.fail("fallback", "takes over a step the split fails at; the monolithic scheme has no split")
+    elif c.fallback == Fallback.monolithic and c.scheme != CouplingScheme.fixed_stress:
+        s.fail("fallback", 'takes over a step of the single-rate split (scheme = "fixed-stress"): a multirate '
+                           "window's q flow steps are not the monolithic scheme's steps")
     s.finish()
     return c
 

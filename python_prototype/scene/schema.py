@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 from .expression import Expression
-from .input import (Acceleration, CouplingScheme, FaultFlow, LChoice, MeshType, ReferenceSolution, SolverChoice,
-                    TimeScheme)
+from .input import (Acceleration, CouplingScheme, Fallback, FaultFlow, LChoice, MeshType, ReferenceSolution,
+                    SolverChoice, TimeScheme)
 
 MAX_STEPS = 1000000  # at most this many (fine) time steps: a larger count is refused
 
@@ -151,6 +151,7 @@ class CouplingSpec:
     max_iterations: int = 100
     acceleration: Acceleration = Acceleration.automatic  # Anderson's keeps `depth` differences
     depth: int = 8
+    fallback: Fallback = Fallback.none
 
     def multirate(self):
         """q flow steps per mechanics step (either multirate scheme)."""
