@@ -7,7 +7,8 @@ contact that fails without time.retry offers it.
 A split that cannot converge says why and what converges instead (issue 36):
 with a soft region of gamma near 1 the error, the run's warning and `check`
 name gamma, the region where it is reached and the choices (monolithic,
-Anderson), the same line on both tracks, and those choices do converge."""
+its fallback, Anderson), the same line on both tracks, and the schemes
+converge. With coupling.fallback a failed step is the monolithic scheme's."""
 import os
 
 from support import Fields, check, iterations, run, scene, summary
@@ -79,17 +80,42 @@ for scheme, cap in (("fixed-stress", ["-mechanics_contact_snes_max_it", "8"]),
         check(r.returncode == 0 and c.returncode == 0 and summary(py)["retries"] == 2,
               "the prototype retries the same steps and agrees with the C++ run")
 
+# coupling.fallback = "monolithic": the split's capped contact solve fails
+# step 2, the monolithic scheme (its own solver, uncapped) solves it and the
+# split takes steps 3 to 5; capped too, the monolithic solve fails there as
+# well: one line with both failures, step 1 kept, summary.json written.
+from support import TRACKS, run_track  # noqa: E402
+
+FALLBACK = RAMP[1::2] + ["coupling.fallback=monolithic"]
+for track in TRACKS:
+    out, p = run_track(track, scene("default"), *FALLBACK, options=["-mechanics_contact_snes_max_it", "8"])
+    s = summary(out)
+    check(s["converged"] and s["steps"] == 5 and s["fallback_steps"] == 1
+          and "step 2 (t = 0.4): coupling iteration 1: the contact solver" in p.stdout
+          and "the monolithic scheme solves the step (coupling.fallback)" in p.stdout,
+          f"{track}: the split's failed step 2 is solved by the monolithic scheme, the run completes "
+          f"({s['steps']} steps, {s['fallback_steps']} fallback step)")
+    check_signorini(out, 0.0012, label=f"{track} with the fallback ")
+    out, p = run_track(track, scene("default"), *FALLBACK, expect=3,
+                       options=["-mechanics_contact_snes_max_it", "8", "-monolithic_contact_snes_max_it", "6"])
+    line = p.stderr.strip().splitlines()
+    s = summary(out)
+    check(len(line) == 1 and line[0].startswith("biotcontact: error: step 2 (t = 0.4)")
+          and "; the monolithic scheme failed there too (coupling.fallback): the contact solver" in line[0]
+          and s["steps"] == 1 and not s["converged"] and s["fallback_steps"] == 0,
+          f"{track}: the monolithic solve capped too, one line names both failures, step 1 kept: {line[-1][:330]!r}")
+
 # A soft region (E = 1e5 Pa in x < 5): gamma = alpha^2/(alpha^2 + lambda S)
 # there, with lambda = E nu/((1 + nu)(1 - 2 nu)) and S = 1/M + c_f phi0 of
 # the default scene, is 0.9999973; the split does not converge in 1000
 # iterations with either L. The error names gamma, the region and what
 # converges instead; both tracks print the same line.
-from support import TRACKS, run_track  # noqa: E402
 
 SOFT = ["region.soft.where=x < 5", "region.soft.E=1.0e5"]
 E, nu, M, c_f, phi0 = 1.0e5, 0.2, 1.0e11, 4.4e-10, 0.2
 gamma = 1 / (1 + E * nu / ((1 + nu) * (1 - 2 * nu)) * (1 / M + c_f * phi0))
-NAMED = [f"gamma = {gamma:.7g} in region soft > 0.99", 'coupling.scheme = "monolithic"']
+NAMED = [f"gamma = {gamma:.7g} in region soft > 0.99", 'coupling.scheme = "monolithic"',
+         'coupling.fallback = "monolithic"']
 ANDERSON = 'coupling.acceleration = "anderson"'
 for L in ("paper", "kdr"):
     errors = {}
