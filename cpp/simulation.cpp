@@ -26,6 +26,14 @@ namespace biotcontact
 namespace
 {
 
+/// A step the monolithic fallback solved: its time, number and Newton
+/// iterations, for the observer.
+struct SolvedStep
+{
+  double t = 0;
+  int step = 0, iterations = 0;
+};
+
 /// @brief One run of a scene, in the order of its story: set up the problem
 /// (mesh, forms, materials), describe it, make the scheme and its steps,
 /// open the output, start or restore, the time loop, the summary and the
@@ -73,7 +81,7 @@ private:
   bool falls_back() const;
   bool fall_back();
   bool fallback_failed(const std::string& why);
-  void solve_by_fallback(double& t, int& step, int& iterations);
+  SolvedStep solve_by_fallback();
   std::string step_being_computed() const;
   int planned_steps() const;
   void output_failed(const OutputError& e);
@@ -333,11 +341,10 @@ bool Simulation::fall_back()
   if (!falls_back() or !_completed)
     return false;
   _progress.say(_end.failure + "; the monolithic scheme solves the step (coupling.fallback)");
-  double t = 0;
-  int step = 0, iterations = 0;
+  SolvedStep solved;
   try
   {
-    solve_by_fallback(t, step, iterations);
+    solved = solve_by_fallback();
   }
   catch (const CouplingError& e)
   {
@@ -352,8 +359,8 @@ bool Simulation::fall_back()
   // The step's fields are the monolithic scheme's, which solved it.
   const WindowObserver o = observer();
   _fields->read_from(*_fallback->scheme);
-  o.flow_state(t);
-  o.mechanics_state(t, step, iterations);
+  o.flow_state(solved.t);
+  o.mechanics_state(solved.t, solved.step, solved.iterations);
   _fields->read_from(*_scheme);
   return !o.stop();
 }
@@ -368,8 +375,8 @@ bool Simulation::fallback_failed(const std::string& why)
 }
 
 /// The monolithic scheme's one step from the last completed one, its state
-/// then the split's: the time, the step and its iterations.
-void Simulation::solve_by_fallback(double& t, int& step, int& iterations)
+/// then the split's.
+SolvedStep Simulation::solve_by_fallback()
 {
   if (!_fallback)
   {
@@ -380,13 +387,16 @@ void Simulation::solve_by_fallback(double& t, int& step, int& iterations)
   Scheme& m = *_fallback->scheme;
   const RunState monolithic{m, *_domain->mesh, _report, _state, _grid};
   restore_run_state(*_completed, monolithic, _comm, _directory);
+  SolvedStep solved;
   WindowObserver o = observer();
   o.flow_state = [](double) {};
-  o.mechanics_state = [&](double time, int k, int n) { t = time, step = k, iterations = n; };
+  o.mechanics_state = [&solved](double t, int step, int iterations) { solved = {t, step, iterations}; };
   o.stop = [] { return true; }; // one step
   CouplingRun run{_grid, m.step_control.get(), o, _report, _state};
   m.run(run);
-  restore_run_state(capture_checkpoint(monolithic, step, t, _output->position()), run_state(), _comm, _directory);
+  restore_run_state(capture_checkpoint(monolithic, solved.step, solved.t, _output->position()), run_state(), _comm,
+                    _directory);
+  return solved;
 }
 
 /// The mechanics steps (windows) of the run, for the progress: with
