@@ -52,7 +52,7 @@ bool break_pulled_bonds(ContactSet& set, std::span<const char> closed, std::size
   {
     if (!set.frictional[k])
       continue;
-    if (set.bonded[k] and has_cohesion(set, k) and !closed[j])
+    if (set.bonded[k] and has_cohesion(set, k) and j < closed.size() and !closed[j])
       set.bonded[k] = 0, broke = true;
     ++j;
   }

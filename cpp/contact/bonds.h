@@ -34,8 +34,9 @@ bool cohesive(const ContactSet& set);
 
 /// After a failed solve: breaks the bond of each cohesive frictional
 /// constraint that `closed` (the VI's frictional constraints' flags in its
-/// clamped start, closed_when_clamped; this rank's from position `first`)
-/// does not hold closed; whether any broke here.
+/// clamped start, closed_when_clamped; this rank's from position `first`;
+/// none before a clamped start: all hold) does not hold closed; whether
+/// any broke here.
 bool break_pulled_bonds(ContactSet& set, std::span<const char> closed, std::size_t first);
 
 /// At an accepted step: breaks the bond of each constraint not closed in

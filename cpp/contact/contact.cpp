@@ -177,9 +177,12 @@ std::vector<FrictionalConstraint> ContactSolver::frictional_constraints() const
 
 bool ContactSolver::break_pulled_bonds()
 {
-  const std::vector<char>& closed = _vi->closed_when_clamped();
-  if (closed.empty()) // no friction anywhere
+  // Decided alike on every rank (update_bonds is collective): a rank
+  // without frictional constraints of its own has no flags (the full
+  // path) but still takes part.
+  if (!_vi->frictional())
     return false;
+  const std::vector<char>& closed = _vi->closed_when_clamped();
   // The VI's constraints: this rank's, or condensed every rank's in rank order.
   long mine = std::count(_set.frictional.begin(), _set.frictional.end(), 1), first = 0;
   if (_schur)

@@ -48,10 +48,14 @@ def break_pulled_bonds(contact_set, closed, first):
     """After a failed solve: breaks the bond of each cohesive frictional
     constraint that `closed` (the VI's frictional constraints' flags in
     its clamped start, closed_when_clamped; this rank's from position
-    `first`) does not hold closed; whether any broke here."""
+    `first`; none before a clamped start: all hold) does not hold closed;
+    whether any broke here."""
     c = contact_set
     frictional = np.flatnonzero(c.frictional[:len(c.dofs)])
-    pulled = ~np.asarray(closed[first:first + len(frictional)], dtype=bool)
+    held = np.ones(len(frictional), dtype=bool)
+    given = np.asarray(closed[first:first + len(frictional)], dtype=bool)
+    held[:len(given)] = given
+    pulled = ~held
     breaking = frictional[pulled & c.bonded[frictional] & _cohesive_constraints(c)[frictional]]
     c.bonded[breaking] = False
     return len(breaking) > 0

@@ -216,9 +216,12 @@ class ContactSolver:
     def _break_pulled_bonds(self):
         """After a failed solve: the bonds of the cohesive constraints its
         clamped start pulls break; whether any did (collective)."""
-        closed = self.vi.closed_when_clamped
-        if not closed:  # no friction anywhere
+        # decided alike on every rank (_update_bonds is collective): a rank
+        # without frictional constraints of its own has no flags (the full
+        # path) but still takes part
+        if not self.vi.p.frictional:
             return False
+        closed = self.vi.closed_when_clamped
         # the VI's constraints: this rank's, or condensed every rank's in rank order
         mine = int(np.count_nonzero(self.set.frictional))
         first = (self.comm.exscan(mine) or 0) if self.schur else 0

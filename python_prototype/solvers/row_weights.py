@@ -40,7 +40,7 @@ def set_balancing_weights(A, leaves, weights):
     filled = indptr[1:] > indptr[:-1]
     row_max[filled] = np.maximum.reduceat(np.abs(values), indptr[:-1][filled])
     largest = np.array([row_max[rows - start].max(initial=0.0) for rows in leaves])
-    largest = A.getComm().tompi4py().allreduce(largest, op=MPI.MAX)
+    A.getComm().tompi4py().Allreduce(MPI.IN_PLACE, largest, op=MPI.MAX)
     m = largest.max()
     with weights as w:
         w[:] = 1.0

@@ -168,8 +168,8 @@ class MonolithicConduits:
         before = self.pressure
         self.pressure = system.appended.x.copy()
         self.faults.set_openings(self.aperture.opening(u), s_n)
-        moved = [np.abs(self.pressure - before).max(initial=0.0), np.abs(self.pressure).max(initial=0.0)]
-        moved = self.problem.domain.mesh.comm.allreduce(np.array(moved), op=MPI.MAX)
+        moved = np.array([np.abs(self.pressure - before).max(initial=0.0), np.abs(self.pressure).max(initial=0.0)])
+        self.problem.domain.mesh.comm.Allreduce(MPI.IN_PLACE, moved, op=MPI.MAX)
         tolerance = self.problem.scene.coupling.tolerance
         # The apertures' change (ConduitFaults.aperture_change) and p_f's
         # largest change relative to the largest p_f, for an error.
