@@ -77,6 +77,7 @@ private:
   void equilibrate();
   void start_or_restore();
   WindowObserver observer();
+  void report_newton_steps(Scheme& scheme);
   void time_loop();
   bool falls_back() const;
   bool fall_back();
@@ -285,6 +286,15 @@ WindowObserver Simulation::observer()
   return o;
 }
 
+/// A contact solve of `scheme` longer than 10 s (a large monolithic step)
+/// prints its Newton steps as it goes, like the coupling iterations of the
+/// split.
+void Simulation::report_newton_steps(Scheme& scheme)
+{
+  scheme.on_newton_step([this](const std::string& system, int iteration)
+                        { _progress.newton_step(_end.completed_steps + 1, system, iteration); });
+}
+
 /// The steps from t = 0 (or the checkpoint) to the end, driven by the
 /// scheme. A failure ends the loop with what was finished written; it names
 /// the step it was computing. With coupling.fallback the monolithic scheme
@@ -292,10 +302,7 @@ WindowObserver Simulation::observer()
 void Simulation::time_loop()
 {
   const WindowObserver o = observer();
-  // A contact solve longer than 10 s (a large monolithic step) prints its
-  // Newton steps as it goes, like the coupling iterations of the split.
-  _scheme->on_newton_step([this](const std::string& system, int iteration)
-                          { _progress.newton_step(_end.completed_steps + 1, system, iteration); });
+  report_newton_steps(*_scheme);
   _progress.start_loop(_end.completed_steps, planned_steps());
   if (falls_back())
     _completed = capture_checkpoint(run_state(), _end.completed_steps, _end.completed_time, _output->position());
@@ -381,8 +388,7 @@ SolvedStep Simulation::solve_by_fallback()
   if (!_fallback)
   {
     _fallback = std::make_unique<MonolithicFallback>(*_problem);
-    _fallback->scheme->on_newton_step([this](const std::string& system, int iteration)
-                                      { _progress.newton_step(_end.completed_steps + 1, system, iteration); });
+    report_newton_steps(*_fallback->scheme);
   }
   Scheme& m = *_fallback->scheme;
   const RunState monolithic{m, *_domain->mesh, _report, _state, _grid};

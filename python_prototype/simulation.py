@@ -238,11 +238,7 @@ class Simulation:
         monolithic scheme solves a step the split failed at, and the split
         goes on from it."""
         run = CouplingRun(self.grid, self.scheme.step_control, self.observer(), self.report, self.state)
-        # A contact solve longer than the interval (a large monolithic step)
-        # prints its Newton steps as it goes, like the coupling iterations
-        # of the split.
-        self.scheme.on_newton_step(
-            lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
+        self.report_newton_steps(self.scheme)
         self.progress.start_loop(self.end.completed_steps, self.planned_steps())
         if self.falls_back():
             self.completed = capture_checkpoint(self.run_state(), self.end.completed_steps, self.end.completed_time,
@@ -293,13 +289,19 @@ class Simulation:
         self.fields.read_from(self.scheme)
         return not o.stop()
 
+    def report_newton_steps(self, scheme):
+        """A contact solve of `scheme` longer than the interval (a large
+        monolithic step) prints its Newton steps as it goes, like the
+        coupling iterations of the split."""
+        scheme.on_newton_step(
+            lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
+
     def solve_by_fallback(self):
         """The monolithic scheme's one step from the last completed one, its
         state then the split's: the time, the step and its iterations."""
         if self.fallback is None:
             self.fallback = MonolithicFallback(self.problem)
-            self.fallback.scheme.on_newton_step(
-                lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
+            self.report_newton_steps(self.fallback.scheme)
         m = self.fallback.scheme
         monolithic = RunState(m, self.domain.mesh, self.report, self.state, self.grid)
         restore_run_state(self.completed, monolithic, self.comm, self.directory)

@@ -29,9 +29,9 @@ void name_fields(Scheme& scheme)
 } // namespace
 
 OutputFields::OutputFields(const Problem& problem, Scheme& scheme, Output& output, const double* resume_time)
-    : _problem(problem), _scheme(&scheme), _output(output)
+    : _problem(problem), _output(output)
 {
-  name_fields(scheme);
+  read_from(scheme);
   const Domain& domain = problem.domain;
   const auto cell = mesh::cell_type_to_basix_type(domain.mesh->topology().cell_type());
   const basix::FiniteElement dg0 = basix::create_element(

@@ -38,7 +38,7 @@ public:
 
 private:
   const Problem& _problem;
-  Scheme* _scheme;
+  Scheme* _scheme = nullptr;
   Output& _output;
   std::shared_ptr<dolfinx::fem::Function<double>> _flux, _sigma_v, _zero_pressure;
   std::unique_ptr<FaultSeries> _faults;
