@@ -68,6 +68,25 @@ int fail(const std::string& message, int rank)
   return 2;
 }
 
+/// An error of no kind the program expects (a defect, status 1). On
+/// several ranks this one cannot know whether the others met it too or
+/// wait for it in a collective, which would hang the run for ever: it says
+/// the error itself and stops every rank.
+int unexpected_error(const char* what, int rank)
+{
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  if (ranks == 1)
+  {
+    std::fprintf(stderr, "biotcontact: error: %s\n", what);
+    return 1;
+  }
+  std::fprintf(stderr, "biotcontact: error on rank %d: %s (every rank stopped)\n", rank, what);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  return 1;
+}
+
 /// Our own arguments are read first; an option with one dash goes to PETSc
 /// (with its value, if the next word is not an option).
 Arguments parse_arguments(int argc, char* argv[])
@@ -246,9 +265,7 @@ int execute(const Arguments& args, int rank)
   }
   catch (const std::exception& e)
   {
-    if (rank == 0)
-      std::fprintf(stderr, "biotcontact: error: %s\n", e.what());
-    return 1;
+    return unexpected_error(e.what(), rank);
   }
 }
 

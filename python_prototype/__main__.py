@@ -248,7 +248,20 @@ def main(argv):
     except SolverError as e:
         return fail(str(e), 3)
     except Exception as e:  # noqa: BLE001  (anything else: one line, status 1)
-        return fail(f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}", 1)
+        return _unexpected_error(comm, f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}")
+
+
+def _unexpected_error(comm, what):
+    """An error of no kind the program expects (a defect, status 1). On
+    several ranks this one cannot know whether the others met it too or
+    wait for it in a collective, which would hang the run for ever: it says
+    the error itself and stops every rank (cpp/main.cpp)."""
+    if comm.size == 1:
+        print(f"biotcontact: error: {what}", file=sys.stderr, flush=True)
+        return 1
+    print(f"biotcontact: error on rank {comm.rank}: {what} (every rank stopped)", file=sys.stderr, flush=True)
+    comm.Abort(1)
+    return 1
 
 
 def _status_of_rank0(status):
