@@ -6,7 +6,7 @@ an impermeable rock (and k_f w with the fault's own permeability, issue
 end; a finite normal permeability across the rock's flow: the series
 resistance. Transient storage w c_f: the erfc profile within 1 % of dp; a
 fault far less transmissive than the rock is transparent (1e-6); 2 ranks =
-1, a restart ends equal, prototype = C++ (and fault.xdmf's XML); in 3D p_f
+1 (also for a fault one rank holds), a restart ends equal, prototype = C++ (and fault.xdmf's XML); in 3D p_f
 is linear to the mesh's error (2 % asserted: the two-point flux on
 triangles) and a vertical well raises p_f most where it crosses. Numbers:
 docs/verification.md."""
@@ -89,6 +89,29 @@ def check_normal_permeability(track):
     check(error <= 1e-10 and middle <= 1e-10, f"{track}: across a normal permeability of {K_N:g} m^2 the flux is "
           f"{np.mean(flux[:, 0]):.6e} m/s in every cell, the series resistances' {exact:.6e}: {error:.1e}; p_f "
           f"1.5 MPa to {middle:.1e} (1e-10)")
+
+
+# A fault inside the rock near the outlet, which one of 2 ranks holds
+# whole, with a normal permeability: the other rank takes part in making
+# A + D though it owns no row of D (it waited for the first for ever in the
+# conduit system's set-up until 2026-12-04).
+TIP_GEO = CHANNEL_GEO.replace("Point(6) = {0, 0, 0, h};", "Point(6) = {0, 0, 0, h}; Point(7) = {8, 0, 0, h}; "
+                              "Point(8) = {9.5, 0, 0, h};").replace("Line(7) = {6, 3};", "Line(7) = {7, 8};")
+
+
+def check_fault_on_one_rank(track):
+    """2 ranks give the fields and p_f of 1 rank on TIP_GEO."""
+    path = scene(CONDUIT.format(w=W) + f"\nnormal_permeability = {K_N}", permeability=1.0e-15, c_f=C_F, end=2.0)
+    with open(os.path.join(os.path.dirname(path), "channel.geo"), "w") as f:
+        f.write(TIP_GEO)
+    one, _ = run_track(track, path)
+    two, _ = run_track(track, path, ranks=2)
+    fields = max_difference(one, two, ["pressure", "flux"], sort=True)
+    a, b = cells(one), cells(two)
+    fault = np.max(np.abs(np.sort(a[1]) - np.sort(b[1]))) / DP
+    check(max(fields.values()) <= 1e-10 and fault <= 1e-10 and len(a[1]) > 0,
+          f"{track}: a fault that one of 2 ranks holds whole: the fields of 1 rank {fields}, p_f of its "
+          f"{len(a[1])} cells to {fault:.1e} (1e-10)")
 
 
 def check_linear_flow(out, track, law="the cubic law", transmissivity=W ** 3 / 12):
@@ -211,6 +234,7 @@ for track in ("C++", "prototype"):
           f"{track}: restarted at step {step}, the uninterrupted run's fields {same}, fault pressure ({fault:.1e}) "
           f"and volumes ({volumes:.1e}) (1e-12)")
     check_normal_permeability(track)
+    check_fault_on_one_rank(track)
     conduit, _ = run_track(track, scene(CONDUIT.format(w=1.0e-9), permeability=1.0e-12))
     transparent, _ = run_track(track, scene('flow = "transparent"', permeability=1.0e-12))
     same = max_difference(conduit, transparent, ["pressure", "flux"])

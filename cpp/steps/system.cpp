@@ -104,9 +104,13 @@ Mat System::appended_operator(Mat a, const std::vector<double>* diagonal, Mat in
   // and C with the apertures at every iteration: a's rows, most of the
   // whole matrix, are set again only when a was reassembled (0.21 of the
   // 0.34 s the 50-fracture network's 61 refills took at 97,275 unknowns).
-  const bool a_kept = into and _appended.diagonal.empty() and filled.a == a and filled.version == _version;
-  filled = _appended.diagonal.empty() ? FilledFrom{a, _version} : FilledFrom{};
-  if (!_appended.diagonal.empty())
+  // D on any rank: A + D is made on every rank (the calls are
+  // collective), also where a rank owns no row of D.
+  int any_diagonal = !_appended.diagonal.empty();
+  MPI_Allreduce(MPI_IN_PLACE, &any_diagonal, 1, MPI_INT, MPI_LOR, _comm);
+  const bool a_kept = into and !any_diagonal and filled.a == a and filled.version == _version;
+  filled = any_diagonal ? FilledFrom{} : FilledFrom{a, _version};
+  if (any_diagonal)
   {
     check_system(MatDuplicate(a, MAT_COPY_VALUES, &a), _prefix, "MatDuplicate of A");
     for (const auto& [row, value] : _appended.diagonal)
@@ -142,7 +146,7 @@ Mat System::appended_operator(Mat a, const std::vector<double>* diagonal, Mat in
     big = layout.convert(_comm, blocks);
   if (!_appended.E)
     check_system(MatDestroy(&E), _prefix, "MatDestroy of B^T");
-  if (!_appended.diagonal.empty())
+  if (any_diagonal)
     check_system(MatDestroy(&a), _prefix, "MatDestroy of A + D");
   if (C != _appended.C)
     check_system(MatDestroy(&C), _prefix, "MatDestroy of C + c");

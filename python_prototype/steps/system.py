@@ -5,6 +5,7 @@ import dataclasses
 import time
 
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..assembly.linear_algebra import assemble_matrix, reassemble_matrix
@@ -167,9 +168,12 @@ class System:
         call on 2 ranks against 3 on 1 (docs/performance.md, thirty-fifth
         session); a's block only if a was reassembled since `filled`, which
         it updates (a changes with dt, B and C with the apertures)."""
-        a_kept = into is not None and not self.appended.diagonal and filled.a is a and filled.version == self.version
-        filled.a, filled.version = (None, -1) if self.appended.diagonal else (a, self.version)
-        if self.appended.diagonal:
+        # D on any rank: a + D is made on every rank (the calls are
+        # collective), also where a rank owns no row of D
+        any_diagonal = self.comm.allreduce(bool(self.appended.diagonal), op=MPI.LOR)
+        a_kept = into is not None and not any_diagonal and filled.a is a and filled.version == self.version
+        filled.a, filled.version = (None, -1) if any_diagonal else (a, self.version)
+        if any_diagonal:
             a = a.copy()
             for row, value in self.appended.diagonal:
                 a.setValue(row, row, value, addv=True)
