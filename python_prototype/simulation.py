@@ -10,6 +10,7 @@ from .assembly.forms import Forms
 from .assembly.materials import make_materials
 from .assembly.parameters import derive_parameters, set_constants
 from .assembly.problem import Problem
+from .contact.contact_state import ContactState
 from .coupling.contraction import relative
 from .coupling.coupling import (ControllerState, CouplingError, CouplingReport, CouplingRun, IterationRecord,
                                 WindowObserver)
@@ -343,7 +344,9 @@ class Simulation:
         disk is full, as far as it can be written)."""
         if self.output is None:
             return
-        summary_input = SummaryInput(self.problem, self.scheme, self.report, self.grid, self.fields.contact)
+        # no fields where the output files could not be made
+        contact = self.fields.contact if self.fields is not None else ContactState()
+        summary_input = SummaryInput(self.problem, self.scheme, self.report, self.grid, contact)
         end = self.end
         if self.scene.reference and not end.failure and not end.signal:
             summary_input.errors = reference_errors(self.problem, self.scheme.u, self.scheme.p)

@@ -6,7 +6,9 @@ before stays readable: solution.xdmf lists exactly the completed steps and
 meshio reads every array of them. A checkpoint that does not fit leaves the
 previous one, and a restart from it in a directory with room ends as the
 uninterrupted run. The same for the prototype. The disk is a 1 MB tmpfs;
-without the right to mount one the test is skipped (exit 77)."""
+without the right to mount one the test is skipped (exit 77), after
+fault.h5 and fault.xdmf, rank 0's, made unwritable: exit 4 the same."""
+import json
 import os
 import re
 import shutil
@@ -63,6 +65,30 @@ def full_disk_run(disk, track, ranks, extra, failing_files):
     return kept
 
 
+def unwritable_fault_file(track, ranks, name):
+    """fault_reactivation into a directory where `name` (fault.h5, or the
+    fault.xdmf.next that replaces fault.xdmf) is a directory: rank 0 cannot
+    write it, and every rank stops with exit 4 and one line."""
+    out = tempfile.mkdtemp(prefix="fault-file-")
+    os.mkdir(os.path.join(out, name))
+    cmd = [*TRACKS[track], "run", scene("fault_reactivation"), "--out", out, *EVERY_RANK]
+    p = subprocess.run(mpirun(ranks) + cmd if ranks > 1 else cmd, capture_output=True, text=True, env=MPI_ENV,
+                       cwd=ROOT, timeout=600)
+    ours = [line for line in p.stderr.splitlines() if line.startswith("biotcontact")]
+    with open(os.path.join(out, "summary.json")) as f:
+        status = json.load(f)["status"]
+    check(p.returncode == 4 and len(ours) == 1 and f"cannot write {out}/{name.replace('.next', '')}" in ours[0]
+          and status == "failed", f"{track}, {ranks} rank(s), {name} a directory: exit 4, one line naming the file "
+          f"and the reason, summary.json ({p.returncode}, {status}: {p.stderr.strip()[-200:]!r})")
+
+
+# fault.h5 and fault.xdmf are rank 0's: a write of them that fails stops
+# every rank (before 2026-12-04 rank 0 alone met it: exit 1 on one rank, and
+# on two the other waited for ever).
+for track in TRACKS:
+    for ranks in (1, 2):
+        for name in ("fault.h5", "fault.xdmf.next"):
+            unwritable_fault_file(track, ranks, name)
 disk = tempfile.mkdtemp(prefix="disk-")
 if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", disk], capture_output=True).returncode != 0:
     print("skipped: cannot mount a small tmpfs here")

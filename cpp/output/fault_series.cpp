@@ -1,8 +1,10 @@
 #include "output/fault_series.h"
 
 #include "domain/domain.h"
+#include "output/write_failure.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <dolfinx/io/HDF5Interface.h>
 #include <filesystem>
 #include <fstream>
@@ -63,19 +65,11 @@ FaultSeries::FaultSeries(MPI_Comm comm, const std::string& directory, const Prob
   for (const auto& [name, fault] : _scene.faults)
     _fault_names.push_back(name);
   gather_surface(problem);
-  if (_rank != 0)
-    return;
-  if (resume_time)
-  {
-    for (double t : listed_times(_xdmf))
-      if (t <= *resume_time)
-        _times.push_back(t);
-    _h5 = io::HDF5Interface::open_file(MPI_COMM_SELF, _h5_path, "a", false);
-    if (!io::HDF5Interface::has_dataset(_h5, "/Mesh/fault")) // a run that an older version began
-      write_fault_ids();
-    write_xml();
-    return;
-  }
+  written_by_rank0([&] { resume_time ? go_on(*resume_time) : begin(); });
+}
+
+void FaultSeries::begin()
+{
   _h5 = io::HDF5Interface::open_file(MPI_COMM_SELF, _h5_path, "w", false);
   write_rows(_h5, "/Mesh/geometry", _x, 3);
   const auto rows = static_cast<std::int64_t>(_facets.size() / _dim);
@@ -83,6 +77,40 @@ FaultSeries::FaultSeries(MPI_Comm comm, const std::string& directory, const Prob
   write_fault_ids();
   io::HDF5Interface::flush_file(_h5);
   write_xml();
+}
+
+void FaultSeries::go_on(double resume_time)
+{
+  for (double t : listed_times(_xdmf))
+    if (t <= resume_time)
+      _times.push_back(t);
+  _h5 = io::HDF5Interface::open_file(MPI_COMM_SELF, _h5_path, "a", false);
+  if (!io::HDF5Interface::has_dataset(_h5, "/Mesh/fault")) // a run that an older version began
+    write_fault_ids();
+  write_xml();
+}
+
+void FaultSeries::written_by_rank0(const std::function<void()>& write)
+{
+  std::string failure;
+  if (_rank == 0)
+  {
+    errno = 0;
+    try
+    {
+      write();
+    }
+    catch (const OutputError& e) // fault.xdmf
+    {
+      failure = e.what();
+    }
+    catch (const std::runtime_error&) // HDF5's
+    {
+      failure = "cannot write " + _h5_path + ": "
+                + write_failure_reason(std::filesystem::path(_h5_path).parent_path().string());
+    }
+  }
+  agree_on_output_error(failure, _comm);
 }
 
 void FaultSeries::write_fault_ids() const
@@ -259,16 +287,18 @@ void FaultSeries::write(const ContactState& contact, std::span<const double> cel
   std::vector<Field> fields;
   if (_scene.mechanics)
     fields = node_fields(contact);
-  if (_rank != 0)
-    return;
-  for (Field& f : cell_fields(cells, t))
-    fields.push_back(std::move(f));
-  const std::string index = std::to_string(_times.size());
-  for (const Field& f : fields)
-    write_rows(_h5, "/" + f.name + "/" + index, f.values, f.width);
-  io::HDF5Interface::flush_file(_h5);
-  _times.push_back(t);
-  write_xml();
+  written_by_rank0(
+      [&]
+      {
+        for (Field& f : cell_fields(cells, t))
+          fields.push_back(std::move(f));
+        const std::string index = std::to_string(_times.size());
+        for (const Field& f : fields)
+          write_rows(_h5, "/" + f.name + "/" + index, f.values, f.width);
+        io::HDF5Interface::flush_file(_h5);
+        _times.push_back(t);
+        write_xml();
+      });
 }
 
 std::vector<std::pair<std::string, std::string>> FaultSeries::attributes() const
@@ -322,8 +352,19 @@ void FaultSeries::write_xml() const
     xml << "   </Grid>\n";
   }
   xml << "  </Grid>\n </Domain>\n</Xdmf>\n";
-  std::ofstream out(_xdmf, std::ios::trunc);
+  // Written beside and renamed over the last one: a write that fails (a
+  // full disk) leaves the last, whole.
+  const std::string next = _xdmf + ".next";
+  std::ofstream out(next, std::ios::trunc);
   out << xml.str();
+  out.close();
+  std::error_code renamed;
+  if (out.fail() or (std::filesystem::rename(next, _xdmf, renamed), renamed))
+  {
+    std::filesystem::remove(next, renamed);
+    throw OutputError("cannot write " + _xdmf + ": "
+                      + write_failure_reason(std::filesystem::path(_xdmf).parent_path().string()));
+  }
 }
 
 } // namespace biotcontact

@@ -14,6 +14,7 @@
 #include "assembly/problem.h"
 #include "contact/contact_state.h"
 
+#include <functional>
 #include <hdf5.h>
 #include <mpi.h>
 #include <span>
@@ -72,6 +73,13 @@ private:
     int width;
   };
   void gather_surface(const Problem& problem);
+  /// Rank 0: the new files with the faces' mesh; or, after a restart at
+  /// `resume_time`, on in them with the times up to it.
+  void begin();
+  void go_on(double resume_time);
+  /// Rank 0's writes `write` of the files; a failure (a full disk) stops
+  /// every rank with OutputError naming the file (collective).
+  void written_by_rank0(const std::function<void()>& write);
   /// Per facet of the faces' mesh (`all_facets`: fault, then d input
   /// indices each), its row in the conduit cells' fields, -1 on other faults.
   void conduit_rows(const Problem& problem, const std::vector<std::int64_t>& all_facets);
@@ -83,6 +91,7 @@ private:
   std::vector<Field> cell_fields(std::span<const double> cells, double t) const;
   /// The fields of each time: (name, "Node" or "Cell").
   std::vector<std::pair<std::string, std::string>> attributes() const;
+  /// fault.xdmf anew, listing _times (throws OutputError when it cannot).
   void write_xml() const;
   /// The key of a faces' node in _nodes: its input index and its fault's
   /// position in _fault_names (where faults meet, a node is on several).

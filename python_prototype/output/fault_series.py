@@ -18,7 +18,7 @@ import numpy as np
 from ..contact.contact_law import PairStatus
 from ..scene.input import FaultFlow
 from ..domain.domain import vertex_input_indices
-from .write_failure import write_dataset
+from .write_failure import OutputError, agree_on_output_error, write_dataset, write_failure_reason
 
 
 def _gather_to_root(values, comm):
@@ -80,21 +80,38 @@ class FaultSeries:
         self._nodes = self._x = self._fault = self._facets = None
         self._times, self._h5 = [], None
         self._gather_surface(problem)
-        if comm.rank != 0:
-            return
-        if resume_time is not None:
-            self._times = [t for t in _listed_times(self._xdmf) if t <= resume_time]
-            self._h5 = h5py.File(self._h5_path, "a")
-            if "/Mesh/fault" not in self._h5:  # a run that an older version began
-                self._write_fault_ids()
-            self._write_xml()
-            return
+        self._written_by_rank0(lambda: self._begin() if resume_time is None else self._go_on(resume_time))
+
+    def _begin(self):
+        """Rank 0: the new files with the faces' mesh."""
         self._h5 = h5py.File(self._h5_path, "w")
         _write_rows(self._h5, "/Mesh/geometry", self._x, 3)
         _write_rows(self._h5, "/Mesh/topology", self._facets, self._dim)
         self._write_fault_ids()
         self._h5.flush()
         self._write_xml()
+
+    def _go_on(self, resume_time):
+        """Rank 0, after a restart at `resume_time`: on in the files with
+        the times up to it."""
+        self._times = [t for t in _listed_times(self._xdmf) if t <= resume_time]
+        self._h5 = h5py.File(self._h5_path, "a")
+        if "/Mesh/fault" not in self._h5:  # a run that an older version began
+            self._write_fault_ids()
+        self._write_xml()
+
+    def _written_by_rank0(self, write):
+        """Rank 0's writes `write` of the files; a failure (a full disk)
+        stops every rank with OutputError naming the file (collective)."""
+        failure = ""
+        if self._comm.rank == 0:
+            try:
+                write()
+            except OutputError as e:  # fault.xdmf
+                failure = str(e)
+            except (OSError, RuntimeError) as e:  # HDF5's
+                failure = f"cannot write {self._h5_path}: {write_failure_reason(os.path.dirname(self._h5_path), e)}"
+        agree_on_output_error(failure, self._comm)
 
     def _write_fault_ids(self):
         """/Mesh/fault: each cell's fault (rank 0)."""
@@ -187,8 +204,11 @@ class FaultSeries:
                             *p.slip_increment, p.cohesion] for p in contact.pairs]).reshape(-1, 13)
         all_nodes = _gather_to_root(nodes, self._comm)
         all_values = _gather_to_root(values, self._comm)
-        if self._comm.rank != 0:
-            return
+        self._written_by_rank0(lambda: self._write_time(all_nodes, all_values, cells, t))
+
+    def _write_time(self, all_nodes, all_values, cells, t):
+        """Rank 0: the fields of time t from every rank's pairs
+        (`all_nodes`, `all_values`) and the conduits' `cells`."""
         n = len(self._nodes)
         opening, traction, cohesion = np.zeros(n), np.zeros(n), np.zeros(n)
         slip, tangential, increment = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
@@ -214,7 +234,8 @@ class FaultSeries:
                 + [(c, "Cell") for c in cells])
 
     def _write_xml(self):
-        """The whole XML, every time written (rank 0)."""
+        """The whole XML, every time written (rank 0; OutputError when it
+        cannot)."""
         h5 = os.path.basename(self._h5_path)
         n, cells, d = len(self._nodes), len(self._facets), self._dim
 
@@ -239,5 +260,14 @@ class FaultSeries:
                         "</Attribute>\n")
             xml += "   </Grid>\n"
         xml += "  </Grid>\n </Domain>\n</Xdmf>\n"
-        with open(self._xdmf, "w") as f:
-            f.write(xml)
+        # written beside and renamed over the last one: a write that fails (a
+        # full disk) leaves the last, whole
+        following = self._xdmf + ".next"
+        try:
+            with open(following, "w") as f:
+                f.write(xml)
+            os.replace(following, self._xdmf)
+        except OSError as e:
+            if os.path.isfile(following):
+                os.remove(following)
+            raise OutputError(f"cannot write {self._xdmf}: {write_failure_reason(os.path.dirname(self._xdmf), e)}") from None
