@@ -132,7 +132,12 @@ void SchurComplement::assemble()
 
   dolfinx::common::Timer timer("Schur complement");
 
-  if (_whole and _m >= partial_factorisation_from and factorise_with_schur(solve_matrix()) == 0)
+  int partial = _whole and _m >= partial_factorisation_from and factorise_with_schur(solve_matrix()) == 0;
+  // Decided on every rank alike: where one rank's partial factorisation
+  // failed (its memory), every rank forms its share of the columns, which
+  // share_columns exchanges.
+  MPI_Allreduce(MPI_IN_PLACE, &partial, 1, MPI_INT, MPI_LAND, _comm);
+  if (partial)
   {
     ++factorizations;
     time += timer.stop();
