@@ -442,6 +442,8 @@ void Simulation::write_summary()
     return;
   const ContactState none; // no fields where the output files could not be made
   SummaryInput in{*_problem, *_scheme, _report, _grid, _fields ? _fields->contact : none, std::nullopt};
+  if (_fallback)
+    in.fallback = _fallback->scheme.get();
   if (_scene.reference and _end.failure.empty() and _end.signal == 0)
     in.errors = reference_errors(*_problem, _scheme->u, _scheme->p);
   int working = 1, ranks = 1;

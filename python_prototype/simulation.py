@@ -346,7 +346,8 @@ class Simulation:
             return
         # no fields where the output files could not be made
         contact = self.fields.contact if self.fields is not None else ContactState()
-        summary_input = SummaryInput(self.problem, self.scheme, self.report, self.grid, contact)
+        summary_input = SummaryInput(self.problem, self.scheme, self.report, self.grid, contact,
+                                     fallback=self.fallback.scheme if self.fallback is not None else None)
         end = self.end
         if self.scene.reference and not end.failure and not end.signal:
             summary_input.errors = reference_errors(self.problem, self.scheme.u, self.scheme.p)

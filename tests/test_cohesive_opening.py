@@ -116,6 +116,13 @@ for track in ("C++", "prototype"):
     fallback[track], p = run_track(track, path, *FALLBACK)
     s = summary(fallback[track])
     fields = max_difference(runs[track], fallback[track], ["displacement", "pressure", "contact_pressure"])
+    # the monolithic scheme's solves counted with the split's (summary.json's solvers)
+    solvers = s["solvers"]
+    check(set(solvers) == {"flow", "mechanics", "monolithic"} and s["monolithic_solves"] > 0
+          and solvers["monolithic"]["solves"] == s["monolithic_solves"]
+          and solvers["monolithic"]["newton_iterations"] > 0,
+          f"{track}: summary.json counts the fallback's monolithic solves ({s['monolithic_solves']}) beside the "
+          f"split's systems ({sorted(solvers)})")
     check(s["converged"] and s["steps"] == 14 and s["fallback_steps"] == 1 and s["fallback"] == "monolithic"
           and "step 12 (t = 1.2)" in p.stdout and "the monolithic scheme solves the step (coupling.fallback)" in p.stdout
           and split_steps(fallback[track]) == list(range(1, 15)),

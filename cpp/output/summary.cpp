@@ -121,12 +121,23 @@ Json regions_json(const CellRegions& cells, const Materials& materials)
                                     .set("L", materials.top.L));
 }
 
+/// The steps whose systems solved the run: the scheme's, and those of
+/// the monolithic scheme that solved the steps the split failed at
+/// (coupling.fallback).
+std::vector<const Step*> solving_steps(const SummaryInput& in)
+{
+  std::vector<const Step*> steps(in.scheme.steps().begin(), in.scheme.steps().end());
+  if (in.fallback)
+    steps.insert(steps.end(), in.fallback->steps().begin(), in.fallback->steps().end());
+  return steps;
+}
+
 /// Per system: what solved it, how often it was set up (factorised) and
 /// solved, and where its time went; the solvers' and timings' tables.
-std::pair<Json, Json> solver_summaries(const Scheme& scheme, bool inexact_coupling)
+std::pair<Json, Json> solver_summaries(const std::vector<const Step*>& steps, bool inexact_coupling)
 {
   Json solvers, timings;
-  for (const Step* step : scheme.steps())
+  for (const Step* step : steps)
   {
     const System& system = step->system();
     const SolverStatistics st = system.statistics();
@@ -161,12 +172,12 @@ std::pair<Json, Json> solver_summaries(const Scheme& scheme, bool inexact_coupli
 }
 
 /// The statistics of each system (zero for a system the scene has not).
-std::map<std::string, SolverStatistics> statistics(const Scheme& scheme)
+std::map<std::string, SolverStatistics> statistics(const std::vector<const Step*>& steps)
 {
   std::map<std::string, SolverStatistics> result;
   for (const char* name : {"flow", "mechanics", "monolithic", "flow_second_pass"})
     result[name] = {};
-  for (const Step* step : scheme.steps())
+  for (const Step* step : steps)
     result[step->name()] = step->system().statistics();
   return result;
 }
@@ -260,10 +271,10 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
 {
   const Scene& scene = in.problem.scene;
   const CouplingReport& r = in.report;
-  auto st = statistics(in.scheme);
+  auto st = statistics(solving_steps(in));
   const bool monolithic = scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic;
-  auto [solvers, timings] = solver_summaries(in.scheme, !monolithic and scene.solver.inexact_coupling);
-  double assembly = in.scheme.assembly_time();
+  auto [solvers, timings] = solver_summaries(solving_steps(in), !monolithic and scene.solver.inexact_coupling);
+  double assembly = in.scheme.assembly_time() + (in.fallback ? in.fallback->assembly_time() : 0.0);
   for (const auto& [name, s] : st)
     assembly += s.assembly_time;
   timings.set("assembly", assembly).set("output", outcome.output_time);

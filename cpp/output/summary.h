@@ -35,6 +35,7 @@ struct SummaryInput
   const TimeGrid& grid;
   const ContactState& contact;       // at the last mechanics output
   std::optional<ReferenceErrors> errors; // against the scene's closed form
+  const Scheme* fallback = nullptr;      // the monolithic scheme of coupling.fallback, once it solved a step
 };
 
 /// The summary: the scheme, sizes, counts, contraction measures, solvers,

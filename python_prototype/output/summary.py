@@ -36,6 +36,7 @@ class SummaryInput:
     grid: object
     contact: object
     errors: Optional[object] = None
+    fallback: Optional[object] = None  # the monolithic scheme of coupling.fallback, once it solved a step
 
 
 def _global_size(V):
@@ -122,11 +123,19 @@ def _regions_json(cells, materials):
     return regions
 
 
-def _solver_summaries(scheme, inexact_coupling):
+def _solving_steps(summary_input):
+    """The steps whose systems solved the run: the scheme's, and those of
+    the monolithic scheme that solved the steps the split failed at
+    (coupling.fallback)."""
+    i = summary_input
+    return list(i.scheme.steps()) + (list(i.fallback.steps()) if i.fallback is not None else [])
+
+
+def _solver_summaries(steps, inexact_coupling):
     """Per system: what solved it, how often it was set up (factorised) and
     solved, and where its time went; the solvers' and timings' tables."""
     solvers, timings = {}, {}
-    for step in scheme.steps():
+    for step in steps:
         system = step.system
         st = system.statistics()
         direct = system.method == Method.direct
@@ -146,10 +155,10 @@ def _solver_summaries(scheme, inexact_coupling):
     return solvers, timings
 
 
-def _statistics(scheme):
+def _statistics(steps):
     """The statistics of each system (zero for a system the scene has not)."""
     result = {name: SolverStatistics() for name in ("flow", "mechanics", "monolithic", "flow_second_pass")}
-    result.update({step.name(): step.system.statistics() for step in scheme.steps()})
+    result.update({step.name(): step.system.statistics() for step in steps})
     return result
 
 
@@ -184,10 +193,11 @@ def run_summary(summary_input, outcome):
     and closed-form errors of the run."""
     i, r = summary_input, summary_input.report
     scene = i.problem.scene
-    st = _statistics(i.scheme)
+    st = _statistics(_solving_steps(i))
     monolithic = scene.coupling is not None and scene.coupling.scheme == CouplingScheme.monolithic
-    solvers, timings = _solver_summaries(i.scheme, not monolithic and scene.solver.inexact_coupling)
-    timings["assembly"] = i.scheme.assembly_time() + sum(s.assembly_time for s in st.values())
+    solvers, timings = _solver_summaries(_solving_steps(i), not monolithic and scene.solver.inexact_coupling)
+    timings["assembly"] = (i.scheme.assembly_time() + (i.fallback.assembly_time() if i.fallback is not None else 0.0)
+                           + sum(s.assembly_time for s in st.values()))
     timings["output"] = outcome.output_time
     summary = _scheme_json(i.problem, i.scheme)
     summary.update({
