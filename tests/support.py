@@ -325,10 +325,12 @@ def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
     return out, p
 
 
-def restarted(track, scene_file, out, *sets, expect=0):
-    """Continues the run in `out` from its checkpoint with --set values,
-    checking its exit status; returns the completed process."""
-    p = subprocess.run([*TRACKS[track], "run", scene_file, "--restart", out, *[a for s in sets for a in ("--set", s)]],
+def restarted(track, scene_file, out, *sets, expect=0, ranks=1):
+    """Continues the run in `out` from its checkpoint with --set values on
+    `ranks` MPI ranks, checking its exit status; returns the completed
+    process."""
+    p = subprocess.run([*(mpirun(ranks) if ranks > 1 else []), *TRACKS[track], "run", scene_file, "--restart", out,
+                        *[a for s in sets for a in ("--set", s)]],
                        capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
     check(p.returncode == expect, f"{track}: {os.path.basename(scene_file)} --restart {' '.join(sets)} exits {expect} "
           f"({p.stderr.strip()[-300:]!r})")
