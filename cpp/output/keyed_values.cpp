@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <dolfinx/fem/FunctionSpace.h>
+#include <dolfinx/la/Vector.h>
 #include <unordered_map>
 
 namespace biotcontact
@@ -109,6 +110,29 @@ Key key(const std::int64_t* name, int width)
 }
 } // namespace
 
+namespace
+{
+/// The ghost entries of a function space's values in `unknowns` (at
+/// `position`, or in its order when empty) from their owners: stored values
+/// may be each rank's owned ones only (a checkpoint kept in memory, which
+/// coupling.fallback hands between schemes), and a ghost left as it was
+/// would enter the next assembly (collective).
+void update_ghosts(const dolfinx::fem::FunctionSpace& space, std::span<const std::int32_t> position,
+                   std::span<double> unknowns)
+{
+  const auto& dofmap = *space.dofmap();
+  dolfinx::la::Vector<double> v(dofmap.index_map, dofmap.index_map_bs());
+  std::span<double> a = v.mutable_array();
+  auto at = [&](std::size_t entry) -> double& { return unknowns[position.empty() ? entry : position[entry]]; };
+  for (std::size_t entry = 0; entry < a.size(); ++entry)
+    a[entry] = at(entry);
+  v.scatter_fwd();
+  const std::size_t owned = static_cast<std::size_t>(dofmap.index_map->size_local() * dofmap.index_map_bs());
+  for (std::size_t entry = owned; entry < a.size(); ++entry)
+    at(entry) = a[entry];
+}
+} // namespace
+
 KeyedValues keyed_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part, std::span<const double> unknowns)
 {
   const auto& dofmap = *part.space->dofmap();
@@ -151,6 +175,7 @@ std::int64_t restore_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart&
         unknowns[part.position.empty() ? entry : part.position[entry]] = e.sign[entry / bs] * values.values[i];
         found += entry < owned;
       }
+  update_ghosts(*part.space, part.position, unknowns);
   return owned - found;
 }
 

@@ -37,8 +37,9 @@ struct KeyedValues
 KeyedValues keyed_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part,
                          std::span<const double> unknowns);
 
-/// Sets the local entries (owned and ghost) of `part` in `unknowns` from the
-/// stored `values` of every rank; returns how many owned ones were not found.
+/// Sets the owned entries of `part` in `unknowns` from the stored `values`
+/// (every rank's, or this rank's own), then the ghost entries from their
+/// owners; returns how many owned ones were not found (collective).
 std::int64_t restore_values(const dolfinx::mesh::Mesh& mesh, const UnknownsPart& part, const KeyedValues& values,
                             std::span<double> unknowns);
 

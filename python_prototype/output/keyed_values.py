@@ -3,6 +3,7 @@
 mesh entity it sits on, so that a checkpoint written on one partition
 restores on any other (output/checkpoint.py); and a signature of the mesh,
 so that a checkpoint of another mesh is refused."""
+import dolfinx.la
 import numpy as np
 
 from ..domain.domain import vertex_input_indices
@@ -74,10 +75,25 @@ def _rows(keys):
     return keys.view(np.dtype((np.void, keys.itemsize * keys.shape[1]))).ravel()
 
 
+def _update_ghosts(space, position, unknowns):
+    """The ghost entries of a function space's values in `unknowns` (at
+    `position`) from their owners: stored values may be each rank's owned
+    ones only (a checkpoint kept in memory, which coupling.fallback hands
+    between schemes), and a ghost left as it was would enter the next
+    assembly (collective)."""
+    index_map, bs = space.dofmap.index_map, space.dofmap.index_map_bs
+    v = dolfinx.la.vector(index_map, bs)
+    v.array[:] = unknowns[position]
+    v.scatter_forward()
+    owned = index_map.size_local * bs
+    unknowns[position[owned:]] = v.array[owned:]
+
+
 def restore_values(mesh, part, stored, unknowns):
-    """Sets the local entries (owned and ghost) of `part` in `unknowns` from
-    the stored (names, values) of every rank; returns how many owned
-    entries were not found."""
+    """Sets the owned entries of `part` in `unknowns` from the stored
+    (names, values), every rank's or this rank's own, then the ghost
+    entries from their owners; returns how many owned entries were not
+    found (collective)."""
     names, sign = _entries(mesh, part)
     stored_names, stored_values = stored
     if stored_names.shape[1] != names.shape[1]:
@@ -90,6 +106,7 @@ def restore_values(mesh, part, stored, unknowns):
     found = stored_rows[at] == mine if len(stored_rows) else np.zeros(len(mine), dtype=bool)
     position = np.arange(len(mine)) if part.position is None else np.asarray(part.position)
     unknowns[position[found]] = sign[found] * stored_values[order[at[found]]]
+    _update_ghosts(part.space, position, unknowns)
     owned = part.space.dofmap.index_map.size_local * part.space.dofmap.index_map_bs
     return owned - int(np.count_nonzero(found[:owned]))
 
