@@ -52,16 +52,6 @@ ContactSolver::ContactSolver(MPI_Comm comm, const SystemLayout& system, Method m
                                                   WholeSystem{comm, _A_vi, _P_vi, {prefix, _structure, _fields}, method});
     _then_condensed = path == ContactPath::full_then_condensed;
   }
-  // Only the VI methods take bounds; any other would ignore the contact.
-  // Asked of both prefixes, so that a type given for the path not taken
-  // is not ignored silently either.
-  for (const std::string& p : {prefix, prefix + "contact_"})
-  {
-    const std::string type = option(p, "-snes_type");
-    if (!type.empty() and type != SNESVINEWTONRSLS and type != SNESVINEWTONSSLS)
-      throw OptionsError("-" + p + "snes_type " + type
-                         + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
-  }
 }
 
 std::unique_ptr<VariationalInequality> ContactSolver::condensed_vi()

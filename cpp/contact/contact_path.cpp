@@ -3,6 +3,7 @@
 #include "solvers/options.h"
 
 #include <petscoptions.h>
+#include <petscsnes.h>
 
 namespace biotcontact
 {
@@ -32,10 +33,25 @@ PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBoo
   }
   PetscFunctionReturn(0);
 }
+
+/// Only the VI methods take bounds; any other would ignore the contact.
+/// Asked of both prefixes, so that a type given for the path not taken is
+/// not ignored silently either.
+void check_bound_method(const std::string& prefix)
+{
+  for (const std::string& p : {prefix, prefix + "contact_"})
+  {
+    const std::string type = option(p, "-snes_type");
+    if (!type.empty() and type != SNESVINEWTONRSLS and type != SNESVINEWTONSSLS)
+      throw OptionsError("-" + p + "snes_type " + type
+                         + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
+  }
+}
 } // namespace
 
 ContactPathChoice choose_contact_path(MPI_Comm comm, const std::string& prefix, const PathCosts& costs)
 {
+  check_bound_method(prefix);
   // Forming H takes m solves: cheap back-solves of a factorisation, but m
   // full Krylov solves with an iterative method, and m more at each change
   // of A.

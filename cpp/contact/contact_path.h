@@ -55,7 +55,9 @@ struct ContactPathChoice
 /// contact once would pay the Schur complement for one solve: there the
 /// whole system's first Newton steps come first, all a solve whose active
 /// set they find costs; else the condensed path follows. Throws
-/// OptionsError for a value that is not a boolean (collective).
+/// OptionsError for a value that is not a boolean, or a -snes_type of
+/// either prefix (<prefix>, <prefix>contact_) that takes no bounds
+/// (collective).
 ContactPathChoice choose_contact_path(MPI_Comm comm, const std::string& prefix, const PathCosts& costs);
 
 } // namespace biotcontact

@@ -25,10 +25,27 @@ void SolvedLoad::keep(Vec b, Vec x)
   _known = true;
 }
 
+namespace
+{
+/// The continuation's load and iterate, destroyed however it ends (also
+/// by an error of another kind than SolverError).
+struct WorkVectors
+{
+  Vec b = nullptr, y = nullptr;
+  ~WorkVectors()
+  {
+    warn_petsc(VecDestroy(&b), "load continuation: VecDestroy");
+    warn_petsc(VecDestroy(&y), "load continuation: VecDestroy");
+  }
+};
+} // namespace
+
 bool continue_load(const SolvedLoad& from, Vec target, Vec x, const std::function<void(Vec b, Vec x)>& solve,
                    int max_solves)
 {
-  Vec b, y;
+  WorkVectors work;
+  Vec& b = work.b;
+  Vec& y = work.y;
   check_petsc(VecDuplicate(target, &b), "load continuation: VecDuplicate");
   check_petsc(VecDuplicate(x, &y), "load continuation: VecDuplicate");
   check_petsc(VecCopy(from.solution(), y), "load continuation: VecCopy");
@@ -53,8 +70,6 @@ bool continue_load(const SolvedLoad& from, Vec target, Vec x, const std::functio
   const bool reached = tau >= 1;
   if (reached)
     check_petsc(VecCopy(y, x), "load continuation: VecCopy");
-  check_petsc(VecDestroy(&b), "load continuation: VecDestroy");
-  check_petsc(VecDestroy(&y), "load continuation: VecDestroy");
   return reached;
 }
 

@@ -26,7 +26,6 @@ from .contact_set import any_frictional, constraint_law, displacement_scale
 from .schur_complement import SchurComplement
 from .variational_inequality import VariationalInequality, VIProblem
 from .whole_system import WholeSystem
-from ..solvers.options import OptionsError
 from ..solvers.solver import SolverError, SolverStage, Structure, SystemLayout, set_default_option
 
 
@@ -119,13 +118,6 @@ class ContactSolver:
             self.full_steps = 2 if problem.frictional else 1
             self.vi = VariationalInequality(problem, WholeSystem(comm, self.A_vi, self.P_vi,
                                                                  SystemLayout(prefix, structure, self.fields), method))
-        # Only the VI methods take bounds; asked of both prefixes, so that a
-        # type given for the path not taken is not ignored silently either.
-        for p in (prefix, prefix + "contact_"):
-            given = PETSc.Options().getString(p + "snes_type", "")
-            if given and given not in ("vinewtonrsls", "vinewtonssls"):
-                raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
-                                   "(vinewtonrsls or vinewtonssls)")
 
     def _condensed_vi(self):
         """The condensed VI, friction added."""

@@ -68,6 +68,17 @@ def _read_condensed(comm, prefix, fallback):
     return condensed, options.hasName(prefix + "contact_condensed")
 
 
+def _check_bound_method(prefix):
+    """Only the VI methods take bounds; any other would ignore the contact.
+    Asked of both prefixes, so that a type given for the path not taken is
+    not ignored silently either."""
+    for p in (prefix, prefix + "contact_"):
+        given = PETSc.Options().getString(p + "snes_type", "")
+        if given and given not in ("vinewtonrsls", "vinewtonssls"):
+            raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
+                               "(vinewtonrsls or vinewtonssls)")
+
+
 def choose_contact_path(comm, prefix, costs):
     """-<prefix>contact_condensed, by default condensed when the system is
     solved directly, C is small enough and A is not `changing` (forming H
@@ -75,7 +86,10 @@ def choose_contact_path(comm, prefix, costs):
     contact once would pay the Schur complement for one solve: there the
     whole system's first Newton steps come first, all a solve whose active
     set they find costs; else the condensed path follows. Raises
-    OptionsError for a value that is not a boolean (collective)."""
+    OptionsError for a value that is not a boolean, or a -snes_type of
+    either prefix (<prefix>, <prefix>contact_) that takes no bounds
+    (collective)."""
+    _check_bound_method(prefix)
     open_ = costs.method == Method.direct and costs.contact_dofs <= MAX_CONDENSED_DOFS
     condensed, given = _read_condensed(comm, prefix, open_ and not costs.changing)
     if not condensed:
