@@ -271,9 +271,10 @@ Json run_summary(const SummaryInput& in, const RunOutcome& outcome)
 {
   const Scene& scene = in.problem.scene;
   const CouplingReport& r = in.report;
-  auto st = statistics(solving_steps(in));
+  const std::vector<const Step*> steps = solving_steps(in);
+  auto st = statistics(steps);
   const bool monolithic = scene.coupling and scene.coupling->scheme == CouplingScheme::monolithic;
-  auto [solvers, timings] = solver_summaries(solving_steps(in), !monolithic and scene.solver.inexact_coupling);
+  auto [solvers, timings] = solver_summaries(steps, !monolithic and scene.solver.inexact_coupling);
   double assembly = in.scheme.assembly_time() + (in.fallback ? in.fallback->assembly_time() : 0.0);
   for (const auto& [name, s] : st)
     assembly += s.assembly_time;

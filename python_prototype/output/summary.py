@@ -193,9 +193,10 @@ def run_summary(summary_input, outcome):
     and closed-form errors of the run."""
     i, r = summary_input, summary_input.report
     scene = i.problem.scene
-    st = _statistics(_solving_steps(i))
+    steps = _solving_steps(i)
+    st = _statistics(steps)
     monolithic = scene.coupling is not None and scene.coupling.scheme == CouplingScheme.monolithic
-    solvers, timings = _solver_summaries(_solving_steps(i), not monolithic and scene.solver.inexact_coupling)
+    solvers, timings = _solver_summaries(steps, not monolithic and scene.solver.inexact_coupling)
     timings["assembly"] = (i.scheme.assembly_time() + (i.fallback.assembly_time() if i.fallback is not None else 0.0)
                            + sum(s.assembly_time for s in st.values()))
     timings["output"] = outcome.output_time
