@@ -78,7 +78,7 @@ def unwritable_fault_file(track, ranks, name):
     with open(os.path.join(out, "summary.json")) as f:
         status = json.load(f)["status"]
     check(p.returncode == 4 and len(ours) == 1 and f"cannot write {out}/{name.replace('.next', '')}" in ours[0]
-          and status == "failed", f"{track}, {ranks} rank(s), {name} a directory: exit 4, one line naming the file "
+          and f"(no step was completed; see {out})" in ours[0] and status == "failed", f"{track}, {ranks} rank(s), {name} a directory: exit 4, one line naming the file "
           f"and the reason, summary.json ({p.returncode}, {status}: {p.stderr.strip()[-200:]!r})")
 
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace biotcontact
 {
@@ -93,9 +94,16 @@ int Progress::finish(const RunEnd& end, const std::string& directory, const std:
   if (end.output_failed)
   {
     if (_root)
-      std::fprintf(stderr, "biotcontact: error: %s (steps 1 to %d, t <= %g, are in %s%s)\n", end.failure.c_str(),
-                   end.completed_steps, end.completed_time, directory.c_str(),
-                   end.saved > 0 ? ("; its last checkpoint is of step " + std::to_string(end.saved)).c_str() : "");
+    {
+      std::ostringstream kept;
+      if (end.completed_steps > 0)
+        kept << "steps 1 to " << end.completed_steps << ", t <= " << end.completed_time << ", are in " << directory;
+      else
+        kept << "no step was completed; see " << directory;
+      if (end.saved > 0)
+        kept << "; its last checkpoint is of step " << end.saved;
+      std::fprintf(stderr, "biotcontact: error: %s (%s)\n", end.failure.c_str(), kept.str().c_str());
+    }
     return run_output_failed;
   }
   if (!end.failure.empty())

@@ -100,9 +100,10 @@ class Progress:
             return 128 + end.signal
         if end.output_failed:
             if self._root:
+                kept = (f"steps 1 to {end.completed_steps}, t <= {end.completed_time:g}, are in {directory}"
+                        if end.completed_steps > 0 else f"no step was completed; see {directory}")
                 checkpoint = f"; its last checkpoint is of step {end.saved}" if end.saved > 0 else ""
-                print(f"biotcontact: error: {end.failure} (steps 1 to {end.completed_steps}, "
-                      f"t <= {end.completed_time:g}, are in {directory}{checkpoint})", file=sys.stderr, flush=True)
+                print(f"biotcontact: error: {end.failure} ({kept}{checkpoint})", file=sys.stderr, flush=True)
             return RUN_OUTPUT_FAILED
         if end.failure:
             if self._root:
