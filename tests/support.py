@@ -328,7 +328,9 @@ def run_track(track, scene_file, *sets, expect=0, ranks=1, options=()):
 def restarted(track, scene_file, out, *sets, expect=0, ranks=1):
     """Continues the run in `out` from its checkpoint with --set values on
     `ranks` MPI ranks, checking its exit status; returns the completed
-    process."""
+    process. Unlike run_track it adds no EVERY_RANK: the --set values are
+    in the checkpoint's fingerprint, so a run restarted on several ranks
+    names solver.cells_per_rank = 0 among its own `sets` from the start."""
     p = subprocess.run([*(mpirun(ranks) if ranks > 1 else []), *TRACKS[track], "run", scene_file, "--restart", out,
                         *[a for s in sets for a in ("--set", s)]],
                        capture_output=True, text=True, env=MPI_ENV, cwd=ROOT, timeout=900)
