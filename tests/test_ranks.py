@@ -2,7 +2,8 @@
 the 1-rank run's coupling iterations, contact sets and fields (1e-8 relative),
 on both tracks: the split with contact (each rank a copy of the factorisation,
 PCREDUNDANT, and its share of the contact Schur complement's columns), the
-monolithic solve with contact, and MUMPS across the ranks when named;
+monolithic solve with contact, multirate windows, adaptive BDF2 steps, and
+MUMPS across the ranks when named;
 and `auto` divides its crossovers by the rank count (the 3D block at [24,12,6]:
 flow direct on one rank, iterative on two; the summary says why). A mesh too
 small for its ranks (solver.cells_per_rank) is worked by fewer: on 2 ranks
@@ -18,7 +19,11 @@ SHORT = ["time.end=1.2", "mesh.cells=[80,8]"]
 CASES = {"split with contact": ([], {"flow": "redundant (lu, petsc on each rank)",
                                      "mechanics": "redundant (cholesky, cholmod on each rank)"}),
          "monolithic with contact": (["coupling.scheme=monolithic"],
-                                     {"monolithic": "redundant (lu, mumps on each rank)"})}
+                                     {"monolithic": "redundant (lu, mumps on each rank)"}),
+         # whole windows of q = 4 (1.6 s); BDF2's and the controller's state
+         # carried from step to step
+         "multirate with contact": (["time.end=1.6", "coupling.scheme=multirate", "coupling.q=4"], {}),
+         "adaptive BDF2 with contact": (["time.end=4.8", "time.adaptive.tolerance=1e-2", "time.scheme=bdf2"], {})}
 
 
 def compare(a, b, label, tolerance="1e-8", claim="2 ranks give the 1-rank run"):
