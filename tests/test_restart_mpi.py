@@ -3,13 +3,15 @@ mesh's input numbering (a node's, a cell's, a facet's vertices'), so a run
 checkpointed on 2 ranks goes on, on 2 ranks (the same partition) or on 1
 (none), and a 1-rank checkpoint goes on, on 2, each ending with the
 uninterrupted 1-rank run's fields (1e-8: the ranks sum in another order),
-active sets and coupling iterations, for the split with contact and the
-monolithic solve; a 2-rank run killed by SIGKILL goes on from its last
-periodic checkpoint on 2 ranks, and a C++ run continued on 2 ranks ends with
-the uninterrupted 2-rank run's fields to the bit (the fluxes' signs included).
+active sets and coupling iterations, for the split with contact, the
+monolithic solve and (C++) fault_reactivation's frictional fault; a 2-rank
+run killed by SIGKILL goes on from its last periodic checkpoint on 2 ranks,
+and a C++ run continued on 2 ranks ends with the uninterrupted 2-rank run's
+fields to the bit (the fluxes' signs included).
 A checkpoint of another mesh under the same scene text (another size, or its
 nodes moved) is refused in one line on 1 and 2 ranks, no output touched; the
 prototype does the same with its own checkpoints."""
+import dataclasses
 import os
 import shutil
 import signal
@@ -112,15 +114,23 @@ def killed_run(track, ranks, scene_file, options):
     return out
 
 
-def continues_the_run(track, label, whole, ranks, options, stop=stopped_run):
+@dataclasses.dataclass
+class Case:
+    """A scene and its --set values, named."""
+    label: str
+    scene_file: str
+    options: list
+
+
+def continues_the_run(track, case, whole, ranks, stop=stopped_run):
     """Checkpointed on ranks[0], restarted on ranks[1]: the uninterrupted
     1-rank run (whole[1]) to 1e-8, and on an unchanged rank count its own
     uninterrupted run (whole[ranks[0]], where given) to the bit: one
     partition per mesh and rank count (PT-Scotch on one thread)."""
     stopped_on, restarted_on = ranks
-    checkpointed = stop(track, stopped_on, scene("default"), options)
-    p = execute(track, restarted_on, scene("default"), "--restart", checkpointed, *options)
-    label = f"{track}, {label}"
+    checkpointed = stop(track, stopped_on, case.scene_file, case.options)
+    p = execute(track, restarted_on, case.scene_file, "--restart", checkpointed, *case.options)
+    label = f"{track}, {case.label}"
     check(p.returncode == 0 and "restarted from the checkpoint at step" in p.stdout,
           f"{label}: checkpointed on {stopped_on}, restarted on {restarted_on} rank(s), runs to the end "
           f"({p.stderr.strip()[-200:]!r})")
@@ -136,22 +146,29 @@ def continues_the_run(track, label, whole, ranks, options, stop=stopped_run):
 
 
 # The default scene, refined and shortened (the signal stops a run after its
-# first step however fast it is: stopped_run).
+# first step however fast it is: stopped_run); fault_reactivation's
+# frictional fault, whose slip, stick and slip states and seismic moments
+# the checkpoint carries across the partitions.
 SMALL = ["--set", "mesh.cells=[80,8]", "--set", "time.end=2.4"]
-CASES = [("split with contact", SMALL), ("monolithic", ["--set", "coupling.scheme=monolithic"] + SMALL)]
-for track, rank_changes in [("C++", [(2, 2), (2, 1), (1, 2)]), ("prototype", [(2, 1), (1, 2)])]:
-    for label, extra in CASES:
-        options = CHECKPOINT + extra
+CASES = [Case("split with contact", scene("default"), CHECKPOINT + SMALL),
+         Case("monolithic", scene("default"), CHECKPOINT + ["--set", "coupling.scheme=monolithic"] + SMALL),
+         Case("frictional fault", scene("fault_reactivation"), CHECKPOINT + ["--set", "time.end=864000"])]
+# The fault on the C++ track alone: the prototype's partitioned checkpoints
+# are the default scene's.
+for track, rank_changes, cases in [("C++", [(2, 2), (2, 1), (1, 2)], CASES),
+                                   ("prototype", [(2, 1), (1, 2)], CASES[:2])]:
+    for case in cases:
         whole = {}
         for ranks in sorted({1} | {a for a, b in rank_changes if a == b}):
             whole[ranks] = tempfile.mkdtemp(prefix="whole-")
-            p = execute(track, ranks, scene("default"), "--out", whole[ranks], *options)
-            check(p.returncode == 0, f"{track}, {label}: the uninterrupted run on {ranks} rank(s) "
+            p = execute(track, ranks, case.scene_file, "--out", whole[ranks], *case.options)
+            check(p.returncode == 0, f"{track}, {case.label}: the uninterrupted run on {ranks} rank(s) "
                   f"({p.stderr.strip()[-200:]!r})")
         for change in rank_changes:
-            continues_the_run(track, label, whole, change, options)
-        if label == "split with contact":
-            continues_the_run(track, label + ", killed", whole, (2, 2), options, stop=killed_run)
+            continues_the_run(track, case, whole, change)
+        if case.label == "split with contact":
+            continues_the_run(track, Case(case.label + ", killed", case.scene_file, case.options), whole, (2, 2),
+                              stop=killed_run)
 
 # Another mesh under the same scene text: the gmsh file changed in between,
 # to another size, or to the same size with its nodes moved.
