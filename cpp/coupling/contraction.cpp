@@ -131,14 +131,27 @@ StoppingIncrements ContractionMeasure::stopping_increments(Window& w, const Incr
 
 /// Coupled residual of an accepted state: the flow equations with u^{n+1}
 /// in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
-/// = L delta sigma^{n+1,m}; relative to the fluid content change.
-void ContractionMeasure::record_coupled_residual(const Window& w, const Increments& inc, const WindowHistory& history)
+/// = L delta sigma^{n+1,m}; relative to the step's change of the fluid
+/// content's two terms, ||alpha div du|| + ||S dp||, not of their sum: an
+/// undrained step (an impermeable rock) changes them alike and its fluid
+/// content not at all, and the ratio was then 1 where the split had
+/// converged. A step that changes them by no more than `tolerance` of the
+/// state's own resolves no residual and is not recorded.
+void ContractionMeasure::record_coupled_residual(const Window& w, const Increments& inc, const WindowHistory& history,
+                                                 double tolerance)
 {
   if (!_stabilised)
     return;
-  const double change = _norm(ContractionNorm::Quantity::fluid_content, difference(w.u_new, history.u_K),
-                               difference(w.p_new[w.q], history.p_K));
-  _report.max_coupled_residual = std::max(_report.max_coupled_residual, change > 0 ? inc.residual / change : 0.0);
+  const double change = fluid_content_terms(difference(w.u_new, history.u_K), difference(w.p_new[w.q], history.p_K));
+  if (change > tolerance * fluid_content_terms(w.u_new, w.p_new[w.q]))
+    _report.max_coupled_residual = std::max(_report.max_coupled_residual, inc.residual / change);
+}
+
+double ContractionMeasure::fluid_content_terms(std::span<const double> u, std::span<const double> p)
+{
+  using Quantity = ContractionNorm::Quantity;
+  const std::vector<double> no_u(u.size(), 0.0), no_p(p.size(), 0.0);
+  return _norm(Quantity::fluid_content, u, no_p) + _norm(Quantity::fluid_content, no_u, p);
 }
 
 } // namespace biotcontact

@@ -12,6 +12,7 @@
 #include "diagnostics/diagnostics.h"
 
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace biotcontact
@@ -53,9 +54,12 @@ public:
   Increments measure(const Window& w, int n);
   void hold_against_gamma(Window& w, const Increments& inc, int n);
   StoppingIncrements stopping_increments(Window& w, const Increments& inc, int n, bool conduits);
-  void record_coupled_residual(const Window& w, const Increments& inc, const WindowHistory& history);
+  void record_coupled_residual(const Window& w, const Increments& inc, const WindowHistory& history,
+                               double tolerance);
 
 private:
+  /// ||alpha div u|| + ||S p||: the fluid content's two terms, each by its norm.
+  double fluid_content_terms(std::span<const double> u, std::span<const double> p);
   ContractionNorm _norm;
   const bool _stabilised; // L > 0 in some cell: Theorem 2's quantity is measured
   const bool _multirate;

@@ -311,7 +311,7 @@ bool FixedStressSplit::iteration(Window& w, int n)
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
   if (converged)
   {
-    _measure.record_coupled_residual(w, inc, _history);
+    _measure.record_coupled_residual(w, inc, _history, tolerance);
     // Compared once per window, on the converged iterate (one collective).
     w.contact_changed = !same_active_set(w.active, _active_K, _V.mesh()->comm());
   }

@@ -153,12 +153,22 @@ class ContractionMeasure:
         w.fault_previous = float(inc.fault_dp)
         return s
 
-    def record_coupled_residual(self, w, inc, history):
+    def record_coupled_residual(self, w, inc, history, tolerance):
         """Coupled residual of an accepted state: the flow equations with
         u^{n+1} in place of u^n differ by L(dp^m - dp^{m-1}) - (alpha/q) div du
-        = L delta sigma^{n+1,m}; relative to the fluid content change."""
+        = L delta sigma^{n+1,m}; relative to the step's change of the fluid
+        content's two terms, ||alpha div du|| + ||S dp||, not of their sum:
+        an undrained step (an impermeable rock) changes them alike and its
+        fluid content not at all, and the ratio was then 1 where the split
+        had converged. A step that changes them by no more than `tolerance`
+        of the state's own resolves no residual and is not recorded."""
         if not self.stabilised:
             return
-        change = self.norm("fluid_content", w.u_new - history.u_K, w.p_new[w.q] - history.p_K)
-        self.report.max_coupled_residual = max(self.report.max_coupled_residual,
-                                               inc.residual / change if change > 0 else 0.0)
+        change = self._fluid_content_terms(w.u_new - history.u_K, w.p_new[w.q] - history.p_K)
+        if change > tolerance * self._fluid_content_terms(w.u_new, w.p_new[w.q]):
+            self.report.max_coupled_residual = max(self.report.max_coupled_residual, inc.residual / change)
+
+    def _fluid_content_terms(self, u, p):
+        """||alpha div u|| + ||S p||: the fluid content's two terms, each by
+        its norm."""
+        return self.norm("fluid_content", u, np.zeros_like(p)) + self.norm("fluid_content", np.zeros_like(u), p)

@@ -252,7 +252,7 @@ class _FixedStressSplit:
         tolerance = self.tolerance(w)
         converged = dp_norm <= tolerance and du_norm <= tolerance
         if converged:
-            self.measure.record_coupled_residual(w, inc, self.history)
+            self.measure.record_coupled_residual(w, inc, self.history, tolerance)
             # Compared once per window, on the converged iterate (one collective).
             w.contact_changed = not same_active_set(w.active, self.active_K, self.comm)
         return converged
