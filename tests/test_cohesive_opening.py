@@ -9,8 +9,7 @@ coupling.fallback hands step 12 to the monolithic scheme and ends as the
 monolithic run (1e-8); without it, it ends in exit 3 at step 12, step 11
 checkpointed; restarted from there monolithic it ends as the monolithic
 run (1e-8), with coupling.fallback on 2 ranks as the 1-rank run that had
-it (1e-10). Numbers: docs/verification.md,
-"What each test verifies"."""
+it (1e-10). Numbers: docs/verification.md, "What each test verifies"."""
 import csv
 import os
 import shutil

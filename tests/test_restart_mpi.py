@@ -1,16 +1,15 @@
 """Restarts on any partition (issue 21): a checkpoint names each value by the
 mesh's input numbering (a node's, a cell's, a facet's vertices'), so a run
-checkpointed on 2 ranks goes on, on 2 ranks (the same partition) or on 1
-(none), and a 1-rank checkpoint goes on, on 2, each ending with the
-uninterrupted 1-rank run's fields (1e-8: the ranks sum in another order),
-active sets and coupling iterations, for the split with contact, the
-monolithic solve and (C++) fault_reactivation's frictional fault; a 2-rank
-run killed by SIGKILL goes on from its last periodic checkpoint on 2 ranks,
-and a C++ run continued on 2 ranks ends with the uninterrupted 2-rank run's
-fields to the bit (the fluxes' signs included).
-A checkpoint of another mesh under the same scene text (another size, or its
-nodes moved) is refused in one line on 1 and 2 ranks, no output touched; the
-prototype does the same with its own checkpoints."""
+checkpointed on 2 ranks goes on, on 2 ranks (the same partition) or on 1,
+and a 1-rank checkpoint on 2, each ending with the uninterrupted 1-rank
+run's fields (1e-8: the ranks sum in another order), active sets and
+coupling iterations: the split with contact, the monolithic solve and (C++)
+fault_reactivation's frictional fault; a 2-rank run killed by SIGKILL goes
+on from its last periodic checkpoint on 2 ranks, and a C++ run continued on
+2 ranks ends with the uninterrupted 2-rank run's fields to the bit (the
+fluxes' signs included). A checkpoint of another mesh under the same scene
+text (another size, or its nodes moved) is refused in one line on 1 and 2
+ranks, no output touched, on both tracks."""
 import dataclasses
 import os
 import shutil
