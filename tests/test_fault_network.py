@@ -1,14 +1,14 @@
-"""Flow through a network of conduit faults (issue 52, item 2 and
-verification 1; docs/theory.md, "Flow in a fault network"), both tracks.
-Rigid impermeable rock: every fault cell's pressure and the rate through
-each intersection equal the resistor network's (cubic-law conductances,
-Kirchhoff at an X and a T; also with finite normal permeabilities) to
-1e-10; each fault balances with its intersections, in 2D and on two planes
-crossing in 3D, where one plane drawn as one or two groups gives the same
-pressure; 2 ranks = 1 and a restart ends equal on a transient network; the
-shipped scenes/network2d.toml and network3d.toml spread the injected fluid
-through their intersections, balanced, every pair within the Coulomb disc.
-Numbers: docs/verification.md, "What each test verifies"."""
+"""Flow through a network of conduit faults (issue 52, item 2 and verification 1;
+docs/theory.md, "Flow in a fault network"), both tracks. Rigid impermeable
+rock: every fault cell's pressure and the rate through each intersection equal
+the resistor network's (cubic-law conductances, Kirchhoff at an X, a T and four
+faults through one point; also with finite normal permeabilities) to 1e-10;
+each fault balances with its intersections, in 2D and on two planes crossing in
+3D, where one plane drawn as one or two groups gives the same pressure; 2 ranks
+= 1 and a restart ends equal on a transient network; the shipped
+scenes/network2d.toml and network3d.toml spread the injected fluid through
+their intersections, balanced, every pair within the Coulomb disc. Numbers:
+docs/verification.md, "What each test verifies"."""
 import os
 import subprocess
 
@@ -208,6 +208,64 @@ def check_crossing_planes(track):
     check(same and d <= 1e-12, f"{track}: the plane x = 1 as one fault or as two meeting along y = 1: the same "
           f"{len(p1)} cells, the same pressure to {d:.1e} (1e-12)")
     return out
+
+
+# Four faults through one point (a star of 8 arms, each ending on a held
+# side): the junction's pressure sum g p / sum g over the arms (g = t / L)
+# and each arm linear to it. Before 2026-12-04 a cell by it held more
+# entries than its row's preallocation: PETSc error 63 on both tracks.
+STAR_GEO = """SetFactory("Built-in");
+h = 0.25;
+Point(1) = {0, 0, 0, h}; Point(2) = {4, 0, 0, h}; Point(3) = {4, 4, 0, h}; Point(4) = {0, 4, 0, h};
+Point(5) = {0, 2, 0, h}; Point(6) = {4, 2, 0, h}; Point(7) = {2, 0, 0, h}; Point(8) = {2, 4, 0, h};
+Point(9) = {0, 1, 0, h}; Point(10) = {4, 3, 0, h}; Point(11) = {1, 0, 0, h}; Point(12) = {3, 4, 0, h};
+Point(13) = {2, 2, 0, h};
+Line(1) = {1, 11}; Line(2) = {11, 7}; Line(3) = {7, 2}; Line(4) = {2, 6}; Line(5) = {6, 10}; Line(6) = {10, 3};
+Line(7) = {3, 12}; Line(8) = {12, 8}; Line(9) = {8, 4}; Line(10) = {4, 5}; Line(11) = {5, 9}; Line(12) = {9, 1};
+Curve Loop(1) = {1:12}; Plane Surface(1) = {1};
+Line(21) = {5, 13}; Line(22) = {13, 6}; Line(23) = {7, 13}; Line(24) = {13, 8};
+Line(25) = {9, 13}; Line(26) = {13, 10}; Line(27) = {11, 13}; Line(28) = {13, 12};
+Line{21:28} In Surface{1};
+Physical Curve("bottom") = {1, 2, 3}; Physical Curve("right") = {4, 5, 6}; Physical Curve("top") = {7, 8, 9};
+Physical Curve("left") = {10, 11, 12}; Physical Curve("a") = {21, 22}; Physical Curve("b") = {23, 24};
+Physical Curve("c") = {25, 26}; Physical Curve("d") = {27, 28}; Physical Surface("rock") = {1};
+"""
+# per fault (alphabetical: fault.xdmf's ids) its aperture, normal and ends
+STAR = {"a": (1.0e-4, "[0.0, 1.0]", ((0, 2, "left"), (4, 2, "right"))),
+        "b": (2.0e-4, "[1.0, 0.0]", ((2, 0, "bottom"), (2, 4, "top"))),
+        "c": (1.5e-4, "[-1.0, 2.0]", ((0, 1, "left"), (4, 3, "right"))),
+        "d": (1.2e-4, "[2.0, -1.0]", ((1, 0, "bottom"), (3, 4, "top")))}
+
+
+def check_star(track):
+    faults = "".join(conduit(name, w, normal) for name, (w, normal, _) in STAR.items())
+    out, _ = run_track(track, scene(STAR_GEO, 2, "".join(f"[boundary.{b}]\npressure = {p}\n"
+                                                         for b, p in HELD.items()) + faults))
+    J = np.array([2.0, 2.0])
+    arms = [(f, np.array(end[:2], float), HELD[end[2]], w ** 3 / (12 * MU))
+            for f, (w, _, ends) in enumerate(STAR.values()) for end in ends]
+    g = [t / np.linalg.norm(e - J) for _, e, _, t in arms]
+    p_j = sum(gi * p for gi, (_, _, p, _) in zip(g, arms)) / sum(g)
+    x, ids, p = fault_pressure(out)
+    exact = np.empty_like(p)
+    for i, (f, c) in enumerate(zip(ids, x[:, :2])):
+        _, e, p_e, _ = next(a for a in arms if a[0] == f and np.dot(c - J, a[1] - J) > 0)
+        exact[i] = p_j + (p_e - p_j) * np.linalg.norm(c - J) / np.linalg.norm(e - J)
+    error = np.abs(p - exact).max() / 3e6
+    rate = summary(out)["intersections"]
+    through = sum(max(gi * (p - p_j), 0.0) for gi, (_, _, p, _) in zip(g, arms))
+    off = abs(rate["a & b & c & d"]["rate"] / through - 1) if list(rate) == ["a & b & c & d"] else np.inf
+    check(error <= 1e-10 and off <= 1e-10 and sorted(set(ids.tolist())) == [0, 1, 2, 3],
+          f"{track}: four faults through one point, the junction at {p_j / 1e6:.6f} MPa, every cell ({len(p)}) on "
+          f"the arms' profiles to {error:.1e}, the rate through it the arms' to {off:.1e} (1e-10)")
+    check_volumes(out, track, "2D, four faults through one point")
+    return out
+
+
+stars = {track: check_star(track) for track in ("C++", "prototype")}
+(_, _, a), (_, _, b) = fault_pressure(stars["C++"]), fault_pressure(stars["prototype"])
+check(np.abs(a - b).max() <= 1e-10 * np.abs(a).max(), "four faults through one point: the prototype's fault "
+      f"pressure the C++'s to {np.abs(a - b).max() / np.abs(a).max():.1e} (1e-10)")
 
 
 # The faults' normal permeabilities: inf, and finite on b and c, which gives

@@ -221,6 +221,10 @@ Mat ConduitFaults::operator_matrix(double dt) const
   const std::int32_t owned = _rows.owned();
   check_petsc(MatCreateAIJ(_comm, owned, owned, PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 8, nullptr, &C),
               "the conduit faults' matrix: MatCreateAIJ");
+  // 8 per row is a guess: a cell by a junction couples to every member of
+  // its star (four faults through one point: 9 entries).
+  check_petsc(MatSetOption(C, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE),
+              "the conduit faults' matrix: MatSetOption");
   // Each rank sets its own rows: (cell k, cell l, value).
   auto add = [&](std::int64_t k, std::int64_t l, double v)
   {

@@ -71,6 +71,8 @@ Mat ConduitFaults::flux_jacobian(std::span<const double> p_mine, double t) const
   check_jacobian(MatCreateAIJ(_comm, _rows.owned(), _rows.owned(), PETSC_DETERMINE, PETSC_DETERMINE, 8, nullptr, 8,
                               nullptr, &D),
                  "MatCreateAIJ");
+  // 8 per row is a guess, as in operator_matrix (a junction's star).
+  check_jacobian(MatSetOption(D, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
   // Each rank sets its own rows: (cell k, cell m, value).
   auto add = [&](std::int64_t k, std::int64_t m, double v)
   {

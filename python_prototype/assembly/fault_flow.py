@@ -257,6 +257,9 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         """C: the fault's rows against its own unknowns (collective)."""
         C = PETSc.Mat().createAIJ(((self.owned, None), (self.owned, None)), comm=self.comm)
         C.setPreallocationNNZ((8, 8))
+        # 8 per row is a guess: a cell by a junction couples to every member
+        # of its star (four faults through one point: 9 entries).
+        C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         row = self.rows.row
 
         def add(k, l, value):  # each rank sets its own rows

@@ -61,6 +61,8 @@ class ConduitJacobian:
         p = self.rows.everywhere(p)
         D = PETSc.Mat().createAIJ(((self.owned, None), (self.owned, None)), comm=self.comm)
         D.setPreallocationNNZ((8, 8))
+        # 8 per row is a guess, as in operator_matrix (a junction's star).
+        D.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         row = self.rows.row
 
         def add(k, m, value):  # each rank sets its own rows
