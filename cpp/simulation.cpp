@@ -428,8 +428,10 @@ std::string Simulation::step_being_computed() const
 /// and the failure names the step it was writing.
 void Simulation::output_failed(const OutputError& e)
 {
-  _end.failure = (_checkpointing ? "after step " + std::to_string(_end.completed_steps) : step_being_computed())
-             + ": " + e.what();
+  const std::string when = !_output       ? "opening the output"
+                           : _checkpointing ? "after step " + std::to_string(_end.completed_steps)
+                                            : step_being_computed();
+  _end.failure = when + ": " + e.what();
   _end.output_failed = true;
   _report.windows = _end.completed_steps;
 }

@@ -173,6 +173,7 @@ TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::
     for (Field f; in >> f.name >> f.center >> f.components >> f.writes >> f.dataset;)
       _fields.push_back(f);
   }
+  std::string failed;
   if (_rank0)
   {
     _xml = open(xdmf_path.c_str(), O_RDWR | O_CREAT | (resume ? 0 : O_TRUNC), 0644);
@@ -181,7 +182,17 @@ TimeSeries::TimeSeries(MPI_Comm comm, const std::string& xdmf_path, const mesh::
     const std::string text = resume ? tail : head + tail;
     if (_xml < 0 or !write_at(_xml, text, resume ? _grids_end : 0)
         or ftruncate(_xml, _grids_end + static_cast<off_t>(tail.size())) != 0)
-      throw OutputError(cannot_write(xdmf_path));
+      failed = cannot_write(xdmf_path);
+  }
+  // Every rank throws or none: a constructor that throws runs no destructor,
+  // so rank 0 alone throwing left the others closing the HDF5 file
+  // collectively for ever. They close it together here.
+  if (failed = agreed_error(failed, comm); !failed.empty())
+  {
+    if (_xml >= 0)
+      close(_xml);
+    H5Fclose(_h5);
+    throw OutputError(failed);
   }
 }
 
