@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <omp.h>
 #include <petscsys.h>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -248,8 +249,20 @@ int execute(const Arguments& args, int rank)
     return fail(refused, rank);
   try
   {
-    const biotcontact::Scene scene = biotcontact::read_scene(args.scene, args.overrides);
-    return args.command == "check" ? check_scene(scene, args, rank) : run_scene(scene, args);
+    // Each rank reads the file: one that cannot (its node's file system or
+    // memory) stops every rank, before any other collective call.
+    std::optional<biotcontact::Scene> scene;
+    std::string refused;
+    try
+    {
+      scene.emplace(biotcontact::read_scene(args.scene, args.overrides));
+    }
+    catch (const biotcontact::SceneError& e)
+    {
+      refused = e.what();
+    }
+    biotcontact::agree_on_error(refused, MPI_COMM_WORLD);
+    return args.command == "check" ? check_scene(*scene, args, rank) : run_scene(*scene, args);
   }
   catch (const biotcontact::SceneError& e)
   {

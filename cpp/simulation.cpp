@@ -152,8 +152,12 @@ void Simulation::open_output()
 {
   // The lock first: nothing in the directory is read, created or truncated
   // while another run holds it. A restart of a directory that does not
-  // exist is refused by read_checkpoint, without creating it.
-  if (!_control.restart or std::filesystem::is_directory(_directory))
+  // exist is refused by read_checkpoint, without creating it. Rank 0's view
+  // decides for all (ranks may see a file system differently), so that every
+  // rank meets the same collectives next.
+  int locks = !_control.restart or std::filesystem::is_directory(_directory);
+  MPI_Bcast(&locks, 1, MPI_INT, 0, _comm);
+  if (locks)
     _lock.emplace(_comm, _directory);
   _grid = time_grid(_scene); // a retry (time.retry) halves some of its steps
   if (_control.restart)

@@ -199,7 +199,7 @@ def main(argv):
     from .domain.mesh_checks import check_expressions
     from .output.checkpoint import restart_fingerprint
     from .output.interruption import install_interruption_handlers
-    from .scene.scene import SceneError, read_scene
+    from .scene.scene import SceneError, agree_on_error, read_scene
     from .simulation import run
     from .solvers.options import OptionsError
     from .solvers.solver import SolverError
@@ -224,7 +224,13 @@ def main(argv):
     if refused:
         return fail(refused)
     try:
-        scene = read_scene(scene_file, overrides)
+        # Each rank reads the file: one that cannot (its node's file system
+        # or memory) stops every rank, before any other collective call.
+        try:
+            scene, refused = read_scene(scene_file, overrides), ""
+        except SceneError as e:
+            scene, refused = None, str(e)
+        agree_on_error(refused, comm)
         if command == "check":
             domain = create_domain(scene, comm)  # a gmsh file's boundary names are known once read
             if domain is None:

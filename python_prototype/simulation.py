@@ -114,7 +114,9 @@ class Simulation:
         # The lock first: nothing in the directory is read, created or
         # truncated while another run holds it. A restart of a directory that
         # does not exist is refused by read_checkpoint, without creating it.
-        if not self.restart or os.path.isdir(self.directory):
+        # Rank 0's view decides for all (ranks may see a file system
+        # differently), so that every rank meets the same collectives next.
+        if self.comm.bcast(not self.restart or os.path.isdir(self.directory), root=0):
             self.lock = DirectoryLock(self.comm, self.directory)
         self.grid = time_grid(self.scene)  # a retry (time.retry) halves some of its steps
         if self.restart:

@@ -3,12 +3,13 @@ the 1-rank run's coupling iterations, contact sets and fields (1e-8 relative),
 on both tracks: the split with contact (each rank a copy of the factorisation,
 PCREDUNDANT, and its share of the contact Schur complement's columns), with
 friction on the foundation, the monolithic solve with contact, multirate
-windows, adaptive BDF2 steps, and MUMPS across the ranks when named;
-and `auto` divides its crossovers by the rank count (the 3D block at [24,12,6]:
-flow direct on one rank, iterative on two; the summary says why). A mesh too
-small for its ranks (solver.cells_per_rank) is worked by fewer: on 2 ranks
-fault_reactivation is the 1-rank run to the bit, summary and log say so, and a
-failure there ends both ranks with its status and one line."""
+windows, adaptive BDF2 steps, and MUMPS across the ranks when named; and `auto`
+divides its crossovers by the rank count (the 3D block at [24,12,6]: flow direct
+on one rank, iterative on two; the summary says why). A mesh too small for its
+ranks (solver.cells_per_rank) is worked by fewer: on 2 ranks fault_reactivation
+is the 1-rank run to the bit, summary and log say so, and a failure there ends
+both ranks with its status and one line, as does a scene file one rank cannot
+see."""
 import os
 import subprocess
 import tempfile
@@ -113,3 +114,15 @@ for track in ("C++", "prototype"):
         check(p.returncode == status and len(lines) == 1 and says in lines[0],
               f"{track}: a failure while one of 2 ranks waits: exit {p.returncode} == {status}, one line naming "
               f"{says!r} ({p.stderr.strip()[-300:]!r})")
+
+# The scene file seen by one rank only (the other started in another
+# directory, as on a node whose file system differs): every rank stops with
+# that rank's line (before 2026-12-04 the rank that read it went on and
+# waited for ever for the other).
+for track in ("C++", "prototype"):
+    command = [*TRACKS[track], "run", "scenes/default.toml", "--out", tempfile.mkdtemp(prefix="unseen-")]
+    p = subprocess.run([*mpirun(1), "-wdir", ROOT, *command, ":", "-n", "1", "-wdir", tempfile.gettempdir(), *command],
+                       capture_output=True, text=True, env=dict(MPI_ENV, PYTHONPATH=ROOT), cwd=ROOT, timeout=300)
+    lines = [line for line in p.stderr.strip().splitlines() if line.startswith("biotcontact")]
+    check(p.returncode == 2 and lines == ["biotcontact: error: scenes/default.toml: scene file not found"],
+          f"{track}: the scene file found by one of 2 ranks only: exit {p.returncode}, one line ({lines})")
