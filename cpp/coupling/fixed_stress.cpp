@@ -262,7 +262,7 @@ std::pair<double, double> FixedStressSplit::stopping_test(Window& w, const Incre
   w.active = _mechanics.active_contact_set();
   _observer.record({w.K + 1, t(w, w.q), n + 1, inc.dsigma, inc.ratio, _parameters.gamma, s.dp, s.du,
                     w.active.nodes, s.fault_dp, s.fault_ratio, w.newton_steps});
-  if (!std::isfinite(inc.p2) or !std::isfinite(_state.u_size))
+  if (!std::isfinite(inc.p2) or !std::isfinite(s.du))
     // The iterates hold NaN or inf (a load or coefficient that is not
     // finite): no further iteration can recover.
     throw SolverError("non-finite values (NaN or inf) in the "

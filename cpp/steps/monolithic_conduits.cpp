@@ -7,6 +7,7 @@
 #include <cmath>
 #include <dolfinx/fem/assembler.h>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 namespace biotcontact
@@ -174,10 +175,15 @@ bool MonolithicConduits::update(System& system, la::Vector<double>& u, std::span
   std::array<double, 2> moved{0, 0}; // max |p_f - p_f^i|, max |p_f|
   for (std::size_t k = 0; k < before.size(); ++k)
     moved = {std::max(moved[0], std::abs(_pressure[k] - before[k])), std::max(moved[1], std::abs(_pressure[k]))};
+  // A NaN would drop out of std::max (and make MPI's maximum differ
+  // between ranks): the change is infinite then, on every rank.
+  if (!std::all_of(_pressure.begin(), _pressure.end(), [](double v) { return std::isfinite(v); }))
+    moved[0] = std::numeric_limits<double>::infinity();
   MPI_Allreduce(MPI_IN_PLACE, moved.data(), 2, MPI_DOUBLE, MPI_MAX, _problem.domain.mesh->comm());
   const double tolerance = _problem.scene.coupling->tolerance;
   _change = {_faults->aperture_change(), moved[1] > 0 ? moved[0] / moved[1] : moved[0]};
-  const bool converged = _change[0] <= tolerance and moved[0] <= tolerance * moved[1];
+  const bool converged
+      = _change[0] <= tolerance and std::isfinite(moved[0]) and moved[0] <= tolerance * moved[1];
   if (!converged) // the next iterate's rows: its apertures, and B's Newton term at its p_f
     append(system);
   return converged;

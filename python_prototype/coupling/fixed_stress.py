@@ -207,7 +207,7 @@ class _FixedStressSplit:
         both logged, with the faults' contraction ratio."""
         conduits = self.conduits()
         s = self.measure.stopping_increments(w, inc, n, conduits)
-        if not math.isfinite(inc.p2) or not math.isfinite(self.state.u_size):
+        if not math.isfinite(inc.p2) or not math.isfinite(s.du):
             # The iterates hold NaN or inf (a load or coefficient that is not
             # finite): no further iteration can recover.
             raise SolverError("non-finite values (NaN or inf) in the "

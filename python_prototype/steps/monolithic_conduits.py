@@ -169,12 +169,17 @@ class MonolithicConduits:
         self.pressure = system.appended.x.copy()
         self.faults.set_openings(self.aperture.opening(u), s_n)
         moved = np.array([np.abs(self.pressure - before).max(initial=0.0), np.abs(self.pressure).max(initial=0.0)])
+        # A NaN would make MPI's maximum differ between ranks: the change is
+        # infinite then, on every rank (cpp/steps/monolithic_conduits.cpp).
+        if not np.all(np.isfinite(self.pressure)):
+            moved[0] = np.inf
         self.problem.domain.mesh.comm.Allreduce(MPI.IN_PLACE, moved, op=MPI.MAX)
         tolerance = self.problem.scene.coupling.tolerance
         # The apertures' change (ConduitFaults.aperture_change) and p_f's
         # largest change relative to the largest p_f, for an error.
         self._change = (self.faults.aperture_change, moved[0] / moved[1] if moved[1] > 0 else moved[0])
-        converged = self.faults.aperture_change <= tolerance and moved[0] <= tolerance * moved[1]
+        converged = (self.faults.aperture_change <= tolerance and np.isfinite(moved[0])
+                     and moved[0] <= tolerance * moved[1])
         if not converged:  # the next iterate's rows: its apertures, and B's Newton term at its p_f
             self.append(system)
         return converged
