@@ -96,6 +96,7 @@ VIProblem ContactSolver::condense()
   const PetscInt m = _schur->size();
   // Every rank solves the same small problem.
   VIProblem p{PETSC_COMM_SELF, _prefix + "contact_", _prefix + "contact", _prefix, _schur->matrix(), nullptr};
+  p.shared = _comm;
   check_petsc(VecCreateSeq(PETSC_COMM_SELF, m, &p.layout), "contact solver: VecCreateSeq of the condensed layout");
   // Each rank's constraints come first among its contact DOFs, its
   // tangential ones (friction) after them: the bounded DOFs of H are the

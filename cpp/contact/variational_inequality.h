@@ -53,6 +53,7 @@ struct VIProblem
   bool frictional = false;
   std::vector<std::int32_t> separate_rows;
   bool changing = false;
+  MPI_Comm shared = MPI_COMM_NULL; // ranks that each solve it alone: rank 0's outcome is theirs
 };
 
 /// @brief The solver of a VIProblem (SNES vinewtonrsls), options-driven.

@@ -169,7 +169,8 @@ class ContactSolver:
         # every rank solves the same small problem
         return VIProblem(PETSc.COMM_SELF, MPI.COMM_SELF, vi_prefix, SolverStage(self.prefix + "contact"), self.prefix,
                          self.schur.H, PETSc.Vec().createSeq(self.schur.size(), comm=PETSc.COMM_SELF),
-                         kept.astype(np.int32), self.schur.gather(gap)[kept], self.schur.gather(sign)[kept])
+                         kept.astype(np.int32), self.schur.gather(gap)[kept], self.schur.gather(sign)[kept],
+                         shared=self.comm)
 
     def _contact_dofs(self):
         """The contact DOFs of the VI: each constraint's, then the tangential

@@ -20,6 +20,7 @@ from .friction import FrictionPoint, add_friction_forces, friction_jacobian, fri
 from ..solvers.field_split import is_coupled
 from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.row_weights import BalancedRows
+from ..solvers.shared_outcome import SolveOutcome, shared_outcome
 from ..solvers.options import OptionsError, system_name
 from ..solvers.solver import (ITERATIVE_TOLERANCE, Method, SolverError, SolverStatistics,
                               given_by_user, petsc_error_text, reason_name, set_default_option,
@@ -63,6 +64,7 @@ class VIProblem:
     frictional: bool = False
     separate_rows: object = ()
     changing: bool = False
+    shared: object = None  # ranks that each solve it alone (mpi4py): rank 0's outcome is theirs
 
 
 class VariationalInequality:
@@ -381,21 +383,28 @@ class VariationalInequality:
 
     def _snes_solve(self):
         self.elastic_known = False  # b, K and the scale are the solve's own
+        outcome = SolveOutcome()
         try:
             if self.p.stage:
                 with self.p.stage:
                     self.snes.solve(None, self.y)
             else:
                 self.snes.solve(None, self.y)
+            outcome.reason = self.snes.getConvergedReason()
         except PETSc.Error as e:
             # a zero pivot in the factorisation of a Newton step's reduced
             # system: the system is singular (a body that the contact alone
             # holds, from a start that presses on nothing), a failed step as
             # DIVERGED_DTOL is (convergence.py), which the clamped start answers
             if e.ierr in _ZERO_PIVOTS:
-                return PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
-            raise SolverError(f"{self._solver_name()} failed: {petsc_error_text(e)}") from None
-        return self.snes.getConvergedReason()
+                outcome.reason = PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
+            else:
+                outcome.failure = f"{self._solver_name()} failed: {petsc_error_text(e)}"
+        if self.p.shared is not None:
+            outcome = shared_outcome(outcome, self.y, self.p.shared)
+        if outcome.failure:
+            raise SolverError(outcome.failure) from None
+        return outcome.reason
 
     def _clamped_start(self):
         """Every bounded DOF on its bound and, with friction, every
