@@ -169,6 +169,28 @@ def _versions_without_pkg_resources():
             del sys.modules["pkg_resources"]
 
 
+def _check_scene(scene, scene_file, comm):
+    """`check`: the scene on its mesh (a gmsh file's boundary names are
+    known once read): expressions, materials, contact, the split's warning."""
+    from .assembly.materials import check_materials, gamma_warning, largest_gamma_of
+    from .contact.locate_contact import check_contact
+    from .domain.create_domain import create_domain
+    from .domain.mesh_checks import check_expressions
+    domain = create_domain(scene, comm)
+    if domain is None:
+        return 0  # this rank waits
+    check_expressions(scene, domain, domain.mesh.comm)
+    check_materials(scene, domain)
+    if scene.mechanics:
+        check_contact(scene, domain)
+    warning = gamma_warning(scene, largest_gamma_of(scene, domain.regions))
+    if comm.rank == 0 and warning:
+        print(f"warning: {warning}")
+    if comm.rank == 0:
+        print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
+    return 0
+
+
 def main(argv):
     if argv[:1] == ["compare"]:
         return compare_main(argv[1:])
@@ -193,10 +215,6 @@ def main(argv):
     # The JIT compiler (setuptools) logs to the root logger at INFO: keep warnings only.
     logging.getLogger().addFilter(lambda record: record.levelno >= logging.WARNING)
     dolfinx.log.set_log_level(dolfinx.log.LogLevel.WARNING)
-    from .assembly.materials import check_materials, gamma_warning, largest_gamma_of
-    from .contact.locate_contact import check_contact
-    from .domain.create_domain import create_domain
-    from .domain.mesh_checks import check_expressions
     from .output.checkpoint import restart_fingerprint
     from .output.interruption import install_interruption_handlers
     from .scene.scene import SceneError, agree_on_error, read_scene
@@ -232,19 +250,7 @@ def main(argv):
             scene, refused = None, str(e)
         agree_on_error(refused, comm)
         if command == "check":
-            domain = create_domain(scene, comm)  # a gmsh file's boundary names are known once read
-            if domain is None:
-                return 0  # this rank waits
-            check_expressions(scene, domain, domain.mesh.comm)
-            check_materials(scene, domain)
-            if scene.mechanics:
-                check_contact(scene, domain)
-            warning = gamma_warning(scene, largest_gamma_of(scene, domain.regions))
-            if comm.rank == 0 and warning:
-                print(f"warning: {warning}")
-            if comm.rank == 0:
-                print(f"{scene_file}: ok ({scene.name}, {scene.num_steps()} steps)")
-            return 0
+            return _check_scene(scene, scene_file, comm)
         # A restart goes on in the directory of the run it continues.
         with open(scene_file) as f:
             fingerprint = restart_fingerprint(f.read(), overrides, scene)
