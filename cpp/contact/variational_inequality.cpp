@@ -355,18 +355,17 @@ SNESConvergedReason VariationalInequality::run_snes()
   if (_stage)
     stage.emplace(*_stage);
   _elastic_known = false; // b, K and the scale are the solve's own
+  // A zero pivot in the factorisation of a Newton step's reduced system:
+  // the system is singular (a body that the contact alone holds, from a
+  // start that presses on nothing), a failed step as DIVERGED_DTOL is
+  // (convergence.cpp), which the clamped start answers.
+  SNESConvergedReason reason = SNES_DIVERGED_LINEAR_SOLVE;
   SolveOutcome o;
-  if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _y); ierr != 0)
-    // A zero pivot in the factorisation of a Newton step's reduced system:
-    // the system is singular (a body that the contact alone holds, from a
-    // start that presses on nothing), a failed step as DIVERGED_DTOL is
-    // (convergence.cpp), which the clamped start answers.
-    o = ierr == PETSC_ERR_MAT_LU_ZRPVT or ierr == PETSC_ERR_MAT_CH_ZRPVT
-            ? SolveOutcome{SNES_DIVERGED_LINEAR_SOLVE, ""}
-            : SolveOutcome{0, solver_name() + " failed: " + petsc_error_text(ierr)};
-  else
-    check_petsc(SNESGetConvergedReason(_snes, reinterpret_cast<SNESConvergedReason*>(&o.reason)),
-                "contact solver: SNESGetConvergedReason");
+  if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _y); ierr == 0)
+    check_petsc(SNESGetConvergedReason(_snes, &reason), "contact solver: SNESGetConvergedReason");
+  else if (ierr != PETSC_ERR_MAT_LU_ZRPVT and ierr != PETSC_ERR_MAT_CH_ZRPVT)
+    o.failure = solver_name() + " failed: " + petsc_error_text(ierr);
+  o.reason = reason;
   if (_p.shared != MPI_COMM_NULL)
     o = shared_outcome(o, _y, _p.shared);
   if (!o.failure.empty())
