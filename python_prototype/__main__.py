@@ -220,7 +220,7 @@ def main(argv):
     from .scene.scene import SceneError, agree_on_error, read_scene
     from .simulation import run
     from .solvers.options import OptionsError
-    from .solvers.solver import SolverError
+    from .solvers.solver import SolverError, petsc_error_text
 
     comm = MPI.COMM_WORLD
     install_interruption_handlers()
@@ -260,7 +260,10 @@ def main(argv):
     except SolverError as e:
         return fail(str(e), 3)
     except Exception as e:  # noqa: BLE001  (anything else: one line, status 1)
-        return _unexpected_error(comm, f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}")
+        # a PETSc error in PETSc's words, as check_petsc gives them (its first
+        # line, "error code N", names nothing)
+        return _unexpected_error(comm, petsc_error_text(e) if isinstance(e, PETSc.Error)
+                                 else f"{type(e).__name__}: {(str(e).splitlines() or [''])[0]}")
 
 
 def _unexpected_error(comm, what):
