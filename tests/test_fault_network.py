@@ -1,14 +1,15 @@
 """Flow through a network of conduit faults (issue 52, item 2 and verification 1;
-docs/theory.md, "Flow in a fault network"), both tracks. Rigid impermeable
-rock: every fault cell's pressure and the rate through each intersection equal
-the resistor network's (cubic-law conductances, Kirchhoff at an X, a T and four
-faults through one point; also with finite normal permeabilities) to 1e-10;
-each fault balances with its intersections, in 2D and on two planes crossing in
-3D, where one plane drawn as one or two groups gives the same pressure; 2 ranks
-= 1 and a restart ends equal on a transient network; the shipped
-scenes/network2d.toml and network3d.toml spread the injected fluid through
-their intersections, balanced, every pair within the Coulomb disc. Numbers:
-docs/verification.md, "What each test verifies"."""
+docs/theory.md, "Flow in a fault network"), both tracks. Rigid impermeable rock:
+every fault cell's pressure and the rate through each intersection equal the
+resistor network's (cubic-law conductances, Kirchhoff at an X, a T and four
+faults through one point; also with finite normal permeabilities) to 1e-10; each
+fault balances with its intersections, in 2D and on two planes crossing in 3D,
+where one plane drawn as one or two groups gives the same pressure; 2 ranks = 1
+and a restart ends equal on a transient network; the shipped
+scenes/network2d.toml and network3d.toml spread the injected fluid through their
+intersections, balanced, every pair within the Coulomb disc; the star under
+mechanics (friction, a well) opens, slips and sticks, balanced, 2 ranks = 1.
+Numbers: docs/verification.md, "What each test verifies"."""
 import os
 import subprocess
 
@@ -266,6 +267,79 @@ stars = {track: check_star(track) for track in ("C++", "prototype")}
 (_, _, a), (_, _, b) = fault_pressure(stars["C++"]), fault_pressure(stars["prototype"])
 check(np.abs(a - b).max() <= 1e-10 * np.abs(a).max(), "four faults through one point: the prototype's fault "
       f"pressure the C++'s to {np.abs(a - b).max() / np.abs(a).max():.1e} (1e-10)")
+
+
+# The star under mechanics, its inclined faults ending inside the rock (a
+# fault ending on a side with a prescribed displacement must cross it at a
+# right angle), friction 0.6, a well into a: one pair opens, some slip, the
+# rest stick; the Coulomb law at every pair, the volumes balanced, 2 ranks =
+# 1 and the prototype = C++ (1e-8).
+STAR_IN_ROCK_GEO = """SetFactory("Built-in");
+h = 0.25;
+Point(1) = {0, 0, 0, h}; Point(2) = {4, 0, 0, h}; Point(3) = {4, 4, 0, h}; Point(4) = {0, 4, 0, h};
+Point(5) = {0, 2, 0, h}; Point(6) = {4, 2, 0, h}; Point(7) = {2, 0, 0, h}; Point(8) = {2, 4, 0, h};
+Point(9) = {1, 1, 0, h}; Point(10) = {3, 3, 0, h}; Point(11) = {1, 3, 0, h}; Point(12) = {3, 1, 0, h};
+Point(13) = {2, 2, 0, h};
+Line(1) = {1, 7}; Line(2) = {7, 2}; Line(3) = {2, 6}; Line(4) = {6, 3};
+Line(5) = {3, 8}; Line(6) = {8, 4}; Line(7) = {4, 5}; Line(8) = {5, 1}; Curve Loop(1) = {1:8}; Plane Surface(1) = {1};
+Line(21) = {5, 13}; Line(22) = {13, 6}; Line(23) = {7, 13}; Line(24) = {13, 8};
+Line(25) = {9, 13}; Line(26) = {13, 10}; Line(27) = {12, 13}; Line(28) = {13, 11}; Line{21:28} In Surface{1};
+Physical Curve("bottom") = {1, 2}; Physical Curve("right") = {3, 4}; Physical Curve("top") = {5, 6};
+Physical Curve("left") = {7, 8}; Physical Curve("a") = {21, 22}; Physical Curve("b") = {23, 24};
+Physical Curve("c") = {25, 26}; Physical Curve("d") = {27, 28}; Physical Surface("rock") = {1};
+"""
+STAR_IN_ROCK = """[mechanics]
+E = 20.0e9
+nu = 0.25
+[coupling]
+scheme = "monolithic"
+alpha = 1.0
+tolerance = 1e-10
+[boundary.left]
+displacement = { x = 0.0 }
+pressure = 1e6
+[boundary.bottom]
+displacement = { y = 0.0 }
+pressure = 1e6
+[boundary.right]
+traction = [-2.0e7, 0.0]
+[boundary.top]
+traction = [0.0, -3.0e7]
+[well.inj]
+fault = "a"
+position = [1.0, 2.0]
+rate = 5.0e-3
+""" + "".join(conduit(f, w, n) + "friction = 0.6\n" for f, w, n in (
+    ("a", 1.0e-4, "[0.0, 1.0]"), ("b", 2.0e-4, "[1.0, 0.0]"), ("c", 1.5e-4, "[-1.0, 1.0]"), ("d", 1.2e-4, "[1.0, 1.0]")))
+STAR_FLOW = ["flow.permeability=1.0e-18", "flow.c_f=1.0e-9", "flow.M=1.0e10", "time.end=4.0"]
+
+
+def check_star_in_rock():
+    path = scene(STAR_IN_ROCK_GEO, 2, STAR_IN_ROCK)
+    runs = {(track, ranks): run_track(track, path, *STAR_FLOW, ranks=ranks)[0]
+            for track in ("C++", "prototype") for ranks in (1, 2)}
+    one = runs[("C++", 1)]
+    h = contact_history(one)
+    state, excess = h["state"][-1], np.max(h["tau"] - 0.6 * h["sigma"]) / h["sigma"].max()
+    check(summary(one)["converged"] and (state == 0).sum() > 0 and (state == 2).sum() > 0
+          and (state == 1).sum() > 0 and excess <= 1e-8, f"C++: the star under mechanics, fed by a well: "
+          f"{(state == 0).sum()} pairs open, {(state == 2).sum()} slipping, {(state == 1).sum()} stuck at the end; "
+          f"|tau| - 0.6 sigma_n <= {excess:.1e} of the largest sigma_n (1e-8)")
+    volumes = summary(one)["fault_volumes"]
+    injected = volumes["a"]["injected"]
+    worst = max(imbalance(v) for v in volumes.values()) / injected
+    total = abs(sum(v["intersections"] for v in volumes.values())) / injected
+    check(worst <= 1e-10 and total <= 1e-12 and min(volumes[f]["intersections"] for f in "bcd") > 0,
+          f"C++, the star under mechanics: each fault balanced with the junction to {worst:.1e} of the injected "
+          f"(1e-10), the junction's exchanges summing to {total:.1e} (1e-12); b, c and d fed through it")
+    for (track, ranks), out in list(runs.items())[1:]:
+        d = max_difference(one, out, ["displacement", "pressure"])
+        same = [r["iteration"] for r in iterations(one)] == [r["iteration"] for r in iterations(out)]
+        check(max(d.values()) <= 1e-8 and same, f"the star under mechanics: {track} on {ranks} rank(s) the C++ "
+              f"1-rank run's fields {d} (1e-8) and coupling iterations")
+
+
+check_star_in_rock()
 
 
 # The faults' normal permeabilities: inf, and finite on b and c, which gives
