@@ -215,22 +215,29 @@ def check_crossing_planes(track):
 # side): the junction's pressure sum g p / sum g over the arms (g = t / L)
 # and each arm linear to it. Before 2026-12-04 a cell by it held more
 # entries than its row's preallocation: PETSc error 63 on both tracks.
-STAR_GEO = """SetFactory("Built-in");
+# The square [0, 4]^2 and four faults through its centre: a along y = 2,
+# b along x = 2 (Lines 21-24), c and d through Points 9-12 (Lines 25-28),
+# which each geometry places; the sides' lines and groups are each one's.
+STAR_FRAME = """SetFactory("Built-in");
 h = 0.25;
 Point(1) = {0, 0, 0, h}; Point(2) = {4, 0, 0, h}; Point(3) = {4, 4, 0, h}; Point(4) = {0, 4, 0, h};
 Point(5) = {0, 2, 0, h}; Point(6) = {4, 2, 0, h}; Point(7) = {2, 0, 0, h}; Point(8) = {2, 4, 0, h};
-Point(9) = {0, 1, 0, h}; Point(10) = {4, 3, 0, h}; Point(11) = {1, 0, 0, h}; Point(12) = {3, 4, 0, h};
 Point(13) = {2, 2, 0, h};
+"""
+STAR_FAULTS = """Line(21) = {5, 13}; Line(22) = {13, 6}; Line(23) = {7, 13}; Line(24) = {13, 8};
+Line{21:28} In Surface{1};
+Physical Curve("a") = {21, 22}; Physical Curve("b") = {23, 24}; Physical Curve("c") = {25, 26};
+Physical Curve("d") = {27, 28}; Physical Surface("rock") = {1};
+"""
+STAR_GEO = STAR_FRAME + """\
+Point(9) = {0, 1, 0, h}; Point(10) = {4, 3, 0, h}; Point(11) = {1, 0, 0, h}; Point(12) = {3, 4, 0, h};
 Line(1) = {1, 11}; Line(2) = {11, 7}; Line(3) = {7, 2}; Line(4) = {2, 6}; Line(5) = {6, 10}; Line(6) = {10, 3};
 Line(7) = {3, 12}; Line(8) = {12, 8}; Line(9) = {8, 4}; Line(10) = {4, 5}; Line(11) = {5, 9}; Line(12) = {9, 1};
 Curve Loop(1) = {1:12}; Plane Surface(1) = {1};
-Line(21) = {5, 13}; Line(22) = {13, 6}; Line(23) = {7, 13}; Line(24) = {13, 8};
 Line(25) = {9, 13}; Line(26) = {13, 10}; Line(27) = {11, 13}; Line(28) = {13, 12};
-Line{21:28} In Surface{1};
 Physical Curve("bottom") = {1, 2, 3}; Physical Curve("right") = {4, 5, 6}; Physical Curve("top") = {7, 8, 9};
-Physical Curve("left") = {10, 11, 12}; Physical Curve("a") = {21, 22}; Physical Curve("b") = {23, 24};
-Physical Curve("c") = {25, 26}; Physical Curve("d") = {27, 28}; Physical Surface("rock") = {1};
-"""
+Physical Curve("left") = {10, 11, 12};
+""" + STAR_FAULTS
 # per fault (alphabetical: fault.xdmf's ids) its aperture, normal and ends
 STAR = {"a": (1.0e-4, "[0.0, 1.0]", ((0, 2, "left"), (4, 2, "right"))),
         "b": (2.0e-4, "[1.0, 0.0]", ((2, 0, "bottom"), (2, 4, "top"))),
@@ -274,20 +281,14 @@ check(np.abs(a - b).max() <= 1e-10 * np.abs(a).max(), "four faults through one p
 # right angle), friction 0.6, a well into a: one pair opens, some slip, the
 # rest stick; the Coulomb law at every pair, the volumes balanced, 2 ranks =
 # 1 and the prototype = C++ (1e-8).
-STAR_IN_ROCK_GEO = """SetFactory("Built-in");
-h = 0.25;
-Point(1) = {0, 0, 0, h}; Point(2) = {4, 0, 0, h}; Point(3) = {4, 4, 0, h}; Point(4) = {0, 4, 0, h};
-Point(5) = {0, 2, 0, h}; Point(6) = {4, 2, 0, h}; Point(7) = {2, 0, 0, h}; Point(8) = {2, 4, 0, h};
+STAR_IN_ROCK_GEO = STAR_FRAME + """\
 Point(9) = {1, 1, 0, h}; Point(10) = {3, 3, 0, h}; Point(11) = {1, 3, 0, h}; Point(12) = {3, 1, 0, h};
-Point(13) = {2, 2, 0, h};
 Line(1) = {1, 7}; Line(2) = {7, 2}; Line(3) = {2, 6}; Line(4) = {6, 3};
 Line(5) = {3, 8}; Line(6) = {8, 4}; Line(7) = {4, 5}; Line(8) = {5, 1}; Curve Loop(1) = {1:8}; Plane Surface(1) = {1};
-Line(21) = {5, 13}; Line(22) = {13, 6}; Line(23) = {7, 13}; Line(24) = {13, 8};
-Line(25) = {9, 13}; Line(26) = {13, 10}; Line(27) = {12, 13}; Line(28) = {13, 11}; Line{21:28} In Surface{1};
+Line(25) = {9, 13}; Line(26) = {13, 10}; Line(27) = {12, 13}; Line(28) = {13, 11};
 Physical Curve("bottom") = {1, 2}; Physical Curve("right") = {3, 4}; Physical Curve("top") = {5, 6};
-Physical Curve("left") = {7, 8}; Physical Curve("a") = {21, 22}; Physical Curve("b") = {23, 24};
-Physical Curve("c") = {25, 26}; Physical Curve("d") = {27, 28}; Physical Surface("rock") = {1};
-"""
+Physical Curve("left") = {7, 8};
+""" + STAR_FAULTS
 STAR_IN_ROCK = """[mechanics]
 E = 20.0e9
 nu = 0.25
