@@ -203,6 +203,8 @@ PetscErrorCode ContactConvergence::converged(SNES snes, PetscInt iteration, Pets
   if (iteration == 0)
   {
     _continued = std::exchange(_continuing, false) and _friction;
+    _attempt = _continued ? std::move(_norms) : std::vector<PetscReal>{};
+    _attempt_cycled = _continued and cycling;
     _norms.clear(), cycling = false;
     if (!_continued)
       PetscCall(start(snes, fnorm, rtol));
@@ -277,7 +279,27 @@ SNESConvergedReason ContactConvergence::newton_path(PetscReal fnorm)
   // third) ends, and the clamped start, whose pairs all stick, goes on.
   if (!_continued and newton_stall(_norms, stall_steps))
     return SNES_DIVERGED_DTOL;
+  // A clamped start whose first step lands where the first attempt's did
+  // retraces that attempt (the step depends on its iterate alone), whose
+  // verdict stands: found no other path (the onset of test_cohesive_opening
+  // on the coupled system: 24 more factorisations of the attempt's states).
+  if (_continued and rejoins_attempt(_norms, _attempt))
+  {
+    cycling = _attempt_cycled;
+    return SNES_DIVERGED_DTOL;
+  }
   return SNES_CONVERGED_ITERATING;
+}
+
+namespace
+{
+/// Two residual norms equal to 1e-9 (the last digits of a repeated iterate).
+bool same_norm(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); }
+} // namespace
+
+bool rejoins_attempt(std::span<const double> norms, std::span<const double> attempt)
+{
+  return norms.size() == 2 and attempt.size() >= 2 and same_norm(norms[1], attempt[1]);
 }
 
 bool newton_stall(std::span<const double> norms, std::size_t steps)
@@ -293,15 +315,14 @@ bool newton_stall(std::span<const double> norms, std::size_t steps)
 
 bool newton_cycle(std::span<const double> norms, std::size_t periods)
 {
-  auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); };
   const std::size_t n = norms.size();
   for (std::size_t length = 2; length <= longest_newton_cycle and periods >= 1 and n >= length * periods; ++length)
   {
     bool repeats = true, varies = false;
     for (std::size_t k = n - length * periods; k < n; ++k)
     {
-      repeats = repeats and (k < n - length * (periods - 1) or same(norms[k], norms[k - length]));
-      varies = varies or (k > n - length * periods and !same(norms[k], norms[k - 1]));
+      repeats = repeats and (k < n - length * (periods - 1) or same_norm(norms[k], norms[k - length]));
+      varies = varies or (k > n - length * periods and !same_norm(norms[k], norms[k - 1]));
     }
     if (repeats and varies)
       return true;

@@ -40,6 +40,11 @@ constexpr double stall_reduction = 1e-3;
 /// less than stall_reduction of it.
 bool newton_stall(std::span<const double> norms, std::size_t steps);
 
+/// Whether a clamped start's residuals `norms` (its start, then its first
+/// step) rejoin those of the first attempt it follows, `attempt`: its first
+/// step's residual equals the attempt's first step's to 1e-9.
+bool rejoins_attempt(std::span<const double> norms, std::span<const double> attempt);
+
 /// Whether the last `periods` periods of `norms` repeat a cycle of L
 /// values for some L from 2 to longest_newton_cycle: each equal to the one L
 /// before it to 1e-9, and not all the same (stagnation is no cycle).
@@ -164,6 +169,8 @@ private:
   bool _separate_met = false; // this solve's separate rows met their tolerance once
   std::vector<PetscReal> _residuals; // of the current Krylov solve (stagnation)
   std::vector<PetscReal> _norms;     // of the current Newton solve (newton_cycle)
+  std::vector<PetscReal> _attempt;   // the failed first attempt's, in a clamped start
+  bool _attempt_cycled = false;      // whether it ended in a cycle
   PetscInt _lowered_from = 0;        // the iteration limit before a stagnated solve lowered it
 };
 

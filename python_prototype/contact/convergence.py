@@ -42,19 +42,30 @@ def newton_stall(norms, steps):
     return all(norms[k] > (1 - STALL_REDUCTION) * norms[k - 1] for k in range(n - steps, n))
 
 
+def _same_norm(a, b):
+    """Two residual norms equal to 1e-9 (the last digits of a repeated
+    iterate)."""
+    return abs(a - b) <= 1e-9 * max(a, b)
+
+
+def rejoins_attempt(norms, attempt):
+    """Whether a clamped start's residuals `norms` (its start, then its first
+    step) rejoin those of the first attempt it follows, `attempt`: its first
+    step's residual equals the attempt's first step's to 1e-9."""
+    return len(norms) == 2 and len(attempt) >= 2 and _same_norm(norms[1], attempt[1])
+
+
 def newton_cycle(norms, periods):
     """Whether the last `periods` periods of `norms` repeat a cycle of L
     values for some L from 2 to LONGEST_NEWTON_CYCLE: each equal to the one L
     before it to 1e-9, and not all the same (stagnation is no cycle)."""
-    def same(a, b):
-        return abs(a - b) <= 1e-9 * max(a, b)
     n = len(norms)
     for length in range(2, LONGEST_NEWTON_CYCLE + 1):
         if periods < 1 or n < length * periods:
             break
         first = n - length * periods
-        if (all(same(norms[k], norms[k - length]) for k in range(first + length, n))
-                and any(not same(norms[k], norms[k - 1]) for k in range(first + 1, n))):
+        if (all(_same_norm(norms[k], norms[k - length]) for k in range(first + length, n))
+                and any(not _same_norm(norms[k], norms[k - 1]) for k in range(first + 1, n))):
             return True
     return False
 
@@ -130,6 +141,8 @@ class ContactConvergence:
         self.active_set_changes = 0
         self.on_newton_step = None  # called after each Newton step with its number
         self.norms = []  # of the current Newton solve (newton_cycle)
+        self._attempt = []  # the failed first attempt's, in a clamped start
+        self._attempt_cycled = False  # whether it ended in a cycle
         # with friction, the last solve was stopped because its residuals
         # repeated a cycle for CYCLE_PERIODS periods (newton_cycle;
         # its reason DIVERGED_DTOL)
@@ -240,6 +253,8 @@ class ContactConvergence:
         # repeated active set ends the solve at round-off.
         if iteration == 0:
             self.continued, self.continuing = self.continuing and self.friction, False
+            self._attempt = self.norms if self.continued else []
+            self._attempt_cycled = self.continued and self.cycling
             self.norms, self.cycling = [], False
             if not self.continued:
                 self._start(snes, fnorm, rtol)
@@ -288,6 +303,13 @@ class ContactConvergence:
         # 50-fracture network's initial equilibrium on 2 ranks) ends, and the
         # clamped start, whose pairs all stick, goes on from there
         if not self.continued and newton_stall(self.norms, STALL_STEPS):
+            return reasons.DIVERGED_DTOL
+        # a clamped start whose first step lands where the first attempt's
+        # did retraces that attempt (the step depends on its iterate alone),
+        # whose verdict stands: found no other path (the onset of
+        # test_cohesive_opening on the coupled system)
+        if self.continued and rejoins_attempt(self.norms, self._attempt):
+            self.cycling = self._attempt_cycled
             return reasons.DIVERGED_DTOL
         return reasons.CONVERGED_ITERATING
 

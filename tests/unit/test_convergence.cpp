@@ -81,6 +81,25 @@ TEST(Convergence, NewtonCycleIsARepeatedCycleOfResiduals)
   EXPECT_FALSE(newton_cycle(seven, 3));
 }
 
+TEST(Convergence, AClampedStartRejoinsTheAttemptAtItsFirstStep)
+{
+  // test_cohesive_opening's onset on the coupled system: the first attempt
+  // from the last solution, the clamped start from every pair stuck, both
+  // landing on 2.745445253772e7 after one step.
+  const std::vector<double> attempt{7.283e-4, 2.745445253772e7, 2.768804085196e7, 2.535540936328e7};
+  const std::vector<double> clamped{4.094618846568e7, 2.745445253772e7};
+  EXPECT_TRUE(rejoins_attempt(clamped, attempt));
+  std::vector<double> other = clamped; // another iterate
+  other.back() *= 1 + 1e-8;
+  EXPECT_FALSE(rejoins_attempt(other, attempt));
+  EXPECT_FALSE(rejoins_attempt(std::span(clamped).first(1), attempt)); // no step yet
+  std::vector<double> later = clamped; // decided at the first step only
+  later.push_back(attempt[2]);
+  EXPECT_FALSE(rejoins_attempt(later, attempt));
+  EXPECT_FALSE(rejoins_attempt(clamped, std::span(attempt).first(1))); // the attempt took no step
+  EXPECT_FALSE(rejoins_attempt(clamped, std::vector<double>{}));
+}
+
 TEST(Convergence, NewtonStallIsEveryStepBelowItsFraction)
 {
   // The 50-fracture network's initial equilibrium on 2 ranks (bench/network.py

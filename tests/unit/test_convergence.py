@@ -12,7 +12,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import support  # noqa: E402,F401  (the repository on sys.path)
-from python_prototype.contact.convergence import STALL_REDUCTION, newton_cycle, newton_stall, residual_round_off  # noqa: E402
+from python_prototype.contact.convergence import (STALL_REDUCTION, newton_cycle, newton_stall, rejoins_attempt,  # noqa: E402
+                                                  residual_round_off)
 from dense import petsc_matrix, petsc_vector, spd_matrix  # noqa: E402
 
 
@@ -53,6 +54,19 @@ class ConvergenceTests(unittest.TestCase):
         self.assertTrue(newton_cycle(four, 3))
         self.assertFalse(newton_cycle(four[:12], 3))  # two periods and a half
         self.assertFalse(newton_cycle([1.0] + [2.0 + k % 7 for k in range(21)], 3))  # longer than LONGEST_NEWTON_CYCLE
+
+    def test_a_clamped_start_rejoins_the_attempt_at_its_first_step(self):
+        # test_cohesive_opening's onset on the coupled system: the first
+        # attempt from the last solution, the clamped start from every pair
+        # stuck, both landing on 2.745445253772e7 after one step
+        attempt = [7.283e-4, 2.745445253772e7, 2.768804085196e7, 2.535540936328e7]
+        clamped = [4.094618846568e7, 2.745445253772e7]
+        self.assertTrue(rejoins_attempt(clamped, attempt))
+        self.assertFalse(rejoins_attempt([clamped[0], clamped[1] * (1 + 1e-8)], attempt))  # another iterate
+        self.assertFalse(rejoins_attempt(clamped[:1], attempt))  # no step yet
+        self.assertFalse(rejoins_attempt(clamped + [attempt[2]], attempt))  # decided at the first step only
+        self.assertFalse(rejoins_attempt(clamped, attempt[:1]))  # the attempt took no step
+        self.assertFalse(rejoins_attempt(clamped, []))
 
     def test_newton_stall_is_every_step_below_its_fraction(self):
         # the 50-fracture network's initial equilibrium on 2 ranks
