@@ -432,7 +432,7 @@ std::string Simulation::step_being_computed() const
 /// and the failure names the step it was writing.
 void Simulation::output_failed(const OutputError& e)
 {
-  const std::string when = !_output       ? "opening the output"
+  const std::string when = !_fields       ? "opening the output" // solution.xdmf, or fault.xdmf after it
                            : _checkpointing ? "after step " + std::to_string(_end.completed_steps)
                                             : step_being_computed();
   _end.failure = when + ": " + e.what();

@@ -336,7 +336,8 @@ class Simulation:
         """A file could not be written (a full disk): the run ends with what
         was finished, and the failure names the step it was writing."""
         end = self.end
-        when = ("opening the output" if self.output is None else f"after step {end.completed_steps}"
+        # solution.xdmf, or fault.xdmf after it
+        when = ("opening the output" if self.fields is None else f"after step {end.completed_steps}"
                 if self.checkpointing else self.step_being_computed())
         end.failure = f"{when}: {e}"
         end.output_failed = True

@@ -7,11 +7,12 @@ where the opening exceeds the closed tolerance, 2 at the other pairs, 1 at
 the tips, tangential traction round-off (1e-10), `slipping` the measure of
 state 2 (= `closed`), `stuck` 0. The two tracks write the same text and
 datasets (1e-10); a restart after a periodic checkpoint ends with the
-uninterrupted fault.xdmf (1e-12), its later times written again; with two
-cracks the cell field `fault` numbers them in the summary's (alphabetical)
-order."""
+uninterrupted fault.xdmf (1e-12), its later times written again (from a
+damaged fault.xdmf: exit 4, one line); with two cracks the cell field
+`fault` numbers them in the summary's (alphabetical) order."""
 import os
 import re
+import shutil
 import signal
 import subprocess
 import tempfile
@@ -210,6 +211,16 @@ for track, exe in TRACKS.items():
             break
     p.communicate(timeout=300)
     before = fault_series(out)[0]
+    damaged = tempfile.mkdtemp(prefix="damaged-")
+    shutil.copytree(out, damaged, dirs_exist_ok=True)
+    with open(os.path.join(damaged, "fault.xdmf"), "w") as f:
+        f.write(xml(out).replace('<Time Value="', '<Time Value="x', 1))
+    p = subprocess.run(exe + ["run", SCENE, "--restart", damaged] + SETS, capture_output=True, text=True,
+                       env=MPI_ENV, cwd=ROOT, timeout=300)
+    lines = p.stderr.strip().splitlines()
+    check(p.returncode == 4 and len(lines) == 1 and "error: opening the output: cannot resume" in lines[0]
+          and 'fault.xdmf: its time "x0" is no number' in lines[0],
+          f"{track}: a restart from a damaged fault.xdmf: exit {p.returncode}, {lines}")
     p = subprocess.run(exe + ["run", SCENE, "--restart", out] + SETS, capture_output=True, text=True,
                        env=MPI_ENV, cwd=ROOT, timeout=900)
     restarted = re.search(r"restarted from the checkpoint at step \d+, t = (\S+)", p.stdout)

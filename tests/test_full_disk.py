@@ -76,12 +76,14 @@ def unwritable_fault_file(track, ranks, name):
     p = subprocess.run(mpirun(ranks) + cmd if ranks > 1 else cmd, capture_output=True, text=True, env=MPI_ENV,
                        cwd=ROOT, timeout=600)
     ours = [line for line in p.stderr.splitlines() if line.startswith("biotcontact")]
-    # solution.xdmf is made with the output itself, which holds summary.json
+    # all made as the output opens; solution.xdmf with the output itself,
+    # which holds summary.json (until 2026-12-05 a fault file's failure was
+    # named "step 1 (t = ...)", on a restart a step it was not)
     opened = name != "solution.xdmf"
     status = json.load(open(os.path.join(out, "summary.json")))["status"] if opened else "failed"
     check(p.returncode == 4 and len(ours) == 1 and f"cannot write {out}/{name.replace('.next', '')}" in ours[0]
           and f"(no step was completed; see {out})" in ours[0] and status == "failed"
-          and opened != ours[0].startswith("biotcontact: error: opening the output: "),
+          and ours[0].startswith("biotcontact: error: opening the output: "),
           f"{track}, {ranks} rank(s), {name} a directory: exit 4, one line naming the file and the reason"
           f"{', summary.json' if opened else ''} ({p.returncode}, {status}: {p.stderr.strip()[-200:]!r})")
 

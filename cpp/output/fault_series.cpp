@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <dolfinx/io/HDF5Interface.h>
 #include <filesystem>
 #include <fstream>
@@ -33,16 +36,25 @@ std::vector<T> gather_to_root(const std::vector<T>& values, MPI_Datatype type, M
   return all;
 }
 
-/// The times of an earlier run's fault.xdmf, in order.
+/// The times of an earlier run's fault.xdmf, in order; OutputError naming
+/// the file where it is missing or a time is no number (a damaged file).
 std::vector<double> listed_times(const std::string& xdmf)
 {
   std::ifstream in(xdmf);
+  if (!in)
+    throw OutputError("cannot resume " + xdmf + ": " + std::strerror(errno));
   std::stringstream text;
   text << in.rdbuf();
   const std::string s = text.str(), tag = "<Time Value=\"";
   std::vector<double> times;
   for (std::size_t at = s.find(tag); at != std::string::npos; at = s.find(tag, at + 1))
-    times.push_back(std::stod(s.substr(at + tag.size())));
+  {
+    const std::string value = s.substr(at + tag.size(), s.find('"', at + tag.size()) - at - tag.size());
+    char* end = nullptr;
+    times.push_back(std::strtod(value.c_str(), &end));
+    if (value.empty() or *end != '\0' or !std::isfinite(times.back()))
+      throw OutputError("cannot resume " + xdmf + ": its time \"" + value + "\" is no number");
+  }
   return times;
 }
 

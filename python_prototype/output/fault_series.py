@@ -9,6 +9,7 @@ h5py, from the pairs each rank gathers to it (a fault holds few nodes of the
 mesh): the same XML text and datasets as the C++. Each write is complete on
 disk when it returns, as solution.xdmf's; a restart keeps the times up to
 its checkpoint's."""
+import math
 import os
 import re
 
@@ -29,9 +30,22 @@ def _gather_to_root(values, comm):
 
 
 def _listed_times(xdmf):
-    """The times of an earlier run's fault.xdmf, in order."""
-    with open(xdmf) as f:
-        return [float(t) for t in re.findall(r'<Time Value="([^"]*)"', f.read())]
+    """The times of an earlier run's fault.xdmf, in order; OutputError naming
+    the file where it is missing or a time is no number (a damaged file)."""
+    try:
+        with open(xdmf) as f:
+            values = re.findall(r'<Time Value="([^"]*)"', f.read())
+    except OSError as e:
+        raise OutputError(f"cannot resume {xdmf}: {e.strerror}") from None
+    times = []
+    for value in values:
+        try:
+            times.append(float(value))
+        except ValueError:
+            times.append(math.nan)
+        if not math.isfinite(times[-1]):
+            raise OutputError(f'cannot resume {xdmf}: its time "{value}" is no number')
+    return times
 
 
 def _write_rows(h5, name, values, width):
