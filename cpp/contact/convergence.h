@@ -23,6 +23,12 @@ constexpr double repeated_set_fraction = 1e-3;
 /// solve where it lies below this fraction of the load.
 constexpr double round_off_ceiling = 1e-8;
 
+/// With friction, a Newton step that lifts the residual above this multiple
+/// of the larger of the solve's first residual and the load has met a
+/// singular reduced system (a piece the open pairs leave free): its steps
+/// wander without bound, and the solve ends.
+constexpr double divergence_ratio = 1e6;
+
 /// With friction, a solve whose residuals repeat a cycle of at most
 /// longest_newton_cycle values for cycle_periods periods cycles between sets of
 /// contact states.
@@ -162,6 +168,7 @@ private:
   PetscReal _relative_target = 0;    // rtol times the first residual of a solve
   PetscReal _repeated_set_bound = 0; // a fraction of it or of the load (converged)
   PetscReal _round_off_bound = 0;    // round_off_ceiling times the load
+  PetscReal _divergence_bound = 0;   // divergence_ratio times the first or the load
   // The residual on the separate rows is small below the larger of these:
   // their load's times the relative tolerance (pose), and rtol times the
   // solve's first.

@@ -16,6 +16,11 @@ REPEATED_SET_FRACTION = 1e-3
 # With friction a residual at its round-off (residual_round_off) ends the
 # solve where it lies below this fraction of the load.
 ROUND_OFF_CEILING = 1e-8
+# With friction, a Newton step that lifts the residual above this multiple of
+# the larger of the solve's first residual and the load has met a singular
+# reduced system (a piece the open pairs leave free): its steps wander
+# without bound, and the solve ends.
+DIVERGENCE_RATIO = 1e6
 
 
 # With friction, a solve whose residuals repeat a cycle of at most
@@ -130,6 +135,7 @@ class ContactConvergence:
         self.round_off_bound = 0.0  # ROUND_OFF_CEILING times the load
         self.pending = self.used = None  # active flags of the bounded DOFs
         self.set_repeated, self.relative_target, self.repeated_set_bound = False, 0.0, 0.0
+        self.divergence_bound = 0.0  # DIVERGENCE_RATIO times the first residual or the load
         # the residual on the separate rows is small below the larger of
         # these: their load's times the relative tolerance (pose), and rtol
         # times the solve's first
@@ -233,6 +239,7 @@ class ContactConvergence:
         # set (a singular reduced system: a body held by the contact alone,
         # from a start that presses on nothing)
         self.repeated_set_bound = REPEATED_SET_FRACTION * max(fnorm, load)
+        self.divergence_bound = DIVERGENCE_RATIO * max(fnorm, load)
         self.round_off_bound = ROUND_OFF_CEILING * load
         self.separate_relative_target = rtol * self._separate_norm(snes.getFunction()[0])
         self.separate_met = False
@@ -298,6 +305,11 @@ class ContactConvergence:
         # with t_N = 0: Phan's crack loaded at once on the coupled system)
         if newton_cycle(self.norms, CYCLE_PERIODS):
             self.cycling = True
+            return reasons.DIVERGED_DTOL
+        # test_fault_network's star fed by a well of 1e-2 m^2/s at dt = 1 s:
+        # the clamped start's residual reached 1e22 from 1e7 and wandered for
+        # 100 steps, each a factorisation
+        if fnorm > self.divergence_bound:
             return reasons.DIVERGED_DTOL
         # a first attempt whose line search shrinks every step to nothing (the
         # 50-fracture network's initial equilibrium on 2 ranks) ends, and the
