@@ -26,10 +26,11 @@ namespace biotcontact
 /// What a friction whose Newton iteration does not settle (no linear
 /// solve failed) may mean: a body that friction cannot hold, or contact
 /// states that the step changes too much at once (a spreading opening:
-/// docs/theory.md, "Newton on the cubic law").
+/// docs/theory.md, "Newton on the cubic law"; a well into a closed fault,
+/// whose first steps must be short: test_fault_network).
 constexpr const char* no_equilibrium = " (with friction: a body that friction cannot hold has no quasi-static "
                                        "equilibrium, or the step is too long for the contact states to settle: "
-                                       "time.retry halves it)";
+                                       "time.retry halves it, time.adaptive chooses it)";
 
 /// @brief A VI as the contact poses it: its communicator (the system's, or
 /// PETSC_COMM_SELF when every rank solves the same small problem), options

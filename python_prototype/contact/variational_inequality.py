@@ -33,9 +33,10 @@ _ZERO_PIVOTS = (71, 81)
 # What a friction whose Newton iteration does not settle (no linear solve
 # failed) may mean: a body that friction cannot hold, or contact states that
 # the step changes too much at once (a spreading opening: docs/theory.md,
-# "Newton on the cubic law").
+# "Newton on the cubic law"; a well into a closed fault, whose first steps
+# must be short: test_fault_network).
 NO_EQUILIBRIUM = (" (with friction: a body that friction cannot hold has no quasi-static equilibrium, or the step "
-                  "is too long for the contact states to settle: time.retry halves it)")
+                  "is too long for the contact states to settle: time.retry halves it, time.adaptive chooses it)")
 
 
 @dataclasses.dataclass
