@@ -275,9 +275,7 @@ void FlowStep::advance(double t, const TimeDerivative& d)
 {
   _derivative = d;
   assign(*p_previous, history_value(d, pressure->x()->array(), p_before->x()->array()));
-  solve_begins(true);
-  solve(t);
-  solve_ends();
+  recorded_solve(true, [&] { solve(t); });
 }
 
 std::map<std::string, std::vector<double>> FlowStep::arrays() const

@@ -46,9 +46,7 @@ public:
   /// solve(t): the mechanics has no time derivative.
   void advance(double t, const TimeDerivative&) override
   {
-    solve_begins(true);
-    solve(t);
-    solve_ends();
+    recorded_solve(true, [&] { solve(t); });
   }
   /// The solve at t = 0.
   std::vector<SolveRecord> equilibrate() override

@@ -244,11 +244,7 @@ void MonolithicStep::solve(double t, const TimeDerivative& d)
     solve_with_conduits(t);
   }
   else
-  {
-    solve_begins(true);
-    solve_system();
-    solve_ends();
-  }
+    recorded_solve(true, [&] { solve_system(); });
 }
 
 SolveFields MonolithicStep::solve_fields() const
@@ -275,12 +271,15 @@ void MonolithicStep::solve_with_conduits(double t)
   const int most = _scene.coupling->max_iterations;
   for (int i = 1;; ++i)
   {
-    solve_begins(i == 1);
-    _conduits->load(*_system, *_x->x(), t);
-    solve_system();
-    _fault_traction = fault_normal_stress();
-    const bool settled = _conduits->update(*_system, *u->x(), _fault_traction);
-    solve_ends();
+    bool settled = false;
+    recorded_solve(i == 1,
+                   [&]
+                   {
+                     _conduits->load(*_system, *_x->x(), t);
+                     solve_system();
+                     _fault_traction = fault_normal_stress();
+                     settled = _conduits->update(*_system, *u->x(), _fault_traction);
+                   });
     if (settled)
       return;
     if (i == most)

@@ -37,4 +37,12 @@ SolveRecord SolveMeter::record(const SolveFields& fields, long newton_steps, int
   return {norms[0], norms[1], norms[2], norms[3], norms[4], norms[5], active_nodes, newton_steps - _newton_steps};
 }
 
+SolveRecord SolveMeter::failed(long newton_steps, int active_nodes) const
+{
+  SolveRecord r;
+  r.active_nodes = active_nodes;
+  r.newton_steps = newton_steps - _newton_steps;
+  return r;
+}
+
 } // namespace biotcontact

@@ -55,6 +55,9 @@ public:
   /// The record of the solve since start() (collective): the fields and
   /// Newton steps now, the active nodes after it.
   SolveRecord record(const SolveFields& fields, long newton_steps, int active_nodes) const;
+  /// The record of a solve since start() that failed: its Newton steps, no
+  /// change of the fields (NaN: it left them as they were).
+  SolveRecord failed(long newton_steps, int active_nodes) const;
 
 private:
   std::array<std::vector<double>, 3> _before;

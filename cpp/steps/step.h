@@ -5,6 +5,7 @@
 #pragma once
 
 #include "assembly/linear_algebra.h"
+#include "assembly/petsc_error.h"
 #include "contact/contact.h"
 #include "steps/solve_record.h"
 #include "steps/system.h"
@@ -120,6 +121,25 @@ protected:
     _meter.start(solve_fields(), system().newton_steps());
   }
   void solve_ends() { _solves.push_back(_meter.record(solve_fields(), system().newton_steps(), active_contact_set().nodes)); }
+  /// Runs `solve` as one solve of advance(), between solve_begins(first)
+  /// and solve_ends(); one that fails (SolverError) leaves its record too,
+  /// its Newton steps and no change, before its error goes on: the rows of
+  /// iterations.csv show what a failed step spent.
+  template <typename Solve>
+  void recorded_solve(bool first, Solve&& solve)
+  {
+    solve_begins(first);
+    try
+    {
+      solve();
+    }
+    catch (const SolverError&)
+    {
+      _solves.push_back(_meter.failed(system().newton_steps(), active_contact_set().nodes));
+      throw;
+    }
+    solve_ends();
+  }
 
 private:
   SolveMeter _meter;

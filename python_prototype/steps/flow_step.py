@@ -217,9 +217,7 @@ class FlowStep(Step):
         step's pressure and p_before, then solve(t)."""
         self.derivative = d
         self.p_previous.x.array[:] = history_value(d, self.pressure.x.array, self.p_before.x.array)
-        self.solve_begins(True)
-        self.solve(t)
-        self.solve_ends()
+        self.recorded_solve(True, lambda: self.solve(t))
 
     def solve_fields(self):
         """p, and the conduit faults' p_f (this rank's entries)."""

@@ -171,9 +171,7 @@ class MechanicsStep(Step):
 
     def advance(self, t, d):
         """solve(t): the mechanics has no time derivative."""
-        self.solve_begins(True)
-        self.solve(t)
-        self.solve_ends()
+        self.recorded_solve(True, lambda: self.solve(t))
 
     def solve_fields(self):
         return SolveFields(FieldValues(), FieldValues(self.u.x.array, owned(self.V)), FieldValues(), self.V.mesh.comm)

@@ -177,9 +177,7 @@ class MonolithicStep(Step):
             self.conduits.set_time_derivative(self.system, derivative)
             self._solve_with_conduits(t)
         else:
-            self.solve_begins(True)
-            self._solve_system()
-            self.solve_ends()
+            self.recorded_solve(True, self._solve_system)
 
     def solve_fields(self):
         """p, u and the conduit faults' p_f (this rank's entries)."""
@@ -195,18 +193,20 @@ class MonolithicStep(Step):
         self.u.x.array[:] = self.x.x.array[self.V_to_X]
         self.pressure.x.array[:] = self.x.x.array[self.Q_to_X]
 
+    def _aperture_iteration(self, t):
+        """One solve with the conduit faults' last apertures; whether they
+        settled."""
+        self.conduits.load(self.system, self.x.vector, t)
+        self._solve_system()
+        self.fault_traction = self._fault_normal_stress()
+        return self.conduits.update(self.system, self.u, self.fault_traction)
+
     def _solve_with_conduits(self, t):
         """Iterates on the conduit faults' apertures (monolithic_conduits.py)
         until they settle; raises SolverError after coupling.max_iterations."""
         most = self.scene.coupling.max_iterations
         for i in range(1, most + 1):
-            self.solve_begins(i == 1)
-            self.conduits.load(self.system, self.x.vector, t)
-            self._solve_system()
-            self.fault_traction = self._fault_normal_stress()
-            settled = self.conduits.update(self.system, self.u, self.fault_traction)
-            self.solve_ends()
-            if settled:
+            if self.recorded_solve(i == 1, lambda: self._aperture_iteration(t)):
                 return
         raise SolverError(f"monolithic: the conduit faults' apertures still move after {most} iterations "
                           f"(coupling.max_iterations): {self.conduits.last_change()}")

@@ -71,3 +71,8 @@ class SolveMeter:
         squares = fields.comm.allreduce(squares, op=MPI.SUM)
         norms = [math.sqrt(squares[j]) if every[j // 2].values is not None else math.nan for j in range(6)]
         return SolveRecord(*norms, active_nodes, newton_steps - self._newton_steps)
+
+    def failed(self, newton_steps, active_nodes):
+        """The record of a solve since start() that failed: its Newton steps,
+        no change of the fields (NaN: it left them as they were)."""
+        return SolveRecord(active_nodes=active_nodes, newton_steps=newton_steps - self._newton_steps)

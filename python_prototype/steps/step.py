@@ -9,6 +9,7 @@ from typing import Optional
 import numpy as np
 
 from ..contact.contact_state import ActiveSet
+from ..solvers.solver import SolverError
 from .solve_record import SolveMeter
 
 # The functions of a step that a checkpoint keeps besides its unknowns (the
@@ -123,6 +124,21 @@ class Step(abc.ABC):
         """(collective: the record counts active nodes)"""
         self._solves.append(self._meter.record(self.solve_fields(), self.system.newton_steps(),
                                                self.active_contact_set().nodes))
+
+    def recorded_solve(self, first, solve):
+        """Runs `solve` as one solve of advance(), between solve_begins(first)
+        and solve_ends(); one that fails (SolverError) leaves its record too,
+        its Newton steps and no change, before its error goes on: the rows of
+        iterations.csv show what a failed step spent. Returns what `solve`
+        returns."""
+        self.solve_begins(first)
+        try:
+            result = solve()
+        except SolverError:
+            self._solves.append(self._meter.failed(self.system.newton_steps(), self.active_contact_set().nodes))
+            raise
+        self.solve_ends()
+        return result
 
     @abc.abstractmethod
     def unknowns(self):
