@@ -52,9 +52,9 @@ struct ControllerState
   double ratio_sum = 0, p_size = 0, u_size = 0;
   double fault_p_size = 0; // the largest l2 norm of the conduit faults' p_f so far
   AdaptiveState adaptive; // time.adaptive's PI controller (time/step_control.h)
-  // coupling.q = "auto" (time/window_control.h): the last window's q and
-  // the largest q the next may take (1 after a change of the contact set,
-  // then doubling).
+  // The last window's q (1 after a single solve's step) and, with
+  // coupling.q = "auto" (time/window_control.h), the largest q the next
+  // may take (1 after a change of the contact set, then doubling).
   int window_q = 0, q_limit = 1;
 };
 

@@ -131,6 +131,7 @@ void run_single_solve(const Problem& problem, Step& step, CouplingRun& run)
     run.observer.mechanics_state(t, k, step.iterations());
     run.report.windows = k;
     run.report.fine_steps = k;
+    run.state.window_q = 1; // a window of one fine step, for the split that takes over (BDF2's history)
     if (run.observer.stop())
       break;
   }

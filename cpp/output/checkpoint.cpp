@@ -320,6 +320,18 @@ Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const
 namespace
 {
 
+/// The checkpoint's field for history field `name`. The monolithic scheme
+/// keeps no displacement_path_before: for the single-rate split that
+/// restarts from its state (or takes a step back from coupling.fallback)
+/// the path's value one fine step before t_K is the displacement one step
+/// before, displacement_before (WindowHistory::accept with q = 1).
+std::string stored_history_name(const Checkpoint& c, const std::string& name)
+{
+  if (name == "displacement_path_before" and !c.fields.count(name))
+    return "displacement_before";
+  return name;
+}
+
 /// Loads the stored unknowns into the steps; refuses a checkpoint of
 /// another mesh, or one that lacks any of them (collective).
 void restore_unknowns(const Checkpoint& c, const RunState& run, MPI_Comm comm, const std::string& directory)
@@ -352,7 +364,7 @@ void restore_unknowns(const Checkpoint& c, const RunState& run, MPI_Comm comm, c
     step->set_unknowns(x);
   }
   for (const auto& [name, f] : run.scheme.history())
-    restore({{name, f->function_space(), {}}}, f->x()->mutable_array());
+    restore({{stored_history_name(c, name), f->function_space(), {}}}, f->x()->mutable_array());
   for (Step* step : run.scheme.steps())
   {
     for (const auto& [name, values] : step->arrays())

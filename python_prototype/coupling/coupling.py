@@ -50,9 +50,9 @@ class ControllerState:
     fault_p_size: float = 0.0  # the largest l2 norm of the conduit faults' p_f so far
     # time.adaptive: the PI controller's memory (time/step_control.py).
     adaptive: AdaptiveState = field(default_factory=AdaptiveState)
-    # coupling.q = "auto" (window_control.py): the last window's q and the
-    # largest q the next may take (1 after a change of the contact set, then
-    # doubling).
+    # The last window's q (1 after a single solve's step) and, with
+    # coupling.q = "auto" (window_control.py), the largest q the next may
+    # take (1 after a change of the contact set, then doubling).
     window_q: int = 0
     q_limit: int = 1
 

@@ -99,6 +99,7 @@ def run_single_solve(problem, step, run):
         run.observer.mechanics_state(t, k, step.iterations())
         run.report.windows = k
         run.report.fine_steps = k
+        run.state.window_q = 1  # a window of one fine step, for the split that takes over (BDF2's history)
         k += 1
         if run.observer.stop():
             break

@@ -203,6 +203,18 @@ def capture_checkpoint(run, steps, time, output):
     return c
 
 
+def _stored_history_name(c, name):
+    """The checkpoint's field for history field `name`. The monolithic
+    scheme keeps no displacement_path_before: for the single-rate split
+    that restarts from its state (or takes a step back from
+    coupling.fallback) the path's value one fine step before t_K is the
+    displacement one step before, displacement_before
+    (WindowHistory.accept with q = 1)."""
+    if name == "displacement_path_before" and name not in c.fields:
+        return "displacement_before"
+    return name
+
+
 def _restore_unknowns(c, run, comm, directory):
     """Loads the stored unknowns into the steps; refuses a checkpoint of
     another mesh, or one that lacks any of them (collective)."""
@@ -224,7 +236,7 @@ def _restore_unknowns(c, run, comm, directory):
             restore(parts, x)
             step.set_unknowns(x)
     for name, f in run.scheme.history():
-        restore([UnknownsPart(name, f.function_space)], f.x.array)
+        restore([UnknownsPart(_stored_history_name(c, name), f.function_space)], f.x.array)
     for step in run.scheme.steps():
         for name in step.arrays():
             if name not in c.arrays:
