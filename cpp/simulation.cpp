@@ -26,14 +26,6 @@ namespace biotcontact
 namespace
 {
 
-/// A step the monolithic fallback solved: its time, number and Newton
-/// iterations, for the observer.
-struct SolvedStep
-{
-  double t = 0;
-  int step = 0, iterations = 0;
-};
-
 /// @brief One run of a scene, in the order of its story: set up the problem
 /// (mesh, forms, materials), describe it, make the scheme and its steps,
 /// open the output, start or restore, the time loop, the summary and the
@@ -385,8 +377,13 @@ bool Simulation::fallback_failed(const std::string& why)
   return false;
 }
 
-/// The monolithic scheme's one step from the last completed one, its state
-/// then the split's.
+/// The monolithic scheme's steps from the last completed one to the end of
+/// the split's failed step, its state then the split's. A multirate
+/// window's q fine steps are q monolithic steps, each a window of one fine
+/// step for the history the split goes on from (WindowHistory::start);
+/// their rows in iterations.csv and the step in the progress are the
+/// window's (fallback_observer). Stops at the window's end time: a retry
+/// of the monolithic scheme halves steps within it.
 SolvedStep Simulation::solve_by_fallback()
 {
   if (!_fallback)
@@ -397,15 +394,26 @@ SolvedStep Simulation::solve_by_fallback()
   Scheme& m = *_fallback->scheme;
   const RunState monolithic{m, *_domain->mesh, _report, _state, _grid};
   restore_run_state(*_completed, monolithic, _comm, _directory);
-  SolvedStep solved;
-  WindowObserver o = observer();
-  o.flow_state = [](double) {};
-  o.mechanics_state = [&solved](double t, int step, int iterations) { solved = {t, step, iterations}; };
-  o.stop = [] { return true; }; // one step
+  const double end = _grid.t[std::min<std::size_t>(_report.fine_steps + _parameters.q, _grid.t.size() - 1)];
+  SolvedStep solved{_report.windows + 1};
+  _report.windows = static_cast<int>(_report.fine_steps); // the monolithic scheme's steps are fine steps
+  const WindowObserver split = observer();
+  const WindowObserver o = fallback_observer(split, solved, end,
+                                             [&](double t)
+                                             {
+                                               _fields->read_from(m);
+                                               split.flow_state(t);
+                                               _fields->read_from(*_scheme);
+                                             });
   CouplingRun run{_grid, m.step_control.get(), o, _report, _state};
   m.run(run);
-  restore_run_state(capture_checkpoint(monolithic, solved.step, solved.t, _output->position()), run_state(), _comm,
-                    _directory);
+  _report.windows = solved.step;
+  _state.q_limit = 1; // coupling.q = "auto": the next window starts short, as after a contact change
+  Checkpoint c = capture_checkpoint(monolithic, solved.step, solved.t, _output->position());
+  // With backward Euler the monolithic scheme keeps no displacement one
+  // step before; q = "auto" reads it: the start of its one fine step.
+  c.fields.try_emplace("displacement_before", _completed->fields.at("displacement"));
+  restore_run_state(c, run_state(), _comm, _directory);
   return solved;
 }
 
@@ -413,7 +421,8 @@ SolvedStep Simulation::solve_by_fallback()
 /// coupling.q = "auto" those done and the rest at the last window's q.
 int Simulation::planned_steps() const
 {
-  const int q = _state.window_q > 0 ? _state.window_q : _parameters.q;
+  const bool q_auto = _scene.coupling and _scene.coupling->q_auto;
+  const int q = q_auto and _state.window_q > 0 ? _state.window_q : _parameters.q;
   return _report.windows + static_cast<int>((_grid.steps() - _report.fine_steps + q - 1) / q);
 }
 

@@ -14,7 +14,7 @@ from .contact.contact_state import ContactState
 from .coupling.contraction import relative
 from .coupling.coupling import (ControllerState, CouplingError, CouplingReport, CouplingRun, IterationRecord,
                                 WindowObserver)
-from .coupling.fallback import MonolithicFallback
+from .coupling.fallback import MonolithicFallback, SolvedStep, fallback_observer
 from .coupling.scheme import Scheme
 from .diagnostics.closed_form import with_mandel_plate
 from .diagnostics.description import Description, describe
@@ -277,7 +277,7 @@ class Simulation:
             return False
         self.progress.say(f"{self.end.failure}; the monolithic scheme solves the step (coupling.fallback)")
         try:
-            t, step, iterations = self.solve_by_fallback()
+            solved = self.solve_by_fallback()
         except (CouplingError, SolverError) as e:
             self.end.failure += f"; the monolithic scheme failed there too (coupling.fallback): {e}"
             restore_run_state(self.completed, self.run_state(), self.comm, self.directory)
@@ -287,8 +287,8 @@ class Simulation:
         # The step's fields are the monolithic scheme's, which solved it.
         o = self.observer()
         self.fields.read_from(self.fallback.scheme)
-        o.flow_state(t)
-        o.mechanics_state(t, step, iterations)
+        o.flow_state(solved.t)
+        o.mechanics_state(solved.t, solved.step, solved.iterations)
         self.fields.read_from(self.scheme)
         return not o.stop()
 
@@ -300,28 +300,45 @@ class Simulation:
             lambda system, iteration: self.progress.newton_step(self.end.completed_steps + 1, system, iteration))
 
     def solve_by_fallback(self):
-        """The monolithic scheme's one step from the last completed one, its
-        state then the split's: the time, the step and its iterations."""
+        """The monolithic scheme's steps from the last completed one to the
+        end of the split's failed step, its state then the split's. A
+        multirate window's q fine steps are q monolithic steps, each a
+        window of one fine step for the history the split goes on from
+        (WindowHistory.start); their rows in iterations.csv and the step in
+        the progress are the window's (fallback_observer). Stops at the
+        window's end time: a retry of the monolithic scheme halves steps
+        within it."""
         if self.fallback is None:
             self.fallback = MonolithicFallback(self.problem)
             self.report_newton_steps(self.fallback.scheme)
         m = self.fallback.scheme
         monolithic = RunState(m, self.domain.mesh, self.report, self.state, self.grid)
         restore_run_state(self.completed, monolithic, self.comm, self.directory)
-        solved = []
-        o = dataclasses.replace(self.observer(), flow_state=lambda t: None,
-                                mechanics_state=lambda t, step, iterations: solved.append((t, step, iterations)),
-                                stop=lambda: True)  # one step
+        end = self.grid.t[min(self.report.fine_steps + self.parameters.q, len(self.grid.t) - 1)]
+        solved = SolvedStep(self.report.windows + 1)
+        self.report.windows = self.report.fine_steps  # the monolithic scheme's steps are fine steps
+        split = self.observer()
+
+        def write_flow(t):
+            self.fields.read_from(m)
+            split.flow_state(t)
+            self.fields.read_from(self.scheme)
+        o = fallback_observer(split, solved, end, write_flow)
         m.run(CouplingRun(self.grid, m.step_control, o, self.report, self.state))
-        t, step, iterations = solved[-1]
-        restore_run_state(capture_checkpoint(monolithic, step, t, self.output.position()), self.run_state(),
-                          self.comm, self.directory)
-        return t, step, iterations
+        self.report.windows = solved.step
+        self.state.q_limit = 1  # coupling.q = "auto": the next window starts short, as after a contact change
+        c = capture_checkpoint(monolithic, solved.step, solved.t, self.output.position())
+        # With backward Euler the monolithic scheme keeps no displacement one
+        # step before; q = "auto" reads it: the start of its one fine step.
+        c.fields.setdefault("displacement_before", self.completed.fields["displacement"])
+        restore_run_state(c, self.run_state(), self.comm, self.directory)
+        return solved
 
     def planned_steps(self):
         """The mechanics steps (windows) of the run, for the progress: with
         coupling.q = "auto" those done and the rest at the last window's q."""
-        q = self.state.window_q or self.parameters.q
+        q_auto = self.scene.coupling is not None and self.scene.coupling.q_auto
+        q = self.state.window_q if q_auto and self.state.window_q else self.parameters.q
         return self.report.windows + (self.grid.steps() - self.report.fine_steps + q - 1) // q
 
     def step_being_computed(self):

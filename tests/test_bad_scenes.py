@@ -135,8 +135,6 @@ CASES = [
     ("accelerated monolithic", DEFAULT, s("coupling.scheme=monolithic", "coupling.acceleration=anderson"),
      "coupling.acceleration", READ),
     ("unknown fallback", DEFAULT, s("coupling.fallback=newton"), "coupling.fallback", READ),
-    ("a fallback for the multirate split", DEFAULT, s("coupling.scheme=multirate", "coupling.q=4",
-                                                      "coupling.fallback=monolithic"), "coupling.fallback", READ),
     ("a fallback for the monolithic scheme", DEFAULT, s("coupling.scheme=monolithic", "coupling.fallback=monolithic"),
      "coupling.fallback", READ),
     ("two-pass multirate without storage", DEFAULT,

@@ -6,17 +6,17 @@ then and break for good, none at an open pair; Coulomb's law holds (1e-10
 of the load); the volumes balance (1e-8); condensed the same (1e-10); a
 restart ends equal (1e-12); the prototype = C++ (1e-10). The split with
 coupling.fallback hands step 12 to the monolithic scheme and ends as the
-monolithic run (1e-8); without it, it ends in exit 3 at step 12, step 11
-checkpointed; restarted from there monolithic it ends as the monolithic
-run (1e-8), with coupling.fallback on 2 ranks as the 1-rank run that had
-it (1e-10). Numbers: docs/verification.md, "What each test verifies"."""
+monolithic run (1e-8), the multirate split its last two windows; without
+it, exit 3 at step 12, step 11 checkpointed; restarted from there
+monolithic it ends as the monolithic run (1e-8), with coupling.fallback on
+2 ranks as on 1 (1e-10). Numbers: docs/verification.md."""
 import csv
 import os
 import shutil
 
 import numpy as np
-from support import (ROOT, check, fault_fields, killed_and_restarted, max_difference, restarted, run_track, summary,
-                     written)
+from support import (ROOT, Fields, check, fault_fields, killed_and_restarted, max_difference, restarted, run_track,
+                     summary, written)
 from test_conduit_coupled import COHESION, MU, ONSET, SIGMA
 
 COARSE = os.path.join(ROOT, "meshes", "phan2d_coarse.geo")
@@ -125,6 +125,28 @@ for track in ("C++", "prototype"):
 fields = max_difference(fallback["C++"], fallback["prototype"], ["displacement", "pressure", "contact_pressure"])
 check(max(fields.values()) <= 1e-10 and same_states(fallback["C++"], fallback["prototype"]),
       f"with coupling.fallback the prototype equals the C++ solver: {fields} (1e-10), the same states")
+# The multirate split (q = 2) with coupling.fallback (issue 50 item 2: the
+# opening in every scheme): its windows ending at t = 1.2 and 1.4 do not
+# converge (sublinear, as the single-rate split's step 12), and the
+# monolithic scheme solves each window's two fine steps, its rows in
+# iterations.csv the window's; every fine flow step written, bonds,
+# Coulomb's law and volumes as above (check_bonds), the prototype equal to
+# the C++ solver (1e-10).
+MULTIRATE = FALLBACK + ["coupling.scheme=multirate", "coupling.q=2"]
+multirate = {}
+for track in ("C++", "prototype"):
+    multirate[track], p = run_track(track, path, *MULTIRATE)
+    s = summary(multirate[track])
+    with open(os.path.join(multirate[track], "iterations.csv")) as f:
+        monolithic_rows = {(r["step"], round(float(r["time"]), 9)) for r in csv.DictReader(f) if not r["dsigma_norm"]}
+    check(s["converged"] and s["steps"] == 7 and s["fallback_steps"] == 2
+          and monolithic_rows == {("6", 1.1), ("6", 1.2), ("7", 1.3), ("7", 1.4)}
+          and len(Fields(multirate[track]).times("pressure")) == 15,
+          f"{track}: multirate with coupling.fallback: {s['steps']} windows, {s['fallback_steps']} solved by the "
+          f"monolithic scheme, its rows {sorted(monolithic_rows)}")
+    check_bonds(track, multirate[track])
+fields = max_difference(multirate["C++"], multirate["prototype"], ["displacement", "pressure", "contact_pressure"])
+check(max(fields.values()) <= 1e-10, f"multirate with coupling.fallback: the prototype equals the C++ solver: {fields}")
 # The split at that step (docs/user-guide.md, "Friction"): its iterations
 # converge sublinearly (the fault's ratio toward 1), and both tracks end in
 # exit 3 at step 12 after 100 iterations with the steps before kept, their

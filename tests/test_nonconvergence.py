@@ -8,8 +8,8 @@ A split that cannot converge says why and what converges instead (issue 36):
 with a soft region of gamma near 1 the error, the run's warning and `check`
 name gamma, the region where it is reached and the choices (monolithic,
 its fallback, Anderson), the same line on both tracks, and the schemes
-converge. With coupling.fallback a failed step is the monolithic scheme's,
-on 2 ranks as on 1 (the coupling tolerance)."""
+converge. With coupling.fallback a failed step (a multirate window too) is
+the monolithic scheme's, on 2 ranks as on 1 (the coupling tolerance)."""
 import os
 
 from support import Fields, check, iterations, run, scene, summary
@@ -114,6 +114,35 @@ for track in TRACKS:
           and "; the monolithic scheme failed there too (coupling.fallback): the contact solver" in line[0]
           and s["steps"] == 1 and not s["converged"] and s["fallback_steps"] == 0,
           f"{track}: the monolithic solve capped too, one line names both failures, step 1 kept: {line[-1][:330]!r}")
+
+# The multirate schemes fall back too, a window's q fine steps the
+# monolithic scheme's steps. Capped, the first window (q = 2, t = 0 to 0.4)
+# fails; its fine steps then equal the monolithic run's, which solves the
+# same steps from the same start (1e-12), and the split takes the second
+# window. "multirate-two-pass" and q = "auto" with BDF2 (its history the
+# monolithic steps', WindowHistory.start) the same on both tracks (1e-10).
+import numpy as np  # noqa: E402
+from support import Fields  # noqa: E402
+
+WINDOWS = ["mesh.cells=[160,16]", "time.end=0.8", "boundary.top.traction=[0.0, '-1e3*min(t/2,1)']",
+           "coupling.fallback=monolithic", "coupling.scheme=multirate", "coupling.q=2"]
+reference, _ = run_track("C++", scene("default"), *WINDOWS[:3], "coupling.scheme=monolithic")
+for extra in ([], ["coupling.scheme=multirate-two-pass"], ["coupling.q=auto", "time.scheme=bdf2"]):
+    outs = {}
+    for track in TRACKS:
+        outs[track], p = run_track(track, scene("default"), *WINDOWS, *extra,
+                                   options=["-mechanics_contact_snes_max_it", "8"])
+        s = summary(outs[track])
+        check(s["converged"] and s["fallback_steps"] == 1 and "the monolithic scheme solves the step" in p.stdout,
+              f"{track} {extra}: the multirate run completes, one window the monolithic scheme's ({s['steps']} steps)")
+    fields = max_difference(outs["C++"], outs["prototype"], ["displacement", "pressure", "contact_pressure"])
+    check(max(fields.values()) <= 1e-10, f"{extra}: the prototype equals the C++ solver: {fields} (1e-10)")
+    if not extra:
+        a, b = Fields(reference), Fields(outs["C++"])
+        fine = max(np.abs(a.at(name, t) - b.at(name, t)).max() / np.abs(a.at(name, t)).max()
+                   for name, times in (("pressure", (0.2, 0.4)), ("displacement", (0.4,))) for t in times)
+        check(fine <= 1e-12 and b.times("pressure") == a.times("pressure"),
+              f"the failed window's fine steps are the monolithic run's ({fine:.1e}), every fine step written")
 
 # With time.scheme = "bdf2" the split takes over from the monolithic
 # scheme, whose history has no displacement_path_before: with one fine step

@@ -60,8 +60,6 @@ CASES = [
     ("unknown acceleration", ["coupling.acceleration=aitken"], "coupling.acceleration"),
     ("Anderson depth 0", ["coupling.acceleration=anderson", "coupling.depth=0"], "coupling.depth"),
     ("unknown fallback", ["coupling.fallback=newton"], "coupling.fallback"),
-    ("a fallback for the multirate split", ["coupling.scheme=multirate", "coupling.q=4", "coupling.fallback=monolithic"],
-     "coupling.fallback"),
     ("negative checkpoint interval", ["output.checkpoint_every=-1"], "output.checkpoint_every"),
     ("zero progress interval", ["output.progress_interval=0"], "output.progress_interval"),
     ("infinite progress interval", ["output.progress_interval=inf"], "output.progress_interval"),

@@ -27,4 +27,27 @@ MonolithicFallback::MonolithicFallback(const Problem& split)
   scheme = std::make_unique<Scheme>(*problem);
 }
 
+WindowObserver fallback_observer(const WindowObserver& split, SolvedStep& solved, double end,
+                                 const std::function<void(double)>& write_flow)
+{
+  WindowObserver o = split;
+  o.flow_state = [write_flow, end](double t)
+  {
+    if (t != end)
+      write_flow(t);
+  };
+  o.mechanics_state = [&solved](double t, int, int iterations)
+  {
+    solved.t = t;
+    solved.iterations += iterations;
+  };
+  o.stop = [&solved, end] { return solved.t == end; };
+  o.record = [&solved, record = split.record](IterationRecord r)
+  {
+    r.step = solved.step;
+    record(r);
+  };
+  return o;
+}
+
 } // namespace biotcontact

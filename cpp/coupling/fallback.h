@@ -1,10 +1,13 @@
 // coupling.fallback's monolithic scheme: the scheme that solves a step the
-// single-rate split failed at, beside the split's, on the same mesh.
+// split failed at, beside the split's, on the same mesh, and what it tells
+// the run.
 #pragma once
 
 #include "assembly/problem.h"
+#include "coupling/coupling.h"
 #include "coupling/scheme.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -27,5 +30,22 @@ struct MonolithicFallback
   std::optional<Problem> problem;
   std::unique_ptr<Scheme> scheme;
 };
+
+/// @brief The split's failed step as the monolithic scheme solves it: its
+/// number, the time reached and the iterations of its steps.
+struct SolvedStep
+{
+  int step = 0;
+  double t = 0;
+  int iterations = 0;
+};
+
+/// The observer of the monolithic scheme's steps for the split's failed
+/// step `solved` ending at `end`, from the run's observer `split`: they
+/// fill `solved` and stop at `end`; their rows in iterations.csv carry the
+/// step's number; each fine step before `end` is written by `write_flow`
+/// (a multirate window's), the last left to the run with the mechanics.
+WindowObserver fallback_observer(const WindowObserver& split, SolvedStep& solved, double end,
+                                 const std::function<void(double)>& write_flow);
 
 } // namespace biotcontact

@@ -320,15 +320,21 @@ Checkpoint capture_checkpoint(const RunState& run, int steps, double time, const
 namespace
 {
 
-/// The checkpoint's field for history field `name`. The monolithic scheme
-/// keeps no displacement_path_before: for the single-rate split that
-/// restarts from its state (or takes a step back from coupling.fallback)
-/// the path's value one fine step before t_K is the displacement one step
-/// before, displacement_before (WindowHistory::accept with q = 1).
-std::string stored_history_name(const Checkpoint& c, const std::string& name)
+/// The checkpoint's field for history field `name` of a scheme whose
+/// history has `path` (displacement_path_before: the split with BDF2). The
+/// displacement one fine step before t_K is the split's
+/// displacement_path_before and the monolithic scheme's
+/// displacement_before (each of its steps a window of one fine step), so
+/// each reads the other's where it goes on from the other's state (a
+/// restart with another coupling.scheme, coupling.fallback); the split's
+/// displacement_before is one window before t_K.
+std::string stored_history_name(const Checkpoint& c, const std::string& name, bool path)
 {
-  if (name == "displacement_path_before" and !c.fields.count(name))
+  const char* by_path = "displacement_path_before";
+  if (name == by_path and !c.fields.count(by_path))
     return "displacement_before";
+  if (name == "displacement_before" and !path and c.fields.count(by_path))
+    return by_path;
   return name;
 }
 
@@ -363,8 +369,11 @@ void restore_unknowns(const Checkpoint& c, const RunState& run, MPI_Comm comm, c
     restore(parts, x);
     step->set_unknowns(x);
   }
-  for (const auto& [name, f] : run.scheme.history())
-    restore({{stored_history_name(c, name), f->function_space(), {}}}, f->x()->mutable_array());
+  const History history = run.scheme.history();
+  const bool path = std::any_of(history.begin(), history.end(),
+                                [](const auto& h) { return h.first == "displacement_path_before"; });
+  for (const auto& [name, f] : history)
+    restore({{stored_history_name(c, name, path), f->function_space(), {}}}, f->x()->mutable_array());
   for (Step* step : run.scheme.steps())
   {
     for (const auto& [name, values] : step->arrays())

@@ -211,9 +211,6 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
   c.fallback = s.choice<Fallback>("fallback", Fallback::none);
   if (c.fallback == Fallback::monolithic and c.scheme == CouplingScheme::monolithic)
     s.fail("fallback", "takes over a step the split fails at; the monolithic scheme has no split");
-  else if (c.fallback == Fallback::monolithic and c.scheme != CouplingScheme::fixed_stress)
-    s.fail("fallback", "takes over a step of the single-rate split (scheme = \"fixed-stress\"): a multirate "
-                       "window's q flow steps are not the monolithic scheme's steps");
   s.finish();
   return c;
 }

@@ -1,6 +1,6 @@
 """coupling.fallback's monolithic scheme: the scheme that solves a step the
-single-rate split failed at, beside the split's, on the same mesh
-(cpp/coupling/fallback.h)."""
+split failed at, beside the split's, on the same mesh, and what it tells
+the run (cpp/coupling/fallback.h)."""
 import dataclasses
 
 from ..assembly.forms import Forms
@@ -30,3 +30,30 @@ class MonolithicFallback:
         set_constants(forms, self.scene, parameters)
         self.problem = Problem(self.scene, split.domain, forms, materials, parameters)
         self.scheme = Scheme(self.problem)
+
+
+@dataclasses.dataclass
+class SolvedStep:
+    """The split's failed step as the monolithic scheme solves it: its
+    number, the time reached and the iterations of its steps."""
+    step: int = 0
+    t: float = 0.0
+    iterations: int = 0
+
+
+def fallback_observer(split, solved, end, write_flow):
+    """The observer of the monolithic scheme's steps for the split's failed
+    step `solved` ending at `end`, from the run's observer `split`: they
+    fill `solved` and stop at `end`; their rows in iterations.csv carry the
+    step's number; each fine step before `end` is written by `write_flow`
+    (a multirate window's), the last left to the run with the mechanics."""
+    def flow_state(t):
+        if t != end:
+            write_flow(t)
+
+    def mechanics_state(t, _, iterations):
+        solved.t = t
+        solved.iterations += iterations
+    return dataclasses.replace(split, flow_state=flow_state, mechanics_state=mechanics_state,
+                               stop=lambda: solved.t == end,
+                               record=lambda r: split.record(dataclasses.replace(r, step=solved.step)))

@@ -203,15 +203,20 @@ def capture_checkpoint(run, steps, time, output):
     return c
 
 
-def _stored_history_name(c, name):
-    """The checkpoint's field for history field `name`. The monolithic
-    scheme keeps no displacement_path_before: for the single-rate split
-    that restarts from its state (or takes a step back from
-    coupling.fallback) the path's value one fine step before t_K is the
-    displacement one step before, displacement_before
-    (WindowHistory.accept with q = 1)."""
-    if name == "displacement_path_before" and name not in c.fields:
+def _stored_history_name(c, name, path):
+    """The checkpoint's field for history field `name` of a scheme whose
+    history has `path` (displacement_path_before: the split with BDF2).
+    The displacement one fine step before t_K is the split's
+    displacement_path_before and the monolithic scheme's
+    displacement_before (each of its steps a window of one fine step), so
+    each reads the other's where it goes on from the other's state (a
+    restart with another coupling.scheme, coupling.fallback); the split's
+    displacement_before is one window before t_K."""
+    by_path = "displacement_path_before"
+    if name == by_path and by_path not in c.fields:
         return "displacement_before"
+    if name == "displacement_before" and not path and by_path in c.fields:
+        return by_path
     return name
 
 
@@ -235,8 +240,10 @@ def _restore_unknowns(c, run, comm, directory):
             x = step.unknowns().copy()
             restore(parts, x)
             step.set_unknowns(x)
-    for name, f in run.scheme.history():
-        restore([UnknownsPart(_stored_history_name(c, name), f.function_space)], f.x.array)
+    history = run.scheme.history()
+    path = any(name == "displacement_path_before" for name, _ in history)
+    for name, f in history:
+        restore([UnknownsPart(_stored_history_name(c, name, path), f.function_space)], f.x.array)
     for step in run.scheme.steps():
         for name in step.arrays():
             if name not in c.arrays:

@@ -184,9 +184,6 @@ def _read_coupling(s, mech, flow):
     c.fallback = s.choice("fallback", Fallback, Fallback.none)
     if c.fallback == Fallback.monolithic and c.scheme == CouplingScheme.monolithic:
         s.fail("fallback", "takes over a step the split fails at; the monolithic scheme has no split")
-    elif c.fallback == Fallback.monolithic and c.scheme != CouplingScheme.fixed_stress:
-        s.fail("fallback", 'takes over a step of the single-rate split (scheme = "fixed-stress"): a multirate '
-                           "window's q flow steps are not the monolithic scheme's steps")
     s.finish()
     return c
 
