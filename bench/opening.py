@@ -3,7 +3,7 @@
 scenes/fault_reactivation.toml's frictional conduit (test_friction_opening's
 well, coupling.tolerance 1e-10, coupling.max_iterations 400; on 22.5-minute
 and 3-hour BDF2 steps with and without time.retry, and with
-coupling.fallback) and into scenes/injection_fault3d.toml at ten and
+coupling.fallback, single-rate and multirate with q = 2) and into scenes/injection_fault3d.toml at ten and
 twenty times its rate. Per case the status, the steps done, the retries
 and fallback steps, the coupling iterations and the most in a step, and
 the wall time; a failed run is a result too (its summary.json says how
@@ -41,6 +41,11 @@ CASES = {
                                                  "time.retry=4"]),
     "5e-4-22.5min-fallback": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",
                                                     "time.dt=1350.0", 'coupling.fallback="monolithic"']),
+    "5e-4-22.5min-multirate": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",
+                                                     "time.dt=1350.0", 'coupling.scheme="multirate"', "coupling.q=2"]),
+    "5e-4-22.5min-multirate-fallback": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",
+                                                              "time.dt=1350.0", 'coupling.scheme="multirate"',
+                                                              "coupling.q=2", 'coupling.fallback="monolithic"']),
     "5e-4-3h-bdf2": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0", "time.dt=10800.0",
                                            'time.scheme="bdf2"']),
     "5e-4-3h-bdf2-retry": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",

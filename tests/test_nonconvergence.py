@@ -151,6 +151,19 @@ for extra in ([], ["coupling.scheme=multirate-two-pass"], ["coupling.q=auto", "t
         check(fine <= 1e-12 and b.times("pressure") == a.times("pressure"),
               f"the failed window's fine steps are the monolithic run's ({fine:.1e}), every fine step written")
 
+# Capped harder, with time.retry = 1: the window fails halved too, the
+# monolithic scheme solves its first fine step (t = 0.2, written) and fails
+# its second halved too, its retry named as its own: one line with both
+# failures, no step completed.
+for track in TRACKS:
+    out, p = run_track(track, scene("default"), *WINDOWS, "time.retry=1", expect=3,
+                       options=["-mechanics_contact_snes_max_it", "2", "-monolithic_contact_snes_max_it", "6"])
+    line = p.stderr.strip().splitlines()
+    check(len(line) == 1 and "the monolithic scheme failed there too (coupling.fallback)" in line[0]
+          and "the monolithic scheme: step 2 failed" in p.stdout and summary(out)["steps"] == 0
+          and Fields(out).times("pressure") == [0.0, 0.2],
+          f"{track}: the fallback's monolithic scheme fails a fine step after its retry: {line[-1][:200]!r}")
+
 # With time.scheme = "bdf2" the split takes over from the monolithic
 # scheme, whose history has no displacement_path_before: with one fine step
 # a window it is the displacement one step before. Until 2026-12-05 the

@@ -42,6 +42,7 @@ WindowObserver fallback_observer(const WindowObserver& split, SolvedStep& solved
     solved.iterations += iterations;
   };
   o.stop = [&solved, end] { return solved.t == end; };
+  o.retry = [retry = split.retry](const std::string& message) { retry("the monolithic scheme: " + message); };
   o.record = [&solved, record = split.record](IterationRecord r)
   {
     r.step = solved.step;

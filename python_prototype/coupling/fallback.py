@@ -45,8 +45,10 @@ def fallback_observer(split, solved, end, write_flow):
     """The observer of the monolithic scheme's steps for the split's failed
     step `solved` ending at `end`, from the run's observer `split`: they
     fill `solved` and stop at `end`; their rows in iterations.csv carry the
-    step's number; each fine step before `end` is written by `write_flow`
-    (a multirate window's), the last left to the run with the mechanics."""
+    step's number, their retries (time.retry, which count their own fine
+    steps) name the scheme; each fine step before `end` is written by
+    `write_flow` (a multirate window's), the last left to the run with the
+    mechanics."""
     def flow_state(t):
         if t != end:
             write_flow(t)
@@ -56,4 +58,5 @@ def fallback_observer(split, solved, end, write_flow):
         solved.iterations += iterations
     return dataclasses.replace(split, flow_state=flow_state, mechanics_state=mechanics_state,
                                stop=lambda: solved.t == end,
+                               retry=lambda message: split.retry(f"the monolithic scheme: {message}"),
                                record=lambda r: split.record(dataclasses.replace(r, step=solved.step)))
