@@ -81,6 +81,7 @@ private:
   bool stop();
   void save_completed();
   void save_on_failure();
+  std::string restart_proposal() const;
   void write_summary();
   int exit_status() const;
   RunState run_state() { return {*_scheme, *_domain->mesh, _report, _state, _grid}; }
@@ -233,8 +234,7 @@ void Simulation::save_completed()
 
 /// A step failed: the checkpoint of the last completed one, where the run
 /// writes checkpoints and has not written it, so that nothing it finished
-/// is lost and a restart goes on from there (with coupling.scheme =
-/// "monolithic", say: restart_fingerprint).
+/// is lost and a restart goes on from there (restart_proposal).
 void Simulation::save_on_failure()
 {
   if (!_completed or _scene.checkpoint_every == 0)
@@ -243,11 +243,8 @@ void Simulation::save_on_failure()
   {
     if (_end.saved != _completed->steps)
       save_completed();
-    // Where the failure proposes the monolithic scheme, the restart that
-    // takes it (restart_fingerprint lets coupling.scheme change).
-    const bool monolithic = _end.failure.find("coupling.scheme = \"monolithic\"") != std::string::npos;
     _end.failure += "; step " + std::to_string(_completed->steps) + " is in the checkpoint (--restart " + _directory
-                    + (monolithic ? " --set coupling.scheme=monolithic" : "") + " goes on from it)";
+                    + restart_proposal() + " goes on from it)";
   }
   catch (const OutputError& e)
   {
@@ -255,6 +252,18 @@ void Simulation::save_on_failure()
     _end.failure += "; the checkpoint of step " + std::to_string(_completed->steps) + " could not be written: "
                     + e.what();
   }
+}
+
+/// Where the failure proposes the monolithic scheme, the --set of the
+/// restart that takes it: coupling.scheme between the single-rate split and
+/// it (restart_fingerprint), a multirate run's coupling.fallback.
+std::string Simulation::restart_proposal() const
+{
+  if (_end.failure.find("coupling.scheme = \"monolithic\"") == std::string::npos)
+    return "";
+  if (!_scene.coupling or !_scene.coupling->multirate())
+    return " --set coupling.scheme=monolithic";
+  return falls_back() ? "" : " --set coupling.fallback=monolithic";
 }
 
 /// What the coupling schemes tell the run: write each step, print the

@@ -199,21 +199,29 @@ class Simulation:
     def save_on_failure(self):
         """A step failed: the checkpoint of the last completed one, where the
         run writes checkpoints and has not written it, so that nothing it
-        finished is lost and a restart goes on from there (with
-        coupling.scheme = "monolithic", say: restart_fingerprint)."""
+        finished is lost and a restart goes on from there
+        (restart_proposal)."""
         if self.completed is None or self.scene.checkpoint_every == 0:
             return
         steps = self.completed.steps
         try:
             if self.end.saved != steps:
                 self.save_completed()
-            # Where the failure proposes the monolithic scheme, the restart
-            # that takes it (restart_fingerprint lets coupling.scheme change).
-            take = " --set coupling.scheme=monolithic" if 'coupling.scheme = "monolithic"' in self.end.failure else ""
-            self.end.failure += f"; step {steps} is in the checkpoint (--restart {self.directory}{take} goes on from it)"
+            self.end.failure += (f"; step {steps} is in the checkpoint (--restart {self.directory}"
+                                 f"{self.restart_proposal()} goes on from it)")
         except OutputError as e:
             self.checkpointing = False
             self.end.failure += f"; the checkpoint of step {steps} could not be written: {e}"
+
+    def restart_proposal(self):
+        """Where the failure proposes the monolithic scheme, the --set of the
+        restart that takes it: coupling.scheme between the single-rate split
+        and it (restart_fingerprint), a multirate run's coupling.fallback."""
+        if 'coupling.scheme = "monolithic"' not in self.end.failure:
+            return ""
+        if self.scene.coupling is None or not self.scene.coupling.multirate():
+            return " --set coupling.scheme=monolithic"
+        return "" if self.falls_back() else " --set coupling.fallback=monolithic"
 
     def observer(self):
         """What the coupling schemes tell the run: write each step, print the

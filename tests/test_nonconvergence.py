@@ -164,6 +164,25 @@ for track in TRACKS:
           and Fields(out).times("pressure") == [0.0, 0.2],
           f"{track}: the fallback's monolithic scheme fails a fine step after its retry: {line[-1][:200]!r}")
 
+# A multirate run that fails proposes the fallback: the restart from its
+# checkpoint cannot change its scheme (restart_fingerprint), and the
+# restart with coupling.fallback goes on (before 2026-12-05 it proposed
+# "--set coupling.scheme=monolithic", which the restart refused).
+from support import restarted  # noqa: E402
+
+LATE = ["coupling.scheme=multirate", "coupling.q=2", "coupling.max_iterations=10",
+        "boundary.top.traction=[0.0, '-1e3*(t>1)']", "output.checkpoint_every=1"]
+for track in TRACKS:
+    out, p = run_track(track, scene("default"), *LATE, expect=3)
+    line = p.stderr.strip().splitlines()
+    check(len(line) == 1 and 'coupling.fallback = "monolithic" (that scheme for the steps the split fails at)' in line[0]
+          and f"step 2 is in the checkpoint (--restart {out} --set coupling.fallback=monolithic goes on from it)"
+          in line[0], f"{track}: the multirate run's failure proposes its fallback: {line[-1][-200:]!r}")
+    restarted(track, scene("default"), out, *LATE, "coupling.fallback=monolithic")
+    s = summary(out)
+    check(s["converged"] and s["fallback_steps"] > 0,
+          f"{track}: restarted with coupling.fallback it completes ({s['steps']} steps, {s['fallback_steps']} fallback)")
+
 # With time.scheme = "bdf2" the split takes over from the monolithic
 # scheme, whose history has no displacement_path_before: with one fine step
 # a window it is the displacement one step before. Until 2026-12-05 the
@@ -172,8 +191,6 @@ for track in TRACKS:
 # restart, its window_q unset, a NaN tolerance. Both now end as the
 # monolithic run within 1e-6: the split from the start is 4.6e-8 from it
 # (tolerance 1e-8 at gamma 0.97), a history one step off 8e-2.
-from support import restarted  # noqa: E402
-
 MONOLITHIC_BDF2 = RAMP[1::2] + ["time.scheme=bdf2", "coupling.scheme=monolithic"]
 for track in TRACKS:
     reference, _ = run_track(track, scene("default"), *MONOLITHIC_BDF2)

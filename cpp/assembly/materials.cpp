@@ -121,7 +121,7 @@ std::string split_advice(const GammaPeak& peak, const CouplingSpec& coupling)
   // docs/theory.md, "Anderson acceleration": its iterates are not bound to
   // contract by gamma each.
   advice << "; instead: coupling.scheme = \"monolithic\" (no coupling iteration: the robust choice)";
-  if (coupling.scheme == CouplingScheme::fixed_stress and coupling.fallback == Fallback::none)
+  if (coupling.scheme != CouplingScheme::monolithic and coupling.fallback == Fallback::none)
     advice << ", coupling.fallback = \"monolithic\" (that scheme for the steps the split fails at)";
   if (coupling.acceleration != Acceleration::anderson)
     advice << ", coupling.acceleration = \"anderson\" (not bound to gamma per iteration)";

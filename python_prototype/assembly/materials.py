@@ -54,7 +54,7 @@ def split_advice(peak, coupling):
     # docs/theory.md, "Anderson acceleration": its iterates are not bound to
     # contract by gamma each.
     advice += '; instead: coupling.scheme = "monolithic" (no coupling iteration: the robust choice)'
-    if coupling.scheme == CouplingScheme.fixed_stress and coupling.fallback == Fallback.none:
+    if coupling.scheme != CouplingScheme.monolithic and coupling.fallback == Fallback.none:
         advice += ', coupling.fallback = "monolithic" (that scheme for the steps the split fails at)'
     if coupling.acceleration != Acceleration.anderson:
         advice += ', coupling.acceleration = "anderson" (not bound to gamma per iteration)'
