@@ -81,7 +81,6 @@ private:
   bool stop();
   void save_completed();
   void save_on_failure();
-  std::string restart_proposal() const;
   void write_summary();
   int exit_status() const;
   RunState run_state() { return {*_scheme, *_domain->mesh, _report, _state, _grid}; }
@@ -244,7 +243,7 @@ void Simulation::save_on_failure()
     if (_end.saved != _completed->steps)
       save_completed();
     _end.failure += "; step " + std::to_string(_completed->steps) + " is in the checkpoint (--restart " + _directory
-                    + restart_proposal() + " goes on from it)";
+                    + restart_proposal(_end.failure, _scene) + " goes on from it)";
   }
   catch (const OutputError& e)
   {
@@ -252,18 +251,6 @@ void Simulation::save_on_failure()
     _end.failure += "; the checkpoint of step " + std::to_string(_completed->steps) + " could not be written: "
                     + e.what();
   }
-}
-
-/// Where the failure proposes the monolithic scheme, the --set of the
-/// restart that takes it: coupling.scheme between the single-rate split and
-/// it (restart_fingerprint), a multirate run's coupling.fallback.
-std::string Simulation::restart_proposal() const
-{
-  if (_end.failure.find("coupling.scheme = \"monolithic\"") == std::string::npos)
-    return "";
-  if (!_scene.coupling or !_scene.coupling->multirate())
-    return " --set coupling.scheme=monolithic";
-  return falls_back() ? "" : " --set coupling.fallback=monolithic";
 }
 
 /// What the coupling schemes tell the run: write each step, print the

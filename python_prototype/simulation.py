@@ -22,8 +22,8 @@ from .diagnostics.reference_errors import reference_errors
 from .domain.create_domain import create_domain
 from .domain.working_ranks import working_ranks_line
 from .domain.mesh_checks import check_expressions
-from .output.checkpoint import (RunState, capture_checkpoint, read_checkpoint, restore_checkpoint, restore_run_state,
-                                write_checkpoint)
+from .output.checkpoint import (RunState, capture_checkpoint, read_checkpoint, restart_proposal, restore_checkpoint,
+                                restore_run_state, write_checkpoint)
 from .output.directory_lock import DirectoryLock
 from .output.fields import OutputFields
 from .output.interruption import interruption_signal
@@ -208,20 +208,10 @@ class Simulation:
             if self.end.saved != steps:
                 self.save_completed()
             self.end.failure += (f"; step {steps} is in the checkpoint (--restart {self.directory}"
-                                 f"{self.restart_proposal()} goes on from it)")
+                                 f"{restart_proposal(self.end.failure, self.scene)} goes on from it)")
         except OutputError as e:
             self.checkpointing = False
             self.end.failure += f"; the checkpoint of step {steps} could not be written: {e}"
-
-    def restart_proposal(self):
-        """Where the failure proposes the monolithic scheme, the --set of the
-        restart that takes it: coupling.scheme between the single-rate split
-        and it (restart_fingerprint), a multirate run's coupling.fallback."""
-        if 'coupling.scheme = "monolithic"' not in self.end.failure:
-            return ""
-        if self.scene.coupling is None or not self.scene.coupling.multirate():
-            return " --set coupling.scheme=monolithic"
-        return "" if self.falls_back() else " --set coupling.fallback=monolithic"
 
     def observer(self):
         """What the coupling schemes tell the run: write each step, print the

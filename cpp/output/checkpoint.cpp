@@ -262,6 +262,15 @@ std::string restart_fingerprint(const std::string& text, const std::vector<std::
   return fingerprint;
 }
 
+std::string restart_proposal(const std::string& failure, const Scene& scene)
+{
+  if (failure.find("coupling.scheme = \"monolithic\"") == std::string::npos)
+    return "";
+  if (!scene.coupling or !scene.coupling->multirate())
+    return " --set coupling.scheme=monolithic";
+  return scene.coupling->fallback == Fallback::monolithic ? "" : " --set coupling.fallback=monolithic";
+}
+
 Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint)
 {
   Checkpoint c;

@@ -83,6 +83,12 @@ void write_checkpoint(MPI_Comm comm, const std::string& directory, const std::st
 std::string restart_fingerprint(const std::string& text, const std::vector<std::string>& overrides,
                                 const Scene& scene);
 
+/// The --set of the restart that takes what `failure` proposes, where it
+/// proposes the monolithic scheme: coupling.scheme between the single-rate
+/// split and it (restart_fingerprint), a multirate run's coupling.fallback
+/// (none where it had it); otherwise empty.
+std::string restart_proposal(const std::string& failure, const Scene& scene);
+
 /// Reads it back with every rank's values; throws SceneError when there is
 /// none, or it belongs to another scene, or is damaged (collective).
 Checkpoint read_checkpoint(MPI_Comm comm, const std::string& directory, const std::string& fingerprint);

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..assembly.linear_algebra import UnknownsPart
 from ..coupling.coupling import for_each_checkpointed
-from ..scene.input import CouplingScheme
+from ..scene.input import CouplingScheme, Fallback
 from ..scene.scene import SceneError, agree_on_error
 from ..solvers.solver import SolverStatistics, solver_counts
 from .keyed_values import keyed_values, mesh_difference, mesh_signature, restore_values
@@ -127,6 +127,18 @@ def restart_fingerprint(text, overrides, scene):
     if scene.coupling and scene.coupling.scheme not in (CouplingScheme.fixed_stress, CouplingScheme.monolithic):
         fingerprint += f"\ncoupling.scheme = {scene.coupling.scheme.value}"
     return fingerprint
+
+
+def restart_proposal(failure, scene):
+    """The --set of the restart that takes what `failure` proposes, where it
+    proposes the monolithic scheme: coupling.scheme between the single-rate
+    split and it (restart_fingerprint), a multirate run's coupling.fallback
+    (none where it had it); otherwise empty."""
+    if 'coupling.scheme = "monolithic"' not in failure:
+        return ""
+    if scene.coupling is None or not scene.coupling.multirate():
+        return " --set coupling.scheme=monolithic"
+    return "" if scene.coupling.fallback == Fallback.monolithic else " --set coupling.fallback=monolithic"
 
 
 def _changeable():
