@@ -164,6 +164,19 @@ for track in TRACKS:
           and Fields(out).times("pressure") == [0.0, 0.2],
           f"{track}: the fallback's monolithic scheme fails a fine step after its retry: {line[-1][:200]!r}")
 
+# With time.adaptive the fallback solves the failed step and the control
+# goes on from it (a rejected step later, 8 steps); the monolithic scheme
+# stops at or past the step's end, as the control's steps may pass it.
+ADAPTIVE = FALLBACK + ["time.adaptive={tolerance=1e-1}"]
+outs = {}
+for track in TRACKS:
+    outs[track], _ = run_track(track, scene("default"), *ADAPTIVE, options=["-mechanics_contact_snes_max_it", "8"])
+    s = summary(outs[track])
+    check(s["converged"] and s["fallback_steps"] == 1 and s["steps"] == 8 and s["adaptive"]["rejected_steps"] == 1,
+          f"{track}: time.adaptive with the fallback completes ({s['steps']} steps, {s['fallback_steps']} fallback)")
+fields = max_difference(outs["C++"], outs["prototype"], ["displacement", "pressure", "contact_pressure"])
+check(max(fields.values()) <= 1e-10, f"time.adaptive with the fallback: the prototype equals the C++ solver: {fields}")
+
 # A multirate run that fails proposes the fallback: the restart from its
 # checkpoint cannot change its scheme (restart_fingerprint), and the
 # restart with coupling.fallback goes on (before 2026-12-05 it proposed

@@ -33,7 +33,7 @@ WindowObserver fallback_observer(const WindowObserver& split, SolvedStep& solved
   WindowObserver o = split;
   o.flow_state = [write_flow, end](double t)
   {
-    if (t != end)
+    if (t < end)
       write_flow(t);
   };
   o.mechanics_state = [&solved](double t, int, int iterations)
@@ -41,7 +41,7 @@ WindowObserver fallback_observer(const WindowObserver& split, SolvedStep& solved
     solved.t = t;
     solved.iterations += iterations;
   };
-  o.stop = [&solved, end] { return solved.t == end; };
+  o.stop = [&solved, end] { return solved.t >= end; }; // time.adaptive's steps may pass it
   o.retry = [retry = split.retry](const std::string& message) { retry("the monolithic scheme: " + message); };
   o.record = [&solved, record = split.record](IterationRecord r)
   {

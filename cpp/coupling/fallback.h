@@ -42,11 +42,11 @@ struct SolvedStep
 
 /// The observer of the monolithic scheme's steps for the split's failed
 /// step `solved` ending at `end`, from the run's observer `split`: they
-/// fill `solved` and stop at `end`; their rows in iterations.csv carry the
-/// step's number, their retries (time.retry, which count their own fine
-/// steps) name the scheme; each fine step before `end` is written by
-/// `write_flow` (a multirate window's), the last left to the run with the
-/// mechanics.
+/// fill `solved` and stop at or past `end`; their rows in iterations.csv
+/// carry the step's number, their retries (time.retry, which count their
+/// own fine steps) name the scheme; each fine step before `end` is written
+/// by `write_flow` (a multirate window's), the last left to the run with
+/// the mechanics.
 WindowObserver fallback_observer(const WindowObserver& split, SolvedStep& solved, double end,
                                  const std::function<void(double)>& write_flow);
 

@@ -44,19 +44,19 @@ class SolvedStep:
 def fallback_observer(split, solved, end, write_flow):
     """The observer of the monolithic scheme's steps for the split's failed
     step `solved` ending at `end`, from the run's observer `split`: they
-    fill `solved` and stop at `end`; their rows in iterations.csv carry the
+    fill `solved` and stop at or past `end`; their rows in iterations.csv carry the
     step's number, their retries (time.retry, which count their own fine
     steps) name the scheme; each fine step before `end` is written by
     `write_flow` (a multirate window's), the last left to the run with the
     mechanics."""
     def flow_state(t):
-        if t != end:
+        if t < end:
             write_flow(t)
 
     def mechanics_state(t, _, iterations):
         solved.t = t
         solved.iterations += iterations
     return dataclasses.replace(split, flow_state=flow_state, mechanics_state=mechanics_state,
-                               stop=lambda: solved.t == end,
+                               stop=lambda: solved.t >= end,  # time.adaptive's steps may pass it
                                retry=lambda message: split.retry(f"the monolithic scheme: {message}"),
                                record=lambda r: split.record(dataclasses.replace(r, step=solved.step)))
