@@ -123,7 +123,6 @@ for track in TRACKS:
 # with BDF2 (its history the monolithic steps', WindowHistory.start) the
 # same on both tracks (1e-10).
 import numpy as np  # noqa: E402
-from support import Fields  # noqa: E402
 
 WINDOWS = ["mesh.cells=[160,16]", "time.end=0.8", "boundary.top.traction=[0.0, '-1e3*min(t/2,1)']",
            "coupling.fallback=monolithic", "coupling.scheme=multirate", "coupling.q=2"]
@@ -150,6 +149,39 @@ for extra in ([], ["coupling.scheme=multirate-two-pass"], ["coupling.q=auto", "t
                    for name, times in (("pressure", (0.2, 0.4)), ("displacement", (0.4,))) for t in times)
         check(fine <= 1e-12 and b.times("pressure") == a.times("pressure"),
               f"the failed window's fine steps are the monolithic run's ({fine:.1e}), every fine step written")
+
+# Killed after the window the fallback solved (q = "auto", BDF2: its one
+# fine step's history in the checkpoint of step 2) and restarted, the run
+# ends as the uninterrupted one to the bit.
+import re  # noqa: E402
+import signal  # noqa: E402
+import tempfile  # noqa: E402
+
+from support import restarted  # noqa: E402
+
+AFTER = ["mesh.cells=[160,16]", "time.end=1.6", "boundary.top.traction=[0.0, '-1e3*min(t/2,1)']",
+         "coupling.fallback=monolithic", "coupling.scheme=multirate", "coupling.q=auto", "time.scheme=bdf2",
+         "output.checkpoint_every=2"]
+CAP = ["-mechanics_contact_snes_max_it", "8"]
+for track in TRACKS:
+    whole, _ = run_track(track, scene("default"), *AFTER, options=CAP)
+    out = tempfile.mkdtemp(prefix="killed-")
+    killed = subprocess.Popen([*TRACKS[track], "run", scene("default"), "--out", out,
+                               *[a for s in AFTER for a in ("--set", s)], *CAP],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
+    steps = 0
+    for line in killed.stdout:
+        steps += re.match(r"step +\d+/", line) is not None
+        if steps == 3:
+            killed.send_signal(signal.SIGKILL)
+            break
+    killed.communicate(timeout=300)
+    p = restarted(track, scene("default"), out, *AFTER)
+    fields = max_difference(whole, out, ["displacement", "pressure", "contact_pressure"])
+    restart = re.search(r"restarted from the checkpoint at step \d+", p.stdout)
+    check(summary(whole)["fallback_steps"] == 1 and restart and max(fields.values()) == 0.0,
+          f"{track}: killed after step 3, {restart.group(0) if restart else 'not restarted'}: the uninterrupted "
+          f"run's fields {fields}")
 
 # Capped harder, with time.retry = 1: the window fails halved too, the
 # monolithic scheme solves its first fine step (t = 0.2, written) and fails
@@ -181,20 +213,20 @@ check(max(fields.values()) <= 1e-10, f"time.adaptive with the fallback: the prot
 # checkpoint cannot change its scheme (restart_fingerprint), and the
 # restart with coupling.fallback goes on (before 2026-12-05 it proposed
 # "--set coupling.scheme=monolithic", which the restart refused).
-from support import restarted  # noqa: E402
-
 LATE = ["coupling.scheme=multirate", "coupling.q=2", "coupling.max_iterations=10",
         "boundary.top.traction=[0.0, '-1e3*(t>1)']", "output.checkpoint_every=1"]
 for track in TRACKS:
     out, p = run_track(track, scene("default"), *LATE, expect=3)
     line = p.stderr.strip().splitlines()
-    check(len(line) == 1 and 'coupling.fallback = "monolithic" (that scheme for the steps the split fails at)' in line[0]
+    proposal = 'coupling.fallback = "monolithic" (that scheme for the steps the split fails at)'
+    check(len(line) == 1 and proposal in line[0]
           and f"step 2 is in the checkpoint (--restart {out} --set coupling.fallback=monolithic goes on from it)"
           in line[0], f"{track}: the multirate run's failure proposes its fallback: {line[-1][-200:]!r}")
     restarted(track, scene("default"), out, *LATE, "coupling.fallback=monolithic")
     s = summary(out)
     check(s["converged"] and s["fallback_steps"] > 0,
-          f"{track}: restarted with coupling.fallback it completes ({s['steps']} steps, {s['fallback_steps']} fallback)")
+          f"{track}: restarted with coupling.fallback it completes ({s['steps']} steps, {s['fallback_steps']} "
+          "fallback)")
 
 # With time.scheme = "bdf2" the split takes over from the monolithic
 # scheme, whose history has no displacement_path_before: with one fine step
