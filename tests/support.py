@@ -560,14 +560,13 @@ def fault_fields(out, names=("slip", "traction", "tangential_traction", "state")
         return f["Mesh/geometry"][:], times, series
 
 
-def killed_and_restarted(track, scene_file, steps, *extra):
-    """A run with a checkpoint every 4 steps (and --set `extra`), killed
-    once `steps` are written, then continued with --restart; its output
-    directory and the step it restarted from."""
-    sets = ["--set", "output.checkpoint_every=4", *[a for s in extra for a in ("--set", s)]]
-    out = tempfile.mkdtemp(prefix="restart-")
-    p = subprocess.Popen(TRACKS[track] + ["run", scene_file, "--out", out] + sets, stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
+def killed(track, scene_file, steps, *sets, options=()):
+    """A run with --set `sets` and PETSc `options`, killed (SIGKILL) once
+    `steps` are written; its output directory."""
+    out = tempfile.mkdtemp(prefix="killed-")
+    p = subprocess.Popen(TRACKS[track] + ["run", scene_file, "--out", out, *[a for s in sets for a in ("--set", s)],
+                                          *options],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
     printed = 0
     for line in p.stdout:
         printed += re.match(r"step +\d+/", line) is not None
@@ -575,6 +574,14 @@ def killed_and_restarted(track, scene_file, steps, *extra):
             p.send_signal(signal.SIGKILL)
             break
     p.communicate(timeout=300)
+    return out
+
+
+def killed_and_restarted(track, scene_file, steps, *extra):
+    """A run with a checkpoint every 4 steps (and --set `extra`), killed
+    once `steps` are written, then continued with --restart; its output
+    directory and the step it restarted from."""
+    out = killed(track, scene_file, steps, "output.checkpoint_every=4", *extra)
     p = restarted(track, scene_file, out, "output.checkpoint_every=4", *extra)
     step = re.search(r"restarted from the checkpoint at step (\d+)", p.stdout)
     check(step is not None, f"{track}: killed after step {steps} and restarted "

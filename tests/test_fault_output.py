@@ -13,14 +13,13 @@ damaged fault.xdmf: exit 4, one line); with two cracks the cell field
 import os
 import re
 import shutil
-import signal
 import subprocess
 import tempfile
 
 import h5py
 import meshio
 import numpy as np
-from support import MPI_ENV, ROOT, TRACKS, Fields, check, fault_pairs, gmsh_scene, run_track, scene, summary
+from support import MPI_ENV, ROOT, TRACKS, Fields, check, fault_pairs, gmsh_scene, killed, run_track, scene, summary
 
 SCENE = scene("fault_depletion")
 
@@ -200,16 +199,7 @@ check(xml(runs["C++"]) == xml(runs["prototype"]), "prototype = C++: the same fau
 SETS = ["--set", "time.dt=0.25", "--set", "output.checkpoint_every=3"]
 for track, exe in TRACKS.items():
     whole, _ = run_track(track, SCENE, *SETS[1::2])
-    out = tempfile.mkdtemp(prefix="restart-")
-    p = subprocess.Popen(exe + ["run", SCENE, "--out", out] + SETS, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, env=MPI_ENV, cwd=ROOT)
-    printed = 0
-    for line in p.stdout:
-        printed += re.match(r"step +\d+/", line) is not None
-        if printed == 5:
-            p.send_signal(signal.SIGKILL)
-            break
-    p.communicate(timeout=300)
+    out = killed(track, SCENE, 5, *SETS[1::2])
     before = fault_series(out)[0]
     damaged = tempfile.mkdtemp(prefix="damaged-")
     shutil.copytree(out, damaged, dirs_exist_ok=True)

@@ -154,10 +154,8 @@ for extra in ([], ["coupling.scheme=multirate-two-pass"], ["coupling.q=auto", "t
 # fine step's history in the checkpoint of step 2) and restarted, the run
 # ends as the uninterrupted one to the bit.
 import re  # noqa: E402
-import signal  # noqa: E402
-import tempfile  # noqa: E402
 
-from support import restarted  # noqa: E402
+from support import killed, restarted  # noqa: E402
 
 AFTER = ["mesh.cells=[160,16]", "time.end=1.6", "boundary.top.traction=[0.0, '-1e3*min(t/2,1)']",
          "coupling.fallback=monolithic", "coupling.scheme=multirate", "coupling.q=auto", "time.scheme=bdf2",
@@ -165,17 +163,7 @@ AFTER = ["mesh.cells=[160,16]", "time.end=1.6", "boundary.top.traction=[0.0, '-1
 CAP = ["-mechanics_contact_snes_max_it", "8"]
 for track in TRACKS:
     whole, _ = run_track(track, scene("default"), *AFTER, options=CAP)
-    out = tempfile.mkdtemp(prefix="killed-")
-    killed = subprocess.Popen([*TRACKS[track], "run", scene("default"), "--out", out,
-                               *[a for s in AFTER for a in ("--set", s)], *CAP],
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=MPI_ENV, cwd=ROOT)
-    steps = 0
-    for line in killed.stdout:
-        steps += re.match(r"step +\d+/", line) is not None
-        if steps == 3:
-            killed.send_signal(signal.SIGKILL)
-            break
-    killed.communicate(timeout=300)
+    out = killed(track, scene("default"), 3, *AFTER, options=CAP)
     p = restarted(track, scene("default"), out, *AFTER)
     fields = max_difference(whole, out, ["displacement", "pressure", "contact_pressure"])
     restart = re.search(r"restarted from the checkpoint at step \d+", p.stdout)

@@ -44,11 +44,11 @@ class SolvedStep:
 def fallback_observer(split, solved, end, write_flow):
     """The observer of the monolithic scheme's steps for the split's failed
     step `solved` ending at `end`, from the run's observer `split`: they
-    fill `solved` and stop at or past `end`; their rows in iterations.csv carry the
-    step's number, their retries (time.retry, which count their own fine
-    steps) name the scheme; each fine step before `end` is written by
-    `write_flow` (a multirate window's), the last left to the run with the
-    mechanics."""
+    fill `solved` and stop at or past `end`; their rows in iterations.csv
+    carry the step's number, their retries (time.retry, which count their
+    own fine steps) name the scheme; each fine step before `end` is written
+    by `write_flow` (a multirate window's), the last left to the run with
+    the mechanics."""
     def flow_state(t):
         if t < end:
             write_flow(t)
