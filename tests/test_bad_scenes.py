@@ -135,6 +135,7 @@ CASES = [
     ("accelerated monolithic", DEFAULT, s("coupling.scheme=monolithic", "coupling.acceleration=anderson"),
      "coupling.acceleration", READ),
     ("unknown fallback", DEFAULT, s("coupling.fallback=newton"), "coupling.fallback", READ),
+    ("mistyped pin_cycles", DEFAULT, s("coupling.pin_cycles=1"), "coupling.pin_cycles", READ),
     ("a fallback for the monolithic scheme", DEFAULT, s("coupling.scheme=monolithic", "coupling.fallback=monolithic"),
      "coupling.fallback", READ),
     ("two-pass multirate without storage", DEFAULT,

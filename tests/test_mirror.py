@@ -114,6 +114,13 @@ DIFFERENCES = {
                            "the faults' cells, links, ends and junctions; in C++ those members of ConduitFaults "
                            "are defined in fault_flow_jacobian.cpp",
     },
+    "assembly/fault_flow_pins": {
+        "ConduitPins": "Python only: the pins of ConduitFaults' cells as its base class, whose methods read the "
+                       "faults' cells and open sets; in C++ those members of ConduitFaults are defined in "
+                       "fault_flow_pins.cpp",
+        "CellPins": "Python only: a conduit's per-cell flips, pins and openings as one value (_Conduit.pinning); "
+                    "C++'s Conduit holds the three vectors itself",
+    },
     "assembly/fault_flow_volumes": {
         "ConduitVolumes": "Python only: the volume bookkeeping of ConduitFaults as its base class, whose methods "
                           "read the faults' cells, faces, wells and junctions; in C++ those members of "
@@ -206,6 +213,11 @@ DIFFERENCES = {
         "inverse": "C++ only: inverts a block of T; Python calls numpy.linalg.inv",
         "node_block": "C++ only: a NodeMatrix as a block's row-major vector; Python's T_node is already an "
                       "array",
+    },
+    "contact/contact_pins": {
+        "ContactPins": "Python only: the pins of ContactSolver's constraints as its base class, whose methods read "
+                       "the contact set, the VI and the contact force; in C++ those members of ContactSolver are "
+                       "defined in contact_pins.cpp",
     },
     "contact/contact_set": {
         "ContactBlock": "C++ only: a block of the change of variables in V's numbering (DOFs, matrix); Python "

@@ -60,6 +60,7 @@ CASES = [
     ("unknown acceleration", ["coupling.acceleration=aitken"], "coupling.acceleration"),
     ("Anderson depth 0", ["coupling.acceleration=anderson", "coupling.depth=0"], "coupling.depth"),
     ("unknown fallback", ["coupling.fallback=newton"], "coupling.fallback"),
+    ("mistyped pin_cycles", ["coupling.pin_cycles=1"], "coupling.pin_cycles"),
     ("negative checkpoint interval", ["output.checkpoint_every=-1"], "output.checkpoint_every"),
     ("zero progress interval", ["output.progress_interval=0"], "output.progress_interval"),
     ("infinite progress interval", ["output.progress_interval=inf"], "output.progress_interval"),

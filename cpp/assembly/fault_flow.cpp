@@ -265,6 +265,9 @@ void ConduitFaults::begin_step()
   for (Conduit& c : _conduits)
   {
     std::fill(c.open.begin(), c.open.end(), 0);
+    c.flips.assign(c.open.size(), 0);
+    c.pins.assign(c.open.size(), 0);
+    c.opening.assign(c.open.size(), 0.0);
     if (!c.conducting.empty()) // the step starts from w_h, as a restart does
       c.conducting = c.aperture;
   }
@@ -284,10 +287,15 @@ bool ConduitFaults::set_openings(std::span<const double> opening, std::span<cons
       const double e = open_fraction * c.residual, w = opening[c.offset + k];
       if (c.closure and !traction.empty()) // none before the first mechanics solve: the unloaded u = 0
         c.traction[k] = traction[c.offset + k];
-      const double w_h
-          = c.residual + (c.closure ? closure_aperture(*c.closure, c.traction[k]) : 0.0) + std::max(w - e, 0.0);
-      const char open = w > e;
-      flipped_back = flipped_back or (_lagged and open != c.open[k] and open == c.open_before[k]);
+      const int pin = c.pins.empty() ? 0 : c.pins[k];
+      if (!c.opening.empty())
+        c.opening[k] = w;
+      const double w_h = c.residual + (c.closure ? closure_aperture(*c.closure, c.traction[k]) : 0.0)
+                         + (pin < 0 ? w - e : pin > 0 ? 0.0 : std::max(w - e, 0.0));
+      const char open = pin < 0 or (pin == 0 and w > e);
+      if (!c.flips.empty() and open != c.open[k])
+        ++c.flips[k];
+      flipped_back = flipped_back or (_lagged and pin == 0 and open != c.open[k] and open == c.open_before[k]);
       changed = changed or w_h != c.aperture[k] or (open or c.open[k]) != (c.open[k] or c.open_before[k]);
       largest = std::max(largest, w_h);
       change = open != c.open[k] ? INFINITY : std::max(change, std::abs(w_h - c.aperture[k]));

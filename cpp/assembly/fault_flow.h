@@ -126,6 +126,21 @@ public:
   /// A step starts: no cell was open at an iterate before (the next
   /// set_openings's).
   void begin_step();
+  /// The cells whose open state flipped at least twice in the step are
+  /// pinned open from the next set_openings on, open whatever their w,
+  /// with w_h = w_r + b + w - e linear in w (coupling/pins.h); the
+  /// apertures' relaxation starts anew. How many cells are pinned (every
+  /// rank alike).
+  int pin_flipped();
+  /// Each pinned cell whose mean opening at the last set_openings
+  /// contradicts its pin turns it: pinned open with w < -e to pinned
+  /// closed (w_h = w_r + b), pinned closed with w > e to pinned open.
+  /// Whether any turned (every rank alike).
+  bool turn_contradicted_pins();
+  /// Every pin turned (open to closed, closed to open).
+  void turn_pins();
+  /// No cell pinned from the next set_openings on.
+  void release_pins();
   /// No fixed-stress term from now on (the second pass of
   /// "multirate-two-pass", which solves without L).
   void without_stabilisation() { _stabilised = false; }
@@ -255,6 +270,9 @@ private:
     std::vector<double> conducting = {}; // the aperture of the cubic law: w_h relaxed (Aitken)
     std::vector<double> lag = {};        // w_h - conducting at the last set_openings
     FaultEdges links = FaultEdges(2);    // the cells' links but those at junctions (fault_network)
+    std::vector<int> flips = {};         // per cell: changes of its open state in the step
+    std::vector<signed char> pins = {};  // per cell: -1 pinned open, 1 pinned closed, 0 free (pin_flipped)
+    std::vector<double> opening = {};    // per cell: w at the last set_openings
   };
   struct Face
   {

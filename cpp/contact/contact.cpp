@@ -341,6 +341,7 @@ bool ContactSolver::solve_vi(Vec b_vi, Vec x_vi, int newton_steps)
     check_petsc(VecCopy(b_vi, _vi->load()), "contact solver: VecCopy of the load");
     check_petsc(VecCopy(x_vi, _vi->unknown()), "contact solver: VecCopy of the VI's start");
   }
+  _vi->pin(_pinned ? pins_in_vi() : std::vector<std::int8_t>{});
   // In units of the displacement scale (the largest gap or |x|).
   const double scale = displacement_scale(_set, _displacement_dofs, x_vi, _comm);
   if (newton_steps == 0)
@@ -445,6 +446,16 @@ std::vector<double> ContactSolver::distances(Vec x) const
   return distance;
 }
 
+Vec ContactSolver::contact_force(Vec x, Vec b)
+{
+  check_petsc(MatMult(_A, x, _force), "contact solver: MatMult of A for the contact force");
+  check_petsc(VecAXPY(_force, -1.0, b), "contact solver: VecAXPY of the contact force");
+  if (!_change)
+    return _force;
+  _change->dual(_force, _b_vi);
+  return _b_vi;
+}
+
 ActiveSet ContactSolver::active_set(Vec x) const
 {
   const double scale = displacement_scale(_set, _displacement_dofs, x, _comm);
@@ -463,14 +474,7 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   // Nodal contact force R = A x - b (the residual of the unconstrained
   // equations), in the new variables R' = T^{-T} R: the multiplier of each
   // constraint; the contact pressure is -R'[dof] sign / lumped measure.
-  check_petsc(MatMult(_A, x, _force), "contact solver: MatMult of A for the contact force");
-  check_petsc(VecAXPY(_force, -1.0, b), "contact solver: VecAXPY of the contact force");
-  Vec force = _force;
-  if (_change)
-  {
-    _change->dual(_force, _b_vi);
-    force = _b_vi;
-  }
+  Vec force = contact_force(x, b);
   Vec x_vi = to_vi(x, _x_vi), start_vi = to_vi(_x_start, _x_start_vi);
   const PetscScalar *X, *start, *R;
   check_petsc(VecGetArrayRead(x_vi, &X), "contact solver: VecGetArrayRead of x");

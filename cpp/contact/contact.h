@@ -128,6 +128,18 @@ public:
   std::vector<double> broken_bonds() const { return broken_bond_names(_set, _bonded_accepted, _comm); }
   void restore_bonds(const std::vector<double>& broken);
 
+  /// From the next solve on, each constraint k of the set (this rank's) is
+  /// pinned closed (pins[k] = 1: on its bound, whatever its force), pinned
+  /// open (-1: unbounded) or free (0); empty on every rank: none pinned
+  /// (collective; coupling/pins.h).
+  void pin(std::vector<std::int8_t> pins);
+  /// The pins at x under load b, those x contradicts turned: a constraint
+  /// pinned open that penetrates by more than pin_tolerance
+  /// (contact_pins.cpp) of the displacement scale is pinned closed, one
+  /// pinned closed that pulls by more than that of the largest contact
+  /// pressure is pinned open (this rank's; collective).
+  std::vector<std::int8_t> consistent_pins(Vec x, Vec b);
+
   /// A was reassembled: the next solve factorises anew.
   void operator_changed();
   /// A few rows of A changed (a conduit fault's apertures): the last
@@ -253,6 +265,14 @@ private:
   Vec _x_start = nullptr, _x_start_vi = nullptr;
   // The bonds as of the last accepted step (_set.bonded: as of now).
   std::vector<char> _bonded_accepted;
+  // The constraints' pins (pin) and whether any rank has one.
+  std::vector<std::int8_t> _pins;
+  bool _pinned = false;
+  /// The pins in the VI's bounded positions (collective when condensed).
+  std::vector<std::int8_t> pins_in_vi() const;
+  /// The contact force R' = T^-T (A x - b) at x: the multiplier of each
+  /// constraint (in _force, or _b_vi with a change of variables).
+  Vec contact_force(Vec x, Vec b);
   // The last load solved and its solution, where a failed solve's load
   // continuation starts.
   SolvedLoad _solved;

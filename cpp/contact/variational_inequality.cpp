@@ -296,7 +296,7 @@ SNESConvergedReason VariationalInequality::first_attempt(double scale)
 }
 
 /// sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of the
-/// scale.
+/// scale; a pinned position on both bounds (closed) or on none (open).
 void VariationalInequality::set_bounds(double scale)
 {
   PetscScalar *lo, *up;
@@ -304,10 +304,15 @@ void VariationalInequality::set_bounds(double scale)
   check_petsc(VecGetArray(_upper, &up), "contact solver: VecGetArray");
   for (std::size_t k = 0; k < _p.bounded.size(); ++k)
   {
-    if (_p.sign[k] > 0)
-      up[_p.bounded[k]] = _p.gap[k] / scale;
-    else
-      lo[_p.bounded[k]] = -_p.gap[k] / scale;
+    const double bound = _p.sign[k] * _p.gap[k] / scale;
+    const int pin = _pins.empty() ? 0 : _pins[k];
+    double l = PETSC_NINFINITY, u = PETSC_INFINITY;
+    if (pin >= 0)
+      (_p.sign[k] > 0 ? u : l) = bound;
+    if (pin > 0)
+      l = u = bound;
+    lo[_p.bounded[k]] = l;
+    up[_p.bounded[k]] = u;
   }
   check_petsc(VecRestoreArray(_lower, &lo), "contact solver: VecRestoreArray");
   check_petsc(VecRestoreArray(_upper, &up), "contact solver: VecRestoreArray");

@@ -86,6 +86,13 @@ public:
   /// the load are spent).
   bool try_solve(double scale, int newton_steps);
 
+  /// The bounded positions of y (local), VIProblem::bounded.
+  const std::vector<std::int32_t>& bounded() const { return _p.bounded; }
+  /// Per bounded position from the next solve on: 0 bounded as posed, 1
+  /// pinned closed (both bounds at the gap), -1 pinned open (no bound);
+  /// empty: all as posed (coupling/pins.h).
+  void pin(std::vector<std::int8_t> pins) { _pins = std::move(pins); }
+
   /// The frictional constraints anew, in the same positions (a law
   /// changed: a bond broke, or a new step restored the step's start).
   void set_friction(std::vector<FrictionalConstraint> friction);
@@ -171,6 +178,7 @@ private:
   SNES _snes = nullptr;
   std::unique_ptr<SolverStage> _stage;
   std::unique_ptr<ContactConvergence> _convergence;
+  std::vector<std::int8_t> _pins; // per bounded position (pin)
   std::unique_ptr<InactiveSetPreconditioner> _preconditioner;
   bool _lag_by_default = false;
   bool _reuse_factorization = false; // reuse_factorization()

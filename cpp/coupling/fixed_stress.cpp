@@ -3,6 +3,7 @@
 #include "contact/bonds.h"
 #include "coupling/contraction.h"
 #include "coupling/cycle.h"
+#include "coupling/pins.h"
 #include "coupling/two_pass.h"
 #include "coupling/window.h"
 #include "time/window_control.h"
@@ -51,12 +52,7 @@ public:
   void run();
 
 private:
-  enum class Outcome
-  {
-    converged,
-    not_converged,
-    retried
-  };
+  enum class Outcome { converged, not_converged, retried };
 
   double t(const Window& w, int m) const { return _history.t(w, m); }
   void start();
@@ -306,6 +302,7 @@ bool FixedStressSplit::iteration(Window& w, int n)
     _observer.iteration(w.K + 1, n + 1, dp_norm, du_norm);
   w.increment = std::max(dp_norm, du_norm);
   w.active_nodes.push_back(w.active.nodes);
+  w.flags.push_back(w.active.flags);
   w.increments.push_back(w.increment);
   const double tolerance = this->tolerance(w);
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;
@@ -323,14 +320,17 @@ FixedStressSplit::Outcome FixedStressSplit::iterate_window(Window& w, int& n)
 {
   try
   {
+    const PinnedSteps pinned{_mechanics, _flow, _V.mesh()->comm(), _coupling.pin_cycles,
+                             _observer.note, window_name(w, t(w, w.q))};
+    release_pins(w, pinned);
     for (n = 0; n < _coupling.max_iterations; ++n)
     {
-      if (iteration(w, n))
+      if (iteration(w, n) and pins_consistent(w, n, pinned))
         return Outcome::converged;
       if (stagnant(w, n))
         accelerate(w);
-      // A cycle goes on to max_iterations: end it here.
-      if ((w.cycle = cycle_period(w.active_nodes, w.increments)) > 0)
+      // A cycle goes on to max_iterations: end it here, unless pins end it.
+      if ((w.cycle = cycle_period(w.active_nodes, w.increments)) > 0 and !pin_cycle(w, n, pinned))
         return Outcome::not_converged;
     }
   }
@@ -381,12 +381,11 @@ bool FixedStressSplit::balance_accepted(const Window& w)
     const std::string failure = _flow.unbalanced(t(w, m));
     if (failure.empty())
       continue;
-    std::ostringstream message;
-    message << "step " << w.K + 1 << " (t = " << t(w, m) << "): " << failure;
-    if (retry(w, message.str()))
+    const std::string message = window_name(w, t(w, m)) + ": " + failure;
+    if (retry(w, message))
       return false;
     _report.mean_contraction_ratio = _report.ratios ? _state.ratio_sum / _report.ratios : 0.0;
-    throw CouplingError(message.str());
+    throw CouplingError(message);
   }
   return true;
 }

@@ -169,11 +169,18 @@ std::vector<double> fault_reference(const Window& w, int m)
   return reference;
 }
 
+std::string window_name(const Window& w, double t)
+{
+  std::ostringstream name;
+  name << "step " << w.K + 1 << " (t = " << t << ")";
+  return name.str();
+}
+
 std::string stagnation_note(const Window& w, double t, int left)
 {
   const std::size_t n = w.increments.size();
   std::ostringstream message;
-  message << "step " << w.K + 1 << " (t = " << t << "): the split contracts by "
+  message << window_name(w, t) << ": the split contracts by "
           << w.increments[n - 1] / w.increments[n - 2] << " per iteration, too slowly for the " << left
           << " iterations left; Anderson acceleration from iteration " << n + 1;
   return message.str();

@@ -46,6 +46,9 @@ struct Window
   std::vector<std::int64_t> active_nodes; // per iteration: the contact set's active nodes (coupling/cycle.h)
   std::vector<double> increments;      // per iteration: max(dp, du)
   int cycle = 0;                       // the period of the cycle that ended the iteration, 0 for none
+  std::vector<std::vector<std::int8_t>> flags; // per iteration since the last pins: the active set's (this rank's)
+  std::vector<std::int8_t> pins;       // the contact constraints' pins (coupling/pins.h), this rank's
+  int pin_rounds = 0;                  // rounds of pins so far; -1: released after max_pin_rounds
 };
 
 /// @brief What the one-line error of a window that failed says besides the
@@ -85,6 +88,9 @@ void mix_iterates(Window& w);
 /// p_f^{n,m} - p_f^{n,m-1} + p_f^{n+1,m-1}: the fault's (S + L)(p_f^{n+1,m} -
 /// p_f^{n+1,m-1}) = L (p_f^{n,m} - p_f^{n,m-1}) + ... as the rock's eq. 4.17.
 std::vector<double> fault_reference(const Window& w, int m);
+
+/// "step K (t = t)": window w in a message.
+std::string window_name(const Window& w, double t);
 
 /// The log's line where coupling.acceleration = "auto" hands window w
 /// (at t) to Anderson's method, `left` iterations left.

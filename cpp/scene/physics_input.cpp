@@ -211,6 +211,7 @@ CouplingSpec read_coupling(Section s, const MechanicsSpec& mech, const FlowSpec&
   c.fallback = s.choice<Fallback>("fallback", Fallback::none);
   if (c.fallback == Fallback::monolithic and c.scheme == CouplingScheme::monolithic)
     s.fail("fallback", "takes over a step the split fails at; the monolithic scheme has no split");
+  c.pin_cycles = s.boolean("pin_cycles", true);
   s.finish();
   return c;
 }

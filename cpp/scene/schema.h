@@ -180,6 +180,8 @@ struct CouplingSpec
   Acceleration acceleration = Acceleration::automatic;
   int depth = 8;
   Fallback fallback = Fallback::none;
+  /// A cycle of the split at a pair's kink is ended by pins (coupling/pins.h).
+  bool pin_cycles = true;
   /// q flow steps per mechanics step (either multirate scheme).
   bool multirate() const
   {

@@ -56,6 +56,20 @@ public:
   std::string name() const override { return _pass == FlowPass::first ? "flow" : "flow_second_pass"; }
   StepState state() const override;
   void restore(const StepState& start) override { set_unknowns(start.unknowns); }
+  /// ConduitFaults::pin_flipped, turn_contradicted_pins, turn_pins and
+  /// release_pins (none without conduit faults).
+  int pin_flipped() { return *_conduits ? _conduits->pin_flipped() : 0; }
+  bool turn_contradicted_pins() { return *_conduits and _conduits->turn_contradicted_pins(); }
+  void turn_pins()
+  {
+    if (*_conduits)
+      _conduits->turn_pins();
+  }
+  void release_pins()
+  {
+    if (*_conduits)
+      _conduits->release_pins();
+  }
   /// The conduit faults' pressure now is p_f^old of every solve of the
   /// step (the split's iterations re-solve it); their iterates' open cells
   /// start anew.

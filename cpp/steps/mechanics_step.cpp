@@ -159,6 +159,19 @@ ActiveSet MechanicsStep::active_contact_set()
   return _system->has_contact() ? _system->contact().active_set(wrap(*u->x()).vec()) : ActiveSet{};
 }
 
+void MechanicsStep::pin_contact(std::vector<std::int8_t> pins)
+{
+  if (_system->has_contact())
+    _system->contact().pin(std::move(pins));
+}
+
+std::vector<std::int8_t> MechanicsStep::consistent_pins()
+{
+  if (!_system->has_contact())
+    return {};
+  return _system->contact().consistent_pins(wrap(*u->x()).vec(), wrap(*_b).vec());
+}
+
 bool MechanicsStep::same_contact_set(const ActiveSet& before)
 {
   return same_active_set(active_contact_set(), before, _V->mesh()->comm());

@@ -70,6 +70,10 @@ public:
   /// forces), for the log of every coupling iteration; empty without
   /// contact.
   ActiveSet active_contact_set() override;
+  /// ContactSolver::pin, and its consistent_pins at the current u
+  /// (collective; none without contact).
+  void pin_contact(std::vector<std::int8_t> pins);
+  std::vector<std::int8_t> consistent_pins();
   /// Changes of the contact active set so far (0 without contact).
   long active_set_changes() { return system().has_contact() ? system().contact().active_set_changes() : 0; }
 

@@ -22,6 +22,7 @@ from .boundary_conditions import fault_face_rows
 from .fault_compliance import closure_aperture, softest_modulus
 from .fault_flow_compliance import ConduitCompliance
 from .fault_flow_jacobian import ConduitJacobian
+from .fault_flow_pins import CellPins, ConduitPins
 from .fault_flow_volumes import ConduitVolumes
 from .fault_rows import fault_rows
 from .fault_volumes import FaultVolumes
@@ -74,6 +75,7 @@ class _Conduit:
     conducting: np.ndarray = None  # the aperture of the cubic law: w_h relaxed (Aitken)
     lag: np.ndarray = None         # w_h - conducting at the last set_openings
     links: object = None           # FaultEdges: the cells' links but those at junctions (fault_network)
+    pinning: object = None         # CellPins: its cells' flips and pins in the step (fault_flow_pins.py)
 
 
 # Below this fraction of the residual aperture a cell's mean opening is the
@@ -108,7 +110,7 @@ def transmissibilities(t, edges):
     return edges.measures / np.sum(edges.distances / t[edges.cells], axis=1)
 
 
-class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
+class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitPins):
     """The conduit faults of a scene: their cells, numbered fault by fault
     in the scene's order, appended after the flow system's unknowns, each on
     the rank that owns its first node (fault_rows.py); the faces' flux DOFs
@@ -287,20 +289,18 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         stresses s_n (FaultAperture.cell_means of the contact tractions; None
         without a closure) of the last mechanics iterate, every cell on every
         rank: b the closure's share (closure_aperture, 0 without one), e =
-        OPEN_FRACTION w_r (rigid walls, without mechanics, keep the residual
-        aperture w_r); and which cells are open (w > e). The first call
-        of a run also sets the apertures at the step's start. Whether w_h or
-        an open cell changed, and with them the operator and the faces'
-        resistance."""
+        OPEN_FRACTION w_r; and which cells are open (w > e; pinned cells as
+        pinned). The first call of a run also sets the start's apertures.
+        Whether w_h or an open cell changed (the operator, the resistance)."""
         changed, flipped_back, largest, change = False, False, 0.0, 0.0
         for conduit in self.faults:
             o, n, e = conduit.offset, len(conduit.cells.measures), OPEN_FRACTION * conduit.residual
             if conduit.closure and traction is not None and len(traction):  # none before the first solve: u = 0
                 conduit.traction = np.asarray(traction[o:o + n], dtype=float)
             closed = closure_aperture(conduit.closure, conduit.traction) if conduit.closure else 0.0
-            w_h = conduit.residual + closed + np.maximum(opening[o:o + n] - e, 0.0)
-            is_open = opening[o:o + n] > e
-            flipped_back = flipped_back or (self.lagged and bool(np.any((is_open != conduit.open)
+            opened, is_open, free = self._pinned_openings(conduit, opening[o:o + n], e)
+            w_h = conduit.residual + closed + opened
+            flipped_back = flipped_back or (self.lagged and bool(np.any((is_open != conduit.open) & free
                                                                          & (is_open == conduit.open_before))))
             changed = (changed or not np.array_equal(w_h, conduit.aperture)
                        or not np.array_equal(is_open | conduit.open, conduit.open | conduit.open_before))
@@ -410,6 +410,7 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance):
         set_openings's)."""
         for conduit in self.faults:
             conduit.open = np.zeros_like(conduit.open)
+            conduit.pinning = CellPins(len(conduit.open))
             if conduit.conducting is not None:  # the step starts from w_h, as a restart does
                 conduit.conducting = conduit.aperture.copy()
         self.lagged = self.relaxing = self.newton = self.held = False  # no lag of this step known yet

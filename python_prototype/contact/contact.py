@@ -17,6 +17,7 @@ from petsc4py import PETSc
 from ..assembly.linear_algebra import solved_positions
 from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
+from .contact_pins import ContactPins
 from .contact_path import ContactPath, PathCosts, choose_contact_path
 from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
 from .friction import FrictionalConstraint, all_gather_constraints
@@ -59,7 +60,7 @@ class ContactUnknowns:
     separate_rows: object = ()
 
 
-class ContactSolver:
+class ContactSolver(ContactPins):
     """The VI as a bound-constrained problem: l <= x <= g with F(x) = A x - b
     complementary to the bounds, bounds only on the contact DOFs. The energy
     is quadratic: A is the exact (constant) Jacobian. SNESVI decides "on the
@@ -370,6 +371,7 @@ class ContactSolver:
         else:
             b_vi.copy(load)
             x_vi.copy(y)
+        self.vi.pin(self._pins_in_vi() if self.pinned else [])
         # in units of the displacement scale (the largest gap or |x|)
         scale = displacement_scale(self.set, self.displacement_dofs, x_vi, self.comm)
         if newton_steps == 0:
@@ -456,19 +458,20 @@ class ContactSolver:
         flags = on_foundation(self.distances(x), displacement_scale(self.set, self.displacement_dofs, x, self.comm))
         return ActiveSet(flags, self.comm.allreduce(int(np.sum(flags)), op=MPI.SUM))
 
-    def state(self, x, b, pressure_out, active_out):
-        """Contact diagnostics of x (collective); fills the output fields.
-        Contact force R = A x - b, in the new variables R' = T^{-T} R: the
-        multiplier of each constraint; contact pressure -sign R'[dof] /
-        lumped measure."""
-        distance = self.distances(x)
+    def _contact_force(self, x, b):
+        """R' = T^{-T} (A x - b) at x, each constraint's multiplier."""
         self.A.mult(x, self.force)
         self.force.axpy(-1.0, b)
-        force = self.force
-        if self.change:
-            self.change.dual(self.force, self.b_vi)
-            force = self.b_vi
-        R = force.getArray(readonly=True)
+        if not self.change:
+            return self.force
+        self.change.dual(self.force, self.b_vi)
+        return self.b_vi
+
+    def state(self, x, b, pressure_out, active_out):
+        """Contact diagnostics of x (collective); fills the output fields.
+        Contact pressure -sign R'[dof] / lumped measure (_contact_force)."""
+        distance = self.distances(x)
+        R = self._contact_force(x, b).getArray(readonly=True)
         pressure = -self.set.sign * R[self.dofs] / self.set.lumped
         X = self._to_vi(x).getArray(readonly=True)
         jumps = [junction_jumps(self.set, self.displacement_dofs, v, self.comm) for v in (x, self.x_start)]

@@ -85,6 +85,7 @@ class VariationalInequality:
         self.lower.set(PETSc.NINFINITY)
         self.upper.set(PETSc.INFINITY)
         self.scale = 1.0
+        self.pins = np.zeros(0, dtype=np.int8)  # per bounded position (pin)
         self.newton_iterations = self.linear_iterations = 0
         self.J = self.y_reference = self.stiffness = self.preconditioner = None
         self.jacobian_weights = None  # J's as last built (jacobian_weights); None once K changed
@@ -295,6 +296,12 @@ class VariationalInequality:
         self.convergence.active_set_changes = earlier.convergence.active_set_changes
         self.convergence.on_newton_step = earlier.convergence.on_newton_step
 
+    def pin(self, pins):
+        """Per bounded position from the next solve on: 0 bounded as posed,
+        1 pinned closed (both bounds at the gap), -1 pinned open (no bound);
+        empty: all as posed (coupling/pins.py)."""
+        self.pins = np.asarray(pins, dtype=np.int8)
+
     def set_friction(self, friction):
         """The frictional constraints anew, in the same positions (a law
         changed: a bond broke, or a new step restored the step's start)."""
@@ -356,13 +363,17 @@ class VariationalInequality:
 
     def _set_bounds(self):
         """sign y[dof] <= gap: y[dof] <= gap or y[dof] >= -gap, in units of
-        the scale."""
+        the scale; a pinned position on both bounds (closed) or on none
+        (open)."""
         p = self.p
-        upper, lower = p.sign > 0, p.sign < 0
+        bound = p.sign * p.gap / self.scale
+        pins = self.pins if len(self.pins) else np.zeros(len(p.bounded), dtype=np.int8)
+        upper = np.where((p.sign > 0) & (pins >= 0) | (pins > 0), bound, PETSc.INFINITY)
+        lower = np.where((p.sign < 0) & (pins >= 0) | (pins > 0), bound, PETSc.NINFINITY)
         with self.upper as up:
-            up[p.bounded[upper]] = p.gap[upper] / self.scale
+            up[p.bounded] = upper
         with self.lower as lo:
-            lo[p.bounded[lower]] = -p.gap[lower] / self.scale
+            lo[p.bounded] = lower
 
     def _set_tolerances(self):
         """The absolute tolerance relative to the load unless -snes_atol is

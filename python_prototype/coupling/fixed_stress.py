@@ -16,9 +16,10 @@ from ..contact.contact_state import ActiveSet, same_active_set
 from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
 from .cycle import cycle_period, stagnates
+from .pins import PinnedSteps, pin_cycle, pins_consistent, release_pins
 from .two_pass import second_pass_correction
 from .window import (AndersonScales, Window, WindowFailure, WindowHistory, accelerate_window, fault_reference,
-                     mix_iterates, not_converged_message, stagnation_note)
+                     mix_iterates, not_converged_message, stagnation_note, window_name)
 from ..time.window_control import window_limit, window_steps
 from ..assembly.linear_algebra import owned, owned_norm
 from ..scene.input import Acceleration
@@ -248,6 +249,7 @@ class _FixedStressSplit:
             self.observer.iteration(w.K + 1, n + 1, dp_norm, du_norm)
         w.increment = max(dp_norm, du_norm)
         w.active_nodes.append(w.active.nodes)
+        w.flags.append(w.active.flags)
         w.increments.append(w.increment)
         tolerance = self.tolerance(w)
         converged = dp_norm <= tolerance and du_norm <= tolerance
@@ -262,14 +264,17 @@ class _FixedStressSplit:
         iteration's index."""
         n = 0
         try:
+            pinned = PinnedSteps(self.mechanics, self.flow, self.comm, self.coupling.pin_cycles, self.observer.note,
+                                 window_name(w, self.t(w, w.q)))
+            release_pins(w, pinned)
             for n in range(self.coupling.max_iterations):
-                if self.iteration(w, n):
+                if self.iteration(w, n) and pins_consistent(w, n, pinned):
                     return _Outcome.converged, n
                 if self.stagnant(w, n):
                     self.accelerate(w)
-                # A cycle goes on to max_iterations: end it here.
+                # A cycle goes on to max_iterations: end it here, unless pins end it.
                 w.cycle = cycle_period(w.active_nodes, w.increments)
-                if w.cycle:
+                if w.cycle and not pin_cycle(w, n, pinned):
                     return _Outcome.not_converged, n
         except SolverError as e:
             # The failing solve named its system; the iteration is known here.
@@ -309,7 +314,7 @@ class _FixedStressSplit:
             failure = self.flow.unbalanced(self.t(w, m))
             if not failure:
                 continue
-            message = f"step {w.K + 1} (t = {self.t(w, m):g}): {failure}"
+            message = f"{window_name(w, self.t(w, m))}: {failure}"
             if self.retry(w, message):
                 return False
             report = self.report

@@ -6,6 +6,8 @@ BDF2, docs/theory.md "Time schemes")."""
 import dataclasses
 import math
 
+import numpy as np
+
 from ..contact.contact_state import ActiveSet
 from .anderson import AndersonAcceleration
 from ..scene.input import TimeScheme
@@ -41,6 +43,9 @@ class Window:
         self.active_nodes = []        # per iteration: the contact set's active nodes (coupling/cycle.py)
         self.increments = []          # per iteration: max(dp, du)
         self.cycle = 0                # the period of the cycle that ended the iteration, 0 for none
+        self.flags = []               # per iteration since the last pins: the active set's (this rank's)
+        self.pins = np.zeros(0, dtype=np.int8)  # the contact constraints' pins (pins.py), this rank's
+        self.pin_rounds = 0           # rounds of pins so far; -1: released after MAX_PIN_ROUNDS
 
 
 @dataclasses.dataclass
@@ -103,10 +108,15 @@ def mix_iterates(w):
     w.u_old = x[w.q]
 
 
+def window_name(w, t):
+    """"step K (t = t)": window w in a message."""
+    return f"step {w.K + 1} (t = {t:g})"
+
+
 def stagnation_note(w, t, left):
     """The log's line where coupling.acceleration = "auto" hands window w (at
     t) to Anderson's method, `left` iterations left."""
-    return (f"step {w.K + 1} (t = {t:g}): the split contracts by {w.increments[-1] / w.increments[-2]:g} per "
+    return (f"{window_name(w, t)}: the split contracts by {w.increments[-1] / w.increments[-2]:g} per "
             f"iteration, too slowly for the {left} iterations left; Anderson acceleration from iteration "
             f"{len(w.increments) + 1}")
 

@@ -184,6 +184,7 @@ def _read_coupling(s, mech, flow):
     c.fallback = s.choice("fallback", Fallback, Fallback.none)
     if c.fallback == Fallback.monolithic and c.scheme == CouplingScheme.monolithic:
         s.fail("fallback", "takes over a step the split fails at; the monolithic scheme has no split")
+    c.pin_cycles = s.boolean("pin_cycles", True)
     s.finish()
     return c
 

@@ -152,6 +152,7 @@ class CouplingSpec:
     acceleration: Acceleration = Acceleration.automatic  # Anderson's keeps `depth` differences
     depth: int = 8
     fallback: Fallback = Fallback.none
+    pin_cycles: bool = True  # a cycle of the split at a pair's kink is ended by pins (coupling/pins.py)
 
     def multirate(self):
         """q flow steps per mechanics step (either multirate scheme)."""

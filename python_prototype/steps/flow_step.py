@@ -230,6 +230,24 @@ class FlowStep(Step):
     def state(self):
         return StepState(self.unknowns().copy(), self.pressure.x.array.copy())
 
+    def pin_flipped(self):
+        """ConduitFaults.pin_flipped (0 without conduit faults)."""
+        return self.conduits.pin_flipped() if self.conduits else 0
+
+    def turn_contradicted_pins(self):
+        """ConduitFaults.turn_contradicted_pins (False without conduit faults)."""
+        return bool(self.conduits) and self.conduits.turn_contradicted_pins()
+
+    def turn_pins(self):
+        """ConduitFaults.turn_pins."""
+        if self.conduits:
+            self.conduits.turn_pins()
+
+    def release_pins(self):
+        """ConduitFaults.release_pins."""
+        if self.conduits:
+            self.conduits.release_pins()
+
     def begin_step(self):
         """The conduit faults' pressure now is p_f^old of every solve of the
         step (the split's iterations re-solve it); their iterates' open cells

@@ -221,4 +221,14 @@ class MechanicsStep(Step):
         return self.system.contact.state(self.u.vector, self.b.vector, self.contact_pressure,
                                          self.contact_active)
 
+    def pin_contact(self, pins):
+        """ContactSolver.pin (collective; none without contact)."""
+        if self.system.has_contact():
+            self.system.contact.pin(pins)
 
+    def consistent_pins(self):
+        """ContactSolver.consistent_pins at the current u (collective; none
+        without contact)."""
+        if not self.system.has_contact():
+            return np.zeros(0, dtype=np.int8)
+        return self.system.contact.consistent_pins(self.u.vector, self.b.vector)
