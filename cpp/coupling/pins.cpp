@@ -15,6 +15,7 @@ namespace
 void restart_pinned(Window& w)
 {
   ++w.pin_rounds;
+  w.pinned_at += w.increments.size();
   w.active_nodes.clear();
   w.increments.clear();
   w.flags.clear();

@@ -15,11 +15,12 @@ std::string not_converged_message(const Window& w, const WindowFailure& failure)
   if (w.cycle)
   {
     message << "the fixed-stress split cycles at t = " << failure.t << " (step " << w.K + 1 << "): after "
-            << w.increments.size() << " iterations the contact set returns every " << w.cycle
+            << w.pinned_at + w.increments.size() << " iterations the contact set returns every " << w.cycle
             << " iterations (active nodes";
     for (std::size_t i = w.active_nodes.size() - w.cycle; i < w.active_nodes.size(); ++i)
       message << " " << w.active_nodes[i];
-    message << ") and the increments no longer shrink; last increments:";
+    message << ") and the increments no longer shrink" << (w.pin_rounds != 0 ? ", pinned or not" : "")
+            << "; last increments:";
   }
   else
     message << "the fixed-stress split did not converge in " << failure.max_iterations << " iterations at t = "

@@ -49,6 +49,7 @@ struct Window
   std::vector<std::vector<std::int8_t>> flags; // per iteration since the last pins: the active set's (this rank's)
   std::vector<std::int8_t> pins;       // the contact constraints' pins (coupling/pins.h), this rank's
   int pin_rounds = 0;                  // rounds of pins so far; -1: released after max_pin_rounds
+  std::size_t pinned_at = 0;           // the iterations before the last pins (their records cleared)
 };
 
 /// @brief What the one-line error of a window that failed says besides the

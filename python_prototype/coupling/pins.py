@@ -34,6 +34,7 @@ def _restart_pinned(w):
     """The iteration goes on under new pins: the cycle's record and
     Anderson's differences are of the map before them."""
     w.pin_rounds += 1
+    w.pinned_at += len(w.increments)
     w.active_nodes, w.increments, w.flags, w.cycle = [], [], [], 0
     if w.anderson and not w.anderson.restart():
         w.anderson = None

@@ -46,6 +46,7 @@ class Window:
         self.flags = []               # per iteration since the last pins: the active set's (this rank's)
         self.pins = np.zeros(0, dtype=np.int8)  # the contact constraints' pins (pins.py), this rank's
         self.pin_rounds = 0           # rounds of pins so far; -1: released after MAX_PIN_ROUNDS
+        self.pinned_at = 0            # the iterations before the last pins (their records cleared)
 
 
 @dataclasses.dataclass
@@ -65,9 +66,9 @@ def not_converged_message(w, failure):
     max_iterations or cycled (cycle.py), with its last three increments."""
     if w.cycle:
         head = (f"the fixed-stress split cycles at t = {failure.t:g} (step {w.K + 1}): after "
-                f"{len(w.increments)} iterations the contact set returns every {w.cycle} iterations (active "
-                f"nodes {' '.join(str(a) for a in w.active_nodes[-w.cycle:])}) and the increments no longer "
-                "shrink; last increments:")
+                f"{w.pinned_at + len(w.increments)} iterations the contact set returns every {w.cycle} iterations "
+                f"(active nodes {' '.join(str(a) for a in w.active_nodes[-w.cycle:])}) and the increments no longer "
+                f"shrink{', pinned or not' if w.pin_rounds else ''}; last increments:")
     else:
         head = (f"the fixed-stress split did not converge in {failure.max_iterations} "
                 f"iterations at t = {failure.t:g} (step {w.K + 1}); last increments:")
