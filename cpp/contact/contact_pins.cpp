@@ -52,7 +52,8 @@ std::vector<std::int8_t> ContactSolver::consistent_pins(Vec x, Vec b)
   MPI_Allreduce(&local, &largest, 1, MPI_DOUBLE, MPI_MAX, _comm);
   std::vector<std::int8_t> pins = _pins;
   for (std::size_t k = 0; k < pins.size(); ++k)
-    if ((pins[k] < 0 and distance[k] < -pin_tolerance * scale) or (pins[k] > 0 and pressure[k] < -pin_tolerance * largest))
+    if ((pins[k] < 0 and distance[k] < -pin_tolerance * scale)
+        or (pins[k] > 0 and pressure[k] < -pin_tolerance * largest))
       pins[k] = static_cast<std::int8_t>(-pins[k]);
   return pins;
 }

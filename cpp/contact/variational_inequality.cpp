@@ -306,13 +306,8 @@ void VariationalInequality::set_bounds(double scale)
   {
     const double bound = _p.sign[k] * _p.gap[k] / scale;
     const int pin = _pins.empty() ? 0 : _pins[k];
-    double l = PETSC_NINFINITY, u = PETSC_INFINITY;
-    if (pin >= 0)
-      (_p.sign[k] > 0 ? u : l) = bound;
-    if (pin > 0)
-      l = u = bound;
-    lo[_p.bounded[k]] = l;
-    up[_p.bounded[k]] = u;
+    lo[_p.bounded[k]] = pin > 0 or (pin == 0 and _p.sign[k] < 0) ? bound : PETSC_NINFINITY;
+    up[_p.bounded[k]] = pin > 0 or (pin == 0 and _p.sign[k] > 0) ? bound : PETSC_INFINITY;
   }
   check_petsc(VecRestoreArray(_lower, &lo), "contact solver: VecRestoreArray");
   check_petsc(VecRestoreArray(_upper, &up), "contact solver: VecRestoreArray");
