@@ -46,6 +46,8 @@ CASES = {
     "5e-4-22.5min-multirate-fallback": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",
                                                               "time.dt=1350.0", 'coupling.scheme="multirate"',
                                                               "coupling.q=2", 'coupling.fallback="monolithic"']),
+    "5e-4-11.25min-multirate": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",
+                                                      "time.dt=675.0", 'coupling.scheme="multirate"', "coupling.q=2"]),
     "5e-4-3h-bdf2": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0", "time.dt=10800.0",
                                            'time.scheme="bdf2"']),
     "5e-4-3h-bdf2-retry": (REACTIVATION, WELL + ["well.injector.rate=5.0e-4", "time.end=864000.0",
