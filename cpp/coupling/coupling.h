@@ -40,6 +40,7 @@ struct CouplingReport
   int max_window_q = 0;        // coupling.q = "auto": the largest q taken
   long q_rejections = 0;       // ... windows tried again with q = 1: the contact set changed in them
   long accelerated_windows = 0; // coupling.acceleration = "auto": windows handed to Anderson where they stagnated
+  long pinned_windows = 0;      // windows accepted with pins (coupling/pins.h)
   long fallback_steps = 0;      // coupling.fallback: steps the monolithic scheme solved where the split failed
 };
 
@@ -142,6 +143,7 @@ void for_each_checkpointed(Report& r, State& c, F&& f)
   f("q_rejections", r.q_rejections);
   f("accelerated_windows", r.accelerated_windows);
   f("fallback_steps", r.fallback_steps);
+  f("pinned_windows", r.pinned_windows);
 }
 
 } // namespace biotcontact

@@ -436,6 +436,7 @@ CouplingError FixedStressSplit::not_converged(const Window& w)
 void FixedStressSplit::accept_window(const Window& w, int n)
 {
   _attempts = 0;
+  _report.pinned_windows += w.pin_rounds > 0;
   for (int m = 1; m <= w.q; ++m)
   {
     _flow.set_unknowns(w.w_new[m]);

@@ -34,7 +34,8 @@ class CouplingReport:
     adaptive: AdaptiveReport = field(default_factory=AdaptiveReport)  # time.adaptive (time/step_control.py)
     max_window_q: int = 0              # coupling.q = "auto": the largest q taken
     q_rejections: int = 0              # ... windows tried again with q = 1: the contact set changed in them
-    accelerated_windows: int = 0       # coupling.acceleration = "auto": windows handed to Anderson where they stagnated
+    accelerated_windows: int = 0       # coupling.acceleration = "auto": windows handed to Anderson where they stagnate
+    pinned_windows: int = 0            # windows accepted with pins (pins.py)d
     fallback_steps: int = 0            # coupling.fallback: steps the monolithic scheme solved where the split failed
 
 
@@ -119,7 +120,7 @@ CHECKPOINTED = ("windows", "coupling_iterations", "max_iterations_per_step", "ma
                 "bound_violations", "unresolved_ratios", "max_coupled_residual", "ratio_sum", "p_size", "u_size",
                 "fault_p_size", "retries", "rejected_steps", "forced_steps", "max_error_estimate", "error_estimate",
                 "p_largest", "u_largest", "contact_breaks", "smooth_states", "fine_steps", "window_q", "q_limit",
-                "max_window_q", "q_rejections", "accelerated_windows", "fallback_steps")
+                "max_window_q", "q_rejections", "accelerated_windows", "fallback_steps", "pinned_windows")
 
 
 def for_each_checkpointed(report, state, f):

@@ -362,6 +362,7 @@ class _FixedStressSplit:
         step; its end state is the next window's start."""
         report = self.report
         self.attempts[0] = 0
+        report.pinned_windows += w.pin_rounds > 0
         for m in range(1, w.q + 1):
             self.flow.set_unknowns(w.w_new[m])
             self.flow.set_fine_step(m, w.fault_new[m - 1], w.fault_new[m])

@@ -209,6 +209,7 @@ def run_summary(summary_input, outcome):
         "steps": r.windows,
         "retries": r.retries,
         "accelerated_windows": r.accelerated_windows,
+        "pinned_windows": r.pinned_windows,
         "fallback_steps": r.fallback_steps,
         "fine_steps": r.fine_steps,
         "coupling_iterations": r.coupling_iterations,
