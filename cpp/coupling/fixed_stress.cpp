@@ -302,7 +302,7 @@ bool FixedStressSplit::iteration(Window& w, int n)
     _observer.iteration(w.K + 1, n + 1, dp_norm, du_norm);
   w.increment = std::max(dp_norm, du_norm);
   w.active_nodes.push_back(w.active.nodes);
-  w.flags.push_back(w.active.flags);
+  record_flags(w);
   w.increments.push_back(w.increment);
   const double tolerance = this->tolerance(w);
   const bool converged = dp_norm <= tolerance and du_norm <= tolerance;

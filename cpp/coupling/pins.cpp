@@ -56,6 +56,13 @@ void tell(const PinnedSteps& steps, int n, const std::string& what)
 
 } // namespace
 
+void record_flags(Window& w)
+{
+  w.flags.push_back(w.active.flags);
+  if (w.flags.size() > static_cast<std::size_t>(longest_cycle))
+    w.flags.erase(w.flags.begin());
+}
+
 void release_pins(Window& w, const PinnedSteps& steps)
 {
   w.pins.clear();

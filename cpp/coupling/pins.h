@@ -7,6 +7,7 @@
 // primal-dual active-set step). Twin: python_prototype/coupling/pins.py.
 #pragma once
 
+#include "coupling/cycle.h"
 #include "coupling/window.h"
 #include "steps/flow_step.h"
 #include "steps/mechanics_step.h"
@@ -35,6 +36,11 @@ struct PinnedSteps
   std::function<void(const std::string&)> note;
   std::string window;
 };
+
+/// Keeps the active set of the window's last iteration, w.active's flags,
+/// with those of the iterations before it back to longest_cycle
+/// (coupling/cycle.h): the most a cycle's period needs.
+void record_flags(Window& w);
 
 /// A window starts without pins (collective).
 void release_pins(Window& w, const PinnedSteps& steps);

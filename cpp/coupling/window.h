@@ -46,7 +46,7 @@ struct Window
   std::vector<std::int64_t> active_nodes; // per iteration: the contact set's active nodes (coupling/cycle.h)
   std::vector<double> increments;      // per iteration: max(dp, du)
   int cycle = 0;                       // the period of the cycle that ended the iteration, 0 for none
-  std::vector<std::vector<std::int8_t>> flags; // per iteration since the last pins: the active set's (this rank's)
+  std::vector<std::vector<std::int8_t>> flags; // the active sets of the last iterations (coupling/pins.h), this rank's
   std::vector<std::int8_t> pins;       // the contact constraints' pins (coupling/pins.h), this rank's
   int pin_rounds = 0;                  // rounds of pins so far; -1: released after max_pin_rounds
   std::size_t pinned_at = 0;           // the iterations before the last pins (their records cleared)

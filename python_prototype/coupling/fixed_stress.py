@@ -16,7 +16,7 @@ from ..contact.contact_state import ActiveSet, same_active_set
 from .contraction import ContractionMeasure, relative
 from .coupling import CouplingError, IterationRecord
 from .cycle import cycle_period, stagnates
-from .pins import PinnedSteps, pin_cycle, pins_consistent, release_pins
+from .pins import PinnedSteps, pin_cycle, pins_consistent, record_flags, release_pins
 from .two_pass import second_pass_correction
 from .window import (AndersonScales, Window, WindowFailure, WindowHistory, accelerate_window, fault_reference,
                      mix_iterates, not_converged_message, stagnation_note, window_name)
@@ -249,7 +249,7 @@ class _FixedStressSplit:
             self.observer.iteration(w.K + 1, n + 1, dp_norm, du_norm)
         w.increment = max(dp_norm, du_norm)
         w.active_nodes.append(w.active.nodes)
-        w.flags.append(w.active.flags)
+        record_flags(w)
         w.increments.append(w.increment)
         tolerance = self.tolerance(w)
         converged = dp_norm <= tolerance and du_norm <= tolerance

@@ -11,6 +11,8 @@ from typing import Callable, Optional
 import numpy as np
 from mpi4py import MPI
 
+from .cycle import LONGEST_CYCLE
+
 # The rounds of pins a window may take: then they are released, and a
 # cycle ends the window as without them.
 MAX_PIN_ROUNDS = 4
@@ -57,6 +59,14 @@ def _pin_changing_pairs(w, comm):
 def _tell(steps, n, what):
     if steps.note:
         steps.note(f"{steps.window}, coupling iteration {n + 1}: {what}")
+
+
+def record_flags(w):
+    """Keeps the active set of the window's last iteration, w.active's
+    flags, with those of the iterations before it back to LONGEST_CYCLE
+    (cycle.py): the most a cycle's period needs."""
+    w.flags.append(w.active.flags)
+    del w.flags[:-LONGEST_CYCLE]
 
 
 def release_pins(w, steps):

@@ -43,7 +43,7 @@ class Window:
         self.active_nodes = []        # per iteration: the contact set's active nodes (coupling/cycle.py)
         self.increments = []          # per iteration: max(dp, du)
         self.cycle = 0                # the period of the cycle that ended the iteration, 0 for none
-        self.flags = []               # per iteration since the last pins: the active set's (this rank's)
+        self.flags = []               # the active sets of the last iterations (pins.py), this rank's
         self.pins = np.zeros(0, dtype=np.int8)  # the contact constraints' pins (pins.py), this rank's
         self.pin_rounds = 0           # rounds of pins so far; -1: released after MAX_PIN_ROUNDS
         self.pinned_at = 0            # the iterations before the last pins (their records cleared)
