@@ -6,8 +6,9 @@ crossing in a box (3D: a held side's slip bounded by 1e-6 of the
 displacement, a finding); pressurised cracks open and converge under
 refinement (order >= 0.5); sheared with friction in a coupled scene, split
 = monolithic (1e-8, the same stick/slip states), 2 ranks = 1, a restart
-ends equal (1e-12), prototype = C++ (1e-10). Numbers: docs/verification.md,
-"What each test verifies"."""
+ends equal (1e-12), prototype = C++ (1e-10); conduits opened by a gas, split
+= monolithic (1e-8). Numbers: docs/verification.md, "What each test
+verifies"."""
 import os
 
 import numpy as np
@@ -184,8 +185,8 @@ def balance(out):
 
 
 def check_conduits(track):
-    """Conduits meeting under mechanics: closed, the split = the monolithic
-    solve; opening, the monolithic solve; volumes balanced throughout."""
+    """Conduits meeting under mechanics: closed and opening, the split =
+    the monolithic solve; volumes balanced throughout."""
     path = written(CONDUITS)
     with open(os.path.join(os.path.dirname(path), "mesh.geo"), "w") as f:
         f.write(GEO.format(h=0.1))
@@ -203,10 +204,14 @@ def check_conduits(track):
     check(all(f["closed"] == 0 for f in faults.values()) and min(widest.values()) > 0 and balance(opened) <= 1e-10,
           f"{track}: the network opened by the gas (monolithic): every fault open, largest openings {widest} m, "
           f"volumes balanced to {balance(opened):.1e} (1e-10)")
-    _, p = run_track(track, path, expect=3)
-    check(p.stderr.count("\n") == 1 and "monolithic" in p.stderr,
-          f"{track}: the split cycles as the network opens (a finding) and says so in one line, naming the "
-          f"monolithic solve: {p.stderr.strip()[:120]!r}")
+    split, _ = run_track(track, path)
+    fields, p_f = max_difference(split, opened, FIELDS), fault_pressure_difference(split, opened)
+    # The split's volumes lag its last iterate's apertures by the coupling
+    # tolerance: the bound every accepted step meets (1e-8), not 1e-10.
+    check(max(fields.values()) <= 1e-8 and p_f <= 1e-8 and balance(split) <= 1e-8,
+          f"{track}: the split through the network's opening (its crack's patch joined across the X and the T) "
+          f"= the monolithic solve: {fields}, p_f to {p_f:.1e} (1e-8); volumes balanced to {balance(split):.1e} "
+          "(1e-8)")
     return opened
 
 

@@ -36,7 +36,7 @@ double closure_compliance(const ClosureSpec& closure, double s_n)
   return closure.K_ni * closure.V_m * closure.V_m / (stiffness * stiffness);
 }
 
-std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open)
+std::vector<std::int64_t> open_patches(const std::vector<const FaultEdges*>& links, std::span<const char> open)
 {
   // Union-find over the links between open cells; the roots numbered after.
   std::vector<std::int64_t> parent(open.size());
@@ -47,9 +47,10 @@ std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const 
       k = parent[k] = parent[parent[k]];
     return k;
   };
-  for (std::size_t e = 0; e < links.size(); ++e)
-    if (open[links.cells[2 * e]] and open[links.cells[2 * e + 1]])
-      parent[root(links.cells[2 * e])] = root(links.cells[2 * e + 1]);
+  for (const FaultEdges* edges : links)
+    for (std::size_t e = 0; e < edges->size(); ++e)
+      if (open[edges->cells[2 * e]] and open[edges->cells[2 * e + 1]])
+        parent[root(edges->cells[2 * e])] = root(edges->cells[2 * e + 1]);
   std::vector<std::int64_t> patch(open.size(), -1), number(open.size(), -1);
   std::int64_t patches = 0;
   for (std::size_t k = 0; k < open.size(); ++k)

@@ -38,7 +38,8 @@ double closure_aperture(const ClosureSpec& closure, double s_n);
 double closure_compliance(const ClosureSpec& closure, double s_n);
 
 /// The open patches of a fault: per cell the index of the patch of open
-/// cells joined by `links` that holds it, -1 where the cell is closed.
-std::vector<std::int64_t> open_patches(const FaultEdges& links, std::span<const char> open);
+/// cells joined by any of `links` that holds it, -1 where the cell is
+/// closed.
+std::vector<std::int64_t> open_patches(const std::vector<const FaultEdges*>& links, std::span<const char> open);
 
 } // namespace biotcontact

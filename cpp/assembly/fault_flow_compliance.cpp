@@ -14,7 +14,7 @@ std::vector<double> ConduitFaults::patch_compliances(const Conduit& c) const
   std::vector<char> stabilised(c.open.size());
   for (std::size_t k = 0; k < stabilised.size(); ++k)
     stabilised[k] = c.open[k] or c.open_before[k];
-  const std::vector<std::int64_t> patch = open_patches(c.cells->links, stabilised);
+  const std::vector<std::int64_t> patch = open_patches({&c.cells->links, &c.cells->cut}, stabilised);
   std::vector<double> size(c.cells->size(), 0.0), L(c.cells->size(), -1.0);
   for (std::size_t k = 0; k < patch.size(); ++k)
     if (patch[k] >= 0)

@@ -125,6 +125,11 @@ FaultCells fault_cells(const InputMesh& mesh, const SplitFault& split)
     else if (cells.size() == 1)
       add_edge(fault.inner, cells, measure, middle, fault);
   }
+  std::map<Point, std::size_t> first; // the inner edge first met at each midpoint
+  for (std::size_t e = 0; e < fault.inner.size(); ++e)
+    if (const auto [at, fresh] = first.try_emplace(fault.inner.points[e], e); !fresh)
+      add_edge(fault.cut, {fault.inner.cells[at->second], fault.inner.cells[e]}, fault.inner.measures[e],
+               fault.inner.points[e], fault);
   return fault;
 }
 
@@ -244,6 +249,7 @@ void share_fault_cells(FaultCells& cells, MPI_Comm comm)
   share_edges(cells.links, comm);
   share_edges(cells.ends, comm);
   share_edges(cells.inner, comm);
+  share_edges(cells.cut, comm);
   std::string groups;
   for (const std::string& g : cells.end_groups)
     groups += g + "\n";

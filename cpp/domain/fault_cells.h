@@ -53,6 +53,9 @@ struct FaultCells
   // one-cell edges inside the body: a tip, or an edge where the split
   // separated the fault's cells at another fault (fault_network)
   FaultEdges inner{1};
+  // the links the split cut where another fault crosses or ends on this
+  // one (two inner edges at one point): one plane to its mechanics
+  FaultEdges cut{2};
 
   std::size_t size() const { return measures.size(); }
 };

@@ -43,7 +43,8 @@ def closure_compliance(closure, s_n):
 
 def open_patches(links, is_open):
     """The open patches of a fault: per cell the index of the patch of open
-    cells joined by `links` that holds it, -1 where the cell is closed."""
+    cells joined by any of `links` (FaultEdges) that holds it, -1 where the
+    cell is closed."""
     parent = np.arange(len(is_open))
 
     def root(k):
@@ -51,7 +52,7 @@ def open_patches(links, is_open):
             parent[k] = parent[parent[k]]
             k = parent[k]
         return k
-    for k, l in links.cells.tolist():
+    for k, l in (pair for edges in links for pair in edges.cells.tolist()):
         if is_open[k] and is_open[l]:
             parent[root(k)] = root(l)
     patch, number = np.full(len(is_open), -1), {}

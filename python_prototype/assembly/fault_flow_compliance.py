@@ -39,7 +39,7 @@ class ConduitCompliance:
     def _patch_compliances(self, conduit):
         """Per cell, patch_compliance of the patch of cells open at either of
         the last two mechanics iterates that it belongs to, -1 outside one."""
-        patch = open_patches(conduit.cells.links, conduit.open | conduit.open_before)
+        patch = open_patches((conduit.cells.links, conduit.cells.cut), conduit.open | conduit.open_before)
         size = np.zeros(len(patch))
         np.add.at(size, patch[patch >= 0], conduit.cells.measures[patch >= 0])
         return np.where(patch >= 0, patch_compliance(size[patch], conduit.modulus, self.dim), -1.0)

@@ -48,6 +48,9 @@ class FaultCells:
     # one-cell edges inside the body: a tip, or an edge where the split
     # separated the fault's cells at another fault (fault_network)
     inner: FaultEdges
+    # the links the split cut where another fault crosses or ends on this
+    # one (two inner edges at one point): one plane to its mechanics
+    cut: FaultEdges
 
 
 @dataclasses.dataclass
@@ -152,9 +155,15 @@ def fault_cells(mesh, split):
             groups.append(boundary[edge])
         elif len(cells) == 1:
             inner.append(row)
+    first, cut = {}, []  # the inner edge first met at each midpoint
+    for cells, measure, distances, middle in inner:
+        other = first.setdefault(tuple(middle.tolist()), (cells, distances))
+        if other[0] is not cells:
+            cut.append((other[0] + cells, measure, other[1] + distances, middle))
     return FaultCells(keys, twins, np.asarray(split.normals)[opened].reshape(-1, 3), np.array([g[0] for g in geometry]),
                       np.array([g[1] for g in geometry]).reshape(-1, 3), x[keys].reshape(-1, d, 3),
-                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups, FaultEdges.of(inner, 1))
+                      FaultEdges.of(links, 2), FaultEdges.of(ends, 1), groups, FaultEdges.of(inner, 1),
+                      FaultEdges.of(cut, 2))
 
 
 def _on_segments(vertices, point):

@@ -812,8 +812,13 @@ TEST(FaultCells, OpenPatches)
   links.cells = {0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 6, 0};
   links.measures.assign(6, 1.0);
   const std::vector<char> open{1, 1, 0, 1, 1, 0, 1};
-  EXPECT_EQ(open_patches(links, open), (std::vector<std::int64_t>{0, 0, -1, 1, 1, -1, 0}));
-  EXPECT_EQ(open_patches(links, std::vector<char>(7, 0)), std::vector<std::int64_t>(7, -1));
+  EXPECT_EQ(open_patches({&links}, open), (std::vector<std::int64_t>{0, 0, -1, 1, 1, -1, 0}));
+  EXPECT_EQ(open_patches({&links}, std::vector<char>(7, 0)), std::vector<std::int64_t>(7, -1));
+  // A link cut at another fault, 1-4, joins the two patches.
+  FaultEdges cut(2);
+  cut.cells = {1, 4};
+  cut.measures.assign(1, 1.0);
+  EXPECT_EQ(open_patches({&links, &cut}, open), (std::vector<std::int64_t>{0, 0, -1, 0, 0, -1, 0}));
 }
 
 TEST(FaultCells, PatchCompliance)

@@ -546,8 +546,11 @@ class Cells(unittest.TestCase):
         links = FaultEdges(np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [6, 0]]), np.ones(6),
                            np.ones((6, 2)), np.zeros((6, 3)))
         is_open = np.array([1, 1, 0, 1, 1, 0, 1], dtype=bool)
-        np.testing.assert_array_equal(open_patches(links, is_open), [0, 0, -1, 1, 1, -1, 0])
-        np.testing.assert_array_equal(open_patches(links, np.zeros(7, dtype=bool)), [-1] * 7)
+        np.testing.assert_array_equal(open_patches([links], is_open), [0, 0, -1, 1, 1, -1, 0])
+        np.testing.assert_array_equal(open_patches([links], np.zeros(7, dtype=bool)), [-1] * 7)
+        # A link cut at another fault, 1-4, joins the two patches.
+        cut = FaultEdges(np.array([[1, 4]]), np.ones(1), np.ones((1, 2)), np.zeros((1, 3)))
+        np.testing.assert_array_equal(open_patches([links, cut], is_open), [0, 0, -1, 0, 0, -1, 0])
 
     def test_patch_compliance(self):
         # Sneddon's mean openings per unit pressure: pi a/E' (2D, length
