@@ -473,16 +473,14 @@ ContactState ContactSolver::state(Vec x, Vec b, fem::Function<double>& pressure_
   const std::vector<double> distance = distances(x);
   // Nodal contact force R = A x - b (the residual of the unconstrained
   // equations), in the new variables R' = T^{-T} R: the multiplier of each
-  // constraint; the contact pressure is -R'[dof] sign / lumped measure.
+  // constraint.
   Vec force = contact_force(x, b);
   Vec x_vi = to_vi(x, _x_vi), start_vi = to_vi(_x_start, _x_start_vi);
   const PetscScalar *X, *start, *R;
   check_petsc(VecGetArrayRead(x_vi, &X), "contact solver: VecGetArrayRead of x");
   check_petsc(VecGetArrayRead(start_vi, &start), "contact solver: VecGetArrayRead of the step's start");
   check_petsc(VecGetArrayRead(force, &R), "contact solver: VecGetArrayRead of the contact force");
-  std::vector<double> pressure(_dofs.size());
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k];
+  const std::vector<double> pressure = contact_pressures(_set, _dofs, R);
   const auto jump = junction_jumps(_set, _displacement_dofs, x, _comm);
   const auto jump_start = junction_jumps(_set, _displacement_dofs, _x_start, _comm);
   const ContactMeasurement measured{_set, _displacement_dofs, distance, pressure, displacement_scale(_set, _displacement_dofs, x, _comm),

@@ -44,10 +44,10 @@ std::vector<std::int8_t> ContactSolver::consistent_pins(Vec x, Vec b)
   const Vec force = contact_force(x, b);
   const PetscScalar* R;
   check_petsc(VecGetArrayRead(force, &R), "contact solver: VecGetArrayRead of the contact force");
-  std::vector<double> pressure(_dofs.size());
+  const std::vector<double> pressure = contact_pressures(_set, _dofs, R);
   double local = 0, largest = 0;
-  for (std::size_t k = 0; k < _dofs.size(); ++k)
-    local = std::max(local, pressure[k] = -_set.sign[k] * R[_dofs[k]] / _set.lumped[k]);
+  for (double p : pressure)
+    local = std::max(local, p);
   check_petsc(VecRestoreArrayRead(force, &R), "contact solver: VecRestoreArrayRead of the contact force");
   MPI_Allreduce(&local, &largest, 1, MPI_DOUBLE, MPI_MAX, _comm);
   std::vector<std::int8_t> pins = _pins;

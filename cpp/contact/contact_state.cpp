@@ -227,6 +227,15 @@ void summarise(ContactState& s, const ContactMeasurement& m, MPI_Comm comm)
 }
 } // namespace
 
+std::vector<double> contact_pressures(const ContactSet& set, std::span<const std::int32_t> dofs,
+                                      const PetscScalar* force)
+{
+  std::vector<double> pressure(dofs.size());
+  for (std::size_t k = 0; k < dofs.size(); ++k)
+    pressure[k] = -set.sign[k] * force[dofs[k]] / set.lumped[k];
+  return pressure;
+}
+
 ContactState contact_state(const ContactMeasurement& m, ContactFields out, MPI_Comm comm)
 {
   ContactState s;

@@ -106,6 +106,13 @@ struct ContactMeasurement
 std::vector<std::array<double, 3>> junction_jumps(const ContactSet& set, std::span<const std::int32_t> displacement_dofs,
                                                   Vec u, MPI_Comm comm);
 
+/// Per constraint of `set` its contact pressure (> 0 pressing), -sign
+/// R'[dof] / lumped measure, from the contact force R' = T^-T (A x - b)
+/// (its multiplier, ContactSolver::contact_force) at the constraints' DOFs
+/// `dofs` (this rank's).
+std::vector<double> contact_pressures(const ContactSet& set, std::span<const std::int32_t> dofs,
+                                      const PetscScalar* force);
+
 /// @brief The output fields of the contact: each contact node's pressure,
 /// and 1 where it is on its foundation.
 struct ContactFields

@@ -19,7 +19,8 @@ from .change_of_variables import ChangeOfVariables
 from .contact_law import on_foundation
 from .contact_pins import ContactPins
 from .contact_path import ContactPath, PathCosts, choose_contact_path
-from .contact_state import ActiveSet, ContactFields, ContactMeasurement, contact_state, junction_jumps
+from .contact_state import (ActiveSet, ContactFields, ContactMeasurement, contact_pressures, contact_state,
+                            junction_jumps)
 from .friction import FrictionalConstraint, all_gather_constraints
 from .load_continuation import CONTINUATION_SOLVES, SolvedLoad, continue_load
 from .bonds import BondFailure, bonds_from_names, break_open_bonds, break_pulled_bonds, broken_bond_names
@@ -468,11 +469,10 @@ class ContactSolver(ContactPins):
         return self.b_vi
 
     def state(self, x, b, pressure_out, active_out):
-        """Contact diagnostics of x (collective); fills the output fields.
-        Contact pressure -sign R'[dof] / lumped measure (_contact_force)."""
+        """Contact diagnostics of x (collective); fills the output fields."""
         distance = self.distances(x)
         R = self._contact_force(x, b).getArray(readonly=True)
-        pressure = -self.set.sign * R[self.dofs] / self.set.lumped
+        pressure = contact_pressures(self.set, self.dofs, R)
         X = self._to_vi(x).getArray(readonly=True)
         jumps = [junction_jumps(self.set, self.displacement_dofs, v, self.comm) for v in (x, self.x_start)]
         measured = ContactMeasurement(self.set, self.displacement_dofs, distance, pressure,

@@ -6,6 +6,7 @@ import numpy as np
 from mpi4py import MPI
 
 from .contact_set import displacement_scale
+from .contact_state import contact_pressures
 
 # A pinned constraint contradicts its pin (ContactPins.consistent_pins)
 # beyond this fraction of the displacement scale or the largest contact
@@ -47,7 +48,7 @@ class ContactPins:
         distance = self.distances(x)
         scale = displacement_scale(self.set, self.displacement_dofs, x, self.comm)
         R = self._contact_force(x, b).getArray(readonly=True)
-        pressure = -self.set.sign * R[self.dofs] / self.set.lumped
+        pressure = contact_pressures(self.set, self.dofs, R)
         largest = self.comm.allreduce(float(max(pressure.max(initial=0.0), 0.0)), op=MPI.MAX)
         pins = self.pins.copy()
         contradicted = ((pins < 0) & (distance < -PIN_TOLERANCE * scale)) | \

@@ -122,6 +122,14 @@ class ContactFields:
     active: object
 
 
+def contact_pressures(c, dofs, force):
+    """Per constraint of the ContactSet `c` its contact pressure (> 0
+    pressing), -sign R'[dof] / lumped measure, from the contact force R' =
+    T^-T (A x - b) (its multiplier, ContactSolver._contact_force) at the
+    constraints' DOFs `dofs` (this rank's)."""
+    return -c.sign * force[dofs] / c.lumped
+
+
 def contact_state(m, out, comm):
     """The contact state of a measurement; fills the output fields
     (collective)."""
