@@ -516,6 +516,9 @@ TEST(FaultIntersections, ARimCrossingAnotherFault)
                      {2, 1, 1}, {2, 2, 1}, {2, 3, 1}, {2, 1, 2}, {2, 3, 2}, {2, 1, 3}, {2, 2, 3}, {2, 3, 3}}));
   for (const SplitFault& f : faults)
     check_split(mesh, f);
+  // Each is cut along the other over y in [1, 3]: two edges, two cut links.
+  EXPECT_EQ(fault_cells(mesh, faults[0]).cut.size(), 2u);
+  EXPECT_EQ(fault_cells(mesh, faults[1]).cut.size(), 2u);
 }
 
 TEST(FaultNetwork, CrossingFaultsMeetAtOneJunctionOfFourCells)
@@ -525,6 +528,12 @@ TEST(FaultNetwork, CrossingFaultsMeetAtOneJunctionOfFourCells)
   const FaultCells h = fault_cells(mesh, faults[0]), v = fault_cells(mesh, faults[1]);
   EXPECT_EQ(h.links.size() + v.links.size(), 0u); // the crossing separates each fault's two cells
   EXPECT_EQ(h.inner.size(), 4u);                  // two tips, two edges at the crossing
+  // ... and the two edges at the crossing are one cut link of its plane
+  for (const FaultCells* f : {&h, &v})
+  {
+    EXPECT_EQ(f->cut.cells, (std::vector<std::int64_t>{0, 1}));
+    EXPECT_EQ(f->cut.points, (std::vector<std::array<double, 3>>{{2, 2, 0}}));
+  }
   const FaultNetwork network = fault_network({&h, &v});
   ASSERT_EQ(network.junctions.size(), 1u); // the tips meet nothing
   const FaultJunction& j = network.junctions[0];
@@ -546,6 +555,8 @@ TEST(FaultNetwork, ALinkAtAJunctionJoinsIt)
     const std::vector<SplitFault> faults = split(mesh, {{"h", {0, side, 0}}, {"s", {1, 0, 0}}});
     const FaultCells h = fault_cells(mesh, faults[0]), s = fault_cells(mesh, faults[1]);
     EXPECT_EQ(h.links.size(), side > 0 ? 0u : 1u);
+    EXPECT_EQ(h.cut.size(), side > 0 ? 1u : 0u); // the separated link, cut; the stem's end is a tip
+    EXPECT_EQ(s.cut.size(), 0u);
     const FaultNetwork network = fault_network({&h, &s});
     EXPECT_EQ(network.links[0].size() + network.links[1].size(), 0u);
     ASSERT_EQ(network.junctions.size(), 1u);

@@ -346,6 +346,8 @@ class Intersections(unittest.TestCase):
                          {(2, 1, 1), (2, 2, 1), (2, 3, 1), (2, 1, 2), (2, 3, 2), (2, 1, 3), (2, 2, 3), (2, 3, 3)})
         for fault in faults:
             check_split(self, mesh, fault)
+            # each is cut along the other over y in [1, 3]: two edges, two cut links
+            self.assertEqual(len(fault_cells(mesh, fault).cut.measures), 2)
 
 
 class Network(unittest.TestCase):
@@ -359,6 +361,9 @@ class Network(unittest.TestCase):
             mesh, [FaultRequest("h", (0.0, 1.0, 0.0)), FaultRequest("v", (1.0, 0.0, 0.0))], PREFIX))
         self.assertEqual(len(h.links.measures) + len(v.links.measures), 0)  # the crossing separates each fault's cells
         self.assertEqual(len(h.inner.measures), 4)  # two tips, two edges at the crossing
+        for f in (h, v):  # ... and the two edges at the crossing are one cut link of its plane
+            np.testing.assert_array_equal(f.cut.cells, [[0, 1]])
+            np.testing.assert_array_equal(f.cut.points, [[2, 2, 0]])
         network = fault_network([h, v])
         self.assertEqual(len(network.junctions), 1)  # the tips meet nothing
         j = network.junctions[0]
@@ -374,6 +379,8 @@ class Network(unittest.TestCase):
             h, s = (fault_cells(mesh, f) for f in split_along_faults(
                 mesh, [FaultRequest("h", (0.0, side, 0.0)), FaultRequest("s", (1.0, 0.0, 0.0))], PREFIX))
             self.assertEqual(len(h.links.measures), 0 if side > 0 else 1)
+            # the separated link, cut; the stem's end is a tip
+            self.assertEqual((len(h.cut.measures), len(s.cut.measures)), (1 if side > 0 else 0, 0))
             network = fault_network([h, s])
             self.assertEqual(len(network.links[0].measures) + len(network.links[1].measures), 0)
             self.assertEqual(len(network.junctions), 1)
