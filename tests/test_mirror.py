@@ -78,6 +78,8 @@ DIFFERENCES = {
     "solvers/solver": {
         "petsc_error_text": "Python only: PETSc's words for a petsc4py error; C++'s twin, for an error code, is in "
                             "assembly/petsc_error (C++ only)",
+        "agreed_error": "Python only: the ranks' agreed error of a call; C++'s twin, agreed_code for an error code, "
+                        "is in assembly/petsc_error (C++ only)",
         "MethodChoice": "C++ only: the (method, reason) pair choose_method and set_solver_defaults return; "
                         "Python returns a tuple",
         **{f"crossover_{d}d_{system}": "C++ only: to align (issue 36): Python keeps the six crossovers in one "

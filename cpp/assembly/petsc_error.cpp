@@ -32,6 +32,14 @@ void check_petsc(PetscErrorCode code, const char* context, const char* call)
     check_petsc(code, std::string(context) + ": " + call);
 }
 
+PetscErrorCode agreed_code(PetscErrorCode code, MPI_Comm comm)
+{
+  int mine = static_cast<int>(code), largest = 0;
+  check_petsc(MPI_Allreduce(&mine, &largest, 1, MPI_INT, MPI_MAX, comm) == MPI_SUCCESS ? 0 : PETSC_ERR_MPI,
+              "agreeing on a PETSc error code: MPI_Allreduce");
+  return static_cast<PetscErrorCode>(largest);
+}
+
 void warn_petsc(PetscErrorCode code, const char* what) noexcept
 {
   if (code != 0)

@@ -32,6 +32,14 @@ void check_petsc(PetscErrorCode code, std::string_view what);
 /// failed (for calls made once per entry or cell).
 void check_petsc(PetscErrorCode code, const char* context, const char* call);
 
+/// The code of a call that every rank of `comm` made, as every rank sees
+/// it: the largest of the ranks' codes, 0 where all succeeded. Where a
+/// failure may be one rank's alone (a factorisation each rank does on its
+/// own copy, PCREDUNDANT) and decides what follows (another package, the
+/// error), every rank then takes the same path, instead of one waiting for
+/// the others in a collective they never reach (collective).
+PetscErrorCode agreed_code(PetscErrorCode code, MPI_Comm comm);
+
 /// For destructors, which cannot throw: one warning line on stderr when a
 /// PETSc call failed (a release that failed leaks, it corrupts nothing).
 void warn_petsc(PetscErrorCode code, const char* what) noexcept;

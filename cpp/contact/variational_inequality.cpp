@@ -361,7 +361,8 @@ SNESConvergedReason VariationalInequality::run_snes()
   // (convergence.cpp), which the clamped start answers.
   SNESConvergedReason reason = SNES_DIVERGED_LINEAR_SOLVE;
   SolveOutcome o;
-  if (PetscErrorCode ierr = SNESSolve(_snes, nullptr, _y); ierr == 0)
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(_snes)); // one path on every rank
+  if (const PetscErrorCode ierr = agreed_code(SNESSolve(_snes, nullptr, _y), comm); ierr == 0)
     check_petsc(SNESGetConvergedReason(_snes, &reason), "contact solver: SNESGetConvergedReason");
   else if (ierr != PETSC_ERR_MAT_LU_ZRPVT and ierr != PETSC_ERR_MAT_CH_ZRPVT)
     o.failure = solver_name() + " failed: " + petsc_error_text(ierr);

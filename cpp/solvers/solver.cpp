@@ -396,7 +396,7 @@ bool LinearSolver::solve_nearby(const std::function<PetscErrorCode()>& solve)
   check_solver(KSPSetType(_ksp, KSPGMRES), _prefix, "KSPSetType");
   check_solver(KSPSetTolerances(_ksp, nearby_tolerance, 0.0, PETSC_DEFAULT, nearby_iterations), _prefix,
                "KSPSetTolerances");
-  const PetscErrorCode ierr = solve();
+  const PetscErrorCode ierr = agreed_code(solve(), PetscObjectComm(reinterpret_cast<PetscObject>(_ksp))); // one path
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   check_solver(KSPGetConvergedReason(_ksp, &reason), _prefix, "KSPGetConvergedReason");
   check_solver(KSPSetType(_ksp, KSPPREONLY), _prefix, "KSPSetType");
@@ -472,14 +472,12 @@ PetscErrorCode LinearSolver::set_up_and_solve(const std::function<PetscErrorCode
       ++setups, setup_time += MPI_Wtime() - start;
   };
   // A failed set-up (a zero pivot) is returned, not thrown: run() retries
-  // it with another package.
-  if (const PetscErrorCode ierr = KSPSetUp(_ksp); ierr != 0)
-  {
-    count();
-    return ierr;
-  }
+  // it with another package. A failure may be one rank's (PCREDUNDANT
+  // factorises a copy on each): the ranks agree on it before going on.
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(_ksp));
+  const PetscErrorCode ierr = agreed_code(KSPSetUp(_ksp), comm);
   count();
-  return solve();
+  return ierr != 0 ? ierr : agreed_code(solve(), comm);
 }
 
 } // namespace biotcontact

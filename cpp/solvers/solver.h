@@ -282,7 +282,8 @@ private:
   PetscErrorCode refactorise(const char* package, const std::function<PetscErrorCode()>& solve,
                              KSPConvergedReason& reason);
   /// KSPSetUp, then `solve` if it succeeded: the first error code (0 when
-  /// both succeed); the set-up counted in setups and setup_time if `counted`.
+  /// both succeed), agreed among the ranks (agreed_code); the set-up
+  /// counted in setups and setup_time if `counted`.
   PetscErrorCode set_up_and_solve(const std::function<PetscErrorCode()>& solve, bool counted);
   /// `solve` by GMRES preconditioned by the stale factorisation: whether
   /// it converged (else the next solve factorises).

@@ -22,7 +22,7 @@ from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.row_weights import BalancedRows
 from ..solvers.shared_outcome import SolveOutcome, shared_outcome
 from ..solvers.options import OptionsError, system_name
-from ..solvers.solver import (ITERATIVE_TOLERANCE, Method, SolverError, SolverStatistics,
+from ..solvers.solver import (ITERATIVE_TOLERANCE, Method, SolverError, SolverStatistics, agreed_error,
                               given_by_user, petsc_error_text, reason_name, set_default_option,
                               set_relative_tolerance, unsymmetric_jacobian_options)
 
@@ -395,23 +395,23 @@ class VariationalInequality:
 
     def _snes_solve(self):
         self.elastic_known = False  # b, K and the scale are the solve's own
-        outcome = SolveOutcome()
+        outcome, error = SolveOutcome(), None
         try:
-            if self.p.stage:
-                with self.p.stage:
-                    self.snes.solve(None, self.y)
-            else:
+            with self.p.stage or contextlib.nullcontext():
                 self.snes.solve(None, self.y)
-            outcome.reason = self.snes.getConvergedReason()
         except PETSc.Error as e:
+            error = e
+        # one path on every rank: a failure may be one rank's
+        if (e := agreed_error(error, self.snes.getComm())) is None:
+            outcome.reason = self.snes.getConvergedReason()
+        elif e.ierr in _ZERO_PIVOTS:
             # a zero pivot in the factorisation of a Newton step's reduced
             # system: the system is singular (a body that the contact alone
             # holds, from a start that presses on nothing), a failed step as
             # DIVERGED_DTOL is (convergence.py), which the clamped start answers
-            if e.ierr in _ZERO_PIVOTS:
-                outcome.reason = PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
-            else:
-                outcome.failure = f"{self._solver_name()} failed: {petsc_error_text(e)}"
+            outcome.reason = PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
+        else:
+            outcome.failure = f"{self._solver_name()} failed: {petsc_error_text(e)}"
         if self.p.shared is not None:
             outcome = shared_outcome(outcome, self.y, self.p.shared)
         if outcome.failure:

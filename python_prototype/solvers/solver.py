@@ -8,6 +8,7 @@ import re
 import time
 from dataclasses import dataclass
 
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..scene.input import SolverChoice, name_of
@@ -113,6 +114,16 @@ def crossover_divisor(mechanics_3d, ranks):
     """What auto divides a one-rank crossover by: the ranks, or for the 3D
     mechanics the ranks beyond the second (cpp/solvers/solver.h says why)."""
     return max(ranks // 2 if mechanics_3d else ranks, 1)
+
+
+def agreed_error(error, comm):
+    """The error of a call that every rank of the PETSc.Comm `comm` made, as
+    every rank sees it: None where all succeeded, else the error of the
+    largest code (this rank's, or a PETSc.Error of that code where another
+    rank's failed): every rank then takes one path, the fallback or the
+    error (cpp/assembly/petsc_error.h, agreed_code; collective)."""
+    code = comm.tompi4py().allreduce(error.ierr if error is not None else 0, op=MPI.MAX)
+    return None if code == 0 else error if error is not None and error.ierr == code else PETSc.Error(code)
 
 
 def petsc_error_text(error):
@@ -346,27 +357,35 @@ class LinearSolver:
         self.ksp.setTolerances(rtol=self.NEARBY_TOLERANCE, atol=0.0, max_it=self.NEARBY_ITERATIONS)
         try:
             solve()
-            converged = self.ksp.getConvergedReason() > 0
-        except PETSc.Error:
-            converged = False
+            error = None
+        except PETSc.Error as e:
+            error = e
+        converged = agreed_error(error, self.ksp.getComm()) is None and self.ksp.getConvergedReason() > 0
         self.ksp.setType(PETSc.KSP.Type.PREONLY)
         self.ksp.getPC().setReusePreconditioner(False)
         self._stale, self._operator_changed = converged, not converged
         return converged
 
     def _run(self, solve):
-        """Set-up first, so the log keeps factorisation and back-solve apart."""
+        """Set-up first, so the log keeps factorisation and back-solve apart.
+        The first error, agreed among the ranks (agreed_error: a failure may
+        be one rank's, PCREDUNDANT factorising a copy on each); None."""
+        start, error = time.perf_counter(), None
         try:
-            start = time.perf_counter()
             self.ksp.setUp()
-            if self._operator_changed:
-                self.setups += 1
-                self.setup_time += time.perf_counter() - start
-                self._operator_changed = False
-            solve()
-            return None
         except PETSc.Error as e:
-            return e
+            error = e
+        if self._operator_changed:
+            self.setups += 1
+            self.setup_time += time.perf_counter() - start
+            self._operator_changed = False
+        if (error := agreed_error(error, self.ksp.getComm())) is not None:
+            return error
+        try:
+            solve()
+        except PETSc.Error as e:
+            error = e
+        return agreed_error(error, self.ksp.getComm())
 
     def solve(self, x, b):
         return self.run(lambda: self.ksp.solve(b, x))
