@@ -35,7 +35,7 @@ class CouplingReport:
     max_window_q: int = 0              # coupling.q = "auto": the largest q taken
     q_rejections: int = 0              # ... windows tried again with q = 1: the contact set changed in them
     accelerated_windows: int = 0       # coupling.acceleration = "auto": windows handed to Anderson where they stagnate
-    pinned_windows: int = 0            # windows accepted with pins (pins.py)d
+    pinned_windows: int = 0            # windows accepted with pins (pins.py)
     fallback_steps: int = 0            # coupling.fallback: steps the monolithic scheme solved where the split failed
 
 
