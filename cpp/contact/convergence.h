@@ -73,8 +73,8 @@ struct VIBounds
 /// friction forces) complementary to the bounds has converged, as SNES's
 /// monitor, convergence test and (iterative) Krylov monitor.
 ///
-/// The residual's norm is the forces' (N). Rows in other units (the mass
-/// balances of the monolithic system, m^3/s) are blind to it: they are the
+/// The residual's norm is the forces' (N): SNES's norm less the rows in
+/// other units (the mass balances of the monolithic system, m^3/s), the
 /// `separate_rows`, whose residual is judged against their own load.
 class ContactConvergence
 {
@@ -125,10 +125,10 @@ private:
   PetscErrorCode start(SNES snes, PetscReal fnorm, PetscReal rtol);
   /// The norm of v on the separate rows, into `norm` (collective).
   PetscErrorCode separate_norm(Vec v, double* norm) const;
-  /// Whether the residual is small on the separate rows, into `solved`:
-  /// below their tolerances or, with friction, within their round-off
-  /// (collective; from the convergence test).
-  PetscErrorCode separate_solved(PetscInt iteration, bool* solved);
+  /// Whether the residual, of norm `norm` on the separate rows, is small
+  /// there, into `solved`: below their tolerances or, with friction,
+  /// within their round-off (collective; from the convergence test).
+  PetscErrorCode separate_solved(PetscInt iteration, double norm, bool* solved);
   /// Whether a solve whose separate rows are solved (`met`) may stop.
   bool separate_may_stop(bool met);
   /// The norms of residual_round_off at the current unknown on the force

@@ -265,14 +265,19 @@ class ContactConvergence:
             self.norms, self.cycling = [], False
             if not self.continued:
                 self._start(snes, fnorm, rtol)
-        separate = self._separate_may_stop(self._separate_solved(iteration))
+        # the tests in N (atol, the relative target, the round-off) are the
+        # force rows': fnorm holds the separate rows too, whose own round-off
+        # can lie above atol (cpp/contact/convergence.cpp)
+        separate_part = self._separate_norm(snes.getFunction()[0])
+        forces = np.sqrt(max(fnorm ** 2 - separate_part ** 2, 0.0))
+        separate = self._separate_may_stop(self._separate_solved(iteration, separate_part))
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
             return reasons.DIVERGED_FNORM_NAN
         # a step taken, or the start with friction
-        if (iteration > 0 or self.friction) and fnorm < atol and separate:
+        if (iteration > 0 or self.friction) and forces < atol and separate:
             return reasons.CONVERGED_FNORM_ABS
-        if iteration > 0 and fnorm < self.relative_target and separate:
+        if iteration > 0 and forces < self.relative_target and separate:
             return reasons.CONVERGED_FNORM_RELATIVE
         # with friction the residual's round-off (each force row's eps sum_j
         # |K_ij y_j|, stiff rows of small cells) can lie above atol and a
@@ -280,7 +285,7 @@ class ContactConvergence:
         # the Newton steps jittered at 5e-12 of the load until the line
         # search failed. A residual within it is solved, if below
         # ROUND_OFF_CEILING of the load.
-        if self.friction and iteration > 0 and separate and fnorm < self.round_off_bound and self._at_round_off(fnorm):
+        if self.friction and iteration > 0 and separate and forces < self.round_off_bound and self._at_round_off(forces):
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and self.set_repeated and not self.friction:
             if fnorm <= self.repeated_set_bound:
@@ -346,10 +351,10 @@ class ContactConvergence:
         rows = v.array_r[self.separate_rows]
         return float(np.sqrt(self.comm.allreduce(float(np.sum(rows ** 2)), op=MPI.SUM)))
 
-    def _separate_solved(self, iteration):
-        """Whether the residual is small on the separate rows: below their
-        tolerances or, with friction, within their round-off (collective)."""
-        norm = self._separate_norm(self.snes.getFunction()[0])
+    def _separate_solved(self, iteration, norm):
+        """Whether the residual, of norm `norm` on the separate rows, is
+        small there: below their tolerances or, with friction, within their
+        round-off (collective)."""
         if norm <= self.separate_tolerance or (iteration > 0 and norm <= self.separate_relative_target):
             return True
         # with friction their tolerances can lie below their own round-off:
