@@ -125,6 +125,9 @@ private:
   PetscErrorCode start(SNES snes, PetscReal fnorm, PetscReal rtol);
   /// The norm of v on the separate rows, into `norm` (collective).
   PetscErrorCode separate_norm(Vec v, double* norm) const;
+  /// SNES's residual norm `fnorm` split into the force rows' and the
+  /// separate rows' (collective).
+  PetscErrorCode split_norm(PetscReal fnorm, double* forces, double* separate) const;
   /// Whether the residual, of norm `norm` on the separate rows, is small
   /// there, into `solved`: below their tolerances or, with friction,
   /// within their round-off (collective; from the convergence test).

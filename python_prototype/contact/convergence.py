@@ -114,8 +114,8 @@ class ContactConvergence:
     friction forces) complementary to the bounds has converged, as SNES's
     monitor, convergence test and (iterative) Krylov monitor.
 
-    The residual's norm is the forces' (N). Rows in other units (the mass
-    balances of the monolithic system, m^3/s) are blind to it: they are the
+    The residual's norm is the forces' (N): SNES's norm less the rows in
+    other units (the mass balances of the monolithic system, m^3/s), the
     `separate_rows`, whose residual is judged against their own load."""
     # A Krylov solve of a Newton step that reduces its residual by less than
     # 1% over this many iterations has stagnated (_stagnation).
@@ -265,11 +265,7 @@ class ContactConvergence:
             self.norms, self.cycling = [], False
             if not self.continued:
                 self._start(snes, fnorm, rtol)
-        # the tests in N (atol, the relative target, the round-off) are the
-        # force rows': fnorm holds the separate rows too, whose own round-off
-        # can lie above atol (cpp/contact/convergence.cpp)
-        separate_part = self._separate_norm(snes.getFunction()[0])
-        forces = np.sqrt(max(fnorm ** 2 - separate_part ** 2, 0.0))
+        forces, separate_part = self._split_norm(fnorm)
         separate = self._separate_may_stop(self._separate_solved(iteration, separate_part))
         reasons = PETSc.SNES.ConvergedReason
         if not np.isfinite(fnorm):
@@ -350,6 +346,15 @@ class ContactConvergence:
         """The norm of v on the separate rows (collective)."""
         rows = v.array_r[self.separate_rows]
         return float(np.sqrt(self.comm.allreduce(float(np.sum(rows ** 2)), op=MPI.SUM)))
+
+    def _split_norm(self, fnorm):
+        """SNES's residual norm `fnorm` split into the force rows' and the
+        separate rows' (collective). The tests in N (atol, the relative
+        target, the round-off) are the force rows': fnorm holds the separate
+        rows too, whose own round-off can lie above atol
+        (cpp/contact/convergence.cpp)."""
+        separate = self._separate_norm(self.snes.getFunction()[0])
+        return np.sqrt(max(fnorm ** 2 - separate ** 2, 0.0)), separate
 
     def _separate_solved(self, iteration, norm):
         """Whether the residual, of norm `norm` on the separate rows, is
