@@ -77,10 +77,16 @@ TEST(Convergence, NewtonCycleIsARepeatedCycleOfResiduals)
     four.push_back(std::array{2.9087e7, 2.6532e7, 2.6526e7, 2.9186e7}[k % 4]);
   EXPECT_TRUE(newton_cycle(four, 3));
   EXPECT_FALSE(newton_cycle(std::span(four).first(12), 3)); // two periods and a half
-  std::vector<double> seven{1.0};                          // longer than longest_newton_cycle
-  for (int k = 0; k < 21; ++k)
-    seven.push_back(2.0 + k % 7);
-  EXPECT_FALSE(newton_cycle(seven, 3));
+  // network3d's monolithic step at 0.5 m^3/s: nine states.
+  std::vector<double> nine{5.4e10, 2.8e10};
+  for (int k = 0; k < 27; ++k)
+    nine.push_back(2.0e9 + 1e9 * (k % 9));
+  EXPECT_TRUE(newton_cycle(nine, 3));
+  EXPECT_FALSE(newton_cycle(std::span(nine).first(27), 3)); // two periods and a half
+  std::vector<double> thirteen{1.0};                        // longer than longest_newton_cycle
+  for (int k = 0; k < 39; ++k)
+    thirteen.push_back(2.0 + k % 13);
+  EXPECT_FALSE(newton_cycle(thirteen, 3));
 }
 
 TEST(Convergence, AClampedStartRejoinsTheAttemptAtItsFirstStep)

@@ -56,7 +56,11 @@ class ConvergenceTests(unittest.TestCase):
         four = [4.1e7, 2.7e7] + [[2.9087e7, 2.6532e7, 2.6526e7, 2.9186e7][k % 4] for k in range(12)]
         self.assertTrue(newton_cycle(four, 3))
         self.assertFalse(newton_cycle(four[:12], 3))  # two periods and a half
-        self.assertFalse(newton_cycle([1.0] + [2.0 + k % 7 for k in range(21)], 3))  # longer than LONGEST_NEWTON_CYCLE
+        # network3d's monolithic step at 0.5 m^3/s: nine states
+        nine = [5.4e10, 2.8e10] + [2.0e9 + 1e9 * (k % 9) for k in range(27)]
+        self.assertTrue(newton_cycle(nine, 3))
+        self.assertFalse(newton_cycle(nine[:27], 3))  # two periods and a half
+        self.assertFalse(newton_cycle([1.0] + [2.0 + k % 13 for k in range(39)], 3))  # longer than LONGEST_NEWTON_CYCLE
 
     def test_a_clamped_start_rejoins_the_attempt_at_its_first_step(self):
         # test_cohesive_opening's onset on the coupled system: the first
