@@ -281,7 +281,8 @@ class ContactConvergence:
         # the Newton steps jittered at 5e-12 of the load until the line
         # search failed. A residual within it is solved, if below
         # ROUND_OFF_CEILING of the load.
-        if self.friction and iteration > 0 and separate and forces < self.round_off_bound and self._at_round_off(forces):
+        if self.friction and iteration > 0 and separate and forces < self.round_off_bound \
+                and self._at_round_off(forces):
             return reasons.CONVERGED_FNORM_ABS
         if iteration > 0 and self.set_repeated and not self.friction:
             if fnorm <= self.repeated_set_bound:
