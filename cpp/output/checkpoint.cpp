@@ -23,11 +23,12 @@ const char magic[] = "biotcontact checkpoint 2";
 
 /// The --set keys a restart may change (docs/user-guide.md, "Restart"):
 /// the split's iteration, its acceleration, the retries of a failed step,
-/// the single-rate scheme and its fallback, so that a run the split could
-/// not carry through a step goes on monolithic from its checkpoint.
-constexpr std::array<const char*, 6> restart_keys{"coupling.scheme",         "coupling.acceleration",
-                                                   "coupling.depth",          "coupling.max_iterations",
-                                                   "coupling.fallback",       "time.retry"};
+/// the single-rate scheme and its fallback, and the linear solvers, so that
+/// a run the split could not carry through a step goes on monolithic from
+/// its checkpoint, by the solver that carries it.
+constexpr std::array<const char*, 9> restart_keys{
+    "coupling.scheme",  "coupling.acceleration", "coupling.depth",    "coupling.max_iterations", "coupling.fallback",
+    "time.retry",       "solver.flow",           "solver.mechanics", "solver.monolithic"};
 
 bool may_change(const std::string& assignment)
 {

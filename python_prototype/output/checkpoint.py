@@ -110,10 +110,11 @@ def write_checkpoint(comm, directory, fingerprint, c):
 
 # The --set keys a restart may change (docs/user-guide.md, "Restart"): the
 # split's iteration, its acceleration, the retries of a failed step, the
-# single-rate scheme and its fallback, so that a run the split could not
-# carry through a step goes on monolithic from its checkpoint.
+# single-rate scheme and its fallback, and the linear solvers, so that a run
+# the split could not carry through a step goes on monolithic from its
+# checkpoint, by the solver that carries it.
 RESTART_KEYS = ("coupling.scheme", "coupling.acceleration", "coupling.depth", "coupling.max_iterations",
-                "coupling.fallback", "time.retry")
+                "coupling.fallback", "time.retry", "solver.flow", "solver.mechanics", "solver.monolithic")
 
 
 def restart_fingerprint(text, overrides, scene):
