@@ -75,6 +75,9 @@ for label, overrides, key in CASES:
 for label, extra, key in (("unknown --option", ["--foo"], "--foo"),
                           ("no bounds in the contact solver", ["-mechanics_snes_type", "newtonls"],
                            "-mechanics_snes_type"),
+                          ("no inactive set for the iterative contact solver",
+                           ["--set", "solver.mechanics=iterative", "-mechanics_snes_type", "vinewtonssls"],
+                           "-mechanics_snes_type vinewtonssls"),
                           ("contact_condensed not a boolean", ["-mechanics_contact_condensed", "maybe"],
                            "-mechanics_contact_condensed"),
                           ("an output directory that cannot be made", ["--out", "/proc/x"], "/proc/x")):

@@ -36,8 +36,10 @@ PetscErrorCode read_condensed(MPI_Comm comm, const std::string& prefix, PetscBoo
 
 /// Only the VI methods take bounds; any other would ignore the contact.
 /// Asked of both prefixes, so that a type given for the path not taken is
-/// not ignored silently either.
-void check_bound_method(const std::string& prefix)
+/// not ignored silently either. An iterative `method` preconditions the
+/// reduced-space steps on their inactive set (InactiveSetPreconditioner),
+/// which vinewtonssls, stepping on the whole space, does not have.
+void check_bound_method(const std::string& prefix, Method method)
 {
   for (const std::string& p : {prefix, prefix + "contact_"})
   {
@@ -46,12 +48,16 @@ void check_bound_method(const std::string& prefix)
       throw OptionsError("-" + p + "snes_type " + type
                          + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
   }
+  if (method == Method::iterative and option(prefix, "-snes_type") == SNESVINEWTONSSLS)
+    throw OptionsError("-" + prefix + "snes_type vinewtonssls: the iterative contact solver needs vinewtonrsls "
+                       "(its preconditioner works on the reduced space's inactive set); vinewtonssls needs the "
+                       "direct solver");
 }
 } // namespace
 
 ContactPathChoice choose_contact_path(MPI_Comm comm, const std::string& prefix, const PathCosts& costs)
 {
-  check_bound_method(prefix);
+  check_bound_method(prefix, costs.method);
   // Forming H takes m solves: cheap back-solves of a factorisation, but m
   // full Krylov solves with an iterative method, and m more at each change
   // of A.

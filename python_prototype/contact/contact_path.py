@@ -68,15 +68,21 @@ def _read_condensed(comm, prefix, fallback):
     return condensed, options.hasName(prefix + "contact_condensed")
 
 
-def _check_bound_method(prefix):
+def _check_bound_method(prefix, method):
     """Only the VI methods take bounds; any other would ignore the contact.
     Asked of both prefixes, so that a type given for the path not taken is
-    not ignored silently either."""
+    not ignored silently either. An iterative `method` preconditions the
+    reduced-space steps on their inactive set (InactiveSetPreconditioner),
+    which vinewtonssls, stepping on the whole space, does not have."""
     for p in (prefix, prefix + "contact_"):
         given = PETSc.Options().getString(p + "snes_type", "")
         if given and given not in ("vinewtonrsls", "vinewtonssls"):
             raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                "(vinewtonrsls or vinewtonssls)")
+    if method == Method.iterative and PETSc.Options().getString(prefix + "snes_type", "") == "vinewtonssls":
+        raise OptionsError(f"-{prefix}snes_type vinewtonssls: the iterative contact solver needs vinewtonrsls "
+                           "(its preconditioner works on the reduced space's inactive set); vinewtonssls needs the "
+                           "direct solver")
 
 
 def choose_contact_path(comm, prefix, costs):
@@ -89,7 +95,7 @@ def choose_contact_path(comm, prefix, costs):
     OptionsError for a value that is not a boolean, or a -snes_type of
     either prefix (<prefix>, <prefix>contact_) that takes no bounds
     (collective)."""
-    _check_bound_method(prefix)
+    _check_bound_method(prefix, costs.method)
     open_ = costs.method == Method.direct and costs.contact_dofs <= MAX_CONDENSED_DOFS
     condensed, given = _read_condensed(comm, prefix, open_ and not costs.changing)
     if not condensed:
