@@ -351,6 +351,10 @@ double ConduitFaults::relax_conducting()
   }
   // The split's lag shrinks at the coupling's rate, after a transient: there
   // only a lag that grew at stalled_iterations iterations in a row counts.
+  // The monolithic step's first lag grew from none (w_c = w_h at the start):
+  // it relaxes from there, by Aitken's factor 0 (no lag before), the floor,
+  // a cautious first move the opening needs (taken whole, fault_reactivation
+  // opened at 1e-3 m^2/s cycles with period 3 in its first step).
   const bool stalled = _lagged and lag > (_implicit ? relaxed_above * relaxed_above : 1.0) * lag_old;
   _stalled = stalled ? _stalled + 1 : 0;
   _relaxing = _relaxing or _stalled >= (_implicit ? 1 : stalled_iterations);

@@ -347,6 +347,10 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
             lag_old += float(conduit.lag @ conduit.lag)
         # The split's lag shrinks at the coupling's rate, after a transient:
         # there only a lag that grew at STALLED_ITERATIONS iterations in a row counts.
+        # The monolithic step's first lag grew from none (w_c = w_h at the
+        # start): it relaxes from there, by Aitken's factor 0 (no lag before),
+        # the floor, a cautious first move the opening needs (taken whole,
+        # fault_reactivation opened at 1e-3 m^2/s cycles with period 3 in its first step).
         stalled = self.lagged and lag > (RELAXED_ABOVE ** 2 if self.implicit else 1.0) * lag_old
         self.stalled = self.stalled + 1 if stalled else 0
         self.relaxing = self.relaxing or self.stalled >= (1 if self.implicit else STALLED_ITERATIONS)
