@@ -405,6 +405,10 @@ CASES = [
     ("no inactive set for the iterative contact solver", DEFAULT,
      s("solver.mechanics=iterative") + ["-mechanics_snes_type", "vinewtonssls"], "-mechanics_snes_type vinewtonssls",
      RUN),
+    # preonly with no factorisation: a wrong flow passed as solved (exit 0)
+    # before 2026-12-05
+    ("preonly without a factorisation", DEFAULT, ["-flow_ksp_type", "preonly", "-flow_pc_type", "none"],
+     "-flow_ksp_type preonly", RUN),
     ("an output directory that cannot be made", DEFAULT, ["--out", "/proc/x"], "/proc/x", RUN),
     ("negative time.retry", DEFAULT, s("time.retry=-1"), "time.retry", READ),
     ("time.retry too large", DEFAULT, s("time.retry=40"), "time.retry", READ),

@@ -272,6 +272,12 @@ MethodChoice set_solver_defaults(const std::string& prefix, Structure structure,
   // A -<prefix>pc_type on the command line decides the method.
   if (const std::string given = option(prefix, "-pc_type"); !given.empty())
     method = {is_factorisation(given) ? Method::direct : Method::iterative, "-" + prefix + "pc_type " + given};
+  // preonly applies the preconditioner once and reports success: a solve
+  // only by a factorisation, else a wrong x would pass as solved.
+  if (method.method == Method::iterative and option(prefix, "-ksp_type") == KSPPREONLY)
+    throw OptionsError("-" + prefix + "ksp_type preonly: it applies the preconditioner once, a solve only by a "
+                       "factorisation (lu, cholesky, redundant), not by the iterative solver's (" + method.reason
+                       + "): its result would pass unchecked");
   if (method.method == Method::direct)
     set_direct_defaults(prefix, structure, ranks);
   else

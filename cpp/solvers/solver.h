@@ -135,7 +135,8 @@ MethodChoice choose_method(SolverChoice choice, Structure structure, std::int64_
 /// Iterative: see Method; the relative tolerance is set on the KSP
 /// (set_relative_tolerance), not here.
 /// `fields` are the system's splits: the coupled system is the one whose
-/// fields (flow, mechanics) are split further.
+/// fields (flow, mechanics) are split further. Throws OptionsError for a
+/// -<prefix>ksp_type preonly with an iterative method (no solve then).
 MethodChoice set_solver_defaults(const std::string& prefix, Structure structure, MethodChoice method, MPI_Comm comm,
                                  const std::vector<Field>& fields = {});
 

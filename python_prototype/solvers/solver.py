@@ -253,11 +253,18 @@ def set_solver_defaults(prefix, structure, method, comm, fields=()):
     """Sets the defaults of the solver with this prefix unless the command
     line gave them; returns the (method, reason) they make (a
     -<prefix>pc_type on the command line decides: a factorisation is direct,
-    anything else iterative)."""
+    anything else iterative). Raises OptionsError for a -<prefix>ksp_type
+    preonly with an iterative method (no solve then)."""
     given_pc = PETSc.Options().getString(prefix + "pc_type", "")
     if given_pc:
         method = (Method.direct if given_pc in FACTORISATIONS else Method.iterative,
                   f"-{prefix}pc_type {given_pc}")
+    # preonly applies the preconditioner once and reports success: a solve
+    # only by a factorisation, else a wrong x would pass as solved.
+    if method[0] == Method.iterative and PETSc.Options().getString(prefix + "ksp_type", "") == "preonly":
+        raise OptionsError(f"-{prefix}ksp_type preonly: it applies the preconditioner once, a solve only by a "
+                           f"factorisation (lu, cholesky, redundant), not by the iterative solver's ({method[1]}): "
+                           "its result would pass unchecked")
     if method[0] == Method.direct:
         _set_direct_defaults(prefix, structure, comm.size)
     else:
