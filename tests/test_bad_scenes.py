@@ -409,6 +409,9 @@ CASES = [
     # before 2026-12-05
     ("preonly without a factorisation", DEFAULT, ["-flow_ksp_type", "preonly", "-flow_pc_type", "none"],
      "-flow_ksp_type preonly", RUN),
+    ("preonly with redundant around no factorisation", DEFAULT,
+     ["-mechanics_ksp_type", "preonly", "-mechanics_pc_type", "redundant", "-mechanics_redundant_pc_type", "jacobi"],
+     "-mechanics_redundant_pc_type jacobi", RUN),
     ("an output directory that cannot be made", DEFAULT, ["--out", "/proc/x"], "/proc/x", RUN),
     ("negative time.retry", DEFAULT, s("time.retry=-1"), "time.retry", READ),
     ("time.retry too large", DEFAULT, s("time.retry=40"), "time.retry", READ),

@@ -17,6 +17,15 @@ iterative = summary(run(scene("terzaghi"), "-flow_pc_type", "ilu", "-flow_ksp_rt
 check(iterative["linear_iterations"]["flow"] > iterative["flow_solves"], "the flow system was solved by GMRES + ILU")
 check(abs(iterative["errors"]["pressure_rel_l2"] - direct["errors"]["pressure_rel_l2"]) <= 1e-6,
       "GMRES + ILU gives the direct solve's error against the closed form")
+# redundant is a factorisation only with one inside: around ILU it is
+# GMRES's preconditioner too (until 2026-12-05 it was applied once, preonly,
+# and a wrong answer passed as solved)
+redundant = summary(run(scene("terzaghi"), "-flow_pc_type", "redundant", "-flow_redundant_pc_type", "ilu",
+                        "-flow_ksp_rtol", "1e-12")[0])
+check(redundant["linear_iterations"]["flow"] > redundant["flow_solves"]
+      and abs(redundant["errors"]["pressure_rel_l2"] - direct["errors"]["pressure_rel_l2"]) <= 1e-6,
+      f"redundant ILU is GMRES's preconditioner ({redundant['linear_iterations']['flow']} iterations in "
+      f"{redundant['flow_solves']} solves) and gives the direct solve's error")
 # A PETSc call that fails while running (the factorisation package is
 # looked up at the first solve): one line with PETSc's reason, exit 3, and
 # summary.json saying so (issue 51), on both tracks.

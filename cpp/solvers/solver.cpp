@@ -107,7 +107,14 @@ void check_solver(PetscErrorCode code, const std::string& prefix, const char* ca
     check_petsc(code, system_name(prefix) + " solver: " + call);
 }
 
-bool is_factorisation(const std::string& pc) { return pc == "lu" or pc == "cholesky" or pc == "redundant"; }
+/// Whether a -<prefix>pc_type `pc` solves by a factorisation: lu or
+/// cholesky, or redundant with one inside (its -<prefix>redundant_pc_type
+/// `inner`, lu where not given).
+bool is_factorisation(const std::string& pc, const std::string& inner)
+{
+  const std::string solved = pc == "redundant" ? (inner.empty() ? "lu" : inner) : pc;
+  return solved == "lu" or solved == "cholesky";
+}
 
 /// The one-rank factorisation of each structure, as measured on the
 /// default scene (docs/performance.md): MUMPS's solve phase costs 5-9
@@ -271,7 +278,11 @@ MethodChoice set_solver_defaults(const std::string& prefix, Structure structure,
   MPI_Comm_size(comm, &ranks);
   // A -<prefix>pc_type on the command line decides the method.
   if (const std::string given = option(prefix, "-pc_type"); !given.empty())
-    method = {is_factorisation(given) ? Method::direct : Method::iterative, "-" + prefix + "pc_type " + given};
+  {
+    const std::string inner = given == "redundant" ? option(prefix + "redundant_", "-pc_type") : "";
+    method = {is_factorisation(given, inner) ? Method::direct : Method::iterative,
+              "-" + prefix + "pc_type " + given + (inner.empty() ? "" : " -" + prefix + "redundant_pc_type " + inner)};
+  }
   // preonly applies the preconditioner once and reports success: a solve
   // only by a factorisation, else a wrong x would pass as solved.
   if (method.method == Method::iterative and option(prefix, "-ksp_type") == KSPPREONLY)

@@ -135,7 +135,11 @@ def petsc_error_text(error):
     return f"{words} (PETSc error {error.ierr})" if words else f"PETSc error {error.ierr}"
 
 
-FACTORISATIONS = ("lu", "cholesky", "redundant")
+def _is_factorisation(pc, inner):
+    """Whether a -<prefix>pc_type `pc` solves by a factorisation: lu or
+    cholesky, or redundant with one inside (its -<prefix>redundant_pc_type
+    `inner`, lu where not given)."""
+    return ((inner or "lu") if pc == "redundant" else pc) in ("lu", "cholesky")
 
 
 def _one_rank_package(structure):
@@ -257,8 +261,9 @@ def set_solver_defaults(prefix, structure, method, comm, fields=()):
     preonly with an iterative method (no solve then)."""
     given_pc = PETSc.Options().getString(prefix + "pc_type", "")
     if given_pc:
-        method = (Method.direct if given_pc in FACTORISATIONS else Method.iterative,
-                  f"-{prefix}pc_type {given_pc}")
+        inner = PETSc.Options().getString(prefix + "redundant_pc_type", "") if given_pc == "redundant" else ""
+        method = (Method.direct if _is_factorisation(given_pc, inner) else Method.iterative,
+                  f"-{prefix}pc_type {given_pc}" + (f" -{prefix}redundant_pc_type {inner}" if inner else ""))
     # preonly applies the preconditioner once and reports success: a solve
     # only by a factorisation, else a wrong x would pass as solved.
     if method[0] == Method.iterative and PETSc.Options().getString(prefix + "ksp_type", "") == "preonly":
