@@ -1,7 +1,8 @@
 """PETSc options choose the solvers: an iterative flow solve (GMRES is the
 default Krylov method once the preconditioner is no factorisation) gives the
-same answer as the direct default, and options that make no solver are
-refused in one line, without a PETSc trace. SuperLU_DIST solves the
+same answer as the direct default (a preconditioner of the user's tested on
+the true residual), and options that make no solver are refused in one
+line, without a PETSc trace. SuperLU_DIST solves the
 condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve)
 and, with one OpenMP thread (the default), on 1; with several it is refused.
 -help lists the project's own options with this run's default and value
@@ -10,7 +11,8 @@ import os
 import subprocess
 import tempfile
 
-from support import BINARY, EVERY_RANK, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, mpirun, run, run_track, scene, summary
+from support import (BINARY, EVERY_RANK, MPI_ENV, PROTOTYPE, ROOT, TRACKS, check, max_difference, mpirun, run,
+                     run_track, scene, summary)
 
 direct = summary(run(scene("terzaghi"))[0])
 iterative = summary(run(scene("terzaghi"), "-flow_pc_type", "ilu", "-flow_ksp_rtol", "1e-12")[0])
@@ -40,6 +42,26 @@ for track, command in TRACKS.items():
     failed = summary(out)
     check(failed["status"] == "failed" and reason in failed["failure"],
           f"{track}: summary.json says failed, with the reason: {failed['failure']!r}")
+
+# A preconditioner of the user's is tested on the true residual: on a
+# conduit fault's flow system GMRES + Jacobi met the tolerance in the
+# preconditioned norm with the true residual 1e3 times above it, and p was
+# wrong by 100 % with exit 0 (until 2026-12-05). An incomplete factorisation
+# is not refactorised by another package when it meets a zero pivot (UMFPACK
+# has no ILU: an error of the fallback's set-up, exit 1 in the prototype).
+reference = run(scene("conduit_transient"))[0]
+for track, command in TRACKS.items():
+    out = tempfile.mkdtemp()
+    p = subprocess.run([*command, "run", scene("conduit_transient"), "--out", out, "-flow_pc_type", "jacobi"],
+                       capture_output=True, text=True, cwd=ROOT)
+    fields = max_difference(reference, out, ["pressure", "flux"]) if p.returncode == 0 else {}
+    check((p.returncode == 3 and p.stderr.count("\n") == 1) or max(fields.values()) <= 1e-6,
+          f"{track}: GMRES + Jacobi on a conduit fault's flow either gives the direct solve's fields (1e-6) or "
+          f"fails in one line: exit {p.returncode}, {fields}, {p.stderr.strip()[-200:]!r}")
+    p = subprocess.run([*command, "run", scene("conduit_transient"), "--out", tempfile.mkdtemp(), "-flow_pc_type",
+                        "ilu"], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 3 and p.stderr.count("\n") == 1 and "the flow linear solver failed: DIVERGED_PC_FAILED"
+          in p.stderr, f"{track}: ILU's zero pivot is the flow solver's failure in one line: {p.stderr.strip()!r}")
 
 # The contact solver's error names the SNES type the options made, not
 # the default's (it said vinewtonrsls whatever -<prefix>snes_type was).

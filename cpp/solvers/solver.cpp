@@ -152,6 +152,16 @@ std::string factor_package(KSP ksp)
   return package ? package : "";
 }
 
+/// Whether a KSP factorises by LU (PCREDUNDANT's inner PC for it), which
+/// another package may redo with pivoting: not ILU, PETSc's own only.
+bool factorises_by_lu(KSP ksp)
+{
+  PetscBool lu = PETSC_FALSE;
+  check_petsc(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(factor_pc(ksp)), PCLU, &lu),
+              "a factorisation: PetscObjectTypeCompare");
+  return lu;
+}
+
 void set_direct_defaults(const std::string& prefix, Structure structure, int ranks)
 {
   // On several ranks each rank factorises a copy of the whole matrix
@@ -289,6 +299,12 @@ MethodChoice set_solver_defaults(const std::string& prefix, Structure structure,
     throw OptionsError("-" + prefix + "ksp_type preonly: it applies the preconditioner once, a solve only by a "
                        "factorisation (lu, cholesky, redundant), not by the iterative solver's (" + method.reason
                        + "): its result would pass unchecked");
+  // A preconditioner of the user's is tested on the true residual: in the
+  // preconditioned norm (GMRES's, left) a poor one stopped with the true
+  // residual 1e3 times above the tolerance (conduit_transient with
+  // -flow_pc_type jacobi: p wrong by 100 %, exit 0).
+  if (method.method == Method::iterative and method.reason.rfind("-" + prefix + "pc_type", 0) == 0)
+    set_default_option(prefix + "ksp_norm_type", "unpreconditioned");
   if (method.method == Method::direct)
     set_direct_defaults(prefix, structure, ranks);
   else
@@ -444,7 +460,7 @@ void LinearSolver::run(const std::function<PetscErrorCode()>& solve)
   // 7.6e5 unknowns), with MUMPS.
   using Retry = std::pair<const char*, const char*>; // a failed package, the next one
   for (const auto& [failed, next] : {Retry{MATSOLVERPETSC, MATSOLVERUMFPACK}, Retry{MATSOLVERUMFPACK, MATSOLVERMUMPS}})
-    if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and factor_package(_ksp) == failed)
+    if ((ierr != 0 or reason == KSP_DIVERGED_PC_FAILED) and factor_package(_ksp) == failed and factorises_by_lu(_ksp))
       ierr = refactorise(next, solve, reason);
   if (ierr != 0)
     throw SolverError(system_name(_prefix) + " linear solver failed: " + petsc_error_text(ierr));

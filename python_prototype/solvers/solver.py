@@ -184,6 +184,15 @@ def factor_prefix(prefix):
     return prefix + "redundant_" if PETSc.Options().getString(prefix + "pc_type", "") == "redundant" else prefix
 
 
+def _factorises_by_lu(ksp):
+    """Whether a KSP factorises by LU (PCREDUNDANT's inner PC for it, read
+    from the options as in factor_package), which another package may redo
+    with pivoting: not ILU, PETSc's own only."""
+    if ksp.getPC().getType() == PETSc.PC.Type.REDUNDANT:
+        return PETSc.Options().getString(factor_prefix(ksp.getOptionsPrefix()) + "pc_type", "lu") == "lu"
+    return ksp.getPC().getType() == PETSc.PC.Type.LU
+
+
 def factor_package(ksp):
     """The factorisation package of a KSP ("" when it does not factorise;
     petsc4py 3.18 cannot reach PCREDUNDANT's inner PC, so its package is
@@ -270,6 +279,12 @@ def set_solver_defaults(prefix, structure, method, comm, fields=()):
         raise OptionsError(f"-{prefix}ksp_type preonly: it applies the preconditioner once, a solve only by a "
                            f"factorisation (lu, cholesky, redundant), not by the iterative solver's ({method[1]}): "
                            "its result would pass unchecked")
+    # A preconditioner of the user's is tested on the true residual: in the
+    # preconditioned norm (GMRES's, left) a poor one stopped with the true
+    # residual 1e3 times above the tolerance (conduit_transient with
+    # -flow_pc_type jacobi: p wrong by 100 %, exit 0).
+    if method[0] == Method.iterative and method[1].startswith(f"-{prefix}pc_type"):
+        set_default_option(prefix + "ksp_norm_type", "unpreconditioned")
     if method[0] == Method.direct:
         _set_direct_defaults(prefix, structure, comm.size)
     else:
@@ -434,7 +449,7 @@ class LinearSolver:
         for failed, following in (("petsc", "umfpack"), ("umfpack", "mumps")):
             reason = self.ksp.getConvergedReason()
             if (error or reason == PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED) \
-                    and factor_package(self.ksp) == failed:
+                    and factor_package(self.ksp) == failed and _factorises_by_lu(self.ksp):
                 error = self._refactorise(following, solve)
         reason = self.ksp.getConvergedReason()
         if error:
