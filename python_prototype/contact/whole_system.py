@@ -22,6 +22,26 @@ class WholeSystem:
     method: Method
 
 
+def _start_no_worse_than_held(A, b, y, rows):
+    """Zeroes y's entries but the held `rows` where y is a worse start than
+    that, ||b - A y|| > ||b - A y_held||: a singular first Newton step of a
+    body that contact alone holds left y 1e11 off, and an iterative
+    solver's convergence test, relative to ||b||, stopped at its first
+    iteration (DIVERGED_DTOL; elastic_contact, solver.mechanics =
+    "iterative"). A and b are the clamped system's (collective)."""
+    held = y.duplicate()
+    local = rows - y.getOwnershipRange()[0]
+    held.getArray()[local] = y.getArray(readonly=True)[local]
+
+    def residual(x):
+        r = b.duplicate()
+        A.mult(x, r)
+        r.aypx(-1.0, b)
+        return r.norm()
+    if residual(y) > residual(held):
+        held.copy(y)
+
+
 def solve_clamped(whole, b, y, rows):
     """Solves A y = b with the global rows `rows` held at their values in
     y: their rows and columns eliminated, the known values moved to the
@@ -37,4 +57,5 @@ def solve_clamped(whole, b, y, rows):
     rhs = b.copy()
     A = clamped_copy(whole.A, rhs)
     P = A if whole.P is whole.A else clamped_copy(whole.P)
+    _start_no_worse_than_held(A, rhs, y, rows)
     LinearSolver(whole.comm, whole.layout.prefix, A, P, whole.layout.structure, whole.layout.fields).solve(y, rhs)
