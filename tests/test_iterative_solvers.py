@@ -54,6 +54,16 @@ for track in TRACKS:
     for field, d in max_difference(alone, held, ("displacement", "contact_pressure")).items():
         check(d <= 1e-6, f"elastic_contact ({track}): {field} iterative vs direct {d:.1e} <= 1e-6")
 
+# A Krylov tolerance looser than the contact solve's own: the residual
+# decides, not the repeated active set (with -mechanics_ksp_rtol 0.5 the
+# set repeated at 4e-4 of the first residual and ended hertz's solve with
+# the contact pressure 6 % off and exit 0, both tracks, until 2026-12-05).
+for track in TRACKS:
+    exact, _ = run_track(track, scene("hertz"))
+    loose, _ = run_track(track, scene("hertz"), "solver.mechanics=iterative", options=("-mechanics_ksp_rtol", "0.5"))
+    for field, d in max_difference(loose, exact, ("displacement", "contact_pressure")).items():
+        check(d <= 1e-6, f"hertz ({track}), -mechanics_ksp_rtol 0.5: {field} against the direct solve {d:.1e} <= 1e-6")
+
 # Inexact coupling (the default on the iterative path): early iterations
 # solve to a few digits; fewer Krylov iterations, the same coupling
 # iterations and, to the tolerance, the same fields as solves to 1e-10.

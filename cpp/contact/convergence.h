@@ -168,6 +168,7 @@ private:
   std::vector<char> _pending, _used; // active flags of the bounded DOFs
   bool _any_used = false;
   bool _set_repeated = false;        // the last step's result keeps the set it used
+  bool _steps_exact = true;          // a step solves its set: a factorisation, or Krylov to rtol (start)
   PetscReal _relative_target = 0;    // rtol times the first residual of a solve
   PetscReal _repeated_set_bound = 0; // a fraction of it or of the load (converged)
   PetscReal _round_off_bound = 0;    // round_off_ceiling times the load
