@@ -171,13 +171,16 @@ void one_openmp_thread()
 }
 
 /// The error for options that name SuperLU_DIST with several OpenMP
-/// threads ("" when there is none), from every PETSc option however given
-/// (command line, PETSC_OPTIONS, a file).
+/// threads or give a relative tolerance outside [0, 1) ("" when there is
+/// none), from every PETSc option however given (command line,
+/// PETSC_OPTIONS, a file).
 std::string refused_options()
 {
   char* all = nullptr;
   biotcontact::check_petsc(PetscOptionsGetAll(nullptr, &all), "reading the PETSc options: PetscOptionsGetAll");
-  const std::string error = biotcontact::threaded_superlu(all ? all : "", omp_get_max_threads());
+  std::string error = biotcontact::threaded_superlu(all ? all : "", omp_get_max_threads());
+  if (error.empty())
+    error = biotcontact::relative_tolerance_out_of_range(all ? all : "");
   biotcontact::check_petsc(PetscFree(all), "reading the PETSc options: PetscFree");
   return error;
 }

@@ -139,11 +139,13 @@ def _one_openmp_thread():
 
 def _refused_options(PETSc):
     """The error for options that name SuperLU_DIST with several OpenMP
-    threads ("" when there is none), from every PETSc option however given."""
+    threads or give a relative tolerance outside [0, 1) ("" when there is
+    none), from every PETSc option however given."""
     import ctypes
-    from .solvers.options import threaded_superlu
+    from .solvers.options import relative_tolerance_out_of_range, threaded_superlu
     threads = ctypes.CDLL("libgomp.so.1").omp_get_max_threads()
-    return threaded_superlu(PETSc.Options().getAll(), threads)
+    options = PETSc.Options().getAll()
+    return threaded_superlu(options, threads) or relative_tolerance_out_of_range(options)
 
 
 @contextmanager

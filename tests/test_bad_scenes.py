@@ -409,6 +409,7 @@ CASES = [
     # before 2026-12-05
     ("preonly without a factorisation", DEFAULT, ["-flow_ksp_type", "preonly", "-flow_pc_type", "none"],
      "-flow_ksp_type preonly", RUN),
+    ("a relative tolerance of 1 or more", DEFAULT, ["-mechanics_snes_rtol", "2"], "-mechanics_snes_rtol 2", RUN),
     ("preonly with redundant around no factorisation", DEFAULT,
      ["-mechanics_ksp_type", "preonly", "-mechanics_pc_type", "redundant", "-mechanics_redundant_pc_type", "jacobi"],
      "-mechanics_redundant_pc_type jacobi", RUN),

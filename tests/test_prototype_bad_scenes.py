@@ -75,6 +75,8 @@ for label, overrides, key in CASES:
 for label, extra, key in (("unknown --option", ["--foo"], "--foo"),
                           ("no bounds in the contact solver", ["-mechanics_snes_type", "newtonls"],
                            "-mechanics_snes_type"),
+                          ("a relative tolerance of 1 or more", ["-mechanics_snes_rtol", "2"],
+                           "-mechanics_snes_rtol 2"),
                           ("preonly without a factorisation", ["-flow_ksp_type", "preonly", "-flow_pc_type", "none"],
                            "-flow_ksp_type preonly"),
                           ("no inactive set for the iterative contact solver",

@@ -26,3 +26,20 @@ def threaded_superlu(options, threads):
             return (f"-{name} superlu_dist: SuperLU_DIST solves wrongly with {threads} OpenMP threads "
                     "(Debian's 8.1.2: the contact solver cycles, the split diverges); set OMP_NUM_THREADS=1")
     return ""
+
+
+def relative_tolerance_out_of_range(options):
+    """The error for a relative tolerance (-<prefix>ksp_rtol,
+    -<prefix>snes_rtol) in `options` (name -> value, as getAll gives them)
+    outside [0, 1): from 1 on, any first iterate meets it (a Hertz contact
+    147 times off with exit 0); "" when there is none (cpp/solvers/options.h)."""
+    for name, value in options.items():
+        if not name.endswith("_rtol"):
+            continue
+        try:
+            number = float(value)
+        except ValueError:
+            continue
+        if not 0 <= number < 1:
+            return f"-{name} {value}: a relative tolerance lies in [0, 1) (from 1 on any first iterate meets it)"
+    return ""
