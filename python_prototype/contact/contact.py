@@ -28,7 +28,8 @@ from .contact_set import any_frictional, constraint_law, displacement_scale
 from .schur_complement import SchurComplement
 from .variational_inequality import VariationalInequality, VIProblem
 from .whole_system import WholeSystem
-from ..solvers.solver import SolverError, SolverStage, Structure, SystemLayout, set_default_option
+from ..solvers.solver import SolverError, Structure, SystemLayout, set_default_option
+from ..solvers.solver_statistics import SolverStage
 
 
 @dataclasses.dataclass

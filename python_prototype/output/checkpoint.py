@@ -20,7 +20,7 @@ from ..assembly.linear_algebra import UnknownsPart
 from ..coupling.coupling import for_each_checkpointed
 from ..scene.input import CouplingScheme, Fallback
 from ..scene.scene import SceneError, agree_on_error
-from ..solvers.solver import SolverStatistics, solver_counts
+from ..solvers.solver_statistics import SolverStatistics, solver_counts
 from .keyed_values import keyed_values, mesh_difference, mesh_signature, restore_values
 from .write_failure import agree_on_output_error, write_failure_reason
 

@@ -7,7 +7,8 @@ from typing import Optional
 import numpy as np
 
 from ..scene.input import Acceleration, CouplingScheme, name_of
-from ..solvers.solver import Method, SolverStatistics
+from ..solvers.solver import Method
+from ..solvers.solver_statistics import SolverStatistics
 
 
 @dataclass
