@@ -322,18 +322,14 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
         return changed or moved > 0
 
     def _relax_conducting(self):
-        """Moves the apertures of the cubic law toward w_h; returns how far
-        w_h lay from them (the lag r = w_h - conducting, m). Taken whole
-        until a cell's open state flips back in this step (set_openings: the
-        cubic law cycling) or the lag shrinks by less than RELAXED_ABOVE (in
-        the split: grew at STALLED_ITERATIONS iterations in a row); from then
-        to the step's end by Aitken's factor omega = -omega (r_old . (r -
-        r_old)) / |r - r_old|^2, clamped to [1e-3, 1]. A negative factor:
-        the monolithic step takes the lag whole with Newton's term (newton,
-        flux_jacobian), the split the factor's magnitude; below the openings'
-        round-off the factor's sign is noise, and in the split a lag that
-        stagnates there (_stagnant) is held at the floor to the step's end
-        (theory.md, "Flow in a fault")."""
+        """Moves the apertures of the cubic law toward w_h; returns how far w_h lay from them (the lag r = w_h -
+        conducting, m). Taken whole until a cell's open state flips back in this step (set_openings: the cubic
+        law cycling) or the lag shrinks by less than RELAXED_ABOVE (in the split: grew at STALLED_ITERATIONS
+        iterations in a row); from then to the step's end by Aitken's factor omega = -omega (r_old . (r -
+        r_old)) / |r - r_old|^2, clamped to [1e-3, 1]. A negative factor: the monolithic step takes the lag
+        whole with Newton's term (newton, flux_jacobian), the split the factor's magnitude; below the openings'
+        round-off the factor's sign is noise, and in the split a lag that stagnates there (_stagnant) is held at
+        the floor to the step's end (theory.md, "Flow in a fault")."""
         dot = norm = lag = lag_old = moved = round_off = 0.0
         for conduit in self.faults:
             round_off = max(round_off, OPEN_FRACTION * conduit.residual)  # as set_openings's
@@ -345,12 +341,10 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
             norm += float(d @ d)
             lag += float(r @ r)
             lag_old += float(conduit.lag @ conduit.lag)
-        # The split's lag shrinks at the coupling's rate, after a transient:
-        # there only a lag that grew at STALLED_ITERATIONS iterations in a row counts.
-        # The monolithic step's first lag grew from none (w_c = w_h at the
-        # start): it relaxes from there, by Aitken's factor 0 (no lag before),
-        # the floor, a cautious first move the opening needs (taken whole,
-        # fault_reactivation opened at 1e-3 m^2/s cycles with period 3 in its first step).
+        # The split's lag shrinks at the coupling's rate, after a transient: there only a lag that grew at
+        # STALLED_ITERATIONS iterations in a row counts. The monolithic step's first lag grew from none (w_c = w_h
+        # at the start): it relaxes from there at Aitken's floor (its factor 0: no lag before), a cautious first
+        # move the opening needs (taken whole, fault_reactivation opened at 1e-3 m^2/s cycles with period 3).
         stalled = self.lagged and lag > (RELAXED_ABOVE ** 2 if self.implicit else 1.0) * lag_old
         self.stalled = self.stalled + 1 if stalled else 0
         self.relaxing = self.relaxing or self.stalled >= (1 if self.implicit else STALLED_ITERATIONS)
