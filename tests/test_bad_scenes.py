@@ -410,6 +410,8 @@ CASES = [
     ("preonly without a factorisation", DEFAULT, ["-flow_ksp_type", "preonly", "-flow_pc_type", "none"],
      "-flow_ksp_type preonly", RUN),
     ("a relative tolerance of 1 or more", DEFAULT, ["-mechanics_snes_rtol", "2"], "-mechanics_snes_rtol 2", RUN),
+    ("a line search the contact solver cannot take", DEFAULT, ["-mechanics_contact_snes_linesearch_type", "nleqerr"],
+     "-mechanics_contact_snes_linesearch_type nleqerr", RUN),
     ("preonly with redundant around no factorisation", DEFAULT,
      ["-mechanics_ksp_type", "preonly", "-mechanics_pc_type", "redundant", "-mechanics_redundant_pc_type", "jacobi"],
      "-mechanics_redundant_pc_type jacobi", RUN),

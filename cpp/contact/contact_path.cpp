@@ -47,6 +47,12 @@ void check_bound_method(const std::string& prefix, Method method)
     if (!type.empty() and type != SNESVINEWTONRSLS and type != SNESVINEWTONSSLS)
       throw OptionsError("-" + p + "snes_type " + type
                          + ": the contact solver needs a bound-constrained method (vinewtonrsls or vinewtonssls)");
+    // nleqerr failed on the reduced space ("Incompatible vector local
+    // lengths", PETSc error 60, at the first Newton step).
+    const std::string search = option(p, "-snes_linesearch_type");
+    if (!search.empty() and search != "basic" and search != "bt" and search != "l2" and search != "cp")
+      throw OptionsError("-" + p + "snes_linesearch_type " + search
+                         + ": the contact solver takes the line searches basic, bt, l2 or cp");
   }
   if (method == Method::iterative and option(prefix, "-snes_type") == SNESVINEWTONSSLS)
     throw OptionsError("-" + prefix + "snes_type vinewtonssls: the iterative contact solver needs vinewtonrsls "

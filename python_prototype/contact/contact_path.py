@@ -79,6 +79,12 @@ def _check_bound_method(prefix, method):
         if given and given not in ("vinewtonrsls", "vinewtonssls"):
             raise OptionsError(f"-{p}snes_type {given}: the contact solver needs a bound-constrained method "
                                "(vinewtonrsls or vinewtonssls)")
+        # nleqerr failed on the reduced space ("Incompatible vector local
+        # lengths", PETSc error 60, at the first Newton step)
+        search = PETSc.Options().getString(p + "snes_linesearch_type", "")
+        if search and search not in ("basic", "bt", "l2", "cp"):
+            raise OptionsError(f"-{p}snes_linesearch_type {search}: the contact solver takes the line searches "
+                               "basic, bt, l2 or cp")
     if method == Method.iterative and PETSc.Options().getString(prefix + "snes_type", "") == "vinewtonssls":
         raise OptionsError(f"-{prefix}snes_type vinewtonssls: the iterative contact solver needs vinewtonrsls "
                            "(its preconditioner works on the reduced space's inactive set); vinewtonssls needs the "
