@@ -287,10 +287,12 @@ MethodChoice set_solver_defaults(const std::string& prefix, Structure structure,
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   // A -<prefix>pc_type on the command line decides the method.
+  bool users_preconditioner = false;
   if (const std::string given = option(prefix, "-pc_type"); !given.empty())
   {
     const std::string inner = given == "redundant" ? option(prefix + "redundant_", "-pc_type") : "";
-    method = {is_factorisation(given, inner) ? Method::direct : Method::iterative,
+    users_preconditioner = !is_factorisation(given, inner);
+    method = {users_preconditioner ? Method::iterative : Method::direct,
               "-" + prefix + "pc_type " + given + (inner.empty() ? "" : " -" + prefix + "redundant_pc_type " + inner)};
   }
   // preonly applies the preconditioner once and reports success: a solve
@@ -303,7 +305,7 @@ MethodChoice set_solver_defaults(const std::string& prefix, Structure structure,
   // preconditioned norm (GMRES's, left) a poor one stopped with the true
   // residual 1e3 times above the tolerance (conduit_transient with
   // -flow_pc_type jacobi: p wrong by 100 %, exit 0).
-  if (method.method == Method::iterative and method.reason.rfind("-" + prefix + "pc_type", 0) == 0)
+  if (users_preconditioner)
     set_default_option(prefix + "ksp_norm_type", "unpreconditioned");
   if (method.method == Method::direct)
     set_direct_defaults(prefix, structure, ranks);

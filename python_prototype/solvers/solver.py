@@ -269,9 +269,11 @@ def set_solver_defaults(prefix, structure, method, comm, fields=()):
     anything else iterative). Raises OptionsError for a -<prefix>ksp_type
     preonly with an iterative method (no solve then)."""
     given_pc = PETSc.Options().getString(prefix + "pc_type", "")
+    users_preconditioner = False
     if given_pc:
         inner = PETSc.Options().getString(prefix + "redundant_pc_type", "") if given_pc == "redundant" else ""
-        method = (Method.direct if _is_factorisation(given_pc, inner) else Method.iterative,
+        users_preconditioner = not _is_factorisation(given_pc, inner)
+        method = (Method.iterative if users_preconditioner else Method.direct,
                   f"-{prefix}pc_type {given_pc}" + (f" -{prefix}redundant_pc_type {inner}" if inner else ""))
     # preonly applies the preconditioner once and reports success: a solve
     # only by a factorisation, else a wrong x would pass as solved.
@@ -283,7 +285,7 @@ def set_solver_defaults(prefix, structure, method, comm, fields=()):
     # preconditioned norm (GMRES's, left) a poor one stopped with the true
     # residual 1e3 times above the tolerance (conduit_transient with
     # -flow_pc_type jacobi: p wrong by 100 %, exit 0).
-    if method[0] == Method.iterative and method[1].startswith(f"-{prefix}pc_type"):
+    if users_preconditioner:
         set_default_option(prefix + "ksp_norm_type", "unpreconditioned")
     if method[0] == Method.direct:
         _set_direct_defaults(prefix, structure, comm.size)
