@@ -1,8 +1,9 @@
 """PETSc options choose the solvers: an iterative flow solve (GMRES is the
 default Krylov method once the preconditioner is no factorisation) gives the
 same answer as the direct default (a preconditioner of the user's tested on
-the true residual), and options that make no solver are refused in one
-line, without a PETSc trace. SuperLU_DIST solves the
+the true residual; a package the user names is refined to a backward
+error), and options that make no solver are refused in one line, without
+a PETSc trace. SuperLU_DIST solves the
 condensed contact problem on 2 ranks (it aborted in PETSc 3.18's block solve)
 and, with one OpenMP thread (the default), on 1; with several it is refused.
 -help lists the project's own options with this run's default and value
@@ -62,6 +63,35 @@ for track, command in TRACKS.items():
                         "ilu"], capture_output=True, text=True, cwd=ROOT)
     check(p.returncode == 3 and p.stderr.count("\n") == 1 and "the flow linear solver failed: DIVERGED_PC_FAILED"
           in p.stderr, f"{track}: ILU's zero pivot is the flow solver's failure in one line: {p.stderr.strip()!r}")
+
+# A factorisation package the user names is held to a componentwise
+# backward error of 1e-12, by up to 3 steps of iterative refinement. Serial
+# SuperLU, equilibrated by default, gives the default's fields; without it,
+# it pivots by magnitude on rows 1e22 apart, and p came out 4e5 times off
+# with exit 0 (until 2026-12-05): now one line, exit 3. KLU on network2d's
+# flow left a residual 7e-5 of b and the step failed: refined, the
+# default's fields (both tracks).
+for track, command in TRACKS.items():
+    out = tempfile.mkdtemp()
+    p = subprocess.run([*command, "run", scene("conduit_transient"), "--out", out, "-flow_pc_factor_mat_solver_type",
+                        "superlu"], capture_output=True, text=True, cwd=ROOT)
+    fields = max_difference(reference, out, ["pressure", "flux"]) if p.returncode == 0 else {"failed": 1.0}
+    check(max(fields.values()) <= 1e-8, f"{track}: SuperLU on a conduit fault's flow gives the default's fields "
+          f"(1e-8): exit {p.returncode}, {fields}, {p.stderr.strip()[-200:]!r}")
+    p = subprocess.run([*command, "run", scene("conduit_transient"), "--out", tempfile.mkdtemp(),
+                        "-flow_pc_factor_mat_solver_type", "superlu", "-flow_mat_superlu_equil", "false"],
+                       capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 3 and p.stderr.count("\n") == 1 and "the flow linear solver failed: the factorisation by "
+          "superlu solved with a componentwise backward error of 1 after 3 steps" in p.stderr,
+          f"{track}: SuperLU without equilibration fails in one line: {p.stderr.strip()!r}")
+network = run(scene("network2d"))[0]
+for track, command in TRACKS.items():
+    out = tempfile.mkdtemp()
+    p = subprocess.run([*command, "run", scene("network2d"), "--out", out, "-flow_pc_factor_mat_solver_type", "klu"],
+                       capture_output=True, text=True, cwd=ROOT)
+    fields = max_difference(network, out, ["pressure", "flux"]) if p.returncode == 0 else {"failed": 1.0}
+    check(max(fields.values()) <= 1e-8, f"{track}: KLU, refined, gives network2d's fields (1e-8): exit "
+          f"{p.returncode}, {fields}, {p.stderr.strip()[-200:]!r}")
 
 # The contact solver's error names the SNES type the options made, not
 # the default's (it said vinewtonrsls whatever -<prefix>snes_type was).

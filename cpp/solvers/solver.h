@@ -191,6 +191,7 @@ public:
   LinearSolver& operator=(const LinearSolver&) = delete;
 
   /// Solves A x = b; returns the Krylov iterations. Throws SolverError.
+  /// A package named on the command line is checked and refined (refine).
   int solve(Vec x, Vec b);
   /// Factorises (sets up) now, if the operator changed. Throws SolverError.
   void set_up();
@@ -233,11 +234,17 @@ private:
   /// `solve` by GMRES preconditioned by the stale factorisation: whether
   /// it converged (else the next solve factorises).
   bool solve_nearby(const std::function<PetscErrorCode()>& solve);
+  /// Iterative refinement of the solve x of A x = b by a package the user
+  /// named until its backward error meets backward_error_tolerance; throws
+  /// SolverError when refinement_steps do not reach it (such a package may
+  /// pivot by magnitude alone on rows 1e22 apart; preonly has no test).
+  void refine(Vec x, Vec b);
   KSP _ksp;
   std::string _prefix;
   bool _operator_changed = true; // the next solve sets up
   bool _direct = false;          // a factorisation (preonly)
   bool _stale = false;           // the factorisation is of an operator since nudged
+  bool _checked = false;         // a package the user named (refine)
 };
 
 } // namespace biotcontact
