@@ -90,10 +90,12 @@ DIFFERENCES = {
                        "which throws it for a failed PETSc call in any layer; the prototype raises it from here",
         "option": "C++ only: a PETSc option's value by prefix and name; petsc4py's "
                   "PETSc.Options().getString(prefix + name, \"\") gives it",
-        "factor_package": private("solver.cpp"),
         "reason_name": "Python only: a PETSc converged reason's name, which C++ reads from PETSc's "
                        "KSPConvergedReasons and SNESConvergedReasons; petsc4py has no such table (its enums know "
                        "some reasons by other names)",
+    },
+    "solvers/linear_solver": {
+        "factor_package": private("linear_solver.cpp"),
     },
     "assembly/boundary_conditions": {
         "FaceRow": "C++ only: a fault face's row (side, key, DOF, facet flux) as a struct; Python's fault_face_rows "

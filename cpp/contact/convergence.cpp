@@ -1,5 +1,6 @@
 #include "contact/convergence.h"
 
+#include "solvers/backward_error.h"
 #include "solvers/solver.h"
 
 #include <algorithm>
@@ -11,32 +12,9 @@ namespace biotcontact
 
 void residual_round_off(Mat K, Vec weights, Vec y, Vec b, Vec r)
 {
-  // |K| on K's own rows (no communication), then one product: the parallel
-  // matrix gathers the ghost entries of |y| as for K y.
-  Mat absolute;
-  check_petsc(MatDuplicate(K, MAT_DO_NOT_COPY_VALUES, &absolute), "round-off: MatDuplicate");
-  PetscInt first = 0, last = 0;
-  check_petsc(MatGetOwnershipRange(K, &first, &last), "round-off: MatGetOwnershipRange");
-  std::vector<PetscScalar> magnitudes;
-  for (PetscInt i = first; i < last; ++i)
-  {
-    PetscInt n = 0;
-    const PetscInt* cols = nullptr;
-    const PetscScalar* vals = nullptr;
-    check_petsc(MatGetRow(K, i, &n, &cols, &vals), "round-off: MatGetRow");
-    magnitudes.assign(vals, vals + n);
-    for (PetscScalar& v : magnitudes)
-      v = std::abs(v);
-    check_petsc(MatSetValues(absolute, 1, &i, n, cols, magnitudes.data(), INSERT_VALUES), "round-off: MatSetValues");
-    check_petsc(MatRestoreRow(K, i, &n, &cols, &vals), "round-off: MatRestoreRow");
-  }
-  check_petsc(MatAssemblyBegin(absolute, MAT_FINAL_ASSEMBLY), "round-off: MatAssemblyBegin");
-  check_petsc(MatAssemblyEnd(absolute, MAT_FINAL_ASSEMBLY), "round-off: MatAssemblyEnd");
+  absolute_product(K, y, r);
   Vec magnitude;
-  check_petsc(VecDuplicate(y, &magnitude), "round-off: VecDuplicate");
-  check_petsc(VecCopy(y, magnitude), "round-off: VecCopy");
-  check_petsc(VecAbs(magnitude), "round-off: VecAbs");
-  check_petsc(MatMult(absolute, magnitude, r), "round-off: MatMult");
+  check_petsc(VecDuplicate(b, &magnitude), "round-off: VecDuplicate");
   if (weights)
     check_petsc(VecPointwiseMult(r, r, weights), "round-off: VecPointwiseMult");
   check_petsc(VecCopy(b, magnitude), "round-off: VecCopy");
@@ -44,7 +22,6 @@ void residual_round_off(Mat K, Vec weights, Vec y, Vec b, Vec r)
   check_petsc(VecAXPY(r, 1.0, magnitude), "round-off: VecAXPY");
   check_petsc(VecScale(r, PETSC_MACHINE_EPSILON), "round-off: VecScale");
   check_petsc(VecDestroy(&magnitude), "round-off: VecDestroy");
-  check_petsc(MatDestroy(&absolute), "round-off: MatDestroy");
 }
 
 ContactConvergence::ContactConvergence(MPI_Comm comm, VIBounds bounds, std::vector<std::int32_t> separate_rows)

@@ -12,7 +12,7 @@
 // solution y = x_C as the one on (A, b), and the same active sets.
 #pragma once
 
-#include "solvers/solver.h"
+#include "solvers/linear_solver.h"
 
 #include <memory>
 #include <petscmat.h>

@@ -11,7 +11,7 @@
 #include "contact/whole_system.h"
 #include "solvers/inactive_set_preconditioner.h"
 #include "solvers/row_weights.h"
-#include "solvers/solver.h"
+#include "solvers/linear_solver.h"
 
 #include <memory>
 #include <optional>

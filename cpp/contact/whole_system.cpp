@@ -1,5 +1,7 @@
 #include "contact/whole_system.h"
 
+#include "solvers/linear_solver.h"
+
 namespace biotcontact
 {
 

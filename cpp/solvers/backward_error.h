@@ -11,6 +11,12 @@
 namespace biotcontact
 {
 
+/// y = |A| |x|, the magnitudes of A's entries times those of x's: |A| on
+/// A's own rows (no communication), then one product, which gathers the
+/// ghost entries of |x| as for A x (collective). The round-off bound of a
+/// contact solve's residual takes it too (contact/convergence.h).
+void absolute_product(Mat A, Vec x, Vec y);
+
 /// max_i |r_i| / (|A| |x| + |b|)_i with r = b - A x, left in r; a row whose
 /// denominator is 0 has r_i = 0 and counts 0 (collective).
 double backward_error(Mat A, Vec x, Vec b, Vec r);

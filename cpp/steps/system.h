@@ -9,7 +9,7 @@
 #include "contact/contact.h"
 #include "assembly/linear_algebra.h"
 #include "assembly/tied_dofs.h"
-#include "solvers/solver.h"
+#include "solvers/linear_solver.h"
 
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>

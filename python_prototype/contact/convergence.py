@@ -9,6 +9,8 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from ..solvers.backward_error import absolute_product
+
 # The stopping rule of a repeated active set holds where the step has brought
 # the residual below this fraction of the larger of the solve's first and
 # the load.
@@ -79,17 +81,8 @@ def residual_round_off(K, weights, y, b, r):
     """r = eps (W |K| |y| + |b|): a bound of the round-off of each entry of
     W (K y - b) (eps the machine's; W the row weights, None for none;
     collective)."""
-    # |K| on K's own rows (no communication), then one product: the parallel
-    # matrix gathers the ghost entries of |y| as for K y
-    absolute = K.duplicate(copy=False)
-    first, last = K.getOwnershipRange()
-    for i in range(first, last):
-        cols, vals = K.getRow(i)
-        absolute.setValues([i], cols, np.abs(vals), addv=PETSc.InsertMode.INSERT_VALUES)
-    absolute.assemble()
-    magnitude = y.copy()
-    magnitude.abs()
-    absolute.mult(magnitude, r)
+    absolute_product(K, y, r)
+    magnitude = b.duplicate()
     if weights is not None:
         r.pointwiseMult(r, weights)
     b.copy(magnitude)
@@ -97,7 +90,6 @@ def residual_round_off(K, weights, y, b, r):
     r.axpy(1.0, magnitude)
     r.scale(np.finfo(float).eps)
     magnitude.destroy()
-    absolute.destroy()
 
 
 @dataclasses.dataclass

@@ -13,7 +13,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..solvers.solver import LinearSolver
+from ..solvers.linear_solver import LinearSolver
 
 
 class SchurComplement:

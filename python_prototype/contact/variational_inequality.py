@@ -22,9 +22,9 @@ from ..solvers.inactive_set_preconditioner import InactiveSetPreconditioner
 from ..solvers.row_weights import BalancedRows
 from ..solvers.shared_outcome import SolveOutcome, shared_outcome
 from ..solvers.options import OptionsError, system_name
+from ..solvers.linear_solver import set_relative_tolerance
 from ..solvers.solver import (ITERATIVE_TOLERANCE, Method, SolverError, agreed_error, given_by_user,
-                              petsc_error_text, reason_name, set_default_option, set_relative_tolerance,
-                              unsymmetric_jacobian_options)
+                              petsc_error_text, reason_name, set_default_option, unsymmetric_jacobian_options)
 from ..solvers.solver_statistics import SolverStatistics
 
 # PETSc's error codes of a zero pivot (PETSC_ERR_MAT_LU_ZRPVT,

@@ -6,7 +6,8 @@ import dataclasses
 
 from petsc4py import PETSc
 
-from ..solvers.solver import LinearSolver, Method
+from ..solvers.linear_solver import LinearSolver
+from ..solvers.solver import Method
 
 
 @dataclasses.dataclass

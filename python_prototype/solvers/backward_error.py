@@ -15,14 +15,22 @@ BACKWARD_ERROR_TOLERANCE = 1e-12
 REFINEMENT_STEPS = 3
 
 
-def _absolute_values(A):
-    """|A|, the entries' magnitudes in a matrix of A's layout (this rank's
-    rows, any AIJ type)."""
-    rows, columns, values = A.getValuesCSR()
-    B = A.duplicate(copy=False)
-    B.setValuesCSR(rows, columns, np.abs(values))
-    B.assemble()
-    return B
+def absolute_product(A, x, y):
+    """y = |A| |x|, the magnitudes of A's entries times those of x's: |A| on
+    A's own rows (no communication), then one product, which gathers the
+    ghost entries of |x| as for A x (collective). The round-off bound of a
+    contact solve's residual takes it too (contact/convergence)."""
+    absolute = A.duplicate(copy=False)
+    first, last = A.getOwnershipRange()
+    for i in range(first, last):
+        columns, values = A.getRow(i)
+        absolute.setValues([i], columns, np.abs(values), addv=PETSc.InsertMode.INSERT_VALUES)
+    absolute.assemble()
+    magnitude = x.copy()
+    magnitude.abs()
+    absolute.mult(magnitude, y)
+    magnitude.destroy()
+    absolute.destroy()
 
 
 def backward_error(A, x, b, r):
@@ -30,18 +38,15 @@ def backward_error(A, x, b, r):
     whose denominator is 0 has r_i = 0 and counts 0 (collective)."""
     A.mult(x, r)
     r.aypx(-1.0, b)
-    B = _absolute_values(A)
-    magnitude, scale = x.duplicate(), b.duplicate()
-    x.copy(magnitude)
-    magnitude.abs()
-    B.mult(magnitude, scale)
-    b.copy(magnitude)  # now |b|, in b's layout
+    magnitude, scale = b.duplicate(), b.duplicate()
+    absolute_product(A, x, scale)
+    b.copy(magnitude)
     magnitude.abs()
     scale.axpy(1.0, magnitude)
     r.copy(magnitude)
     magnitude.abs()
     magnitude.pointwiseDivide(magnitude, scale)  # 0 where the divisor is 0
     error = magnitude.norm(PETSc.NormType.NORM_INFINITY)
-    for v in (magnitude, scale, B):
-        v.destroy()
+    magnitude.destroy()
+    scale.destroy()
     return error

@@ -13,7 +13,8 @@ from ..assembly.tied_dofs import TiedDofs
 from ..contact.contact import ContactOperators, ContactSolver, ContactUnknowns
 from ..solvers.block_matrix import BlockMatrix
 from ..solvers.field_split import Field, block_offset, is_coupled
-from ..solvers.solver import LinearSolver, Method, SystemLayout, choose_method, factor_prefix, set_solver_defaults
+from ..solvers.linear_solver import LinearSolver
+from ..solvers.solver import Method, SystemLayout, choose_method, factor_prefix, set_solver_defaults
 from ..solvers.solver_statistics import SolverStage, SolverStatistics, solver_counts
 
 
