@@ -271,7 +271,7 @@ void ConduitFaults::begin_step()
     if (!c.conducting.empty()) // the step starts from w_h, as a restart does
       c.conducting = c.aperture;
   }
-  _relaxing = _lagged = _newton = _held = false;
+  _relaxing = _lagged = _newton = _held = _overshot = false;
   _relaxation = 1;
   _stalled = 0;
   _lags.clear();
@@ -335,8 +335,10 @@ double ConduitFaults::relax_conducting()
   // noise and the floor holds the fixed point. There, in the split, a lag
   // that stagnates (stagnant: Aitken's factor computed from noise, cycling
   // with period 4) is held at the floor to the step's end; the monolithic
-  // step, whose stopping test holds the lag, relaxes it on (theory.md,
-  // "Flow in a fault").
+  // step, whose stopping test holds the lag, relaxes it on. Newton's term
+  // is dropped for the step's rest where the lag grows under it above that
+  // round-off (its step on the cubic law overshot), back to the factor
+  // before it (theory.md, "Flow in a fault").
   double dot = 0, norm = 0, lag = 0, lag_old = 0, moved = 0, round_off = 0;
   for (Conduit& c : _conduits)
   {
@@ -358,10 +360,13 @@ double ConduitFaults::relax_conducting()
   const bool stalled = _lagged and lag > (_implicit ? relaxed_above * relaxed_above : 1.0) * lag_old;
   _stalled = stalled ? _stalled + 1 : 0;
   _relaxing = _relaxing or _stalled >= (_implicit ? 1 : stalled_iterations);
-  if (_relaxing and norm > 0 and !_newton)
+  if (_newton and stalled and std::sqrt(lag) > round_off)
+    _newton = false, _overshot = true, _relaxation = _relaxed;
+  else if (_relaxing and norm > 0 and !_newton)
   {
     const double aitken = -_relaxation * dot / norm;
-    _newton = _implicit and aitken < 0;
+    _newton = _implicit and aitken < 0 and !_overshot;
+    _relaxed = _relaxation;
     const bool noise = std::sqrt(lag) <= round_off;
     _relaxation = _newton ? 1.0 : std::clamp(noise ? aitken : std::abs(aitken), 1e-3, 1.0);
     _held = _held or (noise and stagnant(std::sqrt(lag)) and !_implicit);
@@ -377,6 +382,15 @@ double ConduitFaults::relax_conducting()
     }
   _lagged = true;
   return moved;
+}
+
+void ConduitFaults::drop_newton()
+{
+  // The last relax_conducting took the lag whole (omega = 1).
+  for (Conduit& c : _conduits)
+    for (std::size_t k = 0; k < c.conducting.size(); ++k)
+      c.conducting[k] -= (1 - _relaxed) * c.lag[k];
+  _newton = false, _overshot = true, _relaxation = _relaxed;
 }
 
 bool ConduitFaults::stagnant(double lag) const

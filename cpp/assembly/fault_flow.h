@@ -166,10 +166,17 @@ public:
   /// of the transmissibilities (flux_jacobian), the conducting apertures
   /// then following w_h whole: from the iteration at which its relaxation's
   /// Aitken factor comes out negative (the map w_c -> w_h amplifies the
-  /// lag: a positive factor can only crawl) to the step's end. Not sooner:
+  /// lag: a positive factor can only crawl) to the step's end, unless
+  /// dropped (the lag grew under it, or a solve with it failed:
+  /// drop_newton). Not sooner:
   /// far from the solution Newton's step on the cubic law overshoots and
   /// the contact solve fails (docs/theory.md).
   bool newton() const { return _newton; }
+  /// Leaves Newton's term for the rest of the step where a solve with it
+  /// failed: the conducting apertures back to the relaxation it began from,
+  /// w_c = w_c^old + omega lag, omega the factor before it (theory.md,
+  /// "Flow in a fault").
+  void drop_newton();
   /// Newton's term of the cubic law: D_km = dN_k/dw_m, the derivative of
   /// cell k's flux terms N_k = -sum_l T_kl (p_k - p_l) - sum_ends T_e (p_k -
   /// p_D) (junctions' links included) by the conducting aperture w_m of
@@ -357,6 +364,8 @@ private:
   double _relaxation = 1;  // Aitken's factor of the conducting apertures
   bool _lagged = false;    // a lag of this step is known
   bool _relaxing = false;  // the conducting apertures are relaxed (relax_conducting)
+  bool _overshot = false;  // Newton's term was dropped in this step (relax_conducting, drop_newton)
+  double _relaxed = 1;     // the relaxation factor before Newton's term (relax_conducting)
   bool _newton = false;    // Newton's term of the transmissibilities is on (newton())
   int _stalled = 0;        // iterations in a row whose lag did not shrink (relax_conducting)
   bool _held = false;      // the lag stagnated below round-off: the floor holds the apertures

@@ -189,6 +189,12 @@ bool MonolithicConduits::update(System& system, la::Vector<double>& u, std::span
   return converged;
 }
 
+void MonolithicConduits::drop_newton(System& system)
+{
+  _faults->drop_newton();
+  append(system);
+}
+
 std::string MonolithicConduits::last_change() const
 {
   std::ostringstream s;

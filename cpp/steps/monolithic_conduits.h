@@ -80,6 +80,11 @@ public:
   /// rows appended again if they changed. Whether the iteration has
   /// converged.
   bool update(System& system, dolfinx::la::Vector<double>& x, std::span<const double> s_n);
+  /// Whether the rows carry Newton's term of the transmissibilities.
+  bool newton() const { return _faults->newton(); }
+  /// A solve with Newton's term of the transmissibilities failed: the rows
+  /// again without it (ConduitFaults::drop_newton).
+  void drop_newton(System& system);
   /// What the last update measured against the tolerance, for an error.
   std::string last_change() const;
 

@@ -272,14 +272,30 @@ void MonolithicStep::solve_with_conduits(double t)
   for (int i = 1;; ++i)
   {
     bool settled = false;
-    recorded_solve(i == 1,
-                   [&]
-                   {
-                     _conduits->load(*_system, *_x->x(), t);
-                     solve_system();
-                     _fault_traction = fault_normal_stress();
-                     settled = _conduits->update(*_system, *u->x(), _fault_traction);
-                   });
+    // Newton's term of the transmissibilities only speeds the iteration up:
+    // where the contact solve fails with it, the same iterate is solved
+    // again without it (fault_reactivation's opening at dt = 6 h, whose
+    // first such solve ended in DIVERGED_LINE_SEARCH).
+    const std::vector<double> iterate = _conduits->newton() ? values(unknowns()) : std::vector<double>{};
+    try
+    {
+      recorded_solve(i == 1,
+                     [&]
+                     {
+                       _conduits->load(*_system, *_x->x(), t);
+                       solve_system();
+                       _fault_traction = fault_normal_stress();
+                       settled = _conduits->update(*_system, *u->x(), _fault_traction);
+                     });
+    }
+    catch (const SolverError&)
+    {
+      if (iterate.empty() or i == most)
+        throw;
+      set_unknowns(iterate);
+      _conduits->drop_newton(*_system);
+      continue;
+    }
     if (settled)
       return;
     if (i == most)

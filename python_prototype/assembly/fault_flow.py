@@ -155,20 +155,8 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
         self.stabilised = True  # whether the cells take L (_set_compliance)
         self.implicit = False  # whether open cells' openings are unknowns (with_implicit_openings)
         self.aperture_change = 0.0
-        # the conducting apertures: a lag of this step known, relaxed
-        # (_relax_conducting), and Aitken's factor
-        self.lagged = self.relaxing = False
-        # Newton's term of the transmissibilities is on in the monolithic
-        # step (flux_jacobian), the conducting apertures following w_h whole:
-        # from the iteration at which Aitken's factor comes out negative (the
-        # map w_c -> w_h amplifies the lag) to the step's end
-        # (cpp/assembly/fault_flow.h's newton()).
-        self.newton = False
-        self.stalled = 0  # iterations in a row whose lag did not shrink
-        # the lag stagnated below round-off: the floor holds the apertures
-        # to the step's end; the lag at each iteration of the step
-        self.held, self.lags = False, []
-        self.relaxation = 1.0
+        self.relaxed = 1.0  # Aitken's factor before Newton's term (_relax_conducting, drop_newton)
+        self.begin_step()  # the relaxation's state
 
     def _locate_wells(self, scene, fault, cells, offset):
         """The wells into the fault `fault`: (row, share, rate) per cell each
@@ -327,9 +315,9 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
         law cycling) or the lag shrinks by less than RELAXED_ABOVE (in the split: grew at STALLED_ITERATIONS
         iterations in a row); from then to the step's end by Aitken's factor omega = -omega (r_old . (r -
         r_old)) / |r - r_old|^2, clamped to [1e-3, 1]. A negative factor: the monolithic step takes the lag
-        whole with Newton's term (newton, flux_jacobian), the split the factor's magnitude; below the openings'
-        round-off the factor's sign is noise, and in the split a lag that stagnates there (_stagnant) is held at
-        the floor to the step's end (theory.md, "Flow in a fault")."""
+        whole with Newton's term (newton, flux_jacobian; dropped for the step's rest where the lag grows under
+        it), the split the factor's magnitude; below the openings' round-off the factor's sign is noise, and in
+        the split a lag that stagnates there (_stagnant) is held at the floor (theory.md, "Flow in a fault")."""
         dot = norm = lag = lag_old = moved = round_off = 0.0
         for conduit in self.faults:
             round_off = max(round_off, OPEN_FRACTION * conduit.residual)  # as set_openings's
@@ -348,9 +336,12 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
         stalled = self.lagged and lag > (RELAXED_ABOVE ** 2 if self.implicit else 1.0) * lag_old
         self.stalled = self.stalled + 1 if stalled else 0
         self.relaxing = self.relaxing or self.stalled >= (1 if self.implicit else STALLED_ITERATIONS)
-        if self.relaxing and norm > 0 and not self.newton:
+        if self.newton and stalled and math.sqrt(lag) > round_off:  # the lag grew under Newton's term
+            self.newton, self.overshot, self.relaxation = False, True, self.relaxed
+        elif self.relaxing and norm > 0 and not self.newton:
             aitken = -self.relaxation * dot / norm
-            self.newton = self.implicit and aitken < 0
+            self.newton = self.implicit and aitken < 0 and not self.overshot
+            self.relaxed = self.relaxation
             noise = math.sqrt(lag) <= round_off
             self.relaxation = 1.0 if self.newton else min(max(aitken if noise else abs(aitken), 1e-3), 1.0)
             self.held = self.held or (noise and self._stagnant(math.sqrt(lag)) and not self.implicit)
@@ -362,6 +353,14 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
         self.lagged = True
         self.lags.append(math.sqrt(lag))
         return moved
+
+    def drop_newton(self):
+        """Leaves Newton's term for the rest of the step where a solve with it failed: the conducting apertures
+        back to the relaxation it began from, w_c = w_c^old + omega lag (the last _relax_conducting took the lag
+        whole)."""
+        for conduit in self.faults:
+            conduit.conducting = conduit.conducting - (1 - self.relaxed) * conduit.lag
+        self.newton, self.overshot, self.relaxation = False, True, self.relaxed
 
     def _stagnant(self, lag):
         """Whether `lag` (|w_h - w_c|) has not halved over the last
@@ -411,10 +410,13 @@ class ConduitFaults(ConduitVolumes, ConduitJacobian, ConduitCompliance, ConduitP
             conduit.pinning = CellPins(len(conduit.open))
             if conduit.conducting is not None:  # the step starts from w_h, as a restart does
                 conduit.conducting = conduit.aperture.copy()
-        self.lagged = self.relaxing = self.newton = self.held = False  # no lag of this step known yet
-        self.lags = []  # |w_h - w_c| at each iteration of the step (_relax_conducting)
-        self.relaxation = 1.0
-        self.stalled = 0  # iterations in a row whose lag did not shrink (_relax_conducting)
+        # The relaxation of the conducting apertures (_relax_conducting): no lag of this step known yet, taken
+        # whole; Newton's term of the transmissibilities off (newton: the conducting apertures follow w_h
+        # whole from a negative Aitken factor on, cpp/assembly/fault_flow.h) and not dropped (overshot); not
+        # held at the floor (held: the lag stagnated below round-off); the lags |w_h - w_c| of the step's
+        # iterations, and how many in a row did not shrink.
+        self.lagged = self.relaxing = self.newton = self.held = self.overshot = False
+        self.lags, self.relaxation, self.stalled = [], 1.0, 0
 
     def load(self, step, p_old, p_iterate, b):
         """The fault's right-hand side of the FineStep `step` into b (its

@@ -184,6 +184,16 @@ class MonolithicConduits:
             self.append(system)
         return converged
 
+    def newton(self):
+        """Whether the rows carry Newton's term of the transmissibilities."""
+        return self.faults.newton
+
+    def drop_newton(self, system):
+        """A solve with Newton's term of the transmissibilities failed: the
+        rows again without it (ConduitFaults.drop_newton)."""
+        self.faults.drop_newton()
+        self.append(system)
+
     def last_change(self):
         """What the last update measured against the tolerance, for an error."""
         w, p = self._change
